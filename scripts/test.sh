@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Run every check: ruff over the package and tests, then pytest (toolkit, gauge, notebooks,
+# book build, and the built book in headless Chromium). Creates .venv on first use.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+source scripts/ensure-env.sh
+echo "==> ruff"
+ruff check dstoolkit tests benchmarks
+echo "==> pytest"
+python -m pytest "$@"
