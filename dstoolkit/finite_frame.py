@@ -52,6 +52,8 @@ class MassFunction(Evidence):
             raise EvidenceError(
                 f"masses must be a mapping {{focal element: mass}}, got {type(masses).__name__}"
             )
+        if not masses:
+            validate_masses([])  # raises the "empty evidence" error
         keys = list(masses.keys())
         if frame is None:
             seen: dict[Hashable, None] = {}
