@@ -121,15 +121,20 @@ class Evidence(ABC):
         return float(self._mass[self._meets_mask(query)].sum())
 
 
-def merge_equal(
-    focal: np.ndarray, mass: np.ndarray, keys: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Merge focal elements with equal keys, adding their masses (eq. 14).
+def merge_equal(focal: np.ndarray, mass: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Merge equal focal elements (rows of ``focal``), adding their masses (eq. 14).
 
-    Returns the first occurrence of each distinct focal element (in order of first
-    appearance) and the summed masses.
+    Returns each distinct focal element once, in order of first appearance, with the
+    summed mass. A stable lexicographic sort groups equal rows (−0.0 equals 0.0).
     """
-    _, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
-    order = np.argsort(first, kind="stable")
-    summed = np.bincount(inverse.reshape(-1), weights=mass, minlength=first.size)
-    return focal[first[order]], summed[order]
+    rows = focal.reshape(len(focal), -1)
+    order = np.lexsort(rows.T[::-1]) if rows.shape[1] > 1 else np.argsort(rows[:, 0],
+                                                                           kind="stable")
+    ranked = rows[order]
+    starts = np.ones(len(ranked), dtype=bool)
+    starts[1:] = np.any(ranked[1:] != ranked[:-1], axis=1)
+    group = np.cumsum(starts) - 1
+    summed = np.bincount(group, weights=mass[order])
+    first = order[starts]  # stable sort: the first original index of each group
+    by_appearance = np.argsort(first, kind="stable")
+    return focal[first[by_appearance]], summed[by_appearance]

@@ -103,7 +103,7 @@ class MassFunction(Evidence):
         keep = mass > 0
         focal, mass = focal[keep], mass[keep]
         if merge:
-            focal, mass = merge_equal(focal, mass, focal)
+            focal, mass = merge_equal(focal, mass)
         self._focal, self._mass = focal, mass
 
     def _with(self, focal: np.ndarray, mass: np.ndarray, *, merge: bool = True) -> MassFunction:

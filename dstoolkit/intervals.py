@@ -82,7 +82,7 @@ class IntervalEvidence(Evidence):
         keep = mass > 0
         focal, mass = focal[keep], mass[keep]
         if merge:
-            focal, mass = merge_equal(focal, mass, row_keys(focal))
+            focal, mass = merge_equal(focal, mass)
         self._focal, self._mass = focal, mass
 
     def _with(self, focal: np.ndarray, mass: np.ndarray, *, merge: bool = True) -> IntervalEvidence:
