@@ -9,8 +9,9 @@ The paper takes c = 331.3 + 0.606 T (T in °C), which gives 347.3 m/s at 26.5 °
 f_F ≈ 18 Hz at L = 9.6 m, 23.9 °C. That line is the first-order Taylor expansion of the
 ideal-gas law c = 331.3 sqrt(1 + T/273.15) (dc/dT at 0 °C = 331.3/546.3 = 0.6065 m/s/K);
 at 26.5 °C it is 0.35 m/s (0.1 %) faster, which alone moves a 9.6 m level by 1 cm.
-Cramer's formula (JASA 93(5), 1993) adds humidity, pressure and CO2: humid air at 50 %
-is about 0.6 m/s faster than dry air at 25 °C.
+Cramer's formula (JASA 93(5), 1993) adds humidity, pressure and CO2: at 25 °C air at 50 %
+relative humidity is 0.9 m/s faster than dry air, and at 26.5 °C, 50 % it gives 348.1 m/s,
+0.7 m/s (0.2 %, 2 cm at 9.6 m) above the paper's line.
 """
 
 from __future__ import annotations
@@ -136,8 +137,9 @@ def resonance_frequencies(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Orders n and frequencies f_n = n c/(2L) (eqs. 31–32) of the resonances in ``band``.
 
-    At L = 9.6 m, 23.9 °C and [1000, 2500] Hz this gives the paper's 82 resonances,
-    n = 56..137 (§4.1).
+    At L = 9.6 m, 23.9 °C and [1000, 2500] Hz this gives n = 56..138, 83 resonances; the
+    paper (§4.1, with f_F rounded to 18 Hz) counts 82, n = 56..137, though 138 × 18 Hz =
+    2484 Hz lies in the band too.
     """
     n = resonance_orders(level_m, c, band)
     return n, n * float(fundamental_frequency(level_m, c))

@@ -88,7 +88,10 @@ class LinearSweep:
         if self.taper <= 0:
             return inside.astype(float)
         edge = np.minimum(t, self.duration - t) / self.taper
-        return np.where(inside, 0.5 - 0.5 * np.cos(np.pi * np.clip(edge, 0.0, 1.0)), 0.0)
+        out = inside.astype(float)
+        ramp = inside & (edge < 1.0)  # the cosine only where the fade is
+        out[ramp] = 0.5 - 0.5 * np.cos(np.pi * edge[ramp])
+        return out
 
     def waveform(self, t: Any = None) -> np.ndarray:
         """The speaker drive cos φ(t) times :meth:`gate`, at ``t`` (default :meth:`times`)."""

@@ -15,7 +15,7 @@ cutoff (2.7 kHz for d = 75 mm) the 1-D model holds.
 Each echo is the analytic sweep evaluated at the delayed time (an exact fractional delay);
 its loss is taken at the instantaneous frequency it carries, which is exact to first order
 because the sweep changes frequency slowly (k Δ² ≪ 1 cycle per echo period). A 5 s,
-44.1 kHz recording synthesises in a few tens of milliseconds (``benchmarks/gauge_synthesis.py``).
+44.1 kHz recording synthesises in about 0.1 s (``benchmarks/gauge_synthesis.py``).
 """
 
 from __future__ import annotations
@@ -77,7 +77,9 @@ class TubeSetup:
     surface_reflection
         R_s, pressure reflection coefficient of the liquid surface (water: ≈ 1).
     top_reflection
-        R_t, reflection coefficient of the speaker end (0 = anechoic top, 1 = rigid).
+        R_t, reflection coefficient of the speaker end (0 = anechoic top, 1 = rigid). The
+        default 0.3 is an assumption (the paper does not say); it makes later echoes move
+        the resonances by 1–3 Hz (see :func:`dstoolkit.resonance.model_peak_frequencies`).
     wall_loss_factor
         Multiplies Kirchhoff's wall loss (rough or jointed tubes lose more: 1–2).
     extra_attenuation_np_per_m
@@ -92,7 +94,7 @@ class TubeSetup:
     temperature_c: float = 20.0
     diameter_m: float = 0.075
     surface_reflection: float = 0.98
-    top_reflection: float = 0.5
+    top_reflection: float = 0.3
     wall_loss_factor: float = 1.0
     extra_attenuation_np_per_m: float = 0.0
     speed_model: SpeedModel = "paper"
@@ -101,7 +103,7 @@ class TubeSetup:
     def __post_init__(self) -> None:
         if not (np.isfinite(self.level_m) and self.level_m > 0):
             raise ValueError(f"level_m must be a positive distance in metres, got {self.level_m}")
-        if not 0 < self.diameter_m < self.level_m * 10:
+        if not self.diameter_m > 0:
             raise ValueError(f"diameter_m must be positive, got {self.diameter_m}")
         for name in ("surface_reflection", "top_reflection"):
             r = getattr(self, name)
@@ -232,24 +234,58 @@ class Recording:
         return np.interp(t, self.speaker_error_times, self.speaker_error_hz)
 
 
+def model_envelope(setup: TubeSetup, sweep: LinearSweep, emission_time_s: Any,
+                   echo_floor: float = 1e-4) -> np.ndarray:
+    """Noise-free envelope |Σ_m a_m gate(u − mΔ) e^(−iθ_m(u))| of the microphone pressure
+    over the source amplitude, θ_m(u) = φ(u) − φ(u − mΔ), at times u since the sweep
+    started (eq. 29 with every echo)."""
+    u = np.asarray(emission_time_s, dtype=float)
+    delta = setup.round_trip_s
+    total = np.zeros(u.shape, complex)
+    for m in range(setup.echo_count(sweep.f_start, echo_floor) + 1):
+        e = u - m * delta
+        total += (setup.echo_gain(m, sweep.frequency_at(e)) * sweep.gate(e)
+                  * np.exp(-1j * (sweep.phase(u) - sweep.phase(e))))
+    return np.abs(total)
+
+
+def _shaped_noise(rng: np.random.Generator, n: int, dt: float, shape: np.ndarray,
+                  rms: float) -> np.ndarray:
+    """Stationary Gaussian noise whose amplitude spectrum is ``shape`` (on rfftfreq(n, dt)),
+    scaled so that the *process* has RMS ``rms`` (not each draw: draws vary as they should).
+    """
+    x = np.fft.irfft(np.fft.rfft(rng.standard_normal(n)) * shape, n)
+    impulse = np.fft.irfft(shape.astype(complex), n)  # x = white ⊛ impulse (circular)
+    return x * (rms / np.sqrt(np.sum(impulse**2)))
+
+
 def _gaussian_process(rng: np.random.Generator, n: int, dt: float, sigma: float,
                       bandwidth_hz: float) -> np.ndarray:
-    """Zero-mean stationary Gaussian series of RMS ``sigma`` with a Gaussian spectrum."""
-    spec = np.fft.rfft(rng.standard_normal(n))
+    """Zero-mean Gaussian series of RMS ``sigma`` with a Gaussian spectrum of width
+    ``bandwidth_hz``."""
     f = np.fft.rfftfreq(n, dt)
-    x = np.fft.irfft(spec * np.exp(-0.5 * (f / bandwidth_hz) ** 2), n)
-    std = x.std()
-    return x * (sigma / std) if std > 0 else x
+    return _shaped_noise(rng, n, dt, np.exp(-0.5 * (f / bandwidth_hz) ** 2), sigma)
+
+
+def speaker_frequency_error(
+    sweep: LinearSweep, conditions: RecordingConditions, rng: np.random.Generator
+) -> tuple[np.ndarray, np.ndarray]:
+    """The speaker's frequency error δf(t) (Hz) over the sweep: ``(times, δf)`` on a grid
+    of at most 1 ms; zero when ``conditions.speaker_jitter_hz`` is 0 (no draw is made)."""
+    dt = min(1e-3, 0.1 / conditions.speaker_jitter_bandwidth_hz)
+    t = np.arange(-0.01, sweep.duration + 0.01 + dt, dt)
+    if conditions.speaker_jitter_hz <= 0:
+        return t, np.zeros(t.size)
+    return t, _gaussian_process(rng, t.size, dt, conditions.speaker_jitter_hz,
+                                conditions.speaker_jitter_bandwidth_hz)
 
 
 def _pink_noise(rng: np.random.Generator, n: int, fs: float, rms: float) -> np.ndarray:
-    """Noise with 1/f power above 20 Hz (flat below), scaled to ``rms``."""
+    """Noise with 1/f power above 20 Hz (flat below, no DC) of RMS ``rms``."""
     f = np.fft.rfftfreq(n, 1.0 / fs)
     shape = 1.0 / np.sqrt(np.maximum(f, 20.0))
     shape[0] = 0.0
-    spec = (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)) * shape
-    x = np.fft.irfft(spec, n)
-    return x * (rms / x.std())
+    return _shaped_noise(rng, n, 1.0 / fs, shape, rms)
 
 
 def synthesize_recording(
@@ -272,19 +308,13 @@ def synthesize_recording(
     n = int(round((sweep.duration + cond.latency_s + cond.tail_s) * fs))
     u = np.arange(n) / fs - cond.latency_s
 
-    # Speaker frequency error δf (Hz) on a coarse grid and its phase ψ = 2π ∫ δf.
-    dt_j = min(1e-3, 0.1 / cond.speaker_jitter_bandwidth_hz)
-    t_j = np.arange(-0.01, sweep.duration + 0.01 + dt_j, dt_j)
-    if cond.speaker_jitter_hz > 0:
-        df = _gaussian_process(rng, t_j.size, dt_j, cond.speaker_jitter_hz,
-                               cond.speaker_jitter_bandwidth_hz)
-    else:
-        df = np.zeros(t_j.size)
-    psi_j = 2.0 * np.pi * np.concatenate(([0.0], np.cumsum(0.5 * (df[1:] + df[:-1]) * dt_j)))
+    t_j, df = speaker_frequency_error(sweep, cond, rng)
+    psi_j = 2.0 * np.pi * np.concatenate(([0.0], np.cumsum(0.5 * (df[1:] + df[:-1])
+                                                          * np.diff(t_j))))
 
     delta = setup.round_trip_s
     echoes = setup.echo_count(sweep.f_start, echo_floor)
-    echoes = min(echoes, int((u[-1] - 0.0) / delta))
+    echoes = min(echoes, int(u[-1] / delta))
     pressure = np.zeros(n)
     for m in range(echoes + 1):
         lo = np.searchsorted(u, m * delta)

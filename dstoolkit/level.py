@@ -1,0 +1,154 @@
+"""Level from resonance frequencies (paper eqs. 32–33, 39–40, 43) and a robust alternative.
+
+The paper's chain: z_k, the observed k-th resonance, has order n_k = [z_k/(z_{k+1} − z_k)]
+(eq. 43, [·] = nearest integer) and gives L = n_k c/(2 z_k) (eq. 32). Its state space
+(eqs. 36–40), with x_k = f_k:
+
+    x_{k+1} = f(x_k, n_k) + v_k,  f(x, n) = x (n + 1)/n     (39)
+    g(x_k) = z_k + w_k,            g(x) = x                  (40)
+
+Eq. 43 is fragile on long tubes: the spacing f_F is small (18 Hz at 9.6 m) and the
+difference of two readings doubles their noise, so n_k is often off by several units, each
+costing about L/n_k in eq. 32 (SPEC §6). The series fit below uses every reading at once:
+z_k = f_F (n_1 + s_k) + b with the integer n_1 searched and f_F by least squares.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+
+def _as_increasing(z: Any, what: str = "resonance frequencies") -> np.ndarray:
+    z = np.asarray(z, dtype=float).reshape(-1)
+    if z.size < 2:
+        raise ValueError(f"need at least 2 {what}, got {z.size}")
+    if not np.all(np.isfinite(z)):
+        raise ValueError(f"{what} contain NaN or infinite values")
+    if np.any(np.diff(z) <= 0):
+        raise ValueError(f"{what} must increase strictly (sort them, drop duplicates)")
+    return z
+
+
+def level_from_resonance(frequency_hz: Any, order: Any, c: Any) -> np.ndarray:
+    """Eq. 32: L = n c/(2 f), vectorised (m)."""
+    return np.asarray(order, dtype=float) * np.asarray(c, dtype=float) / (
+        2.0 * np.asarray(frequency_hz, dtype=float))
+
+
+def level_from_fundamental(fundamental_hz: Any, c: Any) -> np.ndarray:
+    """L = c/(2 f_F) (eq. 35 solved for L), m."""
+    return np.asarray(c, dtype=float) / (2.0 * np.asarray(fundamental_hz, dtype=float))
+
+
+def orders_eq43(z: Any, extend: bool = False) -> np.ndarray:
+    """Eqs. 33/43: n_k = round(z_k/(z_{k+1} − z_k)) for k = 1..K−1.
+
+    With ``extend`` the last reading gets n_{K−1} + 1, so that every z_k has an order.
+    """
+    z = _as_increasing(z)
+    n = np.rint(z[:-1] / np.diff(z)).astype(int)
+    return np.append(n, n[-1] + 1) if extend else n
+
+
+def direct_levels(z: Any, c: float) -> np.ndarray:
+    """The paper's direct measurement: eq. 32 with the orders of eq. 43, one level per
+    reading z_1..z_{K−1} (m)."""
+    z = _as_increasing(z)
+    return level_from_resonance(z[:-1], orders_eq43(z), c)
+
+
+def state_transition(x: Any, n: Any) -> np.ndarray:
+    """Eq. 39 without noise: f(x, n) = x (n + 1)/n, the next resonance from this one."""
+    n = np.asarray(n, dtype=float)
+    return np.asarray(x, dtype=float) * (n + 1.0) / n
+
+
+def state_transition_derivative(x: Any, n: Any) -> np.ndarray:
+    """∂f/∂x = (n + 1)/n > 0: f is increasing in x (Prop. 2 applies), for Kalman filters."""
+    n = np.asarray(n, dtype=float)
+    return np.broadcast_to((n + 1.0) / n, np.broadcast_shapes(np.shape(x), n.shape)).copy()
+
+
+def observation(x: Any) -> np.ndarray:
+    """Eq. 40: g(x) = x, the reading of the state (the filter adds w to z)."""
+    return np.asarray(x, dtype=float)
+
+
+def observation_inverse(lower: Any, upper: Any) -> tuple[np.ndarray, np.ndarray]:
+    """g⁻¹ of a box [lower, upper] of readings: the same box (g is the identity)."""
+    return np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
+
+
+@dataclass(frozen=True)
+class ResonanceSeriesFit:
+    """z_k = f_F (n_1 + s_k) + b fitted to a whole series of resonances.
+
+    ``orders`` are n_1 + s_k, the order of each reading, for eq. 39;
+    ``residual_rms_hz`` the RMS misfit; ``offset_free`` tells whether b was fitted.
+    """
+
+    first_order: int
+    fundamental_hz: float
+    offset_hz: float
+    residual_rms_hz: float
+    orders: np.ndarray
+    offset_free: bool
+
+    def level(self, c: float) -> float:
+        """L = c/(2 f_F), m."""
+        return float(level_from_fundamental(self.fundamental_hz, c))
+
+
+def fit_resonance_series(
+    z: Any,
+    steps: Any = None,
+    offset_hz: float | None = 0.0,
+    max_first_order: int | None = None,
+) -> ResonanceSeriesFit:
+    """Fit z_k = f_F (n_1 + s_k) + b with integer n_1 ≥ 1 (SPEC §6).
+
+    Parameters
+    ----------
+    z
+        Resonance frequencies, increasing (Hz).
+    steps
+        s_k, the relative orders (default 0, 1, 2, …); a jump of 2 marks a missed resonance
+        (:attr:`dstoolkit.resonance.DetectionResult.steps`).
+    offset_hz
+        b when it is known, default 0 (offsets already removed by the detector). For each
+        candidate n_1, f_F = Σ m_k (z_k − b) / Σ m_k² with m_k = n_1 + s_k, and the n_1 with
+        the least squared misfit wins: a wrong n_1 leaves a misfit growing linearly across
+        the band, about f_F (s_k − s̄)/n̄, which all K readings see at once.
+        None fits b as well: then n_1 cannot come from the misfit (every n_1 fits the same
+        straight line), so f_F is the slope and n_1 = round(intercept/slope), which needs
+        |b| < f_F/2.
+    max_first_order
+        Largest n_1 tried (default 3 z_1/slope + 10).
+    """
+    z = _as_increasing(z)
+    s = np.arange(z.size) if steps is None else np.asarray(steps, dtype=float).reshape(-1)
+    if s.shape != z.shape or np.any(np.diff(s) <= 0) or np.any(s != np.round(s)):
+        raise ValueError("steps must be increasing integers, one per frequency")
+    s = s - s[0]
+    slope, intercept = np.polyfit(s, z, 1)
+    if not slope > 0:
+        raise ValueError(f"the resonances do not increase with their order (slope {slope})")
+    if offset_hz is None:
+        n1 = max(1, int(np.rint(intercept / slope)))
+        b = float(intercept - slope * n1)
+        resid = z - (slope * (n1 + s) + b)
+        return ResonanceSeriesFit(n1, float(slope), b, float(np.sqrt(np.mean(resid**2))),
+                                  (n1 + s).astype(int), True)
+    top = int(3 * z[0] / slope) + 10 if max_first_order is None else int(max_first_order)
+    n1 = np.arange(1, max(top, 1) + 1)[:, None]
+    m = n1 + s[None, :]
+    y = z - offset_hz
+    f_f = (m @ y) / np.sum(m * m, axis=1)
+    sse = np.sum((y[None, :] - f_f[:, None] * m) ** 2, axis=1)
+    best = int(np.argmin(sse))
+    return ResonanceSeriesFit(int(n1[best, 0]), float(f_f[best]), float(offset_hz),
+                              float(np.sqrt(sse[best] / z.size)), (n1[best, 0] + s).astype(int),
+                              False)
