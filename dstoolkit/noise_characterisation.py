@@ -31,8 +31,8 @@ from .tube import (
     RecordingConditions,
     TubeSetup,
     speaker_frequency_error,
-    spl_to_pa,
     synthesize_recording,
+    typical_conditions,
 )
 
 #: The paper's calibration levels for w: about 30 from 1.3 to 10.6 m (§4.3).
@@ -144,9 +144,7 @@ def characterise_observation_noise(
     being the first-order prediction of where it appears (later echoes move it by less than
     f_F/2, so the match is unambiguous).
     """
-    cond = conditions if conditions is not None else RecordingConditions(
-        speaker_jitter_hz=0.1, microphone_noise_pa=spl_to_pa(30.0),
-        background_noise_pa=spl_to_pa(50.0), latency_s=0.01)
+    cond = conditions if conditions is not None else typical_conditions()
     levels = np.atleast_1d(np.asarray(levels_m, dtype=float))
     temps = np.broadcast_to(np.asarray(temperature_c, dtype=float), levels.shape)
     rng = np.random.default_rng(seed)

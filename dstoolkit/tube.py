@@ -207,6 +207,14 @@ class RecordingConditions:
             raise ValueError(f"bits must be None or in 2..32, got {self.bits}")
 
 
+def typical_conditions(**changes: Any) -> RecordingConditions:
+    """A laptop-and-PVC-tube recording: speaker jitter σ 0.1 Hz (the paper's σ_v), a 30 dB SPL
+    microphone, 50 dB SPL room noise and 10 ms of audio latency; ``changes`` override."""
+    base = {"speaker_jitter_hz": 0.1, "microphone_noise_pa": spl_to_pa(30.0),
+            "background_noise_pa": spl_to_pa(50.0), "latency_s": 0.01}
+    return RecordingConditions(**{**base, **changes})
+
+
 @dataclass(frozen=True)
 class Recording:
     """A microphone recording in digital full-scale units, with the truth when simulated."""
