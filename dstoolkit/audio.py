@@ -38,6 +38,9 @@ from .errors import AudioUnavailableError, DetectionError
 MIN_PADDING_S = 0.5
 #: PortAudio's suggested latency (s) that returned the signal intact through the loopback.
 DEFAULT_LATENCY_S = 0.25
+#: Width of one arrival of the calibration chirp in its matched filter, s. Echoes in a
+#: tube come at least 2L/c later (2.9 ms for L = 0.5 m).
+ARRIVAL_WINDOW_S = 0.002
 #: Smallest |normalised correlation| at which a calibration chirp counts as found.
 MIN_CALIBRATION_CORRELATION = 0.3
 
@@ -49,13 +52,17 @@ INSTALL_HINT = (
 NO_DEVICE_HINT = (
     "Plug in a sound card, microphone and speaker and check they are not muted, or on a "
     "machine without sound hardware start the software loopback "
-    "`eval \"$(bash scripts/audio-loopback.sh)\"` in the shell that runs Python. "
+    "`export $(bash scripts/audio-loopback.sh)` in the shell that runs Python. "
     "dstoolkit.audio.list_devices() shows what PortAudio sees."
 )
 
 
 class NoAudioDeviceError(AudioUnavailableError):
     """PortAudio works but found no usable device, or a device failed to open."""
+
+
+class AudioDropoutWarning(RuntimeWarning):
+    """The audio stream lost input or inserted silence in the output (an xrun)."""
 
 
 def _sounddevice() -> ModuleType:
@@ -177,9 +184,10 @@ def choose_device(device: int | str | None, kind: Literal["input", "output"]) ->
         available = list_devices(kind)
         listing = "\n".join(str(d) for d in available) or "  (none)"
         wanted = "the default" if device is None else repr(device)
+        advice = "Pass one of these indices or names." if available else NO_DEVICE_HINT
         raise NoAudioDeviceError(
             f"no {kind} device for {wanted}: {exc}. {kind.capitalize()} devices PortAudio "
-            f"sees:\n{listing}\nPass one of these indices or names. {NO_DEVICE_HINT}"
+            f"sees:\n{listing}\n{advice}"
         ) from exc
     return int(info["index"])
 
@@ -256,6 +264,7 @@ def estimate_latency(
     *,
     offset: int = 0,
     max_latency_s: float | None = None,
+    first_arrival: float | None = 0.5,
 ) -> LatencyEstimate:
     """Estimate the audio latency by cross-correlating a reference with the recording.
 
@@ -264,7 +273,11 @@ def estimate_latency(
     ``c[j] = Σ_i recorded[j + i] reference[i]`` (``scipy.signal.correlate``, mode
     ``"valid"``, FFT) peaks in absolute value where the reference sits in the recording
     (absolute, so a microphone that inverts polarity still works), at ``j = offset + lag``.
-    Pure array function: no audio device needed.
+    In a tube the microphone also hears the reference's echoes, and the first one can be
+    louder than the direct sound (by up to 1 + R_t at a reflecting top): so the first
+    arrival is taken, the first place where the envelope of ``c`` reaches
+    ``first_arrival`` times its maximum, refined to the largest |c| in the next
+    ``ARRIVAL_WINDOW_S``. Pure array function: no audio device needed.
 
     Parameters
     ----------
@@ -278,6 +291,9 @@ def estimate_latency(
     max_latency_s : float, optional
         Search only ``|lag| <= max_latency_s``. Negative lags are allowed (the input
         stream can start after the output stream).
+    first_arrival : float or None
+        Fraction of the strongest arrival that counts as an arrival; None takes the
+        strongest.
 
     Returns
     -------
@@ -312,15 +328,23 @@ def estimate_latency(
         )
     c = signal.correlate(rec, ref, mode="valid", method="fft")
     lags = signal.correlation_lags(rec.size, ref.size, mode="valid") - offset
-    score = np.abs(c)
+    allowed = np.ones(c.size, bool)
     if max_latency_s is not None:
-        score = np.where(np.abs(lags) <= max_latency_s * samplerate, score, -1.0)
-        if score.max() < 0:
+        allowed = np.abs(lags) <= max_latency_s * samplerate
+        if not allowed.any():
             raise ValueError(
                 f"no lag within ±{max_latency_s} s fits the recording ({rec.size} samples, "
                 f"reference of {ref.size} at offset {offset}); widen max_latency_s"
             )
-    j = int(np.argmax(score))
+    score = np.where(allowed, np.abs(c), -1.0)
+    if first_arrival is None:
+        j = int(np.argmax(score))
+    else:
+        # the envelope of the matched filter: one smooth bump per arrival of the reference
+        envelope = np.where(allowed, np.abs(signal.hilbert(c)), 0.0)
+        start = int(np.flatnonzero(envelope >= first_arrival * envelope.max())[0])
+        stop = min(start + int(np.ceil(ARRIVAL_WINDOW_S * samplerate)) + 1, c.size)
+        j = start + int(np.argmax(score[start:stop]))
     window = rec[j : j + ref.size]
     norm = np.sqrt(ref_energy * float(window @ window))
     correlation = float(c[j] / norm) if norm > 0 else 0.0
@@ -334,6 +358,8 @@ class PlayRecordResult:
 
     ``played`` is the signal with its lead-in and tail of silence; ``recorded`` has the
     same length. ``signal_start`` is the index in ``played`` of the signal's first sample.
+    ``status`` is PortAudio's summary of the stream's flags; ``dropped_samples`` is True
+    when they say input was lost or output was late (the recording then has gaps).
     """
 
     played: np.ndarray
@@ -344,6 +370,7 @@ class PlayRecordResult:
     input_device: int
     output_device: int
     status: str
+    dropped_samples: bool
 
     def segment(self, start: int, length: int, latency: LatencyEstimate) -> np.ndarray:
         """The recording of ``played[start:start + length]``, corrected for the latency.
@@ -429,11 +456,13 @@ def play_record(
         ) from exc
     flags = sd.get_status()
     status = str(flags)
-    if flags.input_overflow or flags.output_underflow:
+    # input_underflow (no input yet: zeros) is set at the start of every duplex stream
+    dropped = bool(flags.input_overflow or flags.output_underflow)
+    if dropped:
         warnings.warn(
             f"the audio stream dropped samples ({status}): the recording has gaps. "
             "Use a larger latency (e.g. 0.5) and close other programs using audio.",
-            RuntimeWarning,
+            AudioDropoutWarning,
             stacklevel=2,
         )
     return PlayRecordResult(
@@ -445,6 +474,7 @@ def play_record(
         input_device=device_in,
         output_device=device_out,
         status=status,
+        dropped_samples=dropped,
     )
 
 
@@ -468,11 +498,14 @@ def measure_latency(
                          output_device=output_device, latency=latency)
     estimate = estimate_latency(chirp, result.recorded, samplerate,
                                 offset=result.signal_start)
-    _check_calibration(estimate, min_correlation)
+    check_calibration(estimate, min_correlation)
     return estimate
 
 
-def _check_calibration(estimate: LatencyEstimate, min_correlation: float) -> None:
+def check_calibration(
+    estimate: LatencyEstimate, min_correlation: float = MIN_CALIBRATION_CORRELATION
+) -> None:
+    """Raise :class:`DetectionError` when the calibration chirp was not found."""
     if abs(estimate.correlation) < min_correlation:
         raise DetectionError(
             f"the calibration chirp was not found in the recording (correlation "

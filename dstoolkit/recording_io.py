@@ -51,6 +51,8 @@ class RecordingMetadata:
         The sweep's band (the paper swept 1000 → 2400 Hz).
     sweep_duration_s : float or None
         Length of the sweep (5 s in the paper).
+    sweep_taper_s : float or None
+        Raised-cosine fade at each end of the sweep (:class:`dstoolkit.sweep.LinearSweep`).
     sweep_onset_s : float or None
         Time in the recording at which the sweep's first sample arrives, latency included:
         the analysis maps recording time to sweep frequency from here.
@@ -68,6 +70,7 @@ class RecordingMetadata:
     f_start_hz: float | None = None
     f_stop_hz: float | None = None
     sweep_duration_s: float | None = None
+    sweep_taper_s: float | None = None
     sweep_onset_s: float | None = None
     latency_s: float | None = None
     level_m: float | None = None
@@ -122,8 +125,10 @@ class RecordingMetadata:
 
 
 @dataclass(frozen=True)
-class Recording:
-    """A mono recording: samples (float, full scale ±1), sample rate (Hz), metadata."""
+class WavRecording:
+    """A mono recording as stored in a WAV file: samples (float, full scale ±1), sample
+    rate (Hz) and metadata. (:class:`dstoolkit.tube.Recording` is the gauge's view of a
+    recording, cropped to the sweep; :mod:`dstoolkit.measurement` converts.)"""
 
     samples: np.ndarray
     samplerate: int
@@ -194,7 +199,8 @@ def save_recording(
                 f"samples peak at {peak:.3g} > 1 and would clip in 16-bit PCM; "
                 "use sample_format='float32' or scale them"
             )
-        data = np.clip(np.round(x * 32767.0), -32768, 32767).astype(np.int16)
+        # the scale load_recording divides by; +1.0 itself saturates at 32767/32768
+        data = np.clip(np.round(x * 32768.0), -32768, 32767).astype(np.int16)
     else:
         raise RecordingFileError(
             f"sample_format must be 'float32' or 'int16', not {sample_format!r}"
@@ -231,7 +237,7 @@ def _read_info(raw: bytes, path: str | os.PathLike[str]) -> dict[bytes, str]:
     return info
 
 
-def load_recording(path: str | os.PathLike[str], *, channel: int = 0) -> Recording:
+def load_recording(path: str | os.PathLike[str], *, channel: int = 0) -> WavRecording:
     """Read a WAV file written by :func:`save_recording`, or any other WAV file.
 
     Samples come back as float64 at full scale ±1 (16/32-bit PCM are scaled, unsigned
@@ -250,7 +256,7 @@ def load_recording(path: str | os.PathLike[str], *, channel: int = 0) -> Recordi
     info = _read_info(raw, path)
     try:
         samplerate, data = wavfile.read(io.BytesIO(raw))
-    except ValueError as exc:
+    except (ValueError, struct.error, EOFError) as exc:  # struct.error: a truncated file
         raise RecordingFileError(f"cannot read the WAV file {os.fspath(path)!r}: {exc}") from exc
     if data.ndim == 2:
         if not 0 <= channel < data.shape[1]:
@@ -272,4 +278,4 @@ def load_recording(path: str | os.PathLike[str], *, channel: int = 0) -> Recordi
         metadata = RecordingMetadata.from_json(comment)
     else:
         metadata = RecordingMetadata()
-    return Recording(samples=samples, samplerate=int(samplerate), metadata=metadata)
+    return WavRecording(samples=samples, samplerate=int(samplerate), metadata=metadata)
