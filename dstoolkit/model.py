@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -195,3 +195,111 @@ class FilterResult:
     upper: np.ndarray
     steps: list[dict[str, Any]] | None = None
     diagnostics: dict[str, np.ndarray] = field(default_factory=dict)
+
+
+# -- shared by the filters (added for issue 3) --------------------------------------------
+class Filter(Protocol):
+    """What every filter in dstoolkit offers: a name, one run, and a batch of runs.
+
+    ``run(model, z, inputs=None, record=False)`` filters one sequence of readings z
+    (steps, m) and returns a :class:`FilterResult`; ``run_batch(model, Z, inputs=None)``
+    filters independent sequences Z (runs, steps, m) at once, vectorised over runs, and
+    returns the estimates (runs, steps, n), the same numbers ``run`` gives for each row.
+    Inputs drive f(x, u): one row per transition (``inputs[k - 1]`` leads from step k − 1 to
+    step k, as in :meth:`StateSpaceModel.simulate`); in a batch, one such array per run.
+    """
+
+    name: str
+
+    def run(
+        self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
+    ) -> FilterResult: ...
+
+    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> np.ndarray: ...
+
+
+def batch_readings(
+    model: StateSpaceModel, Z: Any, inputs: Any = None
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """Check a batch of readings and inputs and give them their batch shapes.
+
+    Returns ``Z`` as (runs, steps, m) floats and ``inputs`` as (runs, transitions, q) (or
+    None), raising a clear error for wrong shapes or non-finite readings.
+    """
+    z = np.asarray(Z, dtype=float)
+    if z.ndim == 2 and model.obs_dim == 1:
+        z = z[..., None]
+    if z.ndim != 3 or z.shape[2] != model.obs_dim:
+        raise EvidenceError(
+            f"readings must have shape (runs, steps, {model.obs_dim}), got {z.shape}; "
+            "a single sequence goes to run(), not run_batch()"
+        )
+    if z.shape[1] == 0:
+        raise EvidenceError("no readings: give at least one step")
+    if not np.all(np.isfinite(z)):
+        bad = np.argwhere(~np.isfinite(z))[0]
+        raise EvidenceError(
+            f"reading at run {bad[0]}, step {bad[1]} is not a finite number; remove or "
+            "replace missing readings before filtering"
+        )
+    if inputs is None:
+        return z, None
+    u = np.asarray(inputs, dtype=float)
+    if u.ndim == 2:
+        u = u[..., None]
+    if u.ndim != 3 or u.shape[0] != z.shape[0] or u.shape[1] < z.shape[1] - 1:
+        raise EvidenceError(
+            f"inputs must have shape (runs, transitions, q) with runs = {z.shape[0]} and "
+            f"transitions >= steps − 1 = {z.shape[1] - 1}, got {u.shape}"
+        )
+    return z, u
+
+
+def single_readings(model: StateSpaceModel, z: Any, inputs: Any = None) -> tuple[Any, Any]:
+    """One sequence z (steps, m) (or (steps,) for m = 1) as a batch of one run."""
+    z = np.asarray(z, dtype=float)
+    if z.ndim == 1 and model.obs_dim == 1:
+        z = z[:, None]
+    if z.ndim != 2:
+        raise EvidenceError(
+            f"readings must have shape (steps, {model.obs_dim}), got {z.shape}; "
+            "a batch of sequences goes to run_batch()"
+        )
+    return z[None], None if inputs is None else np.asarray(inputs, dtype=float)[None]
+
+
+def step_input(inputs: np.ndarray | None, k: int) -> np.ndarray | None:
+    """The inputs u (runs, q) of the transition into step k (None without inputs)."""
+    return None if inputs is None else inputs[:, k - 1]
+
+
+def with_input(f: ArrayFn, u: np.ndarray | None) -> Callable[[np.ndarray], np.ndarray]:
+    """``x ↦ f(x, u)`` for state arrays x (runs, …, n): u (runs, q) is reshaped to
+    (runs, 1, …, 1, q) so that it broadcasts against x whatever axes lie between."""
+    if u is None:
+        return lambda x: f(x, None)
+    return lambda x: f(x, u.reshape(u.shape[0], *([1] * (np.ndim(x) - 2)), u.shape[-1]))
+
+
+def first_reading_box(
+    model: StateSpaceModel, z: np.ndarray, prior: Any = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The states consistent with a reading: g⁻¹(z + [w_lo, w_hi]) ∩ prior (eq. 21).
+
+    ``z`` has shape (..., m); ``prior`` is a box ``(lo, hi)`` of the state, default the
+    whole space. Returns (lo, hi) of shape (..., n); empty boxes have lo > hi somewhere.
+    """
+    if model.g_inverse is None:
+        raise EvidenceError(
+            f"model {model.name!r} has no g_inverse: give the filter an initial box of the "
+            "state, or add g_inverse to the model"
+        )
+    shape = (*z.shape[:-1], model.state_dim)
+    if prior is None:
+        p_lo, p_hi = np.full(shape, -np.inf), np.full(shape, np.inf)
+    else:
+        p_lo = np.broadcast_to(np.asarray(prior[0], dtype=float), shape)
+        p_hi = np.broadcast_to(np.asarray(prior[1], dtype=float), shape)
+    noise = model.obs_noise
+    lo, hi = model.g_inverse(z + noise.lower, z + noise.upper, p_lo, p_hi)
+    return np.broadcast_to(lo, shape).astype(float), np.broadcast_to(hi, shape).astype(float)

@@ -1,0 +1,115 @@
+"""Time the filters on a gauge-like sequence (issue 3): one run, and a batch of runs.
+
+The sequence is the paper's 9.6 m case: 23.9 °C, band 1000–2500 Hz, f_F ≈ 18 Hz, 83
+resonances read with the paper's observation noise, orders n_k from the readings (eq. 43).
+For each filter in :data:`REGISTRY` this prints
+
+- one run: the median and best wall time of ``run`` over ``--repeat`` runs (target for the
+  dependent-evidence filter: < 10 ms);
+- a batch: the wall time of ``run_batch`` on ``--runs`` sequences and the throughput in
+  filter steps per second, one step = one transition k → k+1 (82 per sequence; target:
+  > 50,000 steps/s).
+
+The machine is shared: the load average is printed with the figures. Run from the
+repository root:  python benchmarks/filters.py [--runs 1000] [--repeat 30] [--filters a,b]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from dstoolkit.dependent_filter import DependentEvidenceFilter  # noqa: E402
+from dstoolkit.gauge_model import gauge_state_space_model, simulate_gauge  # noqa: E402
+from dstoolkit.model import Filter  # noqa: E402
+
+
+@dataclass(frozen=True)
+class Entry:
+    """A filter to time: how to build it, and what its settings are."""
+
+    make: Callable[[], Filter]
+    settings: str
+
+
+#: Filters timed by this script; add rivals with :func:`register`.
+REGISTRY: dict[str, Entry] = {}
+
+
+def register(name: str, make: Callable[[], Filter], settings: str) -> None:
+    """Add a filter under ``name``: ``make()`` returns an object with run/run_batch."""
+    REGISTRY[name] = Entry(make, settings)
+
+
+register("dependent-evidence", DependentEvidenceFilter,
+         "paper's filter, p = 3, ε = 0.05, m(D) = min, start z_1")
+
+
+def time_single(flt: Filter, model, z: np.ndarray, u: np.ndarray, repeat: int
+                ) -> tuple[float, float]:
+    """Median and best wall time (s) of one run, after a warm-up run."""
+    flt.run(model, z, u)
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        flt.run(model, z, u)
+        times.append(time.perf_counter() - start)
+    return statistics.median(times), min(times)
+
+
+def time_batch(flt: Filter, model, z: np.ndarray, u: np.ndarray, repeat: int = 2) -> float:
+    """Best wall time (s) of one batch run."""
+    best = np.inf
+    for _ in range(repeat):
+        start = time.perf_counter()
+        flt.run_batch(model, z, u)
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=1000, help="sequences in the batch")
+    parser.add_argument("--repeat", type=int, default=30, help="timed single runs")
+    parser.add_argument("--filters", default=",".join(REGISTRY),
+                        help=f"comma-separated names among {', '.join(REGISTRY)}")
+    args = parser.parse_args(argv)
+    names = [name for name in args.filters.split(",") if name]
+    unknown = sorted(set(names) - set(REGISTRY))
+    if unknown:
+        parser.error(f"unknown filter(s) {unknown}; known: {sorted(REGISTRY)}")
+
+    model = gauge_state_space_model()
+    one = simulate_gauge(seed=0)
+    many = simulate_gauge(runs=args.runs, seed=1)
+    steps = one.orders.size - 1
+    print(f"gauge-like sequence: L = {one.level_m} m, T = {one.temperature_c} °C, "
+          f"f_F = {one.fundamental_hz:.2f} Hz, {one.orders.size} resonances "
+          f"(n = {one.orders[0]}..{one.orders[-1]}), {steps} filter steps per run")
+    print(f"numpy {np.__version__}, {os.cpu_count()} CPUs, load average "
+          f"{', '.join(f'{x:.2f}' for x in os.getloadavg())}\n")
+    print(f"{'filter':22s} {'one run: median':>16s} {'best':>9s} {'batch of':>9s} "
+          f"{'time':>8s} {'steps/s':>10s}  settings")
+    for name in names:
+        entry = REGISTRY[name]
+        flt = entry.make()
+        median, best = time_single(flt, model, one.readings, one.inputs, args.repeat)
+        batch = time_batch(flt, model, many.readings, many.inputs)
+        rate = args.runs * steps / batch
+        print(f"{name:22s} {median * 1e3:13.2f} ms {best * 1e3:6.2f} ms {args.runs:9d} "
+              f"{batch:6.2f} s {rate:10,.0f}  {entry.settings}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
