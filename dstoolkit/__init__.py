@@ -4,6 +4,7 @@ Implements Xu, Li, Li, Zhou, "State Estimation Using Dependent Evidence Fusion: 
 to Acoustic Resonance-Based Liquid Level Measurement", Sensors 17(4):924, 2017.
 """
 
+from .bounded_error_filter import BoundedErrorFilter
 from .combination import (
     Dependence,
     combine_dependent,
@@ -15,6 +16,7 @@ from .combination import (
     energy,
     joint_energy,
 )
+from .dependent_filter import DependentEvidenceFilter
 from .errors import (
     AudioUnavailableError,
     DetectionError,
@@ -24,8 +26,13 @@ from .errors import (
     TotalConflictError,
 )
 from .evidence import Evidence
+from .extension import VertexMethodWarning, cartesian_product, image, projection
 from .finite_frame import MassFunction
 from .intervals import IntervalEvidence
+from .kalman_filter import KalmanFilter
+from .model import BoundedNoise, FilterResult, StateSpaceModel
+from .nassreddine_filter import NassreddineFilter
+from .particle_filter import ParticleFilter
 from .possibility import (
     TriangularBounds,
     alpha_cuts,
@@ -36,6 +43,18 @@ from .possibility import (
 
 __all__ = [
     "AudioUnavailableError",
+    "BoundedErrorFilter",
+    "BoundedNoise",
+    "DependentEvidenceFilter",
+    "FilterResult",
+    "KalmanFilter",
+    "NassreddineFilter",
+    "ParticleFilter",
+    "StateSpaceModel",
+    "VertexMethodWarning",
+    "cartesian_product",
+    "image",
+    "projection",
     "Dependence",
     "DetectionError",
     "Evidence",

@@ -1,0 +1,98 @@
+"""Shared pytest fixtures and helpers.
+
+Keep this file to fixtures that more than one test module needs, grouped by topic.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+ARTIFACTS = ROOT / "test-artifacts"
+
+# --------------------------------------------------------------------------------------
+# The book: built once per session with the same command a user runs
+# --------------------------------------------------------------------------------------
+
+BUILD_SCRIPT = ROOT / "scripts" / "build-book.sh"
+#: Line printed by scripts/build-book.sh just before it runs jupyter-book.
+JUPYTER_BOOK_MARKER = "==> jupyter-book build"
+_ANSI = re.compile(r"\x1b\[[0-9;]*m")
+
+
+@dataclass(frozen=True)
+class BookBuild:
+    """Result of one run of scripts/build-book.sh."""
+
+    returncode: int
+    log: str  # stdout and stderr of the script, colour codes removed
+    html_dir: Path
+
+    @property
+    def jupyter_book_log(self) -> str:
+        """The part of the log written by `jupyter-book build` (empty if it never ran)."""
+        _, found, rest = self.log.partition(JUPYTER_BOOK_MARKER)
+        return rest if found else ""
+
+    def tail(self, lines: int = 60) -> str:
+        """The last lines of the log, for assertion messages."""
+        return "\n".join(self.log.splitlines()[-lines:])
+
+
+def toc_pages(toc_file: Path = ROOT / "_toc.yml") -> list[str]:
+    """Every page of the book's table of contents, root first, as paths without suffix.
+
+    Walks the jb-book format: ``root`` plus every ``file`` entry under ``parts``,
+    ``chapters`` and ``sections``, at any depth.
+    """
+    toc = yaml.safe_load(toc_file.read_text(encoding="utf-8"))
+    pages = [toc["root"]]
+
+    def walk(node: object) -> None:
+        if isinstance(node, dict):
+            if "file" in node:
+                pages.append(node["file"])
+            for value in node.values():
+                walk(value)
+        elif isinstance(node, list):
+            for item in node:
+                walk(item)
+
+    walk({key: value for key, value in toc.items() if key != "root"})
+    suffixes = {".md", ".ipynb", ".rst"}
+    return [page.rsplit(".", 1)[0] if Path(page).suffix in suffixes else page for page in pages]
+
+
+@pytest.fixture(scope="session")
+def built_book() -> BookBuild:
+    """Build the book in place (``bash scripts/build-book.sh``) once per test session.
+
+    The log is also saved to test-artifacts/book-build.log.
+    """
+    result = subprocess.run(
+        ["bash", str(BUILD_SCRIPT)],
+        cwd=ROOT,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        timeout=3600,
+        env=os.environ.copy(),
+    )
+    log = _ANSI.sub("", result.stdout)
+    ARTIFACTS.mkdir(exist_ok=True)
+    (ARTIFACTS / "book-build.log").write_text(log, encoding="utf-8")
+    return BookBuild(result.returncode, log, ROOT / "_build" / "html")
+
+
+def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
+    """Parametrize any test that asks for ``toc_page`` with every page of _toc.yml."""
+    if "toc_page" in metafunc.fixturenames:
+        pages = toc_pages()
+        metafunc.parametrize("toc_page", pages, ids=pages)

@@ -1,0 +1,255 @@
+"""The built book in headless Chromium, served from 127.0.0.1 with no other host reachable.
+
+Every page of _toc.yml must load, have its maths typeset by the local MathJax, show every
+image and every embedded widget, log no console error and make no request that fails or
+leaves 127.0.0.1. Screenshots of three chapters go to test-artifacts/.
+
+Needs Debian's chromium at /usr/bin/chromium (Playwright drives it; no `playwright install`).
+Without it the tests skip, except when DSTOOLKIT_REQUIRE_BROWSER=1 (CI), where they fail.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+import threading
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
+from urllib.parse import urlsplit
+
+import pytest
+from conftest import ARTIFACTS, BookBuild
+
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
+
+CHROMIUM = Path("/usr/bin/chromium")
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+REQUIRE_BROWSER = os.environ.get("DSTOOLKIT_REQUIRE_BROWSER") == "1"
+#: Chapters whose full-page screenshots are saved in test-artifacts/.
+SCREENSHOT_PAGES = ("book/intro", "book/mass_functions", "book/dependent_evidence")
+LOCAL_SCHEMES = ("data:", "blob:", "about:")
+TIMEOUT_MS = 30_000
+
+
+def _unavailable(reason: str) -> None:
+    """Skip, or fail when the environment says a browser is required."""
+    if REQUIRE_BROWSER:
+        pytest.fail(f"{reason} (DSTOOLKIT_REQUIRE_BROWSER=1: the browser test must run)")
+    pytest.skip(reason)
+
+
+@pytest.fixture(scope="module")
+def chromium() -> Iterator[object]:
+    """A headless Debian Chromium driven by Playwright."""
+    if not (CHROMIUM.is_file() and os.access(CHROMIUM, os.X_OK)):
+        _unavailable(f"{CHROMIUM} not found: apt-get install chromium")
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        _unavailable("Playwright for Python is not installed: pip install -e '.[test]'")
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(
+            executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True
+        )
+        yield browser
+        browser.close()
+
+
+class _QuietHandler(SimpleHTTPRequestHandler):
+    def log_message(self, fmt: str, *args: object) -> None:
+        pass
+
+
+@pytest.fixture(scope="module")
+def site(chromium: object, built_book: BookBuild) -> Iterator[str]:
+    """Base URL of _build/html served by a local http.server thread on 127.0.0.1."""
+    if built_book.returncode != 0 or not (built_book.html_dir / "index.html").is_file():
+        pytest.fail(f"the book did not build, see test_book_build:\n{built_book.tail(20)}")
+    handler = functools.partial(_QuietHandler, directory=str(built_book.html_dir))
+    server = ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield f"http://127.0.0.1:{server.server_address[1]}/"
+    finally:
+        server.shutdown()
+        server.server_close()
+
+
+@dataclass
+class _PageProblems:
+    console_errors: list[str] = field(default_factory=list)
+    failed_requests: list[str] = field(default_factory=list)
+    external_requests: list[str] = field(default_factory=list)
+
+
+# Visible text that MathJax should have replaced, outside code and MathJax's own output.
+_RAW_MATH_JS = """
+() => {
+  const skip = 'pre, code, script, style, textarea, mjx-container, .highlight';
+  const walker = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT);
+  const found = [];
+  for (let node = walker.nextNode(); node; node = walker.nextNode()) {
+    const parent = node.parentElement;
+    if (!parent || parent.closest(skip)) continue;
+    const text = node.textContent;
+    for (const token of ['\\\\(', '\\\\[', '$$']) {
+      if (text.includes(token)) found.push(text.trim().slice(0, 80));
+    }
+  }
+  return found;
+}
+"""
+
+_MATHJAX_READY_JS = """
+async () => {
+  const mathNodes = document.querySelectorAll('.math').length;
+  if (!window.MathJax || !window.MathJax.startup || !window.MathJax.startup.promise) {
+    return {mathNodes, loaded: false};
+  }
+  await window.MathJax.startup.promise;
+  return {
+    mathNodes,
+    loaded: true,
+    typeset: document.querySelectorAll('mjx-container').length,
+    errors: Array.from(document.querySelectorAll('mjx-merror'))
+      .map(e => e.getAttribute('data-mjx-error') || e.textContent),
+  };
+}
+"""
+
+# Each widget view <script> gets a rendered sibling div.widget-subarea from embed.js.
+_WIDGETS_RENDERED_JS = """
+() => Array.from(
+  document.querySelectorAll('script[type="application/vnd.jupyter.widget-view+json"]')
+).every(tag => {
+  const area = tag.previousElementSibling;
+  return area && area.classList.contains('widget-subarea')
+    && area.querySelector('.jupyter-widgets') !== null;
+})
+"""
+
+_WIDGET_REPORT_JS = """
+() => Array.from(
+  document.querySelectorAll('script[type="application/vnd.jupyter.widget-view+json"]')
+).map(tag => {
+  const area = tag.previousElementSibling;
+  const id = JSON.parse(tag.textContent).model_id;
+  if (!area || !area.classList.contains('widget-subarea')) return {id, rendered: false};
+  const widget = area.querySelector('.jupyter-widgets');
+  const box = widget ? widget.getBoundingClientRect() : {width: 0, height: 0};
+  const style = widget ? getComputedStyle(widget) : null;
+  return {
+    id, rendered: widget !== null,
+    visible: box.width > 0 && box.height > 0 && style.visibility !== 'hidden'
+      && style.display !== 'none',
+  };
+})
+"""
+
+_IMAGES_JS = """
+async () => {
+  const images = Array.from(document.images);
+  await Promise.all(images.map(img => img.complete ? null : new Promise(resolve => {
+    img.addEventListener('load', resolve); img.addEventListener('error', resolve);
+  })));
+  return images.filter(img => !(img.complete && img.naturalWidth > 0))
+    .map(img => img.currentSrc || img.src || img.outerHTML.slice(0, 120));
+}
+"""
+
+
+def _is_local(url: str) -> bool:
+    return url.startswith(LOCAL_SCHEMES) or urlsplit(url).hostname == "127.0.0.1"
+
+
+def _watch(context: object, page: object) -> _PageProblems:
+    """Record console errors, failed requests, and block (and record) any other host."""
+    problems = _PageProblems()
+
+    def handle_route(route: object) -> None:
+        if _is_local(route.request.url):
+            route.continue_()
+        else:
+            problems.external_requests.append(route.request.url)
+            route.abort()
+
+    def on_console(message: object) -> None:
+        if message.type == "error":
+            problems.console_errors.append(message.text)
+
+    def on_request_failed(request: object) -> None:
+        if _is_local(request.url):  # blocked external requests are reported separately
+            problems.failed_requests.append(f"{request.url} ({request.failure})")
+
+    def on_response(response: object) -> None:
+        if response.status >= 400:
+            problems.failed_requests.append(f"{response.url} (HTTP {response.status})")
+
+    context.route("**/*", handle_route)
+    page.on("console", on_console)
+    page.on("pageerror", lambda error: problems.console_errors.append(f"uncaught: {error}"))
+    page.on("requestfailed", on_request_failed)
+    page.on("response", on_response)
+    return problems
+
+
+def test_page_in_browser(chromium: object, site: str, toc_page: str) -> None:
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
+    context = chromium.new_context(viewport={"width": 1280, "height": 900})
+    page = context.new_page()
+    page.set_default_timeout(TIMEOUT_MS)
+    problems = _watch(context, page)
+    try:
+        response = page.goto(site + toc_page + ".html", wait_until="load")
+        assert response is not None and response.status == 200, (
+            f"{toc_page}.html answered {response and response.status}"
+        )
+
+        maths = page.evaluate(_MATHJAX_READY_JS)
+        if maths["mathNodes"]:
+            assert maths["loaded"], f"{toc_page}: {maths['mathNodes']} formulas, no MathJax"
+            assert maths["typeset"] >= maths["mathNodes"], f"{toc_page}: maths untypeset {maths}"
+            assert not maths["errors"], f"{toc_page}: TeX errors {maths['errors']}"
+        raw = page.evaluate(_RAW_MATH_JS)
+        assert not raw, f"{toc_page}: raw TeX left in the page: {raw[:5]}"
+
+        if page.locator('script[type="application/vnd.jupyter.widget-view+json"]').count():
+            try:
+                page.wait_for_function(_WIDGETS_RENDERED_JS, timeout=TIMEOUT_MS)
+            except PlaywrightTimeout:
+                pass  # the report below says which widget is missing
+            report = page.evaluate(_WIDGET_REPORT_JS)
+            bad = [w for w in report if not (w["rendered"] and w["visible"])]
+            assert not bad, f"{toc_page}: widgets not shown: {bad}"
+
+        page.evaluate("window.scrollTo(0, document.body.scrollHeight)")
+        broken = page.evaluate(_IMAGES_JS)
+        assert not broken, f"{toc_page}: images that did not load: {broken}"
+
+        page.wait_for_load_state("networkidle")
+        if toc_page in SCREENSHOT_PAGES:
+            ARTIFACTS.mkdir(exist_ok=True)
+            page.evaluate("window.scrollTo(0, 0)")
+            name = toc_page.replace("/", "-") + ".png"
+            page.screenshot(path=str(ARTIFACTS / name), full_page=True)
+
+        assert not problems.external_requests, (
+            f"{toc_page}: requests leaving 127.0.0.1: {problems.external_requests}"
+        )
+        assert not problems.failed_requests, f"{toc_page}: failed {problems.failed_requests}"
+        assert not problems.console_errors, f"{toc_page}: console {problems.console_errors}"
+    finally:
+        context.close()

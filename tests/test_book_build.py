@@ -1,0 +1,161 @@
+"""The book builds with `bash scripts/build-book.sh` (jupyter-book build . -W -n --keep-going)
+without a warning, and every page of the site is self-contained: no script, style, font or
+image from another site, and the state of every widget embedded in the page."""
+
+from __future__ import annotations
+
+import json
+from html.parser import HTMLParser
+from pathlib import Path
+
+import pytest
+from conftest import BookBuild, toc_pages
+
+pytestmark = pytest.mark.slow
+
+WIDGET_STATE = "application/vnd.jupyter.widget-state+json"
+WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
+#: Hosts the default Jupyter Book / myst-nb / sphinx-thebe configuration loads code from.
+CDN_HOSTS = (
+    "unpkg.com",
+    "cdn.jsdelivr.net",
+    "cdnjs.cloudflare.com",
+    "googleapis.com",
+    "gstatic.com",
+    "fontawesome.com",
+    "mathjax.org",
+    "plausible.io",
+    "googletagmanager.com",
+    "hypothes.is",
+    "utteranc.es",
+)
+#: (tag, attribute) pairs whose URL the browser fetches when it renders the page.
+FETCHED = {
+    ("script", "src"),
+    ("link", "href"),
+    ("img", "src"),
+    ("iframe", "src"),
+    ("source", "src"),
+    ("video", "src"),
+    ("audio", "src"),
+    ("embed", "src"),
+    ("object", "data"),
+    ("input", "src"),
+}
+
+
+class _PageParser(HTMLParser):
+    """Collects the fetched URLs and the JSON of the widget <script> tags of a page."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.fetched: list[str] = []
+        self.scripts: list[tuple[str, str]] = []  # (type, body) of inline typed scripts
+        self._script_type: str | None = None
+        self._body: list[str] = []
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        attributes = dict(attrs)
+        for name, value in attributes.items():
+            if (tag, name) in FETCHED and value:
+                if tag == "link" and attributes.get("rel") in {"canonical", "next", "prev"}:
+                    continue  # navigation links, not fetched
+                self.fetched.append(value)
+        if tag == "script" and attributes.get("type") in {WIDGET_STATE, WIDGET_VIEW}:
+            self._script_type = attributes["type"]
+            self._body = []
+
+    def handle_data(self, data: str) -> None:
+        if self._script_type is not None:
+            self._body.append(data)
+
+    def handle_endtag(self, tag: str) -> None:
+        if tag == "script" and self._script_type is not None:
+            self.scripts.append((self._script_type, "".join(self._body)))
+            self._script_type = None
+
+
+def _page(built_book: BookBuild, page: str) -> tuple[str, _PageParser]:
+    path = built_book.html_dir / f"{page}.html"
+    assert path.is_file(), f"{path} was not built (build exit code {built_book.returncode})"
+    text = path.read_text(encoding="utf-8")
+    parser = _PageParser()
+    parser.feed(text)
+    return text, parser
+
+
+def test_build_succeeds(built_book: BookBuild) -> None:
+    assert built_book.returncode == 0, (
+        f"scripts/build-book.sh exited with {built_book.returncode}; end of its log "
+        f"(whole log in test-artifacts/book-build.log):\n{built_book.tail()}"
+    )
+
+
+def test_build_has_no_warning(built_book: BookBuild) -> None:
+    log = built_book.jupyter_book_log
+    assert log, f"jupyter-book never ran; end of the log:\n{built_book.tail()}"
+    warnings = [line for line in log.splitlines() if "WARNING" in line]
+    assert not warnings, "jupyter-book warned (fatal under -W):\n" + "\n".join(warnings)
+
+
+def test_every_toc_page_has_an_html_file(built_book: BookBuild) -> None:
+    pages = toc_pages()
+    missing = [page for page in pages if not (built_book.html_dir / f"{page}.html").is_file()]
+    assert not missing, f"pages of _toc.yml without an html file: {missing}"
+    assert (built_book.html_dir / "index.html").is_file(), "no index.html at the site root"
+
+
+def test_offline_assets_are_part_of_the_site(built_book: BookBuild) -> None:
+    static = built_book.html_dir / "_static"
+    assert (static / "mathjax" / "tex-chtml.js").is_file(), "MathJax is not in _static/mathjax"
+    fonts = list((static / "mathjax" / "output" / "chtml" / "fonts").rglob("*.woff"))
+    assert fonts, "MathJax's CHTML fonts are missing from _static/mathjax/output/chtml/fonts"
+    embed = static / "jupyter-widgets" / "embed.js"
+    assert embed.is_file(), "the widget embedder is not in _static/jupyter-widgets/embed.js"
+    code = [
+        line
+        for line in embed.read_text(encoding="utf-8").splitlines()[:5]
+        if line.strip() and not line.lstrip().startswith("/*")
+    ]
+    assert code and not code[0].lstrip().startswith("define("), (
+        "_static/jupyter-widgets/embed.js is an AMD module (it needs require.js); copy the "
+        "non-AMD dist/embed.js of @jupyter-widgets/html-manager"
+    )
+
+
+def test_page_fetches_nothing_from_other_sites(built_book: BookBuild, toc_page: str) -> None:
+    text, parser = _page(built_book, toc_page)
+    external = [url for url in parser.fetched if url.startswith(("http:", "https:", "//"))]
+    assert not external, f"{toc_page}.html fetches from other sites: {external}"
+    cdn = [host for host in CDN_HOSTS if host in text]
+    assert not cdn, f"{toc_page}.html mentions CDN hosts {cdn} (thebe, analytics, fonts?)"
+    amd = [url for url in parser.fetched if "require" in Path(url).name or "amd" in url]
+    assert not amd, f"{toc_page}.html loads require.js or an AMD bundle: {amd}"
+
+
+def test_widget_views_have_embedded_state(built_book: BookBuild, toc_page: str) -> None:
+    _, parser = _page(built_book, toc_page)
+    views = [json.loads(body)["model_id"] for kind, body in parser.scripts if kind == WIDGET_VIEW]
+    states = [json.loads(body) for kind, body in parser.scripts if kind == WIDGET_STATE]
+    if not views:
+        return
+    assert len(states) == 1, (
+        f"{toc_page}.html shows {len(views)} widget(s) but has {len(states)} widget-state "
+        "scripts; the notebook's metadata.widgets was not saved at execution"
+    )
+    missing = [model for model in views if model not in states[0]["state"]]
+    assert not missing, f"{toc_page}.html: widget views without embedded state: {missing}"
+    embedders = [url for url in parser.fetched if url.split("?")[0].endswith("embed.js")]
+    assert embedders and all("_static/jupyter-widgets/embed.js" in u for u in embedders), (
+        f"{toc_page}.html must load the local _static/jupyter-widgets/embed.js, loads {embedders}"
+    )
+
+
+def test_intro_embeds_its_widget(built_book: BookBuild) -> None:
+    """The intro's discount slider is the canary: widget state must reach the page."""
+    _, parser = _page(built_book, "book/intro")
+    kinds = [kind for kind, _ in parser.scripts]
+    assert WIDGET_VIEW in kinds and WIDGET_STATE in kinds, (
+        "book/intro.html has no embedded widget; myst-nb stores the state only when the "
+        "executed notebook carries metadata.widgets"
+    )

@@ -1,0 +1,145 @@
+"""The evidence explorers of dstoolkit.widgets: built in a kernel, a control changed in a
+later cell, and the figure and the printed numbers change (through nbclient, as the book's
+build executes them); plus quick in-process checks of what they show."""
+
+from __future__ import annotations
+
+import json
+
+import matplotlib
+import nbformat
+import pytest
+from nbclient import NotebookClient
+
+from dstoolkit import combine_dependent, dempster, dependence
+from dstoolkit import widgets as w
+from dstoolkit.exercises import appendix_pair
+
+matplotlib.use("Agg")
+
+#: explorer factory → (control to change, new value)
+CHANGES = {
+    "mass_function_explorer": ("low", 0.1),
+    "conflict_explorer": ("epsilon", 0.2),
+    "dependent_combination_explorer": ("b3", 0.2),
+    "noise_evidence_explorer": ("p", 6),
+    "bounded_error_explorer": ("scale", 0.5),
+}
+
+SETUP = """
+import hashlib, io, json
+from dstoolkit import widgets as w
+
+def state(ex):
+    buf = io.BytesIO()
+    ex.figure.savefig(buf, format="png")
+    return json.dumps({"numbers": {k: str(v) for k, v in ex.numbers.items()},
+                       "figure": hashlib.sha1(buf.getvalue()).hexdigest()})
+"""
+
+
+def _cells() -> list[nbformat.NotebookNode]:
+    cells = [nbformat.v4.new_code_cell(SETUP)]
+    for name in CHANGES:
+        cells.append(nbformat.v4.new_code_cell(
+            f"ex_{name} = w.{name}()\nprint('BEFORE {name}', state(ex_{name}))\nex_{name}"))
+    for name, (control, value) in CHANGES.items():
+        cells.append(nbformat.v4.new_code_cell(
+            f"ex_{name}.controls[{control!r}].value = {value!r}\n"
+            f"print('AFTER {name}', state(ex_{name}))"))
+    cells.append(nbformat.v4.new_code_cell(
+        "ex_mass_function_explorer.controls['mid'].value = 0.9\n"
+        "print('INVALID', json.dumps(ex_mass_function_explorer.numbers))"))
+    return cells
+
+
+@pytest.fixture(scope="module")
+def executed() -> nbformat.NotebookNode:
+    nb = nbformat.v4.new_notebook(cells=_cells())
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
+    NotebookClient(nb, timeout=120, kernel_name="python3", store_widget_state=True).execute()
+    return nb
+
+
+def _printed(nb: nbformat.NotebookNode) -> dict[str, str]:
+    lines = {}
+    for cell in nb.cells:
+        for out in cell.get("outputs", []):
+            if out.get("output_type") == "stream":
+                for line in out["text"].splitlines():
+                    tag, _, rest = line.partition(" ")
+                    if tag in {"BEFORE", "AFTER"}:
+                        name, _, payload = rest.partition(" ")
+                        lines[f"{tag} {name}"] = payload
+                    elif tag == "INVALID":
+                        lines[tag] = rest
+    return lines
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", list(CHANGES))
+def test_changing_a_control_in_the_kernel_redraws(executed, name):
+    printed = _printed(executed)
+    before = json.loads(printed[f"BEFORE {name}"])
+    after = json.loads(printed[f"AFTER {name}"])
+    assert before["numbers"] != after["numbers"], "the printed numbers did not change"
+    assert before["figure"] != after["figure"], "the figure did not change"
+
+
+@pytest.mark.slow
+def test_invalid_setting_is_explained_in_the_readout(executed):
+    numbers = json.loads(_printed(executed)["INVALID"])
+    assert "error" in numbers and "> 1" in numbers["error"]
+
+
+@pytest.mark.slow
+def test_first_figure_is_embedded_in_the_widget_state(executed):
+    """As in the built book: each explorer's Output holds a PNG before any interaction."""
+    state = executed.metadata["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
+    outputs = [m["state"].get("outputs", []) for m in state.values()
+               if m["model_name"] == "OutputModel"]
+    with_png = [o for o in outputs if any("image/png" in x.get("data", {}) for x in o)]
+    assert len(with_png) >= len(CHANGES)
+
+
+# -- in-process checks of what the explorers compute ------------------------------------------
+
+
+def test_dependent_explorer_starts_at_the_papers_example():
+    ex = w.dependent_combination_explorer()
+    e1, e2 = appendix_pair()
+    dep = dependence(e1, e2)
+    assert ex.numbers["D"] == pytest.approx(dep.degree)
+    assert ex.numbers["R12"] == pytest.approx(dep.r12)
+    assert ex.numbers["E[dependent]"] == pytest.approx(
+        combine_dependent(e1, e2).pignistic_expectation())
+    assert ex.numbers["E[Dempster]"] == pytest.approx(dempster(e1, e2).pignistic_expectation())
+
+
+def test_conflict_explorer_shows_zadeh_and_total_conflict():
+    ex = w.conflict_explorer()
+    assert ex.numbers["conflict K"] == pytest.approx(0.9999)
+    assert ex.numbers["m(tumour)"] == pytest.approx(1.0)
+    ex.controls["x"].value = 1.0
+    ex.controls["y"].value = 1.0
+    assert "total conflict" in ex.numbers["error"]
+    ex.controls["rule"].value = "Yager"  # Yager's rule survives total conflict
+    assert ex.numbers["m(Θ)"] == pytest.approx(1.0)
+
+
+def test_noise_explorer_reproduces_table_1_and_rejects_a_bad_mode():
+    ex = w.noise_evidence_explorer()
+    assert ex.numbers["mass per cut"] == pytest.approx(0.95 / 3)
+    assert ex.numbers["Θ"] == "[-10, 10]"
+    ex.controls["mode"].value = 0.5  # above the upper bound
+    assert "lower <= mode <= upper" in ex.numbers["error"]
+
+
+def test_every_slider_redraws_on_release_only():
+    for make in (w.mass_function_explorer, w.conflict_explorer,
+                 w.dependent_combination_explorer, w.noise_evidence_explorer,
+                 w.bounded_error_explorer):
+        for control in make().controls.values():
+            if hasattr(control, "continuous_update"):
+                assert control.continuous_update is False, (make.__name__, control.description)
