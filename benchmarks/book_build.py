@@ -15,6 +15,7 @@ Each run is `bash scripts/build-book.sh`, the user's command. Run from the repos
 from __future__ import annotations
 
 import argparse
+import fcntl
 import shutil
 import subprocess
 import sys
@@ -23,6 +24,24 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 BUILD = ROOT / "_build"
+LOCK = BUILD / ".build-book.lock"  # the lock scripts/build-book.sh holds while it builds
+WAITED = "another build of this book is running"
+
+
+def remove(*paths: Path) -> None:
+    """Delete build folders, but never under a build that is running (it holds LOCK)."""
+    LOCK.parent.mkdir(exist_ok=True)
+    with LOCK.open("w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        for path in paths:
+            if path == BUILD:  # keep the lock file itself
+                for child in BUILD.iterdir():
+                    if child.is_dir():
+                        shutil.rmtree(child)
+                    elif child != LOCK:
+                        child.unlink()
+            else:
+                shutil.rmtree(path, ignore_errors=True)
 
 
 def timed_build() -> float:
@@ -39,6 +58,8 @@ def timed_build() -> float:
     if result.returncode != 0:
         tail = "\n".join(result.stdout.splitlines()[-30:])
         sys.exit(f"scripts/build-book.sh failed (exit {result.returncode}):\n{tail}")
+    if WAITED in result.stdout:
+        print("note: this build waited for another build of the checkout; its time is too long")
     return elapsed
 
 
@@ -49,14 +70,10 @@ def main() -> None:
     )
     args = parser.parse_args()
 
-    shutil.rmtree(BUILD, ignore_errors=True)
-    shutil.rmtree(ROOT / ".jupyter_cache", ignore_errors=True)
-    if args.fresh_npm:
-        shutil.rmtree(ROOT / "node_modules", ignore_errors=True)
+    remove(BUILD, ROOT / ".jupyter_cache", *([ROOT / "node_modules"] if args.fresh_npm else []))
     clean = timed_build()
 
-    shutil.rmtree(BUILD / "html", ignore_errors=True)
-    shutil.rmtree(BUILD / ".doctrees", ignore_errors=True)
+    remove(BUILD / "html", BUILD / ".doctrees")
     from_cache = timed_build()
 
     unchanged = timed_build()

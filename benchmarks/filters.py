@@ -29,9 +29,13 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from dstoolkit.bounded_error_filter import BoundedErrorFilter  # noqa: E402
 from dstoolkit.dependent_filter import DependentEvidenceFilter  # noqa: E402
 from dstoolkit.gauge_model import gauge_state_space_model, simulate_gauge  # noqa: E402
+from dstoolkit.kalman_filter import KalmanFilter  # noqa: E402
 from dstoolkit.model import Filter  # noqa: E402
+from dstoolkit.nassreddine_filter import NassreddineFilter  # noqa: E402
+from dstoolkit.particle_filter import ParticleFilter  # noqa: E402
 
 
 @dataclass(frozen=True)
@@ -53,6 +57,13 @@ def register(name: str, make: Callable[[], Filter], settings: str) -> None:
 
 register("dependent-evidence", DependentEvidenceFilter,
          "paper's filter, p = 3, ε = 0.05, m(D) = min, start z_1")
+register("nassreddine", NassreddineFilter,
+         "Nassreddine et al. 2010, p = 3, ε = 0.05, ≤ 32 focal elements (clustering)")
+register("nassreddine-restart", lambda: NassreddineFilter(restart=True),
+         "the same, state evidence rebuilt as x̂_k + E_v each step")
+register("bounded-error", BoundedErrorFilter, "one box, interval image ∩ reading box")
+register("kalman", KalmanFilter, "(extended) Kalman on the noises' means and variances")
+register("particle", ParticleFilter, "bootstrap, 1000 particles, systematic resampling")
 
 
 def time_single(flt: Filter, model, z: np.ndarray, u: np.ndarray, repeat: int

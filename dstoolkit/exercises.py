@@ -852,6 +852,147 @@ def _() -> float:
     return float(np.sqrt(np.sum(np.square(LAB_UNCERTAINTIES_MM))))
 
 
+# -- estimating the level (book/estimating_level.md, notebooks/09_estimating_level.ipynb) -------
+
+#: The paper's Figs. 6–11 case (L m, T °C), its first reading z_1 (Hz, §4.3) and that
+#: reading's order n_1 (1023.3/37.76 ≈ 27).
+FIG10_CASE, PAPER_Z1, PAPER_N1 = (4.6, 26.5), 1023.3, 27
+#: A reading that is too high by the mode of the paper's w (Hz): z = f − w, w = −6.9.
+READING_BIAS = 6.9
+#: The paper's direct-measurement error at 1.3 m, 27 °C (Table 3), m.
+PAPER_DIRECT_13 = 0.238
+#: The Monte Carlo of the improvement exercise: runs, seed, case.
+IMPROVEMENT_RUNS, IMPROVEMENT_SEED = 30, 0
+
+
+def _level_of_reading(z: float, n: int, case: tuple[float, float]) -> float:
+    return float(level_from_resonance(z, n, _c(case)))
+
+
+@exercise("estimating.first-level", atol=5e-4,
+          hint="Eq. 32: L = n c/(2 z) with c = 331.3 + 0.606 T at 26.5 °C.",
+          mistakes=((lambda: 2 * _level_of_reading(PAPER_Z1, PAPER_N1, FIG10_CASE),
+                     "The echo travels down and back: divide by 2 z, not z."),))
+def _() -> float:
+    return _level_of_reading(PAPER_Z1, PAPER_N1, FIG10_CASE)
+
+
+@exercise("estimating.bias", atol=2e-4,
+          hint="The 27th resonance is at 27 c/(2L); the reading is 6.9 Hz above it. Put the "
+          "reading and the true order into eq. 32 and subtract 4.6 m.",
+          mistakes=((lambda: -float(_bias_error()),
+                     "Check the sign: a reading that is too high gives a level that is too "
+                     "short."),))
+def _bias_error() -> float:
+    f = PAPER_N1 * _fundamental(FIG10_CASE)
+    return _level_of_reading(f + READING_BIAS, PAPER_N1, FIG10_CASE) - FIG10_CASE[0]
+
+
+@exercise("estimating.outlier-orders", rtol=1e-2, atol=0.0,
+          hint="A unit error of n_k costs L/n_k in eq. 32. Average L/n over the orders of "
+          "the resonances in [1000, 2500] Hz at 1.3 m and 27 °C, and divide 0.238 m by it.")
+def _() -> float:
+    case = (1.3, 27.0)
+    orders = resonance_orders(case[0], _c(case), GAUGE_BAND)
+    return PAPER_DIRECT_13 / float(np.mean(case[0] / orders))
+
+
+def improvement_table() -> Any:
+    """The Table 3 row of the improvement exercise: 4.6 m, true orders, the paper's filter
+    and direct measurement, IMPROVEMENT_RUNS runs from seed IMPROVEMENT_SEED."""
+    from .experiments import run_table3
+
+    return run_table3(runs=IMPROVEMENT_RUNS, seed=IMPROVEMENT_SEED, cases=[FIG10_CASE],
+                      methods=("dependent_evidence", "direct"), order_rule="true",
+                      progress=False)
+
+
+@exercise("estimating.improvement", rtol=1e-6, atol=0.0,
+          hint="Divide the direct measurement's mean level error by the paper's filter's, "
+          "both from table.error(4.6, method).",
+          mistakes=((lambda: 1.0 / float(_improvement()),
+                     "That is the inverse: direct ÷ paper's filter is larger than 1."),))
+def _improvement() -> float:
+    table = improvement_table()
+    return table.error(FIG10_CASE[0], "direct") / table.error(FIG10_CASE[0],
+                                                              "dependent_evidence")
+
+
+# -- beyond the paper (book/beyond_the_paper.md, notebooks/10_beyond_the_paper.ipynb) -----------
+
+#: Bounds scale, runs and seed of the bounded-error failure exercise.
+FAILURE_SCALE, FAILURE_RUNS, FAILURE_SEED = 0.75, 20, 0
+
+
+def _paper_w() -> Any:
+    """The paper's observation noise w (Table 2) as the filters take it."""
+    from .gauge_model import GAUGE_OBS_NOISE
+
+    return GAUGE_OBS_NOISE
+
+
+@exercise("beyond.start-error", atol=1e-3,
+          hint="z_1 = x_1 − w_1, so x̂_1 − x_1 = −w_1; take its expectation. The mean of a "
+          "triangular density is (a + b + c)/3.",
+          mistakes=((lambda: float(_paper_w().mean[0]),
+                     "Check the sign: z = x − w, and w is negative, so the reading is high."),))
+def _() -> float:
+    return -float(_paper_w().mean[0])
+
+
+@exercise("beyond.kalman-sigma", atol=1e-3,
+          hint="Var = (a² + b² + c² − ab − ac − bc)/18 for the triangle with support [a, b] "
+          "and mode c; take its square root.",
+          mistakes=((lambda: 1.23, "That is the σ of the measured errors from which the paper "
+                     "made the bounds (±3σ); the triangle on those bounds has another σ."),))
+def _() -> float:
+    return float(np.sqrt(_paper_w().variance[0]))
+
+
+def _example_sizes(p: int) -> tuple[int, int]:
+    """(focal elements of E_v, of E_w) of the predator–prey example with p cuts."""
+    from .dependent_filter import DependentEvidenceFilter
+    from .example_systems import lotka_volterra
+
+    noise = DependentEvidenceFilter(p=p).noise_evidence(lotka_volterra())
+    return len(noise.state), len(noise.observation)
+
+
+@exercise("beyond.products", atol=0.0, rtol=0.0,
+          hint="Count per step: state boxes |E_v|, predicted boxes |E_v|·|E_v|, Step 4 "
+          "products predicted × |E_w|, Step 6 products (Step 4's) × (predicted).",
+          mistakes=((lambda: 1024, "That is the count for a scalar state (4 × 4 × 4 × 16): "
+                     "in two dimensions every evidence has 4 × 4 = 16 boxes."),))
+def _() -> int:
+    n_v, n_w = _example_sizes(3)
+    predicted = n_v * n_v
+    return predicted * n_w * predicted
+
+
+@exercise("beyond.failures", atol=1e-9,
+          hint="Build the model with the scaled bounds (scaled_noise), run "
+          "BoundedErrorFilter(on_inconsistent='raise') on each run, count the runs that raise "
+          "InconsistentDataError and divide by the number of runs.")
+def _() -> float:
+    from .estimation_studies import bounded_error_failures, scaled_noise, tracking_data
+    from .gauge_model import gauge_state_space_model
+
+    data = tracking_data(*FIG10_CASE, runs=FAILURE_RUNS, seed=FAILURE_SEED)
+    model = gauge_state_space_model(scaled_noise(data.state_noise, FAILURE_SCALE),
+                                    scaled_noise(data.obs_noise, FAILURE_SCALE))
+    return bounded_error_failures(model, data)[0]
+
+
+@exercise("beyond.offset-ratio", atol=2e-3,
+          hint="b = kL/c + kτ with k = 280 Hz/s and τ = 10 ms; f_F = c/(2L). Divide.",
+          mistakes=((lambda: SWEEP_RATE * LONG_CASE[0] / _c(LONG_CASE) / _fundamental(LONG_CASE),
+                     "You left out the latency's k τ."),))
+def _() -> float:
+    b = (float(sweep_rate_offset(SWEEP_RATE, _fundamental(LONG_CASE)))
+         + latency_offset(SWEEP_RATE, GAUGE_LATENCY))
+    return b / _fundamental(LONG_CASE)
+
+
 __all__ = [
     "Exercise",
     "Feedback",

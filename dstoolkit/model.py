@@ -255,8 +255,11 @@ def batch_readings(
     return z, u
 
 
-def single_readings(model: StateSpaceModel, z: Any, inputs: Any = None) -> tuple[Any, Any]:
-    """One sequence z (steps, m) (or (steps,) for m = 1) as a batch of one run."""
+def single_readings(
+    model: StateSpaceModel, z: Any, inputs: Any = None
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """One sequence z (steps, m) (or (steps,) for m = 1) checked and shaped as a batch of one
+    run, with its inputs (transitions, q)."""
     z = np.asarray(z, dtype=float)
     if z.ndim == 1 and model.obs_dim == 1:
         z = z[:, None]
@@ -265,7 +268,8 @@ def single_readings(model: StateSpaceModel, z: Any, inputs: Any = None) -> tuple
             f"readings must have shape (steps, {model.obs_dim}), got {z.shape}; "
             "a batch of sequences goes to run_batch()"
         )
-    return z[None], None if inputs is None else np.asarray(inputs, dtype=float)[None]
+    return batch_readings(model, z[None],
+                          None if inputs is None else np.asarray(inputs, dtype=float)[None])
 
 
 def step_input(inputs: np.ndarray | None, k: int) -> np.ndarray | None:

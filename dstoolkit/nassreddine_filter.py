@@ -81,8 +81,16 @@ from .model import (
 ConflictPolicy = Literal["raise", "reset"]
 #: Memory budget for the contraction arrays of one chunk of runs.
 CHUNK_BYTES = 96 * 2**20
-# Fixed weights of the sort key used to find equal boxes (equality is then checked exactly).
-_KEY_WEIGHTS = np.array([1.0, np.pi, np.e, np.sqrt(2.0), np.sqrt(3.0), np.sqrt(5.0)])
+
+
+def row_sum(values: np.ndarray) -> np.ndarray:
+    """Sum over axis 1 (the focal elements), added in order.
+
+    numpy's pairwise summation groups terms by the array's length, so zero-mass padding
+    would change the rounding; a sequential sum does not, and a run then gives the same
+    numbers alone as in a batch padded to other runs' sizes.
+    """
+    return np.cumsum(values, axis=1)[:, -1]
 
 
 @dataclass
@@ -104,7 +112,7 @@ class BoxMass:
 
     def pignistic(self) -> np.ndarray:
         """Pignistic expectation Σ m_j (lo_j + hi_j)/2 of each run (eq. 20), (runs, n)."""
-        return np.sum(self.mass[..., None] * (0.5 * (self.lo + self.hi)), axis=1)
+        return row_sum(self.mass[..., None] * (0.5 * (self.lo + self.hi)))
 
     def hull(self) -> tuple[np.ndarray, np.ndarray]:
         """Hull of the focal elements of each run, (runs, n) twice."""
@@ -122,17 +130,15 @@ def noise_boxes(noise: BoundedNoise, p: int, epsilon: float, theta: Any) -> BoxM
 def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> BoxMass:
     """Merge equal boxes within each run, adding their masses (eq. 14).
 
-    Input rows with mass 0 are dropped. The result is compacted: run r's distinct boxes
-    fill its first slots (in order of a sort key), the remaining slots are zero-mass padding.
+    Input rows with mass 0 are dropped. The result is compacted and canonical: run r's
+    distinct boxes fill its first slots in lexicographic order of (lo, hi), whatever order
+    they came in; the remaining slots are zero-mass padding.
     """
     runs, rows, n = lo.shape
     coords = np.concatenate([lo, hi], axis=-1)
     valid = mass > 0
-    weights = np.resize(_KEY_WEIGHTS, 2 * n)
-    key = coords[..., 0] * weights[0]
-    for j in range(1, 2 * n):
-        key = key + coords[..., j] * weights[j]
-    order = np.argsort(np.where(valid, key, np.inf), axis=1, kind="stable")
+    keys = (*(coords[..., j] for j in range(2 * n - 1, -1, -1)), ~valid)
+    order = np.lexsort(keys, axis=-1)
     coords = np.take_along_axis(coords, order[..., None], axis=1)
     mass = np.take_along_axis(mass, order, axis=1)
     valid = np.take_along_axis(valid, order, axis=1)
@@ -171,46 +177,44 @@ def cluster_boxes(bm: BoxMass, max_focal: int) -> tuple[BoxMass, np.ndarray]:
     Returns the capped mass functions and, per run, the mass now carried by merged boxes.
     """
     runs, _, n = bm.lo.shape
-    lo, hi, mass = bm.lo.copy(), bm.hi.copy(), bm.mass.copy()
-    unit = np.sum(mass[..., None] * (hi - lo), axis=1) / mass.sum(axis=1)[:, None]
+    unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
     unit = np.where(unit > 0, unit, 1.0)[:, None, :]
-    merged = np.zeros(mass.shape, dtype=bool)
+    # one packed array [lo | hi | mass | merged] so that each round moves it once
+    packed = np.concatenate([bm.lo, bm.hi, bm.mass[..., None],
+                             np.zeros(bm.mass.shape + (1,))], axis=-1)
     for rnd in range(10_000):
-        allowed = (mass > 0).sum(axis=1) - max_focal
+        mass = packed[..., 2 * n]
+        count = (mass > 0).sum(axis=1)
+        allowed = count - max_focal
         if not np.any(allowed > 0):
             break
         d = rnd % n
-        centre = np.where(mass > 0, lo[..., d] + hi[..., d], np.inf)
-        order = np.argsort(centre, axis=1, kind="stable")
-        lo = np.take_along_axis(lo, order[..., None], axis=1)
-        hi = np.take_along_axis(hi, order[..., None], axis=1)
-        mass = np.take_along_axis(mass, order, axis=1)
-        merged = np.take_along_axis(merged, order, axis=1)
+        centre = np.where(mass > 0, packed[..., d] + packed[..., n + d], np.inf)
+        order = np.argsort(centre, axis=1, kind="stable")[:, : int(count.max())]
+        packed = np.take_along_axis(packed, order[..., None], axis=1)
+        lo, hi, mass = packed[..., :n], packed[..., n : 2 * n], packed[..., 2 * n]
         h_lo, h_hi = np.minimum(lo[:, :-1], lo[:, 1:]), np.maximum(hi[:, :-1], hi[:, 1:])
         m0, m1 = mass[:, :-1], mass[:, 1:]
         cost = ((m0 + m1) * _sizes(h_lo, h_hi, unit) - m0 * _sizes(lo[:, :-1], hi[:, :-1], unit)
                 - m1 * _sizes(lo[:, 1:], hi[:, 1:], unit))
         cost = np.where((m0 > 0) & (m1 > 0), cost, np.inf)
-        padded = np.pad(cost, ((0, 0), (1, 1)), constant_values=np.inf)
-        local = (cost <= padded[:, :-2]) & (cost < padded[:, 2:]) & np.isfinite(cost)
+        inf = np.full((runs, 1), np.inf)
+        local = ((cost <= np.concatenate([inf, cost[:, :-1]], axis=1))
+                 & (cost < np.concatenate([cost[:, 1:], inf], axis=1)) & np.isfinite(cost))
         ranked = np.where(local, cost, np.inf)
         rank = np.argsort(np.argsort(ranked, axis=1, kind="stable"), axis=1, kind="stable")
-        chosen = local & (rank < allowed[:, None])
-        second = np.zeros_like(merged)
-        second[:, 1:] = chosen
-        merged[:, :-1] |= chosen
-        lo[:, :-1] = np.where(chosen[..., None], h_lo, lo[:, :-1])
-        hi[:, :-1] = np.where(chosen[..., None], h_hi, hi[:, :-1])
-        mass[:, :-1] = np.where(chosen, m0 + m1, m0)
-        mass[second] = 0.0
-    width = max(1, int((mass > 0).sum(axis=1).max()))
-    keep = np.argsort(mass <= 0, axis=1, kind="stable")[:, :width]
-    out = BoxMass(np.take_along_axis(lo, keep[..., None], axis=1),
-                  np.take_along_axis(hi, keep[..., None], axis=1),
-                  np.take_along_axis(mass, keep, axis=1))
-    alive = (out.mass > 0)[..., None]
-    out.lo, out.hi = np.where(alive, out.lo, out.lo[:, :1]), np.where(alive, out.hi, out.hi[:, :1])
-    return out, np.where(np.take_along_axis(merged, keep, axis=1), out.mass, 0.0).sum(axis=1)
+        chosen = (local & (rank < allowed[:, None]))[..., None]
+        merged_pair = np.concatenate([h_lo, h_hi, (m0 + m1)[..., None], np.ones_like(chosen)],
+                                     axis=-1)
+        second = np.concatenate([np.zeros((runs, 1, 1), dtype=bool), chosen], axis=1)
+        packed = packed.copy()
+        packed[:, :-1] = np.where(chosen, merged_pair, packed[:, :-1])
+        packed[..., 2 * n] = np.where(second[..., 0], 0.0, packed[..., 2 * n])
+    lo, hi, mass = packed[..., :n], packed[..., n : 2 * n], packed[..., 2 * n]
+    merged = packed[..., 2 * n + 1] > 0
+    # canonical order: rounds after a run's own last one may have reordered its boxes
+    moved = row_sum(np.sort(np.where(merged, mass, 0.0), axis=1))
+    return merge_equal_boxes(lo, hi, mass), moved
 
 
 def _pad(bm: BoxMass, width: int) -> BoxMass:
@@ -322,7 +326,7 @@ class NassreddineFilter:
         shape = (z.shape[0], w.mass.shape[1], model.state_dim)
         lo, hi = np.broadcast_to(lo, shape), np.broadcast_to(hi, shape)
         mass = np.where(np.any(lo > hi, axis=-1), 0.0, np.broadcast_to(w.mass, shape[:2]))
-        total = mass.sum(axis=1, keepdims=True)
+        total = row_sum(mass)[:, None]
         bounded = np.all(np.isfinite(lo) & np.isfinite(hi), axis=-1) | (mass == 0)
         if np.any(total <= 0) or not np.all(bounded):
             raise EvidenceError(
@@ -370,7 +374,7 @@ class NassreddineFilter:
                 c_hi = np.broadcast_to(c_hi, shape).reshape(runs, -1, n)
                 c_mass = (p_mass[:, :, None] * w.mass[:, None]).reshape(runs, -1)
                 empty = np.any(c_lo > c_hi, axis=-1)
-                conflict = np.where(empty, c_mass, 0.0).sum(axis=1)
+                conflict = row_sum(np.where(empty, c_mass, 0.0))
                 dead = 1.0 - conflict <= CONFLICT_TOLERANCE
                 c_mass = np.where(empty | dead[:, None], 0.0, c_mass)
                 c_mass = c_mass / np.where(dead, 1.0, 1.0 - conflict)[:, None]

@@ -49,6 +49,7 @@ from .evidence_plots import (
     plot_bel_pl,
     plot_enclosure,
     plot_filter_errors,
+    plot_filter_step,
     plot_focal_intervals,
     plot_masses,
     plot_pbox,
@@ -542,13 +543,15 @@ def filter_case(
     orders: str = "true",
     seed: int = 0,
     record: bool = False,
+    first: int | None = None,
 ) -> tuple[Any, np.ndarray, Any]:
     """The paper's filter (§3.2) on a seeded gauge sequence (eqs. 39–40).
 
     The readings come from the paper's noise w (Table 2's triangle); ``state_noise`` and
     ``obs_noise`` (lower, mode, upper) are what the *filter assumes*. ``orders`` is
     ``"true"`` or ``"eq43"`` (eq. 43 from the readings). Total conflict keeps the prediction
-    (``on_conflict="predict"``, counted in ``diagnostics["fallback"]``).
+    (``on_conflict="predict"``, counted in ``diagnostics["fallback"]``). ``first`` filters
+    the first readings only; ``record`` keeps every step's evidence.
     Returns ``(sequence, orders n_1..n_{K−1}, FilterResult)``.
     """
     from .dependent_filter import DependentEvidenceFilter
@@ -562,7 +565,8 @@ def filter_case(
     model = gauge_state_space_model(BoundedNoise(*state_noise), BoundedNoise(*obs_noise))
     flt = DependentEvidenceFilter(mass_rule=mass_rule, start=start, p=int(p),
                                   epsilon=float(epsilon), on_conflict="predict")
-    return seq, n, flt.run(model, seq.readings, n, record=record)
+    z = seq.readings if first is None else seq.readings[:first]
+    return seq, n, flt.run(model, z, n[: len(z) - 1], record=record)
 
 
 def converged_at(errors: Any, threshold: float = 1.0) -> int | None:
@@ -655,6 +659,44 @@ def filter_widget(level_m: float = 9.6, temperature_c: float = 23.9, *, p: int =
         return render_filter(**values, seed=seed)
 
     return Explorer(controls, render, title="The dependent-evidence filter on a simulated gauge")
+
+
+def step_numbers(result: Any, step: int, truth: float) -> dict[str, Any]:
+    """The diagnostics of one step of a recorded run (1-based ``step`` >= 2): conflicts of
+    both fusions, D, R12, R21, the focal elements of the final evidence, the estimate and
+    its error."""
+    d, t = result.diagnostics, step - 1
+    est = float(result.estimates[t, 0])
+    return {"K (Step 4)": float(d["conflict_step4"][t]),
+            "K (Step 6)": float(d["conflict_step6"][t]), "D": float(d["dependence"][t]),
+            "R12": float(d["r12"][t]), "R21": float(d["r21"][t]),
+            "final focal elements": int(d["n_final"][t]),
+            "x̂ (Hz)": est, "x̂ − x (Hz)": est - float(truth)}
+
+
+def filter_step_explorer(level_m: float = 9.6, temperature_c: float = 23.9, step: int = 2,
+                         start: str = "mean_corrected", epsilon: float = 0.05,
+                         steps: int = 20, seed: int = 0) -> Explorer:
+    """Every evidence of one step of the paper's filter (Steps 2–6, Fig. 3) on the first
+    ``steps`` readings of a simulated gauge (true orders), with its diagnostics: pick the
+    step, the start value and the discount ε."""
+    controls = {
+        "step": int_slider("step k + 1", step, 2, steps),
+        "start": widgets.Dropdown(options=[("z_1 (paper)", "observation"),
+                                           ("z_1 + E[w]", "mean_corrected")], value=start,
+                                  description="start"),
+        "epsilon": slider("discount ε", epsilon, 0.0, 0.5, 0.01, readout_format=".2f"),
+    }
+
+    def render(step: int, start: str, epsilon: float):
+        seq = gauge_case(level_m, temperature_c, seed)
+        _, _, result = filter_case(level_m, temperature_c, start=start, epsilon=epsilon,
+                                   seed=seed, record=True, first=steps)
+        truth = float(seq.truth[step - 1, 0])
+        fig = plot_filter_step(result.steps[step - 1], truth, figsize=(9.0, 9.0))
+        return fig, step_numbers(result, step, truth)
+
+    return Explorer(controls, render, title="Inside one step of the filter")
 
 
 # -- the acoustic level gauge: a recording, its resonances and the level --------------------------
@@ -924,3 +966,129 @@ def lab_widget(temperature_c: float = 21.0, level_m: float = 2.5, *,
     ``record_now`` the first (virtual) measurement is made at once."""
     return LabWidget(LabSettings(temperature_c=temperature_c, level_m=level_m),
                      devices=devices, record_now=record_now)
+
+
+# -- estimating the level: the paper's Figs. 10–11 for one run ------------------------------------
+
+#: The figures the level-estimation explorer can draw (the paper's Figs. 10 and 11).
+ESTIMATION_FIGURES: dict[str, str] = {"Fig. 10: frequencies": "frequency",
+                                      "Fig. 11: levels": "level"}
+
+
+def estimation_numbers(run: Any) -> dict[str, Any]:
+    """What the level-estimation explorer prints for a :class:`~dstoolkit.estimation_studies.
+    GaugeRun`: mean |L̂ − L| (mm, eq. 32) and mean |x̂ − f| (Hz) of the readings (direct)
+    and of each filter, and how many orders n_k are wrong."""
+    from .experiment_plots import STYLE
+
+    levels = run.levels()
+    freq = run.frequency_errors()
+    out: dict[str, Any] = {}
+    for name in levels:
+        label = STYLE.get(name, {"label": name})["label"]
+        out[f"{label}: |L̂ − L| (mm)"] = 1e3 * float(np.mean(np.abs(levels[name] - run.level_m)))
+        out[f"{label}: |x̂ − f| (Hz)"] = float(np.mean(freq[name]))
+    wrong = int(np.sum(run.orders != run.true_orders[:-1]))
+    out["wrong orders n_k"] = f"{wrong}/{run.orders.size}"
+    return out
+
+
+def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
+                              simulation: str = "frequency", order_rule: str = "eq43",
+                              figure: str = "Fig. 11: levels", seed: int = 0) -> Explorer:
+    """One simulated sweep filtered by the paper's filter and Nassreddine's (the paper's
+    Figs. 10–11, :func:`dstoolkit.estimation_studies.gauge_run`): level, temperature, the
+    simulation of the readings (the paper's w drawn i.i.d., or detected in a synthesised
+    recording), where n_k comes from (eq. 43, the series fit, the truth), the run's seed and
+    which figure. Numbers: :func:`estimation_numbers`. A frequency-level redraw takes a
+    few hundredths of a second, a waveform-level one a few tenths (a recording is
+    synthesised and analysed): sliders redraw on release."""
+    from .estimation_studies import gauge_run
+    from .experiment_plots import plot_estimates
+
+    controls = {
+        "level": slider("level L (m)", level_m, 1.3, 10.6, 0.1, readout_format=".1f"),
+        "temperature": slider("temperature T (°C)", temperature_c, 0.0, 35.0, 0.5,
+                              readout_format=".1f"),
+        "simulation": widgets.Dropdown(options=[("frequency level (i.i.d. w)", "frequency"),
+                                                ("waveform level (recording)", "waveform")],
+                                       value=simulation, description="readings"),
+        "order_rule": widgets.Dropdown(options=[("eq. 43 (paper)", "eq43"),
+                                                ("series fit", "fit"), ("true", "true")],
+                                       value=order_rule, description="n_k by"),
+        "figure": widgets.Dropdown(options=list(ESTIMATION_FIGURES), value=figure,
+                                   description="figure"),
+        "seed": int_slider("run (seed)", seed, 0, 20),
+    }
+
+    def render(level: float, temperature: float, simulation: str, order_rule: str,
+               figure: str, seed: int):
+        run = gauge_run(level, temperature, simulation, order_rule, seed=seed)
+        if ESTIMATION_FIGURES[figure] == "frequency":
+            fig = plot_estimates(run.truth, run.readings, run.estimates)
+        else:
+            levels = run.levels()
+            fig = plot_estimates(run.level_m, levels.pop("direct"), levels, quantity="level",
+                                 unit="m")
+        fig.suptitle(f"L = {level:.1f} m, T = {temperature:.1f} °C, {simulation}-level "
+                     f"readings, n_k by {order_rule}, seed {seed}", fontsize=9)
+        return fig, estimation_numbers(run)
+
+    return Explorer(controls, render, title="One run of the gauge: the paper's Figs. 10–11")
+
+
+# -- beyond the paper: every filter under wrong noise bounds ------------------------------------
+
+
+def mismatch_numbers(result: Any) -> dict[str, Any]:
+    """Mean |x̂ − x| (Hz) of each method of a :class:`~dstoolkit.estimation_studies.
+    MismatchResult`, and the runs in which the strict bounded-error filter failed."""
+    from .experiment_plots import STYLE
+
+    out: dict[str, Any] = {f"{STYLE.get(m, {'label': m})['label']} (Hz)": v
+                           for m, v in result.mean_errors().items()}
+    out["bounded error: inconsistent runs"] = f"{result.inconsistent_runs:.0%}"
+    return out
+
+
+def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, runs: int = 20,
+                          seed: int = 0, start: str = "mean_corrected") -> Explorer:
+    """Every filter on the same simulated gauge runs (eqs. 39–40 with the paper's noises v
+    and w, true orders), each assuming the noise bounds set by the sliders (lower, mode,
+    upper of v and of w): the assumed against the true possibility distributions, and the
+    mean |x̂_k − x_k| per step of every method
+    (:func:`dstoolkit.estimation_studies.noise_mismatch`). ``start`` is the paper's filter's
+    start value (a dropdown too). One redraw filters ``runs`` runs by five methods, a few
+    tenths of a second: sliders redraw on release."""
+    from .estimation_studies import noise_mismatch, tracking_data
+    from .study_plots import plot_noise_assumption, plot_step_errors
+
+    data = tracking_data(level_m, temperature_c, runs=runs, seed=seed)
+    v, w = data.state_noise, data.obs_noise
+    controls = {
+        "v_lower": slider("v lower", float(v.lower[0]), -1.0, 0.0, 0.01, readout_format=".2f"),
+        "v_mode": slider("v mode", float(v.mode[0]), -0.5, 0.5, 0.01, readout_format=".2f"),
+        "v_upper": slider("v upper", float(v.upper[0]), 0.0, 1.0, 0.01, readout_format=".2f"),
+        "w_lower": slider("w lower", float(w.lower[0]), -20.0, -4.0, 0.01,
+                          readout_format=".2f"),
+        "w_mode": slider("w mode", float(w.mode[0]), -12.0, -2.0, 0.01, readout_format=".2f"),
+        "w_upper": slider("w upper", float(w.upper[0]), -8.0, 5.0, 0.01, readout_format=".2f"),
+        "start": widgets.Dropdown(options=[("z_1 (paper)", "observation"),
+                                           ("z_1 + E[w]", "mean_corrected")], value=start,
+                                  description="start"),
+    }
+
+    def render(v_lower: float, v_mode: float, v_upper: float, w_lower: float, w_mode: float,
+               w_upper: float, start: str):
+        assumed_v = BoundedNoise(v_lower, v_mode, v_upper)
+        assumed_w = BoundedNoise(w_lower, w_mode, w_upper)
+        result = noise_mismatch(data, assumed_v, assumed_w, seed=seed, start=start)
+        fig = plt.figure(figsize=(11, 3.4), layout="constrained")
+        ax_v, ax_w, ax_e = fig.subplots(1, 3, width_ratios=[1, 1, 2.2])
+        plot_noise_assumption(v, assumed_v, ax_v, title="state noise v (Hz)")
+        plot_noise_assumption(w, assumed_w, ax_w, title="observation noise w (Hz)")
+        plot_step_errors(result.errors, ax_e,
+                         title=f"L = {level_m:.1f} m, {runs} runs, true orders")
+        return fig, mismatch_numbers(result)
+
+    return Explorer(controls, render, title="Every filter with the noise bounds you assume")

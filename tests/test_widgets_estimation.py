@@ -1,0 +1,117 @@
+"""The explorers of the chapters *Estimating the level* and *Beyond the paper*, driven
+through a Jupyter kernel (nbclient).
+
+Each explorer is built in a real kernel, a control is changed there, and the numbers it
+prints and the figure it draws must follow:
+
+* level_estimation_explorer (the paper's Figs. 10–11): moving the level from 4.6 m to 9.6 m
+  changes the number of steps (37 → 82 orders n_k) and the figure's title; switching from
+  eq. 43 to the true orders makes every order right and brings the direct level error
+  from the ~0.2 m of wrong orders down to centimetres (the chapter's main finding).
+* noise_bounds_explorer: shrinking the assumed bounds of w to a quarter about the mode
+  makes the strict bounded-error filter fail in some runs (it never fails with the true
+  bounds) and changes every evidential filter's error, while the Kalman filter, which
+  sees only means and variances, changes too (its R is 16 times smaller).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from nbclient import NotebookClient
+from nbformat.v4 import new_code_cell, new_notebook
+
+pytestmark = pytest.mark.slow
+ROOT = Path(__file__).resolve().parents[1]
+
+SETUP = """
+import json
+import matplotlib
+matplotlib.use("Agg")
+from dstoolkit.widgets import level_estimation_explorer, noise_bounds_explorer
+
+
+def state(ex):
+    numbers = dict(ex.numbers)
+    fig = ex.figure
+    numbers["title"] = fig.texts[0].get_text() if fig is not None and fig.texts else None
+    numbers["lines"] = sum(len(ax.lines) for ax in fig.axes) if fig is not None else 0
+    numbers["xmax"] = max(ax.get_xlim()[1] for ax in fig.axes) if fig is not None else 0
+    numbers["continuous_update"] = [getattr(c, "continuous_update", False)
+                                    for c in ex.controls.values()]
+    return json.dumps(numbers)
+"""
+
+
+def _run(cells: list[str]) -> list[dict]:
+    """Execute ``cells`` in a fresh kernel; the JSON each cell printed last."""
+    nb = new_notebook(cells=[new_code_cell(c) for c in cells])
+    NotebookClient(nb, timeout=300, kernel_name="python3",
+                   resources={"metadata": {"path": str(ROOT)}}).execute()
+    out = []
+    for cell in nb.cells[1:]:
+        text = "".join(o.get("text", "") for o in cell.outputs if o.output_type == "stream"
+                       and o.name == "stdout")
+        out.append(json.loads(text.strip().splitlines()[-1]))
+    return out
+
+
+@pytest.fixture(scope="module")
+def states() -> dict[str, list[dict]]:
+    level, noise = "ex = level_estimation_explorer()\nprint(state(ex))", \
+        "nb = noise_bounds_explorer()\nprint(state(nb))"
+    got = _run([
+        SETUP,
+        level,
+        'ex.controls["level"].value = 9.6\nex.controls["temperature"].value = 23.9\n'
+        "print(state(ex))",
+        'ex.controls["order_rule"].value = "true"\nprint(state(ex))',
+        noise,
+        'nb.controls["w_lower"].value = -7.8225\nnb.controls["w_upper"].value = -5.9775\n'
+        "print(state(nb))",
+    ])
+    return {"level": got[:3], "noise": got[3:]}
+
+
+DIRECT = "direct (eq. 32): |L̂ − L| (mm)"
+PAPER = "dependent evidence (paper): |L̂ − L| (mm)"
+
+
+def test_level_explorer_first_state_is_the_papers_fig11_case(states) -> None:
+    first = states["level"][0]
+    assert "error" not in first, first
+    assert "L = 4.6 m" in first["title"] and "eq43" in first["title"]
+    assert first["wrong orders n_k"].endswith("/39")
+    # i.i.d. triangular w: eq. 43 is wrong at most steps, each miss costs ~L/n ≈ 0.1 m
+    wrong, total = map(int, first["wrong orders n_k"].split("/"))
+    assert wrong > total // 2 and first[DIRECT] > 100
+    sliders = [v for v in first["continuous_update"] if v is not False]
+    assert not sliders, "sliders must redraw on release"
+
+
+def test_moving_the_level_changes_the_figure_and_the_numbers(states) -> None:
+    before, after = states["level"][0], states["level"][1]
+    assert "error" not in after, after
+    assert "L = 9.6 m" in after["title"] and after["title"] != before["title"]
+    assert after["wrong orders n_k"].endswith("/82") and after["xmax"] > before["xmax"]
+    assert after[DIRECT] != before[DIRECT] and after[PAPER] != before[PAPER]
+
+
+def test_true_orders_bring_the_level_error_down_to_centimetres(states) -> None:
+    eq43, true = states["level"][1], states["level"][2]
+    assert true["wrong orders n_k"].startswith("0/")
+    assert true[DIRECT] < 100 < eq43[DIRECT]
+    assert true[PAPER] < true[DIRECT]
+
+
+def test_tight_bounds_break_the_bounded_error_filter_only(states) -> None:
+    true_bounds, tight = states["noise"]
+    assert "error" not in tight, tight
+    assert true_bounds["bounded error: inconsistent runs"] == "0%"
+    assert tight["bounded error: inconsistent runs"] != "0%"
+    for key in ("dependent evidence (paper) (Hz)", "Nassreddine (Hz)", "Kalman (Hz)"):
+        assert tight[key] != true_bounds[key], key
+    # the evidential filters keep going: finite errors, no exception shown in the readout
+    assert all(isinstance(tight[k], float) for k in tight if k.endswith("(Hz)"))

@@ -1,0 +1,213 @@
+"""The filter widgets of dstoolkit.widgets (filter_widget, filter_step_explorer) and the
+extension-principle explorer: built in a kernel, a control changed in a later cell, and
+the printed estimates (the widget's numbers) and the figure change — through nbclient, as
+the book's build executes them; plus in-process checks of their structure and of what
+they compute."""
+
+from __future__ import annotations
+
+import json
+
+import ipywidgets
+import matplotlib
+import nbformat
+import numpy as np
+import pytest
+from nbclient import NotebookClient
+
+from dstoolkit import widgets as w
+from dstoolkit.evidence_plots import plot_filter_step
+
+matplotlib.use("Agg")
+
+#: explorer call → (control to change, new value)
+CHANGES = {
+    "filter_widget()": ("epsilon", 0.1),
+    "filter_widget(level_m=4.6, temperature_c=26.5)": ("w_mode", -5.0),
+    "filter_step_explorer()": ("step", 4),
+    "extension_explorer()": ("hi", 1.5),
+}
+
+SETUP = """
+import hashlib, io, json
+from dstoolkit import widgets as w
+
+def state(ex):
+    buf = io.BytesIO()
+    ex.figure.savefig(buf, format="png")
+    return json.dumps({"numbers": {k: str(v) for k, v in ex.numbers.items()},
+                       "figure": hashlib.sha1(buf.getvalue()).hexdigest()})
+"""
+
+
+def _cells() -> list[nbformat.NotebookNode]:
+    cells = [nbformat.v4.new_code_cell(SETUP)]
+    for i, call in enumerate(CHANGES):
+        cells.append(nbformat.v4.new_code_cell(
+            f"ex{i} = w.{call}\nprint('BEFORE {i}', state(ex{i}))\nex{i}"))
+    for i, (control, value) in enumerate(CHANGES.values()):
+        cells.append(nbformat.v4.new_code_cell(
+            f"ex{i}.controls[{control!r}].value = {value!r}\nprint('AFTER {i}', state(ex{i}))"))
+    cells.append(nbformat.v4.new_code_cell(
+        "ex0.controls['mass_rule'].value = 'm2'\n"
+        "print('M2', json.dumps(ex0.numbers))"))
+    return cells
+
+
+@pytest.fixture(scope="module")
+def executed() -> nbformat.NotebookNode:
+    nb = nbformat.v4.new_notebook(cells=_cells())
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
+    NotebookClient(nb, timeout=180, kernel_name="python3", store_widget_state=True).execute()
+    return nb
+
+
+def _printed(nb: nbformat.NotebookNode) -> dict[str, str]:
+    lines = {}
+    for cell in nb.cells:
+        for out in cell.get("outputs", []):
+            if out.get("output_type") == "stream":
+                for line in out["text"].splitlines():
+                    tag, _, rest = line.partition(" ")
+                    if tag in {"BEFORE", "AFTER"}:
+                        index, _, payload = rest.partition(" ")
+                        lines[f"{tag} {index}"] = payload
+                    elif tag == "M2":
+                        lines[tag] = rest
+    return lines
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("index", range(len(CHANGES)), ids=list(CHANGES))
+def test_changing_a_control_in_the_kernel_changes_the_estimates_and_figure(executed, index):
+    printed = _printed(executed)
+    before = json.loads(printed[f"BEFORE {index}"])
+    after = json.loads(printed[f"AFTER {index}"])
+    assert before["numbers"] != after["numbers"], "the printed numbers did not change"
+    assert before["figure"] != after["figure"], "the figure did not change"
+
+
+@pytest.mark.slow
+def test_the_filter_widgets_printed_estimates_follow_epsilon(executed):
+    """ε = 0.05 → 0.1 from the paper's start: the filter recovers sooner (paper §3.2)."""
+    printed = _printed(executed)
+    before = json.loads(printed["BEFORE 0"])["numbers"]
+    after = json.loads(printed["AFTER 0"])["numbers"]
+    assert before["x̂_2 (Hz)"] != after["x̂_2 (Hz)"]
+    assert int(after["below 1 Hz from step"]) < int(before["below 1 Hz from step"])
+
+
+@pytest.mark.slow
+def test_an_invalid_rule_is_explained_in_the_readout(executed):
+    numbers = json.loads(_printed(executed)["M2"])
+    assert "R12" in numbers["error"] and "mass_rule='min'" in numbers["error"]
+
+
+@pytest.mark.slow
+def test_first_figures_are_embedded_in_the_widget_state(executed):
+    """As in the built book: each explorer's Output holds a PNG before any interaction."""
+    state = executed.metadata["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
+    outputs = [m["state"].get("outputs", []) for m in state.values()
+               if m["model_name"] == "OutputModel"]
+    with_png = [o for o in outputs if any("image/png" in x.get("data", {}) for x in o)]
+    assert len(with_png) >= len(CHANGES)
+
+
+# -- in-process checks of structure and content ------------------------------------------------
+
+FILTER_CONTROLS = {"v_lower", "v_mode", "v_upper", "w_lower", "w_mode", "w_upper", "p",
+                   "epsilon", "level", "temperature", "start", "orders", "mass_rule"}
+
+
+def test_filter_widget_structure_controls_and_output():
+    ex = w.filter_widget()
+    assert set(ex.controls) == FILTER_CONTROLS
+    assert isinstance(ex.output, ipywidgets.Output) and ex.output in ex.children
+    for control in ex.controls.values():
+        assert control in ex.children[1].children
+        if hasattr(control, "continuous_update"):
+            assert control.continuous_update is False, control.description
+    assert ex.controls["level"].value == 9.6 and ex.controls["temperature"].value == 23.9
+
+
+def test_filter_widget_prints_what_the_filter_computes():
+    ex = w.filter_widget()
+    seq, orders, result = w.filter_case(9.6, 23.9)
+    expected = w.filter_summary(seq, orders, result)
+    assert ex.numbers == pytest.approx(expected)
+    x = seq.truth[:, 0]
+    assert ex.numbers["mean |x̂ − x| (Hz)"] == pytest.approx(
+        np.mean(np.abs(result.estimates[:, 0] - x)))
+    assert ex.numbers["mean |x̂ − x| (Hz)"] < ex.numbers["mean |z − x| (Hz)"]
+    assert ex.numbers["total-conflict steps"] == 0
+
+
+def test_filter_widget_recompute_function_matches_the_widget():
+    ex = w.filter_widget()
+    ex.controls["start"].value = "mean_corrected"
+    values = {name: control.value for name, control in ex.controls.items()}
+    fig, numbers = w.render_filter(**values)
+    assert numbers == pytest.approx(ex.numbers)
+    assert len(fig.axes) == 2
+
+
+def test_filter_widget_explains_bad_bounds_and_counts_total_conflict():
+    ex = w.filter_widget()
+    ex.controls["v_mode"].value = 0.9  # above the upper bound 0.3
+    assert "lower <= mode <= upper" in ex.numbers["error"]
+    ex.controls["v_mode"].value = 0.0
+    ex.controls["epsilon"].value = 0.0  # no Θ: the paper's start is in total conflict
+    assert ex.numbers["total-conflict steps"] > 0
+
+
+def test_the_mean_corrected_start_converges_sooner():
+    _, _, paper = w.filter_case(start="observation")
+    _, _, corrected = w.filter_case(start="mean_corrected")
+    seq = w.gauge_case()
+    first = {name: w.converged_at(r.estimates - seq.truth)
+             for name, r in (("paper", paper), ("corrected", corrected))}
+    assert first["corrected"] < first["paper"]
+    assert abs(paper.estimates[0, 0] - seq.truth[0, 0]) > 3.0  # off by about −E[w]
+
+
+def test_converged_at():
+    assert w.converged_at([5.0, 2.0, 0.5, 0.2]) == 3
+    assert w.converged_at([0.5, 2.0, 0.5]) == 3
+    assert w.converged_at([0.1, 0.2]) == 1
+    assert w.converged_at([0.1, 2.0]) is None
+
+
+def test_step_explorer_shows_the_papers_first_update_in_conflict():
+    ex = w.filter_step_explorer(start="observation", step=2)
+    assert ex.numbers["K (Step 4)"] == pytest.approx(0.95 ** 3)
+    assert 0.0 <= ex.numbers["D"] and 0.0 < ex.numbers["R12"] <= 1.0
+    assert len(ex.figure.axes) == 7
+
+
+def test_plot_filter_step_refuses_the_start():
+    _, _, result = w.filter_case(record=True, first=3)
+    with pytest.raises(ValueError, match="step k >= 2"):
+        plot_filter_step(result.steps[0])
+
+
+def test_extension_explorer_shows_the_vertex_method_failing_on_sin():
+    ex = w.extension_explorer(function="sin x", lo=0.0, hi=3.0)
+    assert ex.numbers["vertex"].startswith("[0, 0.1411]") and "⚠" in ex.numbers["vertex"]
+    assert ex.numbers["monotone"] == "NotMonotoneError"
+    assert ex.numbers["subdivision"] == "[0, 1]"
+    ex.controls["function"].value = "2x + 1"
+    assert ex.numbers["vertex"] == ex.numbers["monotone"] == ex.numbers["subdivision"] == "[1, 7]"
+    ex.controls["lo"].value = 3.5
+    assert "lo > hi" in ex.numbers["error"]
+
+
+def test_compare_image_methods_counts_and_flags():
+    out = w.compare_image_methods(lambda x: x[..., 0] ** 2, -1.0, 2.0, 1)
+    assert out["vertex"]["image"] == (1.0, 4.0)
+    assert out["vertex"]["message"].startswith("VertexMethodWarning")
+    assert out["monotone"]["image"] is None
+    assert out["monotone"]["message"].startswith("NotMonotoneError")
+    assert out["subdivision"]["image"] == pytest.approx((0.0, 4.0), abs=1e-12)
+    # checks included: 2 vertices + 3 interior samples; 2 corners + the centre
+    assert out["vertex"]["evaluations"] == 5 and out["monotone"]["evaluations"] == 3
