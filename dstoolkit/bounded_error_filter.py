@@ -143,14 +143,19 @@ class BoundedErrorFilter:
     @staticmethod
     def _message(model: StateSpaceModel, Z: np.ndarray, k: int, r: int,
                  p_lo: np.ndarray, p_hi: np.ndarray) -> str:
-        where = f"step {k}" + (f" of run {r}" if Z.shape[0] > 1 else "")
-        fmt = np.array2string
+        where = (f"step {k} (reading z[{k}], counting from 0)"
+                 + (f" of run {r}" if Z.shape[0] > 1 else ""))
+
+        def fmt(lo: np.ndarray, hi: np.ndarray) -> str:
+            return (f"lower {np.array2string(np.asarray(lo), precision=5)}, "
+                    f"upper {np.array2string(np.asarray(hi), precision=5)}")
+
         return (
-            f"inconsistent data at {where}: the predicted box [{fmt(p_lo[r], precision=5)}, "
-            f"{fmt(p_hi[r], precision=5)}] contains no state whose observation agrees with "
-            f"the reading z = {fmt(Z[r, k], precision=5)} within the observation noise "
-            f"bounds [{fmt(model.obs_noise.lower)}, {fmt(model.obs_noise.upper)}]. The noise "
-            f"bounds (state [{fmt(model.state_noise.lower)}, {fmt(model.state_noise.upper)}]) "
-            "are probably too tight for these data: widen them, or use "
+            f"inconsistent data at {where}: the predicted box ({fmt(p_lo[r], p_hi[r])}) "
+            "contains no state whose observation agrees with the reading "
+            f"z = {np.array2string(Z[r, k], precision=5)} within the observation noise "
+            f"bounds ({fmt(model.obs_noise.lower, model.obs_noise.upper)}). The noise bounds "
+            f"(state noise {fmt(model.state_noise.lower, model.state_noise.upper)}) are "
+            "probably too tight for these data: widen them, or use "
             "on_inconsistent='reset' to restart from the reading"
         )

@@ -44,7 +44,7 @@ from .experiments import (
 )
 from .gauge_model import GAUGE_OBS_NOISE, GAUGE_STATE_NOISE, gauge_state_space_model
 from .kalman_filter import KalmanFilter
-from .level import level_from_resonance
+from .level import fit_resonance_series, level_from_resonance
 from .model import BoundedNoise, StateSpaceModel
 from .nassreddine_filter import NassreddineFilter
 from .paper_results import TABLE3_CASES, TABLE3_MEAN_ABS_ERROR_M
@@ -322,13 +322,15 @@ def start_study(data: TrackingData, starts: Sequence[str] = ("observation", "mea
 
 @dataclass(frozen=True)
 class OrderRuleStudy:
-    """Mean absolute level error (m) per order rule and method at every level, and the
-    fraction of wrong orders per rule (``wrong``), for one simulation."""
+    """Mean absolute level error (m) per order rule and method at every level, the
+    fraction of wrong orders per rule (``wrong``), and the mean absolute error of the
+    series fit's own level c/(2 f_F) (``slope``, no orders needed), for one simulation."""
 
     simulation: str
     levels: np.ndarray
     errors: dict[str, dict[str, np.ndarray]]
     wrong: dict[str, np.ndarray]
+    slope: np.ndarray
 
 
 def order_rule_study(simulation: Simulation = "frequency", runs: int = 30, seed: int = 0,
@@ -342,11 +344,14 @@ def order_rule_study(simulation: Simulation = "frequency", runs: int = 30, seed:
     seeds = np.random.SeedSequence(seed).generate_state(len(cases))
     errors = {r: {m: np.empty(len(cases)) for m in methods} for r in rules}
     wrong = {r: np.empty(len(cases)) for r in rules}
+    slope = np.empty(len(cases))
     for i, ((level, temp), s) in enumerate(zip(cases, seeds, strict=True)):
         if simulation == "frequency":
             batches = frequency_readings(level, temp, runs, int(s))
         else:
             batches = [_with_true_orders(b) for b in waveform_readings(level, temp, runs, int(s))]
+        slope[i] = np.mean([abs(fit_resonance_series(row, offset_hz=None).level(
+            b.speed_of_sound) - level) for b in batches for row in b.readings])
         for r in rules:
             orders = [estimate_orders(b, r) for b in batches]
             wrong[r][i] = np.mean(np.concatenate([
@@ -356,7 +361,7 @@ def order_rule_study(simulation: Simulation = "frequency", runs: int = 30, seed:
                 errors[r][m][i] = np.mean(np.concatenate([
                     np.mean(np.abs(estimate_levels(m, b, n, filters) - level), axis=1)
                     for b, n in zip(batches, orders, strict=True)]))
-    return OrderRuleStudy(simulation, np.array([c[0] for c in cases]), errors, wrong)
+    return OrderRuleStudy(simulation, np.array([c[0] for c in cases]), errors, wrong, slope)
 
 
 def table3_readings(level_m: float, temperature_c: float, runs: int, seed: int = 0,

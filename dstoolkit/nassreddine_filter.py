@@ -58,7 +58,7 @@ operations as one run; batches are cut into chunks of :data:`CHUNK_BYTES`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Literal
 
 import numpy as np
@@ -265,18 +265,17 @@ class NassreddineFilter:
     state_theta: Any = None
     obs_theta: Any = None
 
+    name: str = field(init=False)
+    """``"nassreddine"``, or ``"nassreddine-restart"`` for the restart variant."""
+
     def __post_init__(self) -> None:
+        object.__setattr__(self, "name", "nassreddine-restart" if self.restart else "nassreddine")
         if int(self.max_focal) != self.max_focal or self.max_focal < 2:
             raise EvidenceError(f"max_focal must be an integer >= 2, got {self.max_focal}")
         if self.on_conflict not in ("raise", "reset"):
             raise EvidenceError(
                 f"on_conflict must be 'raise' or 'reset', got {self.on_conflict!r}"
             )
-
-    @property
-    def name(self) -> str:
-        """``"nassreddine"``, or ``"nassreddine-restart"`` for the restart variant."""
-        return "nassreddine-restart" if self.restart else "nassreddine"
 
     def run(
         self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
@@ -300,8 +299,9 @@ class NassreddineFilter:
         Z, U = batch_readings(model, Z, inputs)
         runs = Z.shape[0]
         n_v = self.p + 1 if self.epsilon > 0 else self.p
-        rows = ((1 if self.restart else self.max_focal) * n_v ** model.state_dim
-                * n_v ** model.obs_dim)
+        n_state = (n_v ** model.state_dim if self.restart
+                   else max(self.max_focal, n_v ** model.obs_dim))
+        rows = n_state * n_v ** model.state_dim * n_v ** model.obs_dim  # contractions per run
         chunk = max(1, CHUNK_BYTES // (rows * 8 * (6 * model.state_dim + 4)))
         est = np.empty((runs, Z.shape[1], model.state_dim))
         for start in range(0, runs, chunk):
@@ -406,7 +406,8 @@ class NassreddineFilter:
                         diag: dict[str, np.ndarray]) -> BoxMass:
         if self.on_conflict == "raise":
             r = int(np.flatnonzero(dead)[0])
-            where = f"step {k}" + (f" of run {r}" if Z.shape[0] > 1 else "")
+            where = (f"step {k} (reading z[{k}], counting from 0)"
+                 + (f" of run {r}" if Z.shape[0] > 1 else ""))
             raise TotalConflictError(
                 f"total conflict at {where}: no predicted box contains a state whose "
                 f"observation agrees with the reading z = {np.array2string(Z[r, k])} "

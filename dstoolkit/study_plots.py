@@ -21,8 +21,9 @@ from .possibility import possibility
 RULE_STYLE = {"eq43": ("o-", "eq. 43"), "fit": ("s--", "series fit"), "true": ("^:", "true")}
 
 
-def _style(name: str) -> dict[str, str]:
-    return STYLE.get(name, {"color": "k", "label": name})
+def _style(name: str) -> dict[str, str | None]:
+    """A method's colour and label; any other name takes the next colour of the cycle."""
+    return STYLE.get(name, {"color": None, "label": name})
 
 
 def _figure(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
@@ -106,7 +107,7 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
 
 def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
     """Mean absolute level error against the level, one panel per simulation: line style
-    = order rule, colour = method."""
+    = order rule, colour = method; grey diamonds: the series fit's own level."""
     fig = Figure(figsize=(11, 3.8), layout="constrained")
     axes = fig.subplots(1, len(studies), sharey=True, squeeze=False)[0]
     for ax, study in zip(axes, studies, strict=True):
@@ -116,6 +117,8 @@ def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
                 st = _style(name)
                 ax.semilogy(study.levels, err, marker, color=st["color"], ms=4,
                             label=f"{st['label']}, n_k {rule_label}")
+        ax.semilogy(study.levels, study.slope, "D-", color="0.3", ms=4, lw=2,
+                    label="series fit's level c/(2 f_F)")
         ax.set_xlabel("true level L (m)")
         ax.set_title(f"{study.simulation}-level simulation")
         ax.grid(True, which="both", alpha=0.3)

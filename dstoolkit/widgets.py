@@ -836,13 +836,11 @@ class LabWidget(widgets.VBox):
                                   readout_format=".1f"),
             "volume": slider("volume (full scale)", s.volume, 0.05, 1.0, 0.05,
                              readout_format=".2f"),
-            "level": slider("virtual tube: level L (m)", s.level_m, 0.5, 12.0, 0.05,
-                            readout_format=".2f"),
-            "thermometer_error": slider("virtual tube: thermometer reads high by (°C)",
-                                        s.thermometer_error_c, -5.0, 5.0, 0.1,
-                                        readout_format=".1f"),
-            "room_noise": slider("virtual tube: room noise (dBFS)", s.room_noise_dbfs, -80.0,
-                                 -10.0, 1.0, readout_format=".0f"),
+            "level": slider("level L (m)", s.level_m, 0.5, 12.0, 0.05, readout_format=".2f"),
+            "thermometer_error": slider("thermometer error (°C)", s.thermometer_error_c,
+                                        -5.0, 5.0, 0.1, readout_format=".1f"),
+            "room_noise": slider("room noise (dBFS)", s.room_noise_dbfs, -80.0, -10.0, 1.0,
+                                 readout_format=".0f"),
             "through_virtual_tube": widgets.Checkbox(
                 value=s.through_virtual_tube, indent=False,
                 description="with devices: play the virtual tube (loopback, no real tube)"),
@@ -865,15 +863,23 @@ class LabWidget(widgets.VBox):
             self.controls[name].observe(lambda _change: self._sync(), "value")
         self._sync()
         c = self.controls
-        row = widgets.HBox
-        wrap = widgets.Layout(flex_flow="row wrap")
+        for control in c.values():  # aligned labels, sliders with room to move
+            control.style.description_width = "190px"
+            control.layout.width = "440px"
+        c["through_virtual_tube"].layout.width = "auto"
+        c["thermometer_error"].tooltip = "how much the thermometer reads too high"
+
+        def row(*children: widgets.Widget) -> widgets.HBox:
+            return widgets.HBox(list(children), layout=widgets.Layout(flex_flow="row wrap"))
+
         self.children = (
             widgets.HTML("<b>The lab: measure a level</b>"),
-            row([c["input"], c["output"], self.refresh], layout=wrap),
-            row([c["temperature"], c["volume"], self.button], layout=wrap),
-            row([c["level"], c["thermometer_error"], c["room_noise"],
-                 c["through_virtual_tube"]], layout=wrap),
-            self.readout, self.output,
+            row(c["input"], c["output"]), row(self.refresh),
+            row(c["temperature"], c["volume"]),
+            widgets.HTML("<i>the virtual tube (without a device, or through a loopback):</i>"),
+            row(c["level"], c["thermometer_error"]),
+            row(c["room_noise"], c["through_virtual_tube"]),
+            row(self.button), self.readout, self.output,
         )
         if record_now:
             self.record()

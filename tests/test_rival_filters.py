@@ -103,13 +103,16 @@ def test_batch_equals_single_runs_with_inputs(flt):
         np.testing.assert_array_equal(batch[r], single.estimates)
 
 
-def test_particle_batch_rows_do_not_depend_on_chunking(monkeypatch, lv_data):
+@pytest.mark.parametrize("flt", [ParticleFilter(n_particles=200, seed=9),
+                                 NassreddineFilter(max_focal=8)], ids=["particle", "nassreddine"])
+def test_batch_rows_do_not_depend_on_chunking(flt, monkeypatch, lv_data):
+    import dstoolkit.nassreddine_filter as nf_module
     import dstoolkit.particle_filter as pf_module
 
     model, _, z = lv_data
-    flt = ParticleFilter(n_particles=200, seed=9)
     whole = flt.run_batch(model, z)
-    monkeypatch.setattr(pf_module, "CHUNK_BYTES", 1)  # one run per chunk
+    for module in (pf_module, nf_module):
+        monkeypatch.setattr(module, "CHUNK_BYTES", 1)  # one run per chunk
     np.testing.assert_array_equal(flt.run_batch(model, z), whole)
 
 
@@ -131,7 +134,8 @@ def test_bounded_error_reports_too_tight_bounds_with_the_step():
     z = np.array([0.0, 0.3, 2.5, 2.6])  # step 2 jumps further than the bounds allow
     with pytest.raises(InconsistentDataError, match=r"step 2\b.*too tight"):
         BoundedErrorFilter().run(model, z)
-    with pytest.raises(InconsistentDataError, match=r"step 2 of run 1\b"):
+    with pytest.raises(InconsistentDataError,
+                       match=r"step 2 \(reading z\[2\], counting from 0\) of run 1\b"):
         BoundedErrorFilter().run_batch(model, np.stack([z * 0, z])[..., None])
 
 
