@@ -41,6 +41,7 @@ def state(ex):
     numbers["xmax"] = max(ax.get_xlim()[1] for ax in fig.axes) if fig is not None else 0
     numbers["continuous_update"] = [getattr(c, "continuous_update", False)
                                     for c in ex.controls.values()]
+    numbers["png"] = any("image/png" in o.get("data", {}) for o in ex.output.outputs)
     return json.dumps(numbers)
 """
 
@@ -89,6 +90,7 @@ def test_level_explorer_first_state_is_the_papers_fig11_case(states) -> None:
     assert wrong > total // 2 and first[DIRECT] > 100
     sliders = [v for v in first["continuous_update"] if v is not False]
     assert not sliders, "sliders must redraw on release"
+    assert first["png"], "the figure must reach the output as an image, not as text"
 
 
 def test_moving_the_level_changes_the_figure_and_the_numbers(states) -> None:
@@ -96,6 +98,7 @@ def test_moving_the_level_changes_the_figure_and_the_numbers(states) -> None:
     assert "error" not in after, after
     assert "L = 9.6 m" in after["title"] and after["title"] != before["title"]
     assert after["wrong orders n_k"].endswith("/82") and after["xmax"] > before["xmax"]
+    assert after["png"]
     assert after[DIRECT] != before[DIRECT] and after[PAPER] != before[PAPER]
 
 
@@ -109,6 +112,7 @@ def test_true_orders_bring_the_level_error_down_to_centimetres(states) -> None:
 def test_tight_bounds_break_the_bounded_error_filter_only(states) -> None:
     true_bounds, tight = states["noise"]
     assert "error" not in tight, tight
+    assert true_bounds["png"] and tight["png"]
     assert true_bounds["bounded error: inconsistent runs"] == "0%"
     assert tight["bounded error: inconsistent runs"] != "0%"
     for key in ("dependent evidence (paper) (Hz)", "Nassreddine (Hz)", "Kalman (Hz)"):
