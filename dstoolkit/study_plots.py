@@ -11,12 +11,15 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.ticker import FixedLocator, NullLocator, StrMethodFormatter
 
 from .estimation_studies import ExampleComparison, MismatchResult, OrderRuleStudy
 from .experiment_plots import STYLE
 from .model import BoundedNoise
 from .possibility import possibility
 
+#: Colours for curves that are not one of STYLE's methods (variants of a method), in order.
+EXTRA_COLOURS = ("C9", "C6", "C7", "C8")
 #: How the order rules are drawn in :func:`plot_order_rule_study`.
 RULE_STYLE = {"eq43": ("o-", "eq. 43"), "fit": ("s--", "series fit"), "true": ("^:", "true")}
 
@@ -37,12 +40,14 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
                      unit: str = "Hz", title: str | None = None) -> Figure:
     """Mean |x̂_k − x_k| over runs against the step k, one line per method (log scale).
 
-    ``errors`` maps a method to absolute errors of shape (runs, K) or (K,).
+    ``errors`` maps a method to absolute errors of shape (runs, K) or (K,); a name that is
+    not a method of STYLE (a variant, say) gets a colour of :data:`EXTRA_COLOURS`.
     """
     fig, ax = _figure(ax, (7.5, 3.4))
+    extra = iter(EXTRA_COLOURS)
     for name, err in errors.items():
         err = np.atleast_2d(np.asarray(err, dtype=float))
-        st = _style(name)
+        st = STYLE.get(name) or {"color": next(extra, None), "label": name}
         ax.semilogy(np.arange(1, err.shape[1] + 1), err.mean(axis=0), "-", color=st["color"],
                     lw=1.3, label=st["label"])
     ax.set_xlabel("step k")
@@ -98,6 +103,11 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
                 ax.annotate(f"{frac:.0%}", (s, y), textcoords="offset points", xytext=(4, 6),
                             fontsize=7, color="red")
     ax.axvline(1.0, color="black", lw=0.8, ls="--")
+    ax.xaxis.set_major_locator(FixedLocator(scales))
+    ax.xaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
+    ax.xaxis.set_minor_locator(NullLocator())
+    ax.yaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
+    ax.yaxis.set_minor_formatter(StrMethodFormatter("{x:g}"))
     ax.set_xlabel("assumed bounds ÷ true bounds (both noises, about their modes)")
     ax.set_ylabel("mean |x̂ − x| (Hz)")
     ax.grid(True, which="both", alpha=0.3)
@@ -108,7 +118,7 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
 def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
     """Mean absolute level error against the level, one panel per simulation: line style
     = order rule, colour = method; grey diamonds: the series fit's own level."""
-    fig = Figure(figsize=(11, 3.8), layout="constrained")
+    fig = Figure(figsize=(11, 4.6), layout="constrained")
     axes = fig.subplots(1, len(studies), sharey=True, squeeze=False)[0]
     for ax, study in zip(axes, studies, strict=True):
         for rule, by_method in study.errors.items():
@@ -123,7 +133,8 @@ def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
         ax.set_title(f"{study.simulation}-level simulation")
         ax.grid(True, which="both", alpha=0.3)
     axes[0].set_ylabel("mean |L̂ − L| (m)")
-    axes[0].legend(fontsize=7, ncol=1)
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=4, fontsize=7)
     return fig
 
 

@@ -1012,10 +1012,6 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
     from .estimation_studies import gauge_run
     from .experiment_plots import plot_estimates
 
-    # plot_estimates draws on a bare matplotlib Figure; IPython's inline backend registers
-    # its PNG formatter for figures only when pyplot first makes one, so make (and close)
-    # one now, or a fresh kernel would show the figure as text.
-    plt.close(plt.figure())
     controls = {
         "level": slider("level L (m)", level_m, 1.3, 10.6, 0.1, readout_format=".1f"),
         "temperature": slider("temperature T (°C)", temperature_c, 0.0, 35.0, 0.5,

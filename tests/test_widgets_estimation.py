@@ -26,10 +26,10 @@ from nbformat.v4 import new_code_cell, new_notebook
 pytestmark = pytest.mark.slow
 ROOT = Path(__file__).resolve().parents[1]
 
+# The kernel keeps ipykernel's inline backend, as in JupyterLab and in the book build, so
+# that the test sees what a reader sees: the figure must arrive as a PNG.
 SETUP = """
 import json
-import matplotlib
-matplotlib.use("Agg")
 from dstoolkit.widgets import level_estimation_explorer, noise_bounds_explorer
 
 
@@ -41,29 +41,33 @@ def state(ex):
     numbers["xmax"] = max(ax.get_xlim()[1] for ax in fig.axes) if fig is not None else 0
     numbers["continuous_update"] = [getattr(c, "continuous_update", False)
                                     for c in ex.controls.values()]
-    numbers["png"] = any("image/png" in o.get("data", {}) for o in ex.output.outputs)
     return json.dumps(numbers)
 """
 
 
-def _run(cells: list[str]) -> list[dict]:
-    """Execute ``cells`` in a fresh kernel; the JSON each cell printed last."""
+def _run(cells: list[str]) -> tuple[list[dict], list[list[str]]]:
+    """Execute ``cells`` in a fresh kernel: the JSON each cell printed last, and the MIME
+    types of what each explorer's Output widget shows in the stored widget state (what the
+    book embeds in its page)."""
     nb = new_notebook(cells=[new_code_cell(c) for c in cells])
-    NotebookClient(nb, timeout=300, kernel_name="python3",
+    NotebookClient(nb, timeout=300, kernel_name="python3", store_widget_state=True,
                    resources={"metadata": {"path": str(ROOT)}}).execute()
+    state = nb.metadata["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
+    shown = [[mime for o in model["state"].get("outputs", []) for mime in o.get("data", {})]
+             for model in state.values() if model["model_name"] == "OutputModel"]
     out = []
     for cell in nb.cells[1:]:
         text = "".join(o.get("text", "") for o in cell.outputs if o.output_type == "stream"
                        and o.name == "stdout")
         out.append(json.loads(text.strip().splitlines()[-1]))
-    return out
+    return out, shown
 
 
 @pytest.fixture(scope="module")
-def states() -> dict[str, list[dict]]:
+def states() -> dict[str, list]:
     level, noise = "ex = level_estimation_explorer()\nprint(state(ex))", \
         "nb = noise_bounds_explorer()\nprint(state(nb))"
-    got = _run([
+    got, shown = _run([
         SETUP,
         level,
         'ex.controls["level"].value = 9.6\nex.controls["temperature"].value = 23.9\n'
@@ -73,7 +77,15 @@ def states() -> dict[str, list[dict]]:
         'nb.controls["w_lower"].value = -7.8225\nnb.controls["w_upper"].value = -5.9775\n'
         "print(state(nb))",
     ])
-    return {"level": got[:3], "noise": got[3:]}
+    return {"level": got[:3], "noise": got[3:], "shown": shown}
+
+
+def test_the_figures_are_embedded_as_images(states) -> None:
+    """Both explorers' Output widgets hold a PNG in the stored widget state: the page
+    shows the figure without a kernel (and not as the text repr of a Figure)."""
+    shown = [mimes for mimes in states["shown"] if mimes]
+    assert len(shown) == 2, states["shown"]
+    assert all("image/png" in mimes for mimes in shown), shown
 
 
 DIRECT = "direct (eq. 32): |L̂ − L| (mm)"
@@ -90,7 +102,6 @@ def test_level_explorer_first_state_is_the_papers_fig11_case(states) -> None:
     assert wrong > total // 2 and first[DIRECT] > 100
     sliders = [v for v in first["continuous_update"] if v is not False]
     assert not sliders, "sliders must redraw on release"
-    assert first["png"], "the figure must reach the output as an image, not as text"
 
 
 def test_moving_the_level_changes_the_figure_and_the_numbers(states) -> None:
@@ -98,7 +109,6 @@ def test_moving_the_level_changes_the_figure_and_the_numbers(states) -> None:
     assert "error" not in after, after
     assert "L = 9.6 m" in after["title"] and after["title"] != before["title"]
     assert after["wrong orders n_k"].endswith("/82") and after["xmax"] > before["xmax"]
-    assert after["png"]
     assert after[DIRECT] != before[DIRECT] and after[PAPER] != before[PAPER]
 
 
@@ -112,7 +122,6 @@ def test_true_orders_bring_the_level_error_down_to_centimetres(states) -> None:
 def test_tight_bounds_break_the_bounded_error_filter_only(states) -> None:
     true_bounds, tight = states["noise"]
     assert "error" not in tight, tight
-    assert true_bounds["png"] and tight["png"]
     assert true_bounds["bounded error: inconsistent runs"] == "0%"
     assert tight["bounded error: inconsistent runs"] != "0%"
     for key in ("dependent evidence (paper) (Hz)", "Nassreddine (Hz)", "Kalman (Hz)"):
