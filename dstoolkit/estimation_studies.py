@@ -8,6 +8,9 @@ Table 3 cannot disagree about what a method is.
 * :func:`gauge_run`: one sweep at one level, the frequency estimates of every method per
   step (Fig. 10) and the level of every step by eq. 32 (Fig. 11), with the true orders and
   frequencies known to the simulation.
+* :func:`table3_rows`, :func:`table3_readings`, :func:`filter_level_errors`: Table 3 beside
+  the paper's figures, the very readings of one of its cases, and Table 3's figure for
+  filters with other settings (another start, the restart variant of Nassreddine's).
 * :func:`tracking_data` and :func:`noise_mismatch`: the gauge's eqs. 39–40 simulated with
   the paper's noises, filtered by methods that assume other noise bounds.
 * :func:`start_study`: the paper's start x̂_1 = z_1 against a start corrected by E[w].

@@ -116,10 +116,10 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
 
 
 def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
-    """Mean absolute level error against the level, one panel per simulation: line style
-    = order rule, colour = method; grey diamonds: the series fit's own level."""
-    fig = Figure(figsize=(11, 4.6), layout="constrained")
-    axes = fig.subplots(1, len(studies), sharey=True, squeeze=False)[0]
+    """Mean absolute level error against the level, one panel per simulation (stacked):
+    line style = order rule, colour = method; grey diamonds: the series fit's own level."""
+    fig = Figure(figsize=(8, 1.2 + 3.2 * len(studies)), layout="constrained")
+    axes = fig.subplots(len(studies), 1, sharex=True, squeeze=False)[:, 0]
     for ax, study in zip(axes, studies, strict=True):
         for rule, by_method in study.errors.items():
             marker, rule_label = RULE_STYLE.get(rule, ("o-", rule))
@@ -129,12 +129,12 @@ def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
                             label=f"{st['label']}, n_k {rule_label}")
         ax.semilogy(study.levels, study.slope, "D-", color="0.3", ms=4, lw=2,
                     label="series fit's level c/(2 f_F)")
-        ax.set_xlabel("true level L (m)")
         ax.set_title(f"{study.simulation}-level simulation")
+        ax.set_ylabel("mean |L̂ − L| (m)")
         ax.grid(True, which="both", alpha=0.3)
-    axes[0].set_ylabel("mean |L̂ − L| (m)")
+    axes[-1].set_xlabel("true level L (m)")
     handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside lower center", ncol=4, fontsize=7)
+    fig.legend(handles, labels, loc="outside lower center", ncol=3, fontsize=8)
     return fig
 
 

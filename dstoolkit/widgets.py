@@ -1036,8 +1036,10 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
             levels = run.levels()
             fig = plot_estimates(run.level_m, levels.pop("direct"), levels, quantity="level",
                                  unit="m")
-        fig.suptitle(f"L = {level:.1f} m, T = {temperature:.1f} °C, {simulation}-level "
-                     f"readings, n_k by {order_rule}, seed {seed}", fontsize=9)
+        top = fig.axes[0]
+        top.set_title(f"{top.get_title()}: L = {level:.1f} m, T = {temperature:.1f} °C, "
+                      f"{simulation}-level readings, n_k by {order_rule}, seed {seed}",
+                      fontsize=9)
         return fig, estimation_numbers(run)
 
     return Explorer(controls, render, title="One run of the gauge: the paper's Figs. 10–11")
@@ -1089,7 +1091,7 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
         assumed_v = BoundedNoise(v_lower, v_mode, v_upper)
         assumed_w = BoundedNoise(w_lower, w_mode, w_upper)
         result = noise_mismatch(data, assumed_v, assumed_w, seed=seed, start=start)
-        fig = plt.figure(figsize=(11, 3.4), layout="constrained")
+        fig = plt.figure(figsize=(11, 3.8), layout="constrained")
         ax_v, ax_w, ax_e = fig.subplots(1, 3, width_ratios=[1, 1, 2.2])
         plot_noise_assumption(v, assumed_v, ax_v, title="state noise v (Hz)")
         plot_noise_assumption(w, assumed_w, ax_w, title="observation noise w (Hz)")
