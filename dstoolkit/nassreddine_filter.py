@@ -377,7 +377,10 @@ class NassreddineFilter:
                 conflict = row_sum(np.where(empty, c_mass, 0.0))
                 dead = 1.0 - conflict <= CONFLICT_TOLERANCE
                 c_mass = np.where(empty | dead[:, None], 0.0, c_mass)
-                c_mass = c_mass / np.where(dead, 1.0, 1.0 - conflict)[:, None]
+                # Renormalise by the mass actually kept (= 1 − K in exact arithmetic): dividing
+                # by 1 − K would amplify rounding loss by 1/(1 − K) at every step of high conflict.
+                kept = row_sum(c_mass)
+                c_mass = c_mass / np.where(dead, 1.0, kept)[:, None]
                 posterior = merge_equal_boxes(c_lo, c_hi, c_mass)
                 diag["conflict"][:, k] = conflict
                 if np.any(dead):

@@ -317,3 +317,21 @@ def test_bad_readings_are_reported():
         KalmanFilter().run(model, np.zeros((5, 3)))
     with pytest.raises(EvidenceError, match="not a finite number"):
         BoundedErrorFilter().run_batch(model, np.full((2, 4, 2), np.nan))
+
+
+def test_nassreddine_keeps_unit_mass_under_heavy_conflict():
+    """Regression: renormalising by 1 − K let rounding losses grow by 1/(1 − K) per step,
+    until the posterior held half its mass and the estimate was pulled towards 0."""
+    from dstoolkit.estimation_studies import scaled_noise, tracking_data
+    from dstoolkit.gauge_model import GAUGE_OBS_NOISE, GAUGE_STATE_NOISE, gauge_state_space_model
+
+    data = tracking_data(runs=3, seed=0)
+    model = gauge_state_space_model(scaled_noise(GAUGE_STATE_NOISE, 0.25),
+                                    scaled_noise(GAUGE_OBS_NOISE, 0.25))
+    run = NassreddineFilter(on_conflict="reset").run(
+        model, data.readings[2][:, None], inputs=data.orders[2], record=True)
+    for k, step in enumerate(run.steps):
+        assert run.estimates[k, 0] == pytest.approx(
+            step["posterior"].pignistic_expectation(), rel=1e-9)
+    assert np.all(run.lower[:, 0] <= run.estimates[:, 0] + 1e-9)
+    assert np.all(run.estimates[:, 0] <= run.upper[:, 0] + 1e-9)
