@@ -11,8 +11,10 @@ import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
+import nbformat
 import pytest
 import yaml
+from nbclient import NotebookClient
 
 ROOT = Path(__file__).resolve().parents[1]
 ARTIFACTS = ROOT / "test-artifacts"
@@ -96,3 +98,46 @@ def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
     if "toc_page" in metafunc.fixturenames:
         pages = toc_pages()
         metafunc.parametrize("toc_page", pages, ids=pages)
+
+
+# --------------------------------------------------------------------------------------
+# Notebooks and chapters executed in a fresh kernel (nothing is written back to disk)
+# --------------------------------------------------------------------------------------
+
+#: A guard against a hanging cell, not a speed requirement.
+CELL_TIMEOUT = 300
+
+
+def execute_notebook(nb: nbformat.NotebookNode, cwd: Path) -> nbformat.NotebookNode:
+    """Execute ``nb`` in place in a python3 kernel started in ``cwd``."""
+    NotebookClient(nb, timeout=CELL_TIMEOUT, kernel_name="python3",
+                   resources={"metadata": {"path": str(cwd)}}).execute()
+    return nb
+
+
+def glued(nb: nbformat.NotebookNode) -> dict[str, object]:
+    """Every value a notebook glued (myst_nb.glue): floats where they parse, else text."""
+    out: dict[str, object] = {}
+    for cell in nb.cells:
+        for o in cell.get("outputs", []):
+            name = o.get("metadata", {}).get("scrapbook", {}).get("name")
+            if name:
+                text = o["data"]["application/papermill.record/text/plain"]
+                try:
+                    out[name] = float(text)
+                except ValueError:
+                    out[name] = text.strip("'\"")
+    return out
+
+
+_CHAPTERS: dict[str, nbformat.NotebookNode] = {}
+
+
+def executed_chapter(name: str) -> nbformat.NotebookNode:
+    """book/<name>.md executed once per test session (shared by the tests that read it)."""
+    if name not in _CHAPTERS:
+        import jupytext
+
+        _CHAPTERS[name] = execute_notebook(jupytext.read(ROOT / "book" / f"{name}.md"),
+                                           ROOT / "book")
+    return _CHAPTERS[name]

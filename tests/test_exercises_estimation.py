@@ -14,12 +14,11 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-import nbformat
 import numpy as np
 import pytest
-from nbclient import NotebookClient
+from conftest import executed_chapter, glued
 
-from dstoolkit.exercises import REGISTRY, check, exercises, solution
+from dstoolkit.exercises import exercises, solution
 
 ROOT = Path(__file__).resolve().parents[1]
 SHEETS = {"estimating.": ROOT / "notebooks" / "09_estimating_level.ipynb",
@@ -32,10 +31,6 @@ ALL_IDS = IDS["estimating."] + IDS["beyond."]
 CHECK = re.compile(r'check\("((?:estimating|beyond)\.[a-z0-9-]+)"')
 
 
-def _wrong(value: object) -> object:
-    """An answer that is plainly wrong: every number 10 % (and at least 1) off."""
-    arr = np.asarray(value, dtype=float)
-    return arr + np.maximum(0.1 * np.abs(arr), 1.0)
 
 
 @pytest.mark.parametrize("prefix", list(IDS))
@@ -43,26 +38,10 @@ def test_the_exercises_are_registered(prefix: str) -> None:
     assert exercises(prefix) == IDS[prefix]
 
 
-@pytest.mark.parametrize("exercise_id", ALL_IDS)
-def test_the_solution_is_accepted(exercise_id: str) -> None:
-    assert check(exercise_id, solution(exercise_id)).correct
 
 
-@pytest.mark.parametrize("exercise_id", ALL_IDS)
-def test_a_wrong_answer_is_rejected_with_the_hint(exercise_id: str) -> None:
-    feedback = check(exercise_id, _wrong(solution(exercise_id)))
-    assert not feedback.correct
-    assert REGISTRY[exercise_id].hint in feedback.message
 
 
-@pytest.mark.parametrize(
-    ("exercise_id", "index"),
-    [(e, i) for e in ALL_IDS for i in range(len(REGISTRY[e].mistakes))],
-)
-def test_each_common_mistake_gets_its_own_hint(exercise_id: str, index: int) -> None:
-    wrong, why = REGISTRY[exercise_id].mistakes[index]
-    feedback = check(exercise_id, wrong())
-    assert not feedback.correct and why in feedback.message
 
 
 def test_solutions_agree_with_the_papers_numbers() -> None:
@@ -82,92 +61,31 @@ def test_solutions_agree_with_the_papers_numbers() -> None:
     assert solution("beyond.offset-ratio") > 0.5  # the fit's n_1 comes out one too high
 
 
-def _execute(nb: nbformat.NotebookNode, path: Path) -> nbformat.NotebookNode:
-    NotebookClient(nb, timeout=300, kernel_name="python3",
-                   resources={"metadata": {"path": str(path)}}).execute()
-    return nb
 
 
-def _check_messages(nb: nbformat.NotebookNode) -> dict[str, str]:
-    out = {}
-    for cell in nb.cells:
-        ids = CHECK.findall(cell.source) if cell.cell_type == "code" else []
-        if ids:
-            (eid,) = ids
-            out[eid] = "".join(str(o.get("data", {}).get("text/plain", ""))
-                               for o in cell.outputs)
-    return out
 
 
-@pytest.mark.parametrize("prefix", list(SHEETS))
-def test_the_sheet_is_stored_without_outputs_and_checks_every_exercise(prefix: str) -> None:
-    nb = nbformat.read(SHEETS[prefix], as_version=4)
-    code = [c for c in nb.cells if c.cell_type == "code"]
-    assert all(not c.outputs and c.execution_count is None for c in code)
-    assert sorted(_check_messages(nb)) == IDS[prefix]
-    assert max(len(c.source.splitlines()) for c in code) <= 15
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize(("prefix", "explorer"), [("estimating.", "level_estimation_explorer()"),
-                                                  ("beyond.", "noise_bounds_explorer()")])
-def test_the_sheet_runs_as_stored(prefix: str, explorer: str) -> None:
-    nb = _execute(nbformat.read(SHEETS[prefix], as_version=4), SHEETS[prefix].parent)
-    messages = _check_messages(nb)
-    assert all("not answered yet" in m for m in messages.values()), messages
-    cells = [c for c in nb.cells if explorer in c.source]
-    assert cells and any("application/vnd.jupyter.widget-view+json" in o.get("data", {})
-                         for o in cells[0].outputs)
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("prefix", list(SHEETS))
-def test_the_sheet_with_the_solutions_filled_in_says_right(prefix: str) -> None:
-    nb = nbformat.read(SHEETS[prefix], as_version=4)
-    for cell in nb.cells:
-        ids = CHECK.findall(cell.source) if cell.cell_type == "code" else []
-        if ids:
-            assert cell.source.count("...") == 1, cell.source
-            cell.source = cell.source.replace(
-                "...", f'__import__("dstoolkit.exercises").exercises.solution("{ids[0]}")')
-    messages = _check_messages(_execute(nb, SHEETS[prefix].parent))
-    assert all("right" in m and "✔" in m for m in messages.values()), messages
 
 
 # -- the chapters: they execute, and the claims their prose makes hold for their numbers --
 
 
-def _glued(nb: nbformat.NotebookNode) -> dict[str, object]:
-    out: dict[str, object] = {}
-    for cell in nb.cells:
-        for o in cell.get("outputs", []):
-            name = o.get("metadata", {}).get("scrapbook", {}).get("name")
-            if name:
-                text = o["data"]["application/papermill.record/text/plain"]
-                try:
-                    out[name] = float(text)
-                except ValueError:
-                    out[name] = text.strip("'\"")
-    return out
 
 
-def _chapter(name: str) -> dict[str, object]:
-    import jupytext
-
-    nb = jupytext.read(ROOT / "book" / f"{name}.md")
-    NotebookClient(nb, timeout=300, kernel_name="python3",
-                   resources={"metadata": {"path": str(ROOT / "book")}}).execute()
-    return _glued(nb)
 
 
 @pytest.fixture(scope="module")
 def estimating() -> dict[str, object]:
-    return _chapter("estimating_level")
+    return glued(executed_chapter("estimating_level"))
 
 
 @pytest.fixture(scope="module")
 def beyond() -> dict[str, object]:
-    return _chapter("beyond_the_paper")
+    return glued(executed_chapter("beyond_the_paper"))
 
 
 METHODS = ("dependent_evidence", "nassreddine", "direct", "kalman", "particle")

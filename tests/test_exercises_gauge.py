@@ -12,12 +12,10 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-import nbformat
-import numpy as np
 import pytest
-from nbclient import NotebookClient
+from conftest import executed_chapter, glued
 
-from dstoolkit.exercises import REGISTRY, check, exercises, solution
+from dstoolkit.exercises import exercises, solution
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -27,40 +25,18 @@ GAUGE_IDS = ["gauge.count", "gauge.eq43", "gauge.fundamental", "gauge.offset", "
 CHECK = re.compile(r'check\("(gauge\.[a-z0-9-]+)"')
 
 
-def _wrong(value: object) -> object:
-    """An answer that is plainly wrong: every number 10 % (and at least 1) off."""
-    arr = np.asarray(value, dtype=float)
-    return arr + np.maximum(0.1 * np.abs(arr), 1.0)
 
 
 def test_the_gauge_exercises_are_registered() -> None:
     assert set(GAUGE_IDS) <= set(exercises("gauge."))
 
 
-@pytest.mark.parametrize("exercise_id", GAUGE_IDS)
-def test_the_solution_is_accepted(exercise_id: str) -> None:
-    assert check(exercise_id, solution(exercise_id)).correct
 
 
-@pytest.mark.parametrize("exercise_id", GAUGE_IDS)
-def test_a_wrong_answer_is_rejected_with_the_hint(exercise_id: str) -> None:
-    feedback = check(exercise_id, _wrong(solution(exercise_id)))
-    assert not feedback.correct
-    assert REGISTRY[exercise_id].hint in feedback.message
 
 
-@pytest.mark.parametrize(
-    ("exercise_id", "index"),
-    [(e, i) for e in GAUGE_IDS for i in range(len(REGISTRY[e].mistakes))],
-)
-def test_each_common_mistake_gets_its_own_hint(exercise_id: str, index: int) -> None:
-    wrong, why = REGISTRY[exercise_id].mistakes[index]
-    feedback = check(exercise_id, wrong())
-    assert not feedback.correct and why in feedback.message
 
 
-def test_not_answered_yet() -> None:
-    assert "not answered yet" in check("gauge.speed", ...).message
 
 
 def test_solutions_agree_with_the_papers_numbers() -> None:
@@ -75,74 +51,24 @@ def test_solutions_agree_with_the_papers_numbers() -> None:
     assert solution("gauge.thermometer") == pytest.approx(9.6 * 0.606 / 345.7834, rel=1e-6)
 
 
-def _execute(nb: nbformat.NotebookNode) -> nbformat.NotebookNode:
-    NotebookClient(nb, timeout=180, kernel_name="python3",
-                   resources={"metadata": {"path": str(SHEET.parent)}}).execute()
-    return nb
 
 
-def _check_messages(nb: nbformat.NotebookNode) -> dict[str, str]:
-    out = {}
-    for cell in nb.cells:
-        ids = CHECK.findall(cell.source) if cell.cell_type == "code" else []
-        if ids:
-            (eid,) = ids
-            out[eid] = "".join(str(o.get("data", {}).get("text/plain", ""))
-                               for o in cell.outputs)
-    return out
 
 
-def test_the_sheet_is_stored_without_outputs_and_checks_every_exercise() -> None:
-    nb = nbformat.read(SHEET, as_version=4)
-    code = [c for c in nb.cells if c.cell_type == "code"]
-    assert all(not c.outputs and c.execution_count is None for c in code)
-    assert sorted(_check_messages(nb)) == GAUGE_IDS
 
 
-@pytest.mark.slow
-def test_the_sheet_runs_as_stored() -> None:
-    nb = _execute(nbformat.read(SHEET, as_version=4))
-    messages = _check_messages(nb)
-    assert all("not answered yet" in m for m in messages.values()), messages
-    explorer = [c for c in nb.cells if "gauge_explorer()" in c.source]
-    assert explorer and any("application/vnd.jupyter.widget-view+json" in o.get("data", {})
-                            for o in explorer[0].outputs)
 
 
-@pytest.mark.slow
-def test_the_sheet_with_the_solutions_filled_in_says_right() -> None:
-    nb = nbformat.read(SHEET, as_version=4)
-    for cell in nb.cells:
-        ids = CHECK.findall(cell.source) if cell.cell_type == "code" else []
-        if ids:
-            assert cell.source.count("...") == 1, cell.source
-            cell.source = cell.source.replace(
-                "...", f'__import__("dstoolkit.exercises").exercises.solution("{ids[0]}")')
-    messages = _check_messages(_execute(nb))
-    assert all("right" in m and "✔" in m for m in messages.values()), messages
 
 
 # -- the chapter: it executes, and the claims its prose makes hold for the numbers it glues --
 
 
-def _glued(nb: nbformat.NotebookNode) -> dict[str, float]:
-    out = {}
-    for cell in nb.cells:
-        for o in cell.get("outputs", []):
-            name = o.get("metadata", {}).get("scrapbook", {}).get("name")
-            if name:
-                out[name] = float(o["data"]["application/papermill.record/text/plain"])
-    return out
 
 
 @pytest.fixture(scope="module")
 def chapter_numbers() -> dict[str, float]:
-    import jupytext
-
-    nb = jupytext.read(ROOT / "book" / "level_gauge.md")
-    NotebookClient(nb, timeout=300, kernel_name="python3",
-                   resources={"metadata": {"path": str(ROOT / "book")}}).execute()
-    return _glued(nb)
+    return glued(executed_chapter("level_gauge"))
 
 
 @pytest.mark.slow
