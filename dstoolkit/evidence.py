@@ -68,8 +68,17 @@ class Evidence(ABC):
         """A new evidence of the same kind and frame with these focal elements."""
 
     @abstractmethod
+    def _check_same_frame(self, other: Self) -> None:
+        """Raise EvidenceError unless ``other`` (of the same type) lives on the same frame."""
+
     def _check_compatible(self, other: Evidence) -> None:
-        """Raise EvidenceError unless ``other`` lives on the same kind of frame."""
+        """Raise EvidenceError unless ``other`` is of the same kind and on the same frame."""
+        if type(other) is not type(self):
+            raise EvidenceError(
+                f"cannot combine {type(self).__name__} with {type(other).__name__}; "
+                "convert both to the same representation"
+            )
+        self._check_same_frame(other)
 
     @abstractmethod
     def _intersect(self, other: Evidence) -> tuple[np.ndarray, np.ndarray]:

@@ -128,12 +128,7 @@ class MassFunction(Evidence):
     def _full(self) -> int:
         return (1 << len(self.frame)) - 1
 
-    def _check_compatible(self, other: Evidence) -> None:
-        if not isinstance(other, MassFunction):
-            raise EvidenceError(
-                f"cannot combine a MassFunction with {type(other).__name__}; "
-                "convert both to the same representation"
-            )
+    def _check_same_frame(self, other: MassFunction) -> None:
         if other.frame != self.frame:
             raise EvidenceError(
                 f"frames differ: {self.frame!r} vs {other.frame!r}; build both mass "

@@ -144,12 +144,7 @@ class IntervalEvidence(Evidence):
         return self.boxes_lo.min(axis=0), self.boxes_hi.max(axis=0)
 
     # -- primitives ----------------------------------------------------------------------
-    def _check_compatible(self, other: Evidence) -> None:
-        if not isinstance(other, IntervalEvidence):
-            raise EvidenceError(
-                f"cannot combine IntervalEvidence with {type(other).__name__}; "
-                "convert both to the same representation"
-            )
+    def _check_same_frame(self, other: IntervalEvidence) -> None:
         if other.dim != self.dim:
             raise EvidenceError(
                 f"dimensions differ: {self.dim} vs {other.dim}; both evidences must "
