@@ -113,6 +113,14 @@ class Evidence(ABC):
         """Which focal elements intersect the query set (one row)."""
 
     # -- shared behaviour -------------------------------------------------------------
+    def _set(self, focal: np.ndarray, mass: np.ndarray, merge: bool) -> None:
+        """Store the focal elements with positive mass, merging equal ones (eq. 14)."""
+        keep = mass > 0
+        focal, mass = focal[keep], mass[keep]
+        if merge:
+            focal, mass = merge_equal(focal, mass)
+        self._focal, self._mass = focal, mass
+
     @property
     def mass(self) -> np.ndarray:
         """Masses of the focal elements (read-only view)."""

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from .errors import EvidenceError
-from .evidence import Evidence, merge_equal, validate_masses
+from .evidence import Evidence, validate_masses
 
 MAX_FRAME = 64
 
@@ -98,13 +98,6 @@ class MassFunction(Evidence):
                 )
             mask |= 1 << self._index[h]
         return mask
-
-    def _set(self, focal: np.ndarray, mass: np.ndarray, merge: bool) -> None:
-        keep = mass > 0
-        focal, mass = focal[keep], mass[keep]
-        if merge:
-            focal, mass = merge_equal(focal, mass)
-        self._focal, self._mass = focal, mass
 
     def _with(self, focal: np.ndarray, mass: np.ndarray, *, merge: bool = True) -> MassFunction:
         new = object.__new__(MassFunction)

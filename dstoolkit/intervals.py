@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from .errors import EvidenceError
-from .evidence import Evidence, merge_equal, validate_masses
+from .evidence import Evidence, validate_masses
 
 
 def _as_box_array(values: Any, name: str) -> np.ndarray:
@@ -78,13 +78,6 @@ class IntervalEvidence(Evidence):
         self._set(np.concatenate([lo_arr, hi_arr], axis=1), m, merge)
 
     # -- construction helpers --------------------------------------------------------
-    def _set(self, focal: np.ndarray, mass: np.ndarray, merge: bool) -> None:
-        keep = mass > 0
-        focal, mass = focal[keep], mass[keep]
-        if merge:
-            focal, mass = merge_equal(focal, mass)
-        self._focal, self._mass = focal, mass
-
     def _with(self, focal: np.ndarray, mass: np.ndarray, *, merge: bool = True) -> IntervalEvidence:
         new = object.__new__(IntervalEvidence)
         new._set(np.asarray(focal, dtype=float), np.asarray(mass, dtype=float), merge)
