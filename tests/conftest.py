@@ -5,6 +5,7 @@ Keep this file to fixtures that more than one test module needs, grouped by topi
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import subprocess
@@ -141,3 +142,89 @@ def executed_chapter(name: str) -> nbformat.NotebookNode:
         _CHAPTERS[name] = execute_notebook(jupytext.read(ROOT / "book" / f"{name}.md"),
                                            ROOT / "book")
     return _CHAPTERS[name]
+
+
+# --------------------------------------------------------------------------------------
+# Explorers driven through a kernel: build, print their state, change a control, print again
+# --------------------------------------------------------------------------------------
+
+_EXPLORER_SETUP = """
+import hashlib, io, json
+from dstoolkit import widgets as w
+
+def state(ex):
+    buf = io.BytesIO()
+    ex.figure.savefig(buf, format="png")
+    return json.dumps({"numbers": {k: str(v) for k, v in ex.numbers.items()},
+                       "figure": hashlib.sha1(buf.getvalue()).hexdigest()})
+"""
+
+
+@dataclass(frozen=True)
+class ExplorerRun:
+    """A kernel run of :func:`drive_explorers`: the executed notebook and the tagged lines
+    it printed (``"BEFORE i"``, ``"AFTER i"`` and the tags of the extra cells)."""
+
+    notebook: nbformat.NotebookNode
+    printed: dict[str, str]
+
+    @property
+    def outputs_with_png(self) -> int:
+        """How many Output widgets hold a PNG in the stored widget state."""
+        return sum("image/png" in mimes for mimes in output_widget_mimes(self.notebook))
+
+
+def drive_explorers(changes: dict[str, tuple[str, object]],
+                    extra_cells: tuple[str, ...] = ()) -> ExplorerRun:
+    """For each explorer call ``w.<call>`` (key i of ``changes``): display it and print its
+    state, then set ``controls[name].value`` and print the state again; then run the
+    ``extra_cells`` (which see the explorers as ``ex0, ex1, …``). Widget state is stored in
+    the notebook's metadata, as in the built book."""
+    cells = [nbformat.v4.new_code_cell(_EXPLORER_SETUP)]
+    for i, call in enumerate(changes):
+        cells.append(nbformat.v4.new_code_cell(
+            f"ex{i} = w.{call}\nprint('BEFORE {i}', state(ex{i}))\nex{i}"))
+    for i, (control, value) in enumerate(changes.values()):
+        cells.append(nbformat.v4.new_code_cell(
+            f"ex{i}.controls[{control!r}].value = {value!r}\nprint('AFTER {i}', state(ex{i}))"))
+    cells += [nbformat.v4.new_code_cell(source) for source in extra_cells]
+    nb = nbformat.v4.new_notebook(cells=cells)
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
+    NotebookClient(nb, timeout=CELL_TIMEOUT, kernel_name="python3",
+                   store_widget_state=True).execute()
+    printed: dict[str, str] = {}
+    for cell in nb.cells:
+        for out in cell.get("outputs", []):
+            if out.get("output_type") == "stream":
+                for line in out["text"].splitlines():
+                    tag, _, rest = line.partition(" ")
+                    if tag in {"BEFORE", "AFTER"}:
+                        index, _, payload = rest.partition(" ")
+                        printed[f"{tag} {index}"] = payload
+                    elif tag.isupper():
+                        printed[tag] = rest
+    return ExplorerRun(nb, printed)
+
+
+def printed_json(cells: list[str]) -> tuple[list[dict], nbformat.NotebookNode]:
+    """Execute ``cells`` in a fresh kernel started at the repository root (widget state
+    stored); return the JSON each cell printed last on stdout (None for a cell that printed
+    nothing), and the notebook."""
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(c) for c in cells])
+    NotebookClient(nb, timeout=CELL_TIMEOUT, kernel_name="python3", store_widget_state=True,
+                   resources={"metadata": {"path": str(ROOT)}}).execute()
+    out = []
+    for cell in nb.cells:
+        text = "".join(o.get("text", "") for o in cell.outputs
+                       if o.output_type == "stream" and o.name == "stdout").strip()
+        out.append(json.loads(text.splitlines()[-1]) if text else None)
+    return out, nb
+
+
+def output_widget_mimes(nb: nbformat.NotebookNode) -> list[list[str]]:
+    """For each Output widget in the stored widget state (what the book embeds), the MIME
+    types of what it shows."""
+    state = nb.metadata["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
+    return [[mime for o in model["state"].get("outputs", []) for mime in o.get("data", {})]
+            for model in state.values() if model["model_name"] == "OutputModel"]

@@ -14,15 +14,13 @@ Record with devices calls dstoolkit.measurement.measure with them (nothing is pl
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
 import matplotlib
 import numpy as np
 import pytest
-from nbclient import NotebookClient
-from nbformat.v4 import new_code_cell, new_notebook
+from conftest import printed_json
 
 from dstoolkit import audio, lab, measurement
 from dstoolkit.errors import AudioUnavailableError
@@ -69,19 +67,6 @@ print(state())
 """
 
 
-def _run(cells: list[str]) -> list[dict]:
-    """Execute ``cells`` in a fresh kernel; return the JSON each cell printed last."""
-    nb = new_notebook(cells=[new_code_cell(c) for c in cells])
-    NotebookClient(nb, timeout=180, kernel_name="python3",
-                   resources={"metadata": {"path": str(ROOT)}}).execute()
-    out = []
-    for cell in nb.cells:
-        text = "".join(o.get("text", "") for o in cell.outputs
-                       if o.output_type == "stream" and o.name == "stdout")
-        out.append(json.loads(text.strip().splitlines()[-1]))
-    return out
-
-
 def _record(**values: float) -> str:
     sets = "".join(f"station.controls[{k!r}].value = {v!r}\n" for k, v in values.items())
     return sets + "station.button.click()\nprint(state())"
@@ -89,7 +74,7 @@ def _record(**values: float) -> str:
 
 @pytest.fixture(scope="module")
 def states() -> list[dict]:
-    return _run([
+    return printed_json([
         BUILD,
         _record(level=7.0),
         _record(thermometer_error=2.0),
@@ -97,7 +82,7 @@ def states() -> list[dict]:
         _record(room_noise=-10.0),
         _record(room_noise=-60.0, level=0.5),
         _record(level=4.0, temperature=21.0),
-    ])
+    ])[0]
 
 
 @pytest.mark.slow

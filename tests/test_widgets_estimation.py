@@ -16,12 +16,10 @@ prints and the figure it draws must follow:
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import pytest
-from nbclient import NotebookClient
-from nbformat.v4 import new_code_cell, new_notebook
+from conftest import output_widget_mimes, printed_json
 
 pytestmark = pytest.mark.slow
 ROOT = Path(__file__).resolve().parents[1]
@@ -45,29 +43,11 @@ def state(ex):
 """
 
 
-def _run(cells: list[str]) -> tuple[list[dict], list[list[str]]]:
-    """Execute ``cells`` in a fresh kernel: the JSON each cell printed last, and the MIME
-    types of what each explorer's Output widget shows in the stored widget state (what the
-    book embeds in its page)."""
-    nb = new_notebook(cells=[new_code_cell(c) for c in cells])
-    NotebookClient(nb, timeout=300, kernel_name="python3", store_widget_state=True,
-                   resources={"metadata": {"path": str(ROOT)}}).execute()
-    state = nb.metadata["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
-    shown = [[mime for o in model["state"].get("outputs", []) for mime in o.get("data", {})]
-             for model in state.values() if model["model_name"] == "OutputModel"]
-    out = []
-    for cell in nb.cells[1:]:
-        text = "".join(o.get("text", "") for o in cell.outputs if o.output_type == "stream"
-                       and o.name == "stdout")
-        out.append(json.loads(text.strip().splitlines()[-1]))
-    return out, shown
-
-
 @pytest.fixture(scope="module")
 def states() -> dict[str, list]:
     level, noise = "ex = level_estimation_explorer()\nprint(state(ex))", \
         "nb = noise_bounds_explorer()\nprint(state(nb))"
-    got, shown = _run([
+    got, nb = printed_json([
         SETUP,
         level,
         'ex.controls["level"].value = 9.6\nex.controls["temperature"].value = 23.9\n'
@@ -77,7 +57,8 @@ def states() -> dict[str, list]:
         'nb.controls["w_lower"].value = -7.8225\nnb.controls["w_upper"].value = -5.9775\n'
         "print(state(nb))",
     ])
-    return {"level": got[:3], "noise": got[3:], "shown": shown}
+    got = got[1:]  # SETUP prints nothing
+    return {"level": got[:3], "noise": got[3:], "shown": output_widget_mimes(nb)}
 
 
 def test_the_figures_are_embedded_as_images(states) -> None:

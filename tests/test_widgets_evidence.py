@@ -7,9 +7,8 @@ from __future__ import annotations
 import json
 
 import matplotlib
-import nbformat
 import pytest
-from nbclient import NotebookClient
+from conftest import ExplorerRun, drive_explorers
 
 from dstoolkit import combine_dependent, dempster, dependence
 from dstoolkit import widgets as w
@@ -26,81 +25,32 @@ CHANGES = {
     "bounded_error_explorer": ("scale", 0.5),
 }
 
-SETUP = """
-import hashlib, io, json
-from dstoolkit import widgets as w
-
-def state(ex):
-    buf = io.BytesIO()
-    ex.figure.savefig(buf, format="png")
-    return json.dumps({"numbers": {k: str(v) for k, v in ex.numbers.items()},
-                       "figure": hashlib.sha1(buf.getvalue()).hexdigest()})
-"""
-
-
-def _cells() -> list[nbformat.NotebookNode]:
-    cells = [nbformat.v4.new_code_cell(SETUP)]
-    for name in CHANGES:
-        cells.append(nbformat.v4.new_code_cell(
-            f"ex_{name} = w.{name}()\nprint('BEFORE {name}', state(ex_{name}))\nex_{name}"))
-    for name, (control, value) in CHANGES.items():
-        cells.append(nbformat.v4.new_code_cell(
-            f"ex_{name}.controls[{control!r}].value = {value!r}\n"
-            f"print('AFTER {name}', state(ex_{name}))"))
-    cells.append(nbformat.v4.new_code_cell(
-        "ex_mass_function_explorer.controls['mid'].value = 0.9\n"
-        "print('INVALID', json.dumps(ex_mass_function_explorer.numbers))"))
-    return cells
-
-
 @pytest.fixture(scope="module")
-def executed() -> nbformat.NotebookNode:
-    nb = nbformat.v4.new_notebook(cells=_cells())
-    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
-                                 "language": "python"}
-    NotebookClient(nb, timeout=120, kernel_name="python3", store_widget_state=True).execute()
-    return nb
-
-
-def _printed(nb: nbformat.NotebookNode) -> dict[str, str]:
-    lines = {}
-    for cell in nb.cells:
-        for out in cell.get("outputs", []):
-            if out.get("output_type") == "stream":
-                for line in out["text"].splitlines():
-                    tag, _, rest = line.partition(" ")
-                    if tag in {"BEFORE", "AFTER"}:
-                        name, _, payload = rest.partition(" ")
-                        lines[f"{tag} {name}"] = payload
-                    elif tag == "INVALID":
-                        lines[tag] = rest
-    return lines
+def executed() -> ExplorerRun:
+    return drive_explorers(
+        {f"{name}()": change for name, change in CHANGES.items()},
+        ("ex0.controls['mid'].value = 0.9\nprint('INVALID', json.dumps(ex0.numbers))",))
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name", list(CHANGES))
-def test_changing_a_control_in_the_kernel_redraws(executed, name):
-    printed = _printed(executed)
-    before = json.loads(printed[f"BEFORE {name}"])
-    after = json.loads(printed[f"AFTER {name}"])
+@pytest.mark.parametrize("index", range(len(CHANGES)), ids=list(CHANGES))
+def test_changing_a_control_in_the_kernel_redraws(executed, index):
+    before = json.loads(executed.printed[f"BEFORE {index}"])
+    after = json.loads(executed.printed[f"AFTER {index}"])
     assert before["numbers"] != after["numbers"], "the printed numbers did not change"
     assert before["figure"] != after["figure"], "the figure did not change"
 
 
 @pytest.mark.slow
 def test_invalid_setting_is_explained_in_the_readout(executed):
-    numbers = json.loads(_printed(executed)["INVALID"])
+    numbers = json.loads(executed.printed["INVALID"])
     assert "error" in numbers and "> 1" in numbers["error"]
 
 
 @pytest.mark.slow
 def test_first_figure_is_embedded_in_the_widget_state(executed):
     """As in the built book: each explorer's Output holds a PNG before any interaction."""
-    state = executed.metadata["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
-    outputs = [m["state"].get("outputs", []) for m in state.values()
-               if m["model_name"] == "OutputModel"]
-    with_png = [o for o in outputs if any("image/png" in x.get("data", {}) for x in o)]
-    assert len(with_png) >= len(CHANGES)
+    assert executed.outputs_with_png >= len(CHANGES)
 
 
 # -- in-process checks of what the explorers compute ------------------------------------------

@@ -10,10 +10,9 @@ import json
 
 import ipywidgets
 import matplotlib
-import nbformat
 import numpy as np
 import pytest
-from nbclient import NotebookClient
+from conftest import ExplorerRun, drive_explorers
 
 from dstoolkit import widgets as w
 from dstoolkit.evidence_plots import plot_filter_step
@@ -28,62 +27,17 @@ CHANGES = {
     "extension_explorer()": ("hi", 1.5),
 }
 
-SETUP = """
-import hashlib, io, json
-from dstoolkit import widgets as w
-
-def state(ex):
-    buf = io.BytesIO()
-    ex.figure.savefig(buf, format="png")
-    return json.dumps({"numbers": {k: str(v) for k, v in ex.numbers.items()},
-                       "figure": hashlib.sha1(buf.getvalue()).hexdigest()})
-"""
-
-
-def _cells() -> list[nbformat.NotebookNode]:
-    cells = [nbformat.v4.new_code_cell(SETUP)]
-    for i, call in enumerate(CHANGES):
-        cells.append(nbformat.v4.new_code_cell(
-            f"ex{i} = w.{call}\nprint('BEFORE {i}', state(ex{i}))\nex{i}"))
-    for i, (control, value) in enumerate(CHANGES.values()):
-        cells.append(nbformat.v4.new_code_cell(
-            f"ex{i}.controls[{control!r}].value = {value!r}\nprint('AFTER {i}', state(ex{i}))"))
-    cells.append(nbformat.v4.new_code_cell(
-        "ex0.controls['mass_rule'].value = 'm2'\n"
-        "print('M2', json.dumps(ex0.numbers))"))
-    return cells
-
-
 @pytest.fixture(scope="module")
-def executed() -> nbformat.NotebookNode:
-    nb = nbformat.v4.new_notebook(cells=_cells())
-    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
-                                 "language": "python"}
-    NotebookClient(nb, timeout=180, kernel_name="python3", store_widget_state=True).execute()
-    return nb
-
-
-def _printed(nb: nbformat.NotebookNode) -> dict[str, str]:
-    lines = {}
-    for cell in nb.cells:
-        for out in cell.get("outputs", []):
-            if out.get("output_type") == "stream":
-                for line in out["text"].splitlines():
-                    tag, _, rest = line.partition(" ")
-                    if tag in {"BEFORE", "AFTER"}:
-                        index, _, payload = rest.partition(" ")
-                        lines[f"{tag} {index}"] = payload
-                    elif tag == "M2":
-                        lines[tag] = rest
-    return lines
+def executed() -> ExplorerRun:
+    return drive_explorers(CHANGES, (
+        "ex0.controls['mass_rule'].value = 'm2'\nprint('M2', json.dumps(ex0.numbers))",))
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("index", range(len(CHANGES)), ids=list(CHANGES))
 def test_changing_a_control_in_the_kernel_changes_the_estimates_and_figure(executed, index):
-    printed = _printed(executed)
-    before = json.loads(printed[f"BEFORE {index}"])
-    after = json.loads(printed[f"AFTER {index}"])
+    before = json.loads(executed.printed[f"BEFORE {index}"])
+    after = json.loads(executed.printed[f"AFTER {index}"])
     assert before["numbers"] != after["numbers"], "the printed numbers did not change"
     assert before["figure"] != after["figure"], "the figure did not change"
 
@@ -91,27 +45,22 @@ def test_changing_a_control_in_the_kernel_changes_the_estimates_and_figure(execu
 @pytest.mark.slow
 def test_the_filter_widgets_printed_estimates_follow_epsilon(executed):
     """ε = 0.05 → 0.1 from the paper's start: the filter recovers sooner (paper §3.2)."""
-    printed = _printed(executed)
-    before = json.loads(printed["BEFORE 0"])["numbers"]
-    after = json.loads(printed["AFTER 0"])["numbers"]
+    before = json.loads(executed.printed["BEFORE 0"])["numbers"]
+    after = json.loads(executed.printed["AFTER 0"])["numbers"]
     assert before["x̂_2 (Hz)"] != after["x̂_2 (Hz)"]
     assert int(after["below 1 Hz from step"]) < int(before["below 1 Hz from step"])
 
 
 @pytest.mark.slow
 def test_an_invalid_rule_is_explained_in_the_readout(executed):
-    numbers = json.loads(_printed(executed)["M2"])
+    numbers = json.loads(executed.printed["M2"])
     assert "R12" in numbers["error"] and "mass_rule='min'" in numbers["error"]
 
 
 @pytest.mark.slow
 def test_first_figures_are_embedded_in_the_widget_state(executed):
     """As in the built book: each explorer's Output holds a PNG before any interaction."""
-    state = executed.metadata["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
-    outputs = [m["state"].get("outputs", []) for m in state.values()
-               if m["model_name"] == "OutputModel"]
-    with_png = [o for o in outputs if any("image/png" in x.get("data", {}) for x in o)]
-    assert len(with_png) >= len(CHANGES)
+    assert executed.outputs_with_png >= len(CHANGES)
 
 
 # -- in-process checks of structure and content ------------------------------------------------

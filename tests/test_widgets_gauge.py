@@ -9,12 +9,10 @@ resonances in the 1000–2400 Hz sweep (37 → about 75) and the figure's title.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import pytest
-from nbclient import NotebookClient
-from nbformat.v4 import new_code_cell, new_notebook
+from conftest import printed_json
 
 pytestmark = pytest.mark.slow
 ROOT = Path(__file__).resolve().parents[1]
@@ -40,27 +38,14 @@ print(state())
 """
 
 
-def _run(cells: list[str]) -> list[dict]:
-    """Execute ``cells`` in a fresh kernel; return the JSON each cell printed."""
-    nb = new_notebook(cells=[new_code_cell(c) for c in cells])
-    NotebookClient(nb, timeout=180, kernel_name="python3",
-                   resources={"metadata": {"path": str(ROOT)}}).execute()
-    out = []
-    for cell in nb.cells:
-        text = "".join(o.get("text", "") for o in cell.outputs if o.output_type == "stream"
-                       and o.name == "stdout")
-        out.append(json.loads(text.strip().splitlines()[-1]))
-    return out
-
-
 @pytest.fixture(scope="module")
 def states() -> list[dict]:
-    return _run([
+    return printed_json([
         BUILD,
         'ex.controls["level"].value = 9.6\nex.controls["temperature"].value = 23.9\n'
         "print(state())",
         'ex.controls["background"].value = 100.0\nprint(state())',
-    ])
+    ])[0]
 
 
 def test_first_state_is_the_papers_fig6_case(states: list[dict]) -> None:
