@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from dstoolkit import audio
-from dstoolkit.measurement import analyze, record_measurement
-from dstoolkit.tube import TubeSetup
+from dstoolkit.audio import analyze, record_measurement
+from dstoolkit.gauge import TubeSetup
 
 SCRIPT = Path(__file__).resolve().parents[1] / "scripts" / "audio-loopback.sh"
 LEVELS = [(1.3, 27.0), (2.6, 26.5), (5.6, 26.5), (7.6, 26.5), (9.6, 23.9)]

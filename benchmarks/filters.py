@@ -29,13 +29,15 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from dstoolkit.bounded_error_filter import BoundedErrorFilter  # noqa: E402
-from dstoolkit.dependent_filter import DependentEvidenceFilter  # noqa: E402
-from dstoolkit.gauge_model import gauge_state_space_model, simulate_gauge  # noqa: E402
-from dstoolkit.kalman_filter import KalmanFilter  # noqa: E402
-from dstoolkit.model import Filter  # noqa: E402
-from dstoolkit.nassreddine_filter import NassreddineFilter  # noqa: E402
-from dstoolkit.particle_filter import ParticleFilter  # noqa: E402
+from dstoolkit.filters import (
+    BoundedErrorFilter,  # noqa: E402
+    DependentEvidenceFilter,  # noqa: E402
+    Filter,  # noqa: E402
+    KalmanFilter,  # noqa: E402
+    NassreddineFilter,  # noqa: E402
+    ParticleFilter,  # noqa: E402
+)
+from dstoolkit.gauge import gauge_state_space_model, simulate_gauge  # noqa: E402
 
 
 @dataclass(frozen=True)

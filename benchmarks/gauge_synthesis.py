@@ -12,10 +12,15 @@ import timeit
 
 import numpy as np
 
-from dstoolkit.noise_characterisation import characterise_observation_noise
-from dstoolkit.resonance import detect_resonances
-from dstoolkit.sweep import PAPER_SWEEP
-from dstoolkit.tube import RecordingConditions, TubeSetup, spl_to_pa, synthesize_recording
+from dstoolkit.gauge import (
+    PAPER_SWEEP,
+    RecordingConditions,
+    TubeSetup,
+    characterise_observation_noise,
+    detect_resonances,
+    spl_to_pa,
+    synthesize_recording,
+)
 
 CONDITIONS = {
     "noise-free": RecordingConditions(),

@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 import time
 
-from dstoolkit.experiments import run_table3
+from dstoolkit.studies import run_table3
 
 
 def main() -> None:

@@ -1,6 +1,6 @@
 """Latency of the filter widget (issue 5): a control's value changes → a new figure.
 
-The widget is :func:`dstoolkit.widgets.filter_widget` at the paper's 9.6 m case (23.9 °C,
+The widget is :func:`dstoolkit.teaching.filter_widget` at the paper's 9.6 m case (23.9 °C,
 band 1000–2500 Hz, 83 resonances, p = 3, ε = 0.05). Two measurements:
 
 1. **in the kernel**, as a reader of the notebooks meets it: a Jupyter kernel (started by
@@ -10,7 +10,7 @@ band 1000–2500 Hz, 83 resonances, p = 3, ε = 0.05). Two measurements:
    and the messages to the front end. The time from the assignment to its return is the
    latency; the script prints its median (target < 200 ms), best and worst.
 2. **in-process**, the same changes split into their parts: the filter run
-   (:func:`dstoolkit.widgets.filter_case`), the figure (:func:`render_filter`) and its PNG.
+   (:func:`dstoolkit.teaching.filter_case`), the figure (:func:`render_filter`) and its PNG.
 
 The changes cycle through the controls a reader moves most (ε, the bounds of w and v,
 p, the start). The machine is shared: the load average is printed with the figures.
@@ -45,7 +45,7 @@ CHANGES: tuple[tuple[str, object], ...] = (
 KERNEL_CODE = """
 %matplotlib inline
 import json, statistics, time
-from dstoolkit.widgets import filter_widget
+from dstoolkit.teaching import filter_widget
 CHANGES = {changes!r}
 ex = filter_widget()
 display(ex)
@@ -81,8 +81,9 @@ def in_process(changes: int) -> dict[str, list[float]]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from dstoolkit.evidence_plots import plot_filter_errors
-    from dstoolkit.widgets import filter_case, filter_summary, filter_widget
+    from dstoolkit.plots import plot_filter_errors
+    from dstoolkit.studies import filter_case, filter_summary
+    from dstoolkit.teaching import filter_widget
 
     with contextlib.redirect_stdout(io.StringIO()):  # no kernel: display() would print
         ex = filter_widget()

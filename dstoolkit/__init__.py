@@ -4,9 +4,28 @@ Implements Xu, Li, Li, Zhou, "State Estimation Using Dependent Evidence Fusion: 
 to Acoustic Resonance-Based Liquid Level Measurement", Sensors 17(4):924, 2017.
 """
 
-from .bounded_error_filter import BoundedErrorFilter
-from .combination import (
+from importlib.metadata import PackageNotFoundError as _PackageNotFoundError
+from importlib.metadata import version as _version
+
+from .errors import (
+    AudioUnavailableError,
+    DetectionError,
+    DstoolkitError,
+    EvidenceError,
+    InconsistentDataError,
+    MissingExtraError,
+    NotMonotoneError,
+    TotalConflictError,
+    VertexMethodWarning,
+)
+from .evidence import (
     Dependence,
+    Evidence,
+    IntervalEvidence,
+    MassFunction,
+    TriangularBounds,
+    alpha_cuts,
+    cartesian_product,
     combine_dependent,
     conflict,
     decorrelate,
@@ -14,31 +33,22 @@ from .combination import (
     dependence,
     discount,
     energy,
+    image,
     joint_energy,
-)
-from .dependent_filter import DependentEvidenceFilter
-from .errors import (
-    AudioUnavailableError,
-    DetectionError,
-    EvidenceError,
-    InconsistentDataError,
-    NotMonotoneError,
-    TotalConflictError,
-)
-from .evidence import Evidence
-from .extension import VertexMethodWarning, cartesian_product, image, projection
-from .finite_frame import MassFunction
-from .intervals import IntervalEvidence
-from .kalman_filter import KalmanFilter
-from .model import BoundedNoise, FilterResult, StateSpaceModel
-from .nassreddine_filter import NassreddineFilter
-from .particle_filter import ParticleFilter
-from .possibility import (
-    TriangularBounds,
-    alpha_cuts,
     possibility,
+    projection,
     triangular_evidence,
     triangular_from_samples,
+)
+from .filters import (
+    BoundedErrorFilter,
+    BoundedNoise,
+    DependentEvidenceFilter,
+    FilterResult,
+    KalmanFilter,
+    NassreddineFilter,
+    ParticleFilter,
+    StateSpaceModel,
 )
 
 __all__ = [
@@ -57,6 +67,8 @@ __all__ = [
     "projection",
     "Dependence",
     "DetectionError",
+    "DstoolkitError",
+    "MissingExtraError",
     "Evidence",
     "EvidenceError",
     "InconsistentDataError",
@@ -79,4 +91,8 @@ __all__ = [
     "triangular_from_samples",
 ]
 
-__version__ = "0.1.0"
+
+try:
+    __version__ = _version("dstoolkit")
+except _PackageNotFoundError:  # running from a source tree that was never installed
+    __version__ = "0+unknown"

@@ -1,5 +1,5 @@
 """``python -m dstoolkit``: see :mod:`dstoolkit.cli`."""
 
-from .cli import main
+from dstoolkit.cli import main
 
 raise SystemExit(main())

@@ -6,13 +6,13 @@ import argparse
 import sys
 from pathlib import Path
 
-from .experiments import METHODS
+from dstoolkit.studies._experiments import METHODS
 
 
 def table3_command(args: argparse.Namespace) -> int:
     """Reproduce Table 3: CSV, a figure beside it, and the table next to the paper's."""
-    from .experiment_plots import plot_table3
-    from .experiments import run_table3
+    from dstoolkit.plots._experiments import plot_table3
+    from dstoolkit.studies._experiments import run_table3
 
     methods = tuple(args.methods.split(",")) if args.methods else METHODS
     try:
@@ -53,7 +53,7 @@ def build_parser() -> argparse.ArgumentParser:
     t3.add_argument("--quiet", action="store_true", help="no progress bar")
     t3.set_defaults(func=table3_command)
 
-    from .measurement import (
+    from dstoolkit.audio._measurement import (
         add_analyze_arguments,
         add_measure_arguments,
         analyze_command,

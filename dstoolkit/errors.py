@@ -1,13 +1,19 @@
 """Errors raised by dstoolkit.
 
-Every error says what was wrong and what to do about it. They derive from ``ValueError`` (or
-``RuntimeError`` for environment problems) so callers may catch them broadly.
+Every error derives from :class:`DstoolkitError`, so ``except DstoolkitError`` catches
+anything the package raises on purpose. Each also derives from the built-in class a caller
+would expect (``ValueError`` for bad input, ``RuntimeError`` for the environment,
+``ImportError`` for a missing extra). Every message says what was wrong and what to do.
 """
 
 from __future__ import annotations
 
 
-class EvidenceError(ValueError):
+class DstoolkitError(Exception):
+    """Base class of every error the package raises on purpose."""
+
+
+class EvidenceError(DstoolkitError, ValueError):
     """Invalid evidence: bad masses, bad focal elements, incompatible frames."""
 
 
@@ -15,17 +21,54 @@ class TotalConflictError(EvidenceError):
     """Dempster's rule (eq. 1) is undefined: the conflict K equals 1."""
 
 
-class NotMonotoneError(ValueError):
+class NotMonotoneError(DstoolkitError, ValueError):
     """A function declared monotone (Prop. 2) is not monotone on the box it was given."""
 
 
-class InconsistentDataError(RuntimeError):
+class InconsistentDataError(DstoolkitError, RuntimeError):
     """A set-membership (bounded-error) filter found no state consistent with the data."""
 
 
-class DetectionError(ValueError):
+class DetectionError(DstoolkitError, ValueError):
     """A recording could not be turned into resonance frequencies."""
 
 
-class AudioUnavailableError(RuntimeError):
+class AudioUnavailableError(DstoolkitError, RuntimeError):
     """Real audio is not available: sounddevice/PortAudio missing or no device."""
+
+
+class NoAudioDeviceError(AudioUnavailableError):
+    """PortAudio works but found no usable device, or a device failed to open."""
+
+
+class AudioDropoutError(DetectionError):
+    """The audio stream lost or inserted samples during a measurement (an xrun)."""
+
+
+class RecordingFileError(DstoolkitError, ValueError):
+    """A file that is not a readable WAV recording, or metadata that cannot be stored."""
+
+
+class MissingExtraError(DstoolkitError, ImportError):
+    """An optional part of the package was used without the extra that installs it."""
+
+
+class VertexMethodWarning(UserWarning):
+    """The vertex method's hypothesis (Prop. 1: no extremum inside the box) visibly fails."""
+
+
+class AudioDropoutWarning(RuntimeWarning):
+    """The audio stream lost input or inserted silence in the output (an xrun)."""
+
+
+def require_extra(module: str, extra: str, purpose: str) -> None:
+    """Import ``module`` or raise :class:`MissingExtraError` naming the extra to install."""
+    import importlib
+
+    try:
+        importlib.import_module(module)
+    except ImportError as exc:
+        raise MissingExtraError(
+            f"{purpose} needs {module!r}, which is not installed. "
+            f"Install the extra: pip install 'dstoolkit[{extra}]'"
+        ) from exc

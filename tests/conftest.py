@@ -150,7 +150,8 @@ def executed_chapter(name: str) -> nbformat.NotebookNode:
 
 _EXPLORER_SETUP = """
 import hashlib, io, json
-from dstoolkit import widgets as w
+from dstoolkit import studies
+from dstoolkit import teaching as w
 
 def state(ex):
     buf = io.BytesIO()

@@ -5,7 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dstoolkit.acoustics import (
+from dstoolkit.gauge import (
+    PAPER_SWEEP,
+    LinearSweep,
     fundamental_frequency,
     plane_wave_cutoff,
     resonance_frequencies,
@@ -15,7 +17,6 @@ from dstoolkit.acoustics import (
     speed_of_sound_ideal_gas,
     speed_of_sound_paper,
 )
-from dstoolkit.sweep import PAPER_SWEEP, LinearSweep
 
 
 def test_paper_speed_of_sound_at_26_5_c() -> None:

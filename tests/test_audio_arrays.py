@@ -12,15 +12,17 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.io import wavfile
 
-from dstoolkit.audio import LatencyEstimate, calibration_chirp, estimate_latency
-from dstoolkit.errors import DetectionError
-from dstoolkit.recording_io import (
+from dstoolkit.audio import (
+    LatencyEstimate,
     RecordingFileError,
     RecordingMetadata,
     WavRecording,
+    calibration_chirp,
+    estimate_latency,
     load_recording,
     save_recording,
 )
+from dstoolkit.errors import DetectionError
 
 FS = 44100
 CHIRP = calibration_chirp(FS)

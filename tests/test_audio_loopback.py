@@ -22,11 +22,10 @@ import numpy as np
 import pytest
 
 from dstoolkit import audio
+from dstoolkit.audio import analyze, load_recording, measure
 from dstoolkit.errors import AudioUnavailableError
-from dstoolkit.measurement import analyze, measure
-from dstoolkit.recording_io import load_recording
-from dstoolkit.resonance import estimate_latency as latency_from_sweep
-from dstoolkit.tube import TubeSetup
+from dstoolkit.gauge import TubeSetup
+from dstoolkit.gauge import estimate_latency as latency_from_sweep
 
 pytestmark = pytest.mark.audio
 

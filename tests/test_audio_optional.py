@@ -28,9 +28,9 @@ CHILD = textwrap.dedent(
     """
     import sys
     import dstoolkit
-    from dstoolkit import audio, recording_io
-    from dstoolkit.measurement import analyze, measure, simulate_measurement
-    from dstoolkit.tube import TubeSetup, synthesize_recording
+    from dstoolkit import audio
+    from dstoolkit.audio import analyze, measure, simulate_measurement
+    from dstoolkit.gauge import TubeSetup, synthesize_recording
 
     assert "sounddevice" not in sys.modules, "import dstoolkit must not import sounddevice"
     # a simulation runs without audio

@@ -16,18 +16,23 @@ from dstoolkit import (
     dempster,
     dependence,
 )
-from dstoolkit import batch_kernels as bk
-from dstoolkit.batch_kernels import Boxes
-from dstoolkit.dependent_filter import DIAGNOSTICS, DependentEvidenceFilter, predict
-from dstoolkit.example_systems import simulate_lotka_volterra
-from dstoolkit.extension import cartesian_product, image
-from dstoolkit.gauge_model import (
+from dstoolkit.evidence import Boxes, cartesian_product, image
+from dstoolkit.evidence import _batch_kernels as bk
+from dstoolkit.filters import (
+    DIAGNOSTICS,
+    BoundedNoise,
+    DependentEvidenceFilter,
+    StateSpaceModel,
+    predict,
+    simulate_lotka_volterra,
+    with_input,
+)
+from dstoolkit.gauge import (
     GAUGE_OBS_NOISE,
     PAPER_THETA,
     gauge_state_space_model,
     simulate_gauge,
 )
-from dstoolkit.model import BoundedNoise, StateSpaceModel, with_input
 
 MODEL = gauge_state_space_model()
 FILTER = DependentEvidenceFilter()

@@ -7,14 +7,18 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from dstoolkit.bounded_error_filter import BoundedErrorFilter
-from dstoolkit.dependent_filter import DependentEvidenceFilter
-from dstoolkit.example_systems import LOTKA_VOLTERRA_X0, lotka_volterra, simulate_lotka_volterra
-from dstoolkit.extension import box_image, image_subdivision
-from dstoolkit.kalman_filter import KalmanFilter
-from dstoolkit.model import BoundedNoise
-from dstoolkit.nassreddine_filter import NassreddineFilter
-from dstoolkit.particle_filter import ParticleFilter
+from dstoolkit.evidence import box_image, image_subdivision
+from dstoolkit.filters import (
+    LOTKA_VOLTERRA_X0,
+    BoundedErrorFilter,
+    BoundedNoise,
+    DependentEvidenceFilter,
+    KalmanFilter,
+    NassreddineFilter,
+    ParticleFilter,
+    lotka_volterra,
+    simulate_lotka_volterra,
+)
 
 MODEL = lotka_volterra()
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from dstoolkit import IntervalEvidence, MassFunction
-from dstoolkit.exercises import REGISTRY, Feedback, check, exercise, exercises, solution
+from dstoolkit.teaching import REGISTRY, Feedback, check, exercise, exercises, solution
 
 IDS = exercises()
 

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from conftest import executed_chapter, glued
 
-from dstoolkit.exercises import exercises, solution
+from dstoolkit.teaching import exercises, solution
 
 ROOT = Path(__file__).resolve().parents[1]
 RANDOM_IDS = ["random.evaluations", "random.expectation", "random.merge", "random.monotone",

@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 from conftest import executed_chapter, glued
 
-from dstoolkit.exercises import exercises, solution
+from dstoolkit.teaching import exercises, solution
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from conftest import execute_notebook, executed_chapter, glued
 
-from dstoolkit.exercises import (
+from dstoolkit.teaching import (
     LAB_BAND,
     LAB_CUTOFF_DIAMETER,
     LAB_LAG_SAMPLES,

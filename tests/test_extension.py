@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from dstoolkit import EvidenceError, IntervalEvidence, NotMonotoneError
-from dstoolkit.extension import (
+from dstoolkit.evidence import (
     VertexMethodWarning,
     box_image,
     cartesian_product,
@@ -16,7 +16,7 @@ from dstoolkit.extension import (
     projection,
     vertices,
 )
-from dstoolkit.model import with_input
+from dstoolkit.filters import with_input
 
 E1 = IntervalEvidence([-0.3, 0.3], [2.6, 1.9], [0.3, 0.7])
 E2 = IntervalEvidence([0.0, 1.0, -1.0], [1.0, 2.0, 3.0], [0.2, 0.3, 0.5])

@@ -1,4 +1,4 @@
-"""The lab's measuring station (dstoolkit.widgets.lab_widget) and its helpers (dstoolkit.lab).
+"""The lab's measuring station (dstoolkit.teaching.lab_widget) and its helpers (dstoolkit.teaching).
 
 Through a Jupyter kernel (nbclient): the station is built (its first, virtual measurement
 is made at once), controls are changed and the Record button's click handler is called, and
@@ -9,7 +9,7 @@ temperature with a right thermometer changes c by 0.606 m/s per °C and not the 
 settings print the toolkit's message (clipping, too few resonances) instead of a level.
 
 In-process, with sounddevice imitated: the device pickers list what PortAudio sees, and a
-Record with devices calls dstoolkit.measurement.measure with them (nothing is played).
+Record with devices calls dstoolkit.audio._measurement.measure with them (nothing is played).
 """
 
 from __future__ import annotations
@@ -22,20 +22,23 @@ import numpy as np
 import pytest
 from conftest import printed_json
 
-from dstoolkit import audio, lab, measurement
+from dstoolkit.audio import RecordingMetadata, WavRecording
+from dstoolkit.audio import _devices as audio
+from dstoolkit.audio import _measurement as measurement
 from dstoolkit.errors import AudioUnavailableError
-from dstoolkit.lab import (
+from dstoolkit.gauge import TubeSetup
+from dstoolkit.teaching import (
     VIRTUAL,
     VIRTUAL_LABEL,
     LabSettings,
+    LabWidget,
     imitate_audio_failure,
     lab_measurement,
+    lab_widget,
     level_error_from_temperature,
     plot_calibration,
 )
-from dstoolkit.recording_io import RecordingMetadata, WavRecording
-from dstoolkit.tube import TubeSetup
-from dstoolkit.widgets import LabWidget, lab_widget
+from dstoolkit.teaching import _lab as lab
 
 matplotlib.use("Agg")
 ROOT = Path(__file__).resolve().parents[1]
@@ -44,7 +47,7 @@ BUILD = """
 import json
 import matplotlib
 matplotlib.use("Agg")
-from dstoolkit.widgets import lab_widget
+from dstoolkit.teaching import lab_widget
 
 station = lab_widget(temperature_c=21.0, level_m=2.5)
 

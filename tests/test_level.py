@@ -5,8 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dstoolkit.acoustics import resonance_frequencies, speed_of_sound
-from dstoolkit.level import (
+from dstoolkit.gauge import (
     direct_levels,
     fit_resonance_series,
     level_from_fundamental,
@@ -14,6 +13,8 @@ from dstoolkit.level import (
     observation,
     observation_inverse,
     orders_eq43,
+    resonance_frequencies,
+    speed_of_sound,
     state_transition,
     state_transition_derivative,
 )

@@ -14,27 +14,24 @@ import types
 import numpy as np
 import pytest
 
-from dstoolkit.errors import DetectionError
-from dstoolkit.measurement import (
+from dstoolkit.audio import (
     Analysis,
     AudioDropoutError,
+    RecordingFileError,
+    RecordingMetadata,
+    WavRecording,
     add_analyze_arguments,
     add_measure_arguments,
     analyze,
     analyze_command,
+    load_recording,
     measure_command,
     record_measurement,
+    save_recording,
     simulate_measurement,
 )
-from dstoolkit.recording_io import (
-    RecordingFileError,
-    RecordingMetadata,
-    WavRecording,
-    load_recording,
-    save_recording,
-)
-from dstoolkit.sweep import LinearSweep
-from dstoolkit.tube import TubeSetup
+from dstoolkit.errors import DetectionError
+from dstoolkit.gauge import LinearSweep, TubeSetup
 
 #: Largest |measured − true| level accepted from the virtual tube (the paper's best mean
 #: error, at 1.3 m, is 12.6 mm). Simulation shows at most 4.4 mm, at 7.6 m.

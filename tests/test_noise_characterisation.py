@@ -5,13 +5,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dstoolkit.noise_characterisation import (
+from dstoolkit.gauge import (
+    PAPER_SWEEP,
     NoiseCharacterisation,
+    RecordingConditions,
+    TubeSetup,
     characterise_observation_noise,
     characterise_state_noise,
 )
-from dstoolkit.sweep import PAPER_SWEEP
-from dstoolkit.tube import RecordingConditions, TubeSetup
 
 
 def test_state_noise_recovers_the_speaker_jitter() -> None:

@@ -49,7 +49,7 @@ def test_sheet_runs_and_its_check_cells_give_feedback(name: str):
             checked.append(eid)
             cell.source = cell.source.replace(
                 f'check("{eid}", {var})',
-                "from dstoolkit.exercises import solution\n"
+                "from dstoolkit.teaching import solution\n"
                 f"print('SHIPPED', check({eid!r}, {var}).message)\n"
                 f"{var} = solution({eid!r})\nprint(check({eid!r}, {var}).message)")
     assert checked, "no check cell found"

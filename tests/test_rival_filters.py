@@ -5,18 +5,23 @@ import numpy as np
 import pytest
 
 from dstoolkit import EvidenceError, InconsistentDataError, TotalConflictError
-from dstoolkit.bounded_error_filter import BoundedErrorFilter
-from dstoolkit.example_systems import lotka_volterra, simulate_lotka_volterra
-from dstoolkit.gauge_model import gauge_state_space_model, simulate_gauge
-from dstoolkit.kalman_filter import KalmanFilter, finite_difference_jacobian
-from dstoolkit.model import BoundedNoise, FilterResult, StateSpaceModel
-from dstoolkit.nassreddine_filter import (
+from dstoolkit.filters import (
+    BoundedErrorFilter,
+    BoundedNoise,
     BoxMass,
+    FilterResult,
+    KalmanFilter,
     NassreddineFilter,
+    ParticleFilter,
+    StateSpaceModel,
     cluster_boxes,
+    finite_difference_jacobian,
+    lotka_volterra,
     merge_equal_boxes,
+    simulate_lotka_volterra,
+    systematic_resample,
 )
-from dstoolkit.particle_filter import ParticleFilter, systematic_resample
+from dstoolkit.gauge import gauge_state_space_model, simulate_gauge
 
 RIVALS = [
     NassreddineFilter(max_focal=16),
@@ -106,8 +111,8 @@ def test_batch_equals_single_runs_with_inputs(flt):
 @pytest.mark.parametrize("flt", [ParticleFilter(n_particles=200, seed=9),
                                  NassreddineFilter(max_focal=8)], ids=["particle", "nassreddine"])
 def test_batch_rows_do_not_depend_on_chunking(flt, monkeypatch, lv_data):
-    import dstoolkit.nassreddine_filter as nf_module
-    import dstoolkit.particle_filter as pf_module
+    import dstoolkit.filters._nassreddine as nf_module
+    import dstoolkit.filters._particle as pf_module
 
     model, _, z = lv_data
     whole = flt.run_batch(model, z)
@@ -322,8 +327,8 @@ def test_bad_readings_are_reported():
 def test_nassreddine_keeps_unit_mass_under_heavy_conflict():
     """Regression: renormalising by 1 − K let rounding losses grow by 1/(1 − K) per step,
     until the posterior held half its mass and the estimate was pulled towards 0."""
-    from dstoolkit.estimation_studies import scaled_noise, tracking_data
-    from dstoolkit.gauge_model import GAUGE_OBS_NOISE, GAUGE_STATE_NOISE, gauge_state_space_model
+    from dstoolkit.gauge import GAUGE_OBS_NOISE, GAUGE_STATE_NOISE, gauge_state_space_model
+    from dstoolkit.studies import scaled_noise, tracking_data
 
     data = tracking_data(runs=3, seed=0)
     model = gauge_state_space_model(scaled_noise(GAUGE_STATE_NOISE, 0.25),

@@ -8,8 +8,7 @@ import sys
 import numpy as np
 import pytest
 
-from dstoolkit.experiments import CSV_COLUMNS, METHODS, run_table3
-from dstoolkit.paper_results import TABLE3_CASES
+from dstoolkit.studies import CSV_COLUMNS, METHODS, TABLE3_CASES, run_table3
 
 
 @pytest.mark.parametrize(("simulation", "runs"), [("frequency", 3), ("waveform", 1)])

@@ -28,15 +28,19 @@ import numpy as np
 import pytest
 
 from dstoolkit.errors import DetectionError
-from dstoolkit.level import fit_resonance_series
-from dstoolkit.resonance import (
+from dstoolkit.gauge import (
+    PAPER_SWEEP,
+    LinearSweep,
+    RecordingConditions,
+    TubeSetup,
     detect_resonances,
     detection_precision_hz,
     estimate_latency,
+    fit_resonance_series,
     model_peak_frequencies,
+    spl_to_pa,
+    synthesize_recording,
 )
-from dstoolkit.sweep import PAPER_SWEEP, LinearSweep
-from dstoolkit.tube import RecordingConditions, TubeSetup, spl_to_pa, synthesize_recording
 
 LEVELS = [(1.3, 27.0), (4.6, 26.5), (9.6, 23.9)]
 QUIET = RecordingConditions(latency_s=0.0123)
@@ -197,7 +201,7 @@ def test_figures_6_and_7() -> None:
     import matplotlib.pyplot as plt
     from matplotlib.figure import Figure
 
-    from dstoolkit.gauge_plots import plot_recording, plot_resonances
+    from dstoolkit.plots import plot_recording, plot_resonances
 
     setup = TubeSetup(4.6, 26.5)
     rec = synthesize_recording(setup, conditions=NOISY)

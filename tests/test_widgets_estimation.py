@@ -28,7 +28,7 @@ ROOT = Path(__file__).resolve().parents[1]
 # that the test sees what a reader sees: the figure must arrive as a PNG.
 SETUP = """
 import json
-from dstoolkit.widgets import level_estimation_explorer, noise_bounds_explorer
+from dstoolkit.teaching import level_estimation_explorer, noise_bounds_explorer
 
 
 def state(ex):

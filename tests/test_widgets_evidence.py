@@ -11,8 +11,8 @@ import pytest
 from conftest import ExplorerRun, drive_explorers
 
 from dstoolkit import combine_dependent, dempster, dependence
-from dstoolkit import widgets as w
-from dstoolkit.exercises import appendix_pair
+from dstoolkit import teaching as w
+from dstoolkit.evidence import appendix_pair
 
 matplotlib.use("Agg")
 

@@ -14,8 +14,9 @@ import numpy as np
 import pytest
 from conftest import ExplorerRun, drive_explorers
 
-from dstoolkit import widgets as w
-from dstoolkit.evidence_plots import plot_filter_step
+from dstoolkit import filters, studies
+from dstoolkit import teaching as w
+from dstoolkit.plots import plot_filter_step
 
 matplotlib.use("Agg")
 
@@ -82,8 +83,8 @@ def test_filter_widget_structure_controls_and_output():
 
 def test_filter_widget_prints_what_the_filter_computes():
     ex = w.filter_widget()
-    seq, orders, result = w.filter_case(9.6, 23.9)
-    expected = w.filter_summary(seq, orders, result)
+    seq, orders, result = studies.filter_case(9.6, 23.9)
+    expected = studies.filter_summary(seq, orders, result)
     assert ex.numbers == pytest.approx(expected)
     x = seq.truth[:, 0]
     assert ex.numbers["mean |x̂ − x| (Hz)"] == pytest.approx(
@@ -111,20 +112,20 @@ def test_filter_widget_explains_bad_bounds_and_counts_total_conflict():
 
 
 def test_the_mean_corrected_start_converges_sooner():
-    _, _, paper = w.filter_case(start="observation")
-    _, _, corrected = w.filter_case(start="mean_corrected")
-    seq = w.gauge_case()
-    first = {name: w.converged_at(r.estimates - seq.truth)
+    _, _, paper = studies.filter_case(start="observation")
+    _, _, corrected = studies.filter_case(start="mean_corrected")
+    seq = studies.gauge_case()
+    first = {name: filters.converged_at(r.estimates - seq.truth)
              for name, r in (("paper", paper), ("corrected", corrected))}
     assert first["corrected"] < first["paper"]
     assert abs(paper.estimates[0, 0] - seq.truth[0, 0]) > 3.0  # off by about −E[w]
 
 
 def test_converged_at():
-    assert w.converged_at([5.0, 2.0, 0.5, 0.2]) == 3
-    assert w.converged_at([0.5, 2.0, 0.5]) == 3
-    assert w.converged_at([0.1, 0.2]) == 1
-    assert w.converged_at([0.1, 2.0]) is None
+    assert filters.converged_at([5.0, 2.0, 0.5, 0.2]) == 3
+    assert filters.converged_at([0.5, 2.0, 0.5]) == 3
+    assert filters.converged_at([0.1, 0.2]) == 1
+    assert filters.converged_at([0.1, 2.0]) is None
 
 
 def test_step_explorer_shows_the_papers_first_update_in_conflict():
@@ -135,7 +136,7 @@ def test_step_explorer_shows_the_papers_first_update_in_conflict():
 
 
 def test_plot_filter_step_refuses_the_start():
-    _, _, result = w.filter_case(record=True, first=3)
+    _, _, result = studies.filter_case(record=True, first=3)
     with pytest.raises(ValueError, match="step k >= 2"):
         plot_filter_step(result.steps[0])
 

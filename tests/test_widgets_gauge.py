@@ -1,4 +1,4 @@
-"""The gauge explorer (dstoolkit.widgets.gauge_explorer) driven through a Jupyter kernel.
+"""The gauge explorer (dstoolkit.teaching.gauge_explorer) driven through a Jupyter kernel.
 
 The explorer is built in a real kernel (nbclient), a slider is moved there, and the numbers
 it prints and the figure it draws must follow: moving the level from 4.6 m to 9.6 m must
@@ -22,7 +22,7 @@ BUILD = """
 import json
 import matplotlib
 matplotlib.use("Agg")
-from dstoolkit.widgets import gauge_explorer
+from dstoolkit.teaching import gauge_explorer
 
 ex = gauge_explorer()
 

@@ -1,0 +1,84 @@
+"""Real audio for the lab: sound devices (needs the ``audio`` extra: sounddevice),
+recordings in WAV files with metadata, and the measure/analyze commands.
+"""
+
+from __future__ import annotations
+
+from dstoolkit.errors import (
+    AudioDropoutError,
+    AudioDropoutWarning,
+    AudioUnavailableError,
+    NoAudioDeviceError,
+    RecordingFileError,
+)
+
+from ._devices import (
+    AudioDevice,
+    DEFAULT_LATENCY_S,
+    LatencyEstimate,
+    MIN_PADDING_S,
+    audio_available,
+    calibration_chirp,
+    check_calibration,
+    choose_device,
+    estimate_latency,
+    list_devices,
+    measure_latency,
+    play_record,
+    refresh_devices,
+)
+from ._measurement import (
+    Analysis,
+    CALIBRATION_GAP_S,
+    add_analyze_arguments,
+    add_measure_arguments,
+    analyze,
+    analyze_command,
+    filter_levels,
+    measure,
+    measure_command,
+    record_measurement,
+    simulate_measurement,
+)
+from ._recording_io import (
+    RecordingMetadata,
+    WavRecording,
+    load_recording,
+    save_recording,
+)
+
+__all__ = [
+    "Analysis",
+    "AudioDevice",
+    "AudioDropoutError",
+    "AudioDropoutWarning",
+    "AudioUnavailableError",
+    "CALIBRATION_GAP_S",
+    "DEFAULT_LATENCY_S",
+    "LatencyEstimate",
+    "MIN_PADDING_S",
+    "NoAudioDeviceError",
+    "RecordingFileError",
+    "RecordingMetadata",
+    "WavRecording",
+    "add_analyze_arguments",
+    "add_measure_arguments",
+    "analyze",
+    "analyze_command",
+    "audio_available",
+    "calibration_chirp",
+    "check_calibration",
+    "choose_device",
+    "estimate_latency",
+    "filter_levels",
+    "list_devices",
+    "load_recording",
+    "measure",
+    "measure_command",
+    "measure_latency",
+    "play_record",
+    "record_measurement",
+    "refresh_devices",
+    "save_recording",
+    "simulate_measurement",
+]

@@ -1,0 +1,511 @@
+"""Real audio for the gauge: devices, simultaneous play and record, latency.
+
+The gauge of the paper (§4) plays a sweep into the tube through a speaker and records the
+standing wave with a microphone at the same time. This module does that with
+`sounddevice <https://python-sounddevice.readthedocs.io>`_ (PortAudio). sounddevice is an
+optional dependency: it is imported inside the functions that need it, so ``import
+dstoolkit`` and every simulation work without it, and an audio call then raises
+:class:`~dstoolkit.errors.AudioUnavailableError` saying what to install.
+
+Latency. Between the first sample handed to the output and its arrival in the input lies
+the audio path's delay τ (buffers of PortAudio, ALSA, the sound server and the sound card).
+For a linear sweep of rate k Hz/s it shifts every detected resonance by k τ (SPEC §6), so
+it must be measured and corrected: :func:`estimate_latency` finds τ by cross-correlating a
+known reference (the :func:`calibration_chirp`) with the recording. It is a pure array
+function. The delay changes each time a stream is opened, so the chirp belongs in the same
+stream as the sweep it calibrates (:func:`play_record` of chirp + sweep).
+
+Headless machines and CI reach a software loopback made by ``scripts/audio-loopback.sh``
+(a PulseAudio null sink and its monitor, seen by PortAudio as the ALSA device ``pulse``).
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from types import ModuleType
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+from scipy import signal
+
+from dstoolkit.errors import (
+    AudioDropoutWarning,
+    AudioUnavailableError,
+    DetectionError,
+    NoAudioDeviceError,
+)
+
+#: Silence played before and after a signal, in seconds, at least. The input stream may
+#: start a little after the output stream and the delay τ may reach a few hundred ms: the
+#: lead-in and the tail keep the whole signal inside the recording.
+MIN_PADDING_S = 0.5
+#: PortAudio's suggested latency (s) that returned the signal intact through the loopback.
+DEFAULT_LATENCY_S = 0.25
+#: Width of one arrival of the calibration chirp in its matched filter, s. Echoes in a
+#: tube come at least 2L/c later (2.9 ms for L = 0.5 m).
+ARRIVAL_WINDOW_S = 0.002
+#: Smallest |normalised correlation| at which a calibration chirp counts as found.
+MIN_CALIBRATION_CORRELATION = 0.3
+
+INSTALL_HINT = (
+    "Install PortAudio and sounddevice: `apt-get install libportaudio2` (Debian/Ubuntu; "
+    "`brew install portaudio` on macOS) and `pip install 'dstoolkit[audio]'`. Everything "
+    "else in dstoolkit works without them, and the virtual tube simulates a measurement."
+)
+NO_DEVICE_HINT = (
+    "Plug in a sound card, microphone and speaker and check they are not muted, or on a "
+    "machine without sound hardware start the software loopback "
+    "`export $(bash scripts/audio-loopback.sh)` in the shell that runs Python. "
+    "dstoolkit.audio.list_devices() shows what PortAudio sees."
+)
+
+
+def _sounddevice() -> ModuleType:
+    """Import sounddevice, or raise :class:`AudioUnavailableError` saying what to install.
+
+    Without the PortAudio library ``import sounddevice`` raises ``OSError`` (not
+    ``ImportError``); without the package it raises ``ImportError``. Both are caught.
+    """
+    try:
+        import sounddevice
+    except (ImportError, OSError) as exc:
+        raise AudioUnavailableError(
+            f"real audio is unavailable: importing sounddevice failed "
+            f"({type(exc).__name__}: {exc}). {INSTALL_HINT}"
+        ) from exc
+    return sounddevice
+
+
+def audio_available() -> bool:
+    """Return True when sounddevice imports and PortAudio sees at least one device."""
+    try:
+        return len(list_devices()) > 0
+    except AudioUnavailableError:
+        return False
+
+
+def refresh_devices() -> None:
+    """Make PortAudio scan the devices again (after a sound server started or a USB card
+    was plugged in). PortAudio scans only when it is initialised, at ``import sounddevice``.
+    """
+    sd = _sounddevice()
+    # sounddevice has no public re-scan; terminate/initialise is its documented idiom.
+    sd._terminate()
+    sd._initialize()
+
+
+@dataclass(frozen=True)
+class AudioDevice:
+    """One PortAudio device, as :func:`list_devices` reports it."""
+
+    index: int
+    name: str
+    hostapi: str
+    max_input_channels: int
+    max_output_channels: int
+    default_samplerate: float
+    default_input: bool
+    default_output: bool
+
+    def __str__(self) -> str:
+        mark = ("<" if self.default_input else " ") + (">" if self.default_output else " ")
+        return (
+            f"{mark} {self.index:2d} {self.name} ({self.hostapi}, "
+            f"{self.max_input_channels} in, {self.max_output_channels} out, "
+            f"{self.default_samplerate:g} Hz)"
+        )
+
+
+def list_devices(kind: Literal["input", "output"] | None = None) -> list[AudioDevice]:
+    """List the sound devices PortAudio sees.
+
+    Parameters
+    ----------
+    kind : {"input", "output"}, optional
+        Keep only devices with input (microphone) or output (speaker) channels.
+
+    Returns
+    -------
+    list of AudioDevice
+        Possibly empty. ``default_input``/``default_output`` mark the system defaults.
+
+    Raises
+    ------
+    AudioUnavailableError
+        sounddevice or PortAudio is not installed.
+    """
+    if kind not in (None, "input", "output"):
+        raise ValueError(f"kind must be 'input', 'output' or None, not {kind!r}")
+    sd = _sounddevice()
+    try:
+        infos = sd.query_devices()
+        hostapis = sd.query_hostapis()
+    except sd.PortAudioError as exc:
+        raise NoAudioDeviceError(f"PortAudio could not list devices: {exc}. "
+                                 f"{NO_DEVICE_HINT}") from exc
+    default_in, default_out = sd.default.device
+    devices = [
+        AudioDevice(
+            index=int(info["index"]),
+            name=str(info["name"]),
+            hostapi=str(hostapis[info["hostapi"]]["name"]),
+            max_input_channels=int(info["max_input_channels"]),
+            max_output_channels=int(info["max_output_channels"]),
+            default_samplerate=float(info["default_samplerate"]),
+            default_input=int(info["index"]) == default_in,
+            default_output=int(info["index"]) == default_out,
+        )
+        for info in infos
+    ]
+    if kind == "input":
+        return [d for d in devices if d.max_input_channels > 0]
+    if kind == "output":
+        return [d for d in devices if d.max_output_channels > 0]
+    return devices
+
+
+def choose_device(device: int | str | None, kind: Literal["input", "output"]) -> int:
+    """Resolve a device given by index, by (part of) its name, or None for the default.
+
+    Returns the PortAudio index. Raises :class:`NoAudioDeviceError` when there is no such
+    device (or no default one), listing the devices that exist.
+    """
+    if kind not in ("input", "output"):
+        raise ValueError(f"kind must be 'input' or 'output', not {kind!r}")
+    sd = _sounddevice()
+    try:
+        info = sd.query_devices(device, kind)
+    except (ValueError, sd.PortAudioError) as exc:
+        available = list_devices(kind)
+        listing = "\n".join(str(d) for d in available) or "  (none)"
+        wanted = "the default" if device is None else repr(device)
+        advice = "Pass one of these indices or names." if available else NO_DEVICE_HINT
+        raise NoAudioDeviceError(
+            f"no {kind} device for {wanted}: {exc}. {kind.capitalize()} devices PortAudio "
+            f"sees:\n{listing}\n{advice}"
+        ) from exc
+    return int(info["index"])
+
+
+def calibration_chirp(
+    samplerate: float,
+    *,
+    duration_s: float = 0.25,
+    f_start_hz: float = 500.0,
+    f_stop_hz: float = 5000.0,
+    amplitude: float = 0.5,
+) -> np.ndarray:
+    """A short windowed linear chirp whose autocorrelation has one sharp peak.
+
+    Played before the sweep in the same stream, its position in the recording gives the
+    audio latency (:func:`estimate_latency`). The band suits laptop speakers and
+    microphones; its ends are tapered (Tukey window) so it starts and stops without clicks.
+    """
+    if samplerate <= 0 or duration_s <= 0:
+        raise ValueError(
+            f"samplerate ({samplerate}) and duration_s ({duration_s}) must be positive"
+        )
+    if not 0 < f_start_hz < f_stop_hz < samplerate / 2:
+        raise ValueError(
+            f"need 0 < f_start_hz ({f_start_hz}) < f_stop_hz ({f_stop_hz}) < samplerate/2 "
+            f"({samplerate / 2})"
+        )
+    n = int(round(duration_s * samplerate))
+    t = np.arange(n) / samplerate
+    chirp = signal.chirp(t, f_start_hz, duration_s, f_stop_hz, method="linear")
+    return amplitude * chirp * signal.windows.tukey(n, 0.2)
+
+
+@dataclass(frozen=True)
+class LatencyEstimate:
+    """Delay of a recording behind what was played.
+
+    ``recorded[offset + lag + i]`` is ``reference[i]`` played at ``offset``: ``lag`` in
+    samples, ``seconds`` = lag / samplerate. ``correlation`` is the normalised correlation
+    (cosine of the angle) between the reference and the recording there, in [-1, 1]: 1 is
+    a perfect copy, near 0 means the reference was not found.
+    """
+
+    lag: int
+    samplerate: float
+    correlation: float
+
+    @property
+    def seconds(self) -> float:
+        return self.lag / self.samplerate
+
+
+def _as_signal(x: ArrayLike, what: str) -> np.ndarray:
+    """A 1-D finite float array (an (n, 1) column is accepted)."""
+    a = np.asarray(x, dtype=float)
+    if a.ndim == 2 and a.shape[1] == 1:
+        a = a[:, 0]
+    if a.ndim != 1:
+        raise ValueError(
+            f"{what} must be one channel (a 1-D array), got shape {a.shape}; pick a channel, "
+            "e.g. recording[:, 0]"
+        )
+    if a.size == 0:
+        raise ValueError(f"{what} is empty")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{what} contains NaN or infinite samples")
+    return a
+
+
+def estimate_latency(
+    reference: ArrayLike,
+    recorded: ArrayLike,
+    samplerate: float,
+    *,
+    offset: int = 0,
+    max_latency_s: float | None = None,
+    first_arrival: float | None = 0.5,
+) -> LatencyEstimate:
+    """Estimate the audio latency by cross-correlating a reference with the recording.
+
+    The reference (usually :func:`calibration_chirp`) was played starting at sample
+    ``offset`` of the output; the recording started with the output. The matched filter
+    ``c[j] = Σ_i recorded[j + i] reference[i]`` (``scipy.signal.correlate``, mode
+    ``"valid"``, FFT) peaks in absolute value where the reference sits in the recording
+    (absolute, so a microphone that inverts polarity still works), at ``j = offset + lag``.
+    In a tube the microphone also hears the reference's echoes, and the first one can be
+    louder than the direct sound (by up to 1 + R_t at a reflecting top): so the first
+    arrival is taken, the first place where the envelope of ``c`` reaches
+    ``first_arrival`` times its maximum, refined to the largest |c| in the next
+    ``ARRIVAL_WINDOW_S``. Pure array function: no audio device needed.
+
+    Parameters
+    ----------
+    reference, recorded : array_like, 1-D
+        What was played and what was recorded, same sample rate. The recording must be at
+        least as long as the reference.
+    samplerate : float
+        Sample rate in Hz, to express the lag in seconds.
+    offset : int
+        Where the reference started in the played output, in samples.
+    max_latency_s : float, optional
+        Search only ``|lag| <= max_latency_s``. Negative lags are allowed (the input
+        stream can start after the output stream).
+    first_arrival : float or None
+        Fraction of the strongest arrival that counts as an arrival; None takes the
+        strongest.
+
+    Returns
+    -------
+    LatencyEstimate
+
+    Raises
+    ------
+    ValueError
+        Bad arrays (not 1-D, empty, non-finite), a silent reference, a recording shorter
+        than the reference, or no lag in the search range.
+    DetectionError
+        The recording is silent (all zeros): nothing reached the input.
+    """
+    ref = _as_signal(reference, "reference")
+    rec = _as_signal(recorded, "recording")
+    if samplerate <= 0:
+        raise ValueError(f"samplerate must be positive, got {samplerate}")
+    if offset < 0:
+        raise ValueError(f"offset must be >= 0 samples, got {offset}")
+    ref_energy = float(ref @ ref)
+    if ref_energy == 0.0:
+        raise ValueError("the reference is silent (all zeros): nothing to look for")
+    if rec.size < ref.size:
+        raise ValueError(
+            f"the recording ({rec.size} samples) is shorter than the reference "
+            f"({ref.size} samples): record longer (add a tail of silence)"
+        )
+    if not np.any(rec):
+        raise DetectionError(
+            "the recording is silent (all zeros): nothing reached the input. Check that the "
+            "input device is the microphone (or the loopback monitor) and is not muted."
+        )
+    c = signal.correlate(rec, ref, mode="valid", method="fft")
+    lags = signal.correlation_lags(rec.size, ref.size, mode="valid") - offset
+    allowed = np.ones(c.size, bool)
+    if max_latency_s is not None:
+        allowed = np.abs(lags) <= max_latency_s * samplerate
+        if not allowed.any():
+            raise ValueError(
+                f"no lag within ±{max_latency_s} s fits the recording ({rec.size} samples, "
+                f"reference of {ref.size} at offset {offset}); widen max_latency_s"
+            )
+    score = np.where(allowed, np.abs(c), -1.0)
+    if first_arrival is None:
+        j = int(np.argmax(score))
+    else:
+        # the envelope of the matched filter: one smooth bump per arrival of the reference
+        envelope = np.where(allowed, np.abs(signal.hilbert(c)), 0.0)
+        start = int(np.flatnonzero(envelope >= first_arrival * envelope.max())[0])
+        stop = min(start + int(np.ceil(ARRIVAL_WINDOW_S * samplerate)) + 1, c.size)
+        j = start + int(np.argmax(score[start:stop]))
+    window = rec[j : j + ref.size]
+    norm = np.sqrt(ref_energy * float(window @ window))
+    correlation = float(c[j] / norm) if norm > 0 else 0.0
+    return LatencyEstimate(lag=int(lags[j]), samplerate=float(samplerate),
+                           correlation=correlation)
+
+
+@dataclass(frozen=True)
+class PlayRecordResult:
+    """What :func:`play_record` played and recorded, sample for sample from the start.
+
+    ``played`` is the signal with its lead-in and tail of silence; ``recorded`` has the
+    same length. ``signal_start`` is the index in ``played`` of the signal's first sample.
+    ``status`` is PortAudio's summary of the stream's flags; ``dropped_samples`` is True
+    when they say input was lost or output was late (the recording then has gaps).
+    """
+
+    played: np.ndarray
+    recorded: np.ndarray
+    samplerate: float
+    signal_start: int
+    latency_setting: float | str
+    input_device: int
+    output_device: int
+    status: str
+    dropped_samples: bool
+
+    def segment(self, start: int, length: int, latency: LatencyEstimate) -> np.ndarray:
+        """The recording of ``played[start:start + length]``, corrected for the latency.
+
+        Raises :class:`DetectionError` when the recording does not cover it (a recording
+        too short for the sweep: play a longer tail).
+        """
+        first = start + latency.lag
+        if first < 0 or first + length > self.recorded.size:
+            raise DetectionError(
+                f"the recording does not hold the whole signal: it needs samples "
+                f"{first}..{first + length} after a latency of {latency.seconds:.3f} s, the "
+                f"recording has 0..{self.recorded.size}. Play a longer lead-in/tail "
+                f"(at least the latency plus {MIN_PADDING_S} s)."
+            )
+        return self.recorded[first : first + length]
+
+
+def play_record(
+    x: ArrayLike,
+    samplerate: int,
+    *,
+    input_device: int | str | None = None,
+    output_device: int | str | None = None,
+    lead_in_s: float = MIN_PADDING_S,
+    tail_s: float = MIN_PADDING_S,
+    latency: float | Literal["low", "high"] = DEFAULT_LATENCY_S,
+) -> PlayRecordResult:
+    """Play a signal and record at the same time (``sounddevice.playrec``), mono.
+
+    Silence of ``lead_in_s`` before and ``tail_s`` after the signal makes sure the
+    recording holds all of it whatever the latency (both at least ``MIN_PADDING_S``).
+
+    Parameters
+    ----------
+    x : array_like, 1-D
+        Samples in [-1, 1] (a larger peak would clip in the sound card).
+    samplerate : int
+        Hz, for both directions.
+    input_device, output_device : int or str, optional
+        Index or (part of a) name, see :func:`list_devices`; None for the defaults.
+    lead_in_s, tail_s : float
+        Silence before and after, seconds.
+    latency : float or "low" or "high"
+        PortAudio's suggested latency (s). ``DEFAULT_LATENCY_S`` worked through the
+        PulseAudio loopback; very low values risk dropped samples.
+
+    Raises
+    ------
+    AudioUnavailableError
+        sounddevice/PortAudio missing (:data:`INSTALL_HINT`); its subclass
+        NoAudioDeviceError when there is no device or it fails to open.
+    ValueError
+        Bad signal or settings.
+    """
+    sig = _as_signal(x, "signal")
+    peak = float(np.max(np.abs(sig)))
+    if peak > 1.0:
+        raise ValueError(f"the signal peaks at {peak:.3g} > 1 and would clip: scale it down")
+    if samplerate <= 0 or int(samplerate) != samplerate:
+        raise ValueError(f"samplerate must be a positive whole number of Hz, got {samplerate}")
+    if lead_in_s < MIN_PADDING_S or tail_s < MIN_PADDING_S:
+        raise ValueError(
+            f"lead_in_s ({lead_in_s}) and tail_s ({tail_s}) must be at least {MIN_PADDING_S} s "
+            "so that the latency cannot push the signal out of the recording"
+        )
+    sd = _sounddevice()
+    device_in = choose_device(input_device, "input")
+    device_out = choose_device(output_device, "output")
+    lead = int(round(lead_in_s * samplerate))
+    played = np.concatenate(
+        [np.zeros(lead), sig, np.zeros(int(round(tail_s * samplerate)))]
+    ).astype(np.float32)
+    try:
+        recorded = sd.playrec(
+            played, int(samplerate), channels=1, dtype="float32", latency=latency,
+            device=(device_in, device_out), blocking=True,
+        )
+    except sd.PortAudioError as exc:
+        raise NoAudioDeviceError(
+            f"PortAudio failed to play and record at {samplerate} Hz on input {device_in}, "
+            f"output {device_out}: {exc}. Try another sample rate or device. {NO_DEVICE_HINT}"
+        ) from exc
+    flags = sd.get_status()
+    status = str(flags)
+    # input_underflow (no input yet: zeros) is set at the start of every duplex stream
+    dropped = bool(flags.input_overflow or flags.output_underflow)
+    if dropped:
+        warnings.warn(
+            f"the audio stream dropped samples ({status}): the recording has gaps. "
+            "Use a larger latency (e.g. 0.5) and close other programs using audio.",
+            AudioDropoutWarning,
+            stacklevel=2,
+        )
+    return PlayRecordResult(
+        played=played.astype(float),
+        recorded=np.asarray(recorded[:, 0], dtype=float),
+        samplerate=float(samplerate),
+        signal_start=lead,
+        latency_setting=latency,
+        input_device=device_in,
+        output_device=device_out,
+        status=status,
+        dropped_samples=dropped,
+    )
+
+
+def measure_latency(
+    samplerate: int = 44100,
+    *,
+    input_device: int | str | None = None,
+    output_device: int | str | None = None,
+    latency: float | Literal["low", "high"] = DEFAULT_LATENCY_S,
+    min_correlation: float = MIN_CALIBRATION_CORRELATION,
+) -> LatencyEstimate:
+    """Play a :func:`calibration_chirp` and find it in the recording.
+
+    The delay differs each time a stream is opened (it did by tens of ms through the
+    PulseAudio loopback), so a measurement should carry its own chirp; this function is
+    for checking a set-up. Raises :class:`DetectionError` when the chirp is not found
+    (|correlation| below ``min_correlation``): the microphone does not hear the speaker.
+    """
+    chirp = calibration_chirp(samplerate)
+    result = play_record(chirp, samplerate, input_device=input_device,
+                         output_device=output_device, latency=latency)
+    estimate = estimate_latency(chirp, result.recorded, samplerate,
+                                offset=result.signal_start)
+    check_calibration(estimate, min_correlation)
+    return estimate
+
+
+def check_calibration(
+    estimate: LatencyEstimate, min_correlation: float = MIN_CALIBRATION_CORRELATION
+) -> None:
+    """Raise :class:`DetectionError` when the calibration chirp was not found."""
+    if abs(estimate.correlation) < min_correlation:
+        raise DetectionError(
+            f"the calibration chirp was not found in the recording (correlation "
+            f"{estimate.correlation:.2f}, need at least {min_correlation}): the input does "
+            "not hear the output. Check the wiring, the volume and the chosen devices."
+        )

@@ -1,0 +1,629 @@
+"""Measure a level with real audio, or analyse a recording: the gauge end to end.
+
+One measurement plays, in a single audio stream (the latency changes from stream to
+stream, so the calibration must share the sweep's stream)::
+
+    | lead-in 0.5 s | chirp 0.25 s | gap 0.25 s | sweep 5 s | gap | chirp | tail 0.5 s |
+
+The opening chirp's position in the recording gives the latency τ
+(:func:`dstoolkit.audio.estimate_latency`); the sweep then arrives at ``sweep_onset_s``.
+The closing chirp must give the same τ: otherwise the stream lost or inserted samples on
+the way (an xrun, under a heavy processor load) and the measurement is repeated. The
+recording and what is known about it are saved as a WAV file
+(:mod:`dstoolkit.recording_io`); :func:`analyze` turns such a file into resonances
+(:func:`dstoolkit.resonance.detect_resonances`, with τ corrected, SPEC §6) and a level
+with its uncertainty (:func:`estimate_level`).
+
+With ``virtual_tube=TubeSetup(...)`` the played sweep is first shaped by the tube model
+(:mod:`dstoolkit.virtual_tube`): through a loopback the whole real audio path carries a
+standing-wave recording whose true level is known. :func:`simulate_measurement` builds the
+same recording without any audio (a pure delay instead of the sound card), so the lab runs
+anywhere.
+
+Command-line use: :func:`add_measure_arguments` / :func:`measure_command` and
+:func:`add_analyze_arguments` / :func:`analyze_command` implement
+``python -m dstoolkit measure`` and ``python -m dstoolkit analyze``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+from dstoolkit.audio import _devices as audio
+from dstoolkit.errors import AudioDropoutError, AudioUnavailableError, DetectionError
+from dstoolkit.gauge._acoustics import SpeedModel, speed_of_sound
+from dstoolkit.gauge._level import ResonanceSeriesFit, fit_resonance_series
+from dstoolkit.gauge._resonance import DetectionResult, detect_resonances
+from dstoolkit.gauge._sweep import PAPER_SWEEP, LinearSweep
+from dstoolkit.gauge._tube import Recording, TubeSetup
+from dstoolkit.gauge._virtual_tube import DEFAULT_AMPLITUDE, virtual_tube_signal
+from dstoolkit.studies._experiments import (
+    METHODS,
+    CaseReadings,
+    estimate_levels,
+    estimate_orders,
+    paper_filters,
+)
+
+from ._recording_io import (
+    RecordingFileError,
+    RecordingMetadata,
+    WavRecording,
+    load_recording,
+    save_recording,
+)
+
+#: Silence between the calibration chirp and the sweep, s (its echoes in a real tube die).
+CALIBRATION_GAP_S = 0.25
+#: Largest difference between the latencies found by the opening and the closing chirp, s.
+#: Separate input and output clocks drift by up to about 100 ppm (0.7 ms over one
+#: measurement); a lost or inserted buffer moves the closing chirp by 5 ms or more.
+MAX_LATENCY_DRIFT_S = 0.002
+#: Standard uncertainty of a thermometer reading, °C, unless told otherwise.
+DEFAULT_TEMPERATURE_UNCERTAINTY_C = 0.5
+
+
+# -- level and its uncertainty ---------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class LevelEstimate:
+    """A level from a series of resonances, with its standard uncertainty.
+
+    ``level_m`` = c/(2 f_F), f_F the slope of the fit z_k = f_F (n_1 + s_k) + b
+    (:func:`dstoolkit.level.fit_resonance_series` with b free): the spacing of the
+    resonances, untouched by any offset common to all of them (latency, sweep rate,
+    detector bias). ``uncertainty_m`` combines in quadrature:
+
+    - ``fit_uncertainty_m``: the least-squares standard error of the slope;
+    - ``offset_uncertainty_m``: half the difference from the fit with b = 0, which
+      trusts the detector's offset corrections (k/(2 f_F) and kτ) instead. Where they
+      disagree the offsets were not removed as modelled (a wrong latency, a second
+      reflector, the echoes' pull): this systematic term says so;
+    - ``temperature_uncertainty_m``: L σ_c/c from the thermometer's uncertainty
+      (c = 331.3 + 0.606 T: 0.5 °C is 0.09 % of L, 8 mm at 9.6 m).
+
+    """
+
+    level_m: float
+    uncertainty_m: float
+    fit_uncertainty_m: float
+    offset_uncertainty_m: float
+    temperature_uncertainty_m: float
+    speed_of_sound: float
+    fit: ResonanceSeriesFit
+
+
+def estimate_level(
+    detection: DetectionResult,
+    temperature_c: float,
+    *,
+    temperature_uncertainty_c: float = DEFAULT_TEMPERATURE_UNCERTAINTY_C,
+    speed_model: SpeedModel = "paper",
+) -> LevelEstimate:
+    """Level and uncertainty from detected resonances (eqs. 32, 35, SPEC §6), see
+    :class:`LevelEstimate`. Missed resonances are fine: the fit uses the detection's
+    ``steps``, which jump over them."""
+    if not math.isfinite(temperature_c) or not -50.0 <= temperature_c <= 100.0:
+        raise ValueError(f"temperature_c = {temperature_c} °C is not an air temperature")
+    if not temperature_uncertainty_c >= 0:
+        raise ValueError(f"temperature_uncertainty_c must be >= 0, got "
+                         f"{temperature_uncertainty_c}")
+    z, steps = detection.frequencies, detection.steps
+    c = float(speed_of_sound(temperature_c, speed_model))
+    fit = fit_resonance_series(z, steps, offset_hz=None)
+    level = fit.level(c)
+    s = steps.astype(float)
+    dof = max(z.size - 2, 1)
+    slope_se = fit.residual_rms_hz * math.sqrt(z.size / dof) / math.sqrt(
+        float(np.sum((s - s.mean()) ** 2)))
+    fit_u = level * slope_se / fit.fundamental_hz
+    offset_u = 0.5 * abs(fit_resonance_series(z, steps, offset_hz=0.0).level(c) - level)
+    dc = float(speed_of_sound(temperature_c + temperature_uncertainty_c, speed_model)) - c
+    temp_u = level * abs(dc) / c
+    return LevelEstimate(
+        level_m=level,
+        uncertainty_m=math.sqrt(fit_u**2 + offset_u**2 + temp_u**2),
+        fit_uncertainty_m=fit_u,
+        offset_uncertainty_m=offset_u,
+        temperature_uncertainty_m=temp_u,
+        speed_of_sound=c,
+        fit=fit,
+    )
+
+
+def filter_levels(
+    detection: DetectionResult,
+    speed_of_sound: float,
+    methods: Sequence[str] = METHODS,
+    seed: int = 0,
+) -> dict[str, float]:
+    """The level by each method of Table 3 (the paper's filter, Nassreddine's, direct,
+    Kalman, particle) over one recording's resonances, m.
+
+    Each method gives a level per step, L̂_k = n_k c/(2 x̂_k) (eq. 32, orders by eq. 43),
+    averaged here (:func:`dstoolkit.experiments.estimate_levels`, the paper's noise
+    evidence of Tables 1–2). The readings are the detector's with the latency corrected but
+    the sweep-rate offset k/(2 f_F) left in: that is how the paper's detector read them and
+    how its observation noise w (mode −6.9 Hz) was characterised. Eq. 39 links neighbouring
+    resonances, so over a missed one it does not hold: the methods run on the longest run of
+    consecutive resonances.
+    """
+    steps = detection.steps
+    breaks = np.flatnonzero(np.diff(steps) != 1) + 1
+    runs = np.split(np.arange(steps.size), breaks)
+    longest = max(runs, key=len)
+    if longest.size < 3:
+        raise DetectionError(
+            f"the filters need at least 3 consecutive resonances; the longest run has "
+            f"{longest.size}"
+        )
+    z = (detection.raw_frequencies - detection.latency_offset_hz * detection.corrected[1])
+    case = CaseReadings(level_m=math.nan, temperature_c=math.nan,
+                        speed_of_sound=speed_of_sound, readings=z[longest][None, :])
+    orders = estimate_orders(case, "eq43")
+    filters = paper_filters(seed)
+    return {m: float(np.mean(estimate_levels(m, case, orders, filters))) for m in methods}
+
+
+# -- analysis of a recording -------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """A recording analysed: its resonances and the level.
+
+    ``gauge_recording`` is the part from the moment the sweep was played (τ before it
+    arrives), in the form the gauge's detection and plots take. ``filter_levels`` holds
+    the level by each method of Table 3 (:func:`filter_levels`), empty when not asked.
+    """
+
+    recording: WavRecording
+    gauge_recording: Recording
+    detection: DetectionResult
+    level: LevelEstimate
+    temperature_c: float
+    latency_s: float
+    true_level_m: float | None
+    filter_levels: dict[str, float] = field(default_factory=dict)
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def error_m(self) -> float | None:
+        """Measured − true level when the truth is known (virtual tube), else None."""
+        return None if self.true_level_m is None else self.level.level_m - self.true_level_m
+
+    def summary(self) -> str:
+        lv = self.level
+        d = self.detection
+        lines = [
+            f"level L = {lv.level_m:.4f} m ± {lv.uncertainty_m:.4f} m (1 sigma; fit "
+            f"{lv.fit_uncertainty_m:.4f}, offsets {lv.offset_uncertainty_m:.4f}, "
+            f"temperature {lv.temperature_uncertainty_m:.4f})",
+            f"resonances: {d.frequencies.size} found, {d.missed.size} missed"
+            + (f" (near {', '.join(f'{f:.0f}' for f in d.missed)} Hz)" if d.missed.size else "")
+            + f", {d.spurious.size} spurious; f_F = {d.fundamental_hz:.3f} Hz",
+            f"temperature {self.temperature_c:g} °C (c = {lv.speed_of_sound:.2f} m/s), "
+            f"audio latency {1e3 * self.latency_s:.1f} ms",
+        ]
+        if self.true_level_m is not None:
+            lines.append(f"true level {self.true_level_m:g} m: error "
+                         f"{1e3 * self.error_m:+.1f} mm")
+        if self.filter_levels:
+            lines.append("by method (eq. 32 per step, orders by eq. 43, averaged): " + ", ".join(
+                f"{m} {lv_m:.4f} m" for m, lv_m in self.filter_levels.items()))
+        lines.extend(self.notes)
+        return "\n".join(lines)
+
+    def figure(self) -> Figure:
+        """The recording with its envelope and peaks (Fig. 6) above the resonances (Fig. 7)."""
+        from matplotlib.figure import Figure
+
+        from dstoolkit.plots._gauge import plot_recording, plot_resonances
+
+        fig = Figure(figsize=(8.0, 6.4), layout="constrained")
+        top, bottom = fig.subplots(2, 1)
+        truth = None
+        if self.true_level_m is not None:
+            f_f = self.level.speed_of_sound / (2.0 * self.true_level_m)
+            lo, hi = self.detection.sweep.band
+            truth = f_f * np.arange(math.ceil(lo / f_f), math.floor(hi / f_f) + 1)
+        title = f"L = {self.level.level_m:.3f} ± {self.level.uncertainty_m:.3f} m"
+        if self.true_level_m is not None:
+            title += f" (true {self.true_level_m:g} m)"
+        plot_recording(self.gauge_recording, self.detection, top, title=title)
+        plot_resonances(self.detection, bottom, true_frequencies=truth)
+        return fig
+
+
+def sweep_from_metadata(metadata: RecordingMetadata, samplerate: float) -> LinearSweep | None:
+    """The sweep a recording's metadata describes, or None when it does not say."""
+    m = metadata
+    if None in (m.f_start_hz, m.f_stop_hz, m.sweep_duration_s):
+        return None
+    taper = PAPER_SWEEP.taper if m.sweep_taper_s is None else m.sweep_taper_s
+    return LinearSweep(f_start=m.f_start_hz, f_stop=m.f_stop_hz, duration=m.sweep_duration_s,
+                       sample_rate=float(samplerate), taper=taper)
+
+
+def analyze(
+    recording: WavRecording | str | os.PathLike[str],
+    *,
+    temperature_c: float | None = None,
+    sweep: LinearSweep | None = None,
+    temperature_uncertainty_c: float = DEFAULT_TEMPERATURE_UNCERTAINTY_C,
+    speed_model: SpeedModel = "paper",
+    methods: Sequence[str] = METHODS,
+) -> Analysis:
+    """Resonances and level of a recording (a WAV file or a :class:`WavRecording`).
+
+    Parameters
+    ----------
+    recording
+        Made by :func:`measure` / :func:`simulate_measurement`, or any mono WAV of a sweep.
+    temperature_c
+        Air temperature, °C; default the one in the metadata. One of the two is needed.
+    sweep
+        The played sweep; default the metadata's, else the paper's (1000 → 2400 Hz, 5 s).
+    temperature_uncertainty_c
+        Standard uncertainty of the temperature, °C.
+    methods
+        Methods of Table 3 whose level to add (:func:`filter_levels`); () for none.
+
+    Where the metadata gives the sweep's onset and the latency, the recording is cut at
+    the moment the sweep was played and the latency is corrected; otherwise the sweep is
+    assumed to start near the beginning and the latency is estimated from the sweep itself.
+
+    Raises
+    ------
+    DetectionError
+        Silence, clipping, a recording too short for the sweep, no tube echo, or too few
+        resonances (:func:`dstoolkit.resonance.detect_resonances`); missed resonances do
+        not raise: they are listed and the level uses those that remain.
+    RecordingFileError, FileNotFoundError
+        An unreadable file.
+    ValueError
+        No temperature.
+    """
+    rec = recording if isinstance(recording, WavRecording) else load_recording(recording)
+    meta = rec.metadata
+    notes: list[str] = []
+    if temperature_c is None:
+        temperature_c = meta.temperature_c
+    if temperature_c is None:
+        raise ValueError(
+            "the temperature is unknown: the recording does not say and none was given; "
+            "pass temperature_c (--temperature T on the command line), in °C"
+        )
+    if sweep is None:
+        sweep = sweep_from_metadata(meta, rec.samplerate)
+        if sweep is None:
+            sweep = LinearSweep(sample_rate=float(rec.samplerate))
+            notes.append("note: the recording does not describe its sweep; assumed the "
+                         "paper's 1000 -> 2400 Hz in 5 s")
+    if sweep.sample_rate != rec.samplerate:
+        raise ValueError(f"the sweep's sample rate {sweep.sample_rate} Hz differs from the "
+                         f"recording's {rec.samplerate} Hz")
+    fs = rec.samplerate
+    if meta.sweep_onset_s is not None and meta.latency_s is not None:
+        latency: float | None = meta.latency_s
+        start = int(round((meta.sweep_onset_s - meta.latency_s) * fs))
+        if start < 0:
+            raise RecordingFileError(
+                f"inconsistent metadata: sweep onset {meta.sweep_onset_s} s is earlier "
+                f"than the latency {meta.latency_s} s"
+            )
+    else:
+        latency, start = None, 0
+    samples = rec.samples[start:]
+    needed = (latency or 0.0) + sweep.duration
+    if samples.size / fs < needed:
+        raise DetectionError(
+            f"the recording is too short for the sweep: a {sweep.duration:g} s sweep"
+            + (f" after {latency:.3f} s of latency" if latency else "")
+            + f" needs {needed:.2f} s from the sweep's start, the recording holds "
+            f"{samples.size / fs:.2f} s. Record longer (a tail of silence after the sweep)."
+        )
+    gauge_rec = Recording(samples=samples, sweep=sweep)
+    detection = detect_resonances(gauge_rec, latency_s=latency)
+    if detection.missed.size:
+        notes.append(
+            f"warning: {detection.missed.size} resonance(s) missed near "
+            + ", ".join(f"{f:.0f}" for f in detection.missed)
+            + " Hz; the level uses the others"
+        )
+    level = estimate_level(detection, float(temperature_c),
+                           temperature_uncertainty_c=temperature_uncertainty_c,
+                           speed_model=speed_model)
+    by_method = filter_levels(detection, level.speed_of_sound, methods) if methods else {}
+    return Analysis(recording=rec, gauge_recording=gauge_rec, detection=detection,
+                    level=level, temperature_c=float(temperature_c),
+                    latency_s=detection.latency_s, true_level_m=meta.level_m,
+                    filter_levels=by_method, notes=tuple(notes))
+
+
+# -- measuring -------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Programme:
+    """What a measurement plays after the lead-in: chirp, gap, drive, gap, chirp."""
+
+    signal: np.ndarray
+    chirp: np.ndarray
+    sweep_offset: int  # index of the drive's first sample in ``signal``
+    closing_offset: int  # index of the closing chirp's first sample
+
+
+def _programme(sweep: LinearSweep, drive: np.ndarray) -> _Programme:
+    fs = sweep.sample_rate
+    chirp = audio.calibration_chirp(fs)
+    gap = np.zeros(int(round(CALIBRATION_GAP_S * fs)))
+    sweep_offset = chirp.size + gap.size
+    return _Programme(np.concatenate([chirp, gap, drive, gap, chirp]), chirp, sweep_offset,
+                      sweep_offset + drive.size + gap.size)
+
+
+def _drive(sweep: LinearSweep, virtual_tube: TubeSetup | None, amplitude: float) -> np.ndarray:
+    if virtual_tube is not None:
+        return virtual_tube_signal(virtual_tube, sweep, amplitude=amplitude)
+    if not 0 < amplitude <= 1:
+        raise ValueError(f"amplitude must be in (0, 1], got {amplitude}")
+    return amplitude * sweep.waveform()
+
+
+def _calibrate(recorded: np.ndarray, fs: int, lead: int, programme: _Programme
+               ) -> tuple[audio.LatencyEstimate, audio.LatencyEstimate]:
+    """Latency at the opening and at the closing chirp.
+
+    Raises DetectionError when a chirp is missing, AudioDropoutError when they disagree
+    by more than MAX_LATENCY_DRIFT_S (samples were lost or inserted in between).
+    """
+    found = [audio.estimate_latency(programme.chirp, recorded, fs, offset=lead + offset,
+                                    max_latency_s=audio.MIN_PADDING_S)
+             for offset in (0, programme.closing_offset)]
+    for estimate in found:
+        audio.check_calibration(estimate)
+    opening, closing = found
+    if abs(closing.seconds - opening.seconds) > MAX_LATENCY_DRIFT_S:
+        raise AudioDropoutError(
+            f"the audio stream lost or inserted samples during the measurement: the latency "
+            f"was {1e3 * opening.seconds:.1f} ms at the start and {1e3 * closing.seconds:.1f} "
+            f"ms at the end (more than {1e3 * MAX_LATENCY_DRIFT_S:g} ms apart)"
+        )
+    return opening, closing
+
+
+def _recording(
+    recorded: np.ndarray, fs: int, lead: int, programme: _Programme, sweep: LinearSweep,
+    temperature_c: float, virtual_tube: TubeSetup | None, source: str,
+    extra: dict[str, object],
+) -> WavRecording:
+    opening, closing = _calibrate(recorded, fs, lead, programme)
+    onset = (lead + programme.sweep_offset + opening.lag) / fs
+    metadata = RecordingMetadata(
+        temperature_c=temperature_c, f_start_hz=sweep.f_start, f_stop_hz=sweep.f_stop,
+        sweep_duration_s=sweep.duration, sweep_taper_s=sweep.taper, sweep_onset_s=onset,
+        latency_s=opening.seconds,
+        level_m=None if virtual_tube is None else virtual_tube.level_m,
+        source=source,
+        extra={"calibration_correlation": round(opening.correlation, 6),
+               "latency_at_end_s": closing.seconds, **extra},
+    )
+    return WavRecording(samples=recorded, samplerate=fs, metadata=metadata)
+
+
+def _samplerate(sweep: LinearSweep) -> int:
+    if sweep.sample_rate != int(sweep.sample_rate):
+        raise ValueError(f"the sweep's sample rate must be a whole number of Hz for audio, "
+                         f"got {sweep.sample_rate}")
+    return int(sweep.sample_rate)
+
+
+def record_measurement(
+    temperature_c: float | None = None,
+    *,
+    sweep: LinearSweep = PAPER_SWEEP,
+    input_device: int | str | None = None,
+    output_device: int | str | None = None,
+    virtual_tube: TubeSetup | None = None,
+    amplitude: float = DEFAULT_AMPLITUDE,
+    latency: float | str = audio.DEFAULT_LATENCY_S,
+    save: str | os.PathLike[str] | None = None,
+    attempts: int = 3,
+) -> WavRecording:
+    """Play the programme (module docstring) and record it; return the recording.
+
+    ``temperature_c`` is what the thermometer says (stored in the metadata); with a
+    ``virtual_tube`` it defaults to the tube's. ``save`` writes the WAV file. A recording
+    in which the stream dropped samples (PortAudio reports an xrun, or the two chirps give
+    different latencies) is discarded and the measurement repeated, up to ``attempts``
+    times in all.
+
+    Raises
+    ------
+    AudioUnavailableError
+        No sounddevice/PortAudio, or no device (the message says what to do).
+    DetectionError
+        A calibration chirp is not in the recording: the input does not hear the output.
+    AudioDropoutError
+        Samples were dropped in every attempt.
+    """
+    if temperature_c is None:
+        if virtual_tube is None:
+            raise ValueError("give the air temperature (temperature_c, °C)")
+        temperature_c = virtual_tube.temperature_c
+    if attempts < 1:
+        raise ValueError(f"attempts must be at least 1, got {attempts}")
+    fs = _samplerate(sweep)
+    programme = _programme(sweep, _drive(sweep, virtual_tube, amplitude))
+    problems: list[str] = []
+    for attempt in range(1, attempts + 1):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", audio.AudioDropoutWarning)
+            result = audio.play_record(programme.signal, fs, input_device=input_device,
+                                       output_device=output_device, latency=latency)
+        names = {d.index: d.name for d in audio.list_devices()}
+        source = (f"{'virtual tube via ' if virtual_tube is not None else ''}"
+                  f"{names.get(result.output_device, result.output_device)} -> "
+                  f"{names.get(result.input_device, result.input_device)}")
+        try:
+            if result.dropped_samples:
+                raise AudioDropoutError(f"PortAudio reported {result.status}")
+            recording = _recording(
+                result.recorded, fs, result.signal_start, programme, sweep,
+                float(temperature_c), virtual_tube, source,
+                {"latency_setting": result.latency_setting, "stream_status": result.status,
+                 "attempt": attempt},
+            )
+        except AudioDropoutError as exc:
+            problems.append(f"attempt {attempt}: {exc}")
+            continue
+        if save is not None:
+            save_recording(save, recording.samples, fs, recording.metadata)
+        return recording
+    raise AudioDropoutError(
+        "the audio stream dropped samples in every attempt (" + "; ".join(problems) + "). "
+        "Use a larger latency setting (e.g. 0.5 s) and close other programs using audio "
+        "or the processor."
+    )
+
+
+def measure(
+    temperature_c: float | None = None,
+    *,
+    sweep: LinearSweep = PAPER_SWEEP,
+    input_device: int | str | None = None,
+    output_device: int | str | None = None,
+    virtual_tube: TubeSetup | None = None,
+    amplitude: float = DEFAULT_AMPLITUDE,
+    latency: float | str = audio.DEFAULT_LATENCY_S,
+    save: str | os.PathLike[str] | None = None,
+    temperature_uncertainty_c: float = DEFAULT_TEMPERATURE_UNCERTAINTY_C,
+) -> Analysis:
+    """Measure a level: :func:`record_measurement` then :func:`analyze`."""
+    recording = record_measurement(
+        temperature_c, sweep=sweep, input_device=input_device, output_device=output_device,
+        virtual_tube=virtual_tube, amplitude=amplitude, latency=latency, save=save,
+    )
+    return analyze(recording, temperature_uncertainty_c=temperature_uncertainty_c)
+
+
+def simulate_measurement(
+    virtual_tube: TubeSetup,
+    *,
+    temperature_c: float | None = None,
+    sweep: LinearSweep = PAPER_SWEEP,
+    latency_s: float = 0.1,
+    noise_rms: float = 0.0,
+    amplitude: float = DEFAULT_AMPLITUDE,
+    seed: int = 0,
+) -> WavRecording:
+    """The recording :func:`record_measurement` would make through a perfect loopback of
+    latency ``latency_s`` (a pure delay, plus white noise of ``noise_rms`` full scale), with
+    no audio at all. Same programme, same latency estimation, same metadata."""
+    if not 0 <= latency_s < audio.MIN_PADDING_S:
+        raise ValueError(f"latency_s must be in [0, {audio.MIN_PADDING_S}) s, got {latency_s}")
+    fs = _samplerate(sweep)
+    programme = _programme(sweep, _drive(sweep, virtual_tube, amplitude))
+    lead = tail = int(round(audio.MIN_PADDING_S * fs))
+    played = np.concatenate([np.zeros(lead), programme.signal, np.zeros(tail)])
+    delay = int(round(latency_s * fs))
+    recorded = np.concatenate([np.zeros(delay), played[: played.size - delay]])
+    if noise_rms > 0:
+        recorded = recorded + noise_rms * np.random.default_rng(seed).standard_normal(
+            recorded.size)
+    return _recording(recorded, fs, lead, programme, sweep,
+                      virtual_tube.temperature_c if temperature_c is None else temperature_c,
+                      virtual_tube, "virtual tube, simulated audio (no device)",
+                      {"simulated_latency_s": latency_s})
+
+
+# -- command line ----------------------------------------------------------------------------
+
+
+def _device(text: str | None) -> int | str | None:
+    return int(text) if text is not None and text.strip().isdigit() else text
+
+
+def add_measure_arguments(parser: argparse.ArgumentParser) -> None:
+    """Options of ``python -m dstoolkit measure``."""
+    parser.add_argument("--temperature", type=float, required=True, metavar="T",
+                        help="air temperature in the tube, °C")
+    parser.add_argument("--input", metavar="DEV", help="input device index or name")
+    parser.add_argument("--output", metavar="DEV", help="output device index or name")
+    parser.add_argument("--save", metavar="REC.wav", help="save the recording (WAV + metadata)")
+    parser.add_argument("--figure", default="measurement.png", metavar="PATH",
+                        help="where to save the figure (default: %(default)s)")
+    parser.add_argument("--virtual-level", type=float, metavar="L",
+                        help="play through a virtual tube of level L m instead of the bare "
+                             "sweep (with a loopback: scripts/audio-loopback.sh)")
+    parser.add_argument("--latency", type=float, default=audio.DEFAULT_LATENCY_S,
+                        metavar="S", help="PortAudio latency setting, s (default %(default)s)")
+    parser.add_argument("--list-devices", action="store_true",
+                        help="list the sound devices and exit")
+
+
+def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
+    """Options of ``python -m dstoolkit analyze``."""
+    parser.add_argument("recording", metavar="REC.wav", help="a recording (WAV)")
+    parser.add_argument("--temperature", type=float, metavar="T",
+                        help="air temperature, °C (default: the recording's metadata)")
+    parser.add_argument("--figure", metavar="PATH",
+                        help="where to save the figure (default: REC.png)")
+
+
+def _report(analysis: Analysis, figure: str | os.PathLike[str]) -> None:
+    print(analysis.summary())
+    analysis.figure().savefig(figure, dpi=120)
+    print(f"figure saved to {figure}")
+
+
+def _fail(exc: Exception) -> int:
+    print(f"error: {exc}", file=sys.stderr)
+    return 1
+
+
+def measure_command(args: argparse.Namespace) -> int:
+    """``python -m dstoolkit measure``: measure, print level ± uncertainty, save a figure.
+    Returns the exit status (0 ok, 1 with a message on stderr)."""
+    try:
+        if args.list_devices:
+            for device in audio.list_devices():
+                print(device)
+            return 0
+        setup = (None if args.virtual_level is None
+                 else TubeSetup(level_m=args.virtual_level, temperature_c=args.temperature))
+        analysis = measure(args.temperature, input_device=_device(args.input),
+                           output_device=_device(args.output), virtual_tube=setup,
+                           latency=args.latency, save=args.save)
+        if args.save:
+            print(f"recording saved to {args.save}")
+        _report(analysis, args.figure)
+    except (AudioUnavailableError, DetectionError, ValueError, OSError) as exc:
+        return _fail(exc)
+    return 0
+
+
+def analyze_command(args: argparse.Namespace) -> int:
+    """``python -m dstoolkit analyze REC.wav``: print level ± uncertainty, save a figure.
+    Returns the exit status (0 ok, 1 with a message on stderr)."""
+    try:
+        analysis = analyze(args.recording, temperature_c=args.temperature)
+        _report(analysis, args.figure or Path(args.recording).with_suffix(".png"))
+    except (DetectionError, ValueError, OSError) as exc:
+        return _fail(exc)
+    return 0

@@ -1,0 +1,138 @@
+"""The evidence algebra: mass functions on finite frames and on intervals, the
+combination rules (Dempster's eq. 1, the dependent combination of eqs. 8-20, rivals
+such as Yager's), possibility distributions turned into evidence (eqs. 21-24), the
+extension principle (eqs. 25-29) and the batched kernels the filters use.
+"""
+
+from __future__ import annotations
+
+from dstoolkit.errors import (
+    EvidenceError,
+    NotMonotoneError,
+    TotalConflictError,
+    VertexMethodWarning,
+)
+
+from ._base import (
+    Evidence,
+    validate_masses,
+)
+from ._batch_kernels import (
+    Boxes,
+    dempster_expectation,
+    discount_onto_hull,
+    hull,
+    pignistic_expectation,
+    sizes,
+)
+from ._combination import (
+    CONFLICT_TOLERANCE,
+    Dependence,
+    MASS_RULES,
+    MassRule,
+    combine_dependent,
+    conflict,
+    decorrelate,
+    dempster,
+    dependence,
+    discount,
+    energy,
+    joint_energy,
+    yager,
+)
+from ._examples import (
+    APPENDIX_A2,
+    APPENDIX_E1,
+    APPENDIX_E2,
+    PAPER_A6,
+    PAPER_EN1,
+    ZADEH_FRAME,
+    appendix_evidence,
+    appendix_pair,
+    zadeh_sources,
+)
+from ._extension import (
+    IMAGE_METHODS,
+    ImageMethod,
+    box_image,
+    cartesian_product,
+    image,
+    image_boxes,
+    image_subdivision,
+    parse_signs,
+    projection,
+    resolve_method,
+    state_signs,
+    vertices,
+)
+from ._finite_frame import (
+    MassFunction,
+)
+from ._intervals import (
+    IntervalEvidence,
+)
+from ._possibility import (
+    TriangularBounds,
+    alpha_cuts,
+    default_theta,
+    possibility,
+    triangular_evidence,
+    triangular_from_samples,
+)
+
+__all__ = [
+    "APPENDIX_A2",
+    "APPENDIX_E1",
+    "APPENDIX_E2",
+    "Boxes",
+    "CONFLICT_TOLERANCE",
+    "Dependence",
+    "Evidence",
+    "EvidenceError",
+    "IMAGE_METHODS",
+    "ImageMethod",
+    "IntervalEvidence",
+    "MASS_RULES",
+    "MassFunction",
+    "MassRule",
+    "NotMonotoneError",
+    "PAPER_A6",
+    "PAPER_EN1",
+    "TotalConflictError",
+    "TriangularBounds",
+    "VertexMethodWarning",
+    "ZADEH_FRAME",
+    "alpha_cuts",
+    "appendix_evidence",
+    "appendix_pair",
+    "box_image",
+    "cartesian_product",
+    "combine_dependent",
+    "conflict",
+    "decorrelate",
+    "default_theta",
+    "dempster",
+    "dempster_expectation",
+    "dependence",
+    "discount",
+    "discount_onto_hull",
+    "energy",
+    "hull",
+    "image",
+    "image_boxes",
+    "image_subdivision",
+    "joint_energy",
+    "parse_signs",
+    "pignistic_expectation",
+    "possibility",
+    "projection",
+    "resolve_method",
+    "sizes",
+    "state_signs",
+    "triangular_evidence",
+    "triangular_from_samples",
+    "validate_masses",
+    "vertices",
+    "yager",
+    "zadeh_sources",
+]

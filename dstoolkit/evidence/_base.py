@@ -1,0 +1,157 @@
+"""What every body of evidence shares, whatever its focal elements are.
+
+A body of evidence is a list of focal elements with masses (paper §2.1, Def. 2). Two
+representations live in dstoolkit: subsets of a finite frame (:class:`~dstoolkit.MassFunction`)
+and real intervals or boxes (:class:`~dstoolkit.IntervalEvidence`). Both store their focal
+elements as numpy arrays and implement the handful of set primitives below; belief,
+plausibility and every combination rule in :mod:`dstoolkit.combination` are written once
+on top of these primitives.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from typing import Any, Self
+
+import numpy as np
+
+from dstoolkit.errors import EvidenceError
+
+MASS_TOLERANCE = 1e-9
+
+
+def validate_masses(mass: Any, *, what: str = "masses") -> np.ndarray:
+    """Return ``mass`` as a float array after checking it is a probability vector.
+
+    Raises :class:`EvidenceError` for an empty vector, NaN or infinite entries, negative
+    entries, or a sum that differs from 1 by more than ``MASS_TOLERANCE``.
+    """
+    m = np.asarray(mass, dtype=float).reshape(-1)
+    if m.size == 0:
+        raise EvidenceError(
+            "empty evidence: no focal element was given; give at least one focal element "
+            "with mass 1 (the vacuous evidence puts mass 1 on the whole frame)"
+        )
+    if not np.all(np.isfinite(m)):
+        bad = np.flatnonzero(~np.isfinite(m))
+        raise EvidenceError(
+            f"{what} contain NaN or infinite values at positions {bad.tolist()}; "
+            "every mass must be a finite number in [0, 1]"
+        )
+    if np.any(m < 0):
+        bad = np.flatnonzero(m < 0)
+        raise EvidenceError(
+            f"{what} must be non-negative, got {m[bad].tolist()} at positions {bad.tolist()}"
+        )
+    total = float(m.sum())
+    if abs(total - 1.0) > MASS_TOLERANCE:
+        raise EvidenceError(
+            f"{what} sum to {total:.6g}, expected 1 (±{MASS_TOLERANCE:g}): off by "
+            f"{total - 1.0:+.3g}; normalise them or add the missing mass to the frame "
+            "(ignorance)"
+        )
+    return m
+
+
+class Evidence(ABC):
+    """Abstract body of evidence: focal elements (an array, one row each) with masses.
+
+    Subclasses implement the set primitives; the algebra lives in :mod:`dstoolkit.combination`.
+    """
+
+    _focal: np.ndarray
+    _mass: np.ndarray
+
+    # -- primitives every representation implements ---------------------------------
+    @abstractmethod
+    def _with(self, focal: np.ndarray, mass: np.ndarray, *, merge: bool = True) -> Self:
+        """A new evidence of the same kind and frame with these focal elements."""
+
+    @abstractmethod
+    def _check_same_frame(self, other: Self) -> None:
+        """Raise EvidenceError unless ``other`` (of the same type) lives on the same frame."""
+
+    def _check_compatible(self, other: Evidence) -> None:
+        """Raise EvidenceError unless ``other`` is of the same kind and on the same frame."""
+        if type(other) is not type(self):
+            raise EvidenceError(
+                f"cannot combine {type(self).__name__} with {type(other).__name__}; "
+                "convert both to the same representation"
+            )
+        self._check_same_frame(other)
+
+    @abstractmethod
+    def _intersect(self, other: Evidence) -> tuple[np.ndarray, np.ndarray]:
+        """All pairwise intersections, row i*len(other)+j = A_i ∩ B_j, and a non-empty mask."""
+
+    @abstractmethod
+    def _sizes(self) -> np.ndarray:
+        """Size of each focal element: cardinality |A| or width (volume) w(A)."""
+
+    @abstractmethod
+    def _energy_unit(self) -> float:
+        """The size a focal element must have to count fully in the energy (eqs. 2, A1)."""
+
+    @abstractmethod
+    def _counts_in_energy(self) -> np.ndarray:
+        """Mask of focal elements that enter the energy sum (eq. 2 leaves Θ out)."""
+
+    @abstractmethod
+    def _theta(self) -> np.ndarray:
+        """The frame Θ as one focal element (one row), where discounting puts its mass."""
+
+    @abstractmethod
+    def _keys(self) -> np.ndarray:
+        """One hashable/sortable key per focal element; equal keys ⇔ equal focal elements."""
+
+    @abstractmethod
+    def _subset_mask(self, query: np.ndarray) -> np.ndarray:
+        """Which focal elements are contained in the query set (one row)."""
+
+    @abstractmethod
+    def _meets_mask(self, query: np.ndarray) -> np.ndarray:
+        """Which focal elements intersect the query set (one row)."""
+
+    # -- shared behaviour -------------------------------------------------------------
+    def _set(self, focal: np.ndarray, mass: np.ndarray, merge: bool) -> None:
+        """Store the focal elements with positive mass, merging equal ones (eq. 14)."""
+        keep = mass > 0
+        focal, mass = focal[keep], mass[keep]
+        if merge:
+            focal, mass = merge_equal(focal, mass)
+        self._focal, self._mass = focal, mass
+
+    @property
+    def mass(self) -> np.ndarray:
+        """Masses of the focal elements (read-only view)."""
+        view = self._mass.view()
+        view.flags.writeable = False
+        return view
+
+    def __len__(self) -> int:
+        return int(self._mass.size)
+
+    def _bel(self, query: np.ndarray) -> float:
+        return float(self._mass[self._subset_mask(query)].sum())
+
+    def _pl(self, query: np.ndarray) -> float:
+        return float(self._mass[self._meets_mask(query)].sum())
+
+
+def merge_equal(focal: np.ndarray, mass: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Merge equal focal elements (rows of ``focal``), adding their masses (eq. 14).
+
+    Returns each distinct focal element once, in order of first appearance, with the
+    summed mass. A stable lexicographic sort groups equal rows (−0.0 equals 0.0).
+    """
+    rows = focal.reshape(len(focal), -1)
+    order = np.lexsort(rows.T[::-1]) if rows.shape[1] > 1 else np.argsort(rows[:, 0],
+                                                                           kind="stable")
+    ranked = rows[order]
+    starts = np.ones(len(ranked), dtype=bool)
+    starts[1:] = np.any(ranked[1:] != ranked[:-1], axis=1)
+    group = np.cumsum(starts) - 1
+    summed = np.bincount(group, weights=mass[order])
+    first = order[starts]  # stable sort: the first original index of each group
+    by_appearance = np.argsort(first, kind="stable")
+    return focal[first[by_appearance]], summed[by_appearance]

@@ -1,0 +1,87 @@
+"""State-space models and the filters: the paper's dependent-evidence filter
+(Steps 1-6, eqs. 30-31), Nassreddine's filter, a bounded-error (set-membership) filter,
+the extended Kalman filter and a bootstrap particle filter, and example systems.
+"""
+
+from __future__ import annotations
+
+from dstoolkit.errors import (
+    InconsistentDataError,
+)
+
+from ._analysis import (
+    converged_at,
+    enclosure_summary,
+)
+from ._bounded_error import (
+    BoundedErrorFilter,
+)
+from ._dependent import (
+    DIAGNOSTICS,
+    DependentEvidenceFilter,
+    observe,
+    predict,
+)
+from ._example_systems import (
+    LOTKA_VOLTERRA_X0,
+    lotka_volterra,
+    random_walk,
+    simulate_lotka_volterra,
+)
+from ._kalman import (
+    KalmanFilter,
+    finite_difference_jacobian,
+)
+from ._model import (
+    BoundedNoise,
+    Filter,
+    FilterResult,
+    StateSpaceModel,
+    batch_readings,
+    first_reading_box,
+    single_readings,
+    step_input,
+    with_input,
+)
+from ._nassreddine import (
+    BoxMass,
+    NassreddineFilter,
+    cluster_boxes,
+    merge_equal_boxes,
+)
+from ._particle import (
+    ParticleFilter,
+    systematic_resample,
+)
+
+__all__ = [
+    "BoundedErrorFilter",
+    "BoundedNoise",
+    "BoxMass",
+    "DIAGNOSTICS",
+    "DependentEvidenceFilter",
+    "Filter",
+    "FilterResult",
+    "InconsistentDataError",
+    "KalmanFilter",
+    "LOTKA_VOLTERRA_X0",
+    "NassreddineFilter",
+    "ParticleFilter",
+    "StateSpaceModel",
+    "batch_readings",
+    "cluster_boxes",
+    "converged_at",
+    "enclosure_summary",
+    "finite_difference_jacobian",
+    "first_reading_box",
+    "lotka_volterra",
+    "merge_equal_boxes",
+    "observe",
+    "predict",
+    "random_walk",
+    "simulate_lotka_volterra",
+    "single_readings",
+    "step_input",
+    "systematic_resample",
+    "with_input",
+]

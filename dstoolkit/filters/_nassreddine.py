@@ -1,0 +1,424 @@
+"""Nassreddine, Abdallah and Denœux's belief-function interval filter (IEEE SMC-B 40(5), 2010).
+
+The method the paper improves on (its §1 and Table 3): the state is described by a mass
+function whose focal elements are boxes ("generalized boxes"), and that mass function is
+propagated from step to step:
+
+1. **Noise evidence** E_v, E_w from the triangular possibility distributions (eqs. 24–26;
+   p α-cuts of mass (1 − ε)/p and the frame Θ with mass ε, one product per component).
+2. **Prediction** by interval arithmetic over the noise focal elements: each state box X_i
+   and each noise box V_j give the box f(X_i) + V_j with mass m_i·m_j (f's box image by the
+   extension principle, Props. 1–2).
+3. **Correction** by constraint propagation: each predicted box P is contracted against
+   each observation box z_k + W_l to the part whose g-image meets it,
+   P ∩ g⁻¹(z_k + W_l) (``model.g_inverse``), with mass m_P·m_l. Empty contractions are
+   conflict K; the rest is renormalised by 1 − K (Dempster's rule, eq. 1). Equal boxes merge
+   (eq. 14).
+4. **Estimate**: the pignistic expectation of the posterior (eq. 20).
+
+Start: the first reading's evidence mapped back, g⁻¹(z_1 + W_l) ∩ X_0 with X_0 =
+``initial_box`` or, by default, the box of states consistent with z_1 under the noise
+bounds, g⁻¹(z_1 + [w_lo, w_hi]) (so the Θ element of E_w becomes that box).
+
+Focal-element cap (hierarchical clustering)
+-------------------------------------------
+The posterior of step 3 has up to N·|E_v|·|E_w| boxes, so a cap is needed before it is
+propagated. Policy (:func:`cluster_boxes`): after merging equal boxes, while more than
+``max_focal`` remain, pairs of similar boxes are replaced by their hull carrying both
+masses, the pairs chosen by Denœux's criterion (Int. J. Approx. Reasoning 2001: smallest
+increase of mass × size). Every box lies inside the box that receives its mass, so the
+capped mass function is an outer approximation: less committed, never more confident than
+the exact one. The mass carried by merged boxes is ``diagnostics["merged_mass"]``. The
+estimate and the hull of each step are taken from the posterior *before* the cap.
+
+A simpler rule was tried and rejected: keep the N − 1 heaviest boxes and give the rest
+to their hull (Lowrance's summarization). The hull is as wide as the widest light box,
+which descends from the frames Θ, and it grows a little more at every step; with 60 % of
+the mass on it the Lotka–Volterra example's RMSE rose tenfold (0.4 against 0.05).
+
+Restart variant
+---------------
+``restart=True`` throws the posterior away after the estimate and rebuilds the state
+evidence from the point estimate each step, x̂_k + E_v, as the paper's filter does in its
+Step 2 (the state noise then enters twice, as written in the paper). It differs from the
+paper's filter only in the correction (contraction against the readings instead of
+Steps 3–6). No cap is needed: the evidence no longer grows.
+
+Total conflict
+--------------
+When every contraction is empty (K = 1) no posterior exists. ``on_conflict="raise"``
+(default) raises :class:`~dstoolkit.TotalConflictError` naming the step; ``"reset"``
+rebuilds the evidence from that reading as at the start and flags the step in
+``diagnostics["resets"]``.
+
+Arrays: every run's mass function is stored as ``lo``, ``hi`` (runs, N, n) and ``mass``
+(runs, N), padded with zero-mass boxes, so a batch of runs goes through the same numpy
+operations as one run; batches are cut into chunks of :data:`CHUNK_BYTES`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+
+from dstoolkit.errors import EvidenceError, TotalConflictError
+from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
+from dstoolkit.evidence._extension import box_image
+from dstoolkit.evidence._intervals import IntervalEvidence
+
+from ._model import (
+    BoundedNoise,
+    FilterResult,
+    StateSpaceModel,
+    batch_readings,
+    first_reading_box,
+    single_readings,
+    step_input,
+    with_input,
+)
+
+ConflictPolicy = Literal["raise", "reset"]
+#: Memory budget for the contraction arrays of one chunk of runs.
+CHUNK_BYTES = 96 * 2**20
+
+
+def row_sum(values: np.ndarray) -> np.ndarray:
+    """Sum over axis 1 (the focal elements), added in order.
+
+    numpy's pairwise summation groups terms by the array's length, so zero-mass padding
+    would change the rounding; a sequential sum does not, and a run then gives the same
+    numbers alone as in a batch padded to other runs' sizes.
+    """
+    return np.cumsum(values, axis=1)[:, -1]
+
+
+@dataclass
+class BoxMass:
+    """Mass functions on boxes for a batch of runs: lo, hi (runs, N, n), mass (runs, N).
+
+    Rows with mass 0 are padding; they hold a copy of a real box so that f stays finite.
+    """
+
+    lo: np.ndarray
+    hi: np.ndarray
+    mass: np.ndarray
+
+    def evidence(self, run: int = 0) -> IntervalEvidence:
+        """The mass function of one run as :class:`IntervalEvidence` (padding dropped)."""
+        keep = self.mass[run] > 0
+        return IntervalEvidence(self.lo[run, keep], self.hi[run, keep],
+                                self.mass[run, keep] / self.mass[run, keep].sum(), merge=False)
+
+    def pignistic(self) -> np.ndarray:
+        """Pignistic expectation Σ m_j (lo_j + hi_j)/2 of each run (eq. 20), (runs, n)."""
+        return row_sum(self.mass[..., None] * (0.5 * (self.lo + self.hi)))
+
+    def hull(self) -> tuple[np.ndarray, np.ndarray]:
+        """Hull of the focal elements of each run, (runs, n) twice."""
+        alive = (self.mass > 0)[..., None]
+        return (np.where(alive, self.lo, np.inf).min(axis=1),
+                np.where(alive, self.hi, -np.inf).max(axis=1))
+
+
+def noise_boxes(noise: BoundedNoise, p: int, epsilon: float, theta: Any) -> BoxMass:
+    """The evidence of a bounded noise (eqs. 24–26) as a one-run :class:`BoxMass`."""
+    ev = noise.evidence(p=p, epsilon=epsilon, theta=theta)
+    return BoxMass(ev.boxes_lo[None], ev.boxes_hi[None], np.asarray(ev.mass)[None])
+
+
+def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> BoxMass:
+    """Merge equal boxes within each run, adding their masses (eq. 14).
+
+    Input rows with mass 0 are dropped. The result is compacted and canonical: run r's
+    distinct boxes fill its first slots in lexicographic order of (lo, hi), whatever order
+    they came in; the remaining slots are zero-mass padding.
+    """
+    runs, rows, n = lo.shape
+    coords = np.concatenate([lo, hi], axis=-1)
+    valid = mass > 0
+    keys = (*(coords[..., j] for j in range(2 * n - 1, -1, -1)), ~valid)
+    order = np.lexsort(keys, axis=-1)
+    coords = np.take_along_axis(coords, order[..., None], axis=1)
+    mass = np.take_along_axis(mass, order, axis=1)
+    valid = np.take_along_axis(valid, order, axis=1)
+    start = np.ones((runs, rows), dtype=bool)
+    start[:, 1:] = np.any(coords[:, 1:] != coords[:, :-1], axis=-1) | (valid[:, 1:]
+                                                                        != valid[:, :-1])
+    group = np.cumsum(start, axis=1) - 1
+    flat = (np.arange(runs)[:, None] * rows + group).ravel()
+    summed = np.bincount(flat, weights=np.where(valid, mass, 0.0).ravel(),
+                         minlength=runs * rows).reshape(runs, rows)
+    width = max(1, int((summed > 0).sum(axis=1).max()))
+    out = np.empty((runs, rows, 2 * n))
+    out[np.arange(runs)[:, None].repeat(rows, 1)[start], group[start]] = coords[start]
+    out, summed = out[:, :width], summed[:, :width]
+    out = np.where((summed > 0)[..., None], out, out[:, :1])
+    return BoxMass(out[..., :n], out[..., n:], summed)
+
+
+def _sizes(lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
+    return np.sum((hi - lo) / unit, axis=-1)
+
+
+def cluster_boxes(bm: BoxMass, max_focal: int) -> tuple[BoxMass, np.ndarray]:
+    """Cap each run at ``max_focal`` focal elements by merging similar boxes into their hull.
+
+    Denœux's outer approximation by hierarchical clustering (2001): two focal elements A, B
+    are replaced by their hull with mass m(A) + m(B), choosing pairs with the smallest
+    increase of the mass-weighted size, Δ = (m_A + m_B)|A ∪ B| − m_A|A| − m_B|B|, where |·|
+    is the sum of the box's widths, each divided by the run's mass-weighted mean width in
+    that dimension. Every box lies in the box that receives its mass, so the result is an
+    outer approximation. To stay vectorised, each round sorts the boxes by their centre
+    along one dimension (the dimensions take turns) and merges, in parallel, the neighbour
+    pairs whose Δ is a local minimum along that order, cheapest first, never going below
+    ``max_focal``; rounds repeat until every run fits.
+
+    Returns the capped mass functions and, per run, the mass now carried by merged boxes.
+    """
+    runs, _, n = bm.lo.shape
+    unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
+    unit = np.where(unit > 0, unit, 1.0)[:, None, :]
+    # one packed array [lo | hi | mass | merged] so that each round moves it once
+    packed = np.concatenate([bm.lo, bm.hi, bm.mass[..., None],
+                             np.zeros(bm.mass.shape + (1,))], axis=-1)
+    for rnd in range(10_000):
+        mass = packed[..., 2 * n]
+        count = (mass > 0).sum(axis=1)
+        allowed = count - max_focal
+        if not np.any(allowed > 0):
+            break
+        d = rnd % n
+        centre = np.where(mass > 0, packed[..., d] + packed[..., n + d], np.inf)
+        order = np.argsort(centre, axis=1, kind="stable")[:, : int(count.max())]
+        packed = np.take_along_axis(packed, order[..., None], axis=1)
+        lo, hi, mass = packed[..., :n], packed[..., n : 2 * n], packed[..., 2 * n]
+        h_lo, h_hi = np.minimum(lo[:, :-1], lo[:, 1:]), np.maximum(hi[:, :-1], hi[:, 1:])
+        m0, m1 = mass[:, :-1], mass[:, 1:]
+        cost = ((m0 + m1) * _sizes(h_lo, h_hi, unit) - m0 * _sizes(lo[:, :-1], hi[:, :-1], unit)
+                - m1 * _sizes(lo[:, 1:], hi[:, 1:], unit))
+        cost = np.where((m0 > 0) & (m1 > 0), cost, np.inf)
+        inf = np.full((runs, 1), np.inf)
+        local = ((cost <= np.concatenate([inf, cost[:, :-1]], axis=1))
+                 & (cost < np.concatenate([cost[:, 1:], inf], axis=1)) & np.isfinite(cost))
+        ranked = np.where(local, cost, np.inf)
+        rank = np.argsort(np.argsort(ranked, axis=1, kind="stable"), axis=1, kind="stable")
+        chosen = (local & (rank < allowed[:, None]))[..., None]
+        merged_pair = np.concatenate([h_lo, h_hi, (m0 + m1)[..., None], np.ones_like(chosen)],
+                                     axis=-1)
+        second = np.concatenate([np.zeros((runs, 1, 1), dtype=bool), chosen], axis=1)
+        packed = packed.copy()
+        packed[:, :-1] = np.where(chosen, merged_pair, packed[:, :-1])
+        packed[..., 2 * n] = np.where(second[..., 0], 0.0, packed[..., 2 * n])
+    lo, hi, mass = packed[..., :n], packed[..., n : 2 * n], packed[..., 2 * n]
+    merged = packed[..., 2 * n + 1] > 0
+    # canonical order: rounds after a run's own last one may have reordered its boxes
+    moved = row_sum(np.sort(np.where(merged, mass, 0.0), axis=1))
+    return merge_equal_boxes(lo, hi, mass), moved
+
+
+def _pad(bm: BoxMass, width: int) -> BoxMass:
+    extra = width - bm.mass.shape[1]
+    if extra <= 0:
+        return bm
+    return BoxMass(np.concatenate([bm.lo, np.repeat(bm.lo[:, :1], extra, axis=1)], axis=1),
+                   np.concatenate([bm.hi, np.repeat(bm.hi[:, :1], extra, axis=1)], axis=1),
+                   np.concatenate([bm.mass, np.zeros((bm.mass.shape[0], extra))], axis=1))
+
+
+def _replace_runs(bm: BoxMass, runs: np.ndarray, new: BoxMass) -> BoxMass:
+    width = max(bm.mass.shape[1], new.mass.shape[1])
+    bm, new = _pad(bm, width), _pad(new, width)
+    lo, hi, mass = bm.lo.copy(), bm.hi.copy(), bm.mass.copy()
+    lo[runs], hi[runs], mass[runs] = new.lo, new.hi, new.mass
+    return BoxMass(lo, hi, mass)
+
+
+@dataclass(frozen=True)
+class NassreddineFilter:
+    """Belief-function interval filter of Nassreddine et al. (2010); see the module docstring.
+
+    Parameters
+    ----------
+    p, epsilon
+        Number of α-cuts and discount rate of both noise evidences (eqs. 24–26).
+    max_focal
+        Cap on the focal elements carried to the next step (clustering policy).
+    restart
+        Rebuild the state evidence from the estimate each step (x̂_k + E_v), like the
+        paper's filter, instead of propagating the posterior.
+    on_conflict
+        ``"raise"`` or ``"reset"`` when every contraction is empty (K = 1).
+    initial_box
+        Optional box ``(lo, hi)`` holding the first state; default the states consistent
+        with the first reading under the noise bounds.
+    state_theta, obs_theta
+        Frames Θ of the noise evidences, one (lo, hi) per component; default mode ± 100σ.
+    """
+
+    p: int = 3
+    epsilon: float = 0.05
+    max_focal: int = 32
+    restart: bool = False
+    on_conflict: ConflictPolicy = "raise"
+    initial_box: tuple[Any, Any] | None = None
+    state_theta: Any = None
+    obs_theta: Any = None
+
+    name: str = field(init=False)
+    """``"nassreddine"``, or ``"nassreddine-restart"`` for the restart variant."""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "name", "nassreddine-restart" if self.restart else "nassreddine")
+        if int(self.max_focal) != self.max_focal or self.max_focal < 2:
+            raise EvidenceError(f"max_focal must be an integer >= 2, got {self.max_focal}")
+        if self.on_conflict not in ("raise", "reset"):
+            raise EvidenceError(
+                f"on_conflict must be 'raise' or 'reset', got {self.on_conflict!r}"
+            )
+
+    def run(
+        self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
+    ) -> FilterResult:
+        """Filter one sequence ``z`` (steps, m).
+
+        ``lower``/``upper`` are the hull of each step's posterior mass function. With
+        ``record=True`` each step keeps (as :class:`IntervalEvidence`) the ``state``
+        evidence it starts from, the ``prediction``, the ``observation`` evidence z_k + E_w
+        (observation space), the ``posterior`` before the cap, and the ``estimate``.
+        Diagnostics (steps,): ``conflict`` K (NaN at the first step), ``focal_elements``
+        of the posterior before the cap, ``merged_mass`` and ``resets``.
+        """
+        Z, U = single_readings(model, z, inputs)
+        est, lo, hi, diag, steps = self._filter(model, Z, U, record)
+        return FilterResult(method=self.name, estimates=est[0], lower=lo[0], upper=hi[0],
+                            steps=steps, diagnostics={k: v[0] for k, v in diag.items()})
+
+    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> np.ndarray:
+        """Estimates (runs, steps, n) of independent sequences Z (runs, steps, m)."""
+        Z, U = batch_readings(model, Z, inputs)
+        runs = Z.shape[0]
+        n_v = self.p + 1 if self.epsilon > 0 else self.p
+        n_state = (n_v ** model.state_dim if self.restart
+                   else max(self.max_focal, n_v ** model.obs_dim))
+        rows = n_state * n_v ** model.state_dim * n_v ** model.obs_dim  # contractions per run
+        chunk = max(1, CHUNK_BYTES // (rows * 8 * (6 * model.state_dim + 4)))
+        est = np.empty((runs, Z.shape[1], model.state_dim))
+        for start in range(0, runs, chunk):
+            sel = slice(start, min(runs, start + chunk))
+            est[sel] = self._filter(model, Z[sel], None if U is None else U[sel], False)[0]
+        return est
+
+    # -- the recursion, vectorised over runs --------------------------------------------------
+    def _prior(self, model: StateSpaceModel, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if self.initial_box is not None:
+            shape = z.shape[:-1] + (model.state_dim,)
+            return (np.broadcast_to(np.asarray(self.initial_box[0], float), shape),
+                    np.broadcast_to(np.asarray(self.initial_box[1], float), shape))
+        return first_reading_box(model, z)
+
+    def _from_reading(self, model: StateSpaceModel, z: np.ndarray, w: BoxMass, k: int
+                      ) -> BoxMass:
+        """g⁻¹(z + W_l) ∩ X_0 for every focal element W_l: the evidence of one reading."""
+        p_lo, p_hi = self._prior(model, z)
+        lo, hi = model.g_inverse(z[:, None] + w.lo, z[:, None] + w.hi,
+                                 p_lo[:, None], p_hi[:, None])
+        shape = (z.shape[0], w.mass.shape[1], model.state_dim)
+        lo, hi = np.broadcast_to(lo, shape), np.broadcast_to(hi, shape)
+        mass = np.where(np.any(lo > hi, axis=-1), 0.0, np.broadcast_to(w.mass, shape[:2]))
+        total = row_sum(mass)[:, None]
+        bounded = np.all(np.isfinite(lo) & np.isfinite(hi), axis=-1) | (mass == 0)
+        if np.any(total <= 0) or not np.all(bounded):
+            raise EvidenceError(
+                f"step {k}: the reading's evidence mapped back through g⁻¹ is empty or "
+                "unbounded (g not invertible there, or initial_box inconsistent with the "
+                "reading); give the filter an initial_box that bounds the state"
+            )
+        return merge_equal_boxes(lo, hi, mass / total)
+
+    def _predict(self, model: StateSpaceModel, state: BoxMass, v: BoxMass,
+                 u: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        f_lo, f_hi = box_image(with_input(model.f, u), state.lo, state.hi, model.f_monotone)
+        runs, n = f_lo.shape[0], f_lo.shape[-1]
+        p_lo = (f_lo[:, :, None] + v.lo[:, None]).reshape(runs, -1, n)
+        p_hi = (f_hi[:, :, None] + v.hi[:, None]).reshape(runs, -1, n)
+        p_mass = (state.mass[:, :, None] * v.mass[:, None]).reshape(runs, -1)
+        return p_lo, p_hi, p_mass
+
+    def _filter(
+        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, record: bool
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, np.ndarray], Any]:
+        runs, n_steps, _ = Z.shape
+        n = model.state_dim
+        v = noise_boxes(model.state_noise, self.p, self.epsilon, self.state_theta)
+        w = noise_boxes(model.obs_noise, self.p, self.epsilon, self.obs_theta)
+        est, lo, hi = (np.empty((runs, n_steps, n)) for _ in range(3))
+        diag = {"conflict": np.full((runs, n_steps), np.nan),
+                "focal_elements": np.zeros((runs, n_steps), dtype=int),
+                "merged_mass": np.zeros((runs, n_steps)),
+                "resets": np.zeros((runs, n_steps), dtype=bool)}
+        steps: list[dict[str, Any]] | None = [] if record else None
+
+        posterior = self._from_reading(model, Z[:, 0], w, 0)
+        for k in range(n_steps):
+            if k > 0:
+                if self.restart:
+                    state = BoxMass(est[:, k - 1, None] + v.lo, est[:, k - 1, None] + v.hi,
+                                    np.broadcast_to(v.mass, (runs, v.mass.shape[1])))
+                p_lo, p_hi, p_mass = self._predict(model, state, v, step_input(U, k))
+                y_lo, y_hi = Z[:, k, None] + w.lo, Z[:, k, None] + w.hi
+                c_lo, c_hi = model.g_inverse(y_lo[:, None], y_hi[:, None],
+                                             p_lo[:, :, None], p_hi[:, :, None])
+                shape = (runs, p_mass.shape[1], w.mass.shape[1], n)
+                c_lo = np.broadcast_to(c_lo, shape).reshape(runs, -1, n)
+                c_hi = np.broadcast_to(c_hi, shape).reshape(runs, -1, n)
+                c_mass = (p_mass[:, :, None] * w.mass[:, None]).reshape(runs, -1)
+                empty = np.any(c_lo > c_hi, axis=-1)
+                conflict = row_sum(np.where(empty, c_mass, 0.0))
+                dead = 1.0 - conflict <= CONFLICT_TOLERANCE
+                c_mass = np.where(empty | dead[:, None], 0.0, c_mass)
+                # Renormalise by the mass actually kept (= 1 − K in exact arithmetic): dividing
+                # by 1 − K would amplify rounding loss by 1/(1 − K) at every step of high conflict.
+                kept = row_sum(c_mass)
+                c_mass = c_mass / np.where(dead, 1.0, kept)[:, None]
+                posterior = merge_equal_boxes(c_lo, c_hi, c_mass)
+                diag["conflict"][:, k] = conflict
+                if np.any(dead):
+                    posterior = self._total_conflict(model, Z, k, dead, w, posterior, diag)
+                if steps is not None:
+                    steps.append({
+                        "state": state.evidence(),
+                        "prediction": merge_equal_boxes(p_lo[:1], p_hi[:1],
+                                                        p_mass[:1]).evidence(),
+                        "observation": IntervalEvidence(y_lo[0], y_hi[0], w.mass[0]),
+                    })
+            elif steps is not None:
+                steps.append({"observation": IntervalEvidence(Z[0, 0] + w.lo[0],
+                                                              Z[0, 0] + w.hi[0], w.mass[0])})
+            diag["focal_elements"][:, k] = (posterior.mass > 0).sum(axis=1)
+            est[:, k] = posterior.pignistic()
+            lo[:, k], hi[:, k] = posterior.hull()
+            if steps is not None:
+                steps[-1].update(posterior=posterior.evidence(), estimate=est[0, k].copy())
+            if not self.restart:
+                state, diag["merged_mass"][:, k] = cluster_boxes(posterior, self.max_focal)
+        return est, lo, hi, diag, steps
+
+    def _total_conflict(self, model: StateSpaceModel, Z: np.ndarray, k: int,
+                        dead: np.ndarray, w: BoxMass, posterior: BoxMass,
+                        diag: dict[str, np.ndarray]) -> BoxMass:
+        if self.on_conflict == "raise":
+            r = int(np.flatnonzero(dead)[0])
+            where = (f"step {k} (reading z[{k}], counting from 0)"
+                 + (f" of run {r}" if Z.shape[0] > 1 else ""))
+            raise TotalConflictError(
+                f"total conflict at {where}: no predicted box contains a state whose "
+                f"observation agrees with the reading z = {np.array2string(Z[r, k])} "
+                "within any focal element of the observation noise (K = 1). The noise bounds "
+                "are probably too tight, or epsilon = 0 leaves no room for surprises: widen "
+                "the bounds, use epsilon > 0, or on_conflict='reset'"
+            )
+        fresh = self._from_reading(model, Z[dead, k], w, k)
+        diag["resets"][dead, k] = True
+        return _replace_runs(posterior, np.flatnonzero(dead), fresh)

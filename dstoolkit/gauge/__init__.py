@@ -1,0 +1,133 @@
+"""The acoustic standing-wave level gauge: speed of sound (eq. 33), the sweep, the
+tube simulator, resonance detection, the level equations (eqs. 32, 39, 40, 43), noise
+characterisation (Figs. 8-9) and the gauge's state-space model.
+"""
+
+from __future__ import annotations
+
+from dstoolkit.errors import (
+    DetectionError,
+)
+
+from ._acoustics import (
+    DEFAULT_BAND,
+    SpeedModel,
+    fundamental_frequency,
+    plane_wave_cutoff,
+    resonance_frequencies,
+    resonance_orders,
+    round_trip_time,
+    speed_of_sound,
+    speed_of_sound_cramer,
+    speed_of_sound_ideal_gas,
+    speed_of_sound_paper,
+)
+from ._gauge_model import (
+    GAUGE_OBS_NOISE,
+    GAUGE_STATE_NOISE,
+    PAPER_THETA,
+    gauge_state_space_model,
+    simulate_gauge,
+)
+from ._level import (
+    ResonanceSeriesFit,
+    direct_levels,
+    fit_resonance_series,
+    level_from_fundamental,
+    level_from_resonance,
+    observation,
+    observation_inverse,
+    orders_eq43,
+    state_transition,
+    state_transition_derivative,
+)
+from ._noise_characterisation import (
+    NoiseCharacterisation,
+    PAPER_CALIBRATION_LEVELS,
+    characterise_observation_noise,
+    characterise_state_noise,
+)
+from ._resonance import (
+    DetectionResult,
+    detect_resonances,
+    detection_precision_hz,
+    envelope,
+    estimate_latency,
+    latency_offset,
+    model_peak_frequencies,
+    sweep_rate_offset,
+)
+from ._sweep import (
+    LinearSweep,
+    PAPER_SWEEP,
+)
+from ._tube import (
+    Recording,
+    RecordingConditions,
+    TubeSetup,
+    model_envelope,
+    speaker_frequency_error,
+    spl_to_pa,
+    synthesize_recording,
+    typical_conditions,
+    wall_attenuation,
+)
+from ._virtual_tube import (
+    DEFAULT_AMPLITUDE,
+    virtual_tube_signal,
+)
+
+__all__ = [
+    "DEFAULT_AMPLITUDE",
+    "DEFAULT_BAND",
+    "DetectionError",
+    "DetectionResult",
+    "GAUGE_OBS_NOISE",
+    "GAUGE_STATE_NOISE",
+    "LinearSweep",
+    "NoiseCharacterisation",
+    "PAPER_CALIBRATION_LEVELS",
+    "PAPER_SWEEP",
+    "PAPER_THETA",
+    "Recording",
+    "RecordingConditions",
+    "ResonanceSeriesFit",
+    "SpeedModel",
+    "TubeSetup",
+    "characterise_observation_noise",
+    "characterise_state_noise",
+    "detect_resonances",
+    "detection_precision_hz",
+    "direct_levels",
+    "envelope",
+    "estimate_latency",
+    "fit_resonance_series",
+    "fundamental_frequency",
+    "gauge_state_space_model",
+    "latency_offset",
+    "level_from_fundamental",
+    "level_from_resonance",
+    "model_envelope",
+    "model_peak_frequencies",
+    "observation",
+    "observation_inverse",
+    "orders_eq43",
+    "plane_wave_cutoff",
+    "resonance_frequencies",
+    "resonance_orders",
+    "round_trip_time",
+    "simulate_gauge",
+    "speaker_frequency_error",
+    "speed_of_sound",
+    "speed_of_sound_cramer",
+    "speed_of_sound_ideal_gas",
+    "speed_of_sound_paper",
+    "spl_to_pa",
+    "state_transition",
+    "state_transition_derivative",
+    "sweep_rate_offset",
+    "synthesize_recording",
+    "typical_conditions",
+    "virtual_tube_signal",
+    "wall_attenuation",
+]

@@ -1,0 +1,102 @@
+"""Pictures of the gauge: the recorded waveform (paper Fig. 6) and the resonances (Fig. 7).
+
+Like :mod:`dstoolkit.evidence_plots`, each function draws on a given ``Axes`` (or a new
+figure), returns the :class:`~matplotlib.figure.Figure` and never calls ``plt.show()``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+
+from dstoolkit.gauge._resonance import DetectionResult
+from dstoolkit.gauge._tube import Recording
+
+from ._evidence import BEL_COLOUR, BETP_COLOUR, _axes
+
+TRUTH_COLOUR = "#2ca02c"
+GREY = "#7f7f7f"
+
+
+def plot_recording(
+    recording: Recording,
+    detection: DetectionResult | None = None,
+    ax: Axes | None = None,
+    *,
+    frequency_axis: bool = True,
+    title: str | None = None,
+) -> Figure:
+    """The microphone signal over time with its envelope and detected peaks (Fig. 6).
+
+    With ``frequency_axis`` a top axis reads time as the sweep's instantaneous frequency
+    f₀ + k (t − τ) (τ from ``detection`` when given, else the simulated latency, else 0).
+    """
+    fig, ax = _axes(ax, (8.0, 3.2))
+    t = recording.times
+    ax.plot(t, recording.samples, lw=0.3, color=GREY, label="microphone")
+    tau = 0.0
+    if detection is not None:
+        tau = detection.latency_s
+        ax.plot(detection.envelope_times, detection.envelope, color=BEL_COLOUR, lw=1.0,
+                label="envelope")
+        ax.plot(detection.envelope_times, -detection.envelope, color=BEL_COLOUR, lw=1.0)
+        ax.plot(detection.peak_times, detection.amplitudes, "v", ms=4,
+                color=BETP_COLOUR, label="resonances")
+    elif recording.conditions is not None:
+        tau = recording.conditions.latency_s
+    ax.set_xlabel("time t (s)")
+    ax.set_ylabel("amplitude (full scale)")
+    ax.set_xlim(t[0], t[-1])
+    if frequency_axis:
+        sweep = recording.sweep
+        top = ax.secondary_xaxis(
+            "top", functions=(lambda x: sweep.frequency_at(np.asarray(x) - tau),
+                              lambda f: sweep.time_at(f) + tau))
+        top.set_xlabel("instantaneous frequency of the sweep (Hz)")
+    if title is None and recording.setup is not None:
+        title = (f"L = {recording.setup.level_m:g} m, T = {recording.setup.temperature_c:g} °C")
+    if title:
+        ax.set_title(title)
+    ax.legend(loc="lower right", fontsize="small")
+    return fig
+
+
+def plot_resonances(
+    detection: DetectionResult,
+    ax: Axes | None = None,
+    *,
+    true_frequencies: Any = None,
+    title: str | None = None,
+) -> Figure:
+    """Resonance frequencies z_k with their envelope amplitudes as stems (Fig. 7).
+
+    ``true_frequencies`` (e.g. n c/(2L) in the band) are drawn as thin vertical lines;
+    missed resonances as crosses on the axis, spurious peaks as grey stems.
+    """
+    fig, ax = _axes(ax, (8.0, 3.2))
+    if true_frequencies is not None:
+        for f in np.asarray(true_frequencies, dtype=float):
+            ax.axvline(f, color=TRUTH_COLOUR, lw=0.5, alpha=0.6)
+        ax.plot([], [], color=TRUTH_COLOUR, lw=0.5, label="n c/(2L)")
+    markers, stems, base = ax.stem(detection.frequencies, detection.amplitudes,
+                                   linefmt="-", markerfmt="o", basefmt=" ",
+                                   label=f"detected z_k ({detection.frequencies.size})")
+    stems.set_color(BEL_COLOUR)
+    markers.set_color(BEL_COLOUR)
+    markers.set_markersize(3)
+    if detection.missed.size:
+        ax.plot(detection.missed, np.zeros(detection.missed.size), "x", color=BETP_COLOUR,
+                label=f"missed ({detection.missed.size})")
+    if detection.spurious.size:
+        ax.vlines(detection.spurious, 0, 0.5 * np.max(detection.amplitudes), color=GREY,
+                  label=f"spurious ({detection.spurious.size})")
+    ax.set_xlabel("resonance frequency (Hz)")
+    ax.set_ylabel("envelope amplitude (full scale)")
+    ax.set_ylim(bottom=0)
+    ax.set_title(title or f"f_F = {detection.fundamental_hz:.2f} Hz")
+    ax.legend(loc="lower right", fontsize="small")
+    return fig
+

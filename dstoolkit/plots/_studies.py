@@ -1,0 +1,163 @@
+"""Figures of the studies beyond the paper (:mod:`dstoolkit.estimation_studies`).
+
+Methods are drawn in the colours of :data:`dstoolkit.experiment_plots.STYLE`, so a method
+looks the same in Table 3, Figs. 10–11 and every study.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from matplotlib.ticker import FixedLocator, NullLocator, StrMethodFormatter
+
+from dstoolkit.evidence._possibility import possibility
+from dstoolkit.filters._model import BoundedNoise
+from dstoolkit.studies._estimation import ExampleComparison, MismatchResult, OrderRuleStudy
+
+from ._experiments import STYLE
+
+#: Colours for curves that are not one of STYLE's methods (variants of a method), in order.
+EXTRA_COLOURS = ("C9", "C6", "C7", "C8")
+#: How the order rules are drawn in :func:`plot_order_rule_study`.
+RULE_STYLE = {"eq43": ("o-", "eq. 43"), "fit": ("s--", "series fit"), "true": ("^:", "true")}
+
+
+def _style(name: str) -> dict[str, str | None]:
+    """A method's colour and label; any other name takes the next colour of the cycle."""
+    return STYLE.get(name, {"color": None, "label": name})
+
+
+def _figure(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
+    if ax is not None:
+        return ax.figure, ax
+    fig = Figure(figsize=figsize, layout="constrained")
+    return fig, fig.add_subplot()
+
+
+def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *,
+                     unit: str = "Hz", title: str | None = None) -> Figure:
+    """Mean |x̂_k − x_k| over runs against the step k, one line per method (log scale).
+
+    ``errors`` maps a method to absolute errors of shape (runs, K) or (K,); a name that is
+    not a method of STYLE (a variant, say) gets a colour of :data:`EXTRA_COLOURS`.
+    """
+    fig, ax = _figure(ax, (7.5, 3.4))
+    extra = iter(EXTRA_COLOURS)
+    for name, err in errors.items():
+        err = np.atleast_2d(np.asarray(err, dtype=float))
+        st = STYLE.get(name) or {"color": next(extra, None), "label": name}
+        ax.semilogy(np.arange(1, err.shape[1] + 1), err.mean(axis=0), "-", color=st["color"],
+                    lw=1.3, label=st["label"])
+    ax.set_xlabel("step k")
+    ax.set_ylabel(f"mean |x̂ − x| ({unit})")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    if title:
+        ax.set_title(title)
+    return fig
+
+
+def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | None = None,
+                          *, title: str | None = None) -> Figure:
+    """The possibility distribution of the true noise (filled) and of the noise a filter
+    assumes (line), scalar noises (paper eqs. 22–23)."""
+    fig, ax = _figure(ax, (4.0, 2.6))
+    lo = min(true.lower[0], assumed.lower[0])
+    hi = max(true.upper[0], assumed.upper[0])
+    pad = 0.15 * (hi - lo if hi > lo else 1.0)
+    x = np.linspace(lo - pad, hi + pad, 801)
+    for noise, kw in ((true, {"color": "0.6", "label": "true"}),
+                      (assumed, {"color": "C3", "label": "assumed"})):
+        y = possibility(x, noise.lower[0], noise.mode[0], noise.upper[0])
+        if kw["label"] == "true":
+            ax.fill_between(x, y, color=kw["color"], alpha=0.5, label=kw["label"])
+        else:
+            ax.plot(x, y, color=kw["color"], lw=1.5, label=kw["label"])
+    ax.set_ylim(0, 1.15)
+    ax.set_yticks([0, 1])
+    ax.legend(fontsize=7, loc="upper right")
+    if title:
+        ax.set_title(title, fontsize=9)
+    return fig
+
+
+def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = None) -> Figure:
+    """Mean |x̂ − x| of each method against the factor by which the assumed bounds are
+    scaled about the modes; the bounded-error filter's marker is red where it failed in
+    some runs (the number printed is the fraction of failed runs)."""
+    fig, ax = _figure(ax, (7.5, 3.6))
+    scales = np.array(sorted(study))
+    methods = list(next(iter(study.values())).errors)
+    for name in methods:
+        st = _style(name)
+        ax.loglog(scales, [study[s].mean_errors()[name] for s in scales], "o-",
+                  color=st["color"], label=st["label"])
+    if "bounded_error" in methods:
+        for s in scales:
+            frac = study[s].inconsistent_runs
+            if frac > 0:
+                y = study[s].mean_errors()["bounded_error"]
+                ax.plot(s, y, "x", color="red", ms=10, mew=2)
+                ax.annotate(f"{frac:.0%}", (s, y), textcoords="offset points", xytext=(4, 6),
+                            fontsize=7, color="red")
+    ax.axvline(1.0, color="black", lw=0.8, ls="--")
+    ax.xaxis.set_major_locator(FixedLocator(scales))
+    ax.xaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
+    ax.xaxis.set_minor_locator(NullLocator())
+    ax.yaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
+    ax.yaxis.set_minor_formatter(StrMethodFormatter("{x:g}"))
+    ax.set_xlabel("assumed bounds ÷ true bounds (both noises, about their modes)")
+    ax.set_ylabel("mean |x̂ − x| (Hz)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    return fig
+
+
+def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
+    """Mean absolute level error against the level, one panel per simulation (stacked):
+    line style = order rule, colour = method; grey diamonds: the series fit's own level."""
+    fig = Figure(figsize=(8, 1.2 + 3.2 * len(studies)), layout="constrained")
+    axes = fig.subplots(len(studies), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, study in zip(axes, studies, strict=True):
+        for rule, by_method in study.errors.items():
+            marker, rule_label = RULE_STYLE.get(rule, ("o-", rule))
+            for name, err in by_method.items():
+                st = _style(name)
+                ax.semilogy(study.levels, err, marker, color=st["color"], ms=4,
+                            label=f"{st['label']}, n_k {rule_label}")
+        ax.semilogy(study.levels, study.slope, "D-", color="0.3", ms=4, lw=2,
+                    label="series fit's level c/(2 f_F)")
+        ax.set_title(f"{study.simulation}-level simulation")
+        ax.set_ylabel("mean |L̂ − L| (m)")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[-1].set_xlabel("true level L (m)")
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=3, fontsize=8)
+    return fig
+
+
+def plot_example(comparison: ExampleComparison, run: int = 0) -> Figure:
+    """The predator–prey example: (a) the populations (P, Q) of one run, truth, census
+    readings and every method's estimate; (b) |x̂_k − x_k| per step (log-populations)."""
+    fig = Figure(figsize=(11, 4.2), layout="constrained")
+    ax_a, ax_b = fig.subplots(1, 2, width_ratios=[1, 1.4])
+    truth = np.exp(comparison.truth[run])
+    ax_a.plot(*comparison.readings[run].T, ".", color="0.6", ms=4, label="census z_k")
+    ax_a.plot(*truth.T, "k-", lw=1.8, label="true")
+    for name, est in comparison.estimates.items():
+        st = _style(name)
+        ax_a.plot(*np.exp(est[run]).T, "-", color=st["color"], lw=1, label=st["label"])
+    ax_a.set_xlabel("prey P")
+    ax_a.set_ylabel("predators Q")
+    ax_a.set_title("(a) one run in the (P, Q) plane")
+    ax_a.legend(fontsize=7)
+    plot_step_errors(comparison.step_errors(run), ax_b, unit="log-population",
+                     title="(b) |x̂_k − x_k| per step")
+    return fig
+
+
+__all__ = ["plot_example", "plot_noise_assumption", "plot_order_rule_study",
+           "plot_scale_study", "plot_step_errors"]

@@ -1,0 +1,962 @@
+"""Interactive explorers (ipywidgets) built from dstoolkit, for the book and the notebooks.
+
+Every explorer is a function that returns an :class:`Explorer`, a ``VBox`` holding its
+controls, a readout of the numbers that matter and an ``Output`` with the figure. The
+figure is drawn once when the widget is built, so a book executed at build time embeds it
+in the page; with a live kernel it is redrawn whenever a control changes.
+
+Adding an explorer is a matter of a ``render(**values)`` function that returns a figure and
+a dict of numbers, and a dict of controls::
+
+    def my_explorer() -> Explorer:
+        def render(level: float) -> tuple[Figure, dict[str, Any]]:
+            fig = plot_something(level)
+            return fig, {"estimate": 1.23}
+
+        return Explorer({"level": slider("level L (m)", 5.0, 1.0, 10.0, 0.1)}, render)
+
+Sliders made by :func:`slider` use ``continuous_update=False``: the figure is redrawn
+when the mouse is released, so the page never stalls. A ``render`` that raises an
+:class:`~dstoolkit.EvidenceError` (or any ``ValueError``) shows the message in the
+readout instead of a figure: the learner sees *why* a setting is invalid.
+"""
+
+from __future__ import annotations
+
+import html
+import io
+from collections.abc import Callable, Mapping
+from dataclasses import replace
+from typing import Any
+
+import ipywidgets as widgets
+import matplotlib.pyplot as plt
+import numpy as np
+from IPython.display import Image, display
+from matplotlib.figure import Figure
+
+from dstoolkit.errors import AudioUnavailableError, EvidenceError, NotMonotoneError
+from dstoolkit.evidence import ZADEH_FRAME, appendix_evidence, yager, zadeh_sources
+from dstoolkit.evidence._combination import (
+    combine_dependent,
+    conflict,
+    dempster,
+    dependence,
+)
+from dstoolkit.evidence._finite_frame import MassFunction
+from dstoolkit.evidence._possibility import default_theta, triangular_evidence
+from dstoolkit.filters import enclosure_summary, random_walk
+from dstoolkit.filters._model import BoundedNoise
+from dstoolkit.gauge._level import (
+    direct_levels,
+    fit_resonance_series,
+    orders_eq43,
+)
+from dstoolkit.gauge._resonance import DetectionResult, detect_resonances
+from dstoolkit.gauge._sweep import PAPER_SWEEP
+from dstoolkit.gauge._tube import RecordingConditions, TubeSetup, spl_to_pa, synthesize_recording
+from dstoolkit.plots._evidence import (
+    plot_bel_pl,
+    plot_enclosure,
+    plot_filter_errors,
+    plot_filter_step,
+    plot_focal_intervals,
+    plot_masses,
+    plot_pbox,
+    plot_possibility,
+)
+from dstoolkit.studies import ORDER_SOURCES, filter_case, filter_summary, gauge_case, step_numbers
+
+from ._lab import (
+    VIRTUAL,
+    LabSettings,
+    device_options,
+    lab_measurement,
+    lab_numbers,
+    plot_method_levels,
+)
+
+Render = Callable[..., tuple[Figure | None, Mapping[str, Any]]]
+
+
+def slider(
+    description: str,
+    value: float,
+    lo: float,
+    hi: float,
+    step: float,
+    *,
+    readout_format: str = ".3f",
+) -> widgets.FloatSlider:
+    """A float slider that redraws on release (``continuous_update=False``)."""
+    return widgets.FloatSlider(
+        value=value, min=lo, max=hi, step=step, description=description,
+        continuous_update=False, readout_format=readout_format,
+        style={"description_width": "initial"}, layout=widgets.Layout(width="320px"),
+    )
+
+
+def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSlider:
+    """An integer slider that redraws on release."""
+    return widgets.IntSlider(
+        value=value, min=lo, max=hi, step=1, description=description,
+        continuous_update=False, style={"description_width": "initial"},
+        layout=widgets.Layout(width="320px"),
+    )
+
+
+def _format(value: Any) -> str:
+    if isinstance(value, float | np.floating):
+        return f"{float(value):.4f}"
+    return html.escape(str(value))
+
+
+def readout_html(numbers: Mapping[str, Any]) -> str:
+    """The numbers as a one-row HTML table (floats to 4 decimals)."""
+    head = "".join(f"<th style='padding:0 8px'>{html.escape(k)}</th>" for k in numbers)
+    body = "".join(f"<td style='padding:0 8px'>{_format(v)}</td>" for v in numbers.values())
+    return f"<table><tr>{head}</tr><tr>{body}</tr></table>"
+
+
+class Explorer(widgets.VBox):
+    """Controls, a readout of numbers and a figure that follows the controls.
+
+    Parameters
+    ----------
+    controls
+        Named controls; their values are passed to ``render`` as keyword arguments.
+    render
+        ``render(**values) -> (figure or None, numbers)``. The figure is displayed in the
+        output area and closed; the numbers fill the readout.
+    title
+        Optional bold line above the controls.
+
+    Attributes
+    ----------
+    controls, readout, output
+        The control widgets (by name), the readout ``HTML`` and the figure's ``Output``.
+    figure
+        The last figure drawn (closed; ``figure.savefig`` still works).
+    numbers
+        The last numbers shown; ``{"error": message}`` after an invalid setting.
+    """
+
+    def __init__(
+        self, controls: Mapping[str, widgets.ValueWidget], render: Render, *, title: str = ""
+    ) -> None:
+        super().__init__()
+        self.controls = dict(controls)
+        self._render = render
+        self.figure: Figure | None = None
+        self.numbers: dict[str, Any] = {}
+        self.readout = widgets.HTML()
+        self.output = widgets.interactive_output(self._update, self.controls)
+        box = widgets.HBox(list(self.controls.values()),
+                           layout=widgets.Layout(flex_flow="row wrap"))
+        head = [widgets.HTML(f"<b>{html.escape(title)}</b>")] if title else []
+        self.children = (*head, box, self.readout, self.output)
+
+    def _update(self, **values: Any) -> None:
+        try:
+            fig, numbers = self._render(**values)
+        except ValueError as exc:  # EvidenceError and friends: say what is wrong
+            self.numbers = {"error": str(exc)}
+            self.readout.value = (
+                f"<p style='color:#b00020'>⚠ {html.escape(str(exc))}</p>"
+            )
+            return
+        self.numbers = dict(numbers)
+        self.readout.value = readout_html(self.numbers)
+        if fig is not None:
+            self.figure = fig
+            display(fig)
+            plt.close(fig)
+
+
+# -- mass functions on a finite frame ----------------------------------------------------
+
+LEVEL_FRAME = ("low", "mid", "high")
+
+
+def mass_function_explorer() -> Explorer:
+    """Masses on {low}, {mid}, {high} and {low, mid}; the rest goes to Θ (ignorance).
+
+    Shows Bel and Pl of every subset of Θ = {low, mid, high} and BetP of the singletons
+    (paper Def. 2; Bel/Pl/BetP as in the chapter on mass functions). Moving mass from Θ
+    to a singleton closes the gap between Bel and Pl.
+    """
+    controls = {
+        "low": slider("m({low})", 0.4, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "mid": slider("m({mid})", 0.0, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "high": slider("m({high})", 0.1, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "low_mid": slider("m({low, mid})", 0.3, 0.0, 1.0, 0.05, readout_format=".2f"),
+    }
+
+    def render(low: float, mid: float, high: float, low_mid: float):
+        given = {"low": low, "mid": mid, "high": high, ("low", "mid"): low_mid}
+        rest = 1.0 - sum(given.values())
+        if rest < -1e-9:
+            raise EvidenceError(
+                f"the masses add up to {1 - rest:.2f} > 1; lower a slider (what is left "
+                "goes to Θ)"
+            )
+        mf = MassFunction({**given, LEVEL_FRAME: max(rest, 0.0)}, LEVEL_FRAME)
+        fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9.5, 3.0), layout="constrained",
+                                       width_ratios=[1, 2.2])
+        plot_masses(mf, ax1, title="masses")
+        plot_bel_pl(mf, ax=ax2, title="belief, plausibility, pignistic")
+        betp = mf.pignistic()
+        return fig, {"m(Θ)": max(rest, 0.0), **{f"BetP({h})": betp[h] for h in LEVEL_FRAME},
+                     "Pl({low}) − Bel({low})": mf.plausibility("low") - mf.belief("low")}
+
+    return Explorer(controls, render, title="A mass function on Θ = {low, mid, high}")
+
+
+# -- conflict: Zadeh's example -------------------------------------------------------------
+
+
+
+
+
+
+
+def conflict_explorer() -> Explorer:
+    """Zadeh's example (paper eq. 1 and its famous failure): two nearly certain doctors
+    who disagree, combined by Dempster's rule or Yager's, after an optional discount ε."""
+    controls = {
+        "x": slider("doctor 1: m(meningitis)", 0.99, 0.0, 1.0, 0.01, readout_format=".2f"),
+        "y": slider("doctor 2: m(concussion)", 0.99, 0.0, 1.0, 0.01, readout_format=".2f"),
+        "epsilon": slider("discount ε", 0.0, 0.0, 0.5, 0.01, readout_format=".2f"),
+        "rule": widgets.Dropdown(options=["Dempster", "Yager"], value="Dempster",
+                                 description="rule"),
+    }
+
+    def render(x: float, y: float, epsilon: float, rule: str):
+        m1, m2 = zadeh_sources(x, y, epsilon)
+        k = conflict(m1, m2)
+        combined = dempster(m1, m2) if rule == "Dempster" else yager(m1, m2)
+        fig, axes = plt.subplots(1, 3, figsize=(10, 2.8), layout="constrained", sharey=True)
+        for ax, mf, name in zip(axes, (m1, m2, combined),
+                                ("doctor 1", "doctor 2", f"{rule}'s rule"), strict=True):
+            plot_masses(mf, ax, title=name)
+        return fig, {"conflict K": k, **{f"m({h})": combined.mass_of(h) for h in ZADEH_FRAME},
+                     "m(Θ)": combined.mass_of(ZADEH_FRAME)}
+
+    return Explorer(controls, render, title="Zadeh's two doctors")
+
+
+# -- dependent evidence: the paper's Appendix A -----------------------------------------------
+
+
+
+
+
+def dependent_combination_explorer() -> Explorer:
+    """Vary the masses of E1 and E2 of Appendix A: energies, degree of dependence D,
+    dependency coefficients R12, R21 (eqs. A1–A6) and the combined evidence (A7–A8 then
+    Dempster), beside plain Dempster that treats them as independent."""
+    controls = {
+        "a2": slider("m1([0.30, 1.90])", 0.6, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "a3": slider("m1([0.32, 1.93])", 0.1, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "b2": slider("m2([0.41, 1.61])", 0.3, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "b3": slider("m2([0.30, 1.90])", 0.6, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "mass_rule": widgets.Dropdown(options=["min", "m1", "m2"], value="min",
+                                      description="m(D) rule"),
+    }
+
+    def render(a2: float, a3: float, b2: float, b3: float, mass_rule: str):
+        e1, e2 = appendix_evidence((a2, a3), (b2, b3))
+        dep = dependence(e1, e2, mass_rule=mass_rule)
+        both = combine_dependent(e1, e2, mass_rule=mass_rule)
+        naive = dempster(e1, e2)
+        fig, axes = plt.subplots(2, 2, figsize=(10, 4.6), layout="constrained", sharex=True)
+        xlim = (-0.4, 3.6)
+        for ax, ev, name in zip(axes.flat, (e1, e2, both, naive),
+                                ("E1", "E2", "dependent combination (A7–A8, then eq. 1)",
+                                 "Dempster as if independent"), strict=True):
+            plot_focal_intervals(ev, ax, xlim=xlim, title=name)
+            ax.axvline(ev.pignistic_expectation(), color="#d62728", lw=1.2)
+        return fig, {"En'(E1)": dep.energy1, "En'(E2)": dep.energy2,
+                     "En'(E1,E2)": dep.joint_energy, "D": dep.degree, "R12": dep.r12,
+                     "R21": dep.r21, "E[dependent]": both.pignistic_expectation(),
+                     "E[Dempster]": naive.pignistic_expectation()}
+
+    return Explorer(controls, render, title="Dependent evidence: the paper's Appendix A")
+
+
+# -- from a bounded noise to evidence ----------------------------------------------------------
+
+
+def noise_evidence_explorer(
+    lower: float = -0.3, mode: float = 0.0, upper: float = 0.3, p: int = 3,
+    epsilon: float = 0.05,
+) -> Explorer:
+    """Bounded noise → evidence (paper eqs. 22–26): support [lower, upper], mode, number of
+    α-cuts p and discount ε give the focal elements and the p-box. The defaults are the
+    paper's state noise (Table 1); the slider ranges follow the support given."""
+    span = upper - lower if upper > lower else 1.0
+    step = float(10.0 ** np.floor(np.log10(span / 200.0)))
+    controls = {
+        "lower": slider("lower a", lower, lower - span, upper, step),
+        "mode": slider("mode c", mode, lower - span, upper + span, step),
+        "upper": slider("upper b", upper, lower, upper + span, step),
+        "p": int_slider("cuts p", p, 1, 12),
+        "epsilon": slider("discount ε", epsilon, 0.0, 0.5, 0.01, readout_format=".2f"),
+    }
+    view = (lower - 0.6 * span, upper + 0.6 * span)
+
+    def render(lower: float, mode: float, upper: float, p: int, epsilon: float):
+        ev = triangular_evidence(lower, mode, upper, p=p, epsilon=epsilon)
+        fig, axes = plt.subplots(1, 3, figsize=(12, 3.0), layout="constrained")
+        plot_possibility(lower, mode, upper, p, axes[0], evidence=ev, xlim=view,
+                         title="π and its α-cuts")
+        plot_focal_intervals(ev, axes[1], xlim=view, title="focal elements",
+                             label_masses=p <= 6)
+        plot_pbox(ev, axes[2], xlim=view, title="p-box")
+        t_lo, t_hi = default_theta(lower, mode, upper)
+        return fig, {"mass per cut": (1.0 - epsilon) / p, "m(Θ)": epsilon,
+                     "Θ": f"[{t_lo:.4g}, {t_hi:.4g}]",
+                     "pignistic expectation": ev.pignistic_expectation()}
+
+    return Explorer(controls, render, title="From a bounded noise to evidence")
+
+
+# -- why bounded noise: a bounded-error filter with wrong bounds --------------------------------
+
+
+
+
+
+
+def bounded_error_explorer(v_half: float = 0.1, w_half: float = 1.0, steps: int = 60,
+                           seed: int = 7) -> Explorer:
+    """One simulated random walk (seeded) filtered by the bounded-error filter whose
+    noise bounds are the true ones times a factor: too tight → empty boxes or boxes that
+    miss the truth; too wide → wide boxes."""
+    from dstoolkit.filters._bounded_error import BoundedErrorFilter
+
+    x, z = random_walk(v_half, w_half).simulate([0.0], steps, np.random.default_rng(seed))
+    filt = BoundedErrorFilter(on_inconsistent="reset")
+
+    def render(scale: float):
+        res = filt.run(random_walk(v_half * scale, w_half * scale), z)
+        fig = plot_enclosure(res, x, z, title=f"bounds × {scale:g}")
+        fig.axes[0].legend(fontsize=8, loc="upper left")
+        return fig, enclosure_summary(res, x)
+
+    return Explorer({"scale": slider("assumed bounds × true", 1.0, 0.3, 3.0, 0.05)}, render,
+                    title="Bounded-error filter with wrong bounds")
+
+
+# -- random sets and the extension principle (book/random_sets.md) -------------------------------
+
+#: Functions of one variable for :func:`extension_explorer`, vectorised on points (..., 1).
+EXTENSION_FUNCTIONS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
+    "x²": lambda x: x[..., 0] ** 2,
+    "sin x": lambda x: np.sin(x[..., 0]),
+    "x³ − 3x": lambda x: x[..., 0] ** 3 - 3.0 * x[..., 0],
+    "exp(−x)": lambda x: np.exp(-x[..., 0]),
+    "2x + 1": lambda x: 2.0 * x[..., 0] + 1.0,
+}
+IMAGE_METHOD_NAMES: tuple[str, ...] = ("vertex", "monotone", "subdivision")
+
+
+def compare_image_methods(
+    f: Callable[[np.ndarray], np.ndarray], lo: Any, hi: Any, signs: Any = 1
+) -> dict[str, dict[str, Any]]:
+    """The image of one box [lo, hi] through f by the vertex method (Prop. 1), the monotone
+    shortcut with the declared ``signs`` (Prop. 2) and subdivision (the fallback).
+
+    Returns, per method, ``image`` ((lo, hi) or None when the method refused), ``message``
+    (the VertexMethodWarning or NotMonotoneError text, else "") and ``evaluations`` (how
+    many points f was evaluated at, the checks included).
+    """
+    import warnings
+
+    from dstoolkit.evidence._extension import image
+
+    lo_a, hi_a = np.atleast_1d(np.asarray(lo, float)), np.atleast_1d(np.asarray(hi, float))
+    signs_a = np.broadcast_to(np.asarray(signs, dtype=int), lo_a.shape)
+    out: dict[str, dict[str, Any]] = {}
+    for method in IMAGE_METHOD_NAMES:
+        count = [0]
+
+        def counted(x: np.ndarray, count: list[int] = count) -> np.ndarray:
+            count[0] += int(np.prod(np.shape(x)[:-1]))
+            return f(x)
+
+        entry: dict[str, Any] = {"image": None, "message": ""}
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                i_lo, i_hi = image((lo_a, hi_a), counted, method=method, monotone=signs_a)
+                entry["image"] = (float(np.ravel(i_lo)[0]), float(np.ravel(i_hi)[0]))
+            except NotMonotoneError as exc:
+                entry["message"] = f"NotMonotoneError: {exc}"
+        if caught and not entry["message"]:
+            entry["message"] = f"{caught[0].category.__name__}: {caught[0].message}"
+        entry["evaluations"] = count[0]
+        out[method] = entry
+    return out
+
+
+def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0,
+                       sign: int = 1) -> Explorer:
+    """The image of an interval [lo, hi] through a function of one variable by the vertex
+    method (Prop. 1, eq. 17), the monotone shortcut with a declared sign (Prop. 2,
+    eqs. 18–19) and subdivision: which ones are right, which warn, which refuse."""
+    controls = {
+        "function": widgets.Dropdown(options=list(EXTENSION_FUNCTIONS), value=function,
+                                     description="f(x)"),
+        "lo": slider("box lower end", lo, -4.0, 4.0, 0.1, readout_format=".1f"),
+        "hi": slider("box upper end", hi, -4.0, 4.0, 0.1, readout_format=".1f"),
+        "sign": widgets.Dropdown(options=[("increasing (+1)", 1), ("decreasing (−1)", -1)],
+                                 value=sign, description="declared",
+                                 style={"description_width": "initial"}),
+    }
+    colours = {"vertex": "#ff7f0e", "monotone": "#9467bd", "subdivision": "#2ca02c"}
+
+    def render(function: str, lo: float, hi: float, sign: int):
+        if lo > hi:
+            raise EvidenceError(f"the box [{lo:g}, {hi:g}] has lo > hi: move the ends")
+        f = EXTENSION_FUNCTIONS[function]
+        result = compare_image_methods(f, lo, hi, sign)
+        x = np.linspace(-4.0, 4.0, 801)
+        fig, (ax, bars) = plt.subplots(1, 2, figsize=(9.5, 3.4), layout="constrained",
+                                       sharey=True, width_ratios=[3, 1.3])
+        ax.plot(x, f(x[:, None]), color="black", lw=1.2)
+        inside = np.linspace(lo, hi, 201)
+        ax.plot(inside, f(inside[:, None]), color="#1f77b4", lw=3, label="f on the box")
+        ax.axvspan(lo, hi, color="#1f77b4", alpha=0.12)
+        ax.set_xlabel("x")
+        ax.set_title(f"f(x) = {function} on [{lo:g}, {hi:g}]")
+        numbers: dict[str, Any] = {}
+        for i, method in enumerate(IMAGE_METHOD_NAMES):
+            entry = result[method]
+            if entry["image"] is None:
+                bars.text(i, 0.5, "refused:\nNot-\nMonotone-\nError", ha="center",
+                          va="center", fontsize=8, color="#b00020",
+                          transform=bars.get_xaxis_transform())
+                numbers[method] = "NotMonotoneError"
+                continue
+            a, b = np.round(entry["image"], 10) + 0.0  # 1e-19 from the zoom shows as 0
+            bars.plot([i, i], [a, b], lw=8, solid_capstyle="butt", color=colours[method])
+            ax.axhspan(a, b, color=colours[method], alpha=0.08)
+            warn = "warning" in entry["message"].lower()
+            if warn:
+                bars.text(i, b, "⚠", ha="center", va="bottom", color="#b00020", fontsize=12)
+            numbers[method] = f"[{a:.4g}, {b:.4g}]" + (" ⚠ too narrow?" if warn else "")
+        bars.set_xticks(range(3), IMAGE_METHOD_NAMES, fontsize=8)
+        bars.set_xlim(-0.6, 2.6)
+        bars.set_title("image f([lo, hi])")
+        numbers.update({f"{m} evaluations": result[m]["evaluations"]
+                        for m in IMAGE_METHOD_NAMES})
+        return fig, numbers
+
+    return Explorer(controls, render, title="The image of an interval: three methods")
+
+
+# -- the recursive filter on the gauge (book/recursive_filter.md) ---------------------------------
+
+
+
+
+
+
+
+
+
+
+
+
+
+def render_filter(
+    v_lower: float, v_mode: float, v_upper: float, w_lower: float, w_mode: float,
+    w_upper: float, p: int, epsilon: float, level: float, temperature: float, start: str,
+    orders: str, mass_rule: str, seed: int = 0,
+) -> tuple[Figure, dict[str, Any]]:
+    """What :func:`filter_widget` recomputes on every change: the run's figure (estimates,
+    hull and readings against the truth, absolute errors; the paper's Fig. 10) and the
+    numbers of :func:`filter_summary`."""
+    seq, n, result = filter_case(
+        level, temperature, state_noise=(v_lower, v_mode, v_upper),
+        obs_noise=(w_lower, w_mode, w_upper), p=p, epsilon=epsilon, start=start,
+        mass_rule=mass_rule, orders=orders, seed=seed)
+    fig = plot_filter_errors(
+        result, seq.truth, seq.readings,
+        title=f"L = {level:.1f} m, T = {temperature:.1f} °C (f_F = {seq.fundamental_hz:.2f} "
+              f"Hz, {seq.truth.shape[0]} resonances), p = {p}, ε = {epsilon:.2f}, "
+              f"start: {start}")
+    return fig, filter_summary(seq, n, result)
+
+
+def filter_widget(level_m: float = 9.6, temperature_c: float = 23.9, *, p: int = 3,
+                  epsilon: float = 0.05, start: str = "observation",
+                  state_noise: tuple[float, float, float] = (-0.3, 0.0, 0.3),
+                  obs_noise: tuple[float, float, float] = (-10.59, -6.9, -3.21),
+                  seed: int = 0) -> Explorer:
+    """The paper's filter on a simulated gauge (§3.2, eqs. 39–40), live.
+
+    Controls (``widget.controls``): the noise bounds the filter assumes (lower, mode,
+    upper of v and of w; the readings always carry the paper's w), the number of cuts p,
+    the discount ε, the level and temperature, the start value, where the orders n_k come
+    from and the m(D) rule. ``widget.output`` shows the figure of :func:`render_filter`,
+    ``widget.numbers`` the estimates and errors. Sliders redraw on release
+    (``continuous_update=False``); one redraw is a filter run of ~83 steps and a figure.
+    """
+    (v_lo, v_c, v_hi), (w_lo, w_c, w_hi) = state_noise, obs_noise
+    controls = {
+        "v_lower": slider("v lower", v_lo, -1.0, 0.0, 0.01, readout_format=".2f"),
+        "v_mode": slider("v mode", v_c, -1.0, 1.0, 0.01, readout_format=".2f"),
+        "v_upper": slider("v upper", v_hi, 0.0, 1.0, 0.01, readout_format=".2f"),
+        "w_lower": slider("w lower", w_lo, -20.0, 0.0, 0.01, readout_format=".2f"),
+        "w_mode": slider("w mode", w_c, -20.0, 5.0, 0.01, readout_format=".2f"),
+        "w_upper": slider("w upper", w_hi, -10.0, 5.0, 0.01, readout_format=".2f"),
+        "p": int_slider("cuts p", p, 1, 8),
+        "epsilon": slider("discount ε", epsilon, 0.0, 0.5, 0.01, readout_format=".2f"),
+        "level": slider("level L (m)", level_m, 1.0, 10.6, 0.1, readout_format=".1f"),
+        "temperature": slider("temperature T (°C)", temperature_c, 0.0, 40.0, 0.1,
+                              readout_format=".1f"),
+        "start": widgets.Dropdown(options=[("z_1 (paper)", "observation"),
+                                           ("z_1 + E[w]", "mean_corrected")], value=start,
+                                  description="start"),
+        "orders": widgets.Dropdown(options=list(ORDER_SOURCES.items()), value="true",
+                                   description="orders"),
+        "mass_rule": widgets.Dropdown(options=["min", "m1", "m2"], value="min",
+                                      description="m(D) rule"),
+    }
+
+    def render(**values: Any) -> tuple[Figure, dict[str, Any]]:
+        return render_filter(**values, seed=seed)
+
+    return Explorer(controls, render, title="The dependent-evidence filter on a simulated gauge")
+
+
+
+
+def filter_step_explorer(level_m: float = 9.6, temperature_c: float = 23.9, step: int = 2,
+                         start: str = "mean_corrected", epsilon: float = 0.05,
+                         steps: int = 20, seed: int = 0) -> Explorer:
+    """Every evidence of one step of the paper's filter (Steps 2–6, Fig. 3) on the first
+    ``steps`` readings of a simulated gauge (true orders), with its diagnostics: pick the
+    step, the start value and the discount ε."""
+    controls = {
+        "step": int_slider("step k + 1", step, 2, steps),
+        "start": widgets.Dropdown(options=[("z_1 (paper)", "observation"),
+                                           ("z_1 + E[w]", "mean_corrected")], value=start,
+                                  description="start"),
+        "epsilon": slider("discount ε", epsilon, 0.0, 0.5, 0.01, readout_format=".2f"),
+    }
+
+    def render(step: int, start: str, epsilon: float):
+        seq = gauge_case(level_m, temperature_c, seed)
+        _, _, result = filter_case(level_m, temperature_c, start=start, epsilon=epsilon,
+                                   seed=seed, record=True, first=steps)
+        truth = float(seq.truth[step - 1, 0])
+        fig = plot_filter_step(result.steps[step - 1], truth, figsize=(9.0, 9.0))
+        return fig, step_numbers(result, step, truth)
+
+    return Explorer(controls, render, title="Inside one step of the filter")
+
+
+# -- the acoustic level gauge: a recording, its resonances and the level --------------------------
+
+#: Recording conditions of the gauge chapter and its explorer: the paper's speaker jitter
+#: (σ_v = 0.1 Hz), a quiet microphone (30 dB SPL), 10 ms of audio latency; the background
+#: noise is the explorer's slider.
+GAUGE_CONDITIONS = RecordingConditions(speaker_jitter_hz=0.1, microphone_noise_pa=spl_to_pa(30.0),
+                                       background_noise_pa=spl_to_pa(50.0), latency_s=0.01)
+
+
+def gauge_reading(setup: TubeSetup, detection: DetectionResult) -> dict[str, Any]:
+    """The numbers the gauge explorer prints for one detection in the tube ``setup``.
+
+    The level by the series fit z_k = f_F (n_1 + s_k) + b (b free, the slope only) and by
+    the paper's direct measurement (eq. 32 with the orders of eq. 43 at every reading: their
+    mean and mean absolute error); how many of those orders are wrong; the detection's
+    count, missed and spurious peaks.
+    """
+    c, f_f = setup.speed_of_sound, setup.fundamental_hz
+    z = detection.frequencies
+    fit = fit_resonance_series(z, detection.steps, offset_hz=None)
+    true_orders = np.rint(z / f_f)
+    direct = direct_levels(z, c)
+    return {
+        "series-fit L (m)": fit.level(c),
+        "fit error (mm)": 1e3 * (fit.level(c) - setup.level_m),
+        "eq. 32/43: mean L (m)": float(np.mean(direct)),
+        "mean |L_k − L| (mm)": 1e3 * float(np.mean(np.abs(direct - setup.level_m))),
+        "eq. 43 orders wrong": f"{int(np.sum(orders_eq43(z) != true_orders[:-1]))}/{z.size - 1}",
+        "resonances": int(z.size),
+        "missed": int(detection.missed.size),
+        "spurious": int(detection.spurious.size),
+    }
+
+
+def gauge_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
+                   top_reflection: float = 0.3, background_db: float = 50.0,
+                   seed: int = 0) -> Explorer:
+    """A simulated gauge (paper §4): level, temperature, the top's reflection R_t and the
+    background noise → the recording's envelope and its detected resonances beside the
+    model n c/(2L) (eqs. 29–32), the detection error z_k − n_k f_F, and the level by the
+    series fit and by eqs. 32/43. One recording (the paper's sweep, seeded) is synthesised
+    and analysed per change, about 0.3 s: the sliders redraw on release."""
+    controls = {
+        "level": slider("level L (m)", level_m, 1.0, 10.6, 0.1, readout_format=".1f"),
+        "temperature": slider("temperature T (°C)", temperature_c, 0.0, 30.0, 0.5,
+                              readout_format=".1f"),
+        "top_reflection": slider("top reflection R_t", top_reflection, 0.0, 0.9, 0.05,
+                                 readout_format=".2f"),
+        "background": slider("background noise (dB SPL)", background_db, 30.0, 100.0, 5.0,
+                             readout_format=".0f"),
+    }
+
+    def render(level: float, temperature: float, top_reflection: float, background: float):
+        setup = TubeSetup(level, temperature, top_reflection=top_reflection)
+        cond = replace(GAUGE_CONDITIONS, background_noise_pa=spl_to_pa(background))
+        det = detect_resonances(synthesize_recording(setup, PAPER_SWEEP, cond, seed=seed))
+        numbers = gauge_reading(setup, det)
+        f_f = setup.fundamental_hz
+        fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9.5, 4.8), layout="constrained",
+                                       sharex=True, height_ratios=[3, 2])
+        f_env = PAPER_SWEEP.frequency_at(det.envelope_times - det.latency_s)
+        keep = (f_env >= PAPER_SWEEP.f_start) & (f_env <= PAPER_SWEEP.f_stop)
+        ax1.plot(f_env[keep], det.envelope[keep], lw=0.8, color="#1f77b4", label="envelope")
+        ax1.vlines(setup.resonances(PAPER_SWEEP.band)[1], 0, 1, transform=ax1.get_xaxis_transform(),
+                   color="#2ca02c", lw=0.5, alpha=0.6, label="n c/(2L)")
+        ax1.plot(det.raw_frequencies - det.latency_offset_hz, det.amplitudes, "v", ms=4,
+                 color="#d62728", label="detected peaks")
+        ax1.set_ylabel("envelope (full scale)")
+        ax1.set_ylim(0.0, 1.3 * float(np.max(det.envelope[keep])))
+        ax1.set_title(f"L = {level:.1f} m, T = {temperature:.1f} °C, c = "
+                      f"{setup.speed_of_sound:.1f} m/s, f_F = {f_f:.2f} Hz")
+        ax1.legend(loc="upper center", ncols=3, fontsize=8, framealpha=0.9)
+        error = det.frequencies - np.rint(det.frequencies / f_f) * f_f
+        ax2.axhline(0.0, color="black", lw=0.6)
+        ax2.plot(det.frequencies, error, ".", color="#d62728")
+        ax2.set_ylabel("z_k − n_k f_F (Hz)")
+        ax2.set_xlabel("sweep frequency (Hz)")
+        ax2.set_xlim(PAPER_SWEEP.f_start, PAPER_SWEEP.f_stop)
+        return fig, numbers
+
+    return Explorer(controls, render, title="A simulated acoustic level gauge")
+
+
+# -- the lab: measure with a sound card, or with the virtual tube ---------------------------------
+
+
+class LabWidget(widgets.VBox):
+    """The lab's measuring station (book/lab.md): pick the devices, give the thermometer's
+    reading, press Record, and read the level with its uncertainty, the resonances and the
+    level by every filter of Table 3.
+
+    With either device picker on "virtual tube (no device)" — the only choice on a machine
+    without a sound card — Record simulates the measurement on the virtual tube (its level,
+    the thermometer's error and the room noise are controls; about 0.5 s); with devices it
+    plays the sweep and records it through them (about 7 s), see
+    :func:`dstoolkit.lab.lab_measurement`. When the widget is built it measures once on the
+    virtual tube, so that a book executed at build time shows a first result.
+
+    Attributes
+    ----------
+    controls : dict
+        The controls by name: ``input``, ``output``, ``temperature``, ``volume``, ``level``,
+        ``thermometer_error``, ``room_noise``, ``through_virtual_tube``.
+    button
+        The Record button; ``button.click()`` records, as a click does.
+    readout, output
+        The ``HTML`` with the numbers (or the error message) and the ``Output`` with the
+        figures.
+    analysis
+        The last :class:`~dstoolkit.measurement.Analysis`, None after a failure.
+    numbers
+        The numbers shown (:func:`dstoolkit.lab.lab_numbers`), ``{"error": message}`` after
+        a failure.
+    figure, method_figure
+        The last figures: recording and resonances; the level by every method.
+    measurements
+        Records made so far; a simulated record uses it as its seed.
+    """
+
+    def __init__(self, settings: LabSettings | None = None, *, devices: bool | None = None,
+                 record_now: bool = True) -> None:
+        super().__init__()
+        s = LabSettings() if settings is None else settings
+        inputs = device_options("input") if devices is not False else None
+        outputs = device_options("output") if devices is not False else None
+        self.controls: dict[str, widgets.ValueWidget] = {
+            "input": widgets.Dropdown(options=inputs or [("virtual tube (no device)", VIRTUAL)],
+                                      value=VIRTUAL, description="microphone (input)",
+                                      style={"description_width": "initial"}),
+            "output": widgets.Dropdown(options=outputs or [("virtual tube (no device)",
+                                                            VIRTUAL)],
+                                       value=VIRTUAL, description="speaker (output)",
+                                       style={"description_width": "initial"}),
+            "temperature": slider("thermometer T (°C)", s.temperature_c, -10.0, 40.0, 0.1,
+                                  readout_format=".1f"),
+            "volume": slider("volume (full scale)", s.volume, 0.05, 1.0, 0.05,
+                             readout_format=".2f"),
+            "level": slider("level L (m)", s.level_m, 0.5, 12.0, 0.05, readout_format=".2f"),
+            "thermometer_error": slider("thermometer error (°C)", s.thermometer_error_c,
+                                        -5.0, 5.0, 0.1, readout_format=".1f"),
+            "room_noise": slider("room noise (dBFS)", s.room_noise_dbfs, -80.0, -10.0, 1.0,
+                                 readout_format=".0f"),
+            "through_virtual_tube": widgets.Checkbox(
+                value=s.through_virtual_tube, indent=False,
+                description="with devices: play the virtual tube (loopback, no real tube)"),
+        }
+        self._sweep = s.sweep
+        self.button = widgets.Button(description="● Record", button_style="danger",
+                                     tooltip="play the sweep and record it")
+        self.button.on_click(self.record)
+        self.refresh = widgets.Button(description="↻ devices",
+                                      tooltip="look for sound devices again")
+        self.refresh.on_click(self.refresh_devices)
+        self.readout = widgets.HTML()
+        self.output = widgets.Output()
+        self.analysis = None
+        self.numbers: dict[str, Any] = {}
+        self.figure: Figure | None = None
+        self.method_figure: Figure | None = None
+        self.measurements = 0
+        for name in ("input", "output", "through_virtual_tube"):
+            self.controls[name].observe(lambda _change: self._sync(), "value")
+        self._sync()
+        c = self.controls
+        for control in c.values():  # aligned labels, sliders with room to move
+            control.style.description_width = "190px"
+            control.layout.width = "440px"
+        c["through_virtual_tube"].layout.width = "auto"
+        c["thermometer_error"].tooltip = "how much the thermometer reads too high"
+
+        def row(*children: widgets.Widget) -> widgets.HBox:
+            return widgets.HBox(list(children), layout=widgets.Layout(flex_flow="row wrap"))
+
+        self.children = (
+            widgets.HTML("<b>The lab: measure a level</b>"),
+            row(c["input"], c["output"]), row(self.refresh),
+            row(c["temperature"], c["volume"]),
+            widgets.HTML("<i>the virtual tube (without a device, or through a loopback):</i>"),
+            row(c["level"], c["thermometer_error"]),
+            row(c["room_noise"], c["through_virtual_tube"]),
+            row(self.button), self.readout, self.output,
+        )
+        if record_now:
+            self.record()
+
+    def settings(self) -> LabSettings:
+        """The controls as :class:`~dstoolkit.lab.LabSettings` (seed: the record count)."""
+        v = {name: control.value for name, control in self.controls.items()}
+        return LabSettings(temperature_c=v["temperature"], level_m=v["level"],
+                           thermometer_error_c=v["thermometer_error"],
+                           room_noise_dbfs=v["room_noise"], volume=v["volume"],
+                           input_device=v["input"], output_device=v["output"],
+                           through_virtual_tube=v["through_virtual_tube"],
+                           seed=self.measurements, sweep=self._sweep)
+
+    def _sync(self) -> None:
+        """Grey out the controls the chosen devices do not use."""
+        s = self.settings()
+        virtual_used = s.simulated or s.through_virtual_tube
+        self.controls["level"].disabled = not virtual_used
+        self.controls["thermometer_error"].disabled = not virtual_used
+        self.controls["room_noise"].disabled = not s.simulated
+        self.controls["through_virtual_tube"].disabled = s.simulated
+
+    def _fail(self, message: str) -> None:
+        self.analysis, self.numbers = None, {"error": message}
+        self.readout.value = f"<p style='color:#b00020'>⚠ {html.escape(message)}</p>"
+        self.output.outputs = ()
+
+    def refresh_devices(self, _button: Any = None) -> None:
+        """Scan the sound devices again (after plugging one in or starting the loopback)."""
+        from dstoolkit.audio import _devices as audio
+
+        try:
+            audio.refresh_devices()
+        except AudioUnavailableError as exc:
+            self._fail(str(exc))
+            return
+        for kind, name in (("input", "input"), ("output", "output")):
+            self.controls[name].options = device_options(kind)
+            self.controls[name].value = VIRTUAL
+
+    def record(self, _button: Any = None) -> None:
+        """Measure once with the current settings and show the result (the button's
+        click handler)."""
+        settings = self.settings()
+        self.button.disabled, self.button.description = True, "recording…"
+        where = ("simulated on the virtual tube (no device)" if settings.simulated
+                 else "playing and recording, about 7 s")
+        self.readout.value = f"<p>recording: {html.escape(where)}…</p>"
+        try:
+            analysis = lab_measurement(settings)
+        except (AudioUnavailableError, ValueError) as exc:  # DetectionError is a ValueError
+            self._fail(str(exc))
+            return
+        finally:
+            self.measurements += 1
+            self.button.disabled, self.button.description = False, "● Record"
+        self.analysis, self.numbers = analysis, lab_numbers(analysis)
+        lv = analysis.level
+        head = (f"<p><b>L = {lv.level_m:.4f} m ± {lv.uncertainty_m:.4f} m</b> (1σ), "
+                f"{html.escape(analysis.recording.metadata.source or '')}</p>")
+        notes = "".join(f"<p style='color:#b36b00'>{html.escape(n)}</p>" for n in analysis.notes)
+        report = (f"<details><summary>full report</summary><pre>"
+                  f"{html.escape(analysis.summary())}</pre></details>")
+        from dstoolkit.plots._experiments import STYLE
+
+        by_method = {STYLE.get(m, {"label": m})["label"]: v
+                     for m, v in analysis.filter_levels.items()}
+        main = {k: v for k, v in self.numbers.items()
+                if k.removesuffix(" (m)") not in analysis.filter_levels}
+        self.readout.value = (head + readout_html(main) + "<p>level by each filter (m):</p>"
+                              + readout_html(by_method) + notes + report)
+        self.figure, self.method_figure = analysis.figure(), plot_method_levels(analysis)
+        # As PNG images set on the Output widget itself: they show whether or not the
+        # notebook's matplotlib formatter is active, and a book executed at build time
+        # embeds them in the widget's state.
+        self.output.outputs = ()
+        for fig in (self.figure, self.method_figure):
+            buffer = io.BytesIO()
+            fig.savefig(buffer, format="png", dpi=96)
+            self.output.append_display_data(Image(data=buffer.getvalue(), format="png"))
+
+
+def lab_widget(temperature_c: float = 21.0, level_m: float = 2.5, *,
+               devices: bool | None = None, record_now: bool = True) -> LabWidget:
+    """The lab's measuring station, :class:`LabWidget`: device pickers (filled from
+    :func:`dstoolkit.audio.list_devices` when a sound card is there, else only the virtual
+    tube), the thermometer's reading, the virtual tube's level, a Record button and the
+    result. ``devices=False`` offers the virtual tube only (no device lookup); with
+    ``record_now`` the first (virtual) measurement is made at once."""
+    return LabWidget(LabSettings(temperature_c=temperature_c, level_m=level_m),
+                     devices=devices, record_now=record_now)
+
+
+# -- estimating the level: the paper's Figs. 10–11 for one run ------------------------------------
+
+#: The figures the level-estimation explorer can draw (the paper's Figs. 10 and 11).
+ESTIMATION_FIGURES: dict[str, str] = {"Fig. 10: frequencies": "frequency",
+                                      "Fig. 11: levels": "level"}
+
+
+def estimation_numbers(run: Any) -> dict[str, Any]:
+    """What the level-estimation explorer prints for a :class:`~dstoolkit.estimation_studies.
+    GaugeRun`: mean |L̂ − L| (mm, eq. 32) and mean |x̂ − f| (Hz) of the readings (direct)
+    and of each filter, and how many orders n_k are wrong."""
+    from dstoolkit.plots._experiments import STYLE
+
+    levels = run.levels()
+    freq = run.frequency_errors()
+    out: dict[str, Any] = {}
+    for name in levels:
+        label = STYLE.get(name, {"label": name})["label"]
+        out[f"{label}: |L̂ − L| (mm)"] = 1e3 * float(np.mean(np.abs(levels[name] - run.level_m)))
+        out[f"{label}: |x̂ − f| (Hz)"] = float(np.mean(freq[name]))
+    wrong = int(np.sum(run.orders != run.true_orders[:-1]))
+    out["wrong orders n_k"] = f"{wrong}/{run.orders.size}"
+    return out
+
+
+def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
+                              simulation: str = "frequency", order_rule: str = "eq43",
+                              figure: str = "Fig. 11: levels", seed: int = 0) -> Explorer:
+    """One simulated sweep filtered by the paper's filter and Nassreddine's (the paper's
+    Figs. 10–11, :func:`dstoolkit.estimation_studies.gauge_run`): level, temperature, the
+    simulation of the readings (the paper's w drawn i.i.d., or detected in a synthesised
+    recording), where n_k comes from (eq. 43, the series fit, the truth), the run's seed and
+    which figure. Numbers: :func:`estimation_numbers`. A frequency-level redraw takes a
+    few hundredths of a second, a waveform-level one a few tenths (a recording is
+    synthesised and analysed): sliders redraw on release."""
+    from dstoolkit.plots._experiments import plot_estimates
+    from dstoolkit.studies._estimation import gauge_run
+
+    controls = {
+        "level": slider("level L (m)", level_m, 1.3, 10.6, 0.1, readout_format=".1f"),
+        "temperature": slider("temperature T (°C)", temperature_c, 0.0, 35.0, 0.5,
+                              readout_format=".1f"),
+        "simulation": widgets.Dropdown(options=[("frequency level (i.i.d. w)", "frequency"),
+                                                ("waveform level (recording)", "waveform")],
+                                       value=simulation, description="readings"),
+        "order_rule": widgets.Dropdown(options=[("eq. 43 (paper)", "eq43"),
+                                                ("series fit", "fit"), ("true", "true")],
+                                       value=order_rule, description="n_k by"),
+        "figure": widgets.Dropdown(options=list(ESTIMATION_FIGURES), value=figure,
+                                   description="figure"),
+        "seed": int_slider("run (seed)", seed, 0, 20),
+    }
+
+    def render(level: float, temperature: float, simulation: str, order_rule: str,
+               figure: str, seed: int):
+        run = gauge_run(level, temperature, simulation, order_rule, seed=seed)
+        if ESTIMATION_FIGURES[figure] == "frequency":
+            fig = plot_estimates(run.truth, run.readings, run.estimates)
+        else:
+            levels = run.levels()
+            fig = plot_estimates(run.level_m, levels.pop("direct"), levels, quantity="level",
+                                 unit="m")
+        top = fig.axes[0]
+        top.set_title(f"{top.get_title()}: L = {level:.1f} m, T = {temperature:.1f} °C, "
+                      f"{simulation}-level readings, n_k by {order_rule}, seed {seed}",
+                      fontsize=9)
+        return fig, estimation_numbers(run)
+
+    return Explorer(controls, render, title="One run of the gauge: the paper's Figs. 10–11")
+
+
+# -- beyond the paper: every filter under wrong noise bounds ------------------------------------
+
+
+def mismatch_numbers(result: Any) -> dict[str, Any]:
+    """Mean |x̂ − x| (Hz) of each method of a :class:`~dstoolkit.estimation_studies.
+    MismatchResult`, and the runs in which the strict bounded-error filter failed."""
+    from dstoolkit.plots._experiments import STYLE
+
+    out: dict[str, Any] = {f"{STYLE.get(m, {'label': m})['label']} (Hz)": v
+                           for m, v in result.mean_errors().items()}
+    out["bounded error: inconsistent runs"] = f"{result.inconsistent_runs:.0%}"
+    return out
+
+
+def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, runs: int = 20,
+                          seed: int = 0, start: str = "mean_corrected") -> Explorer:
+    """Every filter on the same simulated gauge runs (eqs. 39–40 with the paper's noises v
+    and w, true orders), each assuming the noise bounds set by the sliders (lower, mode,
+    upper of v and of w): the assumed against the true possibility distributions, and the
+    mean |x̂_k − x_k| per step of every method
+    (:func:`dstoolkit.estimation_studies.noise_mismatch`). ``start`` is the paper's filter's
+    start value (a dropdown too). One redraw filters ``runs`` runs by five methods, a few
+    tenths of a second: sliders redraw on release."""
+    from dstoolkit.plots._studies import plot_noise_assumption, plot_step_errors
+    from dstoolkit.studies._estimation import noise_mismatch, tracking_data
+
+    data = tracking_data(level_m, temperature_c, runs=runs, seed=seed)
+    v, w = data.state_noise, data.obs_noise
+    controls = {
+        "v_lower": slider("v lower", float(v.lower[0]), -1.0, 0.0, 0.01, readout_format=".2f"),
+        "v_mode": slider("v mode", float(v.mode[0]), -0.5, 0.5, 0.01, readout_format=".2f"),
+        "v_upper": slider("v upper", float(v.upper[0]), 0.0, 1.0, 0.01, readout_format=".2f"),
+        "w_lower": slider("w lower", float(w.lower[0]), -20.0, -4.0, 0.01,
+                          readout_format=".2f"),
+        "w_mode": slider("w mode", float(w.mode[0]), -12.0, -2.0, 0.01, readout_format=".2f"),
+        "w_upper": slider("w upper", float(w.upper[0]), -8.0, 5.0, 0.01, readout_format=".2f"),
+        "start": widgets.Dropdown(options=[("z_1 (paper)", "observation"),
+                                           ("z_1 + E[w]", "mean_corrected")], value=start,
+                                  description="start"),
+    }
+
+    def render(v_lower: float, v_mode: float, v_upper: float, w_lower: float, w_mode: float,
+               w_upper: float, start: str):
+        assumed_v = BoundedNoise(v_lower, v_mode, v_upper)
+        assumed_w = BoundedNoise(w_lower, w_mode, w_upper)
+        result = noise_mismatch(data, assumed_v, assumed_w, seed=seed, start=start)
+        fig = plt.figure(figsize=(11, 3.8), layout="constrained")
+        ax_v, ax_w, ax_e = fig.subplots(1, 3, width_ratios=[1, 1, 2.2])
+        plot_noise_assumption(v, assumed_v, ax_v, title="state noise v (Hz)")
+        plot_noise_assumption(w, assumed_w, ax_w, title="observation noise w (Hz)")
+        plot_step_errors(result.errors, ax_e,
+                         title=f"L = {level_m:.1f} m, {runs} runs, true orders")
+        return fig, mismatch_numbers(result)
+
+    return Explorer(controls, render, title="Every filter with the noise bounds you assume")
