@@ -7,5 +7,7 @@ cd "$root"
 source scripts/ensure-env.sh
 echo "==> ruff"
 ruff check dstoolkit tests benchmarks
+echo "==> import layers (.importlinter)"
+lint-imports --no-cache
 echo "==> pytest"
 python -m pytest "$@"
