@@ -34,6 +34,7 @@ from dstoolkit.errors import (
     AudioDropoutWarning,
     AudioUnavailableError,
     DetectionError,
+    InvalidInputError,
     NoAudioDeviceError,
 )
 
@@ -137,7 +138,7 @@ def list_devices(kind: Literal["input", "output"] | None = None) -> list[AudioDe
         sounddevice or PortAudio is not installed.
     """
     if kind not in (None, "input", "output"):
-        raise ValueError(f"kind must be 'input', 'output' or None, not {kind!r}")
+        raise InvalidInputError(f"kind must be 'input', 'output' or None, not {kind!r}")
     sd = _sounddevice()
     try:
         infos = sd.query_devices()
@@ -173,7 +174,7 @@ def choose_device(device: int | str | None, kind: Literal["input", "output"]) ->
     device (or no default one), listing the devices that exist.
     """
     if kind not in ("input", "output"):
-        raise ValueError(f"kind must be 'input' or 'output', not {kind!r}")
+        raise InvalidInputError(f"kind must be 'input' or 'output', not {kind!r}")
     sd = _sounddevice()
     try:
         info = sd.query_devices(device, kind)
@@ -204,11 +205,11 @@ def calibration_chirp(
     microphones; its ends are tapered (Tukey window) so it starts and stops without clicks.
     """
     if samplerate <= 0 or duration_s <= 0:
-        raise ValueError(
+        raise InvalidInputError(
             f"samplerate ({samplerate}) and duration_s ({duration_s}) must be positive"
         )
     if not 0 < f_start_hz < f_stop_hz < samplerate / 2:
-        raise ValueError(
+        raise InvalidInputError(
             f"need 0 < f_start_hz ({f_start_hz}) < f_stop_hz ({f_stop_hz}) < samplerate/2 "
             f"({samplerate / 2})"
         )
@@ -243,14 +244,14 @@ def _as_signal(x: ArrayLike, what: str) -> np.ndarray:
     if a.ndim == 2 and a.shape[1] == 1:
         a = a[:, 0]
     if a.ndim != 1:
-        raise ValueError(
+        raise InvalidInputError(
             f"{what} must be one channel (a 1-D array), got shape {a.shape}; pick a channel, "
             "e.g. recording[:, 0]"
         )
     if a.size == 0:
-        raise ValueError(f"{what} is empty")
+        raise InvalidInputError(f"{what} is empty")
     if not np.all(np.isfinite(a)):
-        raise ValueError(f"{what} contains NaN or infinite samples")
+        raise InvalidInputError(f"{what} contains NaN or infinite samples")
     return a
 
 
@@ -307,14 +308,14 @@ def estimate_latency(
     ref = _as_signal(reference, "reference")
     rec = _as_signal(recorded, "recording")
     if samplerate <= 0:
-        raise ValueError(f"samplerate must be positive, got {samplerate}")
+        raise InvalidInputError(f"samplerate must be positive, got {samplerate}")
     if offset < 0:
-        raise ValueError(f"offset must be >= 0 samples, got {offset}")
+        raise InvalidInputError(f"offset must be >= 0 samples, got {offset}")
     ref_energy = float(ref @ ref)
     if ref_energy == 0.0:
-        raise ValueError("the reference is silent (all zeros): nothing to look for")
+        raise InvalidInputError("the reference is silent (all zeros): nothing to look for")
     if rec.size < ref.size:
-        raise ValueError(
+        raise InvalidInputError(
             f"the recording ({rec.size} samples) is shorter than the reference "
             f"({ref.size} samples): record longer (add a tail of silence)"
         )
@@ -329,7 +330,7 @@ def estimate_latency(
     if max_latency_s is not None:
         allowed = np.abs(lags) <= max_latency_s * samplerate
         if not allowed.any():
-            raise ValueError(
+            raise InvalidInputError(
                 f"no lag within ±{max_latency_s} s fits the recording ({rec.size} samples, "
                 f"reference of {ref.size} at offset {offset}); widen max_latency_s"
             )
@@ -426,11 +427,13 @@ def play_record(
     sig = _as_signal(x, "signal")
     peak = float(np.max(np.abs(sig)))
     if peak > 1.0:
-        raise ValueError(f"the signal peaks at {peak:.3g} > 1 and would clip: scale it down")
+        raise InvalidInputError(
+            f"the signal peaks at {peak:.3g} > 1 and would clip: scale it down")
     if samplerate <= 0 or int(samplerate) != samplerate:
-        raise ValueError(f"samplerate must be a positive whole number of Hz, got {samplerate}")
+        raise InvalidInputError(
+            f"samplerate must be a positive whole number of Hz, got {samplerate}")
     if lead_in_s < MIN_PADDING_S or tail_s < MIN_PADDING_S:
-        raise ValueError(
+        raise InvalidInputError(
             f"lead_in_s ({lead_in_s}) and tail_s ({tail_s}) must be at least {MIN_PADDING_S} s "
             "so that the latency cannot push the signal out of the recording"
         )

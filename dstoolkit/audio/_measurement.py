@@ -43,7 +43,12 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 from dstoolkit.audio import _devices as audio
-from dstoolkit.errors import AudioDropoutError, AudioUnavailableError, DetectionError
+from dstoolkit.errors import (
+    AudioDropoutError,
+    AudioUnavailableError,
+    DetectionError,
+    InvalidInputError,
+)
 from dstoolkit.gauge._acoustics import SpeedModel, speed_of_sound
 from dstoolkit.gauge._level import ResonanceSeriesFit, fit_resonance_series
 from dstoolkit.gauge._resonance import DetectionResult, detect_resonances
@@ -118,9 +123,9 @@ def estimate_level(
     :class:`LevelEstimate`. Missed resonances are fine: the fit uses the detection's
     ``steps``, which jump over them."""
     if not math.isfinite(temperature_c) or not -50.0 <= temperature_c <= 100.0:
-        raise ValueError(f"temperature_c = {temperature_c} °C is not an air temperature")
+        raise InvalidInputError(f"temperature_c = {temperature_c} °C is not an air temperature")
     if not temperature_uncertainty_c >= 0:
-        raise ValueError(f"temperature_uncertainty_c must be >= 0, got "
+        raise InvalidInputError(f"temperature_uncertainty_c must be >= 0, got "
                          f"{temperature_uncertainty_c}")
     z, steps = detection.frequencies, detection.steps
     c = float(speed_of_sound(temperature_c, speed_model))
@@ -304,7 +309,7 @@ def analyze(
     if temperature_c is None:
         temperature_c = meta.temperature_c
     if temperature_c is None:
-        raise ValueError(
+        raise InvalidInputError(
             "the temperature is unknown: the recording does not say and none was given; "
             "pass temperature_c (--temperature T on the command line), in °C"
         )
@@ -315,7 +320,7 @@ def analyze(
             notes.append("note: the recording does not describe its sweep; assumed the "
                          "paper's 1000 -> 2400 Hz in 5 s")
     if sweep.sample_rate != rec.samplerate:
-        raise ValueError(f"the sweep's sample rate {sweep.sample_rate} Hz differs from the "
+        raise InvalidInputError(f"the sweep's sample rate {sweep.sample_rate} Hz differs from the "
                          f"recording's {rec.samplerate} Hz")
     fs = rec.samplerate
     if meta.sweep_onset_s is not None and meta.latency_s is not None:
@@ -381,7 +386,7 @@ def _drive(sweep: LinearSweep, virtual_tube: TubeSetup | None, amplitude: float)
     if virtual_tube is not None:
         return virtual_tube_signal(virtual_tube, sweep, amplitude=amplitude)
     if not 0 < amplitude <= 1:
-        raise ValueError(f"amplitude must be in (0, 1], got {amplitude}")
+        raise InvalidInputError(f"amplitude must be in (0, 1], got {amplitude}")
     return amplitude * sweep.waveform()
 
 
@@ -428,7 +433,7 @@ def _recording(
 
 def _samplerate(sweep: LinearSweep) -> int:
     if sweep.sample_rate != int(sweep.sample_rate):
-        raise ValueError(f"the sweep's sample rate must be a whole number of Hz for audio, "
+        raise InvalidInputError(f"the sweep's sample rate must be a whole number of Hz for audio, "
                          f"got {sweep.sample_rate}")
     return int(sweep.sample_rate)
 
@@ -464,10 +469,10 @@ def record_measurement(
     """
     if temperature_c is None:
         if virtual_tube is None:
-            raise ValueError("give the air temperature (temperature_c, °C)")
+            raise InvalidInputError("give the air temperature (temperature_c, °C)")
         temperature_c = virtual_tube.temperature_c
     if attempts < 1:
-        raise ValueError(f"attempts must be at least 1, got {attempts}")
+        raise InvalidInputError(f"attempts must be at least 1, got {attempts}")
     fs = _samplerate(sweep)
     programme = _programme(sweep, _drive(sweep, virtual_tube, amplitude))
     problems: list[str] = []
@@ -536,7 +541,8 @@ def simulate_measurement(
     latency ``latency_s`` (a pure delay, plus white noise of ``noise_rms`` full scale), with
     no audio at all. Same programme, same latency estimation, same metadata."""
     if not 0 <= latency_s < audio.MIN_PADDING_S:
-        raise ValueError(f"latency_s must be in [0, {audio.MIN_PADDING_S}) s, got {latency_s}")
+        raise InvalidInputError(
+            f"latency_s must be in [0, {audio.MIN_PADDING_S}) s, got {latency_s}")
     fs = _samplerate(sweep)
     programme = _programme(sweep, _drive(sweep, virtual_tube, amplitude))
     lead = tail = int(round(audio.MIN_PADDING_S * fs))

@@ -20,15 +20,17 @@ from typing import Any
 
 import numpy as np
 
+from dstoolkit.errors import InvalidInputError
+
 
 def _as_increasing(z: Any, what: str = "resonance frequencies") -> np.ndarray:
     z = np.asarray(z, dtype=float).reshape(-1)
     if z.size < 2:
-        raise ValueError(f"need at least 2 {what}, got {z.size}")
+        raise InvalidInputError(f"need at least 2 {what}, got {z.size}")
     if not np.all(np.isfinite(z)):
-        raise ValueError(f"{what} contain NaN or infinite values")
+        raise InvalidInputError(f"{what} contain NaN or infinite values")
     if np.any(np.diff(z) <= 0):
-        raise ValueError(f"{what} must increase strictly (sort them, drop duplicates)")
+        raise InvalidInputError(f"{what} must increase strictly (sort them, drop duplicates)")
     return z
 
 
@@ -131,11 +133,11 @@ def fit_resonance_series(
     z = _as_increasing(z)
     s = np.arange(z.size) if steps is None else np.asarray(steps, dtype=float).reshape(-1)
     if s.shape != z.shape or np.any(np.diff(s) <= 0) or np.any(s != np.round(s)):
-        raise ValueError("steps must be increasing integers, one per frequency")
+        raise InvalidInputError("steps must be increasing integers, one per frequency")
     s = s - s[0]
     slope, intercept = np.polyfit(s, z, 1)
     if not slope > 0:
-        raise ValueError(f"the resonances do not increase with their order (slope {slope})")
+        raise InvalidInputError(f"the resonances do not increase with their order (slope {slope})")
     if offset_hz is None:
         n1 = max(1, int(np.rint(intercept / slope)))
         b = float(intercept - slope * n1)

@@ -23,6 +23,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from dstoolkit.errors import InvalidInputError
 from dstoolkit.filters._dependent import DependentEvidenceFilter
 from dstoolkit.filters._kalman import KalmanFilter
 from dstoolkit.filters._nassreddine import NassreddineFilter
@@ -117,9 +118,9 @@ def estimate_orders(case: CaseReadings, rule: OrderRule = "eq43") -> np.ndarray:
         return np.stack([fit_resonance_series(row, offset_hz=None).orders[:-1] for row in z])
     if rule == "true":
         if case.true_orders is None:
-            raise ValueError("true orders are known only in the frequency-level simulation")
+            raise InvalidInputError("true orders are known only in the frequency-level simulation")
         return np.asarray(case.true_orders)[:, :-1]
-    raise ValueError(f"order rule must be 'eq43', 'fit' or 'true', got {rule!r}")
+    raise InvalidInputError(f"order rule must be 'eq43', 'fit' or 'true', got {rule!r}")
 
 
 def estimate_levels(method: str, case: CaseReadings, orders: np.ndarray,
@@ -203,11 +204,11 @@ def run_table3(
     """
     unknown = set(methods) - set(METHODS)
     if unknown:
-        raise ValueError(f"unknown methods {sorted(unknown)}; choose from {METHODS}")
+        raise InvalidInputError(f"unknown methods {sorted(unknown)}; choose from {METHODS}")
     if simulation not in ("frequency", "waveform"):
-        raise ValueError(f"simulation must be 'frequency' or 'waveform', got {simulation!r}")
+        raise InvalidInputError(f"simulation must be 'frequency' or 'waveform', got {simulation!r}")
     if runs < 1:
-        raise ValueError(f"runs must be >= 1, got {runs}")
+        raise InvalidInputError(f"runs must be >= 1, got {runs}")
     cases = list(cases)
     filters = paper_filters(seed)
     seeds = np.random.SeedSequence(seed).generate_state(len(cases))
