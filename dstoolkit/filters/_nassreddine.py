@@ -376,11 +376,12 @@ class NassreddineFilter:
                 c_mass = (p_mass[:, :, None] * w.mass[:, None]).reshape(runs, -1)
                 empty = np.any(c_lo > c_hi, axis=-1)
                 conflict = row_sum(np.where(empty, c_mass, 0.0))
-                dead = 1.0 - conflict <= CONFLICT_TOLERANCE
-                c_mass = np.where(empty | dead[:, None], 0.0, c_mass)
+                c_mass = np.where(empty, 0.0, c_mass)
                 # Renormalise by the mass actually kept (= 1 − K in exact arithmetic): dividing
                 # by 1 − K would amplify rounding loss by 1/(1 − K) at every step of high conflict.
                 kept = row_sum(c_mass)
+                dead = kept <= CONFLICT_TOLERANCE
+                c_mass = np.where(dead[:, None], 0.0, c_mass)
                 c_mass = c_mass / np.where(dead, 1.0, kept)[:, None]
                 posterior = merge_equal_boxes(c_lo, c_hi, c_mass)
                 diag["conflict"][:, k] = conflict
