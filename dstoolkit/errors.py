@@ -61,6 +61,10 @@ class RecordingFileError(DstoolkitError, ValueError):
     """A file that is not a readable WAV recording, or metadata that cannot be stored."""
 
 
+class RecordingNotFoundError(RecordingFileError, FileNotFoundError):
+    """The recording to read does not exist."""
+
+
 class MemoryBudgetError(DstoolkitError, MemoryError):
     """A computation would allocate more than the memory budget allows (one place sets it:
     :func:`dstoolkit.evidence.set_memory_budget`, or ``DSTOOLKIT_MEMORY_BUDGET``)."""

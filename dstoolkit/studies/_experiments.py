@@ -15,6 +15,7 @@ error is the mean of |L̂_k − L| over its steps, as in Fig. 11b; Table 3 avera
 from __future__ import annotations
 
 import csv
+import io
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
@@ -40,6 +41,7 @@ from dstoolkit.gauge._tube import (
     typical_conditions,
 )
 
+from ._output import atomic_write
 from ._paper_results import TABLE3_CASES, TABLE3_MEAN_ABS_ERROR_M
 
 Simulation = Literal["frequency", "waveform"]
@@ -166,13 +168,13 @@ class Table3:
         raise KeyError((level_m, method))
 
     def write_csv(self, path: str | Path) -> Path:
-        path = Path(path)
-        with path.open("w", newline="") as fh:
-            writer = csv.DictWriter(fh, fieldnames=CSV_COLUMNS)
-            writer.writeheader()
-            for r in self.rows:
-                writer.writerow(r.as_csv())
-        return path
+        """Write the rows as CSV, atomically (a temporary file renamed over ``path``)."""
+        text = io.StringIO(newline="")
+        writer = csv.DictWriter(text, fieldnames=CSV_COLUMNS)
+        writer.writeheader()
+        for r in self.rows:
+            writer.writerow(r.as_csv())
+        return atomic_write(path, lambda fh: fh.write(text.getvalue().encode("utf-8")))
 
     def format(self) -> str:
         """The table, ours beside the paper's figures."""
