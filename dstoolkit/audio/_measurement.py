@@ -527,6 +527,9 @@ def record_measurement(
         except AudioDropoutError as exc:
             problems.append(f"attempt {attempt}: {exc}")
             continue
+        except DetectionError:
+            audio.check_sound_server()  # a dead server is not a wiring problem
+            raise
         if save is not None:
             save_recording(save, recording.samples, fs, recording.metadata)
         return recording
