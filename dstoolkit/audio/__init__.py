@@ -13,10 +13,10 @@ from dstoolkit.errors import (
 )
 
 from ._devices import (
-    AudioDevice,
     DEFAULT_LATENCY_S,
-    LatencyEstimate,
     MIN_PADDING_S,
+    AudioDevice,
+    LatencyEstimate,
     audio_available,
     calibration_chirp,
     check_calibration,
@@ -28,8 +28,8 @@ from ._devices import (
     refresh_devices,
 )
 from ._measurement import (
-    Analysis,
     CALIBRATION_GAP_S,
+    Analysis,
     add_analyze_arguments,
     add_measure_arguments,
     analyze,

@@ -42,8 +42,8 @@ from ._level import (
     state_transition_derivative,
 )
 from ._noise_characterisation import (
-    NoiseCharacterisation,
     PAPER_CALIBRATION_LEVELS,
+    NoiseCharacterisation,
     characterise_observation_noise,
     characterise_state_noise,
 )
@@ -58,8 +58,8 @@ from ._resonance import (
     sweep_rate_offset,
 )
 from ._sweep import (
-    LinearSweep,
     PAPER_SWEEP,
+    LinearSweep,
 )
 from ._tube import (
     Recording,
