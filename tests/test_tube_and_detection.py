@@ -199,6 +199,7 @@ def test_latency_estimate_with_a_stronger_echo() -> None:
     assert strongest.seconds > 0.25 + 0.005
 
 
+@pytest.mark.extras
 def test_figures_6_and_7() -> None:
     import matplotlib
 
