@@ -1,14 +1,25 @@
-"""Command-line entry points: ``python -m dstoolkit table3|measure|analyze``."""
+"""The ``dstoolkit`` command (also ``python -m dstoolkit``): table3, measure, analyze.
+
+``table3`` needs the core only (its figure needs the ``plots`` extra); ``measure`` plays
+and records through a sound card (the ``audio`` extra) or a simulated one.
+"""
 
 from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from dstoolkit.errors import DstoolkitError
-from dstoolkit.studies._experiments import METHODS
+from dstoolkit.errors import DstoolkitError, MissingExtraError
+from dstoolkit.studies import METHODS, run_table3
 from dstoolkit.studies._output import atomic_write, check_outputs, figure_tag, made_by
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from dstoolkit.studies import Table3
 
 
 def table3_outputs(out: str | Path) -> tuple[Path, Path]:
@@ -22,30 +33,39 @@ def table3_outputs(out: str | Path) -> tuple[Path, Path]:
 
 
 def table3_command(args: argparse.Namespace) -> int:
-    """Reproduce Table 3: CSV, a figure beside it, and the table next to the paper's."""
-    from dstoolkit.plots._experiments import plot_table3
-    from dstoolkit.studies._experiments import run_table3
-
+    """Reproduce Table 3: CSV, a figure beside it (with the ``plots`` extra), and the table
+    next to the paper's."""
     methods = tuple(args.methods.split(",")) if args.methods else METHODS
     csv_path, figure_path = table3_outputs(args.out)
+    plot_table3: Callable[[Table3], Figure] | None = None
+    try:
+        from dstoolkit.plots import plot_table3
+    except MissingExtraError as exc:
+        no_figure = str(exc)
+    outputs = {"the CSV (--out)": csv_path}
+    if plot_table3 is not None:
+        outputs["the figure"] = figure_path
     # before any computing: the outputs must be writable and replace nothing unasked
-    check_outputs({"the CSV (--out)": csv_path, "the figure": figure_path},
-                  overwrite=args.overwrite,
+    check_outputs(outputs, overwrite=args.overwrite,
                   replaceable=lambda p: p == figure_path and made_by(p, "table3"))
     table = run_table3(runs=args.runs, seed=args.seed, simulation=args.simulation,
                        methods=methods, order_rule=args.orders, progress=not args.quiet)
     table.write_csv(csv_path)
+    print(table.format())
+    if plot_table3 is None:
+        print(f"\nwrote {csv_path} (no figure: {no_figure})")
+        return 0
     figure = plot_table3(table)
     atomic_write(figure_path, lambda fh: figure.savefig(
         fh, format="png", dpi=120, bbox_inches="tight", metadata=figure_tag("table3")))
-    print(table.format())
     print(f"\nwrote {csv_path} and {figure_path}")
     return 0
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``dstoolkit`` command and its three subcommands."""
     parser = argparse.ArgumentParser(
-        prog="python -m dstoolkit",
+        prog="dstoolkit",
         description="Evidence-theory state estimation and the acoustic level gauge "
                     "(Xu et al., Sensors 2017).",
     )
@@ -66,7 +86,7 @@ def build_parser() -> argparse.ArgumentParser:
                     help="replace an existing CSV or figure")
     t3.set_defaults(func=table3_command)
 
-    from dstoolkit.audio._measurement import (
+    from dstoolkit.audio import (
         add_analyze_arguments,
         add_measure_arguments,
         analyze_command,
@@ -83,7 +103,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run one command; a package error or an OS error becomes one line on stderr (exit 2)."""
+    """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the exit status.
+    A package error or an OS error becomes one line on stderr (exit status 2)."""
     args = build_parser().parse_args(argv)
     try:
         return int(args.func(args))

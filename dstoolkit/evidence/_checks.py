@@ -84,9 +84,10 @@ def whole_number(value: Any, name: str, *, low: int = 0, high: int | None = None
     if isinstance(value, bool) or not isinstance(value, numbers.Real | np.number) or \
             isinstance(value, complex | np.complexfloating):
         raise error(f"{name} must be a whole number, got {value!r}")
-    if not math.isfinite(float(value)) or int(value) != value:
+    x = float(value)
+    if not math.isfinite(x) or not x.is_integer():
         raise error(f"{name} must be a whole number, got {value!r}")
-    n = int(value)
+    n = int(x)
     if n < low or (high is not None and n > high):
         raise error(f"{name} must be a whole number in [{low}, {'∞' if high is None else high}]"
                     f", got {n}")

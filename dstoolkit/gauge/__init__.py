@@ -29,6 +29,11 @@ from ._gauge_model import (
     gauge_state_space_model,
     simulate_gauge,
 )
+from ._latency import (
+    FIRST_ARRIVAL,
+    LatencyEstimate,
+    estimate_latency,
+)
 from ._level import (
     ResonanceSeriesFit,
     direct_levels,
@@ -52,7 +57,6 @@ from ._resonance import (
     detect_resonances,
     detection_precision_hz,
     envelope,
-    estimate_latency,
     latency_offset,
     model_peak_frequencies,
     sweep_rate_offset,
@@ -82,6 +86,8 @@ __all__ = [
     "DEFAULT_BAND",
     "DetectionError",
     "DetectionResult",
+    "FIRST_ARRIVAL",
+    "LatencyEstimate",
     "GAUGE_OBS_NOISE",
     "GAUGE_STATE_NOISE",
     "LinearSweep",

@@ -121,7 +121,7 @@ def check_outputs(
     return checked
 
 
-def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], None]) -> Path:
+def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], object]) -> Path:
     """Write ``path`` through ``write(file)`` into a temporary file beside it, then rename.
 
     The target appears complete or not at all; the temporary file is removed on failure.
