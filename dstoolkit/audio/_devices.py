@@ -457,6 +457,7 @@ def _stream(played: np.ndarray, samplerate: int, latency: float | str, device_in
             if proc.poll() is None:
                 proc.kill()
                 proc.wait()
+            proc.stdout.close()
     recorded = np.frombuffer(data, dtype=np.float32)
     return recorded, str(result["status"]), bool(result["dropped"])
 

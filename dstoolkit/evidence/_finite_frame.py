@@ -159,13 +159,17 @@ class MassFunction(Evidence):
         return self._focal
 
     def _check_theta(self, theta: Any) -> np.ndarray:
-        row = np.asarray(theta).reshape(-1)
-        if row.size != 1 or row.dtype.kind not in "iu" or not 0 < int(row[0]) <= self._full:
-            raise EvidenceError(
-                f"theta must be one bit mask of a non-empty subset of the frame (1 to "
-                f"{self._full}), got {theta!r}"
-            )
-        return row.astype(np.uint64)
+        """Θ as a bit mask (an int, or a one-element integer array) or as a subset."""
+        if isinstance(theta, np.ndarray) and theta.size == 1 and theta.dtype.kind in "iu":
+            theta = int(theta.reshape(-1)[0])
+        if isinstance(theta, int | np.integer) and not isinstance(theta, bool):
+            if not 0 < int(theta) <= self._full:
+                raise EvidenceError(
+                    f"theta must be the bit mask of a non-empty subset of the frame (1 to "
+                    f"{self._full}), got {theta!r}"
+                )
+            return np.array([int(theta)], dtype=np.uint64)
+        return self._query(theta)
 
     def _subset_mask(self, query: np.ndarray) -> np.ndarray:
         return (self._focal & ~query[0]) == 0

@@ -21,6 +21,7 @@ from typing import Any, Literal
 import numpy as np
 
 from dstoolkit.errors import InvalidInputError
+from dstoolkit.evidence._checks import real_array
 
 SpeedModel = Literal["paper", "ideal_gas", "cramer"]
 
@@ -35,14 +36,20 @@ _CRAMER = np.array([
 
 def speed_of_sound_paper(temperature_c: Any) -> np.ndarray | float:
     """c = 331.3 + 0.606 T (m/s), the paper's linear law (T in °C)."""
-    return 331.3 + 0.606 * np.asarray(temperature_c, dtype=float)
+    return 331.3 + 0.606 * _temperature(temperature_c)
+
+
+def _temperature(value: Any) -> np.ndarray:
+    t = real_array(value, "temperature_c")
+    if np.any(t <= -273.15):
+        raise InvalidInputError(f"temperature_c must be above absolute zero (-273.15 °C), got "
+                                f"{t.min():g}")
+    return t
 
 
 def speed_of_sound_ideal_gas(temperature_c: Any) -> np.ndarray | float:
     """c = 331.3 sqrt(1 + T/273.15) (m/s): dry air as an ideal gas, c ∝ sqrt(T_kelvin)."""
-    t = np.asarray(temperature_c, dtype=float)
-    if np.any(t <= -273.15):
-        raise InvalidInputError(f"temperature must be above absolute zero (-273.15 °C), got {t}")
+    t = _temperature(temperature_c)
     return 331.3 * np.sqrt(1.0 + t / 273.15)
 
 
@@ -72,7 +79,7 @@ def speed_of_sound_cramer(
     Valid for 0–30 °C, 75–102 kPa (a little above is harmless), x_w ≤ 0.06, x_c ≤ 0.01;
     accuracy about 300 ppm. Outside 0–30 °C a ``ValueError`` asks for another model.
     """
-    t = np.asarray(temperature_c, dtype=float)
+    t = _temperature(temperature_c)
     if np.any((t < 0.0) | (t > 30.0)):
         raise InvalidInputError(
             f"Cramer's formula holds for 0–30 °C, got {t}; use model='ideal_gas' outside"
@@ -107,7 +114,7 @@ def speed_of_sound(
 
 
 def _check_positive(name: str, value: Any) -> np.ndarray:
-    v = np.asarray(value, dtype=float)
+    v = real_array(value, name, finite=False)
     if np.any(~np.isfinite(v)) or np.any(v <= 0):
         raise InvalidInputError(f"{name} must be positive and finite, got {value}")
     return v
