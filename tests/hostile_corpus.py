@@ -39,7 +39,8 @@ def _chunk(tag: bytes, payload: bytes, size: int | None = None) -> bytes:
 def _fmt(tag: int = 3, channels: int = 1, rate: int = 44100, bits: int = 32,
          align: int | None = None, extra: bytes = b"") -> bytes:
     align = channels * bits // 8 if align is None else align
-    body = struct.pack("<HHIIHH", tag, channels, rate, rate * max(align, 1), align, bits)
+    body = struct.pack("<HHIIHH", tag, channels, rate, (rate * max(align, 1)) % 2**32, align,
+                       bits)
     return _chunk(b"fmt ", body + extra)
 
 
