@@ -30,10 +30,11 @@ from dstoolkit.filters import (
     KalmanFilter,
     NassreddineFilter,
     ParticleFilter,
+    _base,
+    _nassreddine,
     cluster_boxes,
     random_walk,
 )
-from dstoolkit.filters import _base, _nassreddine
 from dstoolkit.gauge import gauge_state_space_model, simulate_gauge
 
 FILTERS = [DependentEvidenceFilter(), NassreddineFilter(), NassreddineFilter(restart=True),
