@@ -7,8 +7,7 @@
   step's broadcasts, the product masses of Steps 2 and 4 (ρ_ij = m_v(i) m_v(j), ρ_ij m_w(l),
   eq. 16), the monotone end points of the images (Prop. 2, eqs. 18–19);
 - every array of a step is a preallocated buffer written with ``out=``;
-- boxes are stored as (..., n, 2) with (lo, hi) last, so that one call handles both ends,
-  and a pair (lo, hi) read as one complex number makes box equality (eq. A3) one compare;
+- boxes are stored as (..., n, 2) with (lo, hi) last, so that one call handles both ends;
 - E1 = the mapped-back evidence (Step 5) and E2 = the prediction (Step 2) share one buffer
   ``[E1, Θ1, E2, Θ2]``: the energies (eq. A1) of both are one pass, m1(D) and m2(D) of the
   energy of the intersection (eq. A3) are one matrix product, and Step 6's operands, E1 and
@@ -46,12 +45,6 @@ SNAP_RTOL = 1e-12
 def _pairs(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """Boxes (..., n) twice → (..., n, 2), (lo, hi) last."""
     return np.stack([lo, hi], axis=-1)
-
-
-def _as_complex(boxes: np.ndarray) -> np.ndarray:
-    """(..., n, 2) float boxes (contiguous in the last axis) → (..., n) complex: equal
-    complex numbers are equal boxes."""
-    return boxes.view(np.complex128)[..., 0]
 
 
 class _MonotoneImage:
@@ -294,9 +287,12 @@ class StepArrays:
         n1, np_, n = self.n1, self.np, self.n
         boxes, masses, all_mass = self.boxes, self.masses, self.all_mass
         # [A_i = B_j] for every row of [E1, Θ1, E2, Θ2] against E2 (Θ rows carry no mass)
-        flat = _as_complex(boxes)
-        same = flat[:, :, None] == flat[:, None, n1 + 1:n1 + 1 + np_]
-        same = same[..., 0] if n == 1 else same.all(axis=-1)
+        rows, pred = boxes[:, :, None], self.pred[:, None]
+        if n == 1:
+            same = np.equal(rows[..., 0, 0], pred[..., 0, 0])
+            same &= rows[..., 0, 1] == pred[..., 0, 1]
+        else:
+            same = (rows == pred).all(axis=(-2, -1))
         on_b, merged_b = np.matmul(masses, same, dtype=float).transpose(1, 0, 2)
         # energies (eq. A1) of E1 and E2 in one pass over [E1, Θ1, E2, Θ2]
         widths = boxes[..., 1] - boxes[..., 0]
