@@ -31,7 +31,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from dstoolkit.errors import EvidenceError, NotMonotoneError
-from dstoolkit.evidence._batch_kernels import TINY, _coefficient_error
+from dstoolkit.evidence._batch_kernels import (
+    ProductWork,
+    _coefficient_error,
+    dempster_expectation,
+    dependence_rows,
+)
+from dstoolkit.evidence._boxes import Boxes, hull
 from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
 from dstoolkit.evidence._extension import CHECK_RTOL, image_boxes
 
@@ -116,7 +122,6 @@ class StepArrays:
         self.w = _pairs(noise.w.lo[0], noise.w.hi[0])  # (Nw, m, 2)
         self.rho = noise.prediction_mass[0]  # (Np,)
         self.rho_w = np.multiply.outer(self.rho, noise.w.mass[0])  # (Np, Nw), Step 4
-        self.rho_positive = bool(np.all(self.rho > 0))
         self.rho_w_positive = bool(np.all(self.rho_w > 0))
 
         def image(signs: np.ndarray | None, method: str, what: str, boxes: int, dim: int
@@ -146,9 +151,7 @@ class StepArrays:
         self.masses = np.zeros((runs, 2, n1 + np_ + 2))
         self.masses[:, 1, n1 + 1:n1 + 1 + np_] = self.rho
         self.back_mass = self.masses[:, 0, :n1]
-        self.all_mass = np.empty((runs, n1 + np_ + 2))
-        self.segments = np.array([0, n1 + 1])
-        self.segment_of_row = np.repeat([0, 1], [n1 + 1, np_ + 1])
+        self.e2_rows = slice(n1 + 1, n1 + 1 + np_)
         self.prior = np.empty((runs, np_, nw, n, 2))
         self.zw = np.empty((runs, nw, m, 2))
         self.fused = np.empty((runs, np_, nw, m, 2))
@@ -159,10 +162,7 @@ class StepArrays:
         self.a_mass = np.empty((runs, n1 + 1))
         self.b_mass = np.empty((runs, np_ + 1))
         self.theta_mass = np.empty((runs, 2))
-        self.all_runs = np.ones(runs, dtype=bool)
-        self.lo6 = np.empty((runs, n, n1 + 1, np_ + 1))
-        self.hi6 = np.empty_like(self.lo6)
-        self.stack6 = np.empty((runs, 1 + n, n1 + 1, np_ + 1))
+        self.work = ProductWork.allocate(runs, n, n1 + 1, np_ + 1)
 
     # -- Steps 2 and 3 -----------------------------------------------------------------------
     def _predict(self, t: int, xhat: np.ndarray, f_u: Callable[[np.ndarray], np.ndarray]
@@ -260,8 +260,7 @@ class StepArrays:
         np.less_equal(snap, scale, out=near)
         # live = positive mass: the nonempty products of Step 4 unless a mass is 0
         live = self.nonempty4 if self.rho_w_positive else self.back_mass > 0
-        self.all_live = bool(live.all())
-        if not self.all_live:
+        if not live.all():
             near |= ~live.reshape(runs, self.np, self.nw, 1, 1)
         np.copyto(back, prior, where=near)
         empty = back_flat[..., 0] > back_flat[..., 1]
@@ -278,112 +277,37 @@ class StepArrays:
 
     def _dependence(self, t: int, diag: np.ndarray) -> None:
         """En'(E1), En'(E2), En'(E1, E2), D, R12, R21 into ``diag[:, 2:]`` (Def. 5, eqs.
-        A1, A3–A6), as :func:`dstoolkit.evidence._batch_kernels.dependence`.
-
-        With u the smallest live width of an evidence, every live width is ≥ u, so the
-        specificity u/w of each focal element (eq. A1) is (u + ε)/(w + ε) (ε = TINY keeps
-        0/0 = 1 for points); (u + ε) is taken out of each sum.
-        """
-        n1, np_, n = self.n1, self.np, self.n
-        boxes, masses, all_mass = self.boxes, self.masses, self.all_mass
-        # [A_i = B_j] for every row of [E1, Θ1, E2, Θ2] against E2 (Θ rows carry no mass)
-        rows, pred = boxes[:, :, None], self.pred[:, None]
-        if n == 1:
-            same = np.equal(rows[..., 0, 0], pred[..., 0, 0])
-            same &= rows[..., 0, 1] == pred[..., 0, 1]
-        else:
-            same = (rows == pred).all(axis=(-2, -1))
-        on_b, merged_b = np.matmul(masses, same, dtype=float).transpose(1, 0, 2)
-        # energies (eq. A1) of E1 and E2 in one pass over [E1, Θ1, E2, Θ2]
-        widths = boxes[..., 1] - boxes[..., 0]
-        widths = widths[..., 0] if n == 1 else np.prod(widths, axis=-1)
-        np.add(masses[:, 0], masses[:, 1], out=all_mass)
-        units = np.minimum.reduceat(np.where(all_mass > 0, widths, np.inf), self.segments,
-                                    axis=1)
-        units += TINY
-        widths += TINY
-        sums = np.divide(all_mass, widths)
-        np.multiply(units, np.add.reduceat(sums, self.segments, axis=1), out=diag[:, 2:4])
-        # energy of the intersection (eq. A3): Σ_j m2_j/m2(D_j) · m(D_j) · u12/w_j
-        rule = self.flt.mass_rule
-        if rule == "min":
-            m_d = np.minimum(on_b, merged_b)
-        else:  # "m1" is 0 off the common elements by itself, "m2" is not
-            m_d = on_b if rule == "m1" else merged_b * (on_b > 0)
-        m_d *= self.rho
-        m_d /= merged_b
-        m_d /= widths[:, n1 + 1:n1 + 1 + np_]
-        np.multiply(units.min(axis=1), np.add.reduce(m_d, axis=1), out=diag[:, 4])
-        energies, joint = diag[:, 2:4], diag[:, 4]
-        # D (eq. A4), R12 = 1 − D/2 · En'(E2)/En'(E1), R21 likewise (eqs. A5–A6)
-        total = np.add.reduce(energies, axis=1)
-        total += TINY
-        np.divide(2.0 * joint, total, out=diag[:, 5])
-        ratio = np.multiply(0.5 * diag[:, 5, None], energies[:, ::-1])
-        ratio /= energies + TINY
-        np.subtract(1.0, ratio, out=diag[:, 6:8])
+        A1, A3–A6) by :func:`~dstoolkit.evidence._batch_kernels.dependence_rows` on the
+        rows [E1, Θ1, E2, Θ2] (the Θ rows carry no mass yet)."""
+        boxes = self.boxes
+        dependence_rows(boxes[..., 0], boxes[..., 1], self.masses, self.e2_rows,
+                        self.flt.mass_rule, diag[:, 2:])
         if diag[:, 6:8].min() < 0.0:
             self.check_images(t + 1)
-            _coefficient_error(diag[:, 6], diag[:, 7], diag[:, 5], rule)
+            _coefficient_error(diag[:, 6], diag[:, 7], diag[:, 5], self.flt.mass_rule)
 
     def _combine(self, t: int, est: np.ndarray, diag: np.ndarray, bounds: bool
                  ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray] | None]:
-        """Step 6: E1, E2 discounted onto their hulls by R12, R21 (eqs. A7–A8), Dempster's
-        rule (eq. 1) and the pignistic expectation (eq. 20) into est[:, t]; returns the
-        mask of runs with K < 1 and with ``bounds`` the hull of the combination."""
-        n1, np_, n = self.n1, self.np, self.n
+        """Step 6: E1, E2 discounted onto their hulls Θ1, Θ2 by R12, R21 (eqs. A7–A8),
+        Dempster's rule (eq. 1) and the pignistic expectation (eq. 20) into est[:, t], by
+        :func:`~dstoolkit.evidence.dempster_expectation`; returns the mask of runs with
+        K < 1 and with ``bounds`` the hull of the combination."""
+        n1, np_ = self.n1, self.np
         r12, r21 = diag[:, 6], diag[:, 7]
         back, pred = self.back, self.pred
-        if self.all_live:
-            np.minimum.reduce(back[..., 0], axis=1, out=self.theta1[..., 0])
-            np.maximum.reduce(back[..., 1], axis=1, out=self.theta1[..., 1])
-        else:
-            live = (self.back_mass > 0)[..., None]
-            self.theta1[..., 0] = np.where(live, back[..., 0], np.inf).min(axis=1)
-            self.theta1[..., 1] = np.where(live, back[..., 1], -np.inf).max(axis=1)
-        if self.rho_positive:
-            np.minimum.reduce(pred[..., 0], axis=1, out=self.theta2[..., 0])
-            np.maximum.reduce(pred[..., 1], axis=1, out=self.theta2[..., 1])
-        else:
-            live = (self.rho > 0)[None, :, None]
-            self.theta2[..., 0] = np.where(live, pred[..., 0], np.inf).min(axis=1)
-            self.theta2[..., 1] = np.where(live, pred[..., 1], -np.inf).max(axis=1)
+        for theta, part in ((self.theta1, Boxes(back[..., 0], back[..., 1], self.back_mass)),
+                            (self.theta2, Boxes(pred[..., 0], pred[..., 1], self.rho[None]))):
+            theta[..., 0], theta[..., 1] = hull(part)
         a_mass, b_mass, theta_mass = self.a_mass, self.b_mass, self.theta_mass
         np.multiply(self.back_mass, r12[:, None], out=a_mass[:, :n1])
         np.multiply(self.rho, r21[:, None], out=b_mass[:, :np_])
         np.subtract(1.0, diag[:, 6:8], out=theta_mass)
         a_mass[:, n1], b_mass[:, np_] = theta_mass.T
-        # products A'_i ∩ B'_j as (R, n, N_a, N_b), the nonempty mask and the centres (×2)
-        a, b = self.a_boxes.transpose(0, 2, 1, 3), self.b_boxes.transpose(0, 2, 1, 3)
-        lo, hi, stack = self.lo6, self.hi6, self.stack6
-        np.maximum(a[:, :, :, None, 0], b[:, :, None, :, 0], out=lo)
-        np.minimum(a[:, :, :, None, 1], b[:, :, None, :, 1], out=hi)
-        nonempty, centres = stack[:, 0], stack[:, 1:]
-        if n == 1:
-            np.less_equal(lo[:, 0], hi[:, 0], out=nonempty)
-        else:
-            nonempty[...] = np.logical_and.reduce(lo <= hi, axis=1)
-        np.add(lo, hi, out=centres)
-        centres *= nonempty[:, None]
-        sums = (a_mass[:, None, None] @ stack @ b_mass[:, None, :, None])[..., 0, 0]
-        kept, total = sums[:, 0], sums[:, 1:]
-        np.subtract(1.0, kept, out=diag[:, 1])
-        np.multiply(total, 0.5, out=est[:, t])
-        if kept.min() > CONFLICT_TOLERANCE:
-            ok = self.all_runs
-            est[:, t] /= kept[:, None]
-        else:
-            ok = kept > CONFLICT_TOLERANCE
-            est[:, t] /= np.where(ok, kept, 1.0)[:, None]
-        if not bounds:
-            return ok, None
-        # the hull is Θ1 ∩ Θ2 where both keep mass and meet; else over the live products
-        if theta_mass.min() > 0.0 and nonempty[:, n1, np_].min() > 0.0:
-            return ok, (lo[:, :, n1, np_].copy(), hi[:, :, n1, np_].copy())
-        live = (nonempty > 0) & (a_mass[:, :, None] > 0) & (b_mass[:, None] > 0)
-        live = live[:, None]
-        return ok, (np.where(live, lo, np.inf).min(axis=(2, 3)),
-                    np.where(live, hi, -np.inf).max(axis=(2, 3)))
+        a, b = self.a_boxes, self.b_boxes
+        est[:, t], diag[:, 1], ok, result = dempster_expectation(
+            Boxes(a[..., 0], a[..., 1], a_mass), Boxes(b[..., 0], b[..., 1], b_mass), bounds,
+            work=self.work, theta_last=True)
+        return ok, result
 
     def _check_conflict(self, ok: np.ndarray, t: int, step: int) -> None:
         if self.flt.on_conflict == "raise" and not ok.all():
