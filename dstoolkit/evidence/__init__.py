@@ -30,8 +30,8 @@ from ._boxes import (
 )
 from ._combination import (
     CONFLICT_TOLERANCE,
-    Dependence,
     MASS_RULES,
+    Dependence,
     MassRule,
     combine_dependent,
     conflict,

@@ -39,7 +39,7 @@ from __future__ import annotations
 import functools
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, ClassVar, Literal
+from typing import Any, ClassVar, Literal, overload
 
 import numpy as np
 
@@ -134,7 +134,7 @@ def map_back(maps: ModelMaps, fused: Boxes, prior_lo: np.ndarray, prior_hi: np.n
     predicted boxes (eq. A3): a bound within :data:`SNAP_RTOL` of its predicted box's bound
     is set to it, so that rounding in g and g⁻¹ does not decide what is common.
     """
-    lo, hi = maps.model.g_inverse(fused.lo, fused.hi, prior_lo, prior_hi)
+    lo, hi = maps.model.inverse()(fused.lo, fused.hi, prior_lo, prior_hi)
     lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
     scale = SNAP_RTOL * np.maximum(np.abs(prior_lo), np.abs(prior_hi))
     lo = np.where(np.abs(lo - prior_lo) <= scale, prior_lo, lo)
@@ -239,7 +239,7 @@ class DependentEvidenceFilter:
         reading = z1 + (model.obs_noise.mean if self.start == "mean_corrected" else 0.0)
         point = reading[:, None]
         inf = np.full((runs, 1, n), np.inf)
-        lo, hi = model.g_inverse(point, point, -inf, inf)
+        lo, hi = model.inverse()(point, point, -inf, inf)
         x = 0.5 * (np.asarray(lo, dtype=float) + np.asarray(hi, dtype=float))[:, 0]
         if not np.all(np.isfinite(x)):
             raise EvidenceError(
@@ -394,9 +394,18 @@ class DependentEvidenceFilter:
                                 None if inputs is None else np.asarray(inputs, dtype=float)[None])
         if record:
             return self._run_objects(maps, noise, zz, uu)
-        est, lower, upper, diag = self._run_arrays(maps, noise, zz, uu)
+        est, lower, upper, diag = self._run_arrays(maps, noise, zz, uu, bounds=True)
+        assert lower is not None and upper is not None  # bounds=True returns them
         return FilterResult(self.name, est[0], lower[0], upper[0], None,
                             {key: value[0] for key, value in diag.items()})
+
+    @overload
+    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
+                  return_result: Literal[False] = False) -> np.ndarray: ...
+
+    @overload
+    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
+                  return_result: Literal[True]) -> FilterResult: ...
 
     def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
                   return_result: bool = False) -> np.ndarray | FilterResult:

@@ -117,6 +117,7 @@ class StepArrays:
         nv, nw = noise.v.lo.shape[1], noise.w.lo.shape[1]
         np_, n1 = nv * nv, nv * nv * nw
         self.flt, self.maps, self.runs = flt, maps, runs
+        self.g_inverse = model.inverse()
         self.n, self.m, self.nv, self.nw, self.np, self.n1 = n, m, nv, nw, np_, n1
         self.v = _pairs(noise.v.lo[0], noise.v.hi[0])  # (Nv, n, 2)
         self.w = _pairs(noise.w.lo[0], noise.w.hi[0])  # (Nw, m, 2)
@@ -133,7 +134,7 @@ class StepArrays:
         self.f_image = image(maps.f_signs, maps.f_method, "f", nv, n)
         self.g_image = image(maps.g_signs, maps.g_method, "g", np_, m)
         if self.f_image is not None:  # x̂ + V's end points and centre, without x̂
-            inc = maps.f_signs > 0
+            inc = self.f_image.signs > 0
             v_lo, v_hi = noise.v.lo[0], noise.v.hi[0]
             self.f_offsets = np.stack([np.where(inc, v_lo, v_hi), np.where(inc, v_hi, v_lo),
                                        0.5 * (v_lo + v_hi)], axis=1)  # (Nv, 3, n)
@@ -247,8 +248,8 @@ class StepArrays:
         np.copyto(prior, self.pred[:, :, None])
         fused = self.fused.reshape(runs, n1, self.m, 2)
         flat_prior = prior.reshape(runs, n1, n, 2)
-        lo, hi = self.maps.model.g_inverse(fused[..., 0], fused[..., 1],
-                                           flat_prior[..., 0], flat_prior[..., 1])
+        lo, hi = self.g_inverse(fused[..., 0], fused[..., 1], flat_prior[..., 0],
+                                flat_prior[..., 1])
         back_flat = self.back
         back_flat[..., 0], back_flat[..., 1] = lo, hi
         # |bound − predicted bound| ≤ SNAP_RTOL·max(|lo|, |hi|) of the predicted box, or mass 0
