@@ -35,14 +35,16 @@ def row_sum(values: np.ndarray) -> np.ndarray:
     return np.cumsum(values, axis=1)[:, -1]
 
 
-def hull(e: Boxes) -> tuple[np.ndarray, np.ndarray]:
+def hull(e: Boxes, out: tuple[np.ndarray, np.ndarray] | None = None
+         ) -> tuple[np.ndarray, np.ndarray]:
     """The smallest box holding every focal element of positive mass, (R, d) twice (Θ of
-    eqs. A7–A8)."""
+    eqs. A7–A8); written into ``out`` when given."""
     live = e.mass > 0
+    lo, hi = (None, None) if out is None else out
     if live.all():
-        return e.lo.min(axis=1), e.hi.max(axis=1)
-    return (np.where(live[..., None], e.lo, np.inf).min(axis=1),
-            np.where(live[..., None], e.hi, -np.inf).max(axis=1))
+        return np.minimum.reduce(e.lo, axis=1, out=lo), np.maximum.reduce(e.hi, axis=1, out=hi)
+    return (np.minimum.reduce(np.where(live[..., None], e.lo, np.inf), axis=1, out=lo),
+            np.maximum.reduce(np.where(live[..., None], e.hi, -np.inf), axis=1, out=hi))
 
 
 def pignistic_expectation(e: Boxes) -> np.ndarray:

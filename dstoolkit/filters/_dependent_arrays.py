@@ -1,26 +1,23 @@
 """The array path of the paper's filter: Steps 2–6 for a block of runs, buffers allocated once.
 
-:meth:`DependentEvidenceFilter._run_arrays` spends its time in numpy's per-call overhead
-(arrays of 4–1,100 elements), so :class:`StepArrays` does each step in few, larger calls:
+A step works on arrays of 4–1,100 elements, so its cost is numpy's per-call overhead;
+:class:`StepArrays` does each step in few, larger calls:
 
 - everything constant over a run is computed once: the noise boxes laid out for each
   step's broadcasts, the product masses of Steps 2 and 4 (ρ_ij = m_v(i) m_v(j), ρ_ij m_w(l),
-  eq. 16), the monotone end points of the images (Prop. 2, eqs. 18–19);
+  eq. 16), the monotone end points of f's images (Prop. 2, eqs. 18–19), ``g_inverse``;
 - every array of a step is a preallocated buffer written with ``out=``;
 - boxes are stored as (..., n, 2) with (lo, hi) last, so that one call handles both ends;
 - E1 = the mapped-back evidence (Step 5) and E2 = the prediction (Step 2) share one buffer
-  ``[E1, Θ1, E2, Θ2]``: the energies (eq. A1) of both are one pass, m1(D) and m2(D) of the
-  energy of the intersection (eq. A3) are one matrix product, and Step 6's operands, E1 and
-  E2 discounted onto Θ1 and Θ2 (eqs. A7–A8), are its two halves;
-- Step 6 fuses with the nonempty-product matrix and the centres in one stack, two matrix
-  products giving 1 − K and the pignistic expectation (eqs. 1, 20); its hull is Θ1 ∩ Θ2
-  whenever both Θ keep mass (every live product lies in it, and it is one of them);
+  ``[E1, Θ1, E2, Θ2]``: :func:`~dstoolkit.evidence._batch_kernels.dependence_rows` gets
+  both energies (eq. A1) in one pass and m1(D), m2(D) of eq. A3 in one matrix product, and
+  Step 6's operands, E1 and E2 discounted onto Θ1 and Θ2 (eqs. A7–A8), are its two halves
+  (:func:`~dstoolkit.evidence.dempster_expectation` with reused buffers);
 - the monotonicity checks of the images (Prop. 2) keep every step's values and run once
   per block, and before any other error is raised.
 
-The numbers are those of :mod:`dstoolkit.evidence._batch_kernels` (the same formulas;
-sums may round differently in the last bit), and independent of the number of runs in a
-block, so a batch equals single runs exactly (tested).
+The kernels are those of :mod:`dstoolkit.evidence._batch_kernels`, and nothing depends on
+the number of runs in a block, so a batch equals single runs exactly (tested).
 """
 
 from __future__ import annotations
@@ -298,7 +295,7 @@ class StepArrays:
         back, pred = self.back, self.pred
         for theta, part in ((self.theta1, Boxes(back[..., 0], back[..., 1], self.back_mass)),
                             (self.theta2, Boxes(pred[..., 0], pred[..., 1], self.rho[None]))):
-            theta[..., 0], theta[..., 1] = hull(part)
+            hull(part, out=(theta[..., 0], theta[..., 1]))
         a_mass, b_mass, theta_mass = self.a_mass, self.b_mass, self.theta_mass
         np.multiply(self.back_mass, r12[:, None], out=a_mass[:, :n1])
         np.multiply(self.rho, r21[:, None], out=b_mass[:, :np_])
