@@ -13,6 +13,7 @@ import numpy as np
 from dstoolkit.errors import EvidenceError
 
 from ._base import Evidence, validate_masses
+from ._boxes import Boxes, hull, pignistic_expectation
 from ._checks import real_array
 
 
@@ -151,9 +152,22 @@ class IntervalEvidence(Evidence):
         """Width (d = 1) or volume (d > 1) of each focal element."""
         return self._sizes()
 
+    def as_boxes(self) -> Boxes:
+        """The focal elements as a one-run :class:`~dstoolkit.evidence.Boxes`."""
+        return Boxes(self.boxes_lo[None], self.boxes_hi[None], self._mass[None])
+
+    @classmethod
+    def from_boxes(cls, boxes: Boxes, run: int = 0) -> IntervalEvidence:
+        """The mass function of one run of ``boxes``, padding (mass 0) dropped, masses
+        renormalised, equal boxes not merged."""
+        keep = boxes.mass[run] > 0
+        mass = boxes.mass[run, keep]
+        return cls(boxes.lo[run, keep], boxes.hi[run, keep], mass / mass.sum(), merge=False)
+
     def hull(self) -> tuple[np.ndarray, np.ndarray]:
         """The smallest box containing every focal element (Θ in eqs. A7–A8)."""
-        return self.boxes_lo.min(axis=0), self.boxes_hi.max(axis=0)
+        lo, hi = hull(self.as_boxes())
+        return lo[0], hi[0]
 
     # -- primitives ----------------------------------------------------------------------
     def _check_same_frame(self, other: IntervalEvidence) -> None:
@@ -244,13 +258,12 @@ class IntervalEvidence(Evidence):
         A scalar for intervals, a vector of length d for boxes. Unbounded focal elements
         have no expectation: an error says which.
         """
-        centres = 0.5 * (self.boxes_lo + self.boxes_hi)
-        if not np.all(np.isfinite(centres)):
+        if not (np.all(np.isfinite(self.boxes_lo)) and np.all(np.isfinite(self.boxes_hi))):
             raise EvidenceError(
                 "the pignistic expectation needs bounded focal elements; replace ±inf ends "
                 "by a finite frame (e.g. discount onto a finite Θ)"
             )
-        value = self._mass @ centres
+        value = pignistic_expectation(self.as_boxes())[0]
         return float(value[0]) if self.dim == 1 else value
 
     def shift(self, offset: Any) -> IntervalEvidence:

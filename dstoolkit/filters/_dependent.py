@@ -36,8 +36,8 @@ estimate), flagged in ``diagnostics["fallback"]``.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
-from contextlib import nullcontext
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal, overload
 
@@ -59,6 +59,7 @@ from dstoolkit.evidence._extension import (
 from dstoolkit.evidence._intervals import IntervalEvidence
 
 from ._base import FilterBase
+from ._dependent_arrays import SNAP_RTOL, StepArrays
 from ._model import FilterResult, StateSpaceModel, step_input, with_input
 
 StartRule = Literal["observation", "mean_corrected"]
@@ -75,8 +76,6 @@ DIAGNOSTICS: dict[str, str] = {
     "r21": "dependency coefficient R21 (eq. A6)",
     "fallback": "1 where total conflict made the prediction the final evidence, else 0",
 }
-#: Relative distance below which a mapped-back bound is snapped to its predicted box (Step 5).
-SNAP_RTOL = 1e-12
 COUNTS: tuple[str, ...] = (
     "n_state", "n_prediction", "n_observation_prediction", "n_observation", "n_fused",
     "n_mapped_back", "n_final", "n_products_step4", "n_products_step6",
@@ -221,13 +220,12 @@ class DependentEvidenceFilter(FilterBase):
 
     # -- Step 1 and model parsing ----------------------------------------------------------
     def noise_evidence(self, model: StateSpaceModel) -> NoiseEvidence:
-        """Step 1: E_v and E_w from the model's bounded noises (eqs. 22–26, Tables 1–2)."""
-        theta_v, theta_w = (None, None) if self.theta is None else self.theta
-        ev = model.state_noise.evidence(self.p, self.epsilon, _theta(theta_v, model.state_dim))
-        ew = model.obs_noise.evidence(self.p, self.epsilon, _theta(theta_w, model.obs_dim))
-        v = Boxes(ev.boxes_lo[None], ev.boxes_hi[None], ev.mass[None])
-        w = Boxes(ew.boxes_lo[None], ew.boxes_hi[None], ew.mass[None])
-        return NoiseEvidence(ev, ew, v, w, np.multiply.outer(ev.mass, ev.mass).reshape(1, -1))
+        """Step 1: E_v and E_w from the model's bounded noises (eqs. 22–26, Tables 1–2).
+
+        Computed once per noise and setting (cached): a run reuses it at every step, and
+        runs of the same model reuse it too.
+        """
+        return _noise_evidence(_Step1(self, model))
 
     def _maps(self, model: StateSpaceModel) -> ModelMaps:
         if model.g_inverse is None:
@@ -274,35 +272,25 @@ class DependentEvidenceFilter(FilterBase):
         est[:, 0] = self._start(maps.model, z[:, 0])
         if lower is not None and upper is not None:
             lower[:, 0] = upper[:, 0] = est[:, 0]
-        rho, w, nw = noise.prediction_mass, noise.w, noise.w.lo.shape[1]
-        rows: list[tuple[np.ndarray, ...]] = []
+        arrays = StepArrays(self, maps, noise, runs, steps)
+        table = np.full((len(DIAGNOSTICS), runs, steps), np.nan)
+        f = maps.model.f
         for t in range(1, steps):
-            f_u = with_input(maps.model.f, step_input(inputs, t))
-            p_lo, p_hi = predict(maps, noise, est[:, t - 1], f_u)
-            pred = Boxes(p_lo, p_hi, rho)
-            pz_lo, pz_hi = observe(maps, p_lo, p_hi)
-            zt = z[:, t, None]
-            fused, k4, ok4 = bk.dempster(Boxes(pz_lo, pz_hi, rho),
-                                         Boxes(zt + w.lo, zt + w.hi, w.mass))
-            all_ok = bool(ok4.all())
-            if not all_ok:
-                self._check_conflict(ok4, t, 4)
-            # runs in total conflict carry mass-0 placeholders: silence their 0/0 and 0·∞
-            with nullcontext() if all_ok else np.errstate(invalid="ignore", divide="ignore"):
-                back = map_back(maps, fused, p_lo.repeat(nw, axis=1), p_hi.repeat(nw, axis=1),
-                                t + 1)
-                dep = bk.dependence(back, pred, self.mass_rule)
-                est[:, t], k6, ok6, hull = bk.dempster_expectation(
-                    bk.discount_onto_hull(back, dep.r12), bk.discount_onto_hull(pred, dep.r21),
-                    bounds)
-                if hull is not None and lower is not None and upper is not None:
-                    lower[:, t], upper[:, t] = hull
-            ok = ok4 & ok6
-            if not (all_ok and ok6.all()):
-                self._check_conflict(ok6, t, 6)
+            f_u = with_input(f, None if inputs is None else inputs[:, t - 1])
+            ok4, (ok6, hull) = arrays.step(t, est, z[:, t], f_u, table[:8, :, t].T, bounds)
+            if lower is not None and upper is not None and hull is not None:
+                lower[:, t], upper[:, t] = hull
+            if not ok4.all() or not ok6.all():
+                ok = ok4 & ok6
+                arrays._check_conflict(ok6, t, 6)
+                pred = Boxes(arrays.pred[..., 0], arrays.pred[..., 1], noise.prediction_mass)
                 self._fall_back(ok, t, pred, est, lower, upper)
-            rows.append((k4, k6, *dep, ~ok, ~ok4))
-        return est, lower, upper, self._diagnostics(rows, runs)
+                table[8, :, t] = ~ok
+                table[1:8, ~ok4, t] = np.nan
+            else:
+                table[8, :, t] = 0.0
+        arrays.check_images(steps)
+        return est, lower, upper, dict(zip(DIAGNOSTICS, table, strict=True))
 
     @staticmethod
     def _fall_back(ok: np.ndarray, t: int, pred: Boxes, est: np.ndarray,
@@ -313,17 +301,6 @@ class DependentEvidenceFilter(FilterBase):
         if lower is not None and upper is not None:
             p_lo, p_hi = bk.hull(pred)
             lower[bad, t], upper[bad, t] = p_lo[bad], p_hi[bad]
-
-    @staticmethod
-    def _diagnostics(rows: list[tuple[np.ndarray, ...]], runs: int) -> dict[str, np.ndarray]:
-        """Per-step rows (diagnostics, then "Step 4 failed") → (R, T) arrays; NaN at step 1
-        and, after Step 4, where Step 4 failed."""
-        table = np.full((len(DIAGNOSTICS) + 1, runs, len(rows) + 1), np.nan)
-        if rows:
-            table[:, :, 1:] = np.array(rows, dtype=float).transpose(1, 2, 0)
-            step4_failed = table[-1] > 0
-            table[1:-2, step4_failed] = np.nan
-        return dict(zip(DIAGNOSTICS, table[:-1], strict=True))
 
     def _check_conflict(self, ok: np.ndarray, t: int, step: int) -> None:
         if self.on_conflict == "raise" and not ok.all():
@@ -468,6 +445,38 @@ class DependentEvidenceFilter(FilterBase):
             np.concatenate([part[2] for part in parts]), None,
             {key: np.concatenate([part[3][key] for part in parts]) for key in DIAGNOSTICS},
         )
+
+
+class _Step1:
+    """The inputs of Step 1, hashable by value (bounds, modes, Θ, p, ε) for the cache."""
+
+    def __init__(self, flt: DependentEvidenceFilter, model: StateSpaceModel) -> None:
+        theta_v, theta_w = (None, None) if flt.theta is None else flt.theta
+        self.state, self.obs = model.state_noise, model.obs_noise
+        self.theta_v = _theta(theta_v, model.state_dim)
+        self.theta_w = _theta(theta_w, model.obs_dim)
+        self.p, self.epsilon = int(flt.p), float(flt.epsilon)
+        self.key = (self.p, self.epsilon, *(None if a is None else a.tobytes() for a in (
+            self.state.lower, self.state.mode, self.state.upper, self.obs.lower,
+            self.obs.mode, self.obs.upper, self.theta_v, self.theta_w)))
+
+    def __hash__(self) -> int:
+        return hash(self.key)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, _Step1) and other.key == self.key
+
+
+@functools.lru_cache(maxsize=64)
+def _noise_evidence(step1: _Step1) -> NoiseEvidence:
+    ev = step1.state.evidence(step1.p, step1.epsilon, step1.theta_v)
+    ew = step1.obs.evidence(step1.p, step1.epsilon, step1.theta_w)
+    v = Boxes(ev.boxes_lo[None], ev.boxes_hi[None], ev.mass[None])
+    w = Boxes(ew.boxes_lo[None], ew.boxes_hi[None], ew.mass[None])
+    rho = np.multiply.outer(ev.mass, ev.mass).reshape(1, -1)
+    for array in (*v, *w, rho):
+        array.flags.writeable = False
+    return NoiseEvidence(ev, ew, v, w, rho)
 
 
 def _theta(theta: Any, dim: int) -> np.ndarray | None:

@@ -64,6 +64,7 @@ from typing import Any, Literal
 import numpy as np
 
 from dstoolkit.errors import EvidenceError, TotalConflictError, WorkLimitError
+from dstoolkit.evidence._boxes import Boxes, hull, pignistic_expectation, row_sum
 from dstoolkit.evidence._checks import whole_number
 from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
 from dstoolkit.evidence._extension import box_image
@@ -88,51 +89,13 @@ CHUNK_BYTES = 96 * 2**20
 MAX_CLUSTER_ROUNDS = 10_000
 
 
-def row_sum(values: np.ndarray) -> np.ndarray:
-    """Sum over axis 1 (the focal elements), added in order.
-
-    numpy's pairwise summation groups terms by the array's length, so zero-mass padding
-    would change the rounding; a sequential sum does not, and a run then gives the same
-    numbers alone as in a batch padded to other runs' sizes.
-    """
-    return np.cumsum(values, axis=1)[:, -1]
-
-
-@dataclass
-class BoxMass:
-    """Mass functions on boxes for a batch of runs: lo, hi (runs, N, n), mass (runs, N).
-
-    Rows with mass 0 are padding; they hold a copy of a real box so that f stays finite.
-    """
-
-    lo: np.ndarray
-    hi: np.ndarray
-    mass: np.ndarray
-
-    def evidence(self, run: int = 0) -> IntervalEvidence:
-        """The mass function of one run as :class:`IntervalEvidence` (padding dropped)."""
-        keep = self.mass[run] > 0
-        return IntervalEvidence(self.lo[run, keep], self.hi[run, keep],
-                                self.mass[run, keep] / self.mass[run, keep].sum(), merge=False)
-
-    def pignistic(self) -> np.ndarray:
-        """Pignistic expectation Σ m_j (lo_j + hi_j)/2 of each run (eq. 20), (runs, n)."""
-        return row_sum(self.mass[..., None] * (0.5 * (self.lo + self.hi)))
-
-    def hull(self) -> tuple[np.ndarray, np.ndarray]:
-        """Hull of the focal elements of each run, (runs, n) twice."""
-        alive = (self.mass > 0)[..., None]
-        return (np.where(alive, self.lo, np.inf).min(axis=1),
-                np.where(alive, self.hi, -np.inf).max(axis=1))
-
-
-def noise_boxes(noise: BoundedNoise, p: int, epsilon: float, theta: Any) -> BoxMass:
-    """The evidence of a bounded noise (eqs. 24–26) as a one-run :class:`BoxMass`."""
+def noise_boxes(noise: BoundedNoise, p: int, epsilon: float, theta: Any) -> Boxes:
+    """The evidence of a bounded noise (eqs. 24–26) as a one-run :class:`Boxes`."""
     ev = noise.evidence(p=p, epsilon=epsilon, theta=theta)
-    return BoxMass(ev.boxes_lo[None], ev.boxes_hi[None], np.asarray(ev.mass)[None])
+    return Boxes(ev.boxes_lo[None], ev.boxes_hi[None], np.asarray(ev.mass)[None])
 
 
-def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> BoxMass:
+def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes:
     """Merge equal boxes within each run, adding their masses (eq. 14).
 
     Input rows with mass 0 are dropped. The result is compacted and canonical: run r's
@@ -159,14 +122,14 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> BoxMa
     out[np.arange(runs)[:, None].repeat(rows, 1)[start], group[start]] = coords[start]
     out, summed = out[:, :width], summed[:, :width]
     out = np.where((summed > 0)[..., None], out, out[:, :1])
-    return BoxMass(out[..., :n], out[..., n:], summed)
+    return Boxes(out[..., :n], out[..., n:], summed)
 
 
 def _sizes(lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
     return np.sum((hi - lo) / unit, axis=-1)
 
 
-def cluster_boxes(bm: BoxMass, max_focal: int) -> tuple[BoxMass, np.ndarray]:
+def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     """Cap each run at ``max_focal`` focal elements by merging similar boxes into their hull.
 
     Denœux's outer approximation by hierarchical clustering (2001): two focal elements A, B
@@ -239,21 +202,21 @@ def cluster_boxes(bm: BoxMass, max_focal: int) -> tuple[BoxMass, np.ndarray]:
     return merge_equal_boxes(lo, hi, mass), moved
 
 
-def _pad(bm: BoxMass, width: int) -> BoxMass:
+def _pad(bm: Boxes, width: int) -> Boxes:
     extra = width - bm.mass.shape[1]
     if extra <= 0:
         return bm
-    return BoxMass(np.concatenate([bm.lo, np.repeat(bm.lo[:, :1], extra, axis=1)], axis=1),
+    return Boxes(np.concatenate([bm.lo, np.repeat(bm.lo[:, :1], extra, axis=1)], axis=1),
                    np.concatenate([bm.hi, np.repeat(bm.hi[:, :1], extra, axis=1)], axis=1),
                    np.concatenate([bm.mass, np.zeros((bm.mass.shape[0], extra))], axis=1))
 
 
-def _replace_runs(bm: BoxMass, runs: np.ndarray, new: BoxMass) -> BoxMass:
+def _replace_runs(bm: Boxes, runs: np.ndarray, new: Boxes) -> Boxes:
     width = max(bm.mass.shape[1], new.mass.shape[1])
     bm, new = _pad(bm, width), _pad(new, width)
     lo, hi, mass = bm.lo.copy(), bm.hi.copy(), bm.mass.copy()
     lo[runs], hi[runs], mass[runs] = new.lo, new.hi, new.mass
-    return BoxMass(lo, hi, mass)
+    return Boxes(lo, hi, mass)
 
 
 @dataclass(frozen=True)
@@ -350,8 +313,8 @@ class NassreddineFilter(FilterBase):
                     np.broadcast_to(np.asarray(self.initial_box[1], float), shape))
         return first_reading_box(model, z)
 
-    def _from_reading(self, model: StateSpaceModel, z: np.ndarray, w: BoxMass, k: int
-                      ) -> BoxMass:
+    def _from_reading(self, model: StateSpaceModel, z: np.ndarray, w: Boxes, k: int
+                      ) -> Boxes:
         """g⁻¹(z + W_l) ∩ X_0 for every focal element W_l: the evidence of one reading."""
         p_lo, p_hi = self._prior(model, z)
         lo, hi = model.inverse()(z[:, None] + w.lo, z[:, None] + w.hi,
@@ -369,7 +332,7 @@ class NassreddineFilter(FilterBase):
             )
         return merge_equal_boxes(lo, hi, mass / total)
 
-    def _predict(self, model: StateSpaceModel, state: BoxMass, v: BoxMass,
+    def _predict(self, model: StateSpaceModel, state: Boxes, v: Boxes,
                  u: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         f_lo, f_hi = box_image(with_input(model.f, u), state.lo, state.hi, model.f_monotone)
         runs, n = f_lo.shape[0], f_lo.shape[-1]
@@ -396,7 +359,7 @@ class NassreddineFilter(FilterBase):
         for k in range(n_steps):
             if k > 0:
                 if self.restart:
-                    state = BoxMass(est[:, k - 1, None] + v.lo, est[:, k - 1, None] + v.hi,
+                    state = Boxes(est[:, k - 1, None] + v.lo, est[:, k - 1, None] + v.hi,
                                     np.broadcast_to(v.mass, (runs, v.mass.shape[1])))
                 p_lo, p_hi, p_mass = self._predict(model, state, v, step_input(U, k))
                 y_lo, y_hi = Z[:, k, None] + w.lo, Z[:, k, None] + w.hi
@@ -421,26 +384,27 @@ class NassreddineFilter(FilterBase):
                     posterior = self._total_conflict(model, Z, k, dead, w, posterior, diag)
                 if steps is not None:
                     steps.append({
-                        "state": state.evidence(),
-                        "prediction": merge_equal_boxes(p_lo[:1], p_hi[:1],
-                                                        p_mass[:1]).evidence(),
+                        "state": IntervalEvidence.from_boxes(state),
+                        "prediction": IntervalEvidence.from_boxes(
+                            merge_equal_boxes(p_lo[:1], p_hi[:1], p_mass[:1])),
                         "observation": IntervalEvidence(y_lo[0], y_hi[0], w.mass[0]),
                     })
             elif steps is not None:
                 steps.append({"observation": IntervalEvidence(Z[0, 0] + w.lo[0],
                                                               Z[0, 0] + w.hi[0], w.mass[0])})
             diag["focal_elements"][:, k] = (posterior.mass > 0).sum(axis=1)
-            est[:, k] = posterior.pignistic()
-            lo[:, k], hi[:, k] = posterior.hull()
+            est[:, k] = pignistic_expectation(posterior)
+            lo[:, k], hi[:, k] = hull(posterior)
             if steps is not None:
-                steps[-1].update(posterior=posterior.evidence(), estimate=est[0, k].copy())
+                steps[-1].update(posterior=IntervalEvidence.from_boxes(posterior),
+                                 estimate=est[0, k].copy())
             if not self.restart:
                 state, diag["merged_mass"][:, k] = cluster_boxes(posterior, self.max_focal)
         return est, lo, hi, diag, steps
 
     def _total_conflict(self, model: StateSpaceModel, Z: np.ndarray, k: int,
-                        dead: np.ndarray, w: BoxMass, posterior: BoxMass,
-                        diag: dict[str, np.ndarray]) -> BoxMass:
+                        dead: np.ndarray, w: Boxes, posterior: Boxes,
+                        diag: dict[str, np.ndarray]) -> Boxes:
         if self.on_conflict == "raise":
             r = int(np.flatnonzero(dead)[0])
             where = (f"step {k} (reading z[{k}], counting from 0)"

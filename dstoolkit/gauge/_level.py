@@ -81,8 +81,8 @@ def state_transition(x: Any, n: Any) -> np.ndarray:
 
 def state_transition_derivative(x: Any, n: Any) -> np.ndarray:
     """∂f/∂x = (n + 1)/n > 0: f is increasing in x (Prop. 2 applies), for Kalman filters."""
-    n = np.asarray(n, dtype=float)
-    return np.broadcast_to((n + 1.0) / n, np.broadcast_shapes(np.shape(x), n.shape)).copy()
+    ratio = (np.asarray(n, dtype=float) + 1.0) / n
+    return ratio + np.zeros_like(x, dtype=float)  # the shape x and n broadcast to
 
 
 def observation(x: Any) -> np.ndarray:
