@@ -16,6 +16,7 @@ from dstoolkit.errors import (
 )
 from dstoolkit.evidence import (
     DEFAULT_MEMORY_BUDGET,
+    Boxes,
     IntervalEvidence,
     dempster,
     memory_budget,
@@ -24,7 +25,6 @@ from dstoolkit.evidence import (
 from dstoolkit.filters import (
     BoundedErrorFilter,
     BoundedNoise,
-    BoxMass,
     DependentEvidenceFilter,
     Filter,
     KalmanFilter,
@@ -144,9 +144,9 @@ def test_nan_in_the_inputs_never_reaches_the_clustering():
 
 def test_cluster_boxes_refuses_nan_and_stops_at_its_round_limit(monkeypatch):
     lo = np.arange(40.0).reshape(1, 40, 1)
-    boxes = BoxMass(lo, lo + 1.0, np.full((1, 40), 1 / 40))
+    boxes = Boxes(lo, lo + 1.0, np.full((1, 40), 1 / 40))
     with pytest.raises(EvidenceError, match="finite"):
-        cluster_boxes(BoxMass(lo * np.nan, lo, boxes.mass), 4)
+        cluster_boxes(Boxes(lo * np.nan, lo, boxes.mass), 4)
     monkeypatch.setattr(_nassreddine, "MAX_CLUSTER_ROUNDS", 1)
     with pytest.raises(WorkLimitError, match="in 1 rounds"):
         cluster_boxes(boxes, 2)
