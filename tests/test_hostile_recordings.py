@@ -1,6 +1,6 @@
 """Crafted recordings through ``analyze``: a one-line error or the right level, in bounds.
 
-The corpus (``tests/hostile_corpus.py``) is generated here from one simulated recording:
+The corpus (``tests/hostile_inputs.py``) is generated here from one simulated recording:
 truncated files, chunk sizes that lie, impossible fmt fields, hostile metadata (wrong
 types, huge, nested 200,000 deep, not UTF-8, numbers that overflow), and things that are
 not regular files (a FIFO, /dev/zero, a folder, a sparse 2 GiB file).
@@ -14,7 +14,7 @@ import time
 import tracemalloc
 
 import pytest
-from hostile_corpus import (
+from hostile_inputs import (
     ANALYSIS_ALLOWANCE_BYTES,
     LEVEL_TOLERANCE_M,
     TRUE_LEVEL_M,

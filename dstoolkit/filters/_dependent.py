@@ -209,7 +209,7 @@ class DependentEvidenceFilter(FilterBase):
                                     f"(lo, hi) pair per component; got {self.theta!r}") from None
             self._frame(theta_v, "theta_v")
             self._frame(theta_w, "theta_w")
-        whole_number(self.chunk_size, "chunk_size", low=1, error=EvidenceError)
+        whole_number(self.chunk_size, "chunk_size", low=1, high=10**6, error=EvidenceError)
 
     def _bytes_per_run(self, noise: NoiseEvidence) -> float:
         """Memory of one run's Step 6 products (the largest arrays), bytes."""
