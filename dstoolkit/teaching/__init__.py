@@ -10,11 +10,9 @@ require_extra("ipywidgets", "teaching", "dstoolkit.teaching")
 require_extra("matplotlib", "teaching", "dstoolkit.teaching")
 
 from ._exercises import (  # noqa: E402
-    Exercise,
     FAILURE_RUNS,
     FAILURE_SCALE,
     FRAME,
-    Feedback,
     GAUGE_LATENCY,
     LAB_BAND,
     LAB_CUTOFF_DIAMETER,
@@ -26,17 +24,21 @@ from ._exercises import (  # noqa: E402
     PAPER_Z1,
     REGISTRY,
     SWEEP_RATE,
+    Exercise,
+    Feedback,
     check,
+    coding_exercise,
     eq43_readings,
     exercise,
     exercises,
+    mistake,
     once,
     solution,
     zadeh,
 )
 from ._explorers import (  # noqa: E402
-    Explorer,
     GAUGE_CONDITIONS,
+    Explorer,
     LabWidget,
     bounded_error_explorer,
     compare_image_methods,
@@ -55,9 +57,9 @@ from ._explorers import (  # noqa: E402
     slider,
 )
 from ._lab import (  # noqa: E402
-    LabSettings,
     VIRTUAL,
     VIRTUAL_LABEL,
+    LabSettings,
     calibration_correlation,
     device_options,
     draw_gauge,
@@ -70,6 +72,8 @@ from ._lab import (  # noqa: E402
 )
 
 __all__ = [
+    "Case",
+    "CodingExercise",
     "Exercise",
     "Explorer",
     "FAILURE_RUNS",
@@ -95,6 +99,7 @@ __all__ = [
     "bounded_error_explorer",
     "calibration_correlation",
     "check",
+    "coding_exercise",
     "compare_image_methods",
     "conflict_explorer",
     "dependent_combination_explorer",
@@ -113,6 +118,7 @@ __all__ = [
     "lab_widget",
     "level_error_from_temperature",
     "level_estimation_explorer",
+    "mistake",
     "mass_function_explorer",
     "noise_bounds_explorer",
     "noise_evidence_explorer",
