@@ -5,6 +5,7 @@
 
 from __future__ import annotations
 
+from . import _ex_coding  # noqa: F401  (registers the coding exercises)
 from ._checking import REGISTRY, Exercise, Feedback, check, exercise, exercises, mistake, solution
 from ._coding import Case, CodingExercise, coding_exercise
 from ._ex_evidence import FRAME, MONOTONE_BOX, once, zadeh
