@@ -24,6 +24,8 @@ from ._exercises import (  # noqa: E402
     PAPER_Z1,
     REGISTRY,
     SWEEP_RATE,
+    Case,
+    CodingExercise,
     Exercise,
     Feedback,
     check,

@@ -516,7 +516,7 @@ coding_exercise(
 
 def _bounded_reference(box: Any, v: Any, w: Any, z: float) -> tuple[float, float]:
     pred = IntervalEvidence.vacuous(box[0] + v[0], box[1] + v[1])
-    ev = dempster(pred, IntervalEvidence.vacuous(z - w[1], z - w[0]))
+    ev = dempster(pred, IntervalEvidence.vacuous(z + w[0], z + w[1]))
     return float(ev.lo[0]), float(ev.hi[0])
 
 
@@ -525,7 +525,7 @@ def _bounded_cases() -> list[Case]:
     cases = [Case("the chapter's step", ((1.2, 2.0), (-0.3, 0.3), (-0.5, 0.5), 2.6)),
              Case("bounds too tight: empty", ((1.2, 2.0), (-0.3, 0.3), (-0.2, 0.2), 2.6)),
              Case("asymmetric w", ((0.0, 1.0), (-0.1, 0.1), (-0.5, 0.1), 0.8)),
-             Case("touching: a single point", ((0.0, 1.0), (0.0, 0.0), (0.0, 1.0), 2.0)),
+             Case("touching: a single point", ((0.0, 1.0), (0.0, 0.0), (0.0, 1.0), 1.0)),
              Case("degenerate box", ((1.0, 1.0), (0.0, 0.0), (-1.0, 1.0), 1.5))]
     for i in range(4):
         a = float(rng.uniform(-1, 1))
@@ -540,10 +540,10 @@ coding_exercise(
     plain=plain.bounded_step,
     cases=_bounded_cases,
     arg_names=("box", "v", "w", "z"),
-    hint="z = x + w puts x in [z − w_hi, z − w_lo]; intersect that with the predicted "
+    hint="x = z + w puts x in [z + w_lo, z + w_hi]; intersect that with the predicted "
     "[lo + v_lo, hi + v_hi], and raise ValueError when nothing is left.",
     mistakes=(
-        (lambda box, v, w, z: (min(box[0] + v[0], z - w[1]), max(box[1] + v[1], z - w[0])),
+        (lambda box, v, w, z: (min(box[0] + v[0], z + w[0]), max(box[1] + v[1], z + w[1])),
          "You took the hull (union) of the prediction and the reading; the state must be "
          "in both, so intersect."),
         (lambda box, v, w, z: plain.bounded_step(box, (0.0, 0.0), w, z),

@@ -155,13 +155,13 @@ def product_relation(x1, x2):
 
 
 def bounded_step(box, v, w, z):
-    """One step of the bounded-error filter for x_{k+1} = x_k + v, reading z = x + w.
+    """One step of the bounded-error filter for x_{k+1} = x_k + v and g(x) = x = z + w.
 
     box, v, w: (lo, hi) pairs. Predict [box + v], intersect with what the reading allows,
-    [z − w_hi, z − w_lo]. Returns (lo, hi); raises ValueError when the two do not meet.
+    [z + w_lo, z + w_hi]. Returns (lo, hi); raises ValueError when the two do not meet.
     """
     lo, hi = box[0] + v[0], box[1] + v[1]
-    lo, hi = max(lo, z - w[1]), min(hi, z - w[0])
+    lo, hi = max(lo, z + w[0]), min(hi, z + w[1])
     if lo > hi:
         raise ValueError("the prediction and the reading do not meet")
     return lo, hi
