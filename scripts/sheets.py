@@ -289,10 +289,11 @@ def write_sheets(root: Path = ROOT, teacher: Path | None = None) -> list[Path]:
     written = []
     for stem, (number, title, src, labels) in sheets(root).items():
         target = sheet_path(stem, number, root / "notebooks")
+        text = dump(build(src, number, title, labels, False))  # fails before any change
         for old in (root / "notebooks").glob(f"*_{stem}.ipynb"):
             if old != target and re.fullmatch(rf"\d\d_{stem}\.ipynb", old.name):
                 old.unlink()  # the chapter moved: its sheet takes the new number
-        target.write_text(dump(build(src, number, title, labels, False)), encoding="utf-8")
+        target.write_text(text, encoding="utf-8")
         written.append(target)
         if teacher is not None:
             teacher.mkdir(parents=True, exist_ok=True)

@@ -194,7 +194,15 @@ def _() -> tuple[float, float]:
 
 
 @exercise("dependent.combined-low", hint="Discount E1 by R12 and E2 by R21 (mass 1 − R to Θ), "
-          "then apply Dempster's rule.")
+          "then apply Dempster's rule.",
+          mistakes=((lambda: dependent_pair()[0].belief("low"),
+                     "That is Bel({low}) of E1 alone, before combining: the combination "
+                     "must also take in what E2 says."),
+                    (lambda: dempster(*dependent_pair()).belief("low"),
+                     "That is plain Dempster's rule, which counts the shared {low} twice: "
+                     "discount each source by its dependency coefficient first."),
+                    (lambda: dependent_pair()[1].belief("low"),
+                     "That is Bel({low}) of E2 alone; combine both sources.")))
 def _() -> float:
     return combine_dependent(*dependent_pair()).mass_of("low")
 
