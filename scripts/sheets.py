@@ -283,6 +283,16 @@ def sheets(root: Path = ROOT) -> dict[str, tuple[int, str, Source, list[str]]]:
     return out
 
 
+def relink(root: Path, stem: str, name: str) -> None:
+    """Point every ``notebooks/NN_<stem>.ipynb`` in the chapters and the README at ``name``."""
+    pattern = re.compile(rf"notebooks/\d\d_{stem}\.ipynb")
+    for path in [*sorted((root / "book").glob("*.md")), root / "README.md"]:
+        text = path.read_text(encoding="utf-8")
+        new = pattern.sub(f"notebooks/{name}", text)
+        if new != text:
+            path.write_text(new, encoding="utf-8")
+
+
 def write_sheets(root: Path = ROOT, teacher: Path | None = None) -> list[Path]:
     """Write every student sheet to ``notebooks/`` (renaming sheets whose chapter number
     changed) and, with ``teacher``, every instructor sheet there. Returns the paths."""
@@ -295,6 +305,7 @@ def write_sheets(root: Path = ROOT, teacher: Path | None = None) -> list[Path]:
                 old.unlink()  # the chapter moved: its sheet takes the new number
         target.write_text(text, encoding="utf-8")
         written.append(target)
+        relink(root, stem, target.name)
         if teacher is not None:
             teacher.mkdir(parents=True, exist_ok=True)
             path = sheet_path(stem, number, teacher)

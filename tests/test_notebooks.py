@@ -81,6 +81,12 @@ def test_sheet_numbers_follow_the_chapter(stem: str):
         f"## Exercise {number}.{k}" for k in range(1, len(labels) + 1)]
 
 
+def test_the_chapters_link_to_the_sheets_that_exist():
+    for chapter in sorted((ROOT / "book").glob("*.md")):
+        for name in re.findall(r"notebooks/(\d\d_\w+\.ipynb)", chapter.read_text("utf-8")):
+            assert (NOTEBOOKS / name).exists(), f"{chapter.name} links to {name}"
+
+
 def test_sheets_drift_is_caught(tmp_path):
     """A chapter that gains an exercise its sheet lacks makes the sheet fail to build."""
     stem = STEMS[0]

@@ -46,6 +46,8 @@ class Exercise:
     atol: float = 5e-4
     rtol: float = 1e-3
     mistakes: tuple[tuple[Solver, str], ...] = ()
+    canonical: Callable[[Any], Any] | None = None
+    """Applied to answers and solutions before comparing (e.g. sort rows of evidence)."""
     _cache: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
 
     @property
@@ -57,18 +59,27 @@ class Exercise:
 
     def verdict(self, answer: Any) -> Feedback:
         """Right, a named mistake, close, or wrong with the hint."""
-        ok, reason = _compare(answer, self.solution, self)
+        if self.canonical is not None:
+            try:
+                answer = self.canonical(answer)
+            except (TypeError, ValueError, IndexError) as err:
+                return Feedback(self.id, False, f"✘ {self.id}: wrong ({err}). Hint: {self.hint}")
+        ok, reason = _compare(answer, self._canonical(self.solution), self)
         if ok:
             return Feedback(self.id, True, f"✔ {self.id}: right.")
         for wrong, why in self.mistakes:
-            if _compare(answer, wrong(), self)[0]:
+            if _compare(answer, self._canonical(wrong()), self)[0]:
                 return Feedback(self.id, False, f"✘ {self.id}: wrong. {why}", {"mistake": why})
-        if not reason and _nearly(answer, self.solution, self):
+        sol = self._canonical(self.solution)
+        if not reason and _nearly(answer, sol, self):
             off = float(np.max(np.abs(np.asarray(_canonical(answer), float)
-                                      - np.asarray(_canonical(self.solution), float))))
+                                      - np.asarray(_canonical(sol), float))))
             reason = f"close, but off by {off:.2g}; keep more decimals in the intermediate steps"
         reason = f" ({reason})" if reason else ""
         return Feedback(self.id, False, f"✘ {self.id}: wrong{reason}. Hint: {self.hint}")
+
+    def _canonical(self, value: Any) -> Any:
+        return value if self.canonical is None else self.canonical(value)
 
     def wrong_answer(self) -> Any:
         """A plausible wrong answer: the first listed mistake, else the solution moved."""
@@ -115,6 +126,7 @@ def exercise(
     atol: float = 5e-4,
     rtol: float = 1e-3,
     mistakes: tuple[tuple[Solver, str], ...] = (),
+    canonical: Callable[[Any], Any] | None = None,
 ) -> Callable[[Solver], Solver]:
     """Register the decorated function as the solver of ``exercise_id``.
 
@@ -124,7 +136,7 @@ def exercise(
         raise ValueError(f"exercise id {exercise_id!r} must look like 'chapter.name'")
 
     def add(solve: Solver) -> Solver:
-        register(Exercise(exercise_id, solve, hint, atol, rtol, mistakes))
+        register(Exercise(exercise_id, solve, hint, atol, rtol, mistakes, canonical))
         return solve
 
     return add

@@ -721,9 +721,10 @@ def _filter_cases() -> list[Case]:
     return cases
 
 
-def _filter_reference(xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list,
-                      w_rows: list) -> tuple[list, float]:
-    """dstoolkit's filter (the object path of DependentEvidenceFilter) on this one step."""
+def filter_record(xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list,
+                  w_rows: list) -> dict[str, Any]:
+    """Every evidence of one step of dstoolkit's filter (the object path of
+    DependentEvidenceFilter, ``record=True``) from x̂ with reading z: the record of step 2."""
     from dstoolkit.evidence._batch_kernels import Boxes
     from dstoolkit.filters._dependent import DependentEvidenceFilter, NoiseEvidence
     from dstoolkit.filters._model import StateSpaceModel
@@ -739,8 +740,12 @@ def _filter_reference(xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows:
                           Boxes(ew.boxes_lo[None], ew.boxes_hi[None], ew.mass[None]),
                           np.multiply.outer(ev.mass, ev.mass).reshape(1, -1))
     flt = DependentEvidenceFilter(start=[xhat])
-    result = flt._run_objects(flt._maps(model), noise, np.array([[[z], [z]]]), None)
-    step = result.steps[1]
+    return flt._run_objects(flt._maps(model), noise, np.array([[[z], [z]]]), None).steps[1]
+
+
+def _filter_reference(xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list,
+                      w_rows: list) -> tuple[list, float]:
+    step = filter_record(xhat, z, f, g, g_inv, v_rows, w_rows)
     return _rows(step["final"]), float(step["estimate"][0])
 
 

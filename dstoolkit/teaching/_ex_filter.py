@@ -99,3 +99,109 @@ def _() -> str:
         except EvidenceError:
             return rule
     raise AssertionError("no m(D) rule fails on the chapter's sequence")
+
+
+# -- one update by hand (the chapter's first exercise) -------------------------------------
+
+
+def _hand(name: str) -> Any:
+    from ._ex_coding import HAND_STEP, filter_record
+
+    if name == "noise":
+        return HAND_STEP[5]
+    step = filter_record(*HAND_STEP)
+    if name == "dependence":
+        dep = step["dependence"]
+        return dep.degree, dep.r12, dep.r21
+    if name == "estimate":
+        return float(step["estimate"][0])
+    return step[name].to_rows().tolist()
+
+
+def _hand_plain_dempster() -> list:
+    from ._ex_coding import HAND_STEP, _plain_dempster_step6
+
+    return _plain_dempster_step6(*HAND_STEP)[0]
+
+
+def _rows_canonical(value: Any) -> list:
+    from ._ex_coding import sorted_rows
+
+    return sorted_rows(value)
+
+
+_ROWS = "Answer a list of rows (lo, hi, mass), in any order; equal intervals merge."
+_ONCE = ((lambda: [(0.5, 1.5, 0.8), (-1.0, 3.0, 0.2)],
+          "That is f(x̂ + V): the noise enters twice in Step 2; add V again to every box "
+          "(eq. 16: the masses multiply)."),)
+
+
+@exercise("filter.hand-noise", canonical=_rows_canonical,
+          hint="Eqs. 24–26 with p = 1: the one cut α = 0 is the support [−0.5, 0.5] with mass "
+          "1 − ε; Θ = [−2, 2] gets ε. " + _ROWS)
+def _() -> list:
+    return _hand("noise")
+
+
+@exercise("filter.hand-prediction", canonical=_rows_canonical, mistakes=_ONCE,
+          hint="Step 2: every state box x̂ + V_i, through f (here f(x) = x), plus every noise "
+          "box V_j, with mass m_i·m_j; the two boxes [−1.5, 3.5] merge. " + _ROWS)
+def _() -> list:
+    return _hand("prediction")
+
+
+@exercise("filter.hand-observation-prediction", canonical=_rows_canonical,
+          hint="Step 3: g of every predicted box, masses unchanged; here g(x) = x. " + _ROWS)
+def _() -> list:
+    return _hand("observation_prediction")
+
+
+@exercise("filter.hand-fused", canonical=_rows_canonical,
+          hint="Step 4: the reading's evidence is z + W = {[1.2, 2.2]: 0.8, [−0.3, 3.7]: 0.2}; "
+          "intersect every box of Step 3 with every one of it (eq. 1). " + _ROWS,
+          mistakes=((lambda: _hand("observation_prediction"),
+                     "That is Step 3 again: Step 4 intersects it with the reading's "
+                     "evidence z + W."),))
+def _() -> list:
+    return _hand("fused")
+
+
+@exercise("filter.hand-mapped", canonical=_rows_canonical,
+          hint="Step 5: g⁻¹ of every fused box, within the predicted box it came from; "
+          "with g(x) = x nothing moves, and equal boxes merge. " + _ROWS)
+def _() -> list:
+    return _hand("mapped_back")
+
+
+@exercise("filter.hand-dependence", atol=1e-3,
+          hint="Eqs. A1–A6: En′ of each evidence (w_min its own narrowest width), the joint "
+          "energy over the shared [0, 2] with unit min(w_min(E1), w_min(E2)), then D, R12, "
+          "R21. Answer (D, R12, R21).",
+          mistakes=((lambda: (lambda d, r12, r21: (d, r21, r12))(*_hand("dependence")),
+                     "R12 and R21 are swapped: R12 = 1 − (D/2)·En′(E2)/En′(E1)."),))
+def _() -> tuple[float, float, float]:
+    return _hand("dependence")
+
+
+@exercise("filter.hand-final", canonical=_rows_canonical,
+          hint="Step 6: discount E1 at 1 − R12 and E2 at 1 − R21 onto their hulls (eqs. "
+          "A7–A8), then Dempster's rule. " + _ROWS,
+          mistakes=((_hand_plain_dempster,
+                     "That is plain Dempster of E1 and E2: Step 6 decorrelates them first "
+                     "(they share [0, 2])."),))
+def _() -> list:
+    return _hand("final")
+
+
+@exercise("filter.hand-estimate", atol=1e-3,
+          hint="Eq. 20: Σ m·(midpoint) over the final focal elements.",
+          mistakes=((lambda: 1.7, "That is the reading z itself; the estimate weighs it "
+                     "against the prediction."),
+                    (lambda: 1.0, "That is the prediction's expectation f(x̂) = 1; the "
+                     "estimate takes the reading in."),
+                    (lambda: float(sum(m * (lo + hi) / 2 for lo, hi, m in
+                                       _hand_plain_dempster())),
+                     "That is the expectation after plain Dempster in Step 6; decorrelate "
+                     "first.")))
+def _() -> float:
+    return _hand("estimate")
