@@ -322,3 +322,19 @@ def _() -> float:
     b = (float(sweep_rate_offset(SWEEP_RATE, _fundamental(LONG_CASE)))
          + latency_offset(SWEEP_RATE, GAUGE_LATENCY))
     return b / _fundamental(LONG_CASE)
+
+
+#: The choices of the improvement prediction: direct ÷ filter error is closest to which?
+IMPROVEMENT_CHOICES = (1, 2, 5, 10)
+
+
+@exercise("estimating.improvement-choice", atol=0.0, rtol=0.0,
+          hint="The filter averages the reading with the prediction; how much can that gain "
+          "over one reading, when the orders are right?",
+          mistakes=((lambda: 1, "A ratio of 1 is what eq. 43's wrong orders leave; with the "
+                     "true orders the filter's averaging shows."),
+                    (lambda: 10, "Too optimistic: compare the two mean errors in the "
+                     "explorer with the true orders.")))
+def _() -> int:
+    ratio = float(_improvement())
+    return min(IMPROVEMENT_CHOICES, key=lambda c: abs(np.log(c / ratio)))
