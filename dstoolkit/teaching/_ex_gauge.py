@@ -11,7 +11,7 @@ from dstoolkit.gauge._acoustics import fundamental_frequency, resonance_orders, 
 from dstoolkit.gauge._level import level_from_resonance, orders_eq43
 from dstoolkit.gauge._resonance import latency_offset, sweep_rate_offset
 
-from ._checking import exercise
+from ._checking import REGISTRY, exercise
 from ._ex_filter import PAPER_Z1
 
 # -- the acoustic level gauge (book/level_gauge.md, notebooks/07_level_gauge.ipynb) -----------
@@ -338,3 +338,28 @@ IMPROVEMENT_CHOICES = (1, 2, 5, 10)
 def _() -> int:
     ratio = float(_improvement())
     return min(IMPROVEMENT_CHOICES, key=lambda c: abs(np.log(c / ratio)))
+
+
+#: The choices of the failure prediction: in what share of the runs does the strict
+#: bounded-error filter fail with the scaled bounds?
+FAILURE_CHOICES = ("none", "under half", "half or more", "all")
+
+
+def _failure_share(fraction: float) -> str:
+    if fraction == 0.0:
+        return FAILURE_CHOICES[0]
+    if fraction == 1.0:
+        return FAILURE_CHOICES[3]
+    return FAILURE_CHOICES[1] if fraction < 0.5 else FAILURE_CHOICES[2]
+
+
+@exercise("beyond.failures-choice",
+          hint=f"Answer one of {FAILURE_CHOICES}. A run fails when at some step the reading "
+          "and the prediction, with the narrowed bounds, no longer meet.",
+          mistakes=((lambda: "none", "Narrower bounds than the true ones can exclude the truth: "
+                     "when the reading's and the prediction's boxes both miss it, they may "
+                     "miss each other too."),
+                    (lambda: "all", "Not every run: the scaled bounds still hold at most steps, "
+                     "and a run fails only if one step's boxes miss each other.")))
+def _() -> str:
+    return _failure_share(float(REGISTRY["beyond.failures"].solution))
