@@ -363,3 +363,21 @@ def _failure_share(fraction: float) -> str:
                      "and a run fails only if one step's boxes miss each other.")))
 def _() -> str:
     return _failure_share(float(REGISTRY["beyond.failures"].solution))
+
+
+#: The temperatures (°C) between which the spacing prediction moves the slider.
+SPACING_TEMPERATURES = (0.0, 30.0)
+
+
+@exercise("gauge.spacing-growth", atol=2e-4,
+          hint="f_F = c/(2L) at a fixed level: the spacing grows as c = 331.3 + 0.606 T does. "
+          "Answer f_F(30 °C)/f_F(0 °C) − 1.",
+          mistakes=((lambda: 0.606 * (SPACING_TEMPERATURES[1] - SPACING_TEMPERATURES[0]),
+                     "That is the change of c in m/s; the question asks for the relative "
+                     "change of f_F."),
+                    (lambda: -(1 - _c((1.0, SPACING_TEMPERATURES[0]))
+                               / _c((1.0, SPACING_TEMPERATURES[1]))),
+                     "Check the sign: warmer air carries sound faster, and the spacing "
+                     "grows.")))
+def _() -> float:
+    return _c((1.0, SPACING_TEMPERATURES[1])) / _c((1.0, SPACING_TEMPERATURES[0])) - 1.0
