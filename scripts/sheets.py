@@ -314,11 +314,31 @@ def write_sheets(root: Path = ROOT, teacher: Path | None = None) -> list[Path]:
     return written
 
 
+def counts(root: Path = ROOT) -> str:
+    """A table of the exercises per chapter by kind."""
+    rows = [f"{'':>3} {'chapter':22}" + "".join(f"{k:>13}" for k in KINDS) + f"{'total':>7}"]
+    total = dict.fromkeys(KINDS, 0)
+    for stem, (number, _, src, _) in sorted(sheets(root).items(), key=lambda x: x[1][0]):
+        kinds = [kind for _, kind in src.exercises()]
+        for k in KINDS:
+            total[k] += kinds.count(k)
+        rows.append(f"{number:>3} {stem:22}" + "".join(f"{kinds.count(k):>13}" for k in KINDS)
+                    + f"{len(kinds):>7}")
+    rows.append(f"{'':>3} {'all':22}" + "".join(f"{total[k]:>13}" for k in KINDS)
+                + f"{sum(total.values()):>7}")
+    return "\n".join(rows)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--teacher", type=Path, default=None,
                         help="also write the instructor sheets (with solutions) to this folder")
+    parser.add_argument("--counts", action="store_true",
+                        help="only print the exercises per chapter by kind")
     args = parser.parse_args(argv)
+    if args.counts:
+        print(counts(ROOT))
+        return 0
     for path in write_sheets(ROOT, args.teacher):
         print(path.relative_to(ROOT) if path.is_relative_to(ROOT) else path)
     return 0
