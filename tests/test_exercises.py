@@ -220,3 +220,15 @@ def test_filter_step_reference_is_dstoolkits_filter_and_plain_agrees():
 def test_mistake_gives_a_wrong_answer_for_every_exercise():
     for k in exercises():
         assert not check(k, mistake(k)).correct, k
+
+
+def test_reference_solutions_are_plain_python():
+    """What teachers show is written out, not a call to dstoolkit."""
+    import inspect
+
+    from dstoolkit.teaching import _plain_solutions
+
+    source = inspect.getsource(_plain_solutions)
+    assert "dstoolkit" not in source.split('"""', 2)[2]
+    for k in CODING:
+        assert REGISTRY[k].plain.__module__ == _plain_solutions.__name__, k
