@@ -102,7 +102,8 @@ class Feedback:
         return self.message
 
     def _repr_html_(self) -> str:
-        colour = "#1b7f3b" if self.correct else "#b00020"
+        colour = ("#1b7f3b" if self.correct else "#5f6368" if self.details.get("pending")
+                  else "#b00020")
         body = html.escape(self.message).replace("\n", "<br>")
         return f"<p style='color:{colour};font-family:monospace;white-space:pre-wrap'>{body}</p>"
 
@@ -181,7 +182,8 @@ def check(exercise_id: str, answer: Any) -> Feedback:
     ex = get(exercise_id)
     if answer is ... or answer is None:
         return Feedback(exercise_id, False,
-                        f"{exercise_id}: {NOT_ANSWERED} — replace ... by your answer.")
+                        f"{exercise_id}: {NOT_ANSWERED} — replace ... by your answer.",
+                        {"pending": True})
     return ex.verdict(answer)
 
 

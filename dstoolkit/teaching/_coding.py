@@ -174,7 +174,8 @@ class CodingExercise:
             got = _outcome(answer, case.args)
             if isinstance(got, Raised) and issubclass(got.error, NotImplementedError):
                 return Feedback(self.id, False, f"{self.id}: {NOT_ANSWERED} — write the body "
-                                "of the function (it still raises NotImplementedError).")
+                                "of the function (it still raises NotImplementedError).",
+                                {"pending": True})
             got = self._normalised(got)
             if same(got, want):
                 continue

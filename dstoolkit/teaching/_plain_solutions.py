@@ -16,9 +16,10 @@ import math
 
 
 def bel_pl(m, a):
-    """Belief and plausibility of the set ``a`` (eqs. 3.2–3.3 of the chapter).
+    """Belief and plausibility of the set ``a``.
 
-    m: dict {frozenset: mass}; a: a set of hypotheses. Returns (Bel(a), Pl(a)).
+    m: dict {frozenset: mass}; a: a set of hypotheses. Returns (Bel(a),
+    Pl(a)).
     """
     a = frozenset(a)
     bel = sum(mass for focal, mass in m.items() if focal <= a)
@@ -27,8 +28,10 @@ def bel_pl(m, a):
 
 
 def pignistic(m):
-    """The pignistic probability BetP: each focal element shares its mass equally among
-    its members. m: dict {frozenset: mass}. Returns {hypothesis: probability}."""
+    """The pignistic probability BetP: each focal element shares its mass
+    equally among its members. m: dict {frozenset: mass}. Returns
+    {hypothesis: probability}.
+    """
     betp = {}
     for focal, mass in m.items():
         for h in focal:
@@ -37,10 +40,12 @@ def pignistic(m):
 
 
 def dempster_rule(m1, m2):
-    """Dempster's rule m1 ⊕ m2 (eq. 1): products on intersections, renormalised by 1 − K.
+    """Dempster's rule m1 ⊕ m2 (eq. 1): products on intersections,
+    renormalised by 1 − K.
 
-    m1, m2: dicts {frozenset: mass}. Returns the combined dict (no empty set in it).
-    Raises ValueError when the sources are in total conflict (K = 1).
+    m1, m2: dicts {frozenset: mass}. Returns the combined dict (no empty set
+    in it). Raises ValueError when the sources are in total conflict (K =
+    1).
     """
     combined, k = {}, 0.0
     for (b, mb), (c, mc) in itertools.product(m1.items(), m2.items()):
@@ -55,8 +60,10 @@ def dempster_rule(m1, m2):
 
 
 def discount(m, rate, frame):
-    """Discount m at ``rate`` (eqs. 9–10): every mass times (1 − rate), and ``rate`` more
-    on the whole frame Θ. m: dict {frozenset: mass}; frame: the set Θ. Returns a dict."""
+    """Discount m at ``rate`` (eqs. 9–10): every mass times (1 − rate), and
+    ``rate`` more on the whole frame Θ. m: dict {frozenset: mass}; frame:
+    the set Θ. Returns a dict.
+    """
     theta = frozenset(frame)
     out = {focal: (1.0 - rate) * mass for focal, mass in m.items()}
     out[theta] = out.get(theta, 0.0) + rate
@@ -64,12 +71,14 @@ def discount(m, rate, frame):
 
 
 def dependency(m1, m2, frame):
-    """Degree of dependence D and dependency coefficients R12, R21 (eqs. 2–8).
+    """Degree of dependence D and dependency coefficients R12, R21 (eqs.
+    2–8).
 
-    En(E) = Σ m(A)/|A| over the focal elements A ≠ Θ (eq. 2); the energy of the
-    intersection sums min(m1(A), m2(A))/|A| over the focal elements A ≠ Θ common to both
-    (eq. 3); D = 2 En(E1, E2)/(En(E1) + En(E2)); R12 = 1 − (D/2) En(E2)/En(E1) and R21 the
-    other way round (eqs. 7–8), both 1 when D = 0. Returns (D, R12, R21).
+    En(E) = Σ m(A)/|A| over the focal elements A ≠ Θ (eq. 2); the energy of
+    the intersection sums min(m1(A), m2(A))/|A| over the focal elements A ≠
+    Θ common to both (eq. 3); D = 2 En(E1, E2)/(En(E1) + En(E2)); R12 = 1 −
+    (D/2) En(E2)/En(E1) and R21 the other way round (eqs. 7–8), both 1 when
+    D = 0. Returns (D, R12, R21).
     """
     theta = frozenset(frame)
 
@@ -85,21 +94,25 @@ def dependency(m1, m2, frame):
 
 
 def combine_dependent(m1, m2, frame):
-    """Combination of dependent evidence (§2.2): discount E1 at rate 1 − R12 and E2 at
-    rate 1 − R21 (decorrelation, eqs. 9–10), then Dempster's rule (eq. 1).
+    """Combination of dependent evidence (§2.2): discount E1 at rate 1 − R12
+    and E2 at rate 1 − R21 (decorrelation, eqs. 9–10), then Dempster's rule
+    (eq. 1).
 
-    m1, m2: dicts {frozenset: mass}; frame: Θ. Returns the combined dict; raises ValueError
-    under total conflict. Uses dependency, discount and dempster_rule.
+    m1, m2: dicts {frozenset: mass}; frame: Θ. Returns the combined dict;
+    raises ValueError under total conflict. Uses dependency, discount and
+    dempster_rule.
     """
     _, r12, r21 = dependency(m1, m2, frame)
     return dempster_rule(discount(m1, 1.0 - r12, frame), discount(m2, 1.0 - r21, frame))
 
 
 def interval_energy(rows):
-    """The energy En′ of interval evidence (eq. A1): Σ m(A_i) · w_min / w(A_i).
+    """The energy En′ of interval evidence (eq. A1): Σ m(A_i) · w_min /
+    w(A_i).
 
-    rows: list of (lo, hi, mass). w(A) = hi − lo is the width, w_min the smallest width
-    among the rows. A row of width 0 counts with weight 1 (a point is fully specific).
+    rows: list of (lo, hi, mass). w(A) = hi − lo is the width, w_min the
+    smallest width among the rows. A row of width 0 counts with weight 1 (a
+    point is fully specific).
     """
     w_min = min(hi - lo for lo, hi, _ in rows)
     total = 0.0
@@ -110,11 +123,13 @@ def interval_energy(rows):
 
 
 def triangular_rows(a, c, b, p, epsilon):
-    """Evidence of a noise with triangular possibility on [a, b], mode c (eqs. 22–26).
+    """Evidence of a noise with triangular possibility on [a, b], mode c
+    (eqs. 22–26).
 
-    The p α-cuts at α = 0, 1/p, …, (p − 1)/p are [a + α(c − a), b − α(b − c)], each with
-    mass (1 − ε)/p; if ε > 0, Θ = [c − 100σ, c + 100σ] with σ = (b − a)/6 gets mass ε.
-    Returns rows (lo, hi, mass), innermost cut first, Θ last.
+    The p α-cuts at α = 0, 1/p, …, (p − 1)/p are [a + α(c − a), b − α(b −
+    c)], each with mass (1 − ε)/p; if ε > 0, Θ = [c − 100σ, c + 100σ] with σ
+    = (b − a)/6 gets mass ε. Returns rows (lo, hi, mass), innermost cut
+    first, Θ last.
     """
     rows = []
     for i in reversed(range(p)):
@@ -129,8 +144,8 @@ def triangular_rows(a, c, b, p, epsilon):
 def cdf_bounds(rows, x):
     """The p-box at x: (Bel((−∞, x]), Pl((−∞, x])) of interval evidence.
 
-    rows: list of (lo, hi, mass). Bel counts the rows entirely at or left of x (hi ≤ x),
-    Pl the rows that reach x or further left (lo ≤ x).
+    rows: list of (lo, hi, mass). Bel counts the rows entirely at or left of
+    x (hi ≤ x), Pl the rows that reach x or further left (lo ≤ x).
     """
     lower = sum(m for lo, hi, m in rows if hi <= x)
     upper = sum(m for lo, hi, m in rows if lo <= x)
@@ -138,27 +153,31 @@ def cdf_bounds(rows, x):
 
 
 def vertex_image(f, lo, hi):
-    """The vertex method (Prop. 1): the image of the box [lo, hi] through f as
-    (min, max) of f over the 2^n corners. lo, hi: sequences of n numbers; f takes a list of
-    n numbers and returns a number."""
+    """The vertex method (Prop. 1): the image of the box [lo, hi] through f
+    as (min, max) of f over the 2^n corners. lo, hi: sequences of n numbers;
+    f takes a list of n numbers and returns a number.
+    """
     values = [f(list(corner)) for corner in itertools.product(*zip(lo, hi, strict=True))]
     return min(values), max(values)
 
 
 def product_relation(x1, x2):
-    """The random relation of two independent marginals (eq. 16): every pair of focal
-    elements gives the box C1 × C2 with mass m1(C1)·m2(C2).
+    """The random relation of two independent marginals (eq. 16): every pair
+    of focal elements gives the box C1 × C2 with mass m1(C1)·m2(C2).
 
-    x1, x2: lists of (lo, hi, mass). Returns a dict {((lo1, hi1), (lo2, hi2)): mass}.
+    x1, x2: lists of (lo, hi, mass). Returns a dict {((lo1, hi1), (lo2,
+    hi2)): mass}.
     """
     return {((l1, h1), (l2, h2)): m1 * m2 for l1, h1, m1 in x1 for l2, h2, m2 in x2}
 
 
 def bounded_step(box, v, w, z):
-    """One step of the bounded-error filter for x_{k+1} = x_k + v and g(x) = x = z + w.
+    """One step of the bounded-error filter for x_{k+1} = x_k + v and g(x) =
+    x = z + w.
 
-    box, v, w: (lo, hi) pairs. Predict [box + v], intersect with what the reading allows,
-    [z + w_lo, z + w_hi]. Returns (lo, hi); raises ValueError when the two do not meet.
+    box, v, w: (lo, hi) pairs. Predict [box + v], intersect with what the
+    reading allows, [z + w_lo, z + w_hi]. Returns (lo, hi); raises
+    ValueError when the two do not meet.
     """
     lo, hi = box[0] + v[0], box[1] + v[1]
     lo, hi = max(lo, z + w[0]), min(hi, z + w[1])
@@ -168,34 +187,40 @@ def bounded_step(box, v, w, z):
 
 
 def resonance_orders(length, temperature, band):
-    """The orders n of the resonances n·c/(2L) that lie in ``band`` = (f_lo, f_hi), ends
-    included, with c = 331.3 + 0.606·T (the paper's law). Returns a list of ints."""
+    """The orders n of the resonances n·c/(2L) that lie in ``band`` = (f_lo,
+    f_hi), ends included, with c = 331.3 + 0.606·T (the paper's law).
+    Returns a list of ints.
+    """
     c = 331.3 + 0.606 * temperature
     f_f = c / (2.0 * length)
     return list(range(math.ceil(band[0] / f_f), math.floor(band[1] / f_f) + 1))
 
 
 def level_from_two_readings(z1, z2, temperature):
-    """The order of z1 by eq. 43, n1 = round(z1/(z2 − z1)), and the level L = n1·c/(2 z1)
-    (eq. 32) with c = 331.3 + 0.606·T. Returns (n1, L)."""
+    """The order of z1 by eq. 43, n1 = round(z1/(z2 − z1)), and the level L
+    = n1·c/(2 z1) (eq. 32) with c = 331.3 + 0.606·T. Returns (n1, L).
+    """
     n1 = round(z1 / (z2 - z1))
     return n1, n1 * (331.3 + 0.606 * temperature) / (2.0 * z1)
 
 
 def triangle_sigma(a, c, b):
-    """The standard deviation of the triangular density on [a, b] with mode c:
-    the square root of (a² + b² + c² − ab − ac − bc)/18."""
+    """The standard deviation of the triangular density on [a, b] with mode
+    c: the square root of (a² + b² + c² − ab − ac − bc)/18.
+    """
     return math.sqrt((a * a + b * b + c * c - a * b - a * c - b * c) / 18.0)
 
 
 def filter_step(xhat, z, f, g, g_inv, v_rows, w_rows):
-    """One step of the paper's filter (Steps 2–6) for a scalar model with f and g
-    increasing: x_{k+1} = f(x_k) + v_k and g(x_k) = z_k + w_k (eq. 21).
+    """One step of the paper's filter (Steps 2–6) for a scalar model with f
+    and g increasing: x_{k+1} = f(x_k) + v_k and g(x_k) = z_k + w_k (eq.
+    21).
 
-    xhat: the estimate x̂_k; z: the next reading z_{k+1}; f, g, g_inv: functions of one
-    number (g_inv the inverse of g); v_rows, w_rows: E_v and E_w of Step 1 as rows
-    (lo, hi, mass). Returns (rows, estimate): the final evidence as (lo, hi, mass) and
-    x̂_{k+1}, its pignistic expectation (eq. 20). Raises ValueError under total conflict.
+    xhat: the estimate x̂_k; z: the next reading z_{k+1}; f, g, g_inv:
+    functions of one number (g_inv the inverse of g); v_rows, w_rows: E_v
+    and E_w of Step 1 as rows (lo, hi, mass). Returns (rows, estimate): the
+    final evidence as (lo, hi, mass) and x̂_{k+1}, its pignistic expectation
+    (eq. 20). Raises ValueError under total conflict.
     """
 
     def merged(rows):  # equal focal elements merge, their masses add (eq. 14)
