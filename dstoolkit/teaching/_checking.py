@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from dstoolkit.errors import InvalidInputError
 from dstoolkit.evidence._finite_frame import MassFunction
 from dstoolkit.evidence._intervals import IntervalEvidence
 
@@ -114,9 +115,9 @@ REGISTRY: dict[str, Any] = {}
 def register(item: Any) -> None:
     """Add an exercise (any object with ``id`` and ``verdict``) to :data:`REGISTRY`."""
     if "." not in item.id:
-        raise ValueError(f"exercise id {item.id!r} must look like 'chapter.name'")
+        raise InvalidInputError(f"exercise id {item.id!r} must look like 'chapter.name'")
     if item.id in REGISTRY:
-        raise ValueError(f"exercise {item.id!r} is registered twice; rename one")
+        raise InvalidInputError(f"exercise {item.id!r} is registered twice; rename one")
     REGISTRY[item.id] = item
 
 
@@ -134,7 +135,7 @@ def exercise(
     Ids are ``"<chapter>.<name>"`` (e.g. ``"mass.bel"``); registering an id twice is an error.
     """
     if "." not in exercise_id:
-        raise ValueError(f"exercise id {exercise_id!r} must look like 'chapter.name'")
+        raise InvalidInputError(f"exercise id {exercise_id!r} must look like 'chapter.name'")
 
     def add(solve: Solver) -> Solver:
         register(Exercise(exercise_id, solve, hint, atol, rtol, mistakes, canonical))

@@ -26,6 +26,8 @@ from typing import Any
 
 import numpy as np
 
+from dstoolkit.errors import InvalidInputError
+
 from ._checking import NOT_ANSWERED, Feedback, register
 
 
@@ -213,7 +215,7 @@ def coding_exercise(
     sheets' tests feed it to the check cell, which must name it.
     """
     if not mistakes:
-        raise ValueError(f"coding exercise {exercise_id!r} needs at least one mistake")
+        raise InvalidInputError(f"coding exercise {exercise_id!r} needs at least one mistake")
     item = CodingExercise(exercise_id, reference, plain, cases, hint, mistakes, normalise,
                           arg_names)
     register(item)
