@@ -156,7 +156,9 @@ def test_the_exercises_are_many_and_varied():
     assert sum(k.count("coding") for k in kinds.values()) >= MIN_CODING
     for stem, found in kinds.items():
         assert sum(k != "substitution" for k in found) >= 2, stem
-        if any("explorer" in _tags(c) for c in _student(stem).cells):
+        chapter = (ROOT / "book" / f"{stem}.md").read_text(encoding="utf-8")
+        if any("explorer" in _tags(c) for c in _student(stem).cells) or re.search(
+                r"_explorer\(|lab_widget\(|filter_widget\(", chapter):
             assert "prediction" in found, f"{stem}: an explorer but no prediction exercise"
     coding_ids = {k for k, v in REGISTRY.items() if isinstance(v, CodingExercise)}
     assert len(coding_ids) >= MIN_CODING
