@@ -175,7 +175,7 @@ def coding_answer(exercise_id: str) -> str:
     needs = sorted({m for fn in parts for m in ("itertools", "math")
                     if f"{m}." in inspect.getsource(fn)})
     head = "".join(f"import {m}\n" for m in needs)
-    return head + ("\n\n" if head else "") + "\n\n".join(
+    return head + ("\n\n" if head else "") + "\n\n\n".join(
         textwrap.dedent(inspect.getsource(fn)).strip() for fn in parts)
 
 
