@@ -36,6 +36,7 @@ from dstoolkit.evidence._batch_kernels import (
 )
 from dstoolkit.evidence._boxes import Boxes, hull
 from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
+from dstoolkit.evidence._compiled import fuse_dependent
 from dstoolkit.evidence._extension import CHECK_RTOL, image_boxes
 
 if TYPE_CHECKING:
@@ -160,7 +161,11 @@ class StepArrays:
         self.a_mass = np.empty((runs, n1 + 1))
         self.b_mass = np.empty((runs, np_ + 1))
         self.theta_mass = np.empty((runs, 2))
-        self.work = ProductWork.allocate(runs, n, n1 + 1, np_ + 1)
+        self.compiled = flt.kernel == "numba"
+        if self.compiled:
+            self.kernel_out = (np.empty((runs, 7)), np.empty((runs, n)), np.empty((runs, n)))
+        else:
+            self.work = ProductWork.allocate(runs, n, n1 + 1, np_ + 1)
 
     # -- Steps 2 and 3 -----------------------------------------------------------------------
     def _predict(self, t: int, xhat: np.ndarray, f_u: Callable[[np.ndarray], np.ndarray]
@@ -232,9 +237,24 @@ class StepArrays:
             back_mass[~ok4] = 0.0
         with np.errstate(invalid="ignore", divide="ignore") if not all_ok4 else _NO_CONTEXT:
             self._map_back(t)
-            self._dependence(t, diag)
-            result = self._combine(t, est, diag, bounds)
+            if self.compiled:
+                result = self._fuse_compiled(t, est, diag, bounds)
+            else:
+                self._dependence(t, diag)
+                result = self._combine(t, est, diag, bounds)
         return ok4, result
+
+    def _fuse_compiled(self, t: int, est: np.ndarray, diag: np.ndarray, bounds: bool
+                       ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray] | None]:
+        """Step 6 by the compiled kernel (``kernel="numba"``, extra ``speed``)."""
+        kernel_diag, hull_lo, hull_hi = self.kernel_out
+        ok = fuse_dependent(self.boxes, self.back_mass, self.rho, self.n1, self.flt.mass_rule,
+                            est[:, t], kernel_diag, (hull_lo, hull_hi))
+        diag[:, 1:] = kernel_diag
+        if diag[:, 6:8].min() < 0.0:
+            self.check_images(t + 1)
+            _coefficient_error(diag[:, 6], diag[:, 7], diag[:, 5], self.flt.mass_rule)
+        return ok, (hull_lo.copy(), hull_hi.copy()) if bounds else None
 
     def _map_back(self, t: int) -> None:
         """Step 5 into ``self.back``: g⁻¹ of each fused box within its predicted box, bounds
