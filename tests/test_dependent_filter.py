@@ -396,5 +396,5 @@ def test_compiled_kernel_refuses_what_the_numpy_path_refuses(gauge):
     with pytest.raises(TotalConflictError, match="Step 4 of estimate 5"):
         DependentEvidenceFilter(kernel="numba", epsilon=0.0, start="mean_corrected").run(
             MODEL, _conflicting(gauge), gauge.inputs[:7])
-    with pytest.raises(EvidenceError, match="kernel must be"):
+    with pytest.raises(EvidenceError, match="kernel must be one of"):
         DependentEvidenceFilter(kernel="fortran")

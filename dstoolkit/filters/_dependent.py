@@ -47,6 +47,7 @@ import numpy as np
 from dstoolkit.errors import EvidenceError, TotalConflictError, require_extra
 from dstoolkit.evidence import _batch_kernels as bk
 from dstoolkit.evidence._batch_kernels import Boxes
+from dstoolkit.evidence._checks import real_array, whole_number
 from dstoolkit.evidence._combination import MASS_RULES, MassRule, conflict, decorrelate, dempster
 from dstoolkit.evidence._extension import (
     IMAGE_METHODS,
@@ -57,8 +58,9 @@ from dstoolkit.evidence._extension import (
 )
 from dstoolkit.evidence._intervals import IntervalEvidence
 
+from ._base import FilterBase
 from ._dependent_arrays import StepArrays, map_back, observe, predict
-from ._model import FilterResult, StateSpaceModel, batch_readings, step_input, with_input
+from ._model import FilterResult, StateSpaceModel, step_input, with_input
 
 StartRule = Literal["observation", "mean_corrected"]
 ConflictPolicy = Literal["raise", "predict"]
@@ -105,7 +107,7 @@ class ModelMaps:
 
 
 @dataclass(frozen=True)
-class DependentEvidenceFilter:
+class DependentEvidenceFilter(FilterBase):
     """The dependent-evidence filter of Xu et al. (§3.2, Steps 1–6).
 
     Parameters
@@ -146,27 +148,34 @@ class DependentEvidenceFilter:
     name: ClassVar[str] = "dependent-evidence"
 
     def __post_init__(self) -> None:
-        if self.mass_rule not in MASS_RULES:
-            raise EvidenceError(f"mass_rule must be one of {MASS_RULES}, got {self.mass_rule!r}")
-        if isinstance(self.start, str) and self.start not in ("observation", "mean_corrected"):
-            raise EvidenceError(
-                f"start must be 'observation', 'mean_corrected' or a state vector, got "
-                f"{self.start!r}"
-            )
-        if self.on_conflict not in ("raise", "predict"):
-            raise EvidenceError(
-                f"on_conflict must be 'raise' or 'predict', got {self.on_conflict!r}"
-            )
-        if self.image_method not in IMAGE_METHODS:
-            raise EvidenceError(
-                f"image_method must be one of {IMAGE_METHODS}, got {self.image_method!r}"
-            )
-        if int(self.chunk_size) < 1:
-            raise EvidenceError(f"chunk_size must be a positive integer, got {self.chunk_size}")
-        if self.kernel not in ("numpy", "numba"):
-            raise EvidenceError(f"kernel must be 'numpy' or 'numba', got {self.kernel!r}")
+        self._policy(self.mass_rule, MASS_RULES, "mass_rule")
+        self._policy(self.on_conflict, ("raise", "predict"), "on_conflict")
+        self._policy(self.image_method, IMAGE_METHODS, "image_method")
+        if isinstance(self.start, str):
+            self._policy(self.start, ("observation", "mean_corrected"), "start",
+                         "a state vector")
+        else:
+            real_array(self.start, "start", ndim=(0, 1, 2), error=EvidenceError)
+        self._cuts(self.p, self.epsilon)
+        if self.theta is not None:
+            try:
+                theta_v, theta_w = self.theta
+            except (TypeError, ValueError):
+                raise EvidenceError("theta must be a pair (theta_v, theta_w), each None or one "
+                                    f"(lo, hi) pair per component; got {self.theta!r}") from None
+            self._frame(theta_v, "theta_v")
+            self._frame(theta_w, "theta_w")
+        whole_number(self.chunk_size, "chunk_size", low=1, error=EvidenceError)
+        self._policy(self.kernel, ("numpy", "numba"), "kernel")
         if self.kernel == "numba":
             require_extra("numba", "speed", "kernel='numba' of the paper's filter")
+
+    def _bytes_per_run(self, noise: NoiseEvidence) -> float:
+        """Memory of one run's Step 6 products (the largest arrays), bytes."""
+        n_pred = noise.prediction_mass.shape[1] + 1
+        n_back = (n_pred - 1) * noise.w.mass.shape[1] + 1
+        d = noise.v.lo.shape[-1]
+        return float(n_pred * n_back * 8 * (5 * d + 3))
 
     # -- Step 1 and model parsing ----------------------------------------------------------
     def noise_evidence(self, model: StateSpaceModel) -> NoiseEvidence:
@@ -349,13 +358,17 @@ class DependentEvidenceFilter:
         observation_prediction, observation, fused, mapped_back, final, dependence) and
         the focal-element counts of :data:`COUNTS`.
         """
+        zz, uu = self._single(model, z, inputs)
         maps, noise = self._maps(model), self.noise_evidence(model)
-        zz, uu = batch_readings(model, np.asarray(z, dtype=float)[None],
-                                None if inputs is None else np.asarray(inputs, dtype=float)[None])
         if record:
-            return self._run_objects(maps, noise, zz, uu)
+            result = self._run_objects(maps, noise, zz, uu)
+            self._finite(result.estimates[None])
+            return result
+        self._chunks(1, self._bytes_per_run(noise), "the dependent-evidence filter",
+                     "use fewer α-cuts p")
         est, lower, upper, diag = self._run_arrays(maps, noise, zz, uu, bounds=True)
         assert lower is not None and upper is not None  # bounds=True returns them
+        self._finite(est)
         return FilterResult(self.name, est[0], lower[0], upper[0], None,
                             {key: value[0] for key, value in diag.items()})
 
@@ -375,13 +388,15 @@ class DependentEvidenceFilter:
         :meth:`run` on each sequence; ``return_result=True`` returns a FilterResult whose
         arrays carry the leading run axis.
         """
+        zz, uu = self._batch(model, Z, inputs)
         maps, noise = self._maps(model), self.noise_evidence(model)
-        zz, uu = batch_readings(model, Z, inputs)
-        size = int(self.chunk_size)
-        parts = [self._run_arrays(maps, noise, zz[i:i + size],
-                                  None if uu is None else uu[i:i + size], return_result)
-                 for i in range(0, zz.shape[0], size)]
-        est = np.concatenate([part[0] for part in parts])
+        chunks = self._chunks(zz.shape[0], self._bytes_per_run(noise),
+                              "the dependent-evidence filter", "use fewer α-cuts p",
+                              cap=int(self.chunk_size))
+        parts = [self._run_arrays(maps, noise, zz[sel], None if uu is None else uu[sel],
+                                  return_result)
+                 for sel in chunks]
+        est = self._finite(np.concatenate([part[0] for part in parts]))
         if not return_result:
             return est
         return FilterResult(

@@ -32,12 +32,11 @@ import numpy as np
 
 from dstoolkit.errors import EvidenceError
 
+from ._base import FilterBase
 from ._model import (
     FilterResult,
     StateSpaceModel,
-    batch_readings,
     first_reading_box,
-    single_readings,
     step_input,
     with_input,
 )
@@ -77,7 +76,7 @@ def _reciprocal(s: Any) -> Any:
 
 
 @dataclass(frozen=True)
-class KalmanFilter:
+class KalmanFilter(FilterBase):
     """Kalman / extended Kalman filter on the noises' means and variances.
 
     Parameters
@@ -90,6 +89,9 @@ class KalmanFilter:
     initial_box: tuple[Any, Any] | None = None
     name: ClassVar[str] = "kalman"
 
+    def __post_init__(self) -> None:
+        self._box(self.initial_box)
+
     def run(
         self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
     ) -> FilterResult:
@@ -100,8 +102,10 @@ class KalmanFilter:
         Diagnostics: ``nis``, the normalised innovation squared νᵀ S⁻¹ ν (its mean is about
         m when the noise statistics are right; NaN at the first step).
         """
-        Z, U = single_readings(model, z, inputs)
+        Z, U = self._single(model, z, inputs)
+        self._check_box_dim(self._box(self.initial_box), model)
         x, cov, nis, steps = self._recursion(model, Z, U, record)
+        self._finite(x)
         sigma = np.sqrt(np.diagonal(cov[0], axis1=-2, axis2=-1))
         return FilterResult(
             method=self.name, estimates=x[0], lower=x[0] - 3 * sigma, upper=x[0] + 3 * sigma,
@@ -110,8 +114,14 @@ class KalmanFilter:
 
     def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> np.ndarray:
         """Estimates (runs, steps, n) of independent sequences Z (runs, steps, m)."""
-        Z, U = batch_readings(model, Z, inputs)
-        return self._recursion(model, Z, U, False)[0]
+        Z, U = self._batch(model, Z, inputs)
+        self._check_box_dim(self._box(self.initial_box), model)
+        n = model.state_dim
+        chunks = self._chunks(Z.shape[0], 16.0 * Z.shape[1] * (n * n + n + 1),
+                              "the Kalman filter", "filter fewer steps at once")
+        return self._finite(np.concatenate([
+            self._recursion(model, Z[sel], None if U is None else U[sel], False)[0]
+            for sel in chunks]))
 
     # -- the recursion, vectorised over runs ------------------------------------------------
     def _start(self, model: StateSpaceModel, z1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

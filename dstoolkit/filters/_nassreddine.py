@@ -63,26 +63,30 @@ from typing import Any, Literal
 
 import numpy as np
 
-from dstoolkit.errors import EvidenceError, TotalConflictError
+from dstoolkit.errors import EvidenceError, TotalConflictError, WorkLimitError
 from dstoolkit.evidence._boxes import Boxes, hull, pignistic_expectation, row_sum
+from dstoolkit.evidence._checks import whole_number
 from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
 from dstoolkit.evidence._extension import box_image
 from dstoolkit.evidence._intervals import IntervalEvidence
 
+from ._base import FilterBase
 from ._model import (
     BoundedNoise,
     FilterResult,
     StateSpaceModel,
-    batch_readings,
     first_reading_box,
-    single_readings,
     step_input,
     with_input,
 )
 
 ConflictPolicy = Literal["raise", "reset"]
-#: Memory budget for the contraction arrays of one chunk of runs.
+#: Memory for the contraction arrays of one chunk of runs (a speed setting; the memory
+#: budget, :func:`dstoolkit.evidence.memory_budget`, caps it too).
 CHUNK_BYTES = 96 * 2**20
+#: Clustering rounds after which :func:`cluster_boxes` gives up (each round halves at most
+#: the excess, so a few dozen suffice for any real posterior).
+MAX_CLUSTER_ROUNDS = 10_000
 
 
 def noise_boxes(noise: BoundedNoise, p: int, epsilon: float, theta: Any) -> Boxes:
@@ -141,17 +145,29 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     Returns the capped mass functions and, per run, the mass now carried by merged boxes.
     """
     runs, _, n = bm.lo.shape
+    live = bm.mass > 0
+    if not (np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo[live]))
+            and np.all(np.isfinite(bm.hi[live]))):
+        raise EvidenceError(
+            "cluster_boxes needs bounded boxes with finite masses; got NaN or infinite values "
+            "(check the filter's inputs and noise bounds)"
+        )
     unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
     unit = np.where(unit > 0, unit, 1.0)[:, None, :]
     # one packed array [lo | hi | mass | merged] so that each round moves it once
     packed = np.concatenate([bm.lo, bm.hi, bm.mass[..., None],
                              np.zeros(bm.mass.shape + (1,))], axis=-1)
-    for rnd in range(10_000):
+    for rnd in range(MAX_CLUSTER_ROUNDS + 1):
         mass = packed[..., 2 * n]
         count = (mass > 0).sum(axis=1)
         allowed = count - max_focal
         if not np.any(allowed > 0):
             break
+        if rnd == MAX_CLUSTER_ROUNDS:
+            raise WorkLimitError(
+                f"clustering the focal elements did not reach max_focal = {max_focal} in "
+                f"{MAX_CLUSTER_ROUNDS} rounds ({int(count.max())} remain); raise max_focal"
+            )
         d = rnd % n
         centre = np.where(mass > 0, packed[..., d] + packed[..., n + d], np.inf)
         order = np.argsort(centre, axis=1, kind="stable")[:, : int(count.max())]
@@ -168,6 +184,11 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
         ranked = np.where(local, cost, np.inf)
         rank = np.argsort(np.argsort(ranked, axis=1, kind="stable"), axis=1, kind="stable")
         chosen = (local & (rank < allowed[:, None]))[..., None]
+        if not np.any(chosen[allowed > 0]):
+            raise WorkLimitError(
+                "clustering the focal elements found no pair to merge (their sizes are not "
+                "finite numbers); check the model's f and g for NaN or infinite images"
+            )
         merged_pair = np.concatenate([h_lo, h_hi, (m0 + m1)[..., None], np.ones_like(chosen)],
                                      axis=-1)
         second = np.concatenate([np.zeros((runs, 1, 1), dtype=bool), chosen], axis=1)
@@ -199,7 +220,7 @@ def _replace_runs(bm: Boxes, runs: np.ndarray, new: Boxes) -> Boxes:
 
 
 @dataclass(frozen=True)
-class NassreddineFilter:
+class NassreddineFilter(FilterBase):
     """Belief-function interval filter of Nassreddine et al. (2010); see the module docstring.
 
     Parameters
@@ -234,12 +255,12 @@ class NassreddineFilter:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "name", "nassreddine-restart" if self.restart else "nassreddine")
-        if int(self.max_focal) != self.max_focal or self.max_focal < 2:
-            raise EvidenceError(f"max_focal must be an integer >= 2, got {self.max_focal}")
-        if self.on_conflict not in ("raise", "reset"):
-            raise EvidenceError(
-                f"on_conflict must be 'raise' or 'reset', got {self.on_conflict!r}"
-            )
+        whole_number(self.max_focal, "max_focal", low=2, high=100_000, error=EvidenceError)
+        self._policy(self.on_conflict, ("raise", "reset"), "on_conflict")
+        self._cuts(self.p, self.epsilon)
+        self._box(self.initial_box)
+        self._frame(self.state_theta, "state_theta")
+        self._frame(self.obs_theta, "obs_theta")
 
     def run(
         self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
@@ -253,25 +274,36 @@ class NassreddineFilter:
         Diagnostics (steps,): ``conflict`` K (NaN at the first step), ``focal_elements``
         of the posterior before the cap, ``merged_mass`` and ``resets``.
         """
-        Z, U = single_readings(model, z, inputs)
+        Z, U = self._single(model, z, inputs)
+        self._check_box_dim(self._box(self.initial_box), model)
+        self._chunks(1, self._bytes_per_run(model), "Nassreddine's filter",
+                     "use fewer α-cuts p or a smaller max_focal")
         est, lo, hi, diag, steps = self._filter(model, Z, U, record)
+        self._finite(est)
         return FilterResult(method=self.name, estimates=est[0], lower=lo[0], upper=hi[0],
                             steps=steps, diagnostics={k: v[0] for k, v in diag.items()})
 
     def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> np.ndarray:
         """Estimates (runs, steps, n) of independent sequences Z (runs, steps, m)."""
-        Z, U = batch_readings(model, Z, inputs)
+        Z, U = self._batch(model, Z, inputs)
+        self._check_box_dim(self._box(self.initial_box), model)
         runs = Z.shape[0]
+        per_run = self._bytes_per_run(model)
+        chunks = self._chunks(runs, per_run, "Nassreddine's filter",
+                              "use fewer α-cuts p or a smaller max_focal",
+                              cap=max(1, int(CHUNK_BYTES // per_run)))
+        est = np.empty((runs, Z.shape[1], model.state_dim))
+        for sel in chunks:
+            est[sel] = self._filter(model, Z[sel], None if U is None else U[sel], False)[0]
+        return self._finite(est)
+
+    def _bytes_per_run(self, model: StateSpaceModel) -> float:
+        """Memory of one run's contraction arrays (the largest), bytes."""
         n_v = self.p + 1 if self.epsilon > 0 else self.p
         n_state = (n_v ** model.state_dim if self.restart
                    else max(self.max_focal, n_v ** model.obs_dim))
         rows = n_state * n_v ** model.state_dim * n_v ** model.obs_dim  # contractions per run
-        chunk = max(1, CHUNK_BYTES // (rows * 8 * (6 * model.state_dim + 4)))
-        est = np.empty((runs, Z.shape[1], model.state_dim))
-        for start in range(0, runs, chunk):
-            sel = slice(start, min(runs, start + chunk))
-            est[sel] = self._filter(model, Z[sel], None if U is None else U[sel], False)[0]
-        return est
+        return float(rows * 8 * (6 * model.state_dim + 4))
 
     # -- the recursion, vectorised over runs --------------------------------------------------
     def _prior(self, model: StateSpaceModel, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -339,11 +371,12 @@ class NassreddineFilter:
                 c_mass = (p_mass[:, :, None] * w.mass[:, None]).reshape(runs, -1)
                 empty = np.any(c_lo > c_hi, axis=-1)
                 conflict = row_sum(np.where(empty, c_mass, 0.0))
-                dead = 1.0 - conflict <= CONFLICT_TOLERANCE
-                c_mass = np.where(empty | dead[:, None], 0.0, c_mass)
+                c_mass = np.where(empty, 0.0, c_mass)
                 # Renormalise by the mass actually kept (= 1 − K in exact arithmetic): dividing
                 # by 1 − K would amplify rounding loss by 1/(1 − K) at every step of high conflict.
                 kept = row_sum(c_mass)
+                dead = kept <= CONFLICT_TOLERANCE
+                c_mass = np.where(dead[:, None], 0.0, c_mass)
                 c_mass = c_mass / np.where(dead, 1.0, kept)[:, None]
                 posterior = merge_equal_boxes(c_lo, c_hi, c_mass)
                 diag["conflict"][:, k] = conflict
