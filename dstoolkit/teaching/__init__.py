@@ -10,11 +10,9 @@ require_extra("ipywidgets", "teaching", "dstoolkit.teaching")
 require_extra("matplotlib", "teaching", "dstoolkit.teaching")
 
 from ._exercises import (  # noqa: E402
-    Exercise,
     FAILURE_RUNS,
     FAILURE_SCALE,
     FRAME,
-    Feedback,
     GAUGE_LATENCY,
     LAB_BAND,
     LAB_CUTOFF_DIAMETER,
@@ -26,6 +24,8 @@ from ._exercises import (  # noqa: E402
     PAPER_Z1,
     REGISTRY,
     SWEEP_RATE,
+    Exercise,
+    Feedback,
     check,
     eq43_readings,
     exercise,
@@ -35,8 +35,9 @@ from ._exercises import (  # noqa: E402
     zadeh,
 )
 from ._explorers import (  # noqa: E402
-    Explorer,
     GAUGE_CONDITIONS,
+    STATIC_SITE_ENV,
+    Explorer,
     LabWidget,
     bounded_error_explorer,
     compare_image_methods,
@@ -51,13 +52,15 @@ from ._explorers import (  # noqa: E402
     mass_function_explorer,
     noise_bounds_explorer,
     noise_evidence_explorer,
+    positions,
     render_filter,
     slider,
+    static_site,
 )
 from ._lab import (  # noqa: E402
-    LabSettings,
     VIRTUAL,
     VIRTUAL_LABEL,
+    LabSettings,
     calibration_correlation,
     device_options,
     draw_gauge,
@@ -89,6 +92,7 @@ __all__ = [
     "MONOTONE_BOX",
     "PAPER_Z1",
     "REGISTRY",
+    "STATIC_SITE_ENV",
     "SWEEP_RATE",
     "VIRTUAL",
     "VIRTUAL_LABEL",
@@ -119,8 +123,10 @@ __all__ = [
     "once",
     "plot_calibration",
     "plot_method_levels",
+    "positions",
     "render_filter",
     "slider",
     "solution",
+    "static_site",
     "zadeh",
 ]
