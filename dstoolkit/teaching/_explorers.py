@@ -302,7 +302,7 @@ class Explorer(widgets.VBox):
         if layout is None:
             self._layouts[key] = [ax.get_position() for ax in fig.axes]
         return encode_png(np.asarray(fig.canvas.buffer_rgba()),
-                          compress_level=9 if self.static else 1)
+                          compress_level=6 if self.static else 1)
 
     # -- the static site -------------------------------------------------------------------
 
@@ -310,12 +310,14 @@ class Explorer(widgets.VBox):
         """Render every combination of the live controls' positions into a stack of states
         (:func:`state_stack`) that the site's sliders switch in the browser."""
         names = list(self.live)
+        start = tuple(self.controls[name].value for name in names)
         leaves: dict[tuple[Any, ...], widgets.Widget] = {}
-        for combo in itertools.product(*(self.live[name] for name in names)):
+        combos = itertools.product(*(self.live[name] for name in names))
+        # the start state last: the attributes then describe it, as in a kernel
+        for combo in sorted(combos, key=lambda combo: combo == start):
             self.refresh(**dict(zip(names, combo, strict=True)))
             self.states[combo] = dict(self.numbers)
             leaves[combo] = state_leaf(self.readout, self.output)
-        self.refresh()  # the attributes describe the first state, as in a kernel
         fixed = [c for name, c in self.controls.items() if name not in self.live]
         for control in fixed:
             control.disabled = True
@@ -415,9 +417,9 @@ def mass_function_explorer() -> Explorer:
         return fig, {"m(Θ)": max(rest, 0.0), **{f"BetP({h})": betp[h] for h in LEVEL_FRAME},
                      "Pl({low}) − Bel({low})": mf.plausibility("low") - mf.belief("low")}
 
-    # On the site: m({low}) up to what the other defaults leave, m({high}) in four steps
-    # (a total over 1 shows the warning, as in a kernel).
-    live = {"low": positions(controls["low"], 13, 0.0, 0.6),
+    # On the site: m({low}) up to what the other start values leave, m({high}) in four
+    # steps (a total over 1 shows the warning, as in a kernel).
+    live = {"low": positions(controls["low"], 8, 0.0, 0.7),
             "high": positions(controls["high"], 4, 0.0, 0.3)}
     return Explorer(controls, render, title="A mass function on Θ = {low, mid, high}",
                     live=live)
@@ -493,7 +495,7 @@ def dependent_combination_explorer() -> Explorer:
                      "R21": dep.r21, "E[dependent]": both.pignistic_expectation(),
                      "E[Dempster]": naive.pignistic_expectation()}
 
-    live = {"a2": positions(controls["a2"], 8, 0.0, 0.9),
+    live = {"a2": positions(controls["a2"], 9, 0.0, 0.8),
             "mass_rule": positions(controls["mass_rule"])}
     return Explorer(controls, render, title="Dependent evidence: the paper's Appendix A",
                     live=live)
@@ -563,7 +565,7 @@ def bounded_error_explorer(v_half: float = 0.1, w_half: float = 1.0, steps: int 
 
     scale = slider("assumed bounds × true", 1.0, 0.3, 3.0, 0.05)
     return Explorer({"scale": scale}, render, title="Bounded-error filter with wrong bounds",
-                    live={"scale": positions(scale, 10)})
+                    live={"scale": positions(scale, 11, 0.5, 3.0)})
 
 
 # -- random sets and the extension principle (book/random_sets.md) -------------------------------
@@ -750,7 +752,7 @@ def filter_widget(level_m: float = 9.6, temperature_c: float = 23.9, *, p: int =
     def render(**values: Any) -> tuple[Figure, dict[str, Any]]:
         return render_filter(**values, seed=seed)
 
-    live = {"level": positions(controls["level"], 9, 1.0, 10.6),
+    live = {"level": positions(controls["level"], 9, 1.6, 9.6),
             "epsilon": positions(controls["epsilon"], 3, 0.0, 0.5)}
     return Explorer(controls, render, title="The dependent-evidence filter on a simulated gauge",
                     live=live)
@@ -869,7 +871,7 @@ def gauge_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
         ax2.set_xlim(PAPER_SWEEP.f_start, PAPER_SWEEP.f_stop)
         return fig, numbers
 
-    live = {"level": positions(controls["level"], 8, 1.0, 10.6),
+    live = {"level": positions(controls["level"], 9, 1.6, 9.6),
             "temperature": positions(controls["temperature"], 1, 5.0, 5.0)}
     return Explorer(controls, render, title="A simulated acoustic level gauge", live=live)
 
@@ -987,7 +989,7 @@ class LabWidget(widgets.VBox):
         level (the live control, :data:`LAB_LIVE_LEVELS`), switched in the browser by a
         slider (:func:`state_stack`); every other control and the buttons are disabled."""
         level = self.controls["level"]
-        live = {"level": positions(level, LAB_LIVE_LEVELS, 1.0, 10.5)}
+        live = {"level": positions(level, LAB_LIVE_LEVELS, 1.0, 11.5)}
         start = level.value
         leaves: dict[tuple[Any, ...], widgets.Widget] = {}
         for value in sorted(live["level"], key=lambda v: v == start):  # the start one last
@@ -1171,7 +1173,7 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
                       fontsize=9)
         return fig, estimation_numbers(run)
 
-    live = {"level": positions(controls["level"], 8, 1.3, 10.5),
+    live = {"level": positions(controls["level"], 9, 1.6, 9.6),
             "temperature": positions(controls["temperature"], 1, 5.0, 5.0)}
     return Explorer(controls, render, title="One run of the gauge: the paper's Figs. 10–11",
                     live=live)
@@ -1231,7 +1233,7 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
                          title=f"L = {level_m:.1f} m, {runs} runs, true orders")
         return fig, mismatch_numbers(result)
 
-    live = {"w_upper": positions(controls["w_upper"], 8, -6.5, 4.0),
+    live = {"w_upper": positions(controls["w_upper"], 8, -6.21, 4.29),
             "v_upper": positions(controls["v_upper"], 1, 0.9, 0.9)}
     return Explorer(controls, render, title="Every filter with the noise bounds you assume",
                     live=live)
