@@ -6,12 +6,18 @@ For each filter in :data:`REGISTRY` this prints
 
 - one run: the median and best wall time of ``run`` over ``--repeat`` runs (target for the
   dependent-evidence filter: < 10 ms);
+- per step: the one-run median divided by the 82 steps, beside the floor this machine
+  sets: the time per iteration of an empty loop of the same length that makes one numpy
+  call on a one-element array (``np.add(a, b, out=c)``); their ratio is the number of
+  such calls a step costs;
 - a batch: the wall time of ``run_batch`` on ``--runs`` sequences and the throughput in
-  filter steps per second, one step = one transition k → k+1 (82 per sequence; target:
-  > 50,000 steps/s).
+  filter steps per second, one step = one transition k → k+1 (82 per sequence).
 
-The machine is shared: the load average is printed with the figures. Run from the
-repository root:  python benchmarks/filters.py [--runs 1000] [--repeat 30] [--filters a,b]
+Targets (issue 14): the paper's filter < 5 ms per run and > 100,000 steps/s in a batch of
+1000; Kalman < 0.5 ms per run. The machine is shared: the load average is printed before
+and after the figures. Run from the repository root:
+
+    python benchmarks/filters.py [--runs 1000] [--repeat 30] [--filters a,b]
 """
 
 from __future__ import annotations
@@ -80,6 +86,23 @@ def time_single(flt: Filter, model, z: np.ndarray, u: np.ndarray, repeat: int
     return statistics.median(times), min(times)
 
 
+def numpy_call_floor(steps: int, repeat: int = 200) -> float:
+    """Median time (s) per iteration of a loop of ``steps`` iterations, each making one
+    numpy call on one-element arrays: what a step costs per numpy call it makes."""
+    a, b, c = np.ones(1), np.ones(1), np.empty(1)
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        for _ in range(steps):
+            np.add(a, b, out=c)
+        times.append(time.perf_counter() - start)
+    return statistics.median(times) / steps
+
+
+def load_average() -> str:
+    return ", ".join(f"{x:.2f}" for x in os.getloadavg())
+
+
 def time_batch(flt: Filter, model, z: np.ndarray, u: np.ndarray, repeat: int = 2) -> float:
     """Best wall time (s) of one batch run."""
     best = np.inf
@@ -109,18 +132,23 @@ def main(argv: list[str] | None = None) -> int:
     print(f"gauge-like sequence: L = {one.level_m} m, T = {one.temperature_c} °C, "
           f"f_F = {one.fundamental_hz:.2f} Hz, {one.orders.size} resonances "
           f"(n = {one.orders[0]}..{one.orders[-1]}), {steps} filter steps per run")
-    print(f"numpy {np.__version__}, {os.cpu_count()} CPUs, load average "
-          f"{', '.join(f'{x:.2f}' for x in os.getloadavg())}\n")
-    print(f"{'filter':22s} {'one run: median':>16s} {'best':>9s} {'batch of':>9s} "
-          f"{'time':>8s} {'steps/s':>10s}  settings")
+    floor = numpy_call_floor(steps)
+    print(f"numpy {np.__version__}, {os.cpu_count()} CPUs, load average {load_average()}")
+    print(f"floor: one numpy call per iteration of a {steps}-step loop = "
+          f"{floor * 1e6:.2f} µs per step\n")
+    print(f"{'filter':22s} {'one run: median':>16s} {'best':>9s} {'per step':>9s} "
+          f"{'= calls':>8s} {'batch of':>9s} {'time':>8s} {'steps/s':>10s}  settings")
     for name in names:
         entry = REGISTRY[name]
         flt = entry.make()
         median, best = time_single(flt, model, one.readings, one.inputs, args.repeat)
         batch = time_batch(flt, model, many.readings, many.inputs)
         rate = args.runs * steps / batch
-        print(f"{name:22s} {median * 1e3:13.2f} ms {best * 1e3:6.2f} ms {args.runs:9d} "
+        print(f"{name:22s} {median * 1e3:13.2f} ms {best * 1e3:6.2f} ms "
+              f"{median / steps * 1e6:6.1f} µs {median / steps / floor:8.0f} {args.runs:9d} "
               f"{batch:6.2f} s {rate:10,.0f}  {entry.settings}")
+    print(f"\nload average after: {load_average()}; floor again: "
+          f"{numpy_call_floor(steps) * 1e6:.2f} µs per step")
     return 0
 
 

@@ -18,17 +18,20 @@ from ._base import (
     validate_masses,
 )
 from ._batch_kernels import (
-    Boxes,
+    ProductWork,
     dempster_expectation,
     discount_onto_hull,
+    sizes,
+)
+from ._boxes import (
+    Boxes,
     hull,
     pignistic_expectation,
-    sizes,
 )
 from ._combination import (
     CONFLICT_TOLERANCE,
-    Dependence,
     MASS_RULES,
+    Dependence,
     MassRule,
     combine_dependent,
     conflict,
@@ -98,6 +101,7 @@ __all__ = [
     "NotMonotoneError",
     "PAPER_A6",
     "PAPER_EN1",
+    "ProductWork",
     "TotalConflictError",
     "TriangularBounds",
     "VertexMethodWarning",

@@ -111,7 +111,7 @@ def parse_signs(monotone: Any, n: int) -> np.ndarray | None:
             f"monotone must give one sign per argument (shape ({n},) or (m, {n})), "
             f"got shape {s.shape}"
         )
-    if not np.all(np.isin(s, (-1, 0, 1))):
+    if not set(s.ravel().tolist()) <= {-1, 0, 1}:
         raise EvidenceError(f"monotone signs must be +1, −1 or 0, got {s.tolist()}")
     return s.astype(int)
 
@@ -359,6 +359,8 @@ def image_boxes(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Array kernel behind :func:`image`: ``method`` already resolved, signs parsed."""
     if method == "monotone":
+        if signs is None:
+            raise EvidenceError("method='monotone' needs the signs of f (one +1/−1 per argument)")
         return image_monotone(lo, hi, f, signs, check=check)
     if method == "vertex":
         return image_vertex(lo, hi, f, check=check)

@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from dstoolkit.errors import TotalConflictError
+from dstoolkit.errors import InvalidInputError, TotalConflictError
 from dstoolkit.evidence import APPENDIX_A2, PAPER_A6, PAPER_EN1, appendix_pair
 from dstoolkit.evidence._combination import (
     combine_dependent,
@@ -99,11 +99,11 @@ def exercise(
     Ids are ``"<chapter>.<name>"`` (e.g. ``"mass.bel"``); registering an id twice is an error.
     """
     if "." not in exercise_id:
-        raise ValueError(f"exercise id {exercise_id!r} must look like 'chapter.name'")
+        raise InvalidInputError(f"exercise id {exercise_id!r} must look like 'chapter.name'")
 
     def register(solve: Solver) -> Solver:
         if exercise_id in REGISTRY:
-            raise ValueError(f"exercise {exercise_id!r} is registered twice; rename one")
+            raise InvalidInputError(f"exercise {exercise_id!r} is registered twice; rename one")
         REGISTRY[exercise_id] = Exercise(exercise_id, solve, hint, atol, rtol, mistakes)
         return solve
 
