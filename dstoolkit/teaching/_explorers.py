@@ -324,7 +324,7 @@ class Explorer(widgets.VBox):
         stack, site = state_stack(self.controls, self.live, leaves)
         self.controls.update(site)
         self.children = (*self._head, self._row(site.values()), self._row(fixed),
-                         site_note(bool(fixed)), stack)
+                         site_note(list(site.values()), bool(fixed)), stack)
 
 
 def state_leaf(readout: widgets.HTML, output: widgets.Output) -> widgets.VBox:
@@ -373,11 +373,14 @@ def state_stack(controls: Mapping[str, widgets.ValueWidget], live: Mapping[str, 
     return stack((), 0), site
 
 
-def site_note(some_disabled: bool) -> widgets.HTML:
-    """The line under an explorer on the static site: where the other controls work."""
-    text = ("Greyed-out controls work when this chapter runs as a notebook: see "
-            if some_disabled else "In a notebook every setting is possible: see ")
-    return widgets.HTML(f"<p style='font-size:0.9em;margin:0'><i>{text}"
+def site_note(live: Sequence[widgets.ValueWidget], some_disabled: bool) -> widgets.HTML:
+    """The line under an explorer's controls on the static site: which controls answer on
+    this page, and where the others work."""
+    names = " and ".join(html.escape(c.description) for c in live)
+    rest = ("the greyed-out ones work when this chapter runs as a notebook"
+            if some_disabled else "in a notebook every value is possible")
+    return widgets.HTML(f"<p style='font-size:0.9em;margin:0'><i>On this page {names} "
+                        f"{'answer' if len(live) > 1 else 'answers'}; {rest}: see "
                         f"<a href='{RUN_PAGE}'>Run this book</a>.</i></p>")
 
 
@@ -1010,7 +1013,7 @@ class LabWidget(widgets.VBox):
             return widget
 
         rows = [swap(w) for w in self.children if w not in (self.readout, self.output)]
-        self.children = (*rows, site_note(True), stack)
+        self.children = (*rows, site_note([site["level"]], True), stack)
 
     def settings(self) -> LabSettings:
         """The controls as :class:`~dstoolkit.lab.LabSettings` (seed: the record count)."""
