@@ -175,6 +175,15 @@ def warning_html(message: str) -> str:
     return f"<p style='color:#b00020'>⚠ {html.escape(message)}</p>"
 
 
+def _sticks_out(fig: Figure) -> bool:
+    """Whether anything drawn on ``fig`` reaches beyond its edges (a tick label pushed
+    out by a fixed layout)."""
+    drawn = fig.get_tightbbox(fig.canvas.get_renderer())
+    width, height = fig.get_size_inches()
+    return bool(drawn.x0 < -0.01 or drawn.y0 < -0.01 or drawn.x1 > width + 0.01
+                or drawn.y1 > height + 0.01)
+
+
 def encode_png(rgba: np.ndarray, compress_level: int = 1) -> bytes:
     """An RGBA image (a drawn canvas) as a PNG of 256 colours: a third to a quarter of the
     bytes of full colour, no visible difference on a plot, and a palette image compresses
@@ -288,18 +297,23 @@ class Explorer(widgets.VBox):
     def png(self, fig: Figure) -> bytes:
         """``fig`` as PNG bytes. The first figure of a shape (size, number of axes) is laid
         out by its layout engine; later ones reuse those axes positions (no layout pass, and
-        axes that stay put when a control moves)."""
+        axes that stay put when a control moves), unless something (wider tick labels)
+        would then stick out of the figure: that one is laid out afresh."""
+        if not hasattr(fig.canvas, "buffer_rgba"):  # a Figure() made without pyplot
+            FigureCanvasAgg(fig)
+        fig.set_dpi(FIGURE_DPI)
+        engine = fig.get_layout_engine()
         key = (*np.round(fig.get_size_inches(), 3), len(fig.axes))
-        layout = self._layouts.get(key)
+        layout = self._layouts.get(key) if engine is not None else None
         if layout is not None:
             fig.set_layout_engine("none")
             for ax, box in zip(fig.axes, layout, strict=True):
                 ax.set_position(box)
-        if not hasattr(fig.canvas, "buffer_rgba"):  # a Figure() made without pyplot
-            FigureCanvasAgg(fig)
-        fig.set_dpi(FIGURE_DPI)
         fig.canvas.draw()
-        if layout is None:
+        if layout is not None and _sticks_out(fig):
+            fig.set_layout_engine(engine)
+            fig.canvas.draw()
+        elif layout is None and engine is not None:
             self._layouts[key] = [ax.get_position() for ax in fig.axes]
         return encode_png(np.asarray(fig.canvas.buffer_rgba()),
                           compress_level=6 if self.static else 1)
