@@ -10,6 +10,7 @@ import ipywidgets as widgets
 import matplotlib
 import matplotlib.pyplot as plt
 import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 
 from dstoolkit import teaching as w
 from dstoolkit.errors import EvidenceError
@@ -160,3 +161,16 @@ def test_no_mass_function_state_adds_up_to_more_than_one_without_a_warning(monke
             assert numbers["m(Θ)"] == pytest.approx(1 - total)
             assert sum(numbers[f"BetP({h})"] for h in ("low", "mid", "high")) == (
                 pytest.approx(1.0))
+
+
+def test_wider_labels_get_a_fresh_layout_rather_than_stick_out():
+    def render(k: float):
+        fig, ax = plt.subplots(figsize=(3, 2), layout="constrained")
+        ax.plot([0, 1], [0, -(10.0 ** k)])
+        ax.ticklabel_format(useOffset=False, style="plain")
+        return fig, {"k": k}
+
+    ex = Explorer({"k": slider("k", 0.0, 0.0, 9.0, 1.0)}, render, static=False)
+    ex.controls["k"].value = 7.0  # labels like −10000000, far wider than the first ones
+    renderer = FigureCanvasAgg(ex.figure).get_renderer()  # the figure is closed
+    assert ex.figure.get_tightbbox(renderer).x0 >= -0.01, "a tick label sticks out"

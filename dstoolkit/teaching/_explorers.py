@@ -312,6 +312,8 @@ class Explorer(widgets.VBox):
         fig.canvas.draw()
         if layout is not None and _sticks_out(fig):
             fig.set_layout_engine(engine)
+            for ax in fig.axes:  # set_position took them out of the layout
+                ax.set_in_layout(True)
             fig.canvas.draw()
         elif layout is None and engine is not None:
             self._layouts[key] = [ax.get_position() for ax in fig.axes]
