@@ -174,3 +174,16 @@ def test_wider_labels_get_a_fresh_layout_rather_than_stick_out():
     ex.controls["k"].value = 7.0  # labels like −10000000, far wider than the first ones
     renderer = FigureCanvasAgg(ex.figure).get_renderer()  # the figure is closed
     assert ex.figure.get_tightbbox(renderer).x0 >= -0.01, "a tick label sticks out"
+
+
+def test_bad_live_declarations_are_refused_with_a_reason():
+    from dstoolkit.errors import InvalidInputError
+
+    def render(a: float):
+        return None, {"a": a}
+
+    a = slider("a", 1.0, 0.0, 4.0, 0.5)
+    with pytest.raises(InvalidInputError, match="one or two of"):
+        Explorer({"a": a}, render, live={"nope": (1.0,)}, static=True)
+    with pytest.raises(InvalidInputError, match="must include its value 1.0"):
+        Explorer({"a": a}, render, live={"a": (0.0, 2.0)}, static=True)

@@ -55,7 +55,12 @@ from IPython.display import Image
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from dstoolkit.errors import AudioUnavailableError, EvidenceError, NotMonotoneError
+from dstoolkit.errors import (
+    AudioUnavailableError,
+    EvidenceError,
+    InvalidInputError,
+    NotMonotoneError,
+)
 from dstoolkit.evidence import ZADEH_FRAME, appendix_evidence, yager, zadeh_sources
 from dstoolkit.evidence._combination import (
     combine_dependent,
@@ -247,8 +252,8 @@ class Explorer(widgets.VBox):
         self.live = {name: tuple(values) for name, values in (live or {}).items()}
         unknown = set(self.live) - set(self.controls)
         if unknown or len(self.live) > 2:
-            raise ValueError(f"live controls must be one or two of {list(self.controls)}, "
-                             f"got {list(self.live)}")
+            raise InvalidInputError(f"live controls must be one or two of "
+                                    f"{list(self.controls)}, got {list(self.live)}")
         self.static = static_site() if static is None else static
         self.figure: Figure | None = None
         self.numbers: dict[str, Any] = {}
@@ -353,11 +358,12 @@ def site_control(control: widgets.ValueWidget, options: Sequence[Any]) -> widget
     precomputed), a slider as a ``SelectionSlider`` over ``options`` that follows the drag."""
     if isinstance(control, widgets.Dropdown):
         if tuple(control._options_values) != tuple(options):
-            raise ValueError(f"a live dropdown offers all its options: {control.description}")
+            raise InvalidInputError(f"a live dropdown precomputes all its options "
+                                    f"({control.description!r}): pass positions(dropdown)")
         return control
     if control.value not in options:
-        raise ValueError(f"the positions of {control.description!r} must include its value "
-                         f"{control.value}")
+        raise InvalidInputError(f"the positions of {control.description!r} must include its "
+                                f"value {control.value}: the page opens on it")
     fmt = "d" if isinstance(control, widgets.IntSlider) else control.readout_format
     return widgets.SelectionSlider(
         options=[(format(v, fmt), v) for v in options], value=control.value,
@@ -395,8 +401,9 @@ def site_note(live: Sequence[widgets.ValueWidget], some_disabled: bool) -> widge
     names = " and ".join(html.escape(c.description) for c in live)
     rest = ("the greyed-out ones work when this chapter runs as a notebook"
             if some_disabled else "in a notebook every value is possible")
-    return widgets.HTML(f"<p style='font-size:0.9em;margin:0'><i>On this page {names} "
-                        f"{'answer' if len(live) > 1 else 'answers'}; {rest}: see "
+    head = (f"On this page {names} {'answer' if len(live) > 1 else 'answers'}; {rest}"
+            if live else "These controls work when this chapter runs as a notebook")
+    return widgets.HTML(f"<p style='font-size:0.9em;margin:0'><i>{head}: see "
                         f"<a href='{RUN_PAGE}'>Run this book</a>.</i></p>")
 
 
