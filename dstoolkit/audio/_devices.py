@@ -303,7 +303,11 @@ def play_record(
     ------
     AudioUnavailableError
         sounddevice/PortAudio missing (:data:`INSTALL_HINT`); its subclass
-        NoAudioDeviceError when there is no device or it fails to open.
+        NoAudioDeviceError when there is no device or it fails to open;
+        AudioStallError when the stream stops moving (no answer within
+        :data:`STREAM_START_TIMEOUT_S` of starting, or :data:`STREAM_GRACE_S` past its
+        length: the stream runs in a child process, which is then killed);
+        AudioServerError when the PulseAudio server died (:func:`check_sound_server`).
     ValueError
         Bad signal or settings.
     """
