@@ -40,6 +40,7 @@ from ._exercises import (  # noqa: E402
 )
 from ._explorers import (  # noqa: E402
     GAUGE_CONDITIONS,
+    STATIC_SITE_ENV,
     Explorer,
     LabWidget,
     bounded_error_explorer,
@@ -55,8 +56,10 @@ from ._explorers import (  # noqa: E402
     mass_function_explorer,
     noise_bounds_explorer,
     noise_evidence_explorer,
+    positions,
     render_filter,
     slider,
+    static_site,
 )
 from ._lab import (  # noqa: E402
     VIRTUAL,
@@ -95,6 +98,7 @@ __all__ = [
     "MONOTONE_BOX",
     "PAPER_Z1",
     "REGISTRY",
+    "STATIC_SITE_ENV",
     "SWEEP_RATE",
     "VIRTUAL",
     "VIRTUAL_LABEL",
@@ -127,8 +131,10 @@ __all__ = [
     "once",
     "plot_calibration",
     "plot_method_levels",
+    "positions",
     "render_filter",
     "slider",
     "solution",
+    "static_site",
     "zadeh",
 ]
