@@ -90,7 +90,7 @@ def test_core_alone_on_the_oldest_numpy_and_scipy(tmp_path: Path) -> None:
         import importlib.util, numpy, scipy, dstoolkit
         print(numpy.__version__, scipy.__version__, dstoolkit.__version__, dstoolkit.__file__)
         print(*[m for m in ('matplotlib', 'ipywidgets', 'IPython', 'tqdm', 'sounddevice',
-                                                               'numba')
+                            'numba')
                 if importlib.util.find_spec(m)])
     """)], tmp_path, timeout=120).stdout.splitlines()
     versions = probe[0].split()
