@@ -187,9 +187,9 @@ def dependence(
     r21 = 1.0 - 0.5 * degree * en1 / en2 if degree > 0 else 1.0
     if not (math.isfinite(r12) and math.isfinite(r21)):
         raise EvidenceError(
-            f"energy1 = {en1:g} and energy2 = {en2:g} with a joint energy of {joint:.4g}: the "
-            "coefficients R12, R21 (eqs. A5–A6) overflow; give energies of comparable size "
-            "(or leave them out)"
+            f"energy1 = {en1:.3g} and energy2 = {en2:.3g} are too far apart for the shared "
+            f"energy {joint:.3g}: the dependency coefficients (eqs. 7–8) overflow; give "
+            "energies of the evidences' own size (or leave them out)"
         )
     return Dependence(en1, en2, joint, degree, r12, r21)
 

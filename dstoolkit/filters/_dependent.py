@@ -165,7 +165,7 @@ class DependentEvidenceFilter(FilterBase):
                                     f"(lo, hi) pair per component; got {self.theta!r}") from None
             self._frame(theta_v, "theta_v")
             self._frame(theta_w, "theta_w")
-        whole_number(self.chunk_size, "chunk_size", low=1, error=EvidenceError)
+        whole_number(self.chunk_size, "chunk_size", low=1, high=10**6, error=EvidenceError)
         self._policy(self.kernel, ("numpy", "numba"), "kernel")
         if self.kernel == "numba":
             require_extra("numba", "speed", "kernel='numba' of the paper's filter")
