@@ -15,12 +15,11 @@ from matplotlib.figure import Figure
 from dstoolkit.gauge._resonance import DetectionResult
 from dstoolkit.gauge._tube import Recording
 
-from ._evidence import BEL_COLOUR, BETP_COLOUR, _axes
-
-TRUTH_COLOUR = "#2ca02c"
-GREY = "#7f7f7f"
+from ._evidence import _axes
+from ._style import BEL_COLOUR, BETP_COLOUR, GREY, TRUTH_COLOUR, legend_above, styled
 
 
+@styled
 def plot_recording(
     recording: Recording,
     detection: DetectionResult | None = None,
@@ -60,10 +59,14 @@ def plot_recording(
         title = (f"L = {recording.setup.level_m:g} m, T = {recording.setup.temperature_c:g} °C")
     if title:
         ax.set_title(title)
-    ax.legend(loc="lower right", fontsize="small")
+    if frequency_axis:  # the top axis holds the frequencies: the legend goes below
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.22), ncols=3, frameon=False)
+    else:
+        legend_above(ax)
     return fig
 
 
+@styled
 def plot_resonances(
     detection: DetectionResult,
     ax: Axes | None = None,
@@ -96,7 +99,7 @@ def plot_resonances(
     ax.set_xlabel("resonance frequency (Hz)")
     ax.set_ylabel("envelope amplitude (full scale)")
     ax.set_ylim(bottom=0)
-    ax.set_title(title or f"f_F = {detection.fundamental_hz:.2f} Hz")
-    ax.legend(loc="lower right", fontsize="small")
+    ax.set_title(title or f"f_F = {detection.fundamental_hz:.2f} Hz", loc="left", pad=22)
+    legend_above(ax, ncols=4)
     return fig
 
