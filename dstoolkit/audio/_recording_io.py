@@ -31,6 +31,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.io import wavfile
 
+from dstoolkit._reprs import short_repr
 from dstoolkit.errors import RecordingFileError
 
 METADATA_VERSION = 1
@@ -74,6 +75,9 @@ class RecordingMetadata:
     level_m: float | None = None
     source: str | None = None
     extra: dict[str, Any] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        return short_repr(self)
 
     def __post_init__(self) -> None:
         for f in fields(self):

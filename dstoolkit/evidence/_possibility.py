@@ -12,6 +12,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from dstoolkit._reprs import short_repr
 from dstoolkit.errors import EvidenceError
 
 from ._combination import discount
@@ -24,6 +25,9 @@ class TriangularBounds(NamedTuple):
     lower: float
     mode: float
     upper: float
+
+    def __repr__(self) -> str:
+        return short_repr(self)
 
     @property
     def sigma(self) -> float:
