@@ -13,23 +13,21 @@ from dstoolkit.errors import (
 )
 
 from ._devices import (
-    AudioDevice,
     DEFAULT_LATENCY_S,
-    LatencyEstimate,
     MIN_PADDING_S,
+    AudioDevice,
     audio_available,
     calibration_chirp,
     check_calibration,
     choose_device,
-    estimate_latency,
     list_devices,
     measure_latency,
     play_record,
     refresh_devices,
 )
 from ._measurement import (
-    Analysis,
     CALIBRATION_GAP_S,
+    Analysis,
     add_analyze_arguments,
     add_measure_arguments,
     analyze,
@@ -55,7 +53,6 @@ __all__ = [
     "AudioUnavailableError",
     "CALIBRATION_GAP_S",
     "DEFAULT_LATENCY_S",
-    "LatencyEstimate",
     "MIN_PADDING_S",
     "NoAudioDeviceError",
     "RecordingFileError",
@@ -69,7 +66,6 @@ __all__ = [
     "calibration_chirp",
     "check_calibration",
     "choose_device",
-    "estimate_latency",
     "filter_levels",
     "list_devices",
     "load_recording",

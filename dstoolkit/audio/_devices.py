@@ -9,11 +9,12 @@ dstoolkit`` and every simulation work without it, and an audio call then raises
 
 Latency. Between the first sample handed to the output and its arrival in the input lies
 the audio path's delay τ (buffers of PortAudio, ALSA, the sound server and the sound card).
-For a linear sweep of rate k Hz/s it shifts every detected resonance by k τ (SPEC §6), so
-it must be measured and corrected: :func:`estimate_latency` finds τ by cross-correlating a
-known reference (the :func:`calibration_chirp`) with the recording. It is a pure array
-function. The delay changes each time a stream is opened, so the chirp belongs in the same
-stream as the sweep it calibrates (:func:`play_record` of chirp + sweep).
+For a linear sweep of rate k Hz/s it shifts every detected resonance by k τ (paper §4.3),
+so it must be measured and corrected: :func:`dstoolkit.gauge.estimate_latency` finds τ by
+cross-correlating a known reference (the :func:`calibration_chirp`) with the recording (a
+pure array function of the gauge layer, which also uses it on the sweep itself). The delay
+changes each time a stream is opened, so the chirp belongs in the same stream as the sweep
+it calibrates (:func:`play_record` of chirp + sweep).
 
 Headless machines and CI reach a software loopback made by ``scripts/audio-loopback.sh``
 (a PulseAudio null sink and its monitor, seen by PortAudio as the ALSA device ``pulse``).
@@ -36,6 +37,7 @@ from dstoolkit.errors import (
     DetectionError,
     NoAudioDeviceError,
 )
+from dstoolkit.gauge._latency import LatencyEstimate, as_signal, estimate_latency
 
 #: Silence played before and after a signal, in seconds, at least. The input stream may
 #: start a little after the output stream and the delay τ may reach a few hundred ms: the
@@ -43,9 +45,6 @@ from dstoolkit.errors import (
 MIN_PADDING_S = 0.5
 #: PortAudio's suggested latency (s) that returned the signal intact through the loopback.
 DEFAULT_LATENCY_S = 0.25
-#: Width of one arrival of the calibration chirp in its matched filter, s. Echoes in a
-#: tube come at least 2L/c later (2.9 ms for L = 0.5 m).
-ARRIVAL_WINDOW_S = 0.002
 #: Smallest |normalised correlation| at which a calibration chirp counts as found.
 MIN_CALIBRATION_CORRELATION = 0.3
 
@@ -219,137 +218,6 @@ def calibration_chirp(
 
 
 @dataclass(frozen=True)
-class LatencyEstimate:
-    """Delay of a recording behind what was played.
-
-    ``recorded[offset + lag + i]`` is ``reference[i]`` played at ``offset``: ``lag`` in
-    samples, ``seconds`` = lag / samplerate. ``correlation`` is the normalised correlation
-    (cosine of the angle) between the reference and the recording there, in [-1, 1]: 1 is
-    a perfect copy, near 0 means the reference was not found.
-    """
-
-    lag: int
-    samplerate: float
-    correlation: float
-
-    @property
-    def seconds(self) -> float:
-        return self.lag / self.samplerate
-
-
-def _as_signal(x: ArrayLike, what: str) -> np.ndarray:
-    """A 1-D finite float array (an (n, 1) column is accepted)."""
-    a = np.asarray(x, dtype=float)
-    if a.ndim == 2 and a.shape[1] == 1:
-        a = a[:, 0]
-    if a.ndim != 1:
-        raise ValueError(
-            f"{what} must be one channel (a 1-D array), got shape {a.shape}; pick a channel, "
-            "e.g. recording[:, 0]"
-        )
-    if a.size == 0:
-        raise ValueError(f"{what} is empty")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{what} contains NaN or infinite samples")
-    return a
-
-
-def estimate_latency(
-    reference: ArrayLike,
-    recorded: ArrayLike,
-    samplerate: float,
-    *,
-    offset: int = 0,
-    max_latency_s: float | None = None,
-    first_arrival: float | None = 0.5,
-) -> LatencyEstimate:
-    """Estimate the audio latency by cross-correlating a reference with the recording.
-
-    The reference (usually :func:`calibration_chirp`) was played starting at sample
-    ``offset`` of the output; the recording started with the output. The matched filter
-    ``c[j] = Σ_i recorded[j + i] reference[i]`` (``scipy.signal.correlate``, mode
-    ``"valid"``, FFT) peaks in absolute value where the reference sits in the recording
-    (absolute, so a microphone that inverts polarity still works), at ``j = offset + lag``.
-    In a tube the microphone also hears the reference's echoes, and the first one can be
-    louder than the direct sound (by up to 1 + R_t at a reflecting top): so the first
-    arrival is taken, the first place where the envelope of ``c`` reaches
-    ``first_arrival`` times its maximum, refined to the largest |c| in the next
-    ``ARRIVAL_WINDOW_S``. Pure array function: no audio device needed.
-
-    Parameters
-    ----------
-    reference, recorded : array_like, 1-D
-        What was played and what was recorded, same sample rate. The recording must be at
-        least as long as the reference.
-    samplerate : float
-        Sample rate in Hz, to express the lag in seconds.
-    offset : int
-        Where the reference started in the played output, in samples.
-    max_latency_s : float, optional
-        Search only ``|lag| <= max_latency_s``. Negative lags are allowed (the input
-        stream can start after the output stream).
-    first_arrival : float or None
-        Fraction of the strongest arrival that counts as an arrival; None takes the
-        strongest.
-
-    Returns
-    -------
-    LatencyEstimate
-
-    Raises
-    ------
-    ValueError
-        Bad arrays (not 1-D, empty, non-finite), a silent reference, a recording shorter
-        than the reference, or no lag in the search range.
-    DetectionError
-        The recording is silent (all zeros): nothing reached the input.
-    """
-    ref = _as_signal(reference, "reference")
-    rec = _as_signal(recorded, "recording")
-    if samplerate <= 0:
-        raise ValueError(f"samplerate must be positive, got {samplerate}")
-    if offset < 0:
-        raise ValueError(f"offset must be >= 0 samples, got {offset}")
-    ref_energy = float(ref @ ref)
-    if ref_energy == 0.0:
-        raise ValueError("the reference is silent (all zeros): nothing to look for")
-    if rec.size < ref.size:
-        raise ValueError(
-            f"the recording ({rec.size} samples) is shorter than the reference "
-            f"({ref.size} samples): record longer (add a tail of silence)"
-        )
-    if not np.any(rec):
-        raise DetectionError(
-            "the recording is silent (all zeros): nothing reached the input. Check that the "
-            "input device is the microphone (or the loopback monitor) and is not muted."
-        )
-    c = signal.correlate(rec, ref, mode="valid", method="fft")
-    lags = signal.correlation_lags(rec.size, ref.size, mode="valid") - offset
-    allowed = np.ones(c.size, bool)
-    if max_latency_s is not None:
-        allowed = np.abs(lags) <= max_latency_s * samplerate
-        if not allowed.any():
-            raise ValueError(
-                f"no lag within ±{max_latency_s} s fits the recording ({rec.size} samples, "
-                f"reference of {ref.size} at offset {offset}); widen max_latency_s"
-            )
-    score = np.where(allowed, np.abs(c), -1.0)
-    if first_arrival is None:
-        j = int(np.argmax(score))
-    else:
-        # the envelope of the matched filter: one smooth bump per arrival of the reference
-        envelope = np.where(allowed, np.abs(signal.hilbert(c)), 0.0)
-        start = int(np.flatnonzero(envelope >= first_arrival * envelope.max())[0])
-        stop = min(start + int(np.ceil(ARRIVAL_WINDOW_S * samplerate)) + 1, c.size)
-        j = start + int(np.argmax(score[start:stop]))
-    window = rec[j : j + ref.size]
-    norm = np.sqrt(ref_energy * float(window @ window))
-    correlation = float(c[j] / norm) if norm > 0 else 0.0
-    return LatencyEstimate(lag=int(lags[j]), samplerate=float(samplerate),
-                           correlation=correlation)
-
-
-@dataclass(frozen=True)
 class PlayRecordResult:
     """What :func:`play_record` played and recorded, sample for sample from the start.
 
@@ -423,7 +291,7 @@ def play_record(
     ValueError
         Bad signal or settings.
     """
-    sig = _as_signal(x, "signal")
+    sig = as_signal(x, "signal")
     peak = float(np.max(np.abs(sig)))
     if peak > 1.0:
         raise ValueError(f"the signal peaks at {peak:.3g} > 1 and would clip: scale it down")

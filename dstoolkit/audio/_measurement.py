@@ -6,7 +6,7 @@ stream, so the calibration must share the sweep's stream)::
     | lead-in 0.5 s | chirp 0.25 s | gap 0.25 s | sweep 5 s | gap | chirp | tail 0.5 s |
 
 The opening chirp's position in the recording gives the latency τ
-(:func:`dstoolkit.audio.estimate_latency`); the sweep then arrives at ``sweep_onset_s``.
+(:func:`dstoolkit.gauge.estimate_latency`); the sweep then arrives at ``sweep_onset_s``.
 The closing chirp must give the same τ: otherwise the stream lost or inserted samples on
 the way (an xrun, under a heavy processor load) and the measurement is repeated. The
 recording and what is known about it are saved as a WAV file

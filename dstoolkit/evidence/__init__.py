@@ -27,8 +27,8 @@ from ._batch_kernels import (
 )
 from ._combination import (
     CONFLICT_TOLERANCE,
-    Dependence,
     MASS_RULES,
+    Dependence,
     MassRule,
     combine_dependent,
     conflict,

@@ -114,19 +114,23 @@ class Evidence(ABC):
 
     # -- shared behaviour -------------------------------------------------------------
     def _set(self, focal: np.ndarray, mass: np.ndarray, merge: bool) -> None:
-        """Store the focal elements with positive mass, merging equal ones (eq. 14)."""
+        """Store the focal elements with positive mass, merging equal ones (eq. 14).
+
+        The stored arrays are the object's own copies, made read-only: every array a body
+        of evidence hands out (masses, interval ends) is a view that cannot change it.
+        """
         keep = mass > 0
-        focal, mass = focal[keep], mass[keep]
+        focal, mass = focal[keep], mass[keep]  # boolean indexing copies
         if merge:
             focal, mass = merge_equal(focal, mass)
+        focal.flags.writeable = False
+        mass.flags.writeable = False
         self._focal, self._mass = focal, mass
 
     @property
     def mass(self) -> np.ndarray:
-        """Masses of the focal elements (read-only view)."""
-        view = self._mass.view()
-        view.flags.writeable = False
-        return view
+        """Masses of the focal elements (a read-only array)."""
+        return self._mass
 
     def __len__(self) -> int:
         return int(self._mass.size)

@@ -359,6 +359,8 @@ def image_boxes(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Array kernel behind :func:`image`: ``method`` already resolved, signs parsed."""
     if method == "monotone":
+        if signs is None:
+            raise EvidenceError("method='monotone' needs the signs of f (one +1/−1 per argument)")
         return image_monotone(lo, hi, f, signs, check=check)
     if method == "vertex":
         return image_vertex(lo, hi, f, check=check)

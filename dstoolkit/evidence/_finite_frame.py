@@ -204,7 +204,7 @@ class MassFunction(Evidence):
 
     def __repr__(self) -> str:
         def name(s: frozenset) -> str:
-            return "{" + ", ".join(map(str, sorted(s, key=self._index.get))) + "}"
+            return "{" + ", ".join(map(str, sorted(s, key=lambda h: self._index[h]))) + "}"
 
         body = ", ".join(f"{name(s)}: {m:.4g}" for s, m in self.as_dict().items())
         return f"MassFunction({body})"

@@ -110,22 +110,22 @@ class IntervalEvidence(Evidence):
 
     @property
     def boxes_lo(self) -> np.ndarray:
-        """Lower ends, shape (n, d)."""
+        """Lower ends, shape (n, d) (read-only)."""
         return self._focal[:, : self.dim]
 
     @property
     def boxes_hi(self) -> np.ndarray:
-        """Upper ends, shape (n, d)."""
+        """Upper ends, shape (n, d) (read-only)."""
         return self._focal[:, self.dim :]
 
     @property
     def lo(self) -> np.ndarray:
-        """Lower ends: shape (n,) for intervals, (n, d) for boxes."""
+        """Lower ends: shape (n,) for intervals, (n, d) for boxes (read-only)."""
         return self.boxes_lo[:, 0] if self.dim == 1 else self.boxes_lo
 
     @property
     def hi(self) -> np.ndarray:
-        """Upper ends: shape (n,) for intervals, (n, d) for boxes."""
+        """Upper ends: shape (n,) for intervals, (n, d) for boxes (read-only)."""
         return self.boxes_hi[:, 0] if self.dim == 1 else self.boxes_hi
 
     @property

@@ -122,7 +122,7 @@ class BoundedErrorFilter:
         for k in range(1, n_steps):
             f_lo, f_hi = box_image(with_input(model.f, step_input(U, k)), lo, hi, model.f_monotone)
             p_lo, p_hi = f_lo + v_lo, f_hi + v_hi
-            lo, hi = model.g_inverse(Z[:, k] + w_lo, Z[:, k] + w_hi, p_lo, p_hi)
+            lo, hi = model.inverse()(Z[:, k] + w_lo, Z[:, k] + w_hi, p_lo, p_hi)
             lo, hi = np.broadcast_to(lo, p_lo.shape), np.broadcast_to(hi, p_hi.shape)
             if steps is not None:
                 steps.append({"prediction": (p_lo[0].copy(), p_hi[0].copy()),

@@ -39,7 +39,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from contextlib import nullcontext
 from dataclasses import dataclass
-from typing import Any, ClassVar, Literal
+from typing import Any, ClassVar, Literal, overload
 
 import numpy as np
 
@@ -135,7 +135,7 @@ def map_back(maps: ModelMaps, fused: Boxes, prior_lo: np.ndarray, prior_hi: np.n
     predicted boxes (eq. A3): a bound within :data:`SNAP_RTOL` of its predicted box's bound
     is set to it, so that rounding in g and g⁻¹ does not decide what is common.
     """
-    lo, hi = maps.model.g_inverse(fused.lo, fused.hi, prior_lo, prior_hi)
+    lo, hi = maps.model.inverse()(fused.lo, fused.hi, prior_lo, prior_hi)
     lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
     scale = SNAP_RTOL * np.maximum(np.abs(prior_lo), np.abs(prior_hi))
     lo = np.where(np.abs(lo - prior_lo) <= scale, prior_lo, lo)
@@ -241,7 +241,7 @@ class DependentEvidenceFilter:
         reading = z1 + (model.obs_noise.mean if self.start == "mean_corrected" else 0.0)
         point = reading[:, None]
         inf = np.full((runs, 1, n), np.inf)
-        lo, hi = model.g_inverse(point, point, -inf, inf)
+        lo, hi = model.inverse()(point, point, -inf, inf)
         x = 0.5 * (np.asarray(lo, dtype=float) + np.asarray(hi, dtype=float))[:, 0]
         if not np.all(np.isfinite(x)):
             raise EvidenceError(
@@ -262,10 +262,10 @@ class DependentEvidenceFilter:
         est = np.empty((runs, steps, maps.model.state_dim))
         lower, upper = (np.empty_like(est), np.empty_like(est)) if bounds else (None, None)
         est[:, 0] = self._start(maps.model, z[:, 0])
-        if bounds:
+        if lower is not None and upper is not None:
             lower[:, 0] = upper[:, 0] = est[:, 0]
         rho, w, nw = noise.prediction_mass, noise.w, noise.w.lo.shape[1]
-        rows = []
+        rows: list[tuple[np.ndarray, ...]] = []
         for t in range(1, steps):
             f_u = with_input(maps.model.f, step_input(inputs, t))
             p_lo, p_hi = predict(maps, noise, est[:, t - 1], f_u)
@@ -285,7 +285,7 @@ class DependentEvidenceFilter:
                 est[:, t], k6, ok6, hull = bk.dempster_expectation(
                     bk.discount_onto_hull(back, dep.r12), bk.discount_onto_hull(pred, dep.r21),
                     bounds)
-                if bounds:
+                if hull is not None and lower is not None and upper is not None:
                     lower[:, t], upper[:, t] = hull
             ok = ok4 & ok6
             if not (all_ok and ok6.all()):
@@ -417,9 +417,18 @@ class DependentEvidenceFilter:
                                 None if inputs is None else np.asarray(inputs, dtype=float)[None])
         if record:
             return self._run_objects(maps, noise, zz, uu)
-        est, lower, upper, diag = self._run_arrays(maps, noise, zz, uu)
+        est, lower, upper, diag = self._run_arrays(maps, noise, zz, uu, bounds=True)
+        assert lower is not None and upper is not None  # bounds=True returns them
         return FilterResult(self.name, est[0], lower[0], upper[0], None,
                             {key: value[0] for key, value in diag.items()})
+
+    @overload
+    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
+                  return_result: Literal[False] = False) -> np.ndarray: ...
+
+    @overload
+    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
+                  return_result: Literal[True]) -> FilterResult: ...
 
     def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
                   return_result: bool = False) -> np.ndarray | FilterResult:

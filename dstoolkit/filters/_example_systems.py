@@ -54,6 +54,7 @@ from ._model import BoundedNoise, StateSpaceModel
 
 #: Default start of the truth: log of (P, Q) = (2, 1).
 LOTKA_VOLTERRA_X0: np.ndarray = np.log(np.array([2.0, 1.0]))
+LOTKA_VOLTERRA_X0.flags.writeable = False
 
 
 def lotka_volterra(

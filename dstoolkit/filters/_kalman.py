@@ -120,7 +120,7 @@ class KalmanFilter:
                 "invertible there); give the filter an initial_box"
             )
         mean_z = z1 + model.obs_noise.mean
-        p_lo, p_hi = model.g_inverse(mean_z, mean_z, lo, hi)
+        p_lo, p_hi = model.inverse()(mean_z, mean_z, lo, hi)
         point = 0.5 * (p_lo + p_hi)
         usable = np.all(np.isfinite(point) & (p_lo <= p_hi), axis=-1, keepdims=True)
         x = np.where(usable, point, 0.5 * (lo + hi))

@@ -14,30 +14,41 @@ from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from dstoolkit.errors import EvidenceError
 from dstoolkit.evidence._intervals import IntervalEvidence
 from dstoolkit.evidence._possibility import triangular_evidence
 
 ArrayFn = Callable[..., np.ndarray]
+#: ``g_inverse(lo, hi, x_lo, x_hi) -> (lo, hi)``: the states in [x_lo, x_hi] whose image meets
+#: the observation box [lo, hi] (see :class:`StateSpaceModel`).
+BoxInverse = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+                      tuple[np.ndarray, np.ndarray]]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class BoundedNoise:
     """Independent triangular noises, one per component: support [lower, upper], mode.
 
     The same description feeds every filter: possibility → evidence for the evidential
     filters (eqs. 22–26), bounds for the bounded-error filter, mean and variance for the
-    Kalman filter, the density for the particle filter.
+    Kalman filter, the density for the particle filter. ``lower``, ``mode`` and ``upper``
+    are scalars or equal-length vectors; they are stored as read-only float arrays.
+
+    Examples
+    --------
+    >>> v = BoundedNoise(-0.3, 0.0, 0.3)
+    >>> v.dim, float(v.variance[0])
+    (1, 0.015)
     """
 
     lower: np.ndarray
     mode: np.ndarray
     upper: np.ndarray
 
-    def __post_init__(self) -> None:
-        lo, c, hi = (np.atleast_1d(np.asarray(a, dtype=float)) for a in
-                     (self.lower, self.mode, self.upper))
+    def __init__(self, lower: ArrayLike, mode: ArrayLike, upper: ArrayLike) -> None:
+        lo, c, hi = (np.atleast_1d(np.array(a, dtype=float)) for a in (lower, mode, upper))
         if not (lo.shape == c.shape == hi.shape) or lo.ndim != 1:
             raise EvidenceError("lower, mode and upper must be scalars or equal-length vectors")
         if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(np.isfinite(c))):
@@ -47,9 +58,9 @@ class BoundedNoise:
                 f"need lower <= mode <= upper for every component, got lower={lo.tolist()}, "
                 f"mode={c.tolist()}, upper={hi.tolist()}"
             )
-        object.__setattr__(self, "lower", lo)
-        object.__setattr__(self, "mode", c)
-        object.__setattr__(self, "upper", hi)
+        for name, value in (("lower", lo), ("mode", c), ("upper", hi)):
+            value.flags.writeable = False
+            object.__setattr__(self, name, value)
 
     @classmethod
     def symmetric(cls, half_width: Any) -> BoundedNoise:
@@ -59,6 +70,7 @@ class BoundedNoise:
 
     @property
     def dim(self) -> int:
+        """Number of components."""
         return int(self.lower.size)
 
     @property
@@ -141,7 +153,7 @@ class StateSpaceModel:
     g: ArrayFn
     state_noise: BoundedNoise
     obs_noise: BoundedNoise
-    g_inverse: ArrayFn | None = None
+    g_inverse: BoxInverse | None = None
     f_monotone: tuple[int, ...] | None = None
     g_monotone: tuple[int, ...] | None = None
     jacobian_f: ArrayFn | None = None
@@ -151,10 +163,22 @@ class StateSpaceModel:
 
     @property
     def state_dim(self) -> int:
+        """n, the dimension of the state."""
         return self.state_noise.dim
+
+    def inverse(self) -> BoxInverse:
+        """``g_inverse``, or an :class:`~dstoolkit.errors.EvidenceError` when the model has
+        none (every filter maps readings back to states through it)."""
+        if self.g_inverse is None:
+            raise EvidenceError(
+                f"model {self.name!r} has no g_inverse(lo, hi, x_lo, x_hi), which the filters "
+                "use to map readings back to states; add it to the model"
+            )
+        return self.g_inverse
 
     @property
     def obs_dim(self) -> int:
+        """m, the dimension of the observation."""
         return self.obs_noise.dim
 
     def simulate(
@@ -293,11 +317,7 @@ def first_reading_box(
     ``z`` has shape (..., m); ``prior`` is a box ``(lo, hi)`` of the state, default the
     whole space. Returns (lo, hi) of shape (..., n); empty boxes have lo > hi somewhere.
     """
-    if model.g_inverse is None:
-        raise EvidenceError(
-            f"model {model.name!r} has no g_inverse: give the filter an initial box of the "
-            "state, or add g_inverse to the model"
-        )
+    g_inverse = model.inverse()
     shape = (*z.shape[:-1], model.state_dim)
     if prior is None:
         p_lo, p_hi = np.full(shape, -np.inf), np.full(shape, np.inf)
@@ -305,5 +325,5 @@ def first_reading_box(
         p_lo = np.broadcast_to(np.asarray(prior[0], dtype=float), shape)
         p_hi = np.broadcast_to(np.asarray(prior[1], dtype=float), shape)
     noise = model.obs_noise
-    lo, hi = model.g_inverse(z + noise.lower, z + noise.upper, p_lo, p_hi)
+    lo, hi = g_inverse(z + noise.lower, z + noise.upper, p_lo, p_hi)
     return np.broadcast_to(lo, shape).astype(float), np.broadcast_to(hi, shape).astype(float)

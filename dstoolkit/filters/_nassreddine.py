@@ -322,7 +322,7 @@ class NassreddineFilter:
                       ) -> BoxMass:
         """g⁻¹(z + W_l) ∩ X_0 for every focal element W_l: the evidence of one reading."""
         p_lo, p_hi = self._prior(model, z)
-        lo, hi = model.g_inverse(z[:, None] + w.lo, z[:, None] + w.hi,
+        lo, hi = model.inverse()(z[:, None] + w.lo, z[:, None] + w.hi,
                                  p_lo[:, None], p_hi[:, None])
         shape = (z.shape[0], w.mass.shape[1], model.state_dim)
         lo, hi = np.broadcast_to(lo, shape), np.broadcast_to(hi, shape)
@@ -368,7 +368,7 @@ class NassreddineFilter:
                                     np.broadcast_to(v.mass, (runs, v.mass.shape[1])))
                 p_lo, p_hi, p_mass = self._predict(model, state, v, step_input(U, k))
                 y_lo, y_hi = Z[:, k, None] + w.lo, Z[:, k, None] + w.hi
-                c_lo, c_hi = model.g_inverse(y_lo[:, None], y_hi[:, None],
+                c_lo, c_hi = model.inverse()(y_lo[:, None], y_hi[:, None],
                                              p_lo[:, :, None], p_hi[:, :, None])
                 shape = (runs, p_mass.shape[1], w.mass.shape[1], n)
                 c_lo = np.broadcast_to(c_lo, shape).reshape(runs, -1, n)

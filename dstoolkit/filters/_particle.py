@@ -197,7 +197,7 @@ class ParticleFilter:
                 weights = self._weigh(model, particles, Z[:, k])
             dead = ~(weights.sum(axis=1) > 0)
             if k > 0 and np.any(dead):
-                for i in np.flatnonzero(dead):
+                for i in np.flatnonzero(dead).tolist():
                     u = self._stream(int(run_ids[i]), k).random((1, big_n, n))
                     p_new, w_new = self._draw_in_reading_box(model, Z[i : i + 1, k], u, k)
                     particles[i], weights[i] = p_new[0], w_new[0]

@@ -143,12 +143,12 @@ def fit_resonance_series(
         return ResonanceSeriesFit(n1, float(slope), b, float(np.sqrt(np.mean(resid**2))),
                                   (n1 + s).astype(int), True)
     top = int(3 * z[0] / slope) + 10 if max_first_order is None else int(max_first_order)
-    n1 = np.arange(1, max(top, 1) + 1)[:, None]
-    m = n1 + s[None, :]
+    firsts = np.arange(1, max(top, 1) + 1)[:, None]  # candidate first orders n_1
+    m = firsts + s[None, :]
     y = z - offset_hz
     f_f = (m @ y) / np.sum(m * m, axis=1)
     sse = np.sum((y[None, :] - f_f[:, None] * m) ** 2, axis=1)
     best = int(np.argmin(sse))
-    return ResonanceSeriesFit(int(n1[best, 0]), float(f_f[best]), float(offset_hz),
-                              float(np.sqrt(sse[best] / z.size)), (n1[best, 0] + s).astype(int),
+    return ResonanceSeriesFit(int(firsts[best, 0]), float(f_f[best]), float(offset_hz),
+                              float(np.sqrt(sse[best] / z.size)), (firsts[best, 0] + s).astype(int),
                               False)

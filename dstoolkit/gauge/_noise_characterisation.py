@@ -43,6 +43,7 @@ from ._tube import (
 
 #: The paper's calibration levels for w: about 30 from 1.3 to 10.6 m (§4.3).
 PAPER_CALIBRATION_LEVELS = np.linspace(1.3, 10.6, 30)
+PAPER_CALIBRATION_LEVELS.flags.writeable = False
 
 
 @dataclass(frozen=True)

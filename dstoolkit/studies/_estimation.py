@@ -347,8 +347,9 @@ def order_rule_study(simulation: Simulation = "frequency", runs: int = 30, seed:
     :func:`gauge_run`."""
     filters = paper_filters(seed)
     seeds = np.random.SeedSequence(seed).generate_state(len(cases))
-    errors = {r: {m: np.empty(len(cases)) for m in methods} for r in rules}
-    wrong = {r: np.empty(len(cases)) for r in rules}
+    errors: dict[str, dict[str, np.ndarray]] = {
+        r: {m: np.empty(len(cases)) for m in methods} for r in rules}
+    wrong: dict[str, np.ndarray] = {r: np.empty(len(cases)) for r in rules}
     slope = np.empty(len(cases))
     for i, ((level, temp), s) in enumerate(zip(cases, seeds, strict=True)):
         if simulation == "frequency":

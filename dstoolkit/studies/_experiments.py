@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import csv
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
@@ -123,7 +123,7 @@ def estimate_orders(case: CaseReadings, rule: OrderRule = "eq43") -> np.ndarray:
 
 
 def estimate_levels(method: str, case: CaseReadings, orders: np.ndarray,
-                    filters: dict[str, Any]) -> np.ndarray:
+                    filters: Mapping[str, Any]) -> np.ndarray:
     """L̂_k = n_k c/(2 x̂_k) (eq. 32) for k = 1..K−1, shape (runs, K−1)."""
     z = case.readings
     if method == "direct":

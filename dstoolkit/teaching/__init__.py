@@ -10,11 +10,9 @@ require_extra("ipywidgets", "teaching", "dstoolkit.teaching")
 require_extra("matplotlib", "teaching", "dstoolkit.teaching")
 
 from ._exercises import (  # noqa: E402
-    Exercise,
     FAILURE_RUNS,
     FAILURE_SCALE,
     FRAME,
-    Feedback,
     GAUGE_LATENCY,
     LAB_BAND,
     LAB_CUTOFF_DIAMETER,
@@ -26,6 +24,8 @@ from ._exercises import (  # noqa: E402
     PAPER_Z1,
     REGISTRY,
     SWEEP_RATE,
+    Exercise,
+    Feedback,
     check,
     eq43_readings,
     exercise,
@@ -35,8 +35,8 @@ from ._exercises import (  # noqa: E402
     zadeh,
 )
 from ._explorers import (  # noqa: E402
-    Explorer,
     GAUGE_CONDITIONS,
+    Explorer,
     LabWidget,
     bounded_error_explorer,
     compare_image_methods,
@@ -55,9 +55,9 @@ from ._explorers import (  # noqa: E402
     slider,
 )
 from ._lab import (  # noqa: E402
-    LabSettings,
     VIRTUAL,
     VIRTUAL_LABEL,
+    LabSettings,
     calibration_correlation,
     device_options,
     draw_gauge,

@@ -188,7 +188,7 @@ def plot_method_levels(analysis: measurement.Analysis, ax: Axes | None = None) -
 
 def calibration_correlation(recording: WavRecording) -> np.ndarray:
     """|c[j]| = |Σ_i recording[j + i] chirp[i]| normalised to its maximum: the matched
-    filter of :func:`dstoolkit.audio.estimate_latency` over the whole recording (index j is
+    filter of :func:`dstoolkit.gauge.estimate_latency` over the whole recording (index j is
     where a chirp would start)."""
     chirp = audio.calibration_chirp(recording.samplerate)
     c = np.abs(signal.correlate(recording.samples, chirp, mode="valid", method="fft"))
