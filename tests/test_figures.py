@@ -23,6 +23,7 @@ import pytest
 
 matplotlib.use("Agg")
 
+from conftest import ARTIFACTS  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
 from matplotlib.collections import PathCollection  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
@@ -59,6 +60,7 @@ DIMENSIONLESS = re.compile(
 UNIT = re.compile(r"\([^()]*[^\s()][^()]*\)")
 
 FIGURES: dict[str, Callable[[], Figure]] = {}
+SHOTS = ARTIFACTS / "figures"
 
 
 def figure(name: str) -> Callable[[Callable[[], Figure]], Callable[[], Figure]]:
@@ -202,9 +204,11 @@ def _example() -> Figure:
 # -- checks ---------------------------------------------------------------------------------
 
 
-def _rendered(make: Callable[[], Figure]) -> Figure:
-    fig = make()
-    fig.savefig(io.BytesIO(), format="png")  # lays out and draws every text
+def _rendered(name: str) -> Figure:
+    """The figure, drawn (which lays out every text); a PNG of it in test-artifacts/figures."""
+    fig = FIGURES[name]()
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    fig.savefig(SHOTS / f"{name}.png", format="png", dpi=96)
     return fig
 
 
@@ -251,7 +255,7 @@ def _data_points(ax: Axes) -> np.ndarray:
 
 @pytest.fixture(scope="module", params=sorted(FIGURES))
 def rendered(request: pytest.FixtureRequest) -> tuple[str, Figure]:
-    return request.param, _rendered(FIGURES[request.param])
+    return request.param, _rendered(request.param)
 
 
 def test_every_figure_function_is_checked() -> None:
@@ -311,6 +315,11 @@ def test_legends_do_not_hide_data(rendered: tuple[str, Figure]) -> None:
             if covered.any():
                 problems.append(f"legend {[t.get_text() for t in legend.get_texts()][:3]} "
                                 f"covers {int(covered.sum())} data points of panel {index}")
+            for loc in ("left", "center", "right"):
+                title = ax.get_title(loc)
+                texts = [t for t in _texts(fig) if t.get_text() == title] if title else []
+                if any(box.overlaps(t.get_window_extent()) for t in texts):
+                    problems.append(f"legend overlaps the title {title!r} of panel {index}")
     assert not problems, f"{name}: {problems}"
 
 

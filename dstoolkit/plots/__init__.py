@@ -48,6 +48,7 @@ from ._style import (  # noqa: E402
     GREY,
     TRUTH_COLOUR,
     figure_style,
+    legend_above,
     log_ticks,
     use_style,
 )
@@ -61,6 +62,7 @@ __all__ = [
     "contour",
     "figure_style",
     "interval_table",
+    "legend_above",
     "log_ticks",
     "markdown_table",
     "plot_bel_pl",

@@ -151,9 +151,9 @@ def plot_pbox(
     ax.set_xlim(x[0], x[-1])
     ax.set_xlabel(xlabel)
     ax.set_ylabel("probability")
-    legend_above(ax)
     if title:
         ax.set_title(title)
+    legend_above(ax)
     return fig
 
 
@@ -208,9 +208,9 @@ def plot_possibility(
     ax.set_ylim(-0.02, 1.08)
     ax.set_xlabel(xlabel)
     ax.set_ylabel("possibility")
-    legend_above(ax)
     if title:
         ax.set_title(title)
+    legend_above(ax)
     return fig
 
 
@@ -266,9 +266,9 @@ def plot_bel_pl(
     ax.set_ylim(0, 1.05)
     ax.set_xlabel("subset A of the frame")
     ax.set_ylabel("Bel(A), Pl(A)")
-    legend_above(ax)
     if title:
         ax.set_title(title)
+    legend_above(ax)
     return fig
 
 
@@ -362,9 +362,9 @@ def plot_enclosure(
         ax.axvline(r, color=BETP_COLOUR, lw=1)
     ax.set_xlabel("step k")
     ax.set_ylabel(ylabel)
-    legend_above(ax)
     if title:
         ax.set_title(title)
+    legend_above(ax)
     return fig
 
 
@@ -490,9 +490,9 @@ def plot_filter_errors(
     of a layout engine, and fixed log ticks with plain labels (no minor ticks, no mathtext).
     """
     if axes is None:
-        fig, axes = plt.subplots(2, 1, figsize=column_size(9.0, 4.8), sharex=True,
+        fig, axes = plt.subplots(2, 1, figsize=column_size(6.4, 4.4), sharex=True,
                                  layout="none")
-        fig.subplots_adjust(left=0.12, right=0.985, top=0.88, bottom=0.11, hspace=0.3)
+        fig.subplots_adjust(left=0.12, right=0.98, top=0.8, bottom=0.11, hspace=0.12)
     fig = axes[0].figure
     x = np.asarray(truth, dtype=float).reshape(-1)
     est = np.asarray(result.estimates, dtype=float).reshape(-1) - x
@@ -503,6 +503,8 @@ def plot_filter_errors(
     top.plot(k, est, "-", lw=1.4, color=BETP_COLOUR, label="estimate x̂_k − x_k")
     top.axhline(0.0, color="black", lw=0.8)
     top.set_ylabel(f"deviation ({unit})")
+    if title:  # above the legend, wrapped to the figure's width
+        fig.suptitle(title, x=0.01, y=0.99, ha="left", va="top", fontsize=SMALL_PT, wrap=True)
     legend_above(top, ncols=2)
     bottom.semilogy(k, np.abs(z) + 1e-6, ".", ms=3, color="0.55", label="|z_k − x_k|")
     bottom.semilogy(k, np.abs(est) + 1e-6, "-", lw=1.4, color=BETP_COLOUR,
@@ -514,8 +516,6 @@ def plot_filter_errors(
     positive = np.abs(est)[np.abs(est) > 0]
     bottom.set_ylim(bottom=max(1e-3, 0.5 * float(positive.min())) if positive.size else 1e-3)
     bottom.set_xlabel("step k")
-    if title:
-        top.set_title(title)
     return fig
 
 

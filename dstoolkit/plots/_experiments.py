@@ -59,29 +59,36 @@ def plot_estimates(truth: np.ndarray, readings: np.ndarray,
     """Fig. 10 / Fig. 11: (a) estimates, truth and readings per step; (b) absolute errors.
 
     ``truth`` and ``readings`` have one value per step (or a scalar truth for a level);
-    ``estimates`` maps method names to one value per step.
+    ``estimates`` maps method names to one value per step. When the truth changes from
+    step to step (the resonances of Fig. 10 climb by f_F each), panel (a) shows every
+    curve minus the truth: on the raw scale they would all lie on one diagonal.
     """
     fig = new_figure(6.4, 5.6)
     ax_a, ax_b = fig.subplots(2, 1, sharex=True)
     steps = np.arange(1, np.size(readings) + 1)
     truth = np.broadcast_to(np.asarray(truth, dtype=float).reshape(-1), steps.shape) \
         if np.size(truth) in (1, steps.size) else np.asarray(truth)
-    ax_a.plot(steps, truth, "k-", lw=1.5, label="true")
-    ax_a.plot(steps, readings, ".", color="0.5", ms=4, label="readings / direct")
+    moving = bool(np.ptp(truth) > 0)
+    ref = truth if moving else np.zeros_like(truth)
+    ax_a.plot(steps, truth - ref, "k-", lw=1.5, label="true")
+    ax_a.plot(steps, np.asarray(readings) - ref, ".", color="0.5", ms=4,
+              label="readings / direct")
     ax_b.plot(steps, np.abs(np.asarray(readings) - truth), ".", color="0.5", ms=4,
               label="readings / direct")
     for name, est in estimates.items():
         st = _style(name)
         est = np.asarray(est, dtype=float).reshape(-1)
-        ax_a.plot(steps[: est.size], est, "-", color=st["color"], lw=1, label=st["label"])
+        ax_a.plot(steps[: est.size], est - ref[: est.size], "-", color=st["color"], lw=1,
+                  label=st["label"])
         ax_b.plot(steps[: est.size], np.abs(est - truth[: est.size]), "-", color=st["color"],
                   lw=1, label=st["label"])
-    ax_a.set_ylabel(f"{quantity} ({unit})")
+    ax_a.set_ylabel(f"{quantity} − true ({unit})" if moving else f"{quantity} ({unit})")
     ax_b.set_ylabel(f"|error| ({unit})")
     ax_b.set_yscale("log")
     log_ticks(ax_b.yaxis)
     ax_b.set_xlabel("step k")
-    ax_a.set_title(f"(a) estimated {quantity}", loc="left")
+    ax_a.set_title(f"(a) estimated {quantity}" + (", minus the truth" if moving else ""),
+                   loc="left")
     ax_b.set_title("(b) absolute errors", loc="left")
     for ax in (ax_a, ax_b):
         ax.grid(True, alpha=0.3)

@@ -40,7 +40,7 @@ def _figure(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes
 
 @styled
 def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *,
-                     unit: str = "Hz", title: str | None = None) -> Figure:
+                     unit: str = "Hz", title: str | None = None, legend: bool = True) -> Figure:
     """Mean |x̂_k − x_k| over runs against the step k, one line per method (log scale).
 
     ``errors`` maps a method to absolute errors of shape (runs, K) or (K,); a name that is
@@ -57,9 +57,10 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
     ax.set_ylabel(f"mean |x̂ − x| ({unit})")
     ax.grid(True, which="both", alpha=0.3)
     log_ticks(ax.yaxis)
-    legend_above(ax, ncols=2)
     if title:
-        ax.set_title(title, loc="left", pad=4 + 16 * ((len(errors) + 1) // 2))
+        ax.set_title(title, loc="left")
+    if legend:
+        legend_above(ax, ncols=2)
     return fig
 
 
@@ -84,9 +85,9 @@ def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | 
     ax.set_yticks([0, 1])
     ax.set_xlabel(xlabel)
     ax.set_ylabel("possibility")
-    legend_above(ax, ncols=2)
     if title:
-        ax.set_title(title, loc="left", pad=20)
+        ax.set_title(title, loc="left")
+    legend_above(ax, ncols=2)
     return fig
 
 
@@ -162,11 +163,10 @@ def plot_example(comparison: ExampleComparison, run: int = 0) -> Figure:
         ax_a.plot(*np.exp(est[run]).T, "-", color=st["color"], lw=1, label=st["label"])
     ax_a.set_xlabel("prey P (individuals)")
     ax_a.set_ylabel("predators Q (individuals)")
-    ax_a.set_title("(a) one run in the (P, Q) plane", loc="left", pad=40)
+    ax_a.set_title("(a) one run in the (P, Q) plane", loc="left")
     legend_above(ax_a, ncols=3)
     plot_step_errors(comparison.step_errors(run), ax_b, unit="log-population",
-                     title="(b) |x̂_k − x_k| per step")
-    ax_b.get_legend().remove()  # the same methods and colours as (a)
+                     title="(b) |x̂_k − x_k| per step", legend=False)  # colours as in (a)
     return fig
 
 

@@ -105,17 +105,21 @@ def new_figure(width: float = COLUMN_WIDTH_IN, height: float = 3.0) -> Figure:
 
 
 def legend_above(ax: Axes, ncols: int | None = None, **kwargs: Any) -> Legend | None:
-    """The legend of ``ax`` in a row above its data area, where it cannot hide data.
-
-    Returns None when nothing is labelled.
+    """The legend of ``ax`` in rows above its data area, where it cannot hide data; the
+    axes' titles move up above it. Returns None when nothing is labelled.
     """
     handles, labels = ax.get_legend_handles_labels()
     if not handles:
         return None
     ncols = ncols if ncols is not None else min(len(handles), 3)
-    return ax.legend(handles, labels, loc="lower left", bbox_to_anchor=(0.0, 1.01, 1.0, 0.2),
-                     ncols=ncols, frameon=False, borderaxespad=0.0, handlelength=1.8,
-                     **kwargs)
+    legend = ax.legend(handles, labels, loc="lower left", bbox_to_anchor=(0.0, 1.01),
+                       ncols=ncols, frameon=False, borderaxespad=0.0, handlelength=1.8,
+                       **kwargs)
+    rows = -(-len(handles) // ncols)
+    for loc in ("left", "center", "right"):
+        if ax.get_title(loc):
+            ax.set_title(ax.get_title(loc), loc=loc, pad=8.0 + rows * 1.75 * SMALL_PT)
+    return legend
 
 
 def log_ticks(axis: Axis) -> None:
