@@ -1,7 +1,7 @@
 """Save and load gauge recordings as WAV files that carry their metadata.
 
 A recording is only useful with what was known when it was made: the air temperature
-(sound speed, SPEC §6), the sweep (band, duration, where it starts), the sample rate, the
+(sound speed, eq. 31), the sweep (band, duration, where it starts), the sample rate, the
 measured audio latency, and the level when it is known (a virtual tube, a reference
 measurement). They travel inside the WAV file, so a file copied alone stays analysable.
 
