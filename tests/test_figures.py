@@ -335,3 +335,20 @@ def test_the_log_ticks_of_a_short_range_are_readable() -> None:
     locs = [v for v in ax.yaxis.get_majorticklocs() if low <= v <= high]
     labels = [ax.yaxis.get_major_formatter()(v) for v in locs]
     assert labels == ["0.5", "1", "2"], labels
+
+
+def test_the_style_is_undone_but_nothing_else() -> None:
+    """figure_style restores its own settings only: IPython's inline backend switches the
+    interactive mode on when a session's first figure is made, maybe inside the style, and
+    undoing that would stop every later figure of a notebook from showing."""
+    import matplotlib as mpl
+
+    before_size, before_interactive = mpl.rcParams["font.size"], mpl.is_interactive()
+    try:
+        with plots.figure_style():
+            assert mpl.rcParams["font.size"] == 10
+            mpl.interactive(True)  # what matplotlib-inline does on first use
+        assert mpl.rcParams["font.size"] == before_size
+        assert mpl.is_interactive()
+    finally:
+        mpl.interactive(before_interactive)
