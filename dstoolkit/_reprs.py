@@ -21,7 +21,15 @@ def short_number(value: Any) -> str:
     if isinstance(value, bool | np.bool_):
         return repr(bool(value))
     if isinstance(value, float | np.floating):
-        return f"{float(value):.{DIGITS}g}"
+        text = f"{float(value):.{DIGITS}g}"
+        return text + ".0" if text.lstrip("-").isdigit() else text  # 1.0, not 1
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k!r}: {short_number(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, list | tuple):
+        inner = ", ".join(short_number(v) for v in value)
+        if isinstance(value, list):
+            return f"[{inner}]"
+        return f"({inner},)" if len(value) == 1 else f"({inner})"
     if isinstance(value, np.ndarray) and value.dtype.kind == "f":
         with np.printoptions(precision=DIGITS - 1, floatmode="maxprec", threshold=8,
                              edgeitems=2):

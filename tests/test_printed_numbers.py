@@ -14,8 +14,6 @@ import nbformat
 import pytest
 from conftest import ROOT, BookBuild, toc_pages
 
-pytestmark = pytest.mark.slow
-
 EXECUTED = ROOT / "_build" / "jupyter_execute"
 MAX_DIGITS = 6
 #: A decimal number (optionally in scientific notation), not part of a word or a version.
@@ -59,6 +57,26 @@ def test_the_counter_counts() -> None:
     assert long_floats("1234.5678 0.000012345678") == ["1234.5678", "0.000012345678"]
 
 
+def test_the_printed_results_are_short() -> None:
+    """The results chapters print: dependence, noise bounds, recording conditions and
+    metadata, a run's summary."""
+    from dstoolkit.audio import RecordingMetadata
+    from dstoolkit.evidence import IntervalEvidence, TriangularBounds, dependence
+    from dstoolkit.teaching import GAUGE_CONDITIONS
+
+    e1 = IntervalEvidence.from_pairs([[-0.3, 2.6, 0.3], [0.3, 1.9, 0.7]])
+    e2 = IntervalEvidence.from_pairs([[0.41, 1.61, 0.3], [0.3, 1.9, 0.7]])
+    shown = [repr(dependence(e1, e2)),
+             repr(TriangularBounds(-10.901339920443462, -6.732151115173963, -2.5629623)),
+             repr(GAUGE_CONDITIONS),
+             repr(RecordingMetadata(latency_s=0.13700680272108842,
+                                    extra={"lag": 0.13700680272108842}))]
+    for text in shown:
+        assert not long_floats(text), text
+    assert "TriangularBounds(lower=-10.9, mode=-6.732, upper=-2.563)" in shown[1]
+
+
+@pytest.mark.slow
 def test_no_chapter_prints_float_noise(built_book: BookBuild) -> None:
     assert built_book.returncode == 0, built_book.tail(30)
     problems = []
