@@ -20,7 +20,7 @@ die() { echo "build-pdf.sh: error: $*" >&2; exit 2; }
 TEX_PACKAGES="texlive-xetex texlive-latex-extra texlive-fonts-recommended fonts-freefont-otf latexmk"
 have_tex() {
   command -v xelatex >/dev/null 2>&1 && command -v latexmk >/dev/null 2>&1 \
-    && fc-list 2>/dev/null | grep -q "FreeSerif"
+    && fc-list : family 2>/dev/null | grep "FreeSerif" >/dev/null  # no -q: pipefail, SIGPIPE
 }
 if ! have_tex; then
   if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
@@ -48,15 +48,21 @@ import sys
 import yaml
 
 config = yaml.safe_load(open("_config.yml", encoding="utf-8"))
+latex = config.setdefault("latex", {})
+latex["latex_documents"] = {"targetname": "book.tex"}
 sphinx = config.setdefault("sphinx", {}).setdefault("config", {})
 sphinx["hide_solutions"] = True  # sphinx-exercise: the exercises stay, the solutions go
 sphinx["latex_show_urls"] = "no"
+sphinx["latex_use_xindy"] = False  # makeindex comes with TeX Live; xindy is one more package
+# Jupyter Book's document class loads bbm (texlive-fonts-extra): a stand-in (see the file)
+sphinx["latex_additional_files"] = ["scripts/latex/bbm.sty"]
 sphinx["latex_elements"] = {
     "papersize": "a4paper",
     "pointsize": "11pt",
     # wide tables and long lines of code outputs break instead of running off the page
     "sphinxsetup": "verbatimwrapslines=true, verbatimforcewraps=true",
     "preamble": r"\usepackage{amssymb}",
+    "extraclassoptions": "openany",  # no blank pages before chapters
 }
 yaml.safe_dump(config, open(sys.argv[1], "w", encoding="utf-8"), allow_unicode=True,
                sort_keys=False)
