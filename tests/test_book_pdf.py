@@ -131,5 +131,5 @@ def test_pages_render_and_are_not_blank(pdf: Path) -> None:
         _run("pdftoppm", "-png", "-r", "60", "-f", number, "-l", number, "-singlefile", pdf,
              prefix)
         image = Image.open(prefix.with_suffix(".png")).convert("L")
-        dark = sum(1 for value in image.getdata() if value < 128)
+        dark = image.point(lambda value: 255 if value < 128 else 0).histogram()[255]
         assert dark > 200, f"page {number} looks blank ({dark} dark pixels)"
