@@ -11,7 +11,7 @@ The closing chirp must give the same τ: otherwise the stream lost or inserted s
 the way (an xrun, under a heavy processor load) and the measurement is repeated. The
 recording and what is known about it are saved as a WAV file
 (:mod:`dstoolkit.recording_io`); :func:`analyze` turns such a file into resonances
-(:func:`dstoolkit.resonance.detect_resonances`, with τ corrected, SPEC §6) and a level
+(:func:`dstoolkit.resonance.detect_resonances`, with τ corrected) and a level
 with its uncertainty (:func:`estimate_level`).
 
 With ``virtual_tube=TubeSetup(...)`` the played sweep is first shaped by the tube model
@@ -123,7 +123,7 @@ def estimate_level(
     temperature_uncertainty_c: float = DEFAULT_TEMPERATURE_UNCERTAINTY_C,
     speed_model: SpeedModel = "paper",
 ) -> LevelEstimate:
-    """Level and uncertainty from detected resonances (eqs. 32, 35, SPEC §6), see
+    """Level and uncertainty from detected resonances (eqs. 32, 35), see
     :class:`LevelEstimate`. Missed resonances are fine: the fit uses the detection's
     ``steps``, which jump over them."""
     if not math.isfinite(temperature_c) or not -50.0 <= temperature_c <= 100.0:

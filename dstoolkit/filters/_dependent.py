@@ -24,7 +24,7 @@ preallocated buffers (:class:`~dstoolkit.filters._dependent_arrays.StepArrays`, 
 Step 5 snapping) and fuses with the batch kernels without merging, or with the optional
 compiled kernel (``kernel="numba"``). They give the same numbers (tested).
 
-Choices the paper leaves open (SPEC §1, §5): ``mass_rule`` for m(D) in eq. A3; the start
+Choices the paper leaves open: ``mass_rule`` for m(D) in eq. A3; the start
 x̂_1 (``"observation"``: g⁻¹(z_1) as the paper; ``"mean_corrected"``: g⁻¹(z_1 + E[w]);
 or an explicit vector); p, ε and Θ of Step 1. Step 5 maps each fused box back within the
 predicted box it came from, g⁻¹(g(P_i) ∩ Z_j) ∩ P_i: for an invertible g that is the
@@ -114,7 +114,7 @@ class DependentEvidenceFilter(FilterBase):
     ----------
     mass_rule
         m(D) in the energy of the intersection (eq. A3): ``"min"`` (default), ``"m1"``,
-        ``"m2"`` (SPEC §1).
+        ``"m2"`` (eq. A3 leaves m(D) open).
     start
         x̂_1: ``"observation"`` (g⁻¹(z_1), the paper), ``"mean_corrected"``
         (g⁻¹(z_1 + E[w])), or a state vector.

@@ -25,7 +25,7 @@ from dstoolkit.evidence._checks import real_array
 
 SpeedModel = Literal["paper", "ideal_gas", "cramer"]
 
-#: Band the filter works in (SPEC §6); the paper's experiment swept 1000 → 2400 Hz.
+#: Band the filter works in (paper §4.1); the paper's experiment swept 1000 → 2400 Hz.
 DEFAULT_BAND: tuple[float, float] = (1000.0, 2500.0)
 
 _CRAMER = np.array([

@@ -18,7 +18,7 @@ from ._ex_filter import PAPER_Z1
 
 #: Table 3's 4.6 m case (the paper's Figs. 6–7) and its longest, 9.6 m: (level m, °C).
 GAUGE_CASE, LONG_CASE = (4.6, 26.5), (9.6, 23.9)
-#: The filter's band (SPEC §6) and the paper's sweep rate (1000 → 2400 Hz in 5 s), Hz/s.
+#: The filter's band (paper §4.1) and the paper's sweep rate (1000 → 2400 Hz in 5 s), Hz/s.
 GAUGE_BAND, SWEEP_RATE = (1000.0, 2500.0), 280.0
 #: Audio latency of the offset exercise, s.
 GAUGE_LATENCY = 0.010
