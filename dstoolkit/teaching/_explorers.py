@@ -175,9 +175,10 @@ def readout_html(numbers: Mapping[str, Any]) -> str:
     return f"<table><tr>{head}</tr><tr>{body}</tr></table>"
 
 
-def warning_html(message: str) -> str:
-    """A readout that says why a setting is invalid."""
-    return f"<p style='color:#b00020'>⚠ {html.escape(message)}</p>"
+def warning_html(message: str, note: str = "") -> str:
+    """A readout that says why a setting is invalid (and ``note``, in italics)."""
+    return (f"<p style='color:#b00020'>⚠ {html.escape(message)}"
+            f"<i>{html.escape(note)}</i></p>")
 
 
 def _sticks_out(fig: Figure) -> bool:
@@ -289,8 +290,13 @@ class Explorer(widgets.VBox):
             fig, numbers = self._render(**{**self.values(), **overrides})
         except ValueError as exc:  # EvidenceError and friends: say what is wrong
             self.numbers = {"error": str(exc)}
-            self.readout.value = warning_html(str(exc))
-            self.output.outputs = ()
+            # A precomputed state has no figure to fall back on; in a kernel the last one
+            # stays, and the warning says which setting it shows.
+            kept = "" if self.static or not self.output.outputs else (
+                " (the figure below shows the last valid setting)")
+            self.readout.value = warning_html(str(exc), kept)
+            if self.static:
+                self.output.outputs = ()
             return
         self.numbers = dict(numbers)
         self.readout.value = readout_html(self.numbers)
