@@ -26,6 +26,8 @@ def table3_outputs(out: str | Path) -> tuple[Path, Path]:
     """The CSV path and the figure beside it (``t.csv`` → ``t.png``); never the same file:
     a CSV named ``t.png`` gets the figure ``t.figure.png``."""
     csv_path = Path(out)
+    if csv_path.name in ("", ".", ".."):
+        return csv_path, csv_path  # refused by check_outputs: a folder, not a file
     figure = csv_path.with_suffix(".png")
     if figure.name == csv_path.name:
         figure = csv_path.with_name(csv_path.stem + ".figure.png")
@@ -42,7 +44,7 @@ def table3_command(args: argparse.Namespace) -> int:
         from dstoolkit.plots import plot_table3
     except MissingExtraError as exc:
         no_figure = str(exc)
-    outputs = {"the CSV (--out)": csv_path}
+    outputs: dict[str, str | Path] = {"the CSV (--out)": args.out}
     if plot_table3 is not None:
         outputs["the figure"] = figure_path
     # before any computing: the outputs must be writable and replace nothing unasked

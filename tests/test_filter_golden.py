@@ -19,6 +19,7 @@ script) before the speed work of issue 14; regenerate it only on purpose:
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -97,6 +98,18 @@ def test_estimates_and_bounds_are_unchanged(name):
     assert arrays and set(arrays) == {key for key in STORED if key.startswith(f"{name}/")}
     for key, value in arrays.items():
         np.testing.assert_allclose(value, STORED[key], rtol=0, atol=1e-9, err_msg=key)
+
+
+@pytest.mark.parametrize("name", ["dependent_p3", "dependent_p2_paper_theta"])
+@pytest.mark.extras  # numba, the extra "speed"
+def test_the_compiled_kernel_gives_the_stored_estimates(name):
+    """kernel="numba" (extra "speed") gives the stored estimates of the paper's filter."""
+    flt = dataclasses.replace(FILTERS[name](), kernel="numba")
+    model = gauge_state_space_model()
+    for case, seq, orders in cases():
+        result = flt.run(model, seq.readings, orders)
+        np.testing.assert_allclose(result.estimates, STORED[f"{name}/{case}/estimates"],
+                                   rtol=0, atol=1e-9, err_msg=case)
 
 
 def main(argv: list[str] | None = None) -> int:

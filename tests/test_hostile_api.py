@@ -15,13 +15,12 @@ from typing import Any
 
 import numpy as np
 import pytest
+from hostile_inputs import valid
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from dstoolkit.errors import DstoolkitError
 from dstoolkit.evidence import (
-    Dependence,
-    Evidence,
     IntervalEvidence,
     MassFunction,
     alpha_cuts,
@@ -35,14 +34,12 @@ from dstoolkit.evidence import (
     joint_energy,
     possibility,
     triangular_evidence,
-    validate_masses,
     yager,
 )
 from dstoolkit.filters import (
     BoundedErrorFilter,
     BoundedNoise,
     DependentEvidenceFilter,
-    FilterResult,
     KalmanFilter,
     NassreddineFilter,
     ParticleFilter,
@@ -78,29 +75,6 @@ vectors = st.one_of(
     st.lists(st.lists(numbers, min_size=1, max_size=3), min_size=1, max_size=3),
     junk,
 )
-
-
-def valid(value: Any) -> None:
-    """Fail when a returned value is invalid: NaN numbers, refused evidence, bad masses."""
-    if isinstance(value, Evidence):
-        validate_masses(value.mass)
-        assert abs(float(np.sum(value.mass)) - 1.0) <= 1e-9
-        if isinstance(value, IntervalEvidence):
-            IntervalEvidence(value.boxes_lo, value.boxes_hi, value.mass)
-        else:
-            MassFunction(value.as_dict(), value.frame)
-    elif isinstance(value, Dependence):
-        for name in ("energy1", "energy2", "joint_energy", "degree", "r12", "r21"):
-            assert math.isfinite(getattr(value, name)), name
-    elif isinstance(value, FilterResult):
-        assert np.all(np.isfinite(value.estimates)), "NaN or inf in the estimates"
-    elif isinstance(value, np.ndarray) and value.dtype.kind == "f":
-        assert not np.any(np.isnan(value)), "NaN in a returned array"
-    elif isinstance(value, float):
-        assert not math.isnan(value), "NaN returned"
-    elif isinstance(value, tuple):
-        for item in value:
-            valid(item)
 
 
 def outcome(call: Callable[..., Any], *args: Any, **kwargs: Any) -> Any:

@@ -284,8 +284,10 @@ def _load_for_analysis(path: str | os.PathLike[str]) -> WavRecording:
         meta = read_metadata(layout.info)
     duration = meta.sweep_duration_s or PAPER_SWEEP.duration
     onset = meta.sweep_onset_s if meta.sweep_onset_s is not None else UNKNOWN_ONSET_S
-    stop_s = onset + duration + ANALYSIS_TAIL_S
-    frames = min(layout.frames, stop_s * layout.samplerate)
+    end = onset + duration + ANALYSIS_TAIL_S
+    # nonsense metadata (a negative onset...): read it all, analyze() says what is wrong
+    stop_s = end if 0 < end < math.inf else None
+    frames = min(layout.frames, (stop_s or math.inf) * layout.samplerate)
     # the detection works on a few float64 copies of the samples it is given
     check_memory(frames * 8 * 24, f"analysing {frames / layout.samplerate:.1f} s of "
                  f"{os.fspath(path)!r}", "cut the recording to the measurement")
@@ -369,7 +371,7 @@ def analyze(
         raise DetectionError(
             f"the recording is too short for the sweep: a {sweep.duration:g} s sweep"
             + (f" after {latency:.3f} s of latency" if latency else "")
-            + f" needs {needed:.2f} s from the sweep's start, the recording holds "
+            + f" needs {needed:.3g} s from the sweep's start, the recording holds "
             f"{samples.size / fs:.2f} s. Record longer (a tail of silence after the sweep)."
         )
     gauge_rec = Recording(samples=samples, sweep=sweep)

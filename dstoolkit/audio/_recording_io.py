@@ -89,7 +89,8 @@ class RecordingMetadata:
             except OverflowError:  # an int beyond the float range
                 finite = False
             if not finite:
-                raise RecordingFileError(f"{f.name} must be finite or None, got {value:.6g}")
+                shown = str(value) if len(str(value)) < 20 else str(value)[:12] + "…"
+                raise RecordingFileError(f"{f.name} must be finite or None, got {shown}")
             object.__setattr__(self, f.name, float(value))
         for name in ("f_start_hz", "f_stop_hz", "sweep_duration_s", "level_m"):
             value = getattr(self, name)

@@ -74,6 +74,11 @@ from ._finite_frame import (
 from ._intervals import (
     IntervalEvidence,
 )
+from ._limits import (
+    DEFAULT_MEMORY_BUDGET,
+    memory_budget,
+    set_memory_budget,
+)
 from ._possibility import (
     TriangularBounds,
     alpha_cuts,
@@ -89,6 +94,7 @@ __all__ = [
     "APPENDIX_E2",
     "Boxes",
     "CONFLICT_TOLERANCE",
+    "DEFAULT_MEMORY_BUDGET",
     "Dependence",
     "Evidence",
     "EvidenceError",
@@ -126,11 +132,13 @@ __all__ = [
     "image_boxes",
     "image_subdivision",
     "joint_energy",
+    "memory_budget",
     "parse_signs",
     "pignistic_expectation",
     "possibility",
     "projection",
     "resolve_method",
+    "set_memory_budget",
     "sizes",
     "state_signs",
     "triangular_evidence",

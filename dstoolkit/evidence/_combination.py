@@ -10,6 +10,7 @@ coefficients (eqs. 7–8, A5–A6), discounting and the combination of dependent
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Literal, TypeVar
 
@@ -184,6 +185,12 @@ def dependence(
     degree = 2.0 * joint / total if total > 0 else 0.0
     r12 = 1.0 - 0.5 * degree * en2 / en1 if degree > 0 else 1.0
     r21 = 1.0 - 0.5 * degree * en1 / en2 if degree > 0 else 1.0
+    if not (math.isfinite(r12) and math.isfinite(r21)):
+        raise EvidenceError(
+            f"energy1 = {en1:.3g} and energy2 = {en2:.3g} are too far apart for the shared "
+            f"energy {joint:.3g}: the dependency coefficients (eqs. 7–8) overflow; give "
+            "energies of the evidences' own size (or leave them out)"
+        )
     return Dependence(en1, en2, joint, degree, r12, r21)
 
 

@@ -31,6 +31,7 @@ import numpy as np
 from dstoolkit.errors import EvidenceError, NotMonotoneError, VertexMethodWarning
 
 from ._intervals import IntervalEvidence
+from ._limits import check_memory
 
 ImageMethod = Literal["auto", "vertex", "monotone", "subdivision"]
 IMAGE_METHODS: tuple[str, ...] = ("auto", "vertex", "monotone", "subdivision")
@@ -300,6 +301,9 @@ def image_subdivision(
     if not 0 < tol < 1:
         raise EvidenceError(f"tol is relative to the box width and must lie in (0, 1), got {tol}")
     n, lead = lo.shape[-1], lo.shape[:-1]
+    check_memory(float(k + 1) ** n * max(1, int(np.prod(lead))) * 8 * (2 * n + 2),
+                 f"the subdivision image's grid ({k + 1}^{n} points per box)",
+                 "use fewer subdivisions")
     unit = _unit_grid(k, n)  # (G, n)
     grid = unit.reshape((-1,) + (1,) * len(lead) + (n,))
     width = hi - lo

@@ -258,12 +258,12 @@ class IntervalEvidence(Evidence):
         A scalar for intervals, a vector of length d for boxes. Unbounded focal elements
         have no expectation: an error says which.
         """
-        if not (np.all(np.isfinite(self.boxes_lo)) and np.all(np.isfinite(self.boxes_hi))):
+        value = pignistic_expectation(self.as_boxes())[0]
+        if not np.all(np.isfinite(value)):
             raise EvidenceError(
                 "the pignistic expectation needs bounded focal elements; replace ±inf ends "
                 "by a finite frame (e.g. discount onto a finite Θ)"
             )
-        value = pignistic_expectation(self.as_boxes())[0]
         return float(value[0]) if self.dim == 1 else value
 
     def shift(self, offset: Any) -> IntervalEvidence:

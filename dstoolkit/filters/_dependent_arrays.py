@@ -36,6 +36,7 @@ from dstoolkit.evidence._batch_kernels import (
 )
 from dstoolkit.evidence._boxes import Boxes, hull
 from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
+from dstoolkit.evidence._compiled import fuse_dependent
 from dstoolkit.evidence._extension import CHECK_RTOL, image_boxes
 
 if TYPE_CHECKING:
@@ -48,6 +49,74 @@ SNAP_RTOL = 1e-12
 def _pairs(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """Boxes (..., n) twice → (..., n, 2), (lo, hi) last."""
     return np.stack([lo, hi], axis=-1)
+
+
+# -- Steps 2, 3, 5 on arrays (the object path calls them; StepArrays for other models) -----
+def predict(maps: ModelMaps, noise: NoiseEvidence, xhat: np.ndarray,
+            f_u: Callable[[np.ndarray], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Step 2: boxes of F(x, v) = f(x, u) + v over (x̂ + V_i) × V_j, row i·N_v + j.
+
+    F is separable in v, so F(X × V) = f(X) + V exactly: f (``f_u`` = x ↦ f(x, u)) is
+    imaged on the N_v state boxes only (eqs. 13, 16–19), then each noise box is added.
+    ``xhat`` (R, n) → (R, N_v², n).
+    """
+    x_lo, x_hi = xhat[:, None] + noise.v.lo, xhat[:, None] + noise.v.hi
+    fx_lo, fx_hi = image_boxes(x_lo, x_hi, f_u, maps.f_method, maps.f_signs)
+    runs, n = fx_lo.shape[0], fx_lo.shape[-1]
+    lo = (fx_lo[:, :, None] + noise.v.lo[:, None]).reshape(runs, -1, n)
+    hi = (fx_hi[:, :, None] + noise.v.hi[:, None]).reshape(runs, -1, n)
+    return lo, hi
+
+
+def observe(maps: ModelMaps, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Step 3: g of every predicted box (eqs. 13–14), row for row."""
+    return image_boxes(lo, hi, maps.model.g, maps.g_method, maps.g_signs)
+
+
+def snap_to_prior(back: np.ndarray, prior: np.ndarray, live: np.ndarray | None) -> None:
+    """Step 5's last touch, in place on boxes (..., n, 2): a bound within
+    :data:`SNAP_RTOL` · max(|lo|, |hi|) of its predicted box's is set to it, and boxes not
+    ``live`` (mass 0; None: all live) take the predicted box. ``prior`` broadcasts."""
+    scale = np.abs(prior).max(axis=-1, keepdims=True)
+    scale *= SNAP_RTOL
+    near = np.abs(back - prior) <= scale
+    if live is not None:
+        near |= ~live[..., None, None]
+    np.copyto(back, np.broadcast_to(prior, back.shape), where=near)
+
+
+def empty_box_error(back: np.ndarray, lo: np.ndarray, hi: np.ndarray, step: int
+                    ) -> EvidenceError | None:
+    """The error for a mapped-back box (..., n, 2) that came out empty, or None."""
+    empty = back[..., 0] > back[..., 1]
+    if not empty.any():
+        return None
+    run, row = (int(i) for i in np.argwhere(empty.any(-1))[0])
+    return EvidenceError(
+        f"Step 5 of estimate {step}: g_inverse returned an empty box [{lo[run, row]}, "
+        f"{hi[run, row]}] for a fused focal element of positive mass (run {run}); "
+        "g_inverse(lo, hi, x_lo, x_hi) must return the states in [x_lo, x_hi] whose "
+        "image meets [lo, hi], and the predicted box always holds some"
+    )
+
+
+def map_back(maps: ModelMaps, fused: Boxes, prior_lo: np.ndarray, prior_hi: np.ndarray,
+             step: int) -> Boxes:
+    """Step 5: g⁻¹ of each fused box within its predicted box; placeholders (mass 0) take
+    the predicted box so that every box stays finite.
+
+    g⁻¹(g(P)) is P up to rounding, but dependence is found by *exact* equality with the
+    predicted boxes (eq. A3): a bound within :data:`SNAP_RTOL` of its predicted box's bound
+    is set to it, so that rounding in g and g⁻¹ does not decide what is common.
+    """
+    lo, hi = maps.model.inverse()(fused.lo, fused.hi, prior_lo, prior_hi)
+    back = _pairs(np.asarray(lo, dtype=float), np.asarray(hi, dtype=float))
+    live = fused.mass > 0
+    snap_to_prior(back, _pairs(prior_lo, prior_hi), None if live.all() else live)
+    error = empty_box_error(back, lo, hi, step)
+    if error is not None:
+        raise error
+    return Boxes(back[..., 0], back[..., 1], fused.mass)
 
 
 class _MonotoneImage:
@@ -113,7 +182,7 @@ class StepArrays:
         n, m = model.state_dim, model.obs_dim
         nv, nw = noise.v.lo.shape[1], noise.w.lo.shape[1]
         np_, n1 = nv * nv, nv * nv * nw
-        self.flt, self.maps, self.runs = flt, maps, runs
+        self.flt, self.maps, self.noise, self.runs = flt, maps, noise, runs
         self.g_inverse = model.inverse()
         self.n, self.m, self.nv, self.nw, self.np, self.n1 = n, m, nv, nw, np_, n1
         self.v = _pairs(noise.v.lo[0], noise.v.hi[0])  # (Nv, n, 2)
@@ -153,14 +222,16 @@ class StepArrays:
         self.prior = np.empty((runs, np_, nw, n, 2))
         self.zw = np.empty((runs, nw, m, 2))
         self.fused = np.empty((runs, np_, nw, m, 2))
-        self.snap = np.empty((runs, np_, nw, n, 2))
-        self.near = np.empty((runs, np_, nw, n, 2), dtype=bool)
         self.nonempty4 = np.empty((runs, np_, nw), dtype=bool)
         # Step 6: discounted masses, and the stack [nonempty, centres] of the products
         self.a_mass = np.empty((runs, n1 + 1))
         self.b_mass = np.empty((runs, np_ + 1))
         self.theta_mass = np.empty((runs, 2))
-        self.work = ProductWork.allocate(runs, n, n1 + 1, np_ + 1)
+        self.compiled = flt.kernel == "numba"
+        if self.compiled:
+            self.kernel_out = (np.empty((runs, 7)), np.empty((runs, n)), np.empty((runs, n)))
+        else:
+            self.work = ProductWork.allocate(runs, n, n1 + 1, np_ + 1)
 
     # -- Steps 2 and 3 -----------------------------------------------------------------------
     def _predict(self, t: int, xhat: np.ndarray, f_u: Callable[[np.ndarray], np.ndarray]
@@ -173,19 +244,17 @@ class StepArrays:
             np.add(xhat[:, None, None, :], self.f_offsets, out=self.f_points)
             values = fi.keep(t, np.asarray(f_u(self.f_points), dtype=float))
             ends = values[:, :, :2].swapaxes(-1, -2)  # (R, Nv, n, 2)
+            np.add(ends[:, :, None], self.v, out=pred)
         else:
-            maps = self.maps
-            x_lo, x_hi = xhat[:, None] + self.v[..., 0], xhat[:, None] + self.v[..., 1]
-            ends = _pairs(*image_boxes(x_lo, x_hi, f_u, maps.f_method, maps.f_signs))
-        np.add(ends[:, :, None], self.v, out=pred)
+            lo, hi = predict(self.maps, self.noise, xhat, f_u)
+            self.pred[..., 0], self.pred[..., 1] = lo, hi
 
     def _observe(self, t: int) -> tuple[np.ndarray, np.ndarray]:
         """Step 3: g of every predicted box, (lo, hi) of shape (R, Np, m)."""
         lo, hi = self.pred[..., 0], self.pred[..., 1]
         gi = self.g_image
         if gi is None:
-            maps = self.maps
-            return image_boxes(lo, hi, maps.model.g, maps.g_method, maps.g_signs)
+            return observe(self.maps, lo, hi)
         values = gi.keep(t, np.asarray(self.maps.model.g(gi.points(lo, hi, self.g_points)),
                                        dtype=float))
         return values[:, :, 0], values[:, :, 1]
@@ -232,9 +301,24 @@ class StepArrays:
             back_mass[~ok4] = 0.0
         with np.errstate(invalid="ignore", divide="ignore") if not all_ok4 else _NO_CONTEXT:
             self._map_back(t)
-            self._dependence(t, diag)
-            result = self._combine(t, est, diag, bounds)
+            if self.compiled:
+                result = self._fuse_compiled(t, est, diag, bounds)
+            else:
+                self._dependence(t, diag)
+                result = self._combine(t, est, diag, bounds)
         return ok4, result
+
+    def _fuse_compiled(self, t: int, est: np.ndarray, diag: np.ndarray, bounds: bool
+                       ) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray] | None]:
+        """Step 6 by the compiled kernel (``kernel="numba"``, extra ``speed``)."""
+        kernel_diag, hull_lo, hull_hi = self.kernel_out
+        ok = fuse_dependent(self.boxes, self.back_mass, self.rho, self.n1, self.flt.mass_rule,
+                            est[:, t], kernel_diag, (hull_lo, hull_hi))
+        diag[:, 1:] = kernel_diag
+        if diag[:, 6:8].min() < 0.0:
+            self.check_images(t + 1)
+            _coefficient_error(diag[:, 6], diag[:, 7], diag[:, 5], self.flt.mass_rule)
+        return ok, (hull_lo.copy(), hull_hi.copy()) if bounds else None
 
     def _map_back(self, t: int) -> None:
         """Step 5 into ``self.back``: g⁻¹ of each fused box within its predicted box, bounds
@@ -247,31 +331,14 @@ class StepArrays:
         flat_prior = prior.reshape(runs, n1, n, 2)
         lo, hi = self.g_inverse(fused[..., 0], fused[..., 1], flat_prior[..., 0],
                                 flat_prior[..., 1])
-        back_flat = self.back
-        back_flat[..., 0], back_flat[..., 1] = lo, hi
-        # |bound − predicted bound| ≤ SNAP_RTOL·max(|lo|, |hi|) of the predicted box, or mass 0
-        scale = np.abs(self.pred).max(axis=-1, keepdims=True)[:, :, None]
-        scale *= SNAP_RTOL
-        snap, near = self.snap, self.near
-        np.subtract(back, prior, out=snap)
-        np.abs(snap, out=snap)
-        np.less_equal(snap, scale, out=near)
+        self.back[..., 0], self.back[..., 1] = lo, hi
         # live = positive mass: the nonempty products of Step 4 unless a mass is 0
         live = self.nonempty4 if self.rho_w_positive else self.back_mass > 0
-        if not live.all():
-            near |= ~live.reshape(runs, self.np, self.nw, 1, 1)
-        np.copyto(back, prior, where=near)
-        empty = back_flat[..., 0] > back_flat[..., 1]
-        if empty.any():
-            run, row = (int(i) for i in np.argwhere(empty.any(-1))[0])
+        snap_to_prior(back, self.pred[:, :, None], None if live.all() else live)
+        error = empty_box_error(self.back, lo, hi, t + 1)
+        if error is not None:
             self.check_images(t + 1)
-            raise EvidenceError(
-                f"Step 5 of estimate {t + 1}: g_inverse returned an empty box "
-                f"[{lo[run, row]}, {hi[run, row]}] for a fused focal element of positive mass "
-                f"(run {run}); g_inverse(lo, hi, x_lo, x_hi) must return the states in "
-                "[x_lo, x_hi] whose image meets [lo, hi], and the predicted box always holds "
-                "some"
-            )
+            raise error
 
     def _dependence(self, t: int, diag: np.ndarray) -> None:
         """En'(E1), En'(E2), En'(E1, E2), D, R12, R21 into ``diag[:, 2:]`` (Def. 5, eqs.

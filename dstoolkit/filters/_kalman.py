@@ -169,7 +169,7 @@ class KalmanFilter(FilterBase):
         scalar: Callable[[np.ndarray], Any]
         if runs == 1:
             def scalar(a: np.ndarray) -> Any:
-                return float(a.reshape(-1)[0])
+                return np.asarray(a, dtype=float).item()
             readings: Any = Z[0, :, 0].tolist()
         else:
             def scalar(a: np.ndarray) -> Any:
@@ -178,7 +178,9 @@ class KalmanFilter(FilterBase):
         x, cov = scalar(x0), scalar(cov0)
         state = np.array(x0, dtype=float)  # (R, 1): what the model's maps are called with
         f, g, jac_f, jac_g = model.f, model.g, model.jacobian_f, model.jacobian_g
-        out_x, out_cov, out_nis = xs[:, :, 0].T, covs[:, :, 0, 0].T, nis.T
+        out_x: list[Any] = []
+        out_cov: list[Any] = []
+        out_nis: list[Any] = []
         for k in range(1, n_steps):
             u = None if U is None else U[:, k - 1]
             f_u = with_input(f, u)
@@ -197,7 +199,12 @@ class KalmanFilter(FilterBase):
             x = x_pred + gain * innovation
             joseph = 1.0 - gain * gain_g
             cov = joseph * cov_pred * joseph + gain * r * gain
-            out_x[k], out_cov[k], out_nis[k] = x, cov, innovation * s_inv * innovation
+            out_x.append(x)
+            out_cov.append(cov)
+            out_nis.append(innovation * s_inv * innovation)
+        if n_steps > 1:
+            xs[:, 1:, 0], covs[:, 1:, 0, 0] = np.array(out_x).T, np.array(out_cov).T
+            nis[:, 1:] = np.array(out_nis).T
         return xs, covs, nis
 
     def _filter(

@@ -103,7 +103,7 @@ class ParticleFilter(FilterBase):
     name: ClassVar[str] = "particle"
 
     def __post_init__(self) -> None:
-        whole_number(self.n_particles, "n_particles", low=1, error=EvidenceError)
+        whole_number(self.n_particles, "n_particles", low=1, high=10**8, error=EvidenceError)
         whole_number(self.seed, "seed", low=0, error=EvidenceError)
         self._box(self.initial_box)
 

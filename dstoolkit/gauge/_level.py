@@ -168,6 +168,11 @@ def fit_resonance_series(
     y = z - offset_hz
     f_f = (m @ y) / np.sum(m * m, axis=1)
     sse = np.sum((y[None, :] - f_f[:, None] * m) ** 2, axis=1)
+    if not np.all(np.isfinite(f_f)):
+        raise InvalidInputError(
+            "the resonance frequencies are too large to fit (the sums overflow); give them "
+            "in Hz"
+        )
     best = int(np.argmin(sse))
     return ResonanceSeriesFit(int(firsts[best, 0]), float(f_f[best]), float(offset_hz),
                               float(np.sqrt(sse[best] / z.size)), (firsts[best, 0] + s).astype(int),

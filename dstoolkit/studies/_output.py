@@ -55,16 +55,15 @@ def made_by(path: str | os.PathLike[str], command: str) -> bool:
 
 
 def _writable_folder(path: Path) -> None:
-    folder = path.parent
-    while not folder.exists():
-        if folder == folder.parent:
-            break
-        folder = folder.parent
-    if not folder.is_dir():
-        raise OutputPathError(f"cannot write {path}: {folder} is not a folder")
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise OutputPathError(f"cannot write {path}: the folder {folder} is not writable; "
-                              "choose another place")
+    """Create the output's folder if needed and make sure a file can be created in it."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".probe")
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as exc:
+        raise OutputPathError(f"cannot write {path}: {exc.strerror or exc}; choose another "
+                              "place") from None
 
 
 def check_outputs(
@@ -93,7 +92,8 @@ def check_outputs(
     in_paths = [Path(p) for p in inputs]
     for what, raw in outputs.items():
         path = Path(raw)
-        if str(raw) in ("", ".") or path.name in ("", ".", ".."):
+        text = os.fspath(raw)
+        if text.endswith(os.sep) or path.name in ("", ".", ".."):
             raise OutputPathError(f"{what}: {str(raw)!r} is a folder, not a file name")
         key = path.resolve()
         if key in seen:

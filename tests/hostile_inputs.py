@@ -1,20 +1,29 @@
-"""A corpus of crafted recordings for ``analyze``, made on the spot from one good recording.
+"""Hostile inputs shared by the tests and ``benchmarks/hostile_probe.py``.
 
-Shared by ``tests/test_hostile_recordings.py`` and ``benchmarks/hostile_probe.py``. Each
-case is a file (or a FIFO, a device, a folder) and what ``analyze`` must do with it: give
-the level (``expect="level"``, within :data:`LEVEL_TOLERANCE_M` of the truth) or refuse
-it with a one-line package error (``expect="error"``).
+- :func:`valid`: whether a value returned by the public API is valid (no NaN, evidence
+  that its constructor accepts, masses summing to 1, finite estimates);
+- :func:`crafted_recordings`: a corpus of crafted recordings for ``analyze``, made on the
+  spot from one good recording. Each case is a file (or a FIFO, a device, a folder) and
+  what ``analyze`` must do with it: give the level (``expect="level"``, within
+  :data:`LEVEL_TOLERANCE_M` of the truth) or refuse it with a one-line package error
+  (``expect="error"``).
 """
 
 from __future__ import annotations
 
 import json
+import math
 import os
 import struct
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+
+from dstoolkit.evidence import Dependence, Evidence, IntervalEvidence, MassFunction
+from dstoolkit.evidence import validate_masses as _validate_masses
+from dstoolkit.filters import FilterResult
 
 TRUE_LEVEL_M = 2.6
 TEMPERATURE_C = 26.0
@@ -22,6 +31,31 @@ LEVEL_TOLERANCE_M = 0.01
 #: The analysis of one sweep may use this much memory whatever the file (its FFTs and
 #: envelopes); beyond it, at most 4x the file size.
 ANALYSIS_ALLOWANCE_BYTES = 64 * 2**20
+
+
+def valid(value: Any) -> None:
+    """Raise AssertionError when a returned value is invalid: NaN numbers, an evidence its
+    constructor refuses or whose masses do not sum to 1, non-finite estimates."""
+    if isinstance(value, Evidence):
+        _validate_masses(value.mass)
+        assert abs(float(np.sum(value.mass)) - 1.0) <= 1e-9
+        if isinstance(value, IntervalEvidence):
+            IntervalEvidence(value.boxes_lo, value.boxes_hi, value.mass)
+        else:
+            assert isinstance(value, MassFunction)
+            MassFunction(value.as_dict(), value.frame)
+    elif isinstance(value, Dependence):
+        for name in ("energy1", "energy2", "joint_energy", "degree", "r12", "r21"):
+            assert math.isfinite(getattr(value, name)), name
+    elif isinstance(value, FilterResult):
+        assert np.all(np.isfinite(value.estimates)), "NaN or inf in the estimates"
+    elif isinstance(value, np.ndarray) and value.dtype.kind == "f":
+        assert not np.any(np.isnan(value)), "NaN in a returned array"
+    elif isinstance(value, float):
+        assert not math.isnan(value), "NaN returned"
+    elif isinstance(value, tuple):
+        for item in value:
+            valid(item)
 
 
 @dataclass(frozen=True)
@@ -39,7 +73,8 @@ def _chunk(tag: bytes, payload: bytes, size: int | None = None) -> bytes:
 def _fmt(tag: int = 3, channels: int = 1, rate: int = 44100, bits: int = 32,
          align: int | None = None, extra: bytes = b"") -> bytes:
     align = channels * bits // 8 if align is None else align
-    body = struct.pack("<HHIIHH", tag, channels, rate, rate * max(align, 1), align, bits)
+    body = struct.pack("<HHIIHH", tag, channels, rate, (rate * max(align, 1)) % 2**32, align,
+                       bits)
     return _chunk(b"fmt ", body + extra)
 
 
