@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import secrets
 import shutil
 import socket
@@ -153,8 +154,8 @@ def test_notebook_runs_in_jupyterlab(chromium: object, jupyterlab: str, lab_fold
     try:
         page.goto(jupyterlab.format(name=path.name), timeout=STARTUP_S * 1000)
         page.locator(".jp-Notebook .jp-Cell").first.wait_for(timeout=STARTUP_S * 1000)
-        page.locator(".jp-Notebook-ExecutionIndicator[data-status='idle'], "
-                     ".jp-Toolbar-kernelStatus[data-status='idle']").first.wait_for(
+        # The kernel has started when the status bar names it and says it is idle.
+        page.get_by_text(re.compile(r"\(ipykernel\) \| Idle")).first.wait_for(
             timeout=STARTUP_S * 1000)
         _run_all(page, path)
 
@@ -170,16 +171,16 @@ def test_notebook_runs_in_jupyterlab(chromium: object, jupyterlab: str, lab_fold
                 "the chapter notebook lost the text of an exercise"
             assert "Exercise" in text
 
-        slider = notebook.locator(".jp-OutputArea [role='slider']").first
+        cell = notebook.locator(".jp-CodeCell", has=page.locator(".jp-OutputArea [role='slider']"))
+        slider = cell.first.locator("[role='slider']").first
+        cell = cell.first
         slider.scroll_into_view_if_needed()
-        cell = notebook.locator(".jp-CodeCell").filter(has=slider).first
         before = _figures(cell)
         assert before, "the explorer shows no figure"
         page.screenshot(path=str(SHOTS / f"{kind}-before.png"))
         value = slider.get_attribute("aria-valuenow")
         slider.focus()
-        for _ in range(5):
-            page.keyboard.press("ArrowRight")
+        page.keyboard.press("ArrowRight")
         page.wait_for_function(
             "([cell, before]) => [...cell.querySelectorAll('img')].map(i => i.src).join()"
             " !== before.join()", arg=[cell.element_handle(), before], polling=500,
