@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Run every check: ruff over the package and tests, then pytest (toolkit, gauge, notebooks,
-# book build, and the built book in headless Chromium). Creates .venv on first use.
+# Run every check: ruff over the package and tests, the import-layer contract, mypy on the
+# core, then pytest (toolkit, gauge, doctests, packaging, notebooks, book build, and the
+# built book in headless Chromium). Creates .venv on first use.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -9,5 +10,7 @@ echo "==> ruff"
 ruff check dstoolkit tests benchmarks
 echo "==> import layers (.importlinter)"
 lint-imports --no-cache
+echo "==> mypy (the core and the command line; [tool.mypy] in pyproject.toml)"
+mypy
 echo "==> pytest"
 python -m pytest "$@"

@@ -13,16 +13,15 @@ from hypothesis import strategies as st
 from scipy.io import wavfile
 
 from dstoolkit.audio import (
-    LatencyEstimate,
     RecordingFileError,
     RecordingMetadata,
     WavRecording,
     calibration_chirp,
-    estimate_latency,
     load_recording,
     save_recording,
 )
 from dstoolkit.errors import DetectionError
+from dstoolkit.gauge import LatencyEstimate, estimate_latency
 
 FS = 44100
 CHIRP = calibration_chirp(FS)

@@ -24,8 +24,7 @@ import pytest
 from dstoolkit import audio
 from dstoolkit.audio import analyze, load_recording, measure
 from dstoolkit.errors import AudioUnavailableError
-from dstoolkit.gauge import TubeSetup
-from dstoolkit.gauge import estimate_latency as latency_from_sweep
+from dstoolkit.gauge import TubeSetup, estimate_latency
 
 pytestmark = pytest.mark.audio
 
@@ -76,7 +75,8 @@ def loopback() -> Iterator[dict[str, str]]:
             else:
                 os.environ[key] = value
         if state.get("DSTOOLKIT_LOOPBACK_STATE") == "started":
-            subprocess.run(["bash", str(SCRIPT), "stop"], capture_output=True, timeout=60)
+            subprocess.run(["bash", str(SCRIPT), "stop"], capture_output=True, timeout=60,
+                           env={**os.environ, **pulse_env})
         try:
             audio.refresh_devices()
         except AudioUnavailableError:
@@ -99,7 +99,7 @@ def test_played_signal_comes_back_intact_after_a_measured_latency(loopback) -> N
     x = np.concatenate([chirp, gap, noise])
     result = audio.play_record(x, FS, input_device=DEVICE, output_device=DEVICE)
     assert result.recorded.size == result.played.size
-    latency = audio.estimate_latency(chirp, result.recorded, FS, offset=result.signal_start)
+    latency = estimate_latency(chirp, result.recorded, FS, offset=result.signal_start)
     print(f"loopback latency {latency.seconds * 1000:.1f} ms, correlation "
           f"{latency.correlation:.6f}, stream status {result.status!r}")
     assert 0 <= latency.seconds < audio.MIN_PADDING_S
@@ -133,7 +133,9 @@ def test_virtual_tube_level_through_the_loopback(loopback, tmp_path, level, temp
     assert 0 <= analysis.latency_s < audio.MIN_PADDING_S
     assert analysis.recording.metadata.extra["calibration_correlation"] > 0.999
     # two independent latency estimates agree: the chirp's and the sweep's own
-    from_sweep = latency_from_sweep(analysis.gauge_recording.samples, analysis.detection.sweep)
+    sweep = analysis.detection.sweep
+    from_sweep = estimate_latency(sweep.waveform(), analysis.gauge_recording.samples,
+                                  sweep.sample_rate).seconds
     assert from_sweep == pytest.approx(analysis.latency_s, abs=5e-4)
     # the saved file analyses to the same level
     again = analyze(path)

@@ -9,11 +9,12 @@ dstoolkit`` and every simulation work without it, and an audio call then raises
 
 Latency. Between the first sample handed to the output and its arrival in the input lies
 the audio path's delay τ (buffers of PortAudio, ALSA, the sound server and the sound card).
-For a linear sweep of rate k Hz/s it shifts every detected resonance by k τ (SPEC §6), so
-it must be measured and corrected: :func:`estimate_latency` finds τ by cross-correlating a
-known reference (the :func:`calibration_chirp`) with the recording. It is a pure array
-function. The delay changes each time a stream is opened, so the chirp belongs in the same
-stream as the sweep it calibrates (:func:`play_record` of chirp + sweep).
+For a linear sweep of rate k Hz/s it shifts every detected resonance by k τ (paper §4.3),
+so it must be measured and corrected: :func:`dstoolkit.gauge.estimate_latency` finds τ by
+cross-correlating a known reference (the :func:`calibration_chirp`) with the recording (a
+pure array function of the gauge layer, which also uses it on the sweep itself). The delay
+changes each time a stream is opened, so the chirp belongs in the same stream as the sweep
+it calibrates (:func:`play_record` of chirp + sweep).
 
 Headless machines and CI reach a software loopback made by ``scripts/audio-loopback.sh``
 (a PulseAudio null sink and its monitor, seen by PortAudio as the ALSA device ``pulse``).
@@ -21,10 +22,19 @@ Headless machines and CI reach a software loopback made by ``scripts/audio-loopb
 
 from __future__ import annotations
 
+import json
+import os
+import select
+import socket
+import subprocess
+import sys
+import tempfile
+import time
 import warnings
 from dataclasses import dataclass
+from pathlib import Path
 from types import ModuleType
-from typing import Literal
+from typing import Literal, NoReturn
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -32,10 +42,14 @@ from scipy import signal
 
 from dstoolkit.errors import (
     AudioDropoutWarning,
+    AudioServerError,
+    AudioStallError,
     AudioUnavailableError,
     DetectionError,
+    InvalidInputError,
     NoAudioDeviceError,
 )
+from dstoolkit.gauge._latency import LatencyEstimate, as_signal, estimate_latency
 
 #: Silence played before and after a signal, in seconds, at least. The input stream may
 #: start a little after the output stream and the delay τ may reach a few hundred ms: the
@@ -43,9 +57,10 @@ from dstoolkit.errors import (
 MIN_PADDING_S = 0.5
 #: PortAudio's suggested latency (s) that returned the signal intact through the loopback.
 DEFAULT_LATENCY_S = 0.25
-#: Width of one arrival of the calibration chirp in its matched filter, s. Echoes in a
-#: tube come at least 2L/c later (2.9 ms for L = 0.5 m).
-ARRIVAL_WINDOW_S = 0.002
+#: Seconds allowed for the stream's process to start and its stream to open.
+STREAM_START_TIMEOUT_S = 20.0
+#: Seconds past its expected length after which a stream counts as stalled.
+STREAM_GRACE_S = 3.0
 #: Smallest |normalised correlation| at which a calibration chirp counts as found.
 MIN_CALIBRATION_CORRELATION = 0.3
 
@@ -137,7 +152,7 @@ def list_devices(kind: Literal["input", "output"] | None = None) -> list[AudioDe
         sounddevice or PortAudio is not installed.
     """
     if kind not in (None, "input", "output"):
-        raise ValueError(f"kind must be 'input', 'output' or None, not {kind!r}")
+        raise InvalidInputError(f"kind must be 'input', 'output' or None, not {kind!r}")
     sd = _sounddevice()
     try:
         infos = sd.query_devices()
@@ -173,7 +188,7 @@ def choose_device(device: int | str | None, kind: Literal["input", "output"]) ->
     device (or no default one), listing the devices that exist.
     """
     if kind not in ("input", "output"):
-        raise ValueError(f"kind must be 'input' or 'output', not {kind!r}")
+        raise InvalidInputError(f"kind must be 'input' or 'output', not {kind!r}")
     sd = _sounddevice()
     try:
         info = sd.query_devices(device, kind)
@@ -204,11 +219,11 @@ def calibration_chirp(
     microphones; its ends are tapered (Tukey window) so it starts and stops without clicks.
     """
     if samplerate <= 0 or duration_s <= 0:
-        raise ValueError(
+        raise InvalidInputError(
             f"samplerate ({samplerate}) and duration_s ({duration_s}) must be positive"
         )
     if not 0 < f_start_hz < f_stop_hz < samplerate / 2:
-        raise ValueError(
+        raise InvalidInputError(
             f"need 0 < f_start_hz ({f_start_hz}) < f_stop_hz ({f_stop_hz}) < samplerate/2 "
             f"({samplerate / 2})"
         )
@@ -216,137 +231,6 @@ def calibration_chirp(
     t = np.arange(n) / samplerate
     chirp = signal.chirp(t, f_start_hz, duration_s, f_stop_hz, method="linear")
     return amplitude * chirp * signal.windows.tukey(n, 0.2)
-
-
-@dataclass(frozen=True)
-class LatencyEstimate:
-    """Delay of a recording behind what was played.
-
-    ``recorded[offset + lag + i]`` is ``reference[i]`` played at ``offset``: ``lag`` in
-    samples, ``seconds`` = lag / samplerate. ``correlation`` is the normalised correlation
-    (cosine of the angle) between the reference and the recording there, in [-1, 1]: 1 is
-    a perfect copy, near 0 means the reference was not found.
-    """
-
-    lag: int
-    samplerate: float
-    correlation: float
-
-    @property
-    def seconds(self) -> float:
-        return self.lag / self.samplerate
-
-
-def _as_signal(x: ArrayLike, what: str) -> np.ndarray:
-    """A 1-D finite float array (an (n, 1) column is accepted)."""
-    a = np.asarray(x, dtype=float)
-    if a.ndim == 2 and a.shape[1] == 1:
-        a = a[:, 0]
-    if a.ndim != 1:
-        raise ValueError(
-            f"{what} must be one channel (a 1-D array), got shape {a.shape}; pick a channel, "
-            "e.g. recording[:, 0]"
-        )
-    if a.size == 0:
-        raise ValueError(f"{what} is empty")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{what} contains NaN or infinite samples")
-    return a
-
-
-def estimate_latency(
-    reference: ArrayLike,
-    recorded: ArrayLike,
-    samplerate: float,
-    *,
-    offset: int = 0,
-    max_latency_s: float | None = None,
-    first_arrival: float | None = 0.5,
-) -> LatencyEstimate:
-    """Estimate the audio latency by cross-correlating a reference with the recording.
-
-    The reference (usually :func:`calibration_chirp`) was played starting at sample
-    ``offset`` of the output; the recording started with the output. The matched filter
-    ``c[j] = Σ_i recorded[j + i] reference[i]`` (``scipy.signal.correlate``, mode
-    ``"valid"``, FFT) peaks in absolute value where the reference sits in the recording
-    (absolute, so a microphone that inverts polarity still works), at ``j = offset + lag``.
-    In a tube the microphone also hears the reference's echoes, and the first one can be
-    louder than the direct sound (by up to 1 + R_t at a reflecting top): so the first
-    arrival is taken, the first place where the envelope of ``c`` reaches
-    ``first_arrival`` times its maximum, refined to the largest |c| in the next
-    ``ARRIVAL_WINDOW_S``. Pure array function: no audio device needed.
-
-    Parameters
-    ----------
-    reference, recorded : array_like, 1-D
-        What was played and what was recorded, same sample rate. The recording must be at
-        least as long as the reference.
-    samplerate : float
-        Sample rate in Hz, to express the lag in seconds.
-    offset : int
-        Where the reference started in the played output, in samples.
-    max_latency_s : float, optional
-        Search only ``|lag| <= max_latency_s``. Negative lags are allowed (the input
-        stream can start after the output stream).
-    first_arrival : float or None
-        Fraction of the strongest arrival that counts as an arrival; None takes the
-        strongest.
-
-    Returns
-    -------
-    LatencyEstimate
-
-    Raises
-    ------
-    ValueError
-        Bad arrays (not 1-D, empty, non-finite), a silent reference, a recording shorter
-        than the reference, or no lag in the search range.
-    DetectionError
-        The recording is silent (all zeros): nothing reached the input.
-    """
-    ref = _as_signal(reference, "reference")
-    rec = _as_signal(recorded, "recording")
-    if samplerate <= 0:
-        raise ValueError(f"samplerate must be positive, got {samplerate}")
-    if offset < 0:
-        raise ValueError(f"offset must be >= 0 samples, got {offset}")
-    ref_energy = float(ref @ ref)
-    if ref_energy == 0.0:
-        raise ValueError("the reference is silent (all zeros): nothing to look for")
-    if rec.size < ref.size:
-        raise ValueError(
-            f"the recording ({rec.size} samples) is shorter than the reference "
-            f"({ref.size} samples): record longer (add a tail of silence)"
-        )
-    if not np.any(rec):
-        raise DetectionError(
-            "the recording is silent (all zeros): nothing reached the input. Check that the "
-            "input device is the microphone (or the loopback monitor) and is not muted."
-        )
-    c = signal.correlate(rec, ref, mode="valid", method="fft")
-    lags = signal.correlation_lags(rec.size, ref.size, mode="valid") - offset
-    allowed = np.ones(c.size, bool)
-    if max_latency_s is not None:
-        allowed = np.abs(lags) <= max_latency_s * samplerate
-        if not allowed.any():
-            raise ValueError(
-                f"no lag within ±{max_latency_s} s fits the recording ({rec.size} samples, "
-                f"reference of {ref.size} at offset {offset}); widen max_latency_s"
-            )
-    score = np.where(allowed, np.abs(c), -1.0)
-    if first_arrival is None:
-        j = int(np.argmax(score))
-    else:
-        # the envelope of the matched filter: one smooth bump per arrival of the reference
-        envelope = np.where(allowed, np.abs(signal.hilbert(c)), 0.0)
-        start = int(np.flatnonzero(envelope >= first_arrival * envelope.max())[0])
-        stop = min(start + int(np.ceil(ARRIVAL_WINDOW_S * samplerate)) + 1, c.size)
-        j = start + int(np.argmax(score[start:stop]))
-    window = rec[j : j + ref.size]
-    norm = np.sqrt(ref_energy * float(window @ window))
-    correlation = float(c[j] / norm) if norm > 0 else 0.0
-    return LatencyEstimate(lag=int(lags[j]), samplerate=float(samplerate),
-                           correlation=correlation)
 
 
 @dataclass(frozen=True)
@@ -423,14 +307,16 @@ def play_record(
     ValueError
         Bad signal or settings.
     """
-    sig = _as_signal(x, "signal")
+    sig = as_signal(x, "signal")
     peak = float(np.max(np.abs(sig)))
     if peak > 1.0:
-        raise ValueError(f"the signal peaks at {peak:.3g} > 1 and would clip: scale it down")
+        raise InvalidInputError(
+            f"the signal peaks at {peak:.3g} > 1 and would clip: scale it down")
     if samplerate <= 0 or int(samplerate) != samplerate:
-        raise ValueError(f"samplerate must be a positive whole number of Hz, got {samplerate}")
+        raise InvalidInputError(
+            f"samplerate must be a positive whole number of Hz, got {samplerate}")
     if lead_in_s < MIN_PADDING_S or tail_s < MIN_PADDING_S:
-        raise ValueError(
+        raise InvalidInputError(
             f"lead_in_s ({lead_in_s}) and tail_s ({tail_s}) must be at least {MIN_PADDING_S} s "
             "so that the latency cannot push the signal out of the recording"
         )
@@ -441,20 +327,9 @@ def play_record(
     played = np.concatenate(
         [np.zeros(lead), sig, np.zeros(int(round(tail_s * samplerate)))]
     ).astype(np.float32)
-    try:
-        recorded = sd.playrec(
-            played, int(samplerate), channels=1, dtype="float32", latency=latency,
-            device=(device_in, device_out), blocking=True,
-        )
-    except sd.PortAudioError as exc:
-        raise NoAudioDeviceError(
-            f"PortAudio failed to play and record at {samplerate} Hz on input {device_in}, "
-            f"output {device_out}: {exc}. Try another sample rate or device. {NO_DEVICE_HINT}"
-        ) from exc
-    flags = sd.get_status()
-    status = str(flags)
-    # input_underflow (no input yet: zeros) is set at the start of every duplex stream
-    dropped = bool(flags.input_overflow or flags.output_underflow)
+    del sd  # the stream itself runs in a child process (see _stream)
+    recorded, status, dropped = _stream(played, int(samplerate), latency, device_in,
+                                        device_out)
     if dropped:
         warnings.warn(
             f"the audio stream dropped samples ({status}): the recording has gaps. "
@@ -464,7 +339,7 @@ def play_record(
         )
     return PlayRecordResult(
         played=played.astype(float),
-        recorded=np.asarray(recorded[:, 0], dtype=float),
+        recorded=np.asarray(recorded, dtype=float),
         samplerate=float(samplerate),
         signal_start=lead,
         latency_setting=latency,
@@ -473,6 +348,161 @@ def play_record(
         status=status,
         dropped_samples=dropped,
     )
+
+
+def sound_server_problem() -> str | None:
+    """What is wrong with the PulseAudio server the environment points at, or None.
+
+    Checks each ``unix:`` socket of ``PULSE_SERVER`` (else ``$PULSE_RUNTIME_PATH/native``
+    or ``$XDG_RUNTIME_DIR/pulse/native``): a socket that is missing or refuses connections
+    means the server is not running. A server that accepts connections may still be
+    stalled (stopped): that shows as an :class:`AudioStallError` instead.
+    """
+    server = os.environ.get("PULSE_SERVER", "")
+    paths = [part[5:] for part in server.split() if part.startswith("unix:")]
+    if not server:
+        for base in (os.environ.get("PULSE_RUNTIME_PATH"), os.environ.get("XDG_RUNTIME_DIR")):
+            if base:
+                native = Path(base) / "native" if base == os.environ.get(
+                    "PULSE_RUNTIME_PATH") else Path(base) / "pulse" / "native"
+                if native.exists():
+                    paths.append(str(native))
+    for path in paths:
+        with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as sock:
+            sock.settimeout(1.0)
+            try:
+                sock.connect(path)
+            except (FileNotFoundError, ConnectionRefusedError) as exc:
+                return (f"the PulseAudio sound server at unix:{path} is not running "
+                        f"({exc.strerror})")
+            except OSError:
+                continue
+    return None
+
+
+def check_sound_server() -> None:
+    """Raise :class:`AudioServerError` when the sound server has gone away."""
+    problem = sound_server_problem()
+    if problem is not None:
+        raise AudioServerError(
+            f"the sound server died during the measurement: {problem}. Restart it (for the "
+            "software loopback: bash scripts/audio-loopback.sh start) and measure again."
+        )
+
+
+def _stream(played: np.ndarray, samplerate: int, latency: float | str, device_in: int,
+            device_out: int) -> tuple[np.ndarray, str, bool]:
+    """Play and record in a child process (``_stream_child.py``) under a deadline.
+
+    Returns the recording (float32, as long as ``played``), PortAudio's status and whether
+    samples were dropped. Raises :class:`AudioStallError` when the stream does not start
+    within :data:`STREAM_START_TIMEOUT_S` or does not end within its length plus
+    :data:`STREAM_GRACE_S`, :class:`AudioServerError` when the sound server died, and
+    :class:`NoAudioDeviceError` when PortAudio refuses the stream.
+    """
+    expected = played.size / samplerate
+    child = Path(__file__).with_name("_stream_child.py")
+    with tempfile.TemporaryFile() as log:
+        proc = subprocess.Popen([sys.executable, str(child)], stdin=subprocess.PIPE,
+                                stdout=subprocess.PIPE, stderr=log)
+        assert proc.stdin is not None and proc.stdout is not None
+        try:
+            header = {"samplerate": samplerate, "latency": latency,
+                      "device": [device_in, device_out], "frames": int(played.size)}
+            try:
+                proc.stdin.write(json.dumps(header).encode() + b"\n"
+                                 + played.astype(np.float32).tobytes())
+                proc.stdin.close()
+            except BrokenPipeError:
+                pass  # the child died at once: reported below
+            reader = _Reader(proc.stdout.fileno())
+            start_deadline = time.monotonic() + STREAM_START_TIMEOUT_S
+            first = reader.line(start_deadline)
+            if first == b"started":
+                end = time.monotonic() + expected + STREAM_GRACE_S
+                first = reader.line(end)
+                if first is None:
+                    _stalled(proc, f"no samples came back for {STREAM_GRACE_S:g} s past the "
+                                   f"stream's expected length of {expected:.1f} s")
+            elif first is None and reader.open:
+                _stalled(proc, f"the stream did not start within "
+                               f"{STREAM_START_TIMEOUT_S:g} s")
+            if not first:
+                proc.kill()
+                proc.wait()
+                log.seek(0)
+                said = log.read().decode(errors="replace").strip().splitlines()[-1:]
+                check_sound_server()
+                raise AudioServerError(
+                    f"the audio stream's process ended without a recording (exit code "
+                    f"{proc.returncode}{': ' + said[0] if said else ''}); check the sound "
+                    "server and measure again"
+                )
+            result = json.loads(first)
+            if "error" in result:
+                proc.wait(timeout=5)
+                check_sound_server()
+                raise NoAudioDeviceError(
+                    f"PortAudio failed to play and record at {samplerate} Hz on input "
+                    f"{device_in}, output {device_out}: {result['message']}. Try another "
+                    f"sample rate or device. {NO_DEVICE_HINT}"
+                )
+            data = reader.exact(4 * int(result["frames"]), time.monotonic() + 10.0)
+            if data is None:
+                _stalled(proc, "the recording did not arrive")
+            proc.wait(timeout=5)
+            # a server killed mid-stream ends the stream early with silence: say so
+            check_sound_server()
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+            proc.stdout.close()
+    recorded = np.frombuffer(data, dtype=np.float32)
+    return recorded, str(result["status"]), bool(result["dropped"])
+
+
+def _stalled(proc: subprocess.Popen[bytes], what: str) -> NoReturn:
+    proc.kill()
+    proc.wait()
+    check_sound_server()
+    raise AudioStallError(
+        f"the audio stream stalled: {what}. The sound server or the device stopped "
+        "responding; restart it (for the software loopback: bash scripts/audio-loopback.sh "
+        "stop, then start) and measure again."
+    )
+
+
+class _Reader:
+    """Reads lines and byte counts from a pipe, each by a deadline (None when it passes)."""
+
+    def __init__(self, fd: int) -> None:
+        self.fd, self.buffer, self.open = fd, b"", True
+
+    def _fill(self, deadline: float) -> bool:
+        timeout = deadline - time.monotonic()
+        if timeout <= 0 or not select.select([self.fd], [], [], timeout)[0]:
+            return False
+        chunk = os.read(self.fd, 1 << 20)
+        if not chunk:
+            self.open = False
+            return False
+        self.buffer += chunk
+        return True
+
+    def line(self, deadline: float) -> bytes | None:
+        while b"\n" not in self.buffer:
+            if not self._fill(deadline):
+                return b"" if not self.open else None
+        line, _, self.buffer = self.buffer.partition(b"\n")
+        return line
+
+    def exact(self, n: int, deadline: float) -> bytes | None:
+        while len(self.buffer) < n:
+            if not self._fill(deadline):
+                return None
+        data, self.buffer = self.buffer[:n], self.buffer[n:]
+        return data
 
 
 def measure_latency(

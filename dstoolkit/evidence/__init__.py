@@ -18,17 +18,20 @@ from ._base import (
     validate_masses,
 )
 from ._batch_kernels import (
-    Boxes,
+    ProductWork,
     dempster_expectation,
     discount_onto_hull,
+    sizes,
+)
+from ._boxes import (
+    Boxes,
     hull,
     pignistic_expectation,
-    sizes,
 )
 from ._combination import (
     CONFLICT_TOLERANCE,
-    Dependence,
     MASS_RULES,
+    Dependence,
     MassRule,
     combine_dependent,
     conflict,
@@ -71,6 +74,11 @@ from ._finite_frame import (
 from ._intervals import (
     IntervalEvidence,
 )
+from ._limits import (
+    DEFAULT_MEMORY_BUDGET,
+    memory_budget,
+    set_memory_budget,
+)
 from ._possibility import (
     TriangularBounds,
     alpha_cuts,
@@ -86,6 +94,7 @@ __all__ = [
     "APPENDIX_E2",
     "Boxes",
     "CONFLICT_TOLERANCE",
+    "DEFAULT_MEMORY_BUDGET",
     "Dependence",
     "Evidence",
     "EvidenceError",
@@ -98,6 +107,7 @@ __all__ = [
     "NotMonotoneError",
     "PAPER_A6",
     "PAPER_EN1",
+    "ProductWork",
     "TotalConflictError",
     "TriangularBounds",
     "VertexMethodWarning",
@@ -122,11 +132,13 @@ __all__ = [
     "image_boxes",
     "image_subdivision",
     "joint_energy",
+    "memory_budget",
     "parse_signs",
     "pignistic_expectation",
     "possibility",
     "projection",
     "resolve_method",
+    "set_memory_budget",
     "sizes",
     "state_signs",
     "triangular_evidence",

@@ -17,6 +17,8 @@ import numpy as np
 
 from dstoolkit.errors import EvidenceError
 
+from ._checks import real_array
+
 MASS_TOLERANCE = 1e-9
 
 
@@ -26,7 +28,7 @@ def validate_masses(mass: Any, *, what: str = "masses") -> np.ndarray:
     Raises :class:`EvidenceError` for an empty vector, NaN or infinite entries, negative
     entries, or a sum that differs from 1 by more than ``MASS_TOLERANCE``.
     """
-    m = np.asarray(mass, dtype=float).reshape(-1)
+    m = real_array(mass, what, finite=False, error=EvidenceError).reshape(-1)
     if m.size == 0:
         raise EvidenceError(
             "empty evidence: no focal element was given; give at least one focal element "
@@ -105,6 +107,10 @@ class Evidence(ABC):
         """One hashable/sortable key per focal element; equal keys ⇔ equal focal elements."""
 
     @abstractmethod
+    def _check_theta(self, theta: Any) -> np.ndarray:
+        """``theta`` as one focal-element row after checking it is a valid frame Θ."""
+
+    @abstractmethod
     def _subset_mask(self, query: np.ndarray) -> np.ndarray:
         """Which focal elements are contained in the query set (one row)."""
 
@@ -114,19 +120,23 @@ class Evidence(ABC):
 
     # -- shared behaviour -------------------------------------------------------------
     def _set(self, focal: np.ndarray, mass: np.ndarray, merge: bool) -> None:
-        """Store the focal elements with positive mass, merging equal ones (eq. 14)."""
+        """Store the focal elements with positive mass, merging equal ones (eq. 14).
+
+        The stored arrays are the object's own copies, made read-only: every array a body
+        of evidence hands out (masses, interval ends) is a view that cannot change it.
+        """
         keep = mass > 0
-        focal, mass = focal[keep], mass[keep]
+        focal, mass = focal[keep], mass[keep]  # boolean indexing copies
         if merge:
             focal, mass = merge_equal(focal, mass)
+        focal.flags.writeable = False
+        mass.flags.writeable = False
         self._focal, self._mass = focal, mass
 
     @property
     def mass(self) -> np.ndarray:
-        """Masses of the focal elements (read-only view)."""
-        view = self._mass.view()
-        view.flags.writeable = False
-        return view
+        """Masses of the focal elements (a read-only array)."""
+        return self._mass
 
     def __len__(self) -> int:
         return int(self._mass.size)

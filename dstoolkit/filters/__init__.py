@@ -44,7 +44,6 @@ from ._model import (
     with_input,
 )
 from ._nassreddine import (
-    BoxMass,
     NassreddineFilter,
     cluster_boxes,
     merge_equal_boxes,
@@ -57,7 +56,6 @@ from ._particle import (
 __all__ = [
     "BoundedErrorFilter",
     "BoundedNoise",
-    "BoxMass",
     "DIAGNOSTICS",
     "DependentEvidenceFilter",
     "Filter",

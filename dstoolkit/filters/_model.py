@@ -11,45 +11,64 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from dstoolkit.errors import EvidenceError
+from dstoolkit.evidence._checks import real_array
 from dstoolkit.evidence._intervals import IntervalEvidence
 from dstoolkit.evidence._possibility import triangular_evidence
 
 ArrayFn = Callable[..., np.ndarray]
+#: ``g_inverse(lo, hi, x_lo, x_hi) -> (lo, hi)``: the states in [x_lo, x_hi] whose image meets
+#: the observation box [lo, hi] (see :class:`StateSpaceModel`).
+BoxInverse = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+                      tuple[np.ndarray, np.ndarray]]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class BoundedNoise:
     """Independent triangular noises, one per component: support [lower, upper], mode.
 
     The same description feeds every filter: possibility → evidence for the evidential
     filters (eqs. 22–26), bounds for the bounded-error filter, mean and variance for the
-    Kalman filter, the density for the particle filter.
+    Kalman filter, the density for the particle filter. ``lower``, ``mode`` and ``upper``
+    are scalars or equal-length vectors; they are stored as read-only float arrays.
+
+    Examples
+    --------
+    >>> v = BoundedNoise(-0.3, 0.0, 0.3)
+    >>> v.dim, float(v.variance[0])
+    (1, 0.015)
     """
 
     lower: np.ndarray
     mode: np.ndarray
     upper: np.ndarray
 
-    def __post_init__(self) -> None:
-        lo, c, hi = (np.atleast_1d(np.asarray(a, dtype=float)) for a in
-                     (self.lower, self.mode, self.upper))
+    def __init__(self, lower: ArrayLike, mode: ArrayLike, upper: ArrayLike) -> None:
+        lo, c, hi = (np.atleast_1d(np.array(real_array(a, name, finite=False,
+                                                       error=EvidenceError)))
+                     for a, name in ((lower, "lower"), (mode, "mode"), (upper, "upper")))
         if not (lo.shape == c.shape == hi.shape) or lo.ndim != 1:
             raise EvidenceError("lower, mode and upper must be scalars or equal-length vectors")
         if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(np.isfinite(c))):
             raise EvidenceError("noise bounds and mode must be finite numbers")
+        with np.errstate(over="ignore"):
+            wide = ~np.isfinite(hi - lo)
+        if wide.any():
+            raise EvidenceError(f"noise bounds {lo.tolist()}, {hi.tolist()} are too far apart "
+                                "to compute with (their width overflows); rescale the variable")
         if np.any(lo > c) or np.any(c > hi):
             raise EvidenceError(
                 f"need lower <= mode <= upper for every component, got lower={lo.tolist()}, "
                 f"mode={c.tolist()}, upper={hi.tolist()}"
             )
-        object.__setattr__(self, "lower", lo)
-        object.__setattr__(self, "mode", c)
-        object.__setattr__(self, "upper", hi)
+        for name, value in (("lower", lo), ("mode", c), ("upper", hi)):
+            value.flags.writeable = False
+            object.__setattr__(self, name, value)
 
     @classmethod
     def symmetric(cls, half_width: Any) -> BoundedNoise:
@@ -59,6 +78,7 @@ class BoundedNoise:
 
     @property
     def dim(self) -> int:
+        """Number of components."""
         return int(self.lower.size)
 
     @property
@@ -141,7 +161,7 @@ class StateSpaceModel:
     g: ArrayFn
     state_noise: BoundedNoise
     obs_noise: BoundedNoise
-    g_inverse: ArrayFn | None = None
+    g_inverse: BoxInverse | None = None
     f_monotone: tuple[int, ...] | None = None
     g_monotone: tuple[int, ...] | None = None
     jacobian_f: ArrayFn | None = None
@@ -151,10 +171,22 @@ class StateSpaceModel:
 
     @property
     def state_dim(self) -> int:
+        """n, the dimension of the state."""
         return self.state_noise.dim
+
+    def inverse(self) -> BoxInverse:
+        """``g_inverse``, or an :class:`~dstoolkit.errors.EvidenceError` when the model has
+        none (every filter maps readings back to states through it)."""
+        if self.g_inverse is None:
+            raise EvidenceError(
+                f"model {self.name!r} has no g_inverse(lo, hi, x_lo, x_hi), which the filters "
+                "use to map readings back to states; add it to the model"
+            )
+        return self.g_inverse
 
     @property
     def obs_dim(self) -> int:
+        """m, the dimension of the observation."""
         return self.obs_noise.dim
 
     def simulate(
@@ -197,7 +229,8 @@ class FilterResult:
     diagnostics: dict[str, np.ndarray] = field(default_factory=dict)
 
 
-# -- shared by the filters (added for issue 3) --------------------------------------------
+# -- what every filter offers ----------------------------------------------------------------
+@runtime_checkable
 class Filter(Protocol):
     """What every filter in dstoolkit offers: a name, one run, and a batch of runs.
 
@@ -207,9 +240,14 @@ class Filter(Protocol):
     returns the estimates (runs, steps, n), the same numbers ``run`` gives for each row.
     Inputs drive f(x, u): one row per transition (``inputs[k - 1]`` leads from step k − 1 to
     step k, as in :meth:`StateSpaceModel.simulate`); in a batch, one such array per run.
+    A filter may take further parameters after these, each with a default (e.g. the
+    particle filter's ``run_index``).
     """
 
-    name: str
+    @property
+    def name(self) -> str:
+        """Short name of the method, e.g. ``"dependent-evidence"``."""
+        ...
 
     def run(
         self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
@@ -224,9 +262,10 @@ def batch_readings(
     """Check a batch of readings and inputs and give them their batch shapes.
 
     Returns ``Z`` as (runs, steps, m) floats and ``inputs`` as (runs, transitions, q) (or
-    None), raising a clear error for wrong shapes or non-finite readings.
+    None), raising a clear error for wrong shapes, non-numbers, non-finite readings or
+    inputs, and inputs that the model's f(x, u) does not accept.
     """
-    z = np.asarray(Z, dtype=float)
+    z = real_array(Z, "readings", finite=False, error=EvidenceError)
     if z.ndim == 2 and model.obs_dim == 1:
         z = z[..., None]
     if z.ndim != 3 or z.shape[2] != model.obs_dim:
@@ -234,8 +273,8 @@ def batch_readings(
             f"readings must have shape (runs, steps, {model.obs_dim}), got {z.shape}; "
             "a single sequence goes to run(), not run_batch()"
         )
-    if z.shape[1] == 0:
-        raise EvidenceError("no readings: give at least one step")
+    if z.shape[0] == 0 or z.shape[1] == 0:
+        raise EvidenceError(f"no readings (shape {z.shape}): give at least one run of one step")
     if not np.all(np.isfinite(z)):
         bad = np.argwhere(~np.isfinite(z))[0]
         raise EvidenceError(
@@ -244,7 +283,7 @@ def batch_readings(
         )
     if inputs is None:
         return z, None
-    u = np.asarray(inputs, dtype=float)
+    u = real_array(inputs, "inputs", finite=False, error=EvidenceError)
     if u.ndim == 2:
         u = u[..., None]
     if u.ndim != 3 or u.shape[0] != z.shape[0] or u.shape[1] < z.shape[1] - 1:
@@ -252,7 +291,34 @@ def batch_readings(
             f"inputs must have shape (runs, transitions, q) with runs = {z.shape[0]} and "
             f"transitions >= steps − 1 = {z.shape[1] - 1}, got {u.shape}"
         )
+    u = u[:, : max(z.shape[1] - 1, 0)]
+    if not np.all(np.isfinite(u)):
+        bad = np.argwhere(~np.isfinite(u))[0]
+        raise EvidenceError(
+            f"input at run {bad[0]}, transition {bad[1]} is not a finite number; give every "
+            "transition its input (e.g. the orders n_k of eq. 43)"
+        )
+    if u.shape[1]:
+        _probe_inputs(model, u)
     return z, u
+
+
+def _probe_inputs(model: StateSpaceModel, u: np.ndarray) -> None:
+    """Evaluate f once on the inputs of the first transition, as the filters will, so that an
+    input of the wrong shape is reported here and not as a broadcast error deep inside."""
+    x = np.zeros((u.shape[0], 2, model.state_dim))
+    try:
+        with np.errstate(all="ignore"):
+            out = np.asarray(with_input(model.f, u[:, 0])(x))
+        np.broadcast_to(out, x.shape)
+    except EvidenceError:
+        raise
+    except (ValueError, TypeError, IndexError) as exc:
+        raise EvidenceError(
+            f"the model's f(x, u) does not accept inputs of shape {u.shape} (runs, "
+            f"transitions, q): {type(exc).__name__}: {exc}; give one input row per transition "
+            "of the length f expects"
+        ) from exc
 
 
 def single_readings(
@@ -260,7 +326,7 @@ def single_readings(
 ) -> tuple[np.ndarray, np.ndarray | None]:
     """One sequence z (steps, m) (or (steps,) for m = 1) checked and shaped as a batch of one
     run, with its inputs (transitions, q)."""
-    z = np.asarray(z, dtype=float)
+    z = real_array(z, "readings", finite=False, error=EvidenceError)
     if z.ndim == 1 and model.obs_dim == 1:
         z = z[:, None]
     if z.ndim != 2:
@@ -268,8 +334,11 @@ def single_readings(
             f"readings must have shape (steps, {model.obs_dim}), got {z.shape}; "
             "a batch of sequences goes to run_batch()"
         )
-    return batch_readings(model, z[None],
-                          None if inputs is None else np.asarray(inputs, dtype=float)[None])
+    u = None if inputs is None else real_array(inputs, "inputs", finite=False,
+                                                  error=EvidenceError)
+    if u is not None and u.ndim == 1:
+        u = u[:, None]
+    return batch_readings(model, z[None], None if u is None else u[None])
 
 
 def step_input(inputs: np.ndarray | None, k: int) -> np.ndarray | None:
@@ -293,11 +362,7 @@ def first_reading_box(
     ``z`` has shape (..., m); ``prior`` is a box ``(lo, hi)`` of the state, default the
     whole space. Returns (lo, hi) of shape (..., n); empty boxes have lo > hi somewhere.
     """
-    if model.g_inverse is None:
-        raise EvidenceError(
-            f"model {model.name!r} has no g_inverse: give the filter an initial box of the "
-            "state, or add g_inverse to the model"
-        )
+    g_inverse = model.inverse()
     shape = (*z.shape[:-1], model.state_dim)
     if prior is None:
         p_lo, p_hi = np.full(shape, -np.inf), np.full(shape, np.inf)
@@ -305,5 +370,5 @@ def first_reading_box(
         p_lo = np.broadcast_to(np.asarray(prior[0], dtype=float), shape)
         p_hi = np.broadcast_to(np.asarray(prior[1], dtype=float), shape)
     noise = model.obs_noise
-    lo, hi = model.g_inverse(z + noise.lower, z + noise.upper, p_lo, p_hi)
+    lo, hi = g_inverse(z + noise.lower, z + noise.upper, p_lo, p_hi)
     return np.broadcast_to(lo, shape).astype(float), np.broadcast_to(hi, shape).astype(float)

@@ -29,6 +29,11 @@ from ._gauge_model import (
     gauge_state_space_model,
     simulate_gauge,
 )
+from ._latency import (
+    FIRST_ARRIVAL,
+    LatencyEstimate,
+    estimate_latency,
+)
 from ._level import (
     ResonanceSeriesFit,
     direct_levels,
@@ -42,8 +47,8 @@ from ._level import (
     state_transition_derivative,
 )
 from ._noise_characterisation import (
-    NoiseCharacterisation,
     PAPER_CALIBRATION_LEVELS,
+    NoiseCharacterisation,
     characterise_observation_noise,
     characterise_state_noise,
 )
@@ -52,14 +57,13 @@ from ._resonance import (
     detect_resonances,
     detection_precision_hz,
     envelope,
-    estimate_latency,
     latency_offset,
     model_peak_frequencies,
     sweep_rate_offset,
 )
 from ._sweep import (
-    LinearSweep,
     PAPER_SWEEP,
+    LinearSweep,
 )
 from ._tube import (
     Recording,
@@ -82,6 +86,8 @@ __all__ = [
     "DEFAULT_BAND",
     "DetectionError",
     "DetectionResult",
+    "FIRST_ARRIVAL",
+    "LatencyEstimate",
     "GAUGE_OBS_NOISE",
     "GAUGE_STATE_NOISE",
     "LinearSweep",

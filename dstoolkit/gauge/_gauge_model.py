@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.errors import EvidenceError
+from dstoolkit.evidence._checks import real_array
 from dstoolkit.filters._model import BoundedNoise, StateSpaceModel
 
 from ._acoustics import DEFAULT_BAND, fundamental_frequency, resonance_frequencies, speed_of_sound
@@ -47,7 +48,13 @@ def _orders(u: Any) -> np.ndarray:
             "the gauge model needs the order n_k of each resonance as input (eq. 39): pass "
             "inputs=orders_from_readings(z) (eq. 43) or the true orders"
         )
-    return np.asarray(u, dtype=float)
+    orders = real_array(u, "inputs (orders n_k)", error=EvidenceError)
+    if np.any(orders <= 0):
+        raise EvidenceError(
+            f"orders n_k must be positive (eq. 39 divides by n_k), got {orders.min():g}; "
+            "give the orders of eq. 43 (orders_from_readings) or the true ones"
+        )
+    return orders
 
 
 def _f(x: np.ndarray, u: Any = None) -> np.ndarray:

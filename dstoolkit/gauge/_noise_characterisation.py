@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from dstoolkit.errors import InvalidInputError
 from dstoolkit.evidence._intervals import IntervalEvidence
 from dstoolkit.evidence._possibility import (
     TriangularBounds,
@@ -43,6 +44,7 @@ from ._tube import (
 
 #: The paper's calibration levels for w: about 30 from 1.3 to 10.6 m (§4.3).
 PAPER_CALIBRATION_LEVELS = np.linspace(1.3, 10.6, 30)
+PAPER_CALIBRATION_LEVELS.flags.writeable = False
 
 
 @dataclass(frozen=True)
@@ -109,7 +111,7 @@ def characterise_state_noise(
     """
     cond = RecordingConditions(speaker_jitter_hz=0.1) if conditions is None else conditions
     if runs < 1 or points < 1:
-        raise ValueError(f"need runs >= 1 and points >= 1, got {runs}, {points}")
+        raise InvalidInputError(f"need runs >= 1 and points >= 1, got {runs}, {points}")
     rng = np.random.default_rng(seed)
     freqs = np.linspace(sweep.f_start, sweep.f_stop, points)
     t = sweep.time_at(freqs)

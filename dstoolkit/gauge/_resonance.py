@@ -33,6 +33,7 @@ from scipy import signal
 
 from dstoolkit.errors import DetectionError
 
+from ._latency import estimate_latency
 from ._sweep import LinearSweep
 from ._tube import Recording, RecordingConditions, TubeSetup, model_envelope
 
@@ -170,39 +171,6 @@ def _check_levels(x: np.ndarray, silence_dbfs: float, clip_level: float,
             f"(|x| >= {clip_level}); lower the speaker volume or the input gain and record "
             "again"
         )
-
-
-def estimate_latency(samples: np.ndarray, sweep: LinearSweep, max_latency_s: float = 1.0,
-                     min_significance: float = 8.0) -> float:
-    """τ from the cross-correlation of the recording with the played sweep, s.
-
-    The microphone sits at the speaker, so the direct wave is the earliest strong copy of the
-    sweep; echoes follow at τ + mΔ and may be stronger (up to (1 + R_t) times), hence the
-    earliest peak above 40 % of the largest is taken, refined by a parabola.
-    """
-    fs = sweep.sample_rate
-    ref = sweep.waveform()
-    pad = int(0.01 * fs)  # a few negative lags, so that τ = 0 is not at the array's edge
-    max_lag = int(min(max_latency_s * fs, max(samples.size - ref.size // 2, 1)))
-    corr = signal.fftconvolve(samples, ref[::-1], mode="full")
-    start = ref.size - 1 - pad
-    seg = corr[max(start, 0): ref.size + max_lag + ref.size // 8]
-    env = np.abs(signal.hilbert(seg))[: max_lag + pad + 1]
-    if env.size < 3:
-        raise DetectionError("the recording is too short to contain the sweep")
-    top = float(env.max())
-    floor = float(np.median(env))
-    if not top > min_significance * floor:
-        raise DetectionError(
-            f"no sweep found in the recording: the best match with the played sweep is only "
-            f"{top / max(floor, 1e-300):.1f} times its median (need {min_significance}); is "
-            "the speaker connected and is this the right sweep?"
-        )
-    peaks, _ = signal.find_peaks(env, height=0.4 * top)
-    first = int(peaks[0]) if peaks.size else int(np.argmax(env))
-    pos, _ = parabolic_peak(env, np.array([first]))
-    pos = pos - (pad if start >= 0 else ref.size - 1)
-    return float(pos[0]) / fs
 
 
 def envelope(
@@ -347,7 +315,11 @@ def detect_resonances(
     x = np.asarray(samples, dtype=float)
     _check_levels(x, silence_dbfs, clip_level, max_clipped_fraction)
     k = sweep.rate
-    tau = estimate_latency(x, sweep) if latency_s is None else float(latency_s)
+    if latency_s is None:  # the sweep itself is the reference; τ ≤ 1 s
+        tau = estimate_latency(sweep.waveform(), x, sweep.sample_rate, max_latency_s=1.0,
+                               min_significance=8.0).seconds
+    else:
+        tau = float(latency_s)
 
     t_env, env = envelope(x, sweep, tau, bandwidth_hz)
     u = t_env - tau  # time since the sweep started

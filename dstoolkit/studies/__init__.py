@@ -26,8 +26,8 @@ from ._estimation import (
 )
 from ._experiments import (
     CSV_COLUMNS,
-    CaseReadings,
     METHODS,
+    CaseReadings,
     OrderRule,
     Simulation,
     Table3,

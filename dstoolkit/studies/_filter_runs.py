@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.errors import EvidenceError
+from dstoolkit.evidence import MassRule
 from dstoolkit.filters import BoundedNoise, converged_at
 from dstoolkit.gauge._level import level_from_resonance
 
@@ -37,7 +38,7 @@ def filter_case(
     p: int = 3,
     epsilon: float = 0.05,
     start: str = "observation",
-    mass_rule: str = "min",
+    mass_rule: MassRule = "min",
     orders: str = "true",
     seed: int = 0,
     record: bool = False,
