@@ -49,6 +49,7 @@ class References:
     chapter_numbers : docname -> chapter number, e.g. ``"3"`` (numbered chapters only).
     citations : bibtex key -> ``(authors, year)``, e.g. ``("Xu et al.", "2017")``.
     glue : glued name -> its ``text/plain`` value from the executed chapter.
+    glue_markdown : glued name -> its ``text/markdown`` value, for ``{glue:md}``.
     format_glue : formats a glued value with a format spec, as ``{glue:text}`` does.
     eqref_format : how an equation number is printed (Sphinx's ``math_eqref_format``).
     """
@@ -60,6 +61,7 @@ class References:
     chapter_numbers: dict[str, str] = field(default_factory=dict)
     citations: dict[str, tuple[str, str]] = field(default_factory=dict)
     glue: dict[str, str] = field(default_factory=dict)
+    glue_markdown: dict[str, str] = field(default_factory=dict)
     format_glue: Callable[[str, str], str] = lambda text, spec: format(text, spec)
     eqref_format: str = "({number})"
 
@@ -122,7 +124,13 @@ def split_glue(content: str) -> tuple[str, str]:
 
 def _role(name: str, content: str, refs: References, docname: str, warn: Warn) -> str:
     """The Markdown that stands for one role."""
-    if name in ("glue", "glue:text", "glue:any", "glue:md"):
+    if name == "glue:md":
+        key = split_glue(content)[0]
+        if key not in refs.glue_markdown:
+            warn(f"no glued Markdown {key!r}")
+            return f"`{key}`"
+        return refs.glue_markdown[key]
+    if name in ("glue", "glue:text", "glue:any"):
         key, spec = split_glue(content)
         if key not in refs.glue:
             warn(f"no glued value {key!r}")

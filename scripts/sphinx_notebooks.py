@@ -158,8 +158,12 @@ def references(app: Sphinx, docname: str) -> References:
     glue_file = Path(app.outdir).parent / "jupyter_execute" / f"{docname}.glue.json"
     if glue_file.exists():
         glued = json.loads(glue_file.read_text(encoding="utf-8"))
-        refs.glue = {name: out["data"]["text/plain"] for name, out in glued.items()
-                     if "text/plain" in out.get("data", {})}
+        for name, out in glued.items():
+            data = out.get("data", {})
+            if "text/plain" in data:
+                refs.glue[name] = data["text/plain"]
+            if "text/markdown" in data:
+                refs.glue_markdown[name] = data["text/markdown"]
     return refs
 
 

@@ -47,6 +47,7 @@ def directive_phrases(chapter_source: str, directive: str) -> list[str]:
 
 def _refs(**glue: str) -> References:
     return References(
+        glue_markdown={"table": "| a |\n| - |"},
         equations={"mf-bel": "3.2"},
         numbered={"mf-fig": "Fig. 3.1", "mf-ex": "Exercise 3.1"},
         sections={"intro": "How to use this book"},
@@ -65,6 +66,7 @@ def _refs(**glue: str) -> References:
 
 @pytest.mark.parametrize(("myst", "markdown"), [
     ("Bel is {glue:text}`bel:.2f` here.", "Bel is 0.80 here."),
+    ("as {glue:md}`table`", "as | a |\n| - |"),
     ("by {eq}`mf-bel`", "by (3.2)"),
     ("{numref}`mf-fig` shows", "Fig. 3.1 shows"),
     ("{numref}`Figure %s <mf-fig>`", "Figure 3.1"),

@@ -67,7 +67,8 @@ def _build(folder: Path, address: str) -> Path:
     """Build the tiny book in ``folder`` with ``repository.url = address``; its HTML dir."""
     config = yaml.safe_load((ROOT / "_config.yml").read_text(encoding="utf-8"))
     config["repository"]["url"] = address
-    config["execute"]["execute_notebooks"] = "force"  # one print: the theme needs the executed notebook
+    # One print: with launch buttons the theme needs the executed notebook.
+    config["execute"]["execute_notebooks"] = "force"
     config["sphinx"]["local_extensions"] = {"sphinx_notebooks": str(ROOT / "scripts")}
     (folder / "_config.yml").write_text(yaml.safe_dump(config), encoding="utf-8")
     (folder / "_toc.yml").write_text(yaml.safe_dump(TOC), encoding="utf-8")
