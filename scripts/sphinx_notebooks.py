@@ -190,7 +190,8 @@ def write_notebooks(app: Sphinx, exception: Exception | None) -> None:
     import jupytext
 
     folder = Path(app.outdir) / SITE_FOLDER
-    folder.mkdir(parents=True, exist_ok=True)
+    shutil.rmtree(folder, ignore_errors=True)  # written only here: no stale chapter or sheet
+    folder.mkdir(parents=True)
     for chapter in chapters(app).values():
         source = Path(app.env.doc2path(chapter.docname))
 
