@@ -218,7 +218,10 @@ def write_notebooks(app: Sphinx, exception: Exception | None) -> None:
 
 
 def _download_link(href: str, text: str) -> str:
-    return f'<a class="reference download" download href="{html.escape(href)}">{text}</a>'
+    """A link that downloads ``href`` (the file's name is its tooltip)."""
+    name = html.escape(href.rsplit("/", 1)[-1])
+    return (f'<a class="reference download" download title="{name}" '
+            f'href="{html.escape(href)}">{text}</a>')
 
 
 def _run_page(app: Sphinx) -> str | None:
@@ -251,17 +254,38 @@ def _downloads_table(app: Sphinx, docname: str) -> nodes.raw:
     for chapter in chapters(app).values():
         title = html.escape(app.env.titles[chapter.docname].astext())
         page = app.builder.get_relative_uri(docname, chapter.docname)
-        sheet = (_download_link(relative_uri(base, chapter.sheet_path), chapter.sheet.name)
+        sheet = (_download_link(relative_uri(base, chapter.sheet_path), "sheet (.ipynb)")
                  if chapter.sheet and chapter.sheet_path else "—")
         rows.append(
             f'<tr><td>{chapter.number}</td><td><a class="reference internal" href="{page}">'
             f"{title}</a></td><td>"
-            f"{_download_link(relative_uri(base, chapter.notebook_path), chapter.notebook_name)}"
+            f"{_download_link(relative_uri(base, chapter.notebook_path), 'notebook (.ipynb)')}"
             f"</td><td>{sheet}</td></tr>")
     table = ('<table class="table chapter-downloads"><thead><tr><th>#</th><th>Chapter</th>'
              "<th>Chapter notebook</th><th>Exercise sheet</th></tr></thead><tbody>"
              + "".join(rows) + "</tbody></table>")
     return nodes.raw("", table, format="html")
+
+
+def _download_pages(env) -> set[str]:
+    """The pages that hold a ``{chapter-downloads}`` table (kept in the environment)."""
+    if not hasattr(env, "dstoolkit_download_pages"):
+        env.dstoolkit_download_pages = set()
+    return env.dstoolkit_download_pages
+
+
+def _forget_page(app: Sphinx, env, docname: str) -> None:
+    _download_pages(env).discard(docname)
+
+
+def _merge_pages(app: Sphinx, env, docnames, other) -> None:
+    _download_pages(env).update(_download_pages(other) & set(docnames))
+
+
+def pages_to_rewrite(app: Sphinx, env) -> list[str]:
+    """Chapter pages and the tables of downloads depend on what Sphinx does not watch (the
+    sheets in notebooks/, the list of chapters): write them again on every build."""
+    return sorted(set(chapters(app)) | _download_pages(env))
 
 
 class chapter_downloads(nodes.General, nodes.Element):  # noqa: N801 (docutils node style)
@@ -272,6 +296,7 @@ class ChapterDownloads(SphinxDirective):
     """``{chapter-downloads}``: every chapter with its notebook and exercise sheet."""
 
     def run(self) -> list[nodes.Node]:
+        _download_pages(self.env).add(self.env.docname)
         return [chapter_downloads()]
 
 
@@ -374,6 +399,9 @@ def add_header_entries(app: Sphinx, pagename: str, templatename: str, context: d
 
 def setup(app: Sphinx) -> dict:
     app.connect("config-inited", switch_repository_buttons)
+    app.connect("env-purge-doc", _forget_page)
+    app.connect("env-merge-info", _merge_pages)
+    app.connect("env-updated", pages_to_rewrite)
     app.connect("doctree-resolved", resolve_page)
     app.connect("html-page-context", add_header_entries, priority=600)
     app.connect("build-finished", write_notebooks)
