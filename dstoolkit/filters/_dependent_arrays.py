@@ -82,7 +82,7 @@ def snap_to_prior(back: np.ndarray, prior: np.ndarray, live: np.ndarray | None) 
     near = np.abs(back - prior) <= scale
     if live is not None:
         near |= ~live[..., None, None]
-    np.copyto(back, np.broadcast_to(prior, back.shape), where=near)
+    np.copyto(back, prior, where=near)
 
 
 def empty_box_error(back: np.ndarray, lo: np.ndarray, hi: np.ndarray, step: int
