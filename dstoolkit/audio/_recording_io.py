@@ -198,7 +198,7 @@ def save_recording(
     metadata: RecordingMetadata | None = None,
     *,
     sample_format: Literal["float32", "int16"] = "float32",
-    overwrite: bool = True,
+    overwrite: bool = False,
 ) -> None:
     """Write a mono recording and its metadata to a WAV file.
 
@@ -217,7 +217,8 @@ def save_recording(
         float32 keeps the samples as recorded; int16 is read by every program but
         quantises, and refuses samples beyond ±1.
     overwrite : bool
-        Replace an existing file (default); False raises OutputExistsError instead.
+        Replace an existing file. By default an existing file is kept and
+        :class:`~dstoolkit.errors.OutputExistsError` is raised.
     """
     x = np.asarray(samples, dtype=float)
     if x.ndim == 2 and x.shape[1] == 1:

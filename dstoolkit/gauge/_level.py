@@ -40,8 +40,8 @@ def _as_increasing(z: Any, what: str = "resonance frequencies") -> np.ndarray:
 
 def level_from_resonance(frequency_hz: Any, order: Any, c: Any) -> np.ndarray:
     """Eq. 32: L = n c/(2 f), vectorised (m)."""
-    return (_positive(order, "order") * _positive(c, "c")
-            / (2.0 * _positive(frequency_hz, "frequency_hz")))
+    return _finite_level(_positive(order, "order") * _positive(c, "c")
+                         / (2.0 * _positive(frequency_hz, "frequency_hz")))
 
 
 def _positive(value: Any, name: str) -> np.ndarray:
@@ -53,7 +53,14 @@ def _positive(value: Any, name: str) -> np.ndarray:
 
 def level_from_fundamental(fundamental_hz: Any, c: Any) -> np.ndarray:
     """L = c/(2 f_F) (eq. 35 solved for L), m."""
-    return _positive(c, "c") / (2.0 * _positive(fundamental_hz, "fundamental_hz"))
+    return _finite_level(_positive(c, "c") / (2.0 * _positive(fundamental_hz, "fundamental_hz")))
+
+
+def _finite_level(level: np.ndarray) -> np.ndarray:
+    if not np.all(np.isfinite(level)):
+        raise InvalidInputError("the level overflows: the frequencies and the speed of sound "
+                                "are far outside any tube's; give them in Hz and m/s")
+    return level
 
 
 def orders_eq43(z: Any, extend: bool = False) -> np.ndarray:
