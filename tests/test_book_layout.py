@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import pytest
 from conftest import ARTIFACTS
-from test_book_browser import _MATHJAX_READY_JS, TIMEOUT_MS, chromium, site  # noqa: F401
+from test_book_browser import _MATHJAX_READY_JS, TIMEOUT_MS, site  # noqa: F401
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
