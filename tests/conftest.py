@@ -197,15 +197,16 @@ def drive_explorers(changes: dict[str, tuple[str, object]],
                    store_widget_state=True).execute()
     printed: dict[str, str] = {}
     for cell in nb.cells:
-        for out in cell.get("outputs", []):
-            if out.get("output_type") == "stream":
-                for line in out["text"].splitlines():
-                    tag, _, rest = line.partition(" ")
-                    if tag in {"BEFORE", "AFTER"}:
-                        index, _, payload = rest.partition(" ")
-                        printed[f"{tag} {index}"] = payload
-                    elif tag.isupper():
-                        printed[tag] = rest
+        # A long line may reach the notebook in several stream messages: join them first.
+        text = "".join(out["text"] for out in cell.get("outputs", [])
+                       if out.get("output_type") == "stream" and out.get("name") == "stdout")
+        for line in text.splitlines():
+            tag, _, rest = line.partition(" ")
+            if tag in {"BEFORE", "AFTER"}:
+                index, _, payload = rest.partition(" ")
+                printed[f"{tag} {index}"] = payload
+            elif tag.isupper():
+                printed[tag] = rest
     return ExplorerRun(nb, printed)
 
 
