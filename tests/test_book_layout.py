@@ -140,20 +140,11 @@ def test_page_fits_its_column(chromium: object, site: str,  # noqa: F811
         page.context.close()
 
 
-#: Readouts whose content cannot fit two lines by CSS alone: the level-estimation explorer
-#: shows eight numbers with labels like "direct (eq. 32): |L̂ − L| (mm)" (three lines at
-#: 1280 px). Its labels are made in dstoolkit/teaching/_explorers.py; when they are
-#: shortened this case passes and the strict xfail fails: then remove it from here.
-LONG_READOUTS = {"book/estimating_level"}
 
 
 @pytest.mark.parametrize("viewport", list(VIEWPORTS))
 def test_widget_readouts_take_two_lines(chromium: object, site: str,  # noqa: F811
-                                        toc_page: str, viewport: str,
-                                        request: pytest.FixtureRequest) -> None:
-    if toc_page in LONG_READOUTS:
-        request.applymarker(pytest.mark.xfail(
-            strict=True, reason="readout labels set in dstoolkit/teaching/_explorers.py"))
+                                        toc_page: str, viewport: str) -> None:
     width, height = VIEWPORTS[viewport]
     page = _open(chromium, site, toc_page, width, height)
     try:

@@ -1143,21 +1143,25 @@ ESTIMATION_FIGURES: dict[str, str] = {"Fig. 10: frequencies": "frequency",
                                       "Fig. 11: levels": "level"}
 
 
+#: Short method names for readouts that must fit two lines.
+_SHORT_LABELS = {"direct": "direct", "dependent_evidence": "paper's filter"}
+
+
 def estimation_numbers(run: Any) -> dict[str, Any]:
-    """What the level-estimation explorer prints for a :class:`~dstoolkit.estimation_studies.
-    GaugeRun`: mean |L̂ − L| (mm, eq. 32) and mean |x̂ − f| (Hz) of the readings (direct)
-    and of each filter, and how many orders n_k are wrong."""
+    """What the level-estimation explorer prints for a :class:`~dstoolkit.studies.GaugeRun`:
+    for the readings (direct, eq. 32) and each filter, "mean |L̂ − L| mm / mean |x̂ − f| Hz"
+    in one entry, and how many orders n_k are wrong."""
     from dstoolkit.plots._experiments import STYLE
 
     levels = run.levels()
     freq = run.frequency_errors()
     out: dict[str, Any] = {}
     for name in levels:
-        label = STYLE.get(name, {"label": name})["label"]
-        out[f"{label}: |L̂ − L| (mm)"] = 1e3 * float(np.mean(np.abs(levels[name] - run.level_m)))
-        out[f"{label}: |x̂ − f| (Hz)"] = float(np.mean(freq[name]))
+        label = _SHORT_LABELS.get(name, STYLE.get(name, {"label": name})["label"])
+        level_mm = 1e3 * float(np.mean(np.abs(levels[name] - run.level_m)))
+        out[label] = f"{level_mm:.4g} mm / {float(np.mean(freq[name])):.3g} Hz"
     wrong = int(np.sum(run.orders != run.true_orders[:-1]))
-    out["wrong orders n_k"] = f"{wrong}/{run.orders.size}"
+    out["wrong n_k"] = f"{wrong}/{run.orders.size}"
     return out
 
 
@@ -1206,7 +1210,8 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
 
     live = {"level": positions(controls["level"], 9, 1.6, 9.6),
             "temperature": positions(controls["temperature"], 1, 5.0, 5.0)}
-    return Explorer(controls, render, title="One run of the gauge: the paper's Figs. 10–11",
+    return Explorer(controls, render, title="One run of the gauge: the paper's Figs. 10–11 "
+                    "(readout: mean |L̂ − L| / mean |x̂ − f|)",
                     live=live)
 
 
