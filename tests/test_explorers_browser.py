@@ -21,8 +21,10 @@ pytestmark = [pytest.mark.browser, pytest.mark.slow]
 __all__ = ["site"]  # fixture used by the tests below
 
 SHOTS = ARTIFACTS / "explorers"
-#: An explorer cell calls one of these (dstoolkit.teaching) in a chapter.
-_EXPLORER_CALL = re.compile(r"^\s*(\w+_explorer|filter_widget|lab_widget)\(", re.M)
+#: An explorer cell calls one of these (dstoolkit.teaching) in a chapter, or links a
+#: control to precomputed states itself (the intro's discount slider).
+_EXPLORER_CALL = re.compile(
+    r"^\s*((\w+_explorer|filter_widget|lab_widget)\(|widgets\.jslink\()", re.M)
 
 
 def explorer_pages() -> list[str]:
