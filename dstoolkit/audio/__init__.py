@@ -13,7 +13,6 @@ from dstoolkit.errors import (
 )
 
 from ._devices import (
-    DEFAULT_LATENCY_S,
     MIN_PADDING_S,
     AudioDevice,
     audio_available,
@@ -52,7 +51,6 @@ __all__ = [
     "AudioDropoutWarning",
     "AudioUnavailableError",
     "CALIBRATION_GAP_S",
-    "DEFAULT_LATENCY_S",
     "MIN_PADDING_S",
     "NoAudioDeviceError",
     "RecordingFileError",

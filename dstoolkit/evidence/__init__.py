@@ -15,7 +15,6 @@ from dstoolkit.errors import (
 
 from ._base import (
     Evidence,
-    validate_masses,
 )
 from ._batch_kernels import (
     Boxes,
@@ -57,12 +56,8 @@ from ._extension import (
     box_image,
     cartesian_product,
     image,
-    image_boxes,
     image_subdivision,
-    parse_signs,
     projection,
-    resolve_method,
-    state_signs,
     vertices,
 )
 from ._finite_frame import (
@@ -119,19 +114,14 @@ __all__ = [
     "energy",
     "hull",
     "image",
-    "image_boxes",
     "image_subdivision",
     "joint_energy",
-    "parse_signs",
     "pignistic_expectation",
     "possibility",
     "projection",
-    "resolve_method",
     "sizes",
-    "state_signs",
     "triangular_evidence",
     "triangular_from_samples",
-    "validate_masses",
     "vertices",
     "yager",
     "zadeh_sources",

@@ -8,8 +8,6 @@ from dstoolkit.errors import require_extra
 require_extra("matplotlib", "plots", "dstoolkit.plots")
 
 from ._evidence import (  # noqa: E402
-    BEL_COLOUR,
-    BETP_COLOUR,
     contour,
     interval_table,
     markdown_table,
@@ -44,8 +42,6 @@ from ._studies import (  # noqa: E402
 )
 
 __all__ = [
-    "BEL_COLOUR",
-    "BETP_COLOUR",
     "GREY",
     "STYLE",
     "TRUTH_COLOUR",

@@ -33,10 +33,8 @@ from ._experiments import (
     Table3,
     estimate_levels,
     estimate_orders,
-    frequency_readings,
     paper_filters,
     run_table3,
-    waveform_readings,
 )
 from ._filter_runs import (
     ORDER_SOURCES,
@@ -80,7 +78,6 @@ __all__ = [
     "filter_case",
     "filter_level_errors",
     "filter_summary",
-    "frequency_readings",
     "gauge_case",
     "gauge_run",
     "noise_mismatch",
@@ -93,5 +90,4 @@ __all__ = [
     "table3_readings",
     "table3_rows",
     "tracking_data",
-    "waveform_readings",
 ]
