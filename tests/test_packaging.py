@@ -41,6 +41,7 @@ CORE_TESTS = (
     "test_latency.py",
     "test_noise_characterisation.py",
     "test_tube_and_detection.py",
+    "test_doctests.py",
 )
 
 

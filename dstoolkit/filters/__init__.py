@@ -17,6 +17,7 @@ from ._bounded_error import (
     BoundedErrorFilter,
 )
 from ._dependent import (
+    COUNTS,
     DIAGNOSTICS,
     DependentEvidenceFilter,
     observe,
@@ -54,6 +55,7 @@ __all__ = [
     "BoundedErrorFilter",
     "BoundedNoise",
     "BoxMass",
+    "COUNTS",
     "DIAGNOSTICS",
     "DependentEvidenceFilter",
     "Filter",

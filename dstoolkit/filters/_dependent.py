@@ -411,6 +411,17 @@ class DependentEvidenceFilter:
         object path and adds every step's evidence (``steps``: state, prediction,
         observation_prediction, observation, fused, mapped_back, final, dependence) and
         the focal-element counts of :data:`COUNTS`.
+
+        Examples
+        --------
+        A random walk with |v| ≤ 0.1 read with |w| ≤ 0.5 (eq. 21):
+
+        >>> from dstoolkit.filters import random_walk
+        >>> result = DependentEvidenceFilter().run(random_walk(0.1, 0.5), [1.0, 1.2, 0.9, 1.1])
+        >>> result.estimates[:, 0].round(3).tolist()
+        [1.0, 1.02, 1.009, 1.017]
+        >>> bool(result.lower[2, 0] < result.estimates[2, 0] < result.upper[2, 0])
+        True
         """
         maps, noise = self._maps(model), self.noise_evidence(model)
         zz, uu = batch_readings(model, np.asarray(z, dtype=float)[None],
