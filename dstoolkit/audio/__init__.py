@@ -15,6 +15,7 @@ from dstoolkit.errors import (
 from ._devices import (
     MIN_PADDING_S,
     AudioDevice,
+    PlayRecordResult,
     audio_available,
     calibration_chirp,
     check_calibration,
@@ -27,6 +28,7 @@ from ._devices import (
 from ._measurement import (
     CALIBRATION_GAP_S,
     Analysis,
+    LevelEstimate,
     add_analyze_arguments,
     add_measure_arguments,
     analyze,
@@ -51,8 +53,10 @@ __all__ = [
     "AudioDropoutWarning",
     "AudioUnavailableError",
     "CALIBRATION_GAP_S",
+    "LevelEstimate",
     "MIN_PADDING_S",
     "NoAudioDeviceError",
+    "PlayRecordResult",
     "RecordingFileError",
     "RecordingMetadata",
     "WavRecording",

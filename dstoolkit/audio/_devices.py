@@ -62,7 +62,8 @@ NO_DEVICE_HINT = (
 
 
 def _sounddevice() -> ModuleType:
-    """Import sounddevice, or raise :class:`AudioUnavailableError` saying what to install.
+    """Import sounddevice, or raise :class:`~dstoolkit.errors.AudioUnavailableError` saying
+    what to install.
 
     Without the PortAudio library ``import sounddevice`` raises ``OSError`` (not
     ``ImportError``); without the package it raises ``ImportError``. Both are caught.
@@ -168,8 +169,8 @@ def list_devices(kind: Literal["input", "output"] | None = None) -> list[AudioDe
 def choose_device(device: int | str | None, kind: Literal["input", "output"]) -> int:
     """Resolve a device given by index, by (part of) its name, or None for the default.
 
-    Returns the PortAudio index. Raises :class:`NoAudioDeviceError` when there is no such
-    device (or no default one), listing the devices that exist.
+    Returns the PortAudio index. Raises :class:`~dstoolkit.errors.NoAudioDeviceError` when
+    there is no such device (or no default one), listing the devices that exist.
     """
     if kind not in ("input", "output"):
         raise ValueError(f"kind must be 'input' or 'output', not {kind!r}")
@@ -199,7 +200,7 @@ def calibration_chirp(
     """A short windowed linear chirp whose autocorrelation has one sharp peak.
 
     Played before the sweep in the same stream, its position in the recording gives the
-    audio latency (:func:`estimate_latency`). The band suits laptop speakers and
+    audio latency (:func:`~dstoolkit.gauge.estimate_latency`). The band suits laptop speakers and
     microphones; its ends are tapered (Tukey window) so it starts and stops without clicks.
     """
     if samplerate <= 0 or duration_s <= 0:
@@ -240,8 +241,8 @@ class PlayRecordResult:
     def segment(self, start: int, length: int, latency: LatencyEstimate) -> np.ndarray:
         """The recording of ``played[start:start + length]``, corrected for the latency.
 
-        Raises :class:`DetectionError` when the recording does not cover it (a recording
-        too short for the sweep: play a longer tail).
+        Raises :class:`~dstoolkit.errors.DetectionError` when the recording does not cover it
+        (a recording too short for the sweep: play a longer tail).
         """
         first = start + latency.lag
         if first < 0 or first + length > self.recorded.size:
@@ -286,7 +287,7 @@ def play_record(
     Raises
     ------
     AudioUnavailableError
-        sounddevice/PortAudio missing (:data:`INSTALL_HINT`); its subclass
+        sounddevice/PortAudio missing (``INSTALL_HINT``); its subclass
         NoAudioDeviceError when there is no device or it fails to open.
     ValueError
         Bad signal or settings.
@@ -355,8 +356,9 @@ def measure_latency(
 
     The delay differs each time a stream is opened (it did by tens of ms through the
     PulseAudio loopback), so a measurement should carry its own chirp; this function is
-    for checking a set-up. Raises :class:`DetectionError` when the chirp is not found
-    (|correlation| below ``min_correlation``): the microphone does not hear the speaker.
+    for checking a set-up. Raises :class:`~dstoolkit.errors.DetectionError` when the chirp is
+    not found (|correlation| below ``min_correlation``): the microphone does not hear the
+    speaker.
     """
     chirp = calibration_chirp(samplerate)
     result = play_record(chirp, samplerate, input_device=input_device,
@@ -370,7 +372,7 @@ def measure_latency(
 def check_calibration(
     estimate: LatencyEstimate, min_correlation: float = MIN_CALIBRATION_CORRELATION
 ) -> None:
-    """Raise :class:`DetectionError` when the calibration chirp was not found."""
+    """Raise :class:`~dstoolkit.errors.DetectionError` when the calibration chirp was not found."""
     if abs(estimate.correlation) < min_correlation:
         raise DetectionError(
             f"the calibration chirp was not found in the recording (correlation "

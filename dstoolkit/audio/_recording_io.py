@@ -1,7 +1,7 @@
 """Save and load gauge recordings as WAV files that carry their metadata.
 
 A recording is only useful with what was known when it was made: the air temperature
-(sound speed, SPEC §6), the sweep (band, duration, where it starts), the sample rate, the
+(sound speed), the sweep (band, duration, where it starts), the sample rate, the
 measured audio latency, and the level when it is known (a virtual tube, a reference
 measurement). They travel inside the WAV file, so a file copied alone stays analysable.
 
@@ -45,12 +45,14 @@ class RecordingMetadata:
     ----------
     temperature_c : float or None
         Air temperature in the tube, °C (sound speed c = 331.3 + 0.606 T).
-    f_start_hz, f_stop_hz : float or None
-        The sweep's band (the paper swept 1000 → 2400 Hz).
+    f_start_hz : float or None
+        Start of the sweep's band (the paper swept 1000 → 2400 Hz).
+    f_stop_hz : float or None
+        End of the sweep's band.
     sweep_duration_s : float or None
         Length of the sweep (5 s in the paper).
     sweep_taper_s : float or None
-        Raised-cosine fade at each end of the sweep (:class:`dstoolkit.sweep.LinearSweep`).
+        Raised-cosine fade at each end of the sweep (:class:`dstoolkit.gauge.LinearSweep`).
     sweep_onset_s : float or None
         Time in the recording at which the sweep's first sample arrives, latency included:
         the analysis maps recording time to sweep frequency from here.
@@ -125,8 +127,8 @@ class RecordingMetadata:
 @dataclass(frozen=True)
 class WavRecording:
     """A mono recording as stored in a WAV file: samples (float, full scale ±1), sample
-    rate (Hz) and metadata. (:class:`dstoolkit.tube.Recording` is the gauge's view of a
-    recording, cropped to the sweep; :mod:`dstoolkit.measurement` converts.)"""
+    rate (Hz) and metadata. (:class:`dstoolkit.gauge.Recording` is the gauge's view of a
+    recording, cropped to the sweep; :mod:`dstoolkit.audio` converts.)"""
 
     samples: np.ndarray
     samplerate: int
@@ -217,7 +219,7 @@ def _read_info(raw: bytes, path: str | os.PathLike[str]) -> dict[bytes, str]:
     if len(raw) < 12 or raw[:4] not in (b"RIFF", b"RIFX") or raw[8:12] != b"WAVE":
         raise RecordingFileError(
             f"{os.fspath(path)!r} is not a WAV file (it starts with {raw[:12]!r}); "
-            "save recordings with dstoolkit.recording_io.save_recording"
+            "save recordings with dstoolkit.audio.save_recording"
         )
     info: dict[bytes, str] = {}
     pos = 12

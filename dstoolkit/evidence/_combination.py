@@ -3,8 +3,8 @@
 Dempster's rule (eq. 1), the energy of evidence (eqs. 2, A1), the energy of the
 intersection (eqs. 3, A3), the degree of dependence (Def. 5, eq. A4), the dependency
 coefficients (eqs. 7–8, A5–A6), discounting and the combination of dependent evidence
-(eqs. 9–10, A7–A8). Each works on :class:`~dstoolkit.MassFunction` and
-:class:`~dstoolkit.IntervalEvidence` alike, through the set primitives of
+(eqs. 9–10, A7–A8). Each works on :class:`~dstoolkit.evidence.MassFunction` and
+:class:`~dstoolkit.evidence.IntervalEvidence` alike, through the set primitives of
 :class:`~dstoolkit.evidence.Evidence`.
 """
 

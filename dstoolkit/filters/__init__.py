@@ -20,6 +20,7 @@ from ._dependent import (
     COUNTS,
     DIAGNOSTICS,
     DependentEvidenceFilter,
+    NoiseEvidence,
     observe,
     predict,
 )
@@ -64,6 +65,7 @@ __all__ = [
     "KalmanFilter",
     "LOTKA_VOLTERRA_X0",
     "NassreddineFilter",
+    "NoiseEvidence",
     "ParticleFilter",
     "StateSpaceModel",
     "cluster_boxes",

@@ -18,11 +18,11 @@ because each step restarts from the point estimate.
 
 Two implementations share Steps 1–3 and 5 (:func:`predict`, :func:`observe`,
 :func:`map_back`): the object path (``record=True``) merges equal focal elements (eq. 14)
-and fuses with :mod:`dstoolkit.combination`; the array path (``record=False`` and
-:meth:`DependentEvidenceFilter.run_batch`) fuses with :mod:`dstoolkit.batch_kernels`
+and fuses with :mod:`dstoolkit.evidence`; the array path (``record=False`` and
+:meth:`DependentEvidenceFilter.run_batch`) fuses with :mod:`dstoolkit.evidence`
 without merging, vectorised over runs. Both give the same numbers (tested).
 
-Choices the paper leaves open (SPEC §1, §5): ``mass_rule`` for m(D) in eq. A3; the start
+Choices the paper leaves open: ``mass_rule`` for m(D) in eq. A3; the start
 x̂_1 (``"observation"``: g⁻¹(z_1) as the paper; ``"mean_corrected"``: g⁻¹(z_1 + E[w]);
 or an explicit vector); p, ε and Θ of Step 1. Step 5 maps each fused box back within the
 predicted box it came from, g⁻¹(g(P_i) ∩ Z_j) ∩ P_i: for an invertible g that is the
@@ -62,6 +62,7 @@ from ._model import FilterResult, StateSpaceModel, batch_readings, step_input, w
 StartRule = Literal["observation", "mean_corrected"]
 ConflictPolicy = Literal["raise", "predict"]
 
+#: The per-step diagnostics of a run (keys of ``FilterResult.diagnostics``), explained.
 DIAGNOSTICS: dict[str, str] = {
     "conflict_step4": "K of Dempster's rule between observation prediction and observation",
     "conflict_step6": "K of Dempster's rule in the dependent combination (after discounting)",
@@ -75,6 +76,7 @@ DIAGNOSTICS: dict[str, str] = {
 }
 #: Relative distance below which a mapped-back bound is snapped to its predicted box (Step 5).
 SNAP_RTOL = 1e-12
+#: Focal-element counts per step that ``run(..., record=True)`` adds to the diagnostics.
 COUNTS: tuple[str, ...] = (
     "n_state", "n_prediction", "n_observation_prediction", "n_observation", "n_fused",
     "n_mapped_back", "n_final", "n_products_step4", "n_products_step6",
@@ -161,7 +163,7 @@ class DependentEvidenceFilter:
     ----------
     mass_rule
         m(D) in the energy of the intersection (eq. A3): ``"min"`` (default), ``"m1"``,
-        ``"m2"`` (SPEC §1).
+        ``"m2"``.
     start
         x̂_1: ``"observation"`` (g⁻¹(z_1), the paper), ``"mean_corrected"``
         (g⁻¹(z_1 + E[w])), or a state vector.
@@ -174,7 +176,7 @@ class DependentEvidenceFilter:
     image_method
         How images are computed: ``"auto"`` (monotone where the model declares every sign,
         else vertex), ``"vertex"``, ``"monotone"``, ``"subdivision"`` (see
-        :func:`dstoolkit.extension.image`).
+        :func:`dstoolkit.evidence.image`).
     chunk_size
         Runs per vectorised block in :meth:`run_batch` (memory ∝ chunk × N1 × N2).
     """
@@ -371,7 +373,7 @@ class DependentEvidenceFilter:
                       obs_pred: IntervalEvidence, obs: IntervalEvidence, t: int,
                       entry: dict[str, Any], diag: dict[str, np.ndarray]
                       ) -> IntervalEvidence | None:
-        """Steps 4–6 with dstoolkit.combination; None when total conflict falls back."""
+        """Steps 4–6 with dstoolkit.evidence; None when total conflict falls back."""
         try:
             fused = dempster(obs_pred, obs, merge=False)
         except TotalConflictError:

@@ -47,7 +47,7 @@ Steps 3–6). No cap is needed: the evidence no longer grows.
 Total conflict
 --------------
 When every contraction is empty (K = 1) no posterior exists. ``on_conflict="raise"``
-(default) raises :class:`~dstoolkit.TotalConflictError` naming the step; ``"reset"``
+(default) raises :class:`~dstoolkit.errors.TotalConflictError` naming the step; ``"reset"``
 rebuilds the evidence from that reading as at the start and flags the step in
 ``diagnostics["resets"]``.
 
@@ -106,7 +106,8 @@ class BoxMass:
     mass: np.ndarray
 
     def evidence(self, run: int = 0) -> IntervalEvidence:
-        """The mass function of one run as :class:`IntervalEvidence` (padding dropped)."""
+        """The mass function of one run as an
+        :class:`~dstoolkit.evidence.IntervalEvidence` (padding dropped)."""
         keep = self.mass[run] > 0
         return IntervalEvidence(self.lo[run, keep], self.hi[run, keep],
                                 self.mass[run, keep] / self.mass[run, keep].sum(), merge=False)
@@ -284,9 +285,10 @@ class NassreddineFilter:
         """Filter one sequence ``z`` (steps, m).
 
         ``lower``/``upper`` are the hull of each step's posterior mass function. With
-        ``record=True`` each step keeps (as :class:`IntervalEvidence`) the ``state``
-        evidence it starts from, the ``prediction``, the ``observation`` evidence z_k + E_w
-        (observation space), the ``posterior`` before the cap, and the ``estimate``.
+        ``record=True`` each step keeps (as :class:`~dstoolkit.evidence.IntervalEvidence`)
+        the ``state`` evidence it starts from, the ``prediction``, the ``observation``
+        evidence z_k + E_w (observation space), the ``posterior`` before the cap, and the
+        ``estimate``.
         Diagnostics (steps,): ``conflict`` K (NaN at the first step), ``focal_elements``
         of the posterior before the cap, ``merged_mass`` and ``resets``.
         """

@@ -26,6 +26,7 @@ from ._gauge_model import (
     GAUGE_OBS_NOISE,
     GAUGE_STATE_NOISE,
     PAPER_THETA,
+    GaugeSequence,
     gauge_state_space_model,
     simulate_gauge,
 )
@@ -89,6 +90,7 @@ __all__ = [
     "LatencyEstimate",
     "GAUGE_OBS_NOISE",
     "GAUGE_STATE_NOISE",
+    "GaugeSequence",
     "LinearSweep",
     "NoiseCharacterisation",
     "PAPER_CALIBRATION_LEVELS",

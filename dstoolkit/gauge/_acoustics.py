@@ -22,7 +22,7 @@ import numpy as np
 
 SpeedModel = Literal["paper", "ideal_gas", "cramer"]
 
-#: Band the filter works in (SPEC §6); the paper's experiment swept 1000 → 2400 Hz.
+#: Band the filter works in; the paper's experiment swept 1000 → 2400 Hz.
 DEFAULT_BAND: tuple[float, float] = (1000.0, 2500.0)
 
 _CRAMER = np.array([

@@ -9,7 +9,7 @@ The paper's chain: z_k, the observed k-th resonance, has order n_k = [z_k/(z_{k+
 
 Eq. 43 is fragile on long tubes: the spacing f_F is small (18 Hz at 9.6 m) and the
 difference of two readings doubles their noise, so n_k is often off by several units, each
-costing about L/n_k in eq. 32 (SPEC §6). The series fit below uses every reading at once:
+costing about L/n_k in eq. 32. The series fit below uses every reading at once:
 z_k = f_F (n_1 + s_k) + b with the integer n_1 searched and f_F by least squares.
 """
 
@@ -144,7 +144,7 @@ def fit_resonance_series(
     offset_hz: float | None = 0.0,
     max_first_order: int | None = None,
 ) -> ResonanceSeriesFit:
-    """Fit z_k = f_F (n_1 + s_k) + b with integer n_1 ≥ 1 (SPEC §6).
+    """Fit z_k = f_F (n_1 + s_k) + b with integer n_1 ≥ 1.
 
     Parameters
     ----------
@@ -152,7 +152,7 @@ def fit_resonance_series(
         Resonance frequencies, increasing (Hz).
     steps
         s_k, the relative orders (default 0, 1, 2, …); a jump of 2 marks a missed resonance
-        (:attr:`dstoolkit.resonance.DetectionResult.steps`).
+        (:attr:`dstoolkit.gauge.DetectionResult.steps`).
     offset_hz
         b when it is known, default 0 (offsets already removed by the detector). For each
         candidate n_1, f_F = Σ m_k (z_k − b) / Σ m_k² with m_k = n_1 + s_k, and the n_1 with

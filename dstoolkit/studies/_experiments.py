@@ -3,7 +3,7 @@
 * ``simulation="frequency"``: readings z_k = f_k − w_k with w drawn from the paper's
   triangular distribution (mode −6.9 Hz, [−10.59, −3.21] Hz), i.i.d. over k.
 * ``simulation="waveform"``: a recording is synthesised for every run
-  (:func:`dstoolkit.tube.synthesize_recording`) and its resonances detected as the paper's
+  (:func:`dstoolkit.gauge.synthesize_recording`) and its resonances detected as the paper's
   detector would (no offset correction); the noise in z emerges from the physics.
 
 Every method sees the same readings. The filters use the paper's noise evidence (Tables

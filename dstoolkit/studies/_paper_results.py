@@ -1,4 +1,4 @@
-"""What the paper reports, kept as data to compare with (paper Table 3, §4; SPEC §7).
+"""What the paper reports, kept as data to compare with (paper Table 3, §4).
 
 These are the paper's printed figures, not results of this toolkit: chapters and the
 ``table3`` command print them beside what dstoolkit computes.

@@ -10,7 +10,7 @@ few lines anywhere below (or in another module imported by this one)::
 
 Answers may be numbers, sequences or arrays of numbers (compared element by element with
 ``|answer − solution| ≤ atol + rtol·|solution|``), dicts of numbers, booleans, strings,
-sets, :class:`~dstoolkit.MassFunction` or :class:`~dstoolkit.IntervalEvidence`.
+sets, :class:`~dstoolkit.evidence.MassFunction` or :class:`~dstoolkit.evidence.IntervalEvidence`.
 
 ``mistakes`` lists common wrong answers, each as a function computing it and the hint to
 give when a learner's answer matches it; they are tested too (tests/test_exercises.py).
@@ -629,7 +629,7 @@ def _innermost_prediction(twice: bool = True) -> tuple[float, float]:
           hint="Step 2: map the state box x̂ + [−0.1, 0.1] through eq. (39) (increasing: map "
           "the ends), then add the noise box [−0.1, 0.1]. Answer (lo, hi).",
           mistakes=((lambda: _innermost_prediction(twice=False),
-                     "The noise enters twice in Step 2 (SPEC §5): once in the state evidence "
+                     "The noise enters twice in Step 2: once in the state evidence "
                      "x̂ + V, once as v in x_{k+1} = f(x_k) + v_k. Add [−0.1, 0.1] again."),))
 def _() -> tuple[float, float]:
     return _innermost_prediction()
@@ -677,7 +677,7 @@ def _() -> str:
 
 #: Table 3's 4.6 m case (the paper's Figs. 6–7) and its longest, 9.6 m: (level m, °C).
 GAUGE_CASE, LONG_CASE = (4.6, 26.5), (9.6, 23.9)
-#: The filter's band (SPEC §6) and the paper's sweep rate (1000 → 2400 Hz in 5 s), Hz/s.
+#: The filter's band and the paper's sweep rate (1000 → 2400 Hz in 5 s), Hz/s.
 GAUGE_BAND, SWEEP_RATE = (1000.0, 2500.0), 280.0
 #: Audio latency of the offset exercise, s.
 GAUGE_LATENCY = 0.010
@@ -777,7 +777,7 @@ def _() -> float:
 LAB_LAG_SAMPLES, LAB_SAMPLERATE = 6042, 44100
 #: The paper's sweep, Hz, and the lab's air temperature in the exercises, °C.
 LAB_BAND, LAB_TEMPERATURE = (1000.0, 2400.0), 20.0
-#: Resonances the detector needs (dstoolkit.resonance.detect_resonances, min_resonances).
+#: Resonances the detector needs (dstoolkit.gauge.detect_resonances, min_resonances).
 LAB_MIN_RESONANCES = 5
 #: Inner diameter of the narrow pipe of the cutoff exercise, m.
 LAB_CUTOFF_DIAMETER = 0.040
