@@ -20,7 +20,9 @@ from dstoolkit.errors import EvidenceError, TotalConflictError
 from ._base import Evidence
 
 E = TypeVar("E", bound=Evidence)
+#: m(D) in the energy of the intersection (eq. A3): the smaller mass, or one side's.
 MassRule = Literal["min", "m1", "m2"]
+#: The values of :data:`MassRule`.
 MASS_RULES: tuple[str, ...] = ("min", "m1", "m2")
 
 #: 1 − K below this counts as total conflict.

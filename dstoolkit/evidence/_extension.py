@@ -32,7 +32,9 @@ from dstoolkit.errors import EvidenceError, NotMonotoneError, VertexMethodWarnin
 
 from ._intervals import IntervalEvidence
 
+#: How the image of a box is found (see :func:`image`).
 ImageMethod = Literal["auto", "vertex", "monotone", "subdivision"]
+#: The values of :data:`ImageMethod`.
 IMAGE_METHODS: tuple[str, ...] = ("auto", "vertex", "monotone", "subdivision")
 
 #: Relative slack of the monotone and vertex checks (rounding, not modelling error).

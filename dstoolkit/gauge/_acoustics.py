@@ -20,6 +20,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+#: The speed-of-sound models of :func:`speed_of_sound`.
 SpeedModel = Literal["paper", "ideal_gas", "cramer"]
 
 #: Band the filter works in; the paper's experiment swept 1000 → 2400 Hz.

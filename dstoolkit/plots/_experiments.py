@@ -11,6 +11,7 @@ from matplotlib.figure import Figure
 from dstoolkit.studies._experiments import Table3
 from dstoolkit.studies._paper_results import TABLE3_MEAN_ABS_ERROR_M
 
+#: Colour, marker and label of each method of Table 3 in every figure.
 STYLE = {
     "dependent_evidence": {"color": "C0", "label": "dependent evidence (paper)"},
     "nassreddine": {"color": "C1", "label": "Nassreddine"},

@@ -17,7 +17,9 @@ from dstoolkit.gauge._tube import Recording
 
 from ._evidence import BEL_COLOUR, BETP_COLOUR, _axes
 
+#: Colour of the true value in the figures.
 TRUTH_COLOUR = "#2ca02c"
+#: Colour of secondary lines (raw readings, references).
 GREY = "#7f7f7f"
 
 

@@ -41,9 +41,14 @@ from dstoolkit.gauge._tube import (
 
 from ._paper_results import TABLE3_CASES, TABLE3_MEAN_ABS_ERROR_M
 
+#: How readings are simulated: from the paper's noise distributions, or by detecting the
+#: resonances of synthesised recordings.
 Simulation = Literal["frequency", "waveform"]
+#: How the orders n_k are obtained: eq. 43, the resonance-series fit, or the truth.
 OrderRule = Literal["eq43", "fit", "true"]
+#: The methods of Table 3, in its order.
 METHODS: tuple[str, ...] = ("dependent_evidence", "nassreddine", "direct", "kalman", "particle")
+#: The columns of the CSV file that :meth:`Table3.write_csv` writes.
 CSV_COLUMNS = ("level_m", "temperature_c", "method", "mean_abs_error_m", "runs",
                "seconds_per_run")
 

@@ -83,6 +83,7 @@ class Feedback:
         return f"<p style='color:{colour}'>{html.escape(self.message)}</p>"
 
 
+#: Every exercise by its key (``"chapter.name"``), filled by :func:`exercise`.
 REGISTRY: dict[str, Exercise] = {}
 
 
@@ -264,6 +265,7 @@ def _() -> bool:
 
 # -- mass functions (book/mass_functions.md, notebooks/01_mass_functions.ipynb) ----------
 
+#: The frame of the level exercises: the tank's level is low, mid or high.
 FRAME = ("low", "mid", "high")
 
 

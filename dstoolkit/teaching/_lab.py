@@ -37,6 +37,7 @@ from dstoolkit.plots._gauge import GREY, TRUTH_COLOUR
 
 #: The value of the device pickers that means "no sound card: the virtual tube".
 VIRTUAL = "virtual"
+#: How the device pickers show :data:`VIRTUAL`.
 VIRTUAL_LABEL = "virtual tube (no device)"
 
 
