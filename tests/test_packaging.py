@@ -88,7 +88,8 @@ def test_core_alone_on_the_oldest_numpy_and_scipy(tmp_path: Path) -> None:
           f"numpy=={numpy_floor}.0", f"scipy=={scipy_floor}.0", "pytest", "hypothesis"],
          tmp_path, timeout=1200)
     probe = _run([py, "-c", textwrap.dedent("""
-        import importlib.util, numpy, scipy, dstoolkit
+        import importlib.util, pathlib, numpy, scipy, dstoolkit
+        assert (pathlib.Path(dstoolkit.__file__).parent / "py.typed").is_file()  # PEP 561
         print(numpy.__version__, scipy.__version__, dstoolkit.__version__, dstoolkit.__file__)
         print(*[m for m in ('matplotlib', 'ipywidgets', 'IPython', 'tqdm', 'sounddevice')
                 if importlib.util.find_spec(m)])
