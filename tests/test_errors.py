@@ -44,3 +44,27 @@ def test_require_extra_names_the_extra() -> None:
     require_extra("json", "plots", "anything")  # installed: no error
     with pytest.raises(MissingExtraError, match=r"pip install 'dstoolkit\[audio\]'"):
         require_extra("no_such_module_dstoolkit", "audio", "the sound card")
+
+
+def test_a_model_without_g_inverse_gets_a_clear_error_from_every_filter() -> None:
+    import numpy as np
+
+    from dstoolkit.errors import EvidenceError
+    from dstoolkit.filters import (
+        BoundedErrorFilter,
+        BoundedNoise,
+        DependentEvidenceFilter,
+        KalmanFilter,
+        NassreddineFilter,
+        StateSpaceModel,
+    )
+
+    model = StateSpaceModel(f=lambda x, u: x, g=lambda x: x,
+                            state_noise=BoundedNoise.symmetric(0.1),
+                            obs_noise=BoundedNoise.symmetric(0.5))
+    z = np.array([1.0, 1.1, 0.9])
+    box = (np.array([0.0]), np.array([2.0]))
+    for flt in (BoundedErrorFilter(initial_box=box), NassreddineFilter(initial_box=box),
+                KalmanFilter(initial_box=box), DependentEvidenceFilter(start=[1.0])):
+        with pytest.raises(EvidenceError, match="g_inverse"):
+            flt.run(model, z)
