@@ -56,7 +56,8 @@ def main() -> None:
                       f"{t2 - t0:>10.2f} {t2 - t1:>10.3f} {rec.metadata.extra['attempt']:>6}")
     finally:
         if state.get("DSTOOLKIT_LOOPBACK_STATE") == "started":
-            subprocess.run(["bash", str(SCRIPT), "stop"], capture_output=True)
+            subprocess.run(["bash", str(SCRIPT), "stop"], capture_output=True,
+                           env={**os.environ, **state})
     e = 1e3 * np.abs(errors)
     print(f"\n{len(errors)} measurements: |error| mean {e.mean():.1f} mm, max {e.max():.1f} mm; "
           f"latency {1e3 * min(latencies):.1f}..{1e3 * max(latencies):.1f} ms; "

@@ -78,12 +78,23 @@ def main() -> None:
 
     unchanged = timed_build()
 
-    pages = len(list((BUILD / "html" / "book").glob("*.html")))
+    pages = sorted((BUILD / "html" / "book").glob("*.html"))
     npm = " including npm ci" if args.fresh_npm else ""
-    print(f"book build, {pages} pages in _build/html/book")
+    print(f"book build, {len(pages)} pages in _build/html/book")
     print(f"  clean build (executes every chapter{npm}): {clean:7.1f} s")
     print(f"  re-render from the execution cache:       {from_cache:7.1f} s")
     print(f"  rebuild with nothing changed:             {unchanged:7.1f} s")
+    print_sizes(pages)
+
+
+def print_sizes(pages: list[Path]) -> None:
+    """The size of the site and of every page's HTML (the explorers' precomputed states
+    are embedded in their page; budget: 6 MB a page)."""
+    site = sum(f.stat().st_size for f in (BUILD / "html").rglob("*") if f.is_file())
+    print(f"site _build/html: {site / 1e6:.1f} MB")
+    for page in sorted(pages, key=lambda p: -p.stat().st_size):
+        size = page.stat().st_size / 1e6
+        print(f"  {page.name:28s} {size:6.2f} MB{'  OVER 6 MB' if size > 6 else ''}")
 
 
 if __name__ == "__main__":

@@ -8,35 +8,59 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from dstoolkit.errors import MissingExtraError
+from dstoolkit.errors import DstoolkitError, MissingExtraError
 from dstoolkit.studies import METHODS, run_table3
+from dstoolkit.studies._output import atomic_write, check_outputs, figure_tag, made_by
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from dstoolkit.studies import Table3
+
+
+def table3_outputs(out: str | Path) -> tuple[Path, Path]:
+    """The CSV path and the figure beside it (``t.csv`` → ``t.png``); never the same file:
+    a CSV named ``t.png`` gets the figure ``t.figure.png``."""
+    csv_path = Path(out)
+    if csv_path.name in ("", ".", ".."):
+        return csv_path, csv_path  # refused by check_outputs: a folder, not a file
+    figure = csv_path.with_suffix(".png")
+    if figure.name == csv_path.name:
+        figure = csv_path.with_name(csv_path.stem + ".figure.png")
+    return csv_path, figure
 
 
 def table3_command(args: argparse.Namespace) -> int:
     """Reproduce Table 3: CSV, a figure beside it (with the ``plots`` extra), and the table
     next to the paper's."""
     methods = tuple(args.methods.split(",")) if args.methods else METHODS
-    try:
-        table = run_table3(runs=args.runs, seed=args.seed, simulation=args.simulation,
-                           methods=methods, order_rule=args.orders,
-                           progress=not args.quiet)
-    except ValueError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    table.write_csv(out)
-    print(table.format())
+    csv_path, figure_path = table3_outputs(args.out)
+    plot_table3: Callable[[Table3], Figure] | None = None
     try:
         from dstoolkit.plots import plot_table3
     except MissingExtraError as exc:
-        print(f"\nwrote {out} (no figure: {exc})")
+        no_figure = str(exc)
+    outputs: dict[str, str | Path] = {"the CSV (--out)": args.out}
+    if plot_table3 is not None:
+        outputs["the figure"] = figure_path
+    # before any computing: the outputs must be writable and replace nothing unasked
+    check_outputs(outputs, overwrite=args.overwrite,
+                  replaceable=lambda p: p == figure_path and made_by(p, "table3"))
+    table = run_table3(runs=args.runs, seed=args.seed, simulation=args.simulation,
+                       methods=methods, order_rule=args.orders, progress=not args.quiet)
+    table.write_csv(csv_path)
+    print(table.format())
+    if plot_table3 is None:
+        print(f"\nwrote {csv_path} (no figure: {no_figure})")
         return 0
-    figure_path = out.with_suffix(".png")
-    plot_table3(table).savefig(figure_path, dpi=120, bbox_inches="tight")
-    print(f"\nwrote {out} and {figure_path}")
+    figure = plot_table3(table)
+    atomic_write(figure_path, lambda fh: figure.savefig(
+        fh, format="png", dpi=120, bbox_inches="tight", metadata=figure_tag("table3")))
+    print(f"\nwrote {csv_path} and {figure_path}")
     return 0
 
 
@@ -60,6 +84,8 @@ def build_parser() -> argparse.ArgumentParser:
                     help=f"comma-separated subset of {','.join(METHODS)}")
     t3.add_argument("--out", default="table3.csv", help="CSV path; the figure goes beside it")
     t3.add_argument("--quiet", action="store_true", help="no progress bar")
+    t3.add_argument("--overwrite", action="store_true",
+                    help="replace an existing CSV or figure")
     t3.set_defaults(func=table3_command)
 
     from dstoolkit.audio import (
@@ -79,6 +105,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the exit status."""
+    """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the exit status.
+    A package error or an OS error becomes one line on stderr (exit status 2)."""
     args = build_parser().parse_args(argv)
-    return int(args.func(args))
+    try:
+        return int(args.func(args))
+    except (DstoolkitError, OSError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2

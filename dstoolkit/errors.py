@@ -14,7 +14,11 @@ class DstoolkitError(Exception):
     """Base class of every error the package raises on purpose."""
 
 
-class EvidenceError(DstoolkitError, ValueError):
+class InvalidInputError(DstoolkitError, ValueError):
+    """An argument of the wrong type, shape or value; the message names it and what to give."""
+
+
+class EvidenceError(InvalidInputError):
     """Invalid evidence: bad masses, bad focal elements, incompatible frames."""
 
 
@@ -42,12 +46,42 @@ class NoAudioDeviceError(AudioUnavailableError):
     """PortAudio works but found no usable device, or a device failed to open."""
 
 
+class AudioStallError(AudioUnavailableError, TimeoutError):
+    """The audio stream stopped moving: no samples came back before the stream's deadline."""
+
+
+class AudioServerError(AudioUnavailableError):
+    """The sound server (or device) went away during a measurement."""
+
+
 class AudioDropoutError(DetectionError):
     """The audio stream lost or inserted samples during a measurement (an xrun)."""
 
 
 class RecordingFileError(DstoolkitError, ValueError):
     """A file that is not a readable WAV recording, or metadata that cannot be stored."""
+
+
+class RecordingNotFoundError(RecordingFileError, FileNotFoundError):
+    """The recording to read does not exist."""
+
+
+class MemoryBudgetError(DstoolkitError, MemoryError):
+    """A computation would allocate more than the memory budget allows (one place sets it:
+    :func:`dstoolkit.evidence.set_memory_budget`, or ``DSTOOLKIT_MEMORY_BUDGET``)."""
+
+
+class WorkLimitError(DstoolkitError, RuntimeError):
+    """An iteration reached its cap without finishing: the input drives it to run away."""
+
+
+class OutputPathError(DstoolkitError, OSError):
+    """An output path cannot be used: it is an input, a folder, unwritable, or two outputs
+    of one command share it."""
+
+
+class OutputExistsError(OutputPathError, FileExistsError):
+    """An output file exists already and ``overwrite`` (``--overwrite``) was not given."""
 
 
 class MissingExtraError(DstoolkitError, ImportError):

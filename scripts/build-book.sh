@@ -111,6 +111,9 @@ if [ -f "$failed_stamp" ]; then
   echo "==> the last build failed: re-reading every page (--all)"
   fresh=(--all)
 fi
+# Explorers executed for the static site precompute the states of their live controls
+# (dstoolkit.teaching: Explorer, STATIC_SITE_ENV); in a notebook they recompute instead.
+export DSTOOLKIT_STATIC_SITE=1
 echo "==> jupyter-book build . -W -n --keep-going ${fresh[*]} $*"
 touch "$failed_stamp"
 # ipykernel 7 logs "[IPKernelApp] WARNING | Kernel is running over TCP without encryption"

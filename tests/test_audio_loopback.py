@@ -75,7 +75,8 @@ def loopback() -> Iterator[dict[str, str]]:
             else:
                 os.environ[key] = value
         if state.get("DSTOOLKIT_LOOPBACK_STATE") == "started":
-            subprocess.run(["bash", str(SCRIPT), "stop"], capture_output=True, timeout=60)
+            subprocess.run(["bash", str(SCRIPT), "stop"], capture_output=True, timeout=60,
+                           env={**os.environ, **pulse_env})
         try:
             audio.refresh_devices()
         except AudioUnavailableError:

@@ -131,7 +131,7 @@ def test_triangular_from_samples():
         (lambda: MassFunction({"a": 0.5, "z": 0.5}, frame="abc"), "not in the frame"),
         (lambda: MassFunction({frozenset(): 1.0}, frame="ab"), "empty set"),
         (lambda: triangular_evidence(1, 0, 2), "lower <= mode <= upper"),
-        (lambda: triangular_evidence(-1, 0, 1, p=0), "positive integer"),
+        (lambda: triangular_evidence(-1, 0, 1, p=0), "whole number in [1, 10000]"),
         (lambda: discount(MassFunction({"a": 1.0}), 1.5), "discount rate"),
     ],
 )

@@ -1,5 +1,8 @@
 """The exercise checker: every registered exercise accepts its solution, rejects a wrong
-answer with a hint, and recognises the common mistakes it lists."""
+answer with a hint, and recognises the common mistakes it lists; every coding exercise
+accepts its plain reference solution, names each registered wrong implementation, reports
+the first failing case with input, expected and got, and survives the learner's
+exceptions."""
 
 from __future__ import annotations
 
@@ -9,9 +12,20 @@ import numpy as np
 import pytest
 
 from dstoolkit import IntervalEvidence, MassFunction
-from dstoolkit.teaching import REGISTRY, Feedback, check, exercise, exercises, solution
+from dstoolkit.teaching import (
+    REGISTRY,
+    CodingExercise,
+    Exercise,
+    Feedback,
+    check,
+    exercise,
+    exercises,
+    mistake,
+    solution,
+)
 
-IDS = exercises()
+IDS = [k for k in exercises() if isinstance(REGISTRY[k], Exercise)]
+CODING = [k for k in exercises() if isinstance(REGISTRY[k], CodingExercise)]
 
 
 def perturbed(value: object) -> object:
@@ -67,8 +81,7 @@ def test_listed_mistakes_get_their_own_hint(exercise_id: str, index: int):
 
 
 @pytest.mark.parametrize("exercise_id", [k for k in IDS
-                                         if np.ndim(solution(k)) == 0
-                                         and isinstance(solution(k), float)])
+                                         if isinstance(solution(k), float)])
 def test_numeric_tolerance(exercise_id: str):
     ex = REGISTRY[exercise_id]
     value = solution(exercise_id)
@@ -118,3 +131,104 @@ def test_registering_is_short_and_guarded():
             exercise("nodot", hint="x")
     finally:
         REGISTRY.pop("testonly.half", None)
+
+
+# -- coding exercises ---------------------------------------------------------------------------
+
+
+def test_there_are_at_least_fifteen_coding_exercises():
+    assert len(CODING) >= 15
+
+
+@pytest.mark.parametrize("exercise_id", CODING)
+def test_plain_solution_passes_every_case(exercise_id: str):
+    feedback = check(exercise_id, solution(exercise_id))
+    assert feedback.correct, feedback.message
+    assert "right on all" in feedback.message
+
+
+@pytest.mark.parametrize(("exercise_id", "index"),
+                         [(k, i) for k in CODING for i in range(len(REGISTRY[k].mistakes))])
+def test_each_wrong_implementation_is_named(exercise_id: str, index: int):
+    wrong, why = REGISTRY[exercise_id].mistakes[index]
+    feedback = check(exercise_id, wrong)
+    assert not feedback.correct
+    for part in ("wrong on case", "input:", "expected:", "got:", f"Mistake: {why}"):
+        assert part in feedback.message, feedback.message
+
+
+@pytest.mark.parametrize("exercise_id", CODING)
+def test_stub_crash_and_non_function_give_feedback_not_errors(exercise_id: str):
+    def stub(*args):
+        raise NotImplementedError("write the body of this function")
+
+    def crash(*args):
+        return 1 / 0
+
+    assert "not answered yet" in check(exercise_id, stub).message
+    crashed = check(exercise_id, crash)
+    assert not crashed and "raises ZeroDivisionError" in crashed.message
+    assert "case 1 of" in crashed.message
+    assert "give the function itself" in check(exercise_id, 3.0).message
+    assert "not answered yet" in check(exercise_id, ...).message
+
+
+@pytest.mark.parametrize("exercise_id", CODING)
+def test_cases_are_seeded_and_include_chosen_and_random_ones(exercise_id: str):
+    ex = REGISTRY[exercise_id]
+    first, again = ex.cases(), ex.cases()
+    assert [c.label for c in first] == [c.label for c in again]
+    assert repr([c.args for c in first]) == repr([c.args for c in again])
+    labels = [c.label for c in first]
+    assert any(lab.startswith("random") for lab in labels)
+    assert sum(not lab.startswith("random") for lab in labels) >= 2
+
+
+def test_the_required_edge_cases_are_there():
+    labels = {k: " | ".join(c.label for c in REGISTRY[k].cases()) for k in CODING}
+    assert "total conflict" in labels["combine.dempster-code"]
+    assert "vacuous source" in labels["combine.dempster-code"]
+    assert "degenerate interval" in labels["dependent.energy-code"]
+    assert "total conflict" in labels["filter.step-code"]
+    assert "degenerate box" in labels["random.vertex-code"]
+    for required in ("combine.dempster-code", "dependent.energy-code",
+                     "dependent.coefficients-code", "dependent.combine-code",
+                     "random.vertex-code", "noise.triangular-code", "filter.step-code"):
+        assert required in CODING
+
+
+def test_an_expected_error_is_matched_by_type():
+    """Total conflict: raising ValueError is right, returning something is wrong."""
+    def returns_empty(m1, m2):
+        return solution("combine.dempster-code")(m1, m2) if any(
+            b & c for b in m1 for c in m2) else {}
+
+    feedback = check("combine.dempster-code", returns_empty)
+    assert not feedback and "(total conflict)" in feedback.message
+    assert "expected: raises ValueError" in feedback.message
+
+
+def test_filter_step_reference_is_dstoolkits_filter_and_plain_agrees():
+    from dstoolkit.teaching._ex_coding import HAND_STEP, filter_record
+
+    step = filter_record(*HAND_STEP)
+    rows, estimate = solution("filter.step-code")(*HAND_STEP)
+    assert estimate == pytest.approx(float(step["estimate"][0]), abs=1e-12)
+    assert sum(m for _, _, m in rows) == pytest.approx(1.0)
+
+
+def test_mistake_gives_a_wrong_answer_for_every_exercise():
+    for k in exercises():
+        assert not check(k, mistake(k)).correct, k
+
+
+def test_reference_solutions_are_plain_python():
+    """What teachers show is written out, not a call to dstoolkit."""
+    import inspect
+
+    from dstoolkit.teaching import _plain_solutions
+
+    source = inspect.getsource(_plain_solutions)
+    assert "dstoolkit" not in source.split('"""', 2)[2]
+    for k in CODING:
+        assert REGISTRY[k].plain.__module__ == _plain_solutions.__name__, k

@@ -1,6 +1,6 @@
 """Exercises of the chapters *Estimating the level* ("estimating.*") and *Beyond the paper*
-("beyond.*"), their sheets notebooks/09_estimating_level.ipynb and
-notebooks/10_beyond_the_paper.ipynb, and the claims the two chapters' prose makes.
+("beyond.*"), their sheets notebooks/NN_estimating_level.ipynb and
+notebooks/NN_beyond_the_paper.ipynb, and the claims the two chapters' prose makes.
 
 Every solution is accepted, every listed mistake is rejected with its own hint, a plainly
 wrong answer gets the generic hint, and the solutions agree with the paper's numbers where
@@ -11,7 +11,6 @@ makes in words (not in glued numbers) hold for the numbers they glue.
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import numpy as np
@@ -21,14 +20,13 @@ from conftest import executed_chapter, glued
 from dstoolkit.teaching import exercises, solution
 
 ROOT = Path(__file__).resolve().parents[1]
-SHEETS = {"estimating.": ROOT / "notebooks" / "09_estimating_level.ipynb",
-          "beyond.": ROOT / "notebooks" / "10_beyond_the_paper.ipynb"}
-IDS = {"estimating.": ["estimating.bias", "estimating.first-level", "estimating.improvement",
+IDS = {"estimating.": ["estimating.bias", "estimating.eq43-code", "estimating.first-level",
+                       "estimating.improvement", "estimating.improvement-choice",
                        "estimating.outlier-orders"],
-       "beyond.": ["beyond.failures", "beyond.kalman-sigma", "beyond.offset-ratio",
-                   "beyond.products", "beyond.start-error"]}
+       "beyond.": ["beyond.failures", "beyond.failures-choice", "beyond.kalman-sigma",
+                   "beyond.offset-ratio", "beyond.products", "beyond.sigma-code",
+                   "beyond.start-error"]}
 ALL_IDS = IDS["estimating."] + IDS["beyond."]
-CHECK = re.compile(r'check\("((?:estimating|beyond)\.[a-z0-9-]+)"')
 
 
 

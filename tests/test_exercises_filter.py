@@ -12,7 +12,6 @@ filled in. The chapters execute and their prose claims hold for the numbers they
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import numpy as np
@@ -23,12 +22,13 @@ from dstoolkit.teaching import exercises, solution
 
 ROOT = Path(__file__).resolve().parents[1]
 RANDOM_IDS = ["random.evaluations", "random.expectation", "random.merge", "random.monotone",
-              "random.product", "random.square"]
-FILTER_IDS = ["filter.conflict-start", "filter.counts", "filter.mass-rule",
-              "filter.mean-corrected", "filter.prediction"]
+              "random.product", "random.product-code", "random.square", "random.vertex-code"]
+FILTER_IDS = ["filter.conflict-start", "filter.counts", "filter.hand-dependence",
+              "filter.hand-estimate", "filter.hand-final", "filter.hand-fused",
+              "filter.hand-mapped", "filter.hand-noise", "filter.hand-observation-prediction",
+              "filter.hand-prediction", "filter.mass-rule", "filter.mean-corrected",
+              "filter.prediction", "filter.step-code"]
 IDS = RANDOM_IDS + FILTER_IDS
-SHEETS = {"05_random_sets": RANDOM_IDS, "06_recursive_filter": FILTER_IDS}
-CHECK = re.compile(r'check\("([a-z]+\.[a-z0-9-]+)",\s*(\w+)\)')
 
 
 

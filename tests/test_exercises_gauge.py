@@ -1,4 +1,4 @@
-"""Exercises of the gauge chapter (ids "gauge.*") and its sheet notebooks/07_level_gauge.ipynb.
+"""Exercises of the gauge chapter (ids "gauge.*") and its sheet notebooks/NN_level_gauge.ipynb.
 
 Every solution is accepted, every listed mistake is rejected with its own hint, a plainly
 wrong answer gets the generic hint, and the solutions agree with the paper's numbers where
@@ -19,7 +19,7 @@ from dstoolkit.teaching import exercises, solution
 
 ROOT = Path(__file__).resolve().parents[1]
 
-SHEET = ROOT / "notebooks" / "07_level_gauge.ipynb"
+SHEET = next((ROOT / "notebooks").glob("*_level_gauge.ipynb"))
 GAUGE_IDS = ["gauge.count", "gauge.eq43", "gauge.fundamental", "gauge.offset", "gauge.speed",
              "gauge.thermometer", "gauge.tolerance"]
 CHECK = re.compile(r'check\("(gauge\.[a-z0-9-]+)"')

@@ -251,12 +251,27 @@ def fake_sound_card(glitches: list[str]) -> types.ModuleType:
     return sd
 
 
+def use_card(monkeypatch, sd: types.ModuleType) -> types.ModuleType:
+    """Make ``sd`` the sounddevice module, its stream running in this process (the real
+    stream runs in a child process, which would not see the fake)."""
+    from dstoolkit.audio import _devices
+
+    def stream(played, samplerate, latency, device_in, device_out):
+        recorded = sd.playrec(played, samplerate, channels=1, dtype="float32",
+                              latency=latency, device=(device_in, device_out), blocking=True)
+        flags = sd.get_status()
+        return recorded[:, 0], str(flags), bool(flags.output_underflow)
+
+    monkeypatch.setitem(sys.modules, "sounddevice", sd)
+    monkeypatch.setattr(_devices, "_stream", stream)
+    return sd
+
+
 SHORT_SWEEP = LinearSweep(duration=1.0)
 
 
 def test_record_measurement_through_a_clean_fake_card(monkeypatch) -> None:
-    sd = fake_sound_card([])
-    monkeypatch.setitem(sys.modules, "sounddevice", sd)
+    sd = use_card(monkeypatch, fake_sound_card([]))
     rec = record_measurement(virtual_tube=TubeSetup(level_m=2.6), sweep=SHORT_SWEEP)
     assert sd.calls == ["ok"]
     assert rec.metadata.latency_s == FAKE_DELAY / 44100
@@ -266,15 +281,14 @@ def test_record_measurement_through_a_clean_fake_card(monkeypatch) -> None:
 
 
 def test_dropouts_are_detected_and_the_measurement_repeated(monkeypatch) -> None:
-    sd = fake_sound_card(["gap", "flag"])
-    monkeypatch.setitem(sys.modules, "sounddevice", sd)
+    sd = use_card(monkeypatch, fake_sound_card(["gap", "flag"]))
     rec = record_measurement(virtual_tube=TubeSetup(level_m=2.6), sweep=SHORT_SWEEP)
     assert sd.calls == ["gap", "flag", "ok"]
     assert rec.metadata.extra["attempt"] == 3
 
 
 def test_dropouts_in_every_attempt_raise(monkeypatch) -> None:
-    monkeypatch.setitem(sys.modules, "sounddevice", fake_sound_card(["gap", "flag"]))
+    use_card(monkeypatch, fake_sound_card(["gap", "flag"]))
     with pytest.raises(AudioDropoutError) as info:
         record_measurement(virtual_tube=TubeSetup(level_m=2.6), sweep=SHORT_SWEEP, attempts=2)
     message = str(info.value)
@@ -284,6 +298,6 @@ def test_dropouts_in_every_attempt_raise(monkeypatch) -> None:
 
 
 def test_a_deaf_input_is_reported(monkeypatch) -> None:
-    monkeypatch.setitem(sys.modules, "sounddevice", fake_sound_card(["deaf"]))
+    use_card(monkeypatch, fake_sound_card(["deaf"]))
     with pytest.raises(DetectionError, match="calibration chirp was not found"):
         record_measurement(virtual_tube=TubeSetup(level_m=2.6), sweep=SHORT_SWEEP, attempts=1)

@@ -23,7 +23,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-OPTIONAL = ("matplotlib", "ipywidgets", "IPython", "tqdm", "sounddevice")
+OPTIONAL = ("matplotlib", "ipywidgets", "IPython", "tqdm", "sounddevice", "numba")
 
 #: The tests of the core layers. Tests in them that need an extra carry the ``extras``
 #: marker and are left out of the core-only run (they run in the full environment).
@@ -91,7 +91,8 @@ def test_core_alone_on_the_oldest_numpy_and_scipy(tmp_path: Path) -> None:
         import importlib.util, pathlib, numpy, scipy, dstoolkit
         assert (pathlib.Path(dstoolkit.__file__).parent / "py.typed").is_file()  # PEP 561
         print(numpy.__version__, scipy.__version__, dstoolkit.__version__, dstoolkit.__file__)
-        print(*[m for m in ('matplotlib', 'ipywidgets', 'IPython', 'tqdm', 'sounddevice')
+        print(*[m for m in ('matplotlib', 'ipywidgets', 'IPython', 'tqdm', 'sounddevice',
+                            'numba')
                 if importlib.util.find_spec(m)])
     """)], tmp_path, timeout=120).stdout.splitlines()
     versions = probe[0].split()

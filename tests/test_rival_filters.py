@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 
 from dstoolkit import EvidenceError, InconsistentDataError, TotalConflictError
+from dstoolkit.evidence import Boxes
 from dstoolkit.filters import (
     BoundedErrorFilter,
     BoundedNoise,
-    BoxMass,
     FilterResult,
     KalmanFilter,
     NassreddineFilter,
@@ -221,7 +221,7 @@ def test_cluster_boxes_is_an_outer_approximation_within_the_cap():
     half = rng.uniform(0.01, 0.5, size=(2, 200, 2))
     mass = rng.uniform(size=(2, 200))
     mass /= mass.sum(axis=1, keepdims=True)
-    bm = BoxMass(centre - half, centre + half, mass)
+    bm = Boxes(centre - half, centre + half, mass)
     out, merged = cluster_boxes(bm, 12)
     assert np.all((out.mass > 0).sum(axis=1) <= 12)
     np.testing.assert_allclose(out.mass.sum(axis=1), 1.0)

@@ -7,6 +7,8 @@ from __future__ import annotations
 from dstoolkit.errors import (
     AudioDropoutError,
     AudioDropoutWarning,
+    AudioServerError,
+    AudioStallError,
     AudioUnavailableError,
     NoAudioDeviceError,
     RecordingFileError,
@@ -19,6 +21,7 @@ from ._devices import (
     audio_available,
     calibration_chirp,
     check_calibration,
+    check_sound_server,
     choose_device,
     list_devices,
     measure_latency,
@@ -40,6 +43,9 @@ from ._measurement import (
     simulate_measurement,
 )
 from ._recording_io import (
+    MAX_METADATA_BYTES,
+    MAX_METADATA_DEPTH,
+    MAX_RECORDING_BYTES,
     RecordingMetadata,
     WavRecording,
     load_recording,
@@ -47,10 +53,15 @@ from ._recording_io import (
 )
 
 __all__ = [
+    "MAX_METADATA_BYTES",
+    "MAX_METADATA_DEPTH",
+    "MAX_RECORDING_BYTES",
     "Analysis",
     "AudioDevice",
     "AudioDropoutError",
     "AudioDropoutWarning",
+    "AudioServerError",
+    "AudioStallError",
     "AudioUnavailableError",
     "CALIBRATION_GAP_S",
     "LevelEstimate",
@@ -67,6 +78,7 @@ __all__ = [
     "audio_available",
     "calibration_chirp",
     "check_calibration",
+    "check_sound_server",
     "choose_device",
     "filter_levels",
     "list_devices",

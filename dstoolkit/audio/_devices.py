@@ -22,10 +22,19 @@ Headless machines and CI reach a software loopback made by ``scripts/audio-loopb
 
 from __future__ import annotations
 
+import json
+import os
+import select
+import socket
+import subprocess
+import sys
+import tempfile
+import time
 import warnings
 from dataclasses import dataclass
+from pathlib import Path
 from types import ModuleType
-from typing import Literal
+from typing import Literal, NoReturn
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -33,8 +42,11 @@ from scipy import signal
 
 from dstoolkit.errors import (
     AudioDropoutWarning,
+    AudioServerError,
+    AudioStallError,
     AudioUnavailableError,
     DetectionError,
+    InvalidInputError,
     NoAudioDeviceError,
 )
 from dstoolkit.gauge._latency import LatencyEstimate, as_signal, estimate_latency
@@ -45,6 +57,10 @@ from dstoolkit.gauge._latency import LatencyEstimate, as_signal, estimate_latenc
 MIN_PADDING_S = 0.5
 #: PortAudio's suggested latency (s) that returned the signal intact through the loopback.
 DEFAULT_LATENCY_S = 0.25
+#: Seconds allowed for the stream's process to start and its stream to open.
+STREAM_START_TIMEOUT_S = 20.0
+#: Seconds past its expected length after which a stream counts as stalled.
+STREAM_GRACE_S = 3.0
 #: Smallest |normalised correlation| at which a calibration chirp counts as found.
 MIN_CALIBRATION_CORRELATION = 0.3
 
@@ -137,7 +153,7 @@ def list_devices(kind: Literal["input", "output"] | None = None) -> list[AudioDe
         sounddevice or PortAudio is not installed.
     """
     if kind not in (None, "input", "output"):
-        raise ValueError(f"kind must be 'input', 'output' or None, not {kind!r}")
+        raise InvalidInputError(f"kind must be 'input', 'output' or None, not {kind!r}")
     sd = _sounddevice()
     try:
         infos = sd.query_devices()
@@ -173,7 +189,7 @@ def choose_device(device: int | str | None, kind: Literal["input", "output"]) ->
     there is no such device (or no default one), listing the devices that exist.
     """
     if kind not in ("input", "output"):
-        raise ValueError(f"kind must be 'input' or 'output', not {kind!r}")
+        raise InvalidInputError(f"kind must be 'input' or 'output', not {kind!r}")
     sd = _sounddevice()
     try:
         info = sd.query_devices(device, kind)
@@ -204,11 +220,11 @@ def calibration_chirp(
     microphones; its ends are tapered (Tukey window) so it starts and stops without clicks.
     """
     if samplerate <= 0 or duration_s <= 0:
-        raise ValueError(
+        raise InvalidInputError(
             f"samplerate ({samplerate}) and duration_s ({duration_s}) must be positive"
         )
     if not 0 < f_start_hz < f_stop_hz < samplerate / 2:
-        raise ValueError(
+        raise InvalidInputError(
             f"need 0 < f_start_hz ({f_start_hz}) < f_stop_hz ({f_stop_hz}) < samplerate/2 "
             f"({samplerate / 2})"
         )
@@ -295,11 +311,13 @@ def play_record(
     sig = as_signal(x, "signal")
     peak = float(np.max(np.abs(sig)))
     if peak > 1.0:
-        raise ValueError(f"the signal peaks at {peak:.3g} > 1 and would clip: scale it down")
+        raise InvalidInputError(
+            f"the signal peaks at {peak:.3g} > 1 and would clip: scale it down")
     if samplerate <= 0 or int(samplerate) != samplerate:
-        raise ValueError(f"samplerate must be a positive whole number of Hz, got {samplerate}")
+        raise InvalidInputError(
+            f"samplerate must be a positive whole number of Hz, got {samplerate}")
     if lead_in_s < MIN_PADDING_S or tail_s < MIN_PADDING_S:
-        raise ValueError(
+        raise InvalidInputError(
             f"lead_in_s ({lead_in_s}) and tail_s ({tail_s}) must be at least {MIN_PADDING_S} s "
             "so that the latency cannot push the signal out of the recording"
         )
@@ -310,20 +328,9 @@ def play_record(
     played = np.concatenate(
         [np.zeros(lead), sig, np.zeros(int(round(tail_s * samplerate)))]
     ).astype(np.float32)
-    try:
-        recorded = sd.playrec(
-            played, int(samplerate), channels=1, dtype="float32", latency=latency,
-            device=(device_in, device_out), blocking=True,
-        )
-    except sd.PortAudioError as exc:
-        raise NoAudioDeviceError(
-            f"PortAudio failed to play and record at {samplerate} Hz on input {device_in}, "
-            f"output {device_out}: {exc}. Try another sample rate or device. {NO_DEVICE_HINT}"
-        ) from exc
-    flags = sd.get_status()
-    status = str(flags)
-    # input_underflow (no input yet: zeros) is set at the start of every duplex stream
-    dropped = bool(flags.input_overflow or flags.output_underflow)
+    del sd  # the stream itself runs in a child process (see _stream)
+    recorded, status, dropped = _stream(played, int(samplerate), latency, device_in,
+                                        device_out)
     if dropped:
         warnings.warn(
             f"the audio stream dropped samples ({status}): the recording has gaps. "
@@ -333,7 +340,7 @@ def play_record(
         )
     return PlayRecordResult(
         played=played.astype(float),
-        recorded=np.asarray(recorded[:, 0], dtype=float),
+        recorded=np.asarray(recorded, dtype=float),
         samplerate=float(samplerate),
         signal_start=lead,
         latency_setting=latency,
@@ -342,6 +349,161 @@ def play_record(
         status=status,
         dropped_samples=dropped,
     )
+
+
+def sound_server_problem() -> str | None:
+    """What is wrong with the PulseAudio server the environment points at, or None.
+
+    Checks each ``unix:`` socket of ``PULSE_SERVER`` (else ``$PULSE_RUNTIME_PATH/native``
+    or ``$XDG_RUNTIME_DIR/pulse/native``): a socket that is missing or refuses connections
+    means the server is not running. A server that accepts connections may still be
+    stalled (stopped): that shows as an :class:`~dstoolkit.errors.AudioStallError` instead.
+    """
+    server = os.environ.get("PULSE_SERVER", "")
+    paths = [part[5:] for part in server.split() if part.startswith("unix:")]
+    if not server:
+        for base in (os.environ.get("PULSE_RUNTIME_PATH"), os.environ.get("XDG_RUNTIME_DIR")):
+            if base:
+                native = Path(base) / "native" if base == os.environ.get(
+                    "PULSE_RUNTIME_PATH") else Path(base) / "pulse" / "native"
+                if native.exists():
+                    paths.append(str(native))
+    for path in paths:
+        with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as sock:
+            sock.settimeout(1.0)
+            try:
+                sock.connect(path)
+            except (FileNotFoundError, ConnectionRefusedError) as exc:
+                return (f"the PulseAudio sound server at unix:{path} is not running "
+                        f"({exc.strerror})")
+            except OSError:
+                continue
+    return None
+
+
+def check_sound_server() -> None:
+    """Raise :class:`~dstoolkit.errors.AudioServerError` when the sound server has gone away."""
+    problem = sound_server_problem()
+    if problem is not None:
+        raise AudioServerError(
+            f"the sound server died during the measurement: {problem}. Restart it (for the "
+            "software loopback: bash scripts/audio-loopback.sh start) and measure again."
+        )
+
+
+def _stream(played: np.ndarray, samplerate: int, latency: float | str, device_in: int,
+            device_out: int) -> tuple[np.ndarray, str, bool]:
+    """Play and record in a child process (``_stream_child.py``) under a deadline.
+
+    Returns the recording (float32, as long as ``played``), PortAudio's status and whether
+    samples were dropped. Raises :class:`~dstoolkit.errors.AudioStallError` when the stream does not
+    start within :data:`STREAM_START_TIMEOUT_S` or does not end within its length plus
+    :data:`STREAM_GRACE_S`, :class:`~dstoolkit.errors.AudioServerError` when the sound server died,
+    and :class:`~dstoolkit.errors.NoAudioDeviceError` when PortAudio refuses the stream.
+    """
+    expected = played.size / samplerate
+    child = Path(__file__).with_name("_stream_child.py")
+    with tempfile.TemporaryFile() as log:
+        proc = subprocess.Popen([sys.executable, str(child)], stdin=subprocess.PIPE,
+                                stdout=subprocess.PIPE, stderr=log)
+        assert proc.stdin is not None and proc.stdout is not None
+        try:
+            header = {"samplerate": samplerate, "latency": latency,
+                      "device": [device_in, device_out], "frames": int(played.size)}
+            try:
+                proc.stdin.write(json.dumps(header).encode() + b"\n"
+                                 + played.astype(np.float32).tobytes())
+                proc.stdin.close()
+            except BrokenPipeError:
+                pass  # the child died at once: reported below
+            reader = _Reader(proc.stdout.fileno())
+            start_deadline = time.monotonic() + STREAM_START_TIMEOUT_S
+            first = reader.line(start_deadline)
+            if first == b"started":
+                end = time.monotonic() + expected + STREAM_GRACE_S
+                first = reader.line(end)
+                if first is None:
+                    _stalled(proc, f"no samples came back for {STREAM_GRACE_S:g} s past the "
+                                   f"stream's expected length of {expected:.1f} s")
+            elif first is None and reader.open:
+                _stalled(proc, f"the stream did not start within "
+                               f"{STREAM_START_TIMEOUT_S:g} s")
+            if not first:
+                proc.kill()
+                proc.wait()
+                log.seek(0)
+                said = log.read().decode(errors="replace").strip().splitlines()[-1:]
+                check_sound_server()
+                raise AudioServerError(
+                    f"the audio stream's process ended without a recording (exit code "
+                    f"{proc.returncode}{': ' + said[0] if said else ''}); check the sound "
+                    "server and measure again"
+                )
+            result = json.loads(first)
+            if "error" in result:
+                proc.wait(timeout=5)
+                check_sound_server()
+                raise NoAudioDeviceError(
+                    f"PortAudio failed to play and record at {samplerate} Hz on input "
+                    f"{device_in}, output {device_out}: {result['message']}. Try another "
+                    f"sample rate or device. {NO_DEVICE_HINT}"
+                )
+            data = reader.exact(4 * int(result["frames"]), time.monotonic() + 10.0)
+            if data is None:
+                _stalled(proc, "the recording did not arrive")
+            proc.wait(timeout=5)
+            # a server killed mid-stream ends the stream early with silence: say so
+            check_sound_server()
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+            proc.stdout.close()
+    recorded = np.frombuffer(data, dtype=np.float32)
+    return recorded, str(result["status"]), bool(result["dropped"])
+
+
+def _stalled(proc: subprocess.Popen[bytes], what: str) -> NoReturn:
+    proc.kill()
+    proc.wait()
+    check_sound_server()
+    raise AudioStallError(
+        f"the audio stream stalled: {what}. The sound server or the device stopped "
+        "responding; restart it (for the software loopback: bash scripts/audio-loopback.sh "
+        "stop, then start) and measure again."
+    )
+
+
+class _Reader:
+    """Reads lines and byte counts from a pipe, each by a deadline (None when it passes)."""
+
+    def __init__(self, fd: int) -> None:
+        self.fd, self.buffer, self.open = fd, b"", True
+
+    def _fill(self, deadline: float) -> bool:
+        timeout = deadline - time.monotonic()
+        if timeout <= 0 or not select.select([self.fd], [], [], timeout)[0]:
+            return False
+        chunk = os.read(self.fd, 1 << 20)
+        if not chunk:
+            self.open = False
+            return False
+        self.buffer += chunk
+        return True
+
+    def line(self, deadline: float) -> bytes | None:
+        while b"\n" not in self.buffer:
+            if not self._fill(deadline):
+                return b"" if not self.open else None
+        line, _, self.buffer = self.buffer.partition(b"\n")
+        return line
+
+    def exact(self, n: int, deadline: float) -> bytes | None:
+        while len(self.buffer) < n:
+            if not self._fill(deadline):
+                return None
+        data, self.buffer = self.buffer[:n], self.buffer[n:]
+        return data
 
 
 def measure_latency(

@@ -32,7 +32,7 @@ import math
 import os
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -43,7 +43,13 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 from dstoolkit.audio import _devices as audio
-from dstoolkit.errors import AudioDropoutError, AudioUnavailableError, DetectionError
+from dstoolkit.errors import (
+    AudioDropoutError,
+    DetectionError,
+    DstoolkitError,
+    InvalidInputError,
+)
+from dstoolkit.evidence._limits import check_memory
 from dstoolkit.gauge._acoustics import SpeedModel, speed_of_sound
 from dstoolkit.gauge._level import ResonanceSeriesFit, fit_resonance_series
 from dstoolkit.gauge._resonance import DetectionResult, detect_resonances
@@ -57,12 +63,15 @@ from dstoolkit.studies._experiments import (
     estimate_orders,
     paper_filters,
 )
+from dstoolkit.studies._output import atomic_write, check_outputs, figure_tag, made_by
 
 from ._recording_io import (
     RecordingFileError,
     RecordingMetadata,
     WavRecording,
     load_recording,
+    open_recording,
+    read_metadata,
     save_recording,
 )
 
@@ -118,9 +127,9 @@ def estimate_level(
     :class:`LevelEstimate`. Missed resonances are fine: the fit uses the detection's
     ``steps``, which jump over them."""
     if not math.isfinite(temperature_c) or not -50.0 <= temperature_c <= 100.0:
-        raise ValueError(f"temperature_c = {temperature_c} °C is not an air temperature")
+        raise InvalidInputError(f"temperature_c = {temperature_c} °C is not an air temperature")
     if not temperature_uncertainty_c >= 0:
-        raise ValueError(f"temperature_uncertainty_c must be >= 0, got "
+        raise InvalidInputError(f"temperature_uncertainty_c must be >= 0, got "
                          f"{temperature_uncertainty_c}")
     z, steps = detection.frequencies, detection.steps
     c = float(speed_of_sound(temperature_c, speed_model))
@@ -259,6 +268,32 @@ def sweep_from_metadata(metadata: RecordingMetadata, samplerate: float) -> Linea
                        sample_rate=float(samplerate), taper=taper)
 
 
+#: Seconds of a recording read after the end of its sweep (the closing chirp and tail);
+#: anything later is not analysed, so a long file costs no more than a short one.
+ANALYSIS_TAIL_S = 2.0
+#: Seconds allowed before the sweep when the metadata does not say where it starts.
+UNKNOWN_ONSET_S = 2.0
+
+
+def _load_for_analysis(path: str | os.PathLike[str]) -> WavRecording:
+    """Read the part of a recording that the analysis uses: up to the sweep's end plus
+    :data:`ANALYSIS_TAIL_S` (the whole file when the metadata does not describe the sweep
+    beyond :data:`UNKNOWN_ONSET_S` + the paper's sweep)."""
+    fh, layout = open_recording(path)
+    with fh:
+        meta = read_metadata(layout.info)
+    duration = meta.sweep_duration_s or PAPER_SWEEP.duration
+    onset = meta.sweep_onset_s if meta.sweep_onset_s is not None else UNKNOWN_ONSET_S
+    end = onset + duration + ANALYSIS_TAIL_S
+    # nonsense metadata (a negative onset...): read it all, analyze() says what is wrong
+    stop_s = end if 0 < end < math.inf else None
+    frames = min(layout.frames, (stop_s or math.inf) * layout.samplerate)
+    # the detection works on a few float64 copies of the samples it is given
+    check_memory(frames * 8 * 24, f"analysing {frames / layout.samplerate:.1f} s of "
+                 f"{os.fspath(path)!r}", "cut the recording to the measurement")
+    return load_recording(path, stop_s=stop_s)
+
+
 def analyze(
     recording: WavRecording | str | os.PathLike[str],
     *,
@@ -300,13 +335,13 @@ def analyze(
     ValueError
         No temperature.
     """
-    rec = recording if isinstance(recording, WavRecording) else load_recording(recording)
+    rec = recording if isinstance(recording, WavRecording) else _load_for_analysis(recording)
     meta = rec.metadata
     notes: list[str] = []
     if temperature_c is None:
         temperature_c = meta.temperature_c
     if temperature_c is None:
-        raise ValueError(
+        raise InvalidInputError(
             "the temperature is unknown: the recording does not say and none was given; "
             "pass temperature_c (--temperature T on the command line), in °C"
         )
@@ -317,17 +352,19 @@ def analyze(
             notes.append("note: the recording does not describe its sweep; assumed the "
                          "paper's 1000 -> 2400 Hz in 5 s")
     if sweep.sample_rate != rec.samplerate:
-        raise ValueError(f"the sweep's sample rate {sweep.sample_rate} Hz differs from the "
+        raise InvalidInputError(f"the sweep's sample rate {sweep.sample_rate} Hz differs from the "
                          f"recording's {rec.samplerate} Hz")
     fs = rec.samplerate
     if meta.sweep_onset_s is not None and meta.latency_s is not None:
         latency: float | None = meta.latency_s
-        start = int(round((meta.sweep_onset_s - meta.latency_s) * fs))
-        if start < 0:
+        start_s = meta.sweep_onset_s - meta.latency_s
+        if not 0 <= start_s <= rec.duration_s or not 0 <= meta.latency_s < 60:
             raise RecordingFileError(
-                f"inconsistent metadata: sweep onset {meta.sweep_onset_s} s is earlier "
-                f"than the latency {meta.latency_s} s"
+                f"inconsistent metadata: sweep onset {meta.sweep_onset_s:g} s and latency "
+                f"{meta.latency_s:g} s put the sweep's start outside the recording "
+                f"(0 to {rec.duration_s:.2f} s)"
             )
+        start = int(round(start_s * fs))
     else:
         latency, start = None, 0
     samples = rec.samples[start:]
@@ -336,7 +373,7 @@ def analyze(
         raise DetectionError(
             f"the recording is too short for the sweep: a {sweep.duration:g} s sweep"
             + (f" after {latency:.3f} s of latency" if latency else "")
-            + f" needs {needed:.2f} s from the sweep's start, the recording holds "
+            + f" needs {needed:.3g} s from the sweep's start, the recording holds "
             f"{samples.size / fs:.2f} s. Record longer (a tail of silence after the sweep)."
         )
     gauge_rec = Recording(samples=samples, sweep=sweep)
@@ -383,7 +420,7 @@ def _drive(sweep: LinearSweep, virtual_tube: TubeSetup | None, amplitude: float)
     if virtual_tube is not None:
         return virtual_tube_signal(virtual_tube, sweep, amplitude=amplitude)
     if not 0 < amplitude <= 1:
-        raise ValueError(f"amplitude must be in (0, 1], got {amplitude}")
+        raise InvalidInputError(f"amplitude must be in (0, 1], got {amplitude}")
     return amplitude * sweep.waveform()
 
 
@@ -430,7 +467,7 @@ def _recording(
 
 def _samplerate(sweep: LinearSweep) -> int:
     if sweep.sample_rate != int(sweep.sample_rate):
-        raise ValueError(f"the sweep's sample rate must be a whole number of Hz for audio, "
+        raise InvalidInputError(f"the sweep's sample rate must be a whole number of Hz for audio, "
                          f"got {sweep.sample_rate}")
     return int(sweep.sample_rate)
 
@@ -466,10 +503,10 @@ def record_measurement(
     """
     if temperature_c is None:
         if virtual_tube is None:
-            raise ValueError("give the air temperature (temperature_c, °C)")
+            raise InvalidInputError("give the air temperature (temperature_c, °C)")
         temperature_c = virtual_tube.temperature_c
     if attempts < 1:
-        raise ValueError(f"attempts must be at least 1, got {attempts}")
+        raise InvalidInputError(f"attempts must be at least 1, got {attempts}")
     fs = _samplerate(sweep)
     programme = _programme(sweep, _drive(sweep, virtual_tube, amplitude))
     problems: list[str] = []
@@ -494,6 +531,9 @@ def record_measurement(
         except AudioDropoutError as exc:
             problems.append(f"attempt {attempt}: {exc}")
             continue
+        except DetectionError:
+            audio.check_sound_server()  # a dead server is not a wiring problem
+            raise
         if save is not None:
             save_recording(save, recording.samples, fs, recording.metadata)
         return recording
@@ -538,7 +578,8 @@ def simulate_measurement(
     latency ``latency_s`` (a pure delay, plus white noise of ``noise_rms`` full scale), with
     no audio at all. Same programme, same latency estimation, same metadata."""
     if not 0 <= latency_s < audio.MIN_PADDING_S:
-        raise ValueError(f"latency_s must be in [0, {audio.MIN_PADDING_S}) s, got {latency_s}")
+        raise InvalidInputError(
+            f"latency_s must be in [0, {audio.MIN_PADDING_S}) s, got {latency_s}")
     fs = _samplerate(sweep)
     programme = _programme(sweep, _drive(sweep, virtual_tube, amplitude))
     lead = tail = int(round(audio.MIN_PADDING_S * fs))
@@ -577,6 +618,8 @@ def add_measure_arguments(parser: argparse.ArgumentParser) -> None:
                         metavar="S", help="PortAudio latency setting, s (default %(default)s)")
     parser.add_argument("--list-devices", action="store_true",
                         help="list the sound devices and exit")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace existing files (the recording, the figure)")
 
 
 def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
@@ -586,27 +629,43 @@ def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
                         help="air temperature, °C (default: the recording's metadata)")
     parser.add_argument("--figure", metavar="PATH",
                         help="where to save the figure (default: REC.png)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace an existing figure")
 
 
-def _report(analysis: Analysis, figure: str | os.PathLike[str]) -> None:
+def _report(analysis: Analysis, figure: Path, command: str) -> None:
     print(analysis.summary())
-    analysis.figure().savefig(figure, dpi=120)
+    fig = analysis.figure()
+    atomic_write(figure, lambda fh: fig.savefig(fh, format="png", dpi=120,
+                                                metadata=figure_tag(command)))
     print(f"figure saved to {figure}")
 
 
-def _fail(exc: Exception) -> int:
+def _fail(exc: BaseException) -> int:
     print(f"error: {exc}", file=sys.stderr)
     return 1
 
 
+def _figure_check(command: str) -> Callable[[Path], bool]:
+    """An existing figure may be replaced when the same command made it."""
+    return lambda path: path.suffix.lower() == ".png" and made_by(path, command)
+
+
 def measure_command(args: argparse.Namespace) -> int:
     """``python -m dstoolkit measure``: measure, print level ± uncertainty, save a figure.
-    Returns the exit status (0 ok, 1 with a message on stderr)."""
+    Returns the exit status (0 ok, 1 with a message on stderr). The output paths are
+    checked before the measurement starts; none replaces a file unless ``--overwrite``
+    (a figure an earlier ``measure`` made may be replaced)."""
     try:
         if args.list_devices:
             for device in audio.list_devices():
                 print(device)
             return 0
+        outputs = {"the figure (--figure)": args.figure}
+        if args.save:
+            outputs = {"the recording (--save)": args.save, **outputs}
+        paths = check_outputs(outputs, overwrite=args.overwrite,
+                              replaceable=_figure_check("measure"))
         setup = (None if args.virtual_level is None
                  else TubeSetup(level_m=args.virtual_level, temperature_c=args.temperature))
         analysis = measure(args.temperature, input_device=_device(args.input),
@@ -614,18 +673,31 @@ def measure_command(args: argparse.Namespace) -> int:
                            latency=args.latency, save=args.save)
         if args.save:
             print(f"recording saved to {args.save}")
-        _report(analysis, args.figure)
-    except (AudioUnavailableError, DetectionError, ValueError, OSError) as exc:
+        _report(analysis, paths["the figure (--figure)"], "measure")
+    except (DstoolkitError, OSError) as exc:
         return _fail(exc)
     return 0
 
 
+def analysis_figure_path(recording: str | os.PathLike[str]) -> Path:
+    """The default figure of ``analyze REC``: REC with the suffix .png, or REC.png when the
+    recording itself ends in .png (an output never replaces its input)."""
+    path = Path(recording)
+    figure = path.with_suffix(".png")
+    return path.with_name(path.name + ".png") if figure.name == path.name else figure
+
+
 def analyze_command(args: argparse.Namespace) -> int:
     """``python -m dstoolkit analyze REC.wav``: print level ± uncertainty, save a figure.
-    Returns the exit status (0 ok, 1 with a message on stderr)."""
+    Returns the exit status (0 ok, 1 with a message on stderr). The figure never replaces
+    the recording, nor an existing file unless ``--overwrite`` (or an earlier ``analyze``
+    made it); it is checked before the analysis starts."""
     try:
+        figure = args.figure or analysis_figure_path(args.recording)
+        paths = check_outputs({"the figure": figure}, inputs=[args.recording],
+                              overwrite=args.overwrite, replaceable=_figure_check("analyze"))
         analysis = analyze(args.recording, temperature_c=args.temperature)
-        _report(analysis, args.figure or Path(args.recording).with_suffix(".png"))
-    except (DetectionError, ValueError, OSError) as exc:
+        _report(analysis, paths["the figure"], "analyze")
+    except (DstoolkitError, OSError) as exc:
         return _fail(exc)
     return 0

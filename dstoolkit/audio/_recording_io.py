@@ -23,6 +23,7 @@ import io
 import json
 import math
 import os
+import stat
 import struct
 from dataclasses import asdict, dataclass, field, fields
 from typing import Any, Literal
@@ -31,7 +32,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.io import wavfile
 
-from dstoolkit.errors import RecordingFileError
+from dstoolkit.errors import RecordingFileError, RecordingNotFoundError
+from dstoolkit.studies._output import atomic_write, check_outputs
 
 METADATA_VERSION = 1
 _INT_SCALE = {np.dtype(np.int16): 32768.0, np.dtype(np.int32): 2147483648.0}
@@ -84,8 +86,13 @@ class RecordingMetadata:
                 continue
             if isinstance(value, bool) or not isinstance(value, int | float | np.number):
                 raise RecordingFileError(f"{f.name} must be a number or None, got {value!r}")
-            if not math.isfinite(value):
-                raise RecordingFileError(f"{f.name} must be finite or None, got {value}")
+            try:
+                finite = math.isfinite(value)
+            except OverflowError:  # an int beyond the float range
+                finite = False
+            if not finite:
+                shown = str(value) if len(str(value)) < 20 else str(value)[:12] + "…"
+                raise RecordingFileError(f"{f.name} must be finite or None, got {shown}")
             object.__setattr__(self, f.name, float(value))
         for name in ("f_start_hz", "f_stop_hz", "sweep_duration_s", "level_m"):
             value = getattr(self, name)
@@ -111,17 +118,51 @@ class RecordingMetadata:
 
     @classmethod
     def from_json(cls, text: str) -> RecordingMetadata:
+        """Parse metadata written by :meth:`to_json`; a one-line error for anything else."""
+        if len(text) > MAX_METADATA_BYTES:
+            raise RecordingFileError(f"the metadata holds {len(text)} characters, more than "
+                                     f"{MAX_METADATA_BYTES}")
+        depth = _json_depth(text)
+        if depth > MAX_METADATA_DEPTH:
+            raise RecordingFileError(f"the metadata is nested {depth} levels deep, more than "
+                                     f"{MAX_METADATA_DEPTH}; it is not dstoolkit metadata")
         try:
             payload = json.loads(text)
-        except json.JSONDecodeError as exc:
+        except (json.JSONDecodeError, RecursionError, ValueError) as exc:
             raise RecordingFileError(f"the WAV comment is not dstoolkit metadata: {exc}") from exc
         if not isinstance(payload, dict) or "dstoolkit_metadata" not in payload:
             raise RecordingFileError("the WAV comment is not dstoolkit metadata")
         known = {f.name for f in fields(cls)}
         unknown = set(payload) - known - {"dstoolkit_metadata"}
-        extra = dict(payload.get("extra") or {})
+        extra = payload.get("extra") or {}
+        if not isinstance(extra, dict):
+            raise RecordingFileError(f"the metadata's extra must be an object, got "
+                                     f"{type(extra).__name__}")
+        extra = dict(extra)
         extra.update({k: payload[k] for k in unknown})  # fields of a newer version
         return cls(**{k: v for k, v in payload.items() if k in known - {"extra"}}, extra=extra)
+
+
+def _json_depth(text: str) -> int:
+    """Deepest nesting of [ and { in JSON text (outside strings)."""
+    depth = deepest = 0
+    in_string = escaped = False
+    for ch in text:
+        if in_string:
+            if escaped:
+                escaped = False
+            elif ch == "\\":
+                escaped = True
+            elif ch == '"':
+                in_string = False
+        elif ch == '"':
+            in_string = True
+        elif ch in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif ch in "]}":
+            depth -= 1
+    return deepest
 
 
 @dataclass(frozen=True)
@@ -159,13 +200,15 @@ def save_recording(
     metadata: RecordingMetadata | None = None,
     *,
     sample_format: Literal["float32", "int16"] = "float32",
+    overwrite: bool = True,
 ) -> None:
     """Write a mono recording and its metadata to a WAV file.
 
     Parameters
     ----------
     path : path-like
-        The file to write (overwritten).
+        The file to write, atomically (a temporary file renamed over it: a failure leaves
+        no partial file).
     samples : array_like, 1-D
         Full scale ±1.
     samplerate : int
@@ -175,6 +218,8 @@ def save_recording(
     sample_format : {"float32", "int16"}
         float32 keeps the samples as recorded; int16 is read by every program but
         quantises, and refuses samples beyond ±1.
+    overwrite : bool
+        Replace an existing file (default); False raises OutputExistsError instead.
     """
     x = np.asarray(samples, dtype=float)
     if x.ndim == 2 and x.shape[1] == 1:
@@ -210,72 +255,236 @@ def save_recording(
     riff = bytearray(buffer.getvalue())
     riff += _info_chunk(metadata)
     riff[4:8] = struct.pack("<I", len(riff) - 8)
-    with open(path, "wb") as fh:
-        fh.write(riff)
+    if not overwrite:
+        check_outputs({"the recording": path})
+    atomic_write(path, lambda fh: fh.write(riff))
 
 
-def _read_info(raw: bytes, path: str | os.PathLike[str]) -> dict[bytes, str]:
-    """The LIST/INFO text fields of a RIFF/WAVE file ({} when it has none)."""
-    if len(raw) < 12 or raw[:4] not in (b"RIFF", b"RIFX") or raw[8:12] != b"WAVE":
+#: Largest recording file read, bytes (256 MiB: 25 minutes of 32-bit float at 44.1 kHz);
+#: the analysis needs a few times the file size in memory, and a gauge recording lasts
+#: seconds.
+MAX_RECORDING_BYTES = 256 * 2**20
+#: Largest LIST (metadata) chunk read, bytes; dstoolkit writes well under 1 KiB.
+MAX_METADATA_BYTES = 64 * 2**10
+#: Deepest nesting of JSON arrays and objects accepted in the metadata.
+MAX_METADATA_DEPTH = 32
+#: Chunks walked in a RIFF file at most (a real WAV has 2 to 5).
+MAX_CHUNKS = 1000
+_FORMATS = {1: "PCM", 3: "float"}
+
+
+@dataclass(frozen=True)
+class WavLayout:
+    """Where the samples of a WAV file are and how they are encoded (its fmt chunk)."""
+
+    encoding: str  # "PCM" or "float"
+    channels: int
+    samplerate: int
+    bits: int
+    block_align: int
+    data_offset: int
+    frames: int
+    big_endian: bool
+    info: dict[bytes, str]
+
+
+def _open_regular(path: str | os.PathLike[str]) -> tuple[Any, int]:
+    """Open a regular file for reading without blocking (a FIFO would wait for a writer)."""
+    name = os.fspath(path)
+    try:
+        fd = os.open(name, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except FileNotFoundError:
+        raise RecordingNotFoundError(f"{name!r}: No such file; check the path") from None
+    except IsADirectoryError:
+        raise RecordingFileError(f"{name!r} is a folder, not a WAV file") from None
+    st = os.fstat(fd)
+    if not stat.S_ISREG(st.st_mode):
+        os.close(fd)
         raise RecordingFileError(
-            f"{os.fspath(path)!r} is not a WAV file (it starts with {raw[:12]!r}); "
-            "save recordings with dstoolkit.audio.save_recording"
+            f"{name!r} is not a regular file (a pipe, a device or a folder); give the path "
+            "of a WAV file"
         )
+    if st.st_size > MAX_RECORDING_BYTES:
+        os.close(fd)
+        raise RecordingFileError(
+            f"{name!r} holds {st.st_size / 2**20:.0f} MiB, more than the "
+            f"{MAX_RECORDING_BYTES // 2**20} MiB a recording may have; cut the recording to "
+            "the measurement (a few seconds)"
+        )
+    return os.fdopen(fd, "rb"), int(st.st_size)
+
+
+def _bad(path: str | os.PathLike[str], why: str) -> RecordingFileError:
+    return RecordingFileError(f"cannot read the WAV file {os.fspath(path)!r}: {why}")
+
+
+def _parse_fmt(body: bytes, path: str | os.PathLike[str], endian: str) -> tuple[str, int, int,
+                                                                                 int, int]:
+    if len(body) < 16:
+        raise _bad(path, f"its fmt chunk has {len(body)} bytes, fewer than 16 (truncated)")
+    tag, channels, rate, _, align, bits = struct.unpack(endian + "HHIIHH", body[:16])
+    if tag == 0xFFFE and len(body) >= 26:  # WAVE_FORMAT_EXTENSIBLE: the sub-format decides
+        tag = struct.unpack(endian + "H", body[24:26])[0]
+    if tag not in _FORMATS:
+        raise _bad(path, f"encoding {tag:#x} is not supported; save it as PCM or float WAV")
+    encoding = _FORMATS[tag]
+    if not 1 <= channels <= 64:
+        raise _bad(path, f"its fmt chunk says {channels} channels (need 1 to 64)")
+    if not 1000 <= rate <= 1_000_000:
+        raise _bad(path, f"its fmt chunk says a sample rate of {rate} Hz (need 1 kHz to 1 MHz)")
+    allowed = (8, 16, 24, 32) if encoding == "PCM" else (32, 64)
+    if bits not in allowed:
+        raise _bad(path, f"{bits}-bit {encoding} samples are not supported (only "
+                         f"{', '.join(map(str, allowed))} bits)")
+    if align != channels * bits // 8:
+        raise _bad(path, f"its fmt chunk's block size {align} does not match {channels} "
+                         f"channel(s) of {bits} bits")
+    return encoding, channels, rate, bits, align
+
+
+def _parse_info(body: bytes) -> dict[bytes, str]:
     info: dict[bytes, str] = {}
-    pos = 12
-    while pos + 8 <= len(raw):
-        tag, size = raw[pos : pos + 4], struct.unpack("<I", raw[pos + 4 : pos + 8])[0]
-        body = raw[pos + 8 : pos + 8 + size]
-        if tag == b"LIST" and body[:4] == b"INFO":
-            sub = 4
-            while sub + 8 <= len(body):
-                stag, ssize = body[sub : sub + 4], struct.unpack("<I", body[sub + 4 : sub + 8])[0]
-                text = body[sub + 8 : sub + 8 + ssize].rstrip(b"\0")
-                info[stag] = text.decode("utf-8", errors="replace")
-                sub += 8 + ssize + ssize % 2
-        pos += 8 + size + size % 2
+    sub = 4
+    for _ in range(MAX_CHUNKS):
+        if sub + 8 > len(body):
+            break
+        stag, ssize = body[sub : sub + 4], struct.unpack("<I", body[sub + 4 : sub + 8])[0]
+        text = body[sub + 8 : sub + 8 + ssize].rstrip(b"\0")
+        info[stag] = text.decode("utf-8", errors="replace")
+        sub += 8 + ssize + ssize % 2
     return info
 
 
-def load_recording(path: str | os.PathLike[str], *, channel: int = 0) -> WavRecording:
+def read_layout(fh: Any, size: int, path: str | os.PathLike[str]) -> WavLayout:
+    """Walk the RIFF chunks of an open WAV file: the format, where the samples are, and
+    the LIST/INFO text fields (at most :data:`MAX_METADATA_BYTES`). Reads no samples."""
+    head = fh.read(12)
+    if len(head) < 12 or head[:4] not in (b"RIFF", b"RIFX") or head[8:12] != b"WAVE":
+        raise RecordingFileError(
+            f"{os.fspath(path)!r} is not a WAV file (it starts with {head[:12]!r}); "
+            "save recordings with dstoolkit.audio.save_recording"
+        )
+    endian = ">" if head[:4] == b"RIFX" else "<"
+    fmt: tuple[str, int, int, int, int] | None = None
+    data: tuple[int, int] | None = None
+    info: dict[bytes, str] = {}
+    pos = 12
+    for _ in range(MAX_CHUNKS):
+        if pos + 8 > size:
+            break
+        fh.seek(pos)
+        tag, chunk = struct.unpack(endian[0] + "4sI", fh.read(8))
+        body_at = pos + 8
+        if tag == b"data":
+            if data is not None:
+                raise _bad(path, "it has two data chunks")
+            if chunk > size - body_at:
+                raise _bad(path, f"its data chunk claims {chunk} bytes but only "
+                                 f"{size - body_at} follow (the file is truncated)")
+            data = (body_at, chunk)
+        elif tag == b"fmt ":
+            if chunk > 1024 or chunk > size - body_at:
+                raise _bad(path, f"its fmt chunk claims {chunk} bytes (truncated or corrupt)")
+            fmt = _parse_fmt(fh.read(chunk), path, endian)
+        elif tag == b"LIST":
+            if chunk > MAX_METADATA_BYTES:
+                raise _bad(path, f"its LIST (metadata) chunk holds {chunk} bytes, more than "
+                                 f"the {MAX_METADATA_BYTES} a recording's metadata may have")
+            body = fh.read(min(chunk, size - body_at))
+            if body[:4] == b"INFO":
+                info.update(_parse_info(body))
+        pos = body_at + chunk + chunk % 2
+    else:
+        raise _bad(path, f"it has more than {MAX_CHUNKS} chunks")
+    if fmt is None:
+        raise _bad(path, "it has no fmt chunk (truncated or not a WAV file)")
+    if data is None:
+        raise _bad(path, "it has no data chunk (truncated)")
+    encoding, channels, rate, bits, align = fmt
+    return WavLayout(encoding, channels, rate, bits, align, data[0], data[1] // align,
+                     endian == ">", info)
+
+
+def read_samples(fh: Any, layout: WavLayout, channel: int, stop: int | None = None
+                 ) -> np.ndarray:
+    """Frames [0, stop) of one channel as float64 at full scale ±1 (PCM scaled, unsigned
+    8-bit centred); memory: the raw frames plus 8 bytes per sample."""
+    frames = layout.frames if stop is None else max(0, min(stop, layout.frames))
+    fh.seek(layout.data_offset)
+    raw = fh.read(frames * layout.block_align)
+    width = layout.bits // 8
+    end = ">" if layout.big_endian else "<"
+    rows = np.frombuffer(raw, dtype=np.uint8).reshape(frames, layout.block_align)
+    cell = np.ascontiguousarray(rows[:, channel * width : (channel + 1) * width])
+    if layout.encoding == "float":
+        return cell.view(f"{end}f{width}")[:, 0].astype(float)
+    if width == 1:
+        return (cell[:, 0].astype(float) - 128.0) / 128.0
+    if width == 3:  # 24-bit: widen to int32 left-justified
+        wide = np.zeros((frames, 4), dtype=np.uint8)
+        wide[:, 1:] = cell if end == "<" else cell[:, ::-1]
+        return wide.view("<i4")[:, 0] / 2147483648.0
+    return cell.view(f"{end}i{width}")[:, 0] / {2: 32768.0, 4: 2147483648.0}[width]
+
+
+def read_metadata(info: dict[bytes, str]) -> RecordingMetadata:
+    """The dstoolkit metadata stored in the ICMT comment, or unknown metadata."""
+    comment = info.get(b"ICMT")
+    if comment is not None and comment.lstrip().startswith("{") and "dstoolkit_metadata" in comment:
+        return RecordingMetadata.from_json(comment)
+    return RecordingMetadata()
+
+
+def open_recording(path: str | os.PathLike[str]) -> tuple[Any, WavLayout]:
+    """Open a WAV file (regular, not too large) and read its layout; the caller closes it."""
+    fh, size = _open_regular(path)
+    try:
+        return fh, read_layout(fh, size, path)
+    except BaseException:
+        fh.close()
+        raise
+
+
+def load_recording(path: str | os.PathLike[str], *, channel: int = 0,
+                   stop_s: float | None = None) -> WavRecording:
     """Read a WAV file written by :func:`save_recording`, or any other WAV file.
 
-    Samples come back as float64 at full scale ±1 (16/32-bit PCM are scaled, unsigned
+    Samples come back as float64 at full scale ±1 (16/24/32-bit PCM are scaled, unsigned
     8-bit centred). A file without dstoolkit metadata loads with every metadata field
-    unknown; a multichannel file gives its channel ``channel``.
+    unknown; a multichannel file gives its channel ``channel``. ``stop_s`` reads only the
+    first ``stop_s`` seconds.
+
+    Hostile files are refused with a one-line :class:`~dstoolkit.errors.RecordingFileError`: not a
+    regular file (a pipe, a device), larger than :data:`MAX_RECORDING_BYTES`, truncated chunks, an
+    impossible format, metadata over :data:`MAX_METADATA_BYTES` or nested deeper than
+    :data:`MAX_METADATA_DEPTH`, fields of the wrong type.
 
     Raises
     ------
     RecordingFileError
         Not a WAV file, an unreadable one, or a channel it does not have.
-    FileNotFoundError
-        No such file.
+    RecordingNotFoundError
+        No such file (also a FileNotFoundError).
     """
-    with open(path, "rb") as fh:
-        raw = fh.read()
-    info = _read_info(raw, path)
-    try:
-        samplerate, data = wavfile.read(io.BytesIO(raw))
-    except (ValueError, struct.error, EOFError) as exc:  # struct.error: a truncated file
-        raise RecordingFileError(f"cannot read the WAV file {os.fspath(path)!r}: {exc}") from exc
-    if data.ndim == 2:
-        if not 0 <= channel < data.shape[1]:
+    fh, layout = open_recording(path)
+    with fh:
+        if isinstance(channel, bool) or not isinstance(channel, int | np.integer):
+            raise RecordingFileError(f"channel must be a whole number, got {channel!r}")
+        if not 0 <= channel < layout.channels:
             raise RecordingFileError(
-                f"{os.fspath(path)!r} has {data.shape[1]} channels; channel {channel} does "
-                "not exist"
+                f"{os.fspath(path)!r} has {layout.channels} channels; channel {channel} does "
+                "not exist" if layout.channels > 1 else
+                f"{os.fspath(path)!r} is mono; channel {channel} does not exist"
             )
-        data = data[:, channel]
-    elif channel != 0:
-        raise RecordingFileError(f"{os.fspath(path)!r} is mono; channel {channel} does not exist")
-    if data.dtype in _INT_SCALE:
-        samples = data / _INT_SCALE[data.dtype]
-    elif data.dtype == np.uint8:
-        samples = (data.astype(float) - 128.0) / 128.0
-    else:
-        samples = data.astype(float)
-    comment = info.get(b"ICMT")
-    if comment is not None and comment.lstrip().startswith("{") and "dstoolkit_metadata" in comment:
-        metadata = RecordingMetadata.from_json(comment)
-    else:
-        metadata = RecordingMetadata()
-    return WavRecording(samples=samples, samplerate=int(samplerate), metadata=metadata)
+        metadata = read_metadata(layout.info)
+        stop = None
+        if stop_s is not None:
+            if not (isinstance(stop_s, int | float) and stop_s > 0 and math.isfinite(stop_s)):
+                raise RecordingFileError(f"stop_s must be a positive number of seconds, got "
+                                         f"{stop_s!r}")
+            wanted = stop_s * layout.samplerate
+            stop = layout.frames if wanted >= layout.frames else math.ceil(wanted)
+        samples = read_samples(fh, layout, channel, stop)
+    if samples.size == 0:
+        raise _bad(path, "it holds no samples")
+    return WavRecording(samples=samples, samplerate=layout.samplerate, metadata=metadata)

@@ -15,14 +15,18 @@ from dstoolkit.errors import (
 
 from ._base import (
     Evidence,
+    validate_masses,
 )
 from ._batch_kernels import (
-    Boxes,
+    ProductWork,
     dempster_expectation,
     discount_onto_hull,
+    sizes,
+)
+from ._boxes import (
+    Boxes,
     hull,
     pignistic_expectation,
-    sizes,
 )
 from ._combination import (
     CONFLICT_TOLERANCE,
@@ -66,6 +70,11 @@ from ._finite_frame import (
 from ._intervals import (
     IntervalEvidence,
 )
+from ._limits import (
+    DEFAULT_MEMORY_BUDGET,
+    memory_budget,
+    set_memory_budget,
+)
 from ._possibility import (
     TriangularBounds,
     alpha_cuts,
@@ -81,6 +90,7 @@ __all__ = [
     "APPENDIX_E2",
     "Boxes",
     "CONFLICT_TOLERANCE",
+    "DEFAULT_MEMORY_BUDGET",
     "Dependence",
     "Evidence",
     "EvidenceError",
@@ -93,6 +103,7 @@ __all__ = [
     "NotMonotoneError",
     "PAPER_A6",
     "PAPER_EN1",
+    "ProductWork",
     "TotalConflictError",
     "TriangularBounds",
     "VertexMethodWarning",
@@ -116,12 +127,15 @@ __all__ = [
     "image",
     "image_subdivision",
     "joint_energy",
+    "memory_budget",
     "pignistic_expectation",
     "possibility",
     "projection",
+    "set_memory_budget",
     "sizes",
     "triangular_evidence",
     "triangular_from_samples",
+    "validate_masses",
     "vertices",
     "yager",
     "zadeh_sources",

@@ -17,6 +17,8 @@ import numpy as np
 
 from dstoolkit.errors import EvidenceError
 
+from ._checks import real_array
+
 MASS_TOLERANCE = 1e-9
 
 
@@ -26,7 +28,7 @@ def validate_masses(mass: Any, *, what: str = "masses") -> np.ndarray:
     Raises :class:`~dstoolkit.errors.EvidenceError` for an empty vector, NaN or infinite
     entries, negative entries, or a sum that differs from 1 by more than ``MASS_TOLERANCE``.
     """
-    m = np.asarray(mass, dtype=float).reshape(-1)
+    m = real_array(mass, what, finite=False, error=EvidenceError).reshape(-1)
     if m.size == 0:
         raise EvidenceError(
             "empty evidence: no focal element was given; give at least one focal element "
@@ -103,6 +105,10 @@ class Evidence(ABC):
     @abstractmethod
     def _keys(self) -> np.ndarray:
         """One hashable/sortable key per focal element; equal keys ⇔ equal focal elements."""
+
+    @abstractmethod
+    def _check_theta(self, theta: Any) -> np.ndarray:
+        """``theta`` as one focal-element row after checking it is a valid frame Θ."""
 
     @abstractmethod
     def _subset_mask(self, query: np.ndarray) -> np.ndarray:

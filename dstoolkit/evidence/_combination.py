@@ -10,6 +10,7 @@ coefficients (eqs. 7–8, A5–A6), discounting and the combination of dependent
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Literal, TypeVar
 
@@ -18,6 +19,8 @@ import numpy as np
 from dstoolkit.errors import EvidenceError, TotalConflictError
 
 from ._base import Evidence
+from ._checks import real_number
+from ._limits import check_memory
 
 E = TypeVar("E", bound=Evidence)
 #: m(D) in the energy of the intersection (eq. A3): the smaller mass, or one side's.
@@ -25,15 +28,29 @@ MassRule = Literal["min", "m1", "m2"]
 #: The values of :data:`MassRule`.
 MASS_RULES: tuple[str, ...] = ("min", "m1", "m2")
 
-#: 1 − K below this counts as total conflict.
-CONFLICT_TOLERANCE = 1e-12
+#: Kept mass 1 − K (summed over the non-empty products, not computed as a difference) at or
+#: below this counts as total conflict: the smallest normal float, below which dividing by
+#: it would lose precision.
+CONFLICT_TOLERANCE = float(np.finfo(float).tiny)
 
 
 def _products(a: Evidence, b: Evidence) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    _check_evidence(a, "the first evidence")
+    _check_evidence(b, "the second evidence")
     a._check_compatible(b)
+    row = a._focal.itemsize * (a._focal[0].size if a._focal.ndim > 1 else 1)
+    check_memory(len(a) * len(b) * (4 * row + 24),
+                 f"combining {len(a)} by {len(b)} focal elements ({len(a) * len(b)} products)",
+                 "merge or coarsen the focal elements first (fewer α-cuts, a smaller p)")
     focal, nonempty = a._intersect(b)
     mass = np.multiply.outer(a._mass, b._mass).reshape(-1)
     return focal, mass, nonempty
+
+
+def _check_evidence(e: object, name: str) -> None:
+    if not isinstance(e, Evidence):
+        raise EvidenceError(f"{name} must be a MassFunction or IntervalEvidence, got "
+                            f"{type(e).__name__}")
 
 
 def conflict(a: Evidence, b: Evidence) -> float:
@@ -43,7 +60,9 @@ def conflict(a: Evidence, b: Evidence) -> float:
 
 
 def dempster(a: E, b: E, *, merge: bool = True) -> E:
-    """Dempster's rule m = m1 ⊕ m2 (eq. 1): products on intersections, renormalised by 1 − K.
+    """Dempster's rule m = m1 ⊕ m2 (eq. 1): products on intersections, renormalised by 1 − K
+    (computed as the sum of the kept products, so that the masses sum to 1 however close
+    K comes to 1).
 
     Parameters
     ----------
@@ -67,14 +86,18 @@ def dempster(a: E, b: E, *, merge: bool = True) -> E:
     MassFunction({a}: 0.4286, {b}: 0.2857, {a, b, c}: 0.2857)
     """
     focal, mass, nonempty = _products(a, b)
+    kept = mass[nonempty]
+    total = float(kept.sum())
     k = float(mass[~nonempty].sum())
-    if 1.0 - k <= CONFLICT_TOLERANCE:
+    if total <= CONFLICT_TOLERANCE:
         raise TotalConflictError(
             f"total conflict (K = {k:.12g}): no focal element of the first evidence meets "
             "one of the second, so Dempster's rule is undefined; check that both describe "
             "the same quantity, widen the noise bounds, or discount one source first"
         )
-    return a._with(focal[nonempty], mass[nonempty] / (1.0 - k), merge=merge)
+    # renormalise by the mass actually kept (= 1 − K in exact arithmetic): 1 − K computed
+    # as a difference loses all its digits when K is near 1
+    return a._with(focal[nonempty], kept / total, merge=merge)
 
 
 def _specificity(sizes: np.ndarray, unit: float) -> np.ndarray:
@@ -183,13 +206,26 @@ def dependence(
     >>> round(dep.r12, 4), round(dep.r21, 4)
     (0.7522, 0.7003)
     """
-    en1 = energy(a) if energy1 is None else float(energy1)
-    en2 = energy(b) if energy2 is None else float(energy2)
+    en1 = energy(a) if energy1 is None else real_number(energy1, "energy1", low=0.0, high=1.0,
+                                                         error=EvidenceError)
+    en2 = energy(b) if energy2 is None else real_number(energy2, "energy2", low=0.0, high=1.0,
+                                                         error=EvidenceError)
     joint = joint_energy(a, b, mass_rule=mass_rule)
+    if joint > 0 and min(en1, en2) <= 0:
+        raise EvidenceError(
+            f"energy1 = {en1:g} and energy2 = {en2:g} with a joint energy of {joint:.4g}: an "
+            "evidence that shares energy has some; give positive energies (or leave them out)"
+        )
     total = en1 + en2
     degree = 2.0 * joint / total if total > 0 else 0.0
     r12 = 1.0 - 0.5 * degree * en2 / en1 if degree > 0 else 1.0
     r21 = 1.0 - 0.5 * degree * en1 / en2 if degree > 0 else 1.0
+    if not (math.isfinite(r12) and math.isfinite(r21)):
+        raise EvidenceError(
+            f"energy1 = {en1:.3g} and energy2 = {en2:.3g} are too far apart for the shared "
+            f"energy {joint:.3g}: the dependency coefficients (eqs. 7–8) overflow; give "
+            "energies of the evidences' own size (or leave them out)"
+        )
     return Dependence(en1, en2, joint, degree, r12, r21)
 
 
@@ -200,13 +236,13 @@ def discount(e: E, rate: float, theta: np.ndarray | None = None) -> E:
     interval evidence (eqs. A7–A8); pass ``theta`` (one focal-element row: a bit mask, or
     ``[lo..., hi...]``) to discount onto another Θ.
     """
-    rate = float(rate)
-    if not 0.0 <= rate <= 1.0 or np.isnan(rate):
-        raise EvidenceError(
-            f"discount rate must lie in [0, 1], got {rate}; a reliability R corresponds to "
-            "rate = 1 − R"
-        )
-    theta_row = e._theta() if theta is None else np.asarray(theta, dtype=e._focal.dtype)
+    _check_evidence(e, "the evidence")
+    try:
+        rate = real_number(rate, "rate", low=0.0, high=1.0, error=EvidenceError)
+    except EvidenceError as exc:
+        raise EvidenceError(f"discount {exc}; a reliability R corresponds to rate = 1 − R"
+                            ) from None
+    theta_row = e._theta() if theta is None else e._check_theta(theta)
     focal = np.concatenate([e._focal, theta_row.reshape(1, *e._focal.shape[1:])])
     mass = np.append((1.0 - rate) * e._mass, rate)
     return e._with(focal, mass)
@@ -255,6 +291,8 @@ def yager(a: E, b: E) -> E:
     total conflict (K = 1) everything goes to Θ.
     """
     k = conflict(a, b)
-    if 1.0 - k <= CONFLICT_TOLERANCE:
+    try:
+        fused = dempster(a, b)
+    except TotalConflictError:
         return discount(a, 1.0)
-    return discount(dempster(a, b), k)
+    return discount(fused, k)

@@ -31,6 +31,7 @@ import numpy as np
 from dstoolkit.errors import EvidenceError, NotMonotoneError, VertexMethodWarning
 
 from ._intervals import IntervalEvidence
+from ._limits import check_memory
 
 #: How the image of a box is found (see :func:`image`).
 ImageMethod = Literal["auto", "vertex", "monotone", "subdivision"]
@@ -113,7 +114,7 @@ def parse_signs(monotone: Any, n: int) -> np.ndarray | None:
             f"monotone must give one sign per argument (shape ({n},) or (m, {n})), "
             f"got shape {s.shape}"
         )
-    if not np.all(np.isin(s, (-1, 0, 1))):
+    if not set(s.ravel().tolist()) <= {-1, 0, 1}:
         raise EvidenceError(f"monotone signs must be +1, −1 or 0, got {s.tolist()}")
     return s.astype(int)
 
@@ -302,6 +303,9 @@ def image_subdivision(
     if not 0 < tol < 1:
         raise EvidenceError(f"tol is relative to the box width and must lie in (0, 1), got {tol}")
     n, lead = lo.shape[-1], lo.shape[:-1]
+    check_memory(float(k + 1) ** n * max(1, int(np.prod(lead))) * 8 * (2 * n + 2),
+                 f"the subdivision image's grid ({k + 1}^{n} points per box)",
+                 "use fewer subdivisions")
     unit = _unit_grid(k, n)  # (G, n)
     grid = unit.reshape((-1,) + (1,) * len(lead) + (n,))
     width = hi - lo

@@ -63,7 +63,12 @@ class MassFunction(Evidence):
                     seen.setdefault(h, None)
             frame = tuple(seen)
         self.frame: tuple[Hashable, ...] = tuple(frame)
-        if len(set(self.frame)) != len(self.frame):
+        try:
+            distinct = len(set(self.frame))
+        except TypeError as exc:
+            raise EvidenceError(f"hypotheses of the frame must be hashable (numbers, strings, "
+                                f"tuples): {exc}") from exc
+        if distinct != len(self.frame):
             raise EvidenceError(f"the frame {self.frame!r} lists a hypothesis twice")
         if not 0 < len(self.frame) <= MAX_FRAME:
             raise EvidenceError(
@@ -92,7 +97,12 @@ class MassFunction(Evidence):
             )
         mask = 0
         for h in elements:
-            if h not in self._index:
+            try:
+                known = h in self._index
+            except TypeError as exc:
+                raise EvidenceError(f"hypothesis {h!r} of focal element {key!r} is not "
+                                    f"hashable: {exc}; use numbers, strings or tuples") from exc
+            if not known:
                 raise EvidenceError(
                     f"hypothesis {h!r} of focal element {key!r} is not in the frame "
                     f"{self.frame!r}; add it to the frame or correct the focal element"
@@ -147,6 +157,19 @@ class MassFunction(Evidence):
 
     def _keys(self) -> np.ndarray:
         return self._focal
+
+    def _check_theta(self, theta: Any) -> np.ndarray:
+        """Θ as a bit mask (an int, or a one-element integer array) or as a subset."""
+        if isinstance(theta, np.ndarray) and theta.size == 1 and theta.dtype.kind in "iu":
+            theta = int(theta.reshape(-1)[0])
+        if isinstance(theta, int | np.integer) and not isinstance(theta, bool):
+            if not 0 < int(theta) <= self._full:
+                raise EvidenceError(
+                    f"theta must be the bit mask of a non-empty subset of the frame (1 to "
+                    f"{self._full}), got {theta!r}"
+                )
+            return np.array([int(theta)], dtype=np.uint64)
+        return self._query(theta)
 
     def _subset_mask(self, query: np.ndarray) -> np.ndarray:
         return (self._focal & ~query[0]) == 0

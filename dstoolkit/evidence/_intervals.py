@@ -13,10 +13,12 @@ import numpy as np
 from dstoolkit.errors import EvidenceError
 
 from ._base import Evidence, validate_masses
+from ._boxes import Boxes, hull, pignistic_expectation
+from ._checks import real_array
 
 
 def _as_box_array(values: Any, name: str) -> np.ndarray:
-    arr = np.asarray(values, dtype=float)
+    arr = real_array(values, name, finite=False, error=EvidenceError)
     if arr.ndim == 0:
         arr = arr.reshape(1, 1)
     elif arr.ndim == 1:
@@ -24,6 +26,19 @@ def _as_box_array(values: Any, name: str) -> np.ndarray:
     elif arr.ndim != 2:
         raise EvidenceError(f"{name} must have shape (n,) or (n, d), got {arr.shape}")
     return arr
+
+
+def _check_widths(lo: np.ndarray, hi: np.ndarray) -> None:
+    """Refuse finite ends whose width overflows to inf (|ends| near 1e308)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        overflow = np.isfinite(lo) & np.isfinite(hi) & ~np.isfinite(hi - lo)
+    if overflow.any():
+        i = int(np.argwhere(overflow)[0][0])
+        raise EvidenceError(
+            f"focal element {i} is too wide to compute with: its width overflows (ends "
+            f"{lo[i].tolist()}, {hi[i].tolist()}); rescale the variable, or use ±inf for an "
+            "unbounded end"
+        )
 
 
 def row_keys(rows: np.ndarray) -> np.ndarray:
@@ -70,6 +85,10 @@ class IntervalEvidence(Evidence):
                 "every end must be a number (±inf allowed)"
             )
         bad = np.flatnonzero((lo_arr > hi_arr).any(axis=1))
+        if np.any(lo_arr == np.inf) or np.any(hi_arr == -np.inf):
+            raise EvidenceError("a lower end is +inf or an upper end is -inf: such an interval "
+                                "holds no number; use -inf for lo and +inf for hi")
+        _check_widths(lo_arr, hi_arr)
         if bad.size:
             i = int(bad[0])
             raise EvidenceError(
@@ -87,7 +106,7 @@ class IntervalEvidence(Evidence):
     @classmethod
     def from_pairs(cls, pairs: Any, *, merge: bool = True) -> IntervalEvidence:
         """Build from rows ``(lo, hi, mass)`` of scalar intervals."""
-        arr = np.asarray(pairs, dtype=float)
+        arr = real_array(pairs, "pairs", allow_inf=True, error=EvidenceError)
         if arr.ndim != 2 or arr.shape[1] != 3:
             raise EvidenceError(f"pairs must be rows (lo, hi, mass), got shape {arr.shape}")
         return cls(arr[:, 0], arr[:, 1], arr[:, 2], merge=merge)
@@ -133,9 +152,22 @@ class IntervalEvidence(Evidence):
         """Width (d = 1) or volume (d > 1) of each focal element."""
         return self._sizes()
 
+    def as_boxes(self) -> Boxes:
+        """The focal elements as a one-run :class:`~dstoolkit.evidence.Boxes`."""
+        return Boxes(self.boxes_lo[None], self.boxes_hi[None], self._mass[None])
+
+    @classmethod
+    def from_boxes(cls, boxes: Boxes, run: int = 0) -> IntervalEvidence:
+        """The mass function of one run of ``boxes``, padding (mass 0) dropped, masses
+        renormalised, equal boxes not merged."""
+        keep = boxes.mass[run] > 0
+        mass = boxes.mass[run, keep]
+        return cls(boxes.lo[run, keep], boxes.hi[run, keep], mass / mass.sum(), merge=False)
+
     def hull(self) -> tuple[np.ndarray, np.ndarray]:
         """The smallest box containing every focal element (Θ in eqs. A7–A8)."""
-        return self.boxes_lo.min(axis=0), self.boxes_hi.max(axis=0)
+        lo, hi = hull(self.as_boxes())
+        return lo[0], hi[0]
 
     # -- primitives ----------------------------------------------------------------------
     def _check_same_frame(self, other: IntervalEvidence) -> None:
@@ -152,11 +184,16 @@ class IntervalEvidence(Evidence):
         return np.concatenate([lo, hi], axis=1), np.all(lo <= hi, axis=1)
 
     def _sizes(self) -> np.ndarray:
-        with np.errstate(invalid="ignore"):
-            return np.prod(self.boxes_hi - self.boxes_lo, axis=1)
+        widths = self.boxes_hi - self.boxes_lo
+        with np.errstate(invalid="ignore", over="ignore"):
+            volume = np.prod(widths, axis=1)
+        # a box unbounded in some direction is unbounded (0 · ∞ would give NaN)
+        return np.where(np.isinf(widths).any(axis=1), np.inf, volume)
 
     def _energy_unit(self) -> float:
-        return float(self._sizes().min())
+        sizes = self._sizes()
+        finite = sizes[np.isfinite(sizes)]
+        return float(finite.min()) if finite.size else 1.0
 
     def _counts_in_energy(self) -> np.ndarray:
         return np.isfinite(self._sizes())
@@ -168,8 +205,21 @@ class IntervalEvidence(Evidence):
     def _keys(self) -> np.ndarray:
         return row_keys(self._focal)
 
+    def _check_theta(self, theta: Any) -> np.ndarray:
+        row = real_array(theta, "theta", allow_inf=True, error=EvidenceError).reshape(-1)
+        d = self.dim
+        if row.size != 2 * d:
+            raise EvidenceError(f"theta must be [lo..., hi...] with {2 * d} numbers for "
+                                f"{d}-dimensional boxes, got {row.size}")
+        if np.any(row[:d] > row[d:]):
+            raise EvidenceError(f"theta {row.tolist()} is not a box: need lo <= hi in every "
+                                "dimension")
+        _check_widths(row[None, :d], row[None, d:])
+        return row[None, :]
+
     def _query(self, lo: Any, hi: Any) -> np.ndarray:
-        lo_a, hi_a = np.atleast_1d(np.asarray(lo, float)), np.atleast_1d(np.asarray(hi, float))
+        lo_a = np.atleast_1d(real_array(lo, "lo", allow_inf=True, error=EvidenceError))
+        hi_a = np.atleast_1d(real_array(hi, "hi", allow_inf=True, error=EvidenceError))
         if lo_a.size != self.dim or hi_a.size != self.dim:
             raise EvidenceError(f"query box must have {self.dim} lower and upper ends")
         if np.any(lo_a > hi_a) or np.isnan(lo_a).any() or np.isnan(hi_a).any():
@@ -197,7 +247,7 @@ class IntervalEvidence(Evidence):
         """The p-box: lower F_*(x) = Bel((−∞, x]) and upper F^*(x) = Pl((−∞, x]) (d = 1)."""
         if self.dim != 1:
             raise EvidenceError("cdf_bounds is defined for scalar (d = 1) evidence only")
-        x = np.asarray(x, dtype=float)
+        x = real_array(x, "x", allow_inf=True, error=EvidenceError)
         lower = (self.hi[None, :] <= x.reshape(-1, 1)) @ self._mass
         upper = (self.lo[None, :] <= x.reshape(-1, 1)) @ self._mass
         return lower.reshape(x.shape), upper.reshape(x.shape)
@@ -208,19 +258,25 @@ class IntervalEvidence(Evidence):
         A scalar for intervals, a vector of length d for boxes. Unbounded focal elements
         have no expectation: an error says which.
         """
-        centres = 0.5 * (self.boxes_lo + self.boxes_hi)
-        if not np.all(np.isfinite(centres)):
+        value = pignistic_expectation(self.as_boxes())[0]
+        if not np.all(np.isfinite(value)):
             raise EvidenceError(
                 "the pignistic expectation needs bounded focal elements; replace ±inf ends "
                 "by a finite frame (e.g. discount onto a finite Θ)"
             )
-        value = self._mass @ centres
         return float(value[0]) if self.dim == 1 else value
 
     def shift(self, offset: Any) -> IntervalEvidence:
         """The evidence about X + offset (same masses)."""
-        off = np.atleast_1d(np.asarray(offset, float))
-        return self._with(self._focal + np.concatenate([off, off]), self._mass, merge=False)
+        off = np.atleast_1d(real_array(offset, "offset", error=EvidenceError)).reshape(-1)
+        if off.size != self.dim:
+            raise EvidenceError(f"offset must have {self.dim} component(s), got {off.size}")
+        moved = self._focal + np.concatenate([off, off])
+        _check_widths(moved[:, : self.dim], moved[:, self.dim :])
+        if not np.array_equal(np.isinf(moved), np.isinf(self._focal)):
+            raise EvidenceError(f"shifting by {off.tolist()} overflows the interval ends; "
+                                "rescale the variable")
+        return self._with(moved, self._mass, merge=False)
 
     def to_rows(self) -> np.ndarray:
         """Rows (lo, hi, mass) for d = 1, handy for tables."""

@@ -8,12 +8,14 @@ a wide frame Θ so that unexpected values are not ruled out.
 
 from __future__ import annotations
 
+import math
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from dstoolkit.errors import EvidenceError
 
+from ._checks import real_array, real_number, whole_number
 from ._combination import discount
 from ._intervals import IntervalEvidence
 
@@ -31,21 +33,26 @@ class TriangularBounds(NamedTuple):
         return (self.upper - self.lower) / 6.0
 
 
-def _check_triangle(lower: float, mode: float, upper: float) -> None:
-    values = np.array([lower, mode, upper], dtype=float)
-    if not np.all(np.isfinite(values)):
-        raise EvidenceError(f"triangle ends and mode must be finite, got {values.tolist()}")
+def _check_triangle(lower: Any, mode: Any, upper: Any) -> tuple[float, float, float]:
+    """The triangle's ends and mode as floats, finite, ordered, with a finite 100σ frame."""
+    lower, mode, upper = (real_number(v, name, error=EvidenceError) for v, name in
+                          ((lower, "lower"), (mode, "mode"), (upper, "upper")))
     if not lower <= mode <= upper:
         raise EvidenceError(
             f"need lower <= mode <= upper, got lower={lower}, mode={mode}, upper={upper}; "
             "check the order of the arguments"
         )
+    if not math.isfinite(100.0 * (upper - lower)) or not math.isfinite(
+            abs(mode) + 100.0 * (upper - lower)):
+        raise EvidenceError(f"the triangle [{lower:g}, {upper:g}] is too wide to compute "
+                            "with (its frame overflows); rescale the variable")
+    return lower, mode, upper
 
 
 def possibility(x: Any, lower: float, mode: float, upper: float) -> np.ndarray:
     """The triangular possibility distribution π(x) with support [lower, upper] (eq. 22)."""
-    _check_triangle(lower, mode, upper)
-    x = np.asarray(x, dtype=float)
+    lower, mode, upper = _check_triangle(lower, mode, upper)
+    x = real_array(x, "x", allow_inf=True, error=EvidenceError)
     with np.errstate(divide="ignore", invalid="ignore"):
         left = np.where(mode > lower, (x - lower) / (mode - lower), 1.0)
         right = np.where(upper > mode, (upper - x) / (upper - mode), 1.0)
@@ -60,10 +67,9 @@ def alpha_cuts(
 
     Returned innermost first, as in the paper's Tables 1–2.
     """
-    _check_triangle(lower, mode, upper)
-    if int(p) != p or p < 1:
-        raise EvidenceError(f"the number of cuts p must be a positive integer, got {p}")
-    alpha = np.arange(int(p))[::-1] / p
+    lower, mode, upper = _check_triangle(lower, mode, upper)
+    p = whole_number(p, "the number of cuts p", low=1, high=10_000, error=EvidenceError)
+    alpha = np.arange(p)[::-1] / p
     return lower + alpha * (mode - lower), upper - alpha * (upper - mode)
 
 
@@ -107,13 +113,20 @@ def triangular_evidence(
     >>> e.mass.round(4).tolist()
     [0.3167, 0.3167, 0.3167, 0.05]
     """
+    lower, mode, upper = _check_triangle(lower, mode, upper)
     lo, hi = alpha_cuts(lower, mode, upper, p)
-    if not 0.0 <= epsilon < 1.0:
-        raise EvidenceError(f"epsilon must lie in [0, 1), got {epsilon}")
+    epsilon = real_number(epsilon, "epsilon", low=0.0, high=1.0, high_open=True,
+                          error=EvidenceError)
     cuts = IntervalEvidence(lo, hi, np.full(lo.size, 1.0 / lo.size), merge=False)
     if epsilon == 0.0:
         return cuts
-    t_lo, t_hi = default_theta(lower, mode, upper) if theta is None else theta
+    if theta is None:
+        t_lo, t_hi = default_theta(lower, mode, upper)
+    else:
+        pair = real_array(theta, "theta", error=EvidenceError).reshape(-1)
+        if pair.size != 2:
+            raise EvidenceError(f"theta must be one pair (lo, hi), got {theta!r}")
+        t_lo, t_hi = float(pair[0]), float(pair[1])
     if not (t_lo <= lower and upper <= t_hi):
         raise EvidenceError(
             f"Θ = [{t_lo}, {t_hi}] must contain the support [{lower}, {upper}]"

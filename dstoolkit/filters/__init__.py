@@ -42,7 +42,6 @@ from ._model import (
     with_input,
 )
 from ._nassreddine import (
-    BoxMass,
     NassreddineFilter,
     cluster_boxes,
     merge_equal_boxes,
@@ -55,7 +54,6 @@ from ._particle import (
 __all__ = [
     "BoundedErrorFilter",
     "BoundedNoise",
-    "BoxMass",
     "COUNTS",
     "DIAGNOSTICS",
     "DependentEvidenceFilter",

@@ -31,12 +31,11 @@ import numpy as np
 from dstoolkit.errors import EvidenceError, InconsistentDataError
 from dstoolkit.evidence._extension import box_image
 
+from ._base import FilterBase
 from ._model import (
     FilterResult,
     StateSpaceModel,
-    batch_readings,
     first_reading_box,
-    single_readings,
     step_input,
     with_input,
 )
@@ -45,7 +44,7 @@ InconsistencyPolicy = Literal["raise", "reset"]
 
 
 @dataclass(frozen=True)
-class BoundedErrorFilter:
+class BoundedErrorFilter(FilterBase):
     """Set-membership filter with one box (see the module docstring).
 
     Parameters
@@ -63,10 +62,8 @@ class BoundedErrorFilter:
     name: ClassVar[str] = "bounded-error"
 
     def __post_init__(self) -> None:
-        if self.on_inconsistent not in ("raise", "reset"):
-            raise EvidenceError(
-                f"on_inconsistent must be 'raise' or 'reset', got {self.on_inconsistent!r}"
-            )
+        self._policy(self.on_inconsistent, ("raise", "reset"), "on_inconsistent")
+        self._box(self.initial_box)
 
     def run(
         self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
@@ -75,8 +72,10 @@ class BoundedErrorFilter:
         ``upper`` the boxes. ``record=True`` keeps each step's ``prediction`` box, the
         ``reading`` box g⁻¹(z_k + W) ∩ prediction before any reset, and the final ``box``.
         Diagnostics: ``resets`` (steps,), True where the box was rebuilt from the reading."""
-        Z, U = single_readings(model, z, inputs)
+        Z, U = self._single(model, z, inputs)
+        self._check_box_dim(self._box(self.initial_box), model)
         lo, hi, resets, steps = self._filter(model, Z, U, record)
+        self._finite(0.5 * (lo + hi))
         return FilterResult(
             method=self.name, estimates=0.5 * (lo[0] + hi[0]), lower=lo[0], upper=hi[0],
             steps=steps, diagnostics={"resets": resets[0]},
@@ -84,9 +83,10 @@ class BoundedErrorFilter:
 
     def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> np.ndarray:
         """Box centres (runs, steps, n) of independent sequences Z (runs, steps, m)."""
-        Z, U = batch_readings(model, Z, inputs)
+        Z, U = self._batch(model, Z, inputs)
+        self._check_box_dim(self._box(self.initial_box), model)
         lo, hi, _, _ = self._filter(model, Z, U, False)
-        return 0.5 * (lo + hi)
+        return self._finite(0.5 * (lo + hi))
 
     # -- internals -------------------------------------------------------------------------
     def _reading_box(self, model: StateSpaceModel, z: np.ndarray, k: int

@@ -16,11 +16,13 @@ scalar state, 4 state focal elements, 16 predicted, 64 after step 4 and 64 × 16
 products in step 6 before the discounting adds Θ. Nothing grows from step to step,
 because each step restarts from the point estimate.
 
-Two implementations share Steps 1–3 and 5 (:func:`predict`, :func:`observe`,
-:func:`map_back`): the object path (``record=True``) merges equal focal elements (eq. 14)
-and fuses with :mod:`dstoolkit.evidence`; the array path (``record=False`` and
-:meth:`DependentEvidenceFilter.run_batch`) fuses with :mod:`dstoolkit.evidence`
-without merging, vectorised over runs. Both give the same numbers (tested).
+Two implementations: the object path (``record=True``) runs Steps 2, 3 and 5 with
+:func:`predict`, :func:`observe`, :func:`map_back`, merges equal focal elements (eq. 14)
+and fuses with :mod:`dstoolkit.evidence`'s combination; the array path (``record=False``
+and :meth:`DependentEvidenceFilter.run_batch`) runs every step of a block of runs on
+preallocated buffers (:class:`~dstoolkit.filters._dependent_arrays.StepArrays`, the same
+Step 5 snapping) and fuses with the batch kernels without merging, or with the optional
+compiled kernel (``kernel="numba"``). They give the same numbers (tested).
 
 Choices the paper leaves open: ``mass_rule`` for m(D) in eq. A3; the start
 x̂_1 (``"observation"``: g⁻¹(z_1) as the paper; ``"mean_corrected"``: g⁻¹(z_1 + E[w]);
@@ -36,31 +38,33 @@ estimate), flagged in ``diagnostics["fallback"]``.
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from contextlib import nullcontext
+import functools
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal, overload
 
 import numpy as np
 
-from dstoolkit.errors import EvidenceError, TotalConflictError
+from dstoolkit.errors import EvidenceError, TotalConflictError, require_extra
 from dstoolkit.evidence import _batch_kernels as bk
 from dstoolkit.evidence._batch_kernels import Boxes
+from dstoolkit.evidence._checks import real_array, whole_number
 from dstoolkit.evidence._combination import MASS_RULES, MassRule, conflict, decorrelate, dempster
 from dstoolkit.evidence._extension import (
     IMAGE_METHODS,
     ImageMethod,
-    image_boxes,
     parse_signs,
     resolve_method,
     state_signs,
 )
 from dstoolkit.evidence._intervals import IntervalEvidence
 
-from ._model import FilterResult, StateSpaceModel, batch_readings, step_input, with_input
+from ._base import FilterBase
+from ._dependent_arrays import StepArrays, map_back, observe, predict
+from ._model import FilterResult, StateSpaceModel, step_input, with_input
 
 StartRule = Literal["observation", "mean_corrected"]
 ConflictPolicy = Literal["raise", "predict"]
+Kernel = Literal["numpy", "numba"]
 
 #: The per-step diagnostics of a run (keys of ``FilterResult.diagnostics``), explained.
 DIAGNOSTICS: dict[str, str] = {
@@ -74,8 +78,6 @@ DIAGNOSTICS: dict[str, str] = {
     "r21": "dependency coefficient R21 (eq. A6)",
     "fallback": "1 where total conflict made the prediction the final evidence, else 0",
 }
-#: Relative distance below which a mapped-back bound is snapped to its predicted box (Step 5).
-SNAP_RTOL = 1e-12
 #: Focal-element counts per step that ``run(..., record=True)`` adds to the diagnostics.
 COUNTS: tuple[str, ...] = (
     "n_state", "n_prediction", "n_observation_prediction", "n_observation", "n_fused",
@@ -106,57 +108,8 @@ class ModelMaps:
     g_signs: np.ndarray | None
 
 
-# -- Steps 2, 3, 5 on arrays (shared by both paths) --------------------------------------
-def predict(maps: ModelMaps, noise: NoiseEvidence, xhat: np.ndarray,
-            f_u: Callable[[np.ndarray], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """Step 2: boxes of F(x, v) = f(x, u) + v over (x̂ + V_i) × V_j, row i·N_v + j.
-
-    F is separable in v, so F(X × V) = f(X) + V exactly: f (``f_u`` = x ↦ f(x, u)) is
-    imaged on the N_v state boxes only (eqs. 13, 16–19), then each noise box is added.
-    ``xhat`` (R, n) → (R, N_v², n).
-    """
-    x_lo, x_hi = xhat[:, None] + noise.v.lo, xhat[:, None] + noise.v.hi
-    fx_lo, fx_hi = image_boxes(x_lo, x_hi, f_u, maps.f_method, maps.f_signs)
-    runs, n = fx_lo.shape[0], fx_lo.shape[-1]
-    lo = (fx_lo[:, :, None] + noise.v.lo[:, None]).reshape(runs, -1, n)
-    hi = (fx_hi[:, :, None] + noise.v.hi[:, None]).reshape(runs, -1, n)
-    return lo, hi
-
-
-def observe(maps: ModelMaps, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Step 3: g of every predicted box (eqs. 13–14), row for row."""
-    return image_boxes(lo, hi, maps.model.g, maps.g_method, maps.g_signs)
-
-
-def map_back(maps: ModelMaps, fused: Boxes, prior_lo: np.ndarray, prior_hi: np.ndarray,
-             step: int) -> Boxes:
-    """Step 5: g⁻¹ of each fused box within its predicted box; placeholders (mass 0) take
-    the predicted box so that every box stays finite.
-
-    g⁻¹(g(P)) is P up to rounding, but dependence is found by *exact* equality with the
-    predicted boxes (eq. A3): a bound within :data:`SNAP_RTOL` of its predicted box's bound
-    is set to it, so that rounding in g and g⁻¹ does not decide what is common.
-    """
-    lo, hi = maps.model.inverse()(fused.lo, fused.hi, prior_lo, prior_hi)
-    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
-    scale = SNAP_RTOL * np.maximum(np.abs(prior_lo), np.abs(prior_hi))
-    lo = np.where(np.abs(lo - prior_lo) <= scale, prior_lo, lo)
-    hi = np.where(np.abs(hi - prior_hi) <= scale, prior_hi, hi)
-    live = (fused.mass > 0)[..., None]
-    empty = live & (lo > hi)
-    if empty.any():
-        run, row = (int(i) for i in np.argwhere(empty.any(-1))[0])
-        raise EvidenceError(
-            f"Step 5 of estimate {step}: g_inverse returned an empty box [{lo[run, row]}, "
-            f"{hi[run, row]}] for a fused focal element of positive mass (run {run}); "
-            "g_inverse(lo, hi, x_lo, x_hi) must return the states in [x_lo, x_hi] whose "
-            "image meets [lo, hi], and the predicted box always holds some"
-        )
-    return Boxes(np.where(live, lo, prior_lo), np.where(live, hi, prior_hi), fused.mass)
-
-
 @dataclass(frozen=True)
-class DependentEvidenceFilter:
+class DependentEvidenceFilter(FilterBase):
     """The dependent-evidence filter of Xu et al. (§3.2, Steps 1–6).
 
     Parameters
@@ -179,6 +132,9 @@ class DependentEvidenceFilter:
         :func:`dstoolkit.evidence.image`).
     chunk_size
         Runs per vectorised block in :meth:`run_batch` (memory ∝ chunk × N1 × N2).
+    kernel
+        Step 6 of the array path: ``"numpy"`` (default) or ``"numba"``, a compiled kernel
+        (extra ``speed``; same numbers to rounding, several times faster).
     """
 
     mass_rule: MassRule = "min"
@@ -189,37 +145,48 @@ class DependentEvidenceFilter:
     on_conflict: ConflictPolicy = "raise"
     image_method: ImageMethod = "auto"
     chunk_size: int = 64
+    kernel: Kernel = "numpy"
 
     name: ClassVar[str] = "dependent-evidence"
 
     def __post_init__(self) -> None:
-        if self.mass_rule not in MASS_RULES:
-            raise EvidenceError(f"mass_rule must be one of {MASS_RULES}, got {self.mass_rule!r}")
-        if isinstance(self.start, str) and self.start not in ("observation", "mean_corrected"):
-            raise EvidenceError(
-                f"start must be 'observation', 'mean_corrected' or a state vector, got "
-                f"{self.start!r}"
-            )
-        if self.on_conflict not in ("raise", "predict"):
-            raise EvidenceError(
-                f"on_conflict must be 'raise' or 'predict', got {self.on_conflict!r}"
-            )
-        if self.image_method not in IMAGE_METHODS:
-            raise EvidenceError(
-                f"image_method must be one of {IMAGE_METHODS}, got {self.image_method!r}"
-            )
-        if int(self.chunk_size) < 1:
-            raise EvidenceError(f"chunk_size must be a positive integer, got {self.chunk_size}")
+        self._policy(self.mass_rule, MASS_RULES, "mass_rule")
+        self._policy(self.on_conflict, ("raise", "predict"), "on_conflict")
+        self._policy(self.image_method, IMAGE_METHODS, "image_method")
+        if isinstance(self.start, str):
+            self._policy(self.start, ("observation", "mean_corrected"), "start",
+                         "a state vector")
+        else:
+            real_array(self.start, "start", ndim=(0, 1, 2), error=EvidenceError)
+        self._cuts(self.p, self.epsilon)
+        if self.theta is not None:
+            try:
+                theta_v, theta_w = self.theta
+            except (TypeError, ValueError):
+                raise EvidenceError("theta must be a pair (theta_v, theta_w), each None or one "
+                                    f"(lo, hi) pair per component; got {self.theta!r}") from None
+            self._frame(theta_v, "theta_v")
+            self._frame(theta_w, "theta_w")
+        whole_number(self.chunk_size, "chunk_size", low=1, high=10**6, error=EvidenceError)
+        self._policy(self.kernel, ("numpy", "numba"), "kernel")
+        if self.kernel == "numba":
+            require_extra("numba", "speed", "kernel='numba' of the paper's filter")
+
+    def _bytes_per_run(self, noise: NoiseEvidence) -> float:
+        """Memory of one run's Step 6 products (the largest arrays), bytes."""
+        n_pred = noise.prediction_mass.shape[1] + 1
+        n_back = (n_pred - 1) * noise.w.mass.shape[1] + 1
+        d = noise.v.lo.shape[-1]
+        return float(n_pred * n_back * 8 * (5 * d + 3))
 
     # -- Step 1 and model parsing ----------------------------------------------------------
     def noise_evidence(self, model: StateSpaceModel) -> NoiseEvidence:
-        """Step 1: E_v and E_w from the model's bounded noises (eqs. 22–26, Tables 1–2)."""
-        theta_v, theta_w = (None, None) if self.theta is None else self.theta
-        ev = model.state_noise.evidence(self.p, self.epsilon, _theta(theta_v, model.state_dim))
-        ew = model.obs_noise.evidence(self.p, self.epsilon, _theta(theta_w, model.obs_dim))
-        v = Boxes(ev.boxes_lo[None], ev.boxes_hi[None], ev.mass[None])
-        w = Boxes(ew.boxes_lo[None], ew.boxes_hi[None], ew.mass[None])
-        return NoiseEvidence(ev, ew, v, w, np.multiply.outer(ev.mass, ev.mass).reshape(1, -1))
+        """Step 1: E_v and E_w from the model's bounded noises (eqs. 22–26, Tables 1–2).
+
+        Computed once per noise and setting (cached): a run reuses it at every step, and
+        runs of the same model reuse it too.
+        """
+        return _noise_evidence(_Step1(self, model))
 
     def _maps(self, model: StateSpaceModel) -> ModelMaps:
         if model.g_inverse is None:
@@ -266,35 +233,25 @@ class DependentEvidenceFilter:
         est[:, 0] = self._start(maps.model, z[:, 0])
         if lower is not None and upper is not None:
             lower[:, 0] = upper[:, 0] = est[:, 0]
-        rho, w, nw = noise.prediction_mass, noise.w, noise.w.lo.shape[1]
-        rows: list[tuple[np.ndarray, ...]] = []
+        arrays = StepArrays(self, maps, noise, runs, steps)
+        table = np.full((len(DIAGNOSTICS), runs, steps), np.nan)
+        f = maps.model.f
         for t in range(1, steps):
-            f_u = with_input(maps.model.f, step_input(inputs, t))
-            p_lo, p_hi = predict(maps, noise, est[:, t - 1], f_u)
-            pred = Boxes(p_lo, p_hi, rho)
-            pz_lo, pz_hi = observe(maps, p_lo, p_hi)
-            zt = z[:, t, None]
-            fused, k4, ok4 = bk.dempster(Boxes(pz_lo, pz_hi, rho),
-                                         Boxes(zt + w.lo, zt + w.hi, w.mass))
-            all_ok = bool(ok4.all())
-            if not all_ok:
-                self._check_conflict(ok4, t, 4)
-            # runs in total conflict carry mass-0 placeholders: silence their 0/0 and 0·∞
-            with nullcontext() if all_ok else np.errstate(invalid="ignore", divide="ignore"):
-                back = map_back(maps, fused, p_lo.repeat(nw, axis=1), p_hi.repeat(nw, axis=1),
-                                t + 1)
-                dep = bk.dependence(back, pred, self.mass_rule)
-                est[:, t], k6, ok6, hull = bk.dempster_expectation(
-                    bk.discount_onto_hull(back, dep.r12), bk.discount_onto_hull(pred, dep.r21),
-                    bounds)
-                if hull is not None and lower is not None and upper is not None:
-                    lower[:, t], upper[:, t] = hull
-            ok = ok4 & ok6
-            if not (all_ok and ok6.all()):
-                self._check_conflict(ok6, t, 6)
+            f_u = with_input(f, None if inputs is None else inputs[:, t - 1])
+            ok4, (ok6, hull) = arrays.step(t, est, z[:, t], f_u, table[:8, :, t].T, bounds)
+            if lower is not None and upper is not None and hull is not None:
+                lower[:, t], upper[:, t] = hull
+            if not ok4.all() or not ok6.all():
+                ok = ok4 & ok6
+                arrays._check_conflict(ok6, t, 6)
+                pred = Boxes(arrays.pred[..., 0], arrays.pred[..., 1], noise.prediction_mass)
                 self._fall_back(ok, t, pred, est, lower, upper)
-            rows.append((k4, k6, *dep, ~ok, ~ok4))
-        return est, lower, upper, self._diagnostics(rows, runs)
+                table[8, :, t] = ~ok
+                table[1:8, ~ok4, t] = np.nan
+            else:
+                table[8, :, t] = 0.0
+        arrays.check_images(steps)
+        return est, lower, upper, dict(zip(DIAGNOSTICS, table, strict=True))
 
     @staticmethod
     def _fall_back(ok: np.ndarray, t: int, pred: Boxes, est: np.ndarray,
@@ -305,17 +262,6 @@ class DependentEvidenceFilter:
         if lower is not None and upper is not None:
             p_lo, p_hi = bk.hull(pred)
             lower[bad, t], upper[bad, t] = p_lo[bad], p_hi[bad]
-
-    @staticmethod
-    def _diagnostics(rows: list[tuple[np.ndarray, ...]], runs: int) -> dict[str, np.ndarray]:
-        """Per-step rows (diagnostics, then "Step 4 failed") → (R, T) arrays; NaN at step 1
-        and, after Step 4, where Step 4 failed."""
-        table = np.full((len(DIAGNOSTICS) + 1, runs, len(rows) + 1), np.nan)
-        if rows:
-            table[:, :, 1:] = np.array(rows, dtype=float).transpose(1, 2, 0)
-            step4_failed = table[-1] > 0
-            table[1:-2, step4_failed] = np.nan
-        return dict(zip(DIAGNOSTICS, table[:-1], strict=True))
 
     def _check_conflict(self, ok: np.ndarray, t: int, step: int) -> None:
         if self.on_conflict == "raise" and not ok.all():
@@ -425,13 +371,17 @@ class DependentEvidenceFilter:
         >>> bool(result.lower[2, 0] < result.estimates[2, 0] < result.upper[2, 0])
         True
         """
+        zz, uu = self._single(model, z, inputs)
         maps, noise = self._maps(model), self.noise_evidence(model)
-        zz, uu = batch_readings(model, np.asarray(z, dtype=float)[None],
-                                None if inputs is None else np.asarray(inputs, dtype=float)[None])
         if record:
-            return self._run_objects(maps, noise, zz, uu)
+            result = self._run_objects(maps, noise, zz, uu)
+            self._finite(result.estimates[None])
+            return result
+        self._chunks(1, self._bytes_per_run(noise), "the dependent-evidence filter",
+                     "use fewer α-cuts p")
         est, lower, upper, diag = self._run_arrays(maps, noise, zz, uu, bounds=True)
         assert lower is not None and upper is not None  # bounds=True returns them
+        self._finite(est)
         return FilterResult(self.name, est[0], lower[0], upper[0], None,
                             {key: value[0] for key, value in diag.items()})
 
@@ -451,13 +401,15 @@ class DependentEvidenceFilter:
         :meth:`run` on each sequence; ``return_result=True`` returns a FilterResult whose
         arrays carry the leading run axis.
         """
+        zz, uu = self._batch(model, Z, inputs)
         maps, noise = self._maps(model), self.noise_evidence(model)
-        zz, uu = batch_readings(model, Z, inputs)
-        size = int(self.chunk_size)
-        parts = [self._run_arrays(maps, noise, zz[i:i + size],
-                                  None if uu is None else uu[i:i + size], return_result)
-                 for i in range(0, zz.shape[0], size)]
-        est = np.concatenate([part[0] for part in parts])
+        chunks = self._chunks(zz.shape[0], self._bytes_per_run(noise),
+                              "the dependent-evidence filter", "use fewer α-cuts p",
+                              cap=int(self.chunk_size))
+        parts = [self._run_arrays(maps, noise, zz[sel], None if uu is None else uu[sel],
+                                  return_result)
+                 for sel in chunks]
+        est = self._finite(np.concatenate([part[0] for part in parts]))
         if not return_result:
             return est
         return FilterResult(
@@ -465,6 +417,38 @@ class DependentEvidenceFilter:
             np.concatenate([part[2] for part in parts]), None,
             {key: np.concatenate([part[3][key] for part in parts]) for key in DIAGNOSTICS},
         )
+
+
+class _Step1:
+    """The inputs of Step 1, hashable by value (bounds, modes, Θ, p, ε) for the cache."""
+
+    def __init__(self, flt: DependentEvidenceFilter, model: StateSpaceModel) -> None:
+        theta_v, theta_w = (None, None) if flt.theta is None else flt.theta
+        self.state, self.obs = model.state_noise, model.obs_noise
+        self.theta_v = _theta(theta_v, model.state_dim)
+        self.theta_w = _theta(theta_w, model.obs_dim)
+        self.p, self.epsilon = int(flt.p), float(flt.epsilon)
+        self.key = (self.p, self.epsilon, *(None if a is None else a.tobytes() for a in (
+            self.state.lower, self.state.mode, self.state.upper, self.obs.lower,
+            self.obs.mode, self.obs.upper, self.theta_v, self.theta_w)))
+
+    def __hash__(self) -> int:
+        return hash(self.key)
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, _Step1) and other.key == self.key
+
+
+@functools.lru_cache(maxsize=64)
+def _noise_evidence(step1: _Step1) -> NoiseEvidence:
+    ev = step1.state.evidence(step1.p, step1.epsilon, step1.theta_v)
+    ew = step1.obs.evidence(step1.p, step1.epsilon, step1.theta_w)
+    v = Boxes(ev.boxes_lo[None], ev.boxes_hi[None], ev.mass[None])
+    w = Boxes(ew.boxes_lo[None], ew.boxes_hi[None], ew.mass[None])
+    rho = np.multiply.outer(ev.mass, ev.mass).reshape(1, -1)
+    for array in (*v, *w, rho):
+        array.flags.writeable = False
+    return NoiseEvidence(ev, ew, v, w, rho)
 
 
 def _theta(theta: Any, dim: int) -> np.ndarray | None:

@@ -50,6 +50,8 @@ from typing import Any
 
 import numpy as np
 
+from dstoolkit.errors import InvalidInputError
+
 from ._model import BoundedNoise, StateSpaceModel
 
 #: Default start of the truth: log of (P, Q) = (2, 1).
@@ -86,7 +88,7 @@ def lotka_volterra(
     """
     rates = np.array([h, alpha, beta, gamma, delta], dtype=float)
     if not np.all(np.isfinite(rates)) or np.any(rates <= 0):
-        raise ValueError(
+        raise InvalidInputError(
             f"h, alpha, beta, gamma, delta must be positive numbers, got {rates.tolist()}"
         )
     if state_noise is None:
@@ -95,7 +97,7 @@ def lotka_volterra(
         obs_noise = BoundedNoise([-0.08, -0.08], [-0.02, -0.02], [0.04, 0.04])
     for name, noise in (("state_noise", state_noise), ("obs_noise", obs_noise)):
         if noise.dim != 2:
-            raise ValueError(f"{name} must be two-dimensional, got dimension {noise.dim}")
+            raise InvalidInputError(f"{name} must be two-dimensional, got dimension {noise.dim}")
 
     def f(x: np.ndarray, u: Any = None) -> np.ndarray:
         x = np.asarray(x, dtype=float)

@@ -32,12 +32,11 @@ import numpy as np
 
 from dstoolkit.errors import EvidenceError
 
+from ._base import FilterBase
 from ._model import (
     FilterResult,
     StateSpaceModel,
-    batch_readings,
     first_reading_box,
-    single_readings,
     step_input,
     with_input,
 )
@@ -69,8 +68,15 @@ def _inverse(s_cov: np.ndarray) -> np.ndarray:
         return np.linalg.pinv(s_cov)
 
 
+def _reciprocal(s: Any) -> Any:
+    """1/s of a float or an array, 0 where s = 0 (the pseudo-inverse of a 1 × 1 matrix)."""
+    if isinstance(s, float):
+        return 1.0 / s if s != 0.0 else 0.0
+    return np.divide(1.0, s, out=np.zeros_like(s), where=s != 0.0)
+
+
 @dataclass(frozen=True)
-class KalmanFilter:
+class KalmanFilter(FilterBase):
     """Kalman / extended Kalman filter on the noises' means and variances.
 
     Parameters
@@ -83,6 +89,9 @@ class KalmanFilter:
     initial_box: tuple[Any, Any] | None = None
     name: ClassVar[str] = "kalman"
 
+    def __post_init__(self) -> None:
+        self._box(self.initial_box)
+
     def run(
         self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
     ) -> FilterResult:
@@ -93,8 +102,10 @@ class KalmanFilter:
         Diagnostics: ``nis``, the normalised innovation squared νᵀ S⁻¹ ν (its mean is about
         m when the noise statistics are right; NaN at the first step).
         """
-        Z, U = single_readings(model, z, inputs)
-        x, cov, nis, steps = self._filter(model, Z, U, record)
+        Z, U = self._single(model, z, inputs)
+        self._check_box_dim(self._box(self.initial_box), model)
+        x, cov, nis, steps = self._recursion(model, Z, U, record)
+        self._finite(x)
         sigma = np.sqrt(np.diagonal(cov[0], axis1=-2, axis2=-1))
         return FilterResult(
             method=self.name, estimates=x[0], lower=x[0] - 3 * sigma, upper=x[0] + 3 * sigma,
@@ -103,8 +114,14 @@ class KalmanFilter:
 
     def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> np.ndarray:
         """Estimates (runs, steps, n) of independent sequences Z (runs, steps, m)."""
-        Z, U = batch_readings(model, Z, inputs)
-        return self._filter(model, Z, U, False)[0]
+        Z, U = self._batch(model, Z, inputs)
+        self._check_box_dim(self._box(self.initial_box), model)
+        n = model.state_dim
+        chunks = self._chunks(Z.shape[0], 16.0 * Z.shape[1] * (n * n + n + 1),
+                              "the Kalman filter", "filter fewer steps at once")
+        return self._finite(np.concatenate([
+            self._recursion(model, Z[sel], None if U is None else U[sel], False)[0]
+            for sel in chunks]))
 
     # -- the recursion, vectorised over runs ------------------------------------------------
     def _start(self, model: StateSpaceModel, z1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -126,6 +143,69 @@ class KalmanFilter:
         x = np.where(usable, point, 0.5 * (lo + hi))
         cov = np.eye(model.state_dim) * ((hi - lo) ** 2 / 12.0)[:, None, :]
         return x, cov
+
+    def _recursion(
+        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, record: bool
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]] | None]:
+        """Estimates (R, T, n), covariances (R, T, n, n), NIS (R, T) and the record."""
+        if model.state_dim == 1 and model.obs_dim == 1 and not record:
+            return (*self._filter_scalar(model, Z, U), None)
+        return self._filter(model, Z, U, record)
+
+    def _filter_scalar(
+        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The recursion of :meth:`_filter` for a scalar state and reading, term by term
+        (every matrix is 1 × 1): on Python floats for one run, on (R,) arrays for a batch,
+        with the same operations in the same order, so a batch equals single runs exactly.
+        Only the model's maps are numpy calls."""
+        runs, n_steps, _ = Z.shape
+        q, r = float(model.state_noise.variance[0]), float(model.obs_noise.variance[0])
+        v_mean, w_mean = float(model.state_noise.mean[0]), float(model.obs_noise.mean[0])
+        x0, cov0 = self._start(model, Z[:, 0])
+        xs, covs = np.empty((runs, n_steps, 1)), np.empty((runs, n_steps, 1, 1))
+        nis = np.full((runs, n_steps), np.nan)
+        xs[:, 0], covs[:, 0] = x0, cov0
+        scalar: Callable[[np.ndarray], Any]
+        if runs == 1:
+            def scalar(a: np.ndarray) -> Any:
+                return np.asarray(a, dtype=float).item()
+            readings: Any = Z[0, :, 0].tolist()
+        else:
+            def scalar(a: np.ndarray) -> Any:
+                return np.asarray(a, dtype=float).reshape(runs)
+            readings = Z[:, :, 0].T
+        x, cov = scalar(x0), scalar(cov0)
+        state = np.array(x0, dtype=float)  # (R, 1): what the model's maps are called with
+        f, g, jac_f, jac_g = model.f, model.g, model.jacobian_f, model.jacobian_g
+        out_x: list[Any] = []
+        out_cov: list[Any] = []
+        out_nis: list[Any] = []
+        for k in range(1, n_steps):
+            u = None if U is None else U[:, k - 1]
+            f_u = with_input(f, u)
+            state[:, 0] = x
+            slope = scalar(jac_f(state, u) if jac_f is not None
+                           else finite_difference_jacobian(f_u, state))
+            x_pred = scalar(f_u(state)) + v_mean
+            cov_pred = slope * cov * slope + q
+            state[:, 0] = x_pred
+            gain_g = scalar(jac_g(state) if jac_g is not None
+                            else finite_difference_jacobian(g, state))
+            innovation = readings[k] - (scalar(g(state)) - w_mean)
+            ph = cov_pred * gain_g
+            s_inv = _reciprocal(gain_g * ph + r)
+            gain = ph * s_inv
+            x = x_pred + gain * innovation
+            joseph = 1.0 - gain * gain_g
+            cov = joseph * cov_pred * joseph + gain * r * gain
+            out_x.append(x)
+            out_cov.append(cov)
+            out_nis.append(innovation * s_inv * innovation)
+        if n_steps > 1:
+            xs[:, 1:, 0], covs[:, 1:, 0, 0] = np.array(out_x).T, np.array(out_cov).T
+            nis[:, 1:] = np.array(out_nis).T
+        return xs, covs, nis
 
     def _filter(
         self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, record: bool

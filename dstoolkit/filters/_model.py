@@ -11,12 +11,13 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from dstoolkit.errors import EvidenceError
+from dstoolkit.evidence._checks import real_array
 from dstoolkit.evidence._intervals import IntervalEvidence
 from dstoolkit.evidence._possibility import triangular_evidence
 
@@ -48,11 +49,18 @@ class BoundedNoise:
     upper: np.ndarray
 
     def __init__(self, lower: ArrayLike, mode: ArrayLike, upper: ArrayLike) -> None:
-        lo, c, hi = (np.atleast_1d(np.array(a, dtype=float)) for a in (lower, mode, upper))
+        lo, c, hi = (np.atleast_1d(np.array(real_array(a, name, finite=False,
+                                                       error=EvidenceError)))
+                     for a, name in ((lower, "lower"), (mode, "mode"), (upper, "upper")))
         if not (lo.shape == c.shape == hi.shape) or lo.ndim != 1:
             raise EvidenceError("lower, mode and upper must be scalars or equal-length vectors")
         if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(np.isfinite(c))):
             raise EvidenceError("noise bounds and mode must be finite numbers")
+        with np.errstate(over="ignore"):
+            wide = ~np.isfinite(hi - lo)
+        if wide.any():
+            raise EvidenceError(f"noise bounds {lo.tolist()}, {hi.tolist()} are too far apart "
+                                "to compute with (their width overflows); rescale the variable")
         if np.any(lo > c) or np.any(c > hi):
             raise EvidenceError(
                 f"need lower <= mode <= upper for every component, got lower={lo.tolist()}, "
@@ -221,7 +229,8 @@ class FilterResult:
     diagnostics: dict[str, np.ndarray] = field(default_factory=dict)
 
 
-# -- shared by the filters (added for issue 3) --------------------------------------------
+# -- what every filter offers ----------------------------------------------------------------
+@runtime_checkable
 class Filter(Protocol):
     """What every filter in dstoolkit offers: a name, one run, and a batch of runs.
 
@@ -231,9 +240,14 @@ class Filter(Protocol):
     returns the estimates (runs, steps, n), the same numbers ``run`` gives for each row.
     Inputs drive f(x, u): one row per transition (``inputs[k - 1]`` leads from step k − 1 to
     step k, as in :meth:`StateSpaceModel.simulate`); in a batch, one such array per run.
+    A filter may take further parameters after these, each with a default (e.g. the
+    particle filter's ``run_index``).
     """
 
-    name: str
+    @property
+    def name(self) -> str:
+        """Short name of the method, e.g. ``"dependent-evidence"``."""
+        ...
 
     def run(
         self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
@@ -248,9 +262,10 @@ def batch_readings(
     """Check a batch of readings and inputs and give them their batch shapes.
 
     Returns ``Z`` as (runs, steps, m) floats and ``inputs`` as (runs, transitions, q) (or
-    None), raising a clear error for wrong shapes or non-finite readings.
+    None), raising a clear error for wrong shapes, non-numbers, non-finite readings or
+    inputs, and inputs that the model's f(x, u) does not accept.
     """
-    z = np.asarray(Z, dtype=float)
+    z = real_array(Z, "readings", finite=False, error=EvidenceError)
     if z.ndim == 2 and model.obs_dim == 1:
         z = z[..., None]
     if z.ndim != 3 or z.shape[2] != model.obs_dim:
@@ -258,8 +273,8 @@ def batch_readings(
             f"readings must have shape (runs, steps, {model.obs_dim}), got {z.shape}; "
             "a single sequence goes to run(), not run_batch()"
         )
-    if z.shape[1] == 0:
-        raise EvidenceError("no readings: give at least one step")
+    if z.shape[0] == 0 or z.shape[1] == 0:
+        raise EvidenceError(f"no readings (shape {z.shape}): give at least one run of one step")
     if not np.all(np.isfinite(z)):
         bad = np.argwhere(~np.isfinite(z))[0]
         raise EvidenceError(
@@ -268,7 +283,7 @@ def batch_readings(
         )
     if inputs is None:
         return z, None
-    u = np.asarray(inputs, dtype=float)
+    u = real_array(inputs, "inputs", finite=False, error=EvidenceError)
     if u.ndim == 2:
         u = u[..., None]
     if u.ndim != 3 or u.shape[0] != z.shape[0] or u.shape[1] < z.shape[1] - 1:
@@ -276,7 +291,34 @@ def batch_readings(
             f"inputs must have shape (runs, transitions, q) with runs = {z.shape[0]} and "
             f"transitions >= steps − 1 = {z.shape[1] - 1}, got {u.shape}"
         )
+    u = u[:, : max(z.shape[1] - 1, 0)]
+    if not np.all(np.isfinite(u)):
+        bad = np.argwhere(~np.isfinite(u))[0]
+        raise EvidenceError(
+            f"input at run {bad[0]}, transition {bad[1]} is not a finite number; give every "
+            "transition its input (e.g. the orders n_k of eq. 43)"
+        )
+    if u.shape[1]:
+        _probe_inputs(model, u)
     return z, u
+
+
+def _probe_inputs(model: StateSpaceModel, u: np.ndarray) -> None:
+    """Evaluate f once on the inputs of the first transition, as the filters will, so that an
+    input of the wrong shape is reported here and not as a broadcast error deep inside."""
+    x = np.zeros((u.shape[0], 2, model.state_dim))
+    try:
+        with np.errstate(all="ignore"):
+            out = np.asarray(with_input(model.f, u[:, 0])(x))
+        np.broadcast_to(out, x.shape)
+    except EvidenceError:
+        raise
+    except (ValueError, TypeError, IndexError) as exc:
+        raise EvidenceError(
+            f"the model's f(x, u) does not accept inputs of shape {u.shape} (runs, "
+            f"transitions, q): {type(exc).__name__}: {exc}; give one input row per transition "
+            "of the length f expects"
+        ) from exc
 
 
 def single_readings(
@@ -284,7 +326,7 @@ def single_readings(
 ) -> tuple[np.ndarray, np.ndarray | None]:
     """One sequence z (steps, m) (or (steps,) for m = 1) checked and shaped as a batch of one
     run, with its inputs (transitions, q)."""
-    z = np.asarray(z, dtype=float)
+    z = real_array(z, "readings", finite=False, error=EvidenceError)
     if z.ndim == 1 and model.obs_dim == 1:
         z = z[:, None]
     if z.ndim != 2:
@@ -292,8 +334,11 @@ def single_readings(
             f"readings must have shape (steps, {model.obs_dim}), got {z.shape}; "
             "a batch of sequences goes to run_batch()"
         )
-    return batch_readings(model, z[None],
-                          None if inputs is None else np.asarray(inputs, dtype=float)[None])
+    u = None if inputs is None else real_array(inputs, "inputs", finite=False,
+                                                  error=EvidenceError)
+    if u is not None and u.ndim == 1:
+        u = u[:, None]
+    return batch_readings(model, z[None], None if u is None else u[None])
 
 
 def step_input(inputs: np.ndarray | None, k: int) -> np.ndarray | None:

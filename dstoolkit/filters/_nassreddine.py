@@ -63,73 +63,39 @@ from typing import Any, Literal
 
 import numpy as np
 
-from dstoolkit.errors import EvidenceError, TotalConflictError
+from dstoolkit.errors import EvidenceError, TotalConflictError, WorkLimitError
+from dstoolkit.evidence._boxes import Boxes, hull, pignistic_expectation, row_sum
+from dstoolkit.evidence._checks import whole_number
 from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
 from dstoolkit.evidence._extension import box_image
 from dstoolkit.evidence._intervals import IntervalEvidence
 
+from ._base import FilterBase
 from ._model import (
     BoundedNoise,
     FilterResult,
     StateSpaceModel,
-    batch_readings,
     first_reading_box,
-    single_readings,
     step_input,
     with_input,
 )
 
 ConflictPolicy = Literal["raise", "reset"]
-#: Memory budget for the contraction arrays of one chunk of runs.
+#: Memory for the contraction arrays of one chunk of runs (a speed setting; the memory
+#: budget, :func:`dstoolkit.evidence.memory_budget`, caps it too).
 CHUNK_BYTES = 96 * 2**20
+#: Clustering rounds after which :func:`cluster_boxes` gives up (each round halves at most
+#: the excess, so a few dozen suffice for any real posterior).
+MAX_CLUSTER_ROUNDS = 10_000
 
 
-def row_sum(values: np.ndarray) -> np.ndarray:
-    """Sum over axis 1 (the focal elements), added in order.
-
-    numpy's pairwise summation groups terms by the array's length, so zero-mass padding
-    would change the rounding; a sequential sum does not, and a run then gives the same
-    numbers alone as in a batch padded to other runs' sizes.
-    """
-    return np.cumsum(values, axis=1)[:, -1]
-
-
-@dataclass
-class BoxMass:
-    """Mass functions on boxes for a batch of runs: lo, hi (runs, N, n), mass (runs, N).
-
-    Rows with mass 0 are padding; they hold a copy of a real box so that f stays finite.
-    """
-
-    lo: np.ndarray
-    hi: np.ndarray
-    mass: np.ndarray
-
-    def evidence(self, run: int = 0) -> IntervalEvidence:
-        """The mass function of one run as an
-        :class:`~dstoolkit.evidence.IntervalEvidence` (padding dropped)."""
-        keep = self.mass[run] > 0
-        return IntervalEvidence(self.lo[run, keep], self.hi[run, keep],
-                                self.mass[run, keep] / self.mass[run, keep].sum(), merge=False)
-
-    def pignistic(self) -> np.ndarray:
-        """Pignistic expectation Σ m_j (lo_j + hi_j)/2 of each run (eq. 20), (runs, n)."""
-        return row_sum(self.mass[..., None] * (0.5 * (self.lo + self.hi)))
-
-    def hull(self) -> tuple[np.ndarray, np.ndarray]:
-        """Hull of the focal elements of each run, (runs, n) twice."""
-        alive = (self.mass > 0)[..., None]
-        return (np.where(alive, self.lo, np.inf).min(axis=1),
-                np.where(alive, self.hi, -np.inf).max(axis=1))
-
-
-def noise_boxes(noise: BoundedNoise, p: int, epsilon: float, theta: Any) -> BoxMass:
-    """The evidence of a bounded noise (eqs. 24–26) as a one-run :class:`BoxMass`."""
+def noise_boxes(noise: BoundedNoise, p: int, epsilon: float, theta: Any) -> Boxes:
+    """The evidence of a bounded noise (eqs. 24–26) as a one-run :class:`Boxes`."""
     ev = noise.evidence(p=p, epsilon=epsilon, theta=theta)
-    return BoxMass(ev.boxes_lo[None], ev.boxes_hi[None], np.asarray(ev.mass)[None])
+    return Boxes(ev.boxes_lo[None], ev.boxes_hi[None], np.asarray(ev.mass)[None])
 
 
-def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> BoxMass:
+def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes:
     """Merge equal boxes within each run, adding their masses (eq. 14).
 
     Input rows with mass 0 are dropped. The result is compacted and canonical: run r's
@@ -156,14 +122,14 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> BoxMa
     out[np.arange(runs)[:, None].repeat(rows, 1)[start], group[start]] = coords[start]
     out, summed = out[:, :width], summed[:, :width]
     out = np.where((summed > 0)[..., None], out, out[:, :1])
-    return BoxMass(out[..., :n], out[..., n:], summed)
+    return Boxes(out[..., :n], out[..., n:], summed)
 
 
 def _sizes(lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
     return np.sum((hi - lo) / unit, axis=-1)
 
 
-def cluster_boxes(bm: BoxMass, max_focal: int) -> tuple[BoxMass, np.ndarray]:
+def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     """Cap each run at ``max_focal`` focal elements by merging similar boxes into their hull.
 
     Denœux's outer approximation by hierarchical clustering (2001): two focal elements A, B
@@ -179,17 +145,29 @@ def cluster_boxes(bm: BoxMass, max_focal: int) -> tuple[BoxMass, np.ndarray]:
     Returns the capped mass functions and, per run, the mass now carried by merged boxes.
     """
     runs, _, n = bm.lo.shape
+    live = bm.mass > 0
+    if not (np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo[live]))
+            and np.all(np.isfinite(bm.hi[live]))):
+        raise EvidenceError(
+            "cluster_boxes needs bounded boxes with finite masses; got NaN or infinite values "
+            "(check the filter's inputs and noise bounds)"
+        )
     unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
     unit = np.where(unit > 0, unit, 1.0)[:, None, :]
     # one packed array [lo | hi | mass | merged] so that each round moves it once
     packed = np.concatenate([bm.lo, bm.hi, bm.mass[..., None],
                              np.zeros(bm.mass.shape + (1,))], axis=-1)
-    for rnd in range(10_000):
+    for rnd in range(MAX_CLUSTER_ROUNDS + 1):
         mass = packed[..., 2 * n]
         count = (mass > 0).sum(axis=1)
         allowed = count - max_focal
         if not np.any(allowed > 0):
             break
+        if rnd == MAX_CLUSTER_ROUNDS:
+            raise WorkLimitError(
+                f"clustering the focal elements did not reach max_focal = {max_focal} in "
+                f"{MAX_CLUSTER_ROUNDS} rounds ({int(count.max())} remain); raise max_focal"
+            )
         d = rnd % n
         centre = np.where(mass > 0, packed[..., d] + packed[..., n + d], np.inf)
         order = np.argsort(centre, axis=1, kind="stable")[:, : int(count.max())]
@@ -206,6 +184,11 @@ def cluster_boxes(bm: BoxMass, max_focal: int) -> tuple[BoxMass, np.ndarray]:
         ranked = np.where(local, cost, np.inf)
         rank = np.argsort(np.argsort(ranked, axis=1, kind="stable"), axis=1, kind="stable")
         chosen = (local & (rank < allowed[:, None]))[..., None]
+        if not np.any(chosen[allowed > 0]):
+            raise WorkLimitError(
+                "clustering the focal elements found no pair to merge (their sizes are not "
+                "finite numbers); check the model's f and g for NaN or infinite images"
+            )
         merged_pair = np.concatenate([h_lo, h_hi, (m0 + m1)[..., None], np.ones_like(chosen)],
                                      axis=-1)
         second = np.concatenate([np.zeros((runs, 1, 1), dtype=bool), chosen], axis=1)
@@ -219,25 +202,25 @@ def cluster_boxes(bm: BoxMass, max_focal: int) -> tuple[BoxMass, np.ndarray]:
     return merge_equal_boxes(lo, hi, mass), moved
 
 
-def _pad(bm: BoxMass, width: int) -> BoxMass:
+def _pad(bm: Boxes, width: int) -> Boxes:
     extra = width - bm.mass.shape[1]
     if extra <= 0:
         return bm
-    return BoxMass(np.concatenate([bm.lo, np.repeat(bm.lo[:, :1], extra, axis=1)], axis=1),
+    return Boxes(np.concatenate([bm.lo, np.repeat(bm.lo[:, :1], extra, axis=1)], axis=1),
                    np.concatenate([bm.hi, np.repeat(bm.hi[:, :1], extra, axis=1)], axis=1),
                    np.concatenate([bm.mass, np.zeros((bm.mass.shape[0], extra))], axis=1))
 
 
-def _replace_runs(bm: BoxMass, runs: np.ndarray, new: BoxMass) -> BoxMass:
+def _replace_runs(bm: Boxes, runs: np.ndarray, new: Boxes) -> Boxes:
     width = max(bm.mass.shape[1], new.mass.shape[1])
     bm, new = _pad(bm, width), _pad(new, width)
     lo, hi, mass = bm.lo.copy(), bm.hi.copy(), bm.mass.copy()
     lo[runs], hi[runs], mass[runs] = new.lo, new.hi, new.mass
-    return BoxMass(lo, hi, mass)
+    return Boxes(lo, hi, mass)
 
 
 @dataclass(frozen=True)
-class NassreddineFilter:
+class NassreddineFilter(FilterBase):
     """Belief-function interval filter of Nassreddine et al. (2010); see the module docstring.
 
     Parameters
@@ -272,12 +255,12 @@ class NassreddineFilter:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "name", "nassreddine-restart" if self.restart else "nassreddine")
-        if int(self.max_focal) != self.max_focal or self.max_focal < 2:
-            raise EvidenceError(f"max_focal must be an integer >= 2, got {self.max_focal}")
-        if self.on_conflict not in ("raise", "reset"):
-            raise EvidenceError(
-                f"on_conflict must be 'raise' or 'reset', got {self.on_conflict!r}"
-            )
+        whole_number(self.max_focal, "max_focal", low=2, high=100_000, error=EvidenceError)
+        self._policy(self.on_conflict, ("raise", "reset"), "on_conflict")
+        self._cuts(self.p, self.epsilon)
+        self._box(self.initial_box)
+        self._frame(self.state_theta, "state_theta")
+        self._frame(self.obs_theta, "obs_theta")
 
     def run(
         self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
@@ -292,25 +275,36 @@ class NassreddineFilter:
         Diagnostics (steps,): ``conflict`` K (NaN at the first step), ``focal_elements``
         of the posterior before the cap, ``merged_mass`` and ``resets``.
         """
-        Z, U = single_readings(model, z, inputs)
+        Z, U = self._single(model, z, inputs)
+        self._check_box_dim(self._box(self.initial_box), model)
+        self._chunks(1, self._bytes_per_run(model), "Nassreddine's filter",
+                     "use fewer α-cuts p or a smaller max_focal")
         est, lo, hi, diag, steps = self._filter(model, Z, U, record)
+        self._finite(est)
         return FilterResult(method=self.name, estimates=est[0], lower=lo[0], upper=hi[0],
                             steps=steps, diagnostics={k: v[0] for k, v in diag.items()})
 
     def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> np.ndarray:
         """Estimates (runs, steps, n) of independent sequences Z (runs, steps, m)."""
-        Z, U = batch_readings(model, Z, inputs)
+        Z, U = self._batch(model, Z, inputs)
+        self._check_box_dim(self._box(self.initial_box), model)
         runs = Z.shape[0]
+        per_run = self._bytes_per_run(model)
+        chunks = self._chunks(runs, per_run, "Nassreddine's filter",
+                              "use fewer α-cuts p or a smaller max_focal",
+                              cap=max(1, int(CHUNK_BYTES // per_run)))
+        est = np.empty((runs, Z.shape[1], model.state_dim))
+        for sel in chunks:
+            est[sel] = self._filter(model, Z[sel], None if U is None else U[sel], False)[0]
+        return self._finite(est)
+
+    def _bytes_per_run(self, model: StateSpaceModel) -> float:
+        """Memory of one run's contraction arrays (the largest), bytes."""
         n_v = self.p + 1 if self.epsilon > 0 else self.p
         n_state = (n_v ** model.state_dim if self.restart
                    else max(self.max_focal, n_v ** model.obs_dim))
         rows = n_state * n_v ** model.state_dim * n_v ** model.obs_dim  # contractions per run
-        chunk = max(1, CHUNK_BYTES // (rows * 8 * (6 * model.state_dim + 4)))
-        est = np.empty((runs, Z.shape[1], model.state_dim))
-        for start in range(0, runs, chunk):
-            sel = slice(start, min(runs, start + chunk))
-            est[sel] = self._filter(model, Z[sel], None if U is None else U[sel], False)[0]
-        return est
+        return float(rows * 8 * (6 * model.state_dim + 4))
 
     # -- the recursion, vectorised over runs --------------------------------------------------
     def _prior(self, model: StateSpaceModel, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -320,8 +314,8 @@ class NassreddineFilter:
                     np.broadcast_to(np.asarray(self.initial_box[1], float), shape))
         return first_reading_box(model, z)
 
-    def _from_reading(self, model: StateSpaceModel, z: np.ndarray, w: BoxMass, k: int
-                      ) -> BoxMass:
+    def _from_reading(self, model: StateSpaceModel, z: np.ndarray, w: Boxes, k: int
+                      ) -> Boxes:
         """g⁻¹(z + W_l) ∩ X_0 for every focal element W_l: the evidence of one reading."""
         p_lo, p_hi = self._prior(model, z)
         lo, hi = model.inverse()(z[:, None] + w.lo, z[:, None] + w.hi,
@@ -339,7 +333,7 @@ class NassreddineFilter:
             )
         return merge_equal_boxes(lo, hi, mass / total)
 
-    def _predict(self, model: StateSpaceModel, state: BoxMass, v: BoxMass,
+    def _predict(self, model: StateSpaceModel, state: Boxes, v: Boxes,
                  u: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         f_lo, f_hi = box_image(with_input(model.f, u), state.lo, state.hi, model.f_monotone)
         runs, n = f_lo.shape[0], f_lo.shape[-1]
@@ -366,7 +360,7 @@ class NassreddineFilter:
         for k in range(n_steps):
             if k > 0:
                 if self.restart:
-                    state = BoxMass(est[:, k - 1, None] + v.lo, est[:, k - 1, None] + v.hi,
+                    state = Boxes(est[:, k - 1, None] + v.lo, est[:, k - 1, None] + v.hi,
                                     np.broadcast_to(v.mass, (runs, v.mass.shape[1])))
                 p_lo, p_hi, p_mass = self._predict(model, state, v, step_input(U, k))
                 y_lo, y_hi = Z[:, k, None] + w.lo, Z[:, k, None] + w.hi
@@ -378,11 +372,12 @@ class NassreddineFilter:
                 c_mass = (p_mass[:, :, None] * w.mass[:, None]).reshape(runs, -1)
                 empty = np.any(c_lo > c_hi, axis=-1)
                 conflict = row_sum(np.where(empty, c_mass, 0.0))
-                dead = 1.0 - conflict <= CONFLICT_TOLERANCE
-                c_mass = np.where(empty | dead[:, None], 0.0, c_mass)
+                c_mass = np.where(empty, 0.0, c_mass)
                 # Renormalise by the mass actually kept (= 1 − K in exact arithmetic): dividing
                 # by 1 − K would amplify rounding loss by 1/(1 − K) at every step of high conflict.
                 kept = row_sum(c_mass)
+                dead = kept <= CONFLICT_TOLERANCE
+                c_mass = np.where(dead[:, None], 0.0, c_mass)
                 c_mass = c_mass / np.where(dead, 1.0, kept)[:, None]
                 posterior = merge_equal_boxes(c_lo, c_hi, c_mass)
                 diag["conflict"][:, k] = conflict
@@ -390,26 +385,27 @@ class NassreddineFilter:
                     posterior = self._total_conflict(model, Z, k, dead, w, posterior, diag)
                 if steps is not None:
                     steps.append({
-                        "state": state.evidence(),
-                        "prediction": merge_equal_boxes(p_lo[:1], p_hi[:1],
-                                                        p_mass[:1]).evidence(),
+                        "state": IntervalEvidence.from_boxes(state),
+                        "prediction": IntervalEvidence.from_boxes(
+                            merge_equal_boxes(p_lo[:1], p_hi[:1], p_mass[:1])),
                         "observation": IntervalEvidence(y_lo[0], y_hi[0], w.mass[0]),
                     })
             elif steps is not None:
                 steps.append({"observation": IntervalEvidence(Z[0, 0] + w.lo[0],
                                                               Z[0, 0] + w.hi[0], w.mass[0])})
             diag["focal_elements"][:, k] = (posterior.mass > 0).sum(axis=1)
-            est[:, k] = posterior.pignistic()
-            lo[:, k], hi[:, k] = posterior.hull()
+            est[:, k] = pignistic_expectation(posterior)
+            lo[:, k], hi[:, k] = hull(posterior)
             if steps is not None:
-                steps[-1].update(posterior=posterior.evidence(), estimate=est[0, k].copy())
+                steps[-1].update(posterior=IntervalEvidence.from_boxes(posterior),
+                                 estimate=est[0, k].copy())
             if not self.restart:
                 state, diag["merged_mass"][:, k] = cluster_boxes(posterior, self.max_focal)
         return est, lo, hi, diag, steps
 
     def _total_conflict(self, model: StateSpaceModel, Z: np.ndarray, k: int,
-                        dead: np.ndarray, w: BoxMass, posterior: BoxMass,
-                        diag: dict[str, np.ndarray]) -> BoxMass:
+                        dead: np.ndarray, w: Boxes, posterior: Boxes,
+                        diag: dict[str, np.ndarray]) -> Boxes:
         if self.on_conflict == "raise":
             r = int(np.flatnonzero(dead)[0])
             where = (f"step {k} (reading z[{k}], counting from 0)"

@@ -39,13 +39,13 @@ from typing import Any, ClassVar
 import numpy as np
 
 from dstoolkit.errors import EvidenceError
+from dstoolkit.evidence._checks import whole_number
 
+from ._base import FilterBase
 from ._model import (
     FilterResult,
     StateSpaceModel,
-    batch_readings,
     first_reading_box,
-    single_readings,
     step_input,
     with_input,
 )
@@ -83,7 +83,7 @@ def systematic_resample(weights: np.ndarray, offsets: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class ParticleFilter:
+class ParticleFilter(FilterBase):
     """Bootstrap particle filter with bounded-support likelihood (see the module docstring).
 
     Parameters
@@ -103,8 +103,9 @@ class ParticleFilter:
     name: ClassVar[str] = "particle"
 
     def __post_init__(self) -> None:
-        if int(self.n_particles) != self.n_particles or self.n_particles < 1:
-            raise EvidenceError(f"n_particles must be a positive integer, got {self.n_particles}")
+        whole_number(self.n_particles, "n_particles", low=1, high=10**8, error=EvidenceError)
+        whole_number(self.seed, "seed", low=0, error=EvidenceError)
+        self._box(self.initial_box)
 
     def run(
         self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False,
@@ -116,9 +117,14 @@ class ParticleFilter:
         and effective sample size. Diagnostics: ``ess`` (steps,), the effective sample size
         1/Σw², and ``reinitialised`` (steps,), True where the degeneracy policy acted.
         """
-        Z, U = single_readings(model, z, inputs)
+        Z, U = self._single(model, z, inputs)
+        self._check_box_dim(self._box(self.initial_box), model)
+        run_index = whole_number(run_index, "run_index", low=0, error=EvidenceError)
+        self._chunks(1, self._bytes_per_run(model, Z.shape[1]), "the particle filter",
+                     "use fewer particles or steps")
         out = self._filter_chunk(model, Z, U, np.array([run_index]), record, details=True)
         est, lo, hi, ess, reinit, steps = out
+        self._finite(est)
         return FilterResult(
             method=self.name, estimates=est[0], lower=lo[0], upper=hi[0], steps=steps,
             diagnostics={"ess": ess[0], "reinitialised": reinit[0]},
@@ -126,18 +132,23 @@ class ParticleFilter:
 
     def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> np.ndarray:
         """Estimates (runs, steps, n); row r equals ``run(model, Z[r], run_index=r)``."""
-        Z, U = batch_readings(model, Z, inputs)
+        Z, U = self._batch(model, Z, inputs)
+        self._check_box_dim(self._box(self.initial_box), model)
         runs, n_steps, _ = Z.shape
-        per_run = 8 * n_steps * self.n_particles * (model.state_dim + 1)
-        chunk = max(1, CHUNK_BYTES // per_run)
+        per_run = self._bytes_per_run(model, n_steps)
         est = np.empty((runs, n_steps, model.state_dim))
-        for start in range(0, runs, chunk):
-            sel = slice(start, min(runs, start + chunk))
+        for sel in self._chunks(runs, per_run, "the particle filter",
+                                "use fewer particles or steps",
+                                cap=max(1, int(CHUNK_BYTES // per_run))):
             est[sel] = self._filter_chunk(
                 model, Z[sel], None if U is None else U[sel], np.arange(runs)[sel], False,
                 details=False,
             )[0]
-        return est
+        return self._finite(est)
+
+    def _bytes_per_run(self, model: StateSpaceModel, n_steps: int) -> float:
+        """Memory of one run's pre-drawn noise and working arrays, bytes."""
+        return float(8 * n_steps * int(self.n_particles) * (model.state_dim + 1))
 
     # -- internals ---------------------------------------------------------------------------
     def _stream(self, *key: int) -> np.random.Generator:

@@ -20,6 +20,9 @@ from typing import Any, Literal
 
 import numpy as np
 
+from dstoolkit.errors import InvalidInputError
+from dstoolkit.evidence._checks import real_array
+
 #: The speed-of-sound models of :func:`speed_of_sound`.
 SpeedModel = Literal["paper", "ideal_gas", "cramer"]
 
@@ -34,14 +37,20 @@ _CRAMER = np.array([
 
 def speed_of_sound_paper(temperature_c: Any) -> np.ndarray | float:
     """c = 331.3 + 0.606 T (m/s), the paper's linear law (T in °C)."""
-    return 331.3 + 0.606 * np.asarray(temperature_c, dtype=float)
+    return 331.3 + 0.606 * _temperature(temperature_c)
+
+
+def _temperature(value: Any) -> np.ndarray:
+    t = real_array(value, "temperature_c")
+    if np.any(t <= -273.15):
+        raise InvalidInputError(f"temperature_c must be above absolute zero (-273.15 °C), got "
+                                f"{t.min():g}")
+    return t
 
 
 def speed_of_sound_ideal_gas(temperature_c: Any) -> np.ndarray | float:
     """c = 331.3 sqrt(1 + T/273.15) (m/s): dry air as an ideal gas, c ∝ sqrt(T_kelvin)."""
-    t = np.asarray(temperature_c, dtype=float)
-    if np.any(t <= -273.15):
-        raise ValueError(f"temperature must be above absolute zero (-273.15 °C), got {t}")
+    t = _temperature(temperature_c)
     return 331.3 * np.sqrt(1.0 + t / 273.15)
 
 
@@ -53,7 +62,7 @@ def water_vapour_fraction(
     h = np.asarray(relative_humidity, dtype=float)
     p = np.asarray(pressure_pa, dtype=float)
     if np.any((h < 0) | (h > 1)):
-        raise ValueError(f"relative_humidity is a fraction in [0, 1], got {h}")
+        raise InvalidInputError(f"relative_humidity is a fraction in [0, 1], got {h}")
     tk = t + 273.15
     enhancement = 1.00062 + 3.14e-8 * p + 5.6e-7 * t**2
     p_sv = np.exp(1.2811805e-5 * tk**2 - 1.9509874e-2 * tk + 34.04926034 - 6.3536311e3 / tk)
@@ -71,9 +80,9 @@ def speed_of_sound_cramer(
     Valid for 0–30 °C, 75–102 kPa (a little above is harmless), x_w ≤ 0.06, x_c ≤ 0.01;
     accuracy about 300 ppm. Outside 0–30 °C a ``ValueError`` asks for another model.
     """
-    t = np.asarray(temperature_c, dtype=float)
+    t = _temperature(temperature_c)
     if np.any((t < 0.0) | (t > 30.0)):
-        raise ValueError(
+        raise InvalidInputError(
             f"Cramer's formula holds for 0–30 °C, got {t}; use model='ideal_gas' outside"
         )
     p = np.asarray(pressure_pa, dtype=float)
@@ -111,14 +120,14 @@ def speed_of_sound(
         return speed_of_sound_ideal_gas(temperature_c)
     if model == "cramer":
         return speed_of_sound_cramer(temperature_c, **kwargs)
-    raise ValueError(f"unknown speed-of-sound model {model!r}; use 'paper', 'ideal_gas' or "
+    raise InvalidInputError(f"unknown speed-of-sound model {model!r}; use 'paper', 'ideal_gas' or "
                      "'cramer'")
 
 
 def _check_positive(name: str, value: Any) -> np.ndarray:
-    v = np.asarray(value, dtype=float)
+    v = real_array(value, name, finite=False)
     if np.any(~np.isfinite(v)) or np.any(v <= 0):
-        raise ValueError(f"{name} must be positive and finite, got {value}")
+        raise InvalidInputError(f"{name} must be positive and finite, got {value}")
     return v
 
 
@@ -138,7 +147,7 @@ def resonance_orders(
     """The orders n with f_n = n c/(2L) inside ``band`` (inclusive), ascending."""
     f_lo, f_hi = band
     if not 0 < f_lo < f_hi:
-        raise ValueError(f"band must be (low, high) with 0 < low < high, got {band}")
+        raise InvalidInputError(f"band must be (low, high) with 0 < low < high, got {band}")
     f_f = float(fundamental_frequency(level_m, c))
     return np.arange(int(np.ceil(f_lo / f_f - 1e-12)), int(np.floor(f_hi / f_f + 1e-12)) + 1)
 

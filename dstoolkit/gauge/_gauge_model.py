@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.errors import EvidenceError
+from dstoolkit.evidence._checks import real_array
 from dstoolkit.filters._model import BoundedNoise, StateSpaceModel
 
 from ._acoustics import DEFAULT_BAND, fundamental_frequency, resonance_frequencies, speed_of_sound
@@ -42,12 +43,24 @@ PAPER_THETA: tuple[tuple[tuple[float, float]], tuple[tuple[float, float]]] = (
 
 
 def _orders(u: Any) -> np.ndarray:
+    # the filters call this at every step with checked float orders: one test, then go
+    if isinstance(u, np.ndarray) and u.dtype == np.float64 and u.size:
+        if u.size == 1 and 0.0 < u.item() < np.inf:
+            return u
+        if u.size > 1 and 0.0 < u.min() and u.max() < np.inf:
+            return u
     if u is None:
         raise EvidenceError(
             "the gauge model needs the order n_k of each resonance as input (eq. 39): pass "
             "inputs=orders_from_readings(z) (eq. 43) or the true orders"
         )
-    return np.asarray(u, dtype=float)
+    orders = real_array(u, "inputs (orders n_k)", error=EvidenceError)
+    if np.any(orders <= 0):
+        raise EvidenceError(
+            f"orders n_k must be positive (eq. 39 divides by n_k), got {orders.min():g}; "
+            "give the orders of eq. 43 (orders_from_readings) or the true ones"
+        )
+    return orders
 
 
 def _f(x: np.ndarray, u: Any = None) -> np.ndarray:

@@ -20,15 +20,21 @@ from typing import Any
 
 import numpy as np
 
+from dstoolkit.errors import InvalidInputError
+from dstoolkit.evidence._checks import real_array, whole_number
+
+#: Largest order n_1 of the first resonance that :func:`fit_resonance_series` tries.
+MAX_FIRST_ORDER = 100_000
+
 
 def _as_increasing(z: Any, what: str = "resonance frequencies") -> np.ndarray:
-    z = np.asarray(z, dtype=float).reshape(-1)
+    z = real_array(z, what, finite=False).reshape(-1)
     if z.size < 2:
-        raise ValueError(f"need at least 2 {what}, got {z.size}")
+        raise InvalidInputError(f"need at least 2 {what}, got {z.size}")
     if not np.all(np.isfinite(z)):
-        raise ValueError(f"{what} contain NaN or infinite values")
+        raise InvalidInputError(f"{what} contain NaN or infinite values")
     if np.any(np.diff(z) <= 0):
-        raise ValueError(f"{what} must increase strictly (sort them, drop duplicates)")
+        raise InvalidInputError(f"{what} must increase strictly (sort them, drop duplicates)")
     return z
 
 
@@ -43,8 +49,15 @@ def level_from_resonance(frequency_hz: Any, order: Any, c: Any) -> np.ndarray:
     >>> round(float(level_from_resonance(f10, 10, 343.42)), 6)
     1.3
     """
-    return np.asarray(order, dtype=float) * np.asarray(c, dtype=float) / (
-        2.0 * np.asarray(frequency_hz, dtype=float))
+    return (_positive(order, "order") * _positive(c, "c")
+            / (2.0 * _positive(frequency_hz, "frequency_hz")))
+
+
+def _positive(value: Any, name: str) -> np.ndarray:
+    v = real_array(value, name)
+    if np.any(v <= 0):
+        raise InvalidInputError(f"{name} must be positive, got {v.min():g}")
+    return v
 
 
 def level_from_fundamental(fundamental_hz: Any, c: Any) -> np.ndarray:
@@ -55,7 +68,7 @@ def level_from_fundamental(fundamental_hz: Any, c: Any) -> np.ndarray:
     >>> float(level_from_fundamental(132.0, 343.2))
     1.3
     """
-    return np.asarray(c, dtype=float) / (2.0 * np.asarray(fundamental_hz, dtype=float))
+    return _positive(c, "c") / (2.0 * _positive(fundamental_hz, "fundamental_hz"))
 
 
 def orders_eq43(z: Any, extend: bool = False) -> np.ndarray:
@@ -104,8 +117,8 @@ def state_transition(x: Any, n: Any) -> np.ndarray:
 
 def state_transition_derivative(x: Any, n: Any) -> np.ndarray:
     """∂f/∂x = (n + 1)/n > 0: f is increasing in x (Prop. 2 applies), for Kalman filters."""
-    n = np.asarray(n, dtype=float)
-    return np.broadcast_to((n + 1.0) / n, np.broadcast_shapes(np.shape(x), n.shape)).copy()
+    ratio = (np.asarray(n, dtype=float) + 1.0) / n
+    return ratio + np.zeros_like(x, dtype=float)  # the shape x and n broadcast to
 
 
 def observation(x: Any) -> np.ndarray:
@@ -165,25 +178,37 @@ def fit_resonance_series(
         Largest n_1 tried (default 3 z_1/slope + 10).
     """
     z = _as_increasing(z)
-    s = np.arange(z.size) if steps is None else np.asarray(steps, dtype=float).reshape(-1)
+    s = np.arange(z.size) if steps is None else real_array(steps, "steps").reshape(-1)
     if s.shape != z.shape or np.any(np.diff(s) <= 0) or np.any(s != np.round(s)):
-        raise ValueError("steps must be increasing integers, one per frequency")
+        raise InvalidInputError("steps must be increasing integers, one per frequency")
     s = s - s[0]
     slope, intercept = np.polyfit(s, z, 1)
     if not slope > 0:
-        raise ValueError(f"the resonances do not increase with their order (slope {slope})")
+        raise InvalidInputError(f"the resonances do not increase with their order (slope {slope})")
     if offset_hz is None:
         n1 = max(1, int(np.rint(intercept / slope)))
         b = float(intercept - slope * n1)
         resid = z - (slope * (n1 + s) + b)
         return ResonanceSeriesFit(n1, float(slope), b, float(np.sqrt(np.mean(resid**2))),
                                   (n1 + s).astype(int), True)
-    top = int(3 * z[0] / slope) + 10 if max_first_order is None else int(max_first_order)
+    top = (3 * z[0] / slope + 10 if max_first_order is None
+           else whole_number(max_first_order, "max_first_order", low=1))
+    if not top <= MAX_FIRST_ORDER:
+        raise InvalidInputError(
+            f"the first resonance would be of order up to {top:.3g}, more than "
+            f"{MAX_FIRST_ORDER}: these frequencies do not look like one tube's resonances"
+        )
+    top = int(top)
     firsts = np.arange(1, max(top, 1) + 1)[:, None]  # candidate first orders n_1
     m = firsts + s[None, :]
     y = z - offset_hz
     f_f = (m @ y) / np.sum(m * m, axis=1)
     sse = np.sum((y[None, :] - f_f[:, None] * m) ** 2, axis=1)
+    if not np.all(np.isfinite(f_f)):
+        raise InvalidInputError(
+            "the resonance frequencies are too large to fit (the sums overflow); give them "
+            "in Hz"
+        )
     best = int(np.argmin(sse))
     return ResonanceSeriesFit(int(firsts[best, 0]), float(f_f[best]), float(offset_hz),
                               float(np.sqrt(sse[best] / z.size)), (firsts[best, 0] + s).astype(int),

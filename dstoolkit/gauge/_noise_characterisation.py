@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from dstoolkit.errors import InvalidInputError
 from dstoolkit.evidence._intervals import IntervalEvidence
 from dstoolkit.evidence._possibility import (
     TriangularBounds,
@@ -110,7 +111,7 @@ def characterise_state_noise(
     """
     cond = RecordingConditions(speaker_jitter_hz=0.1) if conditions is None else conditions
     if runs < 1 or points < 1:
-        raise ValueError(f"need runs >= 1 and points >= 1, got {runs}, {points}")
+        raise InvalidInputError(f"need runs >= 1 and points >= 1, got {runs}, {points}")
     rng = np.random.default_rng(seed)
     freqs = np.linspace(sweep.f_start, sweep.f_stop, points)
     t = sweep.time_at(freqs)

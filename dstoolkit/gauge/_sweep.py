@@ -12,6 +12,8 @@ from typing import Any
 
 import numpy as np
 
+from dstoolkit.errors import InvalidInputError
+
 
 @dataclass(frozen=True)
 class LinearSweep:
@@ -37,16 +39,16 @@ class LinearSweep:
 
     def __post_init__(self) -> None:
         if not 0 < self.f_start < self.f_stop:
-            raise ValueError(
+            raise InvalidInputError(
                 f"need 0 < f_start < f_stop (an upward sweep), got {self.f_start}, {self.f_stop}"
             )
         if self.f_stop >= self.sample_rate / 2:
-            raise ValueError(
+            raise InvalidInputError(
                 f"f_stop = {self.f_stop} Hz must lie below the Nyquist frequency "
                 f"{self.sample_rate / 2} Hz; raise sample_rate"
             )
         if self.duration <= 0 or not 0 <= 2 * self.taper <= self.duration:
-            raise ValueError(
+            raise InvalidInputError(
                 f"need duration > 0 and 0 <= taper <= duration/2, got {self.duration}, "
                 f"{self.taper}"
             )

@@ -25,6 +25,8 @@ from typing import Any
 
 import numpy as np
 
+from dstoolkit.errors import InvalidInputError
+
 from ._acoustics import (
     DEFAULT_BAND,
     SpeedModel,
@@ -102,15 +104,16 @@ class TubeSetup:
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.level_m) and self.level_m > 0):
-            raise ValueError(f"level_m must be a positive distance in metres, got {self.level_m}")
+            raise InvalidInputError(
+                f"level_m must be a positive distance in metres, got {self.level_m}")
         if not self.diameter_m > 0:
-            raise ValueError(f"diameter_m must be positive, got {self.diameter_m}")
+            raise InvalidInputError(f"diameter_m must be positive, got {self.diameter_m}")
         for name in ("surface_reflection", "top_reflection"):
             r = getattr(self, name)
             if not 0 <= r <= 1:
-                raise ValueError(f"{name} is a reflection coefficient in [0, 1], got {r}")
+                raise InvalidInputError(f"{name} is a reflection coefficient in [0, 1], got {r}")
         if self.wall_loss_factor < 0 or self.extra_attenuation_np_per_m < 0:
-            raise ValueError("wall_loss_factor and extra_attenuation_np_per_m must be >= 0")
+            raise InvalidInputError("wall_loss_factor and extra_attenuation_np_per_m must be >= 0")
 
     @property
     def speed_of_sound(self) -> float:
@@ -200,11 +203,11 @@ class RecordingConditions:
         for name in ("speaker_jitter_hz", "microphone_noise_pa", "background_noise_pa",
                      "latency_s", "tail_s", "source_pressure_pa"):
             if not getattr(self, name) >= 0:
-                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
+                raise InvalidInputError(f"{name} must be >= 0, got {getattr(self, name)}")
         if not self.full_scale_pa > 0 or not self.speaker_jitter_bandwidth_hz > 0:
-            raise ValueError("full_scale_pa and speaker_jitter_bandwidth_hz must be > 0")
+            raise InvalidInputError("full_scale_pa and speaker_jitter_bandwidth_hz must be > 0")
         if self.bits is not None and not 2 <= self.bits <= 32:
-            raise ValueError(f"bits must be None or in 2..32, got {self.bits}")
+            raise InvalidInputError(f"bits must be None or in 2..32, got {self.bits}")
 
 
 def typical_conditions(**changes: Any) -> RecordingConditions:

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from dstoolkit.errors import InvalidInputError
+
 from ._sweep import LinearSweep
 from ._tube import RecordingConditions, TubeSetup, synthesize_recording
 
@@ -54,7 +56,7 @@ def virtual_tube_signal(
         time for the echoes to die down below 1e-3 (at most 1 s).
     """
     if not 0 < amplitude <= 1:
-        raise ValueError(f"amplitude must be in (0, 1], got {amplitude}")
+        raise InvalidInputError(f"amplitude must be in (0, 1], got {amplitude}")
     echoes = setup.echo_count(sweep.f_start, _ECHO_FLOOR)
     tail = min(1.0, max(0.01, echoes * setup.round_trip_s))
     base = RecordingConditions() if conditions is None else conditions

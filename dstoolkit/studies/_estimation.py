@@ -29,7 +29,7 @@ from typing import Any
 
 import numpy as np
 
-from dstoolkit.errors import InconsistentDataError
+from dstoolkit.errors import InconsistentDataError, InvalidInputError
 from dstoolkit.filters._bounded_error import BoundedErrorFilter
 from dstoolkit.filters._dependent import DependentEvidenceFilter
 from dstoolkit.filters._example_systems import simulate_lotka_volterra
@@ -155,12 +155,12 @@ def gauge_run(level_m: float = 4.6, temperature_c: float = 26.5,
         (case,) = (_with_true_orders(b) for b in
                    waveform_readings(level_m, temperature_c, 1, seed))
     else:
-        raise ValueError(f"simulation must be 'frequency' or 'waveform', got {simulation!r}")
+        raise InvalidInputError(f"simulation must be 'frequency' or 'waveform', got {simulation!r}")
     orders = estimate_orders(case, order_rule)
     filters = paper_filters(seed)
     unknown = set(methods) - set(filters)
     if unknown:
-        raise ValueError(f"unknown methods {sorted(unknown)}; choose from {sorted(filters)}")
+        raise InvalidInputError(f"unknown methods {sorted(unknown)}; choose from {sorted(filters)}")
     estimates = {m: filter_states(m, case, orders, filters)[0] for m in methods}
     true_orders = np.asarray(case.true_orders)[0]
     return GaugeRun(
@@ -377,7 +377,7 @@ def table3_readings(level_m: float, temperature_c: float, runs: int, seed: int =
     the case's entry of ``SeedSequence(seed)``), with the true orders in both simulations."""
     levels = [c[0] for c in cases]
     if level_m not in levels:
-        raise ValueError(f"level {level_m} m is not one of the cases {levels}")
+        raise InvalidInputError(f"level {level_m} m is not one of the cases {levels}")
     case_seed = int(np.random.SeedSequence(seed).generate_state(len(cases))[levels.index(level_m)])
     if simulation == "frequency":
         return frequency_readings(level_m, temperature_c, runs, case_seed)

@@ -15,6 +15,7 @@ error is the mean of |L̂_k − L| over its steps, as in Fig. 11b; Table 3 avera
 from __future__ import annotations
 
 import csv
+import io
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -23,6 +24,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from dstoolkit.errors import InvalidInputError
 from dstoolkit.filters._dependent import DependentEvidenceFilter
 from dstoolkit.filters._kalman import KalmanFilter
 from dstoolkit.filters._nassreddine import NassreddineFilter
@@ -39,6 +41,7 @@ from dstoolkit.gauge._tube import (
     typical_conditions,
 )
 
+from ._output import atomic_write
 from ._paper_results import TABLE3_CASES, TABLE3_MEAN_ABS_ERROR_M
 
 #: How readings are simulated: from the paper's noise distributions, or by detecting the
@@ -122,9 +125,9 @@ def estimate_orders(case: CaseReadings, rule: OrderRule = "eq43") -> np.ndarray:
         return np.stack([fit_resonance_series(row, offset_hz=None).orders[:-1] for row in z])
     if rule == "true":
         if case.true_orders is None:
-            raise ValueError("true orders are known only in the frequency-level simulation")
+            raise InvalidInputError("true orders are known only in the frequency-level simulation")
         return np.asarray(case.true_orders)[:, :-1]
-    raise ValueError(f"order rule must be 'eq43', 'fit' or 'true', got {rule!r}")
+    raise InvalidInputError(f"order rule must be 'eq43', 'fit' or 'true', got {rule!r}")
 
 
 def estimate_levels(method: str, case: CaseReadings, orders: np.ndarray,
@@ -170,13 +173,13 @@ class Table3:
         raise KeyError((level_m, method))
 
     def write_csv(self, path: str | Path) -> Path:
-        path = Path(path)
-        with path.open("w", newline="") as fh:
-            writer = csv.DictWriter(fh, fieldnames=CSV_COLUMNS)
-            writer.writeheader()
-            for r in self.rows:
-                writer.writerow(r.as_csv())
-        return path
+        """Write the rows as CSV, atomically (a temporary file renamed over ``path``)."""
+        text = io.StringIO(newline="")
+        writer = csv.DictWriter(text, fieldnames=CSV_COLUMNS)
+        writer.writeheader()
+        for r in self.rows:
+            writer.writerow(r.as_csv())
+        return atomic_write(path, lambda fh: fh.write(text.getvalue().encode("utf-8")))
 
     def format(self) -> str:
         """The table, ours beside the paper's figures."""
@@ -208,11 +211,11 @@ def run_table3(
     """
     unknown = set(methods) - set(METHODS)
     if unknown:
-        raise ValueError(f"unknown methods {sorted(unknown)}; choose from {METHODS}")
+        raise InvalidInputError(f"unknown methods {sorted(unknown)}; choose from {METHODS}")
     if simulation not in ("frequency", "waveform"):
-        raise ValueError(f"simulation must be 'frequency' or 'waveform', got {simulation!r}")
+        raise InvalidInputError(f"simulation must be 'frequency' or 'waveform', got {simulation!r}")
     if runs < 1:
-        raise ValueError(f"runs must be >= 1, got {runs}")
+        raise InvalidInputError(f"runs must be >= 1, got {runs}")
     cases = list(cases)
     filters = paper_filters(seed)
     seeds = np.random.SeedSequence(seed).generate_state(len(cases))

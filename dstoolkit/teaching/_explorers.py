@@ -1,41 +1,66 @@
 """Interactive explorers (ipywidgets) built from dstoolkit, for the book and the notebooks.
 
 Every explorer is a function that returns an :class:`Explorer`, a ``VBox`` holding its
-controls, a readout of the numbers that matter and an ``Output`` with the figure. The
-figure is drawn once when the widget is built, so a book executed at build time embeds it
-in the page; with a live kernel it is redrawn whenever a control changes.
+controls, a readout of the numbers that matter and an ``Output`` with the figure. One
+definition serves two modes:
+
+* **in a kernel** (a notebook, JupyterLab): every control is live; a change re-renders the
+  figure and the readout.
+* **on the static site** (the book executed by ``scripts/build-book.sh``, which sets the
+  environment variable ``DSTOOLKIT_STATIC_SITE=1``; or ``Explorer(..., static=True)``): the
+  explorer's *live* controls (one or two, declared with ``live=``) are replaced by sliders
+  over precomputed positions. Every combination of positions is rendered at build time into
+  a readout and a PNG, held in an ipywidgets ``Stack`` whose ``selected_index`` is
+  ``jslink``-ed to the slider's ``index``; the browser switches between them with no
+  kernel. Two live controls give a ``Stack`` of ``Stack``s. The other controls are shown
+  disabled, with a line saying that they work when the chapter runs as a notebook.
 
 Adding an explorer is a matter of a ``render(**values)`` function that returns a figure and
-a dict of numbers, and a dict of controls::
+a dict of numbers, a dict of controls, and the positions of its live controls::
 
     def my_explorer() -> Explorer:
         def render(level: float) -> tuple[Figure, dict[str, Any]]:
             fig = plot_something(level)
             return fig, {"estimate": 1.23}
 
-        return Explorer({"level": slider("level L (m)", 5.0, 1.0, 10.0, 0.1)}, render)
+        level = slider("level L (m)", 5.0, 1.0, 10.0, 0.1)
+        return Explorer({"level": level}, render, live={"level": positions(level, 9)})
 
 Sliders made by :func:`slider` use ``continuous_update=False``: the figure is redrawn
 when the mouse is released, so the page never stalls. A ``render`` that raises an
 :class:`~dstoolkit.errors.EvidenceError` (or any ``ValueError``) shows the message in the
 readout instead of a figure: the learner sees *why* a setting is invalid.
+
+Speed: a redraw keeps the axes where the first figure's layout engine put them (the layout
+is computed once per figure shape, not on every change) and encodes the PNG with fast
+compression as 256 colours (:data:`FIGURE_DPI`, :func:`encode_png`).
 """
 
 from __future__ import annotations
 
+import base64
+import functools
 import html
 import io
-from collections.abc import Callable, Mapping
+import itertools
+import os
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
 import ipywidgets as widgets
 import matplotlib.pyplot as plt
 import numpy as np
-from IPython.display import Image, display
+from IPython.display import Image
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from dstoolkit.errors import AudioUnavailableError, EvidenceError, NotMonotoneError
+from dstoolkit.errors import (
+    AudioUnavailableError,
+    EvidenceError,
+    InvalidInputError,
+    NotMonotoneError,
+)
 from dstoolkit.evidence import ZADEH_FRAME, appendix_evidence, yager, zadeh_sources
 from dstoolkit.evidence._combination import (
     combine_dependent,
@@ -78,6 +103,21 @@ from ._lab import (
 
 Render = Callable[..., tuple[Figure | None, Mapping[str, Any]]]
 
+#: The environment variable scripts/build-book.sh sets to "1": explorers built while the book
+#: is executed for the static site precompute the states of their live controls.
+STATIC_SITE_ENV = "DSTOOLKIT_STATIC_SITE"
+#: The page of the book that says how to run the chapters as notebooks (book/run.md), as
+#: linked from an explorer on a chapter page (both live in book/).
+RUN_PAGE = "run.html"
+#: Resolution of the explorers' figures (the notebook's inline backend uses 100 dpi too).
+FIGURE_DPI = 100
+
+
+def static_site() -> bool:
+    """True while scripts/build-book.sh executes the book for the static site
+    (``DSTOOLKIT_STATIC_SITE=1``), False in a notebook."""
+    return os.environ.get(STATIC_SITE_ENV, "") == "1"
+
 
 def slider(
     description: str,
@@ -105,6 +145,23 @@ def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSli
     )
 
 
+def positions(control: widgets.ValueWidget, count: int = 9, lo: float | None = None,
+              hi: float | None = None) -> tuple[Any, ...]:
+    """``count`` evenly spaced values of a slider between ``lo`` and ``hi`` (its own range by
+    default), on its step, with its current value among them: the positions a live control
+    takes on the static site. A ``Dropdown`` gives all its options."""
+    if isinstance(control, widgets.Dropdown):
+        return tuple(control._options_values)
+    lo = control.min if lo is None else lo
+    hi = control.max if hi is None else hi
+    step = control.step
+    grid = np.round(np.linspace(lo, hi, count) / step) * step
+    values = {round(float(v), 10) for v in grid} | {round(float(control.value), 10)}
+    if isinstance(control, widgets.IntSlider):
+        return tuple(sorted({int(round(v)) for v in values}))
+    return tuple(sorted(values))
+
+
 def _format(value: Any) -> str:
     if isinstance(value, float | np.floating):
         return f"{float(value):.4f}"
@@ -118,6 +175,40 @@ def readout_html(numbers: Mapping[str, Any]) -> str:
     return f"<table><tr>{head}</tr><tr>{body}</tr></table>"
 
 
+def warning_html(message: str) -> str:
+    """A readout that says why a setting is invalid."""
+    return f"<p style='color:#b00020'>⚠ {html.escape(message)}</p>"
+
+
+def _sticks_out(fig: Figure) -> bool:
+    """Whether anything drawn on ``fig`` reaches beyond its edges (a tick label pushed
+    out by a fixed layout)."""
+    drawn = fig.get_tightbbox(fig.canvas.get_renderer())
+    width, height = fig.get_size_inches()
+    return bool(drawn.x0 < -0.01 or drawn.y0 < -0.01 or drawn.x1 > width + 0.01
+                or drawn.y1 > height + 0.01)
+
+
+def encode_png(rgba: np.ndarray, compress_level: int = 1) -> bytes:
+    """An RGBA image (a drawn canvas) as a PNG of 256 colours: a third to a quarter of the
+    bytes of full colour, no visible difference on a plot, and a palette image compresses
+    fast. ``compress_level`` 1 (the kernel: fast) to 9 (the static site: small)."""
+    from PIL import Image as PILImage
+
+    image = PILImage.fromarray(rgba).convert("RGB").quantize(
+        256, method=PILImage.Quantize.FASTOCTREE)
+    buffer = io.BytesIO()
+    image.save(buffer, format="png", compress_level=compress_level)
+    return buffer.getvalue()
+
+
+def png_output(png: bytes) -> dict[str, Any]:
+    """A PNG as an ``Output`` widget's display_data output (what the site embeds)."""
+    return {"output_type": "display_data", "metadata": {},
+            "data": {"image/png": base64.b64encode(png).decode("ascii"),
+                     "text/plain": "<Figure>"}}
+
+
 class Explorer(widgets.VBox):
     """Controls, a readout of numbers and a figure that follows the controls.
 
@@ -126,10 +217,15 @@ class Explorer(widgets.VBox):
     controls
         Named controls; their values are passed to ``render`` as keyword arguments.
     render
-        ``render(**values) -> (figure or None, numbers)``. The figure is displayed in the
-        output area and closed; the numbers fill the readout.
+        ``render(**values) -> (figure or None, numbers)``. The figure is shown as a PNG in
+        the output area and closed; the numbers fill the readout.
     title
         Optional bold line above the controls.
+    live
+        The controls that answer on the static site (one or two), each with its positions
+        (:func:`positions`); every combination is rendered when the site is built.
+    static
+        Build the static-site form; default: :func:`static_site` (the environment).
 
     Attributes
     ----------
@@ -138,43 +234,180 @@ class Explorer(widgets.VBox):
     readout
         The ``HTML`` readout of the numbers.
     output
-        The figure's ``Output``.
+        The figure's ``Output``. On the static site the live controls are
+        ``SelectionSlider``s (or the original ``Dropdown``) and the others are disabled.
     figure
         The last figure drawn (closed; ``figure.savefig`` still works).
     numbers
         The last numbers shown; ``{"error": message}`` after an invalid setting.
+    states
+        Static site only: the numbers of every precomputed state, keyed by the live
+        controls' values (in the order of ``live``).
     """
 
     def __init__(
-        self, controls: Mapping[str, widgets.ValueWidget], render: Render, *, title: str = ""
+        self, controls: Mapping[str, widgets.ValueWidget], render: Render, *, title: str = "",
+        live: Mapping[str, Sequence[Any]] | None = None, static: bool | None = None,
     ) -> None:
         super().__init__()
         self.controls = dict(controls)
         self._render = render
+        self.live = {name: tuple(values) for name, values in (live or {}).items()}
+        unknown = set(self.live) - set(self.controls)
+        if unknown or len(self.live) > 2:
+            raise InvalidInputError(f"live controls must be one or two of "
+                                    f"{list(self.controls)}, got {list(self.live)}")
+        self.static = static_site() if static is None else static
         self.figure: Figure | None = None
         self.numbers: dict[str, Any] = {}
+        self.states: dict[tuple[Any, ...], dict[str, Any]] = {}
         self.readout = widgets.HTML()
-        self.output = widgets.interactive_output(self._update, self.controls)
-        box = widgets.HBox(list(self.controls.values()),
-                           layout=widgets.Layout(flex_flow="row wrap"))
-        head = [widgets.HTML(f"<b>{html.escape(title)}</b>")] if title else []
-        self.children = (*head, box, self.readout, self.output)
+        self.output = widgets.Output()
+        self._layouts: dict[tuple[Any, ...], list[Any]] = {}
+        self._head = [widgets.HTML(f"<b>{html.escape(title)}</b>")] if title else []
+        if self.static:
+            self._build_static()
+        else:
+            for control in self.controls.values():
+                control.observe(self._on_change, "value")
+            self.children = (*self._head, self._row(self.controls.values()), self.readout,
+                             self.output)
+            self.refresh()
 
-    def _update(self, **values: Any) -> None:
+    @staticmethod
+    def _row(children: Any) -> widgets.HBox:
+        return widgets.HBox(list(children), layout=widgets.Layout(flex_flow="row wrap"))
+
+    def values(self) -> dict[str, Any]:
+        """The controls' current values, by name."""
+        return {name: control.value for name, control in self.controls.items()}
+
+    def _on_change(self, _change: Any) -> None:
+        self.refresh()
+
+    def refresh(self, **overrides: Any) -> None:
+        """Render the controls' values (``overrides`` replacing some) into the readout and
+        the output: a new PNG, or a warning and no figure after an invalid setting."""
         try:
-            fig, numbers = self._render(**values)
+            fig, numbers = self._render(**{**self.values(), **overrides})
         except ValueError as exc:  # EvidenceError and friends: say what is wrong
             self.numbers = {"error": str(exc)}
-            self.readout.value = (
-                f"<p style='color:#b00020'>⚠ {html.escape(str(exc))}</p>"
-            )
+            self.readout.value = warning_html(str(exc))
+            self.output.outputs = ()
             return
         self.numbers = dict(numbers)
         self.readout.value = readout_html(self.numbers)
         if fig is not None:
             self.figure = fig
-            display(fig)
+            self.output.outputs = (png_output(self.png(fig)),)
             plt.close(fig)
+
+    def png(self, fig: Figure) -> bytes:
+        """``fig`` as PNG bytes. The first figure of a shape (size, number of axes) is laid
+        out by its layout engine; later ones reuse those axes positions (no layout pass, and
+        axes that stay put when a control moves), unless something (wider tick labels)
+        would then stick out of the figure: that one is laid out afresh."""
+        if not hasattr(fig.canvas, "buffer_rgba"):  # a Figure() made without pyplot
+            FigureCanvasAgg(fig)
+        fig.set_dpi(FIGURE_DPI)
+        engine = fig.get_layout_engine()
+        key = (*np.round(fig.get_size_inches(), 3), len(fig.axes))
+        layout = self._layouts.get(key) if engine is not None else None
+        if layout is not None:
+            fig.set_layout_engine("none")
+            for ax, box in zip(fig.axes, layout, strict=True):
+                ax.set_position(box)
+        fig.canvas.draw()
+        if layout is not None and _sticks_out(fig):
+            fig.set_layout_engine(engine)
+            for ax in fig.axes:  # set_position took them out of the layout
+                ax.set_in_layout(True)
+            fig.canvas.draw()
+        elif layout is None and engine is not None:
+            self._layouts[key] = [ax.get_position() for ax in fig.axes]
+        return encode_png(np.asarray(fig.canvas.buffer_rgba()),
+                          compress_level=6 if self.static else 1)
+
+    # -- the static site -------------------------------------------------------------------
+
+    def _build_static(self) -> None:
+        """Render every combination of the live controls' positions into a stack of states
+        (:func:`state_stack`) that the site's sliders switch in the browser."""
+        names = list(self.live)
+        start = tuple(self.controls[name].value for name in names)
+        leaves: dict[tuple[Any, ...], widgets.Widget] = {}
+        combos = itertools.product(*(self.live[name] for name in names))
+        # the start state last: the attributes then describe it, as in a kernel
+        for combo in sorted(combos, key=lambda combo: combo == start):
+            self.refresh(**dict(zip(names, combo, strict=True)))
+            self.states[combo] = dict(self.numbers)
+            leaves[combo] = state_leaf(self.readout, self.output)
+        fixed = [c for name, c in self.controls.items() if name not in self.live]
+        for control in fixed:
+            control.disabled = True
+        stack, site = state_stack(self.controls, self.live, leaves)
+        self.controls.update(site)
+        self.children = (*self._head, self._row(site.values()), self._row(fixed),
+                         site_note(list(site.values()), bool(fixed)), stack)
+
+
+def state_leaf(readout: widgets.HTML, output: widgets.Output) -> widgets.VBox:
+    """A copy of what a readout and an output show now: one precomputed state."""
+    return widgets.VBox([widgets.HTML(readout.value), widgets.Output(outputs=output.outputs)])
+
+
+def site_control(control: widgets.ValueWidget, options: Sequence[Any]) -> widgets.ValueWidget:
+    """A control as it is live on the static site: a ``Dropdown`` itself (all its options
+    precomputed), a slider as a ``SelectionSlider`` over ``options`` that follows the drag."""
+    if isinstance(control, widgets.Dropdown):
+        if tuple(control._options_values) != tuple(options):
+            raise InvalidInputError(f"a live dropdown precomputes all its options "
+                                    f"({control.description!r}): pass positions(dropdown)")
+        return control
+    if control.value not in options:
+        raise InvalidInputError(f"the positions of {control.description!r} must include its "
+                                f"value {control.value}: the page opens on it")
+    fmt = "d" if isinstance(control, widgets.IntSlider) else control.readout_format
+    return widgets.SelectionSlider(
+        options=[(format(v, fmt), v) for v in options], value=control.value,
+        description=control.description, continuous_update=True,
+        style={"description_width": control.style.description_width or "initial"},
+        layout=widgets.Layout(width=control.layout.width or "320px"))
+
+
+def state_stack(controls: Mapping[str, widgets.ValueWidget], live: Mapping[str, Sequence[Any]],
+                leaves: Mapping[tuple[Any, ...], widgets.Widget],
+                ) -> tuple[widgets.Stack, dict[str, widgets.ValueWidget]]:
+    """The precomputed states ``leaves`` (keyed by the live controls' values, in the order
+    of ``live``) in a ``Stack`` whose ``selected_index`` is ``jslink``-ed to the first live
+    control's ``index``; with two live controls, a ``Stack`` of ``Stack``s, every inner one
+    linked to the second control. Returns the stack and the site's controls by name."""
+    names = list(live)
+    site = {name: site_control(controls[name], live[name]) for name in names}
+
+    def stack(prefix: tuple[Any, ...], depth: int) -> widgets.Widget:
+        if depth == len(names):
+            return leaves[prefix]
+        name = names[depth]
+        options = tuple(live[name])
+        box = widgets.Stack([stack((*prefix, v), depth + 1) for v in options],
+                            selected_index=options.index(controls[name].value))
+        box.links = [widgets.jslink((site[name], "index"), (box, "selected_index"))]
+        return box
+
+    return stack((), 0), site
+
+
+def site_note(live: Sequence[widgets.ValueWidget], some_disabled: bool) -> widgets.HTML:
+    """The line under an explorer's controls on the static site: which controls answer on
+    this page, and where the others work."""
+    names = " and ".join(html.escape(c.description) for c in live)
+    rest = ("the greyed-out ones work when this chapter runs as a notebook"
+            if some_disabled else "in a notebook every value is possible")
+    head = (f"On this page {names} {'answer' if len(live) > 1 else 'answers'}; {rest}"
+            if live else "These controls work when this chapter runs as a notebook")
+    return widgets.HTML(f"<p style='font-size:0.9em;margin:0'><i>{head}: see "
+                        f"<a href='{RUN_PAGE}'>Run this book</a>.</i></p>")
 
 
 # -- mass functions on a finite frame ----------------------------------------------------
@@ -213,7 +446,12 @@ def mass_function_explorer() -> Explorer:
         return fig, {"m(Θ)": max(rest, 0.0), **{f"BetP({h})": betp[h] for h in LEVEL_FRAME},
                      "Pl({low}) − Bel({low})": mf.plausibility("low") - mf.belief("low")}
 
-    return Explorer(controls, render, title="A mass function on Θ = {low, mid, high}")
+    # On the site: m({low}) up to what the other start values leave, m({high}) in four
+    # steps (a total over 1 shows the warning, as in a kernel).
+    live = {"low": positions(controls["low"], 8, 0.0, 0.7),
+            "high": positions(controls["high"], 4, 0.0, 0.3)}
+    return Explorer(controls, render, title="A mass function on Θ = {low, mid, high}",
+                    live=live)
 
 
 # -- conflict: Zadeh's example -------------------------------------------------------------
@@ -246,7 +484,8 @@ def conflict_explorer() -> Explorer:
         return fig, {"conflict K": k, **{f"m({h})": combined.mass_of(h) for h in ZADEH_FRAME},
                      "m(Θ)": combined.mass_of(ZADEH_FRAME)}
 
-    return Explorer(controls, render, title="Zadeh's two doctors")
+    live = {"epsilon": positions(controls["epsilon"], 11), "rule": positions(controls["rule"])}
+    return Explorer(controls, render, title="Zadeh's two doctors", live=live)
 
 
 # -- dependent evidence: the paper's Appendix A -----------------------------------------------
@@ -285,7 +524,10 @@ def dependent_combination_explorer() -> Explorer:
                      "R21": dep.r21, "E[dependent]": both.pignistic_expectation(),
                      "E[Dempster]": naive.pignistic_expectation()}
 
-    return Explorer(controls, render, title="Dependent evidence: the paper's Appendix A")
+    live = {"a2": positions(controls["a2"], 9, 0.0, 0.8),
+            "mass_rule": positions(controls["mass_rule"])}
+    return Explorer(controls, render, title="Dependent evidence: the paper's Appendix A",
+                    live=live)
 
 
 # -- from a bounded noise to evidence ----------------------------------------------------------
@@ -322,7 +564,9 @@ def noise_evidence_explorer(
                      "Θ": f"[{t_lo:.4g}, {t_hi:.4g}]",
                      "pignistic expectation": ev.pignistic_expectation()}
 
-    return Explorer(controls, render, title="From a bounded noise to evidence")
+    live = {"p": positions(controls["p"], 8, 1, 8),
+            "epsilon": positions(controls["epsilon"], 3, 0.0, 0.5)}
+    return Explorer(controls, render, title="From a bounded noise to evidence", live=live)
 
 
 # -- why bounded noise: a bounded-error filter with wrong bounds --------------------------------
@@ -348,8 +592,9 @@ def bounded_error_explorer(v_half: float = 0.1, w_half: float = 1.0, steps: int 
         fig.axes[0].legend(fontsize=8, loc="upper left")
         return fig, enclosure_summary(res, x)
 
-    return Explorer({"scale": slider("assumed bounds × true", 1.0, 0.3, 3.0, 0.05)}, render,
-                    title="Bounded-error filter with wrong bounds")
+    scale = slider("assumed bounds × true", 1.0, 0.3, 3.0, 0.05)
+    return Explorer({"scale": scale}, render, title="Bounded-error filter with wrong bounds",
+                    live={"scale": positions(scale, 11, 0.5, 3.0)})
 
 
 # -- random sets and the extension principle (book/random_sets.md) -------------------------------
@@ -457,7 +702,10 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
                         for m in IMAGE_METHOD_NAMES})
         return fig, numbers
 
-    return Explorer(controls, render, title="The image of an interval: three methods")
+    live = {"hi": positions(controls["hi"], 9, 0.0, 4.0),
+            "function": positions(controls["function"])}
+    return Explorer(controls, render, title="The image of an interval: three methods",
+                    live=live)
 
 
 # -- the recursive filter on the gauge (book/recursive_filter.md) ---------------------------------
@@ -533,7 +781,10 @@ def filter_widget(level_m: float = 9.6, temperature_c: float = 23.9, *, p: int =
     def render(**values: Any) -> tuple[Figure, dict[str, Any]]:
         return render_filter(**values, seed=seed)
 
-    return Explorer(controls, render, title="The dependent-evidence filter on a simulated gauge")
+    live = {"level": positions(controls["level"], 9, 1.6, 9.6),
+            "epsilon": positions(controls["epsilon"], 3, 0.0, 0.5)}
+    return Explorer(controls, render, title="The dependent-evidence filter on a simulated gauge",
+                    live=live)
 
 
 
@@ -552,15 +803,21 @@ def filter_step_explorer(level_m: float = 9.6, temperature_c: float = 23.9, step
         "epsilon": slider("discount ε", epsilon, 0.0, 0.5, 0.01, readout_format=".2f"),
     }
 
+    seq = gauge_case(level_m, temperature_c, seed)
+
+    @functools.lru_cache(maxsize=8)  # moving the step re-draws, it does not re-filter
+    def run(start: str, epsilon: float) -> Any:
+        return filter_case(level_m, temperature_c, start=start, epsilon=epsilon, seed=seed,
+                           record=True, first=steps)[2]
+
     def render(step: int, start: str, epsilon: float):
-        seq = gauge_case(level_m, temperature_c, seed)
-        _, _, result = filter_case(level_m, temperature_c, start=start, epsilon=epsilon,
-                                   seed=seed, record=True, first=steps)
+        result = run(start, epsilon)
         truth = float(seq.truth[step - 1, 0])
         fig = plot_filter_step(result.steps[step - 1], truth, figsize=(9.0, 9.0))
         return fig, step_numbers(result, step, truth)
 
-    return Explorer(controls, render, title="Inside one step of the filter")
+    live = {"step": positions(controls["step"], 10), "start": positions(controls["start"])}
+    return Explorer(controls, render, title="Inside one step of the filter", live=live)
 
 
 # -- the acoustic level gauge: a recording, its resonances and the level --------------------------
@@ -643,10 +900,16 @@ def gauge_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
         ax2.set_xlim(PAPER_SWEEP.f_start, PAPER_SWEEP.f_stop)
         return fig, numbers
 
-    return Explorer(controls, render, title="A simulated acoustic level gauge")
+    live = {"level": positions(controls["level"], 9, 1.6, 9.6),
+            "temperature": positions(controls["temperature"], 1, 5.0, 5.0)}
+    return Explorer(controls, render, title="A simulated acoustic level gauge", live=live)
 
 
 # -- the lab: measure with a sound card, or with the virtual tube ---------------------------------
+
+
+#: Positions of the virtual tube's level, the lab's control that is live on the static site.
+LAB_LIVE_LEVELS = 8
 
 
 class LabWidget(widgets.VBox):
@@ -686,7 +949,7 @@ class LabWidget(widgets.VBox):
     """
 
     def __init__(self, settings: LabSettings | None = None, *, devices: bool | None = None,
-                 record_now: bool = True) -> None:
+                 record_now: bool = True, static: bool | None = None) -> None:
         super().__init__()
         s = LabSettings() if settings is None else settings
         inputs = device_options("input") if devices is not False else None
@@ -748,8 +1011,38 @@ class LabWidget(widgets.VBox):
             row(c["room_noise"], c["through_virtual_tube"]),
             row(self.button), self.readout, self.output,
         )
-        if record_now:
+        if static_site() if static is None else static:
+            self._build_static()
+        elif record_now:
             self.record()
+
+    def _build_static(self) -> None:
+        """The static site's form: one simulated record per position of the virtual tube's
+        level (the live control, :data:`LAB_LIVE_LEVELS`), switched in the browser by a
+        slider (:func:`state_stack`); every other control and the buttons are disabled."""
+        level = self.controls["level"]
+        live = {"level": positions(level, LAB_LIVE_LEVELS, 1.0, 11.5)}
+        start = level.value
+        leaves: dict[tuple[Any, ...], widgets.Widget] = {}
+        for value in sorted(live["level"], key=lambda v: v == start):  # the start one last
+            level.value = value
+            self.measurements = 0  # each state is the first record at its level
+            self.record()
+            leaves[(value,)] = state_leaf(self.readout, self.output)
+        stack, site = state_stack(self.controls, live, leaves)
+        for widget in [*self.controls.values(), self.button, self.refresh]:
+            widget.disabled = True
+        self.controls["level"] = site["level"]
+
+        def swap(widget: widgets.Widget) -> widgets.Widget:
+            if widget is level:
+                return site["level"]
+            if isinstance(widget, widgets.HBox):
+                widget.children = tuple(swap(child) for child in widget.children)
+            return widget
+
+        rows = [swap(w) for w in self.children if w not in (self.readout, self.output)]
+        self.children = (*rows, site_note([site["level"]], True), stack)
 
     def settings(self) -> LabSettings:
         """The controls as :class:`~dstoolkit.teaching.LabSettings` (seed: the record count)."""
@@ -825,9 +1118,12 @@ class LabWidget(widgets.VBox):
         # embeds them in the widget's state.
         self.output.outputs = ()
         for fig in (self.figure, self.method_figure):
-            buffer = io.BytesIO()
-            fig.savefig(buffer, format="png", dpi=96)
-            self.output.append_display_data(Image(data=buffer.getvalue(), format="png"))
+            if not hasattr(fig.canvas, "buffer_rgba"):  # a Figure() made without pyplot
+                FigureCanvasAgg(fig)
+            fig.set_dpi(96)
+            fig.canvas.draw()
+            png = encode_png(np.asarray(fig.canvas.buffer_rgba()))
+            self.output.append_display_data(Image(data=png, format="png"))
 
 
 def lab_widget(temperature_c: float = 21.0, level_m: float = 2.5, *,
@@ -909,7 +1205,10 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
                       fontsize=9)
         return fig, estimation_numbers(run)
 
-    return Explorer(controls, render, title="One run of the gauge: the paper's Figs. 10–11")
+    live = {"level": positions(controls["level"], 9, 1.6, 9.6),
+            "temperature": positions(controls["temperature"], 1, 5.0, 5.0)}
+    return Explorer(controls, render, title="One run of the gauge: the paper's Figs. 10–11",
+                    live=live)
 
 
 # -- beyond the paper: every filter under wrong noise bounds ------------------------------------
@@ -966,4 +1265,7 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
                          title=f"L = {level_m:.1f} m, {runs} runs, true orders")
         return fig, mismatch_numbers(result)
 
-    return Explorer(controls, render, title="Every filter with the noise bounds you assume")
+    live = {"w_upper": positions(controls["w_upper"], 8, -6.21, 4.29),
+            "v_upper": positions(controls["v_upper"], 1, 0.9, 0.9)}
+    return Explorer(controls, render, title="Every filter with the noise bounds you assume",
+                    live=live)

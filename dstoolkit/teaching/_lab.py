@@ -29,6 +29,7 @@ from scipy import signal
 from dstoolkit.audio import _devices as audio
 from dstoolkit.audio import _measurement as measurement
 from dstoolkit.audio._recording_io import WavRecording
+from dstoolkit.errors import InvalidInputError
 from dstoolkit.gauge._acoustics import speed_of_sound
 from dstoolkit.gauge._sweep import PAPER_SWEEP, LinearSweep
 from dstoolkit.gauge._tube import TubeSetup
@@ -206,8 +207,9 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
     (its metadata say when the chirp was played)."""
     meta, fs = recording.metadata, recording.samplerate
     if meta.latency_s is None or meta.sweep_onset_s is None:
-        raise ValueError("the recording's metadata do not hold the calibration (latency and "
-                         "sweep onset); record it with dstoolkit.audio.measure")
+        raise InvalidInputError("the recording's metadata do not hold the calibration "
+                                "(latency and sweep onset); record it with "
+                                "dstoolkit.audio.measure")
     chirp_s = audio.calibration_chirp(fs).size / fs
     played = meta.sweep_onset_s - meta.latency_s - measurement.CALIBRATION_GAP_S - chirp_s
     c = calibration_correlation(recording)
@@ -329,7 +331,7 @@ def imitate_audio_failure(kind: Literal["no sounddevice", "no device"]) -> Itera
     elif kind == "no device":
         stand_in = _sounddevice_without_devices()
     else:
-        raise ValueError(f"kind must be 'no sounddevice' or 'no device', not {kind!r}")
+        raise InvalidInputError(f"kind must be 'no sounddevice' or 'no device', not {kind!r}")
     missing = object()
     saved = sys.modules.get("sounddevice", missing)
     sys.modules["sounddevice"] = stand_in  # type: ignore[assignment]

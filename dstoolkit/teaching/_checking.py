@@ -1,0 +1,271 @@
+"""Check cells for the exercise sheets: ``check("mass.bel", answer)`` says right or wrong.
+
+Every exercise with a checked answer is registered with a function that *computes* its
+solution with dstoolkit (no typed-in numbers), a hint shown after a wrong answer, and a
+tolerance. Adding one is a few lines in the module of its chapter::
+
+    @exercise("gauge.fundamental", hint="f_F = c / (2L); c comes from eq. (31).")
+    def _() -> float:
+        return speed_of_sound(20.0) / (2 * 1.3)
+
+Answers may be numbers, sequences or arrays of numbers (compared element by element with
+``|answer − solution| ≤ atol + rtol·|solution|``), dicts of numbers, booleans, strings,
+sets, :class:`~dstoolkit.evidence.MassFunction` or :class:`~dstoolkit.evidence.IntervalEvidence`.
+
+``mistakes`` lists plausible wrong answers, each as a function computing it and the hint
+to give when a learner's answer matches it. They are recognised *before* the checker
+says "close, keep more decimals". Coding exercises (the learner writes a function) are
+registered with :func:`dstoolkit.teaching.coding_exercise` and checked by the same
+:func:`check`.
+"""
+
+from __future__ import annotations
+
+import html
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from dstoolkit.errors import InvalidInputError
+from dstoolkit.evidence._finite_frame import MassFunction
+from dstoolkit.evidence._intervals import IntervalEvidence
+
+Solver = Callable[[], Any]
+#: Message of an exercise that still holds its placeholder.
+NOT_ANSWERED = "not answered yet"
+
+
+@dataclass(frozen=True)
+class Exercise:
+    """One exercise: how to compute its solution, a hint, a tolerance, common mistakes."""
+
+    id: str
+    solve: Solver
+    hint: str
+    atol: float = 5e-4
+    rtol: float = 1e-3
+    mistakes: tuple[tuple[Solver, str], ...] = ()
+    canonical: Callable[[Any], Any] | None = None
+    """Applied to answers and solutions before comparing (e.g. sort rows of evidence)."""
+    _cache: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
+
+    @property
+    def solution(self) -> Any:
+        """The solution, computed with dstoolkit (once, then kept)."""
+        if "solution" not in self._cache:
+            self._cache["solution"] = self.solve()
+        return self._cache["solution"]
+
+    def verdict(self, answer: Any) -> Feedback:
+        """Right, a named mistake, close, or wrong with the hint."""
+        if self.canonical is not None:
+            try:
+                answer = self.canonical(answer)
+            except (TypeError, ValueError, IndexError) as err:
+                return Feedback(self.id, False, f"✘ {self.id}: wrong ({err}). Hint: {self.hint}")
+        ok, reason = _compare(answer, self._canonical(self.solution), self)
+        if ok:
+            return Feedback(self.id, True, f"✔ {self.id}: right.")
+        for wrong, why in self.mistakes:
+            if _compare(answer, self._canonical(wrong()), self)[0]:
+                return Feedback(self.id, False, f"✘ {self.id}: wrong. {why}", {"mistake": why})
+        sol = self._canonical(self.solution)
+        if not reason and _nearly(answer, sol, self):
+            off = float(np.max(np.abs(np.asarray(_canonical(answer), float)
+                                      - np.asarray(_canonical(sol), float))))
+            reason = f"close, but off by {off:.2g}; keep more decimals in the intermediate steps"
+        reason = f" ({reason})" if reason else ""
+        return Feedback(self.id, False, f"✘ {self.id}: wrong{reason}. Hint: {self.hint}")
+
+    def _canonical(self, value: Any) -> Any:
+        return value if self.canonical is None else self.canonical(value)
+
+    def wrong_answer(self) -> Any:
+        """A plausible wrong answer: the first listed mistake, else the solution moved."""
+        return self.mistakes[0][0]() if self.mistakes else _moved(self.solution)
+
+
+@dataclass(frozen=True)
+class Feedback:
+    """The verdict of :func:`check`; true when right. Shown as its message in a notebook."""
+
+    exercise_id: str
+    correct: bool
+    message: str
+    details: dict[str, Any] = field(default_factory=dict)
+
+    def __bool__(self) -> bool:
+        return self.correct
+
+    def __repr__(self) -> str:
+        return self.message
+
+    def _repr_html_(self) -> str:
+        colour = ("#1b7f3b" if self.correct else "#5f6368" if self.details.get("pending")
+                  else "#b00020")
+        body = html.escape(self.message).replace("\n", "<br>")
+        return f"<p style='color:{colour};font-family:monospace;white-space:pre-wrap'>{body}</p>"
+
+
+REGISTRY: dict[str, Any] = {}
+
+
+def register(item: Any) -> None:
+    """Add an exercise (any object with ``id`` and ``verdict``) to :data:`REGISTRY`."""
+    if "." not in item.id:
+        raise InvalidInputError(f"exercise id {item.id!r} must look like 'chapter.name'")
+    if item.id in REGISTRY:
+        raise InvalidInputError(f"exercise {item.id!r} is registered twice; rename one")
+    REGISTRY[item.id] = item
+
+
+def exercise(
+    exercise_id: str,
+    *,
+    hint: str,
+    atol: float = 5e-4,
+    rtol: float = 1e-3,
+    mistakes: tuple[tuple[Solver, str], ...] = (),
+    canonical: Callable[[Any], Any] | None = None,
+) -> Callable[[Solver], Solver]:
+    """Register the decorated function as the solver of ``exercise_id``.
+
+    Ids are ``"<chapter>.<name>"`` (e.g. ``"mass.bel"``); registering an id twice is an error.
+    """
+    if "." not in exercise_id:
+        raise InvalidInputError(f"exercise id {exercise_id!r} must look like 'chapter.name'")
+
+    def add(solve: Solver) -> Solver:
+        register(Exercise(exercise_id, solve, hint, atol, rtol, mistakes, canonical))
+        return solve
+
+    return add
+
+
+def exercises(prefix: str = "") -> list[str]:
+    """The ids of the registered exercises, those starting with ``prefix`` only."""
+    return sorted(k for k in REGISTRY if k.startswith(prefix))
+
+
+def get(exercise_id: str) -> Any:
+    """The registered exercise ``exercise_id`` (a KeyError lists its chapter's ids)."""
+    try:
+        return REGISTRY[exercise_id]
+    except KeyError:
+        close = [k for k in REGISTRY if k.split(".")[0] == exercise_id.split(".")[0]]
+        raise KeyError(
+            f"no exercise {exercise_id!r}; exercises of that chapter: {close or exercises()}"
+        ) from None
+
+
+def solution(exercise_id: str) -> Any:
+    """The solution of an exercise (for teachers and tests): a value computed with
+    dstoolkit, or for a coding exercise the plain reference function."""
+    return get(exercise_id).solution
+
+
+def mistake(exercise_id: str) -> Any:
+    """A plausible wrong answer to an exercise (its first listed mistake, or for a coding
+    exercise its first wrong implementation); the tests feed it to the check cells."""
+    return get(exercise_id).wrong_answer()
+
+
+def check(exercise_id: str, answer: Any) -> Feedback:
+    """Compare ``answer`` with the solution of ``exercise_id``: right, or wrong with a hint.
+
+    In a notebook, end a cell with ``check("mass.bel", answer)`` to see the verdict. An
+    answer left as ``...`` (or ``None``) is reported as not answered yet. For a coding
+    exercise the answer is the function itself: ``check("combine.dempster-code",
+    dempster_rule)``.
+    """
+    ex = get(exercise_id)
+    if answer is ... or answer is None:
+        return Feedback(exercise_id, False,
+                        f"{exercise_id}: {NOT_ANSWERED} — replace ... by your answer.",
+                        {"pending": True})
+    return ex.verdict(answer)
+
+
+# -- comparison -------------------------------------------------------------------------
+
+
+def _canonical(value: Any) -> Any:
+    """Evidence → plain data; other values unchanged."""
+    if isinstance(value, IntervalEvidence):
+        return value.to_rows()
+    if isinstance(value, MassFunction):
+        return {frozenset(k): v for k, v in value.as_dict().items()}
+    return value
+
+
+def _compare(answer: Any, sol: Any, ex: Exercise) -> tuple[bool, str]:
+    """(equal within tolerance?, reason when not)."""
+    answer, sol = _canonical(answer), _canonical(sol)
+    if isinstance(sol, bool | np.bool_):
+        if not isinstance(answer, bool | np.bool_):
+            return False, "the answer is True or False"
+        return bool(answer) == bool(sol), ""
+    if isinstance(sol, str):
+        return str(answer).strip().lower() == sol.strip().lower(), ""
+    if isinstance(sol, frozenset | set):
+        got = frozenset([answer]) if isinstance(answer, str) else frozenset(answer)
+        return got == frozenset(sol), ""
+    if isinstance(sol, Mapping):
+        if not isinstance(answer, Mapping):
+            return False, f"give a dict with keys {sorted(map(str, sol))}"
+        norm = {_key(k): v for k, v in answer.items()}
+        missing = [k for k in sol if _key(k) not in norm]
+        if missing:
+            return False, f"keys missing: {[_show(k) for k in missing]}"
+        return _close([norm[_key(k)] for k in sol], list(sol.values()), ex)
+    return _close(answer, sol, ex)
+
+
+def _key(k: Any) -> Any:
+    if isinstance(k, set | frozenset | tuple | list):
+        return frozenset(k)
+    return k
+
+
+def _show(k: Any) -> str:
+    return "{" + ", ".join(sorted(map(str, k))) + "}" if isinstance(k, frozenset) else str(k)
+
+
+def _close(answer: Any, sol: Any, ex: Exercise) -> tuple[bool, str]:
+    try:
+        a = np.asarray(answer, dtype=float)
+    except (TypeError, ValueError):
+        return False, f"expected a number or numbers, got {type(answer).__name__}"
+    s = np.asarray(sol, dtype=float)
+    if a.size != s.size:
+        return False, f"expected {s.size} number(s), got {a.size}"
+    return bool(np.all(np.isclose(a.reshape(s.shape), s, atol=ex.atol, rtol=ex.rtol))), ""
+
+
+def _nearly(answer: Any, sol: Any, ex: Exercise) -> bool:
+    """Within 20 tolerances (numbers only): a rounding slip rather than a wrong method."""
+    try:
+        a = np.asarray(_canonical(answer), dtype=float)
+        s = np.asarray(_canonical(sol), dtype=float)
+    except (TypeError, ValueError):
+        return False
+    return a.size == s.size and bool(
+        np.all(np.isclose(a.reshape(s.shape), s, atol=20 * ex.atol, rtol=20 * ex.rtol)))
+
+
+def _moved(value: Any) -> Any:
+    """An answer that is clearly not ``value`` (same type and shape)."""
+    value = _canonical(value)
+    if isinstance(value, bool | np.bool_):
+        return not value
+    if isinstance(value, str):
+        return value + " (not)"
+    if isinstance(value, set | frozenset):
+        return frozenset(list(value)[1:]) if len(value) > 1 else frozenset({"?"})
+    if isinstance(value, Mapping):
+        return {k: _moved(v) for k, v in value.items()}
+    arr = np.asarray(value, dtype=float)
+    moved = arr + 0.1 + 0.1 * np.abs(arr)
+    return moved.tolist() if moved.ndim else float(moved)

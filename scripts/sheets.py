@@ -1,0 +1,348 @@
+"""Write the exercise sheets from their one source: student sheets and the teacher's edition.
+
+    .venv/bin/python scripts/sheets.py                 # student sheets → notebooks/
+    .venv/bin/python scripts/sheets.py --teacher DIR   # also the instructor sheets → DIR
+
+Each chapter with exercises has one source, ``notebooks/source/<chapter stem>.md``. The
+sheet of chapter N is ``notebooks/NN_<stem>.ipynb``: N comes from _toc.yml (chapters are
+numbered across parts, as in the book), and its k-th exercise is "Exercise N.k", the k-th
+``{exercise}`` of the chapter. Student sheets hold no solution in any form (no hidden cell,
+no metadata); the instructor sheets add the solutions, the answers the check cells expect
+(computed with dstoolkit) and the reference implementations of the coding exercises.
+
+A source is Markdown cut into blocks by marker lines (text before the first marker is the
+sheet's introduction):
+
+    %% setup                      code, both editions (imports, data)
+    %% exercise <label> <kind>    the exercise's statement; kind: coding, proof,
+                                  prediction, explanation or substitution
+    %% md / %% code               Markdown / code, both editions
+    %% stub [<coding id>]         the learner's cell: ``name = ...`` lines, or (with the id
+                                  of a coding exercise) the function's stub, generated from
+                                  its reference solution; the teacher's edition fills it in
+    %% answer                     code for the teacher's edition instead of the stub above
+    %% check                      a check cell, both editions
+    %% explore                    an explorer cell, both editions
+    %% solution                   Markdown, the teacher's edition only
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import inspect
+import json
+import re
+import sys
+import textwrap
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+KINDS = ("coding", "proof", "prediction", "explanation", "substitution")
+MARKER = re.compile(r"^%% (setup|exercise|md|code|stub|answer|check|explore|solution)\b ?(.*)$")
+CHECK = re.compile(r'check\("([a-z]+\.[a-z0-9-]+)",\s*(\w+)\)')
+ASSIGN = re.compile(r"^(\w+) = \.\.\.[ \t]*(?:#.*)?$", re.MULTILINE)
+EXERCISE_BLOCK = re.compile(r"^(`{3,}|:{3,})\{exercise\}[^\n]*\n:label: ([\w-]+)", re.MULTILINE)
+STUB_BODY = '    raise NotImplementedError("write the body of this function")'
+
+
+# -- the book's numbering -------------------------------------------------------------------
+
+
+def chapter_numbers(toc_file: Path = ROOT / "_toc.yml") -> dict[str, int]:
+    """{chapter stem: number}: the chapters of numbered parts, in order, counted across
+    parts (``use_multitoc_numbering``); unnumbered parts (back matter) are left out."""
+    toc = yaml.safe_load(toc_file.read_text(encoding="utf-8"))
+    numbers: dict[str, int] = {}
+    for part in toc.get("parts", []):
+        if not part.get("numbered"):
+            continue
+        for chapter in part.get("chapters", []):
+            numbers[Path(chapter["file"]).stem] = len(numbers) + 1
+    return numbers
+
+
+def chapter_exercises(chapter: Path) -> list[str]:
+    """The labels of the chapter's ``{exercise}`` blocks, in order."""
+    return [m.group(2) for m in EXERCISE_BLOCK.finditer(chapter.read_text(encoding="utf-8"))]
+
+
+def chapter_title(chapter: Path) -> str:
+    """The chapter's first level-1 heading."""
+    for line in chapter.read_text(encoding="utf-8").splitlines():
+        if line.startswith("# "):
+            return line[2:].strip()
+    raise ValueError(f"{chapter} has no '# ' title")
+
+
+def sheet_path(stem: str, number: int, folder: Path) -> Path:
+    """``folder/NN_<stem>.ipynb``."""
+    return folder / f"{number:02d}_{stem}.ipynb"
+
+
+# -- the source -------------------------------------------------------------------------------
+
+
+@dataclass
+class Block:
+    kind: str
+    arg: str
+    text: str
+
+
+@dataclass
+class Source:
+    stem: str
+    intro: str
+    blocks: list[Block] = field(default_factory=list)
+
+    def exercises(self) -> list[tuple[str, str]]:
+        """(label, kind) of every exercise, in order."""
+        return [tuple(b.arg.split()[:2]) for b in self.blocks if b.kind == "exercise"]
+
+
+def parse(path: Path) -> Source:
+    """Read ``notebooks/source/<stem>.md`` into blocks (see the module docstring)."""
+    intro: list[str] = []
+    blocks: list[Block] = []
+    current = intro
+    for line in path.read_text(encoding="utf-8").splitlines():
+        found = MARKER.match(line)
+        if found:
+            blocks.append(Block(found.group(1), found.group(2).strip(), ""))
+            current = []
+            blocks[-1].text = current  # type: ignore[assignment]
+        else:
+            current.append(line)
+    for block in blocks:
+        block.text = "\n".join(block.text).strip("\n")  # type: ignore[arg-type]
+        if block.kind == "exercise":
+            label, _, kind = block.arg.partition(" ")
+            if kind not in KINDS:
+                raise ValueError(f"{path.name}: exercise {label} has kind {kind!r}, not one "
+                                 f"of {KINDS}")
+    return Source(path.stem, "\n".join(intro).strip("\n"), blocks)
+
+
+# -- what the teacher's edition fills in --------------------------------------------------------
+
+
+def _literal(value: Any) -> str:
+    """Python source of a solution value: numbers to 10 significant digits."""
+    import numpy as np
+
+    if isinstance(value, bool | np.bool_ | str):
+        return repr(bool(value) if isinstance(value, np.bool_) else value)
+    if isinstance(value, int | np.integer):
+        return str(int(value))
+    if isinstance(value, float | np.floating):
+        return repr(float(f"{float(value):.10g}"))
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{_literal(k)}: {_literal(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, set | frozenset):
+        return "{" + ", ".join(sorted(_literal(v) for v in value)) + "}"
+    if isinstance(value, np.ndarray):
+        return _literal(value.tolist())
+    if isinstance(value, tuple | list):
+        inner = ", ".join(_literal(v) for v in value)
+        return f"({inner},)" if isinstance(value, tuple) and len(value) == 1 else (
+            f"({inner})" if isinstance(value, tuple) else f"[{inner}]")
+    raise TypeError(f"no literal for a solution of type {type(value).__name__}")
+
+
+def coding_stub(exercise_id: str) -> str:
+    """The learner's stub: the reference solution's signature and docstring, no body."""
+    from dstoolkit.teaching import REGISTRY
+
+    source = textwrap.dedent(inspect.getsource(REGISTRY[exercise_id].plain))
+    node = ast.parse(source).body[0]
+    lines = source.splitlines()[: node.body[0].end_lineno]
+    return "\n".join(lines) + "\n" + STUB_BODY
+
+
+def coding_answer(exercise_id: str) -> str:
+    """The reference implementation (and the solutions it calls), as plain source."""
+    from dstoolkit.teaching import REGISTRY
+    from dstoolkit.teaching._plain_solutions import HELPERS
+
+    plain = REGISTRY[exercise_id].plain
+    module = sys.modules[plain.__module__]
+    parts = [getattr(module, name) for name in HELPERS.get(plain.__name__, ())] + [plain]
+    needs = sorted({m for fn in parts for m in ("itertools", "math")
+                    if f"{m}." in inspect.getsource(fn)})
+    head = "".join(f"import {m}\n" for m in needs)
+    return head + ("\n\n" if head else "") + "\n\n\n".join(
+        textwrap.dedent(inspect.getsource(fn)).strip() for fn in parts)
+
+
+def filled_stub(stub: str, checks: str) -> str:
+    """``name = ...`` lines with the value of the exercise their check cell names."""
+    from dstoolkit.teaching import solution
+
+    ids = {var: eid for eid, var in CHECK.findall(checks)}
+
+    def fill(match: re.Match[str]) -> str:
+        name = match.group(1)
+        if name not in ids:
+            raise ValueError(f"no check cell uses {name!r}; cannot fill in its answer")
+        return f"{name} = {_literal(solution(ids[name]))}"
+
+    return ASSIGN.sub(fill, stub)
+
+
+# -- notebooks --------------------------------------------------------------------------------
+
+
+def _cell(kind: str, source: str, index: int, stem: str, meta: dict | None = None) -> dict:
+    cell: dict[str, Any] = {"cell_type": kind, "id": f"{stem.replace('_', '-')[:50]}-{index}",
+                            "metadata": meta or {}, "source": source}
+    if kind == "code":
+        cell.update(execution_count=None, outputs=[])
+    return cell
+
+
+def _checks_of(blocks: list[Block], i: int) -> str:
+    """The check cells after block ``i``, up to the next exercise."""
+    out = []
+    for block in blocks[i + 1:]:
+        if block.kind == "exercise":
+            break
+        if block.kind == "check":
+            out.append(block.text)
+    return "\n".join(out)
+
+
+def build(src: Source, number: int, title: str, labels: list[str], teacher: bool) -> dict:
+    """The sheet of chapter ``number`` as a notebook (nbformat 4 JSON)."""
+    edition = " (teacher's edition)" if teacher else ""
+    head = (f"# Exercises of Chapter {number}: {title}{edition}\n\n"
+            f"Companion of Chapter {number} of the book (`book/{src.stem}.md`): Exercise "
+            f"{number}.k here is Exercise {number}.k there.\n\n{src.intro}").strip()
+    raw: list[tuple[str, str, dict]] = [("markdown", head, {})]
+    order = 0
+    for i, block in enumerate(src.blocks):
+        text, tags = block.text, []
+        if block.kind == "exercise":
+            label, kind = block.arg.split()[:2]
+            if order >= len(labels) or labels[order] != label:
+                raise ValueError(f"{src.stem}: exercise {label} is number {order + 1} in the "
+                                 f"sheet but the chapter's exercises are {labels}")
+            order += 1
+            raw.append(("markdown", f"## Exercise {number}.{order}\n\n{text}",
+                        {"dstoolkit": {"exercise": label, "kind": kind}}))
+            continue
+        if block.kind in ("answer", "solution") and not teacher:
+            continue
+        if block.kind == "stub":
+            follows = src.blocks[i + 1].kind if i + 1 < len(src.blocks) else ""
+            if block.arg:
+                text = coding_answer(block.arg) if teacher else coding_stub(block.arg)
+            elif teacher and follows != "answer":
+                text = filled_stub(text, _checks_of(src.blocks, i))
+            elif teacher:
+                continue  # the %% answer block below replaces it
+            tags = ["answer"] if not teacher else ["solution"]
+        if block.kind == "answer":
+            tags = ["solution"]
+        if block.kind == "solution":
+            raw.append(("markdown", f"**Solution.** {text}", {"tags": ["solution"]}))
+            continue
+        if block.kind in ("check", "explore"):
+            tags = ["check" if block.kind == "check" else "explorer"]
+        kind = "markdown" if block.kind == "md" else "code"
+        raw.append((kind, text, {"tags": tags} if tags else {}))
+    if order != len(labels):
+        raise ValueError(f"{src.stem}: the sheet has {order} exercises, the chapter "
+                         f"{len(labels)} ({labels})")
+    cells = [_cell(kind, text, n, src.stem, meta) for n, (kind, text, meta) in enumerate(raw)]
+    return {"cells": cells, "metadata": {"kernelspec": {
+        "display_name": "Python 3", "language": "python", "name": "python3"},
+        "language_info": {"name": "python"}}, "nbformat": 4, "nbformat_minor": 5}
+
+
+def dump(notebook: dict) -> str:
+    """The notebook as stored: JSON with one-space indent, as Jupyter writes it."""
+    return json.dumps(notebook, indent=1, ensure_ascii=False) + "\n"
+
+
+def sheets(root: Path = ROOT) -> dict[str, tuple[int, str, Source, list[str]]]:
+    """{stem: (chapter number, title, source, the chapter's exercise labels)} for every
+    chapter with a source."""
+    numbers = chapter_numbers(root / "_toc.yml")
+    out = {}
+    for path in sorted((root / "notebooks" / "source").glob("*.md")):
+        if path.stem not in numbers:
+            raise ValueError(f"{path} has no numbered chapter book/{path.stem}.md in _toc.yml")
+        chapter = root / "book" / f"{path.stem}.md"
+        out[path.stem] = (numbers[path.stem], chapter_title(chapter), parse(path),
+                          chapter_exercises(chapter))
+    return out
+
+
+def relink(root: Path, stem: str, name: str) -> None:
+    """Point every ``notebooks/NN_<stem>.ipynb`` in the chapters and the README at ``name``."""
+    pattern = re.compile(rf"notebooks/\d\d_{stem}\.ipynb")
+    for path in [*sorted((root / "book").glob("*.md")), root / "README.md"]:
+        text = path.read_text(encoding="utf-8")
+        new = pattern.sub(f"notebooks/{name}", text)
+        if new != text:
+            path.write_text(new, encoding="utf-8")
+
+
+def write_sheets(root: Path = ROOT, teacher: Path | None = None) -> list[Path]:
+    """Write every student sheet to ``notebooks/`` (renaming sheets whose chapter number
+    changed) and, with ``teacher``, every instructor sheet there. Returns the paths."""
+    written = []
+    for stem, (number, title, src, labels) in sheets(root).items():
+        target = sheet_path(stem, number, root / "notebooks")
+        text = dump(build(src, number, title, labels, False))  # fails before any change
+        for old in (root / "notebooks").glob(f"*_{stem}.ipynb"):
+            if old != target and re.fullmatch(rf"\d\d_{stem}\.ipynb", old.name):
+                old.unlink()  # the chapter moved: its sheet takes the new number
+        target.write_text(text, encoding="utf-8")
+        written.append(target)
+        relink(root, stem, target.name)
+        if teacher is not None:
+            teacher.mkdir(parents=True, exist_ok=True)
+            path = sheet_path(stem, number, teacher)
+            path.write_text(dump(build(src, number, title, labels, True)), encoding="utf-8")
+            written.append(path)
+    return written
+
+
+def counts(root: Path = ROOT) -> str:
+    """A table of the exercises per chapter by kind."""
+    rows = [f"{'':>3} {'chapter':22}" + "".join(f"{k:>13}" for k in KINDS) + f"{'total':>7}"]
+    total = dict.fromkeys(KINDS, 0)
+    for stem, (number, _, src, _) in sorted(sheets(root).items(), key=lambda x: x[1][0]):
+        kinds = [kind for _, kind in src.exercises()]
+        for k in KINDS:
+            total[k] += kinds.count(k)
+        rows.append(f"{number:>3} {stem:22}" + "".join(f"{kinds.count(k):>13}" for k in KINDS)
+                    + f"{len(kinds):>7}")
+    rows.append(f"{'':>3} {'all':22}" + "".join(f"{total[k]:>13}" for k in KINDS)
+                + f"{sum(total.values()):>7}")
+    return "\n".join(rows)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--teacher", type=Path, default=None,
+                        help="also write the instructor sheets (with solutions) to this folder")
+    parser.add_argument("--counts", action="store_true",
+                        help="only print the exercises per chapter by kind")
+    args = parser.parse_args(argv)
+    if args.counts:
+        print(counts(ROOT))
+        return 0
+    for path in write_sheets(ROOT, args.teacher):
+        print(path.relative_to(ROOT) if path.is_relative_to(ROOT) else path)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

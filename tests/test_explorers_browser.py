@@ -1,0 +1,142 @@
+"""The explorers on the built static site (no kernel), in headless Chromium: on every page
+with an explorer, every enabled slider moved with the keyboard (arrow keys on its handle)
+and every enabled dropdown changed switches the figure or the readout; a disabled slider
+does not move; no console error. Screenshots of every explorer before and after its first
+slider moves go to test-artifacts/explorers/.
+
+The pages and the browser come from tests/test_book_browser.py (its ``chromium`` and
+``site`` fixtures: the book built by scripts/build-book.sh, served on 127.0.0.1). Without
+Chromium the tests skip, except under DSTOOLKIT_REQUIRE_BROWSER=1 (CI), where they fail.
+"""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+from conftest import ARTIFACTS, ROOT, toc_pages
+from test_book_browser import _WIDGETS_RENDERED_JS, TIMEOUT_MS, _watch, chromium, site
+
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
+__all__ = ["chromium", "site"]  # fixtures used by the tests below
+
+SHOTS = ARTIFACTS / "explorers"
+#: An explorer cell calls one of these (dstoolkit.teaching) in a chapter.
+_EXPLORER_CALL = re.compile(r"^\s*(\w+_explorer|filter_widget|lab_widget)\(", re.M)
+
+
+def explorer_pages() -> list[str]:
+    """The pages of _toc.yml whose source has an explorer cell."""
+    return [page for page in toc_pages()
+            if (ROOT / f"{page}.md").is_file()
+            and _EXPLORER_CALL.search((ROOT / f"{page}.md").read_text(encoding="utf-8"))]
+
+
+# Marks the rendered root of every embedded widget view with data-explorer="i".
+_MARK_JS = """
+() => Array.from(
+  document.querySelectorAll('script[type="application/vnd.jupyter.widget-view+json"]')
+).map((tag, i) => {
+  const area = tag.previousElementSibling;
+  area.setAttribute('data-explorer', String(i));
+  return i;
+})
+"""
+
+# What an explorer shows now: its visible images and visible HTML (readouts, warnings).
+_SHOWN_JS = """
+(area) => {
+  const shown = el => el.offsetParent !== null && el.getClientRects().length > 0;
+  const images = Array.from(area.querySelectorAll('img')).filter(shown)
+    .map(img => img.src.length + ':' + img.src.slice(-60));
+  const texts = Array.from(area.querySelectorAll('.widget-html-content')).filter(shown)
+    .map(el => el.innerText);
+  return JSON.stringify({images, texts});
+}
+"""
+
+
+def _shown(area: object) -> str:
+    return area.evaluate(_SHOWN_JS)
+
+
+def _wait_for_change(page: object, area: object, before: str, timeout_ms: int = 5000) -> bool:
+    deadline = timeout_ms / 100
+    for _ in range(int(deadline)):
+        if _shown(area) != before:
+            return True
+        page.wait_for_timeout(100)
+    return False
+
+
+def _slider_moves(page: object, area: object, slider: object) -> tuple[bool, bool]:
+    """Press → (then ← if the slider sat at its end) on the slider's handle; return
+    (the slider's readout changed, the explorer's figure or readout changed)."""
+    readout = slider.locator(".widget-readout")
+    before_value, before = readout.inner_text(), _shown(area)
+    handle = slider.locator(".noUi-handle")
+    for key in ("ArrowRight", "ArrowLeft"):
+        handle.focus()
+        page.keyboard.press(key)
+        page.wait_for_timeout(150)
+        if readout.inner_text() != before_value:
+            return True, _wait_for_change(page, area, before)
+    return False, _shown(area) != before
+
+
+@pytest.mark.parametrize("page_name", explorer_pages())
+def test_explorers_answer_on_the_static_site(chromium: object, site: str,
+                                             page_name: str) -> None:
+    context = chromium.new_context(viewport={"width": 1280, "height": 900})
+    page = context.new_page()
+    page.set_default_timeout(TIMEOUT_MS)
+    problems = _watch(context, page)
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    stem = page_name.replace("/", "-")
+    try:
+        page.goto(site + page_name + ".html", wait_until="load")
+        page.wait_for_function(_WIDGETS_RENDERED_JS, timeout=TIMEOUT_MS)
+        explorers = page.evaluate(_MARK_JS)
+        assert explorers, f"{page_name}: no explorer on the page"
+        live_sliders = 0
+        for i in explorers:
+            area = page.locator(f'[data-explorer="{i}"]')
+            sliders = area.locator(".widget-slider")
+            enabled = [sliders.nth(j) for j in range(sliders.count())
+                       if not sliders.nth(j).locator(".noUi-target[disabled]").count()]
+            disabled = [sliders.nth(j) for j in range(sliders.count())
+                        if sliders.nth(j).locator(".noUi-target[disabled]").count()]
+            assert enabled, f"{page_name}: explorer {i} has no live slider"
+            area.scroll_into_view_if_needed()
+            area.screenshot(path=str(SHOTS / f"{stem}-{i}-before.png"))
+            for k, slider in enumerate(enabled):
+                name = slider.locator(".widget-label").inner_text()
+                moved, changed = _slider_moves(page, area, slider)
+                assert moved, f"{page_name}: live slider {name!r} did not move"
+                assert changed, f"{page_name}: moving {name!r} changed no figure or readout"
+                live_sliders += 1
+                if k == 0:
+                    area.screenshot(path=str(SHOTS / f"{stem}-{i}-after.png"))
+            for slider in disabled:
+                name = slider.locator(".widget-label").inner_text()
+                moved, changed = _slider_moves(page, area, slider)
+                assert not moved and not changed, f"{page_name}: disabled {name!r} moved"
+            selects = area.locator("select")
+            for j in range(selects.count()):
+                select = selects.nth(j)
+                if select.is_disabled():
+                    continue
+                options = select.locator("option").all_inner_texts()
+                before = _shown(area)
+                other = next(o for o in options if o != select.evaluate(
+                    "s => s.options[s.selectedIndex].text"))
+                select.select_option(label=other)
+                assert _wait_for_change(page, area, before), (
+                    f"{page_name}: choosing {other!r} changed no figure or readout")
+        assert live_sliders, f"{page_name}: no live slider"
+        assert not problems.console_errors, f"{page_name}: console {problems.console_errors}"
+        assert not problems.failed_requests, f"{page_name}: failed {problems.failed_requests}"
+        assert not problems.external_requests, (
+            f"{page_name}: requests leaving 127.0.0.1: {problems.external_requests}")
+    finally:
+        context.close()

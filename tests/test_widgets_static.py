@@ -1,0 +1,189 @@
+"""The explorers' static-site form (dstoolkit.teaching.Explorer with static=True, what
+scripts/build-book.sh builds): every combination of the live controls' positions is
+precomputed into a Stack switched in the browser by jslinks from the sliders; the other
+controls are disabled with a line pointing at the notebook; no state the page can show is
+inconsistent. The browser half is tests/test_explorers_browser.py."""
+
+from __future__ import annotations
+
+import ipywidgets as widgets
+import matplotlib
+import matplotlib.pyplot as plt
+import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+from dstoolkit import teaching as w
+from dstoolkit.errors import EvidenceError
+from dstoolkit.teaching import Explorer, positions, slider
+
+matplotlib.use("Agg")
+
+#: Every explorer factory of the chapters (the lab's station is tested in test_lab_widget).
+EXPLORERS = (w.mass_function_explorer, w.conflict_explorer, w.dependent_combination_explorer,
+             w.noise_evidence_explorer, w.bounded_error_explorer, w.extension_explorer,
+             w.filter_widget, w.filter_step_explorer, w.gauge_explorer,
+             w.level_estimation_explorer, w.noise_bounds_explorer)
+#: The teaching parameters that must be live on the site wherever an explorer has them.
+TEACHING = {"level", "temperature", "p", "epsilon", "scale", "v_upper", "w_upper"}
+
+
+def _toy(static: bool, fail_above: float = 99.0) -> Explorer:
+    """Two sliders and a dropdown; the figure is a dot at (a, b); a + b > fail_above is
+    an invalid setting."""
+    controls = {"a": slider("a", 1.0, 0.0, 4.0, 0.5), "b": slider("b", 0.0, 0.0, 2.0, 1.0),
+                "kind": widgets.Dropdown(options=["x", "y"], value="x")}
+
+    def render(a: float, b: float, kind: str):
+        if a + b > fail_above:
+            raise EvidenceError(f"a + b = {a + b} is too much")
+        fig, ax = plt.subplots(figsize=(2, 2), layout="constrained")
+        ax.plot([a], [b], "o")
+        return fig, {"a + b": a + b, "kind": kind}
+
+    live = {"a": positions(controls["a"], 9), "b": positions(controls["b"], 3)}
+    return Explorer(controls, render, title="toy", live=live, static=static)
+
+
+def _stack(ex: Explorer) -> widgets.Stack:
+    return next(c for c in ex.children if isinstance(c, widgets.Stack))
+
+
+def test_positions_are_on_the_step_and_keep_the_start_value():
+    s = slider("s", 0.37, 0.0, 1.0, 0.01)
+    assert positions(s, 5) == (0.0, 0.25, 0.37, 0.5, 0.75, 1.0)
+    assert positions(widgets.IntSlider(value=3, min=1, max=12), 4) == (1, 3, 5, 8, 12)
+    assert positions(widgets.Dropdown(options=[("one", 1), ("two", 2)])) == (1, 2)
+
+
+def test_two_live_controls_give_a_stack_of_stacks_linked_to_the_sliders():
+    ex = _toy(static=True)
+    outer = _stack(ex)
+    a, b = ex.controls["a"], ex.controls["b"]
+    assert isinstance(a, widgets.SelectionSlider) and isinstance(b, widgets.SelectionSlider)
+    assert len(a.options) == 9 and len(b.options) == 3
+    assert len(outer.children) == 9 and all(len(inner.children) == 3
+                                            for inner in outer.children)
+    # the page opens on the kernel's first state
+    assert outer.selected_index == a.index == list(ex.live["a"]).index(1.0)
+    assert a.value == 1.0 and b.value == 0.0
+    def linked(box: widgets.Stack) -> tuple:
+        (source, trait), (target, target_trait) = box.links[0].source, box.links[0].target
+        return source, trait, target, target_trait
+
+    assert linked(outer) == (a, "index", outer, "selected_index")
+    for inner in outer.children:
+        assert linked(inner) == (b, "index", inner, "selected_index")
+    # every leaf shows the readout of its own state and a figure
+    for i, av in enumerate(a.options):
+        for j, bv in enumerate(b.options):
+            leaf = outer.children[i].children[j]
+            readout, output = leaf.children
+            assert f"{av[1] + bv[1]:.4f}" in readout.value
+            assert [o["data"].keys() for o in output.outputs][0] >= {"image/png"}
+            assert ex.states[(av[1], bv[1])]["a + b"] == pytest.approx(av[1] + bv[1])
+
+
+def test_the_other_controls_are_disabled_with_a_line_to_the_run_page():
+    ex = _toy(static=True)
+    assert ex.controls["kind"].disabled
+    notes = [c.value for c in ex.children if isinstance(c, widgets.HTML)]
+    assert any("notebook" in n and "href='run.html'" in n for n in notes)
+    assert not any(getattr(ex.controls[n], "disabled", False) for n in ("a", "b"))
+
+
+def test_an_invalid_state_shows_its_warning_and_no_figure():
+    ex = _toy(static=True, fail_above=3.0)
+    outer = _stack(ex)
+    a_values = [v for _, v in ex.controls["a"].options]
+    i, j = a_values.index(4.0), 1  # a + b = 5
+    readout, output = outer.children[i].children[j].children
+    assert "⚠" in readout.value and "too much" in readout.value
+    assert output.outputs == ()
+    assert "error" in ex.states[(4.0, 1.0)]
+
+
+def test_in_a_kernel_an_invalid_setting_removes_the_figure():
+    ex = _toy(static=False, fail_above=3.0)
+    assert ex.output.outputs and ex.numbers["a + b"] == 1.0
+    ex.controls["a"].value = 3.5
+    assert "error" in ex.numbers and ex.output.outputs == ()
+    ex.controls["a"].value = 2.0
+    assert ex.numbers["a + b"] == 2.0 and ex.output.outputs
+
+
+def test_a_redraw_keeps_the_axes_of_the_first_figure():
+    ex = _toy(static=False)
+    first = ex.figure.axes[0].get_position().bounds
+    ex.controls["a"].value = 3.0
+    assert ex.figure.axes[0].get_position().bounds == pytest.approx(first)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("make", EXPLORERS, ids=[m.__name__ for m in EXPLORERS])
+def test_every_explorer_is_live_on_the_site(make):
+    ex = make()
+    assert 1 <= len(ex.live) <= 2, ex.live
+    main = next(iter(ex.live.values()))
+    assert len(main) >= 8, f"the main live control has {len(main)} positions"
+    for name, values in ex.live.items():
+        assert ex.controls[name].value in values
+    teaching = TEACHING & set(ex.controls)
+    if teaching:
+        assert teaching & set(ex.live), f"none of {teaching} is live"
+
+
+def test_the_teaching_parameters_are_all_live_somewhere():
+    live = set()
+    for make in (w.noise_evidence_explorer, w.conflict_explorer, w.bounded_error_explorer):
+        live |= set(make().live)
+    # the gauge and filter explorers (slower to build) declare theirs in the code:
+    import inspect
+
+    from dstoolkit.teaching import _explorers
+
+    source = inspect.getsource(_explorers)
+    for name in ("level", "temperature", "w_upper", "v_upper"):
+        assert f'"{name}": positions(' in source
+    assert {"p", "epsilon", "scale"} <= live
+
+
+@pytest.mark.slow
+def test_no_mass_function_state_adds_up_to_more_than_one_without_a_warning(monkeypatch):
+    monkeypatch.setenv(w.STATIC_SITE_ENV, "1")  # as scripts/build-book.sh sets it
+    ex = w.mass_function_explorer()
+    assert ex.static
+    assert len(ex.states) >= 8
+    for (low, high), numbers in ex.states.items():
+        total = low + high + 0.0 + 0.3  # mid and m({low, mid}) stay at their start values
+        if total > 1 + 1e-9:
+            assert "error" in numbers and "> 1" in numbers["error"], (low, high)
+        else:
+            assert numbers["m(Θ)"] == pytest.approx(1 - total)
+            assert sum(numbers[f"BetP({h})"] for h in ("low", "mid", "high")) == (
+                pytest.approx(1.0))
+
+
+def test_wider_labels_get_a_fresh_layout_rather_than_stick_out():
+    def render(k: float):
+        fig, ax = plt.subplots(figsize=(3, 2), layout="constrained")
+        ax.plot([0, 1], [0, -(10.0 ** k)])
+        ax.ticklabel_format(useOffset=False, style="plain")
+        return fig, {"k": k}
+
+    ex = Explorer({"k": slider("k", 0.0, 0.0, 9.0, 1.0)}, render, static=False)
+    ex.controls["k"].value = 7.0  # labels like −10000000, far wider than the first ones
+    renderer = FigureCanvasAgg(ex.figure).get_renderer()  # the figure is closed
+    assert ex.figure.get_tightbbox(renderer).x0 >= -0.01, "a tick label sticks out"
+
+
+def test_bad_live_declarations_are_refused_with_a_reason():
+    from dstoolkit.errors import InvalidInputError
+
+    def render(a: float):
+        return None, {"a": a}
+
+    a = slider("a", 1.0, 0.0, 4.0, 0.5)
+    with pytest.raises(InvalidInputError, match="one or two of"):
+        Explorer({"a": a}, render, live={"nope": (1.0,)}, static=True)
+    with pytest.raises(InvalidInputError, match="must include its value 1.0"):
+        Explorer({"a": a}, render, live={"a": (0.0, 2.0)}, static=True)
