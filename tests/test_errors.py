@@ -23,7 +23,8 @@ def test_every_error_has_a_package_base_and_a_builtin_one(cls: type) -> None:
         assert issubclass(cls, DstoolkitError)
         # a caller's "except ValueError/RuntimeError/ImportError" still works
         assert cls is DstoolkitError or any(
-            issubclass(cls, b) for b in (ValueError, RuntimeError, ImportError))
+            issubclass(cls, b)
+            for b in (ValueError, RuntimeError, ImportError, MemoryError, OSError))
     assert cls.__doc__, f"{cls.__name__} has no docstring"
 
 

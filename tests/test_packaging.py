@@ -30,6 +30,7 @@ OPTIONAL = ("matplotlib", "ipywidgets", "IPython", "tqdm", "sounddevice", "numba
 CORE_TESTS = (
     "test_evidence_basics.py",
     "test_evidence_properties.py",
+    "test_exact_masses.py",
     "test_extension.py",
     "test_paper_golden.py",
     "test_read_only.py",
