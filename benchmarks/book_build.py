@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import argparse
 import fcntl
+import os
+import resource
 import shutil
 import subprocess
 import sys
@@ -26,6 +28,8 @@ ROOT = Path(__file__).resolve().parents[1]
 BUILD = ROOT / "_build"
 LOCK = BUILD / ".build-book.lock"  # the lock scripts/build-book.sh holds while it builds
 WAITED = "another build of this book is running"
+#: CPU seconds (user + system, the build and every kernel it starts) of each timed build.
+CPU_SECONDS: list[float] = []
 
 
 def remove(*paths: Path) -> None:
@@ -45,7 +49,9 @@ def remove(*paths: Path) -> None:
 
 
 def timed_build() -> float:
-    """Run scripts/build-book.sh once and return its wall time in seconds."""
+    """Run scripts/build-book.sh once and return its wall time in seconds (its CPU time,
+    less sensitive to the load of a shared machine, is added to CPU_SECONDS)."""
+    cpu = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     result = subprocess.run(
         ["bash", str(ROOT / "scripts" / "build-book.sh")],
@@ -55,6 +61,8 @@ def timed_build() -> float:
         text=True,
     )
     elapsed = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    CPU_SECONDS.append(after.ru_utime + after.ru_stime - cpu.ru_utime - cpu.ru_stime)
     if result.returncode != 0:
         tail = "\n".join(result.stdout.splitlines()[-30:])
         sys.exit(f"scripts/build-book.sh failed (exit {result.returncode}):\n{tail}")
@@ -81,9 +89,12 @@ def main() -> None:
     pages = sorted((BUILD / "html" / "book").glob("*.html"))
     npm = " including npm ci" if args.fresh_npm else ""
     print(f"book build, {len(pages)} pages in _build/html/book")
-    print(f"  clean build (executes every chapter{npm}): {clean:7.1f} s")
-    print(f"  re-render from the execution cache:       {from_cache:7.1f} s")
-    print(f"  rebuild with nothing changed:             {unchanged:7.1f} s")
+    cpu = CPU_SECONDS
+    print(f"load average {', '.join(f'{x:.2f}' for x in os.getloadavg())} "
+          "(wall times on a shared machine follow the load; CPU times less so)")
+    print(f"  clean build (executes every chapter{npm}): {clean:7.1f} s   CPU {cpu[0]:7.1f} s")
+    print(f"  re-render from the execution cache:       {from_cache:7.1f} s   CPU {cpu[1]:7.1f} s")
+    print(f"  rebuild with nothing changed:             {unchanged:7.1f} s   CPU {cpu[2]:7.1f} s")
     print_sizes(pages)
 
 

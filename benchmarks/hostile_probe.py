@@ -49,7 +49,12 @@ from hostile_inputs import (  # noqa: E402
 
 import dstoolkit.evidence as ev  # noqa: E402
 from dstoolkit import cli  # noqa: E402
-from dstoolkit.audio import analyze, save_recording, simulate_measurement  # noqa: E402
+from dstoolkit.audio import (  # noqa: E402
+    STREAM_GRACE_S,
+    analyze,
+    save_recording,
+    simulate_measurement,
+)
 from dstoolkit.errors import DstoolkitError  # noqa: E402
 from dstoolkit.filters import (  # noqa: E402
     BoundedErrorFilter,
@@ -395,7 +400,12 @@ def fault_probes() -> Iterator[Probe]:
                      "--virtual-level", "2.6", "--input", "pulse", "--output", "pulse",
                      "--save", "rec.wav", "--figure", "fig.png"], cwd=tmp, env=env,
                     stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-                time.sleep(4.0)
+                while proc.poll() is None and time.monotonic() - start < 60 and not \
+                        subprocess.run(["pactl", "list", "short", "sink-inputs"], env=env,
+                                       capture_output=True, text=True).stdout.strip():
+                    time.sleep(0.1)  # until the measurement's stream reaches the server
+                start = time.monotonic()
+                time.sleep(1.0)
                 os.kill(pid, sig)
                 try:
                     _, err = proc.communicate(timeout=25)
@@ -407,7 +417,7 @@ def fault_probes() -> Iterator[Probe]:
                 left = os.listdir(tmp)
             if "Traceback" in err:
                 raise RuntimeError(err)
-            if left or elapsed > 20 or want not in err:
+            if left or elapsed > 7.1 + STREAM_GRACE_S + 4 or want not in err:
                 return f"{elapsed:.1f} s, files {left}, said {err.strip()!r}"
             raise DstoolkitError(err.strip())
         return run

@@ -89,11 +89,11 @@ for call, changes in CHANGES.items():
         name, value = changes[i % len(changes)]
         if ex.controls[name].value == value:  # a second round: go back to the start value
             value = first[name]
-        before = ex.figure
+        before = ex.output.outputs
         start = time.perf_counter()
         ex.controls[name].value = value
         times.append(time.perf_counter() - start)
-        assert ex.figure is not before, "no new figure after changing " + name
+        assert ex.output.outputs is not before, "no new figure after changing " + name
     out[call] = times
 print("LATENCY " + json.dumps(out))
 """

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Run every check: ruff over the package and tests, the import-layer contract, mypy on the
+# Run every check: ruff over the package, tests and scripts, the import-layer contract, mypy on the
 # core, then pytest (toolkit, gauge, doctests, packaging, notebooks, book build, and the
 # built book in headless Chromium). Creates .venv on first use.
 set -euo pipefail
@@ -7,7 +7,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 source scripts/ensure-env.sh
 echo "==> ruff"
-ruff check dstoolkit tests benchmarks
+ruff check dstoolkit tests benchmarks scripts
 echo "==> import layers (.importlinter)"
 lint-imports --no-cache
 echo "==> mypy (the core and the command line; [tool.mypy] in pyproject.toml)"

@@ -9,6 +9,7 @@ import json
 import os
 import re
 import subprocess
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -196,15 +197,16 @@ def drive_explorers(changes: dict[str, tuple[str, object]],
                    store_widget_state=True).execute()
     printed: dict[str, str] = {}
     for cell in nb.cells:
-        for out in cell.get("outputs", []):
-            if out.get("output_type") == "stream":
-                for line in out["text"].splitlines():
-                    tag, _, rest = line.partition(" ")
-                    if tag in {"BEFORE", "AFTER"}:
-                        index, _, payload = rest.partition(" ")
-                        printed[f"{tag} {index}"] = payload
-                    elif tag.isupper():
-                        printed[tag] = rest
+        # A long line may reach the notebook in several stream messages: join them first.
+        text = "".join(out["text"] for out in cell.get("outputs", [])
+                       if out.get("output_type") == "stream" and out.get("name") == "stdout")
+        for line in text.splitlines():
+            tag, _, rest = line.partition(" ")
+            if tag in {"BEFORE", "AFTER"}:
+                index, _, payload = rest.partition(" ")
+                printed[f"{tag} {index}"] = payload
+            elif tag.isupper():
+                printed[tag] = rest
     return ExplorerRun(nb, printed)
 
 
@@ -229,3 +231,45 @@ def output_widget_mimes(nb: nbformat.NotebookNode) -> list[list[str]]:
     state = nb.metadata["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
     return [[mime for o in model["state"].get("outputs", []) for mime in o.get("data", {})]
             for model in state.values() if model["model_name"] == "OutputModel"]
+
+
+# --------------------------------------------------------------------------------------
+# Headless Chromium (Debian's /usr/bin/chromium driven by Playwright; no `playwright install`)
+# --------------------------------------------------------------------------------------
+
+CHROMIUM = Path("/usr/bin/chromium")
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+REQUIRE_BROWSER = os.environ.get("DSTOOLKIT_REQUIRE_BROWSER") == "1"
+
+
+def browser_unavailable(reason: str) -> None:
+    """Skip, or fail when the environment says a browser is required."""
+    if REQUIRE_BROWSER:
+        pytest.fail(f"{reason} (DSTOOLKIT_REQUIRE_BROWSER=1: the browser test must run)")
+    pytest.skip(reason)
+
+
+@pytest.fixture(scope="module")
+def chromium() -> Iterator[object]:
+    """A headless Debian Chromium driven by Playwright."""
+    if not (CHROMIUM.is_file() and os.access(CHROMIUM, os.X_OK)):
+        browser_unavailable(f"{CHROMIUM} not found: apt-get install chromium")
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        browser_unavailable("Playwright for Python is not installed: pip install -e '.[test]'")
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(
+            executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True
+        )
+        yield browser
+        browser.close()

@@ -1,4 +1,4 @@
-"""Speed of sound, resonances and the sweep (paper §4.1, §4.3; SPEC §6)."""
+"""Speed of sound, resonances and the sweep (paper §4.1, §4.3)."""
 
 from __future__ import annotations
 

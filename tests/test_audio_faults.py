@@ -20,15 +20,16 @@ from pathlib import Path
 
 import pytest
 
-from dstoolkit.audio import _devices
+from dstoolkit.audio import STREAM_GRACE_S
 
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPT = ROOT / "scripts" / "audio-loopback.sh"
 REQUIRED = os.environ.get("DSTOOLKIT_REQUIRE_AUDIO") == "1"
 #: Seconds the measurement plays: lead-in, chirp, gap, 5 s sweep, gap, chirp, tail.
 PROGRAMME_S = 7.0
-#: Seconds allowed beyond the stream's deadline (process start, imports, the analysis).
-SLACK_S = 8.0
+#: Seconds allowed beyond the stream's deadline, counted from the moment the stream reaches
+#: the server (the child's exit, the error's way to the command's stderr).
+SLACK_S = 4.0
 
 
 def _loopback_env() -> dict[str, str]:
@@ -65,6 +66,18 @@ def loopback() -> Iterator[dict[str, str]]:
         subprocess.run(["bash", str(SCRIPT), "stop"], capture_output=True, timeout=60, env=env)
 
 
+def _wait_for_stream(env: dict[str, str], proc: subprocess.Popen[str]) -> None:
+    """Wait until the measurement's stream plays into the loopback's sink."""
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and proc.poll() is None:
+        inputs = subprocess.run(["pactl", "list", "short", "sink-inputs"], capture_output=True,
+                                text=True, env=env, timeout=10).stdout
+        if inputs.strip():
+            return
+        time.sleep(0.1)
+    pytest.fail("the measurement's stream never reached the sound server")
+
+
 def _measure_with_fault(env: dict[str, str], folder: Path, fault: signal.Signals
                         ) -> tuple[subprocess.CompletedProcess[str], float]:
     server = int((Path(env["PULSE_RUNTIME_PATH"]) / "pid").read_text())
@@ -72,13 +85,14 @@ def _measure_with_fault(env: dict[str, str], folder: Path, fault: signal.Signals
            "--virtual-level", "2.6", "--input", "pulse", "--output", "pulse",
            "--save", str(folder / "rec.wav"), "--figure", str(folder / "fig.png"),
            "--overwrite"]
-    start = time.monotonic()
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env=env, cwd=folder)
-    time.sleep(4.0)  # the stream is running: the child has started and opened it
+    _wait_for_stream(env, proc)
+    start = time.monotonic()  # the stream plays from here
+    time.sleep(1.0)  # mid-measurement
     os.kill(server, fault)
     try:
-        out, err = proc.communicate(timeout=PROGRAMME_S + _devices.STREAM_GRACE_S + 60)
+        out, err = proc.communicate(timeout=PROGRAMME_S + STREAM_GRACE_S + 60)
     finally:
         if proc.poll() is None:
             proc.kill()
@@ -95,8 +109,8 @@ def test_a_stalled_server_ends_the_measurement_with_a_stall_error(loopback, tmp_
     assert result.returncode == 1
     assert "the audio stream stalled" in result.stderr
     assert result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
-    # the deadline: the stream's length plus STREAM_GRACE_S, plus process start-up
-    assert elapsed < PROGRAMME_S + _devices.STREAM_GRACE_S + SLACK_S
+    # the deadline: the stream's length plus STREAM_GRACE_S
+    assert elapsed < PROGRAMME_S + STREAM_GRACE_S + SLACK_S
     assert (tmp_path / "rec.wav").read_bytes() == b"an earlier recording"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["rec.wav"]
 
@@ -109,7 +123,7 @@ def test_a_dead_server_is_named_in_the_error(loopback, tmp_path):
     assert "sound server died" in result.stderr
     assert f"PulseAudio sound server at {loopback['PULSE_SERVER']}" in result.stderr
     assert "wiring" not in result.stderr and "Traceback" not in result.stderr
-    assert elapsed < PROGRAMME_S + _devices.STREAM_GRACE_S + SLACK_S
+    assert elapsed < PROGRAMME_S + STREAM_GRACE_S + SLACK_S
     assert list(tmp_path.iterdir()) == []
 
 

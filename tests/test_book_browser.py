@@ -11,12 +11,10 @@ Without it the tests skip, except when DSTOOLKIT_REQUIRE_BROWSER=1 (CI), where t
 from __future__ import annotations
 
 import functools
-import os
 import threading
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
-from pathlib import Path
 from urllib.parse import urlsplit
 
 import pytest
@@ -24,46 +22,10 @@ from conftest import ARTIFACTS, BookBuild
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
-CHROMIUM = Path("/usr/bin/chromium")
-CHROMIUM_ARGS = [
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-quic",
-    "--no-first-run",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--disable-sync",
-]
-REQUIRE_BROWSER = os.environ.get("DSTOOLKIT_REQUIRE_BROWSER") == "1"
 #: Chapters whose full-page screenshots are saved in test-artifacts/.
 SCREENSHOT_PAGES = ("book/intro", "book/mass_functions", "book/dependent_evidence")
 LOCAL_SCHEMES = ("data:", "blob:", "about:")
 TIMEOUT_MS = 30_000
-
-
-def _unavailable(reason: str) -> None:
-    """Skip, or fail when the environment says a browser is required."""
-    if REQUIRE_BROWSER:
-        pytest.fail(f"{reason} (DSTOOLKIT_REQUIRE_BROWSER=1: the browser test must run)")
-    pytest.skip(reason)
-
-
-@pytest.fixture(scope="module")
-def chromium() -> Iterator[object]:
-    """A headless Debian Chromium driven by Playwright."""
-    if not (CHROMIUM.is_file() and os.access(CHROMIUM, os.X_OK)):
-        _unavailable(f"{CHROMIUM} not found: apt-get install chromium")
-    try:
-        from playwright.sync_api import sync_playwright
-    except ImportError:
-        _unavailable("Playwright for Python is not installed: pip install -e '.[test]'")
-    with sync_playwright() as playwright:
-        browser = playwright.chromium.launch(
-            executable_path=str(CHROMIUM), args=CHROMIUM_ARGS, headless=True
-        )
-        yield browser
-        browser.close()
 
 
 class _QuietHandler(SimpleHTTPRequestHandler):

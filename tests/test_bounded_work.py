@@ -27,10 +27,10 @@ from dstoolkit.filters import (
     BoundedNoise,
     DependentEvidenceFilter,
     Filter,
+    FilterBase,
     KalmanFilter,
     NassreddineFilter,
     ParticleFilter,
-    _base,
     _nassreddine,
     cluster_boxes,
     random_walk,
@@ -52,7 +52,7 @@ def budget():
 @pytest.mark.parametrize("flt", FILTERS, ids=IDS)
 def test_every_filter_conforms_to_the_protocol(flt):
     assert isinstance(flt, Filter)
-    assert isinstance(flt, _base.FilterBase)
+    assert isinstance(flt, FilterBase)
     assert isinstance(flt.name, str) and flt.name
     for method in ("run", "run_batch"):
         want = list(inspect.signature(getattr(Filter, method)).parameters.values())[1:]

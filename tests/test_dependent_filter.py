@@ -99,7 +99,7 @@ def test_record_keeps_every_step_with_the_papers_sizes(gauge):
         assert isinstance(step[key], IntervalEvidence), key
         assert step[key].mass.sum() == pytest.approx(1.0)
     assert step["estimate"] == pytest.approx(step["final"].pignistic_expectation())  # eq. 20
-    d = result.diagnostics  # with p = 3 (SPEC §5): 4, 16, 64 and 64 × 16 products
+    d = result.diagnostics  # with p = 3: 4, 16, 64 and 64 × 16 products
     assert np.all(d["n_state"][1:] == 4) and np.all(d["n_prediction"][1:] == 16)
     assert np.all(d["n_observation"][1:] == 4) and np.all(d["n_products_step4"][1:] == 64)
     assert np.all(d["n_products_step6"][1:] == d["n_mapped_back"][1:] * 16)
@@ -187,7 +187,7 @@ def test_every_diagnostic_stays_in_its_range(gauge_runs):
 
 
 def test_mass_rule_m2_is_refused_when_it_breaks_the_coefficients(gauge):
-    """m(D) = m2(D) can make D > 1 and R < 0 (SPEC §1): both paths refuse it clearly."""
+    """m(D) = m2(D) can make D > 1 and R < 0 (eq. A3 leaves m(D) open): both paths refuse it."""
     flt = DependentEvidenceFilter(mass_rule="m2")
     with pytest.raises(EvidenceError, match=r"outside \[0, 1\].*mass_rule='min'"):
         flt.run(MODEL, gauge.readings, gauge.inputs)

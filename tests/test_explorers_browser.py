@@ -4,8 +4,8 @@ and every enabled dropdown changed switches the figure or the readout; a disable
 does not move; no console error. Screenshots of every explorer before and after its first
 slider moves go to test-artifacts/explorers/.
 
-The pages and the browser come from tests/test_book_browser.py (its ``chromium`` and
-``site`` fixtures: the book built by scripts/build-book.sh, served on 127.0.0.1). Without
+The browser is conftest's ``chromium`` fixture, the pages come from tests/test_book_browser.py
+(its ``site`` fixture: the book built by scripts/build-book.sh, served on 127.0.0.1). Without
 Chromium the tests skip, except under DSTOOLKIT_REQUIRE_BROWSER=1 (CI), where they fail.
 """
 
@@ -15,10 +15,10 @@ import re
 
 import pytest
 from conftest import ARTIFACTS, ROOT, toc_pages
-from test_book_browser import _WIDGETS_RENDERED_JS, TIMEOUT_MS, _watch, chromium, site
+from test_book_browser import _WIDGETS_RENDERED_JS, TIMEOUT_MS, _watch, site
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
-__all__ = ["chromium", "site"]  # fixtures used by the tests below
+__all__ = ["site"]  # fixture used by the tests below
 
 SHOTS = ARTIFACTS / "explorers"
 #: An explorer cell calls one of these (dstoolkit.teaching) in a chapter.

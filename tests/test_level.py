@@ -1,4 +1,4 @@
-"""Level estimation: eqs. 32–33/43, the state space of eqs. 39–40, the series fit (SPEC §6)."""
+"""Level estimation: eqs. 32–33/43, the state space of eqs. 39–40, the series fit."""
 
 from __future__ import annotations
 
@@ -78,7 +78,7 @@ def test_free_offset_fit_ignores_a_common_offset_that_the_fixed_fit_absorbs() ->
 
 
 def test_series_fit_beats_eq43_on_a_long_noisy_tube() -> None:
-    # SPEC §6: at 9.6 m, f_F = 18 Hz; readings with σ = 1.4 Hz make consecutive
+    # at 9.6 m, f_F = 18 Hz; readings with σ = 1.4 Hz make consecutive
     # differences carry 2 Hz of noise, so eq. 43 often picks a wrong n_k.
     rng = np.random.default_rng(2017)
     n, f = resonance_frequencies(9.6, C_9_6)

@@ -170,7 +170,7 @@ def test_a_failed_recording_save_keeps_the_previous_file(tmp_path, recording, mo
 
     monkeypatch.setattr(_output.os, "replace", broken_replace)
     with pytest.raises(OSError, match="no space"):
-        save_recording(path, np.zeros(100), 8000)
+        save_recording(path, np.zeros(100), 8000, overwrite=True)
     assert path.read_bytes() == original and os.listdir(tmp_path) == ["rec.wav"]
 
 
@@ -203,3 +203,27 @@ def test_made_by_reads_the_png_text_chunk(tmp_path):
     assert made_by(path, "analyze") and not made_by(path, "table3")
     (tmp_path / "g.png").write_bytes(b"\x89PNG\r\n\x1a\n" + b"\0" * 20)
     assert not made_by(tmp_path / "g.png", "analyze")
+
+
+def test_the_python_api_keeps_an_existing_recording_unless_asked(tmp_path, recording):
+    path = tmp_path / "keep.wav"
+    original = _save(path, recording)
+    with pytest.raises(OutputExistsError, match="overwrite=True"):
+        save_recording(path, np.zeros(100), 8000)
+    assert path.read_bytes() == original
+    save_recording(path, np.zeros(100), 8000, overwrite=True)
+    assert path.read_bytes() != original
+
+
+def test_measure_refuses_an_existing_recording_before_playing(tmp_path, recording, monkeypatch):
+    path = tmp_path / "rec.wav"
+    original = _save(path, recording)
+
+    def must_not_play(*args, **kwargs):
+        raise AssertionError("played although the output exists")
+
+    monkeypatch.setattr(_measurement.audio, "play_record", must_not_play)
+    setup = TubeSetup(level_m=2.5, temperature_c=21.0)
+    with pytest.raises(OutputExistsError, match="exists"):
+        _measurement.measure(virtual_tube=setup, save=path)
+    assert path.read_bytes() == original

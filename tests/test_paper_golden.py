@@ -32,7 +32,7 @@ def test_table2_observation_noise_evidence():
         cuts, [[-8.13, -5.67, 0.3167], [-9.36, -4.44, 0.3167], [-10.59, -3.21, 0.3167]],
         atol=5e-5,
     )
-    # Θ = c ± 100σ gives [−129.9, 116.1]; the paper prints [−129.7, 115.7] (see SPEC §3).
+    # Θ = c ± 100σ gives [−129.9, 116.1]; the paper prints [−129.7, 115.7] (rounded in the paper).
     np.testing.assert_allclose(ev.to_rows()[3], [-129.9, 116.1, 0.05], atol=5e-5)
 
 
@@ -78,7 +78,7 @@ def test_appendix_nine_combined_focal_elements():
     assert rows.shape == (9, 3)
     np.testing.assert_allclose(rows[:, :2], np.array(paper)[:, :2], atol=1e-12)
     np.testing.assert_allclose(rows[:, 2], np.array(paper)[:, 2], atol=1e-3)
-    # A6 = 0.36 · R12 · R21 = 0.18968 (SPEC quotes it truncated as 0.1896).
+    # A6 = 0.36 · R12 · R21 = 0.18968 (the paper prints it truncated as 0.1896).
     assert rows[5, 2] == pytest.approx(0.36 * 0.7524707 * 0.7002274, abs=1e-6)
     assert abs(rows[5, 2] - 0.1890) > 5e-4  # the paper's printed A6 is a slip
     assert rows[:, 2].sum() == pytest.approx(1.0, abs=1e-12)

@@ -1,4 +1,4 @@
-"""Synthesised recordings and resonance detection (paper §4.1, §4.3; SPEC §6; issue 4).
+"""Synthesised recordings and resonance detection (paper §4.1, §4.3; issue 4).
 
 Tolerances, and why:
 
@@ -81,7 +81,7 @@ def test_single_echo_resonances_match_n_c_over_2l_after_correction(level: float,
     n = _orders(det.frequencies, setup)
     assert np.max(np.abs(det.frequencies - n * f_f)) < 0.1
     assert det.complete and det.spurious.size == 0
-    # the uncorrected reading f0 + k t is high by k L/c + k τ (SPEC §6)
+    # the uncorrected reading f0 + k t is high by k L/c + k τ (paper §4.1)
     k = PAPER_SWEEP.rate
     expected_offset = k * level / setup.speed_of_sound + k * QUIET.latency_s
     assert np.max(np.abs(det.raw_frequencies - n * f_f - expected_offset)) < 0.1

@@ -16,6 +16,9 @@ from dstoolkit.errors import (
 
 from ._devices import (
     MIN_PADDING_S,
+    STREAM_GRACE_S,
+    STREAM_OPEN_TIMEOUT_S,
+    STREAM_START_TIMEOUT_S,
     AudioDevice,
     PlayRecordResult,
     audio_available,
@@ -70,6 +73,9 @@ __all__ = [
     "PlayRecordResult",
     "RecordingFileError",
     "RecordingMetadata",
+    "STREAM_GRACE_S",
+    "STREAM_OPEN_TIMEOUT_S",
+    "STREAM_START_TIMEOUT_S",
     "WavRecording",
     "add_analyze_arguments",
     "add_measure_arguments",

@@ -57,8 +57,10 @@ from dstoolkit.gauge._latency import LatencyEstimate, as_signal, estimate_latenc
 MIN_PADDING_S = 0.5
 #: PortAudio's suggested latency (s) that returned the signal intact through the loopback.
 DEFAULT_LATENCY_S = 0.25
-#: Seconds allowed for the stream's process to start and its stream to open.
-STREAM_START_TIMEOUT_S = 20.0
+#: Seconds allowed for the stream's process to start and import sounddevice.
+STREAM_START_TIMEOUT_S = 30.0
+#: Seconds allowed for PortAudio to open the stream (a stalled server never does).
+STREAM_OPEN_TIMEOUT_S = 5.0
 #: Seconds past its expected length after which a stream counts as stalled.
 STREAM_GRACE_S = 3.0
 #: Smallest |normalised correlation| at which a calibration chirp counts as found.
@@ -304,7 +306,11 @@ def play_record(
     ------
     AudioUnavailableError
         sounddevice/PortAudio missing (``INSTALL_HINT``); its subclass
-        NoAudioDeviceError when there is no device or it fails to open.
+        NoAudioDeviceError when there is no device or it fails to open;
+        AudioStallError when the stream stops moving (it does not open within
+        :data:`STREAM_OPEN_TIMEOUT_S`, or it runs :data:`STREAM_GRACE_S` past its length:
+        the stream runs in a child process, which is then killed);
+        AudioServerError when the PulseAudio server died (:func:`check_sound_server`).
     ValueError
         Bad signal or settings.
     """
@@ -397,7 +403,8 @@ def _stream(played: np.ndarray, samplerate: int, latency: float | str, device_in
 
     Returns the recording (float32, as long as ``played``), PortAudio's status and whether
     samples were dropped. Raises :class:`~dstoolkit.errors.AudioStallError` when the stream does not
-    start within :data:`STREAM_START_TIMEOUT_S` or does not end within its length plus
+    open within :data:`STREAM_OPEN_TIMEOUT_S` (the process itself may take
+    :data:`STREAM_START_TIMEOUT_S` to start) or does not end within its length plus
     :data:`STREAM_GRACE_S`, :class:`~dstoolkit.errors.AudioServerError` when the sound server died,
     and :class:`~dstoolkit.errors.NoAudioDeviceError` when PortAudio refuses the stream.
     """
@@ -417,8 +424,9 @@ def _stream(played: np.ndarray, samplerate: int, latency: float | str, device_in
             except BrokenPipeError:
                 pass  # the child died at once: reported below
             reader = _Reader(proc.stdout.fileno())
-            start_deadline = time.monotonic() + STREAM_START_TIMEOUT_S
-            first = reader.line(start_deadline)
+            first = reader.line(time.monotonic() + STREAM_START_TIMEOUT_S)
+            if first == b"ready":
+                first = reader.line(time.monotonic() + STREAM_OPEN_TIMEOUT_S)
             if first == b"started":
                 end = time.monotonic() + expected + STREAM_GRACE_S
                 first = reader.line(end)
@@ -426,8 +434,7 @@ def _stream(played: np.ndarray, samplerate: int, latency: float | str, device_in
                     _stalled(proc, f"no samples came back for {STREAM_GRACE_S:g} s past the "
                                    f"stream's expected length of {expected:.1f} s")
             elif first is None and reader.open:
-                _stalled(proc, f"the stream did not start within "
-                               f"{STREAM_START_TIMEOUT_S:g} s")
+                _stalled(proc, "the stream did not start")
             if not first:
                 proc.kill()
                 proc.wait()

@@ -482,12 +482,14 @@ def record_measurement(
     amplitude: float = DEFAULT_AMPLITUDE,
     latency: float | str = audio.DEFAULT_LATENCY_S,
     save: str | os.PathLike[str] | None = None,
+    overwrite: bool = False,
     attempts: int = 3,
 ) -> WavRecording:
     """Play the programme (module docstring) and record it; return the recording.
 
     ``temperature_c`` is what the thermometer says (stored in the metadata); with a
-    ``virtual_tube`` it defaults to the tube's. ``save`` writes the WAV file. A recording
+    ``virtual_tube`` it defaults to the tube's. ``save`` writes the WAV file; an existing
+    file is refused before anything is played unless ``overwrite=True``. A recording
     in which the stream dropped samples (PortAudio reports an xrun, or the two chirps give
     different latencies) is discarded and the measurement repeated, up to ``attempts``
     times in all.
@@ -505,6 +507,8 @@ def record_measurement(
         if virtual_tube is None:
             raise InvalidInputError("give the air temperature (temperature_c, °C)")
         temperature_c = virtual_tube.temperature_c
+    if save is not None:
+        check_outputs({"the recording": save}, overwrite=overwrite)
     if attempts < 1:
         raise InvalidInputError(f"attempts must be at least 1, got {attempts}")
     fs = _samplerate(sweep)
@@ -535,7 +539,8 @@ def record_measurement(
             audio.check_sound_server()  # a dead server is not a wiring problem
             raise
         if save is not None:
-            save_recording(save, recording.samples, fs, recording.metadata)
+            save_recording(save, recording.samples, fs, recording.metadata,
+                           overwrite=overwrite)
         return recording
     raise AudioDropoutError(
         "the audio stream dropped samples in every attempt (" + "; ".join(problems) + "). "
@@ -554,12 +559,15 @@ def measure(
     amplitude: float = DEFAULT_AMPLITUDE,
     latency: float | str = audio.DEFAULT_LATENCY_S,
     save: str | os.PathLike[str] | None = None,
+    overwrite: bool = False,
     temperature_uncertainty_c: float = DEFAULT_TEMPERATURE_UNCERTAINTY_C,
 ) -> Analysis:
-    """Measure a level: :func:`record_measurement` then :func:`analyze`."""
+    """Measure a level: :func:`record_measurement` then :func:`analyze`. ``save`` never
+    replaces an existing file unless ``overwrite=True``."""
     recording = record_measurement(
         temperature_c, sweep=sweep, input_device=input_device, output_device=output_device,
         virtual_tube=virtual_tube, amplitude=amplitude, latency=latency, save=save,
+        overwrite=overwrite,
     )
     return analyze(recording, temperature_uncertainty_c=temperature_uncertainty_c)
 
@@ -670,7 +678,8 @@ def measure_command(args: argparse.Namespace) -> int:
                  else TubeSetup(level_m=args.virtual_level, temperature_c=args.temperature))
         analysis = measure(args.temperature, input_device=_device(args.input),
                            output_device=_device(args.output), virtual_tube=setup,
-                           latency=args.latency, save=args.save)
+                           latency=args.latency, save=args.save,
+                           overwrite=True)
         if args.save:
             print(f"recording saved to {args.save}")
         _report(analysis, paths["the figure (--figure)"], "measure")

@@ -1,7 +1,7 @@
 """Save and load gauge recordings as WAV files that carry their metadata.
 
 A recording is only useful with what was known when it was made: the air temperature
-(sound speed), the sweep (band, duration, where it starts), the sample rate, the
+(sound speed, eq. 31), the sweep (band, duration, where it starts), the sample rate, the
 measured audio latency, and the level when it is known (a virtual tube, a reference
 measurement). They travel inside the WAV file, so a file copied alone stays analysable.
 
@@ -32,6 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.io import wavfile
 
+from dstoolkit._reprs import short_repr
 from dstoolkit.errors import RecordingFileError, RecordingNotFoundError
 from dstoolkit.studies._output import atomic_write, check_outputs
 
@@ -78,6 +79,9 @@ class RecordingMetadata:
     level_m: float | None = None
     source: str | None = None
     extra: dict[str, Any] = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        return short_repr(self)
 
     def __post_init__(self) -> None:
         for f in fields(self):
@@ -200,7 +204,7 @@ def save_recording(
     metadata: RecordingMetadata | None = None,
     *,
     sample_format: Literal["float32", "int16"] = "float32",
-    overwrite: bool = True,
+    overwrite: bool = False,
 ) -> None:
     """Write a mono recording and its metadata to a WAV file.
 
@@ -219,7 +223,8 @@ def save_recording(
         float32 keeps the samples as recorded; int16 is read by every program but
         quantises, and refuses samples beyond ±1.
     overwrite : bool
-        Replace an existing file (default); False raises OutputExistsError instead.
+        Replace an existing file. By default an existing file is kept and
+        :class:`~dstoolkit.errors.OutputExistsError` is raised.
     """
     x = np.asarray(samples, dtype=float)
     if x.ndim == 2 and x.shape[1] == 1:

@@ -7,7 +7,8 @@ that can hang runs in the caller's process.
 
 Run as a script (``python _stream_child.py``; it imports only numpy and sounddevice).
 Protocol, on stdin: one JSON line ``{"samplerate", "latency", "device", "frames"}`` then
-``frames`` float32 samples; on stdout: ``started`` once the stream runs, then one JSON line
+``frames`` float32 samples; on stdout: ``ready`` once sounddevice is imported, ``started``
+once the stream runs, then one JSON line
 (``{"status", "dropped", "frames"}`` followed by the recorded float32 samples, or
 ``{"error", "message"}``).
 """
@@ -28,6 +29,8 @@ def main() -> int:
     try:
         import sounddevice as sd
 
+        out.write(b"ready\n")
+        out.flush()
         recorded = sd.playrec(played, header["samplerate"], channels=1, dtype="float32",
                               latency=header["latency"], device=tuple(header["device"]),
                               blocking=False)

@@ -16,6 +16,7 @@ from typing import Literal, TypeVar
 
 import numpy as np
 
+from dstoolkit._reprs import short_repr
 from dstoolkit.errors import EvidenceError, TotalConflictError
 
 from ._base import Evidence
@@ -169,6 +170,9 @@ class Dependence:
     """Dependency coefficient R12 = 1 − (D/2) En(E2)/En(E1) (eq. 7, A5)."""
     r21: float
     """Dependency coefficient R21 = 1 − (D/2) En(E1)/En(E2) (eq. 8, A6)."""
+
+    def __repr__(self) -> str:
+        return short_repr(self)
 
     @property
     def independent_energy1(self) -> float:

@@ -13,6 +13,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from dstoolkit._reprs import short_repr
 from dstoolkit.errors import EvidenceError
 
 from ._checks import real_array, real_number, whole_number
@@ -26,6 +27,9 @@ class TriangularBounds(NamedTuple):
     lower: float
     mode: float
     upper: float
+
+    def __repr__(self) -> str:
+        return short_repr(self)
 
     @property
     def sigma(self) -> float:

@@ -13,6 +13,9 @@ from ._analysis import (
     converged_at,
     enclosure_summary,
 )
+from ._base import (
+    FilterBase,
+)
 from ._bounded_error import (
     BoundedErrorFilter,
 )
@@ -58,6 +61,7 @@ __all__ = [
     "DIAGNOSTICS",
     "DependentEvidenceFilter",
     "Filter",
+    "FilterBase",
     "FilterResult",
     "InconsistentDataError",
     "KalmanFilter",

@@ -147,14 +147,16 @@ class BoundedErrorFilter(FilterBase):
         where = (f"step {k} (reading z[{k}], counting from 0)"
                  + (f" of run {r}" if Z.shape[0] > 1 else ""))
 
+        def num(x: np.ndarray) -> str:  # 6 significant digits: 1923.84 Hz, not 1923.84244
+            return np.array2string(np.asarray(x), formatter={"float_kind": "{:.6g}".format})
+
         def fmt(lo: np.ndarray, hi: np.ndarray) -> str:
-            return (f"lower {np.array2string(np.asarray(lo), precision=5)}, "
-                    f"upper {np.array2string(np.asarray(hi), precision=5)}")
+            return f"lower {num(lo)}, upper {num(hi)}"
 
         return (
             f"inconsistent data at {where}: the predicted box ({fmt(p_lo[r], p_hi[r])}) "
             "contains no state whose observation agrees with the reading "
-            f"z = {np.array2string(Z[r, k], precision=5)} within the observation noise "
+            f"z = {num(Z[r, k])} within the observation noise "
             f"bounds ({fmt(model.obs_noise.lower, model.obs_noise.upper)}). The noise bounds "
             f"(state noise {fmt(model.state_noise.lower, model.state_noise.upper)}) are "
             "probably too tight for these data: widen them, or use "

@@ -116,7 +116,7 @@ class DependentEvidenceFilter(FilterBase):
     ----------
     mass_rule
         m(D) in the energy of the intersection (eq. A3): ``"min"`` (default), ``"m1"``,
-        ``"m2"``.
+        ``"m2"`` (eq. A3 leaves m(D) open).
     start
         x̂_1: ``"observation"`` (g⁻¹(z_1), the paper), ``"mean_corrected"``
         (g⁻¹(z_1 + E[w])), or a state vector.

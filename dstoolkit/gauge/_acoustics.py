@@ -26,7 +26,7 @@ from dstoolkit.evidence._checks import real_array
 #: The speed-of-sound models of :func:`speed_of_sound`.
 SpeedModel = Literal["paper", "ideal_gas", "cramer"]
 
-#: Band the filter works in; the paper's experiment swept 1000 → 2400 Hz.
+#: Band the filter works in (paper §4.1); the paper's experiment swept 1000 → 2400 Hz.
 DEFAULT_BAND: tuple[float, float] = (1000.0, 2500.0)
 
 _CRAMER = np.array([

@@ -49,8 +49,8 @@ def level_from_resonance(frequency_hz: Any, order: Any, c: Any) -> np.ndarray:
     >>> round(float(level_from_resonance(f10, 10, 343.42)), 6)
     1.3
     """
-    return (_positive(order, "order") * _positive(c, "c")
-            / (2.0 * _positive(frequency_hz, "frequency_hz")))
+    return _finite_level(_positive(order, "order") * _positive(c, "c")
+                         / (2.0 * _positive(frequency_hz, "frequency_hz")))
 
 
 def _positive(value: Any, name: str) -> np.ndarray:
@@ -68,7 +68,14 @@ def level_from_fundamental(fundamental_hz: Any, c: Any) -> np.ndarray:
     >>> float(level_from_fundamental(132.0, 343.2))
     1.3
     """
-    return _positive(c, "c") / (2.0 * _positive(fundamental_hz, "fundamental_hz"))
+    return _finite_level(_positive(c, "c") / (2.0 * _positive(fundamental_hz, "fundamental_hz")))
+
+
+def _finite_level(level: np.ndarray) -> np.ndarray:
+    if not np.all(np.isfinite(level)):
+        raise InvalidInputError("the level overflows: the frequencies and the speed of sound "
+                                "are far outside any tube's; give them in Hz and m/s")
+    return level
 
 
 def orders_eq43(z: Any, extend: bool = False) -> np.ndarray:
@@ -157,7 +164,7 @@ def fit_resonance_series(
     offset_hz: float | None = 0.0,
     max_first_order: int | None = None,
 ) -> ResonanceSeriesFit:
-    """Fit z_k = f_F (n_1 + s_k) + b with integer n_1 ≥ 1.
+    """Fit z_k = f_F (n_1 + s_k) + b with integer n_1 ≥ 1 (eqs. 32, 35).
 
     Parameters
     ----------

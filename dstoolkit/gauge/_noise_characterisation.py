@@ -9,7 +9,7 @@ Observation noise w (microphone + detector): the paper detected the resonances o
 levels from 1.3 to 10.6 m and took the errors against the true values; σ_w = 1.23 Hz,
 mode −6.9 Hz, bounds [−10.59, −3.21]. Here: synthesised recordings at those levels, detected
 with :func:`dstoolkit.gauge.detect_resonances`, and w = true − detected, the sign of
-the paper's convention (g(x) = z + w: a reading that is too high gives w < 0). Without the offset
+paper eq. 40 (g(x) = z + w: a reading that is too high gives w < 0). Without the offset
 corrections the detector reads k/(2 f_F) + k τ high, as the paper's did.
 
 Both become triangles (mode = mean, bounds = mean ± 3σ) and evidence (eqs. 22–26) by

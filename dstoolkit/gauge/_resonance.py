@@ -5,7 +5,7 @@ with the sweep); take the envelope; read time as instantaneous frequency; find t
 with sub-sample precision; place them on the lattice of spacing f_F to find missed and
 spurious ones; remove the two offsets below.
 
-Offsets. With the speaker's phase φ(u) = 2π(f₀u + ku²/2) and the surface echo
+Offsets (paper §4.1). With the speaker's phase φ(u) = 2π(f₀u + ku²/2) and the surface echo
 Δ = 2L/c later, the microphone hears cos φ(u) + a cos φ(u − Δ), whose envelope is
 |1 + a e^(−iθ)| with θ(u) = φ(u) − φ(u − Δ) = 2πΔ (f(u) − kΔ/2). It peaks at θ = 2πn, where
 the instantaneous frequency is

@@ -2,7 +2,7 @@
 
 f(t) = f_start + k t with rate k = (f_stop − f_start)/duration, phase
 φ(t) = 2π (f_start t + k t²/2). The paper swept 1000 → 2400 Hz in 5 s at 44.1 kHz
-(k = 280 Hz/s); the filter's band is 1000–2500 Hz. Both are parameters.
+(k = 280 Hz/s); the filter's band (paper §4.1) is 1000–2500 Hz. Both are parameters.
 """
 
 from __future__ import annotations

@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from dstoolkit._reprs import short_repr
 from dstoolkit.errors import InvalidInputError
 
 from ._acoustics import (
@@ -198,6 +199,9 @@ class RecordingConditions:
     full_scale_pa: float = 10.0
     bits: int | None = 16
     tail_s: float = 0.1
+
+    def __repr__(self) -> str:
+        return short_repr(self)
 
     def __post_init__(self) -> None:
         for name in ("speaker_jitter_hz", "microphone_noise_pa", "background_noise_pa",

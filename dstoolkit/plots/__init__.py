@@ -1,4 +1,8 @@
 """Figures for the book and for users (needs the ``plots`` extra: matplotlib).
+
+Every figure is drawn in one style (``_style``): at most the book's column wide, text of
+9 pt or more, labelled axes with units, legends off the data. ``use_style()`` makes it
+matplotlib's default for figures drawn by hand.
 """
 
 from __future__ import annotations
@@ -28,8 +32,6 @@ from ._experiments import (  # noqa: E402
     plot_table3,
 )
 from ._gauge import (  # noqa: E402
-    GREY,
-    TRUTH_COLOUR,
     plot_recording,
     plot_resonances,
 )
@@ -40,13 +42,28 @@ from ._studies import (  # noqa: E402
     plot_scale_study,
     plot_step_errors,
 )
+from ._style import (  # noqa: E402
+    BEL_COLOUR,
+    BETP_COLOUR,
+    GREY,
+    TRUTH_COLOUR,
+    figure_style,
+    legend_above,
+    log_ticks,
+    use_style,
+)
 
 __all__ = [
+    "BEL_COLOUR",
+    "BETP_COLOUR",
     "GREY",
     "STYLE",
     "TRUTH_COLOUR",
     "contour",
+    "figure_style",
     "interval_table",
+    "legend_above",
+    "log_ticks",
     "markdown_table",
     "plot_bel_pl",
     "plot_boxes",
@@ -67,4 +84,5 @@ __all__ = [
     "plot_scale_study",
     "plot_step_errors",
     "plot_table3",
+    "use_style",
 ]

@@ -25,17 +25,22 @@ from dstoolkit.evidence._finite_frame import MassFunction
 from dstoolkit.evidence._intervals import IntervalEvidence
 from dstoolkit.evidence._possibility import alpha_cuts, possibility
 
-#: Colours used throughout the book: lower/belief, upper/plausibility, pignistic, truth.
-BEL_COLOUR = "#1f77b4"
-PL_COLOUR = "#aec7e8"
-BETP_COLOUR = "#d62728"
-FOCAL_CMAP = "viridis"
+from ._style import (
+    BEL_COLOUR,
+    BETP_COLOUR,
+    FOCAL_CMAP,
+    PL_COLOUR,
+    SMALL_PT,
+    column_size,
+    legend_above,
+    styled,
+)
 
 
 def _axes(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
     if ax is not None:
         return ax.figure, ax
-    fig, new_ax = plt.subplots(figsize=figsize, layout="constrained")
+    fig, new_ax = plt.subplots(figsize=column_size(*figsize), layout="constrained")
     return fig, new_ax
 
 
@@ -47,6 +52,7 @@ def _scalar(ev: IntervalEvidence, what: str) -> None:
 # -- interval evidence -------------------------------------------------------------------
 
 
+@styled
 def plot_focal_intervals(
     ev: IntervalEvidence,
     ax: Axes | None = None,
@@ -55,6 +61,7 @@ def plot_focal_intervals(
     title: str | None = None,
     label_masses: bool = True,
     colour: str | None = None,
+    xlabel: str = "x",
 ) -> Figure:
     """Focal elements as stacked bars: bar i spans [lo_i, hi_i] and is m_i high.
 
@@ -74,6 +81,8 @@ def plot_focal_intervals(
         Write each mass (and a clipped element's ends) on its bar.
     colour
         One colour for every bar; default: a colour map over the focal elements.
+    xlabel
+        Label of the x axis: the quantity and its unit, e.g. ``"frequency (Hz)"``.
     """
     _scalar(ev, "plot_focal_intervals")
     fig, ax = _axes(ax, (6.0, 2.8))
@@ -96,17 +105,19 @@ def plot_focal_intervals(
             text = f"{m[i]:.4g}" + (f"  [{lo[i]:.4g}, {hi[i]:.4g}]" if clipped else "")
             if m[i] > 0.05:
                 ax.text(0.5 * (left[i] + right[i]), bottoms[i] + 0.5 * m[i], text,
-                        ha="center", va="center", fontsize=8,
+                        ha="center", va="center", fontsize=SMALL_PT,
                         bbox={"boxstyle": "round,pad=0.15", "fc": "white", "alpha": 0.7,
                               "lw": 0})
     ax.set_xlim(*xlim)
     ax.set_ylim(0, 1)
+    ax.set_xlabel(xlabel)
     ax.set_ylabel("cumulated mass")
     if title:
         ax.set_title(title)
     return fig
 
 
+@styled
 def plot_pbox(
     ev: IntervalEvidence,
     ax: Axes | None = None,
@@ -115,6 +126,7 @@ def plot_pbox(
     xlim: tuple[float, float] | None = None,
     title: str | None = None,
     label: str = "",
+    xlabel: str = "x",
 ) -> Figure:
     """The p-box of scalar evidence: F_*(x) = Bel((−∞, x]) below, F^*(x) = Pl((−∞, x]) above.
 
@@ -137,10 +149,11 @@ def plot_pbox(
     ax.step(x, lower, where="post", color=BEL_COLOUR, label=prefix + "lower cdf  Bel")
     ax.set_ylim(-0.02, 1.02)
     ax.set_xlim(x[0], x[-1])
+    ax.set_xlabel(xlabel)
     ax.set_ylabel("probability")
-    ax.legend(loc="upper left", fontsize=8)
     if title:
         ax.set_title(title)
+    legend_above(ax)
     return fig
 
 
@@ -156,6 +169,7 @@ def contour(ev: IntervalEvidence, x: Any) -> np.ndarray:
     return (inside @ ev.mass).reshape(x.shape)
 
 
+@styled
 def plot_possibility(
     lower: float,
     mode: float,
@@ -166,6 +180,7 @@ def plot_possibility(
     evidence: IntervalEvidence | None = None,
     xlim: tuple[float, float] | None = None,
     title: str | None = None,
+    xlabel: str = "x",
 ) -> Figure:
     """The triangular possibility π (paper eq. 22) with its p α-cuts (eq. 24) drawn as lines.
 
@@ -185,16 +200,17 @@ def plot_possibility(
         ax.hlines(alpha, a, b, color=c, lw=3)
         ax.vlines([a, b], 0, alpha, color=c, lw=0.8, ls=":")
         if p <= 6:
-            ax.text(b, alpha, f"  α = {alpha:.3g}", va="center", fontsize=8)
+            ax.text(b, alpha, f"  α = {alpha:.3g}", va="center", fontsize=SMALL_PT)
     if evidence is not None:
         ax.step(x, contour(evidence, x), where="mid", color=BETP_COLOUR, lw=1.2,
                 label="Pl({x}) of the evidence")
     ax.set_xlim(*xlim)
     ax.set_ylim(-0.02, 1.08)
+    ax.set_xlabel(xlabel)
     ax.set_ylabel("possibility")
-    ax.legend(loc="upper left", fontsize=8)
     if title:
         ax.set_title(title)
+    legend_above(ax)
     return fig
 
 
@@ -213,6 +229,7 @@ def all_subsets(frame: Sequence[Hashable]) -> list[frozenset]:
     return [frozenset(c) for r in range(1, len(frame) + 1) for c in combinations(frame, r)]
 
 
+@styled
 def plot_bel_pl(
     mf: MassFunction,
     subsets: Sequence[Any] | None = None,
@@ -247,12 +264,15 @@ def plot_bel_pl(
                    s=400, color=BETP_COLOUR, linewidths=2.5, label="BetP", zorder=3)
     ax.set_xticks(xs, [_name(s, frame) for s in sets], rotation=30 if len(sets) > 6 else 0)
     ax.set_ylim(0, 1.05)
-    ax.legend(loc="upper left", fontsize=8)
+    ax.set_xlabel("subset A of the frame")
+    ax.set_ylabel("Bel(A), Pl(A)")
     if title:
         ax.set_title(title)
+    legend_above(ax)
     return fig
 
 
+@styled
 def plot_masses(
     mf: MassFunction, ax: Axes | None = None, *, title: str | None = None
 ) -> Figure:
@@ -264,8 +284,9 @@ def plot_masses(
     xs = np.arange(len(items))
     ax.bar(xs, list(items.values()), color=BEL_COLOUR, edgecolor="black", linewidth=0.5)
     for x, v in zip(xs, items.values(), strict=True):
-        ax.text(x, v, f"{v:.3g}", ha="center", va="bottom", fontsize=8)
+        ax.text(x, v, f"{v:.3g}", ha="center", va="bottom", fontsize=SMALL_PT)
     ax.set_xticks(xs, [_name(s, mf.frame) for s in items])
+    ax.set_xlabel("focal element")
     ax.set_ylim(0, 1.1)
     ax.set_ylabel("mass")
     if title:
@@ -273,6 +294,7 @@ def plot_masses(
     return fig
 
 
+@styled
 def plot_products(
     a: MassFunction, b: MassFunction, ax: Axes | None = None, *, title: str | None = None
 ) -> Figure:
@@ -292,7 +314,8 @@ def plot_products(
                 ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1, facecolor="0.85",
                                            hatch="//", edgecolor="0.5"))
             label = _name(inter, a.frame) if inter else "∅"
-            ax.text(j, i, f"{label}\n{prod[i, j]:.4g}", ha="center", va="center", fontsize=8)
+            ax.text(j, i, f"{label}\n{prod[i, j]:.4g}", ha="center", va="center",
+                    fontsize=SMALL_PT)
     ax.set_xticks(range(len(fb)), [f"{_name(t, a.frame)}\n{m:.3g}" for t, m in
                                    zip(fb, b.mass, strict=True)])
     ax.set_yticks(range(len(fa)), [f"{_name(s, a.frame)}  {m:.3g}" for s, m in
@@ -308,6 +331,7 @@ def plot_products(
 # -- filter runs -------------------------------------------------------------------------
 
 
+@styled
 def plot_enclosure(
     result: Any,
     truth: Any,
@@ -316,6 +340,7 @@ def plot_enclosure(
     *,
     component: int = 0,
     title: str | None = None,
+    ylabel: str = "state x_k",
 ) -> Figure:
     """A filter run's band [lower, upper] per step, the truth and the readings.
 
@@ -336,14 +361,17 @@ def plot_enclosure(
     for r in np.flatnonzero(result.diagnostics.get("resets", np.zeros(0, bool))):
         ax.axvline(r, color=BETP_COLOUR, lw=1)
     ax.set_xlabel("step k")
+    ax.set_ylabel(ylabel)
     if title:
         ax.set_title(title)
+    legend_above(ax)
     return fig
 
 
 # -- random relations and the recursive filter (book/random_sets.md, recursive_filter.md) --
 
 
+@styled
 def plot_boxes(
     ev: IntervalEvidence,
     ax: Axes | None = None,
@@ -389,12 +417,14 @@ FILTER_STEP_PANELS: tuple[tuple[str, str], ...] = (
 )
 
 
+@styled
 def plot_filter_step(
     entry: dict[str, Any],
     truth: float | None = None,
     *,
     half_width: float | None = None,
-    figsize: tuple[float, float] = (8.0, 10.0),
+    figsize: tuple[float, float] = (6.4, 10.0),
+    unit: str = "Hz",
 ) -> Figure:
     """Every evidence of one recorded step of the paper's filter (a ``FilterResult.steps``
     entry of a scalar model), stacked top to bottom as in the flowchart (Fig. 3).
@@ -416,25 +446,32 @@ def plot_filter_step(
     centre = est if truth is None else 0.5 * (est + float(truth))
     xlim = (centre - half_width, centre + half_width)
     shift = centre - float(entry["state"].pignistic_expectation())
-    fig, axes = plt.subplots(len(FILTER_STEP_PANELS), 1, figsize=figsize, layout="constrained")
-    for ax, (key, name) in zip(axes, FILTER_STEP_PANELS, strict=True):
-        ev = entry.get(key)
-        if ev is None:
-            ax.set_axis_off()
-            ax.set_title(f"{name}: not reached (total conflict)", fontsize=9)
-            continue
+    panels = [(key, name) for key, name in FILTER_STEP_PANELS if entry.get(key) is not None]
+    fig, axes = plt.subplots(len(panels), 1, figsize=column_size(*figsize),
+                             layout="constrained", squeeze=False)
+    axes = axes[:, 0]
+    for ax, (key, name) in zip(axes, panels, strict=True):
+        ev = entry[key]
         lim = (xlim[0] - shift, xlim[1] - shift) if key == "state" else xlim
-        plot_focal_intervals(ev, ax, xlim=lim, label_masses=len(ev) <= 6)
-        ax.set_title(f"{name} — {len(ev)} focal elements", fontsize=9, loc="left")
-        ax.set_ylabel("mass", fontsize=8)
+        plot_focal_intervals(ev, ax, xlim=lim, label_masses=len(ev) <= 6,
+                             xlabel=f"state at step {entry['step'] - 1} ({unit})"
+                             if key == "state" else "")
+        ax.set_title(f"{name} — {len(ev)} focal elements", loc="left")
+        ax.set_ylabel("mass")
         if key != "state":
             ax.axvline(est, color=BETP_COLOUR, lw=1.2)
             if truth is not None:
                 ax.axvline(float(truth), color="black", lw=1.0, ls="--")
-    axes[-1].set_xlabel(f"step {entry['step']}: red = estimate x̂, dashed = truth (Hz)")
+            if ax is not axes[-1]:
+                ax.tick_params(labelbottom=False)
+    missing = [name for key, name in FILTER_STEP_PANELS if entry.get(key) is None]
+    if missing:  # no empty panels: the steps a total conflict stopped are named instead
+        fig.suptitle("not reached (total conflict): " + "; ".join(missing), fontsize=SMALL_PT)
+    axes[-1].set_xlabel(f"state at step {entry['step']} ({unit}); red: estimate, dashed: truth")
     return fig
 
 
+@styled
 def plot_filter_errors(
     result: Any,
     truth: Any,
@@ -442,6 +479,7 @@ def plot_filter_errors(
     axes: Sequence[Axes] | None = None,
     *,
     title: str | None = None,
+    unit: str = "Hz",
 ) -> Figure:
     """A scalar filter run against the truth, as the paper's Fig. 10: top, x̂_k − x_k and
     the readings' z_k − x_k; bottom, the absolute errors |x̂_k − x_k| and |z_k − x_k| on a
@@ -452,8 +490,9 @@ def plot_filter_errors(
     of a layout engine, and fixed log ticks with plain labels (no minor ticks, no mathtext).
     """
     if axes is None:
-        fig, axes = plt.subplots(2, 1, figsize=(9.0, 4.8), sharex=True)
-        fig.subplots_adjust(left=0.08, right=0.985, top=0.93, bottom=0.1, hspace=0.08)
+        fig, axes = plt.subplots(2, 1, figsize=column_size(6.4, 4.4), sharex=True,
+                                 layout="none")
+        fig.subplots_adjust(left=0.12, right=0.98, top=0.8, bottom=0.11, hspace=0.12)
     fig = axes[0].figure
     x = np.asarray(truth, dtype=float).reshape(-1)
     est = np.asarray(result.estimates, dtype=float).reshape(-1) - x
@@ -463,21 +502,20 @@ def plot_filter_errors(
     top.plot(k, z, ".", ms=3, color="0.55", label="reading z_k − x_k")
     top.plot(k, est, "-", lw=1.4, color=BETP_COLOUR, label="estimate x̂_k − x_k")
     top.axhline(0.0, color="black", lw=0.8)
-    top.set_ylabel("deviation from truth")
-    top.legend(fontsize=8, ncols=2, loc="upper right")
+    top.set_ylabel(f"deviation ({unit})")
+    if title:  # above the legend, wrapped to the figure's width
+        fig.suptitle(title, x=0.01, y=0.99, ha="left", va="top", fontsize=SMALL_PT, wrap=True)
+    legend_above(top, ncols=2)
     bottom.semilogy(k, np.abs(z) + 1e-6, ".", ms=3, color="0.55", label="|z_k − x_k|")
     bottom.semilogy(k, np.abs(est) + 1e-6, "-", lw=1.4, color=BETP_COLOUR,
                     label="|x̂_k − x_k|")
-    bottom.set_ylabel("absolute error")
+    bottom.set_ylabel(f"|error| ({unit})")
     bottom.yaxis.set_major_locator(FixedLocator(10.0 ** np.arange(-4, 4)))
     bottom.yaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
     bottom.yaxis.set_minor_locator(NullLocator())
     positive = np.abs(est)[np.abs(est) > 0]
     bottom.set_ylim(bottom=max(1e-3, 0.5 * float(positive.min())) if positive.size else 1e-3)
     bottom.set_xlabel("step k")
-    bottom.legend(fontsize=8, ncols=2, loc="lower left")
-    if title:
-        top.set_title(title)
     return fig
 
 

@@ -11,6 +11,8 @@ from matplotlib.figure import Figure
 from dstoolkit.studies._experiments import Table3
 from dstoolkit.studies._paper_results import TABLE3_MEAN_ABS_ERROR_M
 
+from ._style import log_ticks, new_figure, styled
+
 #: Colour, marker and label of each method of Table 3 in every figure.
 STYLE = {
     "dependent_evidence": {"color": "C0", "label": "dependent evidence (paper)"},
@@ -28,7 +30,7 @@ def _style(name: str) -> dict[str, str]:
 
 def plot_table3(table: Table3) -> Figure:
     """Mean absolute level error against the level: ours (solid) and the paper's (dashed)."""
-    fig = Figure(figsize=(7.5, 4.2))
+    fig = new_figure(6.4, 4.4)
     ax = fig.add_subplot()
     methods = list(dict.fromkeys(r.method for r in table.rows))
     for m in methods:
@@ -41,46 +43,55 @@ def plot_table3(table: Table3) -> Figure:
             ax.plot(*zip(*paper, strict=True), "s--", color=st["color"], alpha=0.6,
                     mfc="none", label=f"{st['label']}, paper")
     ax.set_yscale("log")
+    log_ticks(ax.yaxis)
     ax.set_xlabel("true level L (m)")
     ax.set_ylabel("mean |L̂ − L| (m)")
-    ax.set_title(f"Table 3: {table.simulation}-level simulation, n_k by {table.order_rule}")
+    ax.set_title(f"Table 3: {table.simulation}-level simulation, n_k by {table.order_rule}",
+                 pad=4, loc="left")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
-    fig.tight_layout()
+    fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncols=2)
     return fig
 
 
+@styled
 def plot_estimates(truth: np.ndarray, readings: np.ndarray,
                    estimates: Mapping[str, np.ndarray], *, quantity: str = "frequency",
                    unit: str = "Hz") -> Figure:
     """Fig. 10 / Fig. 11: (a) estimates, truth and readings per step; (b) absolute errors.
 
     ``truth`` and ``readings`` have one value per step (or a scalar truth for a level);
-    ``estimates`` maps method names to one value per step.
+    ``estimates`` maps method names to one value per step. When the truth changes from
+    step to step (the resonances of Fig. 10 climb by f_F each), panel (a) shows every
+    curve minus the truth: on the raw scale they would all lie on one diagonal.
     """
-    fig = Figure(figsize=(8, 5.5))
+    fig = new_figure(6.4, 5.6)
     ax_a, ax_b = fig.subplots(2, 1, sharex=True)
     steps = np.arange(1, np.size(readings) + 1)
     truth = np.broadcast_to(np.asarray(truth, dtype=float).reshape(-1), steps.shape) \
         if np.size(truth) in (1, steps.size) else np.asarray(truth)
-    ax_a.plot(steps, truth, "k-", lw=1.5, label="true")
-    ax_a.plot(steps, readings, ".", color="0.5", ms=4, label="readings / direct")
+    moving = bool(np.ptp(truth) > 0)
+    ref = truth if moving else np.zeros_like(truth)
+    ax_a.plot(steps, truth - ref, "k-", lw=1.5, label="true")
+    ax_a.plot(steps, np.asarray(readings) - ref, ".", color="0.5", ms=4,
+              label="readings / direct")
     ax_b.plot(steps, np.abs(np.asarray(readings) - truth), ".", color="0.5", ms=4,
               label="readings / direct")
     for name, est in estimates.items():
         st = _style(name)
         est = np.asarray(est, dtype=float).reshape(-1)
-        ax_a.plot(steps[: est.size], est, "-", color=st["color"], lw=1, label=st["label"])
+        ax_a.plot(steps[: est.size], est - ref[: est.size], "-", color=st["color"], lw=1,
+                  label=st["label"])
         ax_b.plot(steps[: est.size], np.abs(est - truth[: est.size]), "-", color=st["color"],
                   lw=1, label=st["label"])
-    ax_a.set_ylabel(f"{quantity} ({unit})")
+    ax_a.set_ylabel(f"{quantity} − true ({unit})" if moving else f"{quantity} ({unit})")
     ax_b.set_ylabel(f"|error| ({unit})")
     ax_b.set_yscale("log")
+    log_ticks(ax_b.yaxis)
     ax_b.set_xlabel("step k")
-    ax_a.legend(fontsize=7, ncol=3)
-    ax_a.set_title(f"(a) estimated {quantity}")
-    ax_b.set_title("(b) absolute errors")
+    ax_a.set_title(f"(a) estimated {quantity}" + (", minus the truth" if moving else ""),
+                   loc="left")
+    ax_b.set_title("(b) absolute errors", loc="left")
     for ax in (ax_a, ax_b):
         ax.grid(True, alpha=0.3)
-    fig.tight_layout()
+    fig.legend(*ax_a.get_legend_handles_labels(), loc="outside lower center", ncols=3)
     return fig

@@ -11,18 +11,25 @@ from typing import Any
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.transforms import offset_copy
 
 from dstoolkit.gauge._resonance import DetectionResult
 from dstoolkit.gauge._tube import Recording
 
-from ._evidence import BEL_COLOUR, BETP_COLOUR, _axes
+from ._evidence import _axes
+from ._style import (
+    BEL_COLOUR,
+    BETP_COLOUR,
+    FONT_PT,
+    GREY,
+    SMALL_PT,
+    TRUTH_COLOUR,
+    legend_above,
+    styled,
+)
 
-#: Colour of the true value in the figures.
-TRUTH_COLOUR = "#2ca02c"
-#: Colour of secondary lines (raw readings, references).
-GREY = "#7f7f7f"
 
-
+@styled
 def plot_recording(
     recording: Recording,
     detection: DetectionResult | None = None,
@@ -62,10 +69,17 @@ def plot_recording(
         title = (f"L = {recording.setup.level_m:g} m, T = {recording.setup.temperature_c:g} °C")
     if title:
         ax.set_title(title)
-    ax.legend(loc="lower right", fontsize="small")
+    if frequency_axis:  # the top axis holds the frequencies: the legend goes below the label
+        below = offset_copy(ax.transAxes, fig=ax.figure, y=-2.6 * FONT_PT - 2 * SMALL_PT,
+                            units="points")
+        ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=below,
+                  ncols=3, frameon=False, borderaxespad=0.0)
+    else:
+        legend_above(ax)
     return fig
 
 
+@styled
 def plot_resonances(
     detection: DetectionResult,
     ax: Axes | None = None,
@@ -98,7 +112,7 @@ def plot_resonances(
     ax.set_xlabel("resonance frequency (Hz)")
     ax.set_ylabel("envelope amplitude (full scale)")
     ax.set_ylim(bottom=0)
-    ax.set_title(title or f"f_F = {detection.fundamental_hz:.2f} Hz")
-    ax.legend(loc="lower right", fontsize="small")
+    ax.set_title(title or f"f_F = {detection.fundamental_hz:.2f} Hz", loc="left")
+    legend_above(ax, ncols=4)
     return fig
 

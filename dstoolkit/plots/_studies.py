@@ -18,6 +18,7 @@ from dstoolkit.filters._model import BoundedNoise
 from dstoolkit.studies._estimation import ExampleComparison, MismatchResult, OrderRuleStudy
 
 from ._experiments import STYLE
+from ._style import SMALL_PT, legend_above, log_ticks, new_figure, styled
 
 #: Colours for curves that are not one of STYLE's methods (variants of a method), in order.
 EXTRA_COLOURS = ("C9", "C6", "C7", "C8")
@@ -33,12 +34,13 @@ def _style(name: str) -> dict[str, str | None]:
 def _figure(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
     if ax is not None:
         return ax.figure, ax
-    fig = Figure(figsize=figsize, layout="constrained")
+    fig = new_figure(*figsize)
     return fig, fig.add_subplot()
 
 
+@styled
 def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *,
-                     unit: str = "Hz", title: str | None = None) -> Figure:
+                     unit: str = "Hz", title: str | None = None, legend: bool = True) -> Figure:
     """Mean |x̂_k − x_k| over runs against the step k, one line per method (log scale).
 
     ``errors`` maps a method to absolute errors of shape (runs, K) or (K,); a name that is
@@ -54,14 +56,17 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
     ax.set_xlabel("step k")
     ax.set_ylabel(f"mean |x̂ − x| ({unit})")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
+    log_ticks(ax.yaxis)
     if title:
-        ax.set_title(title)
+        ax.set_title(title, loc="left")
+    if legend:
+        legend_above(ax, ncols=2)
     return fig
 
 
+@styled
 def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | None = None,
-                          *, title: str | None = None) -> Figure:
+                          *, title: str | None = None, xlabel: str = "noise (Hz)") -> Figure:
     """The possibility distribution of the true noise (filled) and of the noise a filter
     assumes (line), scalar noises (paper eqs. 22–23)."""
     fig, ax = _figure(ax, (4.0, 2.6))
@@ -78,12 +83,15 @@ def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | 
             ax.plot(x, y, color=kw["color"], lw=1.5, label=kw["label"])
     ax.set_ylim(0, 1.15)
     ax.set_yticks([0, 1])
-    ax.legend(fontsize=7, loc="upper right")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("possibility")
     if title:
-        ax.set_title(title, fontsize=9)
+        ax.set_title(title, loc="left")
+    legend_above(ax, ncols=2)
     return fig
 
 
+@styled
 def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = None) -> Figure:
     """Mean |x̂ − x| of each method against the factor by which the assumed bounds are
     scaled about the modes; the bounded-error filter's marker is red where it failed in
@@ -102,24 +110,25 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
                 y = study[s].mean_errors()["bounded_error"]
                 ax.plot(s, y, "x", color="red", ms=10, mew=2)
                 ax.annotate(f"{frac:.0%}", (s, y), textcoords="offset points", xytext=(4, 6),
-                            fontsize=7, color="red")
+                            fontsize=SMALL_PT, color="red")
     ax.axvline(1.0, color="black", lw=0.8, ls="--")
     ax.xaxis.set_major_locator(FixedLocator(scales))
     ax.xaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
     ax.xaxis.set_minor_locator(NullLocator())
     ax.yaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
     ax.yaxis.set_minor_formatter(StrMethodFormatter("{x:g}"))
-    ax.set_xlabel("assumed bounds ÷ true bounds (both noises, about their modes)")
+    ax.set_xlabel("assumed bounds ÷ true bounds (–)")
     ax.set_ylabel("mean |x̂ − x| (Hz)")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
+    legend_above(ax, ncols=3)
     return fig
 
 
+@styled
 def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
     """Mean absolute level error against the level, one panel per simulation (stacked):
     line style = order rule, colour = method; grey diamonds: the series fit's own level."""
-    fig = Figure(figsize=(8, 1.2 + 3.2 * len(studies)), layout="constrained")
+    fig = new_figure(6.4, 1.4 + 2.8 * len(studies))
     axes = fig.subplots(len(studies), 1, sharex=True, squeeze=False)[:, 0]
     for ax, study in zip(axes, studies, strict=True):
         for rule, by_method in study.errors.items():
@@ -130,32 +139,34 @@ def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
                             label=f"{st['label']}, n_k {rule_label}")
         ax.semilogy(study.levels, study.slope, "D-", color="0.3", ms=4, lw=2,
                     label="series fit's level c/(2 f_F)")
-        ax.set_title(f"{study.simulation}-level simulation")
+        ax.set_title(f"{study.simulation}-level simulation", loc="left")
         ax.set_ylabel("mean |L̂ − L| (m)")
         ax.grid(True, which="both", alpha=0.3)
+        log_ticks(ax.yaxis)
     axes[-1].set_xlabel("true level L (m)")
     handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside lower center", ncol=3, fontsize=8)
+    fig.legend(handles, labels, loc="outside lower center", ncols=2)
     return fig
 
 
+@styled
 def plot_example(comparison: ExampleComparison, run: int = 0) -> Figure:
     """The predator–prey example: (a) the populations (P, Q) of one run, truth, census
     readings and every method's estimate; (b) |x̂_k − x_k| per step (log-populations)."""
-    fig = Figure(figsize=(11, 4.2), layout="constrained")
-    ax_a, ax_b = fig.subplots(1, 2, width_ratios=[1, 1.4])
+    fig = new_figure(6.4, 7.6)
+    ax_a, ax_b = fig.subplots(2, 1, height_ratios=[1.1, 1])
     truth = np.exp(comparison.truth[run])
     ax_a.plot(*comparison.readings[run].T, ".", color="0.6", ms=4, label="census z_k")
     ax_a.plot(*truth.T, "k-", lw=1.8, label="true")
     for name, est in comparison.estimates.items():
         st = _style(name)
         ax_a.plot(*np.exp(est[run]).T, "-", color=st["color"], lw=1, label=st["label"])
-    ax_a.set_xlabel("prey P")
-    ax_a.set_ylabel("predators Q")
-    ax_a.set_title("(a) one run in the (P, Q) plane")
-    ax_a.legend(fontsize=7)
+    ax_a.set_xlabel("prey P (individuals)")
+    ax_a.set_ylabel("predators Q (individuals)")
+    ax_a.set_title("(a) one run in the (P, Q) plane", loc="left")
+    legend_above(ax_a, ncols=3)
     plot_step_errors(comparison.step_errors(run), ax_b, unit="log-population",
-                     title="(b) |x̂_k − x_k| per step")
+                     title="(b) |x̂_k − x_k| per step", legend=False)  # colours as in (a)
     return fig
 
 

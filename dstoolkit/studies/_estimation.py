@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from dstoolkit._reprs import ShortFloatDict
 from dstoolkit.errors import InconsistentDataError, InvalidInputError
 from dstoolkit.filters._bounded_error import BoundedErrorFilter
 from dstoolkit.filters._dependent import DependentEvidenceFilter
@@ -111,7 +112,7 @@ class GaugeRun:
                 for m, e in self.frequency_errors().items()}
         lev = {f"{m}: mean |L̂ − L| (m)": float(np.mean(np.abs(v - self.level_m)))
                for m, v in self.levels().items()}
-        return {**freq, **lev, "wrong orders": self.wrong_orders}
+        return ShortFloatDict({**freq, **lev, "wrong orders": self.wrong_orders})
 
 
 def _with_true_orders(case: CaseReadings) -> CaseReadings:

@@ -74,6 +74,10 @@ from ._lab import (  # noqa: E402
     plot_calibration,
     plot_method_levels,
 )
+from ._print_edition import register_print_figures  # noqa: E402
+
+# the PDF edition shows an explorer's first figure where the web page shows the widget
+register_print_figures(Explorer, LabWidget)
 
 __all__ = [
     "Case",

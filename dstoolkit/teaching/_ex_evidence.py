@@ -43,14 +43,22 @@ def _updated(w: tuple[float, float]) -> IntervalEvidence:
     return dempster(_predicted(), _box(BOUNDED_Z + w[0], BOUNDED_Z + w[1]))
 
 
-@exercise("bounded.predict", hint="Add the noise bounds to the ends: [a + v_a, b + v_b].")
+@exercise("bounded.predict", hint="Add the noise bounds to the ends: [a + v_a, b + v_b].",
+          mistakes=((lambda: BOUNDED_BOX, "That is X_k itself: the state moves by v before "
+                     "the next reading, so widen the box by v."),))
 def _() -> tuple[float, float]:
     ev = _predicted()
     return float(ev.lo[0]), float(ev.hi[0])
 
 
 @exercise("bounded.update",
-          hint="The reading says x ∈ [z − 0.5, z + 0.5]; keep what both intervals share.")
+          hint="The reading says x ∈ [z − 0.5, z + 0.5]; keep what both intervals share.",
+          mistakes=((lambda: (BOUNDED_Z + BOUNDED_W[0], BOUNDED_Z + BOUNDED_W[1]),
+                     "That is what the reading alone allows; the state must also lie in the "
+                     "prediction: intersect the two."),
+                    (lambda: (BOUNDED_BOX[0] + BOUNDED_V[0], BOUNDED_Z + BOUNDED_W[1]),
+                     "That is the hull (union) of prediction and reading; the state lies in "
+                     "both, so intersect.")))
 def _() -> tuple[float, float]:
     ev = _updated(BOUNDED_W)
     return float(ev.lo[0]), float(ev.hi[0])
@@ -76,7 +84,13 @@ def level_mass() -> MassFunction:
     return MassFunction({"low": 0.5, ("low", "mid"): 0.3, FRAME: 0.2}, FRAME)
 
 
-@exercise("mass.bel", hint="Bel(A) adds the masses of the focal elements contained in A.")
+@exercise("mass.bel", hint="Bel(A) adds the masses of the focal elements contained in A.",
+          mistakes=((lambda: level_mass().plausibility(("low", "mid")),
+                     "That is Pl({low, mid}): it also counts Θ, which meets {low, mid} "
+                     "without lying inside it."),
+                    (lambda: level_mass().mass_of(("low", "mid")),
+                     "That is m({low, mid}) alone; Bel adds every focal element inside the "
+                     "set, {low} too.")))
 def _() -> float:
     return level_mass().belief(("low", "mid"))
 
@@ -96,7 +110,11 @@ def _() -> float:
     return level_mass().pignistic()["mid"]
 
 
-@exercise("mass.duality", hint="Pl(A) = 1 − Bel(complement of A).")
+@exercise("mass.duality", hint="Pl(A) = 1 − Bel(complement of A).",
+          mistakes=((lambda: level_mass().belief("high"),
+                     "That is Bel({high}); Pl({high}) = 1 − Bel({low, mid})."),
+                    (lambda: level_mass().belief(("low", "mid")),
+                     "That is Bel({low, mid}) itself; subtract it from 1.")))
 def _() -> float:
     return level_mass().plausibility("high")
 
@@ -117,7 +135,9 @@ def sensor_masses() -> tuple[MassFunction, MassFunction]:
     return m1, m2
 
 
-@exercise("combine.conflict", hint="K adds m1(B)·m2(C) over the pairs with B ∩ C = ∅.")
+@exercise("combine.conflict", hint="K adds m1(B)·m2(C) over the pairs with B ∩ C = ∅.",
+          mistakes=((lambda: sensor_masses()[0].mass_of("low") * sensor_masses()[1].mass_of(
+              "high"), "You counted {low} ∩ {high} only; {low} ∩ {mid, high} is empty too."),))
 def _() -> float:
     return conflict(*sensor_masses())
 
@@ -143,7 +163,9 @@ def _() -> float:
     return dempster(*zadeh()).mass_of("tumour")
 
 
-@exercise("combine.zadeh-conflict", hint="1 − K is the product of the two small masses.")
+@exercise("combine.zadeh-conflict", hint="1 − K is the product of the two small masses.",
+          mistakes=((lambda: 0.99 * 0.99, "That is only meningitis × concussion; the "
+                     "products with tumour on one side are in conflict too."),))
 def _() -> float:
     return conflict(*zadeh())
 
@@ -176,18 +198,27 @@ def _() -> float:
 
 
 @exercise("dependent.joint", hint="Eq. (3) sums min(m1(D), m2(D))/|D| over the shared "
-          "focal elements D other than Θ.")
+          "focal elements D other than Θ.",
+          mistakes=((lambda: joint_energy(*dependent_pair(), mass_rule="m1"),
+                     "You took E1's mass of the shared {low}; eq. 3 takes the smaller of the "
+                     "two, min(m1, m2)."),))
 def _() -> float:
     return joint_energy(*dependent_pair())
 
 
-@exercise("dependent.degree", hint="D = 2 En(E1,E2) / (En(E1) + En(E2)).")
+@exercise("dependent.degree", hint="D = 2 En(E1,E2) / (En(E1) + En(E2)).",
+          mistakes=((lambda: dependence(*dependent_pair()).degree / 2,
+                     "You forgot the factor 2: D = 2 En(E1, E2)/(En(E1) + En(E2)), so that "
+                     "a source with itself has D = 1."),))
 def _() -> float:
     return dependence(*dependent_pair()).degree
 
 
 @exercise("dependent.coefficients", hint="R12 = 1 − (D/2)·En(E2)/En(E1); swap for R21. "
-          "Answer (R12, R21).")
+          "Answer (R12, R21).",
+          mistakes=((lambda: (dependence(*dependent_pair()).r21,
+                              dependence(*dependent_pair()).r12),
+                     "R12 and R21 are swapped: R12 = 1 − (D/2)·En(E2)/En(E1)."),))
 def _() -> tuple[float, float]:
     dep = dependence(*dependent_pair())
     return dep.r12, dep.r21
@@ -252,13 +283,18 @@ OBS_NOISE = (-10.59, -6.9, -3.21)
 PAPER_THETA2 = (-129.7, 115.7)
 
 
-@exercise("noise.cut", hint="Eq. (24): [a + α(c − a), b − α(b − c)] with α = 1/3.")
+@exercise("noise.cut", hint="Eq. (24): [a + α(c − a), b − α(b − c)] with α = 1/3.",
+          mistakes=((lambda: tuple(float(v[0]) for v in alpha_cuts(*STATE_NOISE, p=3)),
+                     "That is the cut at α = 2/3, the innermost; α = 1/3 lies a third of the "
+                     "way from the support to the mode."),))
 def _() -> tuple[float, float]:
     lo, hi = alpha_cuts(*STATE_NOISE, p=3)
     return float(lo[1]), float(hi[1])
 
 
-@exercise("noise.mass", hint="Each of the p cuts gets (1 − ε)/p; here p = 4 and ε = 0.1.")
+@exercise("noise.mass", hint="Each of the p cuts gets (1 − ε)/p; here p = 4 and ε = 0.1.",
+          mistakes=((lambda: 0.25, "That is 1/p: Θ takes ε = 0.1 first, so each cut gets "
+                     "(1 − ε)/p."),))
 def _() -> float:
     return float(triangular_evidence(*STATE_NOISE, p=4, epsilon=0.1).mass[0])
 
@@ -276,8 +312,11 @@ def _() -> float:
 
 
 @exercise("noise.pbox", hint="Bel((−∞, x]) counts focal elements entirely left of x; "
-          "Pl((−∞, x]) those that start left of x. Answer (lower, upper).")
-def _() -> tuple[float, float]:
+          "Pl((−∞, x]) those that start left of x. Answer (lower, upper).",
+          mistakes=((lambda: tuple(reversed(_pbox())),
+                     "Lower and upper are swapped: the lower bound Bel counts only the "
+                     "intervals entirely left of x."),))
+def _pbox() -> tuple[float, float]:
     lower, upper = triangular_evidence(*STATE_NOISE, theta=(-10, 10)).cdf_bounds(0.15)
     return float(lower), float(upper)
 
@@ -315,7 +354,9 @@ def folded_image(merge: bool = True) -> IntervalEvidence:
 
 
 @exercise("random.product", hint="Eq. (16): the mass of a box is the product of the masses "
-          "of its sides in the marginals.")
+          "of its sides in the marginals.",
+          mistakes=((lambda: (RELATION_X1[1][2] + RELATION_X2[0][2]) / 2,
+                     "You averaged the two masses; independent marginals multiply (eq. 16)."),))
 def _() -> float:
     from dstoolkit.evidence._extension import cartesian_product
 

@@ -57,7 +57,7 @@ def _innermost_prediction(twice: bool = True) -> tuple[float, float]:
           hint="Step 2: map the state box x̂ + [−0.1, 0.1] through eq. (39) (increasing: map "
           "the ends), then add the noise box [−0.1, 0.1]. Answer (lo, hi).",
           mistakes=((lambda: _innermost_prediction(twice=False),
-                     "The noise enters twice in Step 2: once in the state evidence "
+                     "The noise enters twice in Step 2 (paper §3.2): once in the state evidence "
                      "x̂ + V, once as v in x_{k+1} = f(x_k) + v_k. Add [−0.1, 0.1] again."),))
 def _() -> tuple[float, float]:
     return _innermost_prediction()

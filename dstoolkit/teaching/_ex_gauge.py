@@ -18,7 +18,7 @@ from ._ex_filter import PAPER_Z1
 
 #: Table 3's 4.6 m case (the paper's Figs. 6–7) and its longest, 9.6 m: (level m, °C).
 GAUGE_CASE, LONG_CASE = (4.6, 26.5), (9.6, 23.9)
-#: The filter's band and the paper's sweep rate (1000 → 2400 Hz in 5 s), Hz/s.
+#: The filter's band (paper §4.1) and the paper's sweep rate (1000 → 2400 Hz in 5 s), Hz/s.
 GAUGE_BAND, SWEEP_RATE = (1000.0, 2500.0), 280.0
 #: Audio latency of the offset exercise, s.
 GAUGE_LATENCY = 0.010
@@ -365,19 +365,16 @@ def _() -> str:
     return _failure_share(float(REGISTRY["beyond.failures"].solution))
 
 
-#: The temperatures (°C) between which the spacing prediction moves the slider.
-SPACING_TEMPERATURES = (0.0, 30.0)
+#: The levels (m) between which the spacing prediction moves the slider.
+SPACING_LEVELS = (1.6, 9.6)
 
 
-@exercise("gauge.spacing-growth", atol=2e-4,
-          hint="f_F = c/(2L) at a fixed level: the spacing grows as c = 331.3 + 0.606 T does. "
-          "Answer f_F(30 °C)/f_F(0 °C) − 1.",
-          mistakes=((lambda: 0.606 * (SPACING_TEMPERATURES[1] - SPACING_TEMPERATURES[0]),
-                     "That is the change of c in m/s; the question asks for the relative "
-                     "change of f_F."),
-                    (lambda: -(1 - _c((1.0, SPACING_TEMPERATURES[0]))
-                               / _c((1.0, SPACING_TEMPERATURES[1]))),
-                     "Check the sign: warmer air carries sound faster, and the spacing "
-                     "grows.")))
+@exercise("gauge.spacing-ratio", atol=1e-4,
+          hint="f_F = c/(2L) at a fixed temperature: the spacing goes as 1/L. Answer "
+          "f_F(9.6 m)/f_F(1.6 m).",
+          mistakes=((lambda: SPACING_LEVELS[1] / SPACING_LEVELS[0],
+                     "That is the ratio of the levels; a longer tube has its resonances "
+                     "closer together, so f_F shrinks."),))
 def _() -> float:
-    return _c((1.0, SPACING_TEMPERATURES[1])) / _c((1.0, SPACING_TEMPERATURES[0])) - 1.0
+    t = GAUGE_CASE[1]
+    return _fundamental((SPACING_LEVELS[1], t)) / _fundamental((SPACING_LEVELS[0], t))

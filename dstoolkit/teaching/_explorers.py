@@ -175,9 +175,10 @@ def readout_html(numbers: Mapping[str, Any]) -> str:
     return f"<table><tr>{head}</tr><tr>{body}</tr></table>"
 
 
-def warning_html(message: str) -> str:
-    """A readout that says why a setting is invalid."""
-    return f"<p style='color:#b00020'>⚠ {html.escape(message)}</p>"
+def warning_html(message: str, note: str = "") -> str:
+    """A readout that says why a setting is invalid (and ``note``, in italics)."""
+    return (f"<p style='color:#b00020'>⚠ {html.escape(message)}"
+            f"<i>{html.escape(note)}</i></p>")
 
 
 def _sticks_out(fig: Figure) -> bool:
@@ -292,8 +293,13 @@ class Explorer(widgets.VBox):
             fig, numbers = self._render(**{**self.values(), **overrides})
         except ValueError as exc:  # EvidenceError and friends: say what is wrong
             self.numbers = {"error": str(exc)}
-            self.readout.value = warning_html(str(exc))
-            self.output.outputs = ()
+            # A precomputed state has no figure to fall back on; in a kernel the last one
+            # stays, and the warning says which setting it shows.
+            kept = "" if self.static or not self.output.outputs else (
+                " (the figure below shows the last valid setting)")
+            self.readout.value = warning_html(str(exc), kept)
+            if self.static:
+                self.output.outputs = ()
             return
         self.numbers = dict(numbers)
         self.readout.value = readout_html(self.numbers)
@@ -524,8 +530,7 @@ def dependent_combination_explorer() -> Explorer:
                      "R21": dep.r21, "E[dependent]": both.pignistic_expectation(),
                      "E[Dempster]": naive.pignistic_expectation()}
 
-    live = {"a2": positions(controls["a2"], 9, 0.0, 0.8),
-            "mass_rule": positions(controls["mass_rule"])}
+    live = {"a2": positions(controls["a2"], 9, 0.0, 0.8)}
     return Explorer(controls, render, title="Dependent evidence: the paper's Appendix A",
                     live=live)
 
@@ -565,7 +570,7 @@ def noise_evidence_explorer(
                      "pignistic expectation": ev.pignistic_expectation()}
 
     live = {"p": positions(controls["p"], 8, 1, 8),
-            "epsilon": positions(controls["epsilon"], 3, 0.0, 0.5)}
+            "epsilon": positions(controls["epsilon"], 2, 0.0, 0.5)}
     return Explorer(controls, render, title="From a bounded noise to evidence", live=live)
 
 
@@ -702,7 +707,7 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
                         for m in IMAGE_METHOD_NAMES})
         return fig, numbers
 
-    live = {"hi": positions(controls["hi"], 9, 0.0, 4.0),
+    live = {"hi": positions(controls["hi"], 8, 0.5, 4.0),
             "function": positions(controls["function"])}
     return Explorer(controls, render, title="The image of an interval: three methods",
                     live=live)
@@ -816,7 +821,7 @@ def filter_step_explorer(level_m: float = 9.6, temperature_c: float = 23.9, step
         fig = plot_filter_step(result.steps[step - 1], truth, figsize=(9.0, 9.0))
         return fig, step_numbers(result, step, truth)
 
-    live = {"step": positions(controls["step"], 10), "start": positions(controls["start"])}
+    live = {"step": positions(controls["step"], 10)}
     return Explorer(controls, render, title="Inside one step of the filter", live=live)
 
 

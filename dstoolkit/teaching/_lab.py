@@ -91,7 +91,7 @@ class LabSettings:
     level_m: float = 2.5
     thermometer_error_c: float = 0.0
     room_noise_dbfs: float = -60.0
-    volume: float = 0.5
+    volume: float = 0.1  # the safety advice of the lab: start low, raise step by step
     input_device: int | str = VIRTUAL
     output_device: int | str = VIRTUAL
     through_virtual_tube: bool = False

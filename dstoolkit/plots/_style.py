@@ -1,0 +1,143 @@
+"""One figure style for the package and the book: sizes, fonts, colours, legends.
+
+Every figure function of :mod:`dstoolkit.plots` draws inside :func:`styled` (the style is
+applied while the figure is made, and the caller's matplotlib settings are left alone);
+a chapter or notebook that draws its own figures calls :func:`use_style` once.
+
+The rules, checked for every figure function by ``tests/test_figures.py``:
+
+- a figure is at most :data:`COLUMN_WIDTH_IN` wide, the width of the book's text column,
+  so it is shown at (nearly) its own size and its text stays legible;
+- no text is smaller than :data:`SMALL_PT` points (ticks, legends, annotations);
+- every axis has a label with its unit in parentheses, or a dimensionless quantity;
+- a legend sits outside the data area (:func:`legend_above`) or where nothing is drawn.
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import Any, TypeVar
+
+import matplotlib as mpl
+from matplotlib.axes import Axes
+from matplotlib.axis import Axis
+from matplotlib.figure import Figure
+from matplotlib.legend import Legend
+from matplotlib.ticker import LogLocator, NullLocator, StrMethodFormatter
+
+#: Width of the book's text column in inches (about 615 px at 96 px per inch, at 1280 px).
+COLUMN_WIDTH_IN = 6.4
+#: Body text of a figure: axis labels and titles, points.
+FONT_PT = 10.0
+#: The smallest text in a figure (tick labels, legends, annotations), points.
+SMALL_PT = 9.0
+
+#: Colours of the book: lower/belief, upper/plausibility, pignistic/estimate, truth, grey.
+BEL_COLOUR = "#1f77b4"
+PL_COLOUR = "#aec7e8"
+BETP_COLOUR = "#d62728"
+TRUTH_COLOUR = "#2ca02c"
+GREY = "#7f7f7f"
+#: Colour map of focal elements.
+FOCAL_CMAP = "viridis"
+
+#: The matplotlib settings of the style.
+RC: dict[str, Any] = {
+    "figure.dpi": 96,
+    "savefig.dpi": 150,
+    "figure.figsize": (COLUMN_WIDTH_IN, 3.0),
+    "figure.constrained_layout.use": True,
+    "font.size": FONT_PT,
+    "axes.titlesize": FONT_PT,
+    "axes.labelsize": FONT_PT,
+    "xtick.labelsize": SMALL_PT,
+    "ytick.labelsize": SMALL_PT,
+    "legend.fontsize": SMALL_PT,
+    "legend.title_fontsize": SMALL_PT,
+    "legend.framealpha": 0.9,
+    "figure.titlesize": FONT_PT + 1,
+    "axes.grid": False,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "lines.linewidth": 1.4,
+    "lines.markersize": 4.0,
+    "mathtext.fontset": "dejavusans",
+}
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+
+@contextmanager
+def figure_style() -> Iterator[None]:
+    """Draw with the book's style inside the ``with`` block; restore the settings after.
+
+    Only the keys of ``RC`` are restored (not ``mpl.rc_context``, which restores every
+    setting: when the first figure of an IPython session is made inside it, the interactive
+    mode that IPython's inline backend switches on would be undone, and the notebook's
+    later figures would no longer show).
+    """
+    saved = {key: mpl.rcParams[key] for key in RC}
+    mpl.rcParams.update(RC)
+    try:
+        yield
+    finally:
+        mpl.rcParams.update(saved)
+
+
+def styled(function: F) -> F:
+    """Decorator: the figure function runs inside :func:`figure_style`."""
+
+    @functools.wraps(function)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        with figure_style():
+            return function(*args, **kwargs)
+
+    return wrapper  # type: ignore[return-value]
+
+
+def use_style() -> None:
+    """Make the book's style matplotlib's default (for a chapter that draws its own figures)."""
+    mpl.rcParams.update(RC)
+
+
+def column_size(width: float, height: float) -> tuple[float, float]:
+    """A figure size no wider than the text column (the height is scaled along)."""
+    if width <= COLUMN_WIDTH_IN:
+        return (width, height)
+    return (COLUMN_WIDTH_IN, height * COLUMN_WIDTH_IN / width)
+
+
+def new_figure(width: float = COLUMN_WIDTH_IN, height: float = 3.0) -> Figure:
+    """A constrained-layout :class:`Figure` of at most the column's width (no pyplot state)."""
+    return Figure(figsize=column_size(width, height), layout="constrained", dpi=RC["figure.dpi"])
+
+
+def legend_above(ax: Axes, ncols: int | None = None, **kwargs: Any) -> Legend | None:
+    """The legend of ``ax`` in rows above its data area, where it cannot hide data; the
+    axes' titles move up above it. Returns None when nothing is labelled.
+    """
+    handles, labels = ax.get_legend_handles_labels()
+    if not handles:
+        return None
+    ncols = ncols if ncols is not None else min(len(handles), 3)
+    legend = ax.legend(handles, labels, loc="lower left", bbox_to_anchor=(0.0, 1.01),
+                       ncols=ncols, frameon=False, borderaxespad=0.0, handlelength=1.8,
+                       **kwargs)
+    rows = -(-len(handles) // ncols)
+    for loc in ("left", "center", "right"):
+        if ax.get_title(loc):
+            ax.set_title(ax.get_title(loc), loc=loc, pad=8.0 + rows * 1.75 * SMALL_PT)
+    return legend
+
+
+def log_ticks(axis: Axis) -> None:
+    """Readable ticks on a log axis: 1, 2, 5 per decade, written as plain numbers (0.2, 5).
+
+    Matplotlib's default labels only the decades, so a range within one decade shows a
+    single label, or none.
+    """
+    axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(StrMethodFormatter("{x:g}"))
+    axis.set_minor_locator(NullLocator())

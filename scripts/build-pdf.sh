@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# Build the whole book as one PDF through LaTeX (XeLaTeX): _build/latex/book.pdf
+#
+# 1. TeX Live from Debian: when xelatex, latexmk or the FreeFont fonts are missing, install
+#    them with apt-get (as root), or say which packages to install.
+# 2. The web edition first (scripts/build-book.sh): it executes every chapter once, checks
+#    it (-W) and leaves the outputs in the execution cache, which the PDF build reuses.
+# 3. jupyter-book build --builder pdflatex with _config.yml plus the print settings below
+#    (solutions left out: the exercises close each chapter, their solutions are on the web
+#    and in the sheets), then latexmk/xelatex.
+#
+# Extra arguments are passed to the second jupyter-book call.
+set -euo pipefail
+book_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$book_root"
+
+die() { echo "build-pdf.sh: error: $*" >&2; exit 2; }
+
+# --- TeX Live (Debian packages, about 2 minutes to install) ----------------------------
+TEX_PACKAGES="texlive-xetex texlive-latex-extra texlive-fonts-recommended fonts-freefont-otf latexmk"
+have_tex() {
+  command -v xelatex >/dev/null 2>&1 && command -v latexmk >/dev/null 2>&1 \
+    && fc-list : family 2>/dev/null | grep "FreeSerif" >/dev/null  # no -q: pipefail, SIGPIPE
+}
+if ! have_tex; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
+    echo "==> apt-get install $TEX_PACKAGES"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    # shellcheck disable=SC2086
+    apt-get install -y -qq --no-install-recommends $TEX_PACKAGES >/dev/null
+  else
+    die "the PDF needs XeLaTeX, latexmk and the GNU FreeFont fonts. On Debian/Ubuntu:
+  sudo apt-get install --no-install-recommends $TEX_PACKAGES"
+  fi
+fi
+have_tex || die "xelatex, latexmk or FreeSerif still missing after apt-get"
+
+# --- the web edition: executes and checks every chapter, fills the execution cache -------
+bash scripts/build-book.sh
+source scripts/ensure-env.sh
+cd "$book_root"
+
+# --- the print settings: _config.yml with a few keys changed ------------------------------
+pdf_config="_build/pdf-config.yml"
+python - "$pdf_config" <<'PY'
+import sys
+import yaml
+
+config = yaml.safe_load(open("_config.yml", encoding="utf-8"))
+latex = config.setdefault("latex", {})
+latex["latex_documents"] = {"targetname": "book.tex"}
+sphinx = config.setdefault("sphinx", {}).setdefault("config", {})
+sphinx["hide_solutions"] = True  # sphinx-exercise: the exercises stay, the solutions go
+sphinx["latex_show_urls"] = "no"
+sphinx["latex_use_xindy"] = False  # makeindex comes with TeX Live; xindy is one more package
+# Jupyter Book's document class loads bbm (texlive-fonts-extra): a stand-in (see the file)
+sphinx["latex_additional_files"] = ["scripts/latex/bbm.sty"]
+sphinx["latex_elements"] = {
+    "papersize": "a4paper",
+    "pointsize": "11pt",
+    # wide tables and long lines of code outputs break instead of running off the page
+    "sphinxsetup": "verbatimwrapslines=true, verbatimforcewraps=true",
+    "preamble": r"\usepackage{amssymb}",
+    "extraclassoptions": "openany",  # no blank pages before chapters
+}
+yaml.safe_dump(config, open(sys.argv[1], "w", encoding="utf-8"), allow_unicode=True,
+               sort_keys=False)
+PY
+
+echo "==> jupyter-book build . --builder pdflatex --config $pdf_config $*"
+jupyter-book build . --builder pdflatex --config "$pdf_config" -n --keep-going "$@" \
+  2> >(grep -v --line-buffered "Kernel is running over TCP without encryption" >&2)
+pdf="$(ls -t _build/latex/*.pdf 2>/dev/null | head -n 1 || true)"
+[ -n "$pdf" ] || die "no PDF in _build/latex (see _build/latex/*.log)"
+echo "==> book built: $book_root/$pdf"

@@ -1,0 +1,135 @@
+"""The PDF edition: `bash scripts/build-pdf.sh` builds the whole book through XeLaTeX.
+
+Checks the PDF as a reader would get it: every chapter is in it (its title in the text of
+the PDF), its figures are there (embedded images, at least one per figure of the web
+edition), the LaTeX log has no missing glyph and no undefined reference or citation, and a
+few pages turned into PNGs (pdftoppm) are not blank. The PNGs go to test-artifacts/pdf/.
+
+Needs XeLaTeX (TeX Live), latexmk and poppler-utils; without them the test skips, except
+when DSTOOLKIT_REQUIRE_PDF=1 (CI), where it fails.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+from conftest import ARTIFACTS, ROOT, toc_pages
+
+pytestmark = pytest.mark.slow
+
+REQUIRE_PDF = os.environ.get("DSTOOLKIT_REQUIRE_PDF") == "1"
+LATEX_DIR = ROOT / "_build" / "latex"
+SHOTS = ARTIFACTS / "pdf"
+TOOLS = ("xelatex", "latexmk", "pdftoppm", "pdftotext", "pdfimages", "pdfinfo")
+#: Lines of the LaTeX log that mean a reader sees something wrong.
+LOG_PROBLEMS = re.compile(
+    r"Missing character: There is no .*|"
+    r"LaTeX Warning: (Reference|Citation|Hyper reference) .* undefined.*|"
+    r"LaTeX Warning: There were undefined references.*|"
+    r"! .*"
+)
+
+
+def _run(*args: str | Path) -> str:
+    return subprocess.run([str(a) for a in args], check=True, capture_output=True,
+                          text=True).stdout
+
+
+@pytest.fixture(scope="module")
+def pdf() -> Path:
+    missing = [tool for tool in TOOLS if shutil.which(tool) is None]
+    if missing:
+        reason = f"the PDF edition needs {missing} (TeX Live, latexmk, poppler-utils)"
+        if REQUIRE_PDF:
+            pytest.fail(reason + " (DSTOOLKIT_REQUIRE_PDF=1)")
+        pytest.skip(reason)
+    result = subprocess.run(["bash", str(ROOT / "scripts" / "build-pdf.sh")], cwd=ROOT,
+                            capture_output=True, text=True, timeout=5400)
+    ARTIFACTS.mkdir(exist_ok=True)
+    (ARTIFACTS / "pdf-build.log").write_text(result.stdout + result.stderr, encoding="utf-8")
+    assert result.returncode == 0, (result.stdout + result.stderr)[-3000:]
+    found = sorted(LATEX_DIR.glob("*.pdf"), key=lambda p: p.stat().st_mtime)
+    assert found, f"no PDF in {LATEX_DIR}"
+    return found[-1]
+
+
+def _chapter_titles() -> dict[str, str]:
+    """The first heading of every page of the table of contents (the root page opens the
+    book without a chapter heading: its first sentence stands for it)."""
+    titles = {}
+    for page in toc_pages()[1:]:
+        text = (ROOT / f"{page}.md").read_text(encoding="utf-8")
+        match = re.search(r"^# (.+)$", text, flags=re.M)
+        if match:
+            titles[page] = match.group(1).strip()
+    return titles
+
+
+def _words(text: str) -> str:
+    return re.sub(r"\W+", " ", text).lower()
+
+
+def test_every_chapter_is_in_the_pdf(pdf: Path) -> None:
+    text = _words(_run("pdftotext", "-layout", pdf, "-"))
+    titles = _chapter_titles()
+    assert len(titles) >= 12
+    root = (ROOT / f"{toc_pages()[0]}.md").read_text(encoding="utf-8")
+    first_sentence = re.search(r"^# [^\n]+\n\n([^;.]+)", root, flags=re.M)
+    assert first_sentence, "the opening sentence of the root page"
+    titles["root page"] = first_sentence.group(1)
+    missing = [f"{page}: {title!r}" for page, title in titles.items()
+               if _words(title).strip() not in text]
+    assert not missing, f"chapters missing from the PDF: {missing}"
+
+
+def test_the_latex_log_is_clean(pdf: Path) -> None:
+    log = pdf.with_suffix(".log").read_text(encoding="utf-8", errors="replace")
+    problems = sorted({m.group(0)[:160] for m in LOG_PROBLEMS.finditer(log)})
+    assert not problems, "LaTeX log:\n  " + "\n  ".join(problems[:30])
+
+
+def _figures_and_explorers() -> tuple[int, int]:
+    """Numbered figures (cells with a figure caption) and explorer cells of the chapters."""
+    import jupytext
+
+    figures = explorers = 0
+    for page in toc_pages():
+        for cell in jupytext.read(ROOT / f"{page}.md").cells:
+            if cell.cell_type != "code":
+                continue
+            if cell.metadata.get("mystnb", {}).get("figure"):
+                figures += 1
+            lines = cell.source.strip().splitlines()
+            if lines and re.match(r"^\w*(explorer|widget)\(", lines[-1]):
+                explorers += 1
+    return figures, explorers
+
+
+def test_the_figures_are_in_the_pdf(pdf: Path) -> None:
+    listing = _run("pdfimages", "-list", pdf).splitlines()[2:]
+    images = [line for line in listing if line.split() and line.split()[2] == "image"]
+    figures, explorers = _figures_and_explorers()
+    assert figures > 30 and explorers > 8, (figures, explorers)
+    # every captioned figure and the first figure of every explorer
+    assert len(images) >= figures + explorers, (
+        f"{len(images)} images in the PDF for {figures} figures and {explorers} explorers")
+
+
+def test_pages_render_and_are_not_blank(pdf: Path) -> None:
+    pages = int(re.search(r"Pages:\s+(\d+)", _run("pdfinfo", pdf)).group(1))
+    assert pages > 100, f"only {pages} pages"
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    from PIL import Image
+
+    for number in sorted({1, 2, pages // 4, pages // 2, 3 * pages // 4, pages}):
+        prefix = SHOTS / f"page-{number:03d}"
+        _run("pdftoppm", "-png", "-r", "60", "-f", number, "-l", number, "-singlefile", pdf,
+             prefix)
+        image = Image.open(prefix.with_suffix(".png")).convert("L")
+        dark = image.point(lambda value: 255 if value < 128 else 0).histogram()[255]
+        assert dark > 200, f"page {number} looks blank ({dark} dark pixels)"

@@ -1,0 +1,354 @@
+"""Every figure function of dstoolkit.plots draws a figure people can read.
+
+Each public ``plot_*`` function is rendered on small but real inputs and its matplotlib
+objects are checked:
+
+- the figure is at most the book's column wide (so it is shown at its own size);
+- every text (tick labels, labels, titles, legends, annotations) is at least 9 pt;
+- every axis that shows tick labels has a label, with its unit in parentheses unless the
+  quantity has none (mass, probability, possibility, a step number ...);
+- no legend box covers a data point (a marker or a vertex of a drawn line) of any axes;
+- no panel is empty (every axes draws something).
+"""
+
+from __future__ import annotations
+
+import io
+import re
+from collections.abc import Callable
+
+import matplotlib
+import numpy as np
+import pytest
+
+matplotlib.use("Agg")
+
+from conftest import ARTIFACTS  # noqa: E402
+from matplotlib.axes import Axes  # noqa: E402
+from matplotlib.collections import PathCollection  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.patches import Rectangle  # noqa: E402
+from matplotlib.text import Text  # noqa: E402
+
+import dstoolkit.plots as plots  # noqa: E402
+from dstoolkit.evidence import IntervalEvidence, MassFunction, triangular_evidence  # noqa: E402
+from dstoolkit.filters import BoundedNoise  # noqa: E402
+from dstoolkit.gauge import (  # noqa: E402
+    PAPER_SWEEP,
+    TubeSetup,
+    detect_resonances,
+    synthesize_recording,
+)
+from dstoolkit.studies import (  # noqa: E402
+    bound_scale_study,
+    example_comparison,
+    filter_case,
+    order_rule_study,
+    run_table3,
+    tracking_data,
+)
+from dstoolkit.teaching import GAUGE_CONDITIONS  # noqa: E402
+
+#: Width of the book's text column (inches): a wider figure is shown shrunk.
+COLUMN_IN = 6.4
+MIN_PT = 9.0
+#: Quantities without a unit: their axis labels need no "(unit)".
+DIMENSIONLESS = re.compile(
+    r"^(cumulated mass|mass|probability|possibility|Bel\(A\)|step k|focal element|"
+    r"subset A|ξ|first source|second source)"
+)
+UNIT = re.compile(r"\([^()]*[^\s()][^()]*\)")
+
+FIGURES: dict[str, Callable[[], Figure]] = {}
+SHOTS = ARTIFACTS / "figures"
+
+
+def figure(name: str) -> Callable[[Callable[[], Figure]], Callable[[], Figure]]:
+    def register(function: Callable[[], Figure]) -> Callable[[], Figure]:
+        FIGURES[name] = function
+        return function
+    return register
+
+
+# -- inputs: small, real --------------------------------------------------------------------
+
+NOISE = triangular_evidence(-10.59, -6.9, -3.21, p=3, epsilon=0.05, theta=(-20.0, 10.0))
+FRAME = ("low", "mid", "high")
+MF_A = MassFunction({("low",): 0.4, ("low", "mid"): 0.3, ("high",): 0.1, FRAME: 0.2}, FRAME)
+MF_B = MassFunction({("mid",): 0.5, ("mid", "high"): 0.3, FRAME: 0.2}, FRAME)
+
+
+def _filter_run() -> tuple[object, np.ndarray, object]:
+    seq, _orders, result = filter_case(9.6, 23.9, record=True, first=12)
+    return seq.readings[:12, 0], seq.truth[:12, 0], result
+
+
+def _detection() -> tuple[object, object, TubeSetup]:
+    setup = TubeSetup(4.6, 26.5)
+    rec = synthesize_recording(setup, PAPER_SWEEP, GAUGE_CONDITIONS, seed=0)
+    return rec, detect_resonances(rec), setup
+
+
+@figure("plot_focal_intervals")
+def _focal() -> Figure:
+    return plots.plot_focal_intervals(NOISE, xlim=(-12, -2), xlabel="noise w (Hz)")
+
+
+@figure("plot_pbox")
+def _pbox() -> Figure:
+    return plots.plot_pbox(NOISE, xlim=(-12, -2), xlabel="noise w (Hz)")
+
+
+@figure("plot_possibility")
+def _possibility() -> Figure:
+    return plots.plot_possibility(-10.59, -6.9, -3.21, 3, evidence=NOISE,
+                                  xlabel="noise w (Hz)")
+
+
+@figure("plot_bel_pl")
+def _bel_pl() -> Figure:
+    return plots.plot_bel_pl(MF_A)
+
+
+@figure("plot_masses")
+def _masses() -> Figure:
+    return plots.plot_masses(MF_A)
+
+
+@figure("plot_products")
+def _products() -> Figure:
+    return plots.plot_products(MF_A, MF_B)
+
+
+@figure("plot_enclosure")
+def _enclosure() -> Figure:
+    readings, truth, result = _filter_run()
+    return plots.plot_enclosure(result, truth, readings, ylabel="frequency (Hz)")
+
+
+@figure("plot_boxes")
+def _boxes() -> Figure:
+    ev = IntervalEvidence([[0.0, 0.0], [0.5, 0.2]], [[2.0, 1.0], [1.5, 0.8]], [0.4, 0.6])
+    return plots.plot_boxes(ev)
+
+
+@figure("plot_filter_step")
+def _filter_step() -> Figure:
+    readings, truth, result = _filter_run()
+    return plots.plot_filter_step(result.steps[1], truth=truth[1])
+
+
+@figure("plot_filter_errors")
+def _filter_errors() -> Figure:
+    readings, truth, result = _filter_run()
+    return plots.plot_filter_errors(result, truth, readings)
+
+
+@figure("plot_table3")
+def _table3() -> Figure:
+    table = run_table3(runs=2, methods=("direct", "dependent_evidence"),
+                       cases=((1.3, 27.0), (4.6, 26.5)), progress=False)
+    return plots.plot_table3(table)
+
+
+@figure("plot_estimates")
+def _estimates() -> Figure:
+    readings, truth, result = _filter_run()
+    return plots.plot_estimates(truth, readings,
+                                {"dependent_evidence": result.estimates[:, 0]})
+
+
+@figure("plot_recording")
+def _recording() -> Figure:
+    rec, det, _ = _detection()
+    return plots.plot_recording(rec, det)
+
+
+@figure("plot_resonances")
+def _resonances() -> Figure:
+    _, det, setup = _detection()
+    return plots.plot_resonances(det, true_frequencies=setup.resonances(PAPER_SWEEP.band)[1])
+
+
+@figure("plot_step_errors")
+def _step_errors() -> Figure:
+    rng = np.random.default_rng(0)
+    return plots.plot_step_errors({"direct": rng.uniform(0.5, 3, (3, 20)),
+                                   "dependent_evidence": rng.uniform(0.05, 1, (3, 20))})
+
+
+@figure("plot_noise_assumption")
+def _noise_assumption() -> Figure:
+    return plots.plot_noise_assumption(BoundedNoise(-10.59, -6.9, -3.21),
+                                       BoundedNoise(-8.0, -6.9, -5.0))
+
+
+@figure("plot_scale_study")
+def _scale_study() -> Figure:
+    data = tracking_data(runs=2)
+    return plots.plot_scale_study(bound_scale_study(data, [0.5, 1.0, 2.0],
+                                                    methods=("kalman", "bounded_error")))
+
+
+@figure("plot_order_rule_study")
+def _order_rule_study() -> Figure:
+    study = order_rule_study(runs=2, cases=((1.3, 27.0), (4.6, 26.5)))
+    return plots.plot_order_rule_study([study])
+
+
+@figure("plot_example")
+def _example() -> Figure:
+    return plots.plot_example(example_comparison(steps=15, runs=1))
+
+
+# -- checks ---------------------------------------------------------------------------------
+
+
+def _rendered(name: str) -> Figure:
+    """The figure, drawn (which lays out every text); a PNG of it in test-artifacts/figures."""
+    fig = FIGURES[name]()
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    fig.savefig(SHOTS / f"{name}.png", format="png", dpi=96)
+    return fig
+
+
+def _texts(fig: Figure) -> list[Text]:
+    return [t for t in fig.findobj(Text)
+            if t.get_visible() and t.get_text().strip() and t.get_figure() is not None]
+
+
+def _shows_ticklabels(axis: object) -> bool:
+    return any(t.get_visible() and t.get_text().strip() for t in axis.get_ticklabels())
+
+
+def _shares(ax: Axes, which: str) -> list[Axes]:
+    group = ax.get_shared_x_axes() if which == "x" else ax.get_shared_y_axes()
+    return [other for other in group.get_siblings(ax) if other is not ax]
+
+
+def _data_points(ax: Axes) -> np.ndarray:
+    """Display coordinates of the markers and line vertices drawn inside ``ax``."""
+    points = []
+    for line in ax.get_lines():
+        if not line.get_visible():
+            continue
+        xy = np.asarray(line.get_xydata(), dtype=float)
+        if xy.size and np.isfinite(xy).all(axis=1).any():
+            points.append(line.get_transform().transform(xy[np.isfinite(xy).all(axis=1)]))
+    for coll in ax.collections:
+        if isinstance(coll, PathCollection) and coll.get_visible():
+            offsets = np.asarray(coll.get_offsets(), dtype=float)
+            if offsets.size:
+                points.append(coll.get_offset_transform().transform(offsets))
+    for patch in ax.patches:
+        if isinstance(patch, Rectangle) and patch.get_visible() and patch.get_height() > 0:
+            box = patch.get_window_extent()
+            points.append(np.array([[box.x0 + 0.5 * box.width, box.y1]]))  # top of a bar
+    if not points:
+        return np.zeros((0, 2))
+    pts = np.concatenate(points)
+    area = ax.get_window_extent()
+    inside = ((pts[:, 0] > area.x0 + 1) & (pts[:, 0] < area.x1 - 1)
+              & (pts[:, 1] > area.y0 + 1) & (pts[:, 1] < area.y1 - 1))
+    return pts[inside]
+
+
+@pytest.fixture(scope="module", params=sorted(FIGURES))
+def rendered(request: pytest.FixtureRequest) -> tuple[str, Figure]:
+    return request.param, _rendered(request.param)
+
+
+def test_every_figure_function_is_checked() -> None:
+    public = {name for name in plots.__all__ if name.startswith("plot_")}
+    assert public == set(FIGURES), f"figure functions without a check: {public - set(FIGURES)}"
+
+
+def test_figure_fits_the_column(rendered: tuple[str, Figure]) -> None:
+    name, fig = rendered
+    width = fig.get_size_inches()[0]
+    assert width <= COLUMN_IN + 0.01, f"{name}: {width:.2f} in wide, the column is {COLUMN_IN}"
+
+
+def test_text_is_at_least_9_pt(rendered: tuple[str, Figure]) -> None:
+    name, fig = rendered
+    small = sorted({(round(t.get_fontsize(), 1), t.get_text()[:30]) for t in _texts(fig)
+                    if t.get_fontsize() < MIN_PT - 0.01})
+    assert not small, f"{name}: text below {MIN_PT} pt: {small[:8]}"
+
+
+def test_axes_are_labelled_with_units(rendered: tuple[str, Figure]) -> None:
+    name, fig = rendered
+    problems = []
+    for index, ax in enumerate(fig.axes):
+        if not ax.axison:
+            continue
+        assert ax.has_data(), f"{name}: panel {index} is empty"
+        for which, axis in (("x", ax.xaxis), ("y", ax.yaxis)):
+            if not _shows_ticklabels(axis) or axis.get_scale() == "function":
+                continue
+            label = axis.get_label_text().strip()
+            if not label:
+                labelled = [o for o in _shares(ax, which)
+                            if (o.xaxis if which == "x" else o.yaxis).get_label_text().strip()]
+                if labelled:
+                    continue
+                if which == "x" and all(t.get_text() for t in axis.get_ticklabels()) and \
+                        axis.get_major_formatter().__class__.__name__ == "FixedFormatter":
+                    continue  # named categories (subsets, focal elements) label themselves
+                problems.append(f"panel {index}: no {which} label")
+            elif not (UNIT.search(label) or DIMENSIONLESS.match(label)):
+                problems.append(f"panel {index}: {which} label {label!r} has no unit")
+    assert not problems, f"{name}: {problems}"
+
+
+def test_legends_do_not_hide_data(rendered: tuple[str, Figure]) -> None:
+    name, fig = rendered
+    legends = [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None]
+    legends += list(fig.legends)
+    problems = []
+    for legend in legends:
+        box = legend.get_window_extent().shrunk(0.98, 0.96)
+        for index, ax in enumerate(fig.axes):
+            pts = _data_points(ax)
+            covered = ((pts[:, 0] > box.x0) & (pts[:, 0] < box.x1)
+                       & (pts[:, 1] > box.y0) & (pts[:, 1] < box.y1))
+            if covered.any():
+                problems.append(f"legend {[t.get_text() for t in legend.get_texts()][:3]} "
+                                f"covers {int(covered.sum())} data points of panel {index}")
+            for loc in ("left", "center", "right"):
+                title = ax.get_title(loc)
+                texts = [t for t in _texts(fig) if t.get_text() == title] if title else []
+                if any(box.overlaps(t.get_window_extent()) for t in texts):
+                    problems.append(f"legend overlaps the title {title!r} of panel {index}")
+    assert not problems, f"{name}: {problems}"
+
+
+def test_the_log_ticks_of_a_short_range_are_readable() -> None:
+    """A log axis over about a decade shows several plain labelled ticks (Fig. 7.2), where
+    matplotlib's default labels only the decade, "1"."""
+    fig = Figure(figsize=(6, 3))
+    ax = fig.add_subplot()
+    ax.semilogy([1, 2, 3], [0.3, 1.0, 2.5])
+    plots.log_ticks(ax.yaxis)
+    fig.savefig(io.BytesIO(), format="png")
+    low, high = ax.get_ylim()
+    locs = [v for v in ax.yaxis.get_majorticklocs() if low <= v <= high]
+    labels = [ax.yaxis.get_major_formatter()(v) for v in locs]
+    assert labels == ["0.5", "1", "2"], labels
+
+
+def test_the_style_is_undone_but_nothing_else() -> None:
+    """figure_style restores its own settings only: IPython's inline backend switches the
+    interactive mode on when a session's first figure is made, maybe inside the style, and
+    undoing that would stop every later figure of a notebook from showing."""
+    import matplotlib as mpl
+
+    before_size, before_interactive = mpl.rcParams["font.size"], mpl.is_interactive()
+    try:
+        with plots.figure_style():
+            assert mpl.rcParams["font.size"] == 10
+            mpl.interactive(True)  # what matplotlib-inline does on first use
+        assert mpl.rcParams["font.size"] == before_size
+        assert mpl.is_interactive()
+    finally:
+        mpl.interactive(before_interactive)
