@@ -1,9 +1,10 @@
 """Errors raised by dstoolkit.
 
 Every error derives from :class:`DstoolkitError`, so ``except DstoolkitError`` catches
-anything the package raises on purpose. Each also derives from the built-in class a caller
-would expect (``ValueError`` for bad input, ``RuntimeError`` for the environment,
-``ImportError`` for a missing extra). Every message says what was wrong and what to do.
+anything the package raises on purpose; every warning derives from
+:class:`DstoolkitWarning`. Each also derives from the built-in class a caller would expect
+(``ValueError`` for bad input, ``RuntimeError`` for the environment, ``ImportError`` for a
+missing extra). Every message says what was wrong and what to do.
 """
 
 from __future__ import annotations
@@ -87,11 +88,15 @@ class MissingExtraError(DstoolkitError, ImportError):
     """An optional part of the package was used without the extra that installs it."""
 
 
-class VertexMethodWarning(UserWarning):
+class DstoolkitWarning(UserWarning):
+    """Base class of every warning the package issues."""
+
+
+class VertexMethodWarning(DstoolkitWarning):
     """The vertex method's hypothesis (Prop. 1: no extremum inside the box) visibly fails."""
 
 
-class AudioDropoutWarning(RuntimeWarning):
+class AudioDropoutWarning(DstoolkitWarning, RuntimeWarning):
     """The audio stream lost input or inserted silence in the output (an xrun)."""
 
 

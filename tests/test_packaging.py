@@ -30,6 +30,7 @@ OPTIONAL = ("matplotlib", "ipywidgets", "IPython", "tqdm", "sounddevice", "numba
 CORE_TESTS = (
     "test_evidence_basics.py",
     "test_evidence_properties.py",
+    "test_exact_masses.py",
     "test_extension.py",
     "test_paper_golden.py",
     "test_read_only.py",
@@ -41,6 +42,7 @@ CORE_TESTS = (
     "test_latency.py",
     "test_noise_characterisation.py",
     "test_tube_and_detection.py",
+    "test_doctests.py",
 )
 
 
@@ -87,7 +89,8 @@ def test_core_alone_on_the_oldest_numpy_and_scipy(tmp_path: Path) -> None:
           f"numpy=={numpy_floor}.0", f"scipy=={scipy_floor}.0", "pytest", "hypothesis"],
          tmp_path, timeout=1200)
     probe = _run([py, "-c", textwrap.dedent("""
-        import importlib.util, numpy, scipy, dstoolkit
+        import importlib.util, pathlib, numpy, scipy, dstoolkit
+        assert (pathlib.Path(dstoolkit.__file__).parent / "py.typed").is_file()  # PEP 561
         print(numpy.__version__, scipy.__version__, dstoolkit.__version__, dstoolkit.__file__)
         print(*[m for m in ('matplotlib', 'ipywidgets', 'IPython', 'tqdm', 'sounddevice',
                             'numba')

@@ -15,12 +15,12 @@ from dstoolkit.errors import (
 )
 
 from ._devices import (
-    DEFAULT_LATENCY_S,
     MIN_PADDING_S,
     STREAM_GRACE_S,
     STREAM_OPEN_TIMEOUT_S,
     STREAM_START_TIMEOUT_S,
     AudioDevice,
+    PlayRecordResult,
     audio_available,
     calibration_chirp,
     check_calibration,
@@ -34,6 +34,7 @@ from ._devices import (
 from ._measurement import (
     CALIBRATION_GAP_S,
     Analysis,
+    LevelEstimate,
     add_analyze_arguments,
     add_measure_arguments,
     analyze,
@@ -45,6 +46,9 @@ from ._measurement import (
     simulate_measurement,
 )
 from ._recording_io import (
+    MAX_METADATA_BYTES,
+    MAX_METADATA_DEPTH,
+    MAX_RECORDING_BYTES,
     RecordingMetadata,
     WavRecording,
     load_recording,
@@ -52,6 +56,9 @@ from ._recording_io import (
 )
 
 __all__ = [
+    "MAX_METADATA_BYTES",
+    "MAX_METADATA_DEPTH",
+    "MAX_RECORDING_BYTES",
     "Analysis",
     "AudioDevice",
     "AudioDropoutError",
@@ -60,9 +67,10 @@ __all__ = [
     "AudioStallError",
     "AudioUnavailableError",
     "CALIBRATION_GAP_S",
-    "DEFAULT_LATENCY_S",
+    "LevelEstimate",
     "MIN_PADDING_S",
     "NoAudioDeviceError",
+    "PlayRecordResult",
     "RecordingFileError",
     "RecordingMetadata",
     "STREAM_GRACE_S",

@@ -80,7 +80,8 @@ NO_DEVICE_HINT = (
 
 
 def _sounddevice() -> ModuleType:
-    """Import sounddevice, or raise :class:`AudioUnavailableError` saying what to install.
+    """Import sounddevice, or raise :class:`~dstoolkit.errors.AudioUnavailableError` saying
+    what to install.
 
     Without the PortAudio library ``import sounddevice`` raises ``OSError`` (not
     ``ImportError``); without the package it raises ``ImportError``. Both are caught.
@@ -186,8 +187,8 @@ def list_devices(kind: Literal["input", "output"] | None = None) -> list[AudioDe
 def choose_device(device: int | str | None, kind: Literal["input", "output"]) -> int:
     """Resolve a device given by index, by (part of) its name, or None for the default.
 
-    Returns the PortAudio index. Raises :class:`NoAudioDeviceError` when there is no such
-    device (or no default one), listing the devices that exist.
+    Returns the PortAudio index. Raises :class:`~dstoolkit.errors.NoAudioDeviceError` when
+    there is no such device (or no default one), listing the devices that exist.
     """
     if kind not in ("input", "output"):
         raise InvalidInputError(f"kind must be 'input' or 'output', not {kind!r}")
@@ -217,7 +218,7 @@ def calibration_chirp(
     """A short windowed linear chirp whose autocorrelation has one sharp peak.
 
     Played before the sweep in the same stream, its position in the recording gives the
-    audio latency (:func:`estimate_latency`). The band suits laptop speakers and
+    audio latency (:func:`~dstoolkit.gauge.estimate_latency`). The band suits laptop speakers and
     microphones; its ends are tapered (Tukey window) so it starts and stops without clicks.
     """
     if samplerate <= 0 or duration_s <= 0:
@@ -258,8 +259,8 @@ class PlayRecordResult:
     def segment(self, start: int, length: int, latency: LatencyEstimate) -> np.ndarray:
         """The recording of ``played[start:start + length]``, corrected for the latency.
 
-        Raises :class:`DetectionError` when the recording does not cover it (a recording
-        too short for the sweep: play a longer tail).
+        Raises :class:`~dstoolkit.errors.DetectionError` when the recording does not cover it
+        (a recording too short for the sweep: play a longer tail).
         """
         first = start + latency.lag
         if first < 0 or first + length > self.recorded.size:
@@ -304,7 +305,7 @@ def play_record(
     Raises
     ------
     AudioUnavailableError
-        sounddevice/PortAudio missing (:data:`INSTALL_HINT`); its subclass
+        sounddevice/PortAudio missing (``INSTALL_HINT``); its subclass
         NoAudioDeviceError when there is no device or it fails to open;
         AudioStallError when the stream stops moving (it does not open within
         :data:`STREAM_OPEN_TIMEOUT_S`, or it runs :data:`STREAM_GRACE_S` past its length:
@@ -362,7 +363,7 @@ def sound_server_problem() -> str | None:
     Checks each ``unix:`` socket of ``PULSE_SERVER`` (else ``$PULSE_RUNTIME_PATH/native``
     or ``$XDG_RUNTIME_DIR/pulse/native``): a socket that is missing or refuses connections
     means the server is not running. A server that accepts connections may still be
-    stalled (stopped): that shows as an :class:`AudioStallError` instead.
+    stalled (stopped): that shows as an :class:`~dstoolkit.errors.AudioStallError` instead.
     """
     server = os.environ.get("PULSE_SERVER", "")
     paths = [part[5:] for part in server.split() if part.startswith("unix:")]
@@ -387,7 +388,7 @@ def sound_server_problem() -> str | None:
 
 
 def check_sound_server() -> None:
-    """Raise :class:`AudioServerError` when the sound server has gone away."""
+    """Raise :class:`~dstoolkit.errors.AudioServerError` when the sound server has gone away."""
     problem = sound_server_problem()
     if problem is not None:
         raise AudioServerError(
@@ -401,11 +402,11 @@ def _stream(played: np.ndarray, samplerate: int, latency: float | str, device_in
     """Play and record in a child process (``_stream_child.py``) under a deadline.
 
     Returns the recording (float32, as long as ``played``), PortAudio's status and whether
-    samples were dropped. Raises :class:`AudioStallError` when the stream does not open
-    within :data:`STREAM_OPEN_TIMEOUT_S` (the process itself may take
+    samples were dropped. Raises :class:`~dstoolkit.errors.AudioStallError` when the stream does not
+    open within :data:`STREAM_OPEN_TIMEOUT_S` (the process itself may take
     :data:`STREAM_START_TIMEOUT_S` to start) or does not end within its length plus
-    :data:`STREAM_GRACE_S`, :class:`AudioServerError` when the sound server died, and
-    :class:`NoAudioDeviceError` when PortAudio refuses the stream.
+    :data:`STREAM_GRACE_S`, :class:`~dstoolkit.errors.AudioServerError` when the sound server died,
+    and :class:`~dstoolkit.errors.NoAudioDeviceError` when PortAudio refuses the stream.
     """
     expected = played.size / samplerate
     child = Path(__file__).with_name("_stream_child.py")
@@ -524,8 +525,9 @@ def measure_latency(
 
     The delay differs each time a stream is opened (it did by tens of ms through the
     PulseAudio loopback), so a measurement should carry its own chirp; this function is
-    for checking a set-up. Raises :class:`DetectionError` when the chirp is not found
-    (|correlation| below ``min_correlation``): the microphone does not hear the speaker.
+    for checking a set-up. Raises :class:`~dstoolkit.errors.DetectionError` when the chirp is
+    not found (|correlation| below ``min_correlation``): the microphone does not hear the
+    speaker.
     """
     chirp = calibration_chirp(samplerate)
     result = play_record(chirp, samplerate, input_device=input_device,
@@ -539,7 +541,7 @@ def measure_latency(
 def check_calibration(
     estimate: LatencyEstimate, min_correlation: float = MIN_CALIBRATION_CORRELATION
 ) -> None:
-    """Raise :class:`DetectionError` when the calibration chirp was not found."""
+    """Raise :class:`~dstoolkit.errors.DetectionError` when the calibration chirp was not found."""
     if abs(estimate.correlation) < min_correlation:
         raise DetectionError(
             f"the calibration chirp was not found in the recording (correlation "

@@ -10,12 +10,12 @@ The opening chirp's position in the recording gives the latency τ
 The closing chirp must give the same τ: otherwise the stream lost or inserted samples on
 the way (an xrun, under a heavy processor load) and the measurement is repeated. The
 recording and what is known about it are saved as a WAV file
-(:mod:`dstoolkit.recording_io`); :func:`analyze` turns such a file into resonances
-(:func:`dstoolkit.resonance.detect_resonances`, with τ corrected) and a level
+(:mod:`dstoolkit.audio`); :func:`analyze` turns such a file into resonances
+(:func:`dstoolkit.gauge.detect_resonances`, with τ corrected) and a level
 with its uncertainty (:func:`estimate_level`).
 
 With ``virtual_tube=TubeSetup(...)`` the played sweep is first shaped by the tube model
-(:mod:`dstoolkit.virtual_tube`): through a loopback the whole real audio path carries a
+(:mod:`dstoolkit.gauge`): through a loopback the whole real audio path carries a
 standing-wave recording whose true level is known. :func:`simulate_measurement` builds the
 same recording without any audio (a pure delay instead of the sound card), so the lab runs
 anywhere.
@@ -93,7 +93,7 @@ class LevelEstimate:
     """A level from a series of resonances, with its standard uncertainty.
 
     ``level_m`` = c/(2 f_F), f_F the slope of the fit z_k = f_F (n_1 + s_k) + b
-    (:func:`dstoolkit.level.fit_resonance_series` with b free): the spacing of the
+    (:func:`dstoolkit.gauge.fit_resonance_series` with b free): the spacing of the
     resonances, untouched by any offset common to all of them (latency, sweep rate,
     detector bias). ``uncertainty_m`` combines in quadrature:
 
@@ -164,7 +164,7 @@ def filter_levels(
     Kalman, particle) over one recording's resonances, m.
 
     Each method gives a level per step, L̂_k = n_k c/(2 x̂_k) (eq. 32, orders by eq. 43),
-    averaged here (:func:`dstoolkit.experiments.estimate_levels`, the paper's noise
+    averaged here (:func:`dstoolkit.studies.estimate_levels`, the paper's noise
     evidence of Tables 1–2). The readings are the detector's with the latency corrected but
     the sweep-rate offset k/(2 f_F) left in: that is how the paper's detector read them and
     how its observation noise w (mode −6.9 Hz) was characterised. Eq. 39 links neighbouring
@@ -318,6 +318,8 @@ def analyze(
     methods
         Methods of Table 3 whose level to add (:func:`filter_levels`); () for none.
 
+    Notes
+    -----
     Where the metadata gives the sweep's onset and the latency, the recording is cut at
     the moment the sweep was played and the latency is corrected; otherwise the sweep is
     assumed to start near the beginning and the latency is estimated from the sweep itself.
@@ -326,7 +328,7 @@ def analyze(
     ------
     DetectionError
         Silence, clipping, a recording too short for the sweep, no tube echo, or too few
-        resonances (:func:`dstoolkit.resonance.detect_resonances`); missed resonances do
+        resonances (:func:`dstoolkit.gauge.detect_resonances`); missed resonances do
         not raise: they are listed and the level uses those that remain.
     RecordingFileError, FileNotFoundError
         An unreadable file.

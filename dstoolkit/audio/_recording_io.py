@@ -48,12 +48,14 @@ class RecordingMetadata:
     ----------
     temperature_c : float or None
         Air temperature in the tube, °C (sound speed c = 331.3 + 0.606 T).
-    f_start_hz, f_stop_hz : float or None
-        The sweep's band (the paper swept 1000 → 2400 Hz).
+    f_start_hz : float or None
+        Start of the sweep's band (the paper swept 1000 → 2400 Hz).
+    f_stop_hz : float or None
+        End of the sweep's band.
     sweep_duration_s : float or None
         Length of the sweep (5 s in the paper).
     sweep_taper_s : float or None
-        Raised-cosine fade at each end of the sweep (:class:`dstoolkit.sweep.LinearSweep`).
+        Raised-cosine fade at each end of the sweep (:class:`dstoolkit.gauge.LinearSweep`).
     sweep_onset_s : float or None
         Time in the recording at which the sweep's first sample arrives, latency included:
         the analysis maps recording time to sweep frequency from here.
@@ -170,8 +172,8 @@ def _json_depth(text: str) -> int:
 @dataclass(frozen=True)
 class WavRecording:
     """A mono recording as stored in a WAV file: samples (float, full scale ±1), sample
-    rate (Hz) and metadata. (:class:`dstoolkit.tube.Recording` is the gauge's view of a
-    recording, cropped to the sweep; :mod:`dstoolkit.measurement` converts.)"""
+    rate (Hz) and metadata. (:class:`dstoolkit.gauge.Recording` is the gauge's view of a
+    recording, cropped to the sweep; :mod:`dstoolkit.audio` converts.)"""
 
     samples: np.ndarray
     samplerate: int
@@ -457,8 +459,8 @@ def load_recording(path: str | os.PathLike[str], *, channel: int = 0,
     unknown; a multichannel file gives its channel ``channel``. ``stop_s`` reads only the
     first ``stop_s`` seconds.
 
-    Hostile files are refused with a one-line :class:`RecordingFileError`: not a regular
-    file (a pipe, a device), larger than :data:`MAX_RECORDING_BYTES`, truncated chunks, an
+    Hostile files are refused with a one-line :class:`~dstoolkit.errors.RecordingFileError`: not a
+    regular file (a pipe, a device), larger than :data:`MAX_RECORDING_BYTES`, truncated chunks, an
     impossible format, metadata over :data:`MAX_METADATA_BYTES` or nested deeper than
     :data:`MAX_METADATA_DEPTH`, fields of the wrong type.
 

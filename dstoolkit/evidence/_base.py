@@ -1,11 +1,11 @@
 """What every body of evidence shares, whatever its focal elements are.
 
 A body of evidence is a list of focal elements with masses (paper §2.1, Def. 2). Two
-representations live in dstoolkit: subsets of a finite frame (:class:`~dstoolkit.MassFunction`)
-and real intervals or boxes (:class:`~dstoolkit.IntervalEvidence`). Both store their focal
-elements as numpy arrays and implement the handful of set primitives below; belief,
-plausibility and every combination rule in :mod:`dstoolkit.combination` are written once
-on top of these primitives.
+representations live in dstoolkit: subsets of a finite frame (:class:`MassFunction`) and
+real intervals or boxes (:class:`IntervalEvidence`). Both store their focal elements as
+numpy arrays and implement the handful of set primitives below; belief, plausibility and
+every combination rule of :mod:`dstoolkit.evidence` are written once on top of these
+primitives.
 """
 
 from __future__ import annotations
@@ -25,8 +25,8 @@ MASS_TOLERANCE = 1e-9
 def validate_masses(mass: Any, *, what: str = "masses") -> np.ndarray:
     """Return ``mass`` as a float array after checking it is a probability vector.
 
-    Raises :class:`EvidenceError` for an empty vector, NaN or infinite entries, negative
-    entries, or a sum that differs from 1 by more than ``MASS_TOLERANCE``.
+    Raises :class:`~dstoolkit.errors.EvidenceError` for an empty vector, NaN or infinite
+    entries, negative entries, or a sum that differs from 1 by more than ``MASS_TOLERANCE``.
     """
     m = real_array(mass, what, finite=False, error=EvidenceError).reshape(-1)
     if m.size == 0:
@@ -58,7 +58,7 @@ def validate_masses(mass: Any, *, what: str = "masses") -> np.ndarray:
 class Evidence(ABC):
     """Abstract body of evidence: focal elements (an array, one row each) with masses.
 
-    Subclasses implement the set primitives; the algebra lives in :mod:`dstoolkit.combination`.
+    Subclasses implement the set primitives; the algebra lives in :mod:`dstoolkit.evidence`.
     """
 
     _focal: np.ndarray

@@ -13,8 +13,10 @@ from ._intervals import IntervalEvidence
 #: Appendix A of the paper: the two-element example of eq. (A2) and E1, E2 of the worked one.
 APPENDIX_A2 = ((-0.3, 2.6, 0.3), (0.3, 1.9, 0.7))
 
+#: E1 of Appendix A's worked example: rows (lo, hi, mass).
 APPENDIX_E1 = ((-0.30, 2.60, 0.3), (0.30, 1.90, 0.6), (0.32, 1.93, 0.1))
 
+#: E2 of Appendix A's worked example: rows (lo, hi, mass).
 APPENDIX_E2 = ((0.21, 3.50, 0.1), (0.41, 1.61, 0.3), (0.30, 1.90, 0.6))
 
 #: The value the paper prints for En'(E1) (it is the energy of APPENDIX_A2).
@@ -48,6 +50,7 @@ def appendix_evidence(m1: tuple[float, float] = (0.6, 0.1),
     return out[0], out[1]
 
 
+#: The frame of Zadeh's example: the three diagnoses of the two doctors.
 ZADEH_FRAME = ("meningitis", "concussion", "tumour")
 
 

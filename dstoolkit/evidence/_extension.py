@@ -9,14 +9,14 @@ are boxes with product masses (eq. 16). A function f maps each box A to its imag
   warns when an interior sample falls outside the vertex range);
 - by the **monotone shortcut** (Prop. 2, eqs. 18–19): 2 evaluations per box when f is
   monotone in each argument with declared signs (a midpoint check raises
-  :class:`~dstoolkit.NotMonotoneError` when the declaration is visibly wrong);
+  :class:`~dstoolkit.errors.NotMonotoneError` when the declaration is visibly wrong);
 - by **subdivision** for any continuous f: a grid of (k+1)^n points per box, then a zoom
   on the best local extrema of the grid until the spacing is below ``tol`` times the box
   width (an inner approximation, exact for monotone f; see :func:`image_subdivision`).
 
 Array conventions: boxes are ``lo``/``hi`` arrays of shape (..., n); f is called with
 points of shape (..., *extra, n) — the extra axes (vertices, samples) come just before the
-last one, so leading axes such as runs stay first (see :func:`dstoolkit.model.with_input`)
+last one, so leading axes such as runs stay first (see :func:`dstoolkit.filters.with_input`)
 — and returns (..., *extra, m), or (..., *extra) for a scalar function.
 """
 
@@ -33,7 +33,9 @@ from dstoolkit.errors import EvidenceError, NotMonotoneError, VertexMethodWarnin
 from ._intervals import IntervalEvidence
 from ._limits import check_memory
 
+#: How the image of a box is found (see :func:`image`).
 ImageMethod = Literal["auto", "vertex", "monotone", "subdivision"]
+#: The values of :data:`ImageMethod`.
 IMAGE_METHODS: tuple[str, ...] = ("auto", "vertex", "monotone", "subdivision")
 
 #: Relative slack of the monotone and vertex checks (rounding, not modelling error).
@@ -153,7 +155,7 @@ def image_vertex(
 
     With ``check``, f is also evaluated at 2n + 1 interior points; if one falls outside
     the vertex range, f has an extremum inside the box, the result is too narrow, and a
-    :class:`VertexMethodWarning` says so.
+    :class:`~dstoolkit.errors.VertexMethodWarning` says so.
     """
     values = _call(f, vertices(lo, hi))  # (..., 2^n, m)
     out_lo, out_hi = values.min(axis=-2), values.max(axis=-2)
@@ -384,7 +386,7 @@ def box_image(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Images f(A) of boxes [lo, hi] (..., n) for the filters (eqs. 13, 17–19).
 
-    ``monotone`` follows :class:`~dstoolkit.model.StateSpaceModel`: signs of the n state
+    ``monotone`` follows :class:`~dstoolkit.filters.StateSpaceModel`: signs of the n state
     arguments, optionally followed by n noise signs (ignored), or None (vertex method).
     """
     lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)

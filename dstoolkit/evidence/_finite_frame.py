@@ -1,7 +1,7 @@
 """Mass functions on a finite frame of discernment (paper §2.1, Defs. 1–4).
 
 Focal elements are stored as bit masks over the frame (one ``uint64`` each), so a frame
-holds at most 64 hypotheses; the algebra in :mod:`dstoolkit.combination` runs on arrays.
+holds at most 64 hypotheses; the algebra in :mod:`dstoolkit.evidence` runs on arrays.
 """
 
 from __future__ import annotations

@@ -3,9 +3,10 @@
 Every computation whose memory grows with its input (the products of Dempster's rule,
 eq. 1; a batch of filter runs; the particle filter's pre-drawn noise; a recording read for
 analysis) asks :func:`check_memory` before it allocates, or :func:`rows_per_chunk` how
-many rows fit, and then works in chunks or refuses with a :class:`MemoryBudgetError`
-that gives the size. The budget is 1 GiB unless ``DSTOOLKIT_MEMORY_BUDGET`` (bytes, or
-with a K/M/G suffix) or :func:`set_memory_budget` says otherwise.
+many rows fit, and then works in chunks or refuses with a
+:class:`~dstoolkit.errors.MemoryBudgetError` that gives the size. The budget is 1 GiB unless
+``DSTOOLKIT_MEMORY_BUDGET`` (bytes, or with a K/M/G suffix) or :func:`set_memory_budget` says
+otherwise.
 """
 
 from __future__ import annotations
@@ -64,7 +65,8 @@ def format_bytes(nbytes: float) -> str:
 
 
 def check_memory(nbytes: float, what: str, advice: str) -> None:
-    """Raise :class:`MemoryBudgetError` when ``what`` would need more than the budget.
+    """Raise :class:`~dstoolkit.errors.MemoryBudgetError` when ``what`` would need more than the
+    budget.
 
     ``advice`` says how to make the work smaller (fewer focal elements, fewer steps...).
     """
@@ -73,7 +75,7 @@ def check_memory(nbytes: float, what: str, advice: str) -> None:
         raise MemoryBudgetError(
             f"{what} needs about {format_bytes(nbytes)}, more than the memory budget of "
             f"{format_bytes(budget)}; {advice}, or raise the budget "
-            "(dstoolkit.set_memory_budget, or the environment variable "
+            "(dstoolkit.evidence.set_memory_budget, or the environment variable "
             "DSTOOLKIT_MEMORY_BUDGET)"
         )
 

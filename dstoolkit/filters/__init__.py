@@ -20,8 +20,10 @@ from ._bounded_error import (
     BoundedErrorFilter,
 )
 from ._dependent import (
+    COUNTS,
     DIAGNOSTICS,
     DependentEvidenceFilter,
+    NoiseEvidence,
     observe,
     predict,
 )
@@ -40,10 +42,6 @@ from ._model import (
     Filter,
     FilterResult,
     StateSpaceModel,
-    batch_readings,
-    first_reading_box,
-    single_readings,
-    step_input,
     with_input,
 )
 from ._nassreddine import (
@@ -59,6 +57,7 @@ from ._particle import (
 __all__ = [
     "BoundedErrorFilter",
     "BoundedNoise",
+    "COUNTS",
     "DIAGNOSTICS",
     "DependentEvidenceFilter",
     "Filter",
@@ -68,22 +67,19 @@ __all__ = [
     "KalmanFilter",
     "LOTKA_VOLTERRA_X0",
     "NassreddineFilter",
+    "NoiseEvidence",
     "ParticleFilter",
     "StateSpaceModel",
-    "batch_readings",
     "cluster_boxes",
     "converged_at",
     "enclosure_summary",
     "finite_difference_jacobian",
-    "first_reading_box",
     "lotka_volterra",
     "merge_equal_boxes",
     "observe",
     "predict",
     "random_walk",
     "simulate_lotka_volterra",
-    "single_readings",
-    "step_input",
     "systematic_resample",
     "with_input",
 ]

@@ -14,7 +14,7 @@ Inconsistent data
 -----------------
 The paper (after Nassreddine et al.) names its weakness: when the bounds are too tight,
 X⁻_k ∩ g⁻¹(z_k + W) can be empty and there is no answer. The filter detects it and, with
-``on_inconsistent="raise"`` (the default), raises :class:`~dstoolkit.InconsistentDataError`
+``on_inconsistent="raise"`` (the default), raises :class:`~dstoolkit.errors.InconsistentDataError`
 saying at which step (and run) and that the bounds are probably too tight. With
 ``on_inconsistent="reset"`` it restarts from the states consistent with that reading
 alone, g⁻¹(z_k + W), as at the first step, and flags the step in
@@ -50,8 +50,8 @@ class BoundedErrorFilter(FilterBase):
     Parameters
     ----------
     on_inconsistent
-        ``"raise"``: raise :class:`InconsistentDataError` when the box becomes empty;
-        ``"reset"``: restart from the current reading and record the step.
+        ``"raise"``: raise :class:`~dstoolkit.errors.InconsistentDataError` when the box
+        becomes empty; ``"reset"``: restart from the current reading and record the step.
     initial_box
         Optional box ``(lo, hi)`` known to hold the state at the first step (needed when g
         is not invertible); it also bounds the restart boxes.

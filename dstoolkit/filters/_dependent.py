@@ -66,6 +66,7 @@ StartRule = Literal["observation", "mean_corrected"]
 ConflictPolicy = Literal["raise", "predict"]
 Kernel = Literal["numpy", "numba"]
 
+#: The per-step diagnostics of a run (keys of ``FilterResult.diagnostics``), explained.
 DIAGNOSTICS: dict[str, str] = {
     "conflict_step4": "K of Dempster's rule between observation prediction and observation",
     "conflict_step6": "K of Dempster's rule in the dependent combination (after discounting)",
@@ -77,6 +78,7 @@ DIAGNOSTICS: dict[str, str] = {
     "r21": "dependency coefficient R21 (eq. A6)",
     "fallback": "1 where total conflict made the prediction the final evidence, else 0",
 }
+#: Focal-element counts per step that ``run(..., record=True)`` adds to the diagnostics.
 COUNTS: tuple[str, ...] = (
     "n_state", "n_prediction", "n_observation_prediction", "n_observation", "n_fused",
     "n_mapped_back", "n_final", "n_products_step4", "n_products_step6",
@@ -127,7 +129,7 @@ class DependentEvidenceFilter(FilterBase):
     image_method
         How images are computed: ``"auto"`` (monotone where the model declares every sign,
         else vertex), ``"vertex"``, ``"monotone"``, ``"subdivision"`` (see
-        :func:`dstoolkit.extension.image`).
+        :func:`dstoolkit.evidence.image`).
     chunk_size
         Runs per vectorised block in :meth:`run_batch` (memory ∝ chunk × N1 × N2).
     kernel
@@ -317,7 +319,7 @@ class DependentEvidenceFilter(FilterBase):
                       obs_pred: IntervalEvidence, obs: IntervalEvidence, t: int,
                       entry: dict[str, Any], diag: dict[str, np.ndarray]
                       ) -> IntervalEvidence | None:
-        """Steps 4–6 with dstoolkit.combination; None when total conflict falls back."""
+        """Steps 4–6 with dstoolkit.evidence; None when total conflict falls back."""
         try:
             fused = dempster(obs_pred, obs, merge=False)
         except TotalConflictError:
@@ -357,6 +359,17 @@ class DependentEvidenceFilter(FilterBase):
         object path and adds every step's evidence (``steps``: state, prediction,
         observation_prediction, observation, fused, mapped_back, final, dependence) and
         the focal-element counts of :data:`COUNTS`.
+
+        Examples
+        --------
+        A random walk with |v| ≤ 0.1 read with |w| ≤ 0.5 (eq. 21):
+
+        >>> from dstoolkit.filters import random_walk
+        >>> result = DependentEvidenceFilter().run(random_walk(0.1, 0.5), [1.0, 1.2, 0.9, 1.1])
+        >>> result.estimates[:, 0].round(3).tolist()
+        [1.0, 1.02, 1.009, 1.017]
+        >>> bool(result.lower[2, 0] < result.estimates[2, 0] < result.upper[2, 0])
+        True
         """
         zz, uu = self._single(model, z, inputs)
         maps, noise = self._maps(model), self.noise_evidence(model)

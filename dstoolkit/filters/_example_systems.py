@@ -1,6 +1,6 @@
 """A second, nonlinear example with a two-dimensional state: predator and prey.
 
-The toolkit's filters take any :class:`~dstoolkit.model.StateSpaceModel` (eq. 21); the gauge
+The toolkit's filters take any :class:`~dstoolkit.filters.StateSpaceModel` (eq. 21); the gauge
 of §4 is scalar and linear. This module gives a system that is neither, so that every
 filter can be shown, tested and compared away from the gauge.
 

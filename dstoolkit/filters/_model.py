@@ -40,7 +40,7 @@ class BoundedNoise:
     Examples
     --------
     >>> v = BoundedNoise(-0.3, 0.0, 0.3)
-    >>> v.dim, float(v.variance[0])
+    >>> v.dim, round(float(v.variance[0]), 6)
     (1, 0.015)
     """
 

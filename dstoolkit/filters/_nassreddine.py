@@ -47,7 +47,7 @@ Steps 3–6). No cap is needed: the evidence no longer grows.
 Total conflict
 --------------
 When every contraction is empty (K = 1) no posterior exists. ``on_conflict="raise"``
-(default) raises :class:`~dstoolkit.TotalConflictError` naming the step; ``"reset"``
+(default) raises :class:`~dstoolkit.errors.TotalConflictError` naming the step; ``"reset"``
 rebuilds the evidence from that reading as at the start and flags the step in
 ``diagnostics["resets"]``.
 
@@ -268,9 +268,10 @@ class NassreddineFilter(FilterBase):
         """Filter one sequence ``z`` (steps, m).
 
         ``lower``/``upper`` are the hull of each step's posterior mass function. With
-        ``record=True`` each step keeps (as :class:`IntervalEvidence`) the ``state``
-        evidence it starts from, the ``prediction``, the ``observation`` evidence z_k + E_w
-        (observation space), the ``posterior`` before the cap, and the ``estimate``.
+        ``record=True`` each step keeps (as :class:`~dstoolkit.evidence.IntervalEvidence`)
+        the ``state`` evidence it starts from, the ``prediction``, the ``observation``
+        evidence z_k + E_w (observation space), the ``posterior`` before the cap, and the
+        ``estimate``.
         Diagnostics (steps,): ``conflict`` K (NaN at the first step), ``focal_elements``
         of the posterior before the cap, ``merged_mass`` and ``resets``.
         """

@@ -23,6 +23,7 @@ import numpy as np
 from dstoolkit.errors import InvalidInputError
 from dstoolkit.evidence._checks import real_array
 
+#: The speed-of-sound models of :func:`speed_of_sound`.
 SpeedModel = Literal["paper", "ideal_gas", "cramer"]
 
 #: Band the filter works in (paper §4.1); the paper's experiment swept 1000 → 2400 Hz.
@@ -101,8 +102,18 @@ def speed_of_sound(
     temperature_c: Any, model: SpeedModel = "paper", **kwargs: Any
 ) -> np.ndarray | float:
     """Speed of sound (m/s) at ``temperature_c`` by ``model``: "paper" (default, the
-    paper's 331.3 + 0.606 T), "ideal_gas" or "cramer" (extra keywords: relative_humidity,
-    pressure_pa, co2_fraction)."""
+    paper's 331.3 + 0.606 T, eq. 33's c), "ideal_gas" or "cramer" (extra keywords:
+    relative_humidity, pressure_pa, co2_fraction).
+
+    Examples
+    --------
+    >>> float(speed_of_sound(20.0))
+    343.42
+    >>> speed_of_sound([0.0, 20.0]).tolist()
+    [331.3, 343.42]
+    >>> round(float(speed_of_sound(20.0, "ideal_gas")), 2)
+    343.21
+    """
     if model == "paper":
         return speed_of_sound_paper(temperature_c)
     if model == "ideal_gas":

@@ -9,7 +9,7 @@ n_k. From f_k = n_k c/(2L) and f_{k+1} = (n_k + 1) c/(2L) (eqs. 36–38):
 with n_k = [z_k/(z_{k+1} − z_k)] from the readings (eq. 43). Noise figures (paper §4.3):
 v has σ = 0.1 Hz, support [−0.3, 0.3], mode 0; w has σ = 1.23 Hz, mode −6.9 Hz, support
 [−10.59, −3.21] (a reading is 3.2–10.6 Hz above the resonance). The physics (c, f_n) comes
-from :mod:`dstoolkit.acoustics`, eqs. 32/39/40/43 from :mod:`dstoolkit.level`.
+from :mod:`dstoolkit.gauge`, eqs. 32/39/40/43 from :mod:`dstoolkit.gauge`.
 """
 
 from __future__ import annotations

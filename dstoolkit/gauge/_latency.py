@@ -88,8 +88,9 @@ def estimate_latency(
     ``offset`` of the output; the recording started with the output. The matched filter
     ``c[j] = Σ_i recorded[j + i] reference[i]`` (``scipy.signal.correlate``, mode
     ``"valid"``, FFT) peaks in absolute value where the reference sits in the recording
-    (absolute, so an inverted polarity still works), at ``j = offset + lag``; the first
-    arrival is taken (module notes). Pure array function: no audio device needed.
+    (absolute, so an inverted polarity still works), at ``j = offset + lag``. The first
+    arrival is taken, not the strongest: in a tube the first echo can be louder than the
+    direct sound (up to 1 + R_t times). Pure array function: no audio device needed.
 
     Parameters
     ----------

@@ -8,12 +8,12 @@ took the error of the emitted frequency at about 100 points from 1000 to 2500 Hz
 Observation noise w (microphone + detector): the paper detected the resonances of about 30
 levels from 1.3 to 10.6 m and took the errors against the true values; σ_w = 1.23 Hz,
 mode −6.9 Hz, bounds [−10.59, −3.21]. Here: synthesised recordings at those levels, detected
-with :func:`dstoolkit.resonance.detect_resonances`, and w = true − detected, the sign of
+with :func:`dstoolkit.gauge.detect_resonances`, and w = true − detected, the sign of
 paper eq. 40 (g(x) = z + w: a reading that is too high gives w < 0). Without the offset
 corrections the detector reads k/(2 f_F) + k τ high, as the paper's did.
 
 Both become triangles (mode = mean, bounds = mean ± 3σ) and evidence (eqs. 22–26) by
-:func:`dstoolkit.possibility.triangular_evidence`.
+:func:`dstoolkit.evidence.triangular_evidence`.
 """
 
 from __future__ import annotations
@@ -144,10 +144,12 @@ def characterise_observation_noise(
         Noise and latency of the recordings (default: σ_v = 0.1 Hz speaker jitter, 30 dB SPL
         microphone noise, 50 dB SPL background, 10 ms latency).
     tube
-        Extra :class:`~dstoolkit.tube.TubeSetup` parameters (reflections, losses).
+        Extra :class:`~dstoolkit.gauge.TubeSetup` parameters (reflections, losses).
     correct_sweep_rate, correct_latency
         Passed to the detector; False (default) mimics the paper's detector.
 
+    Notes
+    -----
     Each detected resonance is matched to the order n of the model, n f_F + k/(2 f_F) + k τ
     being the first-order prediction of where it appears (later echoes move it by less than
     f_F/2, so the match is unambiguous).

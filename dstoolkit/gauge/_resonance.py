@@ -16,7 +16,7 @@ The recording starts τ before the sweep (audio latency), so recording time t = 
 as f₀ + k t is a further k τ high. Both offsets are common to every resonance: the spacing
 f_F is unchanged, and since kL/c = k/(2 f_F) the first is known from the spacing alone.
 With k = 280 Hz/s it is 1.0 Hz at 1.3 m and 7.8 Hz at 9.6 m; 10 ms of latency adds 2.8 Hz.
-Later echoes (m ≥ 2, :mod:`dstoolkit.tube`) carry θ_m = m θ − π k Δ² m(m − 1): their own
+Later echoes (m ≥ 2, :mod:`dstoolkit.gauge`) carry θ_m = m θ − π k Δ² m(m − 1): their own
 peaks sit at m k L/c, and they pull the envelope's peak by a systematic amount this
 first-order correction leaves (with R_t = 0.3: +1.4, +2.3, −0.6 Hz at 1.3, 4.6, 9.6 m;
 :func:`model_peak_frequencies` computes it). Tolerances: tests/test_tube_and_detection.py.
@@ -270,7 +270,7 @@ def detect_resonances(
     Parameters
     ----------
     recording
-        A :class:`~dstoolkit.tube.Recording`, or samples in full-scale units with ``sweep``.
+        A :class:`~dstoolkit.gauge.Recording`, or samples in full-scale units with ``sweep``.
     sweep
         The played sweep (default: the recording's).
     latency_s
@@ -382,7 +382,7 @@ def model_peak_frequencies(
     setup: TubeSetup, sweep: LinearSweep, peak_window: float = 0.125,
     resolution_hz: float = 0.05, echo_floor: float = 1e-4,
 ) -> np.ndarray:
-    """Resonances of the noise-free model: peaks of :func:`~dstoolkit.tube.model_envelope`
+    """Resonances of the noise-free model: peaks of :func:`~dstoolkit.gauge.model_envelope`
     found as :func:`detect_resonances` finds them, read as the sweep's frequency f(u), Hz
     (no latency, no correction).
 

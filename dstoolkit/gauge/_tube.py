@@ -82,13 +82,13 @@ class TubeSetup:
     top_reflection
         R_t, reflection coefficient of the speaker end (0 = anechoic top, 1 = rigid). The
         default 0.3 is an assumption (the paper does not say); it makes later echoes move
-        the resonances by 1–3 Hz (see :func:`dstoolkit.resonance.model_peak_frequencies`).
+        the resonances by 1–3 Hz (see :func:`dstoolkit.gauge.model_peak_frequencies`).
     wall_loss_factor
         Multiplies Kirchhoff's wall loss (rough or jointed tubes lose more: 1–2).
     extra_attenuation_np_per_m
         Frequency-independent loss added to the wall loss, Np/m.
     speed_model
-        "paper", "ideal_gas" or "cramer" (see :func:`dstoolkit.acoustics.speed_of_sound`).
+        "paper", "ideal_gas" or "cramer" (see :func:`dstoolkit.gauge.speed_of_sound`).
     relative_humidity
         Used by the "cramer" model only.
     """

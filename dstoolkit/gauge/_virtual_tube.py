@@ -2,7 +2,7 @@
 
 In the lab the speaker's sweep travels down the tube, comes back from the liquid surface
 and reaches the microphone as a standing-wave pattern (paper eqs. 27–29). Without a tube,
-the same pattern is computed by :func:`dstoolkit.tube.synthesize_recording` (the tube is
+the same pattern is computed by :func:`dstoolkit.gauge.synthesize_recording` (the tube is
 linear, so it does not matter whether it acts before or after the audio path) and played
 instead of the bare sweep. Through a loopback (``scripts/audio-loopback.sh``) the recording
 then carries the standing wave *and* everything real about the audio path: the latency of

@@ -131,7 +131,7 @@ def plot_pbox(
     """The p-box of scalar evidence: F_*(x) = Bel((−∞, x]) below, F^*(x) = Pl((−∞, x]) above.
 
     Every probability distribution compatible with the evidence has its cdf between the
-    two step functions (see :meth:`IntervalEvidence.cdf_bounds`).
+    two step functions (see :meth:`~dstoolkit.evidence.IntervalEvidence.cdf_bounds`).
     """
     _scalar(ev, "plot_pbox")
     fig, ax = _axes(ax, (6.0, 2.8))
@@ -344,7 +344,7 @@ def plot_enclosure(
 ) -> Figure:
     """A filter run's band [lower, upper] per step, the truth and the readings.
 
-    ``result`` is a :class:`~dstoolkit.model.FilterResult` (its ``lower``/``upper``: boxes of
+    ``result`` is a :class:`~dstoolkit.filters.FilterResult` (its ``lower``/``upper``: boxes of
     a set-membership filter, hulls of evidence, or ±3σ of a Kalman filter). Steps flagged in
     ``result.diagnostics["resets"]`` (the box became empty) get red vertical lines.
     """

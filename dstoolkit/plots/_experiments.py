@@ -13,6 +13,7 @@ from dstoolkit.studies._paper_results import TABLE3_MEAN_ABS_ERROR_M
 
 from ._style import log_ticks, new_figure, styled
 
+#: Colour, marker and label of each method of Table 3 in every figure.
 STYLE = {
     "dependent_evidence": {"color": "C0", "label": "dependent evidence (paper)"},
     "nassreddine": {"color": "C1", "label": "Nassreddine"},

@@ -1,6 +1,6 @@
 """Pictures of the gauge: the recorded waveform (paper Fig. 6) and the resonances (Fig. 7).
 
-Like :mod:`dstoolkit.evidence_plots`, each function draws on a given ``Axes`` (or a new
+Like :mod:`dstoolkit.plots`, each function draws on a given ``Axes`` (or a new
 figure), returns the :class:`~matplotlib.figure.Figure` and never calls ``plt.show()``.
 """
 

@@ -1,6 +1,6 @@
-"""Figures of the studies beyond the paper (:mod:`dstoolkit.estimation_studies`).
+"""Figures of the studies beyond the paper (:mod:`dstoolkit.studies`).
 
-Methods are drawn in the colours of :data:`dstoolkit.experiment_plots.STYLE`, so a method
+Methods are drawn in the colours of :data:`dstoolkit.plots.STYLE`, so a method
 looks the same in Table 3, Figs. 10–11 and every study.
 """
 
@@ -44,7 +44,7 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
     """Mean |x̂_k − x_k| over runs against the step k, one line per method (log scale).
 
     ``errors`` maps a method to absolute errors of shape (runs, K) or (K,); a name that is
-    not a method of STYLE (a variant, say) gets a colour of :data:`EXTRA_COLOURS`.
+    not a method of STYLE (a variant, say) gets a colour of ``EXTRA_COLOURS``.
     """
     fig, ax = _figure(ax, (7.5, 3.4))
     extra = iter(EXTRA_COLOURS)

@@ -73,7 +73,7 @@ F = TypeVar("F", bound=Callable[..., Any])
 def figure_style() -> Iterator[None]:
     """Draw with the book's style inside the ``with`` block; restore the settings after.
 
-    Only the keys of :data:`RC` are restored (not ``mpl.rc_context``, which restores every
+    Only the keys of ``RC`` are restored (not ``mpl.rc_context``, which restores every
     setting: when the first figure of an IPython session is made inside it, the interactive
     mode that IPython's inline backend switches on would be undone, and the notebook's
     later figures would no longer show).

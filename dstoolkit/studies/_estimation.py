@@ -1,7 +1,7 @@
 """One gauge run (the paper's Figs. 10–11) and the studies beyond the paper's Table 3.
 
 The chapters *Estimating the level* and *Beyond the paper* call these; every function
-reuses the Table 3 machinery of :mod:`dstoolkit.experiments` (the same readings, the same
+reuses the Table 3 machinery of :mod:`dstoolkit.studies` (the same readings, the same
 order rules, the same filters with the paper's settings) so that a single run, a study and
 Table 3 cannot disagree about what a method is.
 
@@ -17,7 +17,7 @@ Table 3 cannot disagree about what a method is.
 * :func:`order_rule_study`: how n_k is estimated (eq. 43, series fit, truth) against the
   level error, for both simulations.
 * :func:`example_comparison`: every filter on the two-dimensional predator–prey example of
-  :mod:`dstoolkit.example_systems`.
+  :mod:`dstoolkit.filters`.
 """
 
 from __future__ import annotations
@@ -146,8 +146,8 @@ def gauge_run(level_m: float = 4.6, temperature_c: float = 26.5,
     """One sweep at ``level_m`` filtered by ``methods`` (the paper's Figs. 10–11).
 
     ``simulation`` and ``order_rule`` mean what they mean in
-    :func:`dstoolkit.experiments.run_table3`; the filters have the paper's settings
-    (:func:`~dstoolkit.experiments.paper_filters`). The true orders are known in both
+    :func:`dstoolkit.studies.run_table3`; the filters have the paper's settings
+    (:func:`~dstoolkit.studies.paper_filters`). The true orders are known in both
     simulations, so ``order_rule="true"`` works for either.
     """
     if simulation == "frequency":
@@ -241,7 +241,7 @@ class MismatchResult:
 
     ``errors`` maps a method to |x̂ − x| (runs, K) in Hz; ``seconds`` to its wall time over
     all runs. ``inconsistent_runs`` is the fraction of runs in which the strict bounded-error
-    filter raised :class:`~dstoolkit.InconsistentDataError`, ``message`` the first such
+    filter raised :class:`~dstoolkit.errors.InconsistentDataError`, ``message`` the first such
     message ("" when it never failed); its ``errors`` are those of the variant that restarts
     from the reading instead.
     """
@@ -373,7 +373,7 @@ def order_rule_study(simulation: Simulation = "frequency", runs: int = 30, seed:
 def table3_readings(level_m: float, temperature_c: float, runs: int, seed: int = 0,
                     simulation: Simulation = "frequency",
                     cases: Sequence[tuple[float, float]] = TABLE3_CASES) -> list[CaseReadings]:
-    """The readings :func:`~dstoolkit.experiments.run_table3` draws for the case
+    """The readings :func:`~dstoolkit.studies.run_table3` draws for the case
     (level_m, temperature_c) with the same ``runs``, ``seed`` and ``cases`` (its seed is
     the case's entry of ``SeedSequence(seed)``), with the true orders in both simulations."""
     levels = [c[0] for c in cases]
@@ -423,7 +423,7 @@ class ExampleComparison:
 
 def example_comparison(steps: int = 60, runs: int = 4, seed: int = 0, p: int = 2,
                        methods: Sequence[str] = ALL_FILTERS) -> ExampleComparison:
-    """Run every filter on :func:`~dstoolkit.example_systems.simulate_lotka_volterra`.
+    """Run every filter on :func:`~dstoolkit.filters.simulate_lotka_volterra`.
 
     ``p`` cuts for both evidential filters: the paper's filter fuses (p + 1)^10 products per
     step on a two-dimensional state (1 048 576 for p = 3), so the chapter uses p = 2.

@@ -3,7 +3,7 @@
 * ``simulation="frequency"``: readings z_k = f_k − w_k with w drawn from the paper's
   triangular distribution (mode −6.9 Hz, [−10.59, −3.21] Hz), i.i.d. over k.
 * ``simulation="waveform"``: a recording is synthesised for every run
-  (:func:`dstoolkit.tube.synthesize_recording`) and its resonances detected as the paper's
+  (:func:`dstoolkit.gauge.synthesize_recording`) and its resonances detected as the paper's
   detector would (no offset correction); the noise in z emerges from the physics.
 
 Every method sees the same readings. The filters use the paper's noise evidence (Tables
@@ -44,9 +44,14 @@ from dstoolkit.gauge._tube import (
 from ._output import atomic_write
 from ._paper_results import TABLE3_CASES, TABLE3_MEAN_ABS_ERROR_M
 
+#: How readings are simulated: from the paper's noise distributions, or by detecting the
+#: resonances of synthesised recordings.
 Simulation = Literal["frequency", "waveform"]
+#: How the orders n_k are obtained: eq. 43, the resonance-series fit, or the truth.
 OrderRule = Literal["eq43", "fit", "true"]
+#: The methods of Table 3, in its order.
 METHODS: tuple[str, ...] = ("dependent_evidence", "nassreddine", "direct", "kalman", "particle")
+#: The columns of the CSV file that :meth:`Table3.write_csv` writes.
 CSV_COLUMNS = ("level_m", "temperature_c", "method", "mean_abs_error_m", "runs",
                "seconds_per_run")
 

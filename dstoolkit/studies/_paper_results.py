@@ -35,6 +35,7 @@ PAPER_RUNTIME_RANGE_S: dict[str, tuple[float, float]] = {
 
 #: Noise figures of §4 (Hz): state noise v and observation noise w (σ, lower, mode, upper).
 STATE_NOISE_HZ = {"sigma": 0.1, "lower": -0.3, "mode": 0.0, "upper": 0.3}
+#: The observation noise w of §4 (Hz): σ, lower, mode, upper.
 OBSERVATION_NOISE_HZ = {"sigma": 1.23, "lower": -10.59, "mode": -6.9, "upper": -3.21}
 
 #: The experiment's sweep: 1000 → 2400 Hz in 5 s at 44.1 kHz, PVC tube of 75 mm.

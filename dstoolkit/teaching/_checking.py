@@ -10,7 +10,7 @@ tolerance. Adding one is a few lines in the module of its chapter::
 
 Answers may be numbers, sequences or arrays of numbers (compared element by element with
 ``|answer − solution| ≤ atol + rtol·|solution|``), dicts of numbers, booleans, strings,
-sets, :class:`~dstoolkit.MassFunction` or :class:`~dstoolkit.IntervalEvidence`.
+sets, :class:`~dstoolkit.evidence.MassFunction` or :class:`~dstoolkit.evidence.IntervalEvidence`.
 
 ``mistakes`` lists plausible wrong answers, each as a function computing it and the hint
 to give when a learner's answer matches it. They are recognised *before* the checker

@@ -118,7 +118,7 @@ def _() -> float:
 LAB_LAG_SAMPLES, LAB_SAMPLERATE = 6042, 44100
 #: The paper's sweep, Hz, and the lab's air temperature in the exercises, °C.
 LAB_BAND, LAB_TEMPERATURE = (1000.0, 2400.0), 20.0
-#: Resonances the detector needs (dstoolkit.resonance.detect_resonances, min_resonances).
+#: Resonances the detector needs (dstoolkit.gauge.detect_resonances, min_resonances).
 LAB_MIN_RESONANCES = 5
 #: Inner diameter of the narrow pipe of the cutoff exercise, m.
 LAB_CUTOFF_DIAMETER = 0.040

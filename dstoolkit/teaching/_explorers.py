@@ -28,7 +28,7 @@ a dict of numbers, a dict of controls, and the positions of its live controls::
 
 Sliders made by :func:`slider` use ``continuous_update=False``: the figure is redrawn
 when the mouse is released, so the page never stalls. A ``render`` that raises an
-:class:`~dstoolkit.EvidenceError` (or any ``ValueError``) shows the message in the
+:class:`~dstoolkit.errors.EvidenceError` (or any ``ValueError``) shows the message in the
 readout instead of a figure: the learner sees *why* a setting is invalid.
 
 Speed: a redraw keeps the axes where the first figure's layout engine put them (the layout
@@ -230,10 +230,13 @@ class Explorer(widgets.VBox):
 
     Attributes
     ----------
-    controls, readout, output
-        The control widgets (by name), the readout ``HTML`` and the figure's ``Output``.
-        On the static site the live controls are ``SelectionSlider``s (or the original
-        ``Dropdown``) and the others are disabled.
+    controls
+        The control widgets, by name.
+    readout
+        The ``HTML`` readout of the numbers.
+    output
+        The figure's ``Output``. On the static site the live controls are
+        ``SelectionSlider``s (or the original ``Dropdown``) and the others are disabled.
     figure
         The last figure drawn (closed; ``figure.savefig`` still works).
     numbers
@@ -731,7 +734,7 @@ def render_filter(
 ) -> tuple[Figure, dict[str, Any]]:
     """What :func:`filter_widget` recomputes on every change: the run's figure (estimates,
     hull and readings against the truth, absolute errors; the paper's Fig. 10) and the
-    numbers of :func:`filter_summary`."""
+    numbers of :func:`~dstoolkit.studies.filter_summary`."""
     seq, n, result = filter_case(
         level, temperature, state_noise=(v_lower, v_mode, v_upper),
         obs_noise=(w_lower, w_mode, w_upper), p=p, epsilon=epsilon, start=start,
@@ -923,7 +926,7 @@ class LabWidget(widgets.VBox):
     without a sound card — Record simulates the measurement on the virtual tube (its level,
     the thermometer's error and the room noise are controls; about 0.5 s); with devices it
     plays the sweep and records it through them (about 7 s), see
-    :func:`dstoolkit.lab.lab_measurement`. When the widget is built it measures once on the
+    :func:`dstoolkit.teaching.lab_measurement`. When the widget is built it measures once on the
     virtual tube, so that a book executed at build time shows a first result.
 
     Attributes
@@ -933,16 +936,19 @@ class LabWidget(widgets.VBox):
         ``thermometer_error``, ``room_noise``, ``through_virtual_tube``.
     button
         The Record button; ``button.click()`` records, as a click does.
-    readout, output
-        The ``HTML`` with the numbers (or the error message) and the ``Output`` with the
-        figures.
+    readout
+        The ``HTML`` with the numbers (or the error message).
+    output
+        The ``Output`` with the figures.
     analysis
-        The last :class:`~dstoolkit.measurement.Analysis`, None after a failure.
+        The last :class:`~dstoolkit.audio.Analysis`, None after a failure.
     numbers
-        The numbers shown (:func:`dstoolkit.lab.lab_numbers`), ``{"error": message}`` after
+        The numbers shown (:func:`dstoolkit.teaching.lab_numbers`), ``{"error": message}`` after
         a failure.
-    figure, method_figure
-        The last figures: recording and resonances; the level by every method.
+    figure
+        The last figure of the recording and its resonances.
+    method_figure
+        The last figure of the level by every method.
     measurements
         Records made so far; a simulated record uses it as its seed.
     """
@@ -1044,7 +1050,7 @@ class LabWidget(widgets.VBox):
         self.children = (*rows, site_note([site["level"]], True), stack)
 
     def settings(self) -> LabSettings:
-        """The controls as :class:`~dstoolkit.lab.LabSettings` (seed: the record count)."""
+        """The controls as :class:`~dstoolkit.teaching.LabSettings` (seed: the record count)."""
         v = {name: control.value for name, control in self.controls.items()}
         return LabSettings(temperature_c=v["temperature"], level_m=v["level"],
                            thermometer_error_c=v["thermometer_error"],
@@ -1169,10 +1175,10 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
                               simulation: str = "frequency", order_rule: str = "eq43",
                               figure: str = "Fig. 11: levels", seed: int = 0) -> Explorer:
     """One simulated sweep filtered by the paper's filter and Nassreddine's (the paper's
-    Figs. 10–11, :func:`dstoolkit.estimation_studies.gauge_run`): level, temperature, the
+    Figs. 10–11, :func:`dstoolkit.studies.gauge_run`): level, temperature, the
     simulation of the readings (the paper's w drawn i.i.d., or detected in a synthesised
     recording), where n_k comes from (eq. 43, the series fit, the truth), the run's seed and
-    which figure. Numbers: :func:`estimation_numbers`. A frequency-level redraw takes a
+    which figure. Numbers: ``estimation_numbers(run)``. A frequency-level redraw takes a
     few hundredths of a second, a waveform-level one a few tenths (a recording is
     synthesised and analysed): sliders redraw on release."""
     from dstoolkit.plots._experiments import plot_estimates
@@ -1219,7 +1225,7 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
 
 
 def mismatch_numbers(result: Any) -> dict[str, Any]:
-    """Mean |x̂ − x| (Hz) of each method of a :class:`~dstoolkit.estimation_studies.
+    """Mean |x̂ − x| (Hz) of each method of a :class:`~dstoolkit.studies.
     MismatchResult`, and the runs in which the strict bounded-error filter failed."""
     from dstoolkit.plots._experiments import STYLE
 
@@ -1235,7 +1241,7 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
     and w, true orders), each assuming the noise bounds set by the sliders (lower, mode,
     upper of v and of w): the assumed against the true possibility distributions, and the
     mean |x̂_k − x_k| per step of every method
-    (:func:`dstoolkit.estimation_studies.noise_mismatch`). ``start`` is the paper's filter's
+    (:func:`dstoolkit.studies.noise_mismatch`). ``start`` is the paper's filter's
     start value (a dropdown too). One redraw filters ``runs`` runs by five methods, a few
     tenths of a second: sliders redraw on release."""
     from dstoolkit.plots._studies import plot_noise_assumption, plot_step_errors

@@ -1,8 +1,8 @@
 """The lab: one measurement from the lab's settings, its pictures, and a wiring diagram.
 
-The lab chapter (``book/lab.md``) and its widget (:func:`dstoolkit.widgets.lab_widget`)
+The lab chapter (``book/lab.md``) and its widget (:func:`dstoolkit.teaching.lab_widget`)
 measure a level with a real sound card when one is chosen, and otherwise with the
-*virtual tube*: :func:`dstoolkit.measurement.simulate_measurement` builds the recording a
+*virtual tube*: :func:`dstoolkit.audio.simulate_measurement` builds the recording a
 loopback would return, calibration chirps and all, so the lab runs on any machine and in
 the book's build. :func:`lab_measurement` is that choice in one place.
 
@@ -38,6 +38,7 @@ from dstoolkit.plots._gauge import GREY, TRUTH_COLOUR
 
 #: The value of the device pickers that means "no sound card: the virtual tube".
 VIRTUAL = "virtual"
+#: How the device pickers show :data:`VIRTUAL`.
 VIRTUAL_LABEL = "virtual tube (no device)"
 
 
@@ -72,9 +73,11 @@ class LabSettings:
         RMS of the white noise added to a simulated recording, dB full scale.
     volume
         Peak of the played signal, full scale (0–1].
-    input_device, output_device
-        PortAudio device indices, or :data:`VIRTUAL`. The virtual tube is used when either
-        is :data:`VIRTUAL`.
+    input_device
+        PortAudio device index, or :data:`VIRTUAL`. The virtual tube is used when either
+        device is :data:`VIRTUAL`.
+    output_device
+        PortAudio device index, or :data:`VIRTUAL`.
     through_virtual_tube
         With devices: play the virtual tube's standing wave instead of the bare sweep (for a
         loopback, ``scripts/audio-loopback.sh``, with no tube attached).
@@ -116,9 +119,9 @@ class LabSettings:
 def lab_measurement(settings: LabSettings) -> measurement.Analysis:
     """Measure a level as the lab's controls say, and analyse it with every filter.
 
-    With the virtual tube: :func:`dstoolkit.measurement.simulate_measurement` (no audio at
-    all), then :func:`~dstoolkit.measurement.analyze`. With devices:
-    :func:`dstoolkit.measurement.measure` plays and records through them (about 7 s).
+    With the virtual tube: :func:`dstoolkit.audio.simulate_measurement` (no audio at
+    all), then :func:`~dstoolkit.audio.analyze`. With devices:
+    :func:`dstoolkit.audio.measure` plays and records through them (about 7 s).
 
     Raises
     ------
@@ -200,12 +203,13 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
     """How the latency is found: the recording with its two chirps and the sweep (top), the
     chirp's matched filter over the recording (middle) and around the opening chirp, in ms
     after it was played (bottom). Needs a recording made by
-    :func:`~dstoolkit.measurement.measure` or :func:`~dstoolkit.measurement.simulate_measurement`
+    :func:`~dstoolkit.audio.measure` or :func:`~dstoolkit.audio.simulate_measurement`
     (its metadata say when the chirp was played)."""
     meta, fs = recording.metadata, recording.samplerate
     if meta.latency_s is None or meta.sweep_onset_s is None:
-        raise InvalidInputError("the recording's metadata do not hold the calibration (latency and "
-                         "sweep onset); record it with dstoolkit.measurement.measure")
+        raise InvalidInputError("the recording's metadata do not hold the calibration "
+                                "(latency and sweep onset); record it with "
+                                "dstoolkit.audio.measure")
     chirp_s = audio.calibration_chirp(fs).size / fs
     played = meta.sweep_onset_s - meta.latency_s - measurement.CALIBRATION_GAP_S - chirp_s
     c = calibration_correlation(recording)

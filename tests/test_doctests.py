@@ -1,0 +1,55 @@
+"""The examples in the docstrings of the core run, and give what they show (doctest).
+
+Every module of the core (errors, evidence, filters, gauge, studies) and the command line
+is searched; the main public functions must carry an example.
+"""
+
+from __future__ import annotations
+
+import doctest
+import importlib
+import pkgutil
+
+import pytest
+
+CORE = ("dstoolkit.evidence", "dstoolkit.filters", "dstoolkit.gauge", "dstoolkit.studies")
+
+
+def _core_modules() -> list[str]:
+    names = ["dstoolkit", "dstoolkit.errors", "dstoolkit.cli"]
+    for package in CORE:
+        names.append(package)
+        path = importlib.import_module(package).__path__
+        names += [f"{package}.{info.name}" for info in pkgutil.iter_modules(path)]
+    return names
+
+
+@pytest.mark.parametrize("name", _core_modules())
+def test_docstring_examples(name: str) -> None:
+    module = importlib.import_module(name)
+    result = doctest.testmod(module, optionflags=doctest.ELLIPSIS, report=False)
+    assert result.failed == 0, f"{result.failed} of {result.attempted} examples failed"
+
+
+@pytest.mark.parametrize("qualname", [
+    "dstoolkit.evidence.dempster",
+    "dstoolkit.evidence.combine_dependent",
+    "dstoolkit.evidence.dependence",
+    "dstoolkit.evidence.energy",
+    "dstoolkit.evidence.triangular_evidence",
+    "dstoolkit.evidence.IntervalEvidence",
+    "dstoolkit.evidence.MassFunction",
+    "dstoolkit.filters.BoundedNoise",
+    "dstoolkit.filters.DependentEvidenceFilter.run",
+    "dstoolkit.gauge.speed_of_sound",
+    "dstoolkit.gauge.level_from_resonance",
+    "dstoolkit.gauge.level_from_fundamental",
+    "dstoolkit.gauge.orders_eq43",
+    "dstoolkit.gauge.direct_levels",
+    "dstoolkit.gauge.state_transition",
+    "dstoolkit.gauge.estimate_latency",
+])
+def test_main_functions_show_an_example(qualname: str) -> None:
+    obj = pkgutil.resolve_name(qualname)
+    tests = doctest.DocTestFinder(recurse=False).find(obj, qualname)
+    assert tests and tests[0].examples, f"{qualname} has no example in its docstring"
