@@ -44,12 +44,17 @@ cd "$book_root"
 # --- the print settings: _config.yml with a few keys changed ------------------------------
 pdf_config="_build/pdf-config.yml"
 python - "$pdf_config" <<'PY'
+import os
 import sys
 import yaml
 
 config = yaml.safe_load(open("_config.yml", encoding="utf-8"))
 latex = config.setdefault("latex", {})
 latex["latex_documents"] = {"targetname": "book.tex"}
+# local extensions are found relative to the config file, which moves into _build/
+extensions = config["sphinx"].get("local_extensions") or {}
+config["sphinx"]["local_extensions"] = {name: os.path.abspath(path)
+                                        for name, path in extensions.items()}
 sphinx = config.setdefault("sphinx", {}).setdefault("config", {})
 sphinx["hide_solutions"] = True  # sphinx-exercise: the exercises stay, the solutions go
 sphinx["latex_show_urls"] = "no"

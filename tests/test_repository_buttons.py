@@ -69,7 +69,8 @@ def _build(folder: Path, address: str) -> Path:
     config["repository"]["url"] = address
     # One print: with launch buttons the theme needs the executed notebook.
     config["execute"]["execute_notebooks"] = "force"
-    config["sphinx"]["local_extensions"] = {"sphinx_notebooks": str(ROOT / "scripts")}
+    config["sphinx"]["local_extensions"] = {
+        name: str(ROOT / path) for name, path in config["sphinx"]["local_extensions"].items()}
     (folder / "_config.yml").write_text(yaml.safe_dump(config), encoding="utf-8")
     (folder / "_toc.yml").write_text(yaml.safe_dump(TOC), encoding="utf-8")
     shutil.copytree(ROOT / "book" / "_static", folder / "book" / "_static")
