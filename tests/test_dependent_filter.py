@@ -142,7 +142,7 @@ def test_batch_equals_single_runs(gauge_runs):
 
 
 def test_object_path_equals_array_path(gauge):
-    """record=True merges focal elements and fuses with dstoolkit.combination; the array
+    """record=True merges focal elements and fuses with dstoolkit.evidence; the array
     path does not merge: same estimates, hulls and diagnostics."""
     for flt in (FILTER, DependentEvidenceFilter(mass_rule="m1", start="mean_corrected", p=2,
                                                 theta=PAPER_THETA)):
@@ -267,7 +267,7 @@ def test_bad_models_and_data_are_explained(gauge):
         DependentEvidenceFilter(on_conflict="ignore")
 
 
-# -- the kernels against dstoolkit.combination ----------------------------------------------------
+# -- the kernels against dstoolkit.evidence ----------------------------------------------------
 POOL = np.array([[0.0, 1.0], [0.0, 2.0], [0.5, 1.5], [1.0, 3.0], [-1.0, 0.5], [2.5, 4.0]])
 
 

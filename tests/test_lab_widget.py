@@ -227,7 +227,7 @@ def test_without_audio_only_the_virtual_tube_is_offered() -> None:
     assert station.controls["output"].options == ((VIRTUAL_LABEL, VIRTUAL),)
 
 
-# -- dstoolkit.lab ------------------------------------------------------------------------------
+# -- the lab helpers (dstoolkit.teaching) ----------------------------------------------------
 
 
 def test_imitated_failures_raise_the_real_messages_and_restore_sounddevice() -> None:

@@ -34,7 +34,7 @@ from dstoolkit.teaching import level_estimation_explorer, noise_bounds_explorer
 def state(ex):
     numbers = dict(ex.numbers)
     fig = ex.figure
-    numbers["title"] = fig.axes[0].get_title() if fig is not None else None
+    numbers["title"] = fig.axes[0].get_title(loc='left') if fig is not None else None
     numbers["lines"] = sum(len(ax.lines) for ax in fig.axes) if fig is not None else 0
     numbers["xmax"] = max(ax.get_xlim()[1] for ax in fig.axes) if fig is not None else 0
     numbers["continuous_update"] = [getattr(c, "continuous_update", False)

@@ -1,4 +1,4 @@
-"""The evidence explorers of dstoolkit.widgets: built in a kernel, a control changed in a
+"""The evidence explorers of dstoolkit.teaching: built in a kernel, a control changed in a
 later cell, and the figure and the printed numbers change (through nbclient, as the book's
 build executes them); plus quick in-process checks of what they show."""
 

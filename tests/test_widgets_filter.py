@@ -1,4 +1,4 @@
-"""The filter widgets of dstoolkit.widgets (filter_widget, filter_step_explorer) and the
+"""The filter widgets of dstoolkit.teaching (filter_widget, filter_step_explorer) and the
 extension-principle explorer: built in a kernel, a control changed in a later cell, and
 the printed estimates (the widget's numbers) and the figure change — through nbclient, as
 the book's build executes them; plus in-process checks of their structure and of what

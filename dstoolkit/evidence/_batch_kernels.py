@@ -1,6 +1,6 @@
 """Interval-evidence algebra on raw arrays with a leading run axis (for batch filters).
 
-The object path (:class:`~dstoolkit.IntervalEvidence` with :mod:`dstoolkit.combination`)
+The object path (:class:`~dstoolkit.IntervalEvidence` with :mod:`dstoolkit.evidence`)
 merges equal focal elements; these kernels never merge, so every run of a batch keeps the
 same number of focal elements and a whole batch is one numpy expression. Layout:
 :class:`~dstoolkit.evidence.Boxes`, boxes ``lo``/``hi`` of shape (R, N, d) and masses

@@ -1209,9 +1209,9 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
             fig = plot_estimates(run.level_m, levels.pop("direct"), levels, quantity="level",
                                  unit="m")
         top = fig.axes[0]
-        top.set_title(f"{top.get_title()}: L = {level:.1f} m, T = {temperature:.1f} °C, "
-                      f"{simulation}-level readings, n_k by {order_rule}, seed {seed}",
-                      fontsize=9)
+        top.set_title(f"{top.get_title(loc='left')}: L = {level:.1f} m, "
+                      f"T = {temperature:.1f} °C,\n{simulation}-level readings, "
+                      f"n_k by {order_rule}, seed {seed}", loc="left", fontsize=9)
         return fig, estimation_numbers(run)
 
     live = {"level": positions(controls["level"], 9, 1.6, 9.6),
