@@ -20,8 +20,9 @@ because the sweep changes frequency slowly (k Δ² ≪ 1 cycle per echo period).
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -264,22 +265,41 @@ def model_envelope(setup: TubeSetup, sweep: LinearSweep, emission_time_s: Any,
     return np.abs(total)
 
 
+def _shaped_draw(rng: np.random.Generator, n: int, shape: np.ndarray
+                 ) -> tuple[np.ndarray, float]:
+    """One draw of Gaussian noise whose amplitude spectrum is ``shape`` (on rfftfreq(n)),
+    and the RMS of the *process* it comes from (the root energy of its impulse response):
+    the draw times ``rms`` / that RMS has the process RMS ``rms``."""
+    x = np.fft.irfft(np.fft.rfft(rng.standard_normal(n)) * shape, n)
+    impulse = np.fft.irfft(shape.astype(complex), n)  # x = white ⊛ impulse (circular)
+    return x, float(np.sqrt(np.sum(impulse**2)))
+
+
 def _shaped_noise(rng: np.random.Generator, n: int, dt: float, shape: np.ndarray,
                   rms: float) -> np.ndarray:
     """Stationary Gaussian noise whose amplitude spectrum is ``shape`` (on rfftfreq(n, dt)),
     scaled so that the *process* has RMS ``rms`` (not each draw: draws vary as they should).
     """
-    x = np.fft.irfft(np.fft.rfft(rng.standard_normal(n)) * shape, n)
-    impulse = np.fft.irfft(shape.astype(complex), n)  # x = white ⊛ impulse (circular)
-    return x * (rms / np.sqrt(np.sum(impulse**2)))
+    x, process_rms = _shaped_draw(rng, n, shape)
+    return x * (rms / process_rms)
+
+
+def _gaussian_shape(n: int, dt: float, bandwidth_hz: float) -> np.ndarray:
+    """A Gaussian amplitude spectrum of width ``bandwidth_hz`` on rfftfreq(n, dt)."""
+    return np.exp(-0.5 * (np.fft.rfftfreq(n, dt) / bandwidth_hz) ** 2)
 
 
 def _gaussian_process(rng: np.random.Generator, n: int, dt: float, sigma: float,
                       bandwidth_hz: float) -> np.ndarray:
     """Zero-mean Gaussian series of RMS ``sigma`` with a Gaussian spectrum of width
     ``bandwidth_hz``."""
-    f = np.fft.rfftfreq(n, dt)
-    return _shaped_noise(rng, n, dt, np.exp(-0.5 * (f / bandwidth_hz) ** 2), sigma)
+    return _shaped_noise(rng, n, dt, _gaussian_shape(n, dt, bandwidth_hz), sigma)
+
+
+def _jitter_grid(sweep: LinearSweep, bandwidth_hz: float) -> tuple[np.ndarray, float]:
+    """Times (s since the sweep started) of the speaker's frequency error, and their step."""
+    dt = min(1e-3, 0.1 / bandwidth_hz)
+    return np.arange(-0.01, sweep.duration + 0.01 + dt, dt), dt
 
 
 def speaker_frequency_error(
@@ -287,20 +307,69 @@ def speaker_frequency_error(
 ) -> tuple[np.ndarray, np.ndarray]:
     """The speaker's frequency error δf(t) (Hz) over the sweep: ``(times, δf)`` on a grid
     of at most 1 ms; zero when ``conditions.speaker_jitter_hz`` is 0 (no draw is made)."""
-    dt = min(1e-3, 0.1 / conditions.speaker_jitter_bandwidth_hz)
-    t = np.arange(-0.01, sweep.duration + 0.01 + dt, dt)
+    t, dt = _jitter_grid(sweep, conditions.speaker_jitter_bandwidth_hz)
     if conditions.speaker_jitter_hz <= 0:
         return t, np.zeros(t.size)
     return t, _gaussian_process(rng, t.size, dt, conditions.speaker_jitter_hz,
                                 conditions.speaker_jitter_bandwidth_hz)
 
 
-def _pink_noise(rng: np.random.Generator, n: int, fs: float, rms: float) -> np.ndarray:
-    """Noise with 1/f power above 20 Hz (flat below, no DC) of RMS ``rms``."""
+def _pink_shape(n: int, fs: float) -> np.ndarray:
+    """The amplitude spectrum of 1/f power above 20 Hz (flat below, no DC)."""
     f = np.fft.rfftfreq(n, 1.0 / fs)
     shape = 1.0 / np.sqrt(np.maximum(f, 20.0))
     shape[0] = 0.0
-    return _shaped_noise(rng, n, 1.0 / fs, shape, rms)
+    return shape
+
+
+class _Draws(NamedTuple):
+    """The random draws of one recording, before they are scaled to the conditions: the
+    speaker's frequency error, the microphone's white noise, the pink background (each
+    None when its level is 0: then no draw is made). Shaped draws come with the RMS of
+    their process (:func:`_shaped_draw`)."""
+
+    jitter_times: np.ndarray
+    jitter: tuple[np.ndarray, float] | None
+    microphone: np.ndarray | None
+    background: tuple[np.ndarray, float] | None
+
+
+def _draw(rng: np.random.Generator, sweep: LinearSweep, n: int, jitter_bandwidth_hz: float,
+          jitter: bool, microphone: bool, background: bool) -> _Draws:
+    """The draws of a recording of ``n`` samples, in the order the generator makes them."""
+    t_j, dt = _jitter_grid(sweep, jitter_bandwidth_hz)
+    shaped = (_shaped_draw(rng, t_j.size, _gaussian_shape(t_j.size, dt, jitter_bandwidth_hz))
+              if jitter else None)
+    white = rng.standard_normal(n) if microphone else None
+    pink = _shaped_draw(rng, n, _pink_shape(n, sweep.sample_rate)) if background else None
+    return _Draws(t_j, shaped, white, pink)
+
+
+@functools.lru_cache(maxsize=4)
+def _seeded_draws(seed: int, sweep: LinearSweep, n: int, jitter_bandwidth_hz: float,
+                  jitter: bool, microphone: bool, background: bool) -> _Draws:
+    """:func:`_draw` with a fresh generator of an integer ``seed``, kept for the next
+    recording with the same seed (an explorer moving the level redraws the same noise).
+    The arrays are read-only."""
+    draws = _draw(np.random.default_rng(seed), sweep, n, jitter_bandwidth_hz, jitter,
+                  microphone, background)
+    for array in (draws.jitter_times, draws.microphone, *(draws.jitter or ()),
+                  *(draws.background or ())):
+        if isinstance(array, np.ndarray):
+            array.flags.writeable = False
+    return draws
+
+
+def _gated(values: np.ndarray, sweep: LinearSweep, e: np.ndarray) -> np.ndarray:
+    """``values`` times :meth:`LinearSweep.gate` at the ascending times ``e`` (s since the
+    sweep started, within it): the gate is computed only near the sweep's ends, where it is
+    not 1, so the product is the same number for number."""
+    margin = 2.0 * sweep.taper + 2.0 / sweep.sample_rate
+    a = int(np.searchsorted(e, margin))
+    b = max(a, int(np.searchsorted(e, sweep.duration - margin)))
+    values[:a] *= sweep.gate(e[:a])
+    values[b:] *= sweep.gate(e[b:])
+    return values
 
 
 def synthesize_recording(
@@ -318,12 +387,17 @@ def synthesize_recording(
     [−1, 1] and quantised. Seeded: equal arguments give equal recordings.
     """
     cond = RecordingConditions() if conditions is None else conditions
-    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     fs = sweep.sample_rate
     n = int(round((sweep.duration + cond.latency_s + cond.tail_s) * fs))
     u = np.arange(n) / fs - cond.latency_s
+    kinds = (cond.speaker_jitter_bandwidth_hz, cond.speaker_jitter_hz > 0,
+             cond.microphone_noise_pa > 0, cond.background_noise_pa > 0)
+    draws = (_seeded_draws(int(seed), sweep, n, *kinds) if isinstance(seed, int | np.integer)
+             else _draw(np.random.default_rng(seed), sweep, n, *kinds))
 
-    t_j, df = speaker_frequency_error(sweep, cond, rng)
+    t_j = draws.jitter_times
+    df = (draws.jitter[0] * (cond.speaker_jitter_hz / draws.jitter[1]) if draws.jitter
+          else np.zeros(t_j.size))
     psi_j = 2.0 * np.pi * np.concatenate(([0.0], np.cumsum(0.5 * (df[1:] + df[:-1])
                                                           * np.diff(t_j))))
 
@@ -337,19 +411,20 @@ def synthesize_recording(
         if hi <= lo:
             continue
         e = u[lo:hi] - m * delta
-        gain = setup.echo_gain(m, sweep.frequency_at(e))
+        gain = _gated(setup.echo_gain(m, sweep.frequency_at(e)), sweep, e)
         psi = np.interp(e, t_j, psi_j) if cond.speaker_jitter_hz > 0 else 0.0
-        pressure[lo:hi] += gain * sweep.gate(e) * np.cos(sweep.phase(e) + psi)
+        pressure[lo:hi] += gain * np.cos(sweep.phase(e) + psi)
     pressure *= cond.source_pressure_pa
 
-    if cond.microphone_noise_pa > 0:
-        pressure += cond.microphone_noise_pa * rng.standard_normal(n)
-    if cond.background_noise_pa > 0:
-        pressure += _pink_noise(rng, n, fs, cond.background_noise_pa)
+    if draws.microphone is not None:
+        pressure += cond.microphone_noise_pa * draws.microphone
+    if draws.background is not None:
+        pink, process_rms = draws.background
+        pressure += pink * (cond.background_noise_pa / process_rms)
 
     samples = np.clip(pressure / cond.full_scale_pa, -1.0, 1.0)
     if cond.bits is not None:
         q = 2.0 ** (cond.bits - 1)
         samples = np.clip(np.round(samples * q), -q, q - 1) / q
     return Recording(samples=samples, sweep=sweep, setup=setup, conditions=cond,
-                     speaker_error_times=t_j, speaker_error_hz=df)
+                     speaker_error_times=t_j.copy(), speaker_error_hz=df)
