@@ -72,7 +72,9 @@ class LinearSweep:
 
     def frequency_at(self, t: Any) -> np.ndarray:
         """Instantaneous frequency f(t) = f_start + k t (not clipped to the band)."""
-        return self.f_start + self.rate * np.asarray(t, dtype=float)
+        f = self.rate * np.asarray(t, dtype=float)
+        f += self.f_start  # in place: the gauge's synthesis calls this on 10⁵ samples per echo
+        return f
 
     def time_at(self, f: Any) -> np.ndarray:
         """Inverse of :meth:`frequency_at`: t = (f − f_start)/k."""
@@ -81,7 +83,10 @@ class LinearSweep:
     def phase(self, t: Any) -> np.ndarray:
         """φ(t) = 2π (f_start t + k t²/2), radians."""
         t = np.asarray(t, dtype=float)
-        return 2.0 * np.pi * t * (self.f_start + 0.5 * self.rate * t)
+        phi, f_mean = 2.0 * np.pi * t, 0.5 * self.rate * t
+        f_mean += self.f_start  # in place, as in frequency_at
+        phi *= f_mean
+        return phi
 
     def gate(self, t: Any) -> np.ndarray:
         """Amplitude window: 1 inside, raised-cosine ends of ``taper`` s, 0 outside."""

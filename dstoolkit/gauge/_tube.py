@@ -62,8 +62,15 @@ def wall_attenuation(
     c = 331.3 * np.sqrt(tk / 273.15)
     gamma, prandtl = 1.4, 0.71
     f = np.asarray(frequency_hz, dtype=float)
-    return (np.sqrt(np.pi * np.abs(f) * eta / rho) * (1.0 + (gamma - 1.0) / np.sqrt(prandtl))
-            / (0.5 * diameter_m * c))
+    # one array, then in place (the synthesis calls this on 10⁵ samples per echo)
+    alpha = np.abs(f, out=np.empty_like(f))
+    alpha *= np.pi
+    alpha *= eta
+    alpha /= rho
+    np.sqrt(alpha, out=alpha)
+    alpha *= 1.0 + (gamma - 1.0) / np.sqrt(prandtl)
+    alpha /= 0.5 * diameter_m * c
+    return alpha if alpha.ndim else alpha[()]
 
 
 @dataclass(frozen=True)
@@ -139,9 +146,10 @@ class TubeSetup:
 
     def attenuation(self, frequency_hz: Any) -> np.ndarray:
         """α(f), Np/m: wall loss × ``wall_loss_factor`` + ``extra_attenuation_np_per_m``."""
-        return (self.wall_loss_factor
-                * wall_attenuation(frequency_hz, self.diameter_m, self.temperature_c)
-                + self.extra_attenuation_np_per_m)
+        alpha = wall_attenuation(frequency_hz, self.diameter_m, self.temperature_c)
+        alpha *= self.wall_loss_factor  # in place for an array (a new one: ours to change)
+        alpha += self.extra_attenuation_np_per_m
+        return alpha
 
     def echo_gain(self, m: int, frequency_hz: Any) -> np.ndarray:
         """a_m(f) = (1 + R_t) R_s^m R_t^(m−1) e^(−2mLα(f)) at the microphone; a_0 = 1."""
@@ -149,8 +157,11 @@ class TubeSetup:
         if m == 0:
             return np.ones_like(f)
         rs, rt = self.surface_reflection, self.top_reflection
-        return ((1.0 + rt) * rs**m * rt ** (m - 1)
-                * np.exp(-2.0 * m * self.level_m * self.attenuation(f)))
+        gain = self.attenuation(f)
+        gain *= -2.0 * m * self.level_m  # in place for an array, as in attenuation
+        gain = np.exp(gain, out=gain) if isinstance(gain, np.ndarray) else np.exp(gain)
+        gain *= (1.0 + rt) * rs**m * rt ** (m - 1)
+        return gain
 
     def echo_count(self, f_min: float, floor: float = 1e-4, limit: int = 200) -> int:
         """Number of echoes whose gain at ``f_min`` (least loss) exceeds ``floor``."""
@@ -412,8 +423,12 @@ def synthesize_recording(
             continue
         e = u[lo:hi] - m * delta
         gain = _gated(setup.echo_gain(m, sweep.frequency_at(e)), sweep, e)
-        psi = np.interp(e, t_j, psi_j) if cond.speaker_jitter_hz > 0 else 0.0
-        pressure[lo:hi] += gain * np.cos(sweep.phase(e) + psi)
+        wave = sweep.phase(e)
+        if cond.speaker_jitter_hz > 0:
+            wave += np.interp(e, t_j, psi_j)
+        wave = np.cos(wave, out=wave)  # in place: no new array of 10⁵ samples per step
+        wave *= gain
+        pressure[lo:hi] += wave
     pressure *= cond.source_pressure_pa
 
     if draws.microphone is not None:

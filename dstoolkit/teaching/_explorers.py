@@ -93,6 +93,8 @@ from dstoolkit.plots._evidence import (
     plot_pbox,
     plot_possibility,
 )
+from dstoolkit.plots._gauge import gauge_detection_figure, update_gauge_detection
+from dstoolkit.plots._kept import KeptFigure
 from dstoolkit.studies import ORDER_SOURCES, filter_case, filter_summary, gauge_case, step_numbers
 
 from ._lab import (
@@ -899,7 +901,8 @@ def gauge_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
     background noise → the recording's envelope and its detected resonances beside the
     model n c/(2L) (eqs. 29–32), the detection error z_k − n_k f_F, and the level by the
     series fit and by eqs. 32/43. One recording (the paper's sweep, seeded) is synthesised
-    and analysed per change, about 0.3 s: the sliders redraw on release."""
+    and analysed per change (its noise draws are kept), and the figure is kept and updated;
+    the sliders redraw on release."""
     controls = {
         "level": slider("level L (m)", level_m, 1.0, 10.6, 0.1, readout_format=".1f"),
         "temperature": slider("temperature T (°C)", temperature_c, 0.0, 30.0, 0.5,
@@ -910,33 +913,14 @@ def gauge_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
                              readout_format=".0f"),
     }
 
+    figure = KeptFigure(gauge_detection_figure, update_gauge_detection)
+
     def render(level: float, temperature: float, top_reflection: float, background: float):
         setup = TubeSetup(level, temperature, top_reflection=top_reflection)
         cond = replace(GAUGE_CONDITIONS, background_noise_pa=spl_to_pa(background))
         det = detect_resonances(synthesize_recording(setup, PAPER_SWEEP, cond, seed=seed))
-        numbers = gauge_reading(setup, det)
-        f_f = setup.fundamental_hz
-        fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9.5, 4.8), layout="constrained",
-                                       sharex=True, height_ratios=[3, 2])
-        f_env = PAPER_SWEEP.frequency_at(det.envelope_times - det.latency_s)
-        keep = (f_env >= PAPER_SWEEP.f_start) & (f_env <= PAPER_SWEEP.f_stop)
-        ax1.plot(f_env[keep], det.envelope[keep], lw=0.8, color="#1f77b4", label="envelope")
-        ax1.vlines(setup.resonances(PAPER_SWEEP.band)[1], 0, 1, transform=ax1.get_xaxis_transform(),
-                   color="#2ca02c", lw=0.5, alpha=0.6, label="n c/(2L)")
-        ax1.plot(det.raw_frequencies - det.latency_offset_hz, det.amplitudes, "v", ms=4,
-                 color="#d62728", label="detected peaks")
-        ax1.set_ylabel("envelope (full scale)")
-        ax1.set_ylim(0.0, 1.3 * float(np.max(det.envelope[keep])))
-        ax1.set_title(f"L = {level:.1f} m, T = {temperature:.1f} °C, c = "
-                      f"{setup.speed_of_sound:.1f} m/s, f_F = {f_f:.2f} Hz")
-        ax1.legend(loc="upper center", ncols=3, fontsize=8, framealpha=0.9)
-        error = det.frequencies - np.rint(det.frequencies / f_f) * f_f
-        ax2.axhline(0.0, color="black", lw=0.6)
-        ax2.plot(det.frequencies, error, ".", color="#d62728")
-        ax2.set_ylabel("z_k − n_k f_F (Hz)")
-        ax2.set_xlabel("sweep frequency (Hz)")
-        ax2.set_xlim(PAPER_SWEEP.f_start, PAPER_SWEEP.f_stop)
-        return fig, numbers
+        numbers = gauge_reading(setup, det)  # before the figure changes: it may raise
+        return figure(setup, det), numbers
 
     live = {"level": positions(controls["level"], 9, 1.6, 9.6),
             "temperature": positions(controls["temperature"], 1, 5.0, 5.0)}
