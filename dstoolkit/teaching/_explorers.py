@@ -1198,7 +1198,7 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
     which figure. Numbers: ``estimation_numbers(run)``. A frequency-level redraw takes a
     few hundredths of a second, a waveform-level one a few tenths (a recording is
     synthesised and analysed): sliders redraw on release."""
-    from dstoolkit.plots._experiments import plot_estimates
+    from dstoolkit.plots._experiments import plot_estimates, update_estimates
     from dstoolkit.studies._estimation import gauge_run
 
     controls = {
@@ -1216,15 +1216,19 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
         "seed": int_slider("run (seed)", seed, 0, 20),
     }
 
+    kept = KeptFigure(plot_estimates, update_estimates)  # one per kind of figure
+    run_of = functools.lru_cache(maxsize=32)(gauge_run)  # the figure dropdown re-draws
+
     def render(level: float, temperature: float, simulation: str, order_rule: str,
                figure: str, seed: int):
-        run = gauge_run(level, temperature, simulation, order_rule, seed=seed)
-        if ESTIMATION_FIGURES[figure] == "frequency":
-            fig = plot_estimates(run.truth, run.readings, run.estimates)
+        run = run_of(level, temperature, simulation, order_rule, seed=seed)
+        kind = ESTIMATION_FIGURES[figure]
+        if kind == "frequency":
+            fig = kept(run.truth, run.readings, run.estimates, key=kind)
         else:
             levels = run.levels()
-            fig = plot_estimates(run.level_m, levels.pop("direct"), levels, quantity="level",
-                                 unit="m")
+            fig = kept(run.level_m, levels.pop("direct"), levels, quantity="level", unit="m",
+                       key=kind)
         top = fig.axes[0]
         top.set_title(f"{top.get_title(loc='left')}: L = {level:.1f} m, "
                       f"T = {temperature:.1f} °C,\n{simulation}-level readings, "
