@@ -1265,7 +1265,7 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
     (:func:`dstoolkit.studies.noise_mismatch`). ``start`` is the paper's filter's
     start value (a dropdown too). One redraw filters ``runs`` runs by five methods, a few
     tenths of a second: sliders redraw on release."""
-    from dstoolkit.plots._studies import plot_noise_assumption, plot_step_errors
+    from dstoolkit.plots._studies import noise_bounds_figure, update_noise_bounds_figure
     from dstoolkit.studies._estimation import noise_mismatch, tracking_data
 
     data = tracking_data(level_m, temperature_c, runs=runs, seed=seed)
@@ -1283,17 +1283,16 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
                                   description="start"),
     }
 
+    title = f"L = {level_m:.1f} m, {runs} runs, true orders"
+    kept = KeptFigure(functools.partial(noise_bounds_figure, title=title),
+                      update_noise_bounds_figure)
+
     def render(v_lower: float, v_mode: float, v_upper: float, w_lower: float, w_mode: float,
                w_upper: float, start: str):
         assumed_v = BoundedNoise(v_lower, v_mode, v_upper)
         assumed_w = BoundedNoise(w_lower, w_mode, w_upper)
         result = noise_mismatch(data, assumed_v, assumed_w, seed=seed, start=start)
-        fig = plt.figure(figsize=(11, 3.8), layout="constrained")
-        ax_v, ax_w, ax_e = fig.subplots(1, 3, width_ratios=[1, 1, 2.2])
-        plot_noise_assumption(v, assumed_v, ax_v, title="state noise v (Hz)")
-        plot_noise_assumption(w, assumed_w, ax_w, title="observation noise w (Hz)")
-        plot_step_errors(result.errors, ax_e,
-                         title=f"L = {level_m:.1f} m, {runs} runs, true orders")
+        fig = kept(v, w, assumed_v, assumed_w, result.errors)
         return fig, mismatch_numbers(result)
 
     live = {"w_upper": positions(controls["w_upper"], 8, -6.21, 4.29),
