@@ -166,5 +166,8 @@ def update_gauge_detection(fig: Figure, setup: TubeSetup, detection: DetectionRe
     f_f = setup.fundamental_hz
     ax2.lines[1].set_data(detection.frequencies,
                           detection.frequencies - np.rint(detection.frequencies / f_f) * f_f)
+    # The zero line's limits are found through the view limits (it spans the axes): start
+    # from an empty axes' view, so that a kept figure rounds as a fresh one does.
+    ax2.set_ylim(0.0, 1.0, auto=True)
     ax2.relim()
     ax2.autoscale_view()
