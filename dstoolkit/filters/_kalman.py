@@ -101,6 +101,21 @@ def _array_maps(model: StateSpaceModel, runs: int) -> ScalarMaps:
     )
 
 
+def _scalar_terms(model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
+                  x0: np.ndarray, cov0: np.ndarray) -> tuple[ScalarMaps, Any, Any, Any, Any]:
+    """What :func:`_scalar_recursion` runs on: the maps, x̂_1, P_1, the readings z_2..z_T and
+    the inputs u_1..u_{T−1}; Python floats for one run (the model's float maps when it
+    has them), (R,) arrays for a batch of R runs."""
+    runs, n_steps, _ = Z.shape
+    if runs == 1 and model.scalar_maps is not None:
+        inputs: Any = [None] * (n_steps - 1) if U is None else U[0].tolist()
+        return model.scalar_maps, x0.item(), cov0.item(), Z[0, 1:, 0].tolist(), inputs
+    inputs = [step_input(U, k) for k in range(1, n_steps)]
+    if runs == 1:
+        return _array_maps(model, 1), x0.item(), cov0.item(), Z[0, 1:, 0].tolist(), inputs
+    return _array_maps(model, runs), x0[:, 0], cov0[:, 0, 0], Z[:, 1:, 0].T, inputs
+
+
 def _scalar_recursion(
     maps: ScalarMaps, x: Any, cov: Any, readings: Any, inputs: Any,
     q: float, r: float, v_mean: float, w_mean: float,
@@ -224,20 +239,7 @@ class KalmanFilter(FilterBase):
             return xs, covs, nis
         noise = (float(model.state_noise.variance[0]), float(model.obs_noise.variance[0]),
                  float(model.state_noise.mean[0]), float(model.obs_noise.mean[0]))
-        if runs == 1:
-            maps = model.scalar_maps or _array_maps(model, runs)
-            start: tuple[Any, Any] = (x0.item(), cov0.item())
-            readings: Any = Z[0, 1:, 0].tolist()
-            if model.scalar_maps is not None:
-                inputs: Any = [None] * (n_steps - 1) if U is None else U[0].tolist()
-            else:
-                inputs = [step_input(U, k) for k in range(1, n_steps)]
-        else:
-            maps = _array_maps(model, runs)
-            start = (x0[:, 0], cov0[:, 0, 0])
-            readings = Z[:, 1:, 0].T
-            inputs = [step_input(U, k) for k in range(1, n_steps)]
-        out = _scalar_recursion(maps, *start, readings, inputs, *noise)
+        out = _scalar_recursion(*_scalar_terms(model, Z, U, x0, cov0), *noise)
         xs[:, 1:, 0], covs[:, 1:, 0, 0], nis[:, 1:] = (np.array(o).T for o in out)
         return xs, covs, nis
 
