@@ -305,6 +305,18 @@ def test_kalman_float_path_equals_the_array_path(level):
     np.testing.assert_array_equal(fast.diagnostics["nis"], plain.diagnostics["nis"])
 
 
+def test_kalman_refuses_float_maps_that_disagree_with_the_model():
+    """A gauge model whose f was replaced while its float maps were kept is refused, not
+    filtered with the old eq. 39."""
+    model = gauge_state_space_model()
+    seq = simulate_gauge(seed=0)
+    slower = dataclasses.replace(model, f=lambda x, u: 0.5 * model.f(x, u))
+    with pytest.raises(EvidenceError, match=r"scalar_maps\.f gives"):
+        KalmanFilter().run(slower, seq.readings, seq.inputs)
+    dropped = dataclasses.replace(slower, scalar_maps=None)
+    assert KalmanFilter().run(dropped, seq.readings, seq.inputs).estimates.shape == (83, 1)
+
+
 @pytest.mark.parametrize("flt", RIVALS, ids=IDS)
 def test_every_transition_input_is_checked_before_the_run(flt):
     """A non-positive order n_k at the last transition, or no orders at all, is refused at

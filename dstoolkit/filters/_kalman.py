@@ -24,6 +24,7 @@ Kalman filter has no evidence, and this band is its closest analogue.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -101,6 +102,24 @@ def _array_maps(model: StateSpaceModel, runs: int) -> ScalarMaps:
     )
 
 
+def _check_agreement(model: StateSpaceModel, maps: ScalarMaps, x: float, row: Any,
+                     u: np.ndarray | None) -> None:
+    """Refuse float maps that do not give the array maps' numbers at x̂_1 and the first
+    input: a model whose f or g was replaced while its ``scalar_maps`` were kept."""
+    arrays = _array_maps(model, 1)
+    pairs = {"f": (maps.f(x, row), arrays.f(x, u)),
+             "jacobian_f": (maps.jacobian_f(x, row), arrays.jacobian_f(x, u)),
+             "g": (maps.g(x), arrays.g(x)),
+             "jacobian_g": (maps.jacobian_g(x), arrays.jacobian_g(x))}
+    for name, (fast, plain) in pairs.items():
+        if not math.isclose(fast, plain, rel_tol=1e-9, abs_tol=1e-12):
+            raise EvidenceError(
+                f"the model's scalar_maps.{name} gives {fast!r} where its array map gives "
+                f"{plain!r} (x = {x!r}, u = {row!r}); rebuild scalar_maps for the model's "
+                "maps or set scalar_maps=None"
+            )
+
+
 def _scalar_terms(model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
                   x0: np.ndarray, cov0: np.ndarray) -> tuple[ScalarMaps, Any, Any, Any, Any]:
     """What :func:`_scalar_recursion` runs on: the maps, x̂_1, P_1, the readings z_2..z_T and
@@ -108,8 +127,9 @@ def _scalar_terms(model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
     has them), (R,) arrays for a batch of R runs."""
     runs, n_steps, _ = Z.shape
     if runs == 1 and model.scalar_maps is not None:
-        inputs: Any = [None] * (n_steps - 1) if U is None else U[0].tolist()
-        return model.scalar_maps, x0.item(), cov0.item(), Z[0, 1:, 0].tolist(), inputs
+        rows = [None] * (n_steps - 1) if U is None else U[0].tolist()
+        _check_agreement(model, model.scalar_maps, x0.item(), rows[0], step_input(U, 1))
+        return model.scalar_maps, x0.item(), cov0.item(), Z[0, 1:, 0].tolist(), rows
     inputs = [step_input(U, k) for k in range(1, n_steps)]
     if runs == 1:
         return _array_maps(model, 1), x0.item(), cov0.item(), Z[0, 1:, 0].tolist(), inputs
