@@ -20,6 +20,11 @@ Start: x̂_1 = g⁻¹(z_1 + E[w]) and P_1 the covariance of the uniform distribu
 box of states consistent with z_1, g⁻¹(z_1 + [w_lo, w_hi]) (a conservative prior: the
 reading is all the filter knows). ``lower``/``upper`` of the result are x̂ ± 3σ from P: the
 Kalman filter has no evidence, and this band is its closest analogue.
+
+For a scalar state and reading (the gauge, eqs. 39–40) every matrix is 1 × 1 and the
+recursion runs term by term: on Python floats for one run, through the model's float maps
+(:class:`ScalarMaps`) when it has them, and on arrays of runs for a batch, with the same
+operations in the same order, so every path gives the same numbers.
 """
 
 from __future__ import annotations
