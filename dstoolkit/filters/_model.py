@@ -140,8 +140,8 @@ class ScalarMaps:
     ``f(x, u)`` and ``jacobian_f(x, u)`` (∂f/∂x) take the state x as a float and the
     transition's input row u as a list of floats (None without inputs); ``g(x)`` and
     ``jacobian_g(x)`` (∂g/∂x) take x. Each returns a float and must give the same numbers
-    as the model's array maps; the inputs have already passed the array f's checks
-    (:func:`batch_readings` evaluates f on every transition's input).
+    as the model's array maps; the inputs have already passed the array f's checks (every
+    filter evaluates f on every transition's input before it starts).
     """
 
     f: Callable[[float, Any], float]
