@@ -385,6 +385,51 @@ def _gated(values: np.ndarray, sweep: LinearSweep, e: np.ndarray) -> np.ndarray:
     return values
 
 
+def _jitter_phase(draws: _Draws, jitter_hz: float) -> tuple[np.ndarray, np.ndarray | None]:
+    """The speaker's frequency error δf (Hz) on ``draws.jitter_times`` and its phase
+    ψ = 2π ∫ δf (trapezoids), None without jitter."""
+    t_j = draws.jitter_times
+    if draws.jitter is None:
+        return np.zeros(t_j.size), None
+    df = draws.jitter[0] * (jitter_hz / draws.jitter[1])
+    return df, 2.0 * np.pi * np.concatenate(([0.0], np.cumsum(0.5 * (df[1:] + df[:-1])
+                                                             * np.diff(t_j))))
+
+
+def _echo_span(u: np.ndarray, delay_s: float, duration_s: float) -> tuple[int, int]:
+    """The samples (``lo:hi`` of the times ``u``) that an echo ``delay_s`` late covers."""
+    return (int(np.searchsorted(u, delay_s)),
+            int(np.searchsorted(u, delay_s + duration_s, side="right")))
+
+
+def _echo_wave(sweep: LinearSweep, e: np.ndarray, gain: np.ndarray, t_j: np.ndarray,
+               psi_j: np.ndarray | None) -> np.ndarray:
+    """One echo at the times ``e`` since it left the speaker: gain × gate × cos(φ + ψ), the
+    arithmetic in place (no new array of 10⁵ samples per step; ``gain`` is overwritten)."""
+    gain = _gated(gain, sweep, e)
+    wave = sweep.phase(e)
+    if psi_j is not None:
+        wave += np.interp(e, t_j, psi_j)
+    wave = np.cos(wave, out=wave)
+    wave *= gain
+    return wave
+
+
+@functools.lru_cache(maxsize=2)
+def _seeded_direct_wave(seed: int, sweep: LinearSweep, n: int, latency_s: float,
+                        jitter_hz: float, kinds: tuple[float, bool, bool, bool]) -> np.ndarray:
+    """The direct wave (m = 0, a_0 = 1) of a recording with an integer seed: the same in
+    every tube, so kept (read-only) for the next recording with these conditions."""
+    u = np.arange(n) / sweep.sample_rate - latency_s
+    draws = _seeded_draws(seed, sweep, n, *kinds)
+    lo, hi = _echo_span(u, 0.0, sweep.duration)
+    e = u[lo:hi] - 0.0  # as the echoes' e = u − mΔ, m = 0
+    wave = _echo_wave(sweep, e, np.ones_like(e), draws.jitter_times,
+                      _jitter_phase(draws, jitter_hz)[1])
+    wave.flags.writeable = False
+    return wave
+
+
 def synthesize_recording(
     setup: TubeSetup,
     sweep: LinearSweep = PAPER_SWEEP,
@@ -409,27 +454,22 @@ def synthesize_recording(
              else _draw(np.random.default_rng(seed), sweep, n, *kinds))
 
     t_j = draws.jitter_times
-    df = (draws.jitter[0] * (cond.speaker_jitter_hz / draws.jitter[1]) if draws.jitter
-          else np.zeros(t_j.size))
-    psi_j = 2.0 * np.pi * np.concatenate(([0.0], np.cumsum(0.5 * (df[1:] + df[:-1])
-                                                          * np.diff(t_j))))
+    df, psi_j = _jitter_phase(draws, cond.speaker_jitter_hz)
 
     delta = setup.round_trip_s
     echoes = setup.echo_count(sweep.f_start, echo_floor)
     echoes = min(echoes, int(u[-1] / delta))
     pressure = np.zeros(n)
     for m in range(echoes + 1):
-        lo = np.searchsorted(u, m * delta)
-        hi = np.searchsorted(u, m * delta + sweep.duration, side="right")
+        lo, hi = _echo_span(u, m * delta, sweep.duration)
         if hi <= lo:
             continue
-        e = u[lo:hi] - m * delta
-        gain = _gated(setup.echo_gain(m, sweep.frequency_at(e)), sweep, e)
-        wave = sweep.phase(e)
-        if cond.speaker_jitter_hz > 0:
-            wave += np.interp(e, t_j, psi_j)
-        wave = np.cos(wave, out=wave)  # in place: no new array of 10⁵ samples per step
-        wave *= gain
+        if m == 0 and isinstance(seed, int | np.integer):  # no control of the tube moves it
+            wave = _seeded_direct_wave(int(seed), sweep, n, cond.latency_s,
+                                       cond.speaker_jitter_hz, kinds)
+        else:
+            e = u[lo:hi] - m * delta
+            wave = _echo_wave(sweep, e, setup.echo_gain(m, sweep.frequency_at(e)), t_j, psi_j)
         pressure[lo:hi] += wave
     pressure *= cond.source_pressure_pa
 
