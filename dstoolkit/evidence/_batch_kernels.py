@@ -25,7 +25,7 @@ Merging changes nothing here, because
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -81,6 +81,12 @@ def sizes(e: Boxes) -> np.ndarray:
 TINY = 1e-300
 
 
+def least(values: np.ndarray) -> float:
+    """The smallest of ``values`` (NaN if one is NaN), as a float; one element is read
+    directly (a tenth of the cost of a reduction)."""
+    return values.item() if values.size == 1 else float(np.minimum.reduce(values, axis=None))
+
+
 def columns(e: Boxes) -> np.ndarray:
     """Boxes (R, N, d) in the column layout (R, 2, d, N) of the Step 6 kernels: the ends
     (lo, hi) on axis 1, the focal elements last, so that every product and comparison of
@@ -127,16 +133,12 @@ class DependenceKernel:
         self.common = np.empty((runs, n2, 2))
         self.on, self.merged = self.common[..., 0], self.common[..., 1]
         self.m_d, self.weight = np.empty((runs, n2)), np.empty((runs, n2))
-        self.total, self.half = np.empty(runs), np.empty(runs)
-        self.en_t = np.empty((runs, 2))
-        self.out, self.theta_mass = out, theta_mass
-        self.energies = out[:3].T
-        self.reversed = out[1::-1].T
-        self.coefficients = out[4:6].T
+        self.single = runs == 1
+        self.rows = (*out, theta_mass[:, 0], theta_mass[:, 1])
 
     def compute(self) -> None:
         """Fill ``out`` and ``theta_mass`` from the current columns and masses."""
-        n1, out = self.n1, self.out
+        n1 = self.n1
         # widths and energies (eq. A1): Σ m/(w + ε) per evidence, times its u + ε
         np.subtract(self.hi, self.lo, out=self.width)
         if self.d > 1:
@@ -168,17 +170,27 @@ class DependenceKernel:
             m_d = np.multiply(self.merged, self.on > 0, out=self.m_d)
         np.divide(self.share[:, 1, n1:], self.merged, out=self.weight)
         np.vecdot(m_d, self.weight, out=self.sums[:, 2])
-        np.multiply(units, self.sums, out=self.energies)
-        # D = 2 En'(E1, E2)/(En'(E1) + En'(E2)) (eq. A4); R12 = 1 − D/2 · En'(E2)/En'(E1),
-        # R21 likewise (eqs. A5–A6); TINY turns 0/0 into 0 (no energy: D = 0, R = 1)
-        total = np.add(out[0], out[1], out=self.total)
-        total += TINY
-        half = np.divide(out[2], total, out=self.half)
-        np.add(half, half, out=out[3])
-        np.add(self.energies[:, :2], TINY, out=self.en_t)
-        np.divide(self.reversed, self.en_t, out=self.theta_mass)
-        self.theta_mass *= half[:, None]
-        np.subtract(1.0, self.theta_mass, out=self.coefficients)
+        # the six figures per run: in plain floats for one run (a numpy call on one element
+        # costs ten float operations), else in arrays
+        args = ((*self.units[0].tolist(), *self.sums[0].tolist()) if self.single
+                else (*self.units.T, *self.sums.T))
+        for row, value in zip(self.rows, dependence_figures(*args), strict=True):
+            row[...] = value
+
+
+def dependence_figures(u1: Any, u2: Any, u12: Any, s1: Any, s2: Any, s12: Any
+                       ) -> tuple[Any, ...]:
+    """En'(E1), En'(E2), En'(E1, E2), D, R12, R21, 1 − R12, 1 − R21 (eqs. A1, A3–A6) from
+    the smallest live widths + ε of E1, E2 and both (u1, u2, u12) and the sums Σ m/(w + ε)
+    of eqs. A1 and A3 (s1, s2, s12); floats or arrays alike.
+
+    D = 2 En'(E1, E2)/(En'(E1) + En'(E2)) (eq. A4); R12 = 1 − D/2 · En'(E2)/En'(E1), R21
+    likewise (eqs. A5–A6); ε = :data:`TINY` turns 0/0 into 0 (no energy: D = 0, R = 1).
+    """
+    en1, en2, joint = u1 * s1, u2 * s2, u12 * s12
+    half = joint / (en1 + en2 + TINY)
+    t12, t21 = en2 / (en1 + TINY) * half, en1 / (en2 + TINY) * half
+    return en1, en2, joint, half + half, 1.0 - t12, 1.0 - t21, t12, t21
 
 
 def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool = True
@@ -285,7 +297,7 @@ class ProductKernel:
         np.matmul(stack, self.a_col, out=partial)
         np.matmul(self.b_row, partial, out=sums)
         kept = self.kept
-        ok = None if np.minimum.reduce(kept) > CONFLICT_TOLERANCE else kept > CONFLICT_TOLERANCE
+        ok = None if least(kept) > CONFLICT_TOLERANCE else kept > CONFLICT_TOLERANCE
         np.divide(self.total, kept[:, None] if ok is None else np.where(ok, kept, 1.0)[:, None],
                   out=est)
         est *= 0.5
@@ -301,9 +313,8 @@ class ProductKernel:
         ends = self.work.ends
         if theta is not None:
             i, j = theta
-            if (np.minimum.reduce(self.a_mass[:, i]) > 0.0
-                    and np.minimum.reduce(self.b_mass[:, j]) > 0.0
-                    and np.minimum.reduce(self.nonempty[:, j, i]) > 0.0):
+            if (least(self.a_mass[:, i]) > 0.0 and least(self.b_mass[:, j]) > 0.0
+                    and least(self.nonempty[:, j, i]) > 0.0):
                 np.copyto(out, ends[:, :, :, j, i])
                 return out
         mass = self.b_mass[:, :, None] * self.a_mass[:, None, :]  # (R, N_b, N_a)

@@ -155,7 +155,7 @@ def _fuse(cols: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, rul
         scale = 0.5 / kept if ok[r] else 0.5
         for c in range(d):
             est[r, c] *= scale
-        diag[r, 0] = 1.0 - kept
+        diag[r, 0] = kept
         diag[r, 1] = en1
         diag[r, 2] = en2
         diag[r, 3] = joint
@@ -181,7 +181,7 @@ def fuse_dependent(cols: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1:
     ``cols`` (R, ≥ 2, d, N) holds the columns of the array path (lo, hi, ... on axis 1):
     one free column, E1 (n1 columns, masses ``back_mass`` (R, n1), 0 for placeholders),
     then E2 (masses ``rho`` (N_2,), all positive); writes the expectation into ``est``
-    (R, d), (K, En'(E1), En'(E2), En'(E1, E2), D, R12, R21) into ``diag`` (R, 7) and the
+    (R, d), (1 − K, En'(E1), En'(E2), En'(E1, E2), D, R12, R21) into ``diag`` (R, 7) and the
     hull into ``bounds`` (R, 2, d) (lower, upper); returns the mask of runs with K < 1.
     """
     runs = cols.shape[0]

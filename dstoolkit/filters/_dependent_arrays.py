@@ -28,7 +28,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from dstoolkit.errors import EvidenceError, NotMonotoneError
-from dstoolkit.evidence._batch_kernels import DependenceKernel, ProductKernel, _coefficient_error
+from dstoolkit.evidence._batch_kernels import (
+    DependenceKernel,
+    ProductKernel,
+    _coefficient_error,
+    least,
+)
 from dstoolkit.evidence._boxes import Boxes
 from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
 from dstoolkit.evidence._compiled import fuse_dependent
@@ -190,7 +195,7 @@ class StepArrays:
         n1 = nw * np_
         na, size = n1 + 1, n1 + np_ + 2
         self.flt, self.maps, self.noise, self.runs = flt, maps, noise, runs
-        self.g_inverse = model.inverse()
+        self.f, self.g, self.g_inverse = model.f, model.g, model.inverse()
         self.n, self.m, self.nv, self.nw, self.np, self.n1 = n, m, nv, nw, np_, n1
         # -- Step 1, laid out for the broadcasts of every step --------------------------------
         v_lo, v_hi = noise.v.lo[0], noise.v.hi[0]  # (Nv, n)
@@ -247,7 +252,6 @@ class StepArrays:
         self.snap_scale_grid = self.snap_scale[:, None, :, None]
         self.distance = np.empty((runs, 2, n, nw, np_))
         self.near = np.empty((runs, 2, n, nw, np_), dtype=bool)
-        self.kept4 = np.empty(runs)
         # -- Step 6: masses [E1, E2] for the dependence, [Θ1, E1, E2, Θ2] for Dempster's rule
         self.masses = np.zeros((runs, 2, n1 + np_))
         self.masses[:, 1, n1:] = self.rho
@@ -255,7 +259,8 @@ class StepArrays:
         self.ab_mass = np.empty((runs, size))
         self.e1_mass, self.e2_mass = self.ab_mass[:, 1:na], self.ab_mass[:, na:na + np_]
         self.diag = np.full((8, runs), np.nan)
-        """k4, k6, En'(E1), En'(E2), En'(E1, E2), D, R12, R21 of the last step, (8, R)."""
+        """1 − k4, 1 − k6, En'(E1), En'(E2), En'(E1, E2), D, R12, R21 of the last step (the
+        masses kept by Dempster's rule in Steps 4 and 6 rather than K), (8, R)."""
         self.r12, self.r21 = self.diag[6, :, None], self.diag[7, :, None]
         self.compiled = flt.kernel == "numba"
         if self.compiled:
@@ -281,7 +286,7 @@ class StepArrays:
         fi = self.f_image
         if fi is not None:
             np.add(xhat[:, None, None], self.f_offsets, out=self.f_points)
-            values = fi.keep(t, np.asarray(self.maps.model.f(self.f_points, u), dtype=float))
+            values = fi.keep(t, np.asarray(self.f(self.f_points, u), dtype=float))
             np.add(values[:, :2, :, :, None], self.v, out=self.e2_pairs)
         else:
             lo, hi = predict(self.maps, self.noise, xhat,
@@ -294,12 +299,12 @@ class StepArrays:
 
     def _observe(self, t: int) -> tuple[np.ndarray, np.ndarray]:
         """Step 3: g of every predicted box, (lo, hi) of shape (R, Np, m)."""
-        gi, g = self.g_image, self.maps.model.g
+        gi = self.g_image
         if gi is None:
             return observe(self.maps, self.e2_lo, self.e2_hi)
         points = (self.e2_points if gi.increasing
                   else gi.points(self.e2_lo, self.e2_hi, self.g_points))
-        values = gi.keep(t, np.asarray(g(points), dtype=float))
+        values = gi.keep(t, np.asarray(self.g(points), dtype=float))
         return values[:, 0], values[:, 1]
 
     def check_images(self, steps: int) -> None:
@@ -340,13 +345,12 @@ class StepArrays:
             np.less_equal(self.fused_lo[..., 0], self.fused_hi[..., 0], out=self.nonempty4)
         else:
             np.logical_and.reduce(self.fused_lo <= self.fused_hi, axis=-1, out=self.nonempty4)
-        back_mass, kept4 = self.back_mass, self.kept4
+        back_mass, kept4 = self.back_mass, self.diag[0]
         np.multiply(self.rho_w, self.nonempty_rows, out=back_mass)
         if not self.rho_w_positive:
             np.greater(back_mass, 0.0, out=self.live)
         np.add.reduce(back_mass, axis=1, out=kept4)
-        np.subtract(1.0, kept4, out=self.diag[0])
-        if np.minimum.reduce(kept4) > CONFLICT_TOLERANCE:
+        if least(kept4) > CONFLICT_TOLERANCE:
             np.divide(back_mass, kept4[:, None], out=back_mass)
             return None
         ok4 = kept4 > CONFLICT_TOLERANCE
@@ -387,10 +391,10 @@ class StepArrays:
         if self.compiled:
             return self._fuse_compiled(t, est, bounds)
         self.dependence.compute()
-        if np.minimum.reduce(self.e1_width, axis=None) < 0.0:
+        if least(self.e1_width) < 0.0:
             self._empty_box(t)
-        if np.maximum.reduce(self.ab_mass[:, ::self.ab_mass.shape[1] - 1], axis=None) > 1.0:
-            self._coefficients_error(t)  # R < 0: only mass_rule="m2" can do that
+        if least(self.diag[6:8]) < 0.0:
+            self._coefficients_error(t)  # only mass_rule="m2" can do that
         np.multiply(self.back_mass, self.r12, out=self.e1_mass)
         np.multiply(self.rho, self.r21, out=self.e2_mass)
         live = self.live[:, None]
@@ -402,7 +406,7 @@ class StepArrays:
         np.maximum.reduce(self.e2[:, 1], axis=-1, out=self.theta2[:, 1])
         products = self.products
         ok = products.combine(est[:, t])
-        np.subtract(1.0, products.kept, out=self.diag[1])
+        np.copyto(self.diag[1], products.kept)
         if bounds is not None:
             products.hull(self.theta, bounds[:, t])
         return ok
