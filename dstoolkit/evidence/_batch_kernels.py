@@ -87,6 +87,12 @@ def least(values: np.ndarray) -> float:
     return values.item() if values.size == 1 else float(np.minimum.reduce(values, axis=None))
 
 
+def per_run(values: np.ndarray) -> Any:
+    """``values`` (R,) as a column (R, 1) that broadcasts over each run's row, or for one
+    run as a float (a numpy scalar operand costs as much as an array)."""
+    return values.item() if values.size == 1 else values[:, None]
+
+
 def columns(e: Boxes) -> np.ndarray:
     """Boxes (R, N, d) in the column layout (R, 2, d, N) of the Step 6 kernels: the ends
     (lo, hi) on axis 1, the focal elements last, so that every product and comparison of
@@ -134,25 +140,30 @@ class DependenceKernel:
         self.on, self.merged = self.common[..., 0], self.common[..., 1]
         self.m_d, self.weight = np.empty((runs, n2)), np.empty((runs, n2))
         self.single = runs == 1
-        self.rows = (*out, theta_mass[:, 0], theta_mass[:, 1])
+        # where the figures go: one run's as a row of floats, else as arrays (R,)
+        self.figures = (out[:, 0], theta_mass[0]) if self.single else (out, theta_mass.T)
+        self.coefficients = out[4:6]
 
-    def compute(self) -> None:
-        """Fill ``out`` and ``theta_mass`` from the current columns and masses."""
+    def compute(self) -> bool:
+        """Fill ``out`` and ``theta_mass`` from the current columns and masses; returns
+        whether R12 and R21 lie in [0, 1] in every run (``mass_rule="m2"`` can break that:
+        D, En ≥ 0 keep R ≤ 1). ``units[:, 0]`` is then the smallest width of E1's live
+        focal elements, negative if one is empty."""
         n1 = self.n1
         # widths and energies (eq. A1): Σ m/(w + ε) per evidence, times its u + ε
         np.subtract(self.hi, self.lo, out=self.width)
         if self.d > 1:
             np.multiply.reduce(self.width, axis=1, out=self.volume)
-        wt = np.add(self.volume, TINY, out=self.wt)
-        np.divide(self.masses, wt[:, None], out=self.share)
+        volume = self.volume
+        np.divide(self.masses, np.add(volume, TINY, out=self.wt)[:, None], out=self.share)
         np.add.reduce(self.share, axis=2, out=self.sums[:, :2])
         units = self.units
         if self.live is None:
-            np.minimum.reduce(wt[:, :n1], axis=1, out=units[:, 0])
+            np.minimum.reduce(volume[:, :n1], axis=1, out=units[:, 0])
         else:
-            np.minimum.reduce(wt[:, :n1], axis=1, where=self.live, initial=np.inf,
+            np.minimum.reduce(volume[:, :n1], axis=1, where=self.live, initial=np.inf,
                               out=units[:, 0])
-        np.minimum.reduce(wt[:, n1:], axis=1, out=units[:, 1])
+        np.minimum.reduce(volume[:, n1:], axis=1, out=units[:, 1])
         np.minimum(units[:, 0], units[:, 1], out=units[:, 2])
         # m1(D), m2(D) of every focal element D of E2: [A_i = B_j] per run (eq. A3)
         np.equal(self.e2, self.all, out=self.equal_ends)
@@ -172,22 +183,27 @@ class DependenceKernel:
         np.vecdot(m_d, self.weight, out=self.sums[:, 2])
         # the six figures per run: in plain floats for one run (a numpy call on one element
         # costs ten float operations), else in arrays
-        args = ((*self.units[0].tolist(), *self.sums[0].tolist()) if self.single
-                else (*self.units.T, *self.sums.T))
-        for row, value in zip(self.rows, dependence_figures(*args), strict=True):
-            row[...] = value
+        if self.single:
+            figures = dependence_figures(*self.units[0].tolist(), *self.sums[0].tolist())
+            valid = not (figures[4] < 0.0 or figures[5] < 0.0)
+        else:
+            figures = dependence_figures(*self.units.T, *self.sums.T)
+            valid = not np.fmin.reduce(self.coefficients, axis=None) < 0.0
+        rows, theta_rows = self.figures
+        rows[...], theta_rows[...] = figures[:6], figures[6:]
+        return valid
 
 
 def dependence_figures(u1: Any, u2: Any, u12: Any, s1: Any, s2: Any, s12: Any
                        ) -> tuple[Any, ...]:
     """En'(E1), En'(E2), En'(E1, E2), D, R12, R21, 1 − R12, 1 − R21 (eqs. A1, A3–A6) from
-    the smallest live widths + ε of E1, E2 and both (u1, u2, u12) and the sums Σ m/(w + ε)
-    of eqs. A1 and A3 (s1, s2, s12); floats or arrays alike.
+    the smallest live widths of E1, E2 and both (u1, u2, u12) and the sums Σ m/(w + ε) of
+    eqs. A1 and A3 (s1, s2, s12); floats or arrays alike.
 
     D = 2 En'(E1, E2)/(En'(E1) + En'(E2)) (eq. A4); R12 = 1 − D/2 · En'(E2)/En'(E1), R21
     likewise (eqs. A5–A6); ε = :data:`TINY` turns 0/0 into 0 (no energy: D = 0, R = 1).
     """
-    en1, en2, joint = u1 * s1, u2 * s2, u12 * s12
+    en1, en2, joint = (u1 + TINY) * s1, (u2 + TINY) * s2, (u12 + TINY) * s12
     half = joint / (en1 + en2 + TINY)
     t12, t21 = en2 / (en1 + TINY) * half, en1 / (en2 + TINY) * half
     return en1, en2, joint, half + half, 1.0 - t12, 1.0 - t21, t12, t21
@@ -213,8 +229,8 @@ def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool =
     masses[:, 0, :na], masses[:, 1, na:] = a.mass, b.mass
     out, theta_mass = np.empty((6, runs)), np.empty((runs, 2))
     live = np.ascontiguousarray(np.broadcast_to(a.mass > 0, (runs, na)))
-    DependenceKernel(cols, masses, na, mass_rule, out, theta_mass, live).compute()
-    if check and out[4:6].min() < 0.0:  # D, En ≥ 0 keep R ≤ 1
+    valid = DependenceKernel(cols, masses, na, mass_rule, out, theta_mass, live).compute()
+    if check and not valid:
         _coefficient_error(out[4], out[5], out[3], mass_rule)
     return BatchDependence(*out)
 
@@ -297,10 +313,13 @@ class ProductKernel:
         np.matmul(stack, self.a_col, out=partial)
         np.matmul(self.b_row, partial, out=sums)
         kept = self.kept
-        ok = None if least(kept) > CONFLICT_TOLERANCE else kept > CONFLICT_TOLERANCE
-        np.divide(self.total, kept[:, None] if ok is None else np.where(ok, kept, 1.0)[:, None],
-                  out=est)
-        est *= 0.5
+        if least(kept) > CONFLICT_TOLERANCE:
+            ok = None
+            scale = 0.5 / per_run(kept)
+        else:
+            ok = kept > CONFLICT_TOLERANCE
+            scale = 0.5 / np.where(ok, kept, 1.0)[:, None]
+        np.multiply(self.total, scale, out=est)
         return ok
 
     def hull(self, theta: tuple[int, int] | None, out: np.ndarray) -> np.ndarray:

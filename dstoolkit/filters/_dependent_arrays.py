@@ -33,6 +33,7 @@ from dstoolkit.evidence._batch_kernels import (
     ProductKernel,
     _coefficient_error,
     least,
+    per_run,
 )
 from dstoolkit.evidence._boxes import Boxes
 from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
@@ -247,6 +248,7 @@ class StepArrays:
         self.prior_source = e2.transpose(0, 1, 3, 2)[:, :, None]
         self.prior_rows = (_view(self.prior[:, 0], runs, n1, n),
                            _view(self.prior[:, 1], runs, n1, n))
+        self.snap_signs = np.array([-SNAP_RTOL, SNAP_RTOL])[:, None, None]
         self.magnitude = np.empty((runs, 2, n, np_))
         self.snap_scale = np.empty((runs, n, np_))
         self.snap_scale_grid = self.snap_scale[:, None, :, None]
@@ -269,7 +271,10 @@ class StepArrays:
         self.dependence = DependenceKernel(
             boxes[:, :2, :, 1:size - 1], self.masses, n1, flt.mass_rule, self.diag[2:],
             self.ab_mass[:, ::size - 1], self.live)
-        self.e1_width = self.dependence.width[..., :n1]
+        # an empty box of E1 has a negative width: for n = 1 the smallest live one (placeholders
+        # are predicted boxes), else any width of any box
+        self.e1_least_width = (self.dependence.units[:, 0] if n == 1
+                               else self.dependence.width[..., :n1])
         self.products = ProductKernel(boxes[:, :2, :, :na], boxes[:, :2, :, na:],
                                       self.ab_mass[:, :na], self.ab_mass[:, na:])
         self.theta = (0, np_)
@@ -282,14 +287,15 @@ class StepArrays:
 
     # -- Steps 2 and 3 -----------------------------------------------------------------------
     def _predict(self, t: int, xhat: np.ndarray, u: np.ndarray | None) -> None:
-        """Step 2 into E2's columns: f(x̂ + V_i) + V_j, column i·N_v + j (eqs. 13, 16–19)."""
+        """Step 2 into E2's columns: f(x̂ + V_i) + V_j, column i·N_v + j (eqs. 13, 16–19);
+        x̂ (R, 1, 1, n)."""
         fi = self.f_image
         if fi is not None:
-            np.add(xhat[:, None, None], self.f_offsets, out=self.f_points)
+            np.add(xhat, self.f_offsets, out=self.f_points)
             values = fi.keep(t, np.asarray(self.f(self.f_points, u), dtype=float))
             np.add(values[:, :2, :, :, None], self.v, out=self.e2_pairs)
         else:
-            lo, hi = predict(self.maps, self.noise, xhat,
+            lo, hi = predict(self.maps, self.noise, xhat[:, 0, 0],
                              with_input(self.maps.model.f, None if u is None else u[:, 0, 0]))
             np.copyto(self.e2_lo, lo)
             np.copyto(self.e2_hi, hi)
@@ -298,14 +304,15 @@ class StepArrays:
             self.centre *= 0.5
 
     def _observe(self, t: int) -> tuple[np.ndarray, np.ndarray]:
-        """Step 3: g of every predicted box, (lo, hi) of shape (R, Np, m)."""
+        """Step 3: g of every predicted box, (lo, hi) of shape (R, 1, Np, m)."""
         gi = self.g_image
         if gi is None:
-            return observe(self.maps, self.e2_lo, self.e2_hi)
+            lo, hi = observe(self.maps, self.e2_lo, self.e2_hi)
+            return lo[:, None], hi[:, None]
         points = (self.e2_points if gi.increasing
                   else gi.points(self.e2_lo, self.e2_hi, self.g_points))
         values = gi.keep(t, np.asarray(self.g(points), dtype=float))
-        return values[:, 0], values[:, 1]
+        return values[:, 0, None], values[:, 1, None]
 
     def check_images(self, steps: int) -> None:
         """The deferred monotonicity checks of steps 2..``steps`` (Prop. 2)."""
@@ -326,7 +333,7 @@ class StepArrays:
         the input of f, shaped to broadcast against (R, 3, N_v, n). Returns the masks of
         the runs where Steps 4 and 6 exist (None: all of them).
         """
-        self._predict(t, est[:, t - 1], u)
+        self._predict(t, est[:, t - 1, None, None], u)
         ok4 = self._fuse_observation(t, *self._observe(t))
         if ok4 is None:
             return None, self._fuse_dependent(t, est, bounds)
@@ -339,8 +346,8 @@ class StepArrays:
         E1's masses and k4 into :attr:`diag`. Returns None, or the mask of the runs whose
         combination exists (runs in total conflict get masses 0)."""
         zw = self.zw[t]
-        np.maximum(pz_lo[:, None], zw[0], out=self.fused_lo)
-        np.minimum(pz_hi[:, None], zw[1], out=self.fused_hi)
+        np.maximum(pz_lo, zw[0], out=self.fused_lo)
+        np.minimum(pz_hi, zw[1], out=self.fused_hi)
         if self.m == 1:
             np.less_equal(self.fused_lo[..., 0], self.fused_hi[..., 0], out=self.nonempty4)
         else:
@@ -351,7 +358,7 @@ class StepArrays:
             np.greater(back_mass, 0.0, out=self.live)
         np.add.reduce(back_mass, axis=1, out=kept4)
         if least(kept4) > CONFLICT_TOLERANCE:
-            np.divide(back_mass, kept4[:, None], out=back_mass)
+            np.divide(back_mass, per_run(kept4), out=back_mass)
             return None
         ok4 = kept4 > CONFLICT_TOLERANCE
         self._check_conflict(ok4, t, 4)
@@ -371,10 +378,10 @@ class StepArrays:
         lo, hi = self.g_inverse(*self.fused_rows, *self.prior_rows)
         np.copyto(self.e1_lo, lo)
         np.copyto(self.e1_hi, hi)
-        # snap_to_prior on the columns: |back − prior| ≤ SNAP_RTOL · max(|prior's ends|)
-        np.abs(self.e2, out=self.magnitude)
+        # snap_to_prior on the columns: |back − prior| ≤ SNAP_RTOL · max(|lo|, |hi|) of the
+        # prior, = SNAP_RTOL · max(−lo, hi) since lo ≤ hi
+        np.multiply(self.e2, self.snap_signs, out=self.magnitude)
         np.maximum(self.magnitude[:, 0], self.magnitude[:, 1], out=self.snap_scale)
-        self.snap_scale *= SNAP_RTOL
         np.subtract(self.e1_grid, self.e2_by_origin, out=self.distance)
         np.abs(self.distance, out=self.distance)
         np.less_equal(self.distance, self.snap_scale_grid, out=self.near)
@@ -390,10 +397,10 @@ class StepArrays:
         self._map_back(t)
         if self.compiled:
             return self._fuse_compiled(t, est, bounds)
-        self.dependence.compute()
-        if least(self.e1_width) < 0.0:
+        valid = self.dependence.compute()
+        if least(self.e1_least_width) < 0.0:
             self._empty_box(t)
-        if least(self.diag[6:8]) < 0.0:
+        if not valid:
             self._coefficients_error(t)  # only mass_rule="m2" can do that
         np.multiply(self.back_mass, self.r12, out=self.e1_mass)
         np.multiply(self.rho, self.r21, out=self.e2_mass)
