@@ -130,7 +130,7 @@ class DependenceKernel:
         self.volume = self.width[:, 0] if d == 1 else np.empty((runs, n))
         self.wt = np.empty((runs, n))
         self.share = np.empty((runs, 2, n))
-        self.units, self.sums = np.empty((runs, 3)), np.empty((runs, 3))
+        self.units, self.sums = np.empty((runs, 2)), np.empty((runs, 3))
         self.e2 = cols[:, :, :, n1:, None]
         self.all = cols[:, :, :, None, :]
         self.equal = np.empty((runs, 2 * d, n2, n), dtype=bool)
@@ -164,7 +164,6 @@ class DependenceKernel:
             np.minimum.reduce(volume[:, :n1], axis=1, where=self.live, initial=np.inf,
                               out=units[:, 0])
         np.minimum.reduce(volume[:, n1:], axis=1, out=units[:, 1])
-        np.minimum(units[:, 0], units[:, 1], out=units[:, 2])
         # m1(D), m2(D) of every focal element D of E2: [A_i = B_j] per run (eq. A3)
         np.equal(self.e2, self.all, out=self.equal_ends)
         if self.d == 1:
@@ -184,10 +183,12 @@ class DependenceKernel:
         # the six figures per run: in plain floats for one run (a numpy call on one element
         # costs ten float operations), else in arrays
         if self.single:
-            figures = dependence_figures(*self.units[0].tolist(), *self.sums[0].tolist())
+            u1, u2 = units[0].tolist()
+            figures = dependence_figures(u1, u2, min(u1, u2), *self.sums[0].tolist())
             valid = not (figures[4] < 0.0 or figures[5] < 0.0)
         else:
-            figures = dependence_figures(*self.units.T, *self.sums.T)
+            u1, u2 = units.T
+            figures = dependence_figures(u1, u2, np.minimum(u1, u2), *self.sums.T)
             valid = not np.fmin.reduce(self.coefficients, axis=None) < 0.0
         rows, theta_rows = self.figures
         rows[...], theta_rows[...] = figures[:6], figures[6:]

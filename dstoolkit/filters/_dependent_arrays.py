@@ -228,6 +228,8 @@ class StepArrays:
         e1, e2 = boxes[:, :2, :, 1:na], boxes[:, :2, :, na:na + np_]
         self.e1, self.e1_grid = e1, _view(e1, runs, 2, n, nw, np_)  # column 1 + l·Np + i
         self.e1_lo, self.e1_hi = e1[:, 0].transpose(0, 2, 1), e1[:, 1].transpose(0, 2, 1)
+        self.e1_grid_lo = self.e1_grid[:, 0].transpose(0, 2, 3, 1)  # (R, Nw, Np, n)
+        self.e1_grid_hi = self.e1_grid[:, 1].transpose(0, 2, 3, 1)
         self.e2 = e2
         self.e2_lo, self.e2_hi = e2[:, 0].transpose(0, 2, 1), e2[:, 1].transpose(0, 2, 1)
         self.e2_by_origin = e2[:, :, :, None]  # (R, 2, n, 1, Np): the prior of E1's boxes
@@ -238,16 +240,14 @@ class StepArrays:
         # -- Steps 4 and 5 -----------------------------------------------------------------------
         self.fused = np.empty((runs, 2, nw, np_, m))
         self.fused_lo, self.fused_hi = self.fused[:, 0], self.fused[:, 1]
-        self.fused_rows = (_view(self.fused_lo, runs, n1, m), _view(self.fused_hi, runs, n1, m))
         self.nonempty4 = np.empty((runs, nw, np_), dtype=bool)
         self.nonempty_rows = _view(self.nonempty4, runs, n1)
         self.live = (_view(self.nonempty4, runs, n1) if self.rho_w_positive
                      else np.empty((runs, n1), dtype=bool))
         self.live_grid = _view(self.live, runs, 1, 1, nw, np_)
-        self.prior = np.empty((runs, 2, nw, np_, n))  # E1's predicted boxes, for g⁻¹
-        self.prior_source = e2.transpose(0, 1, 3, 2)[:, :, None]
-        self.prior_rows = (_view(self.prior[:, 0], runs, n1, n),
-                           _view(self.prior[:, 1], runs, n1, n))
+        # the predicted box of each of E1's boxes (R, Nw, Np, n), read-only views of E2
+        self.prior = (np.broadcast_to(self.e2_lo[:, None], (runs, nw, np_, n)),
+                      np.broadcast_to(self.e2_hi[:, None], (runs, nw, np_, n)))
         self.snap_signs = np.array([-SNAP_RTOL, SNAP_RTOL])[:, None, None]
         self.magnitude = np.empty((runs, 2, n, np_))
         self.snap_scale = np.empty((runs, n, np_))
@@ -278,6 +278,10 @@ class StepArrays:
         self.products = ProductKernel(boxes[:, :2, :, :na], boxes[:, :2, :, na:],
                                       self.ab_mass[:, :na], self.ab_mass[:, na:])
         self.theta = (0, np_)
+        self.live_cols = self.live[:, None]
+        self.hull_views = ((e1[:, 0], e1[:, 1]), (e2[:, 0], e2[:, 1]),
+                           (self.theta1[:, 0], self.theta1[:, 1]),
+                           (self.theta2[:, 0], self.theta2[:, 1]))
 
     @staticmethod
     def bytes_per_run(n: int, n_pred: int, n_back: int) -> float:
@@ -374,10 +378,9 @@ class StepArrays:
         """Step 5 into E1's columns: g⁻¹ of each fused box within its predicted box, bounds
         within :data:`SNAP_RTOL` snapped to the predicted box's, placeholders (mass 0) set to
         the predicted box (as :func:`dstoolkit.filters.map_back`)."""
-        np.copyto(self.prior, self.prior_source)
-        lo, hi = self.g_inverse(*self.fused_rows, *self.prior_rows)
-        np.copyto(self.e1_lo, lo)
-        np.copyto(self.e1_hi, hi)
+        lo, hi = self.g_inverse(self.fused_lo, self.fused_hi, *self.prior)
+        np.copyto(self.e1_grid_lo, lo)
+        np.copyto(self.e1_grid_hi, hi)
         # snap_to_prior on the columns: |back − prior| ≤ SNAP_RTOL · max(|lo|, |hi|) of the
         # prior, = SNAP_RTOL · max(−lo, hi) since lo ≤ hi
         np.multiply(self.e2, self.snap_signs, out=self.magnitude)
@@ -390,32 +393,46 @@ class StepArrays:
 
     def _fuse_dependent(self, t: int, est: np.ndarray, bounds: np.ndarray | None
                         ) -> np.ndarray | None:
-        """Steps 5 and 6: E1 = Step 5's evidence and E2 = the prediction, their degree of
-        dependence (Def. 5, eqs. A1–A6), both discounted onto their hulls Θ1, Θ2 by R12, R21
-        (eqs. A7–A8), Dempster's rule (eq. 1) and the pignistic expectation (eq. 20) into
-        est[:, t]. Returns None or the mask of the runs whose combination exists."""
+        """Steps 5 and 6 into est[:, t]; returns None or the mask of the runs whose
+        combination exists."""
         self._map_back(t)
         if self.compiled:
             return self._fuse_compiled(t, est, bounds)
+        self._dependence(t)
+        self._discount()
+        return self._combine(est[:, t], None if bounds is None else bounds[:, t])
+
+    def _dependence(self, t: int) -> None:
+        """Step 6, first half: the degree of dependence of E1 = Step 5's evidence and E2 =
+        the prediction, and R12, R21 (Def. 5, eqs. A1–A6), into :attr:`diag`."""
         valid = self.dependence.compute()
         if least(self.e1_least_width) < 0.0:
             self._empty_box(t)
         if not valid:
             self._coefficients_error(t)  # only mass_rule="m2" can do that
+
+    def _discount(self) -> None:
+        """E1 and E2 discounted by R12, R21 onto their hulls Θ1, Θ2 (eqs. 9–10, A7–A8): the
+        masses of columns [Θ1, E1, E2, Θ2] (Θ's were set by :meth:`_dependence`) and the
+        hulls of the live boxes."""
         np.multiply(self.back_mass, self.r12, out=self.e1_mass)
         np.multiply(self.rho, self.r21, out=self.e2_mass)
-        live = self.live[:, None]
-        np.minimum.reduce(self.e1[:, 0], axis=-1, where=live, initial=np.inf,
-                          out=self.theta1[:, 0])
-        np.maximum.reduce(self.e1[:, 1], axis=-1, where=live, initial=-np.inf,
-                          out=self.theta1[:, 1])
-        np.minimum.reduce(self.e2[:, 0], axis=-1, out=self.theta2[:, 0])
-        np.maximum.reduce(self.e2[:, 1], axis=-1, out=self.theta2[:, 1])
+        (e1_lo, e1_hi), (e2_lo, e2_hi), (t1_lo, t1_hi), (t2_lo, t2_hi) = self.hull_views
+        np.minimum.reduce(e1_lo, axis=-1, where=self.live_cols, initial=np.inf, out=t1_lo)
+        np.maximum.reduce(e1_hi, axis=-1, where=self.live_cols, initial=-np.inf, out=t1_hi)
+        np.minimum.reduce(e2_lo, axis=-1, out=t2_lo)
+        np.maximum.reduce(e2_hi, axis=-1, out=t2_hi)
+
+    def _combine(self, est: np.ndarray, bounds: np.ndarray | None) -> np.ndarray | None:
+        """Step 6, second half: Dempster's rule (eq. 1) of the discounted E1 and E2, its
+        pignistic expectation (eq. 20) into ``est`` (R, n), 1 − k6 into :attr:`diag` and
+        with ``bounds`` (R, 2, n) the hull of the combination; returns None or the mask of
+        the runs whose combination exists."""
         products = self.products
-        ok = products.combine(est[:, t])
+        ok = products.combine(est)
         np.copyto(self.diag[1], products.kept)
         if bounds is not None:
-            products.hull(self.theta, bounds[:, t])
+            products.hull(self.theta, bounds)
         return ok
 
     def _fuse_compiled(self, t: int, est: np.ndarray, bounds: np.ndarray | None
