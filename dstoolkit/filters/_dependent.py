@@ -233,13 +233,13 @@ class DependentEvidenceFilter(FilterBase):
         if hulls is not None:
             hulls[:, 0] = est[:, 0, None]
         arrays = StepArrays(self, maps, noise, z)
-        table = np.full((len(DIAGNOSTICS), runs, steps), np.nan)
-        table[8, :, 1:] = 0.0
+        table = np.full((steps, len(DIAGNOSTICS), runs), np.nan)  # step first: one copy a step
+        table[1:, 8] = 0.0
         # u_k shaped as with_input shapes it for f's points (R, 3, N_v, n)
         u = None if inputs is None else inputs.reshape(runs, steps - 1, 1, 1, -1)
         for t in range(1, steps):
             ok4, ok6 = arrays.step(t, est, None if u is None else u[:, t - 1], hulls)
-            table[:8, :, t] = arrays.diag
+            table[t, :8] = arrays.diag
             if ok4 is None and ok6 is None:
                 continue
             ok = np.ones(runs, dtype=bool) if ok4 is None else ok4.copy()
@@ -247,13 +247,13 @@ class DependentEvidenceFilter(FilterBase):
                 arrays._check_conflict(ok6, t, 6)
                 ok &= ok6
             self._fall_back(ok, t, arrays.prediction(), est, hulls)
-            table[8, :, t] = ~ok
+            table[t, 8] = ~ok
             if ok4 is not None:
-                table[1:8, ~ok4, t] = np.nan
+                table[t, 1:8, ~ok4] = np.nan
         arrays.check_images(steps)
-        np.subtract(1.0, table[:2], out=table[:2])  # K = 1 − the mass kept (eq. 1)
+        np.subtract(1.0, table[:, :2], out=table[:, :2])  # K = 1 − the mass kept (eq. 1)
         lower, upper = (None, None) if hulls is None else (hulls[:, :, 0], hulls[:, :, 1])
-        return est, lower, upper, dict(zip(DIAGNOSTICS, table, strict=True))
+        return est, lower, upper, dict(zip(DIAGNOSTICS, table.transpose(1, 2, 0), strict=True))
 
     @staticmethod
     def _fall_back(ok: np.ndarray, t: int, pred: Boxes, est: np.ndarray,
