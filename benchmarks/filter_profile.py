@@ -12,8 +12,9 @@ path of :class:`~dstoolkit.filters.DependentEvidenceFilter`. For each block of a
 - that count times the floor: the time of one numpy call on a one-element array in a
   loop (``np.add(a, b, out=c)``), what a block would cost if each call did no work.
 
-"rest" is the run time per step minus the blocks: the loop of ``_run_arrays``, its views
-and the copy of the diagnostics, and the block timers themselves. The compiled kernel
+"rest" is the run time per step minus the blocks (median over the runs): the loop of
+``_run_arrays``, its views and the copy of the diagnostics, the start of a run (buffers,
+x̂_1), and the block timers themselves. The compiled kernel
 (``kernel="numba"``, extra ``speed``) replaces the three blocks of Step 6 by one call; its
 line shows what it buys. Run from the repository root:
 
@@ -179,8 +180,10 @@ def profile(flt: DependentEvidenceFilter, repeat: int
             start = time.perf_counter()
             run()
             timed_runs.append(time.perf_counter() - start)
-            per_run.append({name: sum(values) / steps / 1e3 for name, values in times.items()})
-    medians = {name: statistics.median(r[name] for r in per_run) for _, name in BLOCKS}
+            blocks = {name: sum(values) / steps / 1e3 for name, values in times.items()}
+            blocks["rest"] = timed_runs[-1] / steps * 1e6 - sum(blocks.values())
+            per_run.append(blocks)
+    medians = {name: statistics.median(r[name] for r in per_run) for name in per_run[0]}
     return (statistics.median(runs), statistics.median(timed_runs), medians,
             {name: calls[name] / steps for _, name in BLOCKS}, total_calls)
 
@@ -189,22 +192,20 @@ def report(title: str, flt: DependentEvidenceFilter, repeat: int, floor: float) 
     """Print one filter's table; returns its median µs per step."""
     median, timed, block_us, block_calls, total_calls = profile(flt, repeat)
     steps = simulate_gauge(seed=0).orders.size - 1
-    per_step, timed_step = median / steps * 1e6, timed / steps * 1e6
+    per_step = median / steps * 1e6
     print(f"\n{title}: one run {median * 1e3:.2f} ms (median of {repeat}), "
           f"{per_step:.1f} µs per step, {total_calls:.0f} numpy calls per step "
           f"(≥ {total_calls * floor * 1e6:.1f} µs at the floor); with the block timers "
           f"{timed * 1e3:.2f} ms:")
     print(f"  {'block':52s} {'µs/step':>8s} {'calls':>6s} {'µs/call':>8s} {'floor':>7s}")
-    shown = 0.0
     for label, name in BLOCKS:
         if not block_calls[name] and not block_us[name]:
             continue
-        shown += block_us[name]
         calls = block_calls[name]
         print(f"  {label:52s} {block_us[name]:8.1f} {calls:6.0f} "
               f"{block_us[name] / max(calls, 1):8.2f} {calls * floor * 1e6:7.1f}")
     rest_calls = total_calls - sum(block_calls.values())
-    print(f"  {'rest: loop, views, diagnostics table, timers':52s} {timed_step - shown:8.1f} "
+    print(f"  {'rest: loop, views, diagnostics table, timers':52s} {block_us['rest']:8.1f} "
           f"{rest_calls:6.0f} {'':8s} {rest_calls * floor * 1e6:7.1f}")
     return per_step
 

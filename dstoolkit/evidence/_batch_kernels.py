@@ -20,6 +20,12 @@ Merging changes nothing here, because
 - discounting onto Θ = the hull (eqs. A7–A8) appends Θ as one more focal element; if Θ
   equals an existing one the object path merges them, with the same products.
 
+Step 6 of the paper's filter runs on a second layout, the *columns* (:func:`columns`):
+boxes (R, 2, d, N) with the focal elements last, so that each comparison and product of
+focal elements is one call along a long axis. :class:`DependenceKernel` (eqs. A1–A6) and
+:class:`ProductKernel` (eqs. 1, 20) bind their buffers and views once and then cost only
+their numpy calls; :func:`dependence` and :func:`dempster_expectation` run them on Boxes.
+
 ``tests/test_dependent_filter.py`` checks all of this against the object path.
 """
 

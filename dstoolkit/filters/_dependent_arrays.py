@@ -1,23 +1,30 @@
 """The array path of the paper's filter: Steps 2–6 for a block of runs, buffers allocated once.
 
-A step works on arrays of 4–1,100 elements, so its cost is numpy's per-call overhead;
-:class:`StepArrays` does each step in few, larger calls:
+A step works on arrays of 4–1,100 elements, so its cost is numpy's per-call overhead (some
+0.25–1.5 µs a call, see ``benchmarks/filter_profile.py``); :class:`StepArrays` does a step
+in about 55 numpy calls:
 
 - everything constant over a run is computed once: the noise boxes laid out for each
   step's broadcasts, the product masses of Steps 2 and 4 (ρ_ij = m_v(i) m_v(j), ρ_ij m_w(l),
-  eq. 16), the monotone end points of f's images (Prop. 2, eqs. 18–19), ``g_inverse``;
-- every array of a step is a preallocated buffer written with ``out=``;
-- boxes are stored as (..., n, 2) with (lo, hi) last, so that one call handles both ends;
-- E1 = the mapped-back evidence (Step 5) and E2 = the prediction (Step 2) share one buffer
-  ``[E1, Θ1, E2, Θ2]``: :func:`~dstoolkit.evidence._batch_kernels.dependence_rows` gets
-  both energies (eq. A1) in one pass and m1(D), m2(D) of eq. A3 in one matrix product, and
-  Step 6's operands, E1 and E2 discounted onto Θ1 and Θ2 (eqs. A7–A8), are its two halves
-  (:func:`~dstoolkit.evidence.dempster_expectation` with reused buffers);
+  eq. 16), the reading boxes z_k + W of every step, the monotone end points of f's images
+  (Prop. 2, eqs. 18–19);
+- every array of a step is a preallocated buffer written with ``out=``, through views
+  made once: a step creates almost no array;
+- the boxes of Step 6 are the *columns* of one buffer (R, 3, n, N): lo, hi and centre on
+  axis 1, the focal elements last, in the order [Θ1, E1, E2, Θ2] — E1 = Step 5's
+  evidence, column 1 + l·N_p + i for the product of predicted box i with noise box l of
+  Step 4, and E2 = the prediction, column 1 + N_1 + i·N_v + j. E1 and E2 together are the
+  operand of :class:`~dstoolkit.evidence._batch_kernels.DependenceKernel` (both energies in
+  one pass, m1(D) and m2(D) of eq. A3 in one matrix product), and [Θ1, E1] × [E2, Θ2] the
+  operands of :class:`~dstoolkit.evidence._batch_kernels.ProductKernel` (Dempster's rule
+  and the pignistic expectation, eqs. 1, 20); every comparison and product runs along
+  the long last axis; E2's columns with their centres are also the points where g is
+  evaluated (Step 3);
+- for one run, the figures of the dependence (eqs. A1–A6) and the checks are computed on
+  Python floats (one numpy call on one element costs ten float operations); a block of
+  runs computes the same operations on arrays, so a batch equals single runs exactly;
 - the monotonicity checks of the images (Prop. 2) keep every step's values and run once
   per block, and before any other error is raised.
-
-The kernels are those of :mod:`dstoolkit.evidence._batch_kernels`, and nothing depends on
-the number of runs in a block, so a batch equals single runs exactly (tested).
 """
 
 from __future__ import annotations
