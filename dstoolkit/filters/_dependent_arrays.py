@@ -188,8 +188,8 @@ class _MonotoneImage:
 class StepArrays:
     """Buffers, constants and views of Steps 2–6 for the readings ``z`` (R, T, m) of R runs.
 
-    ``step(t, est, f_args, bounds)`` writes x̂ of step t into ``est`` (R, T, n), the
-    step's diagnostics into :attr:`diag` (8, R) and with ``bounds`` the hull of the final
+    ``step(t, est, u, bounds)`` writes x̂ of step t into ``est`` (R, T, n), the step's
+    diagnostics into :attr:`diag` (8, R) and with ``bounds`` the hull of the final
     evidence into ``bounds`` (R, T, 2, n); see the module notes for the layout.
     """
 
@@ -199,13 +199,22 @@ class StepArrays:
         runs, steps, m = z.shape
         n = model.state_dim
         nv, nw = noise.v.lo.shape[1], noise.w.lo.shape[1]
-        np_ = nv * nv
-        n1 = nw * np_
-        na, size = n1 + 1, n1 + np_ + 2
         self.flt, self.maps, self.noise, self.runs = flt, maps, noise, runs
         self.f, self.g, self.g_inverse = model.f, model.g, model.inverse()
-        self.n, self.m, self.nv, self.nw, self.np, self.n1 = n, m, nv, nw, np_, n1
-        # -- Step 1, laid out for the broadcasts of every step --------------------------------
+        self.n, self.m, self.nv, self.nw, self.np, self.n1 = n, m, nv, nw, nv * nv, nw * nv * nv
+        self._constants(z)
+        self._columns()
+        self._step_buffers()
+        self.compiled = flt.kernel == "numba"
+        if self.compiled:
+            self.kernel_out = (np.empty((runs, 7)), np.empty((runs, 2, n)))
+        else:
+            self._kernels()
+
+    def _constants(self, z: np.ndarray) -> None:
+        """Step 1 laid out for the broadcasts of every step, and the images' checks."""
+        runs, steps, _ = z.shape
+        noise, maps, n, m, nv, np_ = self.noise, self.maps, self.n, self.m, self.nv, self.np
         v_lo, v_hi = noise.v.lo[0], noise.v.hi[0]  # (Nv, n)
         self.v = np.stack([v_lo, v_hi])[:, None].transpose(0, 1, 3, 2)  # (2, 1, n, Nv)
         self.rho = noise.prediction_mass[0]  # (Np,)
@@ -230,7 +239,12 @@ class StepArrays:
             self.f_points = np.empty((runs, 3, nv, n))
         if self.g_image is not None and not self.g_image.increasing:
             self.g_points = np.empty((runs, 3, np_, n))
-        # -- the columns [Θ1, E1, E2, Θ2] of Step 6: lo, hi and centre of each box -----------
+
+    def _columns(self) -> None:
+        """The columns [Θ1, E1, E2, Θ2] of Step 6 (lo, hi and centre of each box) and the
+        views of them that every step writes or reads."""
+        runs, n, nv, nw, np_, n1 = self.runs, self.n, self.nv, self.nw, self.np, self.n1
+        na, size = n1 + 1, n1 + np_ + 2
         self.boxes = boxes = np.zeros((runs, 3, n, size))
         e1, e2 = boxes[:, :2, :, 1:na], boxes[:, :2, :, na:na + np_]
         self.e1, self.e1_grid = e1, _view(e1, runs, 2, n, nw, np_)  # column 1 + l·Np + i
@@ -244,7 +258,14 @@ class StepArrays:
         self.e2_points = boxes[:, :, :, na:na + np_].transpose(0, 1, 3, 2)  # (R, 3, Np, n)
         self.centre = boxes[:, 2, :, na:na + np_]
         self.theta1, self.theta2 = boxes[:, :2, :, 0], boxes[:, :2, :, size - 1]
-        # -- Steps 4 and 5 -----------------------------------------------------------------------
+        self.hull_views = ((e1[:, 0], e1[:, 1]), (e2[:, 0], e2[:, 1]),
+                           (self.theta1[:, 0], self.theta1[:, 1]),
+                           (self.theta2[:, 0], self.theta2[:, 1]))
+
+    def _step_buffers(self) -> None:
+        """Buffers of Steps 4 and 5, and the masses of Step 6."""
+        runs, n, m, nw, np_, n1 = self.runs, self.n, self.m, self.nw, self.np, self.n1
+        na, size = n1 + 1, self.boxes.shape[-1]
         self.fused = np.empty((runs, 2, nw, np_, m))
         self.fused_lo, self.fused_hi = self.fused[:, 0], self.fused[:, 1]
         self.nonempty4 = np.empty((runs, nw, np_), dtype=bool)
@@ -271,24 +292,22 @@ class StepArrays:
         """1 − k4, 1 − k6, En'(E1), En'(E2), En'(E1, E2), D, R12, R21 of the last step (the
         masses kept by Dempster's rule in Steps 4 and 6 rather than K), (8, R)."""
         self.r12, self.r21 = self.diag[6, :, None], self.diag[7, :, None]
-        self.compiled = flt.kernel == "numba"
-        if self.compiled:
-            self.kernel_out = (np.empty((runs, 7)), np.empty((runs, 2, n)))
-            return
+        self.live_cols = self.live[:, None]
+
+    def _kernels(self) -> None:
+        """Step 6's kernels, bound to the columns, the masses and :attr:`diag`."""
+        boxes, n1, np_ = self.boxes, self.n1, self.np
+        na, size = n1 + 1, boxes.shape[-1]
         self.dependence = DependenceKernel(
-            boxes[:, :2, :, 1:size - 1], self.masses, n1, flt.mass_rule, self.diag[2:],
+            boxes[:, :2, :, 1:size - 1], self.masses, n1, self.flt.mass_rule, self.diag[2:],
             self.ab_mass[:, ::size - 1], self.live)
         # an empty box of E1 has a negative width: for n = 1 the smallest live one (placeholders
         # are predicted boxes), else any width of any box
-        self.e1_least_width = (self.dependence.units[:, 0] if n == 1
+        self.e1_least_width = (self.dependence.units[:, 0] if self.n == 1
                                else self.dependence.width[..., :n1])
         self.products = ProductKernel(boxes[:, :2, :, :na], boxes[:, :2, :, na:],
                                       self.ab_mass[:, :na], self.ab_mass[:, na:])
         self.theta = (0, np_)
-        self.live_cols = self.live[:, None]
-        self.hull_views = ((e1[:, 0], e1[:, 1]), (e2[:, 0], e2[:, 1]),
-                           (self.theta1[:, 0], self.theta1[:, 1]),
-                           (self.theta2[:, 0], self.theta2[:, 1]))
 
     @staticmethod
     def bytes_per_run(n: int, n_pred: int, n_back: int) -> float:
