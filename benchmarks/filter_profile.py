@@ -16,9 +16,11 @@ path of :class:`~dstoolkit.filters.DependentEvidenceFilter`. For each block of a
 ``_run_arrays``, its views and the copy of the diagnostics, the start of a run (buffers,
 x̂_1), and the block timers themselves. The compiled kernel
 (``kernel="numba"``, extra ``speed``) replaces the three blocks of Step 6 by one call; its
-line shows what it buys. Run from the repository root:
+line shows what it buys. Last, the same blocks in a batch of ``--runs`` runs, in CPU time
+per run and step: there the passes over the arrays (Step 6's 65 × 17 products per run)
+cost more than the calls. Run from the repository root:
 
-    python benchmarks/filter_profile.py [--repeat 30]
+    python benchmarks/filter_profile.py [--repeat 30] [--runs 1000]
 """
 
 from __future__ import annotations
@@ -115,19 +117,20 @@ def counting_numpy(counts: Counter[str]) -> Iterator[None]:
 
 @contextmanager
 def timed_blocks(times: dict[str, list[int]], calls: dict[str, int],
-                 counts: Counter[str]) -> Iterator[None]:
-    """Wrap each block's method: its time (ns) per call into ``times`` and the numpy calls
-    it made into ``calls``."""
+                 counts: Counter[str], clock: Callable[[], int] = time.perf_counter_ns
+                 ) -> Iterator[None]:
+    """Wrap each block's method: its time (ns of ``clock``) per call into ``times`` and the
+    numpy calls it made into ``calls``."""
     step_arrays = importlib.import_module(STEP_CLASS).StepArrays
     saved = {name: getattr(step_arrays, name) for _, name in BLOCKS}
 
     def wrap(name: str, method: Callable[..., Any]) -> Callable[..., Any]:
         def timed(*args: Any, **kwargs: Any) -> Any:
-            before, start = counts["calls"], time.perf_counter_ns()
+            before, start = counts["calls"], clock()
             try:
                 return method(*args, **kwargs)
             finally:
-                times[name].append(time.perf_counter_ns() - start)
+                times[name].append(clock() - start)
                 calls[name] += counts["calls"] - before
         return timed
 
@@ -210,9 +213,41 @@ def report(title: str, flt: DependentEvidenceFilter, repeat: int, floor: float) 
     return per_step
 
 
+def batch_blocks(flt: DependentEvidenceFilter, runs: int) -> tuple[float, dict[str, float]]:
+    """CPU time (s) of ``run_batch`` on ``runs`` sequences, and each block's CPU µs per run
+    and step (a batch is bound by the passes over its arrays, not by the calls)."""
+    model, seq = gauge_state_space_model(), simulate_gauge(runs=runs, seed=1)
+    steps = runs * (seq.orders.size - 1)
+    flt.run_batch(model, seq.readings[:2], seq.inputs[:2])
+    times: dict[str, list[int]] = {name: [] for _, name in BLOCKS}
+    with timed_blocks(times, Counter(), Counter(), clock=time.process_time_ns):
+        start = time.process_time()
+        flt.run_batch(model, seq.readings, seq.inputs)
+        total = time.process_time() - start
+    blocks = {name: sum(values) / steps / 1e3 for name, values in times.items()}
+    blocks["rest"] = total / steps * 1e6 - sum(blocks.values())
+    return total, blocks
+
+
+def report_batch(filters: dict[str, DependentEvidenceFilter], runs: int) -> None:
+    """Print the blocks of a batch, CPU µs per run and step, one column per filter."""
+    results = {title: batch_blocks(flt, runs) for title, flt in filters.items()}
+    steps = runs * (simulate_gauge(seed=0).orders.size - 1)
+    chunk = next(iter(filters.values())).chunk_size
+    print(f"\na batch of {runs} runs (chunks of {chunk}), CPU µs per run and step:")
+    print(f"  {'block':52s}" + "".join(f" {title:>10s}" for title in results))
+    for label, name in (*BLOCKS, ("rest: loop, run starts, timers", "rest")):
+        values = [blocks[name] for _, blocks in results.values()]
+        if any(values):
+            print(f"  {label:52s}" + "".join(f" {value:10.2f}" for value in values))
+    print(f"  {'steps per second (CPU)':52s}"
+          + "".join(f" {steps / total:10,.0f}" for total, _ in results.values()))
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=30, help="timed runs per filter")
+    parser.add_argument("--runs", type=int, default=1000, help="runs in the batch (0: none)")
     args = parser.parse_args(argv)
     floor = numpy_call_floor()
     print(f"numpy {np.__version__}, {os.cpu_count()} CPUs, load average "
@@ -226,6 +261,11 @@ def main(argv: list[str] | None = None) -> int:
               f"({numpy_step / compiled_step:.2f}× faster per run)")
     else:
         print("\n(numba not installed: pip install dstoolkit[speed] to time the compiled kernel)")
+    if args.runs:
+        filters = {"numpy": DependentEvidenceFilter()}
+        if importlib.util.find_spec("numba") is not None:
+            filters["numba"] = DependentEvidenceFilter(kernel="numba")
+        report_batch(filters, args.runs)
     print(f"load average after: {', '.join(f'{x:.2f}' for x in os.getloadavg())}")
     return 0
 

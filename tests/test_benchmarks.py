@@ -48,7 +48,7 @@ def test_the_filter_profile_shows_every_block_of_a_step(capsys):
     """filter_profile.py prints, for the numpy path, a row per block of Steps 2–6 with its
     time and numpy calls per step (counted, not guessed), the rest, and the load average."""
     profile = load("filter_profile")
-    assert profile.main(["--repeat", "2"]) == 0
+    assert profile.main(["--repeat", "2", "--runs", "8"]) == 0
     out = capsys.readouterr().out
     numpy_part = out.split("compiled Step 6")[0]
     for label, name in profile.BLOCKS:

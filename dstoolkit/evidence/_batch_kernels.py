@@ -139,8 +139,8 @@ class DependenceKernel:
         self.units, self.sums = np.empty((runs, 2)), np.empty((runs, 3))
         self.e2 = cols[:, :, :, n1:, None]
         self.all = cols[:, :, :, None, :]
-        self.equal = np.empty((runs, 2 * d, n2, n), dtype=bool)
-        self.equal_ends = self.equal.reshape(runs, 2, d, n2, n)
+        self.equal = np.empty((2 * d, runs, n2, n), dtype=bool)  # one block an end
+        self.equal_ends = self.equal.reshape(2, d, runs, n2, n).transpose(2, 0, 1, 3, 4)
         self.same = np.empty((runs, n2, n))
         self.common = np.empty((runs, n2, 2))
         self.on, self.merged = self.common[..., 0], self.common[..., 1]
@@ -173,9 +173,9 @@ class DependenceKernel:
         # m1(D), m2(D) of every focal element D of E2: [A_i = B_j] per run (eq. A3)
         np.equal(self.e2, self.all, out=self.equal_ends)
         if self.d == 1:
-            np.logical_and(self.equal[:, 0], self.equal[:, 1], out=self.same)
+            np.logical_and(self.equal[0], self.equal[1], out=self.same)
         else:
-            np.logical_and.reduce(self.equal, axis=1, out=self.same)
+            np.logical_and.reduce(self.equal, axis=0, out=self.same)
         np.matmul(self.same, self.masses.transpose(0, 2, 1), out=self.common)
         # energy of the intersection (eq. A3): Σ_j m(D_j) · m2_j/m2(D_j) · u12/w_j
         if self.rule == "min":
@@ -266,8 +266,9 @@ def discount_onto_hull(e: Boxes, reliability: np.ndarray) -> Boxes:
 
 class ProductWork(NamedTuple):
     """Buffers of :class:`ProductKernel` (the column layout of :func:`columns`): ``ends``
-    (R, 2, d, N_b, N_a) = lo, hi of A_i ∩ B_j; ``stack`` (R, 1 + d, N_b, N_a) =
-    [nonempty, (lo + hi)·nonempty]; ``partial`` (R, 1 + d, N_b, 1), ``sums`` (R, 1 + d, 1, 1)."""
+    (2, R, d, N_b, N_a) = lo, hi of A_i ∩ B_j; ``stack`` (1 + d, R, N_b, N_a) = [nonempty,
+    (lo + hi)·nonempty]; ``partial`` (R, 1 + d, N_b, 1), ``sums`` (R, 1 + d, 1, 1). Each
+    end and each row of the stack is one block: the passes over a batch run faster."""
 
     ends: np.ndarray
     stack: np.ndarray
@@ -276,7 +277,7 @@ class ProductWork(NamedTuple):
 
     @classmethod
     def allocate(cls, runs: int, d: int, na: int, nb: int) -> ProductWork:
-        return cls(np.empty((runs, 2, d, nb, na)), np.empty((runs, 1 + d, nb, na)),
+        return cls(np.empty((2, runs, d, nb, na)), np.empty((1 + d, runs, nb, na)),
                    np.empty((runs, 1 + d, nb, 1)), np.empty((runs, 1 + d, 1, 1)))
 
 
@@ -300,8 +301,9 @@ class ProductKernel:
         self.d, self.a_mass, self.b_mass = d, a_mass, b_mass
         self.a_lo, self.a_hi = a[:, 0, :, None, :], a[:, 1, :, None, :]
         self.b_lo, self.b_hi = b[:, 0, :, :, None], b[:, 1, :, :, None]
-        self.lo, self.hi = ends[:, 0], ends[:, 1]
-        self.nonempty, self.centres = stack[:, 0], stack[:, 1:]
+        self.lo, self.hi = ends
+        self.nonempty, self.centres = stack[0], stack[1:].transpose(1, 0, 2, 3)
+        self.stack = stack.transpose(1, 0, 2, 3)
         self.a_col, self.b_row = a_mass[:, None, :, None], b_mass[:, None, None, :]
         self.kept, self.total = sums[:, 0, 0, 0], sums[:, 1:, 0, 0]
 
@@ -317,7 +319,7 @@ class ProductKernel:
             np.logical_and.reduce(self.lo <= self.hi, axis=1, out=self.nonempty)
         np.add(self.lo, self.hi, out=self.centres)
         self.centres *= self.nonempty[:, None]
-        np.matmul(stack, self.a_col, out=partial)
+        np.matmul(self.stack, self.a_col, out=partial)
         np.matmul(self.b_row, partial, out=sums)
         kept = self.kept
         if least(kept) > CONFLICT_TOLERANCE:
@@ -341,12 +343,12 @@ class ProductKernel:
             i, j = theta
             if (least(self.a_mass[:, i]) > 0.0 and least(self.b_mass[:, j]) > 0.0
                     and least(self.nonempty[:, j, i]) > 0.0):
-                np.copyto(out, ends[:, :, :, j, i])
+                np.copyto(out, ends[:, :, :, j, i].transpose(1, 0, 2))
                 return out
         mass = self.b_mass[:, :, None] * self.a_mass[:, None, :]  # (R, N_b, N_a)
         live = ((mass > 0.0) & (self.nonempty > 0.0))[:, None]
-        np.minimum.reduce(ends[:, 0], axis=(-2, -1), where=live, initial=np.inf, out=out[:, 0])
-        np.maximum.reduce(ends[:, 1], axis=(-2, -1), where=live, initial=-np.inf,
+        np.minimum.reduce(ends[0], axis=(-2, -1), where=live, initial=np.inf, out=out[:, 0])
+        np.maximum.reduce(ends[1], axis=(-2, -1), where=live, initial=-np.inf,
                           out=out[:, 1])
         return out
 
