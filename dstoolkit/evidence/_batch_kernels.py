@@ -302,15 +302,15 @@ class ProductKernel:
         self.a_lo, self.a_hi = a[:, 0, :, None, :], a[:, 1, :, None, :]
         self.b_lo, self.b_hi = b[:, 0, :, :, None], b[:, 1, :, :, None]
         self.lo, self.hi = ends
-        self.nonempty, self.centres = stack[0], stack[1:].transpose(1, 0, 2, 3)
-        self.stack = stack.transpose(1, 0, 2, 3)
+        self.stack = stack.transpose(1, 0, 2, 3)  # (R, 1 + d, N_b, N_a)
+        self.nonempty, self.centres = stack[0], self.stack[:, 1:]
         self.a_col, self.b_row = a_mass[:, None, :, None], b_mass[:, None, None, :]
         self.kept, self.total = sums[:, 0, 0, 0], sums[:, 1:, 0, 0]
 
     def combine(self, est: np.ndarray) -> np.ndarray | None:
         """E into ``est`` (R, d); returns None when every run's combination exists (K < 1
         above the tolerance), else the mask of those that do. ``self.kept`` = 1 − K."""
-        ends, stack, partial, sums = self.work
+        _, _, partial, sums = self.work
         np.maximum(self.a_lo, self.b_lo, out=self.lo)
         np.minimum(self.a_hi, self.b_hi, out=self.hi)
         if self.d == 1:
