@@ -145,6 +145,12 @@ class DependenceKernel:
         self.common = np.empty((runs, n2, 2))
         self.on, self.merged = self.common[..., 0], self.common[..., 1]
         self.m_d, self.weight = np.empty((runs, n2)), np.empty((runs, n2))
+        # views made once: a step then costs only its numpy calls
+        self.wt_rows, self.energy_sums = self.wt[:, None], self.sums[:, :2]
+        self.widths = (self.volume[:, :n1], self.volume[:, n1:])
+        self.unit_outs = (self.units[:, 0], self.units[:, 1])
+        self.masses_t = masses.transpose(0, 2, 1)
+        self.e2_share, self.joint_sum = self.share[:, 1, n1:], self.sums[:, 2]
         self.single = runs == 1
         # where the figures go: one run's as a row of floats, else as arrays (R,)
         self.figures = (out[:, 0], theta_mass[0]) if self.single else (out, theta_mass.T)
@@ -155,28 +161,26 @@ class DependenceKernel:
         whether R12 and R21 lie in [0, 1] in every run (``mass_rule="m2"`` can break that:
         D, En ≥ 0 keep R ≤ 1). ``units[:, 0]`` is then the smallest width of E1's live
         focal elements, negative if one is empty."""
-        n1 = self.n1
         # widths and energies (eq. A1): Σ m/(w + ε) per evidence, times its u + ε
         np.subtract(self.hi, self.lo, out=self.width)
         if self.d > 1:
             np.multiply.reduce(self.width, axis=1, out=self.volume)
-        volume = self.volume
-        np.divide(self.masses, np.add(volume, TINY, out=self.wt)[:, None], out=self.share)
-        np.add.reduce(self.share, axis=2, out=self.sums[:, :2])
-        units = self.units
+        np.add(self.volume, TINY, out=self.wt)
+        np.divide(self.masses, self.wt_rows, out=self.share)
+        np.add.reduce(self.share, axis=2, out=self.energy_sums)
+        (e1_widths, e2_widths), (u1_out, u2_out) = self.widths, self.unit_outs
         if self.live is None:
-            np.minimum.reduce(volume[:, :n1], axis=1, out=units[:, 0])
+            np.minimum.reduce(e1_widths, axis=1, out=u1_out)
         else:
-            np.minimum.reduce(volume[:, :n1], axis=1, where=self.live, initial=np.inf,
-                              out=units[:, 0])
-        np.minimum.reduce(volume[:, n1:], axis=1, out=units[:, 1])
+            np.minimum.reduce(e1_widths, axis=1, where=self.live, initial=np.inf, out=u1_out)
+        np.minimum.reduce(e2_widths, axis=1, out=u2_out)
         # m1(D), m2(D) of every focal element D of E2: [A_i = B_j] per run (eq. A3)
         np.equal(self.e2, self.all, out=self.equal_ends)
         if self.d == 1:
-            np.logical_and(self.equal[0], self.equal[1], out=self.same)
+            np.logical_and(*self.equal, out=self.same)
         else:
             np.logical_and.reduce(self.equal, axis=0, out=self.same)
-        np.matmul(self.same, self.masses.transpose(0, 2, 1), out=self.common)
+        np.matmul(self.same, self.masses_t, out=self.common)
         # energy of the intersection (eq. A3): Σ_j m(D_j) · m2_j/m2(D_j) · u12/w_j
         if self.rule == "min":
             m_d = np.minimum(self.on, self.merged, out=self.m_d)
@@ -184,16 +188,16 @@ class DependenceKernel:
             m_d = self.on
         else:  # "m2" is not
             m_d = np.multiply(self.merged, self.on > 0, out=self.m_d)
-        np.divide(self.share[:, 1, n1:], self.merged, out=self.weight)
-        np.vecdot(m_d, self.weight, out=self.sums[:, 2])
+        np.divide(self.e2_share, self.merged, out=self.weight)
+        np.vecdot(m_d, self.weight, out=self.joint_sum)
         # the six figures per run: in plain floats for one run (a numpy call on one element
         # costs ten float operations), else in arrays
         if self.single:
-            u1, u2 = units[0].tolist()
-            figures = dependence_figures(u1, u2, min(u1, u2), *self.sums[0].tolist())
+            u1, u2 = self.units.ravel().tolist()
+            figures = dependence_figures(u1, u2, min(u1, u2), *self.sums.ravel().tolist())
             valid = not (figures[4] < 0.0 or figures[5] < 0.0)
         else:
-            u1, u2 = units.T
+            u1, u2 = self.units.T
             figures = dependence_figures(u1, u2, np.minimum(u1, u2), *self.sums.T)
             valid = not np.fmin.reduce(self.coefficients, axis=None) < 0.0
         rows, theta_rows = self.figures
@@ -305,6 +309,8 @@ class ProductKernel:
         self.stack = stack.transpose(1, 0, 2, 3)  # (R, 1 + d, N_b, N_a)
         self.nonempty, self.centres = stack[0], self.stack[:, 1:]
         self.a_col, self.b_row = a_mass[:, None, :, None], b_mass[:, None, None, :]
+        self.ends_1d = (self.lo[:, 0], self.hi[:, 0])  # d = 1
+        self.nonempty_rows = self.nonempty[:, None]
         self.kept, self.total = sums[:, 0, 0, 0], sums[:, 1:, 0, 0]
 
     def combine(self, est: np.ndarray) -> np.ndarray | None:
@@ -314,11 +320,11 @@ class ProductKernel:
         np.maximum(self.a_lo, self.b_lo, out=self.lo)
         np.minimum(self.a_hi, self.b_hi, out=self.hi)
         if self.d == 1:
-            np.less_equal(self.lo[:, 0], self.hi[:, 0], out=self.nonempty)
+            np.less_equal(*self.ends_1d, out=self.nonempty)
         else:
             np.logical_and.reduce(self.lo <= self.hi, axis=1, out=self.nonempty)
         np.add(self.lo, self.hi, out=self.centres)
-        self.centres *= self.nonempty[:, None]
+        np.multiply(self.centres, self.nonempty_rows, out=self.centres)
         np.matmul(self.stack, self.a_col, out=partial)
         np.matmul(self.b_row, partial, out=sums)
         kept = self.kept

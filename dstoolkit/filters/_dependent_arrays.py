@@ -251,7 +251,7 @@ class StepArrays:
         self.e1_lo, self.e1_hi = e1[:, 0].transpose(0, 2, 1), e1[:, 1].transpose(0, 2, 1)
         self.e1_grid_lo = self.e1_grid[:, 0].transpose(0, 2, 3, 1)  # (R, Nw, Np, n)
         self.e1_grid_hi = self.e1_grid[:, 1].transpose(0, 2, 3, 1)
-        self.e2 = e2
+        self.e2, self.e2_ends = e2, (e2[:, 0], e2[:, 1])
         self.e2_lo, self.e2_hi = e2[:, 0].transpose(0, 2, 1), e2[:, 1].transpose(0, 2, 1)
         self.e2_by_origin = e2[:, :, :, None]  # (R, 2, n, 1, Np): the prior of E1's boxes
         self.e2_pairs = _view(e2, runs, 2, n, nv, nv).transpose(0, 1, 3, 2, 4)
@@ -268,6 +268,7 @@ class StepArrays:
         na, size = n1 + 1, self.boxes.shape[-1]
         self.fused = np.empty((runs, 2, nw, np_, m))
         self.fused_lo, self.fused_hi = self.fused[:, 0], self.fused[:, 1]
+        self.fused_1d = (self.fused_lo[..., 0], self.fused_hi[..., 0])  # m = 1
         self.nonempty4 = np.empty((runs, nw, np_), dtype=bool)
         self.nonempty_rows = _view(self.nonempty4, runs, n1)
         self.live = (_view(self.nonempty4, runs, n1) if self.rho_w_positive
@@ -277,7 +278,8 @@ class StepArrays:
         self.prior = (np.broadcast_to(self.e2_lo[:, None], (runs, nw, np_, n)),
                       np.broadcast_to(self.e2_hi[:, None], (runs, nw, np_, n)))
         self.snap_signs = np.array([-SNAP_RTOL, SNAP_RTOL])[:, None, None]
-        self.magnitude = np.empty((runs, 2, n, np_))
+        self.magnitude = np.empty((2, runs, n, np_))  # −lo, hi of E2 times SNAP_RTOL
+        self.magnitude_out = self.magnitude.transpose(1, 0, 2, 3)
         self.snap_scale = np.empty((runs, n, np_))
         self.snap_scale_grid = self.snap_scale[:, None, :, None]
         self.distance = np.empty((runs, 2, n, nw, np_))
@@ -292,6 +294,7 @@ class StepArrays:
         """1 − k4, 1 − k6, En'(E1), En'(E2), En'(E1, E2), D, R12, R21 of the last step (the
         masses kept by Dempster's rule in Steps 4 and 6 rather than K), (8, R)."""
         self.r12, self.r21 = self.diag[6, :, None], self.diag[7, :, None]
+        self.kept4, self.kept6 = self.diag[0], self.diag[1]
         self.live_cols = self.live[:, None]
 
     def _kernels(self) -> None:
@@ -330,8 +333,8 @@ class StepArrays:
             np.copyto(self.e2_lo, lo)
             np.copyto(self.e2_hi, hi)
         if self.g_image is not None and self.g_image.increasing:
-            np.add(self.e2[:, 0], self.e2[:, 1], out=self.centre)
-            self.centre *= 0.5
+            np.add(*self.e2_ends, out=self.centre)
+            np.multiply(self.centre, 0.5, out=self.centre)
 
     def _observe(self, t: int) -> tuple[np.ndarray, np.ndarray]:
         """Step 3: g of every predicted box, (lo, hi) of shape (R, 1, Np, m)."""
@@ -379,10 +382,10 @@ class StepArrays:
         np.maximum(pz_lo, zw[0], out=self.fused_lo)
         np.minimum(pz_hi, zw[1], out=self.fused_hi)
         if self.m == 1:
-            np.less_equal(self.fused_lo[..., 0], self.fused_hi[..., 0], out=self.nonempty4)
+            np.less_equal(*self.fused_1d, out=self.nonempty4)
         else:
             np.logical_and.reduce(self.fused_lo <= self.fused_hi, axis=-1, out=self.nonempty4)
-        back_mass, kept4 = self.back_mass, self.diag[0]
+        back_mass, kept4 = self.back_mass, self.kept4
         np.multiply(self.rho_w, self.nonempty_rows, out=back_mass)
         if not self.rho_w_positive:
             np.greater(back_mass, 0.0, out=self.live)
@@ -409,8 +412,8 @@ class StepArrays:
         np.copyto(self.e1_grid_hi, hi)
         # snap_to_prior on the columns: |back − prior| ≤ SNAP_RTOL · max(|lo|, |hi|) of the
         # prior, = SNAP_RTOL · max(−lo, hi) since lo ≤ hi
-        np.multiply(self.e2, self.snap_signs, out=self.magnitude)
-        np.maximum(self.magnitude[:, 0], self.magnitude[:, 1], out=self.snap_scale)
+        np.multiply(self.e2, self.snap_signs, out=self.magnitude_out)
+        np.maximum(*self.magnitude, out=self.snap_scale)
         np.subtract(self.e1_grid, self.e2_by_origin, out=self.distance)
         np.abs(self.distance, out=self.distance)
         np.less_equal(self.distance, self.snap_scale_grid, out=self.near)
@@ -456,7 +459,7 @@ class StepArrays:
         the runs whose combination exists."""
         products = self.products
         ok = products.combine(est)
-        np.copyto(self.diag[1], products.kept)
+        np.copyto(self.kept6, products.kept)
         if bounds is not None:
             products.hull(self.theta, bounds)
         return ok
