@@ -141,6 +141,7 @@ class DependenceKernel:
         self.all = cols[:, :, :, None, :]
         self.equal = np.empty((2 * d, runs, n2, n), dtype=bool)  # one block an end
         self.equal_ends = self.equal.reshape(2, d, runs, n2, n).transpose(2, 0, 1, 3, 4)
+        self.equal_lo, self.equal_hi = self.equal[0], self.equal[-1]  # d = 1
         self.same = np.empty((runs, n2, n))
         self.common = np.empty((runs, n2, 2))
         self.on, self.merged = self.common[..., 0], self.common[..., 1]
@@ -177,7 +178,7 @@ class DependenceKernel:
         # m1(D), m2(D) of every focal element D of E2: [A_i = B_j] per run (eq. A3)
         np.equal(self.e2, self.all, out=self.equal_ends)
         if self.d == 1:
-            np.logical_and(*self.equal, out=self.same)
+            np.logical_and(self.equal_lo, self.equal_hi, out=self.same)
         else:
             np.logical_and.reduce(self.equal, axis=0, out=self.same)
         np.matmul(self.same, self.masses_t, out=self.common)
@@ -193,8 +194,8 @@ class DependenceKernel:
         # the six figures per run: in plain floats for one run (a numpy call on one element
         # costs ten float operations), else in arrays
         if self.single:
-            u1, u2 = self.units.ravel().tolist()
-            figures = dependence_figures(u1, u2, min(u1, u2), *self.sums.ravel().tolist())
+            w1, w2 = self.units.ravel().tolist()
+            figures = dependence_figures(w1, w2, min(w1, w2), *self.sums.ravel().tolist())
             valid = not (figures[4] < 0.0 or figures[5] < 0.0)
         else:
             u1, u2 = self.units.T

@@ -413,7 +413,7 @@ class StepArrays:
         # snap_to_prior on the columns: |back − prior| ≤ SNAP_RTOL · max(|lo|, |hi|) of the
         # prior, = SNAP_RTOL · max(−lo, hi) since lo ≤ hi
         np.multiply(self.e2, self.snap_signs, out=self.magnitude_out)
-        np.maximum(*self.magnitude, out=self.snap_scale)
+        np.maximum(self.magnitude[0], self.magnitude[1], out=self.snap_scale)
         np.subtract(self.e1_grid, self.e2_by_origin, out=self.distance)
         np.abs(self.distance, out=self.distance)
         np.less_equal(self.distance, self.snap_scale_grid, out=self.near)
