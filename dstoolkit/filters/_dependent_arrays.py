@@ -145,7 +145,7 @@ class _MonotoneImage:
 
     def __init__(self, signs: np.ndarray, what: str, values: np.ndarray) -> None:
         self.signs = signs
-        self.increasing = bool(np.all(signs > 0))
+        self.increasing = min(signs.tolist()) > 0  # tiny: plain Python is faster
         self.what = what
         self.values = values  # (R, T, 3, B, m): every step's f(v_min), f(v_max), f(centre)
 
@@ -216,12 +216,12 @@ class StepArrays:
         runs, steps, _ = z.shape
         noise, maps, n, m, nv, np_ = self.noise, self.maps, self.n, self.m, self.nv, self.np
         v_lo, v_hi = noise.v.lo[0], noise.v.hi[0]  # (Nv, n)
-        self.v = np.stack([v_lo, v_hi])[:, None].transpose(0, 1, 3, 2)  # (2, 1, n, Nv)
+        self.v = np.array([v_lo.T, v_hi.T])[:, None]  # (2, 1, n, Nv)
         self.rho = noise.prediction_mass[0]  # (Np,)
         # Step 4's products, row l·Np + i: ρ_i m_w(l), and the reading boxes z_t + W
         self.rho_w = np.multiply.outer(noise.w.mass[0], self.rho).reshape(-1)  # (N1,)
-        self.rho_w_positive = bool(np.all(self.rho_w > 0))
-        w = np.stack([noise.w.lo[0], noise.w.hi[0]])[:, :, None]  # (2, Nw, 1, m)
+        self.rho_w_positive = least(self.rho_w) > 0.0
+        w = np.array([noise.w.lo[0], noise.w.hi[0]])[:, :, None]  # (2, Nw, 1, m)
         self.zw = z.transpose(1, 0, 2)[:, None, :, None, None] + w[:, None]  # (T, 2, R, Nw, 1, m)
 
         def image(signs: np.ndarray | None, method: str, what: str, boxes: int, dim: int
@@ -234,7 +234,7 @@ class StepArrays:
         self.g_image = image(maps.g_signs, maps.g_method, "g", np_, m)
         if self.f_image is not None:  # x̂ + V's end points and centre, without x̂
             inc = self.f_image.signs > 0
-            self.f_offsets = np.stack([np.where(inc, v_lo, v_hi), np.where(inc, v_hi, v_lo),
+            self.f_offsets = np.array([np.where(inc, v_lo, v_hi), np.where(inc, v_hi, v_lo),
                                        0.5 * (v_lo + v_hi)])  # (3, Nv, n)
             self.f_points = np.empty((runs, 3, nv, n))
         if self.g_image is not None and not self.g_image.increasing:
