@@ -253,7 +253,8 @@ class DependentEvidenceFilter(FilterBase):
         arrays.check_images(steps)
         np.subtract(1.0, table[:, :2], out=table[:, :2])  # K = 1 − the mass kept (eq. 1)
         lower, upper = (None, None) if hulls is None else (hulls[:, :, 0], hulls[:, :, 1])
-        return est, lower, upper, dict(zip(DIAGNOSTICS, table.transpose(1, 2, 0), strict=True))
+        diagnostics = np.ascontiguousarray(table.transpose(1, 2, 0))  # (keys, R, T)
+        return est, lower, upper, dict(zip(DIAGNOSTICS, diagnostics, strict=True))
 
     @staticmethod
     def _fall_back(ok: np.ndarray, t: int, pred: Boxes, est: np.ndarray,
