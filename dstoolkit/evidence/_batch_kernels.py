@@ -294,11 +294,15 @@ class ProductKernel:
 
     two matrix products with the stack [nonempty, 2c] of the intersection matrix. ``a``
     (R, 2, d, N_a) and ``b`` (R, 2, d, N_b) are columns (:func:`columns`), ``a_mass``
-    (R, N_a) and ``b_mass`` (R, N_b) their masses (a row (1, N) broadcasts).
+    (R, N_a) and ``b_mass`` (R, N_b) their masses (a row (1, N) broadcasts). ``theta`` =
+    (i, j) tells that A_i holds every other A and B_j every other B (Θ1, Θ2 after
+    :func:`discount_onto_hull`): where both keep mass and meet, A_i ∩ B_j is a product of
+    positive mass that holds every other, so it is the hull (:meth:`hull`).
     """
 
     def __init__(self, a: np.ndarray, b: np.ndarray, a_mass: np.ndarray, b_mass: np.ndarray,
-                 work: ProductWork | None = None) -> None:
+                 work: ProductWork | None = None, theta: tuple[int, int] | None = None
+                 ) -> None:
         runs = max(a.shape[0], b.shape[0], a_mass.shape[0], b_mass.shape[0])
         d, na, nb = a.shape[2], a.shape[3], b.shape[3]
         self.work = work if work is not None else ProductWork.allocate(runs, d, na, nb)
@@ -312,6 +316,10 @@ class ProductKernel:
         self.a_col, self.b_row = a_mass[:, None, :, None], b_mass[:, None, None, :]
         self.ends_1d = (self.lo[:, 0], self.hi[:, 0])  # d = 1
         self.nonempty_rows = self.nonempty[:, None]
+        i, j = (-1, -1) if theta is None else theta
+        self.theta = None if theta is None else (
+            a_mass[:, i], b_mass[:, j], self.nonempty[:, j, i],
+            ends[:, :, :, j, i].transpose(1, 0, 2))  # Θ's masses, Θ1 ∩ Θ2 meets, its ends
         self.kept, self.total = sums[:, 0, 0, 0], sums[:, 1:, 0, 0]
 
     def combine(self, est: np.ndarray) -> np.ndarray | None:
@@ -338,19 +346,13 @@ class ProductKernel:
         np.multiply(self.total, scale, out=est)
         return ok
 
-    def hull(self, theta: tuple[int, int] | None, out: np.ndarray) -> np.ndarray:
-        """The hull of the combination (after :meth:`combine`) into ``out`` (R, 2, d).
-
-        ``theta`` = (i, j) tells that A_i holds every other A and B_j every other B (Θ1,
-        Θ2 after :func:`discount_onto_hull`): where both keep mass and meet, A_i ∩ B_j is
-        a product of positive mass that holds every other, so it is the hull.
-        """
+    def hull(self, out: np.ndarray) -> np.ndarray:
+        """The hull of the combination (after :meth:`combine`) into ``out`` (R, 2, d)."""
         ends = self.work.ends
-        if theta is not None:
-            i, j = theta
-            if (least(self.a_mass[:, i]) > 0.0 and least(self.b_mass[:, j]) > 0.0
-                    and least(self.nonempty[:, j, i]) > 0.0):
-                np.copyto(out, ends[:, :, :, j, i].transpose(1, 0, 2))
+        if self.theta is not None:
+            theta1_mass, theta2_mass, meet, corner = self.theta
+            if least(theta1_mass) > 0.0 and least(theta2_mass) > 0.0 and least(meet) > 0.0:
+                np.copyto(out, corner)
                 return out
         mass = self.b_mass[:, :, None] * self.a_mass[:, None, :]  # (R, N_b, N_a)
         live = ((mass > 0.0) & (self.nonempty > 0.0))[:, None]
@@ -370,7 +372,8 @@ def dempster_expectation(
     (:meth:`ProductWork.allocate`). ``theta_last`` tells that the last focal element of a
     and of b holds all the others (as after :func:`discount_onto_hull`).
     """
-    kernel = ProductKernel(columns(a), columns(b), a.mass, b.mass, work)
+    theta = (a.lo.shape[1] - 1, b.lo.shape[1] - 1) if theta_last else None
+    kernel = ProductKernel(columns(a), columns(b), a.mass, b.mass, work, theta)
     runs, d = kernel.work.sums.shape[0], a.lo.shape[2]
     expectation = np.empty((runs, d))
     ok = kernel.combine(expectation)
@@ -378,6 +381,5 @@ def dempster_expectation(
     conflict = 1.0 - kernel.kept
     if not bounds:
         return expectation, conflict, ok, None
-    theta = (a.lo.shape[1] - 1, b.lo.shape[1] - 1) if theta_last else None
-    box = kernel.hull(theta, np.empty((runs, 2, d)))
+    box = kernel.hull(np.empty((runs, 2, d)))
     return expectation, conflict, ok, (box[:, 0], box[:, 1])

@@ -4,10 +4,11 @@ The numpy path (:class:`~dstoolkit.evidence._batch_kernels.DependenceKernel`,
 :class:`~dstoolkit.evidence._batch_kernels.ProductKernel` and the hulls) makes some 27
 numpy calls per step on arrays of 16–2,600 elements; one run of the filter is bound by
 their overhead, a batch by the passes over the 65 × 17 products and the 80 × 16 equality
-matrix, whose short inner loops numpy broadcasts slowly (``benchmarks/filter_profile.py``). :func:`fuse_dependent` does the same arithmetic
-in plain loops, once per run: the degree of dependence and the coefficients of E1, E2
-(Def. 5, eqs. A1, A3–A6), their discounting onto their hulls Θ1, Θ2 (eqs. A7–A8),
-Dempster's rule (eq. 1), the pignistic expectation (eq. 20) and the hull of the result.
+matrix, whose short inner loops numpy broadcasts slowly (``benchmarks/filter_profile.py``).
+:func:`fuse_dependent` does the same arithmetic in plain loops, once per run: the degree
+of dependence and the coefficients of E1, E2 (Def. 5, eqs. A1, A3–A6), their discounting
+onto their hulls Θ1, Θ2 (eqs. A7–A8), Dempster's rule (eq. 1), the pignistic expectation
+(eq. 20) and the hull of the result.
 Its sums are added in another order than numpy's, so its results agree with the numpy path
 to rounding (tested), and they do not depend on the number of runs in a block.
 

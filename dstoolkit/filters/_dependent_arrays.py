@@ -309,8 +309,8 @@ class StepArrays:
         self.e1_least_width = (self.dependence.units[:, 0] if self.n == 1
                                else self.dependence.width[..., :n1])
         self.products = ProductKernel(boxes[:, :2, :, :na], boxes[:, :2, :, na:],
-                                      self.ab_mass[:, :na], self.ab_mass[:, na:])
-        self.theta = (0, np_)
+                                      self.ab_mass[:, :na], self.ab_mass[:, na:],
+                                      theta=(0, np_))
 
     @staticmethod
     def bytes_per_run(n: int, n_pred: int, n_back: int) -> float:
@@ -461,7 +461,7 @@ class StepArrays:
         ok = products.combine(est)
         np.copyto(self.kept6, products.kept)
         if bounds is not None:
-            products.hull(self.theta, bounds)
+            products.hull(bounds)
         return ok
 
     def _fuse_compiled(self, t: int, est: np.ndarray, bounds: np.ndarray | None
