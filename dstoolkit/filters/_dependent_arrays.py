@@ -329,7 +329,7 @@ class StepArrays:
             np.add(values[:, :2, :, :, None], self.v, out=self.e2_pairs)
         else:
             lo, hi = predict(self.maps, self.noise, xhat[:, 0, 0],
-                             with_input(self.maps.model.f, None if u is None else u[:, 0, 0]))
+                             with_input(self.f, None if u is None else u[:, 0, 0]))
             np.copyto(self.e2_lo, lo)
             np.copyto(self.e2_hi, hi)
         if self.g_image is not None and self.g_image.increasing:
@@ -362,7 +362,7 @@ class StepArrays:
              bounds: np.ndarray | None) -> tuple[np.ndarray | None, np.ndarray | None]:
         """Steps 2–6 of estimate t + 1 from x̂ = est[:, t − 1]; writes est[:, t], with
         ``bounds`` the hull of the final evidence into bounds[:, t], and the diagnostics
-        (k4, k6, En'(E1), En'(E2), En'(E1, E2), D, R12, R21) into :attr:`diag`. ``u`` is
+        (1 − k4, 1 − k6, En'(E1), En'(E2), En'(E1, E2), D, R12, R21) into :attr:`diag`. ``u`` is
         the input of f, shaped to broadcast against (R, 3, N_v, n). Returns the masks of
         the runs where Steps 4 and 6 exist (None: all of them).
         """
