@@ -206,12 +206,11 @@ def envelope(
     Returned at about ``envelope_rate_hz`` samples per second.
     """
     fs = sweep.sample_rate
-    t = np.arange(samples.size) / fs
     base = samples * _demodulator(sweep, samples.size, latency_s)
     sos = signal.butter(4, bandwidth_hz, fs=fs, output="sos")
     step = max(1, int(fs // max(envelope_rate_hz, 4.0 * bandwidth_hz)))
     env = 2.0 * np.abs(signal.sosfiltfilt(sos, base)[::step])
-    return t[::step], env
+    return np.arange(0, samples.size, step) / fs, env
 
 
 def _spacing_from_envelope(freqs: np.ndarray, env: np.ndarray, fF_range: tuple[float, float],

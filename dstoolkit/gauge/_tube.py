@@ -50,13 +50,15 @@ def spl_to_pa(spl_db: float) -> float:
 
 
 def wall_attenuation(
-    frequency_hz: Any, diameter_m: float, temperature_c: float, pressure_pa: float = 101325.0
+    frequency_hz: Any, diameter_m: float, temperature_c: float, pressure_pa: float = 101325.0,
+    out: np.ndarray | None = None,
 ) -> np.ndarray:
     """Kirchhoff's visco-thermal attenuation of a plane wave in a rigid tube, Np/m.
 
     α = sqrt(π f η/ρ) (1 + (γ − 1)/sqrt(Pr)) / (r c), with Sutherland's viscosity η(T),
     ρ = p/(R T), γ = 1.4, Pr = 0.71. For d = 75 mm at 1700 Hz: 0.032 Np/m, so a 9.6 m round
-    trip (19.2 m) keeps e^(−0.62) ≈ 54 % of the amplitude.
+    trip (19.2 m) keeps e^(−0.62) ≈ 54 % of the amplitude. Into ``out`` when given (it may
+    be the frequencies' own array).
     """
     tk = temperature_c + 273.15
     eta = 1.458e-6 * tk**1.5 / (tk + 110.4)
@@ -65,7 +67,7 @@ def wall_attenuation(
     gamma, prandtl = 1.4, 0.71
     f = np.asarray(frequency_hz, dtype=float)
     # one array, then in place (the synthesis calls this on 10⁵ samples per echo)
-    alpha = np.abs(f, out=np.empty_like(f))
+    alpha = np.abs(f, out=np.empty_like(f) if out is None else out)
     alpha *= np.pi
     alpha *= eta
     alpha /= rho
@@ -146,20 +148,26 @@ class TubeSetup:
         """Orders n and frequencies n c/(2L) in ``band`` (eqs. 31–32)."""
         return resonance_frequencies(self.level_m, self.speed_of_sound, band)
 
-    def attenuation(self, frequency_hz: Any) -> np.ndarray:
-        """α(f), Np/m: wall loss × ``wall_loss_factor`` + ``extra_attenuation_np_per_m``."""
-        alpha = wall_attenuation(frequency_hz, self.diameter_m, self.temperature_c)
+    def attenuation(self, frequency_hz: Any, out: np.ndarray | None = None) -> np.ndarray:
+        """α(f), Np/m: wall loss × ``wall_loss_factor`` + ``extra_attenuation_np_per_m``;
+        into ``out`` when given (it may be ``frequency_hz`` itself)."""
+        alpha = wall_attenuation(frequency_hz, self.diameter_m, self.temperature_c, out=out)
         alpha *= self.wall_loss_factor  # in place for an array (a new one: ours to change)
         alpha += self.extra_attenuation_np_per_m
         return alpha
 
-    def echo_gain(self, m: int, frequency_hz: Any) -> np.ndarray:
-        """a_m(f) = (1 + R_t) R_s^m R_t^(m−1) e^(−2mLα(f)) at the microphone; a_0 = 1."""
+    def echo_gain(self, m: int, frequency_hz: Any, out: np.ndarray | None = None
+                  ) -> np.ndarray:
+        """a_m(f) = (1 + R_t) R_s^m R_t^(m−1) e^(−2mLα(f)) at the microphone; a_0 = 1. Into
+        ``out`` when given (it may be ``frequency_hz`` itself)."""
         f = np.asarray(frequency_hz, dtype=float)
         if m == 0:
-            return np.ones_like(f)
+            if out is None:
+                return np.ones_like(f)
+            out.fill(1.0)
+            return out
         rs, rt = self.surface_reflection, self.top_reflection
-        gain = self.attenuation(f)
+        gain = self.attenuation(f, out=out)
         gain *= -2.0 * m * self.level_m  # in place for an array, as in attenuation
         gain = np.exp(gain, out=gain) if isinstance(gain, np.ndarray) else np.exp(gain)
         gain *= (1.0 + rt) * rs**m * rt ** (m - 1)
@@ -403,11 +411,11 @@ def _echo_span(u: np.ndarray, delay_s: float, duration_s: float) -> tuple[int, i
 
 
 def _echo_wave(sweep: LinearSweep, e: np.ndarray, gain: np.ndarray, t_j: np.ndarray,
-               psi_j: np.ndarray | None) -> np.ndarray:
+               psi_j: np.ndarray | None, out: np.ndarray | None = None) -> np.ndarray:
     """One echo at the times ``e`` since it left the speaker: gain × gate × cos(φ + ψ), the
-    arithmetic in place (no new array of 10⁵ samples per step; ``gain`` is overwritten)."""
+    arithmetic in place (``gain`` is overwritten) and into ``out`` when given."""
     gain = _gated(gain, sweep, e)
-    wave = sweep.phase(e)
+    wave = sweep.phase(e, out=out)
     if psi_j is not None:
         wave += np.interp(e, t_j, psi_j)
     wave = np.cos(wave, out=wave)
@@ -460,6 +468,9 @@ def synthesize_recording(
     echoes = setup.echo_count(sweep.f_start, echo_floor)
     echoes = min(echoes, int(u[-1] / delta))
     pressure = np.zeros(n)
+    # three work arrays for every echo: a new array of 10⁵ samples costs more than its
+    # arithmetic (the memory is handed back and faulted in again)
+    buffers = np.empty((3, n))
     for m in range(echoes + 1):
         lo, hi = _echo_span(u, m * delta, sweep.duration)
         if hi <= lo:
@@ -468,8 +479,10 @@ def synthesize_recording(
             wave = _seeded_direct_wave(int(seed), sweep, n, cond.latency_s,
                                        cond.speaker_jitter_hz, kinds)
         else:
-            e = u[lo:hi] - m * delta
-            wave = _echo_wave(sweep, e, setup.echo_gain(m, sweep.frequency_at(e)), t_j, psi_j)
+            e, gain, wave = buffers[:, : hi - lo]
+            np.subtract(u[lo:hi], m * delta, out=e)
+            gain = setup.echo_gain(m, sweep.frequency_at(e, out=gain), out=gain)
+            wave = _echo_wave(sweep, e, gain, t_j, psi_j, out=wave)
         pressure[lo:hi] += wave
     pressure *= cond.source_pressure_pa
 
