@@ -24,7 +24,7 @@ alone, g⁻¹(z_k + W), as at the first step, and flags the step in
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, ClassVar, Literal, overload
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
@@ -80,14 +80,6 @@ class BoundedErrorFilter(FilterBase):
             method=self.name, estimates=0.5 * (lo[0] + hi[0]), lower=lo[0], upper=hi[0],
             steps=steps, diagnostics={"resets": resets[0]},
         )
-
-    @overload
-    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
-                  return_result: Literal[False] = False) -> np.ndarray: ...
-
-    @overload
-    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
-                  return_result: Literal[True]) -> FilterResult: ...
 
     def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
                   return_result: bool = False) -> np.ndarray | FilterResult:
