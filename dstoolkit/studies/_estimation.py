@@ -25,7 +25,7 @@ from __future__ import annotations
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -35,7 +35,7 @@ from dstoolkit.filters._bounded_error import BoundedErrorFilter
 from dstoolkit.filters._dependent import DependentEvidenceFilter
 from dstoolkit.filters._example_systems import simulate_lotka_volterra
 from dstoolkit.filters._kalman import KalmanFilter
-from dstoolkit.filters._model import BoundedNoise, StateSpaceModel
+from dstoolkit.filters._model import BoundedNoise, FilterResult, StateSpaceModel
 from dstoolkit.filters._nassreddine import NassreddineFilter
 from dstoolkit.filters._particle import ParticleFilter
 from dstoolkit.gauge._acoustics import resonance_frequencies, speed_of_sound
@@ -271,8 +271,8 @@ def bounded_error_failures(model: StateSpaceModel, data: TrackingData,
     first failed run is filtered strictly again, for its message.
     """
     if resets is None:
-        resets = BoundedErrorFilter(on_inconsistent="reset").run_batch(
-            model, data.readings, inputs=data.orders, return_result=True).diagnostics["resets"]
+        resets = cast(FilterResult, BoundedErrorFilter(on_inconsistent="reset").run_batch(
+            model, data.readings, inputs=data.orders, return_result=True)).diagnostics["resets"]
     failed = np.flatnonzero(np.any(resets, axis=1))
     message = ""
     if failed.size:
@@ -295,8 +295,8 @@ def noise_mismatch(data: TrackingData, state_noise: BoundedNoise, obs_noise: Bou
     for m in methods:
         began = time.perf_counter()
         if m == "bounded_error":  # its restarts also tell where the strict filter fails
-            result = filters[m].run_batch(model, data.readings, inputs=data.orders,
-                                          return_result=True)
+            result = cast(FilterResult, filters[m].run_batch(
+                model, data.readings, inputs=data.orders, return_result=True))
             x, resets = result.estimates[..., 0], result.diagnostics["resets"]
         else:
             x = filters[m].run_batch(model, data.readings, inputs=data.orders)[..., 0]
