@@ -106,7 +106,7 @@ def estimate_latency(
 
     The reference (the sweep, or a calibration chirp) was played starting at sample
     ``offset`` of the output; the recording started with the output. The matched filter
-    ``c[j] = Σ_i recorded[j + i] reference[i]`` (:func:`valid_correlation`) peaks in
+    ``c[j] = Σ_i recorded[j + i] reference[i]`` (``valid_correlation``) peaks in
     absolute value where the reference sits in the recording (absolute, so an inverted
     polarity still works), at ``j = offset + lag``. The first arrival is taken, not the
     strongest: in a tube the first echo can be louder than the direct sound (up to 1 + R_t

@@ -64,7 +64,7 @@ def plot_estimates(truth: np.ndarray, readings: np.ndarray,
     ``estimates`` maps method names to one value per step. When the truth changes from
     step to step (the resonances of Fig. 10 climb by f_F each), panel (a) shows every
     curve minus the truth: on the raw scale they would all lie on one diagonal.
-    :func:`update_estimates` draws other values on the figure.
+    ``update_estimates`` draws other values on the figure.
     """
     fig = new_figure(6.4, 5.6)
     ax_a, ax_b = fig.subplots(2, 1, sharex=True)

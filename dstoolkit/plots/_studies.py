@@ -46,7 +46,7 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
 
     ``errors`` maps a method to absolute errors of shape (runs, K) or (K,); a name that is
     not a method of STYLE (a variant, say) gets a colour of ``EXTRA_COLOURS``.
-    :func:`update_step_errors` draws other errors of the same methods on the axes.
+    ``update_step_errors`` draws other errors of the same methods on the axes.
     """
     fig, ax = _figure(ax, (7.5, 3.4))
     extra = iter(EXTRA_COLOURS)
@@ -98,7 +98,7 @@ _ASSUMED_LINE = {"color": "C3", "lw": 1.5, "label": "assumed"}
 def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | None = None,
                           *, title: str | None = None, xlabel: str = "noise (Hz)") -> Figure:
     """The possibility distribution of the true noise (filled) and of the noise a filter
-    assumes (line), scalar noises (paper eqs. 22–23). :func:`update_noise_assumption`
+    assumes (line), scalar noises (paper eqs. 22–23). ``update_noise_assumption``
     draws other noises on the axes."""
     fig, ax = _figure(ax, (4.0, 2.6))
     x, y_true, y_assumed = _possibilities(true, assumed)
