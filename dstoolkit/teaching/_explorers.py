@@ -329,7 +329,7 @@ class Explorer(widgets.VBox):
         marks the figure stale when a non-animated artist, a limit or a text changes), the
         picture of the rest is restored from the last draw and only those artists are drawn
         on it (blitting), in order of their zorder. Otherwise the whole figure is drawn
-        (:meth:`_draw`) and the animated artists on top.
+        and the animated artists on top.
         """
         if not hasattr(fig.canvas, "copy_from_bbox"):  # a Figure() made without pyplot
             FigureCanvasAgg(fig)
