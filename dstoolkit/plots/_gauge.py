@@ -18,6 +18,7 @@ from dstoolkit.gauge._resonance import DetectionResult
 from dstoolkit.gauge._tube import Recording, TubeSetup
 
 from ._evidence import _axes
+from ._kept import animate, set_limits, snapped_limits
 from ._style import (
     BEL_COLOUR,
     BETP_COLOUR,
@@ -124,8 +125,10 @@ def gauge_detection_figure(setup: TubeSetup, detection: DetectionResult) -> Figu
     recording's envelope against the sweep's frequency, the model's resonances n c/(2L)
     (eqs. 29–32) and the detected peaks; bottom, the detection error z_k − n_k f_F.
 
-    Built once and kept: :func:`update_gauge_detection` draws another detection on it. It is
-    the explorer's own (9.5 in wide, in the notebook's style), not a figure of the book.
+    Built once and kept: :func:`update_gauge_detection` draws another detection on it. The
+    data and the title are animated and the limits snap to round numbers, so that most
+    changes redraw only them; the legend stands above the data. It is the explorer's own
+    (9.5 in wide, in the notebook's style), not a figure of the book.
     """
     fig = Figure(figsize=(9.5, 4.8), layout="constrained")
     ax1, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=[3, 2])
@@ -134,19 +137,21 @@ def gauge_detection_figure(setup: TubeSetup, detection: DetectionResult) -> Figu
                alpha=0.6, label="n c/(2L)")
     ax1.plot([], [], "v", ms=4, color=BETP_COLOUR, label="detected peaks")
     ax1.set_ylabel("envelope (full scale)")
-    ax1.legend(loc="upper center", ncols=3, fontsize=8, framealpha=0.9)
+    legend_above(ax1, ncols=3, fontsize=8)
+    ax1.set_title("", pad=8.0 + 1.75 * SMALL_PT)  # above the legend (legend_above's rule)
     ax2.axhline(0.0, color="black", lw=0.6)
     ax2.plot([], [], ".", color=BETP_COLOUR)
     ax2.set_ylabel("z_k − n_k f_F (Hz)")
     ax2.set_xlabel("sweep frequency (Hz)")
     ax2.set_xlim(detection.sweep.f_start, detection.sweep.f_stop)
+    animate(*ax1.lines, *ax1.collections, ax1.title, ax2.lines[1])
     update_gauge_detection(fig, setup, detection)
     return fig
 
 
 def update_gauge_detection(fig: Figure, setup: TubeSetup, detection: DetectionResult) -> None:
-    """Draw another detection on a :func:`gauge_detection_figure`: new data, envelope
-    limits, title and error axis."""
+    """Draw another detection on a :func:`gauge_detection_figure`: new data and title; the
+    envelope's and the error's limits where they cross round numbers."""
     (ax1, ax2), sweep = fig.axes, detection.sweep
     envelope, peaks = ax1.lines
     (model,) = ax1.collections
@@ -160,14 +165,13 @@ def update_gauge_detection(fig: Figure, setup: TubeSetup, detection: DetectionRe
     model.set_segments(segments)
     peaks.set_data(detection.raw_frequencies - detection.latency_offset_hz,
                    detection.amplitudes)
-    ax1.set_ylim(0.0, 1.3 * float(np.max(detection.envelope[keep])))
-    ax1.set_title(f"L = {setup.level_m:.1f} m, T = {setup.temperature_c:.1f} °C, c = "
+    ax1.title.set_text(f"L = {setup.level_m:.1f} m, T = {setup.temperature_c:.1f} °C, c = "
                   f"{setup.speed_of_sound:.1f} m/s, f_F = {setup.fundamental_hz:.2f} Hz")
     f_f = setup.fundamental_hz
-    ax2.lines[1].set_data(detection.frequencies,
-                          detection.frequencies - np.rint(detection.frequencies / f_f) * f_f)
-    # The zero line's limits are found through the view limits (it spans the axes): start
-    # from an empty axes' view, so that a kept figure rounds as a fresh one does.
-    ax2.set_ylim(0.0, 1.0, auto=True)
-    ax2.relim()
-    ax2.autoscale_view()
+    errors = detection.frequencies - np.rint(detection.frequencies / f_f) * f_f
+    ax2.lines[1].set_data(detection.frequencies, errors)
+    # the error axis holds the zero line
+    set_limits(ax1, y=snapped_limits(0.0, 1.3 * float(np.max(detection.envelope[keep])),
+                                     margin=0.0))
+    set_limits(ax2, y=snapped_limits(min(0.0, float(np.min(errors, initial=0.0))),
+                                     max(0.0, float(np.max(errors, initial=0.0)))))

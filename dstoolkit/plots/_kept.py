@@ -11,6 +11,9 @@ from __future__ import annotations
 from collections.abc import Callable, Hashable
 from typing import Any
 
+import numpy as np
+from matplotlib.artist import Artist
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 
@@ -39,3 +42,63 @@ class KeptFigure:
         else:
             self.update(fig, *args, **kwargs)
         return fig
+
+
+#: The steps of a linear axis's snapped limits (times a power of ten), as MaxNLocator's.
+_LINEAR_STEPS = (1.0, 2.0, 2.5, 5.0, 10.0)
+#: The values of a log axis's snapped limits within a decade: the ticks of ``log_ticks``.
+_LOG_STEPS = (1.0, 2.0, 5.0, 10.0)
+
+
+def snapped_limits(lo: float, hi: float, *, log: bool = False, margin: float = 0.05,
+                   bins: int = 5) -> tuple[float, float]:
+    """Axis limits around data from ``lo`` to ``hi``: out to round numbers, then widened by
+    ``margin`` of that span (of its logarithm on a ``log`` axis), as matplotlib's margins.
+
+    Round numbers are multiples of a step of 1, 2, 2.5 or 5 × 10ⁿ that cuts the span into
+    at most ``bins`` (linear), or 1, 2, 5 × 10ⁿ (log, the ticks of ``log_ticks``). The limits
+    of a kept figure then change only when the data cross a round number, so that most
+    changes redraw only the data (``Explorer.png`` blits).
+    """
+    if log:
+        a, b = np.log10(lo), np.log10(hi)
+        a, b = np.log10(_round_log(a, np.floor)), np.log10(_round_log(b, np.ceil))
+        pad = margin * (b - a)
+        return float(10.0 ** (a - pad)), float(10.0 ** (b + pad))
+    if not hi > lo:
+        lo, hi = lo - 0.5 * (abs(lo) or 1.0), hi + 0.5 * (abs(hi) or 1.0)
+    scale = 10.0 ** np.floor(np.log10((hi - lo) / bins))
+    step = scale * next(s for s in _LINEAR_STEPS if s * scale * bins >= hi - lo)
+    # rounded, so that 0.30000000000000004 reads 0.3
+    lo = float(np.round(np.floor(lo / step) * step, 12))
+    hi = float(np.round(np.ceil(hi / step) * step, 12))
+    pad = margin * (hi - lo)
+    return lo - pad, hi + pad
+
+
+def _round_log(exponent: float, outward: Callable[[float], float]) -> float:
+    """10**exponent moved ``outward`` (np.floor or np.ceil) to 1, 2 or 5 × 10ⁿ."""
+    decade = np.floor(exponent)
+    within = 10.0 ** (exponent - decade)
+    if outward is np.floor:
+        value = max(s for s in _LOG_STEPS if s <= within * (1 + 1e-12))
+    else:
+        value = min(s for s in _LOG_STEPS if s >= within * (1 - 1e-12))
+    return float(np.round(value * 10.0 ** decade, 12 - int(decade)))
+
+
+def set_limits(ax: Axes, *, x: tuple[float, float] | None = None,
+               y: tuple[float, float] | None = None) -> None:
+    """Set the axes' limits that differ from ``x`` and ``y`` (matplotlib marks a figure stale
+    on any ``set_xlim``, even of the same values, and then it is drawn whole)."""
+    if x is not None and tuple(ax.get_xlim()) != tuple(map(float, x)):
+        ax.set_xlim(*x)
+    if y is not None and tuple(ax.get_ylim()) != tuple(map(float, y)):
+        ax.set_ylim(*y)
+
+
+def animate(*artists: Artist) -> None:
+    """Mark ``artists`` as following the controls: a kept figure whose other artists did not
+    change redraws only them (blitting, see :meth:`dstoolkit.teaching.Explorer.png`)."""
+    for artist in artists:
+        artist.set_animated(True)
