@@ -6,12 +6,15 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.text import Text
 
 from dstoolkit.errors import InvalidInputError
 from dstoolkit.studies._experiments import Table3
 from dstoolkit.studies._paper_results import TABLE3_MEAN_ABS_ERROR_M
 
+from ._kept import animate, set_limits, snapped_limits
 from ._style import log_ticks, new_figure, styled
 
 #: Colour, marker and label of each method of Table 3 in every figure.
@@ -57,14 +60,17 @@ def plot_table3(table: Table3) -> Figure:
 @styled
 def plot_estimates(truth: np.ndarray, readings: np.ndarray,
                    estimates: Mapping[str, np.ndarray], *, quantity: str = "frequency",
-                   unit: str = "Hz") -> Figure:
+                   unit: str = "Hz", note: str = "", kept: bool = False) -> Figure:
     """Fig. 10 / Fig. 11: (a) estimates, truth and readings per step; (b) absolute errors.
 
     ``truth`` and ``readings`` have one value per step (or a scalar truth for a level);
     ``estimates`` maps method names to one value per step. When the truth changes from
     step to step (the resonances of Fig. 10 climb by f_F each), panel (a) shows every
-    curve minus the truth: on the raw scale they would all lie on one diagonal.
-    ``update_estimates`` draws other values on the figure.
+    curve minus the truth: on the raw scale they would all lie on one diagonal. A ``note``
+    follows panel (a)'s title (in a smaller font). ``update_estimates`` draws other values
+    on the figure; a figure that an explorer keeps (``kept``) has its data and title
+    animated and its limits snapped to round numbers (``snapped_limits``), so that most
+    changes redraw only those (blitting).
     """
     fig = new_figure(6.4, 5.6)
     ax_a, ax_b = fig.subplots(2, 1, sharex=True)
@@ -82,14 +88,22 @@ def plot_estimates(truth: np.ndarray, readings: np.ndarray,
     for ax in (ax_a, ax_b):
         ax.grid(True, alpha=0.3)
     fig.legend(*ax_a.get_legend_handles_labels(), loc="outside lower center", ncols=3)
-    update_estimates(fig, truth, readings, estimates, quantity=quantity, unit=unit)
+    if kept:  # set_title re-places all three titles: none may mark the figure stale
+        animate(*ax_a.lines, *ax_b.lines, ax_a.title, *_side_titles(ax_a))
+    update_estimates(fig, truth, readings, estimates, quantity=quantity, unit=unit,
+                     note=note)
     return fig
+
+
+def _side_titles(ax: Axes) -> list[Text]:
+    """The left and right titles of ``ax`` (set_title returns them; it sets them too)."""
+    return [ax.set_title(ax.get_title(loc), loc=loc) for loc in ("left", "right")]
 
 
 @styled
 def update_estimates(fig: Figure, truth: np.ndarray, readings: np.ndarray,
                      estimates: Mapping[str, np.ndarray], *, quantity: str = "frequency",
-                     unit: str = "Hz") -> None:
+                     unit: str = "Hz", note: str = "") -> None:
     """Draw other values on a figure of :func:`plot_estimates` made for the same methods
     (``estimates`` with the same names, in the same order): data, limits, labels."""
     ax_a, ax_b = fig.axes[:2]
@@ -110,10 +124,23 @@ def update_estimates(fig: Figure, truth: np.ndarray, readings: np.ndarray,
         est = np.asarray(est, dtype=float).reshape(-1)
         line_a.set_data(steps[: est.size], est - ref[: est.size])
         line_b.set_data(steps[: est.size], np.abs(est - truth[: est.size]))
-    ax_a.set_ylabel(f"{quantity} − true ({unit})" if moving else f"{quantity} ({unit})")
-    ax_b.set_ylabel(f"|error| ({unit})")
-    ax_a.set_title(f"(a) estimated {quantity}" + (", minus the truth" if moving else ""),
-                   loc="left")
-    for ax in (ax_a, ax_b):
-        ax.relim()
-        ax.autoscale_view()
+    title = f"(a) estimated {quantity}" + (", minus the truth" if moving else "") + \
+        (f": {note}" if note else "")
+    for ax, label in ((ax_a, f"{quantity} − true ({unit})" if moving else
+                       f"{quantity} ({unit})"), (ax_b, f"|error| ({unit})")):
+        if ax.get_ylabel() != label:  # an unchanged label would mark the figure stale
+            ax.set_ylabel(label)
+    if ax_a.get_title(loc="left") != title:
+        ax_a.set_title(title, loc="left", **({"fontsize": 9} if note else {}))
+    if not true_line.get_animated():
+        for ax in (ax_a, ax_b):
+            ax.relim()
+            ax.autoscale_view()
+        return
+    a = np.concatenate([line.get_ydata() for line in ax_a.lines])
+    b = np.concatenate([line.get_ydata() for line in ax_b.lines])
+    b = b[b > 0]
+    set_limits(ax_a, x=snapped_limits(1.0, float(steps[-1])),
+               y=snapped_limits(float(np.nanmin(a)), float(np.nanmax(a))))
+    if b.size:
+        set_limits(ax_b, y=snapped_limits(float(np.nanmin(b)), float(np.nanmax(b)), log=True))

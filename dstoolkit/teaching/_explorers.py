@@ -1220,23 +1220,22 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
         "seed": int_slider("run (seed)", seed, 0, 20),
     }
 
-    kept = KeptFigure(plot_estimates, update_estimates)  # one per kind of figure
+    kept = KeptFigure(functools.partial(plot_estimates, kept=True),
+                      update_estimates)  # one per kind of figure
     run_of = functools.lru_cache(maxsize=32)(gauge_run)  # the figure dropdown re-draws
 
     def render(level: float, temperature: float, simulation: str, order_rule: str,
                figure: str, seed: int):
         run = run_of(level, temperature, simulation, order_rule, seed=seed)
         kind = ESTIMATION_FIGURES[figure]
+        note = (f"L = {level:.1f} m, T = {temperature:.1f} °C,\n{simulation}-level "
+                f"readings, n_k by {order_rule}, seed {seed}")
         if kind == "frequency":
-            fig = kept(run.truth, run.readings, run.estimates, key=kind)
+            fig = kept(run.truth, run.readings, run.estimates, note=note, key=kind)
         else:
             levels = run.levels()
             fig = kept(run.level_m, levels.pop("direct"), levels, quantity="level", unit="m",
-                       key=kind)
-        top = fig.axes[0]
-        top.set_title(f"{top.get_title(loc='left')}: L = {level:.1f} m, "
-                      f"T = {temperature:.1f} °C,\n{simulation}-level readings, "
-                      f"n_k by {order_rule}, seed {seed}", loc="left", fontsize=9)
+                       note=note, key=kind)
         return fig, estimation_numbers(run)
 
     live = {"level": positions(controls["level"], 9, 1.6, 9.6),
