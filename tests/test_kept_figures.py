@@ -61,6 +61,10 @@ def picture(fig: Figure) -> list[Any]:
         out += [(line.get_label(), np.asarray(line.get_xdata(), float).tolist(),
                  np.asarray(line.get_ydata(), float).tolist()) for line in ax.lines]
         out += [[path.vertices.tolist() for path in c.get_paths()] for c in ax.collections]
+        out += [[a.get_animated() for a in (*ax.lines, *ax.collections)],
+                [(t.get_text(), t.get_fontsize(), t.get_animated())
+                 for t in (ax.title, *(ax.set_title(ax.get_title(loc), loc=loc)
+                                       for loc in ("left", "right")))]]
         legend = ax.get_legend()
         out.append([t.get_text() for t in legend.get_texts()] if legend else None)
     out.append([[t.get_text() for t in legend.get_texts()] for legend in fig.legends])
@@ -136,7 +140,8 @@ def test_the_noise_bounds_explorer_after_changes_shows_what_a_fresh_figure_shows
     assumed_w = BoundedNoise(v["w_lower"], v["w_mode"], v["w_upper"])
     result = noise_mismatch(data, assumed_v, assumed_w, start="observation")
     fresh = noise_bounds_figure(data.state_noise, data.obs_noise, assumed_v, assumed_w,
-                                result.errors, title="L = 4.6 m, 4 runs, true orders")
+                                result.errors, title="L = 4.6 m, 4 runs, true orders",
+                                v_range=(-1.0, 1.0), w_range=(-20.0, 5.0))
     assert picture(kept) == picture(fresh)
 
 
@@ -203,3 +208,39 @@ def test_a_generator_seed_and_an_integer_seed_draw_the_same_noise() -> None:
     np.testing.assert_allclose(
         virtual_tube_signal(TubeSetup(3.0, 20.0), PAPER_SWEEP, conditions=conditions, seed=2)
         [::101], np.load(GOLDEN)["virtual_tube"], rtol=0, atol=1e-15)
+
+
+def pixels(png: bytes) -> np.ndarray:
+    from io import BytesIO
+
+    from matplotlib.image import imread
+
+    return imread(BytesIO(png))
+
+
+@pytest.mark.parametrize(("build", "steps", "blitted"), [
+    (gauge_explorer, (("temperature", 20.0), ("background", 60.0)), 2),
+    (level_estimation_explorer, (("temperature", 20.0), ("temperature", 26.0)), 1),
+    (noise_bounds_explorer, (("w_upper", -3.0), ("v_upper", 0.4), ("w_lower", -11.0)), 3),
+])
+def test_a_kept_figure_redraws_only_its_data_and_shows_the_pixels_of_a_whole_draw(
+        build: Any, steps: tuple[tuple[str, Any], ...], blitted: int,
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Changes that move no limit redraw only the animated data and title (blitting): the
+    picture shown is pixel for pixel the figure drawn whole."""
+    from base64 import b64decode
+
+    from dstoolkit.teaching._explorers import Explorer
+
+    ex = build()
+    draws: list[Figure] = []
+    whole = Explorer._draw
+    monkeypatch.setattr(Explorer, "_draw", lambda self, fig: (draws.append(fig),
+                                                              whole(self, fig)))
+    change(ex, *steps)
+    assert len(steps) - len(draws) >= blitted
+    shown = pixels(b64decode(ex.output.outputs[-1]["data"]["image/png"]))
+    before = len(draws)
+    ex.figure.stale = True  # the next PNG is a whole draw
+    np.testing.assert_array_equal(shown, pixels(ex.png(ex.figure)))
+    assert len(draws) == before + 1

@@ -19,6 +19,7 @@ from dstoolkit.filters._model import BoundedNoise
 from dstoolkit.studies._estimation import ExampleComparison, MismatchResult, OrderRuleStudy
 
 from ._experiments import STYLE
+from ._kept import animate, set_limits, snapped_limits
 from ._style import SMALL_PT, legend_above, log_ticks, new_figure, styled
 
 #: Colours for curves that are not one of STYLE's methods (variants of a method), in order.
@@ -74,8 +75,17 @@ def update_step_errors(ax: Axes, errors: Mapping[str, np.ndarray]) -> None:
     for line, err in zip(ax.lines, errors.values(), strict=True):
         err = np.atleast_2d(np.asarray(err, dtype=float))
         line.set_data(np.arange(1, err.shape[1] + 1), err.mean(axis=0))
-    ax.relim()
-    ax.autoscale_view()
+    if not ax.lines[0].get_animated():
+        ax.relim()
+        ax.autoscale_view()
+        return
+    # kept by an explorer (noise_bounds_figure): limits that change only when they must
+    steps = max(len(line.get_xdata()) for line in ax.lines)
+    y = np.concatenate([line.get_ydata() for line in ax.lines])
+    y = y[np.isfinite(y) & (y > 0)]
+    pad = 0.05 * (steps - 1)
+    set_limits(ax, x=(1.0 - pad, steps + pad),
+               y=snapped_limits(float(y.min()), float(y.max()), log=True) if y.size else None)
 
 
 def _possibilities(true: BoundedNoise, assumed: BoundedNoise
@@ -116,27 +126,39 @@ def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | 
 
 @styled
 def update_noise_assumption(ax: Axes, true: BoundedNoise, assumed: BoundedNoise) -> None:
-    """Draw other noises on axes of :func:`plot_noise_assumption`; the x limits follow."""
+    """Draw other noises on axes of :func:`plot_noise_assumption`; the x limits follow,
+    unless the curves are animated (kept by an explorer, :func:`noise_bounds_figure`)."""
     x, y_true, y_assumed = _possibilities(true, assumed)
-    ax.collections[0].remove()  # a new fill (the legend keeps its own patch)
-    ax.fill_between(x, y_true, **_TRUE_FILL)
+    ax.collections[0].set_data(x, y_true, 0)
     ax.lines[0].set_data(x, y_assumed)
-    ax.relim()  # the line spans the fill's x range
-    ax.autoscale_view(scaley=False)
+    if not ax.lines[0].get_animated():  # kept by an explorer: its x limits stay
+        ax.relim()  # the line spans the fill's x range
+        ax.autoscale_view(scaley=False)
 
 
 def noise_bounds_figure(true_v: BoundedNoise, true_w: BoundedNoise, assumed_v: BoundedNoise,
                         assumed_w: BoundedNoise, errors: Mapping[str, np.ndarray], *,
-                        title: str) -> Figure:
+                        title: str, v_range: tuple[float, float],
+                        w_range: tuple[float, float]) -> Figure:
     """The noise-bounds explorer's figure: the true and assumed possibility distributions
     of v and w (:func:`plot_noise_assumption`) beside every method's mean error per step
     (:func:`plot_step_errors`, titled ``title``). The explorer's own (11 in wide, in the
-    notebook's style); :func:`update_noise_bounds_figure` draws other assumptions on it."""
+    notebook's style); :func:`update_noise_bounds_figure` draws other assumptions on it.
+    The noises' axes span ``v_range`` and ``w_range`` (the sliders' ranges of the bounds,
+    with matplotlib's margin) whatever the assumption, the errors' axis snaps to round
+    numbers (``snapped_limits``) and the data are animated: most changes redraw only the
+    data (blitting), and the true noise stands still while the assumed one moves."""
     fig = Figure(figsize=(11, 3.8), layout="constrained")
     ax_v, ax_w, ax_e = fig.subplots(1, 3, width_ratios=[1, 1, 2.2])
     plot_noise_assumption(true_v, assumed_v, ax_v, title="state noise v (Hz)")
     plot_noise_assumption(true_w, assumed_w, ax_w, title="observation noise w (Hz)")
     plot_step_errors(errors, ax_e, title=title)
+    for ax, (lo, hi) in ((ax_v, v_range), (ax_w, w_range)):
+        ax.set_xlim(lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo))
+    # the data follow the controls and are redrawn alone (blitting) while the limits,
+    # snapped to round numbers, stay
+    animate(*(artist for ax in fig.axes for artist in (*ax.lines, *ax.collections)))
+    update_noise_bounds_figure(fig, true_v, true_w, assumed_v, assumed_w, errors)
     return fig
 
 

@@ -1287,7 +1287,12 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
     }
 
     title = f"L = {level_m:.1f} m, {runs} runs, true orders"
-    kept = KeptFigure(functools.partial(noise_bounds_figure, title=title),
+    ranges = {name: (controls[name].min, controls[name].max) for name in controls
+              if name != "start"}
+    kept = KeptFigure(functools.partial(
+        noise_bounds_figure, title=title,
+        v_range=(ranges["v_lower"][0], ranges["v_upper"][1]),
+        w_range=(ranges["w_lower"][0], ranges["w_upper"][1])),
                       update_noise_bounds_figure)
 
     def render(v_lower: float, v_mode: float, v_upper: float, w_lower: float, w_mode: float,
