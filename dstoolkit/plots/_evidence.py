@@ -10,14 +10,21 @@ by Jupyter and by the book), optionally beside the values a paper prints.
 
 from __future__ import annotations
 
-from collections.abc import Hashable, Iterable, Sequence
+from collections.abc import Callable, Hashable, Iterable, Sequence
+from dataclasses import dataclass, field
 from itertools import combinations
-from typing import Any
+from typing import Any, TypeVar
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.artist import Artist
 from matplotlib.axes import Axes
+from matplotlib.collections import FillBetweenPolyCollection, LineCollection, PathCollection
+from matplotlib.container import BarContainer
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Rectangle
+from matplotlib.text import Text
 from matplotlib.ticker import FixedLocator, NullLocator, StrMethodFormatter
 
 from dstoolkit.errors import EvidenceError
@@ -49,7 +56,91 @@ def _scalar(ev: IntervalEvidence, what: str) -> None:
         raise EvidenceError(f"{what} draws scalar interval evidence (IntervalEvidence, d = 1)")
 
 
+A = TypeVar("A", bound=Artist)
+
+
+def _resize(artists: list[A], count: int, make: Callable[[], A]) -> list[A]:
+    """``artists`` (drawn on an Axes) cut or grown to ``count``: the first ones are kept,
+    missing ones made by ``make()`` (in order, as a fresh drawing makes them), the rest
+    removed from the Axes. The caller then sets every one's data."""
+    while len(artists) < count:
+        artists.append(make())
+    for artist in artists[count:]:
+        artist.remove()
+    del artists[count:]
+    return artists
+
+
 # -- interval evidence -------------------------------------------------------------------
+
+
+@dataclass
+class FocalIntervalArtists:
+    """What :func:`plot_focal_intervals` draws on ``ax``: one bar per focal element and the
+    masses written on them. Made by :func:`draw_focal_intervals`, set by
+    :func:`update_focal_intervals`."""
+
+    ax: Axes
+    bars: list[Rectangle] = field(default_factory=list)
+    labels: list[Text] = field(default_factory=list)
+
+
+@styled
+def draw_focal_intervals(ax: Axes, *, title: str | None = None,
+                         xlabel: str = "x") -> FocalIntervalArtists:
+    """The parts of :func:`plot_focal_intervals` that no evidence changes (axis labels, y
+    range, title) on ``ax``; the bars come with :func:`update_focal_intervals`."""
+    ax.set_ylim(0, 1)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("cumulated mass")
+    if title:
+        ax.set_title(title)
+    return FocalIntervalArtists(ax)
+
+
+@styled
+def update_focal_intervals(
+    artists: FocalIntervalArtists,
+    ev: IntervalEvidence,
+    *,
+    xlim: tuple[float, float] | None = None,
+    label_masses: bool = True,
+    colour: str | None = None,
+) -> None:
+    """Draw ``ev`` in the bars of :func:`draw_focal_intervals` (the parameters as in
+    :func:`plot_focal_intervals`): an explorer's kept figure follows the evidence."""
+    _scalar(ev, "plot_focal_intervals")
+    ax = artists.ax
+    lo, hi, m = ev.lo, ev.hi, ev.mass
+    if xlim is None:
+        a, b = float(np.min(lo)), float(np.max(hi))
+        pad = 0.05 * (b - a if b > a else 1.0)
+        xlim = (a - pad, b + pad)
+    bottoms = np.concatenate([[0.0], np.cumsum(m)[:-1]])
+    colours = (
+        [colour] * len(ev) if colour is not None
+        else plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, max(len(ev), 1)))
+    )
+    left, right = np.maximum(lo, xlim[0]), np.minimum(hi, xlim[1])
+
+    def bar() -> Rectangle:
+        return ax.add_patch(Rectangle((0.0, 0.0), 0.0, 0.0, edgecolor="black", linewidth=0.6))
+
+    bars = _resize(artists.bars, len(ev), bar)
+    for i, rect in enumerate(bars):
+        rect.set_bounds(left[i], bottoms[i], right[i] - left[i], m[i])
+        rect.set_facecolor(colours[i])
+    shown = [i for i in range(len(ev)) if label_masses and m[i] > 0.05]
+
+    def label() -> Text:
+        return ax.text(0.0, 0.0, "", ha="center", va="center", fontsize=SMALL_PT,
+                       bbox={"boxstyle": "round,pad=0.15", "fc": "white", "alpha": 0.7, "lw": 0})
+
+    for text, i in zip(_resize(artists.labels, len(shown), label), shown, strict=True):
+        clipped = lo[i] < xlim[0] or hi[i] > xlim[1]
+        text.set_position((0.5 * (left[i] + right[i]), bottoms[i] + 0.5 * m[i]))
+        text.set_text(f"{m[i]:.4g}" + (f"  [{lo[i]:.4g}, {hi[i]:.4g}]" if clipped else ""))
+    ax.set_xlim(*xlim)
 
 
 @styled
@@ -68,6 +159,7 @@ def plot_focal_intervals(
     The bars are stacked in the order of the evidence, so the total height is 1 and the
     area of the picture that lies above a point x is the plausibility of {x}. Focal
     elements wider than ``xlim`` (a wide Θ, say) are clipped, with their ends written.
+    (:func:`draw_focal_intervals` then :func:`update_focal_intervals`.)
 
     Parameters
     ----------
@@ -86,35 +178,59 @@ def plot_focal_intervals(
     """
     _scalar(ev, "plot_focal_intervals")
     fig, ax = _axes(ax, (6.0, 2.8))
-    lo, hi, m = ev.lo, ev.hi, ev.mass
-    if xlim is None:
-        a, b = float(np.min(lo)), float(np.max(hi))
-        pad = 0.05 * (b - a if b > a else 1.0)
-        xlim = (a - pad, b + pad)
-    bottoms = np.concatenate([[0.0], np.cumsum(m)[:-1]])
-    colours = (
-        [colour] * len(ev) if colour is not None
-        else plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, max(len(ev), 1)))
-    )
-    left, right = np.maximum(lo, xlim[0]), np.minimum(hi, xlim[1])
-    ax.barh(bottoms, right - left, left=left, height=m, align="edge", color=colours,
-            edgecolor="black", linewidth=0.6)
-    if label_masses:
-        for i in range(len(ev)):
-            clipped = lo[i] < xlim[0] or hi[i] > xlim[1]
-            text = f"{m[i]:.4g}" + (f"  [{lo[i]:.4g}, {hi[i]:.4g}]" if clipped else "")
-            if m[i] > 0.05:
-                ax.text(0.5 * (left[i] + right[i]), bottoms[i] + 0.5 * m[i], text,
-                        ha="center", va="center", fontsize=SMALL_PT,
-                        bbox={"boxstyle": "round,pad=0.15", "fc": "white", "alpha": 0.7,
-                              "lw": 0})
-    ax.set_xlim(*xlim)
-    ax.set_ylim(0, 1)
+    artists = draw_focal_intervals(ax, title=title, xlabel=xlabel)
+    update_focal_intervals(artists, ev, xlim=xlim, label_masses=label_masses, colour=colour)
+    return fig
+
+
+def pbox_grid(a: float, b: float) -> np.ndarray:
+    """The points at which :func:`plot_pbox` evaluates a p-box over [a, b]: 801, with a 5 %
+    margin on both sides."""
+    pad = 0.05 * (b - a if b > a else 1.0)
+    return np.linspace(a - pad, b + pad, 801)
+
+
+@dataclass
+class PboxArtists:
+    """What :func:`plot_pbox` draws on ``ax`` at the points ``x``: the band between the two
+    cdfs and their step lines. Made by :func:`draw_pbox`, set by :func:`update_pbox`."""
+
+    ax: Axes
+    x: np.ndarray
+    band: FillBetweenPolyCollection
+    upper: Line2D
+    lower: Line2D
+
+
+@styled
+def draw_pbox(ax: Axes, x: Any, *, title: str | None = None, label: str = "",
+              xlabel: str = "x") -> PboxArtists:
+    """The parts of :func:`plot_pbox` at the points ``x`` that no evidence changes (lines,
+    legend, ranges, labels) on ``ax``; the cdfs come with :func:`update_pbox`."""
+    x = np.asarray(x, dtype=float)
+    zero = np.zeros_like(x)
+    prefix = f"{label} " if label else ""
+    band = ax.fill_between(x, zero, zero, step="post", color=PL_COLOUR, alpha=0.5)
+    (upper,) = ax.step(x, zero, where="post", color=BEL_COLOUR, ls="--",
+                       label=prefix + "upper cdf  Pl")
+    (lower,) = ax.step(x, zero, where="post", color=BEL_COLOUR, label=prefix + "lower cdf  Bel")
+    ax.set_ylim(-0.02, 1.02)
+    ax.set_xlim(x[0], x[-1])
     ax.set_xlabel(xlabel)
-    ax.set_ylabel("cumulated mass")
+    ax.set_ylabel("probability")
     if title:
         ax.set_title(title)
-    return fig
+    legend_above(ax)
+    return PboxArtists(ax, x, band, upper, lower)
+
+
+def update_pbox(artists: PboxArtists, ev: IntervalEvidence) -> None:
+    """Draw the p-box of ``ev`` in the artists of :func:`draw_pbox`."""
+    _scalar(ev, "plot_pbox")
+    lower, upper = ev.cdf_bounds(artists.x)
+    artists.band.set_data(artists.x, lower, upper)
+    artists.upper.set_ydata(upper)
+    artists.lower.set_ydata(lower)
 
 
 @styled
@@ -132,28 +248,16 @@ def plot_pbox(
 
     Every probability distribution compatible with the evidence has its cdf between the
     two step functions (see :meth:`~dstoolkit.evidence.IntervalEvidence.cdf_bounds`).
+    Default ``x``: :func:`pbox_grid` over ``xlim``, else over the finite ends of the focal
+    elements. (:func:`draw_pbox` then :func:`update_pbox`.)
     """
     _scalar(ev, "plot_pbox")
     fig, ax = _axes(ax, (6.0, 2.8))
     if x is None:
         finite = np.concatenate([ev.lo, ev.hi])
         finite = finite[np.isfinite(finite)]
-        a, b = (xlim if xlim is not None else (finite.min(), finite.max()))
-        pad = 0.05 * (b - a if b > a else 1.0)
-        x = np.linspace(a - pad, b + pad, 801)
-    x = np.asarray(x, dtype=float)
-    lower, upper = ev.cdf_bounds(x)
-    prefix = f"{label} " if label else ""
-    ax.fill_between(x, lower, upper, step="post", color=PL_COLOUR, alpha=0.5)
-    ax.step(x, upper, where="post", color=BEL_COLOUR, ls="--", label=prefix + "upper cdf  Pl")
-    ax.step(x, lower, where="post", color=BEL_COLOUR, label=prefix + "lower cdf  Bel")
-    ax.set_ylim(-0.02, 1.02)
-    ax.set_xlim(x[0], x[-1])
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel("probability")
-    if title:
-        ax.set_title(title)
-    legend_above(ax)
+        x = pbox_grid(*(xlim if xlim is not None else (finite.min(), finite.max())))
+    update_pbox(draw_pbox(ax, x, title=title, label=label, xlabel=xlabel), ev)
     return fig
 
 
@@ -167,6 +271,75 @@ def contour(ev: IntervalEvidence, x: Any) -> np.ndarray:
     x = np.asarray(x, dtype=float)
     inside = (ev.lo[None, :] <= x.reshape(-1, 1)) & (ev.hi[None, :] >= x.reshape(-1, 1))
     return (inside @ ev.mass).reshape(x.shape)
+
+
+@dataclass
+class PossibilityArtists:
+    """What :func:`plot_possibility` draws on ``ax`` at the points ``x``: π, the α-cuts
+    (their levels and, dotted, their ends), the α of each cut and the evidence's contour.
+    Made by :func:`draw_possibility`, set by :func:`update_possibility`."""
+
+    ax: Axes
+    x: np.ndarray
+    pi: Line2D
+    ends: LineCollection
+    cuts: LineCollection
+    contour: Line2D | None
+    labels: list[Text] = field(default_factory=list)
+
+
+@styled
+def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = False,
+                     title: str | None = None, xlabel: str = "x") -> PossibilityArtists:
+    """The parts of :func:`plot_possibility` over ``xlim`` that no distribution changes
+    (lines, legend, ranges, labels) on ``ax``, with the contour line if ``evidence``; the
+    data come with :func:`update_possibility`."""
+    x = np.linspace(xlim[0], xlim[1], 801)
+    zero = np.zeros_like(x)
+    (pi,) = ax.plot(x, zero, color="black", lw=1.5, label="π(x)")
+    # every cut's ends first, then every level: each level crosses only the ends of the
+    # cuts above it, and covers them, as when each cut is drawn in turn
+    ends = ax.vlines([], [], [], lw=0.8, ls=":")
+    cuts = ax.hlines([], [], [], lw=3)
+    line = None
+    if evidence:
+        (line,) = ax.step(x, zero, where="mid", color=BETP_COLOUR, lw=1.2,
+                          label="Pl({x}) of the evidence")
+    ax.set_xlim(*xlim)
+    ax.set_ylim(-0.02, 1.08)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("possibility")
+    if title:
+        ax.set_title(title)
+    legend_above(ax)
+    return PossibilityArtists(ax, x, pi, ends, cuts, line)
+
+
+@styled
+def update_possibility(artists: PossibilityArtists, lower: float, mode: float, upper: float,
+                       p: int = 3, evidence: IntervalEvidence | None = None) -> None:
+    """Draw π(lower, mode, upper), its ``p`` α-cuts and the contour of ``evidence`` (if the
+    artists have its line) in the artists of :func:`draw_possibility`."""
+    x, ax = artists.x, artists.ax
+    artists.pi.set_ydata(possibility(x, lower, mode, upper))
+    lo, hi = alpha_cuts(lower, mode, upper, p)
+    alphas = np.arange(p)[::-1] / p
+    colours = plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, p))
+    artists.cuts.set_segments([[(a, y), (b, y)] for a, b, y in zip(lo, hi, alphas, strict=True)])
+    artists.cuts.set_color(colours)
+    artists.ends.set_segments([[(e, 0.0), (e, y)] for a, b, y in zip(lo, hi, alphas, strict=True)
+                               for e in (a, b)])
+    artists.ends.set_color(np.repeat(colours, 2, axis=0))
+
+    def label() -> Text:
+        return ax.text(0.0, 0.0, "", va="center", fontsize=SMALL_PT)
+
+    for text, b, y in zip(_resize(artists.labels, p if p <= 6 else 0, label), hi, alphas,
+                          strict=False):
+        text.set_position((b, y))
+        text.set_text(f"  α = {y:.3g}")
+    if artists.contour is not None and evidence is not None:
+        artists.contour.set_ydata(contour(evidence, x))
 
 
 @styled
@@ -185,32 +358,16 @@ def plot_possibility(
     """The triangular possibility π (paper eq. 22) with its p α-cuts (eq. 24) drawn as lines.
 
     With ``evidence`` given, its contour function Pl({x}) is drawn too: the staircase that
-    the evidence puts in place of π.
+    the evidence puts in place of π. (:func:`draw_possibility` then
+    :func:`update_possibility`.)
     """
     fig, ax = _axes(ax, (6.0, 2.8))
     if xlim is None:
         half = 0.15 * (upper - lower if upper > lower else 1.0)
         xlim = (lower - half, upper + half)
-    x = np.linspace(xlim[0], xlim[1], 801)
-    ax.plot(x, possibility(x, lower, mode, upper), color="black", lw=1.5, label="π(x)")
-    lo, hi = alpha_cuts(lower, mode, upper, p)
-    alphas = np.arange(p)[::-1] / p
-    colours = plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, p))
-    for a, b, alpha, c in zip(lo, hi, alphas, colours, strict=True):
-        ax.hlines(alpha, a, b, color=c, lw=3)
-        ax.vlines([a, b], 0, alpha, color=c, lw=0.8, ls=":")
-        if p <= 6:
-            ax.text(b, alpha, f"  α = {alpha:.3g}", va="center", fontsize=SMALL_PT)
-    if evidence is not None:
-        ax.step(x, contour(evidence, x), where="mid", color=BETP_COLOUR, lw=1.2,
-                label="Pl({x}) of the evidence")
-    ax.set_xlim(*xlim)
-    ax.set_ylim(-0.02, 1.08)
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel("possibility")
-    if title:
-        ax.set_title(title)
-    legend_above(ax)
+    artists = draw_possibility(ax, xlim, evidence=evidence is not None, title=title,
+                               xlabel=xlabel)
+    update_possibility(artists, lower, mode, upper, p, evidence)
     return fig
 
 
@@ -229,6 +386,70 @@ def all_subsets(frame: Sequence[Hashable]) -> list[frozenset]:
     return [frozenset(c) for r in range(1, len(frame) + 1) for c in combinations(frame, r)]
 
 
+def _bel_pl_sets(frame: Sequence[Hashable], subsets: Sequence[Any] | None) -> list[frozenset]:
+    if subsets is None:
+        subsets = all_subsets(frame) if len(frame) <= 4 else [frozenset([h]) for h in frame]
+    return [frozenset(MassFunction._elements(s, frame)) for s in subsets]
+
+
+@dataclass
+class BelPlArtists:
+    """What :func:`plot_bel_pl` draws on ``ax`` for the subsets ``sets`` of ``frame``: the
+    Bel bars, the Pl − Bel bars on them and the BetP ticks of the ``single`` ones (their
+    indices). Made by :func:`draw_bel_pl`, set by :func:`update_bel_pl`."""
+
+    ax: Axes
+    frame: tuple[Hashable, ...]
+    sets: list[frozenset]
+    bel: BarContainer
+    gap: BarContainer
+    single: list[int]
+    betp: PathCollection | None
+
+
+@styled
+def draw_bel_pl(ax: Axes, frame: Sequence[Hashable], subsets: Sequence[Any] | None = None, *,
+                title: str | None = None) -> BelPlArtists:
+    """The parts of :func:`plot_bel_pl` that no masses on ``frame`` change (bars, ticks,
+    legend, labels) on ``ax``; the heights come with :func:`update_bel_pl`."""
+    sets = _bel_pl_sets(frame, subsets)
+    xs = np.arange(len(sets))
+    zero = np.zeros(len(sets))
+    bel = ax.bar(xs, zero, color=BEL_COLOUR, label="Bel", edgecolor="black", linewidth=0.5)
+    gap = ax.bar(xs, zero, bottom=zero, color=PL_COLOUR, label="Pl − Bel", edgecolor="black",
+                 linewidth=0.5)
+    single = [i for i, s in enumerate(sets) if len(s) == 1]
+    betp = None
+    if single:
+        betp = ax.scatter(xs[single], np.zeros(len(single)), marker="_", s=400,
+                          color=BETP_COLOUR, linewidths=2.5, label="BetP", zorder=3)
+    ax.set_xticks(xs, [_name(s, frame) for s in sets], rotation=30 if len(sets) > 6 else 0)
+    ax.set_ylim(0, 1.05)
+    ax.set_xlabel("subset A of the frame")
+    ax.set_ylabel("Bel(A), Pl(A)")
+    if title:
+        ax.set_title(title)
+    legend_above(ax)
+    return BelPlArtists(ax, tuple(frame), sets, bel, gap, single, betp)
+
+
+def update_bel_pl(artists: BelPlArtists, mf: MassFunction) -> None:
+    """Draw Bel, Pl and BetP of ``mf`` in the artists of :func:`draw_bel_pl`."""
+    if not isinstance(mf, MassFunction) or tuple(mf.frame) != artists.frame:
+        raise EvidenceError(f"plot_bel_pl draws a MassFunction on the frame {artists.frame}")
+    bel = [mf.belief(s) for s in artists.sets]
+    pl = [mf.plausibility(s) for s in artists.sets]
+    for rect, b in zip(artists.bel.patches, bel, strict=True):
+        rect.set_height(b)
+    for rect, b, p in zip(artists.gap.patches, bel, pl, strict=True):
+        rect.set_y(b)
+        rect.set_height(p - b)
+    if artists.betp is not None:
+        betp = mf.pignistic()
+        ys = [betp[next(iter(artists.sets[i]))] for i in artists.single]
+        artists.betp.set_offsets(np.column_stack([artists.single, ys]))
+
+
 @styled
 def plot_bel_pl(
     mf: MassFunction,
@@ -242,55 +463,78 @@ def plot_bel_pl(
     The gap Pl(A) − Bel(A) is the mass that neither supports nor contradicts A. Singletons
     also get a red tick at their pignistic probability BetP, which always lies between.
     Default subsets: all non-empty subsets for frames of up to 4 hypotheses, else
-    the singletons.
+    the singletons. (:func:`draw_bel_pl` then :func:`update_bel_pl`.)
     """
     if not isinstance(mf, MassFunction):
         raise EvidenceError("plot_bel_pl draws a MassFunction on a finite frame")
-    frame = mf.frame
-    if subsets is None:
-        subsets = all_subsets(frame) if len(frame) <= 4 else [frozenset([h]) for h in frame]
-    sets = [frozenset(MassFunction._elements(s, frame)) for s in subsets]
-    bel = np.array([mf.belief(s) for s in sets])
-    pl = np.array([mf.plausibility(s) for s in sets])
-    betp = mf.pignistic()
-    fig, ax = _axes(ax, (max(4.0, 0.7 * len(sets) + 1.5), 2.8))
-    xs = np.arange(len(sets))
-    ax.bar(xs, bel, color=BEL_COLOUR, label="Bel", edgecolor="black", linewidth=0.5)
-    ax.bar(xs, pl - bel, bottom=bel, color=PL_COLOUR, label="Pl − Bel", edgecolor="black",
-           linewidth=0.5)
-    single = [i for i, s in enumerate(sets) if len(s) == 1]
-    if single:
-        ax.scatter(xs[single], [betp[next(iter(sets[i]))] for i in single], marker="_",
-                   s=400, color=BETP_COLOUR, linewidths=2.5, label="BetP", zorder=3)
-    ax.set_xticks(xs, [_name(s, frame) for s in sets], rotation=30 if len(sets) > 6 else 0)
-    ax.set_ylim(0, 1.05)
-    ax.set_xlabel("subset A of the frame")
-    ax.set_ylabel("Bel(A), Pl(A)")
+    count = len(_bel_pl_sets(mf.frame, subsets))
+    fig, ax = _axes(ax, (max(4.0, 0.7 * count + 1.5), 2.8))
+    update_bel_pl(draw_bel_pl(ax, mf.frame, subsets, title=title), mf)
+    return fig
+
+
+@dataclass
+class MassArtists:
+    """What :func:`plot_masses` draws on ``ax``: one bar per focal element, its mass written
+    on it. Made by :func:`draw_masses`, set by :func:`update_masses`."""
+
+    ax: Axes
+    bars: list[Rectangle] = field(default_factory=list)
+    labels: list[Text] = field(default_factory=list)
+
+
+@styled
+def draw_masses(ax: Axes, *, title: str | None = None) -> MassArtists:
+    """The parts of :func:`plot_masses` that no masses change (labels, y range, title) on
+    ``ax``; the bars come with :func:`update_masses`."""
+    ax.set_xlabel("focal element")
+    ax.set_ylim(0, 1.1)
+    ax.set_ylabel("mass")
     if title:
         ax.set_title(title)
-    legend_above(ax)
-    return fig
+    return MassArtists(ax)
+
+
+@styled
+def update_masses(artists: MassArtists, mf: MassFunction, *, title: str | None = None) -> None:
+    """Draw the masses of ``mf`` in the artists of :func:`draw_masses` (one bar per focal
+    element, the x range following their number) and ``title`` if given."""
+    if not isinstance(mf, MassFunction):
+        raise EvidenceError("plot_masses draws a MassFunction on a finite frame")
+    ax = artists.ax
+    items = mf.as_dict()
+
+    def bar() -> Rectangle:
+        return ax.add_patch(Rectangle((0.0, 0.0), 0.8, 0.0, facecolor=BEL_COLOUR,
+                                      edgecolor="black", linewidth=0.5))
+
+    def label() -> Text:
+        return ax.text(0.0, 0.0, "", ha="center", va="bottom", fontsize=SMALL_PT)
+
+    bars = _resize(artists.bars, len(items), bar)
+    labels = _resize(artists.labels, len(items), label)
+    for x, (rect, text, v) in enumerate(zip(bars, labels, items.values(), strict=True)):
+        rect.set_xy((x - 0.4, 0.0))
+        rect.set_height(v)
+        text.set_position((x, v))
+        text.set_text(f"{v:.3g}")
+    ax.set_xticks(range(len(items)), [_name(s, mf.frame) for s in items])
+    ax.relim()  # the x range follows the bars, as a fresh drawing's autoscaling does
+    ax.autoscale_view(scaley=False)
+    if title:
+        ax.title.set_text(title)
 
 
 @styled
 def plot_masses(
     mf: MassFunction, ax: Axes | None = None, *, title: str | None = None
 ) -> Figure:
-    """The masses of a finite mass function, one bar per focal element."""
+    """The masses of a finite mass function, one bar per focal element.
+    (:func:`draw_masses` then :func:`update_masses`.)"""
     if not isinstance(mf, MassFunction):
         raise EvidenceError("plot_masses draws a MassFunction on a finite frame")
-    items = mf.as_dict()
-    fig, ax = _axes(ax, (max(4.0, 0.7 * len(items) + 1.5), 2.5))
-    xs = np.arange(len(items))
-    ax.bar(xs, list(items.values()), color=BEL_COLOUR, edgecolor="black", linewidth=0.5)
-    for x, v in zip(xs, items.values(), strict=True):
-        ax.text(x, v, f"{v:.3g}", ha="center", va="bottom", fontsize=SMALL_PT)
-    ax.set_xticks(xs, [_name(s, mf.frame) for s in items])
-    ax.set_xlabel("focal element")
-    ax.set_ylim(0, 1.1)
-    ax.set_ylabel("mass")
-    if title:
-        ax.set_title(title)
+    fig, ax = _axes(ax, (max(4.0, 0.7 * len(mf.as_dict()) + 1.5), 2.5))
+    update_masses(draw_masses(ax, title=title), mf)
     return fig
 
 
