@@ -5,6 +5,8 @@ leaves the last figure alone."""
 
 from __future__ import annotations
 
+import io
+
 import matplotlib
 import matplotlib.pyplot as plt
 import numpy as np
@@ -117,13 +119,17 @@ def assert_same(a: object, b: object, where: str = "") -> None:
         assert a == b, f"{where}: {a!r} != {b!r}"
 
 
-def pixels(fig: Figure, like: Figure) -> np.ndarray:
-    """``fig`` drawn with the axes where ``like`` has them (no layout pass)."""
-    fig.set_layout_engine("none")
-    for ax, other in zip(fig.axes, like.axes, strict=True):
-        ax.set_position(other.get_position())
-    fig.canvas.draw()
-    return np.asarray(fig.canvas.buffer_rgba()).copy()
+def whole(fig: Figure, like: Figure | None = None) -> np.ndarray:
+    """``fig`` drawn whole, its animated artists in order of zorder among the others (as
+    saved), with the axes where ``like`` has them (no layout pass) if given."""
+    if like is not None:
+        fig.set_layout_engine("none")
+        for ax, other in zip(fig.axes, like.axes, strict=True):
+            ax.set_position(other.get_position())
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="rgba", dpi=fig.dpi)
+    width, height = fig.canvas.get_width_height()
+    return np.frombuffer(buffer.getvalue(), np.uint8).reshape(height, width, 4)
 
 
 @pytest.mark.parametrize("name", list(PATHS))
@@ -141,9 +147,12 @@ def test_kept_figure_after_changes_equals_a_fresh_one(name):
     assert fresh.values() == ex.values()
     assert fresh.numbers == ex.numbers
     assert_same(signature(kept), signature(fresh.figure), name)
-    ex.png(kept)  # as shown: laid out, drawn at the explorers' resolution
+    ex.png(kept)  # as shown: the animated artists drawn on the rest as last drawn
+    shown = np.asarray(kept.canvas.buffer_rgba()).copy()
+    assert kept.findobj(lambda artist: artist.get_animated()), "nothing is animated"
+    assert np.array_equal(shown, whole(kept)), "blitting changed the picture"
     fresh.png(fresh.figure)
-    assert np.array_equal(pixels(kept, kept), pixels(fresh.figure, kept))
+    assert np.array_equal(whole(kept), whole(fresh.figure, like=kept))
 
 
 @pytest.mark.parametrize("name", list(INVALID))

@@ -4,6 +4,13 @@ Every function draws on a given matplotlib ``Axes`` (or a new figure) and return
 :class:`~matplotlib.figure.Figure`; none calls ``plt.show()``. In a notebook a figure made
 by pyplot is shown when the cell ends; in a widget callback, ``display(fig)`` it.
 
+The figures an explorer redraws on every change of a control are drawn in two steps, so
+that it can keep its figure: ``draw_x(ax, ...)`` draws what no data changes (axis labels,
+ranges, legend) and returns the artists (an ``XArtists``), ``update_x(artists, data)``
+draws the data in them; ``plot_x`` does both. With ``animated=True`` the artists that
+follow the data, and the axes' spines, are marked animated (:func:`animate`): an explorer
+then draws only them on the unchanged rest of the picture.
+
 The small table helpers at the end turn evidence into Markdown tables (rendered as tables
 by Jupyter and by the book), optionally beside the values a paper prints.
 """
@@ -59,16 +66,29 @@ def _scalar(ev: IntervalEvidence, what: str) -> None:
 A = TypeVar("A", bound=Artist)
 
 
-def _resize(artists: list[A], count: int, make: Callable[[], A]) -> list[A]:
-    """``artists`` (drawn on an Axes) cut or grown to ``count``: the first ones are kept,
-    missing ones made by ``make()`` (in order, as a fresh drawing makes them), the rest
-    removed from the Axes. The caller then sets every one's data."""
+def animate(ax: Axes, *artists: Artist | None) -> None:
+    """Mark ``artists`` (of ``ax``; None is skipped) and the spines of ``ax`` as animated.
+
+    A kept figure's animated artists are drawn on the picture of the rest as it was last
+    drawn (``Explorer.png``), above it, in order of zorder. The spines come along because
+    a fresh drawing puts them (zorder 2.5) over bars and lines that reach the axes' edge.
+    """
+    for artist in (*artists, *ax.spines.values()):
+        if artist is not None:
+            artist.set_animated(True)
+
+
+def _resize(artists: list[A], count: int, make: Callable[[], A], animated: bool) -> list[A]:
+    """The first ``count`` of ``artists`` (drawn on an Axes), shown: missing ones are made
+    by ``make()`` (in order, as a fresh drawing makes them; ``animated`` if asked), the
+    others hidden, not removed (adding or removing an artist redraws a kept figure whole;
+    hiding an animated one does not). The caller then sets every shown one's data."""
     while len(artists) < count:
         artists.append(make())
-    for artist in artists[count:]:
-        artist.remove()
-    del artists[count:]
-    return artists
+        artists[-1].set_animated(animated)
+    for i, artist in enumerate(artists):
+        artist.set_visible(i < count)
+    return artists[:count]
 
 
 # -- interval evidence -------------------------------------------------------------------
@@ -81,13 +101,14 @@ class FocalIntervalArtists:
     :func:`update_focal_intervals`."""
 
     ax: Axes
+    animated: bool = False
     bars: list[Rectangle] = field(default_factory=list)
     labels: list[Text] = field(default_factory=list)
 
 
 @styled
-def draw_focal_intervals(ax: Axes, *, title: str | None = None,
-                         xlabel: str = "x") -> FocalIntervalArtists:
+def draw_focal_intervals(ax: Axes, *, title: str | None = None, xlabel: str = "x",
+                         animated: bool = False) -> FocalIntervalArtists:
     """The parts of :func:`plot_focal_intervals` that no evidence changes (axis labels, y
     range, title) on ``ax``; the bars come with :func:`update_focal_intervals`."""
     ax.set_ylim(0, 1)
@@ -95,7 +116,9 @@ def draw_focal_intervals(ax: Axes, *, title: str | None = None,
     ax.set_ylabel("cumulated mass")
     if title:
         ax.set_title(title)
-    return FocalIntervalArtists(ax)
+    if animated:
+        animate(ax)
+    return FocalIntervalArtists(ax, animated)
 
 
 @styled
@@ -126,7 +149,7 @@ def update_focal_intervals(
     def bar() -> Rectangle:
         return ax.add_patch(Rectangle((0.0, 0.0), 0.0, 0.0, edgecolor="black", linewidth=0.6))
 
-    bars = _resize(artists.bars, len(ev), bar)
+    bars = _resize(artists.bars, len(ev), bar, artists.animated)
     for i, rect in enumerate(bars):
         rect.set_bounds(left[i], bottoms[i], right[i] - left[i], m[i])
         rect.set_facecolor(colours[i])
@@ -136,11 +159,13 @@ def update_focal_intervals(
         return ax.text(0.0, 0.0, "", ha="center", va="center", fontsize=SMALL_PT,
                        bbox={"boxstyle": "round,pad=0.15", "fc": "white", "alpha": 0.7, "lw": 0})
 
-    for text, i in zip(_resize(artists.labels, len(shown), label), shown, strict=True):
+    for text, i in zip(_resize(artists.labels, len(shown), label, artists.animated), shown,
+                       strict=True):
         clipped = lo[i] < xlim[0] or hi[i] > xlim[1]
         text.set_position((0.5 * (left[i] + right[i]), bottoms[i] + 0.5 * m[i]))
         text.set_text(f"{m[i]:.4g}" + (f"  [{lo[i]:.4g}, {hi[i]:.4g}]" if clipped else ""))
-    ax.set_xlim(*xlim)
+    if ax.get_xlim() != tuple(xlim):  # setting it, even unchanged, redraws the whole figure
+        ax.set_xlim(*xlim)
 
 
 @styled
@@ -204,7 +229,7 @@ class PboxArtists:
 
 @styled
 def draw_pbox(ax: Axes, x: Any, *, title: str | None = None, label: str = "",
-              xlabel: str = "x") -> PboxArtists:
+              xlabel: str = "x", animated: bool = False) -> PboxArtists:
     """The parts of :func:`plot_pbox` at the points ``x`` that no evidence changes (lines,
     legend, ranges, labels) on ``ax``; the cdfs come with :func:`update_pbox`."""
     x = np.asarray(x, dtype=float)
@@ -221,6 +246,8 @@ def draw_pbox(ax: Axes, x: Any, *, title: str | None = None, label: str = "",
     if title:
         ax.set_title(title)
     legend_above(ax)
+    if animated:
+        animate(ax, band, upper, lower)
     return PboxArtists(ax, x, band, upper, lower)
 
 
@@ -285,12 +312,14 @@ class PossibilityArtists:
     ends: LineCollection
     cuts: LineCollection
     contour: Line2D | None
+    animated: bool = False
     labels: list[Text] = field(default_factory=list)
 
 
 @styled
 def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = False,
-                     title: str | None = None, xlabel: str = "x") -> PossibilityArtists:
+                     title: str | None = None, xlabel: str = "x",
+                     animated: bool = False) -> PossibilityArtists:
     """The parts of :func:`plot_possibility` over ``xlim`` that no distribution changes
     (lines, legend, ranges, labels) on ``ax``, with the contour line if ``evidence``; the
     data come with :func:`update_possibility`."""
@@ -312,7 +341,9 @@ def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = Fa
     if title:
         ax.set_title(title)
     legend_above(ax)
-    return PossibilityArtists(ax, x, pi, ends, cuts, line)
+    if animated:
+        animate(ax, pi, ends, cuts, line)
+    return PossibilityArtists(ax, x, pi, ends, cuts, line, animated)
 
 
 @styled
@@ -334,8 +365,8 @@ def update_possibility(artists: PossibilityArtists, lower: float, mode: float, u
     def label() -> Text:
         return ax.text(0.0, 0.0, "", va="center", fontsize=SMALL_PT)
 
-    for text, b, y in zip(_resize(artists.labels, p if p <= 6 else 0, label), hi, alphas,
-                          strict=False):
+    labels = _resize(artists.labels, p if p <= 6 else 0, label, artists.animated)
+    for text, b, y in zip(labels, hi, alphas, strict=False):
         text.set_position((b, y))
         text.set_text(f"  α = {y:.3g}")
     if artists.contour is not None and evidence is not None:
@@ -409,7 +440,7 @@ class BelPlArtists:
 
 @styled
 def draw_bel_pl(ax: Axes, frame: Sequence[Hashable], subsets: Sequence[Any] | None = None, *,
-                title: str | None = None) -> BelPlArtists:
+                title: str | None = None, animated: bool = False) -> BelPlArtists:
     """The parts of :func:`plot_bel_pl` that no masses on ``frame`` change (bars, ticks,
     legend, labels) on ``ax``; the heights come with :func:`update_bel_pl`."""
     sets = _bel_pl_sets(frame, subsets)
@@ -430,6 +461,8 @@ def draw_bel_pl(ax: Axes, frame: Sequence[Hashable], subsets: Sequence[Any] | No
     if title:
         ax.set_title(title)
     legend_above(ax)
+    if animated:
+        animate(ax, *bel.patches, *gap.patches, betp)
     return BelPlArtists(ax, tuple(frame), sets, bel, gap, single, betp)
 
 
@@ -479,12 +512,14 @@ class MassArtists:
     on it. Made by :func:`draw_masses`, set by :func:`update_masses`."""
 
     ax: Axes
+    animated: bool = False
     bars: list[Rectangle] = field(default_factory=list)
     labels: list[Text] = field(default_factory=list)
+    names: list[str] = field(default_factory=list)
 
 
 @styled
-def draw_masses(ax: Axes, *, title: str | None = None) -> MassArtists:
+def draw_masses(ax: Axes, *, title: str | None = None, animated: bool = False) -> MassArtists:
     """The parts of :func:`plot_masses` that no masses change (labels, y range, title) on
     ``ax``; the bars come with :func:`update_masses`."""
     ax.set_xlabel("focal element")
@@ -492,7 +527,9 @@ def draw_masses(ax: Axes, *, title: str | None = None) -> MassArtists:
     ax.set_ylabel("mass")
     if title:
         ax.set_title(title)
-    return MassArtists(ax)
+    if animated:
+        animate(ax)
+    return MassArtists(ax, animated)
 
 
 @styled
@@ -511,16 +548,19 @@ def update_masses(artists: MassArtists, mf: MassFunction, *, title: str | None =
     def label() -> Text:
         return ax.text(0.0, 0.0, "", ha="center", va="bottom", fontsize=SMALL_PT)
 
-    bars = _resize(artists.bars, len(items), bar)
-    labels = _resize(artists.labels, len(items), label)
+    bars = _resize(artists.bars, len(items), bar, artists.animated)
+    labels = _resize(artists.labels, len(items), label, artists.animated)
     for x, (rect, text, v) in enumerate(zip(bars, labels, items.values(), strict=True)):
         rect.set_xy((x - 0.4, 0.0))
         rect.set_height(v)
         text.set_position((x, v))
         text.set_text(f"{v:.3g}")
-    ax.set_xticks(range(len(items)), [_name(s, mf.frame) for s in items])
-    ax.relim()  # the x range follows the bars, as a fresh drawing's autoscaling does
-    ax.autoscale_view(scaley=False)
+    names = [_name(s, mf.frame) for s in items]
+    if names != artists.names:  # (setting ticks or limits, even unchanged, redraws all)
+        artists.names = names
+        ax.set_xticks(range(len(names)), names)
+        ax.relim(visible_only=True)  # the x range follows the bars, as when drawn anew
+        ax.autoscale_view(scaley=False)
     if title:
         ax.title.set_text(title)
 

@@ -90,6 +90,7 @@ from dstoolkit.plots._evidence import (
     MassArtists,
     PboxArtists,
     PossibilityArtists,
+    animate,
     draw_bel_pl,
     draw_focal_intervals,
     draw_masses,
@@ -490,8 +491,9 @@ def mass_function_explorer(low: float = 0.4, mid: float = 0.0, high: float = 0.1
         """The figure, made by the first render and updated by the others."""
         fig = Figure(figsize=(9.5, 3.0), layout="constrained")
         ax1, ax2 = fig.subplots(1, 2, width_ratios=[1, 2.2])
-        return (fig, draw_masses(ax1, title="masses"),
-                draw_bel_pl(ax2, LEVEL_FRAME, title="belief, plausibility, pignistic"))
+        return (fig, draw_masses(ax1, title="masses", animated=True),
+                draw_bel_pl(ax2, LEVEL_FRAME, title="belief, plausibility, pignistic",
+                            animated=True))
 
     def render(low: float, mid: float, high: float, low_mid: float):
         given = {"low": low, "mid": mid, "high": high, ("low", "mid"): low_mid}
@@ -538,8 +540,10 @@ def conflict_explorer(x: float = 0.99, y: float = 0.99, epsilon: float = 0.0,
         """The figure, made by the first render and updated by the others."""
         fig = Figure(figsize=(10, 2.8), layout="constrained")
         axes = fig.subplots(1, 3, sharey=True)
-        return fig, [draw_masses(ax, title=name) for ax, name in
-                     zip(axes, ("doctor 1", "doctor 2", "combined"), strict=True)]
+        panels = [draw_masses(ax, title=name, animated=True) for ax, name in
+                  zip(axes, ("doctor 1", "doctor 2", "combined"), strict=True)]
+        animate(axes[2], axes[2].title)  # the rule's name
+        return fig, panels
 
     def render(x: float, y: float, epsilon: float, rule: str):
         m1, m2 = zadeh_sources(x, y, epsilon)
@@ -582,9 +586,12 @@ def dependent_combination_explorer(a2: float = 0.6, a3: float = 0.1, b2: float =
         bars and the red line at the pignistic expectation."""
         fig = Figure(figsize=(10, 4.6), layout="constrained")
         axes = fig.subplots(2, 2, sharex=True)
-        return fig, [(draw_focal_intervals(ax, title=name),
-                      ax.axvline(0.0, color="#d62728", lw=1.2))
-                     for ax, name in zip(axes.flat, names, strict=True)]
+        panels = [(draw_focal_intervals(ax, title=name, animated=True),
+                   ax.axvline(0.0, color="#d62728", lw=1.2))
+                  for ax, name in zip(axes.flat, names, strict=True)]
+        for bars, line in panels:
+            animate(bars.ax, line)
+        return fig, panels
 
     def render(a2: float, a3: float, b2: float, b3: float, mass_rule: str):
         e1, e2 = appendix_evidence((a2, a3), (b2, b3))
@@ -631,9 +638,10 @@ def noise_evidence_explorer(
         """The figure, made by the first render and updated by the others."""
         fig = Figure(figsize=(12, 3.0), layout="constrained")
         ax1, ax2, ax3 = fig.subplots(1, 3)
-        return (fig, draw_possibility(ax1, view, evidence=True, title="π and its α-cuts"),
-                draw_focal_intervals(ax2, title="focal elements"),
-                draw_pbox(ax3, pbox_grid(*view), title="p-box"))
+        return (fig, draw_possibility(ax1, view, evidence=True, title="π and its α-cuts",
+                                      animated=True),
+                draw_focal_intervals(ax2, title="focal elements", animated=True),
+                draw_pbox(ax3, pbox_grid(*view), title="p-box", animated=True))
 
     def render(lower: float, mode: float, upper: float, p: int, epsilon: float):
         ev = triangular_evidence(lower, mode, upper, p=p, epsilon=epsilon)
@@ -731,6 +739,13 @@ def compare_image_methods(
     return out
 
 
+def extension_extent(ax: Any, bars: Any) -> tuple[float, ...]:
+    """What the autoscaled ranges of :func:`extension_explorer`'s figure follow: the data
+    x extent of f's panel ``ax`` and the y extent of both panels (they share y)."""
+    ys = [v for a in (ax, bars) for v in a.dataLim.intervaly if np.isfinite(v)]
+    return (*ax.dataLim.intervalx, min(ys, default=np.nan), max(ys, default=np.nan))
+
+
 def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0,
                        sign: int = 1) -> Explorer:
     """The image of an interval [lo, hi] through a function of one variable by the vertex
@@ -774,6 +789,9 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
         bars.set_xticks(range(3), IMAGE_METHOD_NAMES, fontsize=8)
         bars.set_xlim(-0.6, 2.6)
         bars.set_title("image f([lo, hi])")
+        ax.set_title(f"f(x) = {function} on [{lo:g}, {hi:g}]")  # its font; its text follows
+        animate(ax, curve, on_box, box, ax.title, *(m["band"] for m in methods.values()))
+        animate(bars, *(a for m in methods.values() for k, a in m.items() if k != "band"))
         return {"fig": fig, "ax": ax, "bars": bars, "curve": curve, "on_box": on_box,
                 "box": box, "methods": methods}
 
@@ -788,7 +806,7 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
         d["on_box"].set_data(inside, f(inside[:, None]))
         d["box"].set_x(lo)
         d["box"].set_width(hi - lo)
-        d["ax"].set_title(f"f(x) = {function} on [{lo:g}, {hi:g}]")
+        d["ax"].title.set_text(f"f(x) = {function} on [{lo:g}, {hi:g}]")
         numbers: dict[str, Any] = {}
         for method, shown in d["methods"].items():
             entry = result[method]
@@ -807,9 +825,14 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
             shown["warning"].set_visible(warn)
             shown["warning"].set_y(b)
             numbers[method] = f"[{a:.4g}, {b:.4g}]" + (" ⚠ too narrow?" if warn else "")
-        for ax in (d["ax"], d["bars"]):  # the ranges follow what is shown, as when drawn anew
+        # the ranges follow what is shown, as when drawn anew: autoscaled from the x extent
+        # of f's panel and the y extent of both (setting them, even unchanged, would redraw
+        # the whole figure)
+        extent = extension_extent(d["ax"], d["bars"])
+        for ax in (d["ax"], d["bars"]):
             ax.relim(visible_only=True)
-        d["ax"].autoscale_view()
+        if extension_extent(d["ax"], d["bars"]) != extent:
+            d["ax"].autoscale_view()
         numbers.update({f"{m} evaluations": result[m]["evaluations"]
                         for m in IMAGE_METHOD_NAMES})
         return d["fig"], numbers
