@@ -8,7 +8,7 @@ The figures an explorer redraws on every change of a control are drawn in two st
 that it can keep its figure: ``draw_x(ax, ...)`` draws what no data changes (axis labels,
 ranges, legend) and returns the artists (an ``XArtists``), ``update_x(artists, data)``
 draws the data in them; ``plot_x`` does both. With ``animated=True`` the artists that
-follow the data, and the axes' spines, are marked animated (:func:`animate`): an explorer
+follow the data, and the axes' spines, are marked animated (``animate``): an explorer
 then draws only them on the unchanged rest of the picture.
 
 The small table helpers at the end turn evidence into Markdown tables (rendered as tables
@@ -97,8 +97,8 @@ def _resize(artists: list[A], count: int, make: Callable[[], A], animated: bool)
 @dataclass
 class FocalIntervalArtists:
     """What :func:`plot_focal_intervals` draws on ``ax``: one bar per focal element and the
-    masses written on them. Made by :func:`draw_focal_intervals`, set by
-    :func:`update_focal_intervals`."""
+    masses written on them. Made by ``draw_focal_intervals``, set by
+    ``update_focal_intervals``."""
 
     ax: Axes
     animated: bool = False
@@ -110,7 +110,7 @@ class FocalIntervalArtists:
 def draw_focal_intervals(ax: Axes, *, title: str | None = None, xlabel: str = "x",
                          animated: bool = False) -> FocalIntervalArtists:
     """The parts of :func:`plot_focal_intervals` that no evidence changes (axis labels, y
-    range, title) on ``ax``; the bars come with :func:`update_focal_intervals`."""
+    range, title) on ``ax``; the bars come with ``update_focal_intervals``."""
     ax.set_ylim(0, 1)
     ax.set_xlabel(xlabel)
     ax.set_ylabel("cumulated mass")
@@ -130,7 +130,7 @@ def update_focal_intervals(
     label_masses: bool = True,
     colour: str | None = None,
 ) -> None:
-    """Draw ``ev`` in the bars of :func:`draw_focal_intervals` (the parameters as in
+    """Draw ``ev`` in the bars of ``draw_focal_intervals`` (the parameters as in
     :func:`plot_focal_intervals`): an explorer's kept figure follows the evidence."""
     _scalar(ev, "plot_focal_intervals")
     ax = artists.ax
@@ -184,7 +184,7 @@ def plot_focal_intervals(
     The bars are stacked in the order of the evidence, so the total height is 1 and the
     area of the picture that lies above a point x is the plausibility of {x}. Focal
     elements wider than ``xlim`` (a wide Θ, say) are clipped, with their ends written.
-    (:func:`draw_focal_intervals` then :func:`update_focal_intervals`.)
+    (``draw_focal_intervals`` then ``update_focal_intervals``.)
 
     Parameters
     ----------
@@ -218,7 +218,7 @@ def pbox_grid(a: float, b: float) -> np.ndarray:
 @dataclass
 class PboxArtists:
     """What :func:`plot_pbox` draws on ``ax`` at the points ``x``: the band between the two
-    cdfs and their step lines. Made by :func:`draw_pbox`, set by :func:`update_pbox`."""
+    cdfs and their step lines. Made by ``draw_pbox``, set by ``update_pbox``."""
 
     ax: Axes
     x: np.ndarray
@@ -231,7 +231,7 @@ class PboxArtists:
 def draw_pbox(ax: Axes, x: Any, *, title: str | None = None, label: str = "",
               xlabel: str = "x", animated: bool = False) -> PboxArtists:
     """The parts of :func:`plot_pbox` at the points ``x`` that no evidence changes (lines,
-    legend, ranges, labels) on ``ax``; the cdfs come with :func:`update_pbox`."""
+    legend, ranges, labels) on ``ax``; the cdfs come with ``update_pbox``."""
     x = np.asarray(x, dtype=float)
     zero = np.zeros_like(x)
     prefix = f"{label} " if label else ""
@@ -252,7 +252,7 @@ def draw_pbox(ax: Axes, x: Any, *, title: str | None = None, label: str = "",
 
 
 def update_pbox(artists: PboxArtists, ev: IntervalEvidence) -> None:
-    """Draw the p-box of ``ev`` in the artists of :func:`draw_pbox`."""
+    """Draw the p-box of ``ev`` in the artists of ``draw_pbox``."""
     _scalar(ev, "plot_pbox")
     lower, upper = ev.cdf_bounds(artists.x)
     artists.band.set_data(artists.x, lower, upper)
@@ -275,8 +275,8 @@ def plot_pbox(
 
     Every probability distribution compatible with the evidence has its cdf between the
     two step functions (see :meth:`~dstoolkit.evidence.IntervalEvidence.cdf_bounds`).
-    Default ``x``: :func:`pbox_grid` over ``xlim``, else over the finite ends of the focal
-    elements. (:func:`draw_pbox` then :func:`update_pbox`.)
+    Default ``x``: ``pbox_grid`` over ``xlim``, else over the finite ends of the focal
+    elements. (``draw_pbox`` then ``update_pbox``.)
     """
     _scalar(ev, "plot_pbox")
     fig, ax = _axes(ax, (6.0, 2.8))
@@ -304,7 +304,7 @@ def contour(ev: IntervalEvidence, x: Any) -> np.ndarray:
 class PossibilityArtists:
     """What :func:`plot_possibility` draws on ``ax`` at the points ``x``: π, the α-cuts
     (their levels and, dotted, their ends), the α of each cut and the evidence's contour.
-    Made by :func:`draw_possibility`, set by :func:`update_possibility`."""
+    Made by ``draw_possibility``, set by ``update_possibility``."""
 
     ax: Axes
     x: np.ndarray
@@ -322,7 +322,7 @@ def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = Fa
                      animated: bool = False) -> PossibilityArtists:
     """The parts of :func:`plot_possibility` over ``xlim`` that no distribution changes
     (lines, legend, ranges, labels) on ``ax``, with the contour line if ``evidence``; the
-    data come with :func:`update_possibility`."""
+    data come with ``update_possibility``."""
     x = np.linspace(xlim[0], xlim[1], 801)
     zero = np.zeros_like(x)
     (pi,) = ax.plot(x, zero, color="black", lw=1.5, label="π(x)")
@@ -350,7 +350,7 @@ def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = Fa
 def update_possibility(artists: PossibilityArtists, lower: float, mode: float, upper: float,
                        p: int = 3, evidence: IntervalEvidence | None = None) -> None:
     """Draw π(lower, mode, upper), its ``p`` α-cuts and the contour of ``evidence`` (if the
-    artists have its line) in the artists of :func:`draw_possibility`."""
+    artists have its line) in the artists of ``draw_possibility``."""
     x, ax = artists.x, artists.ax
     artists.pi.set_ydata(possibility(x, lower, mode, upper))
     lo, hi = alpha_cuts(lower, mode, upper, p)
@@ -389,8 +389,8 @@ def plot_possibility(
     """The triangular possibility π (paper eq. 22) with its p α-cuts (eq. 24) drawn as lines.
 
     With ``evidence`` given, its contour function Pl({x}) is drawn too: the staircase that
-    the evidence puts in place of π. (:func:`draw_possibility` then
-    :func:`update_possibility`.)
+    the evidence puts in place of π. (``draw_possibility`` then
+    ``update_possibility``.)
     """
     fig, ax = _axes(ax, (6.0, 2.8))
     if xlim is None:
@@ -427,7 +427,7 @@ def _bel_pl_sets(frame: Sequence[Hashable], subsets: Sequence[Any] | None) -> li
 class BelPlArtists:
     """What :func:`plot_bel_pl` draws on ``ax`` for the subsets ``sets`` of ``frame``: the
     Bel bars, the Pl − Bel bars on them and the BetP ticks of the ``single`` ones (their
-    indices). Made by :func:`draw_bel_pl`, set by :func:`update_bel_pl`."""
+    indices). Made by ``draw_bel_pl``, set by ``update_bel_pl``."""
 
     ax: Axes
     frame: tuple[Hashable, ...]
@@ -442,7 +442,7 @@ class BelPlArtists:
 def draw_bel_pl(ax: Axes, frame: Sequence[Hashable], subsets: Sequence[Any] | None = None, *,
                 title: str | None = None, animated: bool = False) -> BelPlArtists:
     """The parts of :func:`plot_bel_pl` that no masses on ``frame`` change (bars, ticks,
-    legend, labels) on ``ax``; the heights come with :func:`update_bel_pl`."""
+    legend, labels) on ``ax``; the heights come with ``update_bel_pl``."""
     sets = _bel_pl_sets(frame, subsets)
     xs = np.arange(len(sets))
     zero = np.zeros(len(sets))
@@ -467,7 +467,7 @@ def draw_bel_pl(ax: Axes, frame: Sequence[Hashable], subsets: Sequence[Any] | No
 
 
 def update_bel_pl(artists: BelPlArtists, mf: MassFunction) -> None:
-    """Draw Bel, Pl and BetP of ``mf`` in the artists of :func:`draw_bel_pl`."""
+    """Draw Bel, Pl and BetP of ``mf`` in the artists of ``draw_bel_pl``."""
     if not isinstance(mf, MassFunction) or tuple(mf.frame) != artists.frame:
         raise EvidenceError(f"plot_bel_pl draws a MassFunction on the frame {artists.frame}")
     bel = [mf.belief(s) for s in artists.sets]
@@ -496,7 +496,7 @@ def plot_bel_pl(
     The gap Pl(A) − Bel(A) is the mass that neither supports nor contradicts A. Singletons
     also get a red tick at their pignistic probability BetP, which always lies between.
     Default subsets: all non-empty subsets for frames of up to 4 hypotheses, else
-    the singletons. (:func:`draw_bel_pl` then :func:`update_bel_pl`.)
+    the singletons. (``draw_bel_pl`` then ``update_bel_pl``.)
     """
     if not isinstance(mf, MassFunction):
         raise EvidenceError("plot_bel_pl draws a MassFunction on a finite frame")
@@ -509,7 +509,7 @@ def plot_bel_pl(
 @dataclass
 class MassArtists:
     """What :func:`plot_masses` draws on ``ax``: one bar per focal element, its mass written
-    on it. Made by :func:`draw_masses`, set by :func:`update_masses`."""
+    on it. Made by ``draw_masses``, set by ``update_masses``."""
 
     ax: Axes
     animated: bool = False
@@ -521,7 +521,7 @@ class MassArtists:
 @styled
 def draw_masses(ax: Axes, *, title: str | None = None, animated: bool = False) -> MassArtists:
     """The parts of :func:`plot_masses` that no masses change (labels, y range, title) on
-    ``ax``; the bars come with :func:`update_masses`."""
+    ``ax``; the bars come with ``update_masses``."""
     ax.set_xlabel("focal element")
     ax.set_ylim(0, 1.1)
     ax.set_ylabel("mass")
@@ -534,7 +534,7 @@ def draw_masses(ax: Axes, *, title: str | None = None, animated: bool = False) -
 
 @styled
 def update_masses(artists: MassArtists, mf: MassFunction, *, title: str | None = None) -> None:
-    """Draw the masses of ``mf`` in the artists of :func:`draw_masses` (one bar per focal
+    """Draw the masses of ``mf`` in the artists of ``draw_masses`` (one bar per focal
     element, the x range following their number) and ``title`` if given."""
     if not isinstance(mf, MassFunction):
         raise EvidenceError("plot_masses draws a MassFunction on a finite frame")
@@ -570,7 +570,7 @@ def plot_masses(
     mf: MassFunction, ax: Axes | None = None, *, title: str | None = None
 ) -> Figure:
     """The masses of a finite mass function, one bar per focal element.
-    (:func:`draw_masses` then :func:`update_masses`.)"""
+    (``draw_masses`` then ``update_masses``.)"""
     if not isinstance(mf, MassFunction):
         raise EvidenceError("plot_masses draws a MassFunction on a finite frame")
     fig, ax = _axes(ax, (max(4.0, 0.7 * len(mf.as_dict()) + 1.5), 2.5))

@@ -739,7 +739,7 @@ def compare_image_methods(
     return out
 
 
-def extension_extent(ax: Any, bars: Any) -> tuple[float, ...]:
+def _extension_extent(ax: Any, bars: Any) -> tuple[float, ...]:
     """What the autoscaled ranges of :func:`extension_explorer`'s figure follow: the data
     x extent of f's panel ``ax`` and the y extent of both panels (they share y)."""
     ys = [v for a in (ax, bars) for v in a.dataLim.intervaly if np.isfinite(v)]
@@ -828,10 +828,10 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
         # the ranges follow what is shown, as when drawn anew: autoscaled from the x extent
         # of f's panel and the y extent of both (setting them, even unchanged, would redraw
         # the whole figure)
-        extent = extension_extent(d["ax"], d["bars"])
+        extent = _extension_extent(d["ax"], d["bars"])
         for ax in (d["ax"], d["bars"]):
             ax.relim(visible_only=True)
-        if extension_extent(d["ax"], d["bars"]) != extent:
+        if _extension_extent(d["ax"], d["bars"]) != extent:
             d["ax"].autoscale_view()
         numbers.update({f"{m} evaluations": result[m]["evaluations"]
                         for m in IMAGE_METHOD_NAMES})
