@@ -162,9 +162,13 @@ def test_invalid_setting_warns_and_keeps_the_last_figure(name):
     ex.controls[valid].value = first
     assert "error" not in ex.numbers
     before, shown = signature(ex.figure), ex.output.outputs
-    kept = ex.figure
+    kept, previous = ex.figure, ex.controls[control].value
     ex.controls[control].value = value
     assert words in ex.numbers["error"]
     assert "⚠" in ex.readout.value and "last valid setting" in ex.readout.value
+    assert ex.figure is kept and ex.output.outputs == shown
+    assert_same(signature(kept), before, name)
+    ex.controls[control].value = previous  # valid again: redrawn, the same picture
+    assert "error" not in ex.numbers and ex.output.outputs is not shown
     assert ex.figure is kept and ex.output.outputs == shown
     assert_same(signature(kept), before, name)
