@@ -78,14 +78,21 @@ def animate(ax: Axes, *artists: Artist | None) -> None:
             artist.set_animated(True)
 
 
+#: Artists an animated pool makes beyond those it needs (hidden until needed): making an
+#: artist redraws a kept figure whole, showing a hidden one does not.
+SPARE_ARTISTS = 4
+
+
 def _resize(artists: list[A], count: int, make: Callable[[], A], animated: bool) -> list[A]:
     """The first ``count`` of ``artists`` (drawn on an Axes), shown: missing ones are made
-    by ``make()`` (in order, as a fresh drawing makes them; ``animated`` if asked), the
-    others hidden, not removed (adding or removing an artist redraws a kept figure whole;
-    hiding an animated one does not). The caller then sets every shown one's data."""
-    while len(artists) < count:
-        artists.append(make())
-        artists[-1].set_animated(animated)
+    by ``make()`` (in order, as a fresh drawing makes them; if ``animated``, so marked and
+    :data:`SPARE_ARTISTS` more), the others hidden, not removed (adding or removing an
+    artist redraws a kept figure whole; hiding an animated one does not). The caller then
+    sets every shown one's data."""
+    if len(artists) < count:
+        for _ in range(count - len(artists) + (SPARE_ARTISTS if animated else 0)):
+            artists.append(make())
+            artists[-1].set_animated(animated)
     for i, artist in enumerate(artists):
         artist.set_visible(i < count)
     return artists[:count]
