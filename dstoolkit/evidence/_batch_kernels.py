@@ -261,9 +261,19 @@ def _coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray,
 
 
 def discount_onto_hull(e: Boxes, reliability: np.ndarray) -> Boxes:
-    """m'(A) = R·m(A), m'(Θ) = 1 − R with Θ the hull of E (eqs. 9–10, A7–A8), per run."""
+    """m'(A) = R·m(A), m'(Θ) = 1 − R with Θ the hull of E (eqs. 9–10, A7–A8), per run.
+
+    Raises EvidenceError unless every rate R (one per run) lies in [0, 1]: any other
+    number would give negative masses."""
+    rel = np.asarray(reliability, dtype=float)
+    if rel.ndim != 1 or not np.all((rel >= 0.0) & (rel <= 1.0)):
+        raise EvidenceError(
+            f"the discount rates must be one number in [0, 1] per run, got "
+            f"{np.array2string(rel, threshold=6)}; a rate is a reliability (eq. 9): 1 keeps "
+            "the evidence, 0 turns it into ignorance"
+        )
     h_lo, h_hi = hull(e)
-    rel = reliability[:, None]
+    rel = rel[:, None]
     return Boxes(np.concatenate([e.lo, h_lo[:, None]], axis=1),
                  np.concatenate([e.hi, h_hi[:, None]], axis=1),
                  np.concatenate([e.mass * rel, 1.0 - rel], axis=1))
