@@ -356,8 +356,8 @@ def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = Fa
 @styled
 def update_possibility(artists: PossibilityArtists, lower: float, mode: float, upper: float,
                        p: int = 3, evidence: IntervalEvidence | None = None) -> None:
-    """Draw π(lower, mode, upper), its ``p`` α-cuts and the contour of ``evidence`` (if the
-    artists have its line) in the artists of ``draw_possibility``."""
+    """Draw π(lower, mode, upper) (eq. 22), its ``p`` α-cuts (eq. 24) and the contour of
+    ``evidence`` (if the artists have its line) in the artists of ``draw_possibility``."""
     x, ax = artists.x, artists.ax
     artists.pi.set_ydata(possibility(x, lower, mode, upper))
     lo, hi = alpha_cuts(lower, mode, upper, p)
@@ -474,7 +474,7 @@ def draw_bel_pl(ax: Axes, frame: Sequence[Hashable], subsets: Sequence[Any] | No
 
 
 def update_bel_pl(artists: BelPlArtists, mf: MassFunction) -> None:
-    """Draw Bel, Pl and BetP of ``mf`` in the artists of ``draw_bel_pl``."""
+    """Draw Bel, Pl and BetP of ``mf`` (Def. 2) in the artists of ``draw_bel_pl``."""
     if not isinstance(mf, MassFunction) or tuple(mf.frame) != artists.frame:
         raise EvidenceError(f"plot_bel_pl draws a MassFunction on the frame {artists.frame}")
     bel = [mf.belief(s) for s in artists.sets]
