@@ -225,7 +225,7 @@ def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool =
                ) -> BatchDependence:
     """Energies, energy of the intersection, D, R12, R21 of E1 = a, E2 = b per run
     (Def. 5, eqs. A1, A3–A6), equal to :func:`dstoolkit.dependence` on the merged evidence
-    (:class:`DependenceKernel` on the columns of a then b).
+    (``DependenceKernel`` on the columns of a then b).
 
     E2's masses must be positive (E1 may hold mass-0 placeholders). With ``check``, raises
     EvidenceError when a coefficient leaves [0, 1] (``mass_rule="m2"`` can do that), as
@@ -377,9 +377,9 @@ def dempster_expectation(
     theta_last: bool = False,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray] | None]:
     """Pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of a and b, per run
-    (:class:`ProductKernel`). Returns E (R, d), K (R,), the mask of runs with K < 1, and
+    (``ProductKernel``). Returns E (R, d), K (R,), the mask of runs with K < 1, and
     with ``bounds`` the hull of the combination (R, d) twice. ``work`` reuses buffers
-    (:meth:`ProductWork.allocate`). ``theta_last`` tells that the last focal element of a
+    (``ProductWork.allocate``). ``theta_last`` tells that the last focal element of a
     and of b holds all the others (as after :func:`discount_onto_hull`).
     """
     theta = (a.lo.shape[1] - 1, b.lo.shape[1] - 1) if theta_last else None
