@@ -260,6 +260,8 @@ class Explorer(widgets.VBox):
         ``SelectionSlider``s (or the original ``Dropdown``) and the others are disabled.
     figure
         The last figure drawn (closed; ``figure.savefig`` still works).
+    picture
+        The PNG of that figure as shown (also the explorer's still picture in print).
     numbers
         The last numbers shown; ``{"error": message}`` after an invalid setting.
     states
@@ -281,6 +283,7 @@ class Explorer(widgets.VBox):
                                     f"{list(self.controls)}, got {list(self.live)}")
         self.static = static_site() if static is None else static
         self.figure: Figure | None = None
+        self.picture: bytes | None = None
         self.numbers: dict[str, Any] = {}
         self.states: dict[tuple[Any, ...], dict[str, Any]] = {}
         self.readout = widgets.HTML()
@@ -289,6 +292,7 @@ class Explorer(widgets.VBox):
         self._engines: weakref.WeakKeyDictionary[Figure, Any] = weakref.WeakKeyDictionary()
         self._kept: Figure | None = None  # the figure whose background is kept for blitting
         self._background: Any = None
+        self._animated: list[Any] = []
         self._head = [widgets.HTML(f"<b>{html.escape(title)}</b>")] if title else []
         if self.static:
             self._build_static()
@@ -329,7 +333,8 @@ class Explorer(widgets.VBox):
         self.readout.value = readout_html(self.numbers)
         if fig is not None:
             self.figure = fig
-            self.output.outputs = (png_output(self.png(fig)),)
+            self.picture = self.png(fig)
+            self.output.outputs = (png_output(self.picture),)
             plt.close(fig)
 
     def png(self, fig: Figure) -> bytes:
@@ -347,14 +352,18 @@ class Explorer(widgets.VBox):
             FigureCanvasAgg(fig)
         if fig.get_dpi() != FIGURE_DPI:  # set_dpi marks the figure stale, even unchanged
             fig.set_dpi(FIGURE_DPI)
-        animated = sorted(fig.findobj(lambda artist: artist.get_animated()),
-                          key=lambda artist: artist.get_zorder())
-        if animated and fig is self._kept and not fig.stale:
+        if fig is self._kept and not fig.stale:
             fig.canvas.restore_region(self._background)
+            animated = self._animated
         else:
             self._draw(fig)
+            # the animated artists are looked up at each whole draw (adding an artist makes
+            # the figure stale)
+            animated = sorted(fig.findobj(lambda artist: artist.get_animated()),
+                              key=lambda artist: artist.get_zorder())
             self._kept = fig if animated else None
             self._background = fig.canvas.copy_from_bbox(fig.bbox) if animated else None
+            self._animated = animated
         for artist in animated:
             fig.draw_artist(artist)
         return encode_png(np.asarray(fig.canvas.buffer_rgba()),
