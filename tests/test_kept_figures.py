@@ -244,3 +244,45 @@ def test_a_kept_figure_redraws_only_its_data_and_shows_the_pixels_of_a_whole_dra
     ex.figure.stale = True  # the next PNG is a whole draw
     np.testing.assert_array_equal(shown, pixels(ex.png(ex.figure)))
     assert len(draws) == before + 1
+
+
+@pytest.mark.parametrize(("data", "kwargs", "limits"), [
+    ((0.0, 0.273), {"margin": 0.0}, (0.0, 0.3)),
+    ((0.0, 0.43), {"margin": 0.0}, (0.0, 0.5)),
+    ((4.1, 5.3), {"margin": 0.0}, (4.0, 5.5)),
+    ((0.0, 2.6), {}, (-0.15, 3.15)),
+    ((1.0, 39.0), {}, (-2.0, 42.0)),
+    ((0.18, 1.4), {"log": True, "margin": 0.0}, (0.1, 2.0)),
+    ((0.0005, 0.7), {"log": True, "margin": 0.0}, (0.0005, 1.0)),
+])
+def test_snapped_limits_reach_out_to_round_numbers(data: tuple[float, float],
+                                                   kwargs: dict[str, Any],
+                                                   limits: tuple[float, float]) -> None:
+    from dstoolkit.plots._kept import snapped_limits
+
+    np.testing.assert_allclose(snapped_limits(*data, **kwargs), limits, rtol=1e-12)
+
+
+def test_zero_based_limits_move_only_past_one_two_five() -> None:
+    from dstoolkit.plots._kept import zero_based_limits
+
+    assert zero_based_limits(0.0, 3.1, margin=0.0) == (0.0, 5.0)
+    assert zero_based_limits(0.3, 4.9, margin=0.0) == (0.0, 5.0)
+    assert zero_based_limits(0.0, 5.1, margin=0.0) == (0.0, 10.0)
+    assert zero_based_limits(-0.3, 2.5, margin=0.0) == (-0.5, 5.0)
+    assert zero_based_limits(-1.2, -0.1, margin=0.0) == (-2.0, 0.0)
+    assert zero_based_limits(0.0, 0.0) == (-0.05, 1.05)
+
+
+def test_set_limits_leaves_a_figure_clean_when_nothing_changes() -> None:
+    from dstoolkit.plots._kept import set_limits
+
+    fig = Figure()
+    ax = fig.add_subplot()
+    ax.set_xlim(0.0, 2.0)
+    ax.set_ylim(-1.0, 1.0)
+    fig.stale = False
+    set_limits(ax, x=(0.0, 2.0), y=(-1.0, 1.0))
+    assert not fig.stale
+    set_limits(ax, y=(-1.0, 2.0))
+    assert fig.stale and ax.get_ylim() == (-1.0, 2.0) and ax.get_xlim() == (0.0, 2.0)

@@ -18,7 +18,7 @@ from dstoolkit.gauge._resonance import DetectionResult
 from dstoolkit.gauge._tube import Recording, TubeSetup
 
 from ._evidence import _axes
-from ._kept import animate, set_limits, snapped_limits
+from ._kept import animate, set_limits, snapped_limits, zero_based_limits
 from ._style import (
     BEL_COLOUR,
     BETP_COLOUR,
@@ -151,7 +151,8 @@ def gauge_detection_figure(setup: TubeSetup, detection: DetectionResult) -> Figu
 
 def update_gauge_detection(fig: Figure, setup: TubeSetup, detection: DetectionResult) -> None:
     """Draw another detection on a :func:`gauge_detection_figure`: new data and title; the
-    envelope's and the error's limits where they cross round numbers."""
+    envelope's limits where they cross round numbers, the error's where it crosses
+    1, 2, 5 × 10ⁿ Hz."""
     (ax1, ax2), sweep = fig.axes, detection.sweep
     envelope, peaks = ax1.lines
     (model,) = ax1.collections
@@ -173,5 +174,5 @@ def update_gauge_detection(fig: Figure, setup: TubeSetup, detection: DetectionRe
     # the error axis holds the zero line
     set_limits(ax1, y=snapped_limits(0.0, 1.3 * float(np.max(detection.envelope[keep])),
                                      margin=0.0))
-    set_limits(ax2, y=snapped_limits(min(0.0, float(np.min(errors, initial=0.0))),
-                                     max(0.0, float(np.max(errors, initial=0.0)))))
+    set_limits(ax2, y=zero_based_limits(float(np.min(errors, initial=0.0)),
+                                        float(np.max(errors, initial=0.0))))

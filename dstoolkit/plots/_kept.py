@@ -76,6 +76,18 @@ def snapped_limits(lo: float, hi: float, *, log: bool = False, margin: float = 0
     return lo - pad, hi + pad
 
 
+def zero_based_limits(lo: float, hi: float, *, margin: float = 0.05) -> tuple[float, float]:
+    """Axis limits from 0 (or −1, 2, 5 × 10ⁿ below it) to 1, 2, 5 × 10ⁿ (or 0), around
+    data from ``lo`` to ``hi``, widened by ``margin`` of that span: for a quantity read from
+    zero (an error), limits that change only when the data cross a factor 2 or 2.5."""
+    lo = -_round_log(np.log10(-lo), np.ceil) if lo < 0 else 0.0
+    hi = _round_log(np.log10(hi), np.ceil) if hi > 0 else 0.0
+    if lo == hi:
+        hi = 1.0
+    pad = margin * (hi - lo)
+    return lo - pad, hi + pad
+
+
 def _round_log(exponent: float, outward: Callable[[float], float]) -> float:
     """10**exponent moved ``outward`` (np.floor or np.ceil) to 1, 2 or 5 × 10ⁿ."""
     decade = np.floor(exponent)
