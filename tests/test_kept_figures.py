@@ -286,3 +286,46 @@ def test_set_limits_leaves_a_figure_clean_when_nothing_changes() -> None:
     assert not fig.stale
     set_limits(ax, y=(-1.0, 2.0))
     assert fig.stale and ax.get_ylim() == (-1.0, 2.0) and ax.get_xlim() == (0.0, 2.0)
+
+
+@pytest.mark.parametrize("zoom", [None, (2.0, 2.4)])
+def test_a_recording_drawn_through_its_extremes_looks_like_every_sample_drawn(
+        zoom: tuple[float, float] | None) -> None:
+    """plot_recording draws its 220,000 samples through their extremes per pixel column:
+    the picture is the one of a line through every sample (no pixel off by more than 48 of
+    255), the line keeps every sample, and a zoomed view draws the waves themselves."""
+    from matplotlib.lines import Line2D
+
+    import dstoolkit.plots._gauge as gauge_plots
+    from dstoolkit.plots import plot_recording
+
+    rec = synthesize_recording(TubeSetup(4.6, 26.5), PAPER_SWEEP, GAUGE_CONDITIONS, seed=0)
+    det = detect_resonances(rec)
+    pictures = []
+    for line_class in (Line2D, gauge_plots.TraceLine):
+        original = gauge_plots.TraceLine
+        gauge_plots.TraceLine = line_class  # type: ignore[misc]
+        try:
+            fig = plot_recording(rec, det)
+        finally:
+            gauge_plots.TraceLine = original  # type: ignore[misc]
+        if zoom:
+            fig.axes[0].set_xlim(*zoom)
+        fig.set_dpi(96)
+        trace = fig.axes[0].lines[0]
+        sizes: list[int] = []
+
+        def spy(x: Any, y: Any, sizes: list[int] = sizes, set_data: Any = trace.set_data
+                ) -> None:
+            sizes.append(len(x))
+            set_data(x, y)
+
+        trace.set_data = spy  # type: ignore[method-assign]
+        fig.canvas.draw()
+        assert type(trace) is line_class
+        # the whole recording is drawn through a few thousand extremes, the zoom in full
+        if line_class is not Line2D:
+            assert (sizes[0] < 10_000) if zoom is None else not sizes
+        np.testing.assert_array_equal(trace.get_xdata(), rec.times)
+        pictures.append(np.asarray(fig.canvas.buffer_rgba()).astype(int))
+    assert np.abs(pictures[0] - pictures[1]).max() <= 48

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from matplotlib.transforms import offset_copy
 
 from dstoolkit.gauge._resonance import DetectionResult
@@ -30,6 +31,47 @@ from ._style import (
     styled,
 )
 
+#: ``TraceLine`` draws through extremes only from this many samples per quarter pixel:
+#: fewer draw the shapes of single waves, which a line through extremes would not show.
+TRACE_RUN = 16
+
+
+class TraceLine(Line2D):
+    """A line through a long trace of samples at increasing times (a recording) that is
+    drawn through its extremes per pixel column of the view: in each of four runs per
+    pixel, its lowest and highest sample, in time order.
+
+    Where the view holds ``TRACE_RUN`` samples or more per quarter pixel, the line through
+    every sample is a solid band and the line through the extremes covers the same span in
+    every column of pixels, much faster (a 220,000-sample recording across 780 pixels:
+    6,240 points); with fewer, every sample is drawn. The line keeps every sample as its
+    data and picks the view's at each draw, so a zoomed axes (``set_xlim``) is drawn right.
+    """
+
+    def draw(self, renderer: Any) -> None:
+        t, y = self.get_xdata(orig=True), self.get_ydata(orig=True)
+        columns = 4 * int(np.ceil(self.axes.bbox.width))
+        lo, hi = sorted(self.axes.get_xlim())
+        first, last = np.searchsorted(t, [lo, hi])
+        first, last = max(first - 1, 0), min(last + 1, t.size)
+        if last - first < TRACE_RUN * columns:  # a line through waves, not a band: all of it
+            super().draw(renderer)
+            return
+        view = y[first:last]
+        run = view.size // columns
+        runs = view[: run * columns].reshape(columns, run)
+        low, high = runs.argmin(axis=1), runs.argmax(axis=1)
+        start = first + np.arange(columns) * run
+        keep = np.concatenate([[first], (start[:, None] + np.sort(np.column_stack([low, high]),
+                                                                    axis=1)).ravel(),
+                               np.arange(first + run * columns, last), [last - 1]])
+        keep = keep[np.r_[True, np.diff(keep) > 0]]
+        self.set_data(t[keep], y[keep])
+        try:
+            super().draw(renderer)
+        finally:
+            self.set_data(t, y)
+
 
 @styled
 def plot_recording(
@@ -44,10 +86,11 @@ def plot_recording(
 
     With ``frequency_axis`` a top axis reads time as the sweep's instantaneous frequency
     f₀ + k (t − τ) (τ from ``detection`` when given, else the simulated latency, else 0).
+    The signal is a ``TraceLine`` (drawn through its extremes per pixel column).
     """
     fig, ax = _axes(ax, (8.0, 3.2))
     t = recording.times
-    ax.plot(t, recording.samples, lw=0.3, color=GREY, label="microphone")
+    ax.add_line(TraceLine(t, recording.samples, lw=0.3, color=GREY, label="microphone"))
     tau = 0.0
     if detection is not None:
         tau = detection.latency_s
