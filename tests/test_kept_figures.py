@@ -21,6 +21,7 @@ import pytest
 matplotlib.use("Agg")
 
 from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.text import Text  # noqa: E402
 
 from dstoolkit.errors import InconsistentDataError  # noqa: E402
 from dstoolkit.filters import BoundedErrorFilter, BoundedNoise  # noqa: E402
@@ -62,9 +63,8 @@ def picture(fig: Figure) -> list[Any]:
                  np.asarray(line.get_ydata(), float).tolist()) for line in ax.lines]
         out += [[path.vertices.tolist() for path in c.get_paths()] for c in ax.collections]
         out += [[a.get_animated() for a in (*ax.lines, *ax.collections)],
-                [(t.get_text(), t.get_fontsize(), t.get_animated())
-                 for t in (ax.title, *(ax.set_title(ax.get_title(loc), loc=loc)
-                                       for loc in ("left", "right")))]]
+                [(t.get_text(), t.get_fontsize(), t.get_animated())  # titles, texts
+                 for t in ax.get_children() if isinstance(t, Text)]]
         legend = ax.get_legend()
         out.append([t.get_text() for t in legend.get_texts()] if legend else None)
     out.append([[t.get_text() for t in legend.get_texts()] for legend in fig.legends])
