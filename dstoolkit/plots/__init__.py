@@ -17,9 +17,6 @@ from ._evidence import (  # noqa: E402
     markdown_table,
     plot_bel_pl,
     plot_boxes,
-    plot_enclosure,
-    plot_filter_errors,
-    plot_filter_step,
     plot_focal_intervals,
     plot_masses,
     plot_pbox,
@@ -30,6 +27,14 @@ from ._experiments import (  # noqa: E402
     STYLE,
     plot_estimates,
     plot_table3,
+)
+from ._filter_figures import (  # noqa: E402
+    EnclosureFigure,
+    FilterErrorsFigure,
+    FilterStepFigure,
+    plot_enclosure,
+    plot_filter_errors,
+    plot_filter_step,
 )
 from ._gauge import (  # noqa: E402
     plot_recording,
@@ -56,6 +61,9 @@ from ._style import (  # noqa: E402
 __all__ = [
     "BEL_COLOUR",
     "BETP_COLOUR",
+    "EnclosureFigure",
+    "FilterErrorsFigure",
+    "FilterStepFigure",
     "GREY",
     "STYLE",
     "TRUTH_COLOUR",

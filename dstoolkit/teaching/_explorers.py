@@ -44,9 +44,9 @@ import html
 import io
 import itertools
 import os
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import replace
-from typing import Any
+from typing import Any, TypeVar
 
 import ipywidgets as widgets
 import matplotlib.pyplot as plt
@@ -80,11 +80,14 @@ from dstoolkit.gauge._level import (
 from dstoolkit.gauge._resonance import DetectionResult, detect_resonances
 from dstoolkit.gauge._sweep import PAPER_SWEEP
 from dstoolkit.gauge._tube import RecordingConditions, TubeSetup, spl_to_pa, synthesize_recording
+from dstoolkit.plots import (
+    EnclosureFigure,
+    FilterErrorsFigure,
+    FilterStepFigure,
+    plot_filter_errors,
+)
 from dstoolkit.plots._evidence import (
     plot_bel_pl,
-    plot_enclosure,
-    plot_filter_errors,
-    plot_filter_step,
     plot_focal_intervals,
     plot_masses,
     plot_pbox,
@@ -102,6 +105,7 @@ from ._lab import (
 )
 
 Render = Callable[..., tuple[Figure | None, Mapping[str, Any]]]
+T = TypeVar("T")
 
 #: The environment variable scripts/build-book.sh sets to "1": explorers built while the book
 #: is executed for the static site precompute the states of their live controls.
@@ -201,6 +205,19 @@ def encode_png(rgba: np.ndarray, compress_level: int = 1) -> bytes:
     buffer = io.BytesIO()
     image.save(buffer, format="png", compress_level=compress_level)
     return buffer.getvalue()
+
+
+def kept_figure(store: dict[Any, T], key: Hashable, build: Callable[[], T],
+                update: Callable[[T], Any]) -> T:
+    """A figure an explorer keeps between redraws (an object with a ``figure``, such as a
+    :class:`~dstoolkit.plots.FilterStepFigure`): ``build()`` on the first call for ``key``
+    (one per figure shape), ``update(kept)`` in place on later ones. A render that returns
+    its ``figure`` every time shows the same picture as one that draws it afresh."""
+    if key in store:
+        update(store[key])
+    else:
+        store[key] = build()
+    return store[key]
 
 
 def png_output(png: bytes) -> dict[str, Any]:
@@ -591,11 +608,19 @@ def bounded_error_explorer(v_half: float = 0.1, w_half: float = 1.0, steps: int 
     x, z = random_walk(v_half, w_half).simulate([0.0], steps, np.random.default_rng(seed))
     filt = BoundedErrorFilter(on_inconsistent="reset")
 
+    kept: dict[str, EnclosureFigure] = {}
+
     def render(scale: float):
         res = filt.run(random_walk(v_half * scale, w_half * scale), z)
-        fig = plot_enclosure(res, x, z, title=f"bounds × {scale:g}")
-        fig.axes[0].legend(fontsize=8, loc="upper left")
-        return fig, enclosure_summary(res, x)
+        title = f"bounds × {scale:g}"
+
+        def build() -> EnclosureFigure:
+            figure = EnclosureFigure(res, x, z, title=title, pyplot=False)
+            figure.ax.legend(fontsize=8, loc="upper left")
+            return figure
+
+        figure = kept_figure(kept, "band", build, lambda f: f.update(res, x, z, title=title))
+        return figure.figure, enclosure_summary(res, x)
 
     scale = slider("assumed bounds × true", 1.0, 0.3, 3.0, 0.05)
     return Explorer({"scale": scale}, render, title="Bounded-error filter with wrong bounds",
@@ -731,19 +756,27 @@ def render_filter(
     v_lower: float, v_mode: float, v_upper: float, w_lower: float, w_mode: float,
     w_upper: float, p: int, epsilon: float, level: float, temperature: float, start: str,
     orders: str, mass_rule: str, seed: int = 0,
+    kept: dict[str, Any] | None = None,
 ) -> tuple[Figure, dict[str, Any]]:
     """What :func:`filter_widget` recomputes on every change: the run's figure (estimates,
     hull and readings against the truth, absolute errors; the paper's Fig. 10) and the
-    numbers of :func:`~dstoolkit.studies.filter_summary`."""
+    numbers of :func:`~dstoolkit.studies.filter_summary`. With ``kept`` (a dict) the figure
+    is kept there (:func:`kept_figure`): drawn without pyplot on the first call, redrawn in
+    place on later ones; else each call draws a new figure."""
     seq, n, result = filter_case(
         level, temperature, state_noise=(v_lower, v_mode, v_upper),
         obs_noise=(w_lower, w_mode, w_upper), p=p, epsilon=epsilon, start=start,
         mass_rule=mass_rule, orders=orders, seed=seed)
-    fig = plot_filter_errors(
-        result, seq.truth, seq.readings,
-        title=f"L = {level:.1f} m, T = {temperature:.1f} °C (f_F = {seq.fundamental_hz:.2f} "
-              f"Hz, {seq.truth.shape[0]} resonances), p = {p}, ε = {epsilon:.2f}, "
-              f"start: {start}")
+    run = (result, seq.truth, seq.readings)
+    title = (f"L = {level:.1f} m, T = {temperature:.1f} °C (f_F = {seq.fundamental_hz:.2f} "
+             f"Hz, {seq.truth.shape[0]} resonances), p = {p}, ε = {epsilon:.2f}, "
+             f"start: {start}")
+    if kept is None:
+        fig = plot_filter_errors(*run, title=title)
+    else:
+        fig = kept_figure(kept, "errors",
+                          lambda: FilterErrorsFigure(*run, title=title, pyplot=False),
+                          lambda f: f.update(*run, title=title)).figure
     return fig, filter_summary(seq, n, result)
 
 
@@ -783,8 +816,10 @@ def filter_widget(level_m: float = 9.6, temperature_c: float = 23.9, *, p: int =
                                       description="m(D) rule"),
     }
 
+    kept: dict[str, Any] = {}
+
     def render(**values: Any) -> tuple[Figure, dict[str, Any]]:
-        return render_filter(**values, seed=seed)
+        return render_filter(**values, seed=seed, kept=kept)
 
     live = {"level": positions(controls["level"], 9, 1.6, 9.6),
             "epsilon": positions(controls["epsilon"], 3, 0.0, 0.5)}
@@ -815,11 +850,16 @@ def filter_step_explorer(level_m: float = 9.6, temperature_c: float = 23.9, step
         return filter_case(level_m, temperature_c, start=start, epsilon=epsilon, seed=seed,
                            record=True, first=steps)[2]
 
+    kept: dict[tuple[str, ...], FilterStepFigure] = {}  # one per set of panels
+
     def render(step: int, start: str, epsilon: float):
         result = run(start, epsilon)
-        truth = float(seq.truth[step - 1, 0])
-        fig = plot_filter_step(result.steps[step - 1], truth, figsize=(9.0, 9.0))
-        return fig, step_numbers(result, step, truth)
+        entry, truth = result.steps[step - 1], float(seq.truth[step - 1, 0])
+        figure = kept_figure(
+            kept, FilterStepFigure.panels_of(entry),
+            lambda: FilterStepFigure(entry, truth, figsize=(9.0, 9.0), pyplot=False),
+            lambda f: f.update(entry, truth))
+        return figure.figure, step_numbers(result, step, truth)
 
     live = {"step": positions(controls["step"], 10)}
     return Explorer(controls, render, title="Inside one step of the filter", live=live)
