@@ -171,6 +171,78 @@ def test_wider_labels_get_a_fresh_layout_rather_than_stick_out():
     assert ex.figure.get_tightbbox(renderer).x0 >= -0.01, "a tick label sticks out"
 
 
+def _kept_figure_explorer(moving_limit: bool = False) -> tuple[Explorer, list[int]]:
+    """An explorer whose render keeps one figure: three animated bars follow slider a; with
+    ``moving_limit`` the y limit (not animated) follows it too. Also returns the list that
+    counts the explorer's whole-figure draws."""
+    from matplotlib.figure import Figure
+
+    kept: dict[str, object] = {}
+
+    def render(a: float):
+        if not kept:
+            fig = Figure(figsize=(4.0, 2.5), layout="constrained")
+            ax = fig.subplots()
+            kept["bars"] = ax.bar(["low", "mid", "high"], [a, 0.2, 0.3], animated=True)
+            ax.set_title("masses")
+            ax.set_ylim(0, 1.0)
+            kept["fig"], kept["ax"] = fig, ax
+        for bar, height in zip(kept["bars"], [a, 0.2, 0.3], strict=True):
+            bar.set_height(height)
+        if moving_limit:  # set_ylim marks the figure stale even when nothing changes
+            kept["ax"].set_ylim(0, 1.0 + a)
+        return kept["fig"], {"a": a}
+
+    ex = Explorer({"a": slider("a", 0.5, 0.0, 1.0, 0.05)}, render, static=False)
+    draws: list[int] = []  # after the first picture
+    whole = ex._draw
+    ex._draw = lambda fig: (draws.append(1), whole(fig))[1]  # type: ignore[method-assign]
+    return ex, draws
+
+
+def _pixels(png: bytes):
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB"))
+
+
+@pytest.mark.parametrize("moving_limit", [False, True])
+def test_a_kept_figure_shows_the_same_picture_as_a_fresh_one(moving_limit):
+    ex, draws = _kept_figure_explorer(moving_limit)
+    for a in (0.1, 0.7, 0.35, 0.9):
+        ex.controls["a"].value = a
+    fresh, _ = _kept_figure_explorer(moving_limit)
+    fresh.controls["a"].value = 0.9
+    assert (_pixels(ex.png(ex.figure)) == _pixels(fresh.png(fresh.figure))).all()
+    # only animated bars moved: they are blitted onto the kept background; a moved limit
+    # redraws the whole figure on each of the 4 changes (the last png changed nothing)
+    assert len(draws) == (4 if moving_limit else 0)
+
+
+def test_a_kept_figure_is_laid_out_afresh_whenever_labels_would_stick_out():
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(3, 2), layout="constrained")
+    ax = fig.subplots()
+    (line,) = ax.plot([0, 1], [0, -1.0])
+    ax.ticklabel_format(useOffset=False, style="plain")
+
+    def render(k: float):
+        line.set_ydata([0, -(10.0 ** k)])
+        ax.relim()
+        ax.autoscale_view()
+        return fig, {"k": k}
+
+    ex = Explorer({"k": slider("k", 0.0, 0.0, 9.0, 1.0)}, render, static=False)
+    for k in (7.0, 1.0, 8.0):  # wide, narrow, wide again: the layout engine is found again
+        ex.controls["k"].value = k
+        renderer = fig.canvas.get_renderer()
+        assert fig.get_tightbbox(renderer).x0 >= -0.01, f"a tick label sticks out at k={k}"
+
+
 def test_bad_live_declarations_are_refused_with_a_reason():
     from dstoolkit.errors import InvalidInputError
 

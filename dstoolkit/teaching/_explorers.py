@@ -33,7 +33,9 @@ readout instead of a figure: the learner sees *why* a setting is invalid.
 
 Speed: a redraw keeps the axes where the first figure's layout engine put them (the layout
 is computed once per figure shape, not on every change) and encodes the PNG with fast
-compression as 256 colours (:data:`FIGURE_DPI`, :func:`encode_png`).
+compression as 256 colours (:data:`FIGURE_DPI`, :func:`encode_png`). A render may keep its
+figure and update its artists in place; the artists it marks as animated are then blitted
+onto the rest of the last picture while nothing else changed (:meth:`Explorer.png`).
 """
 
 from __future__ import annotations
@@ -44,6 +46,7 @@ import html
 import io
 import itertools
 import os
+import weakref
 from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import replace
 from typing import Any, TypeVar
@@ -282,6 +285,9 @@ class Explorer(widgets.VBox):
         self.readout = widgets.HTML()
         self.output = widgets.Output()
         self._layouts: dict[tuple[Any, ...], list[Any]] = {}
+        self._engines: weakref.WeakKeyDictionary[Figure, Any] = weakref.WeakKeyDictionary()
+        self._kept: Figure | None = None  # the figure whose background is kept for blitting
+        self._background: Any = None
         self._head = [widgets.HTML(f"<b>{html.escape(title)}</b>")] if title else []
         if self.static:
             self._build_static()
@@ -326,20 +332,48 @@ class Explorer(widgets.VBox):
             plt.close(fig)
 
     def png(self, fig: Figure) -> bytes:
-        """``fig`` as PNG bytes. The first figure of a shape (size, number of axes) is laid
-        out by its layout engine; later ones reuse those axes positions (no layout pass, and
-        axes that stay put when a control moves), unless something (wider tick labels)
-        would then stick out of the figure: that one is laid out afresh."""
-        if not hasattr(fig.canvas, "buffer_rgba"):  # a Figure() made without pyplot
+        """``fig`` as PNG bytes.
+
+        A render that keeps its figure (returns the same ``Figure`` on every call, updated
+        in place) may mark the artists that follow the controls as *animated*
+        (``artist.set_animated(True)``): while nothing else of the figure changed (matplotlib
+        marks the figure stale when a non-animated artist, a limit or a text changes), the
+        picture of the rest is restored from the last draw and only those artists are drawn
+        on it (blitting), in order of their zorder. Otherwise the whole figure is drawn
+        (:meth:`_draw`) and the animated artists on top.
+        """
+        if not hasattr(fig.canvas, "copy_from_bbox"):  # a Figure() made without pyplot
             FigureCanvasAgg(fig)
-        fig.set_dpi(FIGURE_DPI)
-        engine = fig.get_layout_engine()
+        if fig.get_dpi() != FIGURE_DPI:  # set_dpi marks the figure stale, even unchanged
+            fig.set_dpi(FIGURE_DPI)
+        animated = sorted(fig.findobj(lambda artist: artist.get_animated()),
+                          key=lambda artist: artist.get_zorder())
+        if animated and fig is self._kept and not fig.stale:
+            fig.canvas.restore_region(self._background)
+        else:
+            self._draw(fig)
+            self._kept = fig if animated else None
+            self._background = fig.canvas.copy_from_bbox(fig.bbox) if animated else None
+        for artist in animated:
+            fig.draw_artist(artist)
+        return encode_png(np.asarray(fig.canvas.buffer_rgba()),
+                          compress_level=6 if self.static else 1)
+
+    def _draw(self, fig: Figure) -> None:
+        """Draw all of ``fig`` but its animated artists. The first figure of a shape (size,
+        number of axes) is laid out by its layout engine; later ones, and later draws of a
+        kept figure, reuse those axes positions (no layout pass, and axes that stay put when
+        a control moves), unless something (wider tick labels) would then stick out of the
+        figure: that one is laid out afresh."""
+        engine = self._engines.get(fig) or fig.get_layout_engine()
         key = (*np.round(fig.get_size_inches(), 3), len(fig.axes))
         layout = self._layouts.get(key) if engine is not None else None
         if layout is not None:
+            self._engines[fig] = engine  # set_layout_engine("none") hides it from now on
             fig.set_layout_engine("none")
             for ax, box in zip(fig.axes, layout, strict=True):
-                ax.set_position(box)
+                if ax.get_position().bounds != box.bounds:
+                    ax.set_position(box)
         fig.canvas.draw()
         if layout is not None and _sticks_out(fig):
             fig.set_layout_engine(engine)
@@ -348,8 +382,7 @@ class Explorer(widgets.VBox):
             fig.canvas.draw()
         elif layout is None and engine is not None:
             self._layouts[key] = [ax.get_position() for ax in fig.axes]
-        return encode_png(np.asarray(fig.canvas.buffer_rgba()),
-                          compress_level=6 if self.static else 1)
+        fig.stale = False  # the check re-placed titles and ticks where the draw put them
 
     # -- the static site -------------------------------------------------------------------
 
