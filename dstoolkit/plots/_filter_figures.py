@@ -287,7 +287,9 @@ class FilterStepFigure:
             ax.set_xlim(*lim)
             ax.set_xlabel(f"state at step {entry['step'] - 1} ({self.unit})"
                           if key == "state" else "")
-            ax.set_title(f"{names[key]} — {len(ev)} focal elements", loc="left")
+            # y = 1 where matplotlib would put it (nothing is drawn above the panel), so
+            # that a draw skips the search for it (a tight box of each panel's y axis)
+            ax.set_title(f"{names[key]} — {len(ev)} focal elements", loc="left", y=1.0)
             if self._lines[i] is not None:
                 estimate, true = self._lines[i]
                 estimate.set_xdata([est, est])
