@@ -177,3 +177,17 @@ def test_the_bounded_error_explorer_keeps_its_figure_and_its_legend():
         pad_pt = [f.axes[0].titleOffsetTrans.get_matrix()[1, 2] * 72 / f.dpi
                   for f in (kept, fresh)]
         assert pad_pt[0] == pytest.approx(pad_pt[1]) and pad_pt[0] > 20
+
+
+def test_the_zero_line_widens_the_view_only_when_zero_lies_outside_it():
+    """As an axhline drawn after the data: at 1.6 m and ε = 0.25 every deviation is > 0, and
+    the view is the data's with 5 % margins (0 lies within them), in a kept figure too."""
+    ex = w.filter_widget()
+    for level in (1.6, 9.6, 1.6):
+        ex.controls["epsilon"].value = 0.25
+        ex.controls["level"].value = level
+    data = np.concatenate([line.get_ydata() for line in ex.figure.axes[0].lines[:2]])
+    low, high = float(data.min()), float(data.max())
+    assert low > 0
+    margin = 0.05 * (high - low)
+    assert ex.figure.axes[0].get_ylim() == pytest.approx((low - margin, high + margin))

@@ -143,7 +143,7 @@ class FilterErrorsFigure:
         self._deviations = (
             top.plot([], [], ".", ms=3, color="0.55", label="reading z_k − x_k")[0],
             top.plot([], [], "-", lw=1.4, color=BETP_COLOUR, label="estimate x̂_k − x_k")[0])
-        top.axhline(0.0, color="black", lw=0.8)
+        self._zero = top.axhline(0.0, color="black", lw=0.8)
         top.set_ylabel(f"deviation ({unit})")
         legend_above(top, ncols=2)
         bottom.set_yscale("log")
@@ -175,8 +175,18 @@ class FilterErrorsFigure:
             self.figure.suptitle(title or "", x=0.01, y=0.99, ha="left", va="top",
                                  fontsize=SMALL_PT, wrap=True)
             self._titled = True
+        # The zero line widens the view only when 0 falls outside the data's (as
+        # axhline does when it is drawn after the data).
+        self._zero.set_visible(False)
+        top.relim(visible_only=True)
+        self._zero.set_visible(True)
+        bottom.relim()
         bottom.set_autoscaley_on(True)
-        _autoscale(top, bottom)
+        for ax in self.axes:
+            ax.autoscale_view()
+        low, high = top.get_ylim()
+        if not low <= 0.0 <= high:
+            _autoscale(top)
         positive = np.abs(est)[np.abs(est) > 0]
         bottom.set_ylim(bottom=max(1e-3, 0.5 * float(positive.min())) if positive.size else 1e-3)
         return self.figure
