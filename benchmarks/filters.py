@@ -8,9 +8,9 @@ For each filter in :data:`REGISTRY` this prints
   CPU time of the process (the machine is shared: the wall time also counts waits for a
   core);
 - per step: the one-run median divided by the 82 steps, beside the floor this machine
-  sets: the time per iteration of an empty loop of the same length that makes one numpy
-  call on a one-element array (``np.add(a, b, out=c)``); their ratio is the number of
-  such calls a step costs;
+  sets (the table's first row): the time per iteration of an empty loop of the same
+  length that makes one numpy call on one-element arrays (``np.add(a, b, out=c)``); the
+  column "× floor" is their ratio, the number of such calls a step costs;
 - a batch: the wall and CPU time of ``run_batch`` on ``--runs`` sequences and the
   throughput in filter steps per second (wall, then CPU), one step = one transition
   k → k+1 (82 per sequence).
@@ -145,18 +145,21 @@ def main(argv: list[str] | None = None) -> int:
           f"(n = {one.orders[0]}..{one.orders[-1]}), {steps} filter steps per run")
     floor = numpy_call_floor(steps)
     print(f"numpy {np.__version__}, {os.cpu_count()} CPUs, load average {load_average()}")
-    print(f"floor: one numpy call per iteration of a {steps}-step loop = "
-          f"{floor * 1e6:.2f} µs per step\n")
+    print(f"per step = one-run median / {steps} steps; × floor = per step / the time per "
+          f"iteration of an empty {steps}-step loop\nmaking one numpy call on one-element "
+          "arrays (the first row): how many such calls a step costs\n")
     print(f"{'filter':20s} {'one run: median':>15s} {'best':>8s} {'CPU':>8s} "
-          f"{'per step':>9s} {'= calls':>7s} {'batch of':>8s} {'time':>7s} {'CPU':>7s} "
+          f"{'per step':>9s} {'× floor':>7s} {'batch of':>8s} {'time':>7s} {'CPU':>7s} "
           f"{'steps/s':>10s} {'(CPU)':>10s}  settings")
+    print(f"{'floor':20s} {'':15s} {'':8s} {'':8s} {floor * 1e6:6.2f} µs {1:7.0f}"
+          f"{'':47s}  one numpy call per step, np.add(a, b, out=c)")
     for name in names:
         entry = REGISTRY[name]
         flt = entry.make()
         median, best, cpu = time_single(flt, model, one.readings, one.inputs, args.repeat)
         batch, batch_cpu = time_batch(flt, model, many.readings, many.inputs)
         print(f"{name:20s} {median * 1e3:12.2f} ms {best * 1e3:5.2f} ms {cpu * 1e3:5.2f} ms "
-              f"{median / steps * 1e6:6.1f} µs {median / steps / floor:7.0f} {args.runs:8d} "
+              f"{median / steps * 1e6:6.2f} µs {median / steps / floor:7.0f} {args.runs:8d} "
               f"{batch:5.2f} s {batch_cpu:5.2f} s {args.runs * steps / batch:10,.0f} "
               f"{args.runs * steps / batch_cpu:10,.0f}  {entry.settings}")
     print(f"\nload average after: {load_average()}; floor again: "

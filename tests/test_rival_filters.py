@@ -1,6 +1,8 @@
 """The paper's rivals (issue 3): Nassreddine's filter and its restart variant, the
 bounded-error filter, the (extended) Kalman filter and the bootstrap particle filter."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -269,6 +271,64 @@ def test_kalman_uses_the_noise_means_with_the_sign_convention():
     )
     result = KalmanFilter().run(model, np.full(200, 5.2))
     assert result.estimates[-1, 0] == pytest.approx(5.0, abs=1e-3)
+
+
+def test_the_gauge_float_maps_give_the_array_maps_numbers_exactly():
+    """The gauge's ScalarMaps (eqs. 39–40 on Python floats) equal its array maps bit for bit,
+    so that the Kalman filter's one-run float path equals its batch path."""
+    model = gauge_state_space_model()
+    rng = np.random.default_rng(3)
+    x, n = rng.uniform(100.0, 5000.0, 50), rng.integers(1, 400, 50).astype(float)
+    maps, state, orders = model.scalar_maps, x[:, None], n[:, None]
+    assert maps is not None
+    pairs = [
+        (model.f(state, orders)[:, 0], [maps.f(a, [b]) for a, b in zip(x, n, strict=True)]),
+        (model.jacobian_f(state, orders)[:, 0, 0],
+         [maps.jacobian_f(a, [b]) for a, b in zip(x, n, strict=True)]),
+        (model.g(state)[:, 0], [maps.g(a) for a in x]),
+        (model.jacobian_g(state)[:, 0, 0], [maps.jacobian_g(a) for a in x]),
+    ]
+    for array, floats in pairs:
+        np.testing.assert_array_equal(array, floats)
+
+
+@pytest.mark.parametrize("level", [0.6, 9.6])
+def test_kalman_float_path_equals_the_array_path(level):
+    """One run on the gauge's float maps gives exactly what the array maps give."""
+    model = gauge_state_space_model()
+    seq = simulate_gauge(level, seed=2)
+    fast = KalmanFilter().run(model, seq.readings, seq.inputs)
+    plain = KalmanFilter().run(dataclasses.replace(model, scalar_maps=None), seq.readings,
+                               seq.inputs)
+    for name in ("estimates", "lower", "upper"):
+        np.testing.assert_array_equal(getattr(fast, name), getattr(plain, name))
+    np.testing.assert_array_equal(fast.diagnostics["nis"], plain.diagnostics["nis"])
+
+
+def test_kalman_refuses_float_maps_that_disagree_with_the_model():
+    """A gauge model whose f was replaced while its float maps were kept is refused, not
+    filtered with the old eq. 39."""
+    model = gauge_state_space_model()
+    seq = simulate_gauge(seed=0)
+    slower = dataclasses.replace(model, f=lambda x, u: 0.5 * model.f(x, u))
+    with pytest.raises(EvidenceError, match=r"scalar_maps\.f gives"):
+        KalmanFilter().run(slower, seq.readings, seq.inputs)
+    dropped = dataclasses.replace(slower, scalar_maps=None)
+    assert KalmanFilter().run(dropped, seq.readings, seq.inputs).estimates.shape == (83, 1)
+
+
+@pytest.mark.parametrize("flt", RIVALS, ids=IDS)
+def test_every_transition_input_is_checked_before_the_run(flt):
+    """A non-positive order n_k at the last transition, or no orders at all, is refused at
+    the door by the gauge's f (eq. 39 divides by n_k), whatever path the filter takes."""
+    model = gauge_state_space_model()
+    seq = simulate_gauge(seed=0)
+    orders = seq.inputs.astype(float)
+    orders[-1] = 0.0
+    with pytest.raises(EvidenceError, match="orders n_k must be positive"):
+        flt.run(model, seq.readings, orders)
+    with pytest.raises(EvidenceError, match="needs the order n_k"):
+        flt.run(model, seq.readings)
 
 
 def test_finite_difference_jacobian_matches_the_model_jacobian():

@@ -41,6 +41,7 @@ from ._model import (
     BoundedNoise,
     Filter,
     FilterResult,
+    ScalarMaps,
     StateSpaceModel,
     with_input,
 )
@@ -69,6 +70,7 @@ __all__ = [
     "NassreddineFilter",
     "NoiseEvidence",
     "ParticleFilter",
+    "ScalarMaps",
     "StateSpaceModel",
     "cluster_boxes",
     "converged_at",

@@ -20,10 +20,16 @@ Start: x̂_1 = g⁻¹(z_1 + E[w]) and P_1 the covariance of the uniform distribu
 box of states consistent with z_1, g⁻¹(z_1 + [w_lo, w_hi]) (a conservative prior: the
 reading is all the filter knows). ``lower``/``upper`` of the result are x̂ ± 3σ from P: the
 Kalman filter has no evidence, and this band is its closest analogue.
+
+For a scalar state and reading (the gauge, eqs. 39–40) every matrix is 1 × 1 and the
+recursion runs term by term: on Python floats for one run, through the model's float maps
+(:class:`ScalarMaps`) when it has them, and on arrays of runs for a batch, with the same
+operations in the same order, so every path gives the same numbers.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -35,6 +41,7 @@ from dstoolkit.errors import EvidenceError
 from ._base import FilterBase
 from ._model import (
     FilterResult,
+    ScalarMaps,
     StateSpaceModel,
     first_reading_box,
     step_input,
@@ -73,6 +80,94 @@ def _reciprocal(s: Any) -> Any:
     if isinstance(s, float):
         return 1.0 / s if s != 0.0 else 0.0
     return np.divide(1.0, s, out=np.zeros_like(s), where=s != 0.0)
+
+
+def _array_maps(model: StateSpaceModel, runs: int) -> ScalarMaps:
+    """The model's array maps (Jacobians by finite differences when it has none) as
+    :class:`ScalarMaps` on a float (one run) or an (R,) array of states (a batch); u is the
+    step's input rows (R, q) or None."""
+
+    def call(fn: Callable[..., Any], x: Any, *u: Any) -> Any:
+        out = np.asarray(fn(np.reshape(x, (runs, 1)), *u), dtype=float)
+        return out.item() if runs == 1 else out.reshape(runs)
+
+    def jacobian_f(x: np.ndarray, u: Any) -> np.ndarray:
+        if model.jacobian_f is not None:
+            return model.jacobian_f(x, u)
+        return finite_difference_jacobian(with_input(model.f, u), x)
+
+    def jacobian_g(x: np.ndarray) -> np.ndarray:
+        if model.jacobian_g is not None:
+            return model.jacobian_g(x)
+        return finite_difference_jacobian(model.g, x)
+
+    return ScalarMaps(
+        f=lambda x, u: call(model.f, x, u), jacobian_f=lambda x, u: call(jacobian_f, x, u),
+        g=lambda x: call(model.g, x), jacobian_g=lambda x: call(jacobian_g, x),
+    )
+
+
+def _check_agreement(model: StateSpaceModel, maps: ScalarMaps, x: float, row: Any,
+                     u: np.ndarray | None) -> None:
+    """Refuse float maps that do not give the array maps' numbers at x̂_1 and the first
+    input: a model whose f or g was replaced while its ``scalar_maps`` were kept."""
+    arrays = _array_maps(model, 1)
+    pairs = {"f": (maps.f(x, row), arrays.f(x, u)),
+             "jacobian_f": (maps.jacobian_f(x, row), arrays.jacobian_f(x, u)),
+             "g": (maps.g(x), arrays.g(x)),
+             "jacobian_g": (maps.jacobian_g(x), arrays.jacobian_g(x))}
+    for name, (fast, plain) in pairs.items():
+        if not math.isclose(fast, plain, rel_tol=1e-9, abs_tol=1e-12):
+            raise EvidenceError(
+                f"the model's scalar_maps.{name} gives {fast!r} where its array map gives "
+                f"{plain!r} (x = {x!r}, u = {row!r}); rebuild scalar_maps for the model's "
+                "maps or set scalar_maps=None"
+            )
+
+
+def _scalar_terms(model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
+                  x0: np.ndarray, cov0: np.ndarray) -> tuple[ScalarMaps, Any, Any, Any, Any]:
+    """What :func:`_scalar_recursion` runs on: the maps, x̂_1, P_1, the readings z_2..z_T and
+    the inputs u_1..u_{T−1}; Python floats for one run (the model's float maps when it
+    has them), (R,) arrays for a batch of R runs."""
+    runs, n_steps, _ = Z.shape
+    if runs == 1 and model.scalar_maps is not None:
+        rows = [None] * (n_steps - 1) if U is None else U[0].tolist()
+        _check_agreement(model, model.scalar_maps, x0.item(), rows[0], step_input(U, 1))
+        return model.scalar_maps, x0.item(), cov0.item(), Z[0, 1:, 0].tolist(), rows
+    inputs = [step_input(U, k) for k in range(1, n_steps)]
+    if runs == 1:
+        return _array_maps(model, 1), x0.item(), cov0.item(), Z[0, 1:, 0].tolist(), inputs
+    return _array_maps(model, runs), x0[:, 0], cov0[:, 0, 0], Z[:, 1:, 0].T, inputs
+
+
+def _scalar_recursion(
+    maps: ScalarMaps, x: Any, cov: Any, readings: Any, inputs: Any,
+    q: float, r: float, v_mean: float, w_mean: float,
+) -> tuple[list[Any], list[Any], list[Any]]:
+    """The module docstring's recursion for n = m = 1 (eq. 21: F = ∂f/∂x, H = ∂g/∂x,
+    Q = Var[v], R = Var[w]) from the start (x̂_1, P_1), on floats or (R,) arrays alike:
+    estimates, variances and NIS of steps 2..T, one entry per (reading, input) pair."""
+    f, jac_f, g, jac_g = maps.f, maps.jacobian_f, maps.g, maps.jacobian_g
+    out_x: list[Any] = []
+    out_cov: list[Any] = []
+    out_nis: list[Any] = []
+    for z, u in zip(readings, inputs, strict=True):
+        slope = jac_f(x, u)
+        x_pred = f(x, u) + v_mean
+        cov_pred = slope * cov * slope + q
+        h = jac_g(x_pred)
+        innovation = z - (g(x_pred) - w_mean)
+        ph = cov_pred * h
+        s_inv = _reciprocal(h * ph + r)
+        gain = ph * s_inv
+        x = x_pred + gain * innovation
+        joseph = 1.0 - gain * h
+        cov = joseph * cov_pred * joseph + gain * r * gain
+        out_x.append(x)
+        out_cov.append(cov)
+        out_nis.append(innovation * s_inv * innovation)
+    return out_x, out_cov, out_nis
 
 
 @dataclass(frozen=True)
@@ -158,53 +253,19 @@ class KalmanFilter(FilterBase):
         """The recursion of :meth:`_filter` for a scalar state and reading, term by term
         (every matrix is 1 × 1): on Python floats for one run, on (R,) arrays for a batch,
         with the same operations in the same order, so a batch equals single runs exactly.
-        Only the model's maps are numpy calls."""
+        One run uses the model's :class:`ScalarMaps` when it has them (no numpy call per
+        step at all), else its array maps on (1, 1) arrays."""
         runs, n_steps, _ = Z.shape
-        q, r = float(model.state_noise.variance[0]), float(model.obs_noise.variance[0])
-        v_mean, w_mean = float(model.state_noise.mean[0]), float(model.obs_noise.mean[0])
         x0, cov0 = self._start(model, Z[:, 0])
         xs, covs = np.empty((runs, n_steps, 1)), np.empty((runs, n_steps, 1, 1))
         nis = np.full((runs, n_steps), np.nan)
         xs[:, 0], covs[:, 0] = x0, cov0
-        scalar: Callable[[np.ndarray], Any]
-        if runs == 1:
-            def scalar(a: np.ndarray) -> Any:
-                return np.asarray(a, dtype=float).item()
-            readings: Any = Z[0, :, 0].tolist()
-        else:
-            def scalar(a: np.ndarray) -> Any:
-                return np.asarray(a, dtype=float).reshape(runs)
-            readings = Z[:, :, 0].T
-        x, cov = scalar(x0), scalar(cov0)
-        state = np.array(x0, dtype=float)  # (R, 1): what the model's maps are called with
-        f, g, jac_f, jac_g = model.f, model.g, model.jacobian_f, model.jacobian_g
-        out_x: list[Any] = []
-        out_cov: list[Any] = []
-        out_nis: list[Any] = []
-        for k in range(1, n_steps):
-            u = None if U is None else U[:, k - 1]
-            f_u = with_input(f, u)
-            state[:, 0] = x
-            slope = scalar(jac_f(state, u) if jac_f is not None
-                           else finite_difference_jacobian(f_u, state))
-            x_pred = scalar(f_u(state)) + v_mean
-            cov_pred = slope * cov * slope + q
-            state[:, 0] = x_pred
-            gain_g = scalar(jac_g(state) if jac_g is not None
-                            else finite_difference_jacobian(g, state))
-            innovation = readings[k] - (scalar(g(state)) - w_mean)
-            ph = cov_pred * gain_g
-            s_inv = _reciprocal(gain_g * ph + r)
-            gain = ph * s_inv
-            x = x_pred + gain * innovation
-            joseph = 1.0 - gain * gain_g
-            cov = joseph * cov_pred * joseph + gain * r * gain
-            out_x.append(x)
-            out_cov.append(cov)
-            out_nis.append(innovation * s_inv * innovation)
-        if n_steps > 1:
-            xs[:, 1:, 0], covs[:, 1:, 0, 0] = np.array(out_x).T, np.array(out_cov).T
-            nis[:, 1:] = np.array(out_nis).T
+        if n_steps == 1:
+            return xs, covs, nis
+        noise = (float(model.state_noise.variance[0]), float(model.obs_noise.variance[0]),
+                 float(model.state_noise.mean[0]), float(model.obs_noise.mean[0]))
+        out = _scalar_recursion(*_scalar_terms(model, Z, U, x0, cov0), *noise)
+        xs[:, 1:, 0], covs[:, 1:, 0, 0], nis[:, 1:] = (np.array(o).T for o in out)
         return xs, covs, nis
 
     def _filter(

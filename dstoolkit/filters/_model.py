@@ -132,6 +132,25 @@ class BoundedNoise:
 
 
 @dataclass(frozen=True)
+class ScalarMaps:
+    """The maps of a model with one state and one reading (n = m = 1), on Python floats.
+
+    An optional speed path for recursions that go one float at a time (the Kalman filter
+    on one run, where numpy calls on (1, 1) arrays would cost more than the arithmetic):
+    ``f(x, u)`` and ``jacobian_f(x, u)`` (∂f/∂x) take the state x as a float and the
+    transition's input row u as a list of floats (None without inputs); ``g(x)`` and
+    ``jacobian_g(x)`` (∂g/∂x) take x. Each returns a float and must give the same numbers
+    as the model's array maps; the inputs have already passed the array f's checks (every
+    filter evaluates f on every transition's input before it starts).
+    """
+
+    f: Callable[[float, Any], float]
+    jacobian_f: Callable[[float, Any], float]
+    g: Callable[[float], float]
+    jacobian_g: Callable[[float], float]
+
+
+@dataclass(frozen=True)
 class StateSpaceModel:
     """x_{k+1} = f(x_k, u_k) + v_k and g(x_k) = z_k + w_k (eq. 21).
 
@@ -155,6 +174,10 @@ class StateSpaceModel:
     jacobian_f, jacobian_g
         Optional Jacobians for the (extended) Kalman filter, ``(x, u) -> (n, n)`` and
         ``x -> (m, n)``; finite differences are used when absent.
+    scalar_maps
+        Optional: f, g and their Jacobians on Python floats (:class:`ScalarMaps`) for a
+        scalar state and reading, the same numbers faster; used by the Kalman filter's
+        single runs. Replace it (or set it to None) when you replace f or g.
     """
 
     f: ArrayFn
@@ -168,6 +191,7 @@ class StateSpaceModel:
     jacobian_g: ArrayFn | None = None
     name: str = "model"
     description: str = field(default="", compare=False)
+    scalar_maps: ScalarMaps | None = None
 
     @property
     def state_dim(self) -> int:
@@ -282,6 +306,8 @@ def batch_readings(
             "replace missing readings before filtering"
         )
     if inputs is None:
+        if z.shape[1] > 1:
+            _probe_inputs(model, None, z.shape[:2])
         return z, None
     u = real_array(inputs, "inputs", finite=False, error=EvidenceError)
     if u.ndim == 2:
@@ -299,25 +325,29 @@ def batch_readings(
             "transition its input (e.g. the orders n_k of eq. 43)"
         )
     if u.shape[1]:
-        _probe_inputs(model, u)
+        _probe_inputs(model, u, u.shape[:2])
     return z, u
 
 
-def _probe_inputs(model: StateSpaceModel, u: np.ndarray) -> None:
-    """Evaluate f once on the inputs of the first transition, as the filters will, so that an
-    input of the wrong shape is reported here and not as a broadcast error deep inside."""
-    x = np.zeros((u.shape[0], 2, model.state_dim))
+def _probe_inputs(model: StateSpaceModel, u: np.ndarray | None, shape: tuple[int, ...]
+                  ) -> None:
+    """Evaluate f once on the inputs of every transition, u (runs, transitions, q) or None
+    (``shape`` = (runs, transitions)), so that an input of the wrong shape or value, or a
+    missing one, is reported here, before any work, and not deep inside (the gauge's f
+    refuses orders n_k <= 0 and missing orders here)."""
+    x = np.zeros((*shape, model.state_dim))
     try:
         with np.errstate(all="ignore"):
-            out = np.asarray(with_input(model.f, u[:, 0])(x))
+            out = np.asarray(model.f(x, u))
         np.broadcast_to(out, x.shape)
     except EvidenceError:
         raise
     except (ValueError, TypeError, IndexError) as exc:
+        given = ("without inputs" if u is None
+                 else f"on inputs of shape {u.shape} (runs, transitions, q)")
         raise EvidenceError(
-            f"the model's f(x, u) does not accept inputs of shape {u.shape} (runs, "
-            f"transitions, q): {type(exc).__name__}: {exc}; give one input row per transition "
-            "of the length f expects"
+            f"the model's f(x, u) fails {given}: {type(exc).__name__}: {exc}; give one input "
+            "row per transition of the length f expects"
         ) from exc
 
 

@@ -118,14 +118,25 @@ def state_transition(x: Any, n: Any) -> np.ndarray:
     >>> float(state_transition(1320.0, 10))
     1452.0
     """
-    n = np.asarray(n, dtype=float)
-    return np.asarray(x, dtype=float) * (n + 1.0) / n
+    return next_resonance(np.asarray(x, dtype=float), np.asarray(n, dtype=float))
 
 
 def state_transition_derivative(x: Any, n: Any) -> np.ndarray:
     """∂f/∂x = (n + 1)/n > 0: f is increasing in x (Prop. 2 applies), for Kalman filters."""
-    ratio = (np.asarray(n, dtype=float) + 1.0) / n
+    ratio = resonance_ratio(np.asarray(n, dtype=float))
     return ratio + np.zeros_like(x, dtype=float)  # the shape x and n broadcast to
+
+
+def next_resonance(x: Any, n: Any) -> Any:
+    """The arithmetic of eq. 39, x (n + 1)/n, on floats or float arrays alike (no checks):
+    :func:`state_transition` and the gauge model's float maps share it, so both give the
+    same numbers."""
+    return x * (n + 1.0) / n
+
+
+def resonance_ratio(n: Any) -> Any:
+    """(n + 1)/n, the slope ∂f/∂x of eq. 39, on floats or float arrays alike (no checks)."""
+    return (n + 1.0) / n
 
 
 def observation(x: Any) -> np.ndarray:

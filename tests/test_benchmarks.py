@@ -1,0 +1,44 @@
+"""The speed scripts print what issue 14 asks of them (their figures are not checked here:
+speed is measured by the scripts, never asserted in tests)."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+from types import ModuleType
+
+BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
+
+
+def load(name: str) -> ModuleType:
+    """Import ``benchmarks/<name>.py`` as a module."""
+    spec = importlib.util.spec_from_file_location(f"benchmark_{name}", BENCHMARKS / f"{name}.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_latency_benchmark_times_every_explorer():
+    """Every explorer of dstoolkit.teaching has its value changes in widget_latency.py (the
+    lab's measuring station aside: it measures on a button press)."""
+    from dstoolkit import teaching
+
+    timed = {call.split("(")[0] for call in load("widget_latency").CHANGES}
+    explorers = {name for name in teaching.__all__ if name.endswith(("_explorer", "_widget"))}
+    assert timed == explorers - {"lab_widget"}
+
+
+def test_the_filter_benchmark_prints_the_floor_beside_the_steps(capsys):
+    """filters.py prints the load average before and after, and a table whose first row is
+    the floor (one numpy call per step, × floor = 1) above each filter's per-step time."""
+    assert load("filters").main(["--runs", "3", "--repeat", "2", "--filters", "kalman"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    header = next(i for i, line in enumerate(lines) if line.startswith("filter "))
+    assert "per step" in lines[header] and "× floor" in lines[header]
+    floor, kalman = lines[header + 1].split(), lines[header + 2].split()
+    assert floor[:4] == ["floor", floor[1], "µs", "1"] and float(floor[1]) > 0
+    assert kalman[0] == "kalman" and "µs" in kalman
+    assert sum("load average" in line for line in lines) == 2
