@@ -1,6 +1,6 @@
 """Pictures of filter runs: a run's band, the paper's Fig. 10 and one step's evidence.
 
-Each picture is a small class that draws its figure once and then ``update``\\ s it in place
+Each picture is a small class that draws its figure once and then updates it in place
 for another run (the explorers of :mod:`dstoolkit.teaching` redraw them on every change of
 a control, so that a change costs a redraw, not a new figure); the ``plot_*`` function of
 each is one such figure, made through pyplot for a notebook cell. A figure built for some
@@ -236,7 +236,7 @@ class FilterStepFigure:
 
     @staticmethod
     def panels_of(entry: dict[str, Any]) -> tuple[str, ...]:
-        """The panels a recorded step fills: the keys of :data:`FILTER_STEP_PANELS` it holds."""
+        """The panels a recorded step fills: the keys of ``FILTER_STEP_PANELS`` it holds."""
         return tuple(key for key, _ in FILTER_STEP_PANELS if entry.get(key) is not None)
 
     @styled

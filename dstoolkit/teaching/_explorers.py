@@ -798,7 +798,7 @@ def render_filter(
     """What :func:`filter_widget` recomputes on every change: the run's figure (estimates,
     hull and readings against the truth, absolute errors; the paper's Fig. 10) and the
     numbers of :func:`~dstoolkit.studies.filter_summary`. With ``kept`` (a dict) the figure
-    is kept there (:func:`kept_figure`): drawn without pyplot on the first call, redrawn in
+    is kept there (``kept_figure``): drawn without pyplot on the first call, redrawn in
     place on later ones; else each call draws a new figure."""
     seq, n, result = filter_case(
         level, temperature, state_noise=(v_lower, v_mode, v_upper),
