@@ -42,3 +42,20 @@ def test_the_filter_benchmark_prints_the_floor_beside_the_steps(capsys):
     assert floor[:4] == ["floor", floor[1], "µs", "1"] and float(floor[1]) > 0
     assert kalman[0] == "kalman" and "µs" in kalman
     assert sum("load average" in line for line in lines) == 2
+
+
+def test_the_filter_profile_shows_every_block_of_a_step(capsys):
+    """filter_profile.py prints, for the numpy path, a row per block of Steps 2–6 with its
+    time and numpy calls per step (counted, not guessed), the rest, and the load average."""
+    profile = load("filter_profile")
+    assert profile.main(["--repeat", "2", "--runs", "8"]) == 0
+    out = capsys.readouterr().out
+    numpy_part = out.split("compiled Step 6")[0]
+    for label, name in profile.BLOCKS:
+        if name != "_fuse_compiled":
+            row = next(line for line in numpy_part.splitlines() if line.strip().startswith(label))
+            us, calls = (float(x) for x in row[len(label) + 2:].split()[:2])
+            assert us > 0 and calls >= 1, row
+    total = float(numpy_part.split(" numpy calls per step")[0].rsplit(" ", 1)[1])
+    assert 20 < total < 200  # the whole step, model callbacks included
+    assert "rest:" in numpy_part and out.count("load average") == 2

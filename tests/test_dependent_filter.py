@@ -1,5 +1,6 @@
 """The paper's dependent-evidence filter (§3.2, Steps 1–6) and its array kernels."""
 
+import importlib.util
 import warnings
 
 import numpy as np
@@ -250,6 +251,35 @@ def test_wrong_monotone_declaration_is_caught_in_the_filter(gauge):
                             f_monotone=(-1, 1), g_monotone=(1,))
     with pytest.raises(NotMonotoneError, match="declared monotone"):
         FILTER.run(wrong, gauge.readings[:4], gauge.inputs[:3])
+
+
+def _emptying(model: StateSpaceModel) -> StateSpaceModel:
+    """The model with a g⁻¹ that returns every box empty (lo above hi)."""
+    def g_inverse(lo, hi, x_lo, x_hi):
+        return np.maximum(hi, x_hi) + 1.0, np.minimum(lo, x_lo)
+    return StateSpaceModel(f=model.f, g=model.g, g_inverse=g_inverse,
+                           state_noise=model.state_noise, obs_noise=model.obs_noise,
+                           f_monotone=model.f_monotone, g_monotone=model.g_monotone)
+
+
+def test_an_empty_box_from_g_inverse_is_refused_on_every_path(gauge):
+    """Step 5 refuses a g⁻¹ that returns an empty box for a focal element of positive mass:
+    the array path (one run, a batch, the compiled kernel) and the object path, for n = 1
+    and 2."""
+    start = gauge.readings[0] + GAUGE_OBS_NOISE.mode
+    lv, _, z_lv = simulate_lotka_volterra(steps=4, runs=2, seed=4)
+    cases = [(_emptying(MODEL), gauge.readings[:4], gauge.inputs[:3], start),
+             (_emptying(lv), z_lv[0], None, [1.0, 1.0])]
+    kernels = ["numpy", "numba"] if importlib.util.find_spec("numba") else ["numpy"]
+    for model, z, u, x0 in cases:
+        batch = np.stack([z, z]), None if u is None else np.stack([u, u])
+        for kernel in kernels:
+            flt = DependentEvidenceFilter(start=x0, p=1, kernel=kernel)
+            for record in (False, True):
+                with pytest.raises(EvidenceError, match="g_inverse returned an empty box"):
+                    flt.run(model, z, u, record=record)
+            with pytest.raises(EvidenceError, match="g_inverse returned an empty box"):
+                flt.run_batch(model, *batch)
 
 
 def test_bad_models_and_data_are_explained(gauge):

@@ -20,12 +20,18 @@ Merging changes nothing here, because
 - discounting onto Θ = the hull (eqs. A7–A8) appends Θ as one more focal element; if Θ
   equals an existing one the object path merges them, with the same products.
 
+Step 6 of the paper's filter runs on a second layout, the *columns* (:func:`columns`):
+boxes (R, 2, d, N) with the focal elements last, so that each comparison and product of
+focal elements is one call along a long axis. :class:`DependenceKernel` (eqs. A1–A6) and
+:class:`ProductKernel` (eqs. 1, 20) bind their buffers and views once and then cost only
+their numpy calls; :func:`dependence` and :func:`dempster_expectation` run them on Boxes.
+
 ``tests/test_dependent_filter.py`` checks all of this against the object path.
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -81,67 +87,145 @@ def sizes(e: Boxes) -> np.ndarray:
 TINY = 1e-300
 
 
-def dependence_rows(lo: np.ndarray, hi: np.ndarray, masses: np.ndarray, e2: slice,
-                    mass_rule: MassRule, out: np.ndarray) -> np.ndarray:
-    """En'(E1), En'(E2), En'(E1, E2), D, R12, R21 (Def. 5, eqs. A1, A3–A6) per run into
-    ``out`` (R, 6), for E1 and E2 held as the rows of one array.
+def least(values: np.ndarray) -> float:
+    """The smallest of ``values`` (NaN if one is NaN), as a float; one element is read
+    directly (a tenth of the cost of a reduction)."""
+    return values.item() if values.size == 1 else float(np.minimum.reduce(values, axis=None))
 
-    ``lo``, ``hi`` (R, N, d) hold E1's rows, then E2's from ``e2.start`` on; ``masses``
-    (R, 2, N) holds E1's masses in row 0 (0 on E2's rows) and E2's in row 1 (0 on E1's).
-    Rows of mass 0 are ignored, but E2's rows ``e2`` must have positive mass. One pass
-    then gives both energies, and one matrix product m1(D) and m2(D) of every focal
-    element D of E2 (the merged masses, recovered with equality matrices).
 
-    With u the smallest live width of an evidence, every live width w is ≥ u, so the
-    specificity u/w of eqs. A1 and A3 is (u + ε)/(w + ε), ε = :data:`TINY` (a point
-    counts 1 when u = 0, an unbounded box 0); u + ε is taken out of each sum.
+def per_run(values: np.ndarray) -> Any:
+    """``values`` (R,) as a column (R, 1) that broadcasts over each run's row, or for one
+    run as a float (a numpy scalar operand costs as much as an array)."""
+    return values.item() if values.size == 1 else values[:, None]
+
+
+def columns(e: Boxes) -> np.ndarray:
+    """Boxes (R, N, d) in the column layout (R, 2, d, N) of the Step 6 kernels: the ends
+    (lo, hi) on axis 1, the focal elements last, so that every product and comparison of
+    focal elements runs along a long, contiguous last axis."""
+    return np.stack([e.lo, e.hi], axis=1).transpose(0, 1, 3, 2)
+
+
+class DependenceKernel:
+    """En'(E1), En'(E2), En'(E1, E2), D, R12, R21 (Def. 5, eqs. A1, A3–A6) per run, on
+    buffers and views bound once, for E1 and E2 held as the columns of one array.
+
+    ``cols`` (R, 2, d, N) holds E1's focal elements in columns [0, n1) and E2's after;
+    ``masses`` (R, 2, N) E1's masses in row 0 (0 on E2's columns) and E2's in row 1 (0 on
+    E1's); ``live`` (R, n1) marks E1's columns of positive mass (None: all; E2's masses
+    must be positive). :meth:`compute` writes the six figures into the rows of ``out``
+    (6, R) and 1 − R12, 1 − R21 (the masses the discounting gives Θ1, Θ2, eqs. A7–A8)
+    into ``theta_mass`` (R, 2); the arrays may change between calls, the buffers not.
+
+    One pass gives both energies, and one matrix product with the equality matrix of
+    every column against E2's gives m1(D) and m2(D) of each focal element D of E2 (the
+    merged masses, recovered without merging). With u the smallest live width of an
+    evidence, every live width w is ≥ u, so the specificity u/w of eqs. A1 and A3 is
+    (u + ε)/(w + ε), ε = :data:`TINY` (a point counts 1 when u = 0, an unbounded box 0).
     """
-    d = lo.shape[-1]
-    split = e2.start
-    # [A_i = B_j] for every row against E2's rows
-    if d == 1:
-        same = np.equal(lo[:, :, None, 0], lo[:, None, e2, 0])
-        same &= hi[:, :, None, 0] == hi[:, None, e2, 0]
-    else:
-        same = ((lo[:, :, None] == lo[:, None, e2]) & (hi[:, :, None] == hi[:, None, e2])
-                ).all(axis=-1)
-    on_b, merged_b = np.matmul(masses, same, dtype=float).transpose(1, 0, 2)
-    # energies (eq. A1) of E1 and E2 in one pass
-    widths = hi - lo
-    widths = widths[..., 0] if d == 1 else np.prod(widths, axis=-1)
-    all_mass = np.add(masses[:, 0], masses[:, 1])
-    segments = np.array([0, split])
-    units = np.minimum.reduceat(np.where(all_mass > 0, widths, np.inf), segments, axis=1)
-    units += TINY
-    widths += TINY
-    np.divide(all_mass, widths, out=all_mass)
-    np.multiply(units, np.add.reduceat(all_mass, segments, axis=1), out=out[:, 0:2])
-    # energy of the intersection (eq. A3): Σ_j m2_j/m2(D_j) · m(D_j) · u12/w_j
-    if mass_rule == "min":
-        m_d = np.minimum(on_b, merged_b)
-    else:  # "m1" is 0 off the common elements by itself, "m2" is not
-        m_d = on_b if mass_rule == "m1" else merged_b * (on_b > 0)
-    m_d *= masses[:, 1, e2]
-    m_d /= merged_b
-    m_d /= widths[:, e2]
-    np.multiply(units.min(axis=1), np.add.reduce(m_d, axis=1), out=out[:, 2])
-    # D (eq. A4), R12 = 1 − D/2 · En'(E2)/En'(E1), R21 likewise (eqs. A5–A6); TINY turns
-    # 0/0 into 0 (no energy: D = 0, R = 1)
-    energies = out[:, 0:2]
-    total = np.add.reduce(energies, axis=1)
-    total += TINY
-    np.divide(2.0 * out[:, 2], total, out=out[:, 3])
-    ratio = np.multiply(0.5 * out[:, 3, None], energies[:, ::-1])
-    ratio /= energies + TINY
-    np.subtract(1.0, ratio, out=out[:, 4:6])
-    return out
+
+    def __init__(self, cols: np.ndarray, masses: np.ndarray, n1: int, mass_rule: MassRule,
+                 out: np.ndarray, theta_mass: np.ndarray, live: np.ndarray | None = None
+                 ) -> None:
+        runs, _, d, n = cols.shape
+        n2 = n - n1
+        self.d, self.n1, self.rule, self.live = d, n1, mass_rule, live
+        self.lo, self.hi, self.masses = cols[:, 0], cols[:, 1], masses
+        self.width = np.empty((runs, d, n))
+        """Widths per component, (R, d, N): an empty box has a negative one."""
+        self.volume = self.width[:, 0] if d == 1 else np.empty((runs, n))
+        self.wt = np.empty((runs, n))
+        self.share = np.empty((runs, 2, n))
+        self.units, self.sums = np.empty((runs, 2)), np.empty((runs, 3))
+        self.e2 = cols[:, :, :, n1:, None]
+        self.all = cols[:, :, :, None, :]
+        self.equal = np.empty((2 * d, runs, n2, n), dtype=bool)  # one block an end
+        self.equal_ends = self.equal.reshape(2, d, runs, n2, n).transpose(2, 0, 1, 3, 4)
+        self.equal_lo, self.equal_hi = self.equal[0], self.equal[-1]  # d = 1
+        self.same = np.empty((runs, n2, n))
+        self.common = np.empty((runs, n2, 2))
+        self.on, self.merged = self.common[..., 0], self.common[..., 1]
+        self.m_d, self.weight = np.empty((runs, n2)), np.empty((runs, n2))
+        # views made once: a step then costs only its numpy calls
+        self.wt_rows, self.energy_sums = self.wt[:, None], self.sums[:, :2]
+        self.widths = (self.volume[:, :n1], self.volume[:, n1:])
+        self.unit_outs = (self.units[:, 0], self.units[:, 1])
+        self.masses_t = masses.transpose(0, 2, 1)
+        self.e2_share, self.joint_sum = self.share[:, 1, n1:], self.sums[:, 2]
+        self.single = runs == 1
+        # where the figures go: one run's as a row of floats, else as arrays (R,)
+        self.figures = (out[:, 0], theta_mass[0]) if self.single else (out, theta_mass.T)
+        self.coefficients = out[4:6]
+
+    def compute(self) -> bool:
+        """Fill ``out`` and ``theta_mass`` from the current columns and masses; returns
+        whether R12 and R21 lie in [0, 1] in every run (``mass_rule="m2"`` can break that:
+        D, En ≥ 0 keep R ≤ 1). ``units[:, 0]`` is then the smallest width of E1's live
+        focal elements, negative if one is empty."""
+        # widths and energies (eq. A1): Σ m/(w + ε) per evidence, times its u + ε
+        np.subtract(self.hi, self.lo, out=self.width)
+        if self.d > 1:
+            np.multiply.reduce(self.width, axis=1, out=self.volume)
+        np.add(self.volume, TINY, out=self.wt)
+        np.divide(self.masses, self.wt_rows, out=self.share)
+        np.add.reduce(self.share, axis=2, out=self.energy_sums)
+        (e1_widths, e2_widths), (u1_out, u2_out) = self.widths, self.unit_outs
+        if self.live is None:
+            np.minimum.reduce(e1_widths, axis=1, out=u1_out)
+        else:
+            np.minimum.reduce(e1_widths, axis=1, where=self.live, initial=np.inf, out=u1_out)
+        np.minimum.reduce(e2_widths, axis=1, out=u2_out)
+        # m1(D), m2(D) of every focal element D of E2: [A_i = B_j] per run (eq. A3)
+        np.equal(self.e2, self.all, out=self.equal_ends)
+        if self.d == 1:
+            np.logical_and(self.equal_lo, self.equal_hi, out=self.same)
+        else:
+            np.logical_and.reduce(self.equal, axis=0, out=self.same)
+        np.matmul(self.same, self.masses_t, out=self.common)
+        # energy of the intersection (eq. A3): Σ_j m(D_j) · m2_j/m2(D_j) · u12/w_j
+        if self.rule == "min":
+            m_d = np.minimum(self.on, self.merged, out=self.m_d)
+        elif self.rule == "m1":  # 0 off the common elements by itself
+            m_d = self.on
+        else:  # "m2" is not
+            m_d = np.multiply(self.merged, self.on > 0, out=self.m_d)
+        np.divide(self.e2_share, self.merged, out=self.weight)
+        np.vecdot(m_d, self.weight, out=self.joint_sum)
+        # the six figures per run: in plain floats for one run (a numpy call on one element
+        # costs ten float operations), else in arrays
+        if self.single:
+            w1, w2 = self.units.ravel().tolist()
+            figures = dependence_figures(w1, w2, min(w1, w2), *self.sums.ravel().tolist())
+            valid = not (figures[4] < 0.0 or figures[5] < 0.0)
+        else:
+            u1, u2 = self.units.T
+            figures = dependence_figures(u1, u2, np.minimum(u1, u2), *self.sums.T)
+            valid = not np.fmin.reduce(self.coefficients, axis=None) < 0.0
+        rows, theta_rows = self.figures
+        rows[...], theta_rows[...] = figures[:6], figures[6:]
+        return valid
+
+
+def dependence_figures(u1: Any, u2: Any, u12: Any, s1: Any, s2: Any, s12: Any
+                       ) -> tuple[Any, ...]:
+    """En'(E1), En'(E2), En'(E1, E2), D, R12, R21, 1 − R12, 1 − R21 (eqs. A1, A3–A6) from
+    the smallest live widths of E1, E2 and both (u1, u2, u12) and the sums Σ m/(w + ε) of
+    eqs. A1 and A3 (s1, s2, s12); floats or arrays alike.
+
+    D = 2 En'(E1, E2)/(En'(E1) + En'(E2)) (eq. A4); R12 = 1 − D/2 · En'(E2)/En'(E1), R21
+    likewise (eqs. A5–A6); ε = :data:`TINY` turns 0/0 into 0 (no energy: D = 0, R = 1).
+    """
+    en1, en2, joint = (u1 + TINY) * s1, (u2 + TINY) * s2, (u12 + TINY) * s12
+    half = joint / (en1 + en2 + TINY)
+    t12, t21 = en2 / (en1 + TINY) * half, en1 / (en2 + TINY) * half
+    return en1, en2, joint, half + half, 1.0 - t12, 1.0 - t21, t12, t21
 
 
 def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool = True
                ) -> BatchDependence:
     """Energies, energy of the intersection, D, R12, R21 of E1 = a, E2 = b per run
     (Def. 5, eqs. A1, A3–A6), equal to :func:`dstoolkit.dependence` on the merged evidence
-    (:func:`dependence_rows` on the rows of a then b).
+    (:class:`DependenceKernel` on the columns of a then b).
 
     E2's masses must be positive (E1 may hold mass-0 placeholders). With ``check``, raises
     EvidenceError when a coefficient leaves [0, 1] (``mass_rule="m2"`` can do that), as
@@ -150,17 +234,17 @@ def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool =
     if mass_rule not in MASS_RULES:
         raise EvidenceError(f"mass_rule must be one of {MASS_RULES}, got {mass_rule!r}")
     runs = max(a.lo.shape[0], b.lo.shape[0])
-    na, nb, d = a.lo.shape[1], b.lo.shape[1], a.lo.shape[2]
-    lo = np.concatenate([np.broadcast_to(a.lo, (runs, na, d)),
-                         np.broadcast_to(b.lo, (runs, nb, d))], axis=1)
-    hi = np.concatenate([np.broadcast_to(a.hi, (runs, na, d)),
-                         np.broadcast_to(b.hi, (runs, nb, d))], axis=1)
+    na, nb = a.lo.shape[1], b.lo.shape[1]
+    cols = np.concatenate([np.broadcast_to(columns(e), (runs, 2, e.lo.shape[2], n))
+                           for e, n in ((a, na), (b, nb))], axis=3)
     masses = np.zeros((runs, 2, na + nb))
     masses[:, 0, :na], masses[:, 1, na:] = a.mass, b.mass
-    out = dependence_rows(lo, hi, masses, slice(na, na + nb), mass_rule, np.empty((runs, 6)))
-    if check and out[:, 4:6].min() < 0.0:  # D, En ≥ 0 keep R ≤ 1
-        _coefficient_error(out[:, 4], out[:, 5], out[:, 3], mass_rule)
-    return BatchDependence(*out.T)
+    out, theta_mass = np.empty((6, runs)), np.empty((runs, 2))
+    live = np.ascontiguousarray(np.broadcast_to(a.mass > 0, (runs, na)))
+    valid = DependenceKernel(cols, masses, na, mass_rule, out, theta_mass, live).compute()
+    if check and not valid:
+        _coefficient_error(out[4], out[5], out[3], mass_rule)
+    return BatchDependence(*out)
 
 
 def _coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray,
@@ -186,64 +270,116 @@ def discount_onto_hull(e: Boxes, reliability: np.ndarray) -> Boxes:
 
 
 class ProductWork(NamedTuple):
-    """Buffers of :func:`dempster_expectation`: the products' ends ``lo``, ``hi``
-    (R, d, N_a, N_b) and ``stack`` (R, 1 + d, N_a, N_b) = [nonempty, lo + hi]."""
+    """Buffers of :class:`ProductKernel` (the column layout of :func:`columns`): ``ends``
+    (2, R, d, N_b, N_a) = lo, hi of A_i ∩ B_j; ``stack`` (1 + d, R, N_b, N_a) = [nonempty,
+    (lo + hi)·nonempty]; ``partial`` (R, 1 + d, N_b, 1), ``sums`` (R, 1 + d, 1, 1). Each
+    end and each row of the stack is one block: the passes over a batch run faster."""
 
-    lo: np.ndarray
-    hi: np.ndarray
+    ends: np.ndarray
     stack: np.ndarray
+    partial: np.ndarray
+    sums: np.ndarray
 
     @classmethod
     def allocate(cls, runs: int, d: int, na: int, nb: int) -> ProductWork:
-        lo = np.empty((runs, d, na, nb))
-        return cls(lo, np.empty_like(lo), np.empty((runs, 1 + d, na, nb)))
+        return cls(np.empty((2, runs, d, nb, na)), np.empty((1 + d, runs, nb, na)),
+                   np.empty((runs, 1 + d, nb, 1)), np.empty((runs, 1 + d, 1, 1)))
+
+
+class ProductKernel:
+    """Pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of A and B per run,
+    without forming the N_a·N_b products' masses, on buffers and views bound once:
+
+        E = Σ_ij m_a(i) m_b(j) [A_i ∩ B_j ≠ ∅] c(A_i ∩ B_j) / (1 − K),  c = the centre,
+
+    two matrix products with the stack [nonempty, 2c] of the intersection matrix. ``a``
+    (R, 2, d, N_a) and ``b`` (R, 2, d, N_b) are columns (:func:`columns`), ``a_mass``
+    (R, N_a) and ``b_mass`` (R, N_b) their masses (a row (1, N) broadcasts). ``theta`` =
+    (i, j) tells that A_i holds every other A and B_j every other B (Θ1, Θ2 after
+    :func:`discount_onto_hull`): where both keep mass and meet, A_i ∩ B_j is a product of
+    positive mass that holds every other, so it is the hull (:meth:`hull`).
+    """
+
+    def __init__(self, a: np.ndarray, b: np.ndarray, a_mass: np.ndarray, b_mass: np.ndarray,
+                 work: ProductWork | None = None, theta: tuple[int, int] | None = None
+                 ) -> None:
+        runs = max(a.shape[0], b.shape[0], a_mass.shape[0], b_mass.shape[0])
+        d, na, nb = a.shape[2], a.shape[3], b.shape[3]
+        self.work = work if work is not None else ProductWork.allocate(runs, d, na, nb)
+        ends, stack, _, sums = self.work
+        self.d, self.a_mass, self.b_mass = d, a_mass, b_mass
+        self.a_lo, self.a_hi = a[:, 0, :, None, :], a[:, 1, :, None, :]
+        self.b_lo, self.b_hi = b[:, 0, :, :, None], b[:, 1, :, :, None]
+        self.lo, self.hi = ends
+        self.stack = stack.transpose(1, 0, 2, 3)  # (R, 1 + d, N_b, N_a)
+        self.nonempty, self.centres = stack[0], self.stack[:, 1:]
+        self.a_col, self.b_row = a_mass[:, None, :, None], b_mass[:, None, None, :]
+        self.ends_1d = (self.lo[:, 0], self.hi[:, 0])  # d = 1
+        self.nonempty_rows = self.nonempty[:, None]
+        i, j = (-1, -1) if theta is None else theta
+        self.theta = None if theta is None else (
+            a_mass[:, i], b_mass[:, j], self.nonempty[:, j, i],
+            ends[:, :, :, j, i].transpose(1, 0, 2))  # Θ's masses, Θ1 ∩ Θ2 meets, its ends
+        self.kept, self.total = sums[:, 0, 0, 0], sums[:, 1:, 0, 0]
+
+    def combine(self, est: np.ndarray) -> np.ndarray | None:
+        """E into ``est`` (R, d); returns None when every run's combination exists (K < 1
+        above the tolerance), else the mask of those that do. ``self.kept`` = 1 − K."""
+        _, _, partial, sums = self.work
+        np.maximum(self.a_lo, self.b_lo, out=self.lo)
+        np.minimum(self.a_hi, self.b_hi, out=self.hi)
+        if self.d == 1:
+            np.less_equal(*self.ends_1d, out=self.nonempty)
+        else:
+            np.logical_and.reduce(self.lo <= self.hi, axis=1, out=self.nonempty)
+        np.add(self.lo, self.hi, out=self.centres)
+        np.multiply(self.centres, self.nonempty_rows, out=self.centres)
+        np.matmul(self.stack, self.a_col, out=partial)
+        np.matmul(self.b_row, partial, out=sums)
+        kept = self.kept
+        if least(kept) > CONFLICT_TOLERANCE:
+            ok = None
+            scale = 0.5 / per_run(kept)
+        else:
+            ok = kept > CONFLICT_TOLERANCE
+            scale = 0.5 / np.where(ok, kept, 1.0)[:, None]
+        np.multiply(self.total, scale, out=est)
+        return ok
+
+    def hull(self, out: np.ndarray) -> np.ndarray:
+        """The hull of the combination (after :meth:`combine`) into ``out`` (R, 2, d)."""
+        ends = self.work.ends
+        if self.theta is not None:
+            theta1_mass, theta2_mass, meet, corner = self.theta
+            if least(theta1_mass) > 0.0 and least(theta2_mass) > 0.0 and least(meet) > 0.0:
+                np.copyto(out, corner)
+                return out
+        mass = self.b_mass[:, :, None] * self.a_mass[:, None, :]  # (R, N_b, N_a)
+        live = ((mass > 0.0) & (self.nonempty > 0.0))[:, None]
+        np.minimum.reduce(ends[0], axis=(-2, -1), where=live, initial=np.inf, out=out[:, 0])
+        np.maximum.reduce(ends[1], axis=(-2, -1), where=live, initial=-np.inf,
+                          out=out[:, 1])
+        return out
 
 
 def dempster_expectation(
     a: Boxes, b: Boxes, bounds: bool = False, *, work: ProductWork | None = None,
     theta_last: bool = False,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray] | None]:
-    """Pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of a and b, per run,
-    without forming the N_a·N_b products' masses:
-
-        E = Σ_ij m_a(i) m_b(j) [A_i ∩ B_j ≠ ∅] c(A_i ∩ B_j) / (1 − K),  c = the centre,
-
-    two matrix products with the stack [nonempty, 2c] of the intersection matrix. Returns
-    E (R, d), K (R,), the mask of runs with K < 1, and with ``bounds`` the hull of the
-    combination (R, d) twice. ``work`` reuses buffers (:meth:`ProductWork.allocate`).
-    ``theta_last`` tells that the last focal element of a and of b holds all the others (as
-    after :func:`discount_onto_hull`): where both keep mass and meet, their intersection
-    is then the hull.
+    """Pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of a and b, per run
+    (:class:`ProductKernel`). Returns E (R, d), K (R,), the mask of runs with K < 1, and
+    with ``bounds`` the hull of the combination (R, d) twice. ``work`` reuses buffers
+    (:meth:`ProductWork.allocate`). ``theta_last`` tells that the last focal element of a
+    and of b holds all the others (as after :func:`discount_onto_hull`).
     """
-    runs = max(a.lo.shape[0], b.lo.shape[0])
-    na, nb, d = a.lo.shape[1], b.lo.shape[1], a.lo.shape[2]
-    lo, hi, stack = work if work is not None else ProductWork.allocate(runs, d, na, nb)
-    a_lo, a_hi = a.lo.transpose(0, 2, 1)[..., None], a.hi.transpose(0, 2, 1)[..., None]
-    b_lo, b_hi = b.lo.transpose(0, 2, 1)[:, :, None], b.hi.transpose(0, 2, 1)[:, :, None]
-    np.maximum(a_lo, b_lo, out=lo)
-    np.minimum(a_hi, b_hi, out=hi)
-    nonempty, centres = stack[:, 0], stack[:, 1:]
-    if d == 1:
-        np.less_equal(lo[:, 0], hi[:, 0], out=nonempty)
-    else:
-        nonempty[...] = np.logical_and.reduce(lo <= hi, axis=1)
-    np.add(lo, hi, out=centres)
-    centres *= nonempty[:, None]
-    sums = (a.mass[:, None, None] @ stack @ b.mass[:, None, :, None])[..., 0, 0]
-    kept, total = sums[:, 0], sums[:, 1:]
-    expectation = 0.5 * total
-    if kept.min() > CONFLICT_TOLERANCE:
-        ok = np.ones(runs, dtype=bool)
-        expectation /= kept[:, None]
-    else:
-        ok = kept > CONFLICT_TOLERANCE
-        expectation /= np.where(ok, kept, 1.0)[:, None]
+    theta = (a.lo.shape[1] - 1, b.lo.shape[1] - 1) if theta_last else None
+    kernel = ProductKernel(columns(a), columns(b), a.mass, b.mass, work, theta)
+    runs, d = kernel.work.sums.shape[0], a.lo.shape[2]
+    expectation = np.empty((runs, d))
+    ok = kernel.combine(expectation)
+    ok = np.ones(runs, dtype=bool) if ok is None else ok
+    conflict = 1.0 - kernel.kept
     if not bounds:
-        return expectation, 1.0 - kept, ok, None
-    if (theta_last and a.mass[:, -1].min() > 0.0 and b.mass[:, -1].min() > 0.0
-            and nonempty[:, -1, -1].min() > 0.0):
-        return expectation, 1.0 - kept, ok, (lo[:, :, -1, -1].copy(), hi[:, :, -1, -1].copy())
-    mass = a.mass[:, :, None] * b.mass[:, None] * nonempty
-    products = Boxes(lo.reshape(runs, d, -1).transpose(0, 2, 1),
-                     hi.reshape(runs, d, -1).transpose(0, 2, 1), mass.reshape(runs, -1))
-    return expectation, 1.0 - kept, ok, hull(products)
+        return expectation, conflict, ok, None
+    box = kernel.hull(np.empty((runs, 2, d)))
+    return expectation, conflict, ok, (box[:, 0], box[:, 1])

@@ -1,12 +1,14 @@
 """Optional compiled kernel (extra ``speed``: numba) for Step 6 of the paper's filter.
 
-The numpy path (:func:`~dstoolkit.evidence._batch_kernels.dependence_rows`,
-:func:`~dstoolkit.evidence.dempster_expectation`) makes some 40 numpy calls per step on
-arrays of 16–1,100 elements; one run of the filter is bound by their overhead, a batch by
-the passes over the N_a × N_b products. :func:`fuse_dependent` does the same arithmetic
-in plain loops, once per run: the degree of dependence and the coefficients of E1, E2
-(Def. 5, eqs. A1, A3–A6), their discounting onto their hulls Θ1, Θ2 (eqs. A7–A8),
-Dempster's rule (eq. 1), the pignistic expectation (eq. 20) and the hull of the result.
+The numpy path (:class:`~dstoolkit.evidence._batch_kernels.DependenceKernel`,
+:class:`~dstoolkit.evidence._batch_kernels.ProductKernel` and the hulls) makes some 27
+numpy calls per step on arrays of 16–2,600 elements; one run of the filter is bound by
+their overhead, a batch by the passes over the 65 × 17 products and the 80 × 16 equality
+matrix, whose short inner loops numpy broadcasts slowly (``benchmarks/filter_profile.py``).
+:func:`fuse_dependent` does the same arithmetic in plain loops, once per run: the degree
+of dependence and the coefficients of E1, E2 (Def. 5, eqs. A1, A3–A6), their discounting
+onto their hulls Θ1, Θ2 (eqs. A7–A8), Dempster's rule (eq. 1), the pignistic expectation
+(eq. 20) and the hull of the result.
 Its sums are added in another order than numpy's, so its results agree with the numpy path
 to rounding (tested), and they do not depend on the number of runs in a block.
 
@@ -31,13 +33,13 @@ from ._combination import CONFLICT_TOLERANCE, MASS_RULES
 RULE_CODES: dict[str, int] = {rule: code for code, rule in enumerate(MASS_RULES)}
 
 
-def _fuse(boxes: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, rule: int,
+def _fuse(cols: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, rule: int,
           est: np.ndarray, diag: np.ndarray, ok: np.ndarray, lower: np.ndarray,
           upper: np.ndarray) -> None:  # pragma: no cover - compiled by numba
     """See :func:`fuse_dependent`; plain loops for numba."""
-    runs, _, d, _ = boxes.shape
+    runs, _, d, _ = cols.shape
     np_ = rho.shape[0]
-    e2 = n1 + 1
+    e2 = n1
     on_b = np.empty(np_)
     merged = np.empty(np_)
     theta1 = np.empty((d, 2))
@@ -49,8 +51,8 @@ def _fuse(boxes: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, ru
             for i in range(n1):
                 same = True
                 for c in range(d):
-                    if (boxes[r, i, c, 0] != boxes[r, e2 + j, c, 0]
-                            or boxes[r, i, c, 1] != boxes[r, e2 + j, c, 1]):
+                    if (cols[r, 0, c, 1 + i] != cols[r, 0, c, 1 + e2 + j]
+                            or cols[r, 1, c, 1 + i] != cols[r, 1, c, 1 + e2 + j]):
                         same = False
                         break
                 if same:
@@ -59,8 +61,8 @@ def _fuse(boxes: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, ru
             for k in range(np_):
                 same = True
                 for c in range(d):
-                    if (boxes[r, e2 + k, c, 0] != boxes[r, e2 + j, c, 0]
-                            or boxes[r, e2 + k, c, 1] != boxes[r, e2 + j, c, 1]):
+                    if (cols[r, 0, c, 1 + e2 + k] != cols[r, 0, c, 1 + e2 + j]
+                            or cols[r, 1, c, 1 + e2 + k] != cols[r, 1, c, 1 + e2 + j]):
                         same = False
                         break
                 if same:
@@ -75,7 +77,7 @@ def _fuse(boxes: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, ru
         for i in range(n1):
             w = 1.0
             for c in range(d):
-                w *= boxes[r, i, c, 1] - boxes[r, i, c, 0]
+                w *= cols[r, 1, c, 1 + i] - cols[r, 0, c, 1 + i]
             if back_mass[r, i] > 0.0:
                 u1 = min(u1, w)
             sum1 += back_mass[r, i] / (w + TINY)
@@ -83,7 +85,7 @@ def _fuse(boxes: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, ru
         for j in range(np_):
             w = 1.0
             for c in range(d):
-                w *= boxes[r, e2 + j, c, 1] - boxes[r, e2 + j, c, 0]
+                w *= cols[r, 1, c, 1 + e2 + j] - cols[r, 0, c, 1 + e2 + j]
             if rho[j] > 0.0:
                 u2 = min(u2, w)
             sum2 += rho[j] / (w + TINY)
@@ -111,13 +113,13 @@ def _fuse(boxes: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, ru
         for i in range(n1):
             if back_mass[r, i] > 0.0:
                 for c in range(d):
-                    theta1[c, 0] = min(theta1[c, 0], boxes[r, i, c, 0])
-                    theta1[c, 1] = max(theta1[c, 1], boxes[r, i, c, 1])
+                    theta1[c, 0] = min(theta1[c, 0], cols[r, 0, c, 1 + i])
+                    theta1[c, 1] = max(theta1[c, 1], cols[r, 1, c, 1 + i])
         for j in range(np_):
             if rho[j] > 0.0:
                 for c in range(d):
-                    theta2[c, 0] = min(theta2[c, 0], boxes[r, e2 + j, c, 0])
-                    theta2[c, 1] = max(theta2[c, 1], boxes[r, e2 + j, c, 1])
+                    theta2[c, 0] = min(theta2[c, 0], cols[r, 0, c, 1 + e2 + j])
+                    theta2[c, 1] = max(theta2[c, 1], cols[r, 1, c, 1 + e2 + j])
         # Dempster's rule of the discounted evidence, its expectation and hull (eqs. 1, 20)
         kept = 0.0
         for c in range(d):
@@ -130,10 +132,10 @@ def _fuse(boxes: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, ru
                 m_b = rho[j] * r21 if j < np_ else 1.0 - r21
                 nonempty = True
                 for c in range(d):
-                    a_lo = boxes[r, i, c, 0] if i < n1 else theta1[c, 0]
-                    a_hi = boxes[r, i, c, 1] if i < n1 else theta1[c, 1]
-                    b_lo = boxes[r, e2 + j, c, 0] if j < np_ else theta2[c, 0]
-                    b_hi = boxes[r, e2 + j, c, 1] if j < np_ else theta2[c, 1]
+                    a_lo = cols[r, 0, c, 1 + i] if i < n1 else theta1[c, 0]
+                    a_hi = cols[r, 1, c, 1 + i] if i < n1 else theta1[c, 1]
+                    b_lo = cols[r, 0, c, 1 + e2 + j] if j < np_ else theta2[c, 0]
+                    b_hi = cols[r, 1, c, 1 + e2 + j] if j < np_ else theta2[c, 1]
                     if max(a_lo, b_lo) > min(a_hi, b_hi):
                         nonempty = False
                         break
@@ -142,10 +144,10 @@ def _fuse(boxes: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, ru
                 m = m_a * m_b
                 kept += m
                 for c in range(d):
-                    a_lo = boxes[r, i, c, 0] if i < n1 else theta1[c, 0]
-                    a_hi = boxes[r, i, c, 1] if i < n1 else theta1[c, 1]
-                    b_lo = boxes[r, e2 + j, c, 0] if j < np_ else theta2[c, 0]
-                    b_hi = boxes[r, e2 + j, c, 1] if j < np_ else theta2[c, 1]
+                    a_lo = cols[r, 0, c, 1 + i] if i < n1 else theta1[c, 0]
+                    a_hi = cols[r, 1, c, 1 + i] if i < n1 else theta1[c, 1]
+                    b_lo = cols[r, 0, c, 1 + e2 + j] if j < np_ else theta2[c, 0]
+                    b_hi = cols[r, 1, c, 1 + e2 + j] if j < np_ else theta2[c, 1]
                     lo, hi = max(a_lo, b_lo), min(a_hi, b_hi)
                     est[r, c] += m * (lo + hi)
                     if m > 0.0:
@@ -155,7 +157,7 @@ def _fuse(boxes: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, ru
         scale = 0.5 / kept if ok[r] else 0.5
         for c in range(d):
             est[r, c] *= scale
-        diag[r, 0] = 1.0 - kept
+        diag[r, 0] = kept
         diag[r, 1] = en1
         diag[r, 2] = en2
         diag[r, 3] = joint
@@ -173,22 +175,21 @@ def _compiled() -> Callable[..., None]:
     return kernel
 
 
-def fuse_dependent(boxes: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int,
+def fuse_dependent(cols: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int,
                    mass_rule: str, est: np.ndarray, diag: np.ndarray, bounds: Any
                    ) -> np.ndarray:
     """Step 6 of the paper's filter for every run, compiled (extra ``speed``).
 
-    ``boxes`` (R, N, d, 2) holds E1 (rows < n1, masses ``back_mass`` (R, n1), 0 for
-    placeholders), one free row, then E2 (masses ``rho`` (N_2,), all positive);
-    writes the expectation into ``est`` (R, d), (K, En'(E1), En'(E2), En'(E1, E2), D, R12,
-    R21) into ``diag`` (R, 7) and the hull into ``bounds`` = (lower, upper) (R, d) each;
-    returns the mask of runs with K < 1.
+    ``cols`` (R, ≥ 2, d, N) holds the columns of the array path (lo, hi, ... on axis 1):
+    one free column, E1 (n1 columns, masses ``back_mass`` (R, n1), 0 for placeholders),
+    then E2 (masses ``rho`` (N_2,), all positive); writes the expectation into ``est``
+    (R, d), (1 − K, En'(E1), En'(E2), En'(E1, E2), D, R12, R21) into ``diag`` (R, 7) and the
+    hull into ``bounds`` (R, 2, d) (lower, upper); returns the mask of runs with K < 1.
     """
-    runs = boxes.shape[0]
+    runs = cols.shape[0]
     ok = np.empty(runs, dtype=bool)
-    _compiled()(np.ascontiguousarray(boxes), np.ascontiguousarray(back_mass),
-                np.ascontiguousarray(rho), n1, RULE_CODES[mass_rule], est, diag, ok,
-                bounds[0], bounds[1])
+    _compiled()(cols, np.ascontiguousarray(back_mass), np.ascontiguousarray(rho), n1,
+                RULE_CODES[mass_rule], est, diag, ok, bounds[:, 0], bounds[:, 1])
     return ok
 
 

@@ -173,11 +173,10 @@ class DependentEvidenceFilter(FilterBase):
             require_extra("numba", "speed", "kernel='numba' of the paper's filter")
 
     def _bytes_per_run(self, noise: NoiseEvidence) -> float:
-        """Memory of one run's Step 6 products (the largest arrays), bytes."""
-        n_pred = noise.prediction_mass.shape[1] + 1
-        n_back = (n_pred - 1) * noise.w.mass.shape[1] + 1
-        d = noise.v.lo.shape[-1]
-        return float(n_pred * n_back * 8 * (5 * d + 3))
+        """Memory of one run's Step 6 buffers (the largest arrays), bytes."""
+        n_pred = noise.prediction_mass.shape[1]
+        return StepArrays.bytes_per_run(noise.v.lo.shape[-1], n_pred,
+                                        n_pred * noise.w.mass.shape[1])
 
     # -- Step 1 and model parsing ----------------------------------------------------------
     def noise_evidence(self, model: StateSpaceModel) -> NoiseEvidence:
@@ -229,39 +228,43 @@ class DependentEvidenceFilter(FilterBase):
         the hull of each final evidence."""
         runs, steps, _ = z.shape
         est = np.empty((runs, steps, maps.model.state_dim))
-        lower, upper = (np.empty_like(est), np.empty_like(est)) if bounds else (None, None)
+        hulls = np.empty((runs, steps, 2, est.shape[2])) if bounds else None
         est[:, 0] = self._start(maps.model, z[:, 0])
-        if lower is not None and upper is not None:
-            lower[:, 0] = upper[:, 0] = est[:, 0]
-        arrays = StepArrays(self, maps, noise, runs, steps)
-        table = np.full((len(DIAGNOSTICS), runs, steps), np.nan)
-        f = maps.model.f
+        if hulls is not None:
+            hulls[:, 0] = est[:, 0, None]
+        arrays = StepArrays(self, maps, noise, z)
+        table = np.full((steps, len(DIAGNOSTICS), runs), np.nan)  # step first: one copy a step
+        table[1:, 8] = 0.0
+        # u_k shaped as with_input shapes it for f's points (R, 3, N_v, n)
+        u = None if inputs is None else inputs.reshape(runs, steps - 1, 1, 1, -1)
         for t in range(1, steps):
-            f_u = with_input(f, None if inputs is None else inputs[:, t - 1])
-            ok4, (ok6, hull) = arrays.step(t, est, z[:, t], f_u, table[:8, :, t].T, bounds)
-            if lower is not None and upper is not None and hull is not None:
-                lower[:, t], upper[:, t] = hull
-            if not ok4.all() or not ok6.all():
-                ok = ok4 & ok6
+            ok4, ok6 = arrays.step(t, est, None if u is None else u[:, t - 1], hulls)
+            table[t, :8] = arrays.diag
+            if ok4 is None and ok6 is None:
+                continue
+            ok = np.ones(runs, dtype=bool) if ok4 is None else ok4.copy()
+            if ok6 is not None:
                 arrays._check_conflict(ok6, t, 6)
-                pred = Boxes(arrays.pred[..., 0], arrays.pred[..., 1], noise.prediction_mass)
-                self._fall_back(ok, t, pred, est, lower, upper)
-                table[8, :, t] = ~ok
-                table[1:8, ~ok4, t] = np.nan
-            else:
-                table[8, :, t] = 0.0
+                ok &= ok6
+            self._fall_back(ok, t, arrays.prediction(), est, hulls)
+            table[t, 8] = ~ok
+            if ok4 is not None:
+                table[t, 1:8, ~ok4] = np.nan
         arrays.check_images(steps)
-        return est, lower, upper, dict(zip(DIAGNOSTICS, table, strict=True))
+        np.subtract(1.0, table[:, :2], out=table[:, :2])  # K = 1 − the mass kept (eq. 1)
+        lower, upper = (None, None) if hulls is None else (hulls[:, :, 0], hulls[:, :, 1])
+        diagnostics = np.ascontiguousarray(table.transpose(1, 2, 0))  # (keys, R, T)
+        return est, lower, upper, dict(zip(DIAGNOSTICS, diagnostics, strict=True))
 
     @staticmethod
     def _fall_back(ok: np.ndarray, t: int, pred: Boxes, est: np.ndarray,
-                   lower: np.ndarray | None, upper: np.ndarray | None) -> None:
+                   hulls: np.ndarray | None) -> None:
         """on_conflict="predict": the prediction is the final evidence of failed runs."""
         bad = ~ok
         est[bad, t] = bk.pignistic_expectation(pred)[bad]
-        if lower is not None and upper is not None:
+        if hulls is not None:
             p_lo, p_hi = bk.hull(pred)
-            lower[bad, t], upper[bad, t] = p_lo[bad], p_hi[bad]
+            hulls[bad, t, 0], hulls[bad, t, 1] = p_lo[bad], p_hi[bad]
 
     def _check_conflict(self, ok: np.ndarray, t: int, step: int) -> None:
         if self.on_conflict == "raise" and not ok.all():

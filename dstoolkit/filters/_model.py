@@ -164,7 +164,8 @@ class StateSpaceModel:
     g_inverse
         Image of a box of observations under g⁻¹ (Step 5): ``g_inverse(lo, hi, x_lo, x_hi)``
         returns ``(lo, hi)`` of the states whose image lies in the box, intersected with the
-        prior box [x_lo, x_hi]; vectorised over leading axes. Required by the paper's filter.
+        prior box [x_lo, x_hi]; vectorised over leading axes (the arguments may be read-only
+        views: return new arrays). Required by the paper's filter.
     state_noise, obs_noise
         The bounded noises v and w.
     f_monotone, g_monotone
