@@ -20,7 +20,7 @@ from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.text import Text
-from matplotlib.ticker import FixedLocator, NullLocator, StrMethodFormatter
+from matplotlib.ticker import FixedLocator, NullFormatter, NullLocator, StrMethodFormatter
 
 from dstoolkit.errors import EvidenceError
 
@@ -263,7 +263,10 @@ class FilterStepFigure:
             self._lines.append((ax.axvline(0.0, color=BETP_COLOUR, lw=1.2),
                                 ax.axvline(0.0, color="black", lw=1.0, ls="--")))
             if ax is not self.axes[-1]:
+                # no tick labels and no x label here: nothing to format or to place
                 ax.tick_params(labelbottom=False)
+                ax.xaxis.set_major_formatter(NullFormatter())
+                ax.xaxis.set_label_coords(0.5, 0.0)
         missing = [name for key, name in FILTER_STEP_PANELS if key not in self.panels]
         if missing:  # no empty panels: the steps a total conflict stopped are named instead
             fig.suptitle("not reached (total conflict): " + "; ".join(missing),
