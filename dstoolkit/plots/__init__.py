@@ -2,7 +2,9 @@
 
 Every figure is drawn in one style (``_style``): at most the book's column wide, text of
 9 pt or more, labelled axes with units, legends off the data. ``use_style()`` makes it
-matplotlib's default for figures drawn by hand.
+matplotlib's default for figures drawn by hand. The pictures of filter runs are also
+classes (``EnclosureFigure``, ``FilterErrorsFigure``, ``FilterStepFigure``) whose
+``update`` redraws a kept figure for another run, as the explorers do on every change.
 """
 
 from __future__ import annotations
