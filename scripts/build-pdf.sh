@@ -66,7 +66,13 @@ sphinx["latex_elements"] = {
     "pointsize": "11pt",
     # wide tables and long lines of code outputs break instead of running off the page
     "sphinxsetup": "verbatimwrapslines=true, verbatimforcewraps=true",
-    "preamble": r"\usepackage{amssymb}",
+    # the part "Back matter" and every chapter after it are not numbered, as on the web
+    "preamble": r"""\usepackage{amssymb}
+\makeatletter
+\let\dstk@part\part
+\renewcommand{\part}[1]{\def\dstk@title{#1}\def\dstk@back{Back matter}%
+  \ifx\dstk@title\dstk@back\setcounter{secnumdepth}{-1}\fi\dstk@part{#1}}
+\makeatother""",
     "extraclassoptions": "openany",  # no blank pages before chapters
 }
 yaml.safe_dump(config, open(sys.argv[1], "w", encoding="utf-8"), allow_unicode=True,

@@ -87,6 +87,29 @@ def test_every_chapter_is_in_the_pdf(pdf: Path) -> None:
     assert not missing, f"chapters missing from the PDF: {missing}"
 
 
+def test_only_the_numbered_parts_have_chapter_numbers(pdf: Path) -> None:
+    """The table of contents numbers the chapters of the numbered parts of _toc.yml, as the
+    web edition does, and not those of the back matter (Notation, Glossary, ...)."""
+    import yaml
+
+    toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
+    titles = _chapter_titles()
+    contents = [" ".join(line.split()) for line in
+                _run("pdftotext", "-layout", "-l", "8", pdf, "-").splitlines()]
+    number = 0
+    for part in toc["parts"]:
+        for chapter in part["chapters"]:
+            title = titles[chapter["file"]]
+            line = next((ln for ln in contents
+                         if ln.startswith((f"{number + 1} {title}", title))), None)
+            assert line is not None, f"{title!r} is not in the table of contents"
+            if part.get("numbered"):
+                number += 1
+                assert line.startswith(f"{number} {title}"), line
+            else:
+                assert line.startswith(title), f"a back-matter chapter is numbered: {line}"
+
+
 def test_the_latex_log_is_clean(pdf: Path) -> None:
     log = pdf.with_suffix(".log").read_text(encoding="utf-8", errors="replace")
     problems = sorted({m.group(0)[:160] for m in LOG_PROBLEMS.finditer(log)})

@@ -428,3 +428,11 @@ def test_compiled_kernel_refuses_what_the_numpy_path_refuses(gauge):
             MODEL, _conflicting(gauge), gauge.inputs[:7])
     with pytest.raises(EvidenceError, match="kernel must be one of"):
         DependentEvidenceFilter(kernel="fortran")
+
+
+@pytest.mark.parametrize("rate", [1.5, -0.1, float("nan")])
+def test_discounting_refuses_a_rate_outside_0_1(rate):
+    e = bk.Boxes(np.array([[[0.0], [1.0]]]), np.array([[[2.0], [3.0]]]), np.array([[0.5, 0.5]]))
+    assert bk.discount_onto_hull(e, np.array([0.25])).mass[0, -1] == pytest.approx(0.75)
+    with pytest.raises(EvidenceError, match=r"discount rates must be one number in \[0, 1\]"):
+        bk.discount_onto_hull(e, np.array([rate]))

@@ -225,7 +225,7 @@ def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool =
                ) -> BatchDependence:
     """Energies, energy of the intersection, D, R12, R21 of E1 = a, E2 = b per run
     (Def. 5, eqs. A1, A3–A6), equal to :func:`dstoolkit.dependence` on the merged evidence
-    (:class:`DependenceKernel` on the columns of a then b).
+    (``DependenceKernel`` on the columns of a then b).
 
     E2's masses must be positive (E1 may hold mass-0 placeholders). With ``check``, raises
     EvidenceError when a coefficient leaves [0, 1] (``mass_rule="m2"`` can do that), as
@@ -261,9 +261,19 @@ def _coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray,
 
 
 def discount_onto_hull(e: Boxes, reliability: np.ndarray) -> Boxes:
-    """m'(A) = R·m(A), m'(Θ) = 1 − R with Θ the hull of E (eqs. 9–10, A7–A8), per run."""
+    """m'(A) = R·m(A), m'(Θ) = 1 − R with Θ the hull of E (eqs. 9–10, A7–A8), per run.
+
+    Raises EvidenceError unless every rate R (one per run) lies in [0, 1]: any other
+    number would give negative masses."""
+    rel = np.asarray(reliability, dtype=float)
+    if rel.ndim != 1 or not np.all((rel >= 0.0) & (rel <= 1.0)):
+        raise EvidenceError(
+            f"the discount rates must be one number in [0, 1] per run, got "
+            f"{np.array2string(rel, threshold=6)}; a rate is a reliability (eq. 9): 1 keeps "
+            "the evidence, 0 turns it into ignorance"
+        )
     h_lo, h_hi = hull(e)
-    rel = reliability[:, None]
+    rel = rel[:, None]
     return Boxes(np.concatenate([e.lo, h_lo[:, None]], axis=1),
                  np.concatenate([e.hi, h_hi[:, None]], axis=1),
                  np.concatenate([e.mass * rel, 1.0 - rel], axis=1))
@@ -367,9 +377,9 @@ def dempster_expectation(
     theta_last: bool = False,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray] | None]:
     """Pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of a and b, per run
-    (:class:`ProductKernel`). Returns E (R, d), K (R,), the mask of runs with K < 1, and
+    (``ProductKernel``). Returns E (R, d), K (R,), the mask of runs with K < 1, and
     with ``bounds`` the hull of the combination (R, d) twice. ``work`` reuses buffers
-    (:meth:`ProductWork.allocate`). ``theta_last`` tells that the last focal element of a
+    (``ProductWork.allocate``). ``theta_last`` tells that the last focal element of a
     and of b holds all the others (as after :func:`discount_onto_hull`).
     """
     theta = (a.lo.shape[1] - 1, b.lo.shape[1] - 1) if theta_last else None

@@ -81,12 +81,19 @@ class BoundedErrorFilter(FilterBase):
             steps=steps, diagnostics={"resets": resets[0]},
         )
 
-    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> np.ndarray:
-        """Box centres (runs, steps, n) of independent sequences Z (runs, steps, m)."""
+    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
+                  return_result: bool = False) -> np.ndarray | FilterResult:
+        """Box centres (runs, steps, n) of independent sequences Z (runs, steps, m);
+        ``return_result=True`` returns a FilterResult whose arrays carry the leading run
+        axis, with the boxes and ``diagnostics["resets"]`` (runs, steps)."""
         Z, U = self._batch(model, Z, inputs)
         self._check_box_dim(self._box(self.initial_box), model)
-        lo, hi, _, _ = self._filter(model, Z, U, False)
-        return self._finite(0.5 * (lo + hi))
+        lo, hi, resets, _ = self._filter(model, Z, U, False)
+        est = self._finite(0.5 * (lo + hi))
+        if not return_result:
+            return est
+        return FilterResult(method=self.name, estimates=est, lower=lo, upper=hi,
+                            diagnostics={"resets": resets})
 
     # -- internals -------------------------------------------------------------------------
     def _reading_box(self, model: StateSpaceModel, z: np.ndarray, k: int

@@ -24,6 +24,7 @@ first-order correction leaves (with R_t = 0.3: +1.4, +2.3, −0.6 Hz at 1.3, 4.6
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -173,6 +174,25 @@ def _check_levels(x: np.ndarray, silence_dbfs: float, clip_level: float,
         )
 
 
+@functools.lru_cache(maxsize=4)
+def _demodulator(sweep: LinearSweep, n: int, latency_s: float) -> np.ndarray:
+    """e^(−iφ(t − τ)) at the ``n`` sample times t of a recording: what moves the sweep to
+    0 Hz (:func:`envelope`). Kept for the next recording of the same length and latency
+    (read-only)."""
+    carrier = np.exp(-1j * sweep.phase(np.arange(n) / sweep.sample_rate - latency_s))
+    carrier.flags.writeable = False
+    return carrier
+
+
+@functools.lru_cache(maxsize=2)
+def _sweep_waveform(sweep: LinearSweep) -> np.ndarray:
+    """The sweep's drive signal (:meth:`LinearSweep.waveform`), kept (read-only): the
+    reference in which :func:`detect_resonances` finds the latency."""
+    waveform = sweep.waveform()
+    waveform.flags.writeable = False
+    return waveform
+
+
 def envelope(
     samples: np.ndarray, sweep: LinearSweep, latency_s: float = 0.0,
     bandwidth_hz: float = 200.0, envelope_rate_hz: float = 1000.0,
@@ -186,12 +206,11 @@ def envelope(
     Returned at about ``envelope_rate_hz`` samples per second.
     """
     fs = sweep.sample_rate
-    t = np.arange(samples.size) / fs
-    base = samples * np.exp(-1j * sweep.phase(t - latency_s))
+    base = samples * _demodulator(sweep, samples.size, latency_s)
     sos = signal.butter(4, bandwidth_hz, fs=fs, output="sos")
     step = max(1, int(fs // max(envelope_rate_hz, 4.0 * bandwidth_hz)))
     env = 2.0 * np.abs(signal.sosfiltfilt(sos, base)[::step])
-    return t[::step], env
+    return np.arange(0, samples.size, step) / fs, env
 
 
 def _spacing_from_envelope(freqs: np.ndarray, env: np.ndarray, fF_range: tuple[float, float],
@@ -316,7 +335,7 @@ def detect_resonances(
     _check_levels(x, silence_dbfs, clip_level, max_clipped_fraction)
     k = sweep.rate
     if latency_s is None:  # the sweep itself is the reference; τ ≤ 1 s
-        tau = estimate_latency(sweep.waveform(), x, sweep.sample_rate, max_latency_s=1.0,
+        tau = estimate_latency(_sweep_waveform(sweep), x, sweep.sample_rate, max_latency_s=1.0,
                                min_significance=8.0).seconds
     else:
         tau = float(latency_s)

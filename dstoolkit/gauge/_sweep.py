@@ -70,18 +70,24 @@ class LinearSweep:
         """Sample times 0, 1/fs, ... (``n`` samples, default the sweep's length)."""
         return np.arange(self.n_samples if n is None else n) / self.sample_rate
 
-    def frequency_at(self, t: Any) -> np.ndarray:
-        """Instantaneous frequency f(t) = f_start + k t (not clipped to the band)."""
-        return self.f_start + self.rate * np.asarray(t, dtype=float)
+    def frequency_at(self, t: Any, out: np.ndarray | None = None) -> np.ndarray:
+        """Instantaneous frequency f(t) = f_start + k t (not clipped to the band); into
+        ``out`` when given (the gauge's synthesis: 10⁵ samples per echo)."""
+        f = np.multiply(self.rate, np.asarray(t, dtype=float), out=out)
+        f += self.f_start
+        return f
 
     def time_at(self, f: Any) -> np.ndarray:
         """Inverse of :meth:`frequency_at`: t = (f − f_start)/k."""
         return (np.asarray(f, dtype=float) - self.f_start) / self.rate
 
-    def phase(self, t: Any) -> np.ndarray:
-        """φ(t) = 2π (f_start t + k t²/2), radians."""
+    def phase(self, t: Any, out: np.ndarray | None = None) -> np.ndarray:
+        """φ(t) = 2π (f_start t + k t²/2), radians; into ``out`` when given."""
         t = np.asarray(t, dtype=float)
-        return 2.0 * np.pi * t * (self.f_start + 0.5 * self.rate * t)
+        phi, f_mean = np.multiply(2.0 * np.pi, t, out=out), 0.5 * self.rate * t
+        f_mean += self.f_start  # in place, as in frequency_at
+        phi *= f_mean
+        return phi
 
     def gate(self, t: Any) -> np.ndarray:
         """Amplitude window: 1 inside, raised-cosine ends of ``taper`` s, 0 outside."""

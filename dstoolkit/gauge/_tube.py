@@ -15,13 +15,16 @@ cutoff (2.7 kHz for d = 75 mm) the 1-D model holds.
 Each echo is the analytic sweep evaluated at the delayed time (an exact fractional delay);
 its loss is taken at the instantaneous frequency it carries, which is exact to first order
 because the sweep changes frequency slowly (k Δ² ≪ 1 cycle per echo period). A 5 s,
-44.1 kHz recording synthesises in about 0.1 s (``benchmarks/gauge_synthesis.py``).
+44.1 kHz recording synthesises in a few hundredths of a second
+(``benchmarks/gauge_synthesis.py``); the noise draws of an integer seed are kept for the
+next recording with that seed.
 """
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -47,13 +50,15 @@ def spl_to_pa(spl_db: float) -> float:
 
 
 def wall_attenuation(
-    frequency_hz: Any, diameter_m: float, temperature_c: float, pressure_pa: float = 101325.0
+    frequency_hz: Any, diameter_m: float, temperature_c: float, pressure_pa: float = 101325.0,
+    out: np.ndarray | None = None,
 ) -> np.ndarray:
     """Kirchhoff's visco-thermal attenuation of a plane wave in a rigid tube, Np/m.
 
     α = sqrt(π f η/ρ) (1 + (γ − 1)/sqrt(Pr)) / (r c), with Sutherland's viscosity η(T),
     ρ = p/(R T), γ = 1.4, Pr = 0.71. For d = 75 mm at 1700 Hz: 0.032 Np/m, so a 9.6 m round
-    trip (19.2 m) keeps e^(−0.62) ≈ 54 % of the amplitude.
+    trip (19.2 m) keeps e^(−0.62) ≈ 54 % of the amplitude. Into ``out`` when given (it may
+    be the frequencies' own array).
     """
     tk = temperature_c + 273.15
     eta = 1.458e-6 * tk**1.5 / (tk + 110.4)
@@ -61,8 +66,15 @@ def wall_attenuation(
     c = 331.3 * np.sqrt(tk / 273.15)
     gamma, prandtl = 1.4, 0.71
     f = np.asarray(frequency_hz, dtype=float)
-    return (np.sqrt(np.pi * np.abs(f) * eta / rho) * (1.0 + (gamma - 1.0) / np.sqrt(prandtl))
-            / (0.5 * diameter_m * c))
+    # one array, then in place (the synthesis calls this on 10⁵ samples per echo)
+    alpha = np.abs(f, out=np.empty_like(f) if out is None else out)
+    alpha *= np.pi
+    alpha *= eta
+    alpha /= rho
+    np.sqrt(alpha, out=alpha)
+    alpha *= 1.0 + (gamma - 1.0) / np.sqrt(prandtl)
+    alpha /= 0.5 * diameter_m * c
+    return alpha if alpha.ndim else alpha[()]
 
 
 @dataclass(frozen=True)
@@ -136,20 +148,30 @@ class TubeSetup:
         """Orders n and frequencies n c/(2L) in ``band`` (eqs. 31–32)."""
         return resonance_frequencies(self.level_m, self.speed_of_sound, band)
 
-    def attenuation(self, frequency_hz: Any) -> np.ndarray:
-        """α(f), Np/m: wall loss × ``wall_loss_factor`` + ``extra_attenuation_np_per_m``."""
-        return (self.wall_loss_factor
-                * wall_attenuation(frequency_hz, self.diameter_m, self.temperature_c)
-                + self.extra_attenuation_np_per_m)
+    def attenuation(self, frequency_hz: Any, out: np.ndarray | None = None) -> np.ndarray:
+        """α(f), Np/m: wall loss × ``wall_loss_factor`` + ``extra_attenuation_np_per_m``;
+        into ``out`` when given (it may be ``frequency_hz`` itself)."""
+        alpha = wall_attenuation(frequency_hz, self.diameter_m, self.temperature_c, out=out)
+        alpha *= self.wall_loss_factor  # in place for an array (a new one: ours to change)
+        alpha += self.extra_attenuation_np_per_m
+        return alpha
 
-    def echo_gain(self, m: int, frequency_hz: Any) -> np.ndarray:
-        """a_m(f) = (1 + R_t) R_s^m R_t^(m−1) e^(−2mLα(f)) at the microphone; a_0 = 1."""
+    def echo_gain(self, m: int, frequency_hz: Any, out: np.ndarray | None = None
+                  ) -> np.ndarray:
+        """a_m(f) = (1 + R_t) R_s^m R_t^(m−1) e^(−2mLα(f)) at the microphone; a_0 = 1. Into
+        ``out`` when given (it may be ``frequency_hz`` itself)."""
         f = np.asarray(frequency_hz, dtype=float)
         if m == 0:
-            return np.ones_like(f)
+            if out is None:
+                return np.ones_like(f)
+            out.fill(1.0)
+            return out
         rs, rt = self.surface_reflection, self.top_reflection
-        return ((1.0 + rt) * rs**m * rt ** (m - 1)
-                * np.exp(-2.0 * m * self.level_m * self.attenuation(f)))
+        gain = self.attenuation(f, out=out)
+        gain *= -2.0 * m * self.level_m  # in place for an array, as in attenuation
+        gain = np.exp(gain, out=gain) if isinstance(gain, np.ndarray) else np.exp(gain)
+        gain *= (1.0 + rt) * rs**m * rt ** (m - 1)
+        return gain
 
     def echo_count(self, f_min: float, floor: float = 1e-4, limit: int = 200) -> int:
         """Number of echoes whose gain at ``f_min`` (least loss) exceeds ``floor``."""
@@ -264,22 +286,41 @@ def model_envelope(setup: TubeSetup, sweep: LinearSweep, emission_time_s: Any,
     return np.abs(total)
 
 
+def _shaped_draw(rng: np.random.Generator, n: int, shape: np.ndarray
+                 ) -> tuple[np.ndarray, float]:
+    """One draw of Gaussian noise whose amplitude spectrum is ``shape`` (on rfftfreq(n)),
+    and the RMS of the *process* it comes from (the root energy of its impulse response):
+    the draw times ``rms`` / that RMS has the process RMS ``rms``."""
+    x = np.fft.irfft(np.fft.rfft(rng.standard_normal(n)) * shape, n)
+    impulse = np.fft.irfft(shape.astype(complex), n)  # x = white ⊛ impulse (circular)
+    return x, float(np.sqrt(np.sum(impulse**2)))
+
+
 def _shaped_noise(rng: np.random.Generator, n: int, dt: float, shape: np.ndarray,
                   rms: float) -> np.ndarray:
     """Stationary Gaussian noise whose amplitude spectrum is ``shape`` (on rfftfreq(n, dt)),
     scaled so that the *process* has RMS ``rms`` (not each draw: draws vary as they should).
     """
-    x = np.fft.irfft(np.fft.rfft(rng.standard_normal(n)) * shape, n)
-    impulse = np.fft.irfft(shape.astype(complex), n)  # x = white ⊛ impulse (circular)
-    return x * (rms / np.sqrt(np.sum(impulse**2)))
+    x, process_rms = _shaped_draw(rng, n, shape)
+    return x * (rms / process_rms)
+
+
+def _gaussian_shape(n: int, dt: float, bandwidth_hz: float) -> np.ndarray:
+    """A Gaussian amplitude spectrum of width ``bandwidth_hz`` on rfftfreq(n, dt)."""
+    return np.exp(-0.5 * (np.fft.rfftfreq(n, dt) / bandwidth_hz) ** 2)
 
 
 def _gaussian_process(rng: np.random.Generator, n: int, dt: float, sigma: float,
                       bandwidth_hz: float) -> np.ndarray:
     """Zero-mean Gaussian series of RMS ``sigma`` with a Gaussian spectrum of width
     ``bandwidth_hz``."""
-    f = np.fft.rfftfreq(n, dt)
-    return _shaped_noise(rng, n, dt, np.exp(-0.5 * (f / bandwidth_hz) ** 2), sigma)
+    return _shaped_noise(rng, n, dt, _gaussian_shape(n, dt, bandwidth_hz), sigma)
+
+
+def _jitter_grid(sweep: LinearSweep, bandwidth_hz: float) -> tuple[np.ndarray, float]:
+    """Times (s since the sweep started) of the speaker's frequency error, and their step."""
+    dt = min(1e-3, 0.1 / bandwidth_hz)
+    return np.arange(-0.01, sweep.duration + 0.01 + dt, dt), dt
 
 
 def speaker_frequency_error(
@@ -287,20 +328,114 @@ def speaker_frequency_error(
 ) -> tuple[np.ndarray, np.ndarray]:
     """The speaker's frequency error δf(t) (Hz) over the sweep: ``(times, δf)`` on a grid
     of at most 1 ms; zero when ``conditions.speaker_jitter_hz`` is 0 (no draw is made)."""
-    dt = min(1e-3, 0.1 / conditions.speaker_jitter_bandwidth_hz)
-    t = np.arange(-0.01, sweep.duration + 0.01 + dt, dt)
+    t, dt = _jitter_grid(sweep, conditions.speaker_jitter_bandwidth_hz)
     if conditions.speaker_jitter_hz <= 0:
         return t, np.zeros(t.size)
     return t, _gaussian_process(rng, t.size, dt, conditions.speaker_jitter_hz,
                                 conditions.speaker_jitter_bandwidth_hz)
 
 
-def _pink_noise(rng: np.random.Generator, n: int, fs: float, rms: float) -> np.ndarray:
-    """Noise with 1/f power above 20 Hz (flat below, no DC) of RMS ``rms``."""
+def _pink_shape(n: int, fs: float) -> np.ndarray:
+    """The amplitude spectrum of 1/f power above 20 Hz (flat below, no DC)."""
     f = np.fft.rfftfreq(n, 1.0 / fs)
     shape = 1.0 / np.sqrt(np.maximum(f, 20.0))
     shape[0] = 0.0
-    return _shaped_noise(rng, n, 1.0 / fs, shape, rms)
+    return shape
+
+
+class _Draws(NamedTuple):
+    """The random draws of one recording, before they are scaled to the conditions: the
+    speaker's frequency error, the microphone's white noise, the pink background (each
+    None when its level is 0: then no draw is made). Shaped draws come with the RMS of
+    their process (:func:`_shaped_draw`)."""
+
+    jitter_times: np.ndarray
+    jitter: tuple[np.ndarray, float] | None
+    microphone: np.ndarray | None
+    background: tuple[np.ndarray, float] | None
+
+
+def _draw(rng: np.random.Generator, sweep: LinearSweep, n: int, jitter_bandwidth_hz: float,
+          jitter: bool, microphone: bool, background: bool) -> _Draws:
+    """The draws of a recording of ``n`` samples, in the order the generator makes them."""
+    t_j, dt = _jitter_grid(sweep, jitter_bandwidth_hz)
+    shaped = (_shaped_draw(rng, t_j.size, _gaussian_shape(t_j.size, dt, jitter_bandwidth_hz))
+              if jitter else None)
+    white = rng.standard_normal(n) if microphone else None
+    pink = _shaped_draw(rng, n, _pink_shape(n, sweep.sample_rate)) if background else None
+    return _Draws(t_j, shaped, white, pink)
+
+
+@functools.lru_cache(maxsize=4)
+def _seeded_draws(seed: int, sweep: LinearSweep, n: int, jitter_bandwidth_hz: float,
+                  jitter: bool, microphone: bool, background: bool) -> _Draws:
+    """:func:`_draw` with a fresh generator of an integer ``seed``, kept for the next
+    recording with the same seed (an explorer moving the level redraws the same noise).
+    The arrays are read-only."""
+    draws = _draw(np.random.default_rng(seed), sweep, n, jitter_bandwidth_hz, jitter,
+                  microphone, background)
+    for array in (draws.jitter_times, draws.microphone, *(draws.jitter or ()),
+                  *(draws.background or ())):
+        if isinstance(array, np.ndarray):
+            array.flags.writeable = False
+    return draws
+
+
+def _gated(values: np.ndarray, sweep: LinearSweep, e: np.ndarray) -> np.ndarray:
+    """``values`` times :meth:`LinearSweep.gate` at the ascending times ``e`` (s since the
+    sweep started, within it): the gate is computed only near the sweep's ends, where it is
+    not 1, so the product is the same number for number."""
+    margin = 2.0 * sweep.taper + 2.0 / sweep.sample_rate
+    a = int(np.searchsorted(e, margin))
+    b = max(a, int(np.searchsorted(e, sweep.duration - margin)))
+    values[:a] *= sweep.gate(e[:a])
+    values[b:] *= sweep.gate(e[b:])
+    return values
+
+
+def _jitter_phase(draws: _Draws, jitter_hz: float) -> tuple[np.ndarray, np.ndarray | None]:
+    """The speaker's frequency error δf (Hz) on ``draws.jitter_times`` and its phase
+    ψ = 2π ∫ δf (trapezoids), None without jitter."""
+    t_j = draws.jitter_times
+    if draws.jitter is None:
+        return np.zeros(t_j.size), None
+    df = draws.jitter[0] * (jitter_hz / draws.jitter[1])
+    return df, 2.0 * np.pi * np.concatenate(([0.0], np.cumsum(0.5 * (df[1:] + df[:-1])
+                                                             * np.diff(t_j))))
+
+
+def _echo_span(u: np.ndarray, delay_s: float, duration_s: float) -> tuple[int, int]:
+    """The samples (``lo:hi`` of the times ``u``) that an echo ``delay_s`` late covers."""
+    return (int(np.searchsorted(u, delay_s)),
+            int(np.searchsorted(u, delay_s + duration_s, side="right")))
+
+
+def _echo_wave(sweep: LinearSweep, e: np.ndarray, gain: np.ndarray, t_j: np.ndarray,
+               psi_j: np.ndarray | None, out: np.ndarray | None = None) -> np.ndarray:
+    """One echo at the times ``e`` since it left the speaker: gain × gate × cos(φ + ψ), the
+    arithmetic in place (``gain`` is overwritten) and into ``out`` when given."""
+    gain = _gated(gain, sweep, e)
+    wave = sweep.phase(e, out=out)
+    if psi_j is not None:
+        wave += np.interp(e, t_j, psi_j)
+    wave = np.cos(wave, out=wave)
+    wave *= gain
+    return wave
+
+
+@functools.lru_cache(maxsize=2)
+def _seeded_direct_wave(seed: int, sweep: LinearSweep, n: int, latency_s: float,
+                        jitter_hz: float, kinds: tuple[float, bool, bool, bool]) -> np.ndarray:
+    """The direct wave (m = 0, a_0 = 1) of a recording with an integer seed: the same in
+    every tube, so kept (read-only) for the next recording with these conditions."""
+    u = np.arange(n) / sweep.sample_rate - latency_s
+    draws = _seeded_draws(seed, sweep, n, *kinds)
+    lo, hi = _echo_span(u, 0.0, sweep.duration)
+    e = u[lo:hi] - 0.0  # as the echoes' e = u − mΔ, m = 0
+    wave = _echo_wave(sweep, e, np.ones_like(e), draws.jitter_times,
+                      _jitter_phase(draws, jitter_hz)[1])
+    wave.flags.writeable = False
+    return wave
 
 
 def synthesize_recording(
@@ -318,38 +453,48 @@ def synthesize_recording(
     [−1, 1] and quantised. Seeded: equal arguments give equal recordings.
     """
     cond = RecordingConditions() if conditions is None else conditions
-    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     fs = sweep.sample_rate
     n = int(round((sweep.duration + cond.latency_s + cond.tail_s) * fs))
     u = np.arange(n) / fs - cond.latency_s
+    kinds = (cond.speaker_jitter_bandwidth_hz, cond.speaker_jitter_hz > 0,
+             cond.microphone_noise_pa > 0, cond.background_noise_pa > 0)
+    draws = (_seeded_draws(int(seed), sweep, n, *kinds) if isinstance(seed, int | np.integer)
+             else _draw(np.random.default_rng(seed), sweep, n, *kinds))
 
-    t_j, df = speaker_frequency_error(sweep, cond, rng)
-    psi_j = 2.0 * np.pi * np.concatenate(([0.0], np.cumsum(0.5 * (df[1:] + df[:-1])
-                                                          * np.diff(t_j))))
+    t_j = draws.jitter_times
+    df, psi_j = _jitter_phase(draws, cond.speaker_jitter_hz)
 
     delta = setup.round_trip_s
     echoes = setup.echo_count(sweep.f_start, echo_floor)
     echoes = min(echoes, int(u[-1] / delta))
     pressure = np.zeros(n)
+    # three work arrays for every echo: a new array of 10⁵ samples costs more than its
+    # arithmetic (the memory is handed back and faulted in again)
+    buffers = np.empty((3, n))
     for m in range(echoes + 1):
-        lo = np.searchsorted(u, m * delta)
-        hi = np.searchsorted(u, m * delta + sweep.duration, side="right")
+        lo, hi = _echo_span(u, m * delta, sweep.duration)
         if hi <= lo:
             continue
-        e = u[lo:hi] - m * delta
-        gain = setup.echo_gain(m, sweep.frequency_at(e))
-        psi = np.interp(e, t_j, psi_j) if cond.speaker_jitter_hz > 0 else 0.0
-        pressure[lo:hi] += gain * sweep.gate(e) * np.cos(sweep.phase(e) + psi)
+        if m == 0 and isinstance(seed, int | np.integer):  # no control of the tube moves it
+            wave = _seeded_direct_wave(int(seed), sweep, n, cond.latency_s,
+                                       cond.speaker_jitter_hz, kinds)
+        else:
+            e, gain, wave = buffers[:, : hi - lo]
+            np.subtract(u[lo:hi], m * delta, out=e)
+            gain = setup.echo_gain(m, sweep.frequency_at(e, out=gain), out=gain)
+            wave = _echo_wave(sweep, e, gain, t_j, psi_j, out=wave)
+        pressure[lo:hi] += wave
     pressure *= cond.source_pressure_pa
 
-    if cond.microphone_noise_pa > 0:
-        pressure += cond.microphone_noise_pa * rng.standard_normal(n)
-    if cond.background_noise_pa > 0:
-        pressure += _pink_noise(rng, n, fs, cond.background_noise_pa)
+    if draws.microphone is not None:
+        pressure += cond.microphone_noise_pa * draws.microphone
+    if draws.background is not None:
+        pink, process_rms = draws.background
+        pressure += pink * (cond.background_noise_pa / process_rms)
 
     samples = np.clip(pressure / cond.full_scale_pa, -1.0, 1.0)
     if cond.bits is not None:
         q = 2.0 ** (cond.bits - 1)
         samples = np.clip(np.round(samples * q), -q, q - 1) / q
     return Recording(samples=samples, sweep=sweep, setup=setup, conditions=cond,
-                     speaker_error_times=t_j, speaker_error_hz=df)
+                     speaker_error_times=t_j.copy(), speaker_error_hz=df)

@@ -8,6 +8,7 @@ from collections.abc import Mapping
 import numpy as np
 from matplotlib.figure import Figure
 
+from dstoolkit.errors import InvalidInputError
 from dstoolkit.studies._experiments import Table3
 from dstoolkit.studies._paper_results import TABLE3_MEAN_ABS_ERROR_M
 
@@ -63,35 +64,56 @@ def plot_estimates(truth: np.ndarray, readings: np.ndarray,
     ``estimates`` maps method names to one value per step. When the truth changes from
     step to step (the resonances of Fig. 10 climb by f_F each), panel (a) shows every
     curve minus the truth: on the raw scale they would all lie on one diagonal.
+    ``update_estimates`` draws other values on the figure.
     """
     fig = new_figure(6.4, 5.6)
     ax_a, ax_b = fig.subplots(2, 1, sharex=True)
+    ax_a.plot([], [], "k-", lw=1.5, label="true")
+    for ax in (ax_a, ax_b):
+        ax.plot([], [], ".", color="0.5", ms=4, label="readings / direct")
+    for name in estimates:
+        st = _style(name)
+        for ax in (ax_a, ax_b):
+            ax.plot([], [], "-", color=st["color"], lw=1, label=st["label"])
+    ax_b.set_yscale("log")
+    log_ticks(ax_b.yaxis)
+    ax_b.set_xlabel("step k")
+    ax_b.set_title("(b) absolute errors", loc="left")
+    for ax in (ax_a, ax_b):
+        ax.grid(True, alpha=0.3)
+    fig.legend(*ax_a.get_legend_handles_labels(), loc="outside lower center", ncols=3)
+    update_estimates(fig, truth, readings, estimates, quantity=quantity, unit=unit)
+    return fig
+
+
+@styled
+def update_estimates(fig: Figure, truth: np.ndarray, readings: np.ndarray,
+                     estimates: Mapping[str, np.ndarray], *, quantity: str = "frequency",
+                     unit: str = "Hz") -> None:
+    """Draw other values on a figure of :func:`plot_estimates` made for the same methods
+    (``estimates`` with the same names, in the same order): data, limits, labels."""
+    ax_a, ax_b = fig.axes[:2]
+    true_line, reading_a, *est_a = ax_a.lines
+    reading_b, *est_b = ax_b.lines
+    if len(est_a) != len(estimates):
+        raise InvalidInputError(f"this figure draws {len(est_a)} methods, not "
+                                f"{len(estimates)}: make a new one with plot_estimates")
     steps = np.arange(1, np.size(readings) + 1)
     truth = np.broadcast_to(np.asarray(truth, dtype=float).reshape(-1), steps.shape) \
         if np.size(truth) in (1, steps.size) else np.asarray(truth)
     moving = bool(np.ptp(truth) > 0)
     ref = truth if moving else np.zeros_like(truth)
-    ax_a.plot(steps, truth - ref, "k-", lw=1.5, label="true")
-    ax_a.plot(steps, np.asarray(readings) - ref, ".", color="0.5", ms=4,
-              label="readings / direct")
-    ax_b.plot(steps, np.abs(np.asarray(readings) - truth), ".", color="0.5", ms=4,
-              label="readings / direct")
-    for name, est in estimates.items():
-        st = _style(name)
+    true_line.set_data(steps, truth - ref)
+    reading_a.set_data(steps, np.asarray(readings) - ref)
+    reading_b.set_data(steps, np.abs(np.asarray(readings) - truth))
+    for line_a, line_b, est in zip(est_a, est_b, estimates.values(), strict=True):
         est = np.asarray(est, dtype=float).reshape(-1)
-        ax_a.plot(steps[: est.size], est - ref[: est.size], "-", color=st["color"], lw=1,
-                  label=st["label"])
-        ax_b.plot(steps[: est.size], np.abs(est - truth[: est.size]), "-", color=st["color"],
-                  lw=1, label=st["label"])
+        line_a.set_data(steps[: est.size], est - ref[: est.size])
+        line_b.set_data(steps[: est.size], np.abs(est - truth[: est.size]))
     ax_a.set_ylabel(f"{quantity} − true ({unit})" if moving else f"{quantity} ({unit})")
     ax_b.set_ylabel(f"|error| ({unit})")
-    ax_b.set_yscale("log")
-    log_ticks(ax_b.yaxis)
-    ax_b.set_xlabel("step k")
     ax_a.set_title(f"(a) estimated {quantity}" + (", minus the truth" if moving else ""),
                    loc="left")
-    ax_b.set_title("(b) absolute errors", loc="left")
     for ax in (ax_a, ax_b):
-        ax.grid(True, alpha=0.3)
-    fig.legend(*ax_a.get_legend_handles_labels(), loc="outside lower center", ncols=3)
-    return fig
+        ax.relim()
+        ax.autoscale_view()

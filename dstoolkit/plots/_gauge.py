@@ -1,4 +1,5 @@
-"""Pictures of the gauge: the recorded waveform (paper Fig. 6) and the resonances (Fig. 7).
+"""Pictures of the gauge: the recorded waveform (paper Fig. 6), the resonances (Fig. 7) and
+the gauge explorer's detection (a figure built once and updated).
 
 Like :mod:`dstoolkit.plots`, each function draws on a given ``Axes`` (or a new
 figure), returns the :class:`~matplotlib.figure.Figure` and never calls ``plt.show()``.
@@ -14,7 +15,7 @@ from matplotlib.figure import Figure
 from matplotlib.transforms import offset_copy
 
 from dstoolkit.gauge._resonance import DetectionResult
-from dstoolkit.gauge._tube import Recording
+from dstoolkit.gauge._tube import Recording, TubeSetup
 
 from ._evidence import _axes
 from ._style import (
@@ -116,3 +117,57 @@ def plot_resonances(
     legend_above(ax, ncols=4)
     return fig
 
+
+
+def gauge_detection_figure(setup: TubeSetup, detection: DetectionResult) -> Figure:
+    """The gauge explorer's picture of one detection in the tube ``setup``: top, the
+    recording's envelope against the sweep's frequency, the model's resonances n c/(2L)
+    (eqs. 29–32) and the detected peaks; bottom, the detection error z_k − n_k f_F.
+
+    Built once and kept: :func:`update_gauge_detection` draws another detection on it. It is
+    the explorer's own (9.5 in wide, in the notebook's style), not a figure of the book.
+    """
+    fig = Figure(figsize=(9.5, 4.8), layout="constrained")
+    ax1, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=[3, 2])
+    ax1.plot([], [], lw=0.8, color=BEL_COLOUR, label="envelope")
+    ax1.vlines([], 0, 1, transform=ax1.get_xaxis_transform(), color=TRUTH_COLOUR, lw=0.5,
+               alpha=0.6, label="n c/(2L)")
+    ax1.plot([], [], "v", ms=4, color=BETP_COLOUR, label="detected peaks")
+    ax1.set_ylabel("envelope (full scale)")
+    ax1.legend(loc="upper center", ncols=3, fontsize=8, framealpha=0.9)
+    ax2.axhline(0.0, color="black", lw=0.6)
+    ax2.plot([], [], ".", color=BETP_COLOUR)
+    ax2.set_ylabel("z_k − n_k f_F (Hz)")
+    ax2.set_xlabel("sweep frequency (Hz)")
+    ax2.set_xlim(detection.sweep.f_start, detection.sweep.f_stop)
+    update_gauge_detection(fig, setup, detection)
+    return fig
+
+
+def update_gauge_detection(fig: Figure, setup: TubeSetup, detection: DetectionResult) -> None:
+    """Draw another detection on a :func:`gauge_detection_figure`: new data, envelope
+    limits, title and error axis."""
+    (ax1, ax2), sweep = fig.axes, detection.sweep
+    envelope, peaks = ax1.lines
+    (model,) = ax1.collections
+    f_env = sweep.frequency_at(detection.envelope_times - detection.latency_s)
+    keep = (f_env >= sweep.f_start) & (f_env <= sweep.f_stop)
+    envelope.set_data(f_env[keep], detection.envelope[keep])
+    resonances = setup.resonances(sweep.band)[1]
+    segments = np.zeros((resonances.size, 2, 2))
+    segments[:, :, 0] = resonances[:, None]
+    segments[:, 1, 1] = 1.0
+    model.set_segments(segments)
+    peaks.set_data(detection.raw_frequencies - detection.latency_offset_hz,
+                   detection.amplitudes)
+    ax1.set_ylim(0.0, 1.3 * float(np.max(detection.envelope[keep])))
+    ax1.set_title(f"L = {setup.level_m:.1f} m, T = {setup.temperature_c:.1f} °C, c = "
+                  f"{setup.speed_of_sound:.1f} m/s, f_F = {setup.fundamental_hz:.2f} Hz")
+    f_f = setup.fundamental_hz
+    ax2.lines[1].set_data(detection.frequencies,
+                          detection.frequencies - np.rint(detection.frequencies / f_f) * f_f)
+    # The zero line's limits are found through the view limits (it spans the axes): start
+    # from an empty axes' view, so that a kept figure rounds as a fresh one does.
+    ax2.set_ylim(0.0, 1.0, auto=True)
+    ax2.relim()
+    ax2.autoscale_view()

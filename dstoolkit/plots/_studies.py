@@ -13,6 +13,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.ticker import FixedLocator, NullLocator, StrMethodFormatter
 
+from dstoolkit.errors import InvalidInputError
 from dstoolkit.evidence._possibility import possibility
 from dstoolkit.filters._model import BoundedNoise
 from dstoolkit.studies._estimation import ExampleComparison, MismatchResult, OrderRuleStudy
@@ -45,14 +46,14 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
 
     ``errors`` maps a method to absolute errors of shape (runs, K) or (K,); a name that is
     not a method of STYLE (a variant, say) gets a colour of ``EXTRA_COLOURS``.
+    ``update_step_errors`` draws other errors of the same methods on the axes.
     """
     fig, ax = _figure(ax, (7.5, 3.4))
     extra = iter(EXTRA_COLOURS)
-    for name, err in errors.items():
-        err = np.atleast_2d(np.asarray(err, dtype=float))
+    for name in errors:
         st = STYLE.get(name) or {"color": next(extra, None), "label": name}
-        ax.semilogy(np.arange(1, err.shape[1] + 1), err.mean(axis=0), "-", color=st["color"],
-                    lw=1.3, label=st["label"])
+        ax.semilogy([], [], "-", color=st["color"], lw=1.3, label=st["label"])
+    update_step_errors(ax, errors)
     ax.set_xlabel("step k")
     ax.set_ylabel(f"mean |x̂ − x| ({unit})")
     ax.grid(True, which="both", alpha=0.3)
@@ -64,23 +65,45 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
     return fig
 
 
-@styled
-def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | None = None,
-                          *, title: str | None = None, xlabel: str = "noise (Hz)") -> Figure:
-    """The possibility distribution of the true noise (filled) and of the noise a filter
-    assumes (line), scalar noises (paper eqs. 22–23)."""
-    fig, ax = _figure(ax, (4.0, 2.6))
+def update_step_errors(ax: Axes, errors: Mapping[str, np.ndarray]) -> None:
+    """Draw other errors on axes of :func:`plot_step_errors` drawn for the same methods
+    (the same names in the same order); the limits follow."""
+    if len(ax.lines) != len(errors):
+        raise InvalidInputError(f"these axes draw {len(ax.lines)} methods, not "
+                                f"{len(errors)}: draw them anew with plot_step_errors")
+    for line, err in zip(ax.lines, errors.values(), strict=True):
+        err = np.atleast_2d(np.asarray(err, dtype=float))
+        line.set_data(np.arange(1, err.shape[1] + 1), err.mean(axis=0))
+    ax.relim()
+    ax.autoscale_view()
+
+
+def _possibilities(true: BoundedNoise, assumed: BoundedNoise
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A grid over both noises' supports (and 15 % beyond) and the possibility of each."""
     lo = min(true.lower[0], assumed.lower[0])
     hi = max(true.upper[0], assumed.upper[0])
     pad = 0.15 * (hi - lo if hi > lo else 1.0)
     x = np.linspace(lo - pad, hi + pad, 801)
-    for noise, kw in ((true, {"color": "0.6", "label": "true"}),
-                      (assumed, {"color": "C3", "label": "assumed"})):
-        y = possibility(x, noise.lower[0], noise.mode[0], noise.upper[0])
-        if kw["label"] == "true":
-            ax.fill_between(x, y, color=kw["color"], alpha=0.5, label=kw["label"])
-        else:
-            ax.plot(x, y, color=kw["color"], lw=1.5, label=kw["label"])
+    return (x, *(possibility(x, noise.lower[0], noise.mode[0], noise.upper[0])
+                 for noise in (true, assumed)))
+
+
+#: How :func:`plot_noise_assumption` draws the true noise (filled) and the assumed (a line).
+_TRUE_FILL = {"color": "0.6", "alpha": 0.5, "label": "true"}
+_ASSUMED_LINE = {"color": "C3", "lw": 1.5, "label": "assumed"}
+
+
+@styled
+def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | None = None,
+                          *, title: str | None = None, xlabel: str = "noise (Hz)") -> Figure:
+    """The possibility distribution of the true noise (filled) and of the noise a filter
+    assumes (line), scalar noises (paper eqs. 22–23). ``update_noise_assumption``
+    draws other noises on the axes."""
+    fig, ax = _figure(ax, (4.0, 2.6))
+    x, y_true, y_assumed = _possibilities(true, assumed)
+    ax.fill_between(x, y_true, **_TRUE_FILL)
+    ax.plot(x, y_assumed, **_ASSUMED_LINE)
     ax.set_ylim(0, 1.15)
     ax.set_yticks([0, 1])
     ax.set_xlabel(xlabel)
@@ -89,6 +112,43 @@ def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | 
         ax.set_title(title, loc="left")
     legend_above(ax, ncols=2)
     return fig
+
+
+@styled
+def update_noise_assumption(ax: Axes, true: BoundedNoise, assumed: BoundedNoise) -> None:
+    """Draw other noises on axes of :func:`plot_noise_assumption`; the x limits follow."""
+    x, y_true, y_assumed = _possibilities(true, assumed)
+    ax.collections[0].remove()  # a new fill (the legend keeps its own patch)
+    ax.fill_between(x, y_true, **_TRUE_FILL)
+    ax.lines[0].set_data(x, y_assumed)
+    ax.relim()  # the line spans the fill's x range
+    ax.autoscale_view(scaley=False)
+
+
+def noise_bounds_figure(true_v: BoundedNoise, true_w: BoundedNoise, assumed_v: BoundedNoise,
+                        assumed_w: BoundedNoise, errors: Mapping[str, np.ndarray], *,
+                        title: str) -> Figure:
+    """The noise-bounds explorer's figure: the true and assumed possibility distributions
+    of v and w (:func:`plot_noise_assumption`) beside every method's mean error per step
+    (:func:`plot_step_errors`, titled ``title``). The explorer's own (11 in wide, in the
+    notebook's style); :func:`update_noise_bounds_figure` draws other assumptions on it."""
+    fig = Figure(figsize=(11, 3.8), layout="constrained")
+    ax_v, ax_w, ax_e = fig.subplots(1, 3, width_ratios=[1, 1, 2.2])
+    plot_noise_assumption(true_v, assumed_v, ax_v, title="state noise v (Hz)")
+    plot_noise_assumption(true_w, assumed_w, ax_w, title="observation noise w (Hz)")
+    plot_step_errors(errors, ax_e, title=title)
+    return fig
+
+
+def update_noise_bounds_figure(fig: Figure, true_v: BoundedNoise, true_w: BoundedNoise,
+                               assumed_v: BoundedNoise, assumed_w: BoundedNoise,
+                               errors: Mapping[str, np.ndarray]) -> None:
+    """Draw other assumed noises and their errors on a :func:`noise_bounds_figure` (its
+    title stays)."""
+    ax_v, ax_w, ax_e = fig.axes
+    update_noise_assumption(ax_v, true_v, assumed_v)
+    update_noise_assumption(ax_w, true_w, assumed_w)
+    update_step_errors(ax_e, errors)
 
 
 @styled

@@ -97,6 +97,8 @@ from dstoolkit.plots._evidence import (
     plot_pbox,
     plot_possibility,
 )
+from dstoolkit.plots._gauge import gauge_detection_figure, update_gauge_detection
+from dstoolkit.plots._kept import KeptFigure
 from dstoolkit.studies import ORDER_SOURCES, filter_case, filter_summary, gauge_case, step_numbers
 
 from ._lab import (
@@ -344,7 +346,7 @@ class Explorer(widgets.VBox):
         marks the figure stale when a non-animated artist, a limit or a text changes), the
         picture of the rest is restored from the last draw and only those artists are drawn
         on it (blitting), in order of their zorder. Otherwise the whole figure is drawn
-        (:meth:`_draw`) and the animated artists on top.
+        and the animated artists on top.
         """
         if not hasattr(fig.canvas, "copy_from_bbox"):  # a Figure() made without pyplot
             FigureCanvasAgg(fig)
@@ -943,7 +945,8 @@ def gauge_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
     background noise → the recording's envelope and its detected resonances beside the
     model n c/(2L) (eqs. 29–32), the detection error z_k − n_k f_F, and the level by the
     series fit and by eqs. 32/43. One recording (the paper's sweep, seeded) is synthesised
-    and analysed per change, about 0.3 s: the sliders redraw on release."""
+    and analysed per change (its noise draws are kept), and the figure is kept and updated;
+    the sliders redraw on release."""
     controls = {
         "level": slider("level L (m)", level_m, 1.0, 10.6, 0.1, readout_format=".1f"),
         "temperature": slider("temperature T (°C)", temperature_c, 0.0, 30.0, 0.5,
@@ -954,33 +957,14 @@ def gauge_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
                              readout_format=".0f"),
     }
 
+    figure = KeptFigure(gauge_detection_figure, update_gauge_detection)
+
     def render(level: float, temperature: float, top_reflection: float, background: float):
         setup = TubeSetup(level, temperature, top_reflection=top_reflection)
         cond = replace(GAUGE_CONDITIONS, background_noise_pa=spl_to_pa(background))
         det = detect_resonances(synthesize_recording(setup, PAPER_SWEEP, cond, seed=seed))
-        numbers = gauge_reading(setup, det)
-        f_f = setup.fundamental_hz
-        fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9.5, 4.8), layout="constrained",
-                                       sharex=True, height_ratios=[3, 2])
-        f_env = PAPER_SWEEP.frequency_at(det.envelope_times - det.latency_s)
-        keep = (f_env >= PAPER_SWEEP.f_start) & (f_env <= PAPER_SWEEP.f_stop)
-        ax1.plot(f_env[keep], det.envelope[keep], lw=0.8, color="#1f77b4", label="envelope")
-        ax1.vlines(setup.resonances(PAPER_SWEEP.band)[1], 0, 1, transform=ax1.get_xaxis_transform(),
-                   color="#2ca02c", lw=0.5, alpha=0.6, label="n c/(2L)")
-        ax1.plot(det.raw_frequencies - det.latency_offset_hz, det.amplitudes, "v", ms=4,
-                 color="#d62728", label="detected peaks")
-        ax1.set_ylabel("envelope (full scale)")
-        ax1.set_ylim(0.0, 1.3 * float(np.max(det.envelope[keep])))
-        ax1.set_title(f"L = {level:.1f} m, T = {temperature:.1f} °C, c = "
-                      f"{setup.speed_of_sound:.1f} m/s, f_F = {f_f:.2f} Hz")
-        ax1.legend(loc="upper center", ncols=3, fontsize=8, framealpha=0.9)
-        error = det.frequencies - np.rint(det.frequencies / f_f) * f_f
-        ax2.axhline(0.0, color="black", lw=0.6)
-        ax2.plot(det.frequencies, error, ".", color="#d62728")
-        ax2.set_ylabel("z_k − n_k f_F (Hz)")
-        ax2.set_xlabel("sweep frequency (Hz)")
-        ax2.set_xlim(PAPER_SWEEP.f_start, PAPER_SWEEP.f_stop)
-        return fig, numbers
+        numbers = gauge_reading(setup, det)  # before the figure changes: it may raise
+        return figure(setup, det), numbers
 
     live = {"level": positions(controls["level"], 9, 1.6, 9.6),
             "temperature": positions(controls["temperature"], 1, 5.0, 5.0)}
@@ -1258,7 +1242,7 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
     which figure. Numbers: ``estimation_numbers(run)``. A frequency-level redraw takes a
     few hundredths of a second, a waveform-level one a few tenths (a recording is
     synthesised and analysed): sliders redraw on release."""
-    from dstoolkit.plots._experiments import plot_estimates
+    from dstoolkit.plots._experiments import plot_estimates, update_estimates
     from dstoolkit.studies._estimation import gauge_run
 
     controls = {
@@ -1276,15 +1260,19 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
         "seed": int_slider("run (seed)", seed, 0, 20),
     }
 
+    kept = KeptFigure(plot_estimates, update_estimates)  # one per kind of figure
+    run_of = functools.lru_cache(maxsize=32)(gauge_run)  # the figure dropdown re-draws
+
     def render(level: float, temperature: float, simulation: str, order_rule: str,
                figure: str, seed: int):
-        run = gauge_run(level, temperature, simulation, order_rule, seed=seed)
-        if ESTIMATION_FIGURES[figure] == "frequency":
-            fig = plot_estimates(run.truth, run.readings, run.estimates)
+        run = run_of(level, temperature, simulation, order_rule, seed=seed)
+        kind = ESTIMATION_FIGURES[figure]
+        if kind == "frequency":
+            fig = kept(run.truth, run.readings, run.estimates, key=kind)
         else:
             levels = run.levels()
-            fig = plot_estimates(run.level_m, levels.pop("direct"), levels, quantity="level",
-                                 unit="m")
+            fig = kept(run.level_m, levels.pop("direct"), levels, quantity="level", unit="m",
+                       key=kind)
         top = fig.axes[0]
         top.set_title(f"{top.get_title(loc='left')}: L = {level:.1f} m, "
                       f"T = {temperature:.1f} °C,\n{simulation}-level readings, "
@@ -1321,7 +1309,7 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
     (:func:`dstoolkit.studies.noise_mismatch`). ``start`` is the paper's filter's
     start value (a dropdown too). One redraw filters ``runs`` runs by five methods, a few
     tenths of a second: sliders redraw on release."""
-    from dstoolkit.plots._studies import plot_noise_assumption, plot_step_errors
+    from dstoolkit.plots._studies import noise_bounds_figure, update_noise_bounds_figure
     from dstoolkit.studies._estimation import noise_mismatch, tracking_data
 
     data = tracking_data(level_m, temperature_c, runs=runs, seed=seed)
@@ -1339,17 +1327,16 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
                                   description="start"),
     }
 
+    title = f"L = {level_m:.1f} m, {runs} runs, true orders"
+    kept = KeptFigure(functools.partial(noise_bounds_figure, title=title),
+                      update_noise_bounds_figure)
+
     def render(v_lower: float, v_mode: float, v_upper: float, w_lower: float, w_mode: float,
                w_upper: float, start: str):
         assumed_v = BoundedNoise(v_lower, v_mode, v_upper)
         assumed_w = BoundedNoise(w_lower, w_mode, w_upper)
         result = noise_mismatch(data, assumed_v, assumed_w, seed=seed, start=start)
-        fig = plt.figure(figsize=(11, 3.8), layout="constrained")
-        ax_v, ax_w, ax_e = fig.subplots(1, 3, width_ratios=[1, 1, 2.2])
-        plot_noise_assumption(v, assumed_v, ax_v, title="state noise v (Hz)")
-        plot_noise_assumption(w, assumed_w, ax_w, title="observation noise w (Hz)")
-        plot_step_errors(result.errors, ax_e,
-                         title=f"L = {level_m:.1f} m, {runs} runs, true orders")
+        fig = kept(v, w, assumed_v, assumed_w, result.errors)
         return fig, mismatch_numbers(result)
 
     live = {"w_upper": positions(controls["w_upper"], 8, -6.21, 4.29),

@@ -1,0 +1,205 @@
+"""Explorers that keep their figure (issue 14) show what a freshly built one shows.
+
+The gauge, level-estimation and noise-bounds explorers build their figure once and then
+update its artists. The static site renders every state on one kept figure, so after any
+sequence of changes the kept figure must hold the same data, titles, labels and limits as
+a figure built for that state alone; an invalid setting must leave it as it was. The
+gauge's faster synthesis and detection must give the numbers they gave before (stored in
+tests/data/gauge_golden.npz by the code before the change).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+import numpy as np
+import pytest
+
+matplotlib.use("Agg")
+
+from matplotlib.figure import Figure  # noqa: E402
+
+from dstoolkit.errors import InconsistentDataError  # noqa: E402
+from dstoolkit.filters import BoundedErrorFilter, BoundedNoise  # noqa: E402
+from dstoolkit.gauge import (  # noqa: E402
+    PAPER_SWEEP,
+    RecordingConditions,
+    TubeSetup,
+    detect_resonances,
+    spl_to_pa,
+    synthesize_recording,
+    typical_conditions,
+    virtual_tube_signal,
+)
+from dstoolkit.gauge._gauge_model import gauge_state_space_model  # noqa: E402
+from dstoolkit.studies import (  # noqa: E402
+    bounded_error_failures,
+    noise_mismatch,
+    scaled_noise,
+    tracking_data,
+)
+from dstoolkit.teaching import (  # noqa: E402
+    GAUGE_CONDITIONS,
+    gauge_explorer,
+    level_estimation_explorer,
+    noise_bounds_explorer,
+)
+
+GOLDEN = Path(__file__).parent / "data" / "gauge_golden.npz"
+
+
+def picture(fig: Figure) -> list[Any]:
+    """What a figure shows, artist by artist: data, titles, labels, limits, legends."""
+    out: list[Any] = [fig.get_size_inches().tolist()]
+    for ax in fig.axes:
+        out.append((ax.get_xlim(), ax.get_ylim(), ax.get_xscale(), ax.get_yscale(),
+                    [ax.get_title(loc) for loc in ("left", "center", "right")],
+                    ax.get_xlabel(), ax.get_ylabel()))
+        out += [(line.get_label(), np.asarray(line.get_xdata(), float).tolist(),
+                 np.asarray(line.get_ydata(), float).tolist()) for line in ax.lines]
+        out += [[path.vertices.tolist() for path in c.get_paths()] for c in ax.collections]
+        legend = ax.get_legend()
+        out.append([t.get_text() for t in legend.get_texts()] if legend else None)
+    out.append([[t.get_text() for t in legend.get_texts()] for legend in fig.legends])
+    return out
+
+
+def change(ex: Any, *steps: tuple[str, Any]) -> None:
+    """Move the explorer's controls in turn, every setting valid."""
+    for name, value in steps:
+        ex.controls[name].value = value
+        assert "error" not in ex.numbers, (name, value, ex.numbers)
+
+
+def test_the_gauge_explorer_after_changes_shows_what_a_fresh_one_shows() -> None:
+    ex = gauge_explorer()
+    kept = ex.figure
+    change(ex, ("level", 4.0), ("temperature", 20.0), ("top_reflection", 0.5),
+           ("background", 60.0), ("level", 6.3))
+    assert ex.figure is kept
+    fresh = gauge_explorer(6.3, 20.0, 0.5, 60.0)
+    assert fresh.figure is not kept
+    assert picture(kept) == picture(fresh.figure)
+    assert ex.numbers == fresh.numbers
+
+
+def test_an_invalid_gauge_setting_warns_and_keeps_the_last_figure() -> None:
+    ex = gauge_explorer()
+    change(ex, ("level", 1.0), ("background", 90.0))
+    shown, before = ex.output.outputs, picture(ex.figure)
+    ex.controls["top_reflection"].value = 0.9  # the first echo clips the converter
+    assert "clipping" in ex.numbers["error"]
+    assert "⚠" in ex.readout.value and "last valid setting" in ex.readout.value
+    assert ex.output.outputs == shown and picture(ex.figure) == before
+    change(ex, ("top_reflection", 0.4))
+    assert picture(ex.figure) == picture(gauge_explorer(1.0, 26.5, 0.4, 90.0).figure)
+
+
+def test_the_level_explorer_keeps_one_figure_per_kind_and_shows_what_a_fresh_one_shows(
+) -> None:
+    ex = level_estimation_explorer()
+    levels = ex.figure
+    change(ex, ("level", 4.0), ("figure", "Fig. 10: frequencies"), ("seed", 3))
+    frequencies = ex.figure
+    assert frequencies is not levels
+    change(ex, ("order_rule", "true"), ("figure", "Fig. 11: levels"), ("level", 6.0))
+    assert ex.figure is levels
+    fresh = level_estimation_explorer(6.0, 26.5, "frequency", "true", "Fig. 11: levels", 3)
+    assert picture(levels) == picture(fresh.figure)
+    change(ex, ("figure", "Fig. 10: frequencies"))
+    assert ex.figure is frequencies
+    fresh = level_estimation_explorer(6.0, 26.5, "frequency", "true",
+                                      "Fig. 10: frequencies", 3)
+    assert picture(frequencies) == picture(fresh.figure)
+    assert ex.numbers == fresh.numbers
+
+
+def test_the_noise_bounds_explorer_after_changes_shows_what_a_fresh_figure_shows() -> None:
+    from dstoolkit.plots._studies import noise_bounds_figure
+
+    ex = noise_bounds_explorer(runs=4)
+    kept = ex.figure
+    change(ex, ("w_upper", -3.0), ("v_upper", 0.4), ("w_lower", -11.0), ("start", "observation"),
+           ("w_upper", -2.0))
+    shown, before = ex.output.outputs, picture(kept)
+    ex.controls["v_mode"].value = -0.5  # below v lower: no such noise
+    assert "error" in ex.numbers and "⚠" in ex.readout.value
+    assert ex.output.outputs == shown and picture(ex.figure) == before
+    change(ex, ("v_mode", 0.1))
+    assert ex.figure is kept
+    data = tracking_data(runs=4)
+    v = ex.values()
+    assumed_v = BoundedNoise(v["v_lower"], v["v_mode"], v["v_upper"])
+    assumed_w = BoundedNoise(v["w_lower"], v["w_mode"], v["w_upper"])
+    result = noise_mismatch(data, assumed_v, assumed_w, start="observation")
+    fresh = noise_bounds_figure(data.state_noise, data.obs_noise, assumed_v, assumed_w,
+                                result.errors, title="L = 4.6 m, 4 runs, true orders")
+    assert picture(kept) == picture(fresh)
+
+
+@pytest.mark.parametrize("scale", [0.3, 0.8, 1.0])
+def test_strict_failures_from_the_batch_equal_strict_runs_one_by_one(scale: float) -> None:
+    data = tracking_data(runs=12)
+    model = gauge_state_space_model(scaled_noise(data.state_noise, scale),
+                                    scaled_noise(data.obs_noise, scale))
+    failed, first = 0, ""
+    for z, u in zip(data.readings, data.orders, strict=True):
+        try:
+            BoundedErrorFilter(on_inconsistent="raise").run(model, z, inputs=u)
+        except InconsistentDataError as exc:
+            failed, first = failed + 1, first or str(exc)
+    assert bounded_error_failures(model, data) == (failed / 12, first)
+
+
+def test_the_batch_result_of_the_bounded_error_filter_equals_single_runs() -> None:
+    data = tracking_data(runs=20)
+    model = gauge_state_space_model(scaled_noise(data.state_noise, 0.8),
+                                    scaled_noise(data.obs_noise, 0.8))
+    flt = BoundedErrorFilter(on_inconsistent="reset")
+    batch = flt.run_batch(model, data.readings, inputs=data.orders, return_result=True)
+    assert 0 < np.any(batch.diagnostics["resets"], axis=1).sum() < 20  # some runs restart
+    for r in range(20):
+        one = flt.run(model, data.readings[r], inputs=data.orders[r])
+        np.testing.assert_array_equal(batch.estimates[r], one.estimates)
+        np.testing.assert_array_equal(batch.lower[r], one.lower)
+        np.testing.assert_array_equal(batch.diagnostics["resets"][r], one.diagnostics["resets"])
+
+
+#: The recordings stored in tests/data/gauge_golden.npz (by the synthesis before issue 14).
+GOLDEN_CASES = {
+    0: (TubeSetup(4.6, 26.5), GAUGE_CONDITIONS, 0),
+    1: (TubeSetup(1.6, 5.0, top_reflection=0.9),
+        replace(GAUGE_CONDITIONS, background_noise_pa=spl_to_pa(90.0)), 1),
+    4: (TubeSetup(6.0, 10.0, top_reflection=0.5),
+        replace(GAUGE_CONDITIONS, background_noise_pa=spl_to_pa(60.0)), 0),
+}
+
+
+@pytest.mark.parametrize("case", sorted(GOLDEN_CASES))
+def test_the_gauge_synthesis_and_detection_give_the_stored_numbers(case: int) -> None:
+    golden = np.load(GOLDEN)
+    setup, conditions, seed = GOLDEN_CASES[case]
+    for _ in range(2):  # the second recording reuses the kept noise draws
+        rec = synthesize_recording(setup, PAPER_SWEEP, conditions, seed=seed)
+        np.testing.assert_array_equal(rec.samples[::101], golden[f"samples{case}"])
+    det = detect_resonances(rec)
+    assert det.latency_s == golden[f"latency{case}"]
+    np.testing.assert_allclose(det.frequencies, golden[f"frequencies{case}"], rtol=0,
+                               atol=1e-9)
+    np.testing.assert_allclose(det.envelope[::7], golden[f"envelope{case}"], rtol=1e-12)
+
+
+def test_a_generator_seed_and_an_integer_seed_draw_the_same_noise() -> None:
+    setup, conditions = TubeSetup(3.0, 20.0), typical_conditions()
+    by_int = synthesize_recording(setup, PAPER_SWEEP, conditions, seed=5)
+    by_generator = synthesize_recording(setup, PAPER_SWEEP, conditions,
+                                        seed=np.random.default_rng(5))
+    np.testing.assert_array_equal(by_int.samples, by_generator.samples)
+    quiet = synthesize_recording(setup, PAPER_SWEEP, RecordingConditions(), seed=5)
+    assert not np.array_equal(quiet.samples, by_int.samples)
+    np.testing.assert_allclose(
+        virtual_tube_signal(TubeSetup(3.0, 20.0), PAPER_SWEEP, conditions=conditions, seed=2)
+        [::101], np.load(GOLDEN)["virtual_tube"], rtol=0, atol=1e-15)
