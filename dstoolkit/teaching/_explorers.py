@@ -47,9 +47,9 @@ import io
 import itertools
 import os
 import weakref
-from collections.abc import Callable, Hashable, Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
-from typing import Any, TypeVar
+from typing import Any
 
 import ipywidgets as widgets
 import matplotlib.pyplot as plt
@@ -111,7 +111,6 @@ from ._lab import (
 )
 
 Render = Callable[..., tuple[Figure | None, Mapping[str, Any]]]
-T = TypeVar("T")
 
 #: The environment variable scripts/build-book.sh sets to "1": explorers built while the book
 #: is executed for the static site precompute the states of their live controls.
@@ -214,19 +213,6 @@ def encode_png(rgba: np.ndarray, compress_level: int = 1) -> bytes:
     buffer = io.BytesIO()
     image.save(buffer, format="png", compress_level=compress_level)
     return buffer.getvalue()
-
-
-def kept_figure(store: dict[Any, T], key: Hashable, build: Callable[[], T],
-                update: Callable[[T], Any]) -> T:
-    """A figure an explorer keeps between redraws (an object with a ``figure``, such as a
-    :class:`~dstoolkit.plots.FilterStepFigure`): ``build()`` on the first call for ``key``
-    (one per figure shape), ``update(kept)`` in place on later ones. A render that returns
-    its ``figure`` every time shows the same picture as one that draws it afresh."""
-    if key in store:
-        update(store[key])
-    else:
-        store[key] = build()
-    return store[key]
 
 
 def png_output(png: bytes) -> dict[str, Any]:
@@ -647,19 +633,16 @@ def bounded_error_explorer(v_half: float = 0.1, w_half: float = 1.0, steps: int 
     x, z = random_walk(v_half, w_half).simulate([0.0], steps, np.random.default_rng(seed))
     filt = BoundedErrorFilter(on_inconsistent="reset")
 
-    kept: dict[str, EnclosureFigure] = {}
+    def build(res: Any, title: str) -> EnclosureFigure:
+        figure = EnclosureFigure(res, x, z, title=title, pyplot=False)
+        figure.ax.legend(fontsize=8, loc="upper left")
+        return figure
+
+    kept = KeptFigure(build, lambda figure, res, title: figure.update(res, x, z, title=title))
 
     def render(scale: float):
         res = filt.run(random_walk(v_half * scale, w_half * scale), z)
-        title = f"bounds × {scale:g}"
-
-        def build() -> EnclosureFigure:
-            figure = EnclosureFigure(res, x, z, title=title, pyplot=False)
-            figure.ax.legend(fontsize=8, loc="upper left")
-            return figure
-
-        figure = kept_figure(kept, "band", build, lambda f: f.update(res, x, z, title=title))
-        return figure.figure, enclosure_summary(res, x)
+        return kept(res, f"bounds × {scale:g}").figure, enclosure_summary(res, x)
 
     scale = slider("assumed bounds × true", 1.0, 0.3, 3.0, 0.05)
     return Explorer({"scale": scale}, render, title="Bounded-error filter with wrong bounds",
@@ -795,13 +778,13 @@ def render_filter(
     v_lower: float, v_mode: float, v_upper: float, w_lower: float, w_mode: float,
     w_upper: float, p: int, epsilon: float, level: float, temperature: float, start: str,
     orders: str, mass_rule: str, seed: int = 0,
-    kept: dict[str, Any] | None = None,
+    kept: KeptFigure[FilterErrorsFigure] | None = None,
 ) -> tuple[Figure, dict[str, Any]]:
     """What :func:`filter_widget` recomputes on every change: the run's figure (estimates,
     hull and readings against the truth, absolute errors; the paper's Fig. 10) and the
-    numbers of :func:`~dstoolkit.studies.filter_summary`. With ``kept`` (a dict) the figure
-    is kept there (``kept_figure``): drawn without pyplot on the first call, redrawn in
-    place on later ones; else each call draws a new figure."""
+    numbers of :func:`~dstoolkit.studies.filter_summary`. With ``kept`` (a ``KeptFigure`` of
+    a ``FilterErrorsFigure``, as the widget holds) the figure is drawn without pyplot on the
+    first call and redrawn in place on later ones; else each call draws a new figure."""
     seq, n, result = filter_case(
         level, temperature, state_noise=(v_lower, v_mode, v_upper),
         obs_noise=(w_lower, w_mode, w_upper), p=p, epsilon=epsilon, start=start,
@@ -810,12 +793,8 @@ def render_filter(
     title = (f"L = {level:.1f} m, T = {temperature:.1f} °C (f_F = {seq.fundamental_hz:.2f} "
              f"Hz, {seq.truth.shape[0]} resonances), p = {p}, ε = {epsilon:.2f}, "
              f"start: {start}")
-    if kept is None:
-        fig = plot_filter_errors(*run, title=title)
-    else:
-        fig = kept_figure(kept, "errors",
-                          lambda: FilterErrorsFigure(*run, title=title, pyplot=False),
-                          lambda f: f.update(*run, title=title)).figure
+    fig = (plot_filter_errors(*run, title=title) if kept is None
+           else kept(*run, title=title).figure)
     return fig, filter_summary(seq, n, result)
 
 
@@ -855,7 +834,8 @@ def filter_widget(level_m: float = 9.6, temperature_c: float = 23.9, *, p: int =
                                       description="m(D) rule"),
     }
 
-    kept: dict[str, Any] = {}
+    kept = KeptFigure(functools.partial(FilterErrorsFigure, pyplot=False),
+                      FilterErrorsFigure.update)
 
     def render(**values: Any) -> tuple[Figure, dict[str, Any]]:
         return render_filter(**values, seed=seed, kept=kept)
@@ -889,15 +869,13 @@ def filter_step_explorer(level_m: float = 9.6, temperature_c: float = 23.9, step
         return filter_case(level_m, temperature_c, start=start, epsilon=epsilon, seed=seed,
                            record=True, first=steps)[2]
 
-    kept: dict[tuple[str, ...], FilterStepFigure] = {}  # one per set of panels
+    kept = KeptFigure(functools.partial(FilterStepFigure, figsize=(9.0, 9.0), pyplot=False),
+                      FilterStepFigure.update)
 
     def render(step: int, start: str, epsilon: float):
         result = run(start, epsilon)
         entry, truth = result.steps[step - 1], float(seq.truth[step - 1, 0])
-        figure = kept_figure(
-            kept, FilterStepFigure.panels_of(entry),
-            lambda: FilterStepFigure(entry, truth, figsize=(9.0, 9.0), pyplot=False),
-            lambda f: f.update(entry, truth))
+        figure = kept(entry, truth, key=FilterStepFigure.panels_of(entry))  # one per panels
         return figure.figure, step_numbers(result, step, truth)
 
     live = {"step": positions(controls["step"], 10)}
