@@ -16,15 +16,13 @@ from typing import Any
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
-from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.text import Text
 from matplotlib.ticker import FixedLocator, NullFormatter, NullLocator, StrMethodFormatter
 
 from dstoolkit.errors import EvidenceError
 
-from ._evidence import FOCAL_BAR_EDGE, MASS_LABEL, focal_bars
+from ._evidence import FocalIntervalArtists, draw_focal_intervals, update_focal_intervals
 from ._style import BETP_COLOUR, SMALL_PT, column_size, legend_above, styled
 
 
@@ -247,15 +245,10 @@ class FilterStepFigure:
         self.panels, self.unit = self.panels_of(entry), unit
         fig = blank_figure(column_size(*figsize), "constrained", pyplot=pyplot)
         self.figure, self.axes = fig, list(fig.subplots(len(self.panels), 1, squeeze=False)[:, 0])
-        self._bars: list[PolyCollection] = []
-        self._labels: list[list[Text]] = []
+        self._focal: list[FocalIntervalArtists] = []
         self._lines: list[tuple[Line2D, Line2D] | None] = []
         for ax, key in zip(self.axes, self.panels, strict=True):
-            bars = PolyCollection([], **FOCAL_BAR_EDGE)
-            ax.add_collection(bars, autolim=False)
-            self._bars.append(bars)
-            self._labels.append([])
-            ax.set_ylim(0, 1)
+            self._focal.append(draw_focal_intervals(ax, xlabel=""))
             ax.set_ylabel("mass")
             if key == "state":
                 self._lines.append(None)
@@ -296,8 +289,7 @@ class FilterStepFigure:
         for i, (ax, key) in enumerate(zip(self.axes, self.panels, strict=True)):
             ev = entry[key]
             lim = (xlim[0] - shift, xlim[1] - shift) if key == "state" else xlim
-            self._draw_bars(i, ev, lim)
-            ax.set_xlim(*lim)
+            update_focal_intervals(self._focal[i], ev, xlim=lim, label_masses=len(ev) <= 6)
             ax.set_xlabel(f"state at step {entry['step'] - 1} ({self.unit})"
                           if key == "state" else "")
             # y = 1 where matplotlib would put it (nothing is drawn above the panel), so
@@ -312,24 +304,6 @@ class FilterStepFigure:
         self.axes[-1].set_xlabel(f"state at step {entry['step']} ({self.unit}); red: "
                                  "estimate, dashed: truth")
         return self.figure
-
-    def _draw_bars(self, panel: int, ev: Any, xlim: tuple[float, float]) -> None:
-        """The focal elements of ``ev`` as in :func:`plot_focal_intervals` (their masses
-        written when there are at most six), on panel ``panel``."""
-        bars = focal_bars(ev, xlim, label_masses=len(ev) <= 6)
-        top = bars.bottoms + ev.mass
-        corners = [(bars.left, bars.bottoms), (bars.right, bars.bottoms), (bars.right, top),
-                   (bars.left, top)]  # a Rectangle's order
-        self._bars[panel].set_verts(np.stack([np.stack(c, axis=1) for c in corners], axis=1))
-        self._bars[panel].set_facecolor(bars.colours)
-        texts = self._labels[panel]
-        while len(texts) < len(bars.labels):
-            texts.append(self.axes[panel].text(0.0, 0.0, "", **MASS_LABEL))
-        for text, (x, y, label) in zip(texts, bars.labels, strict=False):
-            text.set_position((x, y))
-            text.set_text(label)
-        for j, text in enumerate(texts):
-            text.set_visible(j < len(bars.labels))
 
 
 def _check_step(entry: dict[str, Any]) -> None:
