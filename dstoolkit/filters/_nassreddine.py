@@ -104,23 +104,22 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
     """
     runs, rows, n = lo.shape
     coords = np.concatenate([lo, hi], axis=-1)
-    valid = mass > 0
-    keys = (*(coords[..., j] for j in range(2 * n - 1, -1, -1)), ~valid)
+    keys = (*(coords[..., j] for j in range(2 * n - 1, -1, -1)), ~(mass > 0))
     order = np.lexsort(keys, axis=-1)
-    coords = np.take_along_axis(coords, order[..., None], axis=1)
-    mass = np.take_along_axis(mass, order, axis=1)
-    valid = np.take_along_axis(valid, order, axis=1)
+    every_run = np.arange(runs)[:, None]
+    coords, mass = coords[every_run, order], mass[every_run, order]
+    valid = mass > 0
     start = np.ones((runs, rows), dtype=bool)
     start[:, 1:] = np.any(coords[:, 1:] != coords[:, :-1], axis=-1) | (valid[:, 1:]
                                                                         != valid[:, :-1])
-    group = np.cumsum(start, axis=1) - 1
-    flat = (np.arange(runs)[:, None] * rows + group).ravel()
-    summed = np.bincount(flat, weights=np.where(valid, mass, 0.0).ravel(),
+    slot = (every_run * rows + np.cumsum(start, axis=1) - 1).ravel()  # run's group, flat
+    summed = np.bincount(slot, weights=np.where(valid, mass, 0.0).ravel(),
                          minlength=runs * rows).reshape(runs, rows)
     width = max(1, int((summed > 0).sum(axis=1).max()))
-    out = np.empty((runs, rows, 2 * n))
-    out[np.arange(runs)[:, None].repeat(rows, 1)[start], group[start]] = coords[start]
-    out, summed = out[:, :width], summed[:, :width]
+    first = start.ravel()
+    out = np.empty((runs * rows, 2 * n))
+    out[slot[first]] = coords.reshape(-1, 2 * n)[first]
+    out, summed = out.reshape(runs, rows, 2 * n)[:, :width], summed[:, :width]
     out = np.where((summed > 0)[..., None], out, out[:, :1])
     return Boxes(out[..., :n], out[..., n:], summed)
 
@@ -190,7 +189,7 @@ def _cheapest(local: np.ndarray, cost: np.ndarray, allowed: np.ndarray) -> np.nd
     Ranking is skipped when every run that must shrink may take all its local minima.
     """
     need = allowed > 0
-    if np.all((np.count_nonzero(local, axis=1) <= allowed) | ~need):
+    if np.all((local.sum(axis=1) <= allowed) | ~need):
         return local & need[:, None]
     ranked = np.where(local, cost, np.inf)
     rank = np.argsort(np.argsort(ranked, axis=1, kind="stable"), axis=1, kind="stable")
@@ -226,7 +225,7 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     packed = cols.pack(bm, unit)
     every_run = np.arange(runs)[:, None]
     for rnd in range(MAX_CLUSTER_ROUNDS + 1):
-        count = np.count_nonzero(packed[..., cols.mass] > 0, axis=1)
+        count = (packed[..., cols.mass] > 0).sum(axis=1)
         most = int(count.max())
         if most <= max_focal:
             break
