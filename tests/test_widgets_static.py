@@ -254,3 +254,19 @@ def test_bad_live_declarations_are_refused_with_a_reason():
         Explorer({"a": a}, render, live={"nope": (1.0,)}, static=True)
     with pytest.raises(InvalidInputError, match="must include its value 1.0"):
         Explorer({"a": a}, render, live={"a": (0.0, 2.0)}, static=True)
+
+
+def test_the_print_picture_is_the_shown_png_and_leaves_a_kept_figure_alone():
+    from dstoolkit.teaching._print_edition import first_figure_png
+
+    ex, draws = _kept_figure_explorer()
+    assert first_figure_png(ex) == ex.picture == _png_of(ex)
+    ex.controls["a"].value = 0.2  # still blitted: the print picture did not redraw the figure
+    assert draws == []
+    assert first_figure_png(ex) == ex.picture != _png_of(_kept_figure_explorer()[0])
+
+
+def _png_of(ex: Explorer) -> bytes:
+    import base64
+
+    return base64.b64decode(ex.output.outputs[0]["data"]["image/png"])

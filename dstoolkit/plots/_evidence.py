@@ -4,20 +4,34 @@ Every function draws on a given matplotlib ``Axes`` (or a new figure) and return
 :class:`~matplotlib.figure.Figure`; none calls ``plt.show()``. In a notebook a figure made
 by pyplot is shown when the cell ends; in a widget callback, ``display(fig)`` it.
 
+The figures an explorer redraws on every change of a control are drawn in two steps, so
+that it can keep its figure: ``draw_x(ax, ...)`` draws what no data changes (axis labels,
+ranges, legend) and returns the artists (an ``XArtists``), ``update_x(artists, data)``
+draws the data in them; ``plot_x`` does both. With ``animated=True`` the artists that
+follow the data, and the axes' spines, are marked animated (``animate``): an explorer
+then draws only them on the unchanged rest of the picture.
+
 The small table helpers at the end turn evidence into Markdown tables (rendered as tables
 by Jupyter and by the book), optionally beside the values a paper prints.
 """
 
 from __future__ import annotations
 
-from collections.abc import Hashable, Iterable, Sequence
+from collections.abc import Callable, Hashable, Iterable, Sequence
+from dataclasses import dataclass, field
 from itertools import combinations
-from typing import Any
+from typing import Any, TypeVar
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.artist import Artist
 from matplotlib.axes import Axes
+from matplotlib.collections import FillBetweenPolyCollection, LineCollection, PathCollection
+from matplotlib.container import BarContainer
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Rectangle
+from matplotlib.text import Text
 from matplotlib.ticker import FixedLocator, NullLocator, StrMethodFormatter
 
 from dstoolkit.errors import EvidenceError
@@ -49,7 +63,116 @@ def _scalar(ev: IntervalEvidence, what: str) -> None:
         raise EvidenceError(f"{what} draws scalar interval evidence (IntervalEvidence, d = 1)")
 
 
+A = TypeVar("A", bound=Artist)
+
+
+def animate(ax: Axes, *artists: Artist | None) -> None:
+    """Mark ``artists`` (of ``ax``; None is skipped) and the spines of ``ax`` as animated.
+
+    A kept figure's animated artists are drawn on the picture of the rest as it was last
+    drawn (``Explorer.png``), above it, in order of zorder. The spines come along because
+    a fresh drawing puts them (zorder 2.5) over bars and lines that reach the axes' edge.
+    """
+    for artist in (*artists, *ax.spines.values()):
+        if artist is not None:
+            artist.set_animated(True)
+
+
+#: Artists an animated pool makes beyond those it needs (hidden until needed): making an
+#: artist redraws a kept figure whole, showing a hidden one does not.
+SPARE_ARTISTS = 4
+
+
+def _resize(artists: list[A], count: int, make: Callable[[], A], animated: bool) -> list[A]:
+    """The first ``count`` of ``artists`` (drawn on an Axes), shown: missing ones are made
+    by ``make()`` (in order, as a fresh drawing makes them; if ``animated``, so marked and
+    :data:`SPARE_ARTISTS` more), the others hidden, not removed (adding or removing an
+    artist redraws a kept figure whole; hiding an animated one does not). The caller then
+    sets every shown one's data."""
+    if len(artists) < count:
+        for _ in range(count - len(artists) + (SPARE_ARTISTS if animated else 0)):
+            artists.append(make())
+            artists[-1].set_animated(animated)
+    for i, artist in enumerate(artists):
+        artist.set_visible(i < count)
+    return artists[:count]
+
+
 # -- interval evidence -------------------------------------------------------------------
+
+
+@dataclass
+class FocalIntervalArtists:
+    """What :func:`plot_focal_intervals` draws on ``ax``: one bar per focal element and the
+    masses written on them. Made by ``draw_focal_intervals``, set by
+    ``update_focal_intervals``."""
+
+    ax: Axes
+    animated: bool = False
+    bars: list[Rectangle] = field(default_factory=list)
+    labels: list[Text] = field(default_factory=list)
+
+
+@styled
+def draw_focal_intervals(ax: Axes, *, title: str | None = None, xlabel: str = "x",
+                         animated: bool = False) -> FocalIntervalArtists:
+    """The parts of :func:`plot_focal_intervals` that no evidence changes (axis labels, y
+    range, title) on ``ax``; the bars come with ``update_focal_intervals``."""
+    ax.set_ylim(0, 1)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("cumulated mass")
+    if title:
+        ax.set_title(title)
+    if animated:
+        animate(ax)
+    return FocalIntervalArtists(ax, animated)
+
+
+@styled
+def update_focal_intervals(
+    artists: FocalIntervalArtists,
+    ev: IntervalEvidence,
+    *,
+    xlim: tuple[float, float] | None = None,
+    label_masses: bool = True,
+    colour: str | None = None,
+) -> None:
+    """Draw ``ev`` in the bars of ``draw_focal_intervals`` (the parameters as in
+    :func:`plot_focal_intervals`): an explorer's kept figure follows the evidence."""
+    _scalar(ev, "plot_focal_intervals")
+    ax = artists.ax
+    lo, hi, m = ev.lo, ev.hi, ev.mass
+    if xlim is None:
+        a, b = float(np.min(lo)), float(np.max(hi))
+        pad = 0.05 * (b - a if b > a else 1.0)
+        xlim = (a - pad, b + pad)
+    bottoms = np.concatenate([[0.0], np.cumsum(m)[:-1]])
+    colours = (
+        [colour] * len(ev) if colour is not None
+        else plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, max(len(ev), 1)))
+    )
+    left, right = np.maximum(lo, xlim[0]), np.minimum(hi, xlim[1])
+
+    def bar() -> Rectangle:
+        return ax.add_patch(Rectangle((0.0, 0.0), 0.0, 0.0, edgecolor="black", linewidth=0.6))
+
+    bars = _resize(artists.bars, len(ev), bar, artists.animated)
+    for i, rect in enumerate(bars):
+        rect.set_bounds(left[i], bottoms[i], right[i] - left[i], m[i])
+        rect.set_facecolor(colours[i])
+    shown = [i for i in range(len(ev)) if label_masses and m[i] > 0.05]
+
+    def label() -> Text:
+        return ax.text(0.0, 0.0, "", ha="center", va="center", fontsize=SMALL_PT,
+                       bbox={"boxstyle": "round,pad=0.15", "fc": "white", "alpha": 0.7, "lw": 0})
+
+    for text, i in zip(_resize(artists.labels, len(shown), label, artists.animated), shown,
+                       strict=True):
+        clipped = lo[i] < xlim[0] or hi[i] > xlim[1]
+        text.set_position((0.5 * (left[i] + right[i]), bottoms[i] + 0.5 * m[i]))
+        text.set_text(f"{m[i]:.4g}" + (f"  [{lo[i]:.4g}, {hi[i]:.4g}]" if clipped else ""))
+    if ax.get_xlim() != tuple(xlim):  # setting it, even unchanged, redraws the whole figure
+        ax.set_xlim(*xlim)
 
 
 @styled
@@ -68,6 +191,7 @@ def plot_focal_intervals(
     The bars are stacked in the order of the evidence, so the total height is 1 and the
     area of the picture that lies above a point x is the plausibility of {x}. Focal
     elements wider than ``xlim`` (a wide Θ, say) are clipped, with their ends written.
+    (``draw_focal_intervals`` then ``update_focal_intervals``.)
 
     Parameters
     ----------
@@ -86,35 +210,61 @@ def plot_focal_intervals(
     """
     _scalar(ev, "plot_focal_intervals")
     fig, ax = _axes(ax, (6.0, 2.8))
-    lo, hi, m = ev.lo, ev.hi, ev.mass
-    if xlim is None:
-        a, b = float(np.min(lo)), float(np.max(hi))
-        pad = 0.05 * (b - a if b > a else 1.0)
-        xlim = (a - pad, b + pad)
-    bottoms = np.concatenate([[0.0], np.cumsum(m)[:-1]])
-    colours = (
-        [colour] * len(ev) if colour is not None
-        else plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, max(len(ev), 1)))
-    )
-    left, right = np.maximum(lo, xlim[0]), np.minimum(hi, xlim[1])
-    ax.barh(bottoms, right - left, left=left, height=m, align="edge", color=colours,
-            edgecolor="black", linewidth=0.6)
-    if label_masses:
-        for i in range(len(ev)):
-            clipped = lo[i] < xlim[0] or hi[i] > xlim[1]
-            text = f"{m[i]:.4g}" + (f"  [{lo[i]:.4g}, {hi[i]:.4g}]" if clipped else "")
-            if m[i] > 0.05:
-                ax.text(0.5 * (left[i] + right[i]), bottoms[i] + 0.5 * m[i], text,
-                        ha="center", va="center", fontsize=SMALL_PT,
-                        bbox={"boxstyle": "round,pad=0.15", "fc": "white", "alpha": 0.7,
-                              "lw": 0})
-    ax.set_xlim(*xlim)
-    ax.set_ylim(0, 1)
+    artists = draw_focal_intervals(ax, title=title, xlabel=xlabel)
+    update_focal_intervals(artists, ev, xlim=xlim, label_masses=label_masses, colour=colour)
+    return fig
+
+
+def pbox_grid(a: float, b: float) -> np.ndarray:
+    """The points at which :func:`plot_pbox` evaluates a p-box over [a, b]: 801, with a 5 %
+    margin on both sides."""
+    pad = 0.05 * (b - a if b > a else 1.0)
+    return np.linspace(a - pad, b + pad, 801)
+
+
+@dataclass
+class PboxArtists:
+    """What :func:`plot_pbox` draws on ``ax`` at the points ``x``: the band between the two
+    cdfs and their step lines. Made by ``draw_pbox``, set by ``update_pbox``."""
+
+    ax: Axes
+    x: np.ndarray
+    band: FillBetweenPolyCollection
+    upper: Line2D
+    lower: Line2D
+
+
+@styled
+def draw_pbox(ax: Axes, x: Any, *, title: str | None = None, label: str = "",
+              xlabel: str = "x", animated: bool = False) -> PboxArtists:
+    """The parts of :func:`plot_pbox` at the points ``x`` that no evidence changes (lines,
+    legend, ranges, labels) on ``ax``; the cdfs come with ``update_pbox``."""
+    x = np.asarray(x, dtype=float)
+    zero = np.zeros_like(x)
+    prefix = f"{label} " if label else ""
+    band = ax.fill_between(x, zero, zero, step="post", color=PL_COLOUR, alpha=0.5)
+    (upper,) = ax.step(x, zero, where="post", color=BEL_COLOUR, ls="--",
+                       label=prefix + "upper cdf  Pl")
+    (lower,) = ax.step(x, zero, where="post", color=BEL_COLOUR, label=prefix + "lower cdf  Bel")
+    ax.set_ylim(-0.02, 1.02)
+    ax.set_xlim(x[0], x[-1])
     ax.set_xlabel(xlabel)
-    ax.set_ylabel("cumulated mass")
+    ax.set_ylabel("probability")
     if title:
         ax.set_title(title)
-    return fig
+    legend_above(ax)
+    if animated:
+        animate(ax, band, upper, lower)
+    return PboxArtists(ax, x, band, upper, lower)
+
+
+def update_pbox(artists: PboxArtists, ev: IntervalEvidence) -> None:
+    """Draw the p-box of ``ev`` in the artists of ``draw_pbox``."""
+    _scalar(ev, "plot_pbox")
+    lower, upper = ev.cdf_bounds(artists.x)
+    artists.band.set_data(artists.x, lower, upper)
+    artists.upper.set_ydata(upper)
+    artists.lower.set_ydata(lower)
 
 
 @styled
@@ -132,28 +282,16 @@ def plot_pbox(
 
     Every probability distribution compatible with the evidence has its cdf between the
     two step functions (see :meth:`~dstoolkit.evidence.IntervalEvidence.cdf_bounds`).
+    Default ``x``: ``pbox_grid`` over ``xlim``, else over the finite ends of the focal
+    elements. (``draw_pbox`` then ``update_pbox``.)
     """
     _scalar(ev, "plot_pbox")
     fig, ax = _axes(ax, (6.0, 2.8))
     if x is None:
         finite = np.concatenate([ev.lo, ev.hi])
         finite = finite[np.isfinite(finite)]
-        a, b = (xlim if xlim is not None else (finite.min(), finite.max()))
-        pad = 0.05 * (b - a if b > a else 1.0)
-        x = np.linspace(a - pad, b + pad, 801)
-    x = np.asarray(x, dtype=float)
-    lower, upper = ev.cdf_bounds(x)
-    prefix = f"{label} " if label else ""
-    ax.fill_between(x, lower, upper, step="post", color=PL_COLOUR, alpha=0.5)
-    ax.step(x, upper, where="post", color=BEL_COLOUR, ls="--", label=prefix + "upper cdf  Pl")
-    ax.step(x, lower, where="post", color=BEL_COLOUR, label=prefix + "lower cdf  Bel")
-    ax.set_ylim(-0.02, 1.02)
-    ax.set_xlim(x[0], x[-1])
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel("probability")
-    if title:
-        ax.set_title(title)
-    legend_above(ax)
+        x = pbox_grid(*(xlim if xlim is not None else (finite.min(), finite.max())))
+    update_pbox(draw_pbox(ax, x, title=title, label=label, xlabel=xlabel), ev)
     return fig
 
 
@@ -167,6 +305,79 @@ def contour(ev: IntervalEvidence, x: Any) -> np.ndarray:
     x = np.asarray(x, dtype=float)
     inside = (ev.lo[None, :] <= x.reshape(-1, 1)) & (ev.hi[None, :] >= x.reshape(-1, 1))
     return (inside @ ev.mass).reshape(x.shape)
+
+
+@dataclass
+class PossibilityArtists:
+    """What :func:`plot_possibility` draws on ``ax`` at the points ``x``: π, the α-cuts
+    (their levels and, dotted, their ends), the α of each cut and the evidence's contour.
+    Made by ``draw_possibility``, set by ``update_possibility``."""
+
+    ax: Axes
+    x: np.ndarray
+    pi: Line2D
+    ends: LineCollection
+    cuts: LineCollection
+    contour: Line2D | None
+    animated: bool = False
+    labels: list[Text] = field(default_factory=list)
+
+
+@styled
+def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = False,
+                     title: str | None = None, xlabel: str = "x",
+                     animated: bool = False) -> PossibilityArtists:
+    """The parts of :func:`plot_possibility` over ``xlim`` that no distribution changes
+    (lines, legend, ranges, labels) on ``ax``, with the contour line if ``evidence``; the
+    data come with ``update_possibility``."""
+    x = np.linspace(xlim[0], xlim[1], 801)
+    zero = np.zeros_like(x)
+    (pi,) = ax.plot(x, zero, color="black", lw=1.5, label="π(x)")
+    # every cut's ends first, then every level: each level crosses only the ends of the
+    # cuts above it, and covers them, as when each cut is drawn in turn
+    ends = ax.vlines([], [], [], lw=0.8, ls=":")
+    cuts = ax.hlines([], [], [], lw=3)
+    line = None
+    if evidence:
+        (line,) = ax.step(x, zero, where="mid", color=BETP_COLOUR, lw=1.2,
+                          label="Pl({x}) of the evidence")
+    ax.set_xlim(*xlim)
+    ax.set_ylim(-0.02, 1.08)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("possibility")
+    if title:
+        ax.set_title(title)
+    legend_above(ax)
+    if animated:
+        animate(ax, pi, ends, cuts, line)
+    return PossibilityArtists(ax, x, pi, ends, cuts, line, animated)
+
+
+@styled
+def update_possibility(artists: PossibilityArtists, lower: float, mode: float, upper: float,
+                       p: int = 3, evidence: IntervalEvidence | None = None) -> None:
+    """Draw π(lower, mode, upper) (eq. 22), its ``p`` α-cuts (eq. 24) and the contour of
+    ``evidence`` (if the artists have its line) in the artists of ``draw_possibility``."""
+    x, ax = artists.x, artists.ax
+    artists.pi.set_ydata(possibility(x, lower, mode, upper))
+    lo, hi = alpha_cuts(lower, mode, upper, p)
+    alphas = np.arange(p)[::-1] / p
+    colours = plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, p))
+    artists.cuts.set_segments([[(a, y), (b, y)] for a, b, y in zip(lo, hi, alphas, strict=True)])
+    artists.cuts.set_color(colours)
+    artists.ends.set_segments([[(e, 0.0), (e, y)] for a, b, y in zip(lo, hi, alphas, strict=True)
+                               for e in (a, b)])
+    artists.ends.set_color(np.repeat(colours, 2, axis=0))
+
+    def label() -> Text:
+        return ax.text(0.0, 0.0, "", va="center", fontsize=SMALL_PT)
+
+    labels = _resize(artists.labels, p if p <= 6 else 0, label, artists.animated)
+    for text, b, y in zip(labels, hi, alphas, strict=False):
+        text.set_position((b, y))
+        text.set_text(f"  α = {y:.3g}")
+    if artists.contour is not None and evidence is not None:
+        artists.contour.set_ydata(contour(evidence, x))
 
 
 @styled
@@ -185,32 +396,16 @@ def plot_possibility(
     """The triangular possibility π (paper eq. 22) with its p α-cuts (eq. 24) drawn as lines.
 
     With ``evidence`` given, its contour function Pl({x}) is drawn too: the staircase that
-    the evidence puts in place of π.
+    the evidence puts in place of π. (``draw_possibility`` then
+    ``update_possibility``.)
     """
     fig, ax = _axes(ax, (6.0, 2.8))
     if xlim is None:
         half = 0.15 * (upper - lower if upper > lower else 1.0)
         xlim = (lower - half, upper + half)
-    x = np.linspace(xlim[0], xlim[1], 801)
-    ax.plot(x, possibility(x, lower, mode, upper), color="black", lw=1.5, label="π(x)")
-    lo, hi = alpha_cuts(lower, mode, upper, p)
-    alphas = np.arange(p)[::-1] / p
-    colours = plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, p))
-    for a, b, alpha, c in zip(lo, hi, alphas, colours, strict=True):
-        ax.hlines(alpha, a, b, color=c, lw=3)
-        ax.vlines([a, b], 0, alpha, color=c, lw=0.8, ls=":")
-        if p <= 6:
-            ax.text(b, alpha, f"  α = {alpha:.3g}", va="center", fontsize=SMALL_PT)
-    if evidence is not None:
-        ax.step(x, contour(evidence, x), where="mid", color=BETP_COLOUR, lw=1.2,
-                label="Pl({x}) of the evidence")
-    ax.set_xlim(*xlim)
-    ax.set_ylim(-0.02, 1.08)
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel("possibility")
-    if title:
-        ax.set_title(title)
-    legend_above(ax)
+    artists = draw_possibility(ax, xlim, evidence=evidence is not None, title=title,
+                               xlabel=xlabel)
+    update_possibility(artists, lower, mode, upper, p, evidence)
     return fig
 
 
@@ -229,6 +424,72 @@ def all_subsets(frame: Sequence[Hashable]) -> list[frozenset]:
     return [frozenset(c) for r in range(1, len(frame) + 1) for c in combinations(frame, r)]
 
 
+def _bel_pl_sets(frame: Sequence[Hashable], subsets: Sequence[Any] | None) -> list[frozenset]:
+    if subsets is None:
+        subsets = all_subsets(frame) if len(frame) <= 4 else [frozenset([h]) for h in frame]
+    return [frozenset(MassFunction._elements(s, frame)) for s in subsets]
+
+
+@dataclass
+class BelPlArtists:
+    """What :func:`plot_bel_pl` draws on ``ax`` for the subsets ``sets`` of ``frame``: the
+    Bel bars, the Pl − Bel bars on them and the BetP ticks of the ``single`` ones (their
+    indices). Made by ``draw_bel_pl``, set by ``update_bel_pl``."""
+
+    ax: Axes
+    frame: tuple[Hashable, ...]
+    sets: list[frozenset]
+    bel: BarContainer
+    gap: BarContainer
+    single: list[int]
+    betp: PathCollection | None
+
+
+@styled
+def draw_bel_pl(ax: Axes, frame: Sequence[Hashable], subsets: Sequence[Any] | None = None, *,
+                title: str | None = None, animated: bool = False) -> BelPlArtists:
+    """The parts of :func:`plot_bel_pl` that no masses on ``frame`` change (bars, ticks,
+    legend, labels) on ``ax``; the heights come with ``update_bel_pl``."""
+    sets = _bel_pl_sets(frame, subsets)
+    xs = np.arange(len(sets))
+    zero = np.zeros(len(sets))
+    bel = ax.bar(xs, zero, color=BEL_COLOUR, label="Bel", edgecolor="black", linewidth=0.5)
+    gap = ax.bar(xs, zero, bottom=zero, color=PL_COLOUR, label="Pl − Bel", edgecolor="black",
+                 linewidth=0.5)
+    single = [i for i, s in enumerate(sets) if len(s) == 1]
+    betp = None
+    if single:
+        betp = ax.scatter(xs[single], np.zeros(len(single)), marker="_", s=400,
+                          color=BETP_COLOUR, linewidths=2.5, label="BetP", zorder=3)
+    ax.set_xticks(xs, [_name(s, frame) for s in sets], rotation=30 if len(sets) > 6 else 0)
+    ax.set_ylim(0, 1.05)
+    ax.set_xlabel("subset A of the frame")
+    ax.set_ylabel("Bel(A), Pl(A)")
+    if title:
+        ax.set_title(title)
+    legend_above(ax)
+    if animated:
+        animate(ax, *bel.patches, *gap.patches, betp)
+    return BelPlArtists(ax, tuple(frame), sets, bel, gap, single, betp)
+
+
+def update_bel_pl(artists: BelPlArtists, mf: MassFunction) -> None:
+    """Draw Bel, Pl and BetP of ``mf`` (Def. 2) in the artists of ``draw_bel_pl``."""
+    if not isinstance(mf, MassFunction) or tuple(mf.frame) != artists.frame:
+        raise EvidenceError(f"plot_bel_pl draws a MassFunction on the frame {artists.frame}")
+    bel = [mf.belief(s) for s in artists.sets]
+    pl = [mf.plausibility(s) for s in artists.sets]
+    for rect, b in zip(artists.bel.patches, bel, strict=True):
+        rect.set_height(b)
+    for rect, b, p in zip(artists.gap.patches, bel, pl, strict=True):
+        rect.set_y(b)
+        rect.set_height(p - b)
+    if artists.betp is not None:
+        betp = mf.pignistic()
+        ys = [betp[next(iter(artists.sets[i]))] for i in artists.single]
+        artists.betp.set_offsets(np.column_stack([artists.single, ys]))
+
+
 @styled
 def plot_bel_pl(
     mf: MassFunction,
@@ -242,55 +503,85 @@ def plot_bel_pl(
     The gap Pl(A) − Bel(A) is the mass that neither supports nor contradicts A. Singletons
     also get a red tick at their pignistic probability BetP, which always lies between.
     Default subsets: all non-empty subsets for frames of up to 4 hypotheses, else
-    the singletons.
+    the singletons. (``draw_bel_pl`` then ``update_bel_pl``.)
     """
     if not isinstance(mf, MassFunction):
         raise EvidenceError("plot_bel_pl draws a MassFunction on a finite frame")
-    frame = mf.frame
-    if subsets is None:
-        subsets = all_subsets(frame) if len(frame) <= 4 else [frozenset([h]) for h in frame]
-    sets = [frozenset(MassFunction._elements(s, frame)) for s in subsets]
-    bel = np.array([mf.belief(s) for s in sets])
-    pl = np.array([mf.plausibility(s) for s in sets])
-    betp = mf.pignistic()
-    fig, ax = _axes(ax, (max(4.0, 0.7 * len(sets) + 1.5), 2.8))
-    xs = np.arange(len(sets))
-    ax.bar(xs, bel, color=BEL_COLOUR, label="Bel", edgecolor="black", linewidth=0.5)
-    ax.bar(xs, pl - bel, bottom=bel, color=PL_COLOUR, label="Pl − Bel", edgecolor="black",
-           linewidth=0.5)
-    single = [i for i, s in enumerate(sets) if len(s) == 1]
-    if single:
-        ax.scatter(xs[single], [betp[next(iter(sets[i]))] for i in single], marker="_",
-                   s=400, color=BETP_COLOUR, linewidths=2.5, label="BetP", zorder=3)
-    ax.set_xticks(xs, [_name(s, frame) for s in sets], rotation=30 if len(sets) > 6 else 0)
-    ax.set_ylim(0, 1.05)
-    ax.set_xlabel("subset A of the frame")
-    ax.set_ylabel("Bel(A), Pl(A)")
+    count = len(_bel_pl_sets(mf.frame, subsets))
+    fig, ax = _axes(ax, (max(4.0, 0.7 * count + 1.5), 2.8))
+    update_bel_pl(draw_bel_pl(ax, mf.frame, subsets, title=title), mf)
+    return fig
+
+
+@dataclass
+class MassArtists:
+    """What :func:`plot_masses` draws on ``ax``: one bar per focal element, its mass written
+    on it. Made by ``draw_masses``, set by ``update_masses``."""
+
+    ax: Axes
+    animated: bool = False
+    bars: list[Rectangle] = field(default_factory=list)
+    labels: list[Text] = field(default_factory=list)
+    names: list[str] = field(default_factory=list)
+
+
+@styled
+def draw_masses(ax: Axes, *, title: str | None = None, animated: bool = False) -> MassArtists:
+    """The parts of :func:`plot_masses` that no masses change (labels, y range, title) on
+    ``ax``; the bars come with ``update_masses``."""
+    ax.set_xlabel("focal element")
+    ax.set_ylim(0, 1.1)
+    ax.set_ylabel("mass")
     if title:
         ax.set_title(title)
-    legend_above(ax)
-    return fig
+    if animated:
+        animate(ax)
+    return MassArtists(ax, animated)
+
+
+@styled
+def update_masses(artists: MassArtists, mf: MassFunction, *, title: str | None = None) -> None:
+    """Draw the masses of ``mf`` in the artists of ``draw_masses`` (one bar per focal
+    element, the x range following their number) and ``title`` if given."""
+    if not isinstance(mf, MassFunction):
+        raise EvidenceError("plot_masses draws a MassFunction on a finite frame")
+    ax = artists.ax
+    items = mf.as_dict()
+
+    def bar() -> Rectangle:
+        return ax.add_patch(Rectangle((0.0, 0.0), 0.8, 0.0, facecolor=BEL_COLOUR,
+                                      edgecolor="black", linewidth=0.5))
+
+    def label() -> Text:
+        return ax.text(0.0, 0.0, "", ha="center", va="bottom", fontsize=SMALL_PT)
+
+    bars = _resize(artists.bars, len(items), bar, artists.animated)
+    labels = _resize(artists.labels, len(items), label, artists.animated)
+    for x, (rect, text, v) in enumerate(zip(bars, labels, items.values(), strict=True)):
+        rect.set_xy((x - 0.4, 0.0))
+        rect.set_height(v)
+        text.set_position((x, v))
+        text.set_text(f"{v:.3g}")
+    names = [_name(s, mf.frame) for s in items]
+    if names != artists.names:  # (setting ticks or limits, even unchanged, redraws all)
+        artists.names = names
+        ax.set_xticks(range(len(names)), names)
+        ax.relim(visible_only=True)  # the x range follows the bars, as when drawn anew
+        ax.autoscale_view(scaley=False)
+    if title:
+        ax.title.set_text(title)
 
 
 @styled
 def plot_masses(
     mf: MassFunction, ax: Axes | None = None, *, title: str | None = None
 ) -> Figure:
-    """The masses of a finite mass function, one bar per focal element."""
+    """The masses of a finite mass function, one bar per focal element.
+    (``draw_masses`` then ``update_masses``.)"""
     if not isinstance(mf, MassFunction):
         raise EvidenceError("plot_masses draws a MassFunction on a finite frame")
-    items = mf.as_dict()
-    fig, ax = _axes(ax, (max(4.0, 0.7 * len(items) + 1.5), 2.5))
-    xs = np.arange(len(items))
-    ax.bar(xs, list(items.values()), color=BEL_COLOUR, edgecolor="black", linewidth=0.5)
-    for x, v in zip(xs, items.values(), strict=True):
-        ax.text(x, v, f"{v:.3g}", ha="center", va="bottom", fontsize=SMALL_PT)
-    ax.set_xticks(xs, [_name(s, mf.frame) for s in items])
-    ax.set_xlabel("focal element")
-    ax.set_ylim(0, 1.1)
-    ax.set_ylabel("mass")
-    if title:
-        ax.set_title(title)
+    fig, ax = _axes(ax, (max(4.0, 0.7 * len(mf.as_dict()) + 1.5), 2.5))
+    update_masses(draw_masses(ax, title=title), mf)
     return fig
 
 

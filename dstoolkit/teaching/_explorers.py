@@ -85,14 +85,26 @@ from dstoolkit.gauge._resonance import DetectionResult, detect_resonances
 from dstoolkit.gauge._sweep import PAPER_SWEEP
 from dstoolkit.gauge._tube import RecordingConditions, TubeSetup, spl_to_pa, synthesize_recording
 from dstoolkit.plots._evidence import (
-    plot_bel_pl,
+    BelPlArtists,
+    FocalIntervalArtists,
+    MassArtists,
+    PboxArtists,
+    PossibilityArtists,
+    animate,
+    draw_bel_pl,
+    draw_focal_intervals,
+    draw_masses,
+    draw_pbox,
+    draw_possibility,
+    pbox_grid,
     plot_enclosure,
     plot_filter_errors,
     plot_filter_step,
-    plot_focal_intervals,
-    plot_masses,
-    plot_pbox,
-    plot_possibility,
+    update_bel_pl,
+    update_focal_intervals,
+    update_masses,
+    update_pbox,
+    update_possibility,
 )
 from dstoolkit.plots._gauge import gauge_detection_figure, update_gauge_detection
 from dstoolkit.plots._kept import KeptFigure
@@ -248,6 +260,8 @@ class Explorer(widgets.VBox):
         ``SelectionSlider``s (or the original ``Dropdown``) and the others are disabled.
     figure
         The last figure drawn (closed; ``figure.savefig`` still works).
+    picture
+        The PNG of that figure as shown (also the explorer's still picture in print).
     numbers
         The last numbers shown; ``{"error": message}`` after an invalid setting.
     states
@@ -269,6 +283,7 @@ class Explorer(widgets.VBox):
                                     f"{list(self.controls)}, got {list(self.live)}")
         self.static = static_site() if static is None else static
         self.figure: Figure | None = None
+        self.picture: bytes | None = None
         self.numbers: dict[str, Any] = {}
         self.states: dict[tuple[Any, ...], dict[str, Any]] = {}
         self.readout = widgets.HTML()
@@ -277,6 +292,7 @@ class Explorer(widgets.VBox):
         self._engines: weakref.WeakKeyDictionary[Figure, Any] = weakref.WeakKeyDictionary()
         self._kept: Figure | None = None  # the figure whose background is kept for blitting
         self._background: Any = None
+        self._animated: list[Any] = []
         self._head = [widgets.HTML(f"<b>{html.escape(title)}</b>")] if title else []
         if self.static:
             self._build_static()
@@ -317,7 +333,8 @@ class Explorer(widgets.VBox):
         self.readout.value = readout_html(self.numbers)
         if fig is not None:
             self.figure = fig
-            self.output.outputs = (png_output(self.png(fig)),)
+            self.picture = self.png(fig)
+            self.output.outputs = (png_output(self.picture),)
             plt.close(fig)
 
     def png(self, fig: Figure) -> bytes:
@@ -335,14 +352,18 @@ class Explorer(widgets.VBox):
             FigureCanvasAgg(fig)
         if fig.get_dpi() != FIGURE_DPI:  # set_dpi marks the figure stale, even unchanged
             fig.set_dpi(FIGURE_DPI)
-        animated = sorted(fig.findobj(lambda artist: artist.get_animated()),
-                          key=lambda artist: artist.get_zorder())
-        if animated and fig is self._kept and not fig.stale:
+        if fig is self._kept and not fig.stale:
             fig.canvas.restore_region(self._background)
+            animated = self._animated
         else:
             self._draw(fig)
+            # the animated artists are looked up at each whole draw (adding an artist makes
+            # the figure stale)
+            animated = sorted(fig.findobj(lambda artist: artist.get_animated()),
+                              key=lambda artist: artist.get_zorder())
             self._kept = fig if animated else None
             self._background = fig.canvas.copy_from_bbox(fig.bbox) if animated else None
+            self._animated = animated
         for artist in animated:
             fig.draw_artist(artist)
         return encode_png(np.asarray(fig.canvas.buffer_rgba()),
@@ -460,19 +481,30 @@ def site_note(live: Sequence[widgets.ValueWidget], some_disabled: bool) -> widge
 LEVEL_FRAME = ("low", "mid", "high")
 
 
-def mass_function_explorer() -> Explorer:
-    """Masses on {low}, {mid}, {high} and {low, mid}; the rest goes to Θ (ignorance).
+def mass_function_explorer(low: float = 0.4, mid: float = 0.0, high: float = 0.1,
+                           low_mid: float = 0.3) -> Explorer:
+    """Masses on {low}, {mid}, {high} and {low, mid} (the sliders start at the values
+    given); the rest goes to Θ (ignorance).
 
     Shows Bel and Pl of every subset of Θ = {low, mid, high} and BetP of the singletons
     (paper Def. 2; Bel/Pl/BetP as in the chapter on mass functions). Moving mass from Θ
     to a singleton closes the gap between Bel and Pl.
     """
     controls = {
-        "low": slider("m({low})", 0.4, 0.0, 1.0, 0.05, readout_format=".2f"),
-        "mid": slider("m({mid})", 0.0, 0.0, 1.0, 0.05, readout_format=".2f"),
-        "high": slider("m({high})", 0.1, 0.0, 1.0, 0.05, readout_format=".2f"),
-        "low_mid": slider("m({low, mid})", 0.3, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "low": slider("m({low})", low, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "mid": slider("m({mid})", mid, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "high": slider("m({high})", high, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "low_mid": slider("m({low, mid})", low_mid, 0.0, 1.0, 0.05, readout_format=".2f"),
     }
+
+    @functools.cache
+    def drawn() -> tuple[Figure, MassArtists, BelPlArtists]:
+        """The figure, made by the first render and updated by the others."""
+        fig = Figure(figsize=(9.5, 3.0), layout="constrained")
+        ax1, ax2 = fig.subplots(1, 2, width_ratios=[1, 2.2])
+        return (fig, draw_masses(ax1, title="masses", animated=True),
+                draw_bel_pl(ax2, LEVEL_FRAME, title="belief, plausibility, pignistic",
+                            animated=True))
 
     def render(low: float, mid: float, high: float, low_mid: float):
         given = {"low": low, "mid": mid, "high": high, ("low", "mid"): low_mid}
@@ -483,10 +515,9 @@ def mass_function_explorer() -> Explorer:
                 "goes to Θ)"
             )
         mf = MassFunction({**given, LEVEL_FRAME: max(rest, 0.0)}, LEVEL_FRAME)
-        fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(9.5, 3.0), layout="constrained",
-                                       width_ratios=[1, 2.2])
-        plot_masses(mf, ax1, title="masses")
-        plot_bel_pl(mf, ax=ax2, title="belief, plausibility, pignistic")
+        fig, masses, bel_pl = drawn()
+        update_masses(masses, mf)
+        update_bel_pl(bel_pl, mf)
         betp = mf.pignistic()
         return fig, {"m(Θ)": max(rest, 0.0), **{f"BetP({h})": betp[h] for h in LEVEL_FRAME},
                      "Pl({low}) − Bel({low})": mf.plausibility("low") - mf.belief("low")}
@@ -502,30 +533,37 @@ def mass_function_explorer() -> Explorer:
 # -- conflict: Zadeh's example -------------------------------------------------------------
 
 
-
-
-
-
-
-def conflict_explorer() -> Explorer:
+def conflict_explorer(x: float = 0.99, y: float = 0.99, epsilon: float = 0.0,
+                      rule: str = "Dempster") -> Explorer:
     """Zadeh's example (paper eq. 1 and its famous failure): two nearly certain doctors
-    who disagree, combined by Dempster's rule or Yager's, after an optional discount ε."""
+    who disagree, combined by Dempster's rule or Yager's, after an optional discount ε
+    (the controls start at the values given)."""
     controls = {
-        "x": slider("doctor 1: m(meningitis)", 0.99, 0.0, 1.0, 0.01, readout_format=".2f"),
-        "y": slider("doctor 2: m(concussion)", 0.99, 0.0, 1.0, 0.01, readout_format=".2f"),
-        "epsilon": slider("discount ε", 0.0, 0.0, 0.5, 0.01, readout_format=".2f"),
-        "rule": widgets.Dropdown(options=["Dempster", "Yager"], value="Dempster",
+        "x": slider("doctor 1: m(meningitis)", x, 0.0, 1.0, 0.01, readout_format=".2f"),
+        "y": slider("doctor 2: m(concussion)", y, 0.0, 1.0, 0.01, readout_format=".2f"),
+        "epsilon": slider("discount ε", epsilon, 0.0, 0.5, 0.01, readout_format=".2f"),
+        "rule": widgets.Dropdown(options=["Dempster", "Yager"], value=rule,
                                  description="rule"),
     }
+
+    @functools.cache
+    def drawn() -> tuple[Figure, list[MassArtists]]:
+        """The figure, made by the first render and updated by the others."""
+        fig = Figure(figsize=(10, 2.8), layout="constrained")
+        axes = fig.subplots(1, 3, sharey=True)
+        panels = [draw_masses(ax, title=name, animated=True) for ax, name in
+                  zip(axes, ("doctor 1", "doctor 2", "combined"), strict=True)]
+        animate(axes[2], axes[2].title)  # the rule's name
+        return fig, panels
 
     def render(x: float, y: float, epsilon: float, rule: str):
         m1, m2 = zadeh_sources(x, y, epsilon)
         k = conflict(m1, m2)
         combined = dempster(m1, m2) if rule == "Dempster" else yager(m1, m2)
-        fig, axes = plt.subplots(1, 3, figsize=(10, 2.8), layout="constrained", sharey=True)
-        for ax, mf, name in zip(axes, (m1, m2, combined),
-                                ("doctor 1", "doctor 2", f"{rule}'s rule"), strict=True):
-            plot_masses(mf, ax, title=name)
+        fig, panels = drawn()
+        update_masses(panels[0], m1)
+        update_masses(panels[1], m2)
+        update_masses(panels[2], combined, title=f"{rule}'s rule")
         return fig, {"conflict K": k, **{f"m({h})": combined.mass_of(h) for h in ZADEH_FRAME},
                      "m(Θ)": combined.mass_of(ZADEH_FRAME)}
 
@@ -536,34 +574,45 @@ def conflict_explorer() -> Explorer:
 # -- dependent evidence: the paper's Appendix A -----------------------------------------------
 
 
-
-
-
-def dependent_combination_explorer() -> Explorer:
-    """Vary the masses of E1 and E2 of Appendix A: energies, degree of dependence D,
-    dependency coefficients R12, R21 (eqs. A1–A6) and the combined evidence (A7–A8 then
-    Dempster), beside plain Dempster that treats them as independent."""
+def dependent_combination_explorer(a2: float = 0.6, a3: float = 0.1, b2: float = 0.3,
+                                   b3: float = 0.6, mass_rule: str = "min") -> Explorer:
+    """Vary the masses of E1 and E2 of Appendix A (the controls start at the values given;
+    the defaults are the paper's): energies, degree of dependence D, dependency
+    coefficients R12, R21 (eqs. A1–A6) and the combined evidence (A7–A8 then Dempster),
+    beside plain Dempster that treats them as independent."""
     controls = {
-        "a2": slider("m1([0.30, 1.90])", 0.6, 0.0, 1.0, 0.05, readout_format=".2f"),
-        "a3": slider("m1([0.32, 1.93])", 0.1, 0.0, 1.0, 0.05, readout_format=".2f"),
-        "b2": slider("m2([0.41, 1.61])", 0.3, 0.0, 1.0, 0.05, readout_format=".2f"),
-        "b3": slider("m2([0.30, 1.90])", 0.6, 0.0, 1.0, 0.05, readout_format=".2f"),
-        "mass_rule": widgets.Dropdown(options=["min", "m1", "m2"], value="min",
+        "a2": slider("m1([0.30, 1.90])", a2, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "a3": slider("m1([0.32, 1.93])", a3, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "b2": slider("m2([0.41, 1.61])", b2, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "b3": slider("m2([0.30, 1.90])", b3, 0.0, 1.0, 0.05, readout_format=".2f"),
+        "mass_rule": widgets.Dropdown(options=["min", "m1", "m2"], value=mass_rule,
                                       description="m(D) rule"),
     }
+    names = ("E1", "E2", "dependent combination (A7–A8, then eq. 1)",
+             "Dempster as if independent")
+
+    @functools.cache
+    def drawn() -> tuple[Figure, list[tuple[FocalIntervalArtists, Any]]]:
+        """The figure, made by the first render and updated by the others: per panel, the
+        bars and the red line at the pignistic expectation."""
+        fig = Figure(figsize=(10, 4.6), layout="constrained")
+        axes = fig.subplots(2, 2, sharex=True)
+        panels = [(draw_focal_intervals(ax, title=name, animated=True),
+                   ax.axvline(0.0, color="#d62728", lw=1.2))
+                  for ax, name in zip(axes.flat, names, strict=True)]
+        for bars, line in panels:
+            animate(bars.ax, line)
+        return fig, panels
 
     def render(a2: float, a3: float, b2: float, b3: float, mass_rule: str):
         e1, e2 = appendix_evidence((a2, a3), (b2, b3))
         dep = dependence(e1, e2, mass_rule=mass_rule)
         both = combine_dependent(e1, e2, mass_rule=mass_rule)
         naive = dempster(e1, e2)
-        fig, axes = plt.subplots(2, 2, figsize=(10, 4.6), layout="constrained", sharex=True)
-        xlim = (-0.4, 3.6)
-        for ax, ev, name in zip(axes.flat, (e1, e2, both, naive),
-                                ("E1", "E2", "dependent combination (A7–A8, then eq. 1)",
-                                 "Dempster as if independent"), strict=True):
-            plot_focal_intervals(ev, ax, xlim=xlim, title=name)
-            ax.axvline(ev.pignistic_expectation(), color="#d62728", lw=1.2)
+        fig, panels = drawn()
+        for (bars, line), ev in zip(panels, (e1, e2, both, naive), strict=True):
+            update_focal_intervals(bars, ev, xlim=(-0.4, 3.6))
+            line.set_xdata([ev.pignistic_expectation()] * 2)
         return fig, {"En'(E1)": dep.energy1, "En'(E2)": dep.energy2,
                      "En'(E1,E2)": dep.joint_energy, "D": dep.degree, "R12": dep.r12,
                      "R21": dep.r21, "E[dependent]": both.pignistic_expectation(),
@@ -595,14 +644,22 @@ def noise_evidence_explorer(
     }
     view = (lower - 0.6 * span, upper + 0.6 * span)
 
+    @functools.cache
+    def drawn() -> tuple[Figure, PossibilityArtists, FocalIntervalArtists, PboxArtists]:
+        """The figure, made by the first render and updated by the others."""
+        fig = Figure(figsize=(12, 3.0), layout="constrained")
+        ax1, ax2, ax3 = fig.subplots(1, 3)
+        return (fig, draw_possibility(ax1, view, evidence=True, title="π and its α-cuts",
+                                      animated=True),
+                draw_focal_intervals(ax2, title="focal elements", animated=True),
+                draw_pbox(ax3, pbox_grid(*view), title="p-box", animated=True))
+
     def render(lower: float, mode: float, upper: float, p: int, epsilon: float):
         ev = triangular_evidence(lower, mode, upper, p=p, epsilon=epsilon)
-        fig, axes = plt.subplots(1, 3, figsize=(12, 3.0), layout="constrained")
-        plot_possibility(lower, mode, upper, p, axes[0], evidence=ev, xlim=view,
-                         title="π and its α-cuts")
-        plot_focal_intervals(ev, axes[1], xlim=view, title="focal elements",
-                             label_masses=p <= 6)
-        plot_pbox(ev, axes[2], xlim=view, title="p-box")
+        fig, possibility, bars, pbox = drawn()
+        update_possibility(possibility, lower, mode, upper, p, evidence=ev)
+        update_focal_intervals(bars, ev, xlim=view, label_masses=p <= 6)
+        update_pbox(pbox, ev)
         t_lo, t_hi = default_theta(lower, mode, upper)
         return fig, {"mass per cut": (1.0 - epsilon) / p, "m(Θ)": epsilon,
                      "Θ": f"[{t_lo:.4g}, {t_hi:.4g}]",
@@ -693,6 +750,13 @@ def compare_image_methods(
     return out
 
 
+def _extension_extent(ax: Any, bars: Any) -> tuple[float, ...]:
+    """What the autoscaled ranges of :func:`extension_explorer`'s figure follow: the data
+    x extent of f's panel ``ax`` and the y extent of both panels (they share y)."""
+    ys = [v for a in (ax, bars) for v in a.dataLim.intervaly if np.isfinite(v)]
+    return (*ax.dataLim.intervalx, min(ys, default=np.nan), max(ys, default=np.nan))
+
+
 def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0,
                        sign: int = 1) -> Explorer:
     """The image of an interval [lo, hi] through a function of one variable by the vertex
@@ -708,43 +772,81 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
                                  style={"description_width": "initial"}),
     }
     colours = {"vertex": "#ff7f0e", "monotone": "#9467bd", "subdivision": "#2ca02c"}
+    x = np.linspace(-4.0, 4.0, 801)
+
+    @functools.cache
+    def drawn() -> dict[str, Any]:
+        """The figure, made by the first render and updated by the others: f, f on the
+        box and the box; per method its image as a bar and a band across f, a ⚠ (shown
+        when it warns) and the word "refused" (shown when it refuses)."""
+        fig = Figure(figsize=(9.5, 3.4), layout="constrained")
+        ax, bars = fig.subplots(1, 2, sharey=True, width_ratios=[3, 1.3])
+        (curve,) = ax.plot(x, x, color="black", lw=1.2)
+        (on_box,) = ax.plot(x, x, color="#1f77b4", lw=3, label="f on the box")
+        box = ax.axvspan(0.0, 1.0, color="#1f77b4", alpha=0.12)
+        ax.set_xlabel("x")
+        methods = {}
+        for i, method in enumerate(IMAGE_METHOD_NAMES):
+            methods[method] = {
+                "refused": bars.text(i, 0.5, "refused:\nNot-\nMonotone-\nError", ha="center",
+                                     va="center", fontsize=8, color="#b00020",
+                                     transform=bars.get_xaxis_transform()),
+                "bar": bars.plot([i, i], [0.0, 1.0], lw=8, solid_capstyle="butt",
+                                 color=colours[method])[0],
+                "band": ax.axhspan(0.0, 1.0, color=colours[method], alpha=0.08),
+                "warning": bars.text(i, 0.0, "⚠", ha="center", va="bottom", color="#b00020",
+                                     fontsize=12),
+            }
+        bars.set_xticks(range(3), IMAGE_METHOD_NAMES, fontsize=8)
+        bars.set_xlim(-0.6, 2.6)
+        bars.set_title("image f([lo, hi])")
+        ax.set_title(f"f(x) = {function} on [{lo:g}, {hi:g}]")  # its font; its text follows
+        animate(ax, curve, on_box, box, ax.title, *(m["band"] for m in methods.values()))
+        animate(bars, *(a for m in methods.values() for k, a in m.items() if k != "band"))
+        return {"fig": fig, "ax": ax, "bars": bars, "curve": curve, "on_box": on_box,
+                "box": box, "methods": methods}
 
     def render(function: str, lo: float, hi: float, sign: int):
         if lo > hi:
             raise EvidenceError(f"the box [{lo:g}, {hi:g}] has lo > hi: move the ends")
         f = EXTENSION_FUNCTIONS[function]
         result = compare_image_methods(f, lo, hi, sign)
-        x = np.linspace(-4.0, 4.0, 801)
-        fig, (ax, bars) = plt.subplots(1, 2, figsize=(9.5, 3.4), layout="constrained",
-                                       sharey=True, width_ratios=[3, 1.3])
-        ax.plot(x, f(x[:, None]), color="black", lw=1.2)
+        d = drawn()
+        d["curve"].set_ydata(f(x[:, None]))
         inside = np.linspace(lo, hi, 201)
-        ax.plot(inside, f(inside[:, None]), color="#1f77b4", lw=3, label="f on the box")
-        ax.axvspan(lo, hi, color="#1f77b4", alpha=0.12)
-        ax.set_xlabel("x")
-        ax.set_title(f"f(x) = {function} on [{lo:g}, {hi:g}]")
+        d["on_box"].set_data(inside, f(inside[:, None]))
+        d["box"].set_x(lo)
+        d["box"].set_width(hi - lo)
+        d["ax"].title.set_text(f"f(x) = {function} on [{lo:g}, {hi:g}]")
         numbers: dict[str, Any] = {}
-        for i, method in enumerate(IMAGE_METHOD_NAMES):
+        for method, shown in d["methods"].items():
             entry = result[method]
-            if entry["image"] is None:
-                bars.text(i, 0.5, "refused:\nNot-\nMonotone-\nError", ha="center",
-                          va="center", fontsize=8, color="#b00020",
-                          transform=bars.get_xaxis_transform())
+            refused = entry["image"] is None
+            shown["refused"].set_visible(refused)
+            for artist in ("bar", "band", "warning"):
+                shown[artist].set_visible(not refused)
+            if refused:
                 numbers[method] = "NotMonotoneError"
                 continue
             a, b = np.round(entry["image"], 10) + 0.0  # 1e-19 from the zoom shows as 0
-            bars.plot([i, i], [a, b], lw=8, solid_capstyle="butt", color=colours[method])
-            ax.axhspan(a, b, color=colours[method], alpha=0.08)
+            shown["bar"].set_ydata([a, b])
+            shown["band"].set_y(a)
+            shown["band"].set_height(b - a)
             warn = "warning" in entry["message"].lower()
-            if warn:
-                bars.text(i, b, "⚠", ha="center", va="bottom", color="#b00020", fontsize=12)
+            shown["warning"].set_visible(warn)
+            shown["warning"].set_y(b)
             numbers[method] = f"[{a:.4g}, {b:.4g}]" + (" ⚠ too narrow?" if warn else "")
-        bars.set_xticks(range(3), IMAGE_METHOD_NAMES, fontsize=8)
-        bars.set_xlim(-0.6, 2.6)
-        bars.set_title("image f([lo, hi])")
+        # the ranges follow what is shown, as when drawn anew: autoscaled from the x extent
+        # of f's panel and the y extent of both (setting them, even unchanged, would redraw
+        # the whole figure)
+        extent = _extension_extent(d["ax"], d["bars"])
+        for ax in (d["ax"], d["bars"]):
+            ax.relim(visible_only=True)
+        if _extension_extent(d["ax"], d["bars"]) != extent:
+            d["ax"].autoscale_view()
         numbers.update({f"{m} evaluations": result[m]["evaluations"]
                         for m in IMAGE_METHOD_NAMES})
-        return fig, numbers
+        return d["fig"], numbers
 
     live = {"hi": positions(controls["hi"], 8, 0.5, 4.0),
             "function": positions(controls["function"])}
