@@ -95,6 +95,20 @@ def noise_boxes(noise: BoundedNoise, p: int, epsilon: float, theta: Any) -> Boxe
     return Boxes(ev.boxes_lo[None], ev.boxes_hi[None], np.asarray(ev.mass)[None])
 
 
+def _rows_in_order(values: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """``values[r, order[r]]`` for every run r: each run's rows (axis 1) picked and reordered.
+
+    One ``np.take`` on the flattened rows: an order of magnitude faster than indexing with a
+    pair of broadcast index arrays once a batch has a few thousand rows.
+    """
+    runs, rows = values.shape[:2]
+    if runs == 1:
+        return values[:, order[0]]
+    flat = (np.arange(runs)[:, None] * rows + order).ravel()
+    picked = np.take(values.reshape(runs * rows, -1), flat, axis=0)
+    return picked.reshape(order.shape + values.shape[2:])
+
+
 def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes:
     """Merge equal boxes within each run, adding their masses (eq. 14).
 
@@ -106,19 +120,19 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
     coords = np.concatenate([lo, hi], axis=-1)
     keys = (*(coords[..., j] for j in range(2 * n - 1, -1, -1)), ~(mass > 0))
     order = np.lexsort(keys, axis=-1)
-    every_run = np.arange(runs)[:, None]
-    coords, mass = coords[every_run, order], mass[every_run, order]
+    coords, mass = _rows_in_order(coords, order), _rows_in_order(mass, order)
     valid = mass > 0
-    start = np.ones((runs, rows), dtype=bool)
-    start[:, 1:] = np.any(coords[:, 1:] != coords[:, :-1], axis=-1) | (valid[:, 1:]
-                                                                        != valid[:, :-1])
-    slot = (every_run * rows + np.cumsum(start, axis=1) - 1).ravel()  # run's group, flat
+    start = np.ones((runs, rows), dtype=bool)  # first row of a group of equal boxes
+    start[:, 1:] = valid[:, 1:] != valid[:, :-1]
+    for j in range(2 * n):
+        start[:, 1:] |= coords[:, 1:, j] != coords[:, :-1, j]
+    slot = (np.arange(runs)[:, None] * rows + np.cumsum(start, axis=1) - 1).ravel()
     summed = np.bincount(slot, weights=np.where(valid, mass, 0.0).ravel(),
                          minlength=runs * rows).reshape(runs, rows)
     width = max(1, int((summed > 0).sum(axis=1).max()))
-    first = start.ravel()
+    first = np.flatnonzero(start)
     out = np.empty((runs * rows, 2 * n))
-    out[slot[first]] = coords.reshape(-1, 2 * n)[first]
+    out[np.take(slot, first)] = np.take(coords.reshape(-1, 2 * n), first, axis=0)
     out, summed = out.reshape(runs, rows, 2 * n)[:, :width], summed[:, :width]
     out = np.where((summed > 0)[..., None], out, out[:, :1])
     return Boxes(out[..., :n], out[..., n:], summed)
@@ -223,7 +237,6 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     unit = np.where(unit > 0, unit, 1.0)[:, None, :]
     cols = _Columns(n)
     packed = cols.pack(bm, unit)
-    every_run = np.arange(runs)[:, None]
     for rnd in range(MAX_CLUSTER_ROUNDS + 1):
         count = (packed[..., cols.mass] > 0).sum(axis=1)
         most = int(count.max())
@@ -236,7 +249,7 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
             )
         # boxes with mass first, by centre along dimension rnd % n (ties keep their order)
         order = np.argsort(packed[..., cols.centre + rnd % n], axis=1, kind="stable")
-        packed = packed[every_run, order[:, :most]]
+        packed = _rows_in_order(packed, order[:, :most])
         pair = cols.pair_hulls(packed, unit)
         cost = pair[..., cols.ms] - packed[:, :-1, cols.ms] - packed[:, 1:, cols.ms]
         if int(count.min()) < most:  # a run's boxes beyond its count have no mass
