@@ -186,6 +186,16 @@ class _Columns:
         np.add(pair[..., self.lo], pair[..., self.hi], out=pair[..., self.centre : self.mass])
         return pair
 
+    def merge_pairs(self, packed: np.ndarray, pair: np.ndarray, chosen: np.ndarray) -> None:
+        """Replace each chosen pair (boxes i, i + 1 of a run) by its hull, in place: row i
+        takes the hull's row, row i + 1 is killed."""
+        runs, width = packed.shape[:2]
+        picked = np.flatnonzero(chosen)  # index into the (runs, width − 1) pairs
+        first = picked + picked // (width - 1)  # row i, flat over (runs, width)
+        rows = packed.reshape(runs * width, self.width, copy=False)  # a view: writes land
+        rows[first] = np.take(pair.reshape(-1, self.width), picked, axis=0)
+        rows[first + 1, self.dead] = self.dead_row
+
 
 def _local_minima(cost: np.ndarray) -> np.ndarray:
     """Pairs whose finite Δ is ≤ the left neighbour's and < the right neighbour's.
@@ -260,8 +270,7 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
                 "clustering the focal elements found no pair to merge (their sizes are not "
                 "finite numbers); check the model's f and g for NaN or infinite images"
             )
-        packed[:, :-1][chosen] = pair[chosen]
-        packed[:, 1:][chosen, cols.dead] = cols.dead_row
+        cols.merge_pairs(packed, pair, chosen)
     lo, hi, mass = packed[..., cols.lo], packed[..., cols.hi], packed[..., cols.mass]
     merged = packed[..., cols.merged] > 0
     # canonical order: rounds after a run's own last one may have reordered its boxes
