@@ -149,8 +149,9 @@ class _Columns:
     ``[lo (n) | hi (n) | size | mass·size | merged | centre (n) | mass]``: a round moves all
     boxes with one gather, and the per-box terms of Denœux's Δ (|A| and m_A·|A|) and the sort
     keys (lo + hi per dimension, ∞ for a box without mass) are computed once per box, when it
-    is made, not in every round. A merge kills the second box of its pair by writing
-    :attr:`dead_row` (centres ∞, mass 0) into the last n + 1 columns.
+    is made, not in every round (the same operations on the same values, so the same
+    numbers). A merge kills the second box of its pair by writing :attr:`dead_row`
+    (centres ∞, mass 0) into the last n + 1 columns.
     """
 
     def __init__(self, n: int) -> None:
@@ -235,7 +236,6 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
 
     Returns the capped mass functions and, per run, the mass now carried by merged boxes.
     """
-    runs, _, n = bm.lo.shape
     live = bm.mass > 0
     if not (np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo[live]))
             and np.all(np.isfinite(bm.hi[live]))):
@@ -243,6 +243,7 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
             "cluster_boxes needs bounded boxes with finite masses; got NaN or infinite values "
             "(check the filter's inputs and noise bounds)"
         )
+    n = bm.lo.shape[-1]
     unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
     unit = np.where(unit > 0, unit, 1.0)[:, None, :]
     cols = _Columns(n)
