@@ -8,8 +8,8 @@ value runs the explorer's callback synchronously: the computation, the figure, i
 and the messages to the front end. The time from the assignment to its return is the
 latency; the script prints its median (target < 80 ms), best and worst for every
 explorer, then splits the filter widget's changes (the paper's 9.6 m case, 83
-resonances, p = 3, ε = 0.05) into their parts in-process: the filter run, the figure and
-its PNG.
+resonances, p = 3, ε = 0.05) into their parts in-process: the filter run, the figure
+(kept and updated in place, as the widget does) and its PNG.
 
 The changes of each explorer visit different values of several controls, so that no
 change finds its whole result in a cache. The machine is shared: the load average is
@@ -117,9 +117,8 @@ def in_process(changes: int) -> dict[str, list[float]]:
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
-    from dstoolkit.plots import plot_filter_errors
+    from dstoolkit.plots import FilterErrorsFigure
     from dstoolkit.studies import filter_case, filter_summary
     from dstoolkit.teaching import filter_widget
 
@@ -127,6 +126,7 @@ def in_process(changes: int) -> dict[str, list[float]]:
         ex = filter_widget()
     values = ex.values()
     parts: dict[str, list[float]] = {"filter run": [], "figure": [], "PNG": []}
+    kept = None  # the figure, kept and updated in place as the widget does
     pairs = CHANGES["filter_widget()"]
     for i in range(changes):
         name, value = pairs[i % len(pairs)]
@@ -139,12 +139,15 @@ def in_process(changes: int) -> dict[str, list[float]]:
             p=values["p"], epsilon=values["epsilon"], start=values["start"],
             mass_rule=values["mass_rule"], orders=values["orders"])
         run = time.perf_counter()
-        fig = plot_filter_errors(result, seq.truth, seq.readings, title=name)
+        if kept is None:
+            kept = FilterErrorsFigure(result, seq.truth, seq.readings, title=name, pyplot=False)
+        else:
+            kept.update(result, seq.truth, seq.readings, title=name)
+        fig = kept.figure
         filter_summary(seq, orders, result)
         drawn = time.perf_counter()
         ex.png(fig)
         done = time.perf_counter()
-        plt.close(fig)
         parts["filter run"].append(run - start)
         parts["figure"].append(drawn - run)
         parts["PNG"].append(done - drawn)

@@ -2,7 +2,9 @@
 
 Every figure is drawn in one style (``_style``): at most the book's column wide, text of
 9 pt or more, labelled axes with units, legends off the data. ``use_style()`` makes it
-matplotlib's default for figures drawn by hand.
+matplotlib's default for figures drawn by hand. The pictures of filter runs are also
+classes (``EnclosureFigure``, ``FilterErrorsFigure``, ``FilterStepFigure``) whose
+``update`` redraws a kept figure for another run, as the explorers do on every change.
 """
 
 from __future__ import annotations
@@ -17,9 +19,6 @@ from ._evidence import (  # noqa: E402
     markdown_table,
     plot_bel_pl,
     plot_boxes,
-    plot_enclosure,
-    plot_filter_errors,
-    plot_filter_step,
     plot_focal_intervals,
     plot_masses,
     plot_pbox,
@@ -30,6 +29,14 @@ from ._experiments import (  # noqa: E402
     STYLE,
     plot_estimates,
     plot_table3,
+)
+from ._filter_figures import (  # noqa: E402
+    EnclosureFigure,
+    FilterErrorsFigure,
+    FilterStepFigure,
+    plot_enclosure,
+    plot_filter_errors,
+    plot_filter_step,
 )
 from ._gauge import (  # noqa: E402
     plot_recording,
@@ -56,6 +63,9 @@ from ._style import (  # noqa: E402
 __all__ = [
     "BEL_COLOUR",
     "BETP_COLOUR",
+    "EnclosureFigure",
+    "FilterErrorsFigure",
+    "FilterStepFigure",
     "GREY",
     "STYLE",
     "TRUTH_COLOUR",

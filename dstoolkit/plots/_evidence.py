@@ -32,7 +32,6 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Rectangle
 from matplotlib.text import Text
-from matplotlib.ticker import FixedLocator, NullLocator, StrMethodFormatter
 
 from dstoolkit.errors import EvidenceError
 from dstoolkit.evidence._finite_frame import MassFunction
@@ -619,47 +618,7 @@ def plot_products(
     return fig
 
 
-# -- filter runs -------------------------------------------------------------------------
-
-
-@styled
-def plot_enclosure(
-    result: Any,
-    truth: Any,
-    readings: Any = None,
-    ax: Axes | None = None,
-    *,
-    component: int = 0,
-    title: str | None = None,
-    ylabel: str = "state x_k",
-) -> Figure:
-    """A filter run's band [lower, upper] per step, the truth and the readings.
-
-    ``result`` is a :class:`~dstoolkit.filters.FilterResult` (its ``lower``/``upper``: boxes of
-    a set-membership filter, hulls of evidence, or ±3σ of a Kalman filter). Steps flagged in
-    ``result.diagnostics["resets"]`` (the box became empty) get red vertical lines.
-    """
-    fig, ax = _axes(ax, (8.0, 3.0))
-    lower = np.asarray(result.lower)[:, component]
-    upper = np.asarray(result.upper)[:, component]
-    k = np.arange(lower.size)
-    ax.fill_between(k, lower, upper, step="mid", alpha=0.35, label=f"{result.method} band")
-    ax.plot(k, np.asarray(truth).reshape(lower.size, -1)[:, component], "k-", lw=1.2,
-            label="truth")
-    if readings is not None:
-        ax.plot(k, np.asarray(readings).reshape(lower.size, -1)[:, 0], ".", ms=3,
-                color="0.5", label="readings")
-    for r in np.flatnonzero(result.diagnostics.get("resets", np.zeros(0, bool))):
-        ax.axvline(r, color=BETP_COLOUR, lw=1)
-    ax.set_xlabel("step k")
-    ax.set_ylabel(ylabel)
-    if title:
-        ax.set_title(title)
-    legend_above(ax)
-    return fig
-
-
-# -- random relations and the recursive filter (book/random_sets.md, recursive_filter.md) --
+# -- random relations (book/random_sets.md) ------------------------------------------------
 
 
 @styled
@@ -692,121 +651,6 @@ def plot_boxes(
     ax.set_ylabel("ξ₂")
     if title:
         ax.set_title(title)
-    return fig
-
-
-#: The evidence a recorded step of the dependent-evidence filter holds (Steps 2–6), in
-#: the order of the paper's flowchart (Fig. 3), with the titles used in the pictures.
-FILTER_STEP_PANELS: tuple[tuple[str, str], ...] = (
-    ("state", "Step 2: state x̂_k + V"),
-    ("prediction", "Step 2: prediction E_{k+1|k}"),
-    ("observation_prediction", "Step 3: observation prediction g(E_{k+1|k})"),
-    ("observation", "Step 4: observation z_{k+1} + W"),
-    ("fused", "Step 4: fused (Dempster)"),
-    ("mapped_back", "Step 5: mapped back through g⁻¹"),
-    ("final", "Step 6: final (dependent combination)"),
-)
-
-
-@styled
-def plot_filter_step(
-    entry: dict[str, Any],
-    truth: float | None = None,
-    *,
-    half_width: float | None = None,
-    figsize: tuple[float, float] = (6.4, 10.0),
-    unit: str = "Hz",
-) -> Figure:
-    """Every evidence of one recorded step of the paper's filter (a ``FilterResult.steps``
-    entry of a scalar model), stacked top to bottom as in the flowchart (Fig. 3).
-
-    Each panel draws the focal elements as in :func:`plot_focal_intervals`. The panels
-    about x_{k+1} share one x range, centred on the final estimate (red line; black: the
-    ``truth``); the state panel, about x_k, has the same width around x̂_k, so widths
-    compare across panels. ``half_width`` defaults to the half-width of the observation
-    evidence's widest cut (its Θ aside) plus a margin.
-    """
-    if "final" not in entry:
-        raise EvidenceError("plot_filter_step needs a recorded step k >= 2 (run(..., "
-                            "record=True).steps[k - 1]); step 1 is the start value only")
-    est = float(np.ravel(entry["estimate"])[0])
-    if half_width is None:
-        obs = entry["observation"]
-        cuts = obs.widths < obs.widths.max()
-        half_width = 0.75 * float((obs.hi[cuts] - obs.lo[cuts]).max() if cuts.any() else 1.0)
-    centre = est if truth is None else 0.5 * (est + float(truth))
-    xlim = (centre - half_width, centre + half_width)
-    shift = centre - float(entry["state"].pignistic_expectation())
-    panels = [(key, name) for key, name in FILTER_STEP_PANELS if entry.get(key) is not None]
-    fig, axes = plt.subplots(len(panels), 1, figsize=column_size(*figsize),
-                             layout="constrained", squeeze=False)
-    axes = axes[:, 0]
-    for ax, (key, name) in zip(axes, panels, strict=True):
-        ev = entry[key]
-        lim = (xlim[0] - shift, xlim[1] - shift) if key == "state" else xlim
-        plot_focal_intervals(ev, ax, xlim=lim, label_masses=len(ev) <= 6,
-                             xlabel=f"state at step {entry['step'] - 1} ({unit})"
-                             if key == "state" else "")
-        ax.set_title(f"{name} — {len(ev)} focal elements", loc="left")
-        ax.set_ylabel("mass")
-        if key != "state":
-            ax.axvline(est, color=BETP_COLOUR, lw=1.2)
-            if truth is not None:
-                ax.axvline(float(truth), color="black", lw=1.0, ls="--")
-            if ax is not axes[-1]:
-                ax.tick_params(labelbottom=False)
-    missing = [name for key, name in FILTER_STEP_PANELS if entry.get(key) is None]
-    if missing:  # no empty panels: the steps a total conflict stopped are named instead
-        fig.suptitle("not reached (total conflict): " + "; ".join(missing), fontsize=SMALL_PT)
-    axes[-1].set_xlabel(f"state at step {entry['step']} ({unit}); red: estimate, dashed: truth")
-    return fig
-
-
-@styled
-def plot_filter_errors(
-    result: Any,
-    truth: Any,
-    readings: Any,
-    axes: Sequence[Axes] | None = None,
-    *,
-    title: str | None = None,
-    unit: str = "Hz",
-) -> Figure:
-    """A scalar filter run against the truth, as the paper's Fig. 10: top, x̂_k − x_k and
-    the readings' z_k − x_k; bottom, the absolute errors |x̂_k − x_k| and |z_k − x_k| on a
-    log scale. (The hull of the final evidence is not drawn: with the discounts' Θ in it,
-    it is far wider than the readings' spread.)
-
-    Drawn for speed (the filter widget redraws it on every change): fixed margins instead
-    of a layout engine, and fixed log ticks with plain labels (no minor ticks, no mathtext).
-    """
-    if axes is None:
-        fig, axes = plt.subplots(2, 1, figsize=column_size(6.4, 4.4), sharex=True,
-                                 layout="none")
-        fig.subplots_adjust(left=0.12, right=0.98, top=0.8, bottom=0.11, hspace=0.12)
-    fig = axes[0].figure
-    x = np.asarray(truth, dtype=float).reshape(-1)
-    est = np.asarray(result.estimates, dtype=float).reshape(-1) - x
-    z = np.asarray(readings, dtype=float).reshape(-1) - x
-    k = np.arange(1, x.size + 1)
-    top, bottom = axes
-    top.plot(k, z, ".", ms=3, color="0.55", label="reading z_k − x_k")
-    top.plot(k, est, "-", lw=1.4, color=BETP_COLOUR, label="estimate x̂_k − x_k")
-    top.axhline(0.0, color="black", lw=0.8)
-    top.set_ylabel(f"deviation ({unit})")
-    if title:  # above the legend, wrapped to the figure's width
-        fig.suptitle(title, x=0.01, y=0.99, ha="left", va="top", fontsize=SMALL_PT, wrap=True)
-    legend_above(top, ncols=2)
-    bottom.semilogy(k, np.abs(z) + 1e-6, ".", ms=3, color="0.55", label="|z_k − x_k|")
-    bottom.semilogy(k, np.abs(est) + 1e-6, "-", lw=1.4, color=BETP_COLOUR,
-                    label="|x̂_k − x_k|")
-    bottom.set_ylabel(f"|error| ({unit})")
-    bottom.yaxis.set_major_locator(FixedLocator(10.0 ** np.arange(-4, 4)))
-    bottom.yaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
-    bottom.yaxis.set_minor_locator(NullLocator())
-    positive = np.abs(est)[np.abs(est) > 0]
-    bottom.set_ylim(bottom=max(1e-3, 0.5 * float(positive.min())) if positive.size else 1e-3)
-    bottom.set_xlabel("step k")
     return fig
 
 

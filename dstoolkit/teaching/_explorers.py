@@ -84,6 +84,12 @@ from dstoolkit.gauge._level import (
 from dstoolkit.gauge._resonance import DetectionResult, detect_resonances
 from dstoolkit.gauge._sweep import PAPER_SWEEP
 from dstoolkit.gauge._tube import RecordingConditions, TubeSetup, spl_to_pa, synthesize_recording
+from dstoolkit.plots import (
+    EnclosureFigure,
+    FilterErrorsFigure,
+    FilterStepFigure,
+    plot_filter_errors,
+)
 from dstoolkit.plots._evidence import (
     BelPlArtists,
     FocalIntervalArtists,
@@ -97,9 +103,6 @@ from dstoolkit.plots._evidence import (
     draw_pbox,
     draw_possibility,
     pbox_grid,
-    plot_enclosure,
-    plot_filter_errors,
-    plot_filter_step,
     update_bel_pl,
     update_focal_intervals,
     update_masses,
@@ -687,11 +690,16 @@ def bounded_error_explorer(v_half: float = 0.1, w_half: float = 1.0, steps: int 
     x, z = random_walk(v_half, w_half).simulate([0.0], steps, np.random.default_rng(seed))
     filt = BoundedErrorFilter(on_inconsistent="reset")
 
+    def build(res: Any, title: str) -> EnclosureFigure:
+        figure = EnclosureFigure(res, x, z, title=title, pyplot=False)
+        figure.ax.legend(fontsize=8, loc="upper left")
+        return figure
+
+    kept = KeptFigure(build, lambda figure, res, title: figure.update(res, x, z, title=title))
+
     def render(scale: float):
         res = filt.run(random_walk(v_half * scale, w_half * scale), z)
-        fig = plot_enclosure(res, x, z, title=f"bounds × {scale:g}")
-        fig.axes[0].legend(fontsize=8, loc="upper left")
-        return fig, enclosure_summary(res, x)
+        return kept(res, f"bounds × {scale:g}").figure, enclosure_summary(res, x)
 
     scale = slider("assumed bounds × true", 1.0, 0.3, 3.0, 0.05)
     return Explorer({"scale": scale}, render, title="Bounded-error filter with wrong bounds",
@@ -872,19 +880,23 @@ def render_filter(
     v_lower: float, v_mode: float, v_upper: float, w_lower: float, w_mode: float,
     w_upper: float, p: int, epsilon: float, level: float, temperature: float, start: str,
     orders: str, mass_rule: str, seed: int = 0,
+    kept: KeptFigure[FilterErrorsFigure] | None = None,
 ) -> tuple[Figure, dict[str, Any]]:
     """What :func:`filter_widget` recomputes on every change: the run's figure (estimates,
     hull and readings against the truth, absolute errors; the paper's Fig. 10) and the
-    numbers of :func:`~dstoolkit.studies.filter_summary`."""
+    numbers of :func:`~dstoolkit.studies.filter_summary`. With ``kept`` (a ``KeptFigure`` of
+    a ``FilterErrorsFigure``, as the widget holds) the figure is drawn without pyplot on the
+    first call and redrawn in place on later ones; else each call draws a new figure."""
     seq, n, result = filter_case(
         level, temperature, state_noise=(v_lower, v_mode, v_upper),
         obs_noise=(w_lower, w_mode, w_upper), p=p, epsilon=epsilon, start=start,
         mass_rule=mass_rule, orders=orders, seed=seed)
-    fig = plot_filter_errors(
-        result, seq.truth, seq.readings,
-        title=f"L = {level:.1f} m, T = {temperature:.1f} °C (f_F = {seq.fundamental_hz:.2f} "
-              f"Hz, {seq.truth.shape[0]} resonances), p = {p}, ε = {epsilon:.2f}, "
-              f"start: {start}")
+    run = (result, seq.truth, seq.readings)
+    title = (f"L = {level:.1f} m, T = {temperature:.1f} °C (f_F = {seq.fundamental_hz:.2f} "
+             f"Hz, {seq.truth.shape[0]} resonances), p = {p}, ε = {epsilon:.2f}, "
+             f"start: {start}")
+    fig = (plot_filter_errors(*run, title=title) if kept is None
+           else kept(*run, title=title).figure)
     return fig, filter_summary(seq, n, result)
 
 
@@ -924,8 +936,11 @@ def filter_widget(level_m: float = 9.6, temperature_c: float = 23.9, *, p: int =
                                       description="m(D) rule"),
     }
 
+    kept = KeptFigure(functools.partial(FilterErrorsFigure, pyplot=False),
+                      FilterErrorsFigure.update)
+
     def render(**values: Any) -> tuple[Figure, dict[str, Any]]:
-        return render_filter(**values, seed=seed)
+        return render_filter(**values, seed=seed, kept=kept)
 
     live = {"level": positions(controls["level"], 9, 1.6, 9.6),
             "epsilon": positions(controls["epsilon"], 3, 0.0, 0.5)}
@@ -956,11 +971,14 @@ def filter_step_explorer(level_m: float = 9.6, temperature_c: float = 23.9, step
         return filter_case(level_m, temperature_c, start=start, epsilon=epsilon, seed=seed,
                            record=True, first=steps)[2]
 
+    kept = KeptFigure(functools.partial(FilterStepFigure, figsize=(9.0, 9.0), pyplot=False),
+                      FilterStepFigure.update)
+
     def render(step: int, start: str, epsilon: float):
         result = run(start, epsilon)
-        truth = float(seq.truth[step - 1, 0])
-        fig = plot_filter_step(result.steps[step - 1], truth, figsize=(9.0, 9.0))
-        return fig, step_numbers(result, step, truth)
+        entry, truth = result.steps[step - 1], float(seq.truth[step - 1, 0])
+        figure = kept(entry, truth, key=FilterStepFigure.panels_of(entry))  # one per panels
+        return figure.figure, step_numbers(result, step, truth)
 
     live = {"step": positions(controls["step"], 10)}
     return Explorer(controls, render, title="Inside one step of the filter", live=live)
