@@ -280,7 +280,7 @@ def discount_onto_hull(e: Boxes, reliability: np.ndarray) -> Boxes:
 
 
 class ProductWork(NamedTuple):
-    """Buffers of :class:`ProductKernel` (the column layout of :func:`columns`): ``ends``
+    """Buffers of ``ProductKernel`` (the column layout of ``columns``): ``ends``
     (2, R, d, N_b, N_a) = lo, hi of A_i ∩ B_j; ``stack`` (1 + d, R, N_b, N_a) = [nonempty,
     (lo + hi)·nonempty]; ``partial`` (R, 1 + d, N_b, 1), ``sums`` (R, 1 + d, 1, 1). Each
     end and each row of the stack is one block: the passes over a batch run faster."""
