@@ -190,12 +190,10 @@ class _Columns:
     def merge_pairs(self, packed: np.ndarray, pair: np.ndarray, chosen: np.ndarray) -> None:
         """Replace each chosen pair (boxes i, i + 1 of a run) by its hull, in place: row i
         takes the hull's row, row i + 1 is killed."""
-        runs, width = packed.shape[:2]
         picked = np.flatnonzero(chosen)  # index into the (runs, width − 1) pairs
-        first = picked + picked // (width - 1)  # row i, flat over (runs, width)
-        rows = packed.reshape(runs * width, self.width, copy=False)  # a view: writes land
-        rows[first] = np.take(pair.reshape(-1, self.width), picked, axis=0)
-        rows[first + 1, self.dead] = self.dead_row
+        run, first = np.divmod(picked, packed.shape[1] - 1)  # the pair's run and row i
+        packed[run, first] = np.take(pair.reshape(-1, self.width), picked, axis=0)
+        packed[run, first + 1, self.dead] = self.dead_row
 
 
 def _local_minima(cost: np.ndarray) -> np.ndarray:
