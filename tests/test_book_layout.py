@@ -140,8 +140,6 @@ def test_page_fits_its_column(chromium: object, site: str,  # noqa: F811
         page.context.close()
 
 
-
-
 @pytest.mark.parametrize("viewport", list(VIEWPORTS))
 def test_widget_readouts_take_two_lines(chromium: object, site: str,  # noqa: F811
                                         toc_page: str, viewport: str) -> None:

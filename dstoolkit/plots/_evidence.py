@@ -38,6 +38,7 @@ from dstoolkit.evidence._finite_frame import MassFunction
 from dstoolkit.evidence._intervals import IntervalEvidence
 from dstoolkit.evidence._possibility import alpha_cuts, possibility
 
+from ._kept import animate, set_limits
 from ._style import (
     BEL_COLOUR,
     BETP_COLOUR,
@@ -63,18 +64,6 @@ def _scalar(ev: IntervalEvidence, what: str) -> None:
 
 
 A = TypeVar("A", bound=Artist)
-
-
-def animate(ax: Axes, *artists: Artist | None) -> None:
-    """Mark ``artists`` (of ``ax``; None is skipped) and the spines of ``ax`` as animated.
-
-    A kept figure's animated artists are drawn on the picture of the rest as it was last
-    drawn (``Explorer.png``), above it, in order of zorder. The spines come along because
-    a fresh drawing puts them (zorder 2.5) over bars and lines that reach the axes' edge.
-    """
-    for artist in (*artists, *ax.spines.values()):
-        if artist is not None:
-            artist.set_animated(True)
 
 
 #: Artists an animated pool makes beyond those it needs (hidden until needed): making an
@@ -123,7 +112,7 @@ def draw_focal_intervals(ax: Axes, *, title: str | None = None, xlabel: str = "x
     if title:
         ax.set_title(title)
     if animated:
-        animate(ax)
+        animate(spines_of=ax)
     return FocalIntervalArtists(ax, animated)
 
 
@@ -170,8 +159,7 @@ def update_focal_intervals(
         clipped = lo[i] < xlim[0] or hi[i] > xlim[1]
         text.set_position((0.5 * (left[i] + right[i]), bottoms[i] + 0.5 * m[i]))
         text.set_text(f"{m[i]:.4g}" + (f"  [{lo[i]:.4g}, {hi[i]:.4g}]" if clipped else ""))
-    if ax.get_xlim() != tuple(xlim):  # setting it, even unchanged, redraws the whole figure
-        ax.set_xlim(*xlim)
+    set_limits(ax, x=xlim)
 
 
 @styled
@@ -253,7 +241,7 @@ def draw_pbox(ax: Axes, x: Any, *, title: str | None = None, label: str = "",
         ax.set_title(title)
     legend_above(ax)
     if animated:
-        animate(ax, band, upper, lower)
+        animate(band, upper, lower, spines_of=ax)
     return PboxArtists(ax, x, band, upper, lower)
 
 
@@ -348,7 +336,7 @@ def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = Fa
         ax.set_title(title)
     legend_above(ax)
     if animated:
-        animate(ax, pi, ends, cuts, line)
+        animate(pi, ends, cuts, line, spines_of=ax)
     return PossibilityArtists(ax, x, pi, ends, cuts, line, animated)
 
 
@@ -468,7 +456,7 @@ def draw_bel_pl(ax: Axes, frame: Sequence[Hashable], subsets: Sequence[Any] | No
         ax.set_title(title)
     legend_above(ax)
     if animated:
-        animate(ax, *bel.patches, *gap.patches, betp)
+        animate(*bel.patches, *gap.patches, betp, spines_of=ax)
     return BelPlArtists(ax, tuple(frame), sets, bel, gap, single, betp)
 
 
@@ -534,7 +522,7 @@ def draw_masses(ax: Axes, *, title: str | None = None, animated: bool = False) -
     if title:
         ax.set_title(title)
     if animated:
-        animate(ax)
+        animate(spines_of=ax)
     return MassArtists(ax, animated)
 
 

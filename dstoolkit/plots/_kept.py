@@ -113,8 +113,13 @@ def set_limits(ax: Axes, *, x: tuple[float, float] | None = None,
         ax.set_ylim(*y)
 
 
-def animate(*artists: Artist) -> None:
-    """Mark ``artists`` as following the controls: a kept figure whose other artists did not
-    change redraws only them (blitting, see :meth:`dstoolkit.teaching.Explorer.png`)."""
-    for artist in artists:
-        artist.set_animated(True)
+def animate(*artists: Artist | None, spines_of: Axes | None = None) -> None:
+    """Mark ``artists`` (None is skipped) as following the controls: a kept figure whose
+    other artists did not change redraws only them (blitting, see
+    :meth:`dstoolkit.teaching.Explorer.png`), on the picture of the rest as it was last
+    drawn, above it, in order of zorder. ``spines_of``: the spines of that axes come along,
+    because a fresh drawing puts them (zorder 2.5) over bars that reach the axes' edge."""
+    spines = spines_of.spines.values() if spines_of is not None else ()
+    for artist in (*artists, *spines):
+        if artist is not None:
+            artist.set_animated(True)

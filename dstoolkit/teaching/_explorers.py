@@ -96,7 +96,6 @@ from dstoolkit.plots._evidence import (
     MassArtists,
     PboxArtists,
     PossibilityArtists,
-    animate,
     draw_bel_pl,
     draw_focal_intervals,
     draw_masses,
@@ -110,7 +109,7 @@ from dstoolkit.plots._evidence import (
     update_possibility,
 )
 from dstoolkit.plots._gauge import gauge_detection_figure, update_gauge_detection
-from dstoolkit.plots._kept import KeptFigure
+from dstoolkit.plots._kept import KeptFigure, animate
 from dstoolkit.studies import ORDER_SOURCES, filter_case, filter_summary, gauge_case, step_numbers
 
 from ._lab import (
@@ -556,7 +555,7 @@ def conflict_explorer(x: float = 0.99, y: float = 0.99, epsilon: float = 0.0,
         axes = fig.subplots(1, 3, sharey=True)
         panels = [draw_masses(ax, title=name, animated=True) for ax, name in
                   zip(axes, ("doctor 1", "doctor 2", "combined"), strict=True)]
-        animate(axes[2], axes[2].title)  # the rule's name
+        animate(axes[2].title, spines_of=axes[2])  # the rule's name
         return fig, panels
 
     def render(x: float, y: float, epsilon: float, rule: str):
@@ -604,7 +603,7 @@ def dependent_combination_explorer(a2: float = 0.6, a3: float = 0.1, b2: float =
                    ax.axvline(0.0, color="#d62728", lw=1.2))
                   for ax, name in zip(axes.flat, names, strict=True)]
         for bars, line in panels:
-            animate(bars.ax, line)
+            animate(line, spines_of=bars.ax)
         return fig, panels
 
     def render(a2: float, a3: float, b2: float, b3: float, mass_rule: str):
@@ -809,8 +808,10 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
         bars.set_xlim(-0.6, 2.6)
         bars.set_title("image f([lo, hi])")
         ax.set_title(f"f(x) = {function} on [{lo:g}, {hi:g}]")  # its font; its text follows
-        animate(ax, curve, on_box, box, ax.title, *(m["band"] for m in methods.values()))
-        animate(bars, *(a for m in methods.values() for k, a in m.items() if k != "band"))
+        animate(curve, on_box, box, ax.title, *(m["band"] for m in methods.values()),
+                spines_of=ax)
+        animate(*(a for m in methods.values() for k, a in m.items() if k != "band"),
+                spines_of=bars)
         return {"fig": fig, "ax": ax, "bars": bars, "curve": curve, "on_box": on_box,
                 "box": box, "methods": methods}
 
