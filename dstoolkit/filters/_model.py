@@ -97,8 +97,12 @@ class BoundedNoise:
         shape = (*tuple(size), self.dim)
         degenerate = self.upper == self.lower
         hi = np.where(degenerate, self.lower + 1.0, self.upper)
-        draws = rng.triangular(self.lower, self.mode, hi, size=shape)
-        return np.where(degenerate, self.lower, draws)
+        if self.dim == 1:  # scalar bounds take numpy's fast loop; the same draws
+            draws = rng.triangular(float(self.lower[0]), float(self.mode[0]), float(hi[0]),
+                                   size=shape)
+        else:
+            draws = rng.triangular(self.lower, self.mode, hi, size=shape)
+        return np.where(degenerate, self.lower, draws) if degenerate.any() else draws
 
     def pdf(self, x: np.ndarray) -> np.ndarray:
         """Product of the triangular densities of the components; 0 outside the support."""

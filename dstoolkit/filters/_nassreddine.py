@@ -144,56 +144,74 @@ def _sizes(lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
 
 
 class _Columns:
-    """Column layout of :func:`cluster_boxes`'s packed array, one row per box (n = state dim).
+    """Row layout of :func:`cluster_boxes`'s packed array (C, runs, W): one row per quantity,
+    one column per box (n = state dim).
 
     ``[lo (n) | hi (n) | size | mass·size | merged | centre (n) | mass]``: a round moves all
-    boxes with one gather, and the per-box terms of Denœux's Δ (|A| and m_A·|A|) and the sort
-    keys (lo + hi per dimension, ∞ for a box without mass) are computed once per box, when it
-    is made, not in every round (the same operations on the same values, so the same
-    numbers). A merge kills the second box of its pair by writing :attr:`dead_row`
-    (centres ∞, mass 0) into the last n + 1 columns.
+    boxes with one gather along the last axis, each quantity stays contiguous, and the
+    per-box terms of Denœux's Δ (|A| and m_A·|A|) and the sort keys (lo + hi per dimension,
+    ∞ for a box without mass) are computed once per box, when it is made, not in every round
+    (the same operations on the same values, so the same numbers). A merge kills the second
+    box of its pair by writing :attr:`dead_row` (centres ∞, mass 0) into the last n + 1 rows.
     """
 
     def __init__(self, n: int) -> None:
+        self.n = n
         self.lo, self.hi = slice(0, n), slice(n, 2 * n)
         self.size, self.ms, self.merged = 2 * n, 2 * n + 1, 2 * n + 2
-        self.centre, self.mass = 2 * n + 3, 3 * n + 3  # centre: first of n columns
+        self.centre, self.mass = 2 * n + 3, 3 * n + 3  # centre: first of n rows
         self.dead = slice(2 * n + 3, 3 * n + 4)
-        self.width = 3 * n + 4
-        self.dead_row = np.array([np.inf] * n + [0.0])
+        self.count = 3 * n + 4
+        self.dead_row = np.array([np.inf] * n + [0.0])[:, None]
 
     def pack(self, bm: Boxes, unit: np.ndarray) -> np.ndarray:
         """The packed rows of mass function ``bm``, nothing merged yet."""
-        packed = np.empty(bm.mass.shape + (self.width,))
-        packed[..., self.lo], packed[..., self.hi] = bm.lo, bm.hi
-        packed[..., self.size] = _sizes(bm.lo, bm.hi, unit)
-        packed[..., self.mass] = bm.mass
-        np.multiply(bm.mass, packed[..., self.size], out=packed[..., self.ms])
-        packed[..., self.merged] = 0.0
-        packed[..., self.centre : self.mass] = np.where(bm.mass[..., None] > 0, bm.lo + bm.hi,
-                                                        np.inf)
+        packed = np.empty((self.count,) + bm.mass.shape)
+        packed[self.lo], packed[self.hi] = np.moveaxis(bm.lo, -1, 0), np.moveaxis(bm.hi, -1, 0)
+        packed[self.size] = _sizes(bm.lo, bm.hi, unit)
+        packed[self.mass] = bm.mass
+        np.multiply(bm.mass, packed[self.size], out=packed[self.ms])
+        packed[self.merged] = 0.0
+        centre = packed[self.centre : self.mass]
+        np.add(packed[self.lo], packed[self.hi], out=centre)
+        centre[:, bm.mass <= 0] = np.inf
         return packed
 
-    def pair_hulls(self, packed: np.ndarray, unit: np.ndarray) -> np.ndarray:
-        """Packed rows of every neighbour pair's hull A ∪ B, with mass m_A + m_B, merged."""
-        a, b = packed[:, :-1], packed[:, 1:]
+    def pair_sizes(self, packed: np.ndarray, unit: np.ndarray) -> np.ndarray:
+        """Packed rows of every neighbour pair's hull A ∪ B, with mass m_A + m_B: its lo, hi,
+        size, mass and mass·size (the rest is filled in for the pairs merged)."""
+        a, b = packed[..., :-1], packed[..., 1:]
         pair = np.empty(a.shape)
-        np.minimum(a[..., self.lo], b[..., self.lo], out=pair[..., self.lo])
-        np.maximum(a[..., self.hi], b[..., self.hi], out=pair[..., self.hi])
-        pair[..., self.size] = _sizes(pair[..., self.lo], pair[..., self.hi], unit)
-        np.add(a[..., self.mass], b[..., self.mass], out=pair[..., self.mass])
-        np.multiply(pair[..., self.mass], pair[..., self.size], out=pair[..., self.ms])
-        pair[..., self.merged] = 1.0
-        np.add(pair[..., self.lo], pair[..., self.hi], out=pair[..., self.centre : self.mass])
+        np.minimum(a[self.lo], b[self.lo], out=pair[self.lo])
+        np.maximum(a[self.hi], b[self.hi], out=pair[self.hi])
+        if self.n == 1:
+            np.subtract(pair[1], pair[0], out=pair[self.size])
+            np.divide(pair[self.size], unit[0], out=pair[self.size])
+        else:  # the layout of _sizes, so the sum over dimensions rounds alike
+            pair[self.size] = _sizes(np.moveaxis(pair[self.lo], 0, -1),
+                                     np.moveaxis(pair[self.hi], 0, -1), np.moveaxis(unit, 0, -1))
+        np.add(a[self.mass], b[self.mass], out=pair[self.mass])
+        np.multiply(pair[self.mass], pair[self.size], out=pair[self.ms])
         return pair
 
+    def gather(self, packed: np.ndarray, runs: np.ndarray, order: np.ndarray) -> np.ndarray:
+        """The boxes ``order[i]`` of run ``runs[i]``, in that order: (C, len(runs), width)."""
+        flat = order + (runs * packed.shape[2])[:, None]
+        picked = np.take(packed.reshape(self.count, -1), flat.ravel(), axis=1)
+        return picked.reshape((self.count,) + order.shape)
+
     def merge_pairs(self, packed: np.ndarray, pair: np.ndarray, chosen: np.ndarray) -> None:
-        """Replace each chosen pair (boxes i, i + 1 of a run) by its hull, in place: row i
-        takes the hull's row, row i + 1 is killed."""
+        """Replace each chosen pair (boxes i, i + 1 of a run) by its hull, in place: box i
+        takes the hull, box i + 1 is killed."""
+        runs, width = packed.shape[1:]
         picked = np.flatnonzero(chosen)  # index into the (runs, width − 1) pairs
-        run, first = np.divmod(picked, packed.shape[1] - 1)  # the pair's run and row i
-        packed[run, first] = np.take(pair.reshape(-1, self.width), picked, axis=0)
-        packed[run, first + 1, self.dead] = self.dead_row
+        first = picked + picked // (width - 1)  # box i of the pair, index into (runs, width)
+        hulls = np.take(pair.reshape(self.count, -1), picked, axis=1)
+        hulls[self.merged] = 1.0
+        np.add(hulls[self.lo], hulls[self.hi], out=hulls[self.centre : self.mass])
+        flat = packed.reshape(self.count, runs * width)
+        flat[:, first] = hulls
+        flat[self.dead, first + 1] = self.dead_row
 
 
 def _local_minima(cost: np.ndarray) -> np.ndarray:
@@ -201,19 +219,19 @@ def _local_minima(cost: np.ndarray) -> np.ndarray:
 
     Two such pairs are never neighbours, so their merges do not overlap.
     """
-    padded = np.full((cost.shape[0], cost.shape[1] + 2), np.inf)
-    padded[:, 1:-1] = cost
-    return (cost <= padded[:, :-2]) & (cost < padded[:, 2:]) & np.isfinite(cost)
+    local = np.isfinite(cost)
+    local[:, 1:] &= cost[:, 1:] <= cost[:, :-1]
+    local[:, :-1] &= cost[:, :-1] < cost[:, 1:]
+    return local
 
 
 def _cheapest(local: np.ndarray, cost: np.ndarray, allowed: np.ndarray) -> np.ndarray:
     """The local minima to merge: each run's ``allowed`` cheapest (ties: leftmost first).
 
-    Ranking is skipped when every run that must shrink may take all its local minima.
+    Ranking is skipped when every run may take all its local minima.
     """
-    need = allowed > 0
-    if np.all((local.sum(axis=1) <= allowed) | ~need):
-        return local & need[:, None]
+    if np.all(local.sum(axis=1) <= allowed):
+        return local
     ranked = np.where(local, cost, np.inf)
     rank = np.argsort(np.argsort(ranked, axis=1, kind="stable"), axis=1, kind="stable")
     return local & (rank < allowed[:, None])
@@ -230,7 +248,10 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     outer approximation. To stay vectorised, each round sorts the boxes by their centre
     along one dimension (the dimensions take turns) and merges, in parallel, the neighbour
     pairs whose Δ is a local minimum along that order, cheapest first, never going below
-    ``max_focal``; rounds repeat until every run fits.
+    ``max_focal``; rounds repeat until every run fits. A run that fits leaves the rounds:
+    later sorts would only reorder its boxes, and the closing merge of equal boxes (eq. 14)
+    puts them in canonical order (equal boxes share every centre, so no stable sort changes
+    their order among themselves, nor the order in which their masses are added).
 
     Returns the capped mass functions and, per run, the mass now carried by merged boxes.
     """
@@ -241,28 +262,42 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
             "cluster_boxes needs bounded boxes with finite masses; got NaN or infinite values "
             "(check the filter's inputs and noise bounds)"
         )
-    n = bm.lo.shape[-1]
+    runs, _, n = bm.lo.shape
+    count = live.sum(axis=1)
+    if int(count.max()) <= max_focal:
+        return merge_equal_boxes(bm.lo, bm.hi, bm.mass), np.zeros(runs)
     unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
     unit = np.where(unit > 0, unit, 1.0)[:, None, :]
     cols = _Columns(n)
     packed = cols.pack(bm, unit)
+    unit = np.moveaxis(unit, -1, 0)  # (n, runs, 1), as the packed rows
+    done = np.zeros((cols.count, runs, max_focal))  # the runs that fit: mass 0 until they do
+    active = np.arange(runs)  # the runs still in the rounds
     for rnd in range(MAX_CLUSTER_ROUNDS + 1):
-        count = (packed[..., cols.mass] > 0).sum(axis=1)
+        # boxes with mass first, by centre along dimension rnd % n (ties keep their order)
+        order = np.argsort(packed[cols.centre + rnd % n], axis=1, kind="stable")
+        fits = count <= max_focal
+        if fits.any():
+            fit = np.flatnonzero(fits)
+            width = min(max_focal, order.shape[1])
+            done[:, active[fit], :width] = cols.gather(packed, fit, order[fit, :width])
+            if fits.all():
+                break
+            keep = np.flatnonzero(~fits)
+            active, count, unit, order = active[keep], count[keep], unit[:, keep], order[keep]
+        else:
+            keep = np.arange(len(active))
         most = int(count.max())
-        if most <= max_focal:
-            break
+        packed = cols.gather(packed, keep, order[:, :most])
         if rnd == MAX_CLUSTER_ROUNDS:
             raise WorkLimitError(
                 f"clustering the focal elements did not reach max_focal = {max_focal} in "
                 f"{MAX_CLUSTER_ROUNDS} rounds ({most} remain); raise max_focal"
             )
-        # boxes with mass first, by centre along dimension rnd % n (ties keep their order)
-        order = np.argsort(packed[..., cols.centre + rnd % n], axis=1, kind="stable")
-        packed = _rows_in_order(packed, order[:, :most])
-        pair = cols.pair_hulls(packed, unit)
-        cost = pair[..., cols.ms] - packed[:, :-1, cols.ms] - packed[:, 1:, cols.ms]
+        pair = cols.pair_sizes(packed, unit)
+        cost = pair[cols.ms] - packed[cols.ms, :, :-1] - packed[cols.ms, :, 1:]
         if int(count.min()) < most:  # a run's boxes beyond its count have no mass
-            cost = np.where(np.arange(most - 1) < count[:, None] - 1, cost, np.inf)
+            cost[np.arange(most - 1) >= count[:, None] - 1] = np.inf
         chosen = _cheapest(_local_minima(cost), cost, count - max_focal)
         if not chosen.any():
             raise WorkLimitError(
@@ -270,10 +305,11 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
                 "finite numbers); check the model's f and g for NaN or infinite images"
             )
         cols.merge_pairs(packed, pair, chosen)
-    lo, hi, mass = packed[..., cols.lo], packed[..., cols.hi], packed[..., cols.mass]
-    merged = packed[..., cols.merged] > 0
-    # canonical order: rounds after a run's own last one may have reordered its boxes
-    moved = row_sum(np.sort(np.where(merged, mass, 0.0), axis=1))
+        count = count - chosen.sum(axis=1)
+    lo, hi = np.moveaxis(done[cols.lo], 0, -1), np.moveaxis(done[cols.hi], 0, -1)
+    mass = done[cols.mass]
+    # canonical order: the merged masses added smallest first, the boxes by eq. 14's merge
+    moved = row_sum(np.sort(np.where(done[cols.merged] > 0, mass, 0.0), axis=1))
     return merge_equal_boxes(lo, hi, mass), moved
 
 

@@ -52,7 +52,7 @@ from ._model import (
 
 #: Memory budget of the random numbers pre-drawn for one chunk of runs.
 CHUNK_BYTES = 64 * 2**20
-#: Resampling works on cumulative weights quantised to 2⁻⁴⁰, exactly, as integers.
+#: Resampling works on cumulative weights quantised to 2⁻⁴⁰ (whole numbers of quanta, exact).
 _QUANTUM = 2.0**40
 
 
@@ -69,17 +69,27 @@ def systematic_resample(weights: np.ndarray, offsets: np.ndarray) -> np.ndarray:
     Returns
     -------
     Indices (runs, N): particle i is chosen about N·w_i times, never when w_i = 0.
-    All rows are searched at once in integer arithmetic, so a row's result does not
-    depend on the other rows.
+    Cumulative weights and positions are quantised to whole multiples of 2⁻⁴⁰ (exact in
+    floating point), and each row is searched on its own, so a row's result does not depend
+    on the other rows.
     """
     runs, n = weights.shape
-    shift = (np.arange(runs, dtype=np.int64) * np.int64(2 * _QUANTUM))[:, None]
-    cum = np.floor(np.cumsum(weights, axis=1) * _QUANTUM).astype(np.int64) + shift
-    cum[:, -1] = shift[:, 0] + np.int64(_QUANTUM)
-    pos = (offsets[:, None] + np.arange(n)) / n
-    pos_q = np.floor(pos * _QUANTUM).astype(np.int64) + shift
-    idx = np.searchsorted(cum.ravel(), pos_q.ravel(), side="right").reshape(runs, n)
-    return np.minimum(idx - (np.arange(runs) * n)[:, None], n - 1)
+    cum = np.floor(np.cumsum(weights, axis=1) * _QUANTUM)
+    cum[:, -1] = _QUANTUM
+    pos = np.floor((offsets[:, None] + np.arange(n)) / n * _QUANTUM)
+    idx = np.empty((runs, n), dtype=np.intp)
+    for r in range(runs):  # one search per row: shorter, and faster than one on all rows
+        idx[r] = np.searchsorted(cum[r], pos[r], side="right")
+    return np.minimum(idx, n - 1, out=idx)
+
+
+def _normalised(weights: np.ndarray) -> np.ndarray:
+    """Weights (runs, N) divided by their sum; a run whose weights are all 0 gets 1/N each."""
+    total = weights.sum(axis=1, keepdims=True)
+    if not np.all(total > 0):
+        weights = np.where(total > 0, weights, 1.0)
+        total = weights.sum(axis=1, keepdims=True)
+    return weights / total
 
 
 @dataclass(frozen=True)
@@ -199,22 +209,23 @@ class ParticleFilter(FilterBase):
         steps: list[dict[str, Any]] | None = [] if record else None
 
         particles, weights = self._draw_in_reading_box(model, Z[:, 0], start_u, 0)
+        first_row = (np.arange(runs) * big_n)[:, None]  # each run's first particle, flattened
+        w = _normalised(weights)
         for k in range(n_steps):
             if k > 0:
-                total = weights.sum(axis=1, keepdims=True)
-                idx = systematic_resample(weights / total, offsets[:, k - 1])
-                chosen = np.take_along_axis(particles, idx[..., None], axis=1)
-                particles = with_input(model.f, step_input(U, k))(chosen) + noise[:, k - 1]
+                idx = systematic_resample(w, offsets[:, k - 1]) + first_row
+                chosen = np.take(particles.reshape(-1, n), idx.ravel(), axis=0)
+                particles = (with_input(model.f, step_input(U, k))(chosen.reshape(runs, big_n, n))
+                             + noise[:, k - 1])
                 weights = self._weigh(model, particles, Z[:, k])
-            dead = ~(weights.sum(axis=1) > 0)
-            if k > 0 and np.any(dead):
-                for i in np.flatnonzero(dead).tolist():
-                    u = self._stream(int(run_ids[i]), k).random((1, big_n, n))
-                    p_new, w_new = self._draw_in_reading_box(model, Z[i : i + 1, k], u, k)
-                    particles[i], weights[i] = p_new[0], w_new[0]
-                reinit[dead, k] = True
-            weights = np.where(weights.sum(axis=1, keepdims=True) > 0, weights, 1.0)
-            w = weights / weights.sum(axis=1, keepdims=True)
+                dead = ~(weights.sum(axis=1) > 0)
+                if np.any(dead):
+                    for i in np.flatnonzero(dead).tolist():
+                        u = self._stream(int(run_ids[i]), k).random((1, big_n, n))
+                        p_new, w_new = self._draw_in_reading_box(model, Z[i : i + 1, k], u, k)
+                        particles[i], weights[i] = p_new[0], w_new[0]
+                    reinit[dead, k] = True
+                w = _normalised(weights)
             est[:, k] = np.einsum("rp,rpi->ri", w, particles)
             if not details:
                 continue
