@@ -114,28 +114,35 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
 
     Input rows with mass 0 are dropped. The result is compacted and canonical: run r's
     distinct boxes fill its first slots in lexicographic order of (lo, hi), whatever order
-    they came in; the remaining slots are zero-mass padding.
+    they came in; the remaining slots are zero-mass padding (with the run's first box).
+    The masses of equal boxes are added in the order the boxes came in.
     """
     runs, rows, n = lo.shape
-    coords = np.concatenate([lo, hi], axis=-1)
-    keys = (*(coords[..., j] for j in range(2 * n - 1, -1, -1)), ~(mass > 0))
-    order = np.lexsort(keys, axis=-1)
-    coords, mass = _rows_in_order(coords, order), _rows_in_order(mass, order)
     valid = mass > 0
+    rowdata = np.empty((runs, rows, 2 * n + 1))  # [lo | hi | mass], moved with one gather
+    rowdata[..., :n], rowdata[..., n : 2 * n] = lo, hi
+    rowdata[..., 2 * n] = np.where(valid, mass, 0.0)
+    keys = (*(rowdata[..., j] for j in range(2 * n - 1, -1, -1)), ~valid)
+    order = np.lexsort(keys, axis=-1)
+    rowdata = _rows_in_order(rowdata, order)
+    coords, weight = rowdata[..., : 2 * n], rowdata[..., 2 * n]
+    valid = weight > 0
     start = np.ones((runs, rows), dtype=bool)  # first row of a group of equal boxes
     start[:, 1:] = valid[:, 1:] != valid[:, :-1]
     for j in range(2 * n):
         start[:, 1:] |= coords[:, 1:, j] != coords[:, :-1, j]
-    slot = (np.arange(runs)[:, None] * rows + np.cumsum(start, axis=1) - 1).ravel()
-    summed = np.bincount(slot, weights=np.where(valid, mass, 0.0).ravel(),
-                         minlength=runs * rows).reshape(runs, rows)
-    width = max(1, int((summed > 0).sum(axis=1).max()))
-    first = np.flatnonzero(start)
-    out = np.empty((runs * rows, 2 * n))
-    out[np.take(slot, first)] = np.take(coords.reshape(-1, 2 * n), first, axis=0)
-    out, summed = out.reshape(runs, rows, 2 * n)[:, :width], summed[:, :width]
-    out = np.where((summed > 0)[..., None], out, out[:, :1])
-    return Boxes(out[..., :n], out[..., n:], summed)
+    group = np.cumsum(start, axis=1)
+    group -= 1
+    summed = np.bincount((group + (np.arange(runs) * rows)[:, None]).ravel(),
+                         weights=weight.ravel(), minlength=runs * rows).reshape(runs, rows)
+    width = max(1, int(np.count_nonzero(summed > 0, axis=1).max()))
+    out = np.empty((runs, width, 2 * n))
+    out[:] = coords[:, :1]  # padding: the run's first box
+    heads = np.flatnonzero(start & valid)  # the first row of each group with mass
+    dest = np.take(group, heads) + heads // rows * width
+    out.reshape(-1, 2 * n)[dest] = np.take(rowdata.reshape(-1, 2 * n + 1), heads, axis=0)[
+        :, : 2 * n]
+    return Boxes(out[..., :n], out[..., n:], summed[:, :width])
 
 
 def _sizes(lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
@@ -230,11 +237,13 @@ def _cheapest(local: np.ndarray, cost: np.ndarray, allowed: np.ndarray) -> np.nd
 
     Ranking is skipped when every run may take all its local minima.
     """
-    if np.all(local.sum(axis=1) <= allowed):
+    if np.all(np.count_nonzero(local, axis=1) <= allowed):
         return local
-    ranked = np.where(local, cost, np.inf)
-    rank = np.argsort(np.argsort(ranked, axis=1, kind="stable"), axis=1, kind="stable")
-    return local & (rank < allowed[:, None])
+    order = np.argsort(np.where(local, cost, np.inf), axis=1, kind="stable")
+    order += (np.arange(len(order)) * order.shape[1])[:, None]
+    first = np.zeros(local.shape, dtype=bool)  # each run's `allowed` first pairs in that order
+    np.put(first, order, np.arange(order.shape[1]) < allowed[:, None])
+    return local & first
 
 
 def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
@@ -305,7 +314,7 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
                 "finite numbers); check the model's f and g for NaN or infinite images"
             )
         cols.merge_pairs(packed, pair, chosen)
-        count = count - chosen.sum(axis=1)
+        count = count - np.count_nonzero(chosen, axis=1)
     lo, hi = np.moveaxis(done[cols.lo], 0, -1), np.moveaxis(done[cols.hi], 0, -1)
     mass = done[cols.mass]
     # canonical order: the merged masses added smallest first, the boxes by eq. 14's merge
