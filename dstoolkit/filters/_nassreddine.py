@@ -145,21 +145,16 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
     return Boxes(out[..., :n], out[..., n:], summed[:, :width])
 
 
-def _sizes(lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
-    """|A|: the sum of each box's widths, each divided by the run's unit width."""
-    return np.sum((hi - lo) / unit, axis=-1)
+class _Rows:
+    """Row layout of :func:`cluster_boxes`'s box table (C, N): one row per quantity, one
+    column per box; the boxes of the runs still being clustered sit side by side, run after
+    run, each run's boxes in the order of the round (n = state dim).
 
-
-class _Columns:
-    """Row layout of :func:`cluster_boxes`'s packed array (C, runs, W): one row per quantity,
-    one column per box (n = state dim).
-
-    ``[lo (n) | hi (n) | size | mass·size | merged | centre (n) | mass]``: a round moves all
-    boxes with one gather along the last axis, each quantity stays contiguous, and the
-    per-box terms of Denœux's Δ (|A| and m_A·|A|) and the sort keys (lo + hi per dimension,
-    ∞ for a box without mass) are computed once per box, when it is made, not in every round
-    (the same operations on the same values, so the same numbers). A merge kills the second
-    box of its pair by writing :attr:`dead_row` (centres ∞, mass 0) into the last n + 1 rows.
+    ``[lo (n) | hi (n) | size | mass·size | merged | centre (n) | mass | unit (n)]``: a round
+    drops the boxes merged away with one compaction and keeps each quantity contiguous. The
+    per-box terms of Denœux's Δ (|A| and m_A·|A|), the sort keys (lo + hi per dimension) and
+    the run's unit widths are computed once per box, when it is made, not in every round (the
+    same operations on the same values, so the same numbers).
     """
 
     def __init__(self, n: int) -> None:
@@ -167,58 +162,60 @@ class _Columns:
         self.lo, self.hi = slice(0, n), slice(n, 2 * n)
         self.size, self.ms, self.merged = 2 * n, 2 * n + 1, 2 * n + 2
         self.centre, self.mass = 2 * n + 3, 3 * n + 3  # centre: first of n rows
-        self.dead = slice(2 * n + 3, 3 * n + 4)
-        self.count = 3 * n + 4
-        self.dead_row = np.array([np.inf] * n + [0.0])[:, None]
+        self.box = slice(0, 3 * n + 4)  # what a merge rewrites
+        self.unit = slice(3 * n + 4, 4 * n + 4)
+        self.count = 4 * n + 4
 
-    def pack(self, bm: Boxes, unit: np.ndarray) -> np.ndarray:
-        """The packed rows of mass function ``bm``, nothing merged yet."""
-        packed = np.empty((self.count,) + bm.mass.shape)
-        packed[self.lo], packed[self.hi] = np.moveaxis(bm.lo, -1, 0), np.moveaxis(bm.hi, -1, 0)
-        packed[self.size] = _sizes(bm.lo, bm.hi, unit)
-        packed[self.mass] = bm.mass
-        np.multiply(bm.mass, packed[self.size], out=packed[self.ms])
-        packed[self.merged] = 0.0
-        centre = packed[self.centre : self.mass]
-        np.add(packed[self.lo], packed[self.hi], out=centre)
-        centre[:, bm.mass <= 0] = np.inf
-        return packed
+    def table(self, bm: Boxes, unit: np.ndarray, count: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray]:
+        """The boxes with mass of every run, in round 0's order (by centre along dimension 0,
+        stable: ties keep the order of ``bm``), and the run of each."""
+        runs, width, n = bm.lo.shape
+        key = np.where(bm.mass > 0, bm.lo[..., 0] + bm.hi[..., 0], np.inf)  # with mass first
+        order = np.argsort(key, axis=1, kind="stable")
+        order += (np.arange(runs) * width)[:, None]
+        first = order[np.arange(width) < count[:, None]]  # run after run
+        run = np.repeat(np.arange(runs), count)
+        table = np.empty((self.count, len(first)))
+        table[self.lo] = np.take(bm.lo.reshape(-1, n), first, axis=0).T
+        table[self.hi] = np.take(bm.hi.reshape(-1, n), first, axis=0).T
+        table[self.unit] = unit[run, 0].T
+        table[self.size] = self.sizes(table[self.lo], table[self.hi], table[self.unit])
+        np.take(bm.mass, first, out=table[self.mass])
+        np.multiply(table[self.mass], table[self.size], out=table[self.ms])
+        table[self.merged] = 0.0
+        np.add(table[self.lo], table[self.hi], out=table[self.centre : self.mass])
+        return table, run
 
-    def pair_sizes(self, packed: np.ndarray, unit: np.ndarray) -> np.ndarray:
-        """Packed rows of every neighbour pair's hull A ∪ B, with mass m_A + m_B: its lo, hi,
-        size, mass and mass·size (the rest is filled in for the pairs merged)."""
-        a, b = packed[..., :-1], packed[..., 1:]
+    def sizes(self, lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
+        """|A| of boxes given as rows (n, N): the sum of each box's widths, each divided by
+        its run's unit width. The widths are summed along a contiguous last axis (N, n), the
+        layout the stored results were computed with (it decides how the sum rounds)."""
+        if self.n == 1:
+            return (hi[0] - lo[0]) / unit[0]
+        widths = np.empty(lo.shape[::-1])
+        np.subtract(hi.T, lo.T, out=widths)
+        np.divide(widths, unit.T, out=widths)
+        return np.sum(widths, axis=-1)
+
+    def pair_hulls(self, table: np.ndarray) -> np.ndarray:
+        """Rows lo, hi, size, mass and mass·size of each neighbour pair's hull A ∪ B, with
+        mass m_A + m_B (C, N − 1); the other rows are filled in for the pairs merged."""
+        a, b = table[:, :-1], table[:, 1:]
         pair = np.empty(a.shape)
         np.minimum(a[self.lo], b[self.lo], out=pair[self.lo])
         np.maximum(a[self.hi], b[self.hi], out=pair[self.hi])
-        if self.n == 1:
-            np.subtract(pair[1], pair[0], out=pair[self.size])
-            np.divide(pair[self.size], unit[0], out=pair[self.size])
-        else:  # the layout of _sizes, so the sum over dimensions rounds alike
-            pair[self.size] = _sizes(np.moveaxis(pair[self.lo], 0, -1),
-                                     np.moveaxis(pair[self.hi], 0, -1), np.moveaxis(unit, 0, -1))
+        pair[self.size] = self.sizes(pair[self.lo], pair[self.hi], a[self.unit])
         np.add(a[self.mass], b[self.mass], out=pair[self.mass])
         np.multiply(pair[self.mass], pair[self.size], out=pair[self.ms])
         return pair
 
-    def gather(self, packed: np.ndarray, runs: np.ndarray, order: np.ndarray) -> np.ndarray:
-        """The boxes ``order[i]`` of run ``runs[i]``, in that order: (C, len(runs), width)."""
-        flat = order + (runs * packed.shape[2])[:, None]
-        picked = np.take(packed.reshape(self.count, -1), flat.ravel(), axis=1)
-        return picked.reshape((self.count,) + order.shape)
-
-    def merge_pairs(self, packed: np.ndarray, pair: np.ndarray, chosen: np.ndarray) -> None:
-        """Replace each chosen pair (boxes i, i + 1 of a run) by its hull, in place: box i
-        takes the hull, box i + 1 is killed."""
-        runs, width = packed.shape[1:]
-        picked = np.flatnonzero(chosen)  # index into the (runs, width − 1) pairs
-        first = picked + picked // (width - 1)  # box i of the pair, index into (runs, width)
-        hulls = np.take(pair.reshape(self.count, -1), picked, axis=1)
+    def merge_pairs(self, table: np.ndarray, pair: np.ndarray, picked: np.ndarray) -> None:
+        """Write the hull of each picked pair (boxes i, i + 1) over box i, marked merged."""
+        hulls = np.take(pair[self.box], picked, axis=1)
         hulls[self.merged] = 1.0
         np.add(hulls[self.lo], hulls[self.hi], out=hulls[self.centre : self.mass])
-        flat = packed.reshape(self.count, runs * width)
-        flat[:, first] = hulls
-        flat[self.dead, first + 1] = self.dead_row
+        table[self.box, picked] = hulls
 
 
 def _local_minima(cost: np.ndarray) -> np.ndarray:
@@ -227,22 +224,24 @@ def _local_minima(cost: np.ndarray) -> np.ndarray:
     Two such pairs are never neighbours, so their merges do not overlap.
     """
     local = np.isfinite(cost)
-    local[:, 1:] &= cost[:, 1:] <= cost[:, :-1]
-    local[:, :-1] &= cost[:, :-1] < cost[:, 1:]
+    local[1:] &= cost[1:] <= cost[:-1]
+    local[:-1] &= cost[:-1] < cost[1:]
     return local
 
 
-def _cheapest(local: np.ndarray, cost: np.ndarray, allowed: np.ndarray) -> np.ndarray:
+def _cheapest(local: np.ndarray, cost: np.ndarray, run: np.ndarray, allowed: np.ndarray,
+              start: np.ndarray) -> np.ndarray:
     """The local minima to merge: each run's ``allowed`` cheapest (ties: leftmost first).
 
+    ``run`` is the run of each pair (its left box); run r's pairs begin at ``start[r]``.
     Ranking is skipped when every run may take all its local minima.
     """
-    if np.all(np.count_nonzero(local, axis=1) <= allowed):
+    if np.all(np.bincount(run[local], minlength=len(allowed)) <= allowed):
         return local
-    order = np.argsort(np.where(local, cost, np.inf), axis=1, kind="stable")
-    order += (np.arange(len(order)) * order.shape[1])[:, None]
-    first = np.zeros(local.shape, dtype=bool)  # each run's `allowed` first pairs in that order
-    np.put(first, order, np.arange(order.shape[1]) < allowed[:, None])
+    order = np.lexsort((np.where(local, cost, np.inf), run))  # by run, then by Δ
+    ranked = run[order]
+    first = np.empty(local.shape, dtype=bool)  # the first `allowed` of each run in that order
+    first[order] = np.arange(len(order)) - start[ranked] < allowed[ranked]
     return local & first
 
 
@@ -257,16 +256,21 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     outer approximation. To stay vectorised, each round sorts the boxes by their centre
     along one dimension (the dimensions take turns) and merges, in parallel, the neighbour
     pairs whose Δ is a local minimum along that order, cheapest first, never going below
-    ``max_focal``; rounds repeat until every run fits. A run that fits leaves the rounds:
-    later sorts would only reorder its boxes, and the closing merge of equal boxes (eq. 14)
-    puts them in canonical order (equal boxes share every centre, so no stable sort changes
-    their order among themselves, nor the order in which their masses are added).
+    ``max_focal``; rounds repeat until every run fits.
+
+    Two shortcuts give the same merges with less work. In one dimension the boxes stay in
+    order after round 0: a hull's centre lies between its pair's (lo_A + hi_B is between
+    lo_A + hi_A and lo_B + hi_B, rounding included), so only the boxes merged away leave.
+    A run that fits leaves the rounds: later sorts would only reorder its boxes, and the
+    closing merge of equal boxes (eq. 14) puts them in canonical order (equal boxes share
+    every centre, so no stable sort changes their order among themselves, nor the order in
+    which their masses are added).
 
     Returns the capped mass functions and, per run, the mass now carried by merged boxes.
     """
     live = bm.mass > 0
-    if not (np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo[live]))
-            and np.all(np.isfinite(bm.hi[live]))):
+    if not (np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo) | ~live[..., None])
+            and np.all(np.isfinite(bm.hi) | ~live[..., None])):
         raise EvidenceError(
             "cluster_boxes needs bounded boxes with finite masses; got NaN or infinite values "
             "(check the filter's inputs and noise bounds)"
@@ -277,48 +281,52 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
         return merge_equal_boxes(bm.lo, bm.hi, bm.mass), np.zeros(runs)
     unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
     unit = np.where(unit > 0, unit, 1.0)[:, None, :]
-    cols = _Columns(n)
-    packed = cols.pack(bm, unit)
-    unit = np.moveaxis(unit, -1, 0)  # (n, runs, 1), as the packed rows
-    done = np.zeros((cols.count, runs, max_focal))  # the runs that fit: mass 0 until they do
-    active = np.arange(runs)  # the runs still in the rounds
+    rows = _Rows(n)
+    table, run = rows.table(bm, unit, count)
+    done = np.zeros((rows.count, runs, max_focal))  # each run's boxes once it fits
+    active = np.ones(runs, dtype=bool)  # the runs still in the rounds
     for rnd in range(MAX_CLUSTER_ROUNDS + 1):
-        # boxes with mass first, by centre along dimension rnd % n (ties keep their order)
-        order = np.argsort(packed[cols.centre + rnd % n], axis=1, kind="stable")
-        fits = count <= max_focal
+        start = np.cumsum(count * active) - count * active  # each run's first column
+        fits = active & (count <= max_focal)
         if fits.any():
-            fit = np.flatnonzero(fits)
-            width = min(max_focal, order.shape[1])
-            done[:, active[fit], :width] = cols.gather(packed, fit, order[fit, :width])
-            if fits.all():
+            leaving = fits[run]
+            at = np.flatnonzero(leaving)
+            place = run[at] * max_focal + at - start[run[at]]
+            done.reshape(rows.count, -1)[:, place] = table[:, at]
+            active &= ~fits
+            if not active.any():
                 break
-            keep = np.flatnonzero(~fits)
-            active, count, unit, order = active[keep], count[keep], unit[:, keep], order[keep]
-        else:
-            keep = np.arange(len(active))
-        most = int(count.max())
-        packed = cols.gather(packed, keep, order[:, :most])
+            table, run = np.compress(~leaving, table, axis=1), run[~leaving]
+            start = np.cumsum(count * active) - count * active
         if rnd == MAX_CLUSTER_ROUNDS:
             raise WorkLimitError(
                 f"clustering the focal elements did not reach max_focal = {max_focal} in "
-                f"{MAX_CLUSTER_ROUNDS} rounds ({most} remain); raise max_focal"
+                f"{MAX_CLUSTER_ROUNDS} rounds ({int(count[active].max())} remain); raise "
+                "max_focal"
             )
-        pair = cols.pair_sizes(packed, unit)
-        cost = pair[cols.ms] - packed[cols.ms, :, :-1] - packed[cols.ms, :, 1:]
-        if int(count.min()) < most:  # a run's boxes beyond its count have no mass
-            cost[np.arange(most - 1) >= count[:, None] - 1] = np.inf
-        chosen = _cheapest(_local_minima(cost), cost, count - max_focal)
-        if not chosen.any():
+        if n > 1 and rnd > 0:  # by centre along dimension rnd % n, within each run
+            order = np.lexsort((table[rows.centre + rnd % n], run))
+            table = np.take(table, order, axis=1)
+        pair = rows.pair_hulls(table)
+        cost = pair[rows.ms] - table[rows.ms, :-1] - table[rows.ms, 1:]
+        cost[run[1:] != run[:-1]] = np.inf  # no pair across two runs
+        chosen = _cheapest(_local_minima(cost), cost, run[:-1],
+                           np.where(active, count - max_focal, 0), start)
+        picked = np.flatnonzero(chosen)
+        if not len(picked):
             raise WorkLimitError(
                 "clustering the focal elements found no pair to merge (their sizes are not "
                 "finite numbers); check the model's f and g for NaN or infinite images"
             )
-        cols.merge_pairs(packed, pair, chosen)
-        count = count - np.count_nonzero(chosen, axis=1)
-    lo, hi = np.moveaxis(done[cols.lo], 0, -1), np.moveaxis(done[cols.hi], 0, -1)
-    mass = done[cols.mass]
+        rows.merge_pairs(table, pair, picked)
+        count = count - np.bincount(run[picked], minlength=runs)
+        kept = np.ones(len(run), dtype=bool)
+        kept[picked + 1] = False  # the second box of each pair merged
+        table, run = np.compress(kept, table, axis=1), run[kept]
+    lo, hi = np.moveaxis(done[rows.lo], 0, -1), np.moveaxis(done[rows.hi], 0, -1)
+    mass = done[rows.mass]
     # canonical order: the merged masses added smallest first, the boxes by eq. 14's merge
-    moved = row_sum(np.sort(np.where(done[cols.merged] > 0, mass, 0.0), axis=1))
+    moved = row_sum(np.sort(np.where(done[rows.merged] > 0, mass, 0.0), axis=1))
     return merge_equal_boxes(lo, hi, mass), moved
 
 
