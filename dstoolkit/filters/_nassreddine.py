@@ -229,20 +229,20 @@ def _local_minima(cost: np.ndarray) -> np.ndarray:
     return local
 
 
-def _cheapest(local: np.ndarray, cost: np.ndarray, run: np.ndarray, allowed: np.ndarray,
-              start: np.ndarray) -> np.ndarray:
-    """The local minima to merge: each run's ``allowed`` cheapest (ties: leftmost first).
-
-    ``run`` is the run of each pair (its left box); run r's pairs begin at ``start[r]``.
-    Ranking is skipped when every run may take all its local minima.
+def _cheapest(local: np.ndarray, cost: np.ndarray, run: np.ndarray, allowed: np.ndarray
+              ) -> np.ndarray:
+    """The pairs to merge, as indices: each run's ``allowed`` cheapest local minima (ties:
+    leftmost first); ``run`` is the run of each pair. Ranking is skipped when every run may
+    take all its local minima.
     """
-    if np.all(np.bincount(run[local], minlength=len(allowed)) <= allowed):
-        return local
-    order = np.lexsort((np.where(local, cost, np.inf), run))  # by run, then by Δ
-    ranked = run[order]
-    first = np.empty(local.shape, dtype=bool)  # the first `allowed` of each run in that order
-    first[order] = np.arange(len(order)) - start[ranked] < allowed[ranked]
-    return local & first
+    at = np.flatnonzero(local)
+    per_run = np.bincount(run[at], minlength=len(allowed))
+    if np.all(per_run <= allowed):
+        return at
+    at = at[np.lexsort((cost[at], run[at]))]  # by run, then by Δ (stable: leftmost first)
+    ranked = run[at]
+    first = np.cumsum(per_run) - per_run  # where each run's local minima begin in that order
+    return at[np.arange(len(at)) - first[ranked] < allowed[ranked]]
 
 
 def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
@@ -286,9 +286,9 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     done = np.zeros((rows.count, runs, max_focal))  # each run's boxes once it fits
     active = np.ones(runs, dtype=bool)  # the runs still in the rounds
     for rnd in range(MAX_CLUSTER_ROUNDS + 1):
-        start = np.cumsum(count * active) - count * active  # each run's first column
         fits = active & (count <= max_focal)
         if fits.any():
+            start = np.cumsum(count * active) - count * active  # each run's first column
             leaving = fits[run]
             at = np.flatnonzero(leaving)
             place = run[at] * max_focal + at - start[run[at]]
@@ -297,7 +297,6 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
             if not active.any():
                 break
             table, run = np.compress(~leaving, table, axis=1), run[~leaving]
-            start = np.cumsum(count * active) - count * active
         if rnd == MAX_CLUSTER_ROUNDS:
             raise WorkLimitError(
                 f"clustering the focal elements did not reach max_focal = {max_focal} in "
@@ -310,9 +309,8 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
         pair = rows.pair_hulls(table)
         cost = pair[rows.ms] - table[rows.ms, :-1] - table[rows.ms, 1:]
         cost[run[1:] != run[:-1]] = np.inf  # no pair across two runs
-        chosen = _cheapest(_local_minima(cost), cost, run[:-1],
-                           np.where(active, count - max_focal, 0), start)
-        picked = np.flatnonzero(chosen)
+        picked = _cheapest(_local_minima(cost), cost, run[:-1],
+                           np.where(active, count - max_focal, 0))
         if not len(picked):
             raise WorkLimitError(
                 "clustering the focal elements found no pair to merge (their sizes are not "
