@@ -247,8 +247,9 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     ``max_focal``; rounds repeat until every run fits.
 
     Two shortcuts give the same merges with less work. In one dimension the boxes stay in
-    order after round 0: a hull's centre lies between its pair's (lo_A + hi_B is between
-    lo_A + hi_A and lo_B + hi_B, rounding included), so only the boxes merged away leave.
+    order after round 0: a hull's centre lies between its pair's (it is lo + hi of one box,
+    or lo_A + hi_B with lo_A ≤ lo_B and hi_B ≥ hi_A, which lies between lo_A + hi_A and
+    lo_B + hi_B, rounding included), so the next round only drops the boxes merged away.
     A run that fits leaves the rounds: later sorts would only reorder its boxes, and the
     closing merge of equal boxes (eq. 14) puts them in canonical order (equal boxes share
     every centre, so no stable sort changes their order among themselves, nor the order in
