@@ -51,13 +51,14 @@ def test_cached_text_draws_the_same_pixels_as_agg() -> None:
         assert _text_cache.SUPPORTED, "3.11 changed its text path: see plots/_text_cache.py"
     _text_cache._layouts.clear()
     _text_cache._glyphs.clear()
+    _text_cache._metrics.clear()
     for shift in (0.0, 0.0013, 0.0, 0.25):  # fresh, moved by sub-pixels, drawn again
         fig = text_figure(shift)
         cached = pixels(fig, TextCachingCanvas)
         expected = TextCachingRenderer if _text_cache.SUPPORTED else RendererAgg
         assert type(fig.canvas.get_renderer()) is expected
         np.testing.assert_array_equal(cached, pixels(fig, FigureCanvasAgg))
-    assert bool(_text_cache._glyphs) == _text_cache.SUPPORTED
+    assert bool(_text_cache._glyphs) == bool(_text_cache._metrics) == _text_cache.SUPPORTED
 
 
 def test_the_cache_stays_bounded(monkeypatch: pytest.MonkeyPatch) -> None:

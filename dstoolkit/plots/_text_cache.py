@@ -9,7 +9,9 @@ glyph through FreeType, every time: two thirds of a redraw of the filter-step ex
 - the layout of a string (its glyphs and their positions) per string, font, size and dpi;
 - the bitmap of a glyph per font, size, glyph, angle and sub-pixel position (1/64 px, as
   Agg places it), so that a glyph drawn again at another whole-pixel position is the same
-  bitmap moved.
+  bitmap moved;
+- a font's line metrics (ascent, descent, line gap from its tables), which matplotlib reads
+  again each time it places a text.
 
 Each cached glyph is drawn through the same Agg call as before, at the same place, so the
 picture is the same to the byte (tested). When matplotlib renders text otherwise (before
@@ -25,6 +27,7 @@ from typing import Any
 import numpy as np
 from matplotlib.backends import backend_agg
 from matplotlib.backends.backend_agg import FigureCanvasAgg, RendererAgg
+from matplotlib.font_manager import fontManager, get_font
 from matplotlib.ft2font import FT2Font, RenderMode
 
 #: Entries per cache (layouts, glyph bitmaps): some tens of MB at most.
@@ -39,6 +42,7 @@ SUPPORTED = (hasattr(RendererAgg, "_draw_text_glyphs_and_boxes")
 
 _layouts: dict[tuple[Any, ...], tuple[tuple[Any, int, float, float], ...]] = {}
 _glyphs: dict[tuple[Any, ...], tuple[np.ndarray, int, int]] = {}
+_metrics: dict[tuple[Any, float], tuple[float | None, float | None, float | None]] = {}
 
 
 def _remember(cache: dict[Any, Any], key: Any, value: Any) -> Any:
@@ -49,8 +53,30 @@ def _remember(cache: dict[Any, Any], key: Any, value: Any) -> Any:
 
 
 class TextCachingRenderer(RendererAgg):
-    """Agg's renderer with cached text layouts and glyph bitmaps (plain text; mathtext and
-    TeX are drawn as by Agg)."""
+    """Agg's renderer with cached text layouts, glyph bitmaps and line metrics (plain text;
+    mathtext and TeX are drawn as by Agg)."""
+
+    def _get_font_height_metrics(self, prop: Any) -> tuple[float | None, ...]:
+        """(ascent, descent, line gap) in pixels of the font of ``prop``, as
+        ``matplotlib.text.Text`` computes them from the font's OS/2 or hhea table (the hook
+        it asks a renderer first); (None, None, None) when the font has neither."""
+        key = (prop, self.dpi)
+        cached = _metrics.get(key)
+        if cached is None:
+            font = get_font(fontManager._find_fonts_by_props(prop))
+            cached = (None, None, None)
+            for table_name, gap, ascent, descent in (
+                    ("OS/2", "sTypoLineGap", "sTypoAscender", "sTypoDescender"),
+                    ("hhea", "lineGap", "ascent", "descent")):
+                table = font.get_sfnt_table(table_name)
+                if table is None:
+                    continue
+                scale = (1 / font.get_sfnt_table("head")["unitsPerEm"]
+                         * prop.get_size_in_points() * self.dpi / 72)
+                cached = (table[ascent] * scale, -table[descent] * scale, table[gap] * scale)
+                break
+            _remember(_metrics, key, cached)
+        return cached
 
     def draw_text(self, gc: Any, x: float, y: float, s: str, prop: Any, angle: float,
                   ismath: Any = False, mtext: Any = None) -> None:
