@@ -349,7 +349,8 @@ class Explorer(widgets.VBox):
         marks the figure stale when a non-animated artist, a limit or a text changes), the
         picture of the rest is restored from the last draw and only those artists are drawn
         on it (blitting), in order of their zorder. Otherwise the whole figure is drawn
-        and the animated artists on top.
+        and the animated artists on top. The figure is drawn on a
+        ``TextCachingCanvas``, which draws text it drew before from a cache (the same pixels).
         """
         if not isinstance(fig.canvas, TextCachingCanvas):  # it caches the text it drew
             TextCachingCanvas(fig)
