@@ -75,7 +75,7 @@ class TextCachingRenderer(RendererAgg):
                          * prop.get_size_in_points() * self.dpi / 72)
                 cached = (table[ascent] * scale, -table[descent] * scale, table[gap] * scale)
                 break
-            _remember(_metrics, key, cached)
+            _remember(_metrics, (prop.copy(), self.dpi), cached)  # a copy: prop may change
         return cached
 
     def draw_text(self, gc: Any, x: float, y: float, s: str, prop: Any, angle: float,
@@ -92,7 +92,7 @@ class TextCachingRenderer(RendererAgg):
         items = _layouts.get(key)
         if items is None:
             font = self._prepare_font(prop)
-            items = _remember(_layouts, key, tuple(
+            items = _remember(_layouts, (s, prop.copy(), *key[2:]), tuple(
                 (item.ft_object, item.glyph_index, item.x, item.y)
                 for item in font._layout(s, flags=flags, features=features,
                                          language=language)))
