@@ -16,6 +16,7 @@ maximum, refined to the largest |correlation| within the next :data:`ARRIVAL_WIN
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -88,8 +89,28 @@ def valid_correlation(recorded: np.ndarray, reference: np.ndarray) -> np.ndarray
     the size, and one real transform fewer per signal.
     """
     size = sp_fft.next_fast_len(recorded.size, real=True)
-    spectrum = sp_fft.rfft(recorded, size) * np.conj(sp_fft.rfft(reference, size))
+    spectrum = sp_fft.rfft(recorded, size) * _reference_spectrum(reference, size)
     return sp_fft.irfft(spectrum, size)[: recorded.size - reference.size + 1]
+
+
+#: Conjugate spectra of read-only references, by (id, size), each with a weak reference to
+#: its array (an id is reused once its array is gone).
+_SPECTRA: dict[tuple[int, int], tuple[weakref.ref[np.ndarray], np.ndarray]] = {}
+
+
+def _reference_spectrum(reference: np.ndarray, size: int) -> np.ndarray:
+    """conj(rfft(reference, size)), kept for a read-only array that owns its memory (it
+    cannot change): the sweep that :func:`~dstoolkit.gauge.detect_resonances` looks for
+    in every recording."""
+    if reference.flags.writeable or reference.base is not None:
+        return np.conj(sp_fft.rfft(reference, size))
+    key = (id(reference), size)
+    kept = _SPECTRA.get(key)
+    if kept is None or kept[0]() is not reference:
+        if len(_SPECTRA) >= 4:
+            _SPECTRA.clear()
+        kept = _SPECTRA[key] = (weakref.ref(reference), np.conj(sp_fft.rfft(reference, size)))
+    return kept[1]
 
 
 def estimate_latency(

@@ -23,7 +23,7 @@ next recording with that seed.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -455,37 +455,18 @@ def synthesize_recording(
     cond = RecordingConditions() if conditions is None else conditions
     fs = sweep.sample_rate
     n = int(round((sweep.duration + cond.latency_s + cond.tail_s) * fs))
-    u = np.arange(n) / fs - cond.latency_s
     kinds = (cond.speaker_jitter_bandwidth_hz, cond.speaker_jitter_hz > 0,
              cond.microphone_noise_pa > 0, cond.background_noise_pa > 0)
-    draws = (_seeded_draws(int(seed), sweep, n, *kinds) if isinstance(seed, int | np.integer)
-             else _draw(np.random.default_rng(seed), sweep, n, *kinds))
-
-    t_j = draws.jitter_times
-    df, psi_j = _jitter_phase(draws, cond.speaker_jitter_hz)
-
-    delta = setup.round_trip_s
-    echoes = setup.echo_count(sweep.f_start, echo_floor)
-    echoes = min(echoes, int(u[-1] / delta))
-    pressure = np.zeros(n)
-    # three work arrays for every echo: a new array of 10⁵ samples costs more than its
-    # arithmetic (the memory is handed back and faulted in again)
-    buffers = np.empty((3, n))
-    for m in range(echoes + 1):
-        lo, hi = _echo_span(u, m * delta, sweep.duration)
-        if hi <= lo:
-            continue
-        if m == 0 and isinstance(seed, int | np.integer):  # no control of the tube moves it
-            wave = _seeded_direct_wave(int(seed), sweep, n, cond.latency_s,
-                                       cond.speaker_jitter_hz, kinds)
-        else:
-            e, gain, wave = buffers[:, : hi - lo]
-            np.subtract(u[lo:hi], m * delta, out=e)
-            gain = setup.echo_gain(m, sweep.frequency_at(e, out=gain), out=gain)
-            wave = _echo_wave(sweep, e, gain, t_j, psi_j, out=wave)
-        pressure[lo:hi] += wave
-    pressure *= cond.source_pressure_pa
-
+    if isinstance(seed, int | np.integer):
+        draws = _seeded_draws(int(seed), sweep, n, *kinds)
+        # the noises' levels do not move the sound: a change of them only adds other noise
+        sound = _seeded_sound(setup, sweep, int(seed), echo_floor, n, kinds,
+                              _sound_conditions(cond))
+    else:
+        draws = _draw(np.random.default_rng(seed), sweep, n, *kinds)
+        sound = _sound(setup, sweep, draws, echo_floor, n, cond)
+    df = _jitter_phase(draws, cond.speaker_jitter_hz)[0]
+    pressure = sound.copy() if not sound.flags.writeable else sound  # the kept one stays
     if draws.microphone is not None:
         pressure += cond.microphone_noise_pa * draws.microphone
     if draws.background is not None:
@@ -497,4 +478,52 @@ def synthesize_recording(
         q = 2.0 ** (cond.bits - 1)
         samples = np.clip(np.round(samples * q), -q, q - 1) / q
     return Recording(samples=samples, sweep=sweep, setup=setup, conditions=cond,
-                     speaker_error_times=t_j.copy(), speaker_error_hz=df)
+                     speaker_error_times=draws.jitter_times.copy(), speaker_error_hz=df)
+
+
+def _sound_conditions(cond: RecordingConditions) -> RecordingConditions:
+    """``cond`` without the levels of the noises (what the sound in the tube depends on)."""
+    return replace(cond, microphone_noise_pa=0.0, background_noise_pa=0.0)
+
+
+@functools.lru_cache(maxsize=2)
+def _seeded_sound(setup: TubeSetup, sweep: LinearSweep, seed: int, echo_floor: float, n: int,
+                  kinds: tuple[float, bool, bool, bool], cond: RecordingConditions
+                  ) -> np.ndarray:
+    """:func:`_sound` of a recording with an integer seed, kept (read-only) for the next
+    recording that differs only in the noises' levels (``cond``: :func:`_sound_conditions`)."""
+    sound = _sound(setup, sweep, _seeded_draws(seed, sweep, n, *kinds), echo_floor, n, cond,
+                   direct=_seeded_direct_wave(seed, sweep, n, cond.latency_s,
+                                              cond.speaker_jitter_hz, kinds))
+    sound.flags.writeable = False
+    return sound
+
+
+def _sound(setup: TubeSetup, sweep: LinearSweep, draws: _Draws, echo_floor: float, n: int,
+           cond: RecordingConditions, direct: np.ndarray | None = None) -> np.ndarray:
+    """The pressure of the sweep and its echoes at the microphone, P0 [s(u) + Σ_m a_m(f(u −
+    mΔ)) s(u − mΔ)] (eqs. 27–29), without noise; ``direct``: the wave m = 0 if known."""
+    u = np.arange(n) / sweep.sample_rate - cond.latency_s
+    t_j = draws.jitter_times
+    psi_j = _jitter_phase(draws, cond.speaker_jitter_hz)[1]
+    delta = setup.round_trip_s
+    echoes = setup.echo_count(sweep.f_start, echo_floor)
+    echoes = min(echoes, int(u[-1] / delta))
+    pressure = np.zeros(n)
+    # three work arrays for every echo: a new array of 10⁵ samples costs more than its
+    # arithmetic (the memory is handed back and faulted in again)
+    buffers = np.empty((3, n))
+    for m in range(echoes + 1):
+        lo, hi = _echo_span(u, m * delta, sweep.duration)
+        if hi <= lo:
+            continue
+        if m == 0 and direct is not None:  # no control of the tube moves it
+            wave = direct
+        else:
+            e, gain, wave = buffers[:, : hi - lo]
+            np.subtract(u[lo:hi], m * delta, out=e)
+            gain = setup.echo_gain(m, sweep.frequency_at(e, out=gain), out=gain)
+            wave = _echo_wave(sweep, e, gain, t_j, psi_j, out=wave)
+        pressure[lo:hi] += wave
+    pressure *= cond.source_pressure_pa
+    return pressure

@@ -23,6 +23,7 @@ from matplotlib.ticker import FixedLocator, NullFormatter, NullLocator, StrMetho
 from dstoolkit.errors import EvidenceError
 
 from ._evidence import FocalIntervalArtists, draw_focal_intervals, update_focal_intervals
+from ._kept import InnerTicks
 from ._style import BETP_COLOUR, SMALL_PT, column_size, legend_above, styled
 
 
@@ -249,6 +250,7 @@ class FilterStepFigure:
         self._lines: list[tuple[Line2D, Line2D] | None] = []
         for ax, key in zip(self.axes, self.panels, strict=True):
             self._focal.append(draw_focal_intervals(ax, xlabel=""))
+            ax.xaxis.set_major_locator(InnerTicks())  # the layout stays as the x range moves
             ax.set_ylabel("mass")
             if key == "state":
                 self._lines.append(None)

@@ -14,6 +14,7 @@ from typing import Any, Generic, TypeVar
 import numpy as np
 from matplotlib.artist import Artist
 from matplotlib.axes import Axes
+from matplotlib.ticker import AutoLocator
 
 #: What a KeptFigure keeps: a Figure, or an object that holds one and its artists (such
 #: as :class:`~dstoolkit.plots.FilterStepFigure`).
@@ -111,6 +112,23 @@ def set_limits(ax: Axes, *, x: tuple[float, float] | None = None,
         ax.set_xlim(*x)
     if y is not None and tuple(ax.get_ylim()) != tuple(map(float, y)):
         ax.set_ylim(*y)
+
+
+class InnerTicks(AutoLocator):
+    """Matplotlib's default ticks, less those within ``margin`` (a fraction of the view) of
+    either end. Their labels then never reach past the axes' ends, so that a kept figure
+    whose limits move keeps its layout (a label sticking out of the figure makes
+    :meth:`dstoolkit.teaching.Explorer.png` lay it out afresh, a second whole draw)."""
+
+    def __init__(self, margin: float = 0.04) -> None:
+        super().__init__()
+        self.margin = margin
+
+    def tick_values(self, vmin: float, vmax: float) -> Any:
+        ticks = super().tick_values(vmin, vmax)
+        lo, hi = min(vmin, vmax), max(vmin, vmax)
+        inset = self.margin * (hi - lo)
+        return ticks[(ticks >= lo + inset) & (ticks <= hi - inset)]
 
 
 def animate(*artists: Artist | None, spines_of: Axes | None = None) -> None:

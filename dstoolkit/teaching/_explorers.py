@@ -110,6 +110,7 @@ from dstoolkit.plots._evidence import (
 )
 from dstoolkit.plots._gauge import gauge_detection_figure, update_gauge_detection
 from dstoolkit.plots._kept import KeptFigure, animate
+from dstoolkit.plots._text_cache import TextCachingCanvas
 from dstoolkit.studies import ORDER_SOURCES, filter_case, filter_summary, gauge_case, step_numbers
 
 from ._lab import (
@@ -348,10 +349,11 @@ class Explorer(widgets.VBox):
         marks the figure stale when a non-animated artist, a limit or a text changes), the
         picture of the rest is restored from the last draw and only those artists are drawn
         on it (blitting), in order of their zorder. Otherwise the whole figure is drawn
-        and the animated artists on top.
+        and the animated artists on top. The figure is drawn on a
+        ``TextCachingCanvas``, which draws text it drew before from a cache (the same pixels).
         """
-        if not hasattr(fig.canvas, "copy_from_bbox"):  # a Figure() made without pyplot
-            FigureCanvasAgg(fig)
+        if not isinstance(fig.canvas, TextCachingCanvas):  # it caches the text it drew
+            TextCachingCanvas(fig)
         if fig.get_dpi() != FIGURE_DPI:  # set_dpi marks the figure stale, even unchanged
             fig.set_dpi(FIGURE_DPI)
         if fig is self._kept and not fig.stale:
