@@ -83,8 +83,26 @@ def random_boxes(rng: np.random.Generator, runs: int, rows: int, n: int) -> Boxe
     return merge_equal_boxes(lo, hi, mass / mass.sum(axis=1, keepdims=True))
 
 
-@pytest.mark.parametrize("n", [1, 2])
-def test_cluster_boxes_gives_the_rule_s_numbers_exactly(n):
+#: The numpy functions, and the compiled ones of ``NassreddineFilter(kernel="numba")``.
+KERNELS = ["numpy", pytest.param("numba", marks=pytest.mark.extras)]  # numba: extra "speed"
+
+
+def kernels(kind: str):
+    """(merge_equal_boxes, cluster_boxes) of ``kind``."""
+    if kind == "numpy":
+        return merge_equal_boxes, cluster_boxes
+    from dstoolkit.filters._nassreddine_compiled import (
+        cluster_boxes_compiled,
+        merge_equal_boxes_compiled,
+    )
+
+    return merge_equal_boxes_compiled, lambda bm, cap: cluster_boxes_compiled(bm, cap, 10_000)
+
+
+@pytest.mark.parametrize("kind", KERNELS)
+@pytest.mark.parametrize("n", [1, 2, 3])
+def test_cluster_boxes_gives_the_rule_s_numbers_exactly(n, kind):
+    cluster_boxes = kernels(kind)[1]
     rng = np.random.default_rng(14 + n)
     compared = merged_runs = 0
     for _ in range(40):
@@ -101,7 +119,9 @@ def test_cluster_boxes_gives_the_rule_s_numbers_exactly(n):
     assert merged_runs > compared // 2  # the cap did work in most runs
 
 
-def test_merge_equal_boxes_adds_masses_in_the_order_given():
+@pytest.mark.parametrize("kind", KERNELS)
+def test_merge_equal_boxes_adds_masses_in_the_order_given(kind):
+    merge_equal_boxes = kernels(kind)[0]
     rng = np.random.default_rng(3)
     for n in (1, 2):
         lo = rng.integers(0, 3, size=(3, 300, n)) * 0.1
@@ -112,3 +132,31 @@ def test_merge_equal_boxes_adds_masses_in_the_order_given():
             rows = [(tuple(lo[r, i].tolist()), tuple(hi[r, i].tolist()), float(mass[r, i]))
                     for i in range(300)]
             assert run_boxes(out, r) == merged_equal(rows)
+
+
+@pytest.mark.extras  # numba, the extra "speed"
+def test_the_compiled_merge_and_cluster_return_the_numpy_arrays_whole():
+    """Padding, widths and runs without mass included: the compiled functions return the
+    arrays of the numpy ones, element for element."""
+    compiled_merge, compiled_cluster = kernels("numba")
+    rng = np.random.default_rng(21)
+    for case in range(60):
+        n = 1 + case % 3
+        runs, rows = int(rng.integers(1, 6)), int(rng.integers(1, 120))
+        lo = rng.integers(0, 6, size=(runs, rows, n)) * 0.25
+        hi = lo + rng.integers(0, 4, size=(runs, rows, n)) * 0.5
+        mass = rng.random((runs, rows)) * (rng.random((runs, rows)) > 0.3)
+        if case % 4 == 0:
+            mass[0] = 0.0  # a run without mass
+        for want, got in zip(merge_equal_boxes(lo, hi, mass), compiled_merge(lo, hi, mass),
+                             strict=True):
+            assert want.shape == got.shape
+            np.testing.assert_array_equal(want, got)
+        mass[:, 0] += 0.01
+        bm = merge_equal_boxes(lo, hi, mass / mass.sum(axis=1, keepdims=True))
+        cap = int(rng.integers(2, 12))
+        (want_bm, want_moved), (got_bm, got_moved) = (cluster_boxes(bm, cap),
+                                                      compiled_cluster(bm, cap))
+        for want, got in zip((*want_bm, want_moved), (*got_bm, got_moved), strict=True):
+            assert want.shape == got.shape
+            np.testing.assert_array_equal(want, got)

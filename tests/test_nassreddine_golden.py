@@ -86,3 +86,28 @@ if __name__ == "__main__":
     data = computed()
     np.savez_compressed(TARGET, **data)
     print(f"wrote {len(data)} arrays to {TARGET} ({TARGET.stat().st_size:,} bytes)")
+
+
+@pytest.mark.extras  # numba, the extra "speed"
+@pytest.mark.parametrize("name", SETTINGS)
+def test_the_compiled_kernels_give_the_same_numbers_bit_for_bit(name, today):
+    """kernel="numba" (merge of equal boxes and clustering compiled) gives exactly the numpy
+    path's numbers, single runs (2-D, the sort dimension alternating) and a batch alike."""
+    import dataclasses
+
+    from dstoolkit.filters import _nassreddine
+
+    flt = dataclasses.replace(SETTINGS[name], kernel="numba")
+    assert flt._kernels()[0] is not _nassreddine.merge_equal_boxes  # the compiled ones
+    lv_model, _, lv_z = simulate_lotka_volterra(steps=30, runs=3, seed=11)
+    for r in range(lv_z.shape[0]):
+        result = flt.run(lv_model, lv_z[r])
+        for field in ("estimates", "lower", "upper"):
+            np.testing.assert_array_equal(getattr(result, field),
+                                          today[f"{name}/lotka_volterra_{r}/{field}"])
+        np.testing.assert_array_equal(result.diagnostics["merged_mass"],
+                                      today[f"{name}/lotka_volterra_{r}/merged_mass"])
+    gauge = simulate_gauge(4.6, 26.5, runs=5, seed=2)
+    np.testing.assert_array_equal(
+        flt.run_batch(gauge_state_space_model(), gauge.readings, gauge.inputs),
+        today[f"{name}/gauge_batch/estimates"])

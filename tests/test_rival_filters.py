@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from dstoolkit import EvidenceError, InconsistentDataError, TotalConflictError
+from dstoolkit.errors import WorkLimitError
 from dstoolkit.evidence import Boxes
 from dstoolkit.filters import (
     BoundedErrorFilter,
@@ -400,3 +401,42 @@ def test_nassreddine_keeps_unit_mass_under_heavy_conflict():
             step["posterior"].pignistic_expectation(), rel=1e-9)
     assert np.all(run.lower[:, 0] <= run.estimates[:, 0] + 1e-9)
     assert np.all(run.estimates[:, 0] <= run.upper[:, 0] + 1e-9)
+
+
+# -- Nassreddine's kernels: numpy, compiled (extra "speed"), or whichever is installed ------
+
+
+def test_nassreddine_kernel_must_be_named():
+    with pytest.raises(EvidenceError, match="kernel"):
+        NassreddineFilter(kernel="fortran")
+
+
+def test_nassreddine_auto_kernel_falls_back_to_numpy_without_numba(monkeypatch):
+    import importlib.util
+
+    from dstoolkit.filters import _nassreddine
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name == "numba" else real(name, *a))
+    merge, cluster = NassreddineFilter(kernel="auto")._kernels()
+    assert merge is _nassreddine.merge_equal_boxes and cluster is _nassreddine.cluster_boxes
+
+
+@pytest.mark.extras  # numba, the extra "speed"
+def test_nassreddine_compiled_kernels_raise_the_numpy_errors():
+    from dstoolkit.filters._nassreddine_compiled import cluster_boxes_compiled
+
+    lo = np.array([[[0.0], [1.0], [2.0]]])
+    hi = np.array([[[1.0], [np.inf], [3.0]]])
+    bm = Boxes(lo, hi, np.array([[0.3, 0.3, 0.4]]))
+    with pytest.raises(EvidenceError, match="bounded boxes"):
+        cluster_boxes_compiled(bm, 2, 100)
+    wide = Boxes(np.arange(40.0)[None, :, None], np.arange(40.0)[None, :, None] + 0.5,
+                 np.full((1, 40), 1 / 40))
+    with pytest.raises(WorkLimitError, match="did not reach"):
+        cluster_boxes_compiled(wide, 2, 1)
+    (capped, moved), (want, want_moved) = (cluster_boxes_compiled(wide, 2, 100),
+                                           cluster_boxes(wide, 2))
+    np.testing.assert_array_equal(capped.mass, want.mass)
+    assert moved[0] == want_moved[0] > 0

@@ -58,12 +58,14 @@ operations as one run; batches are cut into chunks of :data:`CHUNK_BYTES`.
 
 from __future__ import annotations
 
+import functools
+import importlib.util
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
 import numpy as np
 
-from dstoolkit.errors import EvidenceError, TotalConflictError, WorkLimitError
+from dstoolkit.errors import EvidenceError, TotalConflictError, WorkLimitError, require_extra
 from dstoolkit.evidence._boxes import Boxes, hull, pignistic_expectation, row_sum
 from dstoolkit.evidence._checks import whole_number
 from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
@@ -81,6 +83,7 @@ from ._model import (
 )
 
 ConflictPolicy = Literal["raise", "reset"]
+Kernel = Literal["numpy", "numba", "auto"]
 #: Memory for the contraction arrays of one chunk of runs (a speed setting; the memory
 #: budget, :func:`dstoolkit.evidence.memory_budget`, caps it too).
 CHUNK_BYTES = 96 * 2**20
@@ -354,6 +357,10 @@ class NassreddineFilter(FilterBase):
         with the first reading under the noise bounds.
     state_theta, obs_theta
         Frames Θ of the noise evidences, one (lo, hi) per component; default mode ± 100σ.
+    kernel
+        The merge of equal boxes (eq. 14) and the clustering: ``"numpy"`` (default);
+        ``"numba"``, compiled kernels (extra ``speed``) that give the same numbers bit for
+        bit, several times faster; ``"auto"``, numba when it is installed.
     """
 
     p: int = 3
@@ -364,6 +371,7 @@ class NassreddineFilter(FilterBase):
     initial_box: tuple[Any, Any] | None = None
     state_theta: Any = None
     obs_theta: Any = None
+    kernel: Kernel = "numpy"
 
     name: str = field(init=False)
     """``"nassreddine"``, or ``"nassreddine-restart"`` for the restart variant."""
@@ -376,6 +384,19 @@ class NassreddineFilter(FilterBase):
         self._box(self.initial_box)
         self._frame(self.state_theta, "state_theta")
         self._frame(self.obs_theta, "obs_theta")
+        self._policy(self.kernel, ("numpy", "numba", "auto"), "kernel")
+        if self.kernel == "numba":
+            require_extra("numba", "speed", "kernel='numba' of Nassreddine's filter")
+
+    def _kernels(self) -> tuple[Any, Any]:
+        """The merge of equal boxes and the clustering of ``kernel``."""
+        if self.kernel == "numba" or (self.kernel == "auto"
+                                      and importlib.util.find_spec("numba") is not None):
+            from ._nassreddine_compiled import cluster_boxes_compiled, merge_equal_boxes_compiled
+
+            return merge_equal_boxes_compiled, functools.partial(
+                cluster_boxes_compiled, max_rounds=MAX_CLUSTER_ROUNDS)
+        return merge_equal_boxes, cluster_boxes
 
     def run(
         self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
@@ -471,6 +492,7 @@ class NassreddineFilter(FilterBase):
                 "resets": np.zeros((runs, n_steps), dtype=bool)}
         steps: list[dict[str, Any]] | None = [] if record else None
 
+        merge, cluster = self._kernels()
         posterior = self._from_reading(model, Z[:, 0], w, 0)
         for k in range(n_steps):
             if k > 0:
@@ -494,7 +516,7 @@ class NassreddineFilter(FilterBase):
                 dead = kept <= CONFLICT_TOLERANCE
                 c_mass = np.where(dead[:, None], 0.0, c_mass)
                 c_mass = c_mass / np.where(dead, 1.0, kept)[:, None]
-                posterior = merge_equal_boxes(c_lo, c_hi, c_mass)
+                posterior = merge(c_lo, c_hi, c_mass)
                 diag["conflict"][:, k] = conflict
                 if np.any(dead):
                     posterior = self._total_conflict(model, Z, k, dead, w, posterior, diag)
@@ -515,7 +537,7 @@ class NassreddineFilter(FilterBase):
                 steps[-1].update(posterior=IntervalEvidence.from_boxes(posterior),
                                  estimate=est[0, k].copy())
             if not self.restart:
-                state, diag["merged_mass"][:, k] = cluster_boxes(posterior, self.max_focal)
+                state, diag["merged_mass"][:, k] = cluster(posterior, self.max_focal)
         return est, lo, hi, diag, steps
 
     def _total_conflict(self, model: StateSpaceModel, Z: np.ndarray, k: int,

@@ -64,7 +64,8 @@ def paper_filters(seed: int = 0) -> dict[str, Any]:
                                                       theta=(theta_v, theta_w),
                                                       on_conflict="predict"),
         "nassreddine": NassreddineFilter(p=3, epsilon=0.05, state_theta=theta_v,
-                                         obs_theta=theta_w, on_conflict="reset"),
+                                         obs_theta=theta_w, on_conflict="reset",
+                                         kernel="auto"),  # numba if installed: same numbers
         "kalman": KalmanFilter(),
         "particle": ParticleFilter(n_particles=500, seed=seed),
     }

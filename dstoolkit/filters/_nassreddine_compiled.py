@@ -1,0 +1,305 @@
+"""Optional compiled kernels (extra ``speed``: numba) of Nassreddine's filter.
+
+Each step of :class:`~dstoolkit.filters.NassreddineFilter` merges equal boxes (eq. 14) in a
+posterior of some hundreds of boxes per run and caps it by Denœux's clustering
+(:func:`~dstoolkit.filters.cluster_boxes`). In numpy both are a few dozen calls per round
+on every run at once, and they take most of a step. :func:`merge_equal_boxes_compiled`
+and :func:`cluster_boxes_compiled` follow the same rules run by run in plain loops, with
+the same floating-point operations in the same order, so they give the same numbers bit
+for bit (tested); the filter uses them with ``kernel="numba"``. Nothing requires them.
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable
+
+import numpy as np
+
+from dstoolkit.errors import EvidenceError, WorkLimitError, require_extra
+from dstoolkit.evidence._boxes import Boxes, row_sum
+
+#: The codes the clustering kernel returns.
+FITS, TOO_MANY_ROUNDS, NO_PAIR = 0, 1, 2
+
+
+def _row_less(key: np.ndarray, a: int, b: int) -> bool:  # pragma: no cover - numba
+    """Row a's key before row b's (lexicographic; equal keys: not before)."""
+    for j in range(key.shape[1]):
+        if key[a, j] < key[b, j]:
+            return True
+        if key[a, j] > key[b, j]:
+            return False
+    return False
+
+
+def _stable_order(key: np.ndarray, order: np.ndarray, work: np.ndarray
+                  ) -> None:  # pragma: no cover - numba
+    """``order`` := the rows of ``key`` sorted lexicographically, stable, as ``np.lexsort``
+    (equal keys keep their order): insertion sort of blocks of 16 rows, then merges of
+    neighbouring blocks (skipped where two blocks are in order already)."""
+    rows = key.shape[0]
+    for i in range(rows):
+        order[i] = i
+    for start in range(0, rows, 16):
+        for i in range(start + 1, min(start + 16, rows)):
+            row, j = order[i], i
+            while j > start and _row_less(key, row, order[j - 1]):
+                order[j] = order[j - 1]
+                j -= 1
+            order[j] = row
+    src, dst = order, work
+    width = 16
+    while width < rows:
+        for start in range(0, rows, 2 * width):
+            mid, end = min(start + width, rows), min(start + 2 * width, rows)
+            if mid >= end or not _row_less(key, src[mid], src[mid - 1]):
+                for k in range(start, end):  # in order already
+                    dst[k] = src[k]
+                continue
+            i, j, k = start, mid, start
+            while i < mid and j < end:
+                if _row_less(key, src[j], src[i]):
+                    dst[k] = src[j]
+                    j += 1
+                else:
+                    dst[k] = src[i]
+                    i += 1
+                k += 1
+            while i < mid:
+                dst[k] = src[i]
+                i += 1
+                k += 1
+            while j < end:
+                dst[k] = src[j]
+                j += 1
+                k += 1
+        src, dst = dst, src
+        width *= 2
+    if src is not order:
+        for i in range(rows):
+            order[i] = src[i]
+
+
+def _merge(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, out_lo: np.ndarray,
+           out_hi: np.ndarray, out_mass: np.ndarray) -> int:  # pragma: no cover - numba
+    """Eq. 14 per run as ``merge_equal_boxes``: rows sorted by (no mass, lo, hi), stable;
+    equal rows' masses added in that order; padding copies the first row. Returns the
+    width (the most boxes with mass in a run, at least 1). Only the rows with mass are
+    sorted (the others come last and are dropped), all of them in a run without mass (its
+    first row in that order is the padding)."""
+    runs, rows, n = lo.shape
+    key = np.empty((rows, 2 * n))
+    rows_of, order, work = (np.empty(rows, np.int64), np.empty(rows, np.int64),
+                            np.empty(rows, np.int64))
+    counts = np.zeros(runs, np.int64)
+    for r in range(runs):
+        m = 0
+        for i in range(rows):
+            if mass[r, i] > 0:
+                rows_of[m] = i
+                m += 1
+        dead = m == 0
+        if dead:
+            for i in range(rows):
+                rows_of[i] = i
+            m = rows
+        for k in range(m):
+            i = rows_of[k]
+            for j in range(n):
+                key[k, j], key[k, n + j] = lo[r, i, j], hi[r, i, j]
+        _stable_order(key[:m], order[:m], work[:m])
+        groups = 0
+        for k in range(m):
+            new = k == 0
+            if not new:
+                for j in range(2 * n):
+                    if key[order[k], j] != key[order[k - 1], j]:
+                        new = True
+                        break
+            i = rows_of[order[k]]
+            if new:
+                for j in range(n):
+                    out_lo[r, groups, j], out_hi[r, groups, j] = lo[r, i, j], hi[r, i, j]
+                out_mass[r, groups] = 0.0
+                groups += 1
+                if dead:
+                    break
+            out_mass[r, groups - 1] += mass[r, i]
+        counts[r] = 0 if dead else groups
+    width = max(1, counts.max())
+    for r in range(runs):
+        for g in range(counts[r], width):
+            for j in range(n):
+                out_lo[r, g, j], out_hi[r, g, j] = out_lo[r, 0, j], out_hi[r, 0, j]
+            out_mass[r, g] = 0.0
+    return width
+
+
+def _size(lo: np.ndarray, hi: np.ndarray, i: int, unit: np.ndarray, r: int
+          ) -> float:  # pragma: no cover - numba
+    """|A| of box i: the sum of its widths, each divided by run r's unit width (as
+    ``_sizes``)."""
+    total = (hi[i, 0] - lo[i, 0]) / unit[r, 0]
+    for j in range(1, lo.shape[1]):
+        total += (hi[i, j] - lo[i, j]) / unit[r, j]
+    return total
+
+
+def _cluster(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, unit: np.ndarray,
+             cap: int, max_rounds: int, out_lo: np.ndarray, out_hi: np.ndarray,
+             out_mass: np.ndarray, out_merged: np.ndarray) -> int:  # pragma: no cover
+    """Denœux's clustering as ``cluster_boxes``, run by run: each round sorts the boxes by
+    centre along dimension round % n (stable; skipped when they are in order already, as
+    a stable sort would leave them), merges the neighbour pairs whose Δ is a local minimum,
+    cheapest first (ties: leftmost), never below ``cap``. Writes each run's boxes in their
+    final order (zero-mass padding after) and whether each was merged."""
+    runs, rows, n = lo.shape
+    b_lo, b_hi = np.empty((rows, n)), np.empty((rows, n))
+    b_m, b_ms, b_merged = np.empty(rows), np.empty(rows), np.zeros(rows, np.bool_)
+    t_lo, t_hi = np.empty((rows, n)), np.empty((rows, n))
+    t_m, t_ms, t_merged = np.empty(rows), np.empty(rows), np.zeros(rows, np.bool_)
+    p_lo, p_hi = np.empty((rows, n)), np.empty((rows, n))
+    p_m, p_ms, cost = np.empty(rows), np.empty(rows), np.empty(rows)
+    key, local = np.empty(rows), np.empty(rows, np.int64)
+    chosen = np.zeros(rows, np.bool_)
+    for r in range(runs):
+        k = 0
+        for i in range(rows):
+            if mass[r, i] > 0:
+                for j in range(n):
+                    b_lo[k, j], b_hi[k, j] = lo[r, i, j], hi[r, i, j]
+                b_m[k] = mass[r, i]
+                b_ms[k] = b_m[k] * _size(b_lo, b_hi, k, unit, r)
+                b_merged[k] = False
+                k += 1
+        rnd = 0
+        while k > cap:
+            if rnd == max_rounds:
+                return TOO_MANY_ROUNDS
+            d = rnd % n
+            ordered = True
+            for i in range(k):
+                key[i] = b_lo[i, d] + b_hi[i, d]
+                if i > 0 and key[i] < key[i - 1]:
+                    ordered = False
+            if not ordered:  # by centre, stable
+                order = np.argsort(key[:k], kind="mergesort")
+                for i in range(k):
+                    o = order[i]
+                    for j in range(n):
+                        t_lo[i, j], t_hi[i, j] = b_lo[o, j], b_hi[o, j]
+                    t_m[i], t_ms[i], t_merged[i] = b_m[o], b_ms[o], b_merged[o]
+                b_lo, t_lo, b_hi, t_hi = t_lo, b_lo, t_hi, b_hi
+                b_m, t_m, b_ms, t_ms, b_merged, t_merged = t_m, b_m, t_ms, b_ms, t_merged, b_merged
+            for i in range(k - 1):  # each neighbour pair's hull and its Δ
+                for j in range(n):
+                    p_lo[i, j] = min(b_lo[i, j], b_lo[i + 1, j])
+                    p_hi[i, j] = max(b_hi[i, j], b_hi[i + 1, j])
+                p_m[i] = b_m[i] + b_m[i + 1]
+                p_ms[i] = p_m[i] * _size(p_lo, p_hi, i, unit, r)
+                cost[i] = p_ms[i] - b_ms[i] - b_ms[i + 1]
+            found = 0
+            for i in range(k - 1):
+                c = cost[i]
+                if (np.isfinite(c) and (i == 0 or c <= cost[i - 1])
+                        and (i == k - 2 or c < cost[i + 1])):
+                    local[found] = i
+                    found += 1
+            if found == 0:
+                return NO_PAIR
+            chosen[: k - 1] = False
+            if found <= k - cap:
+                for i in range(found):
+                    chosen[local[i]] = True
+            else:  # the cheapest, ties leftmost
+                ranked = np.argsort(cost[local[:found]], kind="mergesort")
+                for i in range(k - cap):
+                    chosen[local[ranked[i]]] = True
+            kept = i = 0
+            while i < k:  # in place: kept ≤ i
+                if i < k - 1 and chosen[i]:  # the pair's hull; its second box goes
+                    for j in range(n):
+                        b_lo[kept, j], b_hi[kept, j] = p_lo[i, j], p_hi[i, j]
+                    b_m[kept], b_ms[kept], b_merged[kept] = p_m[i], p_ms[i], True
+                    i += 2
+                else:
+                    if kept != i:
+                        for j in range(n):
+                            b_lo[kept, j], b_hi[kept, j] = b_lo[i, j], b_hi[i, j]
+                        b_m[kept], b_ms[kept], b_merged[kept] = b_m[i], b_ms[i], b_merged[i]
+                    i += 1
+                kept += 1
+            k = kept
+            rnd += 1
+        for i in range(out_mass.shape[1]):
+            inside = i < k
+            for j in range(n):
+                out_lo[r, i, j] = b_lo[i, j] if inside else 0.0
+                out_hi[r, i, j] = b_hi[i, j] if inside else 0.0
+            out_mass[r, i] = b_m[i] if inside else 0.0
+            out_merged[r, i] = b_merged[i] if inside else False
+    return FITS
+
+
+@functools.cache
+def _compiled() -> tuple[Callable[..., int], Callable[..., int]]:
+    """The two kernels, compiled on first use (and cached on disk by numba). The helpers
+    they call are compiled first and take their names in this module: numba resolves a
+    kernel's calls by name when it compiles it."""
+    require_extra("numba", "speed", "the compiled kernels of Nassreddine's filter")
+    import numba
+
+    jit = numba.njit(cache=True, nogil=True)
+    names = globals()
+    for name in ("_row_less", "_stable_order", "_size"):
+        names[name] = jit(names[name])
+    return jit(_merge), jit(_cluster)
+
+
+def merge_equal_boxes_compiled(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes:
+    """:func:`~dstoolkit.filters.merge_equal_boxes`, compiled: the same numbers."""
+    merge, _ = _compiled()
+    lo, hi = np.ascontiguousarray(lo, dtype=float), np.ascontiguousarray(hi, dtype=float)
+    mass = np.ascontiguousarray(mass, dtype=float)
+    out_lo, out_hi, out_mass = np.empty_like(lo), np.empty_like(hi), np.empty_like(mass)
+    width = merge(lo, hi, mass, out_lo, out_hi, out_mass)
+    return Boxes(out_lo[:, :width], out_hi[:, :width], out_mass[:, :width])
+
+
+def cluster_boxes_compiled(bm: Boxes, max_focal: int, max_rounds: int
+                           ) -> tuple[Boxes, np.ndarray]:
+    """:func:`~dstoolkit.filters.cluster_boxes`, compiled: the same numbers and errors
+    (``max_rounds``: its limit of rounds)."""
+    _, cluster = _compiled()
+    live = bm.mass > 0
+    if not (
+            np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo) | ~live[..., None])
+            and np.all(np.isfinite(bm.hi) | ~live[..., None])):
+        raise EvidenceError(
+            "cluster_boxes needs bounded boxes with finite masses; got NaN or infinite values "
+            "(check the filter's inputs and noise bounds)"
+        )
+    runs, _, n = bm.lo.shape
+    if int(live.sum(axis=1).max()) <= max_focal:
+        return merge_equal_boxes_compiled(bm.lo, bm.hi, bm.mass), np.zeros(runs)
+    unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
+    unit = np.ascontiguousarray(np.where(unit > 0, unit, 1.0))
+    lo, hi = np.empty((runs, max_focal, n)), np.empty((runs, max_focal, n))
+    mass, merged = np.empty((runs, max_focal)), np.empty((runs, max_focal), dtype=bool)
+    code = cluster(np.ascontiguousarray(bm.lo, dtype=float),
+                   np.ascontiguousarray(bm.hi, dtype=float),
+                   np.ascontiguousarray(bm.mass, dtype=float), unit, max_focal, max_rounds,
+                   lo, hi, mass, merged)
+    if code == TOO_MANY_ROUNDS:
+        raise WorkLimitError(
+            f"clustering the focal elements did not reach max_focal = {max_focal} in "
+            f"{max_rounds} rounds; raise max_focal"
+        )
+    if code == NO_PAIR:
+        raise WorkLimitError(
+            "clustering the focal elements found no pair to merge (their sizes are not "
+            "finite numbers); check the model's f and g for NaN or infinite images"
+        )
+    moved = row_sum(np.sort(np.where(merged, mass, 0.0), axis=1))
+    return merge_equal_boxes_compiled(lo, hi, mass), moved
