@@ -440,3 +440,24 @@ def test_nassreddine_compiled_kernels_raise_the_numpy_errors():
                                            cluster_boxes(wide, 2))
     np.testing.assert_array_equal(capped.mass, want.mass)
     assert moved[0] == want_moved[0] > 0
+
+
+def test_particle_draws_kept_for_the_same_runs_give_the_same_numbers():
+    """The pre-drawn numbers of a small batch are kept for the next batch of the same runs
+    and state noise (an explorer moving the observation noise's bounds): the estimates are
+    those of fresh draws, and the kept arrays cannot be changed."""
+    from dstoolkit.filters import _particle
+
+    gauge = simulate_gauge(4.6, 26.5, runs=3, seed=4)
+    flt = ParticleFilter(n_particles=200, seed=5)
+    models = [gauge_state_space_model(obs_noise=BoundedNoise(-10.59, -6.9, upper))
+              for upper in (-3.21, -2.0)]
+    _particle._kept_draws.cache_clear()
+    kept = [flt.run_batch(m, gauge.readings, gauge.inputs) for m in models]
+    assert _particle._kept_draws.cache_info().hits == 1
+    for model, estimates in zip(models, kept, strict=True):
+        _particle._kept_draws.cache_clear()
+        np.testing.assert_array_equal(estimates,
+                                      flt.run_batch(model, gauge.readings, gauge.inputs))
+    arrays = _particle._kept_draws(5, (0, 1, 2), ((-0.3,), (0.0,), (0.3,)), 4, 10)
+    assert not any(a.flags.writeable for a in arrays)

@@ -33,6 +33,7 @@ noise stays within :data:`CHUNK_BYTES`.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -43,6 +44,7 @@ from dstoolkit.evidence._checks import whole_number
 
 from ._base import FilterBase
 from ._model import (
+    BoundedNoise,
     FilterResult,
     StateSpaceModel,
     first_reading_box,
@@ -52,6 +54,8 @@ from ._model import (
 
 #: Memory budget of the random numbers pre-drawn for one chunk of runs.
 CHUNK_BYTES = 64 * 2**20
+#: Pre-drawn numbers of a chunk up to this size are kept for the next batch (two chunks).
+KEPT_DRAWS_BYTES = 16 * 2**20
 #: Resampling works on cumulative weights quantised to 2⁻⁴⁰ (whole numbers of quanta, exact).
 _QUANTUM = 2.0**40
 
@@ -90,6 +94,41 @@ def _normalised(weights: np.ndarray) -> np.ndarray:
         weights = np.where(total > 0, weights, 1.0)
         total = weights.sum(axis=1, keepdims=True)
     return weights / total
+
+
+def _stream(seed: int, *key: int) -> np.random.Generator:
+    """The random stream of run ``key[0]`` (and of a re-initialisation at step ``key[1]``)."""
+    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=key))
+
+
+def _draws(seed: int, run_ids: Any, state_noise: BoundedNoise, n_steps: int, big_n: int
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Every run's numbers, pre-drawn from its own stream in a fixed order: the start's
+    uniforms (runs, N, n), the state noise (runs, steps − 1, N, n), the resampling offsets
+    (runs, steps)."""
+    runs, n = len(run_ids), state_noise.dim
+    start_u = np.empty((runs, big_n, n))
+    noise = np.empty((runs, max(n_steps - 1, 0), big_n, n))
+    offsets = np.empty((runs, n_steps))
+    for i, r in enumerate(run_ids):
+        rng = _stream(seed, int(r))
+        start_u[i] = rng.random((big_n, n))
+        noise[i] = state_noise.sample(rng, (n_steps - 1, big_n))
+        offsets[i] = rng.random(n_steps)
+    return start_u, noise, offsets
+
+
+@functools.lru_cache(maxsize=2)
+def _kept_draws(seed: int, run_ids: tuple[int, ...],
+                noise: tuple[tuple[float, ...], ...], n_steps: int, big_n: int
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_draws`, kept (read-only) for the next batch of the same runs with the same
+    state noise: an explorer that re-filters them under other bounds of the observation
+    noise draws nothing again."""
+    arrays = _draws(seed, run_ids, BoundedNoise(*map(np.array, noise)), n_steps, big_n)
+    for a in arrays:
+        a.flags.writeable = False
+    return arrays
 
 
 @dataclass(frozen=True)
@@ -162,7 +201,7 @@ class ParticleFilter(FilterBase):
 
     # -- internals ---------------------------------------------------------------------------
     def _stream(self, *key: int) -> np.random.Generator:
-        return np.random.default_rng(np.random.SeedSequence(self.seed, spawn_key=key))
+        return _stream(self.seed, *key)
 
     def _reading_box(self, model: StateSpaceModel, z: np.ndarray, step: int
                      ) -> tuple[np.ndarray, np.ndarray]:
@@ -192,15 +231,13 @@ class ParticleFilter(FilterBase):
     ) -> tuple[Any, ...]:
         runs, n_steps, _ = Z.shape
         n, big_n = model.state_dim, self.n_particles
-        # Pre-draw every run's numbers from its own stream, in a fixed order.
-        start_u = np.empty((runs, big_n, n))
-        noise = np.empty((runs, max(n_steps - 1, 0), big_n, n))
-        offsets = np.empty((runs, n_steps))
-        for i, r in enumerate(run_ids):
-            rng = self._stream(int(r))
-            start_u[i] = rng.random((big_n, n))
-            noise[i] = model.state_noise.sample(rng, (n_steps - 1, big_n))
-            offsets[i] = rng.random(n_steps)
+        noise_key = tuple(tuple(a.tolist()) for a in (model.state_noise.lower,
+                                                      model.state_noise.mode,
+                                                      model.state_noise.upper))
+        start_u, noise, offsets = (
+            _kept_draws(self.seed, tuple(run_ids.tolist()), noise_key, n_steps, big_n)
+            if self._bytes_per_run(model, n_steps) * runs <= KEPT_DRAWS_BYTES
+            else _draws(self.seed, run_ids, model.state_noise, n_steps, big_n))
 
         est = np.empty((runs, n_steps, n))
         lo, hi = np.empty_like(est), np.empty_like(est)
