@@ -1392,7 +1392,11 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
     start value (a dropdown too). One redraw filters ``runs`` runs by five methods, a few
     tenths of a second: sliders redraw on release."""
     from dstoolkit.plots._studies import noise_bounds_figure, update_noise_bounds_figure
-    from dstoolkit.studies._estimation import noise_mismatch, tracking_data
+    from dstoolkit.studies._estimation import ALL_FILTERS, noise_mismatch, tracking_data
+
+    # the start value moves only the paper's filter: the others are kept per noise bounds
+    paper, others = ("dependent_evidence",), tuple(m for m in ALL_FILTERS
+                                                   if m != "dependent_evidence")
 
     data = tracking_data(level_m, temperature_c, runs=runs, seed=seed)
     v, w = data.state_noise, data.obs_noise
@@ -1418,11 +1422,21 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
         w_range=(ranges["w_lower"][0], ranges["w_upper"][1])),
                       update_noise_bounds_figure)
 
+    @functools.lru_cache(maxsize=4)
+    def rivals(v_bounds: tuple[float, ...], w_bounds: tuple[float, ...]) -> Any:
+        return noise_mismatch(data, BoundedNoise(*v_bounds), BoundedNoise(*w_bounds),
+                              methods=others, seed=seed)
+
     def render(v_lower: float, v_mode: float, v_upper: float, w_lower: float, w_mode: float,
                w_upper: float, start: str):
         assumed_v = BoundedNoise(v_lower, v_mode, v_upper)
         assumed_w = BoundedNoise(w_lower, w_mode, w_upper)
-        result = noise_mismatch(data, assumed_v, assumed_w, seed=seed, start=start)
+        rest = rivals((v_lower, v_mode, v_upper), (w_lower, w_mode, w_upper))
+        ours = noise_mismatch(data, assumed_v, assumed_w, methods=paper, seed=seed,
+                              start=start)
+        errors, seconds = ours.errors | rest.errors, ours.seconds | rest.seconds
+        result = replace(rest, errors={m: errors[m] for m in ALL_FILTERS},
+                         seconds={m: seconds[m] for m in ALL_FILTERS})
         fig = kept(v, w, assumed_v, assumed_w, result.errors)
         return fig, mismatch_numbers(result)
 
