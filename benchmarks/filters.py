@@ -75,6 +75,9 @@ if importlib.util.find_spec("numba") is not None:
              "the same, Step 6 compiled (extra speed: numba)")
 register("nassreddine", NassreddineFilter,
          "Nassreddine et al. 2010, p = 3, ε = 0.05, ≤ 32 focal elements (clustering)")
+if importlib.util.find_spec("numba") is not None:
+    register("nassreddine-numba", lambda: NassreddineFilter(kernel="numba"),
+             "the same, merge and clustering compiled (extra speed: numba), same numbers")
 register("nassreddine-restart", lambda: NassreddineFilter(restart=True),
          "the same, state evidence rebuilt as x̂_k + E_v each step")
 register("bounded-error", BoundedErrorFilter, "one box, interval image ∩ reading box")
