@@ -91,7 +91,7 @@ def kernels(kind: str):
     """(merge_equal_boxes, cluster_boxes) of ``kind``."""
     if kind == "numpy":
         return merge_equal_boxes, cluster_boxes
-    from dstoolkit.filters._nassreddine_compiled import (
+    from dstoolkit.filters._compiled import (
         cluster_boxes_compiled,
         merge_equal_boxes_compiled,
     )

@@ -98,7 +98,7 @@ def test_the_compiled_kernels_give_the_same_numbers_bit_for_bit(name, today):
     from dstoolkit.filters import _nassreddine
 
     flt = dataclasses.replace(SETTINGS[name], kernel="numba")
-    assert flt._kernels()[0] is not _nassreddine.merge_equal_boxes  # the compiled ones
+    assert flt._kernels()[0] is not _nassreddine.contracted_posterior  # the compiled ones
     lv_model, _, lv_z = simulate_lotka_volterra(steps=30, runs=3, seed=11)
     for r in range(lv_z.shape[0]):
         result = flt.run(lv_model, lv_z[r])

@@ -197,14 +197,19 @@ def test_nassreddine_diagnostics_stay_in_range(lv_data):
     assert len(result.steps[1]["state"]) <= 16
 
 
-def test_nassreddine_total_conflict_raises_or_resets():
+@pytest.mark.parametrize("kernel", ["numpy", pytest.param("numba", marks=pytest.mark.extras)])
+def test_nassreddine_total_conflict_raises_or_resets(kernel):
     model = _random_walk(0.1, 0.5)
     z = np.array([0.0, 0.3, 2.5, 2.6])
     with pytest.raises(TotalConflictError, match=r"step 2\b"):
-        NassreddineFilter(epsilon=0.0).run(model, z)
-    result = NassreddineFilter(epsilon=0.0, on_conflict="reset").run(model, z)
+        NassreddineFilter(epsilon=0.0, kernel=kernel).run(model, z)
+    result = NassreddineFilter(epsilon=0.0, on_conflict="reset", kernel=kernel).run(model, z)
     np.testing.assert_array_equal(result.diagnostics["resets"], [False, False, True, False])
     assert result.estimates[2, 0] == pytest.approx(2.5)
+    batch = np.stack([z, z + 0.05, np.array([0.0, 0.3, 0.4, 0.5])])[..., None]
+    both = [NassreddineFilter(epsilon=0.0, on_conflict="reset", kernel=k).run_batch(model, batch)
+            for k in ("numpy", kernel)]  # one run in conflict, one not: the same numbers
+    np.testing.assert_array_equal(*both)
 
 
 def test_merge_equal_boxes_adds_masses_per_run():
@@ -419,13 +424,14 @@ def test_nassreddine_auto_kernel_falls_back_to_numpy_without_numba(monkeypatch):
     real = importlib.util.find_spec
     monkeypatch.setattr(importlib.util, "find_spec",
                         lambda name, *a: None if name == "numba" else real(name, *a))
-    merge, cluster = NassreddineFilter(kernel="auto")._kernels()
-    assert merge is _nassreddine.merge_equal_boxes and cluster is _nassreddine.cluster_boxes
+    combine, cluster = NassreddineFilter(kernel="auto")._kernels()
+    assert combine is _nassreddine.contracted_posterior
+    assert cluster is _nassreddine.cluster_boxes
 
 
 @pytest.mark.extras  # numba, the extra "speed"
-def test_nassreddine_compiled_kernels_raise_the_numpy_errors():
-    from dstoolkit.filters._nassreddine_compiled import cluster_boxes_compiled
+def test_compiled_kernels_raise_the_numpy_errors():
+    from dstoolkit.filters._compiled import cluster_boxes_compiled
 
     lo = np.array([[[0.0], [1.0], [2.0]]])
     hi = np.array([[[1.0], [np.inf], [3.0]]])
@@ -461,3 +467,22 @@ def test_particle_draws_kept_for_the_same_runs_give_the_same_numbers():
                                       flt.run_batch(model, gauge.readings, gauge.inputs))
     arrays = _particle._kept_draws(5, (0, 1, 2), ((-0.3,), (0.0,), (0.3,)), 4, 10)
     assert not any(a.flags.writeable for a in arrays)
+
+
+@pytest.mark.extras  # numba, the extra "speed"
+def test_particle_compiled_resampling_gives_the_same_indices_and_estimates():
+    rng = np.random.default_rng(8)
+    for case in range(200):
+        runs, n = int(rng.integers(1, 6)), int(rng.integers(1, 600))
+        w = rng.random((runs, n)) ** (1 + case % 7) * (rng.random((runs, n)) > 0.5 * (case % 2))
+        w[:, 0] += 1e-9
+        w /= w.sum(axis=1, keepdims=True)
+        offsets = rng.random(runs) * (case % 5 != 0)  # some offsets 0
+        np.testing.assert_array_equal(systematic_resample(w, offsets, compiled=True),
+                                      systematic_resample(w, offsets))
+    gauge = simulate_gauge(4.6, 26.5, runs=4, seed=3)
+    model = gauge_state_space_model()
+    np.testing.assert_array_equal(
+        ParticleFilter(n_particles=300, kernel="numba").run_batch(model, gauge.readings,
+                                                                  gauge.inputs),
+        ParticleFilter(n_particles=300).run_batch(model, gauge.readings, gauge.inputs))

@@ -17,16 +17,20 @@ derives from :class:`FilterBase` and so
 
 from __future__ import annotations
 
+import importlib.util
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
-from dstoolkit.errors import EvidenceError
+from dstoolkit.errors import EvidenceError, require_extra
 from dstoolkit.evidence._checks import real_array, real_number, whole_number
 from dstoolkit.evidence._limits import rows_per_chunk
 
 from ._model import StateSpaceModel, batch_readings, single_readings
+
+#: The kernels of a filter whose compiled kernels give its numpy numbers bit for bit.
+KernelChoice = Literal["numpy", "numba", "auto"]
 
 
 class FilterBase:
@@ -53,6 +57,17 @@ class FilterBase:
                 f"{name} must be one of {', '.join(repr(a) for a in allowed)}"
                 + (f" or {other}" if other else "") + f", got {value!r}"
             )
+
+    @classmethod
+    def _compiled(cls, kernel: Any, purpose: str) -> bool:
+        """Whether ``kernel`` (``"numpy"``, ``"numba"`` or ``"auto"``: numba when it is
+        installed) asks for the compiled kernels (extra ``speed``) that give the numpy
+        path's numbers bit for bit; refuses another value, or ``"numba"`` without numba."""
+        cls._policy(kernel, ("numpy", "numba", "auto"), "kernel")
+        if kernel == "numba":
+            require_extra("numba", "speed", f"kernel='numba' of {purpose}")
+        return kernel == "numba" or (kernel == "auto"
+                                     and importlib.util.find_spec("numba") is not None)
 
     @staticmethod
     def _box(box: Any, name: str = "initial_box") -> tuple[np.ndarray, np.ndarray] | None:

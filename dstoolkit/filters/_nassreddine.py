@@ -59,20 +59,19 @@ operations as one run; batches are cut into chunks of :data:`CHUNK_BYTES`.
 from __future__ import annotations
 
 import functools
-import importlib.util
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
 import numpy as np
 
-from dstoolkit.errors import EvidenceError, TotalConflictError, WorkLimitError, require_extra
+from dstoolkit.errors import EvidenceError, TotalConflictError, WorkLimitError
 from dstoolkit.evidence._boxes import Boxes, hull, pignistic_expectation, row_sum
 from dstoolkit.evidence._checks import whole_number
 from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
 from dstoolkit.evidence._extension import box_image
 from dstoolkit.evidence._intervals import IntervalEvidence
 
-from ._base import FilterBase
+from ._base import FilterBase, KernelChoice
 from ._model import (
     BoundedNoise,
     FilterResult,
@@ -83,7 +82,6 @@ from ._model import (
 )
 
 ConflictPolicy = Literal["raise", "reset"]
-Kernel = Literal["numpy", "numba", "auto"]
 #: Memory for the contraction arrays of one chunk of runs (a speed setting; the memory
 #: budget, :func:`dstoolkit.evidence.memory_budget`, caps it too).
 CHUNK_BYTES = 96 * 2**20
@@ -320,6 +318,24 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     return merge_equal_boxes(lo, hi, mass), moved
 
 
+def contracted_posterior(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray
+                         ) -> tuple[Boxes, np.ndarray, np.ndarray]:
+    """Dempster's rule (eq. 1) on the contractions (R, N, n) of step 3 and their masses: the
+    empty ones (lo > hi somewhere) are the conflict K, the rest are renormalised by the mass
+    they keep and equal boxes merged (eq. 14). Returns the posterior, K per run and the
+    runs in total conflict (their masses all 0)."""
+    empty = np.any(lo > hi, axis=-1)
+    conflict = row_sum(np.where(empty, mass, 0.0))
+    mass = np.where(empty, 0.0, mass)
+    # Renormalise by the mass actually kept (= 1 − K in exact arithmetic): dividing by 1 − K
+    # would amplify rounding loss by 1/(1 − K) at every step of high conflict.
+    kept = row_sum(mass)
+    dead = kept <= CONFLICT_TOLERANCE
+    mass = np.where(dead[:, None], 0.0, mass)
+    mass = mass / np.where(dead, 1.0, kept)[:, None]
+    return merge_equal_boxes(lo, hi, mass), conflict, dead
+
+
 def _pad(bm: Boxes, width: int) -> Boxes:
     extra = width - bm.mass.shape[1]
     if extra <= 0:
@@ -371,7 +387,7 @@ class NassreddineFilter(FilterBase):
     initial_box: tuple[Any, Any] | None = None
     state_theta: Any = None
     obs_theta: Any = None
-    kernel: Kernel = "numpy"
+    kernel: KernelChoice = "numpy"
 
     name: str = field(init=False)
     """``"nassreddine"``, or ``"nassreddine-restart"`` for the restart variant."""
@@ -384,19 +400,16 @@ class NassreddineFilter(FilterBase):
         self._box(self.initial_box)
         self._frame(self.state_theta, "state_theta")
         self._frame(self.obs_theta, "obs_theta")
-        self._policy(self.kernel, ("numpy", "numba", "auto"), "kernel")
-        if self.kernel == "numba":
-            require_extra("numba", "speed", "kernel='numba' of Nassreddine's filter")
+        self._compiled(self.kernel, "Nassreddine's filter")
 
     def _kernels(self) -> tuple[Any, Any]:
-        """The merge of equal boxes and the clustering of ``kernel``."""
-        if self.kernel == "numba" or (self.kernel == "auto"
-                                      and importlib.util.find_spec("numba") is not None):
-            from ._nassreddine_compiled import cluster_boxes_compiled, merge_equal_boxes_compiled
+        """The correction (:func:`contracted_posterior`) and the clustering of ``kernel``."""
+        if self._compiled(self.kernel, "Nassreddine's filter"):
+            from ._compiled import cluster_boxes_compiled, contracted_posterior_compiled
 
-            return merge_equal_boxes_compiled, functools.partial(
+            return contracted_posterior_compiled, functools.partial(
                 cluster_boxes_compiled, max_rounds=MAX_CLUSTER_ROUNDS)
-        return merge_equal_boxes, cluster_boxes
+        return contracted_posterior, cluster_boxes
 
     def run(
         self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
@@ -492,7 +505,7 @@ class NassreddineFilter(FilterBase):
                 "resets": np.zeros((runs, n_steps), dtype=bool)}
         steps: list[dict[str, Any]] | None = [] if record else None
 
-        merge, cluster = self._kernels()
+        combine, cluster = self._kernels()
         posterior = self._from_reading(model, Z[:, 0], w, 0)
         for k in range(n_steps):
             if k > 0:
@@ -507,16 +520,7 @@ class NassreddineFilter(FilterBase):
                 c_lo = np.broadcast_to(c_lo, shape).reshape(runs, -1, n)
                 c_hi = np.broadcast_to(c_hi, shape).reshape(runs, -1, n)
                 c_mass = (p_mass[:, :, None] * w.mass[:, None]).reshape(runs, -1)
-                empty = np.any(c_lo > c_hi, axis=-1)
-                conflict = row_sum(np.where(empty, c_mass, 0.0))
-                c_mass = np.where(empty, 0.0, c_mass)
-                # Renormalise by the mass actually kept (= 1 − K in exact arithmetic): dividing
-                # by 1 − K would amplify rounding loss by 1/(1 − K) at every step of high conflict.
-                kept = row_sum(c_mass)
-                dead = kept <= CONFLICT_TOLERANCE
-                c_mass = np.where(dead[:, None], 0.0, c_mass)
-                c_mass = c_mass / np.where(dead, 1.0, kept)[:, None]
-                posterior = merge(c_lo, c_hi, c_mass)
+                posterior, conflict, dead = combine(c_lo, c_hi, c_mass)
                 diag["conflict"][:, k] = conflict
                 if np.any(dead):
                     posterior = self._total_conflict(model, Z, k, dead, w, posterior, diag)

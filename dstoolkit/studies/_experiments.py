@@ -67,7 +67,7 @@ def paper_filters(seed: int = 0) -> dict[str, Any]:
                                          obs_theta=theta_w, on_conflict="reset",
                                          kernel="auto"),  # numba if installed: same numbers
         "kalman": KalmanFilter(),
-        "particle": ParticleFilter(n_particles=500, seed=seed),
+        "particle": ParticleFilter(n_particles=500, seed=seed, kernel="auto"),
     }
 
 

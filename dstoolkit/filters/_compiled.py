@@ -1,12 +1,18 @@
-"""Optional compiled kernels (extra ``speed``: numba) of Nassreddine's filter.
+"""Optional compiled kernels (extra ``speed``: numba) of Nassreddine's and the particle filter.
 
-Each step of :class:`~dstoolkit.filters.NassreddineFilter` merges equal boxes (eq. 14) in a
-posterior of some hundreds of boxes per run and caps it by Denœux's clustering
-(:func:`~dstoolkit.filters.cluster_boxes`). In numpy both are a few dozen calls per round
-on every run at once, and they take most of a step. :func:`merge_equal_boxes_compiled`
-and :func:`cluster_boxes_compiled` follow the same rules run by run in plain loops, with
-the same floating-point operations in the same order, so they give the same numbers bit
-for bit (tested); the filter uses them with ``kernel="numba"``. Nothing requires them.
+They give the numbers of the numpy functions they stand for, bit for bit (tested), so a
+filter may use them whenever numba is installed (``kernel="auto"``). Nothing requires them.
+
+- Nassreddine's filter: each step merges equal boxes (eq. 14) in a posterior of some
+  hundreds of boxes per run and caps it by Denœux's clustering
+  (:func:`~dstoolkit.filters.cluster_boxes`). In numpy both are a few dozen calls per round
+  on every run at once, most of a step. :func:`merge_equal_boxes_compiled` and
+  :func:`cluster_boxes_compiled` follow the same rules run by run in plain loops, with the
+  same floating-point operations in the same order.
+- The particle filter: :func:`resample_search` is the search of
+  :func:`~dstoolkit.filters.systematic_resample`, one pass per run (the positions and the
+  cumulative weights are both in order, so each position's particle follows the last
+  one's; ``np.searchsorted`` searches each position afresh).
 """
 
 from __future__ import annotations
@@ -18,6 +24,7 @@ import numpy as np
 
 from dstoolkit.errors import EvidenceError, WorkLimitError, require_extra
 from dstoolkit.evidence._boxes import Boxes, row_sum
+from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
 
 #: The codes the clustering kernel returns.
 FITS, TOO_MANY_ROUNDS, NO_PAIR = 0, 1, 2
@@ -136,6 +143,30 @@ def _merge(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, out_lo: np.ndarray,
     return width
 
 
+def _contract(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, tolerance: float,
+              kept_mass: np.ndarray, conflict: np.ndarray, dead: np.ndarray
+              ) -> None:  # pragma: no cover - numba
+    """As ``contracted_posterior`` before its merge: K (sequential sums, as ``row_sum``),
+    the runs in total conflict, the masses renormalised by the mass kept."""
+    runs, rows, n = lo.shape
+    for r in range(runs):
+        k_sum, m_sum = 0.0, 0.0
+        for i in range(rows):
+            empty = False
+            for j in range(n):
+                if lo[r, i, j] > hi[r, i, j]:
+                    empty = True
+                    break
+            kept_mass[r, i] = 0.0 if empty else mass[r, i]
+            lost = mass[r, i] if empty else 0.0
+            k_sum = lost if i == 0 else k_sum + lost
+            m_sum = kept_mass[r, i] if i == 0 else m_sum + kept_mass[r, i]
+        conflict[r] = k_sum
+        dead[r] = m_sum <= tolerance
+        for i in range(rows):
+            kept_mass[r, i] = 0.0 if dead[r] else kept_mass[r, i] / m_sum
+
+
 def _size(lo: np.ndarray, hi: np.ndarray, i: int, unit: np.ndarray, r: int
           ) -> float:  # pragma: no cover - numba
     """|A| of box i: the sum of its widths, each divided by run r's unit width (as
@@ -242,8 +273,34 @@ def _cluster(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, unit: np.ndarray,
     return FITS
 
 
+def _search(cum: np.ndarray, pos: np.ndarray, idx: np.ndarray) -> None:  # pragma: no cover
+    """``idx[r] = np.searchsorted(cum[r], pos[r], side="right")`` for ascending ``pos[r]``."""
+    runs, n = pos.shape
+    for r in range(runs):
+        j = 0
+        for i in range(n):
+            while j < cum.shape[1] and cum[r, j] <= pos[r, i]:
+                j += 1
+            idx[r, i] = j
+
+
 @functools.cache
-def _compiled() -> tuple[Callable[..., int], Callable[..., int]]:
+def _compiled_search() -> Callable[..., None]:
+    require_extra("numba", "speed", "the compiled resampling of the particle filter")
+    import numba
+
+    kernel: Callable[..., None] = numba.njit(cache=True, nogil=True)(_search)
+    return kernel
+
+
+def resample_search(cum: np.ndarray, pos: np.ndarray, idx: np.ndarray) -> None:
+    """``idx[r] := np.searchsorted(cum[r], pos[r], side="right")`` for every run r, the
+    positions ``pos[r]`` in ascending order (systematic resampling's), compiled."""
+    _compiled_search()(np.ascontiguousarray(cum), np.ascontiguousarray(pos), idx)
+
+
+@functools.cache
+def _compiled() -> tuple[Callable[..., int], Callable[..., int], Callable[..., None]]:
     """The two kernels, compiled on first use (and cached on disk by numba). The helpers
     they call are compiled first and take their names in this module: numba resolves a
     kernel's calls by name when it compiles it."""
@@ -254,12 +311,12 @@ def _compiled() -> tuple[Callable[..., int], Callable[..., int]]:
     names = globals()
     for name in ("_row_less", "_stable_order", "_size"):
         names[name] = jit(names[name])
-    return jit(_merge), jit(_cluster)
+    return jit(_merge), jit(_cluster), jit(_contract)
 
 
 def merge_equal_boxes_compiled(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes:
     """:func:`~dstoolkit.filters.merge_equal_boxes`, compiled: the same numbers."""
-    merge, _ = _compiled()
+    merge = _compiled()[0]
     lo, hi = np.ascontiguousarray(lo, dtype=float), np.ascontiguousarray(hi, dtype=float)
     mass = np.ascontiguousarray(mass, dtype=float)
     out_lo, out_hi, out_mass = np.empty_like(lo), np.empty_like(hi), np.empty_like(mass)
@@ -267,11 +324,24 @@ def merge_equal_boxes_compiled(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray)
     return Boxes(out_lo[:, :width], out_hi[:, :width], out_mass[:, :width])
 
 
+def contracted_posterior_compiled(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray
+                                  ) -> tuple[Boxes, np.ndarray, np.ndarray]:
+    """:func:`~dstoolkit.filters._nassreddine.contracted_posterior`, compiled: the same
+    numbers."""
+    contract = _compiled()[2]
+    lo, hi = np.ascontiguousarray(lo, dtype=float), np.ascontiguousarray(hi, dtype=float)
+    mass = np.ascontiguousarray(mass, dtype=float)
+    runs = mass.shape[0]
+    kept, conflict, dead = np.empty_like(mass), np.empty(runs), np.empty(runs, dtype=bool)
+    contract(lo, hi, mass, CONFLICT_TOLERANCE, kept, conflict, dead)
+    return merge_equal_boxes_compiled(lo, hi, kept), conflict, dead
+
+
 def cluster_boxes_compiled(bm: Boxes, max_focal: int, max_rounds: int
                            ) -> tuple[Boxes, np.ndarray]:
     """:func:`~dstoolkit.filters.cluster_boxes`, compiled: the same numbers and errors
     (``max_rounds``: its limit of rounds)."""
-    _, cluster = _compiled()
+    cluster = _compiled()[1]
     live = bm.mass > 0
     if not (
             np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo) | ~live[..., None])
