@@ -22,9 +22,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from dstoolkit.errors import EvidenceError, WorkLimitError, require_extra
-from dstoolkit.evidence._boxes import Boxes, row_sum
+from dstoolkit.errors import require_extra
+from dstoolkit.evidence._boxes import Boxes
 from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
+
+from . import _nassreddine as nassreddine
 
 #: The codes the clustering kernel returns.
 FITS, TOO_MANY_ROUNDS, NO_PAIR = 0, 1, 2
@@ -337,39 +339,24 @@ def contracted_posterior_compiled(lo: np.ndarray, hi: np.ndarray, mass: np.ndarr
     return merge_equal_boxes_compiled(lo, hi, kept), conflict, dead
 
 
-def cluster_boxes_compiled(bm: Boxes, max_focal: int, max_rounds: int
+def cluster_boxes_compiled(bm: Boxes, max_focal: int, max_rounds: int | None = None
                            ) -> tuple[Boxes, np.ndarray]:
     """:func:`~dstoolkit.filters.cluster_boxes`, compiled: the same numbers and errors
-    (``max_rounds``: its limit of rounds)."""
-    cluster = _compiled()[1]
-    live = bm.mass > 0
-    if not (
-            np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo) | ~live[..., None])
-            and np.all(np.isfinite(bm.hi) | ~live[..., None])):
-        raise EvidenceError(
-            "cluster_boxes needs bounded boxes with finite masses; got NaN or infinite values "
-            "(check the filter's inputs and noise bounds)"
-        )
+    (``max_rounds``: its limit of rounds, default ``MAX_CLUSTER_ROUNDS``)."""
+    rounds = nassreddine.MAX_CLUSTER_ROUNDS if max_rounds is None else max_rounds
+    count = nassreddine.bounded_count(bm)
     runs, _, n = bm.lo.shape
-    if int(live.sum(axis=1).max()) <= max_focal:
+    if int(count.max()) <= max_focal:
         return merge_equal_boxes_compiled(bm.lo, bm.hi, bm.mass), np.zeros(runs)
-    unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
-    unit = np.ascontiguousarray(np.where(unit > 0, unit, 1.0))
     lo, hi = np.empty((runs, max_focal, n)), np.empty((runs, max_focal, n))
     mass, merged = np.empty((runs, max_focal)), np.empty((runs, max_focal), dtype=bool)
-    code = cluster(np.ascontiguousarray(bm.lo, dtype=float),
-                   np.ascontiguousarray(bm.hi, dtype=float),
-                   np.ascontiguousarray(bm.mass, dtype=float), unit, max_focal, max_rounds,
-                   lo, hi, mass, merged)
+    code = _compiled()[1](np.ascontiguousarray(bm.lo, dtype=float),
+                          np.ascontiguousarray(bm.hi, dtype=float),
+                          np.ascontiguousarray(bm.mass, dtype=float),
+                          np.ascontiguousarray(nassreddine.unit_widths(bm)), max_focal, rounds,
+                          lo, hi, mass, merged)
     if code == TOO_MANY_ROUNDS:
-        raise WorkLimitError(
-            f"clustering the focal elements did not reach max_focal = {max_focal} in "
-            f"{max_rounds} rounds; raise max_focal"
-        )
+        raise nassreddine.too_many_rounds(max_focal, rounds)
     if code == NO_PAIR:
-        raise WorkLimitError(
-            "clustering the focal elements found no pair to merge (their sizes are not "
-            "finite numbers); check the model's f and g for NaN or infinite images"
-        )
-    moved = row_sum(np.sort(np.where(merged, mass, 0.0), axis=1))
-    return merge_equal_boxes_compiled(lo, hi, mass), moved
+        raise nassreddine.no_pair()
+    return merge_equal_boxes_compiled(lo, hi, mass), nassreddine.merged_mass(mass, merged)

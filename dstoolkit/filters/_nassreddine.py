@@ -58,7 +58,6 @@ operations as one run; batches are cut into chunks of :data:`CHUNK_BYTES`.
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -258,19 +257,11 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
 
     Returns the capped mass functions and, per run, the mass now carried by merged boxes.
     """
-    live = bm.mass > 0
-    if not (np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo) | ~live[..., None])
-            and np.all(np.isfinite(bm.hi) | ~live[..., None])):
-        raise EvidenceError(
-            "cluster_boxes needs bounded boxes with finite masses; got NaN or infinite values "
-            "(check the filter's inputs and noise bounds)"
-        )
+    count = bounded_count(bm)
     runs, _, n = bm.lo.shape
-    count = live.sum(axis=1)
     if int(count.max()) <= max_focal:
         return merge_equal_boxes(bm.lo, bm.hi, bm.mass), np.zeros(runs)
-    unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
-    unit = np.where(unit > 0, unit, 1.0)[:, None, :]
+    unit = unit_widths(bm)[:, None, :]
     rows = _Rows(n)
     table, run = rows.table(bm, unit, count)
     done = np.zeros((rows.count, runs, max_focal))  # each run's boxes once it fits
@@ -288,11 +279,7 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
                 break
             table, run = np.compress(~leaving, table, axis=1), run[~leaving]
         if rnd == MAX_CLUSTER_ROUNDS:
-            raise WorkLimitError(
-                f"clustering the focal elements did not reach max_focal = {max_focal} in "
-                f"{MAX_CLUSTER_ROUNDS} rounds ({int(count[active].max())} remain); raise "
-                "max_focal"
-            )
+            raise too_many_rounds(max_focal, MAX_CLUSTER_ROUNDS, int(count[active].max()))
         if n > 1 and rnd > 0:  # by centre along dimension rnd % n, within each run
             order = np.lexsort((table[rows.centre + rnd % n], run))
             table = np.take(table, order, axis=1)
@@ -302,10 +289,7 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
         picked = _cheapest(_local_minima(cost), cost, run[:-1],
                            np.where(active, count - max_focal, 0))
         if not len(picked):
-            raise WorkLimitError(
-                "clustering the focal elements found no pair to merge (their sizes are not "
-                "finite numbers); check the model's f and g for NaN or infinite images"
-            )
+            raise no_pair()
         rows.merge_pairs(table, pair, picked)
         count = count - np.bincount(run[picked], minlength=runs)
         kept = np.ones(len(run), dtype=bool)
@@ -313,9 +297,48 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
         table, run = np.compress(kept, table, axis=1), run[kept]
     lo, hi = np.moveaxis(done[rows.lo], 0, -1), np.moveaxis(done[rows.hi], 0, -1)
     mass = done[rows.mass]
-    # canonical order: the merged masses added smallest first, the boxes by eq. 14's merge
-    moved = row_sum(np.sort(np.where(done[rows.merged] > 0, mass, 0.0), axis=1))
-    return merge_equal_boxes(lo, hi, mass), moved
+    return merge_equal_boxes(lo, hi, mass), merged_mass(mass, done[rows.merged] > 0)
+
+
+def bounded_count(bm: Boxes) -> np.ndarray:
+    """The focal elements (boxes of positive mass) of each run; refuses NaN or infinite
+    masses, and boxes of positive mass with NaN or infinite bounds (clustering needs
+    sizes)."""
+    live = bm.mass > 0
+    if not (np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo) | ~live[..., None])
+            and np.all(np.isfinite(bm.hi) | ~live[..., None])):
+        raise EvidenceError(
+            "cluster_boxes needs bounded boxes with finite masses; got NaN or infinite values "
+            "(check the filter's inputs and noise bounds)"
+        )
+    return live.sum(axis=1)
+
+
+def unit_widths(bm: Boxes) -> np.ndarray:
+    """Each run's mass-weighted mean width per dimension (R, n), 1 where it is 0: the
+    units of the sizes |A| in Denœux's Δ."""
+    unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
+    return np.where(unit > 0, unit, 1.0)
+
+
+def merged_mass(mass: np.ndarray, merged: np.ndarray) -> np.ndarray:
+    """The mass carried by merged boxes per run, added smallest first (canonical order:
+    it does not depend on the order the rounds left the boxes in)."""
+    return row_sum(np.sort(np.where(merged, mass, 0.0), axis=1))
+
+
+def too_many_rounds(max_focal: int, rounds: int, remain: int | None = None) -> WorkLimitError:
+    """The error of a clustering that did not reach ``max_focal`` in ``rounds`` rounds."""
+    left = "" if remain is None else f" ({remain} remain)"
+    return WorkLimitError(f"clustering the focal elements did not reach max_focal = "
+                          f"{max_focal} in {rounds} rounds{left}; raise max_focal")
+
+
+def no_pair() -> WorkLimitError:
+    """The error of a clustering round that finds no pair to merge."""
+    return WorkLimitError("clustering the focal elements found no pair to merge (their sizes "
+                          "are not finite numbers); check the model's f and g for NaN or "
+                          "infinite images")
 
 
 def contracted_posterior(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray
@@ -407,8 +430,7 @@ class NassreddineFilter(FilterBase):
         if self._compiled(self.kernel, "Nassreddine's filter"):
             from ._compiled import cluster_boxes_compiled, contracted_posterior_compiled
 
-            return contracted_posterior_compiled, functools.partial(
-                cluster_boxes_compiled, max_rounds=MAX_CLUSTER_ROUNDS)
+            return contracted_posterior_compiled, cluster_boxes_compiled
         return contracted_posterior, cluster_boxes
 
     def run(

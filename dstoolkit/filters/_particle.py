@@ -213,9 +213,6 @@ class ParticleFilter(FilterBase):
         return float(8 * n_steps * int(self.n_particles) * (model.state_dim + 1))
 
     # -- internals ---------------------------------------------------------------------------
-    def _stream(self, *key: int) -> np.random.Generator:
-        return _stream(self.seed, *key)
-
     def _reading_box(self, model: StateSpaceModel, z: np.ndarray, step: int
                      ) -> tuple[np.ndarray, np.ndarray]:
         lo, hi = first_reading_box(model, z, self.initial_box)
@@ -272,7 +269,7 @@ class ParticleFilter(FilterBase):
                 dead = ~(weights.sum(axis=1) > 0)
                 if np.any(dead):
                     for i in np.flatnonzero(dead).tolist():
-                        u = self._stream(int(run_ids[i]), k).random((1, big_n, n))
+                        u = _stream(self.seed, int(run_ids[i]), k).random((1, big_n, n))
                         p_new, w_new = self._draw_in_reading_box(model, Z[i : i + 1, k], u, k)
                         particles[i], weights[i] = p_new[0], w_new[0]
                     reinit[dead, k] = True

@@ -106,14 +106,21 @@ def draw_focal_intervals(ax: Axes, *, title: str | None = None, xlabel: str = "x
                          animated: bool = False) -> FocalIntervalArtists:
     """The parts of :func:`plot_focal_intervals` that no evidence changes (axis labels, y
     range, title) on ``ax``; the bars come with ``update_focal_intervals``."""
-    ax.set_ylim(0, 1)
+    _fixed_parts(ax, xlabel, "cumulated mass", 1.0, title, animated)
+    return FocalIntervalArtists(ax, animated)
+
+
+def _fixed_parts(ax: Axes, xlabel: str, ylabel: str, top: float, title: str | None,
+                 animated: bool) -> None:
+    """Labels, y range [0, ``top``] and title of a bar panel; its spines animated with
+    its bars."""
+    ax.set_ylim(0, top)
     ax.set_xlabel(xlabel)
-    ax.set_ylabel("cumulated mass")
+    ax.set_ylabel(ylabel)
     if title:
         ax.set_title(title)
     if animated:
         animate(spines_of=ax)
-    return FocalIntervalArtists(ax, animated)
 
 
 @styled
@@ -516,13 +523,7 @@ class MassArtists:
 def draw_masses(ax: Axes, *, title: str | None = None, animated: bool = False) -> MassArtists:
     """The parts of :func:`plot_masses` that no masses change (labels, y range, title) on
     ``ax``; the bars come with ``update_masses``."""
-    ax.set_xlabel("focal element")
-    ax.set_ylim(0, 1.1)
-    ax.set_ylabel("mass")
-    if title:
-        ax.set_title(title)
-    if animated:
-        animate(spines_of=ax)
+    _fixed_parts(ax, "focal element", "mass", 1.1, title, animated)
     return MassArtists(ax, animated)
 
 
