@@ -26,8 +26,9 @@ from dstoolkit.filters import (
     BoundedErrorFilter,
     BoundedNoise,
     DependentEvidenceFilter,
+    BatchResult,
     Filter,
-    FilterBase,
+    FilterResult,
     KalmanFilter,
     NassreddineFilter,
     ParticleFilter,
@@ -48,19 +49,17 @@ def budget():
     set_memory_budget(None)
 
 
-# -- the Filter protocol and the shared base ----------------------------------------------
+# -- the Filter interface and the shared base ---------------------------------------------
 @pytest.mark.parametrize("flt", FILTERS, ids=IDS)
-def test_every_filter_conforms_to_the_protocol(flt):
+def test_every_filter_has_the_interface_with_its_signatures(flt):
     assert isinstance(flt, Filter)
-    assert isinstance(flt, FilterBase)
-    assert isinstance(flt.name, str) and flt.name
-    for method in ("run", "run_batch"):
+    assert isinstance(flt.name, str) and flt.name.isidentifier()
+    for method in ("initialize", "step", "run", "run_batch"):
         want = list(inspect.signature(getattr(Filter, method)).parameters.values())[1:]
         have = list(inspect.signature(getattr(flt, method)).parameters.values())
-        assert [(p.name.lower(), p.default) for p in have[: len(want)]] == [
-            (p.name.lower(), p.default) for p in want], method
-        for extra in have[len(want):]:  # more parameters, each with a default
-            assert extra.default is not inspect.Parameter.empty, (method, extra.name)
+        assert [(p.name, p.default) for p in have] == [(p.name, p.default) for p in want], \
+            method
+    assert type(flt).run is Filter.run and type(flt).run_batch is Filter.run_batch
 
 
 @pytest.mark.parametrize("flt", FILTERS, ids=IDS)
@@ -70,8 +69,9 @@ def test_run_and_run_batch_return_what_the_protocol_says(flt):
     result = flt.run(model, seq.readings[0], seq.inputs[0])
     batch = flt.run_batch(model, seq.readings, seq.inputs)
     assert result.estimates.shape == (seq.readings.shape[1], 1)
-    assert isinstance(batch, np.ndarray) and batch.shape == (2, seq.readings.shape[1], 1)
-    assert np.all(np.isfinite(batch))
+    assert isinstance(result, FilterResult) and isinstance(batch, BatchResult)
+    assert batch.estimates.shape == (2, seq.readings.shape[1], 1)
+    assert np.all(np.isfinite(batch.estimates))
 
 
 # -- the memory budget ----------------------------------------------------------------------
@@ -102,15 +102,14 @@ def test_dempster_of_huge_products_is_refused_with_the_size():
 def test_the_papers_filter_cuts_a_large_batch_into_chunks_that_fit(monkeypatch):
     flt = DependentEvidenceFilter(p=20)
     model = gauge_state_space_model()
-    noise = flt.noise_evidence(model)
-    per_run = flt._bytes_per_run(noise)
+    per_run = flt._bytes_per_run(model, 0)
     assert 64 * per_run > 2**30  # the old fixed batch of 64 runs would not fit
     seen = []
 
-    def fake_run_arrays(self, maps, noise, z, inputs, bounds=True):
+    def fake_run_arrays(self, maps, noise, z, inputs, run_ids=None, bounds=True):
         seen.append(z.shape[0])
         est = np.ones((z.shape[0], z.shape[1], 1))
-        return est, None, None, {}
+        return est, est, est, {}
 
     monkeypatch.setattr(DependentEvidenceFilter, "_run_arrays", fake_run_arrays)
     seq = simulate_gauge(level_m=4.6, temperature_c=26.5, runs=64, seed=1)

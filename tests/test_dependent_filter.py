@@ -72,19 +72,19 @@ def test_the_filter_beats_the_readings_on_the_gauge(gauge_runs):
     """Not the paper's Table 3, only bounds a broken filter would miss."""
     raw = np.abs(gauge_runs.readings - gauge_runs.truth).mean()  # biased by −E[w] = 6.9 Hz
     corrected = np.abs(gauge_runs.readings + GAUGE_OBS_NOISE.mean - gauge_runs.truth).mean()
-    paper = FILTER.run_batch(MODEL, gauge_runs.readings, gauge_runs.inputs)  # eq. 43 orders
+    paper = FILTER.run_batch(MODEL, gauge_runs.readings,
+                             gauge_runs.inputs).estimates  # eq. 43 orders
     assert np.abs(paper - gauge_runs.truth).mean() < 0.5 * raw
     true_orders = np.broadcast_to(gauge_runs.true_inputs, gauge_runs.inputs.shape)
     best = DependentEvidenceFilter(start="mean_corrected").run_batch(
-        MODEL, gauge_runs.readings, true_orders)
+        MODEL, gauge_runs.readings, true_orders).estimates
     assert np.abs(best - gauge_runs.truth).mean() < 0.5 * corrected
 
 
 def test_estimate_lies_within_the_hull_of_its_final_evidence(gauge, gauge_runs):
     for result in (FILTER.run(MODEL, gauge.readings, gauge.inputs),
                    FILTER.run(MODEL, gauge.readings, gauge.inputs, record=True),
-                   FILTER.run_batch(MODEL, gauge_runs.readings, gauge_runs.inputs,
-                                    return_result=True)):
+                   FILTER.run_batch(MODEL, gauge_runs.readings, gauge_runs.inputs)):
         assert np.all(result.lower <= result.estimates)
         assert np.all(result.estimates <= result.upper)
         assert np.all(result.upper - result.lower < 60.0)  # bounded by the discounted Θs
@@ -92,14 +92,14 @@ def test_estimate_lies_within_the_hull_of_its_final_evidence(gauge, gauge_runs):
 
 def test_record_keeps_every_step_with_the_papers_sizes(gauge):
     result = FILTER.run(MODEL, gauge.readings[:6], gauge.inputs[:5], record=True)
-    assert len(result.steps) == 6 and result.steps[0]["estimate"] == pytest.approx(
+    assert len(result.steps) == 6 and result.steps[0].estimate == pytest.approx(
         gauge.readings[0])
     step = result.steps[3]
     for key in ("state", "prediction", "observation_prediction", "observation", "fused",
                 "mapped_back", "final"):
-        assert isinstance(step[key], IntervalEvidence), key
-        assert step[key].mass.sum() == pytest.approx(1.0)
-    assert step["estimate"] == pytest.approx(step["final"].pignistic_expectation())  # eq. 20
+        assert isinstance(getattr(step, key), IntervalEvidence), key
+        assert getattr(step, key).mass.sum() == pytest.approx(1.0)
+    assert step.estimate == pytest.approx(step.final.pignistic_expectation())  # eq. 20
     d = result.diagnostics  # with p = 3: 4, 16, 64 and 64 × 16 products
     assert np.all(d["n_state"][1:] == 4) and np.all(d["n_prediction"][1:] == 16)
     assert np.all(d["n_observation"][1:] == 4) and np.all(d["n_products_step4"][1:] == 64)
@@ -135,7 +135,7 @@ def test_prediction_is_the_extension_principle_over_the_random_relation(gauge):
 # -- the two implementations agree -------------------------------------------------------------
 def test_batch_equals_single_runs(gauge_runs):
     flt = DependentEvidenceFilter(chunk_size=4)  # two chunks, one partial
-    batch = flt.run_batch(MODEL, gauge_runs.readings, gauge_runs.inputs)
+    batch = flt.run_batch(MODEL, gauge_runs.readings, gauge_runs.inputs).estimates
     assert batch.shape == (6, gauge_runs.orders.size, 1)
     single = np.stack([flt.run(MODEL, z, u).estimates
                        for z, u in zip(gauge_runs.readings, gauge_runs.inputs, strict=True)])
@@ -162,7 +162,7 @@ def test_two_dimensional_nonlinear_system():
     flt = DependentEvidenceFilter(p=1)
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # the vertex method must not warn on this system
-        batch = flt.run_batch(model, z)
+        batch = flt.run_batch(model, z).estimates
         rec = flt.run(model, z[0], record=True)
     np.testing.assert_allclose(rec.estimates, batch[0], rtol=1e-12, atol=1e-12)
     direct = np.log(np.maximum(z + model.obs_noise.mean, 1e-9))
@@ -172,8 +172,7 @@ def test_two_dimensional_nonlinear_system():
 
 # -- diagnostics --------------------------------------------------------------------------------
 def test_every_diagnostic_stays_in_its_range(gauge_runs):
-    result = FILTER.run_batch(MODEL, gauge_runs.readings, gauge_runs.inputs,
-                              return_result=True)
+    result = FILTER.run_batch(MODEL, gauge_runs.readings, gauge_runs.inputs)
     d = {key: value[:, 1:] for key, value in result.diagnostics.items()}
     assert np.all(np.isnan(result.diagnostics["dependence"][:, 0]))  # no fusion at step 1
     for key in ("conflict_step4", "conflict_step6"):
@@ -235,12 +234,12 @@ def test_total_conflict_can_fall_back_to_the_prediction(gauge):
     fast = flt.run(MODEL, z, u)
     rec = flt.run(MODEL, z, u, record=True)
     assert fast.diagnostics["fallback"][4] == 1.0 and np.isnan(fast.diagnostics["r12"][4])
-    prediction = rec.steps[4]["prediction"]
-    assert rec.steps[4]["final"] is prediction
+    prediction = rec.steps[4].prediction
+    assert rec.steps[4].final is prediction
     assert fast.estimates[4, 0] == pytest.approx(prediction.pignistic_expectation(), rel=1e-14)
     np.testing.assert_allclose(fast.estimates, rec.estimates, rtol=1e-12)
     both = flt.run_batch(MODEL, np.stack([z, gauge.readings[:8]]),
-                         np.stack([u, gauge.inputs[:7]]))
+                         np.stack([u, gauge.inputs[:7]])).estimates
     np.testing.assert_array_equal(both[0], fast.estimates)
     np.testing.assert_array_equal(both[1], flt.run(MODEL, gauge.readings[:8], u).estimates)
 
@@ -412,7 +411,7 @@ def test_compiled_kernel_agrees_with_the_numpy_path(gauge):
 @pytest.mark.extras  # numba, the extra "speed"
 def test_compiled_kernel_batch_equals_single_runs(gauge_runs):
     flt = DependentEvidenceFilter(kernel="numba", chunk_size=4)
-    batch = flt.run_batch(MODEL, gauge_runs.readings, gauge_runs.inputs)
+    batch = flt.run_batch(MODEL, gauge_runs.readings, gauge_runs.inputs).estimates
     single = np.stack([flt.run(MODEL, z, u).estimates
                        for z, u in zip(gauge_runs.readings, gauge_runs.inputs, strict=True)])
     np.testing.assert_array_equal(batch, single)

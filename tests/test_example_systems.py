@@ -133,7 +133,7 @@ def test_every_filter_tracks_the_two_dimensional_example(flt, lv_runs):
       |E[w]| · mean(1/P) (reading z − w instead of z + w shifts the census by 2|E[w]|).
     """
     model, x, z = lv_runs
-    est = flt.run_batch(model, z)
+    est = flt.run_batch(model, z).estimates
     assert est.shape == x.shape
     rmse = np.sqrt(np.mean((est - x) ** 2, axis=(0, 1)))
     direct = np.log(np.maximum(z + model.obs_noise.mean, 1e-9))

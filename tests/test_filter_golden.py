@@ -71,7 +71,7 @@ def golden() -> dict[str, np.ndarray]:
             for field in ("estimates", "lower", "upper"):
                 out[f"{name}/{case}/{field}"] = getattr(result, field)
     lv_model, _, z = simulate_lotka_volterra(steps=25, runs=3, seed=4)
-    lv = DependentEvidenceFilter(p=1).run_batch(lv_model, z, return_result=True)
+    lv = DependentEvidenceFilter(p=1).run_batch(lv_model, z)
     for field in ("estimates", "lower", "upper"):
         out[f"dependent_p1/lotka_volterra/{field}"] = getattr(lv, field)
     return out

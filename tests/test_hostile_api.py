@@ -201,7 +201,7 @@ def test_filter_options(a, b, c, box):
                  lambda: DependentEvidenceFilter(start=box, on_conflict=c),
                  lambda: DependentEvidenceFilter(theta=(box, None), chunk_size=a),
                  lambda: NassreddineFilter(max_focal=a, epsilon=b, initial_box=(box, box)),
-                 lambda: NassreddineFilter(state_theta=box, on_conflict=c),
+                 lambda: NassreddineFilter(theta=(box, None), on_conflict=c),
                  lambda: BoundedErrorFilter(on_inconsistent=c, initial_box=(a, b)),
                  lambda: KalmanFilter(initial_box=(box, a)),
                  lambda: ParticleFilter(n_particles=a, seed=b, initial_box=box)):

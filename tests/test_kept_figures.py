@@ -164,7 +164,7 @@ def test_the_batch_result_of_the_bounded_error_filter_equals_single_runs() -> No
     model = gauge_state_space_model(scaled_noise(data.state_noise, 0.8),
                                     scaled_noise(data.obs_noise, 0.8))
     flt = BoundedErrorFilter(on_inconsistent="reset")
-    batch = flt.run_batch(model, data.readings, inputs=data.orders, return_result=True)
+    batch = flt.run_batch(model, data.readings, inputs=data.orders)
     assert 0 < np.any(batch.diagnostics["resets"], axis=1).sum() < 20  # some runs restart
     for r in range(20):
         one = flt.run(model, data.readings[r], inputs=data.orders[r])

@@ -33,7 +33,7 @@ RIVALS = [
     KalmanFilter(),
     ParticleFilter(n_particles=300, seed=4),
 ]
-IDS = ["nassreddine", "nassreddine-restart", "bounded-error", "kalman", "particle"]
+IDS = ["nassreddine", "nassreddine_restart", "bounded_error", "kalman", "particle"]
 
 
 def _random_walk(half_width_v: float, half_width_w: float) -> StateSpaceModel:
@@ -92,11 +92,12 @@ def test_estimate_lies_within_the_hull_of_its_final_evidence(flt, lv_data):
 @pytest.mark.parametrize("flt", RIVALS, ids=IDS)
 def test_batch_equals_single_runs(flt, lv_data):
     model, _, z = lv_data
-    batch = flt.run_batch(model, z)
+    batch = flt.run_batch(model, z).estimates
     assert batch.shape == (3, 40, 2)
     for r in range(3):
-        single = (flt.run(model, z[r], run_index=r) if isinstance(flt, ParticleFilter)
-                  else flt.run(model, z[r]))
+        # run r of a particle batch draws from stream r, as a single run with stream=r
+        single = (dataclasses.replace(flt, stream=r).run(model, z[r])
+                  if isinstance(flt, ParticleFilter) else flt.run(model, z[r]))
         np.testing.assert_array_equal(batch[r], single.estimates)
 
 
@@ -104,10 +105,10 @@ def test_batch_equals_single_runs(flt, lv_data):
 def test_batch_equals_single_runs_with_inputs(flt):
     model = gauge_state_space_model()
     seq = simulate_gauge(level_m=4.6, temperature_c=26.5, runs=3, seed=5)
-    batch = flt.run_batch(model, seq.readings, seq.inputs)
+    batch = flt.run_batch(model, seq.readings, seq.inputs).estimates
     for r in range(3):
-        kw = {"run_index": r} if isinstance(flt, ParticleFilter) else {}
-        single = flt.run(model, seq.readings[r], seq.inputs[r], **kw)
+        one = dataclasses.replace(flt, stream=r) if isinstance(flt, ParticleFilter) else flt
+        single = one.run(model, seq.readings[r], seq.inputs[r])
         np.testing.assert_array_equal(batch[r], single.estimates)
 
 
@@ -118,10 +119,10 @@ def test_batch_rows_do_not_depend_on_chunking(flt, monkeypatch, lv_data):
     import dstoolkit.filters._particle as pf_module
 
     model, _, z = lv_data
-    whole = flt.run_batch(model, z)
+    whole = flt.run_batch(model, z).estimates
     for module in (pf_module, nf_module):
         monkeypatch.setattr(module, "CHUNK_BYTES", 1)  # one run per chunk
-    np.testing.assert_array_equal(flt.run_batch(model, z), whole)
+    np.testing.assert_array_equal(flt.run_batch(model, z).estimates, whole)
 
 
 # -- the bounded-error filter -------------------------------------------------------------
@@ -134,7 +135,7 @@ def test_bounded_error_box_is_the_intersection_of_prediction_and_reading():
     np.testing.assert_allclose(result.lower[:, 0], [-0.5, -0.2, -0.3])
     np.testing.assert_allclose(result.upper[:, 0], [0.5, 0.6, 0.3])
     np.testing.assert_allclose(result.estimates[:, 0], [0.0, 0.2, 0.0], atol=1e-15)
-    np.testing.assert_allclose(result.steps[2]["prediction"][0], [-0.3])
+    np.testing.assert_allclose(result.steps[2].prediction[0], [-0.3])
 
 
 def test_bounded_error_reports_too_tight_bounds_with_the_step():
@@ -175,7 +176,7 @@ def test_bounded_error_rejects_unknown_policy():
 def test_nassreddine_first_step_is_the_reading_mapped_back():
     model = _random_walk(0.1, 0.3)
     result = NassreddineFilter(p=3, epsilon=0.05).run(model, [1.0, 1.0], record=True)
-    post = result.steps[0]["posterior"]
+    post = result.steps[0].posterior
     # α-cuts of w: [−0.1, 0.1], [−0.2, 0.2], [−0.3, 0.3]; Θ becomes the last one (merged)
     np.testing.assert_allclose(np.sort(post.hi), [1.1, 1.2, 1.3])
     np.testing.assert_allclose(np.sort(post.mass), [0.95 / 3, 0.95 / 3, 0.95 / 3 + 0.05])
@@ -191,10 +192,10 @@ def test_nassreddine_diagnostics_stay_in_range(lv_data):
     merged = result.diagnostics["merged_mass"]
     assert np.all((merged >= 0) & (merged <= 1 + 1e-12)) and merged.max() > 0
     for step in result.steps:
-        assert step["posterior"].mass.sum() == pytest.approx(1.0)
-    assert set(result.steps[1]) >= {"state", "prediction", "observation", "posterior",
-                                    "estimate"}
-    assert len(result.steps[1]["state"]) <= 16
+        assert step.posterior.mass.sum() == pytest.approx(1.0)
+    assert all(getattr(result.steps[1], key) is not None
+               for key in ("state", "prediction", "observation", "posterior", "estimate"))
+    assert len(result.steps[1].state) <= 16
 
 
 @pytest.mark.parametrize("kernel", ["numpy", pytest.param("numba", marks=pytest.mark.extras)])
@@ -207,8 +208,8 @@ def test_nassreddine_total_conflict_raises_or_resets(kernel):
     np.testing.assert_array_equal(result.diagnostics["resets"], [False, False, True, False])
     assert result.estimates[2, 0] == pytest.approx(2.5)
     batch = np.stack([z, z + 0.05, np.array([0.0, 0.3, 0.4, 0.5])])[..., None]
-    both = [NassreddineFilter(epsilon=0.0, on_conflict="reset", kernel=k).run_batch(model, batch)
-            for k in ("numpy", kernel)]  # one run in conflict, one not: the same numbers
+    both = [NassreddineFilter(epsilon=0.0, on_conflict="reset", kernel=k).run_batch(
+        model, batch).estimates for k in ("numpy", kernel)]  # one run in conflict, one not: the same numbers
     np.testing.assert_array_equal(*both)
 
 
@@ -247,10 +248,10 @@ def test_cluster_boxes_is_an_outer_approximation_within_the_cap():
 def test_restart_variant_rebuilds_from_the_estimate(lv_data):
     model, _, z = lv_data
     result = NassreddineFilter(restart=True).run(model, z[0], record=True)
-    state = result.steps[5]["state"]
+    state = result.steps[5].state
     v = model.state_noise.evidence(3, 0.05)
     np.testing.assert_allclose(state.boxes_lo, v.boxes_lo + result.estimates[4])
-    assert result.method == "nassreddine-restart"
+    assert result.method == "nassreddine"
 
 
 # -- Kalman and particle filters ---------------------------------------------------------------
@@ -358,8 +359,8 @@ def test_particle_likelihood_respects_the_bounded_support():
     model, _, z = simulate_lotka_volterra(20, seed=8)
     result = ParticleFilter(n_particles=400, seed=1).run(model, z, record=True)
     for k, step in enumerate(result.steps):
-        live = step["weights"] > 0
-        w = model.g(step["particles"][live]) - z[k]
+        live = step.weights > 0
+        w = model.g(step.particles[live]) - z[k]
         assert np.all((w >= model.obs_noise.lower) & (w <= model.obs_noise.upper))
 
 
@@ -403,7 +404,7 @@ def test_nassreddine_keeps_unit_mass_under_heavy_conflict():
         model, data.readings[2][:, None], inputs=data.orders[2], record=True)
     for k, step in enumerate(run.steps):
         assert run.estimates[k, 0] == pytest.approx(
-            step["posterior"].pignistic_expectation(), rel=1e-9)
+            step.posterior.pignistic_expectation(), rel=1e-9)
     assert np.all(run.lower[:, 0] <= run.estimates[:, 0] + 1e-9)
     assert np.all(run.estimates[:, 0] <= run.upper[:, 0] + 1e-9)
 
@@ -459,12 +460,13 @@ def test_particle_draws_kept_for_the_same_runs_give_the_same_numbers():
     models = [gauge_state_space_model(obs_noise=BoundedNoise(-10.59, -6.9, upper))
               for upper in (-3.21, -2.0)]
     _particle._kept_draws.cache_clear()
-    kept = [flt.run_batch(m, gauge.readings, gauge.inputs) for m in models]
+    kept = [flt.run_batch(m, gauge.readings, gauge.inputs).estimates for m in models]
     assert _particle._kept_draws.cache_info().hits == 1
     for model, estimates in zip(models, kept, strict=True):
         _particle._kept_draws.cache_clear()
         np.testing.assert_array_equal(estimates,
-                                      flt.run_batch(model, gauge.readings, gauge.inputs))
+                                      flt.run_batch(model, gauge.readings,
+                                                    gauge.inputs).estimates)
     arrays = _particle._kept_draws(5, (0, 1, 2), ((-0.3,), (0.0,), (0.3,)), 4, 10)
     assert not any(a.flags.writeable for a in arrays)
 
@@ -484,5 +486,6 @@ def test_particle_compiled_resampling_gives_the_same_indices_and_estimates():
     model = gauge_state_space_model()
     np.testing.assert_array_equal(
         ParticleFilter(n_particles=300, kernel="numba").run_batch(model, gauge.readings,
-                                                                  gauge.inputs),
-        ParticleFilter(n_particles=300).run_batch(model, gauge.readings, gauge.inputs))
+                                                                  gauge.inputs).estimates,
+        ParticleFilter(n_particles=300).run_batch(model, gauge.readings,
+                                                  gauge.inputs).estimates)

@@ -14,15 +14,21 @@ from ._analysis import (
     enclosure_summary,
 )
 from ._base import (
-    FilterBase,
+    KERNELS,
+    Filter,
+    FilterState,
 )
 from ._bounded_error import (
     BoundedErrorFilter,
+    BoundedErrorRecord,
+    BoundedErrorState,
 )
 from ._dependent import (
     COUNTS,
     DIAGNOSTICS,
     DependentEvidenceFilter,
+    DependentRecord,
+    DependentState,
     NoiseEvidence,
     observe,
     predict,
@@ -35,11 +41,13 @@ from ._example_systems import (
 )
 from ._kalman import (
     KalmanFilter,
+    KalmanRecord,
+    KalmanState,
     finite_difference_jacobian,
 )
 from ._model import (
+    BatchResult,
     BoundedNoise,
-    Filter,
     FilterResult,
     ScalarMaps,
     StateSpaceModel,
@@ -47,29 +55,45 @@ from ._model import (
 )
 from ._nassreddine import (
     NassreddineFilter,
+    NassreddineRecord,
+    NassreddineState,
     cluster_boxes,
     merge_equal_boxes,
 )
 from ._particle import (
     ParticleFilter,
+    ParticleRecord,
+    ParticleState,
     systematic_resample,
 )
 
 __all__ = [
+    "BatchResult",
     "BoundedErrorFilter",
+    "BoundedErrorRecord",
+    "BoundedErrorState",
     "BoundedNoise",
     "COUNTS",
     "DIAGNOSTICS",
     "DependentEvidenceFilter",
+    "DependentRecord",
+    "DependentState",
     "Filter",
-    "FilterBase",
+    "FilterState",
+    "KERNELS",
     "FilterResult",
     "InconsistentDataError",
     "KalmanFilter",
+    "KalmanRecord",
+    "KalmanState",
     "LOTKA_VOLTERRA_X0",
     "NassreddineFilter",
+    "NassreddineRecord",
+    "NassreddineState",
     "NoiseEvidence",
     "ParticleFilter",
+    "ParticleRecord",
+    "ParticleState",
     "ScalarMaps",
     "StateSpaceModel",
     "cluster_boxes",

@@ -1,25 +1,33 @@
-"""What every filter repeats: input checks at the door, batching in chunks, conflict policy.
+"""The interface every filter shares, and what each one would otherwise repeat.
 
-Each filter in dstoolkit (:class:`~dstoolkit.filters.DependentEvidenceFilter`,
+Every filter in dstoolkit (:class:`~dstoolkit.filters.DependentEvidenceFilter`,
 :class:`~dstoolkit.filters.NassreddineFilter`, :class:`~dstoolkit.filters.BoundedErrorFilter`,
 :class:`~dstoolkit.filters.KalmanFilter`, :class:`~dstoolkit.filters.ParticleFilter`)
-derives from :class:`FilterBase` and so
+derives from :class:`Filter`. A filter writes only its own parts:
 
-- checks the model, the readings z and the inputs u (orders n_k of the gauge, eq. 39)
-  before any work: shapes, real finite numbers, inputs that f(x, u) accepts;
-- checks its options the same way: a conflict policy among the allowed ones, a start
-  vector, a box ``initial_box`` and frames Θ of the right shape, with lo <= hi;
-- cuts a batch of runs into chunks that fit the memory budget
-  (:func:`dstoolkit.evidence.memory_budget`), refusing when one run alone does not fit;
-- refuses to return an estimate that is not a finite number (a model whose f or g gave
-  NaN or ±inf for these inputs), naming the step and the run.
+- a typed state (a frozen dataclass holding what step k passes to step k + 1) and a typed
+  record of a step (a frozen dataclass: the step's evidence, boxes, particles...);
+- :meth:`Filter.initialize` (x̂_1 from the first reading z_1) and :meth:`Filter.step`
+  (one recursion k → k + 1 of eq. 21's model): the public single step, for learners and for
+  new code, which ``run(..., record=True)`` uses too;
+- ``_engine``: the same recursion vectorised over a block of runs, which :meth:`Filter.run`
+  and :meth:`Filter.run_batch` use; it gives the numbers of the step loop (tested).
+
+:class:`Filter` writes the rest once: the checks of the model, readings and inputs at the
+door; the option checks shared by all filters (``kernel``, boxes, frames Θ, α-cuts); the
+run axis; chunks of runs that fit the memory budget
+(:func:`dstoolkit.evidence.memory_budget`); the refusal of non-finite estimates, naming the
+step and the run; and the result types, :class:`~dstoolkit.filters.FilterResult` (one run,
+arrays (T, n)) and :class:`~dstoolkit.filters.BatchResult` (runs, arrays (R, T, n)).
 """
 
 from __future__ import annotations
 
 import importlib.util
+from abc import ABC, abstractmethod
 from collections.abc import Sequence
-from typing import Any, Literal
+from dataclasses import dataclass
+from typing import Any, ClassVar, Generic, Literal, NamedTuple, TypeVar
 
 import numpy as np
 
@@ -27,25 +35,288 @@ from dstoolkit.errors import EvidenceError, require_extra
 from dstoolkit.evidence._checks import real_array, real_number, whole_number
 from dstoolkit.evidence._limits import rows_per_chunk
 
-from ._model import StateSpaceModel, batch_readings, single_readings
+from ._model import (
+    BatchResult,
+    FilterResult,
+    StateSpaceModel,
+    batch_readings,
+    single_readings,
+)
 
-#: The kernels of a filter whose compiled kernels give its numpy numbers bit for bit.
+#: The values of every filter's ``kernel`` option: ``"numpy"``; ``"numba"``, compiled
+#: kernels (extra ``speed``) where the filter has them, giving the numpy numbers; ``"auto"``,
+#: numba when it is installed.
 KernelChoice = Literal["numpy", "numba", "auto"]
+KERNELS: tuple[str, ...] = ("numpy", "numba", "auto")
+
+StateT = TypeVar("StateT", bound="FilterState")
+RecordT = TypeVar("RecordT")
 
 
-class FilterBase:
-    """Mixin of the shared checks and batching; see the module docstring."""
+class Block(NamedTuple):
+    """What a filter's vectorised engine returns for a block of R runs of T steps."""
 
-    # -- readings and inputs -----------------------------------------------------------------
-    def _single(self, model: StateSpaceModel, z: Any, inputs: Any
-                ) -> tuple[np.ndarray, np.ndarray | None]:
-        """One sequence, checked, as a batch of one run: (1, T, m) and (1, T − 1, q)."""
-        return single_readings(_checked_model(model), z, inputs)
+    estimates: np.ndarray
+    """(R, T, n)"""
+    lower: np.ndarray
+    """(R, T, n)"""
+    upper: np.ndarray
+    """(R, T, n)"""
+    diagnostics: dict[str, np.ndarray]
+    """each (R, T)"""
 
-    def _batch(self, model: StateSpaceModel, Z: Any, inputs: Any
-               ) -> tuple[np.ndarray, np.ndarray | None]:
-        """A batch of sequences, checked: (R, T, m) and (R, T − 1, q)."""
-        return batch_readings(_checked_model(model), Z, inputs)
+
+@dataclass(frozen=True)
+class FilterState:
+    """What every filter's state holds: the model, the step and its estimate.
+
+    Attributes
+    ----------
+    model : StateSpaceModel
+        The model the filter runs on.
+    k : int
+        The step whose estimate this is (1 for the first reading).
+    estimate : ndarray, shape (n,)
+        x̂_k.
+    lower, upper : ndarray, shape (n,)
+        Bounds of step k's final belief (see :class:`~dstoolkit.filters.FilterResult`).
+    """
+
+    model: StateSpaceModel
+    k: int
+    estimate: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+
+
+class Filter(ABC, Generic[StateT, RecordT]):
+    """A recursive filter of the bounded-noise model of eq. 21.
+
+    Subclasses are frozen dataclasses of their options. Each one has the same public
+    methods, with the same meaning:
+
+    ``initialize(model, z1)``
+        The state after the first reading z_1 (its estimate x̂_1).
+    ``step(state, z, u=None)``
+        One recursion: the state after reading ``z`` (the input ``u`` drives f(x, u) from the
+        previous step), and the typed record of that step.
+    ``run(model, z, inputs=None, record=False)``
+        The same loop over a whole sequence, as a :class:`~dstoolkit.filters.FilterResult`.
+    ``run_batch(model, Z, inputs=None)``
+        Many independent sequences at once, vectorised over runs, as a
+        :class:`~dstoolkit.filters.BatchResult`; run r gives the numbers of ``run``.
+
+    Every filter takes ``kernel`` (``"numpy"``, ``"numba"`` or ``"auto"``, see
+    :data:`KERNELS`) and reports its per-step numbers under the keys of its
+    ``DIAGNOSTICS``.
+
+    Examples
+    --------
+    The public step gives what :meth:`run` gives:
+
+    >>> import numpy as np
+    >>> from dstoolkit.filters import KalmanFilter, random_walk
+    >>> model, z = random_walk(0.1, 0.5), [1.0, 1.2, 0.9, 1.1]
+    >>> flt = KalmanFilter()
+    >>> state = flt.initialize(model, z[0])
+    >>> for reading in z[1:]:
+    ...     state, record = flt.step(state, reading)
+    >>> bool(np.allclose(state.estimate, flt.run(model, z).estimates[-1], rtol=0, atol=0))
+    True
+    """
+
+    #: Short name of the method, the key of studies and plots (e.g. ``"kalman"``).
+    name: ClassVar[str]
+    #: Per-step diagnostics of a run (the keys of ``FilterResult.diagnostics``), explained.
+    DIAGNOSTICS: ClassVar[dict[str, str]] = {}
+
+    # -- what each filter writes -------------------------------------------------------------
+    @abstractmethod
+    def initialize(self, model: StateSpaceModel, z1: Any) -> StateT:
+        """The state after the first reading.
+
+        Parameters
+        ----------
+        model : StateSpaceModel
+            The model of eq. 21.
+        z1 : array_like, shape (m,) or scalar when m = 1
+            The first reading.
+
+        Returns
+        -------
+        state
+            The filter's state (its ``State`` class); ``state.estimate`` is x̂_1, shape (n,).
+        """
+
+    @abstractmethod
+    def step(self, state: StateT, z: Any, u: Any = None) -> tuple[StateT, RecordT]:
+        """One recursion of the filter: from the state of step k to that of step k + 1.
+
+        Parameters
+        ----------
+        state
+            What :meth:`initialize` or the previous :meth:`step` returned.
+        z : array_like, shape (m,) or scalar when m = 1
+            The reading z_{k+1}.
+        u : array_like, shape (q,), optional
+            The input of f(x, u) on the transition k → k + 1 (the gauge's order n_k).
+
+        Returns
+        -------
+        state
+            The state of step k + 1; ``state.estimate`` is x̂_{k+1}.
+        record
+            The filter's typed record of the step (its ``Record`` class).
+        """
+
+    @abstractmethod
+    def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
+                runs: np.ndarray) -> Block:
+        """The recursion on a block of runs, Z (R, T, m), U (R, T − 1, q) or None;
+        ``runs`` are the runs' indices in the batch (their random streams, if any)."""
+
+    @abstractmethod
+    def _bytes_per_run(self, model: StateSpaceModel, n_steps: int) -> float:
+        """Memory of one run's working arrays in :meth:`_engine`, bytes."""
+
+    @abstractmethod
+    def _start_record(self, state: StateT) -> RecordT:
+        """The record of the first step (the start: what :meth:`initialize` found)."""
+
+    def _check_model(self, model: StateSpaceModel) -> None:
+        """Refuse a model this filter cannot use (e.g. without g⁻¹); default: accept."""
+
+    def _check_runs(self, runs: int) -> None:
+        """Refuse options that do not fit a batch of ``runs`` runs; default: accept."""
+
+    def _chunk_cap(self, model: StateSpaceModel, n_steps: int) -> int | None:
+        """Runs per block at most (None: as many as the memory budget allows)."""
+        return None
+
+    @property
+    def _title(self) -> str:
+        """The name in messages: ``"dependent-evidence"`` for ``"dependent_evidence"``."""
+        return self.name.replace("_", "-")
+
+    #: What to do when one run does not fit the memory budget.
+    _budget_advice: ClassVar[str] = "filter fewer steps at once"
+
+    # -- what the base writes once ------------------------------------------------------------
+    def run(self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
+            ) -> FilterResult:
+        """Filter one sequence of readings.
+
+        Parameters
+        ----------
+        model : StateSpaceModel
+            The model of eq. 21.
+        z : array_like, shape (T, m), or (T,) when m = 1
+            The readings z_1 … z_T.
+        inputs : array_like, shape (T − 1, q), optional
+            ``inputs[k - 1]`` drives f(x, u) from step k − 1 to step k.
+        record : bool, optional
+            Keep the typed record of every step in ``result.steps`` (runs the public
+            :meth:`step` loop).
+
+        Returns
+        -------
+        FilterResult
+            Estimates, bounds (T, n) and diagnostics (T,).
+
+        Raises
+        ------
+        EvidenceError
+            Readings, inputs or model of the wrong shape or not finite, or an estimate that
+            is not a finite number (the model's f or g gave NaN or ±inf).
+        MemoryBudgetError
+            One run does not fit the memory budget.
+        """
+        zz, uu = single_readings(_checked_model(model), z, inputs)
+        self._check_model(model)
+        if record:
+            return self._run_steps(model, zz[0], None if uu is None else uu[0])
+        self._chunks(1, self._bytes_per_run(model, zz.shape[1]))
+        block = self._engine(model, zz, uu, np.zeros(1, dtype=np.intp))
+        self._finite(block.estimates)
+        return FilterResult(self.name, block.estimates[0], block.lower[0], block.upper[0],
+                            {key: value[0] for key, value in block.diagnostics.items()})
+
+    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> BatchResult:
+        """Filter many independent sequences at once, vectorised over runs.
+
+        Parameters
+        ----------
+        model : StateSpaceModel
+            The model of eq. 21.
+        Z : array_like, shape (R, T, m), or (R, T) when m = 1
+            R sequences of T readings.
+        inputs : array_like, shape (R, T − 1, q), optional
+            One input sequence per run.
+
+        Returns
+        -------
+        BatchResult
+            Estimates and bounds (R, T, n), diagnostics (R, T); run r holds the numbers
+            :meth:`run` gives on ``Z[r]`` (for the particle filter, with run r's random
+            stream).
+
+        Raises
+        ------
+        EvidenceError, MemoryBudgetError
+            As :meth:`run`; a batch is cut into blocks that fit the memory budget.
+        """
+        zz, uu = batch_readings(_checked_model(model), Z, inputs)
+        self._check_model(model)
+        runs, n_steps = zz.shape[:2]
+        self._check_runs(runs)
+        ids = np.arange(runs)
+        blocks = [self._engine(model, zz[sel], None if uu is None else uu[sel], ids[sel])
+                  for sel in self._chunks(runs, self._bytes_per_run(model, n_steps),
+                                          self._chunk_cap(model, n_steps))]
+        est = self._finite(np.concatenate([b.estimates for b in blocks]))
+        return BatchResult(
+            self.name, est, np.concatenate([b.lower for b in blocks]),
+            np.concatenate([b.upper for b in blocks]),
+            {key: np.concatenate([b.diagnostics[key] for b in blocks])
+             for key in blocks[0].diagnostics})
+
+    def _run_steps(self, model: StateSpaceModel, z: np.ndarray, u: np.ndarray | None
+                   ) -> FilterResult:
+        """``run(record=True)``: the public :meth:`initialize` and :meth:`step` in a loop."""
+        state = self.initialize(model, z[0])
+        states, records = [state], [self._start_record(state)]
+        for k in range(1, z.shape[0]):
+            state, rec = self.step(state, z[k], None if u is None else u[k - 1])
+            states.append(state)
+            records.append(rec)
+        est = self._finite(np.stack([s.estimate for s in states])[None])[0]
+        diagnostics = {key: np.array([getattr(r, key) for r in records])
+                       for key in (*self.DIAGNOSTICS, *self.RECORDED)}
+        return FilterResult(self.name, est, np.stack([s.lower for s in states]),
+                            np.stack([s.upper for s in states]), diagnostics, tuple(records))
+
+    #: Keys that ``run(..., record=True)`` adds to the diagnostics from the records.
+    RECORDED: ClassVar[tuple[str, ...]] = ()
+
+    @staticmethod
+    def _one(model: StateSpaceModel, z: Any, u: Any = None, *, transition: bool = True
+             ) -> tuple[np.ndarray, np.ndarray | None]:
+        """One reading z and the input u of the transition into it (``transition=False``:
+        the first reading, which has none), checked as :meth:`run` checks them: as a
+        block of one run, (1, m) and (1, q) (or None)."""
+        _checked_model(model)
+        try:
+            zz = np.broadcast_to(real_array(z, "z", ndim=(0, 1), error=EvidenceError),
+                                 (2, model.obs_dim))
+        except ValueError:
+            raise EvidenceError(f"a reading must have {model.obs_dim} component(s), got "
+                                f"shape {np.shape(z)}") from None
+        if not transition:
+            return single_readings(model, zz[:1])[0][:, 0], None
+        uu = None if u is None else np.atleast_1d(real_array(u, "u", ndim=(0, 1),
+                                                             error=EvidenceError))[None]
+        zz_, uu_ = single_readings(model, zz, uu)
+        return zz_[:, 1], None if uu_ is None else uu_[:, 0]
 
     # -- options -----------------------------------------------------------------------------
     @staticmethod
@@ -102,6 +373,19 @@ class FilterBase:
         if np.any(arr[..., 0] >= arr[..., 1]):
             raise EvidenceError(f"{name} = {arr.tolist()}: each frame needs lo < hi")
 
+    @classmethod
+    def _frames(cls, theta: Any) -> None:
+        """Check ``theta``: None, or a pair (theta_v, theta_w) of frames (see :meth:`_frame`)."""
+        if theta is None:
+            return
+        try:
+            theta_v, theta_w = theta
+        except (TypeError, ValueError):
+            raise EvidenceError("theta must be a pair (theta_v, theta_w), each None or one "
+                                f"(lo, hi) pair per component; got {theta!r}") from None
+        cls._frame(theta_v, "theta_v")
+        cls._frame(theta_w, "theta_w")
+
     @staticmethod
     def _cuts(p: Any, epsilon: Any) -> None:
         """The noise evidence's number of α-cuts p and discount ε (eqs. 24–26)."""
@@ -117,11 +401,11 @@ class FilterBase:
                                     f"has {model.state_dim}")
 
     # -- batching and results ------------------------------------------------------------------
-    @staticmethod
-    def _chunks(runs: int, bytes_per_run: float, what: str, advice: str,
-                cap: int | None = None) -> list[slice]:
+    def _chunks(self, runs: int, bytes_per_run: float, cap: int | None = None
+                ) -> list[slice]:
         """Slices of the runs, each fitting the memory budget (and at most ``cap`` runs)."""
-        size = rows_per_chunk(bytes_per_run, runs, what, advice)
+        size = rows_per_chunk(bytes_per_run, runs, f"the {self._title} filter",
+                              self._budget_advice)
         if cap is not None:
             size = max(1, min(size, cap))
         return [slice(i, min(runs, i + size)) for i in range(0, runs, size)]
@@ -132,7 +416,7 @@ class FilterBase:
         if bad.any():
             run, step = (int(i) for i in np.argwhere(bad)[0][:2])
             raise EvidenceError(
-                f"the {getattr(self, 'name', 'filter')} filter's {what} at step {step} "
+                f"the {self._title} filter's {what} at step {step} "
                 f"(counting from 0) of run {run} is not a finite number: the model's f or g "
                 "gave NaN or ±inf for these readings and inputs; check the inputs (e.g. "
                 "orders n_k must be positive) and that the readings lie where f and g are "

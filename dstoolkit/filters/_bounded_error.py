@@ -31,12 +31,10 @@ import numpy as np
 from dstoolkit.errors import EvidenceError, InconsistentDataError
 from dstoolkit.evidence._extension import box_image
 
-from ._base import FilterBase
+from ._base import Block, Filter, FilterState, KernelChoice
 from ._model import (
-    FilterResult,
     StateSpaceModel,
     first_reading_box,
-    step_input,
     with_input,
 )
 
@@ -44,56 +42,142 @@ InconsistencyPolicy = Literal["raise", "reset"]
 
 
 @dataclass(frozen=True)
-class BoundedErrorFilter(FilterBase):
+class BoundedErrorState(FilterState):
+    """The bounded-error filter's state: the box X_k = [lower, upper], centre ``estimate``."""
+
+
+@dataclass(frozen=True)
+class BoundedErrorRecord:
+    """One step of the bounded-error filter.
+
+    Attributes
+    ----------
+    step : int
+        k, counting the first reading as 1.
+    prediction : tuple of ndarray, or None
+        The predicted box X⁻_k = f(X_{k−1}, u) + [v_lo, v_hi] as (lo, hi); None at the start.
+    reading : tuple of ndarray, or None
+        X⁻_k ∩ g⁻¹(z_k + W) before any reset (empty where lo > hi); None at the start.
+    box : tuple of ndarray
+        The final box X_k as (lo, hi).
+    resets : bool
+        Whether the box was rebuilt from the reading alone (``on_inconsistent="reset"``).
+    """
+
+    step: int
+    prediction: tuple[np.ndarray, np.ndarray] | None
+    reading: tuple[np.ndarray, np.ndarray] | None
+    box: tuple[np.ndarray, np.ndarray]
+    resets: bool
+
+
+@dataclass(frozen=True)
+class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
     """Set-membership filter with one box (see the module docstring).
 
     Parameters
     ----------
-    on_inconsistent
+    on_inconsistent : {"raise", "reset"}
         ``"raise"``: raise :class:`~dstoolkit.errors.InconsistentDataError` when the box
-        becomes empty; ``"reset"``: restart from the current reading and record the step.
-    initial_box
-        Optional box ``(lo, hi)`` known to hold the state at the first step (needed when g
-        is not invertible); it also bounds the restart boxes.
+        becomes empty; ``"reset"``: restart from the current reading and flag the step.
+    initial_box : tuple of array_like, optional
+        A box ``(lo, hi)`` known to hold the state at the first step (needed when g is not
+        invertible); it also bounds the restart boxes.
+    kernel : {"numpy", "numba", "auto"}
+        Accepted for a common interface; the box recursion has no compiled kernel, so every
+        value runs numpy (``"numba"`` still needs the extra ``speed``).
+
+    See Also
+    --------
+    DependentEvidenceFilter : the paper's filter, which keeps a mass function instead of a box.
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import BoundedErrorFilter, random_walk
+    >>> result = BoundedErrorFilter().run(random_walk(0.1, 0.5), [1.0, 1.2, 0.9, 1.1])
+    >>> result.lower[-1].round(2).tolist(), result.upper[-1].round(2).tolist()
+    ([0.7, 1.4])
     """
 
     on_inconsistent: InconsistencyPolicy = "raise"
     initial_box: tuple[Any, Any] | None = None
-    name: ClassVar[str] = "bounded-error"
+    kernel: KernelChoice = "numpy"
+    name: ClassVar[str] = "bounded_error"
+    DIAGNOSTICS: ClassVar[dict[str, str]] = {
+        "resets": "True where the box was rebuilt from the reading (on_inconsistent='reset')",
+    }
 
     def __post_init__(self) -> None:
         self._policy(self.on_inconsistent, ("raise", "reset"), "on_inconsistent")
         self._box(self.initial_box)
+        self._compiled(self.kernel, "the bounded-error filter")
 
-    def run(
-        self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
-    ) -> FilterResult:
-        """Filter one sequence ``z`` (steps, m): estimates are box centres, ``lower`` and
-        ``upper`` the boxes. ``record=True`` keeps each step's ``prediction`` box, the
-        ``reading`` box g⁻¹(z_k + W) ∩ prediction before any reset, and the final ``box``.
-        Diagnostics: ``resets`` (steps,), True where the box was rebuilt from the reading."""
-        Z, U = self._single(model, z, inputs)
+    def _check_model(self, model: StateSpaceModel) -> None:
         self._check_box_dim(self._box(self.initial_box), model)
-        lo, hi, resets, steps = self._filter(model, Z, U, record)
-        self._finite(0.5 * (lo + hi))
-        return FilterResult(
-            method=self.name, estimates=0.5 * (lo[0] + hi[0]), lower=lo[0], upper=hi[0],
-            steps=steps, diagnostics={"resets": resets[0]},
-        )
 
-    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
-                  return_result: bool = False) -> np.ndarray | FilterResult:
-        """Box centres (runs, steps, n) of independent sequences Z (runs, steps, m);
-        ``return_result=True`` returns a FilterResult whose arrays carry the leading run
-        axis, with the boxes and ``diagnostics["resets"]`` (runs, steps)."""
-        Z, U = self._batch(model, Z, inputs)
-        self._check_box_dim(self._box(self.initial_box), model)
-        lo, hi, resets, _ = self._filter(model, Z, U, False)
-        est = self._finite(0.5 * (lo + hi))
-        if not return_result:
-            return est
-        return FilterResult(method=self.name, estimates=est, lower=lo, upper=hi,
-                            diagnostics={"resets": resets})
+    def _bytes_per_run(self, model: StateSpaceModel, n_steps: int) -> float:
+        return float(8 * n_steps * (4 * model.state_dim + 1))
+
+    # -- the public step -----------------------------------------------------------------------
+    def initialize(self, model: StateSpaceModel, z1: Any) -> BoundedErrorState:
+        """X_1 = g⁻¹(z_1 + [w_lo, w_hi]) (∩ ``initial_box``); see :meth:`Filter.initialize`."""
+        self._check_model(model)
+        z, _ = self._one(model, z1, transition=False)
+        lo, hi = self._reading_box(model, z, 0)
+        return BoundedErrorState(model, 1, 0.5 * (lo[0] + hi[0]), lo[0], hi[0])
+
+    def step(self, state: BoundedErrorState, z: Any, u: Any = None
+             ) -> tuple[BoundedErrorState, BoundedErrorRecord]:
+        """Predict the box through f, intersect with g⁻¹(z + W); see :meth:`Filter.step`."""
+        model = state.model
+        zz, uu = self._one(model, z, u)
+        out = self._advance(model, state.lower[None], state.upper[None], zz, uu, state.k)
+        p_lo, p_hi, r_lo, r_hi, lo, hi, reset = out
+        record = BoundedErrorRecord(state.k + 1, (p_lo[0], p_hi[0]), (r_lo[0], r_hi[0]),
+                                    (lo[0], hi[0]), bool(reset[0]))
+        return BoundedErrorState(model, state.k + 1, 0.5 * (lo[0] + hi[0]), lo[0],
+                                 hi[0]), record
+
+    def _start_record(self, state: BoundedErrorState) -> BoundedErrorRecord:
+        return BoundedErrorRecord(1, None, None, (state.lower, state.upper), False)
+
+    # -- the recursion, vectorised over runs -----------------------------------------------------
+    def _advance(self, model: StateSpaceModel, lo: np.ndarray, hi: np.ndarray, z: np.ndarray,
+                 u: np.ndarray | None, k: int) -> tuple[np.ndarray, ...]:
+        """Step k → k + 1 for R runs: boxes (R, n), readings z (R, m), inputs (R, q).
+
+        Returns the predicted box, the reading's box within it, the final box and the
+        resets (R,)."""
+        f_lo, f_hi = box_image(with_input(model.f, u), lo, hi, model.f_monotone)
+        p_lo = f_lo + model.state_noise.lower
+        p_hi = f_hi + model.state_noise.upper
+        r_lo, r_hi = model.inverse()(z + model.obs_noise.lower, z + model.obs_noise.upper,
+                                     p_lo, p_hi)
+        r_lo, r_hi = np.broadcast_to(r_lo, p_lo.shape), np.broadcast_to(r_hi, p_hi.shape)
+        empty = np.any(r_lo > r_hi, axis=-1)
+        lo, hi = r_lo, r_hi
+        if np.any(empty):
+            if self.on_inconsistent == "raise":
+                r = int(np.flatnonzero(empty)[0])
+                raise InconsistentDataError(self._message(model, z, k, r, p_lo, p_hi))
+            n_lo, n_hi = self._reading_box(model, z[empty], k)
+            lo, hi = r_lo.copy(), r_hi.copy()
+            lo[empty], hi[empty] = n_lo, n_hi
+        return p_lo, p_hi, r_lo, r_hi, lo, hi, empty
+
+    def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
+                runs: np.ndarray) -> Block:
+        n_runs, n_steps, _ = Z.shape
+        n = model.state_dim
+        los, his = np.empty((n_runs, n_steps, n)), np.empty((n_runs, n_steps, n))
+        resets = np.zeros((n_runs, n_steps), dtype=bool)
+        lo, hi = self._reading_box(model, Z[:, 0], 0)
+        los[:, 0], his[:, 0] = lo, hi
+        for k in range(1, n_steps):
+            *_, lo, hi, resets[:, k] = self._advance(
+                model, lo, hi, Z[:, k], None if U is None else U[:, k - 1], k)
+            los[:, k], his[:, k] = lo, hi
+        return Block(0.5 * (los + his), los, his, {"resets": resets})
 
     # -- internals -------------------------------------------------------------------------
     def _reading_box(self, model: StateSpaceModel, z: np.ndarray, k: int
@@ -113,46 +197,11 @@ class BoundedErrorFilter(FilterBase):
             )
         return lo, hi
 
-    def _filter(
-        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, record: bool
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]] | None]:
-        runs, n_steps, _ = Z.shape
-        n = model.state_dim
-        v_lo, v_hi = model.state_noise.lower, model.state_noise.upper
-        w_lo, w_hi = model.obs_noise.lower, model.obs_noise.upper
-        los, his = np.empty((runs, n_steps, n)), np.empty((runs, n_steps, n))
-        resets = np.zeros((runs, n_steps), dtype=bool)
-
-        lo, hi = self._reading_box(model, Z[:, 0], 0)
-        los[:, 0], his[:, 0] = lo, hi
-        steps = [{"box": (lo[0].copy(), hi[0].copy())}] if record else None
-        for k in range(1, n_steps):
-            f_lo, f_hi = box_image(with_input(model.f, step_input(U, k)), lo, hi, model.f_monotone)
-            p_lo, p_hi = f_lo + v_lo, f_hi + v_hi
-            lo, hi = model.inverse()(Z[:, k] + w_lo, Z[:, k] + w_hi, p_lo, p_hi)
-            lo, hi = np.broadcast_to(lo, p_lo.shape), np.broadcast_to(hi, p_hi.shape)
-            if steps is not None:
-                steps.append({"prediction": (p_lo[0].copy(), p_hi[0].copy()),
-                              "reading": (lo[0].copy(), hi[0].copy())})
-            empty = np.any(lo > hi, axis=-1)
-            if np.any(empty):
-                if self.on_inconsistent == "raise":
-                    r = int(np.flatnonzero(empty)[0])
-                    raise InconsistentDataError(self._message(model, Z, k, r, p_lo, p_hi))
-                r_lo, r_hi = self._reading_box(model, Z[empty, k], k)
-                lo, hi = lo.copy(), hi.copy()
-                lo[empty], hi[empty] = r_lo, r_hi
-                resets[empty, k] = True
-            los[:, k], his[:, k] = lo, hi
-            if steps is not None:
-                steps[-1]["box"] = (lo[0].copy(), hi[0].copy())
-        return los, his, resets, steps
-
     @staticmethod
-    def _message(model: StateSpaceModel, Z: np.ndarray, k: int, r: int,
+    def _message(model: StateSpaceModel, z: np.ndarray, k: int, r: int,
                  p_lo: np.ndarray, p_hi: np.ndarray) -> str:
         where = (f"step {k} (reading z[{k}], counting from 0)"
-                 + (f" of run {r}" if Z.shape[0] > 1 else ""))
+                 + (f" of run {r}" if z.shape[0] > 1 else ""))
 
         def num(x: np.ndarray) -> str:  # 6 significant digits: 1923.84 Hz, not 1923.84244
             return np.array2string(np.asarray(x), formatter={"float_kind": "{:.6g}".format})
@@ -163,7 +212,7 @@ class BoundedErrorFilter(FilterBase):
         return (
             f"inconsistent data at {where}: the predicted box ({fmt(p_lo[r], p_hi[r])}) "
             "contains no state whose observation agrees with the reading "
-            f"z = {num(Z[r, k])} within the observation noise "
+            f"z = {num(z[r])} within the observation noise "
             f"bounds ({fmt(model.obs_noise.lower, model.obs_noise.upper)}). The noise bounds "
             f"(state noise {fmt(model.state_noise.lower, model.state_noise.upper)}) are "
             "probably too tight for these data: widen them, or use "

@@ -40,11 +40,11 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
-from typing import Any, ClassVar, Literal, overload
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
-from dstoolkit.errors import EvidenceError, TotalConflictError, require_extra
+from dstoolkit.errors import EvidenceError, TotalConflictError
 from dstoolkit.evidence import _batch_kernels as bk
 from dstoolkit.evidence._batch_kernels import Boxes
 from dstoolkit.evidence._checks import real_array, whole_number
@@ -58,13 +58,12 @@ from dstoolkit.evidence._extension import (
 )
 from dstoolkit.evidence._intervals import IntervalEvidence
 
-from ._base import FilterBase
+from ._base import Block, Filter, FilterState, KernelChoice
 from ._dependent_arrays import StepArrays, map_back, observe, predict
-from ._model import FilterResult, StateSpaceModel, step_input, with_input
+from ._model import FilterResult, StateSpaceModel, with_input
 
 StartRule = Literal["observation", "mean_corrected"]
 ConflictPolicy = Literal["raise", "predict"]
-Kernel = Literal["numpy", "numba"]
 
 #: The per-step diagnostics of a run (keys of ``FilterResult.diagnostics``), explained.
 DIAGNOSTICS: dict[str, str] = {
@@ -109,32 +108,118 @@ class ModelMaps:
 
 
 @dataclass(frozen=True)
-class DependentEvidenceFilter(FilterBase):
-    """The dependent-evidence filter of Xu et al. (§3.2, Steps 1–6).
+class DependentState(FilterState):
+    """The paper's filter's state: x̂_k, the hull of step k's final evidence (``final``,
+    None at the start) and Step 1's noise evidence (``noise``, from the model's bounded
+    noises; replace it with :func:`dataclasses.replace` to step with other evidence). Each
+    step restarts from the point estimate (Step 2), so nothing else passes on."""
+
+    noise: NoiseEvidence
+    final: IntervalEvidence | None = None
+
+
+@dataclass(frozen=True)
+class DependentRecord:
+    """One step of the paper's filter (Steps 2–6), with the numbers of :data:`DIAGNOSTICS`
+    and :data:`COUNTS`.
+
+    Attributes
+    ----------
+    step : int
+        k + 1, counting the first reading as 1.
+    estimate : ndarray, shape (n,)
+        x̂_{k+1}, the pignistic expectation of ``final`` (eq. 20).
+    state, prediction, observation_prediction, observation, fused, mapped_back, final :
+        IntervalEvidence or None
+        x̂_k + E_v; E_{k+1|k} (Step 2); g(E_{k+1|k}) (Step 3); z_{k+1} + E_w; Step 4's
+        fusion; Step 5's evidence mapped back (E1); Step 6's result. None at the start, and
+        from ``fused`` on where total conflict made the prediction final.
+    dependence_terms : Dependence or None
+        En′(E1), En′(E2), En′(E1, E2), D, R12 and R21 of Step 6 (eqs. A1–A6).
+    conflict_step4 ... fallback : float
+        The per-step numbers of :data:`DIAGNOSTICS` (NaN where a step has none).
+    n_state ... n_products_step6 : float
+        The focal-element counts of :data:`COUNTS` (NaN where a step has none).
+    """
+
+    step: int
+    estimate: np.ndarray
+    state: IntervalEvidence | None = None
+    prediction: IntervalEvidence | None = None
+    observation_prediction: IntervalEvidence | None = None
+    observation: IntervalEvidence | None = None
+    fused: IntervalEvidence | None = None
+    mapped_back: IntervalEvidence | None = None
+    final: IntervalEvidence | None = None
+    dependence_terms: Any = None
+    conflict_step4: float = np.nan
+    conflict_step6: float = np.nan
+    energy_mapped_back: float = np.nan
+    energy_prediction: float = np.nan
+    joint_energy: float = np.nan
+    dependence: float = np.nan
+    r12: float = np.nan
+    r21: float = np.nan
+    fallback: float = np.nan
+    n_state: float = np.nan
+    n_prediction: float = np.nan
+    n_observation_prediction: float = np.nan
+    n_observation: float = np.nan
+    n_fused: float = np.nan
+    n_mapped_back: float = np.nan
+    n_final: float = np.nan
+    n_products_step4: float = np.nan
+    n_products_step6: float = np.nan
+
+
+@dataclass(frozen=True)
+class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
+    """The dependent-evidence filter of Xu et al. (§3.2, Steps 1–6, eqs. 13–20, A1–A8).
 
     Parameters
     ----------
-    mass_rule
-        m(D) in the energy of the intersection (eq. A3): ``"min"`` (default), ``"m1"``,
-        ``"m2"`` (eq. A3 leaves m(D) open).
-    start
-        x̂_1: ``"observation"`` (g⁻¹(z_1), the paper), ``"mean_corrected"``
-        (g⁻¹(z_1 + E[w])), or a state vector.
-    p, epsilon, theta
-        Step 1: number of α-cuts, discount rate ε, and Θ as ``(theta_v, theta_w)``, each
-        None (mode ± 100σ) or one (lo, hi) pair per component.
-    on_conflict
-        Total conflict in Step 4 or 6: ``"raise"`` TotalConflictError (default) or
-        ``"predict"``: the prediction becomes the final evidence of that step.
-    image_method
-        How images are computed: ``"auto"`` (monotone where the model declares every sign,
-        else vertex), ``"vertex"``, ``"monotone"``, ``"subdivision"`` (see
-        :func:`dstoolkit.evidence.image`).
-    chunk_size
+    mass_rule : {"min", "m1", "m2"}
+        m(D) in the energy of the intersection (eq. A3, which leaves it open).
+    start : {"observation", "mean_corrected"} or array_like, shape (n,) or (R, n)
+        x̂_1: g⁻¹(z_1) as the paper, g⁻¹(z_1 + E[w]), or a state vector (one per run).
+    p : int
+        Step 1's number of α-cuts (eqs. 24–25).
+    epsilon : float
+        Step 1's discount rate ε (eq. 26).
+    theta : tuple, optional
+        Step 1's frames Θ as ``(theta_v, theta_w)``, each None (mode ± 100σ) or one
+        (lo, hi) pair per component.
+    on_conflict : {"raise", "predict"}
+        Total conflict in Step 4 or 6: raise :class:`~dstoolkit.errors.TotalConflictError`
+        (default), or take the prediction as the step's final evidence (``fallback`` = 1).
+    image_method : {"auto", "vertex", "monotone", "subdivision"}
+        How images are computed (see :func:`dstoolkit.evidence.image`): ``"auto"`` is
+        monotone where the model declares every sign, else vertex (Prop. 1).
+    chunk_size : int
         Runs per vectorised block in :meth:`run_batch` (memory ∝ chunk × N1 × N2).
-    kernel
-        Step 6 of the array path: ``"numpy"`` (default) or ``"numba"``, a compiled kernel
-        (extra ``speed``; same numbers to rounding, several times faster).
+    kernel : {"numpy", "numba", "auto"}
+        Step 6 of the vectorised path: numpy, or a compiled kernel (extra ``speed``; the
+        same numbers to rounding); ``"auto"`` takes numba when it is installed.
+
+    See Also
+    --------
+    NassreddineFilter : propagates the posterior instead of restarting from x̂_k.
+    dstoolkit.evidence.combine_dependent : Step 6's combination on its own.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §3.2 and Appendix A.
+
+    Examples
+    --------
+    A random walk with |v| ≤ 0.1 read with |w| ≤ 0.5 (eq. 21):
+
+    >>> from dstoolkit.filters import DependentEvidenceFilter, random_walk
+    >>> result = DependentEvidenceFilter().run(random_walk(0.1, 0.5), [1.0, 1.2, 0.9, 1.1])
+    >>> result.estimates[:, 0].round(3).tolist()
+    [1.0, 1.02, 1.009, 1.017]
+    >>> bool(result.lower[2, 0] < result.estimates[2, 0] < result.upper[2, 0])
+    True
     """
 
     mass_rule: MassRule = "min"
@@ -145,9 +230,12 @@ class DependentEvidenceFilter(FilterBase):
     on_conflict: ConflictPolicy = "raise"
     image_method: ImageMethod = "auto"
     chunk_size: int = 64
-    kernel: Kernel = "numpy"
+    kernel: KernelChoice = "numpy"
 
-    name: ClassVar[str] = "dependent-evidence"
+    name: ClassVar[str] = "dependent_evidence"
+    DIAGNOSTICS: ClassVar[dict[str, str]] = DIAGNOSTICS
+    RECORDED: ClassVar[tuple[str, ...]] = COUNTS
+    _budget_advice: ClassVar[str] = "use fewer α-cuts p"
 
     def __post_init__(self) -> None:
         self._policy(self.mass_rule, MASS_RULES, "mass_rule")
@@ -157,26 +245,27 @@ class DependentEvidenceFilter(FilterBase):
             self._policy(self.start, ("observation", "mean_corrected"), "start",
                          "a state vector")
         else:
-            real_array(self.start, "start", ndim=(0, 1, 2), error=EvidenceError)
+            start = np.array(real_array(self.start, "start", ndim=(0, 1, 2),
+                                        error=EvidenceError))
+            start.flags.writeable = False  # a copy: later edits of the caller's array
+            object.__setattr__(self, "start", start)  # change nothing here
         self._cuts(self.p, self.epsilon)
-        if self.theta is not None:
-            try:
-                theta_v, theta_w = self.theta
-            except (TypeError, ValueError):
-                raise EvidenceError("theta must be a pair (theta_v, theta_w), each None or one "
-                                    f"(lo, hi) pair per component; got {self.theta!r}") from None
-            self._frame(theta_v, "theta_v")
-            self._frame(theta_w, "theta_w")
+        self._frames(self.theta)
         whole_number(self.chunk_size, "chunk_size", low=1, high=10**6, error=EvidenceError)
-        self._policy(self.kernel, ("numpy", "numba"), "kernel")
-        if self.kernel == "numba":
-            require_extra("numba", "speed", "kernel='numba' of the paper's filter")
+        self._compiled(self.kernel, "the paper's filter")
 
-    def _bytes_per_run(self, noise: NoiseEvidence) -> float:
+    def _check_model(self, model: StateSpaceModel) -> None:
+        self._maps(model)
+
+    def _bytes_per_run(self, model: StateSpaceModel, n_steps: int = 0) -> float:
         """Memory of one run's Step 6 buffers (the largest arrays), bytes."""
+        noise = self.noise_evidence(model)
         n_pred = noise.prediction_mass.shape[1]
         return StepArrays.bytes_per_run(noise.v.lo.shape[-1], n_pred,
                                         n_pred * noise.w.mass.shape[1])
+
+    def _chunk_cap(self, model: StateSpaceModel, n_steps: int) -> int | None:
+        return int(self.chunk_size)
 
     # -- Step 1 and model parsing ----------------------------------------------------------
     def noise_evidence(self, model: StateSpaceModel) -> NoiseEvidence:
@@ -198,17 +287,118 @@ class DependentEvidenceFilter(FilterBase):
         return ModelMaps(model, resolve_method(self.image_method, f_signs), f_signs,
                          resolve_method(self.image_method, g_signs), g_signs)
 
-    def _start(self, model: StateSpaceModel, z1: np.ndarray) -> np.ndarray:
-        """x̂_1 for every run, (R, n)."""
-        runs, n = z1.shape[0], model.state_dim
+    # -- the public step: Steps 2-6 on IntervalEvidence objects ------------------------------
+    def initialize(self, model: StateSpaceModel, z1: Any) -> DependentState:
+        """x̂_1 by the ``start`` rule; see :meth:`Filter.initialize`."""
+        self._check_model(model)
+        z, _ = self._one(model, z1, transition=False)
+        x = self._start(model, z)[0]
+        return DependentState(model, 1, x, x, x, self.noise_evidence(model))
+
+    def step(self, state: DependentState, z: Any, u: Any = None
+             ) -> tuple[DependentState, DependentRecord]:
+        """Steps 2–6 from x̂_k with the reading z_{k+1}; see :meth:`Filter.step`.
+
+        Runs the reference path on :class:`~dstoolkit.evidence.IntervalEvidence` (equal
+        focal elements merged, eq. 14), which records every evidence of the step.
+        """
+        model, noise = state.model, state.noise
+        maps = self._maps(model)
+        zz, uu = self._one(model, z, u)
+        t = state.k  # the step's index counting from 0, as in the messages of run()
+        x = state.estimate
+        entry: dict[str, Any] = {"step": t + 1}
+        p_lo, p_hi = predict(maps, noise, x[None], with_input(model.f, uu))
+        pred = IntervalEvidence(p_lo[0], p_hi[0], noise.prediction_mass[0])
+        pz_lo, pz_hi = observe(maps, pred.boxes_lo[None], pred.boxes_hi[None])
+        obs_pred = IntervalEvidence(pz_lo[0], pz_hi[0], pred.mass, merge=False)
+        obs = noise.observation.shift(zz[0])
+        entry.update(state=noise.state.shift(x), prediction=pred, observation=obs,
+                     observation_prediction=IntervalEvidence(pz_lo[0], pz_hi[0], pred.mass),
+                     n_products_step4=float(len(obs_pred) * len(obs)),
+                     conflict_step4=conflict(obs_pred, obs))
+        final = self._fuse_objects(maps, pred, obs_pred, obs, t, entry)
+        entry["fallback"] = 0.0 if final is not None else 1.0
+        final = pred if final is None else final
+        est = np.atleast_1d(np.asarray(final.pignistic_expectation(), dtype=float))
+        lower, upper = final.hull()
+        entry.update(final=final, estimate=est)
+        for key, name in zip(COUNTS[:7], ("state", "prediction", "observation_prediction",
+                                           "observation", "fused", "mapped_back", "final"),
+                             strict=True):
+            entry[key] = float(len(entry[name])) if entry.get(name) is not None else np.nan
+        record = DependentRecord(**entry)
+        return DependentState(model, t + 1, est, np.asarray(lower, dtype=float).reshape(-1),
+                              np.asarray(upper, dtype=float).reshape(-1), noise, final), record
+
+    def _start_record(self, state: DependentState) -> DependentRecord:
+        return DependentRecord(1, state.estimate)
+
+    def _fuse_objects(self, maps: ModelMaps, pred: IntervalEvidence,
+                      obs_pred: IntervalEvidence, obs: IntervalEvidence, t: int,
+                      entry: dict[str, Any]) -> IntervalEvidence | None:
+        """Steps 4–6 with dstoolkit.evidence; None when total conflict falls back."""
+        try:
+            fused = dempster(obs_pred, obs, merge=False)
+        except TotalConflictError:
+            self._check_conflict(np.zeros(1, bool), t, 4)
+            return None
+        # the predicted box behind each kept product (rows i·N_w + j, as dempster keeps them)
+        _, nonempty = obs_pred._intersect(obs)
+        live = nonempty & (np.multiply.outer(obs_pred.mass, obs.mass).reshape(-1) > 0)
+        origin = np.flatnonzero(live) // len(obs)
+        back = map_back(maps, Boxes(fused.boxes_lo[None], fused.boxes_hi[None],
+                                    fused.mass[None]),
+                        pred.boxes_lo[origin][None], pred.boxes_hi[origin][None], t + 1)
+        mapped = IntervalEvidence(back.lo[0], back.hi[0], back.mass[0])  # eq. 14 merges
+        entry.update(fused=IntervalEvidence(fused.boxes_lo, fused.boxes_hi, fused.mass),
+                     mapped_back=mapped)
+        a2, b2, dep = decorrelate(mapped, pred, mass_rule=self.mass_rule)
+        entry.update(dependence_terms=dep, energy_mapped_back=dep.energy1,
+                     energy_prediction=dep.energy2, joint_energy=dep.joint_energy,
+                     dependence=dep.degree, r12=dep.r12, r21=dep.r21,
+                     n_products_step6=float(len(mapped) * len(pred)),
+                     conflict_step6=conflict(a2, b2))
+        try:
+            return dempster(a2, b2)
+        except TotalConflictError:
+            self._check_conflict(np.zeros(1, bool), t, 6)
+            return None
+
+    def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
+                runs: np.ndarray) -> Block:
+        est, lower, upper, diag = self._run_arrays(self._maps(model), self.noise_evidence(model),
+                                                   Z, U, runs)
+        assert lower is not None and upper is not None  # bounds=True returns them
+        return Block(est, lower, upper, diag)
+
+    def _check_runs(self, runs: int) -> None:
+        """A start per run, (R, n), must have one row for each run of the batch."""
+        if not isinstance(self.start, str) and np.ndim(self.start) == 2 \
+                and np.shape(self.start)[0] != runs:
+            raise EvidenceError(
+                f"start gives x̂_1 for {np.shape(self.start)[0]} runs, but the batch has "
+                f"{runs}; give one row per run, or one state vector for all")
+
+    def _start(self, model: StateSpaceModel, z1: np.ndarray,
+               runs: np.ndarray | None = None) -> np.ndarray:
+        """x̂_1 for every run, (R, n); ``runs`` are the runs' indices in the batch (None for
+        a single run), which pick their rows of a start given per run."""
+        n = model.state_dim
         if not isinstance(self.start, str):
             x0 = np.asarray(self.start, dtype=float)
-            if x0.shape not in ((n,), (runs, n)) and not (n == 1 and x0.ndim == 0):
-                raise EvidenceError(f"start must be a state vector of length {n}, got {x0.shape}")
-            return np.broadcast_to(x0.reshape(-1, n) if x0.ndim else x0, (runs, n)).copy()
+            if x0.ndim == 2 and x0.shape[1] == n and (runs is not None or len(x0) == 1):
+                return x0[np.zeros(1, dtype=np.intp) if runs is None else runs].copy()
+            if x0.shape != (n,) and not (n == 1 and x0.ndim == 0):
+                raise EvidenceError(
+                    f"start must be a state vector of length {n}"
+                    + ("" if runs is None else f" or one per run, ({len(runs)}, {n})")
+                    + f", got shape {x0.shape}")
+            return np.broadcast_to(x0.reshape(n), (z1.shape[0], n)).copy()
+        runs_here = z1.shape[0]
         reading = z1 + (model.obs_noise.mean if self.start == "mean_corrected" else 0.0)
         point = reading[:, None]
-        inf = np.full((runs, 1, n), np.inf)
+        inf = np.full((runs_here, 1, n), np.inf)
         lo, hi = model.inverse()(point, point, -inf, inf)
         x = 0.5 * (np.asarray(lo, dtype=float) + np.asarray(hi, dtype=float))[:, 0]
         if not np.all(np.isfinite(x)):
@@ -222,14 +412,14 @@ class DependentEvidenceFilter(FilterBase):
     # -- the array path -------------------------------------------------------------------
     def _run_arrays(
         self, maps: ModelMaps, noise: NoiseEvidence, z: np.ndarray, inputs: np.ndarray | None,
-        bounds: bool = True,
+        run_ids: np.ndarray | None = None, bounds: bool = True,
     ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, dict[str, np.ndarray]]:
-        """Steps 2–6 for R runs at once (no merging); z (R, T, m). ``bounds`` also returns
-        the hull of each final evidence."""
+        """Steps 2–6 for R runs at once (no merging); z (R, T, m), ``run_ids`` the runs'
+        indices in the batch. ``bounds`` also returns the hull of each final evidence."""
         runs, steps, _ = z.shape
         est = np.empty((runs, steps, maps.model.state_dim))
         hulls = np.empty((runs, steps, 2, est.shape[2])) if bounds else None
-        est[:, 0] = self._start(maps.model, z[:, 0])
+        est[:, 0] = self._start(maps.model, z[:, 0], run_ids)
         if hulls is not None:
             hulls[:, 0] = est[:, 0, None]
         arrays = StepArrays(self, maps, noise, z)
@@ -277,149 +467,6 @@ class DependentEvidenceFilter(FilterBase):
                 "keep the prediction at such steps"
             )
 
-    # -- the object path (record=True) ------------------------------------------------------
-    def _run_objects(
-        self, maps: ModelMaps, noise: NoiseEvidence, z: np.ndarray, inputs: np.ndarray | None
-    ) -> FilterResult:
-        """Steps 2–6 on IntervalEvidence objects for one run (z shape (1, T, m))."""
-        steps, n = z.shape[1], maps.model.state_dim
-        est = np.empty((steps, n))
-        lower, upper = np.empty_like(est), np.empty_like(est)
-        diag = {key: np.full(steps, np.nan) for key in (*DIAGNOSTICS, *COUNTS)}
-        est[0] = lower[0] = upper[0] = self._start(maps.model, z[:, 0])[0]
-        record: list[dict[str, Any]] = [{"step": 1, "estimate": est[0].copy(),
-                                         "start": self.start}]
-        for t in range(1, steps):
-            entry: dict[str, Any] = {"step": t + 1}
-            state = noise.state.shift(est[t - 1])
-            p_lo, p_hi = predict(maps, noise, est[t - 1][None],
-                                 with_input(maps.model.f, step_input(inputs, t)))
-            pred = IntervalEvidence(p_lo[0], p_hi[0], noise.prediction_mass[0])
-            pz_lo, pz_hi = observe(maps, pred.boxes_lo[None], pred.boxes_hi[None])
-            obs_pred = IntervalEvidence(pz_lo[0], pz_hi[0], pred.mass, merge=False)
-            obs = noise.observation.shift(z[0, t])
-            entry.update(state=state, prediction=pred, observation=obs,
-                         observation_prediction=IntervalEvidence(pz_lo[0], pz_hi[0], pred.mass))
-            diag["n_products_step4"][t] = len(obs_pred) * len(obs)
-            diag["conflict_step4"][t] = conflict(obs_pred, obs)
-            final = self._fuse_objects(maps, pred, obs_pred, obs, t, entry, diag)
-            if final is None:
-                final = pred
-                diag["fallback"][t] = 1.0
-            else:
-                diag["fallback"][t] = 0.0
-            est[t] = final.pignistic_expectation()
-            lower[t], upper[t] = final.hull()
-            entry.update(final=final, estimate=est[t].copy())
-            for key, name in zip(COUNTS[:7], ("state", "prediction", "observation_prediction",
-                                               "observation", "fused", "mapped_back", "final"),
-                                 strict=True):
-                diag[key][t] = len(entry[name]) if entry.get(name) is not None else np.nan
-            record.append(entry)
-        return FilterResult(self.name, est, lower, upper, record, diag)
-
-    def _fuse_objects(self, maps: ModelMaps, pred: IntervalEvidence,
-                      obs_pred: IntervalEvidence, obs: IntervalEvidence, t: int,
-                      entry: dict[str, Any], diag: dict[str, np.ndarray]
-                      ) -> IntervalEvidence | None:
-        """Steps 4–6 with dstoolkit.evidence; None when total conflict falls back."""
-        try:
-            fused = dempster(obs_pred, obs, merge=False)
-        except TotalConflictError:
-            self._check_conflict(np.zeros(1, bool), t, 4)
-            return None
-        # the predicted box behind each kept product (rows i·N_w + j, as dempster keeps them)
-        _, nonempty = obs_pred._intersect(obs)
-        live = nonempty & (np.multiply.outer(obs_pred.mass, obs.mass).reshape(-1) > 0)
-        origin = np.flatnonzero(live) // len(obs)
-        back = map_back(maps, Boxes(fused.boxes_lo[None], fused.boxes_hi[None],
-                                    fused.mass[None]),
-                        pred.boxes_lo[origin][None], pred.boxes_hi[origin][None], t + 1)
-        mapped = IntervalEvidence(back.lo[0], back.hi[0], back.mass[0])  # eq. 14 merges
-        entry.update(fused=IntervalEvidence(fused.boxes_lo, fused.boxes_hi, fused.mass),
-                     mapped_back=mapped)
-        a2, b2, dep = decorrelate(mapped, pred, mass_rule=self.mass_rule)
-        entry["dependence"] = dep
-        for key, value in (("energy_mapped_back", dep.energy1), ("energy_prediction",
-                           dep.energy2), ("joint_energy", dep.joint_energy),
-                           ("dependence", dep.degree), ("r12", dep.r12), ("r21", dep.r21)):
-            diag[key][t] = value
-        diag["n_products_step6"][t] = len(mapped) * len(pred)
-        diag["conflict_step6"][t] = conflict(a2, b2)
-        try:
-            return dempster(a2, b2)
-        except TotalConflictError:
-            self._check_conflict(np.zeros(1, bool), t, 6)
-            return None
-
-    # -- public API ---------------------------------------------------------------------------
-    def run(self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
-            ) -> FilterResult:
-        """Filter one sequence of readings z (T, m) or (T,) with inputs u_1..u_{T−1}.
-
-        Returns estimates, the hull of each step's final evidence (lower/upper) and the
-        diagnostics of :data:`DIAGNOSTICS` (NaN at step 1). ``record=True`` runs the
-        object path and adds every step's evidence (``steps``: state, prediction,
-        observation_prediction, observation, fused, mapped_back, final, dependence) and
-        the focal-element counts of :data:`COUNTS`.
-
-        Examples
-        --------
-        A random walk with |v| ≤ 0.1 read with |w| ≤ 0.5 (eq. 21):
-
-        >>> from dstoolkit.filters import random_walk
-        >>> result = DependentEvidenceFilter().run(random_walk(0.1, 0.5), [1.0, 1.2, 0.9, 1.1])
-        >>> result.estimates[:, 0].round(3).tolist()
-        [1.0, 1.02, 1.009, 1.017]
-        >>> bool(result.lower[2, 0] < result.estimates[2, 0] < result.upper[2, 0])
-        True
-        """
-        zz, uu = self._single(model, z, inputs)
-        maps, noise = self._maps(model), self.noise_evidence(model)
-        if record:
-            result = self._run_objects(maps, noise, zz, uu)
-            self._finite(result.estimates[None])
-            return result
-        self._chunks(1, self._bytes_per_run(noise), "the dependent-evidence filter",
-                     "use fewer α-cuts p")
-        est, lower, upper, diag = self._run_arrays(maps, noise, zz, uu, bounds=True)
-        assert lower is not None and upper is not None  # bounds=True returns them
-        self._finite(est)
-        return FilterResult(self.name, est[0], lower[0], upper[0], None,
-                            {key: value[0] for key, value in diag.items()})
-
-    @overload
-    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
-                  return_result: Literal[False] = False) -> np.ndarray: ...
-
-    @overload
-    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
-                  return_result: Literal[True]) -> FilterResult: ...
-
-    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None, *,
-                  return_result: bool = False) -> np.ndarray | FilterResult:
-        """Filter many independent sequences Z (runs, T, m) or (runs, T) at once.
-
-        ``inputs`` is (runs, T−1, ...) or None. Returns estimates (runs, T, n), equal to
-        :meth:`run` on each sequence; ``return_result=True`` returns a FilterResult whose
-        arrays carry the leading run axis.
-        """
-        zz, uu = self._batch(model, Z, inputs)
-        maps, noise = self._maps(model), self.noise_evidence(model)
-        chunks = self._chunks(zz.shape[0], self._bytes_per_run(noise),
-                              "the dependent-evidence filter", "use fewer α-cuts p",
-                              cap=int(self.chunk_size))
-        parts = [self._run_arrays(maps, noise, zz[sel], None if uu is None else uu[sel],
-                                  return_result)
-                 for sel in chunks]
-        est = self._finite(np.concatenate([part[0] for part in parts]))
-        if not return_result:
-            return est
-        return FilterResult(
-            self.name, est, np.concatenate([part[1] for part in parts]),
-            np.concatenate([part[2] for part in parts]), None,
-            {key: np.concatenate([part[3][key] for part in parts]) for key in DIAGNOSTICS},
-        )
 
 
 class _Step1:

@@ -205,7 +205,7 @@ class StepArrays:
         self._constants(z)
         self._columns()
         self._step_buffers()
-        self.compiled = flt.kernel == "numba"
+        self.compiled = flt._compiled(flt.kernel, "the paper's filter")
         if self.compiled:
             self.kernel_out = (np.empty((runs, 7)), np.empty((runs, 2, n)))
         else:

@@ -38,9 +38,8 @@ import numpy as np
 
 from dstoolkit.errors import EvidenceError
 
-from ._base import FilterBase
+from ._base import Block, Filter, FilterState, KernelChoice
 from ._model import (
-    FilterResult,
     ScalarMaps,
     StateSpaceModel,
     first_reading_box,
@@ -143,11 +142,12 @@ def _scalar_terms(model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
 
 def _scalar_recursion(
     maps: ScalarMaps, x: Any, cov: Any, readings: Any, inputs: Any,
-    q: float, r: float, v_mean: float, w_mean: float,
+    q: float, r: float, v_mean: float, w_mean: float, terms: list[tuple[Any, ...]] | None = None,
 ) -> tuple[list[Any], list[Any], list[Any]]:
     """The module docstring's recursion for n = m = 1 (eq. 21: F = ∂f/∂x, H = ∂g/∂x,
     Q = Var[v], R = Var[w]) from the start (x̂_1, P_1), on floats or (R,) arrays alike:
-    estimates, variances and NIS of steps 2..T, one entry per (reading, input) pair."""
+    estimates, variances and NIS of steps 2..T, one entry per (reading, input) pair.
+    ``terms`` collects each step's x⁻, P⁻, innovation, S and gain (for the step records)."""
     f, jac_f, g, jac_g = maps.f, maps.jacobian_f, maps.g, maps.jacobian_g
     out_x: list[Any] = []
     out_cov: list[Any] = []
@@ -164,6 +164,8 @@ def _scalar_recursion(
         x = x_pred + gain * innovation
         joseph = 1.0 - gain * h
         cov = joseph * cov_pred * joseph + gain * r * gain
+        if terms is not None:
+            terms.append((x_pred, cov_pred, innovation, h * ph + r, gain))
         out_x.append(x)
         out_cov.append(cov)
         out_nis.append(innovation * s_inv * innovation)
@@ -171,54 +173,140 @@ def _scalar_recursion(
 
 
 @dataclass(frozen=True)
-class KalmanFilter(FilterBase):
+class KalmanState(FilterState):
+    """The Kalman filter's state: x̂_k (``estimate``), P_k (``covariance``, (n, n)) and
+    the band x̂_k ± 3σ (``lower``, ``upper``)."""
+
+    covariance: np.ndarray
+
+
+@dataclass(frozen=True)
+class KalmanRecord:
+    """One step of the Kalman filter (the terms of the module docstring's recursion).
+
+    Attributes
+    ----------
+    step : int
+        k, counting the first reading as 1.
+    prediction, prediction_covariance : ndarray or None
+        x⁻ (n,) and P⁻ (n, n); None at the start.
+    innovation, innovation_covariance : ndarray or None
+        z − ẑ (m,) and S (m, m); None at the start.
+    gain : ndarray or None
+        K (n, m); None at the start.
+    estimate, covariance : ndarray
+        x̂_k (n,) and P_k (n, n).
+    nis : float
+        The normalised innovation squared νᵀ S⁻¹ ν (NaN at the start).
+    """
+
+    step: int
+    prediction: np.ndarray | None
+    prediction_covariance: np.ndarray | None
+    innovation: np.ndarray | None
+    innovation_covariance: np.ndarray | None
+    gain: np.ndarray | None
+    estimate: np.ndarray
+    covariance: np.ndarray
+    nis: float
+
+
+@dataclass(frozen=True)
+class KalmanFilter(Filter[KalmanState, KalmanRecord]):
     """Kalman / extended Kalman filter on the noises' means and variances.
 
     Parameters
     ----------
-    initial_box
-        Optional box ``(lo, hi)`` known to hold x_1; intersected with the states consistent
-        with the first reading (needed when g is not invertible).
+    initial_box : tuple of array_like, optional
+        A box ``(lo, hi)`` known to hold x_1; intersected with the states consistent with
+        the first reading (needed when g is not invertible).
+    kernel : {"numpy", "numba", "auto"}
+        Accepted for a common interface; the Kalman recursion has no compiled kernel, so
+        every value runs numpy (``"numba"`` still needs the extra ``speed``).
+
+    See Also
+    --------
+    ParticleFilter : uses the whole triangular densities, not only their moments.
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import KalmanFilter, random_walk
+    >>> result = KalmanFilter().run(random_walk(0.1, 0.5), [1.0, 1.2, 0.9, 1.1])
+    >>> result.estimates[:, 0].round(3).tolist()
+    [1.0, 1.045, 1.007, 1.025]
     """
 
     initial_box: tuple[Any, Any] | None = None
+    kernel: KernelChoice = "numpy"
     name: ClassVar[str] = "kalman"
+    DIAGNOSTICS: ClassVar[dict[str, str]] = {
+        "nis": "normalised innovation squared νᵀ S⁻¹ ν (about m on average when the noise "
+               "statistics are right; NaN at the first step)",
+    }
 
     def __post_init__(self) -> None:
         self._box(self.initial_box)
+        self._compiled(self.kernel, "the Kalman filter")
 
-    def run(
-        self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
-    ) -> FilterResult:
-        """Filter one sequence of readings ``z`` (steps, m); see the module docstring.
-
-        ``record=True`` keeps, for each step, the prediction and its covariance, the
-        innovation and its covariance, the gain, the estimate and its covariance.
-        Diagnostics: ``nis``, the normalised innovation squared νᵀ S⁻¹ ν (its mean is about
-        m when the noise statistics are right; NaN at the first step).
-        """
-        Z, U = self._single(model, z, inputs)
+    def _check_model(self, model: StateSpaceModel) -> None:
         self._check_box_dim(self._box(self.initial_box), model)
-        x, cov, nis, steps = self._recursion(model, Z, U, record)
-        self._finite(x)
-        sigma = np.sqrt(np.diagonal(cov[0], axis1=-2, axis2=-1))
-        return FilterResult(
-            method=self.name, estimates=x[0], lower=x[0] - 3 * sigma, upper=x[0] + 3 * sigma,
-            steps=steps, diagnostics={"nis": nis[0]},
-        )
 
-    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> np.ndarray:
-        """Estimates (runs, steps, n) of independent sequences Z (runs, steps, m)."""
-        Z, U = self._batch(model, Z, inputs)
-        self._check_box_dim(self._box(self.initial_box), model)
+    def _bytes_per_run(self, model: StateSpaceModel, n_steps: int) -> float:
         n = model.state_dim
-        chunks = self._chunks(Z.shape[0], 16.0 * Z.shape[1] * (n * n + n + 1),
-                              "the Kalman filter", "filter fewer steps at once")
-        return self._finite(np.concatenate([
-            self._recursion(model, Z[sel], None if U is None else U[sel], False)[0]
-            for sel in chunks]))
+        return 16.0 * n_steps * (n * n + n + 1)
+
+    # -- the public step -----------------------------------------------------------------------
+    def initialize(self, model: StateSpaceModel, z1: Any) -> KalmanState:
+        """x̂_1 = g⁻¹(z_1 + E[w]) and P_1 from the reading's box; see
+        :meth:`Filter.initialize`."""
+        self._check_model(model)
+        z, _ = self._one(model, z1, transition=False)
+        x, cov = self._start(model, z)
+        return _state(model, 1, x[0], cov[0])
+
+    def step(self, state: KalmanState, z: Any, u: Any = None
+             ) -> tuple[KalmanState, KalmanRecord]:
+        """Predict with f, update with the reading; see :meth:`Filter.step`."""
+        model = state.model
+        zz, uu = self._one(model, z, u)
+        x, cov = state.estimate[None], state.covariance[None]
+        if _scalar(model):
+            terms: list[tuple[Any, ...]] = []
+            maps, x1, cov1, _, rows = _scalar_terms(
+                model, np.concatenate([zz, zz])[None], None if uu is None else uu[None],
+                x, cov)
+            out = _scalar_recursion(maps, x1, cov1, [float(zz[0, 0])], rows[:1],
+                                    *_scalar_noise(model), terms=terms)
+            x_pred, cov_pred, innovation, s_cov, gain = terms[0]
+            new_x = np.array([[out[0][0]]])
+            new_cov = np.array([[[out[1][0]]]])
+            nis = float(out[2][0])
+            record = KalmanRecord(state.k + 1, np.reshape(x_pred, 1),
+                                  np.reshape(cov_pred, (1, 1)), np.reshape(innovation, 1),
+                                  np.reshape(s_cov, (1, 1)), np.reshape(gain, (1, 1)),
+                                  new_x[0], new_cov[0], nis)
+        else:
+            x_pred, cov_pred, innovation, s_cov, gain, new_x, new_cov, nis_a = _advance(
+                model, x, cov, zz, uu)
+            nis = float(nis_a[0])
+            record = KalmanRecord(state.k + 1, x_pred[0], cov_pred[0], innovation[0], s_cov[0],
+                                  gain[0], new_x[0], new_cov[0], nis)
+        return _state(model, state.k + 1, new_x[0], new_cov[0]), record
+
+    def _start_record(self, state: KalmanState) -> KalmanRecord:
+        return KalmanRecord(1, None, None, None, None, None, state.estimate, state.covariance,
+                            float("nan"))
 
     # -- the recursion, vectorised over runs ------------------------------------------------
+    def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
+                runs: np.ndarray) -> Block:
+        if _scalar(model):
+            x, cov, nis = self._filter_scalar(model, Z, U)
+        else:
+            x, cov, nis = self._filter(model, Z, U)
+        sigma = np.sqrt(np.diagonal(cov, axis1=-2, axis2=-1))
+        return Block(x, x - 3 * sigma, x + 3 * sigma, {"nis": nis})
+
     def _start(self, model: StateSpaceModel, z1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         lo, hi = first_reading_box(model, z1, self.initial_box)
         if np.any(lo > hi):
@@ -239,14 +327,6 @@ class KalmanFilter(FilterBase):
         cov = np.eye(model.state_dim) * ((hi - lo) ** 2 / 12.0)[:, None, :]
         return x, cov
 
-    def _recursion(
-        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, record: bool
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]] | None]:
-        """Estimates (R, T, n), covariances (R, T, n, n), NIS (R, T) and the record."""
-        if model.state_dim == 1 and model.obs_dim == 1 and not record:
-            return (*self._filter_scalar(model, Z, U), None)
-        return self._filter(model, Z, U, record)
-
     def _filter_scalar(
         self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -262,53 +342,63 @@ class KalmanFilter(FilterBase):
         xs[:, 0], covs[:, 0] = x0, cov0
         if n_steps == 1:
             return xs, covs, nis
-        noise = (float(model.state_noise.variance[0]), float(model.obs_noise.variance[0]),
-                 float(model.state_noise.mean[0]), float(model.obs_noise.mean[0]))
-        out = _scalar_recursion(*_scalar_terms(model, Z, U, x0, cov0), *noise)
+        out = _scalar_recursion(*_scalar_terms(model, Z, U, x0, cov0), *_scalar_noise(model))
         xs[:, 1:, 0], covs[:, 1:, 0, 0], nis[:, 1:] = (np.array(o).T for o in out)
         return xs, covs, nis
 
-    def _filter(
-        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, record: bool
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]] | None]:
+    def _filter(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Estimates (R, T, n), covariances (R, T, n, n) and NIS (R, T) of R runs."""
         runs, n_steps, _ = Z.shape
         n = model.state_dim
-        q_cov = np.diag(model.state_noise.variance)
-        r_cov = np.diag(model.obs_noise.variance)
-        v_mean, w_mean = model.state_noise.mean, model.obs_noise.mean
-        eye = np.eye(n)
-
         x, cov = self._start(model, Z[:, 0])
         xs, covs = np.empty((runs, n_steps, n)), np.empty((runs, n_steps, n, n))
         nis = np.full((runs, n_steps), np.nan)
         xs[:, 0], covs[:, 0] = x, cov
-        steps = [{"estimate": x[0].copy(), "covariance": cov[0].copy()}] if record else None
-
         for k in range(1, n_steps):
-            u = step_input(U, k)
-            f_u = with_input(model.f, u)
-            jac_f = (model.jacobian_f(x, u) if model.jacobian_f is not None
-                     else finite_difference_jacobian(f_u, x))
-            x_pred = f_u(x) + v_mean
-            cov_pred = jac_f @ cov @ np.swapaxes(jac_f, -1, -2) + q_cov
-
-            jac_g = (model.jacobian_g(x_pred) if model.jacobian_g is not None
-                     else finite_difference_jacobian(model.g, x_pred))
-            innovation = Z[:, k] - (model.g(x_pred) - w_mean)
-            ph = cov_pred @ np.swapaxes(jac_g, -1, -2)
-            s_cov = jac_g @ ph + r_cov
-            s_inv = _inverse(s_cov)
-            gain = ph @ s_inv
-            x = x_pred + (gain @ innovation[..., None])[..., 0]
-            joseph = eye - gain @ jac_g
-            cov = (joseph @ cov_pred @ np.swapaxes(joseph, -1, -2)
-                   + gain @ r_cov @ np.swapaxes(gain, -1, -2))
-            nis[:, k] = np.einsum("ri,rij,rj->r", innovation, s_inv, innovation)
+            *_, x, cov, nis[:, k] = _advance(model, x, cov, Z[:, k], step_input(U, k))
             xs[:, k], covs[:, k] = x, cov
-            if steps is not None:
-                steps.append({
-                    "prediction": x_pred[0].copy(), "prediction_covariance": cov_pred[0].copy(),
-                    "innovation": innovation[0].copy(), "innovation_covariance": s_cov[0].copy(),
-                    "gain": gain[0].copy(), "estimate": x[0].copy(), "covariance": cov[0].copy(),
-                })
-        return xs, covs, nis, steps
+        return xs, covs, nis
+
+
+def _scalar(model: StateSpaceModel) -> bool:
+    """Whether every matrix of the recursion is 1 × 1 (the term-by-term path)."""
+    return model.state_dim == 1 and model.obs_dim == 1
+
+
+def _scalar_noise(model: StateSpaceModel) -> tuple[float, float, float, float]:
+    """Q = Var[v], R = Var[w], E[v] and E[w] of a scalar model, as floats."""
+    return (float(model.state_noise.variance[0]), float(model.obs_noise.variance[0]),
+            float(model.state_noise.mean[0]), float(model.obs_noise.mean[0]))
+
+
+def _state(model: StateSpaceModel, k: int, x: np.ndarray, cov: np.ndarray) -> KalmanState:
+    sigma = np.sqrt(np.diagonal(cov))
+    return KalmanState(model, k, x, x - 3 * sigma, x + 3 * sigma, cov)
+
+
+def _advance(model: StateSpaceModel, x: np.ndarray, cov: np.ndarray, z: np.ndarray,
+             u: np.ndarray | None) -> tuple[np.ndarray, ...]:
+    """One step of the module docstring's recursion for R runs: x (R, n), P (R, n, n),
+    z (R, m), u (R, q) or None. Returns x⁻, P⁻, the innovation, S, the gain K, x̂, P and
+    the NIS (R,)."""
+    q_cov = np.diag(model.state_noise.variance)
+    r_cov = np.diag(model.obs_noise.variance)
+    f_u = with_input(model.f, u)
+    jac_f = (model.jacobian_f(x, u) if model.jacobian_f is not None
+             else finite_difference_jacobian(f_u, x))
+    x_pred = f_u(x) + model.state_noise.mean
+    cov_pred = jac_f @ cov @ np.swapaxes(jac_f, -1, -2) + q_cov
+    jac_g = (model.jacobian_g(x_pred) if model.jacobian_g is not None
+             else finite_difference_jacobian(model.g, x_pred))
+    innovation = z - (model.g(x_pred) - model.obs_noise.mean)
+    ph = cov_pred @ np.swapaxes(jac_g, -1, -2)
+    s_cov = jac_g @ ph + r_cov
+    s_inv = _inverse(s_cov)
+    gain = ph @ s_inv
+    x_new = x_pred + (gain @ innovation[..., None])[..., 0]
+    joseph = np.eye(x.shape[-1]) - gain @ jac_g
+    cov_new = (joseph @ cov_pred @ np.swapaxes(joseph, -1, -2)
+               + gain @ r_cov @ np.swapaxes(gain, -1, -2))
+    nis = np.einsum("ri,rij,rj->r", innovation, s_inv, innovation)
+    return x_pred, cov_pred, innovation, s_cov, gain, x_new, cov_new, nis

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Protocol, runtime_checkable
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -241,48 +241,77 @@ class StateSpaceModel:
         return np.stack(xs, axis=axis), np.stack(zs, axis=axis)
 
 
-@dataclass
+@dataclass(frozen=True)
 class FilterResult:
-    """What a filter run returns.
+    """What :meth:`Filter.run` returns: one run of a filter over T steps.
 
-    ``estimates`` has shape (steps, n); ``lower``/``upper`` bound the final evidence of each
-    step (its hull, or the box for set-membership filters); ``steps`` holds the per-step
-    evidence and diagnostics when the run was asked to record them.
+    Attributes
+    ----------
+    method : str
+        The filter's :attr:`Filter.name`, e.g. ``"dependent_evidence"``.
+    estimates : ndarray, shape (T, n)
+        The point estimate x̂_k of every step (for the paper's filter, the pignistic
+        expectation of eq. 20).
+    lower, upper : ndarray, shape (T, n)
+        Bounds of each step's final belief: the hull of the final evidence for the
+        evidential filters, the box of the bounded-error filter, ±3σ for Kalman, the hull of
+        the living particles for the particle filter.
+    diagnostics : dict of str to ndarray, shape (T,)
+        Per-step numbers, each filter's own keys (its ``DIAGNOSTICS``); NaN where a key has
+        no value at a step (e.g. a conflict at the first step).
+    steps : tuple of records, or None
+        With ``record=True``, the typed record of every step (the filter's ``Record``
+        class), the same records :meth:`Filter.step` returns; ``steps[0]`` is the start.
     """
 
     method: str
     estimates: np.ndarray
     lower: np.ndarray
     upper: np.ndarray
-    steps: list[dict[str, Any]] | None = None
     diagnostics: dict[str, np.ndarray] = field(default_factory=dict)
+    steps: tuple[Any, ...] | None = None
 
 
-# -- what every filter offers ----------------------------------------------------------------
-@runtime_checkable
-class Filter(Protocol):
-    """What every filter in dstoolkit offers: a name, one run, and a batch of runs.
+@dataclass(frozen=True)
+class BatchResult:
+    """What :meth:`Filter.run_batch` returns: R independent runs of T steps each.
 
-    ``run(model, z, inputs=None, record=False)`` filters one sequence of readings z
-    (steps, m) and returns a :class:`FilterResult`; ``run_batch(model, Z, inputs=None)``
-    filters independent sequences Z (runs, steps, m) at once, vectorised over runs, and
-    returns the estimates (runs, steps, n), the same numbers ``run`` gives for each row.
-    Inputs drive f(x, u): one row per transition (``inputs[k - 1]`` leads from step k − 1 to
-    step k, as in :meth:`StateSpaceModel.simulate`); in a batch, one such array per run.
-    A filter may take further parameters after these, each with a default (e.g. the
-    particle filter's ``run_index``).
+    Attributes
+    ----------
+    method : str
+        The filter's :attr:`Filter.name`.
+    estimates, lower, upper : ndarray, shape (R, T, n)
+        As in :class:`FilterResult`, with a leading run axis.
+    diagnostics : dict of str to ndarray, shape (R, T)
+        As in :class:`FilterResult`, with a leading run axis.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.filters import BoundedErrorFilter, random_walk
+    >>> batch = BoundedErrorFilter().run_batch(random_walk(0.1, 0.5), np.zeros((3, 4)))
+    >>> batch.estimates.shape, batch[1].estimates.shape
+    ((3, 4, 1), (4, 1))
     """
 
+    method: str
+    estimates: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    diagnostics: dict[str, np.ndarray] = field(default_factory=dict)
+
     @property
-    def name(self) -> str:
-        """Short name of the method, e.g. ``"dependent-evidence"``."""
-        ...
+    def runs(self) -> int:
+        """R, the number of runs."""
+        return int(self.estimates.shape[0])
 
-    def run(
-        self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
-    ) -> FilterResult: ...
+    def __len__(self) -> int:
+        return self.runs
 
-    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> np.ndarray: ...
+    def __getitem__(self, run: int) -> FilterResult:
+        """Run ``run`` of the batch as a :class:`FilterResult` (without records)."""
+        return FilterResult(self.method, self.estimates[run], self.lower[run], self.upper[run],
+                            {key: value[run] for key, value in self.diagnostics.items()})
 
 
 def batch_readings(

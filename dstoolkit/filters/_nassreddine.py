@@ -58,8 +58,8 @@ operations as one run; batches are cut into chunks of :data:`CHUNK_BYTES`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Any, Literal
+from dataclasses import dataclass
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
@@ -70,10 +70,9 @@ from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
 from dstoolkit.evidence._extension import box_image
 from dstoolkit.evidence._intervals import IntervalEvidence
 
-from ._base import FilterBase, KernelChoice
+from ._base import Block, Filter, FilterState, KernelChoice
 from ._model import (
     BoundedNoise,
-    FilterResult,
     StateSpaceModel,
     first_reading_box,
     step_input,
@@ -377,29 +376,96 @@ def _replace_runs(bm: Boxes, runs: np.ndarray, new: Boxes) -> Boxes:
 
 
 @dataclass(frozen=True)
-class NassreddineFilter(FilterBase):
+class NassreddineState(FilterState):
+    """Nassreddine's filter's state: the posterior mass function on boxes of step k
+    (``posterior``) and what step k + 1 starts from (``carried``: the posterior after the
+    clustering cap, or None for the restart variant, which restarts from x̂_k + E_v), and
+    the evidence of the reading, z_k + E_w (``observation``). ``posterior`` and ``carried``
+    are one-run :class:`~dstoolkit.evidence.Boxes` (arrays with a run axis of 1)."""
+
+    posterior: Boxes
+    carried: Boxes | None
+    observation: IntervalEvidence
+
+
+@dataclass(frozen=True)
+class NassreddineRecord:
+    """One step of Nassreddine's filter.
+
+    Attributes
+    ----------
+    step : int
+        k, counting the first reading as 1.
+    state, prediction : IntervalEvidence or None
+        The evidence the step starts from and its prediction through f plus E_v; None at
+        the start.
+    observation : IntervalEvidence
+        z_k + E_w, in observation space.
+    posterior : IntervalEvidence
+        The posterior before the clustering cap.
+    estimate : ndarray, shape (n,)
+        Its pignistic expectation.
+    conflict : float
+        K of the correction (NaN at the start).
+    focal_elements : int
+        Focal elements of the posterior before the cap.
+    merged_mass : float
+        Mass moved by the clustering cap.
+    resets : bool
+        Whether total conflict restarted the filter from the reading.
+    """
+
+    step: int
+    state: IntervalEvidence | None
+    prediction: IntervalEvidence | None
+    observation: IntervalEvidence
+    posterior: IntervalEvidence
+    estimate: np.ndarray
+    conflict: float
+    focal_elements: int
+    merged_mass: float
+    resets: bool
+
+
+@dataclass(frozen=True)
+class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
     """Belief-function interval filter of Nassreddine et al. (2010); see the module docstring.
 
     Parameters
     ----------
-    p, epsilon
-        Number of α-cuts and discount rate of both noise evidences (eqs. 24–26).
-    max_focal
+    p : int
+        Number of α-cuts of both noise evidences (eqs. 24–26).
+    epsilon : float
+        Discount rate ε of both noise evidences (eq. 26).
+    max_focal : int
         Cap on the focal elements carried to the next step (clustering policy).
-    restart
+    restart : bool
         Rebuild the state evidence from the estimate each step (x̂_k + E_v), like the
         paper's filter, instead of propagating the posterior.
-    on_conflict
-        ``"raise"`` or ``"reset"`` when every contraction is empty (K = 1).
-    initial_box
-        Optional box ``(lo, hi)`` holding the first state; default the states consistent
-        with the first reading under the noise bounds.
-    state_theta, obs_theta
-        Frames Θ of the noise evidences, one (lo, hi) per component; default mode ± 100σ.
-    kernel
+    on_conflict : {"raise", "reset"}
+        What total conflict (K = 1, every contraction empty) does.
+    initial_box : tuple of array_like, optional
+        A box ``(lo, hi)`` holding the first state; default the states consistent with the
+        first reading under the noise bounds.
+    theta : tuple, optional
+        Frames Θ of the noise evidences as ``(theta_v, theta_w)``, each None (mode ± 100σ)
+        or one (lo, hi) pair per component, as in :class:`DependentEvidenceFilter`.
+    kernel : {"numpy", "numba", "auto"}
         The merge of equal boxes (eq. 14) and the clustering: ``"numpy"`` (default);
         ``"numba"``, compiled kernels (extra ``speed``) that give the same numbers bit for
-        bit, several times faster; ``"auto"``, numba when it is installed.
+        bit; ``"auto"``, numba when it is installed.
+
+    See Also
+    --------
+    DependentEvidenceFilter : the paper's filter, which restarts from x̂_k and fuses the
+        mapped-back evidence with the prediction as dependent evidence.
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import NassreddineFilter, random_walk
+    >>> result = NassreddineFilter().run(random_walk(0.1, 0.5), [1.0, 1.2, 0.9, 1.1])
+    >>> result.estimates.shape, result.method
+    ((4, 1), 'nassreddine')
     """
 
     p: int = 3
@@ -408,21 +474,24 @@ class NassreddineFilter(FilterBase):
     restart: bool = False
     on_conflict: ConflictPolicy = "raise"
     initial_box: tuple[Any, Any] | None = None
-    state_theta: Any = None
-    obs_theta: Any = None
+    theta: Any = None
     kernel: KernelChoice = "numpy"
 
-    name: str = field(init=False)
-    """``"nassreddine"``, or ``"nassreddine-restart"`` for the restart variant."""
+    name: ClassVar[str] = "nassreddine"
+    DIAGNOSTICS: ClassVar[dict[str, str]] = {
+        "conflict": "K of the correction (NaN at the first step)",
+        "focal_elements": "focal elements of the posterior before the clustering cap",
+        "merged_mass": "mass moved by the clustering cap",
+        "resets": "True where total conflict restarted the filter from the reading",
+    }
+    _budget_advice: ClassVar[str] = "use fewer α-cuts p or a smaller max_focal"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "name", "nassreddine-restart" if self.restart else "nassreddine")
         whole_number(self.max_focal, "max_focal", low=2, high=100_000, error=EvidenceError)
         self._policy(self.on_conflict, ("raise", "reset"), "on_conflict")
         self._cuts(self.p, self.epsilon)
         self._box(self.initial_box)
-        self._frame(self.state_theta, "state_theta")
-        self._frame(self.obs_theta, "obs_theta")
+        self._frames(self.theta)
         self._compiled(self.kernel, "Nassreddine's filter")
 
     def _kernels(self) -> tuple[Any, Any]:
@@ -433,43 +502,10 @@ class NassreddineFilter(FilterBase):
             return contracted_posterior_compiled, cluster_boxes_compiled
         return contracted_posterior, cluster_boxes
 
-    def run(
-        self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
-    ) -> FilterResult:
-        """Filter one sequence ``z`` (steps, m).
-
-        ``lower``/``upper`` are the hull of each step's posterior mass function. With
-        ``record=True`` each step keeps (as :class:`~dstoolkit.evidence.IntervalEvidence`)
-        the ``state`` evidence it starts from, the ``prediction``, the ``observation``
-        evidence z_k + E_w (observation space), the ``posterior`` before the cap, and the
-        ``estimate``.
-        Diagnostics (steps,): ``conflict`` K (NaN at the first step), ``focal_elements``
-        of the posterior before the cap, ``merged_mass`` and ``resets``.
-        """
-        Z, U = self._single(model, z, inputs)
+    def _check_model(self, model: StateSpaceModel) -> None:
         self._check_box_dim(self._box(self.initial_box), model)
-        self._chunks(1, self._bytes_per_run(model), "Nassreddine's filter",
-                     "use fewer α-cuts p or a smaller max_focal")
-        est, lo, hi, diag, steps = self._filter(model, Z, U, record)
-        self._finite(est)
-        return FilterResult(method=self.name, estimates=est[0], lower=lo[0], upper=hi[0],
-                            steps=steps, diagnostics={k: v[0] for k, v in diag.items()})
 
-    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> np.ndarray:
-        """Estimates (runs, steps, n) of independent sequences Z (runs, steps, m)."""
-        Z, U = self._batch(model, Z, inputs)
-        self._check_box_dim(self._box(self.initial_box), model)
-        runs = Z.shape[0]
-        per_run = self._bytes_per_run(model)
-        chunks = self._chunks(runs, per_run, "Nassreddine's filter",
-                              "use fewer α-cuts p or a smaller max_focal",
-                              cap=max(1, int(CHUNK_BYTES // per_run)))
-        est = np.empty((runs, Z.shape[1], model.state_dim))
-        for sel in chunks:
-            est[sel] = self._filter(model, Z[sel], None if U is None else U[sel], False)[0]
-        return self._finite(est)
-
-    def _bytes_per_run(self, model: StateSpaceModel) -> float:
+    def _bytes_per_run(self, model: StateSpaceModel, n_steps: int = 0) -> float:
         """Memory of one run's contraction arrays (the largest), bytes."""
         n_v = self.p + 1 if self.epsilon > 0 else self.p
         n_state = (n_v ** model.state_dim if self.restart
@@ -477,7 +513,120 @@ class NassreddineFilter(FilterBase):
         rows = n_state * n_v ** model.state_dim * n_v ** model.obs_dim  # contractions per run
         return float(rows * 8 * (6 * model.state_dim + 4))
 
+    def _chunk_cap(self, model: StateSpaceModel, n_steps: int) -> int | None:
+        return max(1, int(CHUNK_BYTES // self._bytes_per_run(model)))
+
+    def _noise(self, model: StateSpaceModel) -> tuple[Boxes, Boxes]:
+        """The evidence of v and w (eqs. 24–26) as one-run boxes."""
+        theta_v, theta_w = (None, None) if self.theta is None else self.theta
+        return (noise_boxes(model.state_noise, self.p, self.epsilon, theta_v),
+                noise_boxes(model.obs_noise, self.p, self.epsilon, theta_w))
+
+    # -- the public step -----------------------------------------------------------------------
+    def initialize(self, model: StateSpaceModel, z1: Any) -> NassreddineState:
+        """The reading's evidence g⁻¹(z_1 + E_w) ∩ X_0; see :meth:`Filter.initialize`."""
+        self._check_model(model)
+        z, _ = self._one(model, z1, transition=False)
+        _, w = self._noise(model)
+        posterior = self._from_reading(model, z, w, 0)
+        observation = IntervalEvidence(z[0] + w.lo[0], z[0] + w.hi[0], w.mass[0])
+        return self._state(model, 1, posterior, self._settle(posterior), observation)
+
+    def step(self, state: NassreddineState, z: Any, u: Any = None
+             ) -> tuple[NassreddineState, NassreddineRecord]:
+        """Predict through f, contract with g⁻¹(z + E_w), cluster; see :meth:`Filter.step`."""
+        model = state.model
+        zz, uu = self._one(model, z, u)
+        v, w = self._noise(model)
+        start = (self._restarted(state.estimate[None], v) if state.carried is None
+                 else state.carried)
+        posterior, conflict, reset, (p_lo, p_hi, p_mass, y_lo, y_hi) = self._correct(
+            model, start, v, w, zz, uu, state.k)
+        settled = self._settle(posterior)
+        new = self._state(model, state.k + 1, posterior, settled,
+                          IntervalEvidence(y_lo[0], y_hi[0], w.mass[0]))
+        record = NassreddineRecord(
+            state.k + 1, IntervalEvidence.from_boxes(start),
+            IntervalEvidence.from_boxes(merge_equal_boxes(p_lo, p_hi, p_mass)),
+            new.observation, IntervalEvidence.from_boxes(posterior), new.estimate,
+            float(conflict[0]),
+            int(settled[3][0]), float(settled[5][0]), bool(reset[0]))
+        return new, record
+
+    def _start_record(self, state: NassreddineState) -> NassreddineRecord:
+        settled = self._settle(state.posterior)
+        return NassreddineRecord(
+            1, None, None, state.observation, IntervalEvidence.from_boxes(state.posterior),
+            state.estimate, float("nan"), int(settled[3][0]), float(settled[5][0]), False)
+
+    @staticmethod
+    def _state(model: StateSpaceModel, k: int, posterior: Boxes, settled: tuple[Any, ...],
+               observation: IntervalEvidence) -> NassreddineState:
+        est, lo, hi, _, carried, _ = settled
+        return NassreddineState(model, k, est[0], lo[0], hi[0], posterior, carried,
+                                observation)
+
     # -- the recursion, vectorised over runs --------------------------------------------------
+    def _restarted(self, est: np.ndarray, v: Boxes) -> Boxes:
+        """x̂_k + E_v for R runs (the restart variant's state evidence)."""
+        return Boxes(est[:, None] + v.lo, est[:, None] + v.hi,
+                     np.broadcast_to(v.mass, (est.shape[0], v.mass.shape[1])))
+
+    def _correct(self, model: StateSpaceModel, state: Boxes, v: Boxes, w: Boxes,
+                 z: np.ndarray, u: np.ndarray | None, k: int
+                 ) -> tuple[Boxes, np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
+        """Step k → k + 1 for R runs up to the posterior: predict, contract with the
+        reading z (R, m). Returns the posterior, K (R,), the runs reset by total conflict,
+        and the prediction and observation boxes (for the records)."""
+        runs, n = z.shape[0], model.state_dim
+        combine, _ = self._kernels()
+        p_lo, p_hi, p_mass = self._predict(model, state, v, u)
+        y_lo, y_hi = z[:, None] + w.lo, z[:, None] + w.hi
+        c_lo, c_hi = model.inverse()(y_lo[:, None], y_hi[:, None],
+                                     p_lo[:, :, None], p_hi[:, :, None])
+        shape = (runs, p_mass.shape[1], w.mass.shape[1], n)
+        c_lo = np.broadcast_to(c_lo, shape).reshape(runs, -1, n)
+        c_hi = np.broadcast_to(c_hi, shape).reshape(runs, -1, n)
+        c_mass = (p_mass[:, :, None] * w.mass[:, None]).reshape(runs, -1)
+        posterior, conflict, dead = combine(c_lo, c_hi, c_mass)
+        dead = np.asarray(dead, dtype=bool)
+        if np.any(dead):
+            posterior = self._total_conflict(model, z, k, dead, w, posterior)
+        return posterior, conflict, dead, (p_lo, p_hi, p_mass, y_lo, y_hi)
+
+    def _settle(self, posterior: Boxes) -> tuple[Any, ...]:
+        """What follows the posterior of R runs: estimate, hull, focal elements, the
+        evidence carried to the next step (clustered; None for the restart variant) and
+        the mass the clustering moved."""
+        _, cluster = self._kernels()
+        focal = (posterior.mass > 0).sum(axis=1)
+        est = pignistic_expectation(posterior)
+        lo, hi = hull(posterior)
+        if self.restart:
+            return est, lo, hi, focal, None, np.zeros(est.shape[0])
+        carried, moved = cluster(posterior, self.max_focal)
+        return est, lo, hi, focal, carried, moved
+
+    def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
+                runs: np.ndarray) -> Block:
+        n_runs, n_steps, _ = Z.shape
+        v, w = self._noise(model)
+        est, lo, hi = (np.empty((n_runs, n_steps, model.state_dim)) for _ in range(3))
+        diag = {"conflict": np.full((n_runs, n_steps), np.nan),
+                "focal_elements": np.zeros((n_runs, n_steps), dtype=int),
+                "merged_mass": np.zeros((n_runs, n_steps)),
+                "resets": np.zeros((n_runs, n_steps), dtype=bool)}
+        posterior = self._from_reading(model, Z[:, 0], w, 0)
+        carried: Boxes | None = None
+        for k in range(n_steps):
+            if k > 0:
+                start = self._restarted(est[:, k - 1], v) if carried is None else carried
+                posterior, diag["conflict"][:, k], diag["resets"][:, k], _ = self._correct(
+                    model, start, v, w, Z[:, k], step_input(U, k), k)
+            (est[:, k], lo[:, k], hi[:, k], diag["focal_elements"][:, k], carried,
+             diag["merged_mass"][:, k]) = self._settle(posterior)
+        return Block(est, lo, hi, diag)
+
     def _prior(self, model: StateSpaceModel, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         if self.initial_box is not None:
             shape = z.shape[:-1] + (model.state_dim,)
@@ -513,73 +662,18 @@ class NassreddineFilter(FilterBase):
         p_mass = (state.mass[:, :, None] * v.mass[:, None]).reshape(runs, -1)
         return p_lo, p_hi, p_mass
 
-    def _filter(
-        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, record: bool
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, dict[str, np.ndarray], Any]:
-        runs, n_steps, _ = Z.shape
-        n = model.state_dim
-        v = noise_boxes(model.state_noise, self.p, self.epsilon, self.state_theta)
-        w = noise_boxes(model.obs_noise, self.p, self.epsilon, self.obs_theta)
-        est, lo, hi = (np.empty((runs, n_steps, n)) for _ in range(3))
-        diag = {"conflict": np.full((runs, n_steps), np.nan),
-                "focal_elements": np.zeros((runs, n_steps), dtype=int),
-                "merged_mass": np.zeros((runs, n_steps)),
-                "resets": np.zeros((runs, n_steps), dtype=bool)}
-        steps: list[dict[str, Any]] | None = [] if record else None
-
-        combine, cluster = self._kernels()
-        posterior = self._from_reading(model, Z[:, 0], w, 0)
-        for k in range(n_steps):
-            if k > 0:
-                if self.restart:
-                    state = Boxes(est[:, k - 1, None] + v.lo, est[:, k - 1, None] + v.hi,
-                                    np.broadcast_to(v.mass, (runs, v.mass.shape[1])))
-                p_lo, p_hi, p_mass = self._predict(model, state, v, step_input(U, k))
-                y_lo, y_hi = Z[:, k, None] + w.lo, Z[:, k, None] + w.hi
-                c_lo, c_hi = model.inverse()(y_lo[:, None], y_hi[:, None],
-                                             p_lo[:, :, None], p_hi[:, :, None])
-                shape = (runs, p_mass.shape[1], w.mass.shape[1], n)
-                c_lo = np.broadcast_to(c_lo, shape).reshape(runs, -1, n)
-                c_hi = np.broadcast_to(c_hi, shape).reshape(runs, -1, n)
-                c_mass = (p_mass[:, :, None] * w.mass[:, None]).reshape(runs, -1)
-                posterior, conflict, dead = combine(c_lo, c_hi, c_mass)
-                diag["conflict"][:, k] = conflict
-                if np.any(dead):
-                    posterior = self._total_conflict(model, Z, k, dead, w, posterior, diag)
-                if steps is not None:
-                    steps.append({
-                        "state": IntervalEvidence.from_boxes(state),
-                        "prediction": IntervalEvidence.from_boxes(
-                            merge_equal_boxes(p_lo[:1], p_hi[:1], p_mass[:1])),
-                        "observation": IntervalEvidence(y_lo[0], y_hi[0], w.mass[0]),
-                    })
-            elif steps is not None:
-                steps.append({"observation": IntervalEvidence(Z[0, 0] + w.lo[0],
-                                                              Z[0, 0] + w.hi[0], w.mass[0])})
-            diag["focal_elements"][:, k] = (posterior.mass > 0).sum(axis=1)
-            est[:, k] = pignistic_expectation(posterior)
-            lo[:, k], hi[:, k] = hull(posterior)
-            if steps is not None:
-                steps[-1].update(posterior=IntervalEvidence.from_boxes(posterior),
-                                 estimate=est[0, k].copy())
-            if not self.restart:
-                state, diag["merged_mass"][:, k] = cluster(posterior, self.max_focal)
-        return est, lo, hi, diag, steps
-
-    def _total_conflict(self, model: StateSpaceModel, Z: np.ndarray, k: int,
-                        dead: np.ndarray, w: Boxes, posterior: Boxes,
-                        diag: dict[str, np.ndarray]) -> Boxes:
+    def _total_conflict(self, model: StateSpaceModel, z: np.ndarray, k: int,
+                        dead: np.ndarray, w: Boxes, posterior: Boxes) -> Boxes:
         if self.on_conflict == "raise":
             r = int(np.flatnonzero(dead)[0])
             where = (f"step {k} (reading z[{k}], counting from 0)"
-                 + (f" of run {r}" if Z.shape[0] > 1 else ""))
+                     + (f" of run {r}" if z.shape[0] > 1 else ""))
             raise TotalConflictError(
                 f"total conflict at {where}: no predicted box contains a state whose "
-                f"observation agrees with the reading z = {np.array2string(Z[r, k])} "
+                f"observation agrees with the reading z = {np.array2string(z[r])} "
                 "within any focal element of the observation noise (K = 1). The noise bounds "
                 "are probably too tight, or epsilon = 0 leaves no room for surprises: widen "
                 "the bounds, use epsilon > 0, or on_conflict='reset'"
             )
-        fresh = self._from_reading(model, Z[dead, k], w, k)
-        diag["resets"][dead, k] = True
+        fresh = self._from_reading(model, z[dead], w, k)
         return _replace_runs(posterior, np.flatnonzero(dead), fresh)

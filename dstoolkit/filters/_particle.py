@@ -25,10 +25,12 @@ past there.
 Random numbers
 --------------
 Every run has its own stream, ``SeedSequence(seed, spawn_key=(r,))`` for run r, drawn in a
-fixed order (start, noises, resampling offsets), so row r of :meth:`run_batch` equals
-:meth:`run` with ``run_index=r`` whatever the batch size. A re-initialisation draws from
-the stream ``spawn_key=(r, k)``. Batches are processed in chunks of runs so the pre-drawn
-noise stays within :data:`CHUNK_BYTES`.
+fixed order: the start's uniforms, then for each step its resampling offset and its state
+noise. So run r of :meth:`run_batch` does not depend on the batch size, run 0 equals
+:meth:`run` (and run r equals :meth:`run` with ``stream=r``), and :meth:`initialize` and :meth:`step` draw the same numbers one step at a
+time (the state carries the stream). A re-initialisation draws from the stream
+``spawn_key=(r, k)``. Batches are processed in chunks of runs so the pre-drawn noise stays
+within :data:`CHUNK_BYTES`.
 """
 
 from __future__ import annotations
@@ -42,10 +44,9 @@ import numpy as np
 from dstoolkit.errors import EvidenceError
 from dstoolkit.evidence._checks import whole_number
 
-from ._base import FilterBase, KernelChoice
+from ._base import Block, Filter, FilterState, KernelChoice
 from ._model import (
     BoundedNoise,
-    FilterResult,
     StateSpaceModel,
     first_reading_box,
     step_input,
@@ -111,19 +112,25 @@ def _stream(seed: int, *key: int) -> np.random.Generator:
 
 def _draws(seed: int, run_ids: Any, state_noise: BoundedNoise, n_steps: int, big_n: int
            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Every run's numbers, pre-drawn from its own stream in a fixed order: the start's
-    uniforms (runs, N, n), the state noise (runs, steps − 1, N, n), the resampling offsets
-    (runs, steps)."""
+    """Every run's numbers, pre-drawn from its own stream in the order of the step loop:
+    the start's uniforms (runs, N, n), then per step its resampling offset (runs, steps − 1)
+    and its state noise (runs, steps − 1, N, n)."""
     runs, n = len(run_ids), state_noise.dim
     start_u = np.empty((runs, big_n, n))
     noise = np.empty((runs, max(n_steps - 1, 0), big_n, n))
-    offsets = np.empty((runs, n_steps))
+    offsets = np.empty((runs, max(n_steps - 1, 0)))
     for i, r in enumerate(run_ids):
         rng = _stream(seed, int(r))
         start_u[i] = rng.random((big_n, n))
-        noise[i] = state_noise.sample(rng, (n_steps - 1, big_n))
-        offsets[i] = rng.random(n_steps)
+        for k in range(n_steps - 1):
+            offsets[i, k], noise[i, k] = _step_draws(rng, state_noise, big_n)
     return start_u, noise, offsets
+
+
+def _step_draws(rng: np.random.Generator, state_noise: BoundedNoise, big_n: int
+                ) -> tuple[float, np.ndarray]:
+    """One step's numbers from a run's stream: the resampling offset, the state noise (N, n)."""
+    return float(rng.random()), state_noise.sample(rng, (big_n,))
 
 
 @functools.lru_cache(maxsize=2)
@@ -140,77 +147,153 @@ def _kept_draws(seed: int, run_ids: tuple[int, ...],
 
 
 @dataclass(frozen=True)
-class ParticleFilter(FilterBase):
+class ParticleState(FilterState):
+    """The particle filter's state: the weighted cloud after the reading and the run's
+    random stream (``rng``, copied by :meth:`ParticleFilter.step`, never advanced in place).
+
+    ``particles`` is (N, n) and ``weights`` (N,), summing to 1; ``estimate`` is their
+    weighted mean and ``lower``/``upper`` the hull of the particles with weight."""
+
+    particles: np.ndarray
+    weights: np.ndarray
+    rng: np.random.Generator
+    run: int = 0
+
+
+@dataclass(frozen=True)
+class ParticleRecord:
+    """One step of the particle filter.
+
+    Attributes
+    ----------
+    step : int
+        k, counting the first reading as 1.
+    particles : ndarray, shape (N, n)
+        The cloud after propagation (before the next resampling).
+    weights : ndarray, shape (N,)
+        Their normalised weights p_w(g(x) − z).
+    ess : float
+        The effective sample size 1/Σw².
+    reinitialised : bool
+        Whether every weight was 0 and the cloud was drawn again from the reading.
+    estimate : ndarray, shape (n,)
+        The weighted mean.
+    """
+
+    step: int
+    particles: np.ndarray
+    weights: np.ndarray
+    ess: float
+    reinitialised: bool
+    estimate: np.ndarray
+
+
+@dataclass(frozen=True)
+class ParticleFilter(Filter[ParticleState, ParticleRecord]):
     """Bootstrap particle filter with bounded-support likelihood (see the module docstring).
 
     Parameters
     ----------
-    n_particles
+    n_particles : int
         Particles per run.
-    seed
+    seed : int
         Seed of the random streams (one per run).
-    initial_box
-        Optional box ``(lo, hi)`` known to hold the state; needed when g is not
-        invertible, since the start and re-initialisations draw in the reading's box.
-    kernel
+    stream : int
+        Index of the first run's random stream: :meth:`run` and :meth:`initialize` use
+        stream ``stream``, run r of :meth:`run_batch` stream ``stream + r`` (so
+        ``replace(flt, stream=r).run(Z[r])`` repeats run r of a batch).
+    initial_box : tuple of array_like, optional
+        A box ``(lo, hi)`` known to hold the state; needed when g is not invertible, since
+        the start and re-initialisations draw in the reading's box.
+    kernel : {"numpy", "numba", "auto"}
         The resampling's search: ``"numpy"`` (default), ``"numba"`` (compiled, extra
         ``speed``; the same indices), ``"auto"`` (numba when it is installed).
+
+    See Also
+    --------
+    systematic_resample : the resampling step.
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import ParticleFilter, random_walk
+    >>> result = ParticleFilter(n_particles=200).run(random_walk(0.1, 0.5), [1.0, 1.2, 0.9])
+    >>> result.estimates.shape, bool(result.diagnostics["ess"][0] > 100)
+    ((3, 1), True)
     """
 
     n_particles: int = 1000
     seed: int = 0
+    stream: int = 0
     initial_box: tuple[Any, Any] | None = None
     kernel: KernelChoice = "numpy"
     name: ClassVar[str] = "particle"
+    DIAGNOSTICS: ClassVar[dict[str, str]] = {
+        "ess": "effective sample size 1/Σw² of the weights after the reading",
+        "reinitialised": "True where every weight was 0 and the cloud was redrawn",
+    }
+    _budget_advice: ClassVar[str] = "use fewer particles or steps"
 
     def __post_init__(self) -> None:
         whole_number(self.n_particles, "n_particles", low=1, high=10**8, error=EvidenceError)
         whole_number(self.seed, "seed", low=0, error=EvidenceError)
+        whole_number(self.stream, "stream", low=0, error=EvidenceError)
         self._box(self.initial_box)
         self._compiled(self.kernel, "the particle filter")
 
-    def run(
-        self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False,
-        run_index: int = 0,
-    ) -> FilterResult:
-        """Filter one sequence ``z`` (steps, m) with the random stream of run ``run_index``.
-
-        ``record=True`` keeps each step's weighted particles (before resampling), weights
-        and effective sample size. Diagnostics: ``ess`` (steps,), the effective sample size
-        1/Σw², and ``reinitialised`` (steps,), True where the degeneracy policy acted.
-        """
-        Z, U = self._single(model, z, inputs)
+    def _check_model(self, model: StateSpaceModel) -> None:
         self._check_box_dim(self._box(self.initial_box), model)
-        run_index = whole_number(run_index, "run_index", low=0, error=EvidenceError)
-        self._chunks(1, self._bytes_per_run(model, Z.shape[1]), "the particle filter",
-                     "use fewer particles or steps")
-        out = self._filter_chunk(model, Z, U, np.array([run_index]), record, details=True)
-        est, lo, hi, ess, reinit, steps = out
-        self._finite(est)
-        return FilterResult(
-            method=self.name, estimates=est[0], lower=lo[0], upper=hi[0], steps=steps,
-            diagnostics={"ess": ess[0], "reinitialised": reinit[0]},
-        )
-
-    def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> np.ndarray:
-        """Estimates (runs, steps, n); row r equals ``run(model, Z[r], run_index=r)``."""
-        Z, U = self._batch(model, Z, inputs)
-        self._check_box_dim(self._box(self.initial_box), model)
-        runs, n_steps, _ = Z.shape
-        per_run = self._bytes_per_run(model, n_steps)
-        est = np.empty((runs, n_steps, model.state_dim))
-        for sel in self._chunks(runs, per_run, "the particle filter",
-                                "use fewer particles or steps",
-                                cap=max(1, int(CHUNK_BYTES // per_run))):
-            est[sel] = self._filter_chunk(
-                model, Z[sel], None if U is None else U[sel], np.arange(runs)[sel], False,
-                details=False,
-            )[0]
-        return self._finite(est)
 
     def _bytes_per_run(self, model: StateSpaceModel, n_steps: int) -> float:
         """Memory of one run's pre-drawn noise and working arrays, bytes."""
         return float(8 * n_steps * int(self.n_particles) * (model.state_dim + 1))
+
+    def _chunk_cap(self, model: StateSpaceModel, n_steps: int) -> int | None:
+        return max(1, int(CHUNK_BYTES // self._bytes_per_run(model, n_steps)))
+
+    # -- the public step -----------------------------------------------------------------------
+    def initialize(self, model: StateSpaceModel, z1: Any) -> ParticleState:
+        """Particles uniform in the reading's box, weighted by their likelihood (the
+        stream ``stream``); see :meth:`Filter.initialize`."""
+        self._check_model(model)
+        z, _ = self._one(model, z1, transition=False)
+        rng = _stream(int(self.seed), int(self.stream))
+        uniforms = rng.random((int(self.n_particles), model.state_dim))[None]
+        particles, weights = self._draw_in_reading_box(model, z, uniforms, 0)
+        return self._state(model, 1, particles[0], _normalised(weights)[0], rng,
+                           int(self.stream))
+
+    def step(self, state: ParticleState, z: Any, u: Any = None
+             ) -> tuple[ParticleState, ParticleRecord]:
+        """Resample, propagate through f with drawn state noise, weigh by the reading; see
+        :meth:`Filter.step`."""
+        model = state.model
+        zz, uu = self._one(model, z, u)
+        rng = np.random.Generator(type(state.rng.bit_generator)())
+        rng.bit_generator.state = state.rng.bit_generator.state
+        offset, noise = _step_draws(rng, model.state_noise, int(self.n_particles))
+        particles, w, reinit = self._advance(
+            model, state.particles[None], state.weights[None], np.array([offset]),
+            noise[None], zz, uu, np.array([state.run]), state.k)
+        new = self._state(model, state.k + 1, particles[0], w[0], rng, state.run)
+        return new, self._record(new, bool(reinit[0]))
+
+    def _start_record(self, state: ParticleState) -> ParticleRecord:
+        return self._record(state, False)
+
+    @staticmethod
+    def _record(state: ParticleState, reinitialised: bool) -> ParticleRecord:
+        w = state.weights
+        return ParticleRecord(state.k, state.particles, w, float(1.0 / np.sum(w * w)),
+                              reinitialised, state.estimate)
+
+    @staticmethod
+    def _state(model: StateSpaceModel, k: int, particles: np.ndarray, w: np.ndarray,
+               rng: np.random.Generator, run: int) -> ParticleState:
+        est = np.einsum("rp,rpi->ri", w[None], particles[None])[0]
+        alive = (w > 0)[:, None]
+        return ParticleState(model, k, est, np.where(alive, particles, np.inf).min(axis=0),
+                             np.where(alive, particles, -np.inf).max(axis=0), particles, w,
+                             rng, run)
 
     # -- internals ---------------------------------------------------------------------------
     def _reading_box(self, model: StateSpaceModel, z: np.ndarray, step: int
@@ -235,53 +318,52 @@ class ParticleFilter(FilterBase):
         particles = lo[:, None, :] + uniforms * (hi - lo)[:, None, :]
         return particles, self._weigh(model, particles, z)
 
-    def _filter_chunk(
-        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
-        run_ids: np.ndarray, record: bool, details: bool,
-    ) -> tuple[Any, ...]:
-        runs, n_steps, _ = Z.shape
-        n, big_n = model.state_dim, self.n_particles
+    def _advance(self, model: StateSpaceModel, particles: np.ndarray, w: np.ndarray,
+                 offsets: np.ndarray, noise: np.ndarray, z: np.ndarray, u: np.ndarray | None,
+                 run_ids: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Step k → k + 1 (k counting from 1) for R runs: clouds (R, N, n) with weights
+        (R, N), the step's offsets (R,) and state noise (R, N, n), readings (R, m).
+        Returns the new clouds, their normalised weights and the re-initialised runs."""
+        runs, big_n, n = particles.shape
+        first_row = (np.arange(runs) * big_n)[:, None]  # each run's first particle, flattened
+        compiled = self._compiled(self.kernel, "the particle filter")
+        idx = systematic_resample(w, offsets, compiled=compiled) + first_row
+        chosen = np.take(particles.reshape(-1, n), idx.ravel(), axis=0)
+        particles = with_input(model.f, u)(chosen.reshape(runs, big_n, n)) + noise
+        weights = self._weigh(model, particles, z)
+        dead = ~(weights.sum(axis=1) > 0)
+        for i in np.flatnonzero(dead).tolist():
+            fresh = _stream(int(self.seed), int(run_ids[i]), k).random((1, big_n, n))
+            p_new, w_new = self._draw_in_reading_box(model, z[i : i + 1], fresh, k)
+            particles[i], weights[i] = p_new[0], w_new[0]
+        return particles, _normalised(weights), dead
+
+    def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
+                runs: np.ndarray) -> Block:
+        n_runs, n_steps, _ = Z.shape
+        n, big_n = model.state_dim, int(self.n_particles)
+        runs = runs + int(self.stream)
         noise_key = tuple(tuple(a.tolist()) for a in (model.state_noise.lower,
                                                       model.state_noise.mode,
                                                       model.state_noise.upper))
         start_u, noise, offsets = (
-            _kept_draws(self.seed, tuple(run_ids.tolist()), noise_key, n_steps, big_n)
-            if self._bytes_per_run(model, n_steps) * runs <= KEPT_DRAWS_BYTES
-            else _draws(self.seed, run_ids, model.state_noise, n_steps, big_n))
-
-        compiled = self._compiled(self.kernel, "the particle filter")
-        est = np.empty((runs, n_steps, n))
+            _kept_draws(int(self.seed), tuple(runs.tolist()), noise_key, n_steps, big_n)
+            if self._bytes_per_run(model, n_steps) * n_runs <= KEPT_DRAWS_BYTES
+            else _draws(int(self.seed), runs, model.state_noise, n_steps, big_n))
+        est = np.empty((n_runs, n_steps, n))
         lo, hi = np.empty_like(est), np.empty_like(est)
-        ess = np.empty((runs, n_steps))
-        reinit = np.zeros((runs, n_steps), dtype=bool)
-        steps: list[dict[str, Any]] | None = [] if record else None
-
+        ess = np.empty((n_runs, n_steps))
+        reinit = np.zeros((n_runs, n_steps), dtype=bool)
         particles, weights = self._draw_in_reading_box(model, Z[:, 0], start_u, 0)
-        first_row = (np.arange(runs) * big_n)[:, None]  # each run's first particle, flattened
         w = _normalised(weights)
         for k in range(n_steps):
             if k > 0:
-                idx = systematic_resample(w, offsets[:, k - 1], compiled=compiled) + first_row
-                chosen = np.take(particles.reshape(-1, n), idx.ravel(), axis=0)
-                particles = (with_input(model.f, step_input(U, k))(chosen.reshape(runs, big_n, n))
-                             + noise[:, k - 1])
-                weights = self._weigh(model, particles, Z[:, k])
-                dead = ~(weights.sum(axis=1) > 0)
-                if np.any(dead):
-                    for i in np.flatnonzero(dead).tolist():
-                        u = _stream(self.seed, int(run_ids[i]), k).random((1, big_n, n))
-                        p_new, w_new = self._draw_in_reading_box(model, Z[i : i + 1, k], u, k)
-                        particles[i], weights[i] = p_new[0], w_new[0]
-                    reinit[dead, k] = True
-                w = _normalised(weights)
+                particles, w, reinit[:, k] = self._advance(
+                    model, particles, w, offsets[:, k - 1], noise[:, k - 1], Z[:, k],
+                    step_input(U, k), runs, k)
             est[:, k] = np.einsum("rp,rpi->ri", w, particles)
-            if not details:
-                continue
             alive = (w > 0)[..., None]
             lo[:, k] = np.where(alive, particles, np.inf).min(axis=1)
             hi[:, k] = np.where(alive, particles, -np.inf).max(axis=1)
             ess[:, k] = 1.0 / np.sum(w * w, axis=1)
-            if steps is not None:
-                steps.append({"particles": particles[0].copy(), "weights": w[0].copy(),
-                              "ess": float(ess[0, k]), "reinitialised": bool(reinit[0, k])})
-        return est, lo, hi, ess, reinit, steps
+        return Block(est, lo, hi, {"ess": ess, "reinitialised": reinit})

@@ -21,6 +21,7 @@ from matplotlib.lines import Line2D
 from matplotlib.ticker import FixedLocator, NullFormatter, NullLocator, StrMethodFormatter
 
 from dstoolkit.errors import EvidenceError
+from dstoolkit.filters import DependentRecord
 
 from ._evidence import FocalIntervalArtists, draw_focal_intervals, update_focal_intervals
 from ._kept import InnerTicks
@@ -234,12 +235,12 @@ class FilterStepFigure:
     conflict stopped has fewer). Attributes: ``figure``, ``axes``, ``panels``."""
 
     @staticmethod
-    def panels_of(entry: dict[str, Any]) -> tuple[str, ...]:
+    def panels_of(entry: DependentRecord) -> tuple[str, ...]:
         """The panels a recorded step fills: the keys of ``FILTER_STEP_PANELS`` it holds."""
-        return tuple(key for key, _ in FILTER_STEP_PANELS if entry.get(key) is not None)
+        return tuple(key for key, _ in FILTER_STEP_PANELS if getattr(entry, key) is not None)
 
     @styled
-    def __init__(self, entry: dict[str, Any], truth: float | None = None, *,
+    def __init__(self, entry: DependentRecord, truth: float | None = None, *,
                  half_width: float | None = None, figsize: tuple[float, float] = (6.4, 10.0),
                  unit: str = "Hz", pyplot: bool = True) -> None:
         _check_step(entry)
@@ -269,7 +270,7 @@ class FilterStepFigure:
         self.update(entry, truth, half_width=half_width)
 
     @styled
-    def update(self, entry: dict[str, Any], truth: float | None = None, *,
+    def update(self, entry: DependentRecord, truth: float | None = None, *,
                half_width: float | None = None) -> Figure:
         """Draw the recorded step ``entry`` (with the ``truth`` of its state, if given);
         ``half_width`` of the x range: default, 0.75 × the widest cut of the observation
@@ -278,21 +279,21 @@ class FilterStepFigure:
         if self.panels_of(entry) != self.panels:
             raise EvidenceError(f"this step fills the panels {self.panels_of(entry)}, the "
                                 f"figure has {self.panels}: build a new FilterStepFigure")
-        est = float(np.ravel(entry["estimate"])[0])
+        est = float(np.ravel(entry.estimate)[0])
         if half_width is None:
-            obs = entry["observation"]
+            obs = entry.observation
             cuts = obs.widths < obs.widths.max()
             half_width = 0.75 * float((obs.hi[cuts] - obs.lo[cuts]).max() if cuts.any()
                                       else 1.0)
         centre = est if truth is None else 0.5 * (est + float(truth))
         xlim = (centre - half_width, centre + half_width)
-        shift = centre - float(entry["state"].pignistic_expectation())
+        shift = centre - float(entry.state.pignistic_expectation())
         names = dict(FILTER_STEP_PANELS)
         for i, (ax, key) in enumerate(zip(self.axes, self.panels, strict=True)):
-            ev = entry[key]
+            ev = getattr(entry, key)
             lim = (xlim[0] - shift, xlim[1] - shift) if key == "state" else xlim
             update_focal_intervals(self._focal[i], ev, xlim=lim, label_masses=len(ev) <= 6)
-            ax.set_xlabel(f"state at step {entry['step'] - 1} ({self.unit})"
+            ax.set_xlabel(f"state at step {entry.step - 1} ({self.unit})"
                           if key == "state" else "")
             # y = 1 where matplotlib would put it (nothing is drawn above the panel), so
             # that a draw skips the search for it (a tight box of each panel's y axis)
@@ -303,28 +304,29 @@ class FilterStepFigure:
                 true.set_visible(truth is not None)
                 if truth is not None:
                     true.set_xdata([float(truth)] * 2)
-        self.axes[-1].set_xlabel(f"state at step {entry['step']} ({self.unit}); red: "
+        self.axes[-1].set_xlabel(f"state at step {entry.step} ({self.unit}); red: "
                                  "estimate, dashed: truth")
         return self.figure
 
 
-def _check_step(entry: dict[str, Any]) -> None:
-    if "final" not in entry:
+def _check_step(entry: DependentRecord) -> None:
+    if not isinstance(entry, DependentRecord) or entry.final is None or entry.state is None:
         raise EvidenceError("plot_filter_step needs a recorded step k >= 2 (run(..., "
                             "record=True).steps[k - 1]); step 1 is the start value only")
 
 
 @styled
 def plot_filter_step(
-    entry: dict[str, Any],
+    entry: DependentRecord,
     truth: float | None = None,
     *,
     half_width: float | None = None,
     figsize: tuple[float, float] = (6.4, 10.0),
     unit: str = "Hz",
 ) -> Figure:
-    """Every evidence of one recorded step of the paper's filter (a ``FilterResult.steps``
-    entry of a scalar model), stacked top to bottom as in the flowchart (Fig. 3).
+    """Every evidence of one recorded step of the paper's filter (a
+    :class:`~dstoolkit.filters.DependentRecord` of a scalar model), stacked top to bottom
+    as in the flowchart (Fig. 3).
 
     Each panel draws the focal elements as in :func:`plot_focal_intervals`. The panels
     about x_{k+1} share one x range, centred on the final estimate (red line; black: the

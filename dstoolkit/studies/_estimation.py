@@ -25,19 +25,23 @@ from __future__ import annotations
 import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, cast
+from typing import Any
 
 import numpy as np
 
 from dstoolkit._reprs import ShortFloatDict
 from dstoolkit.errors import InconsistentDataError, InvalidInputError
-from dstoolkit.filters._bounded_error import BoundedErrorFilter
-from dstoolkit.filters._dependent import DependentEvidenceFilter
-from dstoolkit.filters._example_systems import simulate_lotka_volterra
-from dstoolkit.filters._kalman import KalmanFilter
-from dstoolkit.filters._model import BoundedNoise, FilterResult, StateSpaceModel
-from dstoolkit.filters._nassreddine import NassreddineFilter
-from dstoolkit.filters._particle import ParticleFilter
+from dstoolkit.filters import (
+    BoundedErrorFilter,
+    BoundedNoise,
+    DependentEvidenceFilter,
+    Filter,
+    KalmanFilter,
+    NassreddineFilter,
+    ParticleFilter,
+    StateSpaceModel,
+    simulate_lotka_volterra,
+)
 from dstoolkit.gauge._acoustics import resonance_frequencies, speed_of_sound
 from dstoolkit.gauge._gauge_model import GAUGE_OBS_NOISE, GAUGE_STATE_NOISE, gauge_state_space_model
 from dstoolkit.gauge._level import fit_resonance_series, level_from_resonance
@@ -133,11 +137,13 @@ def _with_true_orders(case: CaseReadings) -> CaseReadings:
 
 
 def filter_states(method: str, case: CaseReadings, orders: np.ndarray,
-                  filters: Mapping[str, Any], model: StateSpaceModel | None = None
+                  filters: Mapping[str, Filter[Any, Any]],
+                  model: StateSpaceModel | None = None
                   ) -> np.ndarray:
     """x̂_k of every run (runs, K) by one of ``filters`` on the gauge model (eqs. 39–40)."""
     model = gauge_state_space_model() if model is None else model
-    return filters[method].run_batch(model, case.readings[..., None], inputs=orders)[..., 0]
+    return filters[method].run_batch(model, case.readings[..., None],
+                                     inputs=orders).estimates[..., 0]
 
 
 def gauge_run(level_m: float = 4.6, temperature_c: float = 26.5,
@@ -272,8 +278,8 @@ def bounded_error_failures(model: StateSpaceModel, data: TrackingData,
     first failed run is filtered strictly again, for its message.
     """
     if resets is None:
-        resets = cast(FilterResult, BoundedErrorFilter(on_inconsistent="reset").run_batch(
-            model, data.readings, inputs=data.orders, return_result=True)).diagnostics["resets"]
+        resets = BoundedErrorFilter(on_inconsistent="reset").run_batch(
+            model, data.readings, inputs=data.orders).diagnostics["resets"]
     failed = np.flatnonzero(np.any(resets, axis=1))
     message = ""
     if failed.size:
@@ -295,12 +301,10 @@ def noise_mismatch(data: TrackingData, state_noise: BoundedNoise, obs_noise: Bou
     errors, seconds, resets = {}, {}, None
     for m in methods:
         began = time.perf_counter()
+        result = filters[m].run_batch(model, data.readings, inputs=data.orders)
+        x = result.estimates[..., 0]
         if m == "bounded_error":  # its restarts also tell where the strict filter fails
-            result = cast(FilterResult, filters[m].run_batch(
-                model, data.readings, inputs=data.orders, return_result=True))
-            x, resets = result.estimates[..., 0], result.diagnostics["resets"]
-        else:
-            x = filters[m].run_batch(model, data.readings, inputs=data.orders)[..., 0]
+            resets = result.diagnostics["resets"]
         seconds[m] = time.perf_counter() - began
         errors[m] = np.abs(x - data.truth)
     failed, message = (bounded_error_failures(model, data, resets) if "bounded_error" in methods
@@ -334,7 +338,7 @@ def start_study(data: TrackingData, starts: Sequence[str] = ("observation", "mea
     z_1 + E[w]; the model assumes the data's true noises."""
     model = gauge_state_space_model(data.state_noise, data.obs_noise)
     return {s: np.abs(DependentEvidenceFilter(start=s, on_conflict="predict")
-                      .run_batch(model, data.readings, inputs=data.orders)[..., 0]
+                      .run_batch(model, data.readings, inputs=data.orders).estimates[..., 0]
                       - data.truth) for s in starts}
 
 
@@ -402,7 +406,8 @@ def table3_readings(level_m: float, temperature_c: float, runs: int, seed: int =
                                                             case_seed)]
 
 
-def filter_level_errors(filters: Mapping[str, Any], batches: Sequence[CaseReadings],
+def filter_level_errors(filters: Mapping[str, Filter[Any, Any]],
+                        batches: Sequence[CaseReadings],
                         order_rule: OrderRule = "true") -> dict[str, float]:
     """Table 3's figure, the mean over runs of the mean |L̂_k − L| (eq. 32), for every
     filter of ``filters`` (any settings) on the same readings ``batches``."""
@@ -449,7 +454,7 @@ def example_comparison(steps: int = 60, runs: int = 4, seed: int = 0, p: int = 2
     estimates, seconds = {}, {}
     for m in methods:
         start = time.perf_counter()
-        estimates[m] = filters[m].run_batch(model, z)
+        estimates[m] = filters[m].run_batch(model, z).estimates
         seconds[m] = (time.perf_counter() - start) / runs
     return ExampleComparison(model, x, z, estimates, seconds)
 

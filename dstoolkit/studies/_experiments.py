@@ -25,10 +25,13 @@ from typing import Any, Literal
 import numpy as np
 
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.filters._dependent import DependentEvidenceFilter
-from dstoolkit.filters._kalman import KalmanFilter
-from dstoolkit.filters._nassreddine import NassreddineFilter
-from dstoolkit.filters._particle import ParticleFilter
+from dstoolkit.filters import (
+    DependentEvidenceFilter,
+    Filter,
+    KalmanFilter,
+    NassreddineFilter,
+    ParticleFilter,
+)
 from dstoolkit.gauge._acoustics import DEFAULT_BAND, speed_of_sound
 from dstoolkit.gauge._gauge_model import PAPER_THETA, gauge_state_space_model, simulate_gauge
 from dstoolkit.gauge._level import fit_resonance_series, level_from_resonance, orders_eq43
@@ -56,15 +59,15 @@ CSV_COLUMNS = ("level_m", "temperature_c", "method", "mean_abs_error_m", "runs",
                "seconds_per_run")
 
 
-def paper_filters(seed: int = 0) -> dict[str, Any]:
+def paper_filters(seed: int = 0) -> dict[str, Filter[Any, Any]]:
     """The filters of Table 3 with the paper's settings (p = 3, ε = 0.05, Θ of Tables 1–2)."""
     theta_v, theta_w = PAPER_THETA
     return {
         "dependent_evidence": DependentEvidenceFilter(p=3, epsilon=0.05,
                                                       theta=(theta_v, theta_w),
                                                       on_conflict="predict"),
-        "nassreddine": NassreddineFilter(p=3, epsilon=0.05, state_theta=theta_v,
-                                         obs_theta=theta_w, on_conflict="reset",
+        "nassreddine": NassreddineFilter(p=3, epsilon=0.05, theta=(theta_v, theta_w),
+                                         on_conflict="reset",
                                          kernel="auto"),  # numba if installed: same numbers
         "kalman": KalmanFilter(),
         "particle": ParticleFilter(n_particles=500, seed=seed, kernel="auto"),
@@ -132,14 +135,14 @@ def estimate_orders(case: CaseReadings, rule: OrderRule = "eq43") -> np.ndarray:
 
 
 def estimate_levels(method: str, case: CaseReadings, orders: np.ndarray,
-                    filters: Mapping[str, Any]) -> np.ndarray:
+                    filters: Mapping[str, Filter[Any, Any]]) -> np.ndarray:
     """L̂_k = n_k c/(2 x̂_k) (eq. 32) for k = 1..K−1, shape (runs, K−1)."""
     z = case.readings
     if method == "direct":
         x = z[:, :-1]
     else:
         model = gauge_state_space_model()
-        x = filters[method].run_batch(model, z[..., None], inputs=orders)[:, :-1, 0]
+        x = filters[method].run_batch(model, z[..., None], inputs=orders).estimates[:, :-1, 0]
     return level_from_resonance(x, orders, case.speed_of_sound)
 
 

@@ -722,12 +722,14 @@ def _filter_cases() -> list[Case]:
 
 
 def filter_record(xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list,
-                  w_rows: list) -> dict[str, Any]:
-    """Every evidence of one step of dstoolkit's filter (the object path of
-    DependentEvidenceFilter, ``record=True``) from x̂ with reading z: the record of step 2."""
-    from dstoolkit.evidence._batch_kernels import Boxes
-    from dstoolkit.filters._dependent import DependentEvidenceFilter, NoiseEvidence
-    from dstoolkit.filters._model import StateSpaceModel
+                  w_rows: list) -> Any:
+    """Every evidence of one step of dstoolkit's filter from x̂ with reading z: the
+    :class:`~dstoolkit.filters.DependentRecord` of step 2, by the public
+    ``initialize``/``step`` with the noise evidence of the rows."""
+    import dataclasses
+
+    from dstoolkit.evidence import Boxes
+    from dstoolkit.filters import DependentEvidenceFilter, NoiseEvidence, StateSpaceModel
 
     model = StateSpaceModel(
         f=lambda x, u: f(x), g=g, state_noise=BoundedNoise(-1.0, 0.0, 1.0),
@@ -740,13 +742,14 @@ def filter_record(xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: lis
                           Boxes(ew.boxes_lo[None], ew.boxes_hi[None], ew.mass[None]),
                           np.multiply.outer(ev.mass, ev.mass).reshape(1, -1))
     flt = DependentEvidenceFilter(start=[xhat])
-    return flt._run_objects(flt._maps(model), noise, np.array([[[z], [z]]]), None).steps[1]
+    state = dataclasses.replace(flt.initialize(model, z), noise=noise)
+    return flt.step(state, z)[1]
 
 
 def _filter_reference(xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list,
                       w_rows: list) -> tuple[list, float]:
     step = filter_record(xhat, z, f, g, g_inv, v_rows, w_rows)
-    return _rows(step["final"]), float(step["estimate"][0])
+    return _rows(step.final), float(step.estimate[0])
 
 
 def _filter_outcome(result: Any) -> list:

@@ -111,11 +111,11 @@ def _hand(name: str) -> Any:
         return HAND_STEP[5]
     step = filter_record(*HAND_STEP)
     if name == "dependence":
-        dep = step["dependence"]
+        dep = step.dependence_terms
         return dep.degree, dep.r12, dep.r21
     if name == "estimate":
-        return float(step["estimate"][0])
-    return step[name].to_rows().tolist()
+        return float(step.estimate[0])
+    return getattr(step, name).to_rows().tolist()
 
 
 def _hand_plain_dempster() -> list:

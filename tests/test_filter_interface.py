@@ -1,0 +1,150 @@
+"""Every filter through the same lines: the shared options, the public step, run and
+run_batch, the result types and their shapes."""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib.util
+
+import numpy as np
+import pytest
+
+from dstoolkit.errors import EvidenceError
+from dstoolkit.filters import (
+    KERNELS,
+    BatchResult,
+    BoundedErrorFilter,
+    DependentEvidenceFilter,
+    Filter,
+    FilterResult,
+    FilterState,
+    KalmanFilter,
+    NassreddineFilter,
+    ParticleFilter,
+    lotka_volterra,
+    random_walk,
+)
+from dstoolkit.gauge import gauge_state_space_model, simulate_gauge
+
+MAKERS = {
+    "dependent_evidence": lambda **kw: DependentEvidenceFilter(p=2, **kw),
+    "nassreddine": lambda **kw: NassreddineFilter(max_focal=16, **kw),
+    "nassreddine_restart": lambda **kw: NassreddineFilter(restart=True, **kw),
+    "bounded_error": lambda **kw: BoundedErrorFilter(on_inconsistent="reset", **kw),
+    "kalman": lambda **kw: KalmanFilter(**kw),
+    "particle": lambda **kw: ParticleFilter(n_particles=200, seed=3, **kw),
+}
+#: The paper's filter steps on IntervalEvidence objects (equal focal elements merged,
+#: eq. 14), its vectorised run on arrays: the same numbers up to the order of additions.
+TOLERANCE = {"dependent_evidence": 1e-12}
+
+
+def gauge_case():
+    seq = simulate_gauge(level_m=4.6, temperature_c=26.5, runs=3, seed=7)
+    return gauge_state_space_model(), seq.readings[:, :15], seq.inputs[:, :14]
+
+
+def walk_case():
+    model = random_walk(0.1, 0.5)
+    _, z = model.simulate([1.0], 12, np.random.default_rng(2), runs=3)
+    return model, z, None
+
+
+def lotka_case():
+    model = lotka_volterra()
+    _, z = model.simulate([0.2, -0.1], 8, np.random.default_rng(5), runs=2)
+    return model, z, None
+
+
+@pytest.mark.parametrize("case", [gauge_case, walk_case, lotka_case],
+                         ids=["gauge", "random_walk", "lotka_volterra"])
+@pytest.mark.parametrize("name", list(MAKERS))
+def test_every_filter_through_the_same_lines(name, case):
+    model, Z, U = case()
+    flt = MAKERS[name](kernel="numpy")
+    state = flt.initialize(model, Z[0, 0])
+    for k in range(1, Z.shape[1]):
+        state, record = flt.step(state, Z[0, k], None if U is None else U[0, k - 1])
+    result = flt.run(model, Z[0], None if U is None else U[0])
+    batch = flt.run_batch(model, Z, U)
+
+    assert isinstance(flt, Filter) and isinstance(state, FilterState)
+    assert isinstance(result, FilterResult) and isinstance(batch, BatchResult)
+    assert result.method == batch.method == flt.name == name.replace("_restart", "")
+    runs, steps, n = Z.shape[0], Z.shape[1], model.state_dim
+    assert result.estimates.shape == result.lower.shape == result.upper.shape == (steps, n)
+    assert batch.estimates.shape == batch.lower.shape == batch.upper.shape == (runs, steps, n)
+    assert set(result.diagnostics) == set(batch.diagnostics) == set(flt.DIAGNOSTICS)
+    assert all(v.shape == (steps,) for v in result.diagnostics.values())
+    assert all(v.shape == (runs, steps) for v in batch.diagnostics.values())
+    assert state.k == steps and state.estimate.shape == (n,)
+    assert record.step == steps and dataclasses.is_dataclass(record)
+
+    tol = TOLERANCE.get(name, 0.0)
+    np.testing.assert_allclose(state.estimate, result.estimates[-1], rtol=tol, atol=0)
+    np.testing.assert_allclose(state.lower, result.lower[-1], rtol=tol, atol=0)
+    np.testing.assert_allclose(state.upper, result.upper[-1], rtol=tol, atol=0)
+    np.testing.assert_array_equal(batch.estimates[0], result.estimates)
+    np.testing.assert_array_equal(batch[0].estimates, result.estimates)
+
+
+@pytest.mark.parametrize("name", list(MAKERS))
+def test_the_step_loop_is_what_run_records(name):
+    """run(record=True) is the public loop: the same estimates, bounds and diagnostics as
+    initialize and step, and one typed record per step."""
+    model, Z, U = gauge_case()
+    flt = MAKERS[name]()
+    recorded = flt.run(model, Z[1], U[1], record=True)
+    fast = flt.run(model, Z[1], U[1])
+    assert recorded.steps is not None and len(recorded.steps) == Z.shape[1]
+    assert len({type(r) for r in recorded.steps}) == 1
+    tol = TOLERANCE.get(name, 0.0)
+    np.testing.assert_allclose(recorded.estimates, fast.estimates, rtol=tol, atol=0)
+    for key in flt.DIAGNOSTICS:
+        np.testing.assert_allclose(np.asarray(recorded.diagnostics[key], dtype=float),
+                                   np.asarray(fast.diagnostics[key], dtype=float),
+                                   rtol=max(tol, 1e-9) if tol else 0, atol=1e-12 if tol else 0,
+                                   err_msg=key)
+
+
+@pytest.mark.parametrize("name", list(MAKERS))
+def test_every_filter_takes_the_same_kernel_values(name):
+    have_numba = importlib.util.find_spec("numba") is not None
+    for kernel in KERNELS:
+        if kernel == "numba" and not have_numba:
+            with pytest.raises(Exception, match="speed"):
+                MAKERS[name](kernel=kernel)
+            continue
+        MAKERS[name](kernel=kernel)
+    with pytest.raises(EvidenceError, match="kernel must be one of 'numpy', 'numba', 'auto'"):
+        MAKERS[name](kernel="fortran")
+
+
+def test_the_noise_frames_have_one_name():
+    theta = ((-20.0, 20.0), (-30.0, 30.0))
+    for flt in (DependentEvidenceFilter(theta=theta), NassreddineFilter(theta=theta)):
+        assert flt.theta == theta
+    with pytest.raises(EvidenceError, match="theta must be a pair"):
+        NassreddineFilter(theta=5.0)
+
+
+def test_a_step_refuses_a_reading_of_the_wrong_size():
+    flt = KalmanFilter()
+    state = flt.initialize(random_walk(0.1, 0.5), 1.0)
+    with pytest.raises(EvidenceError, match="component"):
+        flt.step(state, [1.0, 2.0, 3.0])
+
+
+def test_a_start_per_run_must_match_the_batch():
+    model, Z, U = gauge_case()
+    starts = Z[:, 0] + 6.9
+    batch = DependentEvidenceFilter(start=starts, chunk_size=1).run_batch(model, Z, U)
+    for r in range(Z.shape[0]):
+        one = DependentEvidenceFilter(start=starts[r]).run(model, Z[r], U[r])
+        np.testing.assert_array_equal(batch.estimates[r], one.estimates)
+    with pytest.raises(EvidenceError, match="batch has 2"):
+        DependentEvidenceFilter(start=starts).run_batch(model, Z[:2], U[:2])
+    edited = starts.copy()
+    flt = DependentEvidenceFilter(start=edited)
+    edited += 100.0  # the filter keeps its own copy
+    np.testing.assert_array_equal(flt.start, starts)
