@@ -1,4 +1,4 @@
-"""Time the filters on a gauge-like sequence (issue 3): one run, and a batch of runs.
+"""Time the filters on a gauge-like sequence: one run, and a batch of runs.
 
 The sequence is the paper's 9.6 m case: 23.9 °C, band 1000–2500 Hz, f_F ≈ 18 Hz, 83
 resonances read with the paper's observation noise, orders n_k from the readings (eq. 43).
@@ -15,13 +15,17 @@ For each filter in :data:`REGISTRY` this prints
   throughput in filter steps per second (wall, then CPU), one step = one transition
   k → k+1 (82 per sequence).
 
-Targets (issue 14): the paper's filter < 5 ms per run and > 100,000 steps/s in a batch of
-1000; Kalman < 0.5 ms per run. The machine is shared: the load average is printed before
+Each filter runs on two models of eqs. 39–40: the package's gauge model
+(``gauge_state_space_model``) and the same maps written by a user with the public
+:class:`~dstoolkit.filters.StateSpaceModel` (plain numpy ``f``, ``g``, ``g_inverse``, the
+monotonicity declared, no Jacobians and no float maps): the column "model" says which.
+Targets: the paper's filter < 5 ms per run and > 100,000 steps/s in a batch of 1000;
+Kalman < 0.5 ms per run; a user's model within 1.5× of the package's. The machine is shared: the load average is printed before
 and after the figures. Where a step of the paper's filter goes, block by block (time and
 numpy calls per step against the floor, and what the compiled kernel of Step 6 buys):
 ``benchmarks/filter_profile.py``. Run from the repository root:
 
-    python benchmarks/filters.py [--runs 1000] [--repeat 30] [--filters a,b]
+    python benchmarks/filters.py [--runs 1000] [--repeat 30] [--filters a,b] [--models a,b]
 """
 
 from __future__ import annotations
@@ -35,6 +39,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -47,6 +52,7 @@ from dstoolkit.filters import (
     KalmanFilter,  # noqa: E402
     NassreddineFilter,  # noqa: E402
     ParticleFilter,  # noqa: E402
+    StateSpaceModel,  # noqa: E402
 )
 from dstoolkit.gauge import gauge_state_space_model, simulate_gauge  # noqa: E402
 
@@ -55,7 +61,7 @@ from dstoolkit.gauge import gauge_state_space_model, simulate_gauge  # noqa: E40
 class Entry:
     """A filter to time: how to build it, and what its settings are."""
 
-    make: Callable[[], Filter]
+    make: Callable[[], Filter[Any, Any]]
     settings: str
 
 
@@ -63,29 +69,50 @@ class Entry:
 REGISTRY: dict[str, Entry] = {}
 
 
-def register(name: str, make: Callable[[], Filter], settings: str) -> None:
+def register(name: str, make: Callable[[], Filter[Any, Any]], settings: str) -> None:
     """Add a filter under ``name``: ``make()`` returns an object with run/run_batch."""
     REGISTRY[name] = Entry(make, settings)
 
 
-register("dependent-evidence", DependentEvidenceFilter,
+register("dependent_evidence", DependentEvidenceFilter,
          "paper's filter, p = 3, ε = 0.05, m(D) = min, start z_1")
 if importlib.util.find_spec("numba") is not None:
-    register("dependent-numba", lambda: DependentEvidenceFilter(kernel="numba"),
+    register("dependent_numba", lambda: DependentEvidenceFilter(kernel="numba"),
              "the same, Step 6 compiled (extra speed: numba)")
 register("nassreddine", NassreddineFilter,
          "Nassreddine et al. 2010, p = 3, ε = 0.05, ≤ 32 focal elements (clustering)")
 if importlib.util.find_spec("numba") is not None:
-    register("nassreddine-numba", lambda: NassreddineFilter(kernel="numba"),
+    register("nassreddine_numba", lambda: NassreddineFilter(kernel="numba"),
              "the same, merge and clustering compiled (extra speed: numba), same numbers")
-register("nassreddine-restart", lambda: NassreddineFilter(restart=True),
+register("nassreddine_restart", lambda: NassreddineFilter(restart=True),
          "the same, state evidence rebuilt as x̂_k + E_v each step")
-register("bounded-error", BoundedErrorFilter, "one box, interval image ∩ reading box")
+register("bounded_error", BoundedErrorFilter, "one box, interval image ∩ reading box")
 register("kalman", KalmanFilter, "(extended) Kalman on the noises' means and variances")
 register("particle", ParticleFilter, "bootstrap, 1000 particles, systematic resampling")
 
 
-def time_single(flt: Filter, model, z: np.ndarray, u: np.ndarray, repeat: int
+def user_gauge_model() -> StateSpaceModel:
+    """Eqs. 39–40 as a user writes them with the public StateSpaceModel: plain numpy maps,
+    no Jacobians (finite differences), no float maps."""
+    def f(x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return x * (u + 1.0) / u
+
+    def g_inverse(lo: np.ndarray, hi: np.ndarray, x_lo: np.ndarray, x_hi: np.ndarray
+                  ) -> tuple[np.ndarray, np.ndarray]:
+        return np.maximum(lo, x_lo), np.minimum(hi, x_hi)
+
+    package = gauge_state_space_model()
+    return StateSpaceModel(f=f, g=lambda x: x + 0.0, g_inverse=g_inverse,
+                           state_noise=package.state_noise, obs_noise=package.obs_noise,
+                           f_monotone=(1, 1), g_monotone=(1,), name="user's gauge")
+
+
+#: The two models every filter is timed on.
+MODELS: dict[str, Callable[[], StateSpaceModel]] = {
+    "package": gauge_state_space_model, "user": user_gauge_model}
+
+
+def time_single(flt: Filter[Any, Any], model: StateSpaceModel, z: np.ndarray, u: np.ndarray, repeat: int
                 ) -> tuple[float, float, float]:
     """Median and best wall time (s) of one run, after a warm-up run, and the median CPU
     time of this process (s): on a shared machine the wall time also counts the waits for
@@ -117,7 +144,7 @@ def load_average() -> str:
     return ", ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
-def time_batch(flt: Filter, model, z: np.ndarray, u: np.ndarray, repeat: int = 2
+def time_batch(flt: Filter[Any, Any], model: StateSpaceModel, z: np.ndarray, u: np.ndarray, repeat: int = 2
                ) -> tuple[float, float]:
     """Best wall time and best CPU time (s) of one batch run."""
     best, best_cpu = np.inf, np.inf
@@ -135,13 +162,18 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeat", type=int, default=30, help="timed single runs")
     parser.add_argument("--filters", default=",".join(REGISTRY),
                         help=f"comma-separated names among {', '.join(REGISTRY)}")
+    parser.add_argument("--models", default=",".join(MODELS),
+                        help=f"comma-separated models among {', '.join(MODELS)}")
     args = parser.parse_args(argv)
     names = [name for name in args.filters.split(",") if name]
     unknown = sorted(set(names) - set(REGISTRY))
     if unknown:
         parser.error(f"unknown filter(s) {unknown}; known: {sorted(REGISTRY)}")
 
-    model = gauge_state_space_model()
+    models = [name for name in args.models.split(",") if name]
+    if set(models) - set(MODELS):
+        parser.error(f"unknown model(s) {sorted(set(models) - set(MODELS))}; known: "
+                     f"{sorted(MODELS)}")
     one = simulate_gauge(seed=0)
     many = simulate_gauge(runs=args.runs, seed=1)
     steps = one.orders.size - 1
@@ -153,17 +185,17 @@ def main(argv: list[str] | None = None) -> int:
     print(f"per step = one-run median / {steps} steps; × floor = per step / the time per "
           f"iteration of an empty {steps}-step loop\nmaking one numpy call on one-element "
           "arrays (the first row): how many such calls a step costs\n")
-    print(f"{'filter':20s} {'one run: median':>15s} {'best':>8s} {'CPU':>8s} "
+    print(f"{'filter':20s} {'model':8s} {'one run: median':>15s} {'best':>8s} {'CPU':>8s} "
           f"{'per step':>9s} {'× floor':>7s} {'batch of':>8s} {'time':>7s} {'CPU':>7s} "
           f"{'steps/s':>10s} {'(CPU)':>10s}  settings")
-    print(f"{'floor':20s} {'':15s} {'':8s} {'':8s} {floor * 1e6:6.2f} µs {1:7.0f}"
+    print(f"{'floor':20s} {'':8s} {'':15s} {'':8s} {'':8s} {floor * 1e6:6.2f} µs {1:7.0f}"
           f"{'':47s}  one numpy call per step, np.add(a, b, out=c)")
-    for name in names:
-        entry = REGISTRY[name]
+    for name, model_name in ((n, m) for n in names for m in models):
+        entry, model = REGISTRY[name], MODELS[model_name]()
         flt = entry.make()
         median, best, cpu = time_single(flt, model, one.readings, one.inputs, args.repeat)
         batch, batch_cpu = time_batch(flt, model, many.readings, many.inputs)
-        print(f"{name:20s} {median * 1e3:12.2f} ms {best * 1e3:5.2f} ms {cpu * 1e3:5.2f} ms "
+        print(f"{name:20s} {model_name:8s} {median * 1e3:12.2f} ms {best * 1e3:5.2f} ms {cpu * 1e3:5.2f} ms "
               f"{median / steps * 1e6:6.2f} µs {median / steps / floor:7.0f} {args.runs:8d} "
               f"{batch:5.2f} s {batch_cpu:5.2f} s {args.runs * steps / batch:10,.0f} "
               f"{args.runs * steps / batch_cpu:10,.0f}  {entry.settings}")

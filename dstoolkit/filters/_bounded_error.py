@@ -96,7 +96,7 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
     >>> from dstoolkit.filters import BoundedErrorFilter, random_walk
     >>> result = BoundedErrorFilter().run(random_walk(0.1, 0.5), [1.0, 1.2, 0.9, 1.1])
     >>> result.lower[-1].round(2).tolist(), result.upper[-1].round(2).tolist()
-    ([0.7, 1.4])
+    ([0.6], [1.5])
     """
 
     on_inconsistent: InconsistencyPolicy = "raise"

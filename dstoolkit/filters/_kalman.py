@@ -233,7 +233,7 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
     >>> from dstoolkit.filters import KalmanFilter, random_walk
     >>> result = KalmanFilter().run(random_walk(0.1, 0.5), [1.0, 1.2, 0.9, 1.1])
     >>> result.estimates[:, 0].round(3).tolist()
-    [1.0, 1.045, 1.007, 1.025]
+    [1.0, 1.134, 1.037, 1.057]
     """
 
     initial_box: tuple[Any, Any] | None = None
