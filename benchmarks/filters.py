@@ -20,9 +20,10 @@ Each filter runs on two models of eqs. 39–40: the package's gauge model
 :class:`~dstoolkit.filters.StateSpaceModel` (plain numpy ``f``, ``g``, ``g_inverse``, the
 monotonicity declared, no Jacobians and no float maps): the column "model" says which.
 Targets: the paper's filter < 5 ms per run and > 100,000 steps/s in a batch of 1000;
-Kalman < 0.5 ms per run; a user's model within 1.5× of the package's. The machine is shared: the load average is printed before
-and after the figures. Where a step of the paper's filter goes, block by block (time and
-numpy calls per step against the floor, and what the compiled kernel of Step 6 buys):
+Kalman < 0.5 ms per run; a user's model within 1.5× of the package's. The machine is
+shared: the load average is printed before and after the figures. Where a step of the
+paper's filter goes, block by block (time and numpy calls per step against the floor, and
+what the compiled kernel of Step 6 buys):
 ``benchmarks/filter_profile.py``. Run from the repository root:
 
     python benchmarks/filters.py [--runs 1000] [--repeat 30] [--filters a,b] [--models a,b]
@@ -112,8 +113,8 @@ MODELS: dict[str, Callable[[], StateSpaceModel]] = {
     "package": gauge_state_space_model, "user": user_gauge_model}
 
 
-def time_single(flt: Filter[Any, Any], model: StateSpaceModel, z: np.ndarray, u: np.ndarray, repeat: int
-                ) -> tuple[float, float, float]:
+def time_single(flt: Filter[Any, Any], model: StateSpaceModel, z: np.ndarray,
+                u: np.ndarray, repeat: int) -> tuple[float, float, float]:
     """Median and best wall time (s) of one run, after a warm-up run, and the median CPU
     time of this process (s): on a shared machine the wall time also counts the waits for
     a core, the CPU time does not."""
@@ -144,8 +145,8 @@ def load_average() -> str:
     return ", ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
-def time_batch(flt: Filter[Any, Any], model: StateSpaceModel, z: np.ndarray, u: np.ndarray, repeat: int = 2
-               ) -> tuple[float, float]:
+def time_batch(flt: Filter[Any, Any], model: StateSpaceModel, z: np.ndarray,
+               u: np.ndarray, repeat: int = 2) -> tuple[float, float]:
     """Best wall time and best CPU time (s) of one batch run."""
     best, best_cpu = np.inf, np.inf
     for _ in range(repeat):
@@ -195,7 +196,8 @@ def main(argv: list[str] | None = None) -> int:
         flt = entry.make()
         median, best, cpu = time_single(flt, model, one.readings, one.inputs, args.repeat)
         batch, batch_cpu = time_batch(flt, model, many.readings, many.inputs)
-        print(f"{name:20s} {model_name:8s} {median * 1e3:12.2f} ms {best * 1e3:5.2f} ms {cpu * 1e3:5.2f} ms "
+        print(f"{name:20s} {model_name:8s} {median * 1e3:12.2f} ms {best * 1e3:5.2f} ms "
+              f"{cpu * 1e3:5.2f} ms "
               f"{median / steps * 1e6:6.2f} µs {median / steps / floor:7.0f} {args.runs:8d} "
               f"{batch:5.2f} s {batch_cpu:5.2f} s {args.runs * steps / batch:10,.0f} "
               f"{args.runs * steps / batch_cpu:10,.0f}  {entry.settings}")

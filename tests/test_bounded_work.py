@@ -23,10 +23,10 @@ from dstoolkit.evidence import (
     set_memory_budget,
 )
 from dstoolkit.filters import (
+    BatchResult,
     BoundedErrorFilter,
     BoundedNoise,
     DependentEvidenceFilter,
-    BatchResult,
     Filter,
     FilterResult,
     KalmanFilter,

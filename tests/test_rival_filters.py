@@ -208,8 +208,9 @@ def test_nassreddine_total_conflict_raises_or_resets(kernel):
     np.testing.assert_array_equal(result.diagnostics["resets"], [False, False, True, False])
     assert result.estimates[2, 0] == pytest.approx(2.5)
     batch = np.stack([z, z + 0.05, np.array([0.0, 0.3, 0.4, 0.5])])[..., None]
+    # one run in conflict, one not: the same numbers
     both = [NassreddineFilter(epsilon=0.0, on_conflict="reset", kernel=k).run_batch(
-        model, batch).estimates for k in ("numpy", kernel)]  # one run in conflict, one not: the same numbers
+        model, batch).estimates for k in ("numpy", kernel)]
     np.testing.assert_array_equal(*both)
 
 

@@ -26,9 +26,9 @@ Random numbers
 --------------
 Every run has its own stream, ``SeedSequence(seed, spawn_key=(r,))`` for run r, drawn in a
 fixed order: the start's uniforms, then for each step its resampling offset and its state
-noise. So run r of :meth:`run_batch` does not depend on the batch size, run 0 equals
-:meth:`run` (and run r equals :meth:`run` with ``stream=r``), and :meth:`initialize` and :meth:`step` draw the same numbers one step at a
-time (the state carries the stream). A re-initialisation draws from the stream
+noise. So run r of :meth:`run_batch` does not depend on the batch size and equals
+:meth:`run` with ``stream=r``, and :meth:`initialize` and :meth:`step` draw the same
+numbers one step at a time (the state carries the stream). A re-initialisation draws from the stream
 ``spawn_key=(r, k)``. Batches are processed in chunks of runs so the pre-drawn noise stays
 within :data:`CHUNK_BYTES`.
 """
