@@ -213,7 +213,7 @@ def test_filter_step_reference_is_dstoolkits_filter_and_plain_agrees():
 
     step = filter_record(*HAND_STEP)
     rows, estimate = solution("filter.step-code")(*HAND_STEP)
-    assert estimate == pytest.approx(float(step["estimate"][0]), abs=1e-12)
+    assert estimate == pytest.approx(float(step.estimate[0]), abs=1e-12)
     assert sum(m for _, _, m in rows) == pytest.approx(1.0)
 
 
