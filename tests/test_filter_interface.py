@@ -123,7 +123,7 @@ def test_every_filter_takes_the_same_kernel_values(name):
 def test_the_noise_frames_have_one_name():
     theta = ((-20.0, 20.0), (-30.0, 30.0))
     for flt in (DependentEvidenceFilter(theta=theta), NassreddineFilter(theta=theta)):
-        assert flt.theta == theta
+        assert flt.theta == (((-20.0, 20.0),), ((-30.0, 30.0),))  # one (lo, hi) per component
     with pytest.raises(EvidenceError, match="theta must be a pair"):
         NassreddineFilter(theta=5.0)
 
@@ -148,3 +148,48 @@ def test_a_start_per_run_must_match_the_batch():
     flt = DependentEvidenceFilter(start=edited)
     edited += 100.0  # the filter keeps its own copy
     np.testing.assert_array_equal(flt.start, starts)
+
+
+def test_options_are_kept_checked_and_converted():
+    """Whole floats become ints at construction, and the filter keeps its own copies of the
+    boxes and frames it is given."""
+    flt = ParticleFilter(n_particles=100.0, seed=5.0, stream=2.0)
+    assert (flt.n_particles, flt.seed, flt.stream) == (100, 5, 2)
+    assert all(type(v) is int for v in (flt.n_particles, flt.seed, flt.stream))
+    assert type(NassreddineFilter(max_focal=32.0, p=2.0).max_focal) is int
+    assert type(DependentEvidenceFilter(chunk_size=8.0).chunk_size) is int
+    with pytest.raises(EvidenceError, match="n_particles must be a whole number"):
+        ParticleFilter(n_particles=100.5)
+    lo, hi = np.array([0.0]), np.array([10.0])
+    kalman = KalmanFilter(initial_box=(lo, hi))
+    lo[0] = 5.0  # the caller edits its array afterwards
+    assert kalman.initial_box == ((0.0,), (10.0,))
+    assert hash(kalman) == hash(KalmanFilter(initial_box=([0.0], [10.0])))
+
+
+@pytest.mark.parametrize("name", list(MAKERS))
+@pytest.mark.parametrize("broken", ["nan", "complex"])
+def test_a_map_that_returns_nan_or_complex_is_named_with_its_step(name, broken):
+    """A model whose f returns NaN, or complex numbers, above 1.05 is refused by every
+    path (run, run_batch, the public step), naming the map and the step; before, the
+    particle filter returned finite estimates and the others dropped imaginary parts."""
+    walk = random_walk(0.1, 0.5)
+
+    def f(x, u=None):
+        x = np.asarray(x, dtype=float)
+        bad = np.full(x.shape, np.nan) if broken == "nan" else x + 1e-3j
+        return np.where(x > 1.05, bad, x)
+
+    model = dataclasses.replace(walk, f=f)
+    z = np.array([1.0, 1.2, 1.6, 1.7, 1.8])
+    flt = MAKERS[name]()
+    what = "NaN" if broken == "nan" else "complex numbers"
+    pattern = rf"model's f returned {what} while the .* filter was at step \d \(counting from 0\)"
+    with pytest.raises(EvidenceError, match=pattern):
+        flt.run(model, z)
+    with pytest.raises(EvidenceError, match=pattern):
+        flt.run_batch(model, np.stack([z, z]))
+    state = flt.initialize(model, z[0])
+    with pytest.raises(EvidenceError, match=pattern):
+        for reading in z[1:]:
+            state, _ = flt.step(state, reading)

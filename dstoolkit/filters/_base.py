@@ -40,6 +40,7 @@ from ._model import (
     FilterResult,
     StateSpaceModel,
     batch_readings,
+    guarded,
     single_readings,
 )
 
@@ -233,6 +234,7 @@ class Filter(ABC, Generic[StateT, RecordT]):
         """
         zz, uu = single_readings(_checked_model(model), z, inputs)
         self._check_model(model)
+        model = self._guarded(model)
         if record:
             return self._run_steps(model, zz[0], None if uu is None else uu[0])
         self._chunks(1, self._bytes_per_run(model, zz.shape[1]))
@@ -267,6 +269,7 @@ class Filter(ABC, Generic[StateT, RecordT]):
         """
         zz, uu = batch_readings(_checked_model(model), Z, inputs)
         self._check_model(model)
+        model = self._guarded(model)
         runs, n_steps = zz.shape[:2]
         self._check_runs(runs)
         ids = np.arange(runs)
@@ -279,6 +282,10 @@ class Filter(ABC, Generic[StateT, RecordT]):
             np.concatenate([b.upper for b in blocks]),
             {key: np.concatenate([b.diagnostics[key] for b in blocks])
              for key in blocks[0].diagnostics})
+
+    def _guarded(self, model: StateSpaceModel) -> StateSpaceModel:
+        """The model whose maps refuse NaN and complex results, naming the step."""
+        return guarded(model, self._title)
 
     def _run_steps(self, model: StateSpaceModel, z: np.ndarray, u: np.ndarray | None
                    ) -> FilterResult:
@@ -339,6 +346,31 @@ class Filter(ABC, Generic[StateT, RecordT]):
             require_extra("numba", "speed", f"kernel='numba' of {purpose}")
         return kernel == "numba" or (kernel == "auto"
                                      and importlib.util.find_spec("numba") is not None)
+
+    def _own(self, name: str, value: Any) -> None:
+        """Keep ``value`` as the option ``name`` (the frozen dataclass's field): the checked
+        and converted form, so that later edits of the caller's objects change nothing."""
+        object.__setattr__(self, name, value)
+
+    def _whole(self, name: str, low: int = 0, high: int | None = None) -> None:
+        """Check the integer option ``name`` (whole floats accepted) and keep it as an int."""
+        self._own(name, whole_number(getattr(self, name), name, low=low, high=high,
+                                     error=EvidenceError))
+
+    def _own_box(self, name: str = "initial_box") -> None:
+        """Check the box option ``name`` and keep it as a pair of tuples of floats."""
+        box = self._box(getattr(self, name), name)
+        if box is not None:
+            self._own(name, (tuple(box[0].tolist()), tuple(box[1].tolist())))
+
+    def _own_frames(self) -> None:
+        """Check ``theta`` (see :meth:`_frames`) and keep it as nested tuples of floats."""
+        self._frames(self.theta)  # type: ignore[attr-defined]
+        if self.theta is not None:  # type: ignore[attr-defined]
+            self._own("theta", tuple(
+                None if part is None else tuple(map(tuple, np.asarray(part, float)
+                                                    .reshape(-1, 2).tolist()))
+                for part in self.theta))  # type: ignore[attr-defined]
 
     @staticmethod
     def _box(box: Any, name: str = "initial_box") -> tuple[np.ndarray, np.ndarray] | None:

@@ -34,6 +34,7 @@ from dstoolkit.evidence._extension import box_image
 from ._base import Block, Filter, FilterState, KernelChoice
 from ._model import (
     StateSpaceModel,
+    at_step,
     first_reading_box,
     with_input,
 )
@@ -109,7 +110,7 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
 
     def __post_init__(self) -> None:
         self._policy(self.on_inconsistent, ("raise", "reset"), "on_inconsistent")
-        self._box(self.initial_box)
+        self._own_box()
         self._compiled(self.kernel, "the bounded-error filter")
 
     def _check_model(self, model: StateSpaceModel) -> None:
@@ -123,6 +124,7 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
         """X_1 = g⁻¹(z_1 + [w_lo, w_hi]) (∩ ``initial_box``); see :meth:`Filter.initialize`."""
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
+        model = self._guarded(model)
         lo, hi = self._reading_box(model, z, 0)
         return BoundedErrorState(model, 1, 0.5 * (lo[0] + hi[0]), lo[0], hi[0])
 
@@ -131,6 +133,7 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
         """Predict the box through f, intersect with g⁻¹(z + W); see :meth:`Filter.step`."""
         model = state.model
         zz, uu = self._one(model, z, u)
+        at_step(model, state.k)
         out = self._advance(model, state.lower[None], state.upper[None], zz, uu, state.k)
         p_lo, p_hi, r_lo, r_hi, lo, hi, reset = out
         record = BoundedErrorRecord(state.k + 1, (p_lo[0], p_hi[0]), (r_lo[0], r_hi[0]),
@@ -174,6 +177,7 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
         lo, hi = self._reading_box(model, Z[:, 0], 0)
         los[:, 0], his[:, 0] = lo, hi
         for k in range(1, n_steps):
+            at_step(model, k)
             *_, lo, hi, resets[:, k] = self._advance(
                 model, lo, hi, Z[:, k], None if U is None else U[:, k - 1], k)
             los[:, k], his[:, k] = lo, hi

@@ -47,7 +47,7 @@ import numpy as np
 from dstoolkit.errors import EvidenceError, TotalConflictError
 from dstoolkit.evidence import _batch_kernels as bk
 from dstoolkit.evidence._batch_kernels import Boxes
-from dstoolkit.evidence._checks import real_array, whole_number
+from dstoolkit.evidence._checks import real_array
 from dstoolkit.evidence._combination import MASS_RULES, MassRule, conflict, decorrelate, dempster
 from dstoolkit.evidence._extension import (
     IMAGE_METHODS,
@@ -60,7 +60,7 @@ from dstoolkit.evidence._intervals import IntervalEvidence
 
 from ._base import Block, Filter, FilterState, KernelChoice
 from ._dependent_arrays import StepArrays, map_back, observe, predict
-from ._model import FilterResult, StateSpaceModel, with_input
+from ._model import FilterResult, StateSpaceModel, at_step, with_input
 
 StartRule = Literal["observation", "mean_corrected"]
 ConflictPolicy = Literal["raise", "predict"]
@@ -250,8 +250,10 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
             start.flags.writeable = False  # a copy: later edits of the caller's array
             object.__setattr__(self, "start", start)  # change nothing here
         self._cuts(self.p, self.epsilon)
-        self._frames(self.theta)
-        whole_number(self.chunk_size, "chunk_size", low=1, high=10**6, error=EvidenceError)
+        self._whole("p", low=1)
+        self._own("epsilon", float(self.epsilon))
+        self._own_frames()
+        self._whole("chunk_size", low=1, high=10**6)
         self._compiled(self.kernel, "the paper's filter")
 
     def _check_model(self, model: StateSpaceModel) -> None:
@@ -292,6 +294,7 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         """x̂_1 by the ``start`` rule; see :meth:`Filter.initialize`."""
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
+        model = self._guarded(model)
         x = self._start(model, z)[0]
         return DependentState(model, 1, x, x, x, self.noise_evidence(model))
 
@@ -306,6 +309,7 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         maps = self._maps(model)
         zz, uu = self._one(model, z, u)
         t = state.k  # the step's index counting from 0, as in the messages of run()
+        at_step(model, t)
         x = state.estimate
         entry: dict[str, Any] = {"step": t + 1}
         p_lo, p_hi = predict(maps, noise, x[None], with_input(model.f, uu))
@@ -428,6 +432,7 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         # u_k shaped as with_input shapes it for f's points (R, 3, N_v, n)
         u = None if inputs is None else inputs.reshape(runs, steps - 1, 1, 1, -1)
         for t in range(1, steps):
+            at_step(maps.model, t)
             ok4, ok6 = arrays.step(t, est, None if u is None else u[:, t - 1], hulls)
             table[t, :8] = arrays.diag
             if ok4 is None and ok6 is None:

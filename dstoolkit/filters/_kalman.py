@@ -42,6 +42,7 @@ from ._base import Block, Filter, FilterState, KernelChoice
 from ._model import (
     ScalarMaps,
     StateSpaceModel,
+    at_step,
     first_reading_box,
     step_input,
     with_input,
@@ -143,16 +144,20 @@ def _scalar_terms(model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
 def _scalar_recursion(
     maps: ScalarMaps, x: Any, cov: Any, readings: Any, inputs: Any,
     q: float, r: float, v_mean: float, w_mean: float, terms: list[tuple[Any, ...]] | None = None,
+    at: Callable[[int], None] | None = None,
 ) -> tuple[list[Any], list[Any], list[Any]]:
     """The module docstring's recursion for n = m = 1 (eq. 21: F = ∂f/∂x, H = ∂g/∂x,
     Q = Var[v], R = Var[w]) from the start (x̂_1, P_1), on floats or (R,) arrays alike:
     estimates, variances and NIS of steps 2..T, one entry per (reading, input) pair.
-    ``terms`` collects each step's x⁻, P⁻, innovation, S and gain (for the step records)."""
+    ``terms`` collects each step's x⁻, P⁻, innovation, S and gain (for the step records);
+    ``at(k)`` is told each step k (counting from 0) before it is computed."""
     f, jac_f, g, jac_g = maps.f, maps.jacobian_f, maps.g, maps.jacobian_g
     out_x: list[Any] = []
     out_cov: list[Any] = []
     out_nis: list[Any] = []
-    for z, u in zip(readings, inputs, strict=True):
+    for k, (z, u) in enumerate(zip(readings, inputs, strict=True), start=1):
+        if at is not None:
+            at(k)
         slope = jac_f(x, u)
         x_pred = f(x, u) + v_mean
         cov_pred = slope * cov * slope + q
@@ -245,7 +250,7 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
     }
 
     def __post_init__(self) -> None:
-        self._box(self.initial_box)
+        self._own_box()
         self._compiled(self.kernel, "the Kalman filter")
 
     def _check_model(self, model: StateSpaceModel) -> None:
@@ -261,6 +266,7 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
         :meth:`Filter.initialize`."""
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
+        model = self._guarded(model)
         x, cov = self._start(model, z)
         return _state(model, 1, x[0], cov[0])
 
@@ -269,6 +275,7 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
         """Predict with f, update with the reading; see :meth:`Filter.step`."""
         model = state.model
         zz, uu = self._one(model, z, u)
+        at_step(model, state.k)
         x, cov = state.estimate[None], state.covariance[None]
         if _scalar(model):
             terms: list[tuple[Any, ...]] = []
@@ -342,7 +349,8 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
         xs[:, 0], covs[:, 0] = x0, cov0
         if n_steps == 1:
             return xs, covs, nis
-        out = _scalar_recursion(*_scalar_terms(model, Z, U, x0, cov0), *_scalar_noise(model))
+        out = _scalar_recursion(*_scalar_terms(model, Z, U, x0, cov0), *_scalar_noise(model),
+                                at=lambda k: at_step(model, k))
         xs[:, 1:, 0], covs[:, 1:, 0, 0], nis[:, 1:] = (np.array(o).T for o in out)
         return xs, covs, nis
 
@@ -356,6 +364,7 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
         nis = np.full((runs, n_steps), np.nan)
         xs[:, 0], covs[:, 0] = x, cov
         for k in range(1, n_steps):
+            at_step(model, k)
             *_, x, cov, nis[:, k] = _advance(model, x, cov, Z[:, k], step_input(U, k))
             xs[:, k], covs[:, k] = x, cov
         return xs, covs, nis

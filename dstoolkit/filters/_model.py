@@ -9,6 +9,7 @@ the evidence about g(x_k) is z_k + W. Every filter in dstoolkit takes a
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -312,6 +313,55 @@ class BatchResult:
         """Run ``run`` of the batch as a :class:`FilterResult` (without records)."""
         return FilterResult(self.method, self.estimates[run], self.lower[run], self.upper[run],
                             {key: value[run] for key, value in self.diagnostics.items()})
+
+
+class _MapGuard:
+    """Checks what a model's maps return while a filter runs, and where it is."""
+
+    def __init__(self, title: str) -> None:
+        self.title = title
+        self.step = 0  # the step being filtered, counting from 0
+
+    def wrap(self, fn: Callable[..., Any], name: str) -> Callable[..., Any]:
+        def checked(*args: Any) -> Any:
+            out = fn(*args)
+            for part in out if isinstance(out, tuple) else (out,):
+                self.check(part, name)
+            return out
+
+        checked._guard = self  # type: ignore[attr-defined]
+        return checked
+
+    def check(self, value: Any, name: str) -> None:
+        arr = np.asarray(value)
+        what = ("complex numbers" if arr.dtype.kind == "c" else
+                "values that are not numbers" if arr.dtype.kind not in "biuf" else
+                "NaN" if np.isnan(arr).any() else "")
+        if what:
+            raise EvidenceError(
+                f"the model's {name} returned {what} while the {self.title} filter was at step "
+                f"{self.step} (counting from 0); {name} must return real numbers (±inf only "
+                "where a bound is unbounded): check it on the states and inputs of that step"
+            )
+
+
+def guarded(model: StateSpaceModel, title: str) -> StateSpaceModel:
+    """The model with f, g and g⁻¹ that refuse NaN, complex and non-numeric results, naming
+    the map and the step (:func:`at_step` tells the step); already guarded models pass."""
+    if getattr(model.f, "_guard", None) is not None:
+        return model
+    guard = _MapGuard(title)
+    return dataclasses.replace(
+        model, f=guard.wrap(model.f, "f"), g=guard.wrap(model.g, "g"),
+        g_inverse=None if model.g_inverse is None else guard.wrap(model.g_inverse,
+                                                                  "g_inverse"))
+
+
+def at_step(model: StateSpaceModel, k: int) -> None:
+    """Tell a guarded model's maps that the filter is at step ``k`` (counting from 0)."""
+    guard = getattr(model.f, "_guard", None)
+    if guard is not None:
+        guard.step = k
 
 
 def batch_readings(

@@ -65,7 +65,6 @@ import numpy as np
 
 from dstoolkit.errors import EvidenceError, TotalConflictError, WorkLimitError
 from dstoolkit.evidence._boxes import Boxes, hull, pignistic_expectation, row_sum
-from dstoolkit.evidence._checks import whole_number
 from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
 from dstoolkit.evidence._extension import box_image
 from dstoolkit.evidence._intervals import IntervalEvidence
@@ -74,6 +73,7 @@ from ._base import Block, Filter, FilterState, KernelChoice
 from ._model import (
     BoundedNoise,
     StateSpaceModel,
+    at_step,
     first_reading_box,
     step_input,
     with_input,
@@ -487,11 +487,13 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
     _budget_advice: ClassVar[str] = "use fewer α-cuts p or a smaller max_focal"
 
     def __post_init__(self) -> None:
-        whole_number(self.max_focal, "max_focal", low=2, high=100_000, error=EvidenceError)
+        self._whole("max_focal", low=2, high=100_000)
         self._policy(self.on_conflict, ("raise", "reset"), "on_conflict")
         self._cuts(self.p, self.epsilon)
-        self._box(self.initial_box)
-        self._frames(self.theta)
+        self._whole("p", low=1)
+        self._own("epsilon", float(self.epsilon))
+        self._own_box()
+        self._own_frames()
         self._compiled(self.kernel, "Nassreddine's filter")
 
     def _kernels(self) -> tuple[Any, Any]:
@@ -527,6 +529,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         """The reading's evidence g⁻¹(z_1 + E_w) ∩ X_0; see :meth:`Filter.initialize`."""
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
+        model = self._guarded(model)
         _, w = self._noise(model)
         posterior = self._from_reading(model, z, w, 0)
         observation = IntervalEvidence(z[0] + w.lo[0], z[0] + w.hi[0], w.mass[0])
@@ -537,6 +540,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         """Predict through f, contract with g⁻¹(z + E_w), cluster; see :meth:`Filter.step`."""
         model = state.model
         zz, uu = self._one(model, z, u)
+        at_step(model, state.k)
         v, w = self._noise(model)
         start = (self._restarted(state.estimate[None], v) if state.carried is None
                  else state.carried)
@@ -619,6 +623,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         posterior = self._from_reading(model, Z[:, 0], w, 0)
         carried: Boxes | None = None
         for k in range(n_steps):
+            at_step(model, k)
             if k > 0:
                 start = self._restarted(est[:, k - 1], v) if carried is None else carried
                 posterior, diag["conflict"][:, k], diag["resets"][:, k], _ = self._correct(

@@ -42,12 +42,12 @@ from typing import Any, ClassVar
 import numpy as np
 
 from dstoolkit.errors import EvidenceError
-from dstoolkit.evidence._checks import whole_number
 
 from ._base import Block, Filter, FilterState, KernelChoice
 from ._model import (
     BoundedNoise,
     StateSpaceModel,
+    at_step,
     first_reading_box,
     step_input,
     with_input,
@@ -234,10 +234,10 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
     _budget_advice: ClassVar[str] = "use fewer particles or steps"
 
     def __post_init__(self) -> None:
-        whole_number(self.n_particles, "n_particles", low=1, high=10**8, error=EvidenceError)
-        whole_number(self.seed, "seed", low=0, error=EvidenceError)
-        whole_number(self.stream, "stream", low=0, error=EvidenceError)
-        self._box(self.initial_box)
+        self._whole("n_particles", low=1, high=10**8)
+        self._whole("seed")
+        self._whole("stream")
+        self._own_box()
         self._compiled(self.kernel, "the particle filter")
 
     def _check_model(self, model: StateSpaceModel) -> None:
@@ -256,6 +256,7 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
         stream ``stream``); see :meth:`Filter.initialize`."""
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
+        model = self._guarded(model)
         rng = _stream(int(self.seed), int(self.stream))
         uniforms = rng.random((int(self.n_particles), model.state_dim))[None]
         particles, weights = self._draw_in_reading_box(model, z, uniforms, 0)
@@ -268,6 +269,7 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
         :meth:`Filter.step`."""
         model = state.model
         zz, uu = self._one(model, z, u)
+        at_step(model, state.k)
         rng = np.random.Generator(type(state.rng.bit_generator)())
         rng.bit_generator.state = state.rng.bit_generator.state
         offset, noise = _step_draws(rng, model.state_noise, int(self.n_particles))
@@ -357,6 +359,7 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
         particles, weights = self._draw_in_reading_box(model, Z[:, 0], start_u, 0)
         w = _normalised(weights)
         for k in range(n_steps):
+            at_step(model, k)
             if k > 0:
                 particles, w, reinit[:, k] = self._advance(
                     model, particles, w, offsets[:, k - 1], noise[:, k - 1], Z[:, k],
