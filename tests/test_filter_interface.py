@@ -193,3 +193,19 @@ def test_a_map_that_returns_nan_or_complex_is_named_with_its_step(name, broken):
     with pytest.raises(EvidenceError, match=pattern):
         for reading in z[1:]:
             state, _ = flt.step(state, reading)
+
+
+def test_kalman_refuses_readings_a_noise_free_model_cannot_explain():
+    """Zero-width noises leave S = 0: readings 2.0, 2.1, 2.2 of a constant cannot all be
+    right. Before, the pseudo-inverse gave the gain 0: estimates 2, 2, 2 and NIS 0."""
+    from dstoolkit.errors import InconsistentDataError
+
+    model, flt = random_walk(0.0, 0.0), KalmanFilter()
+    with pytest.raises(InconsistentDataError, match=r"step 1 \(counting from 0\).*S = 0"):
+        flt.run(model, [2.0, 2.1, 2.2])
+    with pytest.raises(InconsistentDataError, match=r"step 1 \(counting from 0\) of run 1"):
+        flt.run_batch(model, np.array([[2.0, 2.0, 2.0], [2.0, 2.1, 2.2]]))
+    state = flt.initialize(model, 2.0)
+    with pytest.raises(InconsistentDataError, match=r"step 1 \(counting from 0\)"):
+        flt.step(state, 2.1)
+    np.testing.assert_array_equal(flt.run(model, [2.0, 2.0, 2.0]).estimates[:, 0], 2.0)

@@ -36,7 +36,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from dstoolkit.errors import EvidenceError
+from dstoolkit.errors import EvidenceError, InconsistentDataError
 
 from ._base import Block, Filter, FilterState, KernelChoice
 from ._model import (
@@ -144,18 +144,19 @@ def _scalar_terms(model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
 def _scalar_recursion(
     maps: ScalarMaps, x: Any, cov: Any, readings: Any, inputs: Any,
     q: float, r: float, v_mean: float, w_mean: float, terms: list[tuple[Any, ...]] | None = None,
-    at: Callable[[int], None] | None = None,
+    at: Callable[[int], None] | None = None, first: int = 1,
 ) -> tuple[list[Any], list[Any], list[Any]]:
     """The module docstring's recursion for n = m = 1 (eq. 21: F = ∂f/∂x, H = ∂g/∂x,
     Q = Var[v], R = Var[w]) from the start (x̂_1, P_1), on floats or (R,) arrays alike:
     estimates, variances and NIS of steps 2..T, one entry per (reading, input) pair.
     ``terms`` collects each step's x⁻, P⁻, innovation, S and gain (for the step records);
-    ``at(k)`` is told each step k (counting from 0) before it is computed."""
+    ``at(k)`` is told each step k (counting from 0; the first is ``first``) before it is
+    computed."""
     f, jac_f, g, jac_g = maps.f, maps.jacobian_f, maps.g, maps.jacobian_g
     out_x: list[Any] = []
     out_cov: list[Any] = []
     out_nis: list[Any] = []
-    for k, (z, u) in enumerate(zip(readings, inputs, strict=True), start=1):
+    for k, (z, u) in enumerate(zip(readings, inputs, strict=True), start=first):
         if at is not None:
             at(k)
         slope = jac_f(x, u)
@@ -164,13 +165,15 @@ def _scalar_recursion(
         h = jac_g(x_pred)
         innovation = z - (g(x_pred) - w_mean)
         ph = cov_pred * h
-        s_inv = _reciprocal(h * ph + r)
+        s = h * ph + r
+        _refuse_contradiction(np.asarray(s == 0.0), np.asarray(innovation != 0.0), k)
+        s_inv = _reciprocal(s)
         gain = ph * s_inv
         x = x_pred + gain * innovation
         joseph = 1.0 - gain * h
         cov = joseph * cov_pred * joseph + gain * r * gain
         if terms is not None:
-            terms.append((x_pred, cov_pred, innovation, h * ph + r, gain))
+            terms.append((x_pred, cov_pred, innovation, s, gain))
         out_x.append(x)
         out_cov.append(cov)
         out_nis.append(innovation * s_inv * innovation)
@@ -283,7 +286,7 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
                 model, np.concatenate([zz, zz])[None], None if uu is None else uu[None],
                 x, cov)
             out = _scalar_recursion(maps, x1, cov1, [float(zz[0, 0])], rows[:1],
-                                    *_scalar_noise(model), terms=terms)
+                                    *_scalar_noise(model), terms=terms, first=state.k)
             x_pred, cov_pred, innovation, s_cov, gain = terms[0]
             new_x = np.array([[out[0][0]]])
             new_cov = np.array([[[out[1][0]]]])
@@ -294,7 +297,7 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
                                   new_x[0], new_cov[0], nis)
         else:
             x_pred, cov_pred, innovation, s_cov, gain, new_x, new_cov, nis_a = _advance(
-                model, x, cov, zz, uu)
+                model, x, cov, zz, uu, state.k)
             nis = float(nis_a[0])
             record = KalmanRecord(state.k + 1, x_pred[0], cov_pred[0], innovation[0], s_cov[0],
                                   gain[0], new_x[0], new_cov[0], nis)
@@ -365,7 +368,7 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
         xs[:, 0], covs[:, 0] = x, cov
         for k in range(1, n_steps):
             at_step(model, k)
-            *_, x, cov, nis[:, k] = _advance(model, x, cov, Z[:, k], step_input(U, k))
+            *_, x, cov, nis[:, k] = _advance(model, x, cov, Z[:, k], step_input(U, k), k)
             xs[:, k], covs[:, k] = x, cov
         return xs, covs, nis
 
@@ -386,11 +389,24 @@ def _state(model: StateSpaceModel, k: int, x: np.ndarray, cov: np.ndarray) -> Ka
     return KalmanState(model, k, x, x - 3 * sigma, x + 3 * sigma, cov)
 
 
+def _refuse_contradiction(singular: np.ndarray, surprised: np.ndarray, k: int) -> None:
+    """Raise where S = 0 (no noise can explain a difference) and yet the reading differs
+    from its prediction: the pseudo-inverse would give the gain 0 and ignore the reading."""
+    bad = np.atleast_1d(singular & surprised)
+    if bad.any():
+        run = int(np.flatnonzero(bad)[0])
+        raise InconsistentDataError(
+            f"the Kalman filter's reading at step {k} (counting from 0)"
+            + (f" of run {run}" if bad.size > 1 else "") + " differs from its prediction, "
+            "but the model leaves no room for a difference (innovation covariance S = 0: "
+            "zero-width noises v and w); give the noises a width, or check the readings")
+
+
 def _advance(model: StateSpaceModel, x: np.ndarray, cov: np.ndarray, z: np.ndarray,
-             u: np.ndarray | None) -> tuple[np.ndarray, ...]:
-    """One step of the module docstring's recursion for R runs: x (R, n), P (R, n, n),
-    z (R, m), u (R, q) or None. Returns x⁻, P⁻, the innovation, S, the gain K, x̂, P and
-    the NIS (R,)."""
+             u: np.ndarray | None, k: int) -> tuple[np.ndarray, ...]:
+    """Step k − 1 → k (counting from 0) of the module docstring's recursion for R runs:
+    x (R, n), P (R, n, n), z (R, m), u (R, q) or None. Returns x⁻, P⁻, the innovation, S,
+    the gain K, x̂, P and the NIS (R,)."""
     q_cov = np.diag(model.state_noise.variance)
     r_cov = np.diag(model.obs_noise.variance)
     f_u = with_input(model.f, u)
@@ -403,6 +419,8 @@ def _advance(model: StateSpaceModel, x: np.ndarray, cov: np.ndarray, z: np.ndarr
     innovation = z - (model.g(x_pred) - model.obs_noise.mean)
     ph = cov_pred @ np.swapaxes(jac_g, -1, -2)
     s_cov = jac_g @ ph + r_cov
+    _refuse_contradiction(~np.any(s_cov != 0.0, axis=(-2, -1)),
+                          np.any(innovation != 0.0, axis=-1), k)
     s_inv = _inverse(s_cov)
     gain = ph @ s_inv
     x_new = x_pred + (gain @ innovation[..., None])[..., 0]
