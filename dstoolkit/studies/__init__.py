@@ -41,9 +41,7 @@ from ._experiments import (
 from ._filter_runs import (
     ORDER_SOURCES,
     filter_case,
-    filter_summary,
     gauge_case,
-    step_numbers,
 )
 from ._paper_results import (
     OBSERVATION_NOISE_HZ,
@@ -81,7 +79,6 @@ __all__ = [
     "example_comparison",
     "filter_case",
     "filter_level_errors",
-    "filter_summary",
     "gauge_case",
     "gauge_run",
     "noise_mismatch",
@@ -90,7 +87,6 @@ __all__ = [
     "run_table3",
     "scaled_noise",
     "start_study",
-    "step_numbers",
     "table3_readings",
     "table3_rows",
     "tracking_data",

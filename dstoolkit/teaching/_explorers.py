@@ -111,7 +111,7 @@ from dstoolkit.plots._evidence import (
 from dstoolkit.plots._gauge import gauge_detection_figure, update_gauge_detection
 from dstoolkit.plots._kept import KeptFigure, animate
 from dstoolkit.plots._text_cache import TextCachingCanvas
-from dstoolkit.studies import ORDER_SOURCES, filter_case, filter_summary, gauge_case, step_numbers
+from dstoolkit.studies import ORDER_SOURCES, filter_case, gauge_case
 
 from ._lab import (
     VIRTUAL,
@@ -121,6 +121,7 @@ from ._lab import (
     lab_numbers,
     plot_method_levels,
 )
+from ._readouts import filter_summary, step_numbers
 
 Render = Callable[..., tuple[Figure | None, Mapping[str, Any]]]
 
@@ -887,7 +888,7 @@ def render_filter(
 ) -> tuple[Figure, dict[str, Any]]:
     """What :func:`filter_widget` recomputes on every change: the run's figure (estimates,
     hull and readings against the truth, absolute errors; the paper's Fig. 10) and the
-    numbers of :func:`~dstoolkit.studies.filter_summary`. With ``kept`` (a ``KeptFigure`` of
+    numbers of :func:`filter_summary`. With ``kept`` (a ``KeptFigure`` of
     a ``FilterErrorsFigure``, as the widget holds) the figure is drawn without pyplot on the
     first call and redrawn in place on later ones; else each call draws a new figure."""
     seq, n, result = filter_case(
