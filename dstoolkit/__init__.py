@@ -46,9 +46,11 @@ from .evidence import (
     triangular_from_samples,
 )
 from .filters import (
+    BatchResult,
     BoundedErrorFilter,
     BoundedNoise,
     DependentEvidenceFilter,
+    Filter,
     FilterResult,
     KalmanFilter,
     NassreddineFilter,
@@ -57,6 +59,8 @@ from .filters import (
 )
 
 __all__ = [
+    "BatchResult",
+    "Filter",
     "AudioUnavailableError",
     "BoundedErrorFilter",
     "BoundedNoise",

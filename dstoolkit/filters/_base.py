@@ -73,14 +73,18 @@ class FilterState:
 
     Attributes
     ----------
-    model : StateSpaceModel
-        The model the filter runs on.
-    k : int
-        The step whose estimate this is (1 for the first reading).
-    estimate : ndarray, shape (n,)
-        x̂_k.
-    lower, upper : ndarray, shape (n,)
-        Bounds of step k's final belief (see :class:`~dstoolkit.filters.FilterResult`).
+    model
+        *StateSpaceModel*. The model the filter runs on.
+    k
+        *int*. The step whose estimate this is (1 for the first reading).
+    estimate
+        *ndarray, shape (n,)*. x̂_k.
+    lower
+        *ndarray, shape (n,)*. Bounds of step k's final belief (see
+        :class:`~dstoolkit.filters.FilterResult`).
+    upper
+        *ndarray, shape (n,)*. Bounds of step k's final belief (see
+        :class:`~dstoolkit.filters.FilterResult`).
     """
 
     model: StateSpaceModel
@@ -108,7 +112,7 @@ class Filter(ABC, Generic[StateT, RecordT]):
         :class:`~dstoolkit.filters.BatchResult`; run r gives the numbers of ``run``.
 
     Every filter takes ``kernel`` (``"numpy"``, ``"numba"`` or ``"auto"``, see
-    :data:`KERNELS`) and reports its per-step numbers under the keys of its
+    ``KERNELS``) and reports its per-step numbers under the keys of its
     ``DIAGNOSTICS``.
 
     Examples
@@ -138,10 +142,10 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
         Parameters
         ----------
-        model : StateSpaceModel
-            The model of eq. 21.
-        z1 : array_like, shape (m,) or scalar when m = 1
-            The first reading.
+        model
+            *StateSpaceModel*. The model of eq. 21.
+        z1
+            *array_like, shape (m,) or scalar when m = 1*. The first reading.
 
         Returns
         -------
@@ -157,10 +161,11 @@ class Filter(ABC, Generic[StateT, RecordT]):
         ----------
         state
             What :meth:`initialize` or the previous :meth:`step` returned.
-        z : array_like, shape (m,) or scalar when m = 1
-            The reading z_{k+1}.
-        u : array_like, shape (q,), optional
-            The input of f(x, u) on the transition k → k + 1 (the gauge's order n_k).
+        z
+            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
+        u
+            *array_like, shape (q,), optional*. The input of f(x, u) on the
+            transition k → k + 1 (the gauge's order n_k).
 
         Returns
         -------
@@ -209,14 +214,16 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
         Parameters
         ----------
-        model : StateSpaceModel
-            The model of eq. 21.
-        z : array_like, shape (T, m), or (T,) when m = 1
-            The readings z_1 … z_T.
-        inputs : array_like, shape (T − 1, q), optional
-            ``inputs[k - 1]`` drives f(x, u) from step k − 1 to step k.
-        record : bool, optional
-            Keep the typed record of every step in ``result.steps`` (runs the public
+        model
+            *StateSpaceModel*. The model of eq. 21.
+        z
+            *array_like, shape (T, m), or (T,) when m = 1*. The readings z_1 … z_T.
+        inputs
+            *array_like, shape (T − 1, q), optional*. ``inputs[k - 1]`` drives f(x,
+            u) from step k − 1 to step k.
+        record
+            *bool, optional*. Keep the typed record of every step in
+            ``result.steps`` (runs the public
             :meth:`step` loop).
 
         Returns
@@ -248,12 +255,12 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
         Parameters
         ----------
-        model : StateSpaceModel
-            The model of eq. 21.
-        Z : array_like, shape (R, T, m), or (R, T) when m = 1
-            R sequences of T readings.
-        inputs : array_like, shape (R, T − 1, q), optional
-            One input sequence per run.
+        model
+            *StateSpaceModel*. The model of eq. 21.
+        Z
+            *array_like, shape (R, T, m), or (R, T) when m = 1*. R sequences of T readings.
+        inputs
+            *array_like, shape (R, T − 1, q), optional*. One input sequence per run.
 
         Returns
         -------

@@ -53,16 +53,18 @@ class BoundedErrorRecord:
 
     Attributes
     ----------
-    step : int
-        k, counting the first reading as 1.
-    prediction : tuple of ndarray, or None
-        The predicted box X⁻_k = f(X_{k−1}, u) + [v_lo, v_hi] as (lo, hi); None at the start.
-    reading : tuple of ndarray, or None
-        X⁻_k ∩ g⁻¹(z_k + W) before any reset (empty where lo > hi); None at the start.
-    box : tuple of ndarray
-        The final box X_k as (lo, hi).
-    resets : bool
-        Whether the box was rebuilt from the reading alone (``on_inconsistent="reset"``).
+    step
+        *int*. k, counting the first reading as 1.
+    prediction
+        *tuple of ndarray, or None*. The predicted box X⁻_k = f(X_{k−1}, u) + [v_lo,
+        v_hi] as (lo, hi); None at the start.
+    reading
+        *tuple of ndarray, or None*. X⁻_k ∩ g⁻¹(z_k + W) before any reset (empty where
+        lo > hi); None at the start.
+    box
+        *tuple of ndarray*. The final box X_k as (lo, hi).
+    resets
+        *bool*. Whether the box was rebuilt from the reading alone (``on_inconsistent="reset"``).
     """
 
     step: int
@@ -78,14 +80,17 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
 
     Parameters
     ----------
-    on_inconsistent : {"raise", "reset"}
-        ``"raise"``: raise :class:`~dstoolkit.errors.InconsistentDataError` when the box
+    on_inconsistent
+        *{"raise", "reset"}*. ``"raise"``: raise
+        :class:`~dstoolkit.errors.InconsistentDataError` when the box
         becomes empty; ``"reset"``: restart from the current reading and flag the step.
-    initial_box : tuple of array_like, optional
-        A box ``(lo, hi)`` known to hold the state at the first step (needed when g is not
+    initial_box
+        *tuple of array_like, optional*. A box ``(lo, hi)`` known to hold the state at
+        the first step (needed when g is not
         invertible); it also bounds the restart boxes.
-    kernel : {"numpy", "numba", "auto"}
-        Accepted for a common interface; the box recursion has no compiled kernel, so every
+    kernel
+        *{"numpy", "numba", "auto"}*. Accepted for a common interface; the box recursion
+        has no compiled kernel, so every
         value runs numpy (``"numba"`` still needs the extra ``speed``).
 
     See Also

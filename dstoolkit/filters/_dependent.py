@@ -111,7 +111,7 @@ class ModelMaps:
 class DependentState(FilterState):
     """The paper's filter's state: x̂_k, the hull of step k's final evidence (``final``,
     None at the start) and Step 1's noise evidence (``noise``, from the model's bounded
-    noises; replace it with :func:`dataclasses.replace` to step with other evidence). Each
+    noises; replace it with ``dataclasses.replace`` to step with other evidence). Each
     step restarts from the point estimate (Step 2), so nothing else passes on."""
 
     noise: NoiseEvidence
@@ -120,26 +120,37 @@ class DependentState(FilterState):
 
 @dataclass(frozen=True)
 class DependentRecord:
-    """One step of the paper's filter (Steps 2–6), with the numbers of :data:`DIAGNOSTICS`
-    and :data:`COUNTS`.
+    """One step of the paper's filter (Steps 2–6).
+
+    The fields named as the keys of :data:`DIAGNOSTICS` (``conflict_step4`` to
+    ``fallback``) and of :data:`COUNTS` (``n_state`` to ``n_products_step6``) hold the
+    step's numbers, as floats (NaN where a step has none, e.g. at the start).
 
     Attributes
     ----------
-    step : int
-        k + 1, counting the first reading as 1.
-    estimate : ndarray, shape (n,)
-        x̂_{k+1}, the pignistic expectation of ``final`` (eq. 20).
-    state, prediction, observation_prediction, observation, fused, mapped_back, final :
-        IntervalEvidence or None
-        x̂_k + E_v; E_{k+1|k} (Step 2); g(E_{k+1|k}) (Step 3); z_{k+1} + E_w; Step 4's
-        fusion; Step 5's evidence mapped back (E1); Step 6's result. None at the start, and
-        from ``fused`` on where total conflict made the prediction final.
-    dependence_terms : Dependence or None
-        En′(E1), En′(E2), En′(E1, E2), D, R12 and R21 of Step 6 (eqs. A1–A6).
-    conflict_step4 ... fallback : float
-        The per-step numbers of :data:`DIAGNOSTICS` (NaN where a step has none).
-    n_state ... n_products_step6 : float
-        The focal-element counts of :data:`COUNTS` (NaN where a step has none).
+    step
+        *int*. k + 1, counting the first reading as 1.
+    estimate
+        *ndarray, shape (n,)*. x̂_{k+1}, the pignistic expectation of ``final`` (eq. 20).
+    state
+        *IntervalEvidence or None*. x̂_k + E_v (Step 2); None at the start.
+    prediction
+        *IntervalEvidence or None*. E_{k+1|k}, the image of (x̂_k + V) × V (Step 2).
+    observation_prediction
+        *IntervalEvidence or None*. g(E_{k+1|k}) (Step 3).
+    observation
+        *IntervalEvidence or None*. z_{k+1} + E_w (Step 4).
+    fused
+        *IntervalEvidence or None*. Step 4's fusion by Dempster's rule; None where total
+        conflict made the prediction final.
+    mapped_back
+        *IntervalEvidence or None*. Step 5's evidence mapped back through g⁻¹ (E1).
+    final
+        *IntervalEvidence or None*. Step 6's dependent combination (or the prediction
+        after total conflict).
+    dependence_terms
+        *Dependence or None*. En′(E1), En′(E2), En′(E1, E2), D, R12 and R21 of Step 6
+        (eqs. A1–A6).
     """
 
     step: int
@@ -178,27 +189,33 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
     Parameters
     ----------
-    mass_rule : {"min", "m1", "m2"}
-        m(D) in the energy of the intersection (eq. A3, which leaves it open).
-    start : {"observation", "mean_corrected"} or array_like, shape (n,) or (R, n)
-        x̂_1: g⁻¹(z_1) as the paper, g⁻¹(z_1 + E[w]), or a state vector (one per run).
-    p : int
-        Step 1's number of α-cuts (eqs. 24–25).
-    epsilon : float
-        Step 1's discount rate ε (eq. 26).
-    theta : tuple, optional
-        Step 1's frames Θ as ``(theta_v, theta_w)``, each None (mode ± 100σ) or one
+    mass_rule
+        *{"min", "m1", "m2"}*. m(D) in the energy of the intersection (eq. A3, which
+        leaves it open).
+    start
+        *{"observation", "mean_corrected"} or array_like, shape (n,) or (R, n)*. x̂_1:
+        g⁻¹(z_1) as the paper, g⁻¹(z_1 + E[w]), or a state vector (one per run).
+    p
+        *int*. Step 1's number of α-cuts (eqs. 24–25).
+    epsilon
+        *float*. Step 1's discount rate ε (eq. 26).
+    theta
+        *tuple, optional*. Step 1's frames Θ as ``(theta_v, theta_w)``, each None (mode
+        ± 100σ) or one
         (lo, hi) pair per component.
-    on_conflict : {"raise", "predict"}
-        Total conflict in Step 4 or 6: raise :class:`~dstoolkit.errors.TotalConflictError`
+    on_conflict
+        *{"raise", "predict"}*. Total conflict in Step 4 or 6: raise
+        :class:`~dstoolkit.errors.TotalConflictError`
         (default), or take the prediction as the step's final evidence (``fallback`` = 1).
-    image_method : {"auto", "vertex", "monotone", "subdivision"}
-        How images are computed (see :func:`dstoolkit.evidence.image`): ``"auto"`` is
+    image_method
+        *{"auto", "vertex", "monotone", "subdivision"}*. How images are computed (see
+        :func:`dstoolkit.evidence.image`): ``"auto"`` is
         monotone where the model declares every sign, else vertex (Prop. 1).
-    chunk_size : int
-        Runs per vectorised block in :meth:`run_batch` (memory ∝ chunk × N1 × N2).
-    kernel : {"numpy", "numba", "auto"}
-        Step 6 of the vectorised path: numpy, or a compiled kernel (extra ``speed``; the
+    chunk_size
+        *int*. Runs per vectorised block in :meth:`Filter.run_batch` (memory ∝ chunk × N1 × N2).
+    kernel
+        *{"numpy", "numba", "auto"}*. Step 6 of the vectorised path: numpy, or a
+        compiled kernel (extra ``speed``; the
         same numbers to rounding); ``"auto"`` takes numba when it is installed.
 
     See Also

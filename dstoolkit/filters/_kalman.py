@@ -194,18 +194,24 @@ class KalmanRecord:
 
     Attributes
     ----------
-    step : int
-        k, counting the first reading as 1.
-    prediction, prediction_covariance : ndarray or None
-        x⁻ (n,) and P⁻ (n, n); None at the start.
-    innovation, innovation_covariance : ndarray or None
-        z − ẑ (m,) and S (m, m); None at the start.
-    gain : ndarray or None
-        K (n, m); None at the start.
-    estimate, covariance : ndarray
-        x̂_k (n,) and P_k (n, n).
-    nis : float
-        The normalised innovation squared νᵀ S⁻¹ ν (NaN at the start).
+    step
+        *int*. k, counting the first reading as 1.
+    prediction
+        *ndarray or None*. x⁻ (n,) and P⁻ (n, n); None at the start.
+    prediction_covariance
+        *ndarray or None*. x⁻ (n,) and P⁻ (n, n); None at the start.
+    innovation
+        *ndarray or None*. z − ẑ (m,) and S (m, m); None at the start.
+    innovation_covariance
+        *ndarray or None*. z − ẑ (m,) and S (m, m); None at the start.
+    gain
+        *ndarray or None*. K (n, m); None at the start.
+    estimate
+        *ndarray*. x̂_k (n,) and P_k (n, n).
+    covariance
+        *ndarray*. x̂_k (n,) and P_k (n, n).
+    nis
+        *float*. The normalised innovation squared νᵀ S⁻¹ ν (NaN at the start).
     """
 
     step: int
@@ -225,11 +231,13 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
 
     Parameters
     ----------
-    initial_box : tuple of array_like, optional
-        A box ``(lo, hi)`` known to hold x_1; intersected with the states consistent with
+    initial_box
+        *tuple of array_like, optional*. A box ``(lo, hi)`` known to hold x_1;
+        intersected with the states consistent with
         the first reading (needed when g is not invertible).
-    kernel : {"numpy", "numba", "auto"}
-        Accepted for a common interface; the Kalman recursion has no compiled kernel, so
+    kernel
+        *{"numpy", "numba", "auto"}*. Accepted for a common interface; the Kalman
+        recursion has no compiled kernel, so
         every value runs numpy (``"numba"`` still needs the extra ``speed``).
 
     See Also

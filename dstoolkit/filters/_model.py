@@ -171,13 +171,22 @@ class StateSpaceModel:
         returns ``(lo, hi)`` of the states whose image lies in the box, intersected with the
         prior box [x_lo, x_hi]; vectorised over leading axes (the arguments may be read-only
         views: return new arrays). Required by the paper's filter.
-    state_noise, obs_noise
+    state_noise
         The bounded noises v and w.
-    f_monotone, g_monotone
+    obs_noise
+        The bounded noises v and w.
+    f_monotone
         Per argument, +1 (increasing), −1 (decreasing) or 0 (neither or unknown). Arguments of
         f are the n state components followed by the n noise components; of g, the state
         components. ``None`` means unknown: the vertex method (Prop. 1) is used.
-    jacobian_f, jacobian_g
+    g_monotone
+        Per argument, +1 (increasing), −1 (decreasing) or 0 (neither or unknown). Arguments of
+        f are the n state components followed by the n noise components; of g, the state
+        components. ``None`` means unknown: the vertex method (Prop. 1) is used.
+    jacobian_f
+        Optional Jacobians for the (extended) Kalman filter, ``(x, u) -> (n, n)`` and
+        ``x -> (m, n)``; finite differences are used when absent.
+    jacobian_g
         Optional Jacobians for the (extended) Kalman filter, ``(x, u) -> (n, n)`` and
         ``x -> (m, n)``; finite differences are used when absent.
     scalar_maps
@@ -248,20 +257,29 @@ class FilterResult:
 
     Attributes
     ----------
-    method : str
-        The filter's :attr:`Filter.name`, e.g. ``"dependent_evidence"``.
-    estimates : ndarray, shape (T, n)
-        The point estimate x̂_k of every step (for the paper's filter, the pignistic
+    method
+        *str*. The filter's :attr:`Filter.name`, e.g. ``"dependent_evidence"``.
+    estimates
+        *ndarray, shape (T, n)*. The point estimate x̂_k of every step (for the paper's
+        filter, the pignistic
         expectation of eq. 20).
-    lower, upper : ndarray, shape (T, n)
-        Bounds of each step's final belief: the hull of the final evidence for the
+    lower
+        *ndarray, shape (T, n)*. Bounds of each step's final belief: the hull of the
+        final evidence for the
         evidential filters, the box of the bounded-error filter, ±3σ for Kalman, the hull of
         the living particles for the particle filter.
-    diagnostics : dict of str to ndarray, shape (T,)
-        Per-step numbers, each filter's own keys (its ``DIAGNOSTICS``); NaN where a key has
+    upper
+        *ndarray, shape (T, n)*. Bounds of each step's final belief: the hull of the
+        final evidence for the
+        evidential filters, the box of the bounded-error filter, ±3σ for Kalman, the hull of
+        the living particles for the particle filter.
+    diagnostics
+        *dict of str to ndarray, shape (T,)*. Per-step numbers, each filter's own keys
+        (its ``DIAGNOSTICS``); NaN where a key has
         no value at a step (e.g. a conflict at the first step).
-    steps : tuple of records, or None
-        With ``record=True``, the typed record of every step (the filter's ``Record``
+    steps
+        *tuple of records, or None*. With ``record=True``, the typed record of every
+        step (the filter's ``Record``
         class), the same records :meth:`Filter.step` returns; ``steps[0]`` is the start.
     """
 
@@ -279,12 +297,17 @@ class BatchResult:
 
     Attributes
     ----------
-    method : str
-        The filter's :attr:`Filter.name`.
-    estimates, lower, upper : ndarray, shape (R, T, n)
-        As in :class:`FilterResult`, with a leading run axis.
-    diagnostics : dict of str to ndarray, shape (R, T)
-        As in :class:`FilterResult`, with a leading run axis.
+    method
+        *str*. The filter's :attr:`Filter.name`.
+    estimates
+        *ndarray, shape (R, T, n)*. As in :class:`FilterResult`, with a leading run axis.
+    lower
+        *ndarray, shape (R, T, n)*. As in :class:`FilterResult`, with a leading run axis.
+    upper
+        *ndarray, shape (R, T, n)*. As in :class:`FilterResult`, with a leading run axis.
+    diagnostics
+        *dict of str to ndarray, shape (R, T)*. As in :class:`FilterResult`, with a
+        leading run axis.
 
     Examples
     --------

@@ -394,25 +394,30 @@ class NassreddineRecord:
 
     Attributes
     ----------
-    step : int
-        k, counting the first reading as 1.
-    state, prediction : IntervalEvidence or None
-        The evidence the step starts from and its prediction through f plus E_v; None at
+    step
+        *int*. k, counting the first reading as 1.
+    state
+        *IntervalEvidence or None*. The evidence the step starts from and its prediction
+        through f plus E_v; None at
         the start.
-    observation : IntervalEvidence
-        z_k + E_w, in observation space.
-    posterior : IntervalEvidence
-        The posterior before the clustering cap.
-    estimate : ndarray, shape (n,)
-        Its pignistic expectation.
-    conflict : float
-        K of the correction (NaN at the start).
-    focal_elements : int
-        Focal elements of the posterior before the cap.
-    merged_mass : float
-        Mass moved by the clustering cap.
-    resets : bool
-        Whether total conflict restarted the filter from the reading.
+    prediction
+        *IntervalEvidence or None*. The evidence the step starts from and its prediction
+        through f plus E_v; None at
+        the start.
+    observation
+        *IntervalEvidence*. z_k + E_w, in observation space.
+    posterior
+        *IntervalEvidence*. The posterior before the clustering cap.
+    estimate
+        *ndarray, shape (n,)*. Its pignistic expectation.
+    conflict
+        *float*. K of the correction (NaN at the start).
+    focal_elements
+        *int*. Focal elements of the posterior before the cap.
+    merged_mass
+        *float*. Mass moved by the clustering cap.
+    resets
+        *bool*. Whether total conflict restarted the filter from the reading.
     """
 
     step: int
@@ -433,32 +438,36 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
 
     Parameters
     ----------
-    p : int
-        Number of α-cuts of both noise evidences (eqs. 24–26).
-    epsilon : float
-        Discount rate ε of both noise evidences (eq. 26).
-    max_focal : int
-        Cap on the focal elements carried to the next step (clustering policy).
-    restart : bool
-        Rebuild the state evidence from the estimate each step (x̂_k + E_v), like the
+    p
+        *int*. Number of α-cuts of both noise evidences (eqs. 24–26).
+    epsilon
+        *float*. Discount rate ε of both noise evidences (eq. 26).
+    max_focal
+        *int*. Cap on the focal elements carried to the next step (clustering policy).
+    restart
+        *bool*. Rebuild the state evidence from the estimate each step (x̂_k + E_v), like the
         paper's filter, instead of propagating the posterior.
-    on_conflict : {"raise", "reset"}
-        What total conflict (K = 1, every contraction empty) does.
-    initial_box : tuple of array_like, optional
-        A box ``(lo, hi)`` holding the first state; default the states consistent with the
+    on_conflict
+        *{"raise", "reset"}*. What total conflict (K = 1, every contraction empty) does.
+    initial_box
+        *tuple of array_like, optional*. A box ``(lo, hi)`` holding the first state;
+        default the states consistent with the
         first reading under the noise bounds.
-    theta : tuple, optional
-        Frames Θ of the noise evidences as ``(theta_v, theta_w)``, each None (mode ± 100σ)
+    theta
+        *tuple, optional*. Frames Θ of the noise evidences as ``(theta_v, theta_w)``,
+        each None (mode ± 100σ)
         or one (lo, hi) pair per component, as in :class:`DependentEvidenceFilter`.
-    kernel : {"numpy", "numba", "auto"}
-        The merge of equal boxes (eq. 14) and the clustering: ``"numpy"`` (default);
+    kernel
+        *{"numpy", "numba", "auto"}*. The merge of equal boxes (eq. 14) and the
+        clustering: ``"numpy"`` (default);
         ``"numba"``, compiled kernels (extra ``speed``) that give the same numbers bit for
         bit; ``"auto"``, numba when it is installed.
 
     See Also
     --------
-    DependentEvidenceFilter : the paper's filter, which restarts from x̂_k and fuses the
-        mapped-back evidence with the prediction as dependent evidence.
+    DependentEvidenceFilter
+        *the paper's filter, which restarts from x̂_k and fuses the*. mapped-back
+        evidence with the prediction as dependent evidence.
 
     Examples
     --------

@@ -166,18 +166,18 @@ class ParticleRecord:
 
     Attributes
     ----------
-    step : int
-        k, counting the first reading as 1.
-    particles : ndarray, shape (N, n)
-        The cloud after propagation (before the next resampling).
-    weights : ndarray, shape (N,)
-        Their normalised weights p_w(g(x) − z).
-    ess : float
-        The effective sample size 1/Σw².
-    reinitialised : bool
-        Whether every weight was 0 and the cloud was drawn again from the reading.
-    estimate : ndarray, shape (n,)
-        The weighted mean.
+    step
+        *int*. k, counting the first reading as 1.
+    particles
+        *ndarray, shape (N, n)*. The cloud after propagation (before the next resampling).
+    weights
+        *ndarray, shape (N,)*. Their normalised weights p_w(g(x) − z).
+    ess
+        *float*. The effective sample size 1/Σw².
+    reinitialised
+        *bool*. Whether every weight was 0 and the cloud was drawn again from the reading.
+    estimate
+        *ndarray, shape (n,)*. The weighted mean.
     """
 
     step: int
@@ -194,19 +194,21 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
 
     Parameters
     ----------
-    n_particles : int
-        Particles per run.
-    seed : int
-        Seed of the random streams (one per run).
-    stream : int
-        Index of the first run's random stream: :meth:`run` and :meth:`initialize` use
-        stream ``stream``, run r of :meth:`run_batch` stream ``stream + r`` (so
+    n_particles
+        *int*. Particles per run.
+    seed
+        *int*. Seed of the random streams (one per run).
+    stream
+        *int*. Index of the first run's random stream: :meth:`Filter.run` and :meth:`initialize` use
+        stream ``stream``, run r of :meth:`Filter.run_batch` stream ``stream + r`` (so
         ``replace(flt, stream=r).run(Z[r])`` repeats run r of a batch).
-    initial_box : tuple of array_like, optional
-        A box ``(lo, hi)`` known to hold the state; needed when g is not invertible, since
+    initial_box
+        *tuple of array_like, optional*. A box ``(lo, hi)`` known to hold the state;
+        needed when g is not invertible, since
         the start and re-initialisations draw in the reading's box.
-    kernel : {"numpy", "numba", "auto"}
-        The resampling's search: ``"numpy"`` (default), ``"numba"`` (compiled, extra
+    kernel
+        *{"numpy", "numba", "auto"}*. The resampling's search: ``"numpy"`` (default),
+        ``"numba"`` (compiled, extra
         ``speed``; the same indices), ``"auto"`` (numba when it is installed).
 
     See Also

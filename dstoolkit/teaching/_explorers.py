@@ -888,7 +888,7 @@ def render_filter(
 ) -> tuple[Figure, dict[str, Any]]:
     """What :func:`filter_widget` recomputes on every change: the run's figure (estimates,
     hull and readings against the truth, absolute errors; the paper's Fig. 10) and the
-    numbers of :func:`filter_summary`. With ``kept`` (a ``KeptFigure`` of
+    numbers of ``filter_summary``. With ``kept`` (a ``KeptFigure`` of
     a ``FilterErrorsFigure``, as the widget holds) the figure is drawn without pyplot on the
     first call and redrawn in place on later ones; else each call draws a new figure."""
     seq, n, result = filter_case(
