@@ -119,8 +119,9 @@ def in_process(changes: int) -> dict[str, list[float]]:
     matplotlib.use("Agg")
 
     from dstoolkit.plots import FilterErrorsFigure
-    from dstoolkit.studies import filter_case, filter_summary
+    from dstoolkit.studies import filter_case
     from dstoolkit.teaching import filter_widget
+    from dstoolkit.teaching._readouts import filter_summary
 
     with contextlib.redirect_stdout(io.StringIO()):  # no kernel: display() would print
         ex = filter_widget()

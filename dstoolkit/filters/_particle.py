@@ -24,9 +24,10 @@ past there.
 
 Random numbers
 --------------
-Every run has its own stream, ``SeedSequence(seed, spawn_key=(r,))`` for run r, drawn in a
-fixed order: the start's uniforms, then for each step its resampling offset and its state
-noise. So run r of :meth:`run_batch` does not depend on the batch size and equals
+Every run has its own streams: ``SeedSequence(seed, spawn_key=(r,))`` for run r's start
+uniforms and then its state noise, step after step, and ``spawn_key=(r, 0)`` for its
+resampling offsets, one a step. So run r of :meth:`run_batch` does not depend on the
+batch size and equals
 :meth:`run` with ``stream=r``, and :meth:`initialize` and :meth:`step` draw the same
 numbers one step at a time (the state carries the stream). A re-initialisation draws from the stream
 ``spawn_key=(r, k)``. Batches are processed in chunks of runs so the pre-drawn noise stays
@@ -112,25 +113,27 @@ def _stream(seed: int, *key: int) -> np.random.Generator:
 
 def _draws(seed: int, run_ids: Any, state_noise: BoundedNoise, n_steps: int, big_n: int
            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Every run's numbers, pre-drawn from its own stream in the order of the step loop:
-    the start's uniforms (runs, N, n), then per step its resampling offset (runs, steps − 1)
-    and its state noise (runs, steps − 1, N, n)."""
+    """Every run's numbers, pre-drawn from its own streams: the start's uniforms (runs, N,
+    n), the state noise (runs, steps − 1, N, n) and the resampling offsets (runs, steps −
+    1). Each stream is read in the order of the steps, so :meth:`ParticleFilter.step`,
+    drawing one step's numbers at a time, draws the same ones."""
     runs, n = len(run_ids), state_noise.dim
     start_u = np.empty((runs, big_n, n))
     noise = np.empty((runs, max(n_steps - 1, 0), big_n, n))
     offsets = np.empty((runs, max(n_steps - 1, 0)))
     for i, r in enumerate(run_ids):
-        rng = _stream(seed, int(r))
+        rng, offset_rng = _stream(seed, int(r)), _stream(seed, int(r), 0)
         start_u[i] = rng.random((big_n, n))
-        for k in range(n_steps - 1):
-            offsets[i, k], noise[i, k] = _step_draws(rng, state_noise, big_n)
+        noise[i] = state_noise.sample(rng, (n_steps - 1, big_n))
+        offsets[i] = offset_rng.random(max(n_steps - 1, 0))
     return start_u, noise, offsets
 
 
-def _step_draws(rng: np.random.Generator, state_noise: BoundedNoise, big_n: int
-                ) -> tuple[float, np.ndarray]:
-    """One step's numbers from a run's stream: the resampling offset, the state noise (N, n)."""
-    return float(rng.random()), state_noise.sample(rng, (big_n,))
+def _copied(rng: np.random.Generator) -> np.random.Generator:
+    """A generator in the same state as ``rng``, to draw from without advancing ``rng``."""
+    copy = np.random.Generator(type(rng.bit_generator)())
+    copy.bit_generator.state = rng.bit_generator.state
+    return copy
 
 
 @functools.lru_cache(maxsize=2)
@@ -149,7 +152,8 @@ def _kept_draws(seed: int, run_ids: tuple[int, ...],
 @dataclass(frozen=True)
 class ParticleState(FilterState):
     """The particle filter's state: the weighted cloud after the reading and the run's
-    random stream (``rng``, copied by :meth:`ParticleFilter.step`, never advanced in place).
+    random streams (``rng`` for the state noise, ``offset_rng`` for the resampling; copied by
+    :meth:`ParticleFilter.step`, never advanced in place).
 
     ``particles`` is (N, n) and ``weights`` (N,), summing to 1; ``estimate`` is their
     weighted mean and ``lower``/``upper`` the hull of the particles with weight."""
@@ -157,6 +161,7 @@ class ParticleState(FilterState):
     particles: np.ndarray
     weights: np.ndarray
     rng: np.random.Generator
+    offset_rng: np.random.Generator
     run: int = 0
 
 
@@ -263,7 +268,7 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
         uniforms = rng.random((int(self.n_particles), model.state_dim))[None]
         particles, weights = self._draw_in_reading_box(model, z, uniforms, 0)
         return self._state(model, 1, particles[0], _normalised(weights)[0], rng,
-                           int(self.stream))
+                           _stream(int(self.seed), int(self.stream), 0), int(self.stream))
 
     def step(self, state: ParticleState, z: Any, u: Any = None
              ) -> tuple[ParticleState, ParticleRecord]:
@@ -272,13 +277,13 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
         model = state.model
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)
-        rng = np.random.Generator(type(state.rng.bit_generator)())
-        rng.bit_generator.state = state.rng.bit_generator.state
-        offset, noise = _step_draws(rng, model.state_noise, int(self.n_particles))
+        rng, offset_rng = _copied(state.rng), _copied(state.offset_rng)
+        noise = model.state_noise.sample(rng, (1, int(self.n_particles)))
         particles, w, reinit = self._advance(
-            model, state.particles[None], state.weights[None], np.array([offset]),
-            noise[None], zz, uu, np.array([state.run]), state.k)
-        new = self._state(model, state.k + 1, particles[0], w[0], rng, state.run)
+            model, state.particles[None], state.weights[None], offset_rng.random(1), noise,
+            zz, uu, np.array([state.run]), state.k)
+        new = self._state(model, state.k + 1, particles[0], w[0], rng, offset_rng,
+                          state.run)
         return new, self._record(new, bool(reinit[0]))
 
     def _start_record(self, state: ParticleState) -> ParticleRecord:
@@ -292,12 +297,13 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
 
     @staticmethod
     def _state(model: StateSpaceModel, k: int, particles: np.ndarray, w: np.ndarray,
-               rng: np.random.Generator, run: int) -> ParticleState:
+               rng: np.random.Generator, offset_rng: np.random.Generator, run: int
+               ) -> ParticleState:
         est = np.einsum("rp,rpi->ri", w[None], particles[None])[0]
         alive = (w > 0)[:, None]
         return ParticleState(model, k, est, np.where(alive, particles, np.inf).min(axis=0),
                              np.where(alive, particles, -np.inf).max(axis=0), particles, w,
-                             rng, run)
+                             rng, offset_rng, run)
 
     # -- internals ---------------------------------------------------------------------------
     def _reading_box(self, model: StateSpaceModel, z: np.ndarray, step: int
