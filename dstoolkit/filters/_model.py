@@ -70,6 +70,11 @@ class BoundedNoise:
             value.flags.writeable = False
             object.__setattr__(self, name, value)
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        """Pickle, copy and deepcopy rebuild the noise through the constructor: its checks
+        run again and the copy's arrays are read-only too."""
+        return (BoundedNoise, (self.lower.tolist(), self.mode.tolist(), self.upper.tolist()))
+
     @classmethod
     def symmetric(cls, half_width: Any) -> BoundedNoise:
         """Noise in [−h, h] with mode 0."""
