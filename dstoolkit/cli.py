@@ -113,7 +113,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-class Terminated(BaseException):
+class _Terminated(BaseException):
     """SIGTERM, raised where the command was so that it stops like after Ctrl-C."""
 
 
@@ -127,7 +127,7 @@ def _stop(signum: int, frame: FrameType | None) -> None:
     command removes what it made."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
-    raise KeyboardInterrupt if signum == signal.SIGINT else Terminated
+    raise KeyboardInterrupt if signum == signal.SIGINT else _Terminated
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -154,7 +154,7 @@ def main(argv: list[str] | None = None) -> int:
         print("interrupted (Ctrl-C): stopped; the files this command had made were removed",
               file=sys.stderr)
         return EXIT_INTERRUPTED
-    except Terminated:
+    except _Terminated:
         print("terminated (SIGTERM): stopped; the files this command had made were removed",
               file=sys.stderr)
         return EXIT_TERMINATED

@@ -167,6 +167,27 @@ class Evidence(ABC):
     def __reduce__(self) -> tuple[Any, ...]:
         return (type(self)._restore, self._state())
 
+    @classmethod
+    @abstractmethod
+    def _from_attributes(cls, state: dict[str, Any]) -> Self:
+        """Rebuild an evidence from the attributes a plain pickle of it holds, validating
+        them as the constructor does."""
+
+    def __setstate__(self, state: Any) -> None:
+        """A pickle in the plain form (attributes, no constructor call): rebuilt through the
+        checks, so that crafted attributes cannot make an invalid evidence."""
+        if not isinstance(state, dict):
+            raise EvidenceError(f"cannot unpickle a {type(self).__name__} from "
+                                f"{type(state).__name__}; pickle it with dstoolkit")
+        try:
+            rebuilt = self._from_attributes(state)
+        except (KeyError, TypeError, ValueError, IndexError) as exc:
+            if isinstance(exc, EvidenceError):
+                raise
+            raise EvidenceError(f"cannot unpickle a {type(self).__name__}: its attributes are "
+                                f"not those of one ({exc}); pickle it with dstoolkit") from None
+        self.__dict__.update(rebuilt.__dict__)
+
     @property
     def mass(self) -> np.ndarray:
         """Masses of the focal elements (a read-only array)."""

@@ -124,6 +124,12 @@ class MassFunction(Evidence):
         return (self.frame, [int(f) for f in self._focal], self._mass.tolist(), merged)
 
     @classmethod
+    def _from_attributes(cls, state: dict[str, Any]) -> MassFunction:
+        masks = [int(f) for f in np.asarray(state["_focal"]).reshape(-1)]
+        masses = np.asarray(state["_mass"], dtype=float).reshape(-1).tolist()
+        return cls._restore(tuple(state["frame"]), masks, masses, False)
+
+    @classmethod
     def _restore(cls, *state: Any) -> MassFunction:
         frame, masks, masses, merge = state
         probe = cls({frozenset(frame): 1.0}, frame)  # checks the frame

@@ -118,6 +118,14 @@ class IntervalEvidence(Evidence):
         return cls(lo, hi, mass, merge=bool(merge))
 
     @classmethod
+    def _from_attributes(cls, state: dict[str, Any]) -> IntervalEvidence:
+        focal = np.asarray(state["_focal"], dtype=float)
+        if focal.ndim != 2 or focal.shape[1] % 2:
+            raise EvidenceError(f"focal elements of shape {focal.shape} are not boxes")
+        d = focal.shape[1] // 2
+        return cls(focal[:, :d], focal[:, d:], state["_mass"], merge=False)
+
+    @classmethod
     def from_pairs(cls, pairs: Any, *, merge: bool = True) -> IntervalEvidence:
         """Build from rows ``(lo, hi, mass)`` of scalar intervals."""
         arr = real_array(pairs, "pairs", allow_inf=True, error=EvidenceError)

@@ -75,6 +75,16 @@ class BoundedNoise:
         run again and the copy's arrays are read-only too."""
         return (BoundedNoise, (self.lower.tolist(), self.mode.tolist(), self.upper.tolist()))
 
+    def __setstate__(self, state: Any) -> None:
+        """A pickle in the plain form (attributes, no constructor call) goes through the
+        constructor's checks too."""
+        try:
+            lower, mode, upper = state["lower"], state["mode"], state["upper"]
+        except (KeyError, TypeError, IndexError):
+            raise EvidenceError("cannot unpickle a BoundedNoise from this state; pickle it "
+                                "with dstoolkit") from None
+        BoundedNoise.__init__(self, lower, mode, upper)
+
     @classmethod
     def symmetric(cls, half_width: Any) -> BoundedNoise:
         """Noise in [−h, h] with mode 0."""

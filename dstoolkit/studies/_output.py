@@ -114,13 +114,26 @@ def output_run() -> Iterator[_Run]:
         _run.reset(token)
 
 
-def _system_path(path: Path) -> Path | None:
-    """The system folder (``/dev``, ``/proc``, ``/sys``) that ``path`` or what it links to
-    lies in, else None."""
-    candidates = [Path(os.path.abspath(path))]
+def _link_chain(path: Path) -> list[Path]:
+    """``path`` and every path its symbolic links lead through (at most 40 links)."""
+    chain = [Path(os.path.abspath(path))]
+    current = chain[0]
+    for _ in range(40):
+        try:
+            target = os.readlink(current)
+        except OSError:  # not a link, or missing
+            break
+        current = Path(os.path.abspath(current.parent / target))
+        chain.append(current)
     with contextlib.suppress(OSError, RuntimeError):
-        candidates.append(path.resolve())
-    for candidate in candidates:
+        chain.append(path.resolve())
+    return chain
+
+
+def _system_path(path: Path) -> Path | None:
+    """The system folder (``/dev``, ``/proc``, ``/sys``) that ``path`` or a link on the way
+    to its file lies in, else None."""
+    for candidate in _link_chain(path):
         for folder in SYSTEM_FOLDERS:
             if candidate == folder or folder in candidate.parents:
                 return folder
@@ -132,8 +145,9 @@ def refuse_special(path: Path, what: str) -> None:
     FIFO, a socket, a path in a system folder, or a symbolic link to one of them."""
     system = _system_path(path)
     if system is not None:
-        raise OutputPathError(f"{what}: {path} is in {system}, where files are devices or "
-                              "kernel state, not outputs; give a file name elsewhere")
+        raise OutputPathError(f"{what}: {path} is not a regular file or a new path: it is in "
+                              f"{system}, where files are devices or kernel state; give a "
+                              "file name elsewhere")
     try:
         info = os.stat(path)
     except FileNotFoundError:
