@@ -710,7 +710,7 @@ def race_probes(folder: Path) -> Iterator[Probe]:
             with _patched(cli, "run_table3", slow):
                 status, err = _run_cli(["table3", "--out", str(sub / "t.csv"), "--runs", "1",
                                         "--methods", "direct", "--quiet"], sub)
-            if target.read_text() != "made by someone else meanwhile\n":
+            if target.read_bytes() != b"made by someone else meanwhile\n":
                 return "file lost"
             if "Traceback" in err:
                 raise RuntimeError(err)

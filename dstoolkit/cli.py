@@ -16,6 +16,7 @@ from types import FrameType
 from typing import TYPE_CHECKING
 
 from dstoolkit.errors import DstoolkitError, MissingExtraError
+from dstoolkit.evidence._limits import check_memory
 from dstoolkit.studies import METHODS, run_table3
 from dstoolkit.studies._output import (
     atomic_write,
@@ -43,6 +44,11 @@ def table3_outputs(out: str | Path) -> tuple[Path, Path]:
     return csv_path, figure
 
 
+#: Memory one Monte Carlo run of ``table3`` holds while a case is computed: up to 160
+#: readings (a tube's resonances in the band), their noise draws, orders and estimates.
+TABLE3_BYTES_PER_RUN = 160 * 8 * 8
+
+
 def table3_command(args: argparse.Namespace) -> int:
     """Reproduce Table 3: CSV, a figure beside it (with the ``plots`` extra), and the table
     next to the paper's."""
@@ -53,6 +59,10 @@ def table3_command(args: argparse.Namespace) -> int:
         from dstoolkit.plots import plot_table3
     except MissingExtraError as exc:
         no_figure = str(exc)
+    # before anything is made: a case's readings of every run are held at once
+    check_memory(max(args.runs, 1) * TABLE3_BYTES_PER_RUN,
+                 f"table3 --runs {args.runs} (the readings of every run of a case)",
+                 "use fewer runs")
     outputs: dict[str, str | Path] = {"the CSV (--out)": args.out}
     if plot_table3 is not None:
         outputs["the figure"] = figure_path

@@ -70,6 +70,17 @@ class BoundedNoise:
             value.flags.writeable = False
             object.__setattr__(self, name, value)
 
+    def __eq__(self, other: object) -> bool:
+        """Equal bounds and modes, component by component."""
+        if not isinstance(other, BoundedNoise):
+            return NotImplemented
+        return all(np.array_equal(getattr(self, name), getattr(other, name))
+                   for name in ("lower", "mode", "upper"))
+
+    def __hash__(self) -> int:
+        return hash(tuple(tuple(getattr(self, name).tolist())
+                          for name in ("lower", "mode", "upper")))
+
     def __reduce__(self) -> tuple[Any, ...]:
         """Pickle, copy and deepcopy rebuild the noise through the constructor: its checks
         run again and the copy's arrays are read-only too."""
