@@ -54,8 +54,11 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 from hostile_inputs import (  # noqa: E402
     LEVEL_TOLERANCE_M,
+    SPECIAL_OUTPUTS,
     TRUE_LEVEL_M,
     crafted_recordings,
+    special_output,
+    table3_signalled,
     valid,
 )
 
@@ -762,19 +765,7 @@ def race_probes(folder: Path) -> Iterator[Probe]:
             wav = sub / "r.wav"
             rec = simulate_measurement(TubeSetup(level_m=2.6, temperature_c=26.0))
             save_recording(wav, rec.samples, rec.samplerate, rec.metadata)
-            link = sub / "fig.png"
-            keep: Any = None
-            if kind == "fd link":
-                keep = open(sub / "behind.txt", "w")  # noqa: SIM115 - held open on purpose
-                link.symlink_to(f"/proc/self/fd/{keep.fileno()}")
-            elif kind == "FIFO link":
-                os.mkfifo(sub / "fifo")
-                link.symlink_to(sub / "fifo")
-            elif kind == "socket":
-                import socket
-                sock = socket.socket(socket.AF_UNIX)
-                sock.bind(str(link))
-                keep = sock
+            link, keep = special_output(kind, sub)
             try:
                 status, err = _run_cli(["analyze", str(wav), "--figure", str(link),
                                         "--overwrite"], sub)
@@ -789,25 +780,8 @@ def race_probes(folder: Path) -> Iterator[Probe]:
             raise DstoolkitError(err.strip())
         return run
 
-    for kind in ("fd link", "FIFO link", "socket"):
+    for kind in SPECIAL_OUTPUTS:
         yield Probe(c, f"analyze --figure {kind} --overwrite", special(kind), "error")
-
-
-def _code_root() -> str:
-    import dstoolkit
-    return str(Path(dstoolkit.__file__).resolve().parents[1])
-
-
-_SLOW_FIGURE = """
-import sys, time, pathlib
-import dstoolkit.plots as plots
-def slow(table):
-    pathlib.Path(sys.argv[1]).write_text("ready")
-    time.sleep(120)
-plots.plot_table3 = slow
-from dstoolkit.cli import main
-raise SystemExit(main(sys.argv[2:]))
-"""
 
 
 def signal_probes(folder: Path) -> Iterator[Probe]:
@@ -820,28 +794,12 @@ def signal_probes(folder: Path) -> Iterator[Probe]:
         def run() -> Any:
             sub = folder / f"sig{next(counter)}"
             sub.mkdir()
-            ready = sub / "ready"
-            env = {**os.environ, "PYTHONPATH": _code_root()}
-            proc = subprocess.Popen(
-                [sys.executable, "-c", _SLOW_FIGURE, str(ready), "table3", "--out",
-                 str(sub / "out" / "t.csv"), "--runs", "1", "--methods", "direct", "--quiet"],
-                cwd=sub, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-            try:
-                deadline = time.monotonic() + 25
-                while not ready.exists() and proc.poll() is None and time.monotonic() < deadline:
-                    time.sleep(0.05)
-                proc.send_signal(sig)
-                _, err = proc.communicate(timeout=20)
-            finally:
-                if proc.poll() is None:
-                    proc.kill()
-                    proc.wait()
-            ready.unlink(missing_ok=True)
+            returncode, err, _ = table3_signalled(sub, sig, wait_s=25)
             left = sorted(str(p.relative_to(sub)) for p in sub.rglob("*"))
             if "Traceback" in err:
                 raise RuntimeError(err.strip().splitlines()[-1])
-            if proc.returncode != status or left or len(err.strip().splitlines()) != 1:
-                return f"exit {proc.returncode}, left {left}, said {err.strip()!r}"
+            if returncode != status or left or len(err.strip().splitlines()) != 1:
+                return f"exit {returncode}, left {left}, said {err.strip()!r}"
             raise DstoolkitError(err.strip())
         return run
 
@@ -1048,6 +1006,13 @@ def main() -> None:
     import matplotlib
 
     matplotlib.use("Agg")
+    # imported once before any probe: an import cut short by a probe's time limit would
+    # leave a module half made for every later probe
+    import matplotlib.pyplot  # noqa: F401
+
+    with contextlib.suppress(ImportError):
+        import dstoolkit.plots  # noqa: F401
+        import dstoolkit.teaching._explorers  # noqa: F401
     counts: dict[str, Counter[str]] = {c: Counter() for c in CATEGORIES}
     problems = []
     with tempfile.TemporaryDirectory() as tmp:

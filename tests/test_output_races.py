@@ -4,17 +4,12 @@ failed, interrupted or terminated command leaves nothing it made behind."""
 
 from __future__ import annotations
 
-import os
 import signal
-import socket
-import subprocess
-import sys
-import time
 from pathlib import Path
 
 import pytest
+from hostile_inputs import SPECIAL_OUTPUTS, special_output, table3_signalled
 
-import dstoolkit
 from dstoolkit import cli
 from dstoolkit.audio import save_recording, simulate_measurement
 from dstoolkit.errors import InvalidInputError, OutputExistsError, OutputPathError
@@ -87,34 +82,12 @@ def test_outside_a_command_atomic_write_replaces_as_before(tmp_path):
 
 
 # -- outputs that are not regular files --------------------------------------------------
-def _special(kind: str, folder: Path) -> tuple[Path, object]:
-    link = folder / "fig.png"
-    keep: object = None
-    if kind == "a link to an open file's /proc entry":
-        keep = open(folder / "behind.txt", "w")  # noqa: SIM115 - held open on purpose
-        link.symlink_to(f"/proc/self/fd/{keep.fileno()}")
-    elif kind == "a link to a FIFO":
-        os.mkfifo(folder / "fifo")
-        link.symlink_to(folder / "fifo")
-    elif kind == "a socket":
-        keep = socket.socket(socket.AF_UNIX)
-        keep.bind(str(link))
-    elif kind == "a link to /dev/null":
-        link.symlink_to("/dev/null")
-    elif kind == "a FIFO":
-        os.mkfifo(link)
-    elif kind == "a new file in /proc":
-        link = Path("/proc/dstoolkit-output.png")
-    return link, keep
-
-
-SPECIAL = ["a link to an open file's /proc entry", "a link to a FIFO", "a socket",
-           "a link to /dev/null", "a FIFO", "a new file in /proc"]
+SPECIAL = list(SPECIAL_OUTPUTS)
 
 
 @pytest.mark.parametrize("kind", SPECIAL)
 def test_outputs_that_are_not_regular_files_are_refused_even_with_overwrite(tmp_path, kind):
-    link, keep = _special(kind, tmp_path)
+    link, keep = special_output(kind, tmp_path)
     try:
         with pytest.raises(OutputPathError, match="not a regular file"):
             check_outputs({"the figure": link}, overwrite=True)
@@ -131,7 +104,7 @@ def test_analyze_overwrite_never_writes_over_a_special_file(tmp_path, recording,
                                                             kind):
     wav = tmp_path / "r.wav"
     save_recording(wav, recording.samples, recording.samplerate, recording.metadata)
-    link, keep = _special(kind, tmp_path)
+    link, keep = special_output(kind, tmp_path)
     try:
         status = cli.main(["analyze", str(wav), "--figure", str(link), "--overwrite"])
     finally:
@@ -174,41 +147,14 @@ def test_the_signal_handlers_are_given_back(tmp_path, capsys):
     assert (signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)) == before
 
 
-SLOW_FIGURE = """
-import pathlib, sys, time
-import dstoolkit.plots
-def slow(table):
-    pathlib.Path(sys.argv[1]).write_text("ready")
-    time.sleep(600)
-dstoolkit.plots.plot_table3 = slow
-from dstoolkit.cli import main
-raise SystemExit(main(sys.argv[2:]))
-"""
-
-
 @pytest.mark.parametrize(("sig", "status", "word"), [(signal.SIGINT, 130, "interrupted"),
                                                      (signal.SIGTERM, 143, "terminated")])
 def test_a_signal_halfway_leaves_no_traceback_and_no_file(tmp_path, sig, status, word):
     """table3 in a child process, stopped once its CSV is written (its figure being drawn)."""
-    ready = tmp_path / "ready"
     work = tmp_path / "work"
     work.mkdir()
-    env = {**os.environ, "PYTHONPATH": str(Path(dstoolkit.__file__).resolve().parents[1])}
-    proc = subprocess.Popen(
-        [sys.executable, "-c", SLOW_FIGURE, str(ready), "table3", "--out",
-         str(work / "out" / "t.csv"), *TABLE3_SMALL],
-        cwd=work, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    try:
-        while not ready.exists():  # halfway: the CSV is written, the figure is being drawn
-            assert proc.poll() is None, proc.communicate()
-            time.sleep(0.05)
-        assert (work / "out" / "t.csv").is_file()
-        proc.send_signal(sig)
-        _, err = proc.communicate(timeout=120)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait()
-    assert proc.returncode == status
+    returncode, err, written = table3_signalled(work, sig)
+    assert written  # halfway: the CSV was there when the signal came
+    assert returncode == status
     assert "Traceback" not in err and err.startswith(word) and len(err.splitlines()) == 1
     assert _files(work) == []
