@@ -83,6 +83,8 @@ from dstoolkit.filters import (  # noqa: E402
 from dstoolkit.gauge import TubeSetup, gauge_state_space_model, simulate_gauge  # noqa: E402
 
 TIME_LIMIT_S = 30
+#: How long a signal probe waits for its child to reach the middle of its work.
+SIGNAL_WAIT_S = 120
 CATEGORIES = ("evidence API", "filters", "crafted files (analyze)", "command lines",
               "bounded work", "representations", "copies", "gauge and numbers",
               "recordings", "races and files", "signals", "threads and explorers",
@@ -100,6 +102,7 @@ class Probe:
     run: Callable[[], Any]
     expect: str = "either"  # "error": must be refused; "ok": must succeed; "either"
     check: Callable[[Any], None] | None = None  # extra check of a successful result
+    time_limit: int = TIME_LIMIT_S  # seconds before it counts as a hang
 
 
 def classify(probe: Probe) -> tuple[str, str]:
@@ -109,12 +112,12 @@ def classify(probe: Probe) -> tuple[str, str]:
         raise Hang()
 
     previous = signal.signal(signal.SIGALRM, alarm)
-    signal.alarm(TIME_LIMIT_S)
+    signal.alarm(probe.time_limit)
     tracemalloc.start()
     try:
         result = probe.run()
     except Hang:
-        return "hang", f"no answer within {TIME_LIMIT_S} s"
+        return "hang", f"no answer within {probe.time_limit} s"
     except DstoolkitError as exc:
         text = str(exc)
         if not text.strip():
@@ -794,7 +797,7 @@ def signal_probes(folder: Path) -> Iterator[Probe]:
         def run() -> Any:
             sub = folder / f"sig{next(counter)}"
             sub.mkdir()
-            returncode, err, _ = table3_signalled(sub, sig, wait_s=25)
+            returncode, err, _ = table3_signalled(sub, sig, wait_s=SIGNAL_WAIT_S)
             left = sorted(str(p.relative_to(sub)) for p in sub.rglob("*"))
             if "Traceback" in err:
                 raise RuntimeError(err.strip().splitlines()[-1])
@@ -803,8 +806,11 @@ def signal_probes(folder: Path) -> Iterator[Probe]:
             raise DstoolkitError(err.strip())
         return run
 
-    yield Probe(c, "table3: SIGINT halfway", stop(signal.SIGINT, 130), "error")
-    yield Probe(c, "table3: SIGTERM halfway", stop(signal.SIGTERM, 143), "error")
+    limit = SIGNAL_WAIT_S + 150  # the child's start, its table, and its stop
+    yield Probe(c, "table3: SIGINT halfway", stop(signal.SIGINT, 130), "error",
+                time_limit=limit)
+    yield Probe(c, "table3: SIGTERM halfway", stop(signal.SIGTERM, 143), "error",
+                time_limit=limit)
 
 
 def thread_probes() -> Iterator[Probe]:
