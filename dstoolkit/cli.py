@@ -7,14 +7,24 @@ and records through a sound card (the ``audio`` extra) or a simulated one.
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
+import threading
 from collections.abc import Callable
 from pathlib import Path
+from types import FrameType
 from typing import TYPE_CHECKING
 
 from dstoolkit.errors import DstoolkitError, MissingExtraError
+from dstoolkit.evidence._limits import check_memory
 from dstoolkit.studies import METHODS, run_table3
-from dstoolkit.studies._output import atomic_write, check_outputs, figure_tag, made_by
+from dstoolkit.studies._output import (
+    atomic_write,
+    check_outputs,
+    figure_tag,
+    made_by,
+    output_run,
+)
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -34,6 +44,11 @@ def table3_outputs(out: str | Path) -> tuple[Path, Path]:
     return csv_path, figure
 
 
+#: Memory one Monte Carlo run of ``table3`` holds while a case is computed: up to 160
+#: readings (a tube's resonances in the band), their noise draws, orders and estimates.
+TABLE3_BYTES_PER_RUN = 160 * 8 * 8
+
+
 def table3_command(args: argparse.Namespace) -> int:
     """Reproduce Table 3: CSV, a figure beside it (with the ``plots`` extra), and the table
     next to the paper's."""
@@ -44,6 +59,10 @@ def table3_command(args: argparse.Namespace) -> int:
         from dstoolkit.plots import plot_table3
     except MissingExtraError as exc:
         no_figure = str(exc)
+    # before anything is made: a case's readings of every run are held at once
+    check_memory(max(args.runs, 1) * TABLE3_BYTES_PER_RUN,
+                 f"table3 --runs {args.runs} (the readings of every run of a case)",
+                 "use fewer runs")
     outputs: dict[str, str | Path] = {"the CSV (--out)": args.out}
     if plot_table3 is not None:
         outputs["the figure"] = figure_path
@@ -104,12 +123,52 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+class _Terminated(BaseException):
+    """SIGTERM, raised where the command was so that it stops like after Ctrl-C."""
+
+
+#: Exit statuses after a signal: 128 + the signal's number, as a shell reports them.
+EXIT_INTERRUPTED = 128 + signal.SIGINT
+EXIT_TERMINATED = 128 + signal.SIGTERM
+
+
+def _stop(signum: int, frame: FrameType | None) -> None:
+    """The first Ctrl-C or SIGTERM stops the command; any later one is ignored while the
+    command removes what it made."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    raise KeyboardInterrupt if signum == signal.SIGINT else _Terminated
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the exit status.
-    A package error or an OS error becomes one line on stderr (exit status 2)."""
-    args = build_parser().parse_args(argv)
+
+    A package error or an OS error becomes one line on stderr (exit status 2). Ctrl-C and
+    SIGTERM stop the command with one line on stderr and the exit status 130 or 143; the
+    files and folders the command had made are removed, as after any failure.
+    """
+    handlers = None
+    if threading.current_thread() is threading.main_thread():
+        handlers = (signal.signal(signal.SIGINT, _stop), signal.signal(signal.SIGTERM, _stop))
     try:
-        return int(args.func(args))
+        args = build_parser().parse_args(argv)
+        with output_run() as run:
+            status = int(args.func(args))
+            if status != 0:
+                run.discard()
+            return status
     except (DstoolkitError, OSError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("interrupted (Ctrl-C): stopped; the files this command had made were removed",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except _Terminated:
+        print("terminated (SIGTERM): stopped; the files this command had made were removed",
+              file=sys.stderr)
+        return EXIT_TERMINATED
+    finally:
+        if handlers is not None:
+            signal.signal(signal.SIGINT, handlers[0])
+            signal.signal(signal.SIGTERM, handlers[1])

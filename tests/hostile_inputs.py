@@ -6,7 +6,11 @@
   spot from one good recording. Each case is a file (or a FIFO, a device, a folder) and
   what ``analyze`` must do with it: give the level (``expect="level"``, within
   :data:`LEVEL_TOLERANCE_M` of the truth) or refuse it with a one-line package error
-  (``expect="error"``).
+  (``expect="error"``);
+- :func:`table3_signalled`: ``table3`` in a child process, stopped by a signal halfway
+  (its CSV written, its figure being drawn);
+- :func:`special_output`: an output path that is not a regular file or a new path (a link
+  through ``/proc``, a FIFO, a socket, a device), which no command may write over.
 """
 
 from __future__ import annotations
@@ -14,7 +18,11 @@ from __future__ import annotations
 import json
 import math
 import os
+import socket
 import struct
+import subprocess
+import sys
+import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -231,3 +239,73 @@ def crafted_recordings(folder: Path) -> list[Crafted]:
     out.append(Crafted("a 2 GiB file", huge, "error"))
     out.append(Crafted("a missing file", folder / "missing.wav", "error"))
     return out
+
+
+#: The kinds of :func:`special_output`.
+SPECIAL_OUTPUTS = ("a link to an open file's /proc entry", "a link to a FIFO", "a socket",
+                   "a link to /dev/null", "a FIFO", "a new file in /proc")
+
+
+def special_output(kind: str, folder: Path) -> tuple[Path, Any]:
+    """An output path of a kind in :data:`SPECIAL_OUTPUTS`, made in ``folder``, and what
+    must stay open while it is used (an open file, a socket; close it after), or None."""
+    path = folder / "fig.png"
+    keep: Any = None
+    if kind == SPECIAL_OUTPUTS[0]:
+        keep = open(folder / "behind.txt", "w")  # noqa: SIM115 - held open on purpose
+        path.symlink_to(f"/proc/self/fd/{keep.fileno()}")
+    elif kind == SPECIAL_OUTPUTS[1]:
+        os.mkfifo(folder / "fifo")
+        path.symlink_to(folder / "fifo")
+    elif kind == SPECIAL_OUTPUTS[2]:
+        keep = socket.socket(socket.AF_UNIX)
+        keep.bind(str(path))
+    elif kind == SPECIAL_OUTPUTS[3]:
+        path.symlink_to("/dev/null")
+    elif kind == SPECIAL_OUTPUTS[4]:
+        os.mkfifo(path)
+    else:
+        path = Path("/proc/dstoolkit-output.png")
+    return path, keep
+
+
+_SLOW_FIGURE = """
+import pathlib, sys, time
+import dstoolkit.plots
+def slow(table):
+    pathlib.Path(sys.argv[1]).write_text("ready")
+    time.sleep(600)
+dstoolkit.plots.plot_table3 = slow
+from dstoolkit.cli import main
+raise SystemExit(main(sys.argv[2:]))
+"""
+
+
+def table3_signalled(work: Path, sig: int, wait_s: float = 600.0) -> tuple[int | None, str,
+                                                                            bool]:
+    """Run ``table3 --out work/out/t.csv`` (one run, the direct method) in a child process
+    whose figure never finishes; once the CSV is written, send ``sig``. Returns the exit
+    status, what it printed on stderr, and whether the CSV was there when the signal went.
+    The child uses the dstoolkit this process imported."""
+    import dstoolkit
+
+    ready = work.parent / f".{work.name}.ready"
+    env = {**os.environ, "PYTHONPATH": str(Path(dstoolkit.__file__).resolve().parents[1])}
+    proc = subprocess.Popen(
+        [sys.executable, "-c", _SLOW_FIGURE, str(ready), "table3", "--out",
+         str(work / "out" / "t.csv"), "--runs", "1", "--methods", "direct", "--quiet"],
+        cwd=work, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    written = False
+    try:
+        deadline = time.monotonic() + wait_s
+        while not ready.exists() and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        written = (work / "out" / "t.csv").is_file()
+        proc.send_signal(sig)
+        _, err = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+        ready.unlink(missing_ok=True)
+    return proc.returncode, err, written

@@ -131,7 +131,7 @@ class RecordingMetadata:
             raise RecordingFileError(f"the metadata is nested {depth} levels deep, more than "
                                      f"{MAX_METADATA_DEPTH}; it is not dstoolkit metadata")
         try:
-            payload = json.loads(text)
+            payload = json.loads(text, object_pairs_hook=_unique_keys)
         except (json.JSONDecodeError, RecursionError, ValueError) as exc:
             raise RecordingFileError(f"the WAV comment is not dstoolkit metadata: {exc}") from exc
         if not isinstance(payload, dict) or "dstoolkit_metadata" not in payload:
@@ -145,6 +145,18 @@ class RecordingMetadata:
         extra = dict(extra)
         extra.update({k: payload[k] for k in unknown})  # fields of a newer version
         return cls(**{k: v for k, v in payload.items() if k in known - {"extra"}}, extra=extra)
+
+
+def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """A JSON object whose keys are all different: a key given twice makes the metadata
+    ambiguous (which temperature holds?), so it is refused."""
+    out: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in out:
+            raise RecordingFileError(f"the metadata gives the key {key!r} twice, so it is "
+                                     "ambiguous; keep one value and save the recording again")
+        out[key] = value
+    return out
 
 
 def _json_depth(text: str) -> int:
@@ -226,15 +238,28 @@ def save_recording(
         Replace an existing file. By default an existing file is kept and
         :class:`~dstoolkit.errors.OutputExistsError` is raised.
     """
-    x = np.asarray(samples, dtype=float)
+    given = np.asarray(samples)
+    if given.dtype.kind not in "biuf":
+        raise RecordingFileError(
+            f"samples must be real numbers, got an array of {given.dtype} (complex samples "
+            "would lose their imaginary part); give the real signal")
+    x = given.astype(float)
     if x.ndim == 2 and x.shape[1] == 1:
         x = x[:, 0]
     if x.ndim != 1 or x.size == 0:
         raise RecordingFileError(f"samples must be a non-empty 1-D array, got shape {x.shape}")
     if not np.all(np.isfinite(x)):
         raise RecordingFileError("samples contain NaN or infinite values")
-    if isinstance(samplerate, bool) or int(samplerate) != samplerate or samplerate <= 0:
-        raise RecordingFileError(f"samplerate must be a positive whole number, got {samplerate}")
+    limit = float(np.finfo(np.float32).max)
+    if sample_format == "float32" and float(np.max(np.abs(x))) > limit:
+        raise RecordingFileError(
+            f"samples reach {float(np.max(np.abs(x))):.3g}, beyond what a 32-bit float WAV "
+            f"holds ({limit:.3g}); scale them to full scale ±1")
+    if (isinstance(samplerate, bool) or not isinstance(samplerate, int | float | np.number)
+            or not math.isfinite(samplerate) or int(samplerate) != samplerate
+            or not 1000 <= samplerate <= 1_000_000):
+        raise RecordingFileError(f"samplerate must be a whole number of Hz from 1 kHz to 1 MHz "
+                                 f"(what load_recording reads), got {samplerate!r}")
     metadata = RecordingMetadata() if metadata is None else metadata
     if not isinstance(metadata, RecordingMetadata):
         raise RecordingFileError(
@@ -260,9 +285,23 @@ def save_recording(
     riff = bytearray(buffer.getvalue())
     riff += _info_chunk(metadata)
     riff[4:8] = struct.pack("<I", len(riff) - 8)
+    _readable(bytes(riff), path)
     if not overwrite:
         check_outputs({"the recording": path})
     atomic_write(path, lambda fh: fh.write(riff))
+
+
+def _readable(riff: bytes, path: str | os.PathLike[str]) -> None:
+    """Refuse to write a file that :func:`load_recording` would refuse: too large, or
+    metadata over :data:`MAX_METADATA_BYTES` or nested too deep."""
+    if len(riff) > MAX_RECORDING_BYTES:
+        raise RecordingFileError(
+            f"the recording would take {len(riff) / 2**20:.0f} MiB, more than the "
+            f"{MAX_RECORDING_BYTES // 2**20} MiB load_recording reads; save a shorter one")
+    try:
+        read_metadata(read_layout(io.BytesIO(riff), len(riff), path).info)
+    except RecordingFileError as exc:
+        raise RecordingFileError(f"not saved, as it could not be read back: {exc}") from None
 
 
 #: Largest recording file read, bytes (256 MiB: 25 minutes of 32-bit float at 44.1 kHz);
@@ -347,7 +386,7 @@ def _parse_fmt(body: bytes, path: str | os.PathLike[str], endian: str) -> tuple[
     return encoding, channels, rate, bits, align
 
 
-def _parse_info(body: bytes) -> dict[bytes, str]:
+def _parse_info(body: bytes, path: str | os.PathLike[str]) -> dict[bytes, str]:
     info: dict[bytes, str] = {}
     sub = 4
     for _ in range(MAX_CHUNKS):
@@ -355,6 +394,9 @@ def _parse_info(body: bytes) -> dict[bytes, str]:
             break
         stag, ssize = body[sub : sub + 4], struct.unpack("<I", body[sub + 4 : sub + 8])[0]
         text = body[sub + 8 : sub + 8 + ssize].rstrip(b"\0")
+        if stag in info:
+            raise _bad(path, f"its metadata gives the field {stag.decode('latin-1')!r} twice, "
+                             "so it is ambiguous; keep one and save the recording again")
         info[stag] = text.decode("utf-8", errors="replace")
         sub += 8 + ssize + ssize % 2
     return info
@@ -373,6 +415,7 @@ def read_layout(fh: Any, size: int, path: str | os.PathLike[str]) -> WavLayout:
     fmt: tuple[str, int, int, int, int] | None = None
     data: tuple[int, int] | None = None
     info: dict[bytes, str] = {}
+    seen_info = False
     pos = 12
     for _ in range(MAX_CHUNKS):
         if pos + 8 > size:
@@ -397,7 +440,11 @@ def read_layout(fh: Any, size: int, path: str | os.PathLike[str]) -> WavLayout:
                                  f"the {MAX_METADATA_BYTES} a recording's metadata may have")
             body = fh.read(min(chunk, size - body_at))
             if body[:4] == b"INFO":
-                info.update(_parse_info(body))
+                if seen_info:
+                    raise _bad(path, "it has two LIST/INFO (metadata) chunks, so its metadata "
+                                     "is ambiguous; keep one and save the recording again")
+                seen_info = True
+                info.update(_parse_info(body, path))
         pos = body_at + chunk + chunk % 2
     else:
         raise _bad(path, f"it has more than {MAX_CHUNKS} chunks")

@@ -132,6 +132,61 @@ class Evidence(ABC):
         focal.flags.writeable = False
         mass.flags.writeable = False
         self._focal, self._mass = focal, mass
+        self._merged_cache: tuple[np.ndarray, np.ndarray] | None = None if not merge else (
+            focal, mass)
+
+    def _merged(self) -> tuple[np.ndarray, np.ndarray]:
+        """The focal elements and masses with equal focal elements merged (eq. 14): what
+        every reader of the evidence (``as_dict``, ``repr``, the dependence) sees, so that
+        the merged and the unmerged form of one evidence give one answer. Read-only."""
+        if self._merged_cache is None:
+            focal, mass = merge_equal(self._focal, self._mass)
+            focal.flags.writeable = False
+            mass.flags.writeable = False
+            self._merged_cache = (focal, mass)
+        return self._merged_cache
+
+    def merged(self) -> Self:
+        """The same evidence with equal focal elements merged, their masses added (eq. 14);
+        ``self`` when it has no equal focal elements."""
+        focal, mass = self._merged()
+        if focal is self._focal:
+            return self
+        return self._with(focal, mass, merge=False)
+
+    # -- copies: pickle, copy and deepcopy rebuild through the constructor's checks ----
+    @abstractmethod
+    def _state(self) -> tuple[Any, ...]:
+        """What :meth:`_restore` needs to rebuild this evidence (plain values and arrays)."""
+
+    @classmethod
+    @abstractmethod
+    def _restore(cls, *state: Any) -> Self:
+        """Rebuild an evidence from :meth:`_state`, validating it as the constructor does."""
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (type(self)._restore, self._state())
+
+    @classmethod
+    @abstractmethod
+    def _from_attributes(cls, state: dict[str, Any]) -> Self:
+        """Rebuild an evidence from the attributes a plain pickle of it holds, validating
+        them as the constructor does."""
+
+    def __setstate__(self, state: Any) -> None:
+        """A pickle in the plain form (attributes, no constructor call): rebuilt through the
+        checks, so that crafted attributes cannot make an invalid evidence."""
+        if not isinstance(state, dict):
+            raise EvidenceError(f"cannot unpickle a {type(self).__name__} from "
+                                f"{type(state).__name__}; pickle it with dstoolkit")
+        try:
+            rebuilt = self._from_attributes(state)
+        except (KeyError, TypeError, ValueError, IndexError) as exc:
+            if isinstance(exc, EvidenceError):
+                raise
+            raise EvidenceError(f"cannot unpickle a {type(self).__name__}: its attributes are "
+                                f"not those of one ({exc}); pickle it with dstoolkit") from None
+        self.__dict__.update(rebuilt.__dict__)
 
     @property
     def mass(self) -> np.ndarray:

@@ -137,19 +137,23 @@ def _common(a: Evidence, b: Evidence) -> tuple[np.ndarray, np.ndarray]:
 def joint_energy(a: Evidence, b: Evidence, *, mass_rule: MassRule = "min") -> float:
     """Energy of the intersection En(E1, E2) = Σ_{D ∈ F1 ∩ F2} m(D)·u/|D| (eqs. 3, A3, A9).
 
-    The sum runs over the focal elements common to both; u = 1 on a finite frame and
+    The sum runs over the focal elements common to both, each counted once with its whole
+    mass (equal focal elements merged, eq. 14); u = 1 on a finite frame and
     u = min(w_min(E1), w_min(E2)) on intervals. The paper leaves m(D) open:
     ``mass_rule`` = ``"min"`` (default) takes min(m1(D), m2(D)), ``"m1"`` or ``"m2"`` one side.
     """
     if mass_rule not in MASS_RULES:
         raise EvidenceError(f"mass_rule must be one of {MASS_RULES}, got {mass_rule!r}")
+    _check_evidence(a, "the first evidence")
+    _check_evidence(b, "the second evidence")
     a._check_compatible(b)
+    unit = min(a._energy_unit(), b._energy_unit())
+    a, b = a.merged(), b.merged()  # a focal element counts once, with its whole mass
     ia, ib = _common(a, b)
     if ia.size == 0:
         return 0.0
     ma, mb = a._mass[ia], b._mass[ib]
     m = {"min": np.minimum(ma, mb), "m1": ma, "m2": mb}[mass_rule]
-    unit = min(a._energy_unit(), b._energy_unit())
     ratio = _specificity(a._sizes()[ia], unit) * a._counts_in_energy()[ia]
     return float(np.sum(m * ratio))
 

@@ -22,6 +22,7 @@ last one, so leading axes such as runs stay first (see :func:`dstoolkit.filters.
 
 from __future__ import annotations
 
+import math
 import warnings
 from collections.abc import Callable, Sequence
 from typing import Any, Literal
@@ -59,6 +60,13 @@ def cartesian_product(
         raise EvidenceError(
             "cartesian_product needs a non-empty sequence of IntervalEvidence marginals"
         )
+    rows = math.prod(len(e) for e in marginals)
+    dims = sum(e.dim for e in marginals)
+    # the index grids, the ends, the masses, and as much again to merge equal boxes
+    check_memory(rows * (16.0 * dims + 16.0 * len(marginals) + 16.0) * 2,
+                 f"the Cartesian product of {len(marginals)} marginals ({rows} boxes in "
+                 f"{dims} dimensions)", "use fewer focal elements per marginal (fewer α-cuts, "
+                 "a smaller p) or fewer marginals")
     grids = np.meshgrid(*[np.arange(len(e)) for e in marginals], indexing="ij")
     idx = [g.reshape(-1) for g in grids]
     lo = np.concatenate([e.boxes_lo[i] for e, i in zip(marginals, idx, strict=True)], axis=1)
@@ -93,6 +101,40 @@ def _evaluate(f: Callable[[np.ndarray], Any], points: np.ndarray, extra: int) ->
     move just before the last one for the call (see the module notes)."""
     src, dst = tuple(range(extra)), tuple(range(-extra - 1, -1))
     return np.moveaxis(_call(f, np.moveaxis(points, src, dst)), dst, src)
+
+
+def _checked(f: Callable[[np.ndarray], Any]) -> Callable[[np.ndarray], Any]:
+    """``f``, refusing what it returns that is no image: complex values (their imaginary
+    part would be dropped) and NaN or ±inf at points whose coordinates are finite."""
+    def checked(points: np.ndarray) -> Any:
+        raw = f(points)
+        try:
+            values = np.asarray(raw)
+        except (TypeError, ValueError):
+            return raw  # _call says what is wrong with the shape
+        if values.dtype.kind == "c":
+            raise EvidenceError(
+                "f returned complex values; the extension principle needs a real function "
+                "(take the real part or the modulus inside f, as the model means)")
+        if values.dtype.kind not in "biuf":
+            return raw
+        finite_in = np.all(np.isfinite(points), axis=-1)
+        if values.shape == finite_in.shape:
+            bad = ~np.isfinite(values)
+        elif values.shape[:-1] == finite_in.shape:
+            bad = ~np.all(np.isfinite(values), axis=-1)
+        else:
+            return raw
+        bad &= finite_in
+        if bad.any():
+            where = np.argwhere(bad)[0]
+            point = points[tuple(where)]
+            raise EvidenceError(
+                f"f returned NaN or an infinite value at the point {point.tolist()}: the image "
+                "of a box would not be a box; check f's domain (or the boxes given)")
+        return raw
+
+    return checked
 
 
 def _outside(values: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
@@ -432,6 +474,11 @@ def image(
     Returns
     -------
     IntervalEvidence with the same masses (merged), or the arrays ``(lo, hi)`` of the images.
+
+    Raises
+    ------
+    EvidenceError
+        Bad boxes, or an f that returns complex values, or NaN or ±inf at finite points.
     """
     if isinstance(evidence_or_arrays, IntervalEvidence):
         lo, hi = evidence_or_arrays.boxes_lo, evidence_or_arrays.boxes_hi
@@ -446,12 +493,22 @@ def image(
             raise EvidenceError(
                 f"lo and hi must have the same shape (..., n), got {lo.shape} and {hi.shape}"
             )
+        if np.isnan(lo).any() or np.isnan(hi).any():
+            raise EvidenceError("some box ends are NaN; every end must be a number")
         if np.any(lo > hi):
             raise EvidenceError("some boxes have lo > hi; swap the ends or check the data")
+        if lo.shape[-1] == 0:
+            raise EvidenceError(f"boxes of shape {lo.shape} have no dimension; give (..., n) "
+                                "with n >= 1")
+    if not callable(f):
+        raise EvidenceError(f"f must be a function of the points, got {type(f).__name__}")
     signs = parse_signs(monotone, lo.shape[-1])
     resolved = resolve_method(method, signs)
-    out_lo, out_hi = image_boxes(lo, hi, f, resolved, signs, check=check, tol=tol,
+    out_lo, out_hi = image_boxes(lo, hi, _checked(f), resolved, signs, check=check, tol=tol,
                                  subdivisions=subdivisions)
+    if np.isnan(out_lo).any() or np.isnan(out_hi).any():
+        raise EvidenceError("the image has NaN ends (f is not defined on all of a box); "
+                            "check f's domain or the boxes given")
     if isinstance(evidence_or_arrays, IntervalEvidence):
         return IntervalEvidence(out_lo, out_hi, evidence_or_arrays.mass, merge=merge)
     return out_lo, out_hi

@@ -82,9 +82,12 @@ class MassFunction(Evidence):
     # -- construction helpers -----------------------------------------------------------
     @staticmethod
     def _elements(key: Any, frame: tuple | None) -> tuple:
-        if isinstance(key, str) and not (frame and key in frame):
-            return tuple(key)
-        if isinstance(key, (set, frozenset, tuple, list)):
+        """The hypotheses of a focal element: a string or a tuple that the frame lists is
+        one hypothesis; otherwise a string is the set of its characters and a set,
+        frozenset, tuple or list the set of its members."""
+        if isinstance(key, str | tuple) and frame and key in frame:
+            return (key,)
+        if isinstance(key, str | set | frozenset | tuple | list):
             return tuple(key)
         return (key,)
 
@@ -115,6 +118,30 @@ class MassFunction(Evidence):
         new.frame, new._index = self.frame, self._index
         new._set(np.asarray(focal, dtype=np.uint64), np.asarray(mass, dtype=float), merge)
         return new
+
+    def _state(self) -> tuple[Any, ...]:
+        merged = self._merged()[0] is self._focal
+        return (self.frame, [int(f) for f in self._focal], self._mass.tolist(), merged)
+
+    @classmethod
+    def _from_attributes(cls, state: dict[str, Any]) -> MassFunction:
+        masks = [int(f) for f in np.asarray(state["_focal"]).reshape(-1)]
+        masses = np.asarray(state["_mass"], dtype=float).reshape(-1).tolist()
+        return cls._restore(tuple(state["frame"]), masks, masses, False)
+
+    @classmethod
+    def _restore(cls, *state: Any) -> MassFunction:
+        frame, masks, masses, merge = state
+        probe = cls({frozenset(frame): 1.0}, frame)  # checks the frame
+        focal = np.array(masks, dtype=object)
+        if focal.ndim != 1 or not all(isinstance(f, int) and 0 < f <= probe._full
+                                      for f in masks):
+            raise EvidenceError(f"focal elements {masks!r} are not bit masks of non-empty "
+                                f"subsets of the frame {probe.frame!r}")
+        if len(masks) != len(validate_masses(masses)):
+            raise EvidenceError(f"{len(masses)} masses for {len(masks)} focal elements")
+        return probe._with(np.array(masks, dtype=np.uint64), validate_masses(masses),
+                           merge=bool(merge))
 
     @classmethod
     def vacuous(cls, frame: Iterable[Hashable]) -> MassFunction:
@@ -190,8 +217,9 @@ class MassFunction(Evidence):
         return [self._decode(f) for f in self._focal]
 
     def as_dict(self) -> dict[frozenset, float]:
-        """``{focal element: mass}``."""
-        return dict(zip(self.focal_elements, self._mass.tolist(), strict=True))
+        """``{focal element: mass}``, equal focal elements merged (their masses added)."""
+        focal, mass = self._merged()
+        return dict(zip((self._decode(f) for f in focal), mass.tolist(), strict=True))
 
     def mass_of(self, subset: Any) -> float:
         """m(A) (0 when A is not a focal element)."""

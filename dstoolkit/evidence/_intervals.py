@@ -73,6 +73,11 @@ class IntervalEvidence(Evidence):
             raise EvidenceError(
                 f"lo and hi must have the same shape, got {lo_arr.shape} and {hi_arr.shape}"
             )
+        if lo_arr.shape[1] == 0:
+            raise EvidenceError(
+                f"boxes of shape {lo_arr.shape} have no dimension; give at least one "
+                "component per focal element, shape (n,) or (n, d) with d >= 1"
+            )
         m = validate_masses(mass)
         if m.size != lo_arr.shape[0]:
             raise EvidenceError(
@@ -102,6 +107,23 @@ class IntervalEvidence(Evidence):
         new = object.__new__(IntervalEvidence)
         new._set(np.asarray(focal, dtype=float), np.asarray(mass, dtype=float), merge)
         return new
+
+    def _state(self) -> tuple[Any, ...]:
+        merged = self._merged()[0] is self._focal
+        return (self.boxes_lo.copy(), self.boxes_hi.copy(), self._mass.copy(), merged)
+
+    @classmethod
+    def _restore(cls, *state: Any) -> IntervalEvidence:
+        lo, hi, mass, merge = state
+        return cls(lo, hi, mass, merge=bool(merge))
+
+    @classmethod
+    def _from_attributes(cls, state: dict[str, Any]) -> IntervalEvidence:
+        focal = np.asarray(state["_focal"], dtype=float)
+        if focal.ndim != 2 or focal.shape[1] % 2:
+            raise EvidenceError(f"focal elements of shape {focal.shape} are not boxes")
+        d = focal.shape[1] // 2
+        return cls(focal[:, :d], focal[:, d:], state["_mass"], merge=False)
 
     @classmethod
     def from_pairs(cls, pairs: Any, *, merge: bool = True) -> IntervalEvidence:
@@ -283,9 +305,13 @@ class IntervalEvidence(Evidence):
         return np.column_stack([self.lo, self.hi, self._mass])
 
     def __repr__(self) -> str:
-        if self.dim == 1:
-            body = ", ".join(f"[{a:.4g}, {b:.4g}]: {m:.4g}" for a, b, m in self.to_rows()[:8])
+        focal, mass = self._merged()  # equal focal elements shown once, masses added
+        n, d = len(mass), self.dim
+        if d == 1:
+            body = ", ".join(f"[{a:.4g}, {b:.4g}]: {m:.4g}"
+                             for a, b, m in zip(focal[:8, 0], focal[:8, 1], mass[:8],
+                                                strict=True))
         else:
-            body = f"{len(self)} boxes in {self.dim} dimensions"
-        more = f", … ({len(self)} focal elements)" if self.dim == 1 and len(self) > 8 else ""
+            body = f"{n} boxes in {d} dimensions"
+        more = f", … ({n} focal elements)" if d == 1 and n > 8 else ""
         return f"IntervalEvidence({body}{more})"

@@ -21,16 +21,24 @@ _SUFFIX = {"": 1, "K": 2**10, "M": 2**20, "G": 2**30}
 _budget: int | None = None
 
 
-def _parse_bytes(text: str) -> int:
-    text = text.strip().upper().removesuffix("B").removesuffix("I")
+#: The largest budget one can give: 1 PiB (more is no budget at all).
+MAX_MEMORY_BUDGET = 2**50
+
+
+def _parse_bytes(given: str) -> int:
+    """The budget ``DSTOOLKIT_MEMORY_BUDGET`` gives: bytes, or a number with a K/M/G
+    suffix (``KiB``, ``MB`` ... read as powers of 1024), from 1 MiB to 1 PiB."""
+    text = given.strip().upper().removesuffix("B").removesuffix("I")
     unit = text[-1:] if text[-1:] in _SUFFIX else ""
+    number = text[: len(text) - len(unit)].strip()
     try:
-        value = float(text[: len(text) - len(unit)]) * _SUFFIX[unit]
+        value = float(number) * _SUFFIX[unit]  # "inf" and "nan" are out of range below
     except ValueError:
         value = -1.0
-    if not value >= 1:
+    if not 2**20 <= value <= MAX_MEMORY_BUDGET:
         raise InvalidInputError(
-            f"DSTOOLKIT_MEMORY_BUDGET={text!r} is not a size; give bytes, e.g. 2G or 512M"
+            f"DSTOOLKIT_MEMORY_BUDGET={given!r} is not a size from 1 MiB to 1 PiB; give bytes, "
+            "or a number with a suffix, e.g. 2G or 512M"
         )
     return int(value)
 
@@ -48,9 +56,10 @@ def set_memory_budget(nbytes: int | None) -> None:
     """Set the memory budget (bytes) for every large allocation; None restores the default."""
     global _budget
     if nbytes is not None and (isinstance(nbytes, bool) or not isinstance(nbytes, int)
-                               or nbytes < 2**20):
+                               or not 2**20 <= nbytes <= MAX_MEMORY_BUDGET):
         raise InvalidInputError(
-            f"the memory budget must be a whole number of bytes of at least 1 MiB, got "
+            f"the memory budget must be a whole number of bytes, at least 1 MiB and at most "
+            f"1 PiB, got "
             f"{nbytes!r}"
         )
     _budget = nbytes
@@ -71,7 +80,7 @@ def check_memory(nbytes: float, what: str, advice: str) -> None:
     ``advice`` says how to make the work smaller (fewer focal elements, fewer steps...).
     """
     budget = memory_budget()
-    if nbytes > budget:
+    if not nbytes <= budget:  # NaN or inf (a size that overflowed) is over any budget
         raise MemoryBudgetError(
             f"{what} needs about {format_bytes(nbytes)}, more than the memory budget of "
             f"{format_bytes(budget)}; {advice}, or raise the budget "

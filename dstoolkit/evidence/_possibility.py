@@ -139,11 +139,20 @@ def triangular_evidence(
 
 
 def triangular_from_samples(samples: Any, k: float = 3.0) -> TriangularBounds:
-    """Bounds mean ± kσ and mode at the mean of measured errors (the paper's Figs. 8–9)."""
-    x = np.asarray(samples, dtype=float).reshape(-1)
+    """Bounds mean ± kσ and mode at the mean of measured errors (the paper's Figs. 8–9).
+
+    ``k`` is a finite number ≥ 0 (how many standard deviations the bounds lie away).
+    """
+    x = real_array(samples, "error samples", finite=False, error=EvidenceError).reshape(-1)
+    k = real_number(k, "k", low=0.0, error=EvidenceError)
     if x.size < 2:
         raise EvidenceError(f"need at least 2 error samples to estimate σ, got {x.size}")
     if not np.all(np.isfinite(x)):
         raise EvidenceError("error samples contain NaN or infinite values; remove them first")
-    mean, sigma = float(x.mean()), float(x.std(ddof=1))
-    return TriangularBounds(mean - k * sigma, mean, mean + k * sigma)
+    with np.errstate(over="ignore", invalid="ignore"):
+        mean, sigma = float(x.mean()), float(x.std(ddof=1))
+        lower, upper = mean - k * sigma, mean + k * sigma
+    if not (math.isfinite(mean) and math.isfinite(lower) and math.isfinite(upper)):
+        raise EvidenceError("the error samples are too large to compute with (their mean or "
+                            "spread overflows); rescale them")
+    return TriangularBounds(lower, mean, upper)

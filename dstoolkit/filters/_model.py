@@ -71,6 +71,32 @@ class BoundedNoise:
             value.flags.writeable = False
             object.__setattr__(self, name, value)
 
+    def __eq__(self, other: object) -> bool:
+        """Equal bounds and modes, component by component."""
+        if not isinstance(other, BoundedNoise):
+            return NotImplemented
+        return all(np.array_equal(getattr(self, name), getattr(other, name))
+                   for name in ("lower", "mode", "upper"))
+
+    def __hash__(self) -> int:
+        return hash(tuple(tuple(getattr(self, name).tolist())
+                          for name in ("lower", "mode", "upper")))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        """Pickle, copy and deepcopy rebuild the noise through the constructor: its checks
+        run again and the copy's arrays are read-only too."""
+        return (BoundedNoise, (self.lower.tolist(), self.mode.tolist(), self.upper.tolist()))
+
+    def __setstate__(self, state: Any) -> None:
+        """A pickle in the plain form (attributes, no constructor call) goes through the
+        constructor's checks too."""
+        try:
+            lower, mode, upper = state["lower"], state["mode"], state["upper"]
+        except (KeyError, TypeError, IndexError):
+            raise EvidenceError("cannot unpickle a BoundedNoise from this state; pickle it "
+                                "with dstoolkit") from None
+        BoundedNoise.__init__(self, lower, mode, upper)
+
     @classmethod
     def symmetric(cls, half_width: Any) -> BoundedNoise:
         """Noise in [−h, h] with mode 0."""

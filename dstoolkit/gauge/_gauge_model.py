@@ -20,7 +20,8 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.errors import EvidenceError
-from dstoolkit.evidence._checks import real_array
+from dstoolkit.evidence._checks import real_array, whole_number
+from dstoolkit.evidence._limits import check_memory
 from dstoolkit.filters._model import BoundedNoise, ScalarMaps, StateSpaceModel
 
 from ._acoustics import DEFAULT_BAND, fundamental_frequency, resonance_frequencies, speed_of_sound
@@ -172,6 +173,11 @@ def simulate_gauge(
         raise EvidenceError(
             f"only {orders.size} resonance(s) in {band} Hz at L = {level_m} m: widen the band"
         )
+    if runs is not None:
+        runs = whole_number(runs, "runs", low=1)
+        # the readings, the noise draws (three arrays) and the orders, 8 bytes each
+        check_memory(runs * orders.size * 8.0 * 6, f"simulating {runs} runs of "
+                     f"{orders.size} readings", "simulate fewer runs")
     rng = np.random.default_rng(seed)
     size = (orders.size,) if runs is None else (runs, orders.size)
     readings = freqs[:, None] - obs_noise.sample(rng, size)

@@ -22,6 +22,7 @@ import numpy as np
 
 from dstoolkit.errors import InvalidInputError
 from dstoolkit.evidence._checks import real_array, whole_number
+from dstoolkit.evidence._limits import check_memory
 
 #: Largest order n_1 of the first resonance that :func:`fit_resonance_series` tries.
 MAX_FIRST_ORDER = 100_000
@@ -49,8 +50,10 @@ def level_from_resonance(frequency_hz: Any, order: Any, c: Any) -> np.ndarray:
     >>> round(float(level_from_resonance(f10, 10, 343.42)), 6)
     1.3
     """
-    return _finite_level(_positive(order, "order") * _positive(c, "c")
-                         / (2.0 * _positive(frequency_hz, "frequency_hz")))
+    n, speed = _positive(order, "order"), _positive(c, "c")
+    f = _positive(frequency_hz, "frequency_hz")
+    with np.errstate(over="ignore", under="ignore"):
+        return _finite_level(n * (speed / f) * 0.5)  # c/f first: 2 f may overflow
 
 
 def _positive(value: Any, name: str) -> np.ndarray:
@@ -68,13 +71,18 @@ def level_from_fundamental(fundamental_hz: Any, c: Any) -> np.ndarray:
     >>> float(level_from_fundamental(132.0, 343.2))
     1.3
     """
-    return _finite_level(_positive(c, "c") / (2.0 * _positive(fundamental_hz, "fundamental_hz")))
+    speed, f = _positive(c, "c"), _positive(fundamental_hz, "fundamental_hz")
+    with np.errstate(over="ignore", under="ignore"):
+        return _finite_level((speed / f) * 0.5)  # c/f first: 2 f may overflow
 
 
 def _finite_level(level: np.ndarray) -> np.ndarray:
-    if not np.all(np.isfinite(level)):
-        raise InvalidInputError("the level overflows: the frequencies and the speed of sound "
-                                "are far outside any tube's; give them in Hz and m/s")
+    """The level, refused when it overflowed or underflowed to 0 (inputs far outside any
+    tube's: the computed number would not be the level)."""
+    if not np.all(np.isfinite(level)) or np.any(level <= 0):
+        raise InvalidInputError("the level overflows or underflows: the frequencies and the "
+                                "speed of sound are far outside any tube's; give them in Hz "
+                                "and m/s")
     return level
 
 
@@ -217,6 +225,9 @@ def fit_resonance_series(
             f"{MAX_FIRST_ORDER}: these frequencies do not look like one tube's resonances"
         )
     top = int(top)
+    # the orders, the residuals and their squares: (top, K) floats each
+    check_memory(max(top, 1) * z.size * 8.0 * 4, f"fitting {z.size} frequencies with up to "
+                 f"{top} first orders", "give fewer frequencies, or max_first_order")
     firsts = np.arange(1, max(top, 1) + 1)[:, None]  # candidate first orders n_1
     m = firsts + s[None, :]
     y = z - offset_hz

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.errors import InvalidInputError
+from dstoolkit.evidence._checks import real_number
 
 
 @dataclass(frozen=True)
@@ -38,6 +39,8 @@ class LinearSweep:
     taper: float = 0.01
 
     def __post_init__(self) -> None:
+        for name in ("f_start", "f_stop", "duration", "sample_rate", "taper"):
+            real_number(getattr(self, name), name)  # a finite real number, not a string
         if not 0 < self.f_start < self.f_stop:
             raise InvalidInputError(
                 f"need 0 < f_start < f_stop (an upward sweep), got {self.f_start}, {self.f_stop}"

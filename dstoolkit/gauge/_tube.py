@@ -30,6 +30,8 @@ import numpy as np
 
 from dstoolkit._reprs import short_repr
 from dstoolkit.errors import InvalidInputError
+from dstoolkit.evidence._checks import real_number
+from dstoolkit.evidence._limits import check_memory
 
 from ._acoustics import (
     DEFAULT_BAND,
@@ -116,6 +118,10 @@ class TubeSetup:
     relative_humidity: float = 0.5
 
     def __post_init__(self) -> None:
+        for name in ("level_m", "temperature_c", "diameter_m", "surface_reflection",
+                     "top_reflection", "wall_loss_factor", "extra_attenuation_np_per_m",
+                     "relative_humidity"):
+            real_number(getattr(self, name), name)  # a finite real number, not a string
         if not (np.isfinite(self.level_m) and self.level_m > 0):
             raise InvalidInputError(
                 f"level_m must be a positive distance in metres, got {self.level_m}")
@@ -455,6 +461,9 @@ def synthesize_recording(
     cond = RecordingConditions() if conditions is None else conditions
     fs = sweep.sample_rate
     n = int(round((sweep.duration + cond.latency_s + cond.tail_s) * fs))
+    # the pressure, three work arrays, the time axis, the noises' draws and the samples
+    check_memory(n * 8.0 * 12, f"synthesising a recording of {n} samples",
+                 "shorten the sweep or lower its sample rate")
     kinds = (cond.speaker_jitter_bandwidth_hz, cond.speaker_jitter_hz > 0,
              cond.microphone_noise_pa > 0, cond.background_noise_pa > 0)
     if isinstance(seed, int | np.integer):

@@ -5,17 +5,30 @@
 that are one file, a folder or a device, a folder that cannot be written, and (with an
 :class:`~dstoolkit.errors.OutputExistsError`) an existing file, unless ``overwrite`` is
 given or the file is a figure the same command made earlier (:func:`made_by`).
-:func:`atomic_write` writes a temporary file beside the target and renames it over the
-target only when it is complete, so a failure or an interruption leaves no partial file.
+:func:`atomic_write` writes a temporary file beside the target and moves it into place only
+when it is complete, so a failure or an interruption leaves no partial file.
+
+Inside :func:`output_run` (one command of the command line), the check and the write are
+one decision: a path that was new when it was checked is created without clobbering (a
+hard link, which fails when the name exists), so a file that appeared meanwhile survives;
+a file that was allowed to be replaced is replaced only if it is still the file that was
+checked. When the run fails or is interrupted, the files and folders it made are removed.
+Outputs that are not regular files or new paths (devices, FIFOs, sockets, anything in
+``/dev``, ``/proc`` or ``/sys``, and symbolic links to them) are refused, whatever
+``overwrite`` says.
 """
 
 from __future__ import annotations
 
 import contextlib
+import contextvars
+import errno
 import os
+import stat
 import struct
 import tempfile
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO
 
@@ -54,10 +67,118 @@ def made_by(path: str | os.PathLike[str], command: str) -> bool:
     return False
 
 
+#: Folders no output may be written into, whatever ``overwrite`` says.
+SYSTEM_FOLDERS = (Path("/dev"), Path("/proc"), Path("/sys"))
+
+
+@dataclass
+class _Run:
+    """What one command plans to write and what it has made so far."""
+
+    #: resolved output path -> None (must be new) or (device, inode) of the file that
+    #: may be replaced
+    plan: dict[Path, tuple[int, int] | None] = field(default_factory=dict)
+    files: list[Path] = field(default_factory=list)
+    folders: list[Path] = field(default_factory=list)
+
+    def discard(self) -> None:
+        """Remove the files and the (then empty) folders this run made, newest first."""
+        for path in reversed(self.files):
+            with contextlib.suppress(OSError):
+                os.unlink(path)
+        for folder in reversed(self.folders):  # the deepest first; only when empty
+            with contextlib.suppress(OSError):
+                folder.rmdir()
+        self.files.clear()
+        self.folders.clear()
+
+
+_run: contextvars.ContextVar[_Run | None] = contextvars.ContextVar("dstoolkit_output_run",
+                                                                   default=None)
+
+
+@contextlib.contextmanager
+def output_run() -> Iterator[_Run]:
+    """One command's outputs: checked paths are written without clobbering, and when the
+    body fails (an exception, Ctrl-C, a signal turned into an exception) the files and
+    folders it made are removed. The body may call ``discard()`` on the run it is given
+    to remove them itself (a command that failed but returns an exit status)."""
+    run = _Run()
+    token = _run.set(run)
+    try:
+        yield run
+    except BaseException:
+        run.discard()
+        raise
+    finally:
+        _run.reset(token)
+
+
+def _link_chain(path: Path) -> list[Path]:
+    """``path`` and every path its symbolic links lead through (at most 40 links)."""
+    chain = [Path(os.path.abspath(path))]
+    current = chain[0]
+    for _ in range(40):
+        try:
+            target = os.readlink(current)
+        except OSError:  # not a link, or missing
+            break
+        current = Path(os.path.abspath(current.parent / target))
+        chain.append(current)
+    with contextlib.suppress(OSError, RuntimeError):
+        chain.append(path.resolve())
+    return chain
+
+
+def _system_path(path: Path) -> Path | None:
+    """The system folder (``/dev``, ``/proc``, ``/sys``) that ``path`` or a link on the way
+    to its file lies in, else None."""
+    for candidate in _link_chain(path):
+        for folder in SYSTEM_FOLDERS:
+            if candidate == folder or folder in candidate.parents:
+                return folder
+    return None
+
+
+def refuse_special(path: Path, what: str) -> None:
+    """Refuse an output that is not a regular file or a new path: a folder, a device, a
+    FIFO, a socket, a path in a system folder, or a symbolic link to one of them."""
+    system = _system_path(path)
+    if system is not None:
+        raise OutputPathError(f"{what}: {path} is not a regular file or a new path: it is in "
+                              f"{system}, where files are devices or kernel state; give a "
+                              "file name elsewhere")
+    try:
+        info = os.stat(path)
+    except FileNotFoundError:
+        return
+    except OSError as exc:
+        raise OutputPathError(f"{what}: cannot use {path}: {exc.strerror or exc}; choose "
+                              "another place") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise OutputPathError(f"{what}: {path} is a folder; give a file name")
+    if not stat.S_ISREG(info.st_mode):
+        raise OutputPathError(f"{what}: {path} is not a regular file (a device, a pipe or a "
+                              "socket); give a file name")
+
+
+def _make_folder(folder: Path) -> None:
+    """``mkdir -p``, remembering in the current run which folders it made."""
+    missing: list[Path] = []
+    for parent in (folder, *folder.parents):
+        if parent.exists() or parent.is_symlink():
+            break
+        missing.append(parent)
+    folder.mkdir(parents=True, exist_ok=True)
+    run = _run.get()
+    if run is not None:
+        run.folders.extend(reversed(missing))
+
+
 def _writable_folder(path: Path) -> None:
     """Create the output's folder if needed and make sure a file can be created in it."""
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
+        _make_folder(path.parent)
         fd, probe = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".probe")
         os.close(fd)
         os.unlink(probe)
@@ -107,28 +228,46 @@ def check_outputs(
             if same:
                 raise OutputPathError(f"{what} would overwrite the input {source}; choose "
                                       "another output name")
+        refuse_special(path, what)
+        replace: tuple[int, int] | None = None
         if path.is_symlink() or path.exists():
-            if path.is_dir():
-                raise OutputPathError(f"{what}: {path} is a folder; give a file name")
-            if path.exists() and not path.is_file():
-                raise OutputPathError(f"{what}: {path} is not a regular file (a device or a "
-                                      "pipe); give a file name")
             if not overwrite and not (replaceable is not None and replaceable(path)):
                 raise OutputExistsError(f"{what}: {path} exists; pass --overwrite "
                                         "(overwrite=True) to replace it, or choose another name")
+            with contextlib.suppress(OSError):
+                info = os.lstat(path)
+                replace = (info.st_dev, info.st_ino)
         _writable_folder(path)
+        run = _run.get()
+        if run is not None:
+            run.plan.setdefault(key, replace)  # a stricter earlier check stays
         checked[what] = path
     return checked
 
 
 def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], object]) -> Path:
-    """Write ``path`` through ``write(file)`` into a temporary file beside it, then rename.
+    """Write ``path`` through ``write(file)`` into a temporary file beside it, then move it
+    into place.
 
     The target appears complete or not at all; the temporary file is removed on failure.
-    Missing parent folders are created.
+    Missing parent folders are created. A target that is not a regular file or a new path
+    (:func:`refuse_special`) is refused. Inside :func:`output_run`, a path checked by
+    :func:`check_outputs` as new is created without clobbering, and a path allowed to be
+    replaced is replaced only if it is still the file that was checked; otherwise an
+    :class:`~dstoolkit.errors.OutputExistsError` says that the file appeared meanwhile.
+
+    Raises
+    ------
+    OutputPathError
+        The target is a folder, a device, a FIFO, a socket, or in a system folder.
+    OutputExistsError
+        The target appeared, or changed, after it was checked.
     """
     target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
+    refuse_special(target, "the output")
+    _make_folder(target.parent)
+    run = _run.get()
+    key = target.resolve()
     fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".part")
     try:
         with os.fdopen(fd, "wb") as fh:
@@ -136,12 +275,51 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], obje
             fh.flush()
             os.fsync(fh.fileno())
         os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, target)
+        if run is not None and key in run.plan:
+            _place_checked(tmp, target, run.plan[key])
+        else:
+            refuse_special(target, "the output")
+            os.replace(tmp, target)
+        if run is not None:
+            run.files.append(target)
     except BaseException:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
     return target
+
+
+def _place_checked(tmp: str, target: Path, replace: tuple[int, int] | None) -> None:
+    """Move ``tmp`` to ``target`` only if ``target`` is as it was checked: absent (then a
+    hard link creates it, failing if the name appeared), or the same file as before."""
+    appeared = OutputExistsError(
+        f"{target} appeared or changed while this command ran; it was kept. Run again "
+        "with another output name (or --overwrite to replace it)")
+    try:
+        info = os.lstat(target)
+    except FileNotFoundError:
+        info = None
+    if info is not None:
+        if replace is None or (info.st_dev, info.st_ino) != replace:
+            raise appeared
+        refuse_special(target, "the output")
+        os.replace(tmp, target)
+        return
+    try:
+        os.link(tmp, target)
+    except FileExistsError:
+        raise appeared from None
+    except OSError as exc:
+        if exc.errno not in (errno.EPERM, errno.EOPNOTSUPP, errno.EXDEV, errno.EMLINK,
+                             errno.ENOSYS):
+            raise
+        # no hard links here (some network or FAT file systems): rename into the name
+        # that was still free a moment ago
+        if os.path.lexists(target):
+            raise appeared from None
+        os.replace(tmp, target)
+        return
+    os.unlink(tmp)
 
 
 def _umask() -> int:

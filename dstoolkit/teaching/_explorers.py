@@ -46,6 +46,7 @@ import html
 import io
 import itertools
 import os
+import threading
 import weakref
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
@@ -61,6 +62,7 @@ from matplotlib.figure import Figure
 
 from dstoolkit.errors import (
     AudioUnavailableError,
+    DstoolkitError,
     EvidenceError,
     InvalidInputError,
     NotMonotoneError,
@@ -280,6 +282,9 @@ class Explorer(widgets.VBox):
         super().__init__()
         self.controls = dict(controls)
         self._render = render
+        # one refresh at a time: a render and the picture it draws belong together, also
+        # when two threads move the controls (a re-entrant lock: a render may move one)
+        self._lock = threading.RLock()
         self.live = {name: tuple(values) for name, values in (live or {}).items()}
         unknown = set(self.live) - set(self.controls)
         if unknown or len(self.live) > 2:
@@ -320,10 +325,16 @@ class Explorer(widgets.VBox):
 
     def refresh(self, **overrides: Any) -> None:
         """Render the controls' values (``overrides`` replacing some) into the readout and
-        the output: a new PNG, or a warning and no figure after an invalid setting."""
+        the output: a new PNG, or a warning and no figure after an invalid setting (any
+        error of the package, a memory budget refused as well). Safe from several
+        threads: one refresh runs at a time."""
+        with self._lock:
+            self._refresh(overrides)
+
+    def _refresh(self, overrides: dict[str, Any]) -> None:
         try:
             fig, numbers = self._render(**{**self.values(), **overrides})
-        except ValueError as exc:  # EvidenceError and friends: say what is wrong
+        except (ValueError, DstoolkitError) as exc:  # say what is wrong, whatever the error
             self.numbers = {"error": str(exc)}
             # A precomputed state has no figure to fall back on; in a kernel the last one
             # stays, and the warning says which setting it shows.
