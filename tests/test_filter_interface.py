@@ -209,3 +209,27 @@ def test_kalman_refuses_readings_a_noise_free_model_cannot_explain():
     with pytest.raises(InconsistentDataError, match=r"step 1 \(counting from 0\)"):
         flt.step(state, 2.1)
     np.testing.assert_array_equal(flt.run(model, [2.0, 2.0, 2.0]).estimates[:, 0], 2.0)
+
+
+def test_a_high_dimensional_state_is_refused_before_step_1_allocates():
+    """Seven state components give 4^7 noise focal elements and a prediction of 4^14 boxes
+    (eq. 16): refused by the memory budget before the masses ρ are made, and nothing of it
+    is kept in the Step-1 cache."""
+    import tracemalloc
+
+    from dstoolkit.errors import MemoryBudgetError
+    from dstoolkit.filters import BoundedNoise, StateSpaceModel
+
+    half = [0.1] * 7
+    model = StateSpaceModel(
+        f=lambda x, u=None: x, g=lambda x: x,
+        g_inverse=lambda lo, hi, a, b: (np.maximum(lo, a), np.minimum(hi, b)),
+        state_noise=BoundedNoise.symmetric(half), obs_noise=BoundedNoise.symmetric(half))
+    tracemalloc.start()
+    try:
+        with pytest.raises(MemoryBudgetError, match=r"16384 × 16384 boxes, eq\. 16"):
+            DependentEvidenceFilter().run(model, np.zeros((3, 7)))
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 256 * 2**20

@@ -57,6 +57,7 @@ from dstoolkit.evidence._extension import (
     state_signs,
 )
 from dstoolkit.evidence._intervals import IntervalEvidence
+from dstoolkit.evidence._limits import check_memory
 
 from ._base import Block, Filter, FilterState, KernelChoice
 from ._dependent_arrays import StepArrays, map_back, observe, predict
@@ -515,6 +516,10 @@ class _Step1:
 def _noise_evidence(step1: _Step1) -> NoiseEvidence:
     ev = step1.state.evidence(step1.p, step1.epsilon, step1.theta_v)
     ew = step1.obs.evidence(step1.p, step1.epsilon, step1.theta_w)
+    n_v = len(ev)
+    check_memory(8.0 * n_v * n_v * (2 * ev.boxes_lo.shape[-1] + 1),
+                 f"the paper's filter's prediction E_(k+1|k) ({n_v} × {n_v} boxes, eq. 16)",
+                 "use fewer α-cuts p, or a model with fewer state components")
     v = Boxes(ev.boxes_lo[None], ev.boxes_hi[None], ev.mass[None])
     w = Boxes(ew.boxes_lo[None], ew.boxes_hi[None], ew.mass[None])
     rho = np.multiply.outer(ev.mass, ev.mass).reshape(1, -1)
