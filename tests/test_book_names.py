@@ -16,8 +16,8 @@ import pytest
 from conftest import ROOT
 
 DOTTED = re.compile(r"\bdstoolkit(?:\.[A-Za-z_]\w*)+")
-FROM_IMPORT = re.compile(r"^\s*from\s+(dstoolkit(?:\.\w+)*)\s+import\s+\(?([^)#\n]+)",
-                         flags=re.M)
+FROM_IMPORT = re.compile(
+    r"^\s*from\s+(dstoolkit(?:\.\w+)*)\s+import\s+(\([^)]*\)|[^\n#]+)", flags=re.M)
 
 
 def sources() -> list[Path]:
@@ -37,7 +37,8 @@ def mentioned_names() -> dict[str, list[str]]:
         for match in FROM_IMPORT.finditer(text):
             number = text.count("\n", 0, match.start()) + 1
             where = f"{path.relative_to(ROOT)}:{number}"
-            for item in match.group(2).split(","):
+            listed = re.sub(r"#[^\n]*", "", match.group(2)).strip("() \n")
+            for item in re.split(r"[,\n]", listed):
                 item = item.strip().split(" as ")[0].strip()
                 if item and item != "*":
                     found.setdefault(f"{match.group(1)}.{item}", []).append(where)
