@@ -76,6 +76,8 @@ def text_problems(fig: Figure) -> list[str]:
 def _drawn_tick_labels(axis) -> list[Text]:
     """The tick labels a draw shows: those of the ticks inside the view limits (matplotlib
     keeps label artists for ticks outside them, which it skips when drawing)."""
+    if not axis.axes.axison or not axis.get_visible():
+        return []
     ticks = axis._update_ticks()  # the ticks Axis.draw draws
     return [label for tick in ticks for label, on in ((tick.label1, tick.label1.get_visible()),
                                                       (tick.label2, tick.label2.get_visible()))
