@@ -66,7 +66,8 @@ def text_problems(fig: Figure) -> list[str]:
         for axis in (ax.xaxis, ax.yaxis):
             labels = [t for t in _drawn_tick_labels(axis) if _shown(t)]
             boxes = [t.get_window_extent(renderer) for t in labels]
-            for (a, box_a), (b, box_b) in itertools.combinations(zip(labels, boxes), 2):
+            pairs = itertools.combinations(zip(labels, boxes, strict=True), 2)
+            for (a, box_a), (b, box_b) in pairs:
                 if _overlap(box_a, box_b) and _glyphs_collide(a, box_a, b, box_b, fig.dpi):
                     problems.append(f"tick labels {a.get_text()!r} and {b.get_text()!r} "
                                     "overlap")

@@ -249,10 +249,10 @@ def dependence(
     >>> round(dep.r12, 4), round(dep.r21, 4)
     (0.7522, 0.7003)
     """
-    en1 = energy(a, theta=theta) if energy1 is None else real_number(energy1, "energy1", low=0.0, high=1.0,
-                                                         error=EvidenceError)
-    en2 = energy(b, theta=theta) if energy2 is None else real_number(energy2, "energy2", low=0.0, high=1.0,
-                                                         error=EvidenceError)
+    en1 = energy(a, theta=theta) if energy1 is None else real_number(
+        energy1, "energy1", low=0.0, high=1.0, error=EvidenceError)
+    en2 = energy(b, theta=theta) if energy2 is None else real_number(
+        energy2, "energy2", low=0.0, high=1.0, error=EvidenceError)
     joint = joint_energy(a, b, mass_rule=mass_rule, theta=theta)
     if joint > 0 and min(en1, en2) <= 0:
         raise EvidenceError(
