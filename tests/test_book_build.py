@@ -159,3 +159,19 @@ def test_intro_embeds_its_widget(built_book: BookBuild) -> None:
         "book/intro.html has no embedded widget; myst-nb stores the state only when the "
         "executed notebook carries metadata.widgets"
     )
+
+
+def test_teaching_page_has_plans_map_and_text_version(built_book: BookBuild) -> None:
+    page = (built_book.html_dir / "book" / "teaching.html").read_text(encoding="utf-8")
+    for needed in ("6-week graduate module", "12-week course", "Text version of the map",
+                   "tb-fig-prerequisites", "How the lab fits", "homework or class"):
+        assert needed in page, needed
+    parser = _PageParser()
+    parser.feed(page)
+    assert any(url.endswith(".png") for url in parser.fetched), "the map is not an image"
+    assert page.count("Chapter 12, <em>The lab</em>") == 1  # the text version lists all
+
+
+def test_chapter_one_draws_the_loop(built_book: BookBuild) -> None:
+    page = (built_book.html_dir / "book" / "why_bounded_noise.html").read_text(encoding="utf-8")
+    assert "wb-fig-loop" in page and "dependent combination" in page

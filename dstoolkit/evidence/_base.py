@@ -91,8 +91,9 @@ class Evidence(ABC):
         """Size of each focal element: cardinality |A| or width (volume) w(A)."""
 
     @abstractmethod
-    def _energy_unit(self) -> float:
-        """The size a focal element must have to count fully in the energy (eqs. 2, A1)."""
+    def _energy_unit(self, counted: np.ndarray | None = None) -> float:
+        """The size a focal element must have to count fully in the energy (eqs. 2, A1),
+        among the focal elements ``counted`` (a mask; all by default)."""
 
     @abstractmethod
     def _counts_in_energy(self) -> np.ndarray:

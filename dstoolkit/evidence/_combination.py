@@ -28,6 +28,12 @@ E = TypeVar("E", bound=Evidence)
 MassRule = Literal["min", "m1", "m2"]
 #: The values of :data:`MassRule`.
 MASS_RULES: tuple[str, ...] = ("min", "m1", "m2")
+#: Which focal elements the energy counts: ``"paper"`` as the paper defines it (eq. 2 leaves
+#: Θ out on a finite frame; eq. A1 counts every bounded interval, Θ = the hull included),
+#: ``"left_out"`` leaves Θ out on intervals too (so that the vacuous evidence has energy 0).
+ThetaRule = Literal["paper", "left_out"]
+#: The values of :data:`ThetaRule`.
+THETA_RULES: tuple[str, ...] = ("paper", "left_out")
 
 #: Kept mass 1 − K (summed over the non-empty products, not computed as a difference) at or
 #: below this counts as total conflict: the smallest normal float, below which dividing by
@@ -108,10 +114,33 @@ def _specificity(sizes: np.ndarray, unit: float) -> np.ndarray:
     return np.where(np.isfinite(sizes), ratio, 0.0)
 
 
-def energy(e: Evidence) -> float:
+def _energy_terms(e: Evidence, theta: ThetaRule) -> tuple[np.ndarray, float]:
+    """Mask of the focal elements that enter the energy, and the unit (the size that counts
+    fully: 1 on a finite frame, the smallest counted width on intervals)."""
+    if theta not in THETA_RULES:
+        raise EvidenceError(f"theta must be one of {THETA_RULES}, got {theta!r}")
+    counts = e._counts_in_energy()
+    if theta == "paper":
+        return counts, e._energy_unit()
+    rows = e._focal.reshape(len(e._mass), -1)
+    counts = counts & ~np.all(rows == e._theta().reshape(1, -1), axis=1)
+    return counts, e._energy_unit(counts)
+
+
+def energy(e: Evidence, *, theta: ThetaRule = "paper") -> float:
     """Energy of evidence En(E) = Σ_{A ≠ Θ} m(A)/|A| (eq. 2); on intervals
-    En'(E) = Σ m(A_i) w_min / w(A_i) (eq. A1). 0 for the vacuous evidence, 1 for a Bayesian
-    one, always in [0, 1].
+    En'(E) = Σ m(A_i) w_min / w(A_i) (eq. A1). Always in [0, 1], 1 for a Bayesian evidence.
+
+    Parameters
+    ----------
+    theta
+        ``"paper"`` (default): the paper's definitions. Eq. 2 leaves Θ out, so the vacuous
+        mass function has energy 0; eq. A1 counts every bounded focal element, the hull
+        (Θ of interval evidence) included, so the vacuous interval evidence {Θ: 1} has
+        energy 1. ``"left_out"``: Θ (the frame, or the hull of the focal elements) is left
+        out on intervals too, and w_min is the smallest width of the others: the vacuous
+        evidence then has energy 0 in both cases, and discounting by R multiplies the
+        energy by R, as eq. 5 of the paper assumes.
 
     Examples
     --------
@@ -122,9 +151,13 @@ def energy(e: Evidence) -> float:
     1.0
     >>> round(energy(IntervalEvidence([-0.3, 0.3], [2.6, 1.9], [0.3, 0.7])), 4)  # eq. A2
     0.8655
+    >>> vacuous = IntervalEvidence([-10.0], [10.0], [1.0])
+    >>> energy(vacuous), energy(vacuous, theta="left_out")
+    (1.0, 0.0)
     """
-    ratio = _specificity(e._sizes(), e._energy_unit())
-    return float(np.sum(e._mass * ratio * e._counts_in_energy()))
+    counts, unit = _energy_terms(e, theta)
+    ratio = _specificity(e._sizes(), unit)
+    return float(np.sum(e._mass * ratio * counts))
 
 
 def _common(a: Evidence, b: Evidence) -> tuple[np.ndarray, np.ndarray]:
@@ -134,27 +167,31 @@ def _common(a: Evidence, b: Evidence) -> tuple[np.ndarray, np.ndarray]:
     return ia, ib
 
 
-def joint_energy(a: Evidence, b: Evidence, *, mass_rule: MassRule = "min") -> float:
+def joint_energy(a: Evidence, b: Evidence, *, mass_rule: MassRule = "min",
+                 theta: ThetaRule = "paper") -> float:
     """Energy of the intersection En(E1, E2) = Σ_{D ∈ F1 ∩ F2} m(D)·u/|D| (eqs. 3, A3, A9).
 
     The sum runs over the focal elements common to both, each counted once with its whole
     mass (equal focal elements merged, eq. 14); u = 1 on a finite frame and
     u = min(w_min(E1), w_min(E2)) on intervals. The paper leaves m(D) open:
     ``mass_rule`` = ``"min"`` (default) takes min(m1(D), m2(D)), ``"m1"`` or ``"m2"`` one side.
+    ``theta`` as in :func:`energy`: with ``"left_out"`` a common D counts only if it is
+    neither evidence's Θ, and the widths w_min are those of :func:`energy`.
     """
     if mass_rule not in MASS_RULES:
         raise EvidenceError(f"mass_rule must be one of {MASS_RULES}, got {mass_rule!r}")
     _check_evidence(a, "the first evidence")
     _check_evidence(b, "the second evidence")
     a._check_compatible(b)
-    unit = min(a._energy_unit(), b._energy_unit())
     a, b = a.merged(), b.merged()  # a focal element counts once, with its whole mass
+    counts_a, unit_a = _energy_terms(a, theta)
+    counts_b, unit_b = _energy_terms(b, theta)
     ia, ib = _common(a, b)
     if ia.size == 0:
         return 0.0
     ma, mb = a._mass[ia], b._mass[ib]
     m = {"min": np.minimum(ma, mb), "m1": ma, "m2": mb}[mass_rule]
-    ratio = _specificity(a._sizes()[ia], unit) * a._counts_in_energy()[ia]
+    ratio = _specificity(a._sizes()[ia], min(unit_a, unit_b)) * counts_a[ia] * counts_b[ib]
     return float(np.sum(m * ratio))
 
 
@@ -196,11 +233,13 @@ def dependence(
     mass_rule: MassRule = "min",
     energy1: float | None = None,
     energy2: float | None = None,
+    theta: ThetaRule = "paper",
 ) -> Dependence:
     """Degree of dependence and dependency coefficients of E1 = ``a`` and E2 = ``b``.
 
     ``energy1``/``energy2`` override En(E1)/En(E2), e.g. to reproduce the paper's printed
     En'(E1) = 0.8655 in Appendix A. With D = 0 (nothing shared) both coefficients are 1.
+    ``theta`` chooses the energy's definition (:func:`energy`); ``"paper"`` by default.
 
     Examples
     --------
@@ -214,11 +253,11 @@ def dependence(
     >>> round(dep.r12, 4), round(dep.r21, 4)
     (0.7522, 0.7003)
     """
-    en1 = energy(a) if energy1 is None else real_number(energy1, "energy1", low=0.0, high=1.0,
-                                                         error=EvidenceError)
-    en2 = energy(b) if energy2 is None else real_number(energy2, "energy2", low=0.0, high=1.0,
-                                                         error=EvidenceError)
-    joint = joint_energy(a, b, mass_rule=mass_rule)
+    en1 = energy(a, theta=theta) if energy1 is None else real_number(
+        energy1, "energy1", low=0.0, high=1.0, error=EvidenceError)
+    en2 = energy(b, theta=theta) if energy2 is None else real_number(
+        energy2, "energy2", low=0.0, high=1.0, error=EvidenceError)
+    joint = joint_energy(a, b, mass_rule=mass_rule, theta=theta)
     if joint > 0 and min(en1, en2) <= 0:
         raise EvidenceError(
             f"energy1 = {en1:g} and energy2 = {en2:g} with a joint energy of {joint:.4g}: an "
@@ -258,11 +297,13 @@ def discount(e: E, rate: float, theta: np.ndarray | None = None) -> E:
 
 def decorrelate(
     a: E, b: E, *, mass_rule: MassRule = "min", energy1: float | None = None,
-    energy2: float | None = None,
+    energy2: float | None = None, theta: ThetaRule = "paper",
 ) -> tuple[E, E, Dependence]:
     """Discount E1 by R12 and E2 by R21 so they can be combined as if independent
-    (eqs. 9–10, A7–A8). Returns the two discounted evidences and the :class:`Dependence`."""
-    dep = dependence(a, b, mass_rule=mass_rule, energy1=energy1, energy2=energy2)
+    (eqs. 9–10, A7–A8). Returns the two discounted evidences and the :class:`Dependence`;
+    ``theta`` chooses the energy's definition (:func:`energy`)."""
+    dep = dependence(a, b, mass_rule=mass_rule, energy1=energy1, energy2=energy2,
+                     theta=theta)
     for name, r in (("R12", dep.r12), ("R21", dep.r21)):
         if not 0.0 <= r <= 1.0:
             raise EvidenceError(
@@ -275,10 +316,11 @@ def decorrelate(
 
 def combine_dependent(
     a: E, b: E, *, mass_rule: MassRule = "min", energy1: float | None = None,
-    energy2: float | None = None, merge: bool = True,
+    energy2: float | None = None, merge: bool = True, theta: ThetaRule = "paper",
 ) -> E:
     """Combination of dependent evidence (§2.2, eqs. 9–10; App. A, eqs. A7–A8): decorrelate
-    both by their dependency coefficients, then apply Dempster's rule (eq. 1).
+    both by their dependency coefficients, then apply Dempster's rule (eq. 1). ``theta``
+    chooses the energy's definition (:func:`energy`): the paper's by default.
 
     Examples
     --------
@@ -288,7 +330,8 @@ def combine_dependent(
     >>> len(combined), round(combined.pignistic_expectation(), 4)
     (5, 1.1355)
     """
-    a2, b2, _ = decorrelate(a, b, mass_rule=mass_rule, energy1=energy1, energy2=energy2)
+    a2, b2, _ = decorrelate(a, b, mass_rule=mass_rule, energy1=energy1, energy2=energy2,
+                            theta=theta)
     return dempster(a2, b2, merge=merge)
 
 

@@ -173,7 +173,7 @@ class MassFunction(Evidence):
     def _sizes(self) -> np.ndarray:
         return _popcount(self._focal)
 
-    def _energy_unit(self) -> float:
+    def _energy_unit(self, counted: np.ndarray | None = None) -> float:
         return 1.0
 
     def _counts_in_energy(self) -> np.ndarray:

@@ -212,8 +212,8 @@ class IntervalEvidence(Evidence):
         # a box unbounded in some direction is unbounded (0 · ∞ would give NaN)
         return np.where(np.isinf(widths).any(axis=1), np.inf, volume)
 
-    def _energy_unit(self) -> float:
-        sizes = self._sizes()
+    def _energy_unit(self, counted: np.ndarray | None = None) -> float:
+        sizes = self._sizes() if counted is None else self._sizes()[counted]
         finite = sizes[np.isfinite(sizes)]
         return float(finite.min()) if finite.size else 1.0
 

@@ -520,6 +520,23 @@ class MassArtists:
 
 
 @styled
+def _fit_category_labels(ax: Axes, names: Sequence[str]) -> None:
+    """Tilt the category labels of ``ax`` when, set level, they would run into each other:
+    each gets the axes' width over the number of categories, and a label is about 0.6 em
+    wide per character."""
+    labels = ax.get_xticklabels()
+    if not labels:
+        return
+    size_in = labels[0].get_fontsize() / 72.0
+    width_in = ax.get_position().width * ax.figure.get_figwidth()
+    slot_in = width_in / max(len(names), np.ptp(ax.get_xlim()), 1.0)
+    crowded = max(len(n) for n in names) * 0.6 * size_in > 0.9 * slot_in
+    for label in labels:
+        label.set_rotation(30 if crowded else 0)
+        label.set_horizontalalignment("right" if crowded else "center")
+        label.set_rotation_mode("anchor" if crowded else "default")
+
+
 def draw_masses(ax: Axes, *, title: str | None = None, animated: bool = False) -> MassArtists:
     """The parts of :func:`plot_masses` that no masses change (labels, y range, title) on
     ``ax``; the bars come with ``update_masses``."""
@@ -556,6 +573,7 @@ def update_masses(artists: MassArtists, mf: MassFunction, *, title: str | None =
         ax.set_xticks(range(len(names)), names)
         ax.relim(visible_only=True)  # the x range follows the bars, as when drawn anew
         ax.autoscale_view(scaley=False)
+        _fit_category_labels(ax, names)
     if title:
         ax.title.set_text(title)
 

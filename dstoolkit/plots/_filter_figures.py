@@ -219,12 +219,12 @@ def plot_filter_errors(
 #: The evidence a recorded step of the dependent-evidence filter holds (Steps 2–6), in
 #: the order of the paper's flowchart (Fig. 3), with the titles used in the pictures.
 FILTER_STEP_PANELS: tuple[tuple[str, str], ...] = (
-    ("state", "Step 2: state x̂_k + V"),
-    ("prediction", "Step 2: prediction E_{k+1|k}"),
-    ("observation_prediction", "Step 3: observation prediction g(E_{k+1|k})"),
-    ("observation", "Step 4: observation z_{k+1} + W"),
+    ("state", r"Step 2: state $\hat{x}_k + V$"),
+    ("prediction", r"Step 2: prediction $E_{k+1|k}$"),
+    ("observation_prediction", r"Step 3: observation prediction $g(E_{k+1|k})$"),
+    ("observation", r"Step 4: observation $z_{k+1} + W$"),
     ("fused", "Step 4: fused (Dempster)"),
-    ("mapped_back", "Step 5: mapped back through g⁻¹"),
+    ("mapped_back", r"Step 5: mapped back through $g^{-1}$"),
     ("final", "Step 6: final (dependent combination)"),
 )
 

@@ -800,7 +800,10 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
         """The figure, made by the first render and updated by the others: f, f on the
         box and the box; per method its image as a bar and a band across f, a ⚠ (shown
         when it warns) and the word "refused" (shown when it refuses)."""
-        fig = Figure(figsize=(9.5, 3.4), layout="constrained")
+        # fixed margins, not a layout engine: the y tick labels change with the function
+        # ("−0.75" is wider than "0.0"), and a layout made for the first ones cut the others
+        fig = Figure(figsize=(9.5, 3.4), layout="none")  # not the style's engine either
+        fig.subplots_adjust(left=0.075, right=0.99, bottom=0.15, top=0.9, wspace=0.06)
         ax, bars = fig.subplots(1, 2, sharey=True, width_ratios=[3, 1.3])
         (curve,) = ax.plot(x, x, color="black", lw=1.2)
         (on_box,) = ax.plot(x, x, color="#1f77b4", lw=3, label="f on the box")
