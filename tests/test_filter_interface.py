@@ -233,3 +233,23 @@ def test_a_high_dimensional_state_is_refused_before_step_1_allocates():
     finally:
         tracemalloc.stop()
     assert peak < 256 * 2**20
+
+
+def test_the_energy_without_theta_is_an_option_of_the_papers_filter():
+    """energy_theta="left_out" changes Step 6's dependence (eqs. A1–A6) only: the estimates
+    move a little, every path agrees, and the paper's definition stays the default."""
+    model, Z, U = gauge_case()
+    paper = DependentEvidenceFilter(start="mean_corrected")
+    left_out = dataclasses.replace(paper, energy_theta="left_out")
+    assert paper.energy_theta == "paper"
+    a = paper.run_batch(model, Z[:2], U[:2])
+    b = left_out.run_batch(model, Z[:2], U[:2])
+    gap = np.abs(a.estimates - b.estimates)
+    assert 0 < gap.max() < 1e-2
+    np.testing.assert_array_equal(b.estimates[1], left_out.run(model, Z[1], U[1]).estimates)
+    rec = left_out.run(model, Z[0], U[0], record=True)
+    np.testing.assert_array_equal(rec.estimates, b.estimates[0])
+    assert not np.allclose(rec.diagnostics["r12"][1:],
+                           paper.run(model, Z[0], U[0]).diagnostics["r12"][1:])
+    with pytest.raises(EvidenceError, match="energy_theta"):
+        DependentEvidenceFilter(energy_theta="none")

@@ -48,7 +48,15 @@ from dstoolkit.errors import EvidenceError, TotalConflictError
 from dstoolkit.evidence import _batch_kernels as bk
 from dstoolkit.evidence._batch_kernels import Boxes
 from dstoolkit.evidence._checks import real_array
-from dstoolkit.evidence._combination import MASS_RULES, MassRule, conflict, decorrelate, dempster
+from dstoolkit.evidence._combination import (
+    MASS_RULES,
+    THETA_RULES,
+    MassRule,
+    ThetaRule,
+    conflict,
+    decorrelate,
+    dempster,
+)
 from dstoolkit.evidence._extension import (
     IMAGE_METHODS,
     ImageMethod,
@@ -218,6 +226,13 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         *{"numpy", "numba", "auto"}*. Step 6 of the vectorised path: numpy, or a
         compiled kernel (extra ``speed``; the
         same numbers to rounding); ``"auto"`` takes numba when it is installed.
+    energy_theta
+        *{"paper", "left_out"}*. The energy En′ of Step 6's dependence (eqs. A1–A6):
+        ``"paper"`` counts every focal element, the frame Θ included, as the paper defines
+        it; ``"left_out"`` leaves Θ out, as on finite frames (see
+        :func:`dstoolkit.evidence.energy`). With ``"left_out"`` every path runs the
+        reference step on evidence objects (the vectorised kernels implement the paper's
+        energy only), which is slower.
 
     See Also
     --------
@@ -249,6 +264,7 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
     image_method: ImageMethod = "auto"
     chunk_size: int = 64
     kernel: KernelChoice = "numpy"
+    energy_theta: ThetaRule = "paper"
 
     name: ClassVar[str] = "dependent_evidence"
     DIAGNOSTICS: ClassVar[dict[str, str]] = DIAGNOSTICS
@@ -273,6 +289,7 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         self._own_frames()
         self._whole("chunk_size", low=1, high=10**6)
         self._compiled(self.kernel, "the paper's filter")
+        self._policy(self.energy_theta, THETA_RULES, "energy_theta")
 
     def _check_model(self, model: StateSpaceModel) -> None:
         self._maps(model)
@@ -375,7 +392,8 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         mapped = IntervalEvidence(back.lo[0], back.hi[0], back.mass[0])  # eq. 14 merges
         entry.update(fused=IntervalEvidence(fused.boxes_lo, fused.boxes_hi, fused.mass),
                      mapped_back=mapped)
-        a2, b2, dep = decorrelate(mapped, pred, mass_rule=self.mass_rule)
+        a2, b2, dep = decorrelate(mapped, pred, mass_rule=self.mass_rule,
+                                  theta=self.energy_theta)
         entry.update(dependence_terms=dep, energy_mapped_back=dep.energy1,
                      energy_prediction=dep.energy2, joint_energy=dep.joint_energy,
                      dependence=dep.degree, r12=dep.r12, r21=dep.r21,
@@ -387,8 +405,30 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
             self._check_conflict(np.zeros(1, bool), t, 6)
             return None
 
+    def _engine_by_steps(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
+                         runs: np.ndarray) -> Block:
+        """The recursion of R runs by the reference :meth:`step`, run after run (the
+        options the vectorised kernels do not implement)."""
+        n_runs, n_steps, _ = Z.shape
+        n, noise = model.state_dim, self.noise_evidence(model)
+        est, lower, upper = (np.empty((n_runs, n_steps, n)) for _ in range(3))
+        keys = tuple(DIAGNOSTICS)
+        diag = {key: np.full((n_runs, n_steps), np.nan) for key in keys}
+        starts = self._start(model, Z[:, 0], runs)
+        for r in range(n_runs):
+            state = DependentState(model, 1, starts[r], starts[r], starts[r], noise)
+            est[r, 0] = lower[r, 0] = upper[r, 0] = starts[r]
+            for k in range(1, n_steps):
+                state, record = self.step(state, Z[r, k], None if U is None else U[r, k - 1])
+                est[r, k], lower[r, k], upper[r, k] = state.estimate, state.lower, state.upper
+                for key in keys:
+                    diag[key][r, k] = getattr(record, key)
+        return Block(est, lower, upper, diag)
+
     def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
                 runs: np.ndarray) -> Block:
+        if self.energy_theta != "paper":
+            return self._engine_by_steps(model, Z, U, runs)
         est, lower, upper, diag = self._run_arrays(self._maps(model), self.noise_evidence(model),
                                                    Z, U, runs)
         assert lower is not None and upper is not None  # bounds=True returns them
