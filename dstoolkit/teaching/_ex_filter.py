@@ -137,8 +137,8 @@ _ONCE = ((lambda: [(0.5, 1.5, 0.8), (-1.0, 3.0, 0.2)],
 
 
 @exercise("filter.hand-noise", canonical=_rows_canonical,
-          hint="Eqs. 24–26 with p = 1: the one cut α = 0 is the support [−0.5, 0.5] with mass "
-          "1 − ε; Θ = [−2, 2] gets ε. " + _ROWS)
+          hint="Eqs. 24–26 with p = 1: a single cut, at α = 0, shares 1 − ε; what is left "
+          "goes to the frame Θ given in the statement. " + _ROWS)
 def _() -> list:
     return _hand("noise")
 
