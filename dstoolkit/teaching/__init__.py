@@ -38,6 +38,8 @@ from ._exercises import (  # noqa: E402
     solution,
     zadeh,
 )
+from ._grading import must_pass, must_pass_alone  # noqa: E402
+from ._limits import set_time_limit  # noqa: E402
 from ._explorers import (  # noqa: E402
     GAUGE_CONDITIONS,
     STATIC_SITE_ENV,
@@ -127,6 +129,8 @@ __all__ = [
     "level_error_from_temperature",
     "level_estimation_explorer",
     "mistake",
+    "must_pass",
+    "must_pass_alone",
     "mass_function_explorer",
     "noise_bounds_explorer",
     "noise_evidence_explorer",
@@ -135,6 +139,7 @@ __all__ = [
     "plot_method_levels",
     "positions",
     "render_filter",
+    "set_time_limit",
     "slider",
     "solution",
     "static_site",

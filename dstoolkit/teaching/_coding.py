@@ -24,7 +24,8 @@ import inspect
 import math
 import textwrap
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -164,12 +165,14 @@ class CodingExercise:
         except Exception as err:  # noqa: BLE001 - the learner's result may be anything
             return Raised(type(err), f"the result could not be read: {err}"[:120])
 
-    def expected(self) -> list[tuple[Case, Any]]:
-        """Every case with the reference's outcome (computed once)."""
+    def expected(self, cases: list[Case] | None = None) -> list[tuple[Case, Any]]:
+        """Every case (``cases``, or the exercise's own, kept after the first call) with the
+        reference's outcome."""
+        if cases is not None:
+            return [(case, _documented(self._normalised(_outcome(self.reference, case.args))))
+                    for case in cases]
         if "expected" not in self._cache:
-            self._cache["expected"] = [
-                (case, _documented(self._normalised(_outcome(self.reference, case.args))))
-                for case in self.cases()]
+            self._cache["expected"] = self.expected(self.cases())
         return self._cache["expected"]
 
     def _inputs(self, case: Case) -> str:
@@ -309,7 +312,23 @@ def coding_exercise(
     return item
 
 
+_SHIFT = [0]
+
+
 def seeded(seed: int) -> np.random.Generator:
     """The random generator of a coding exercise's random cases (fixed seed: the same cases
-    on every run, so a failing case can be looked at again)."""
-    return np.random.default_rng(seed)
+    on every run, so a failing case can be looked at again; hidden tests shift it, see
+    :func:`seed_shift`)."""
+    return np.random.default_rng(seed + _SHIFT[0])
+
+
+@contextmanager
+def seed_shift(shift: int) -> Iterator[None]:
+    """Inside the ``with`` block :func:`seeded` draws from ``seed + shift``: other random
+    cases, the same kinds."""
+    before = _SHIFT[0]
+    _SHIFT[0] = shift
+    try:
+        yield
+    finally:
+        _SHIFT[0] = before

@@ -4,8 +4,10 @@ A check must give its verdict even when the learner's function never ends. The f
 runs in the calling thread under a trace function that stops it once the deadline has
 passed (a ``while True`` loop is stopped between two of its lines); in the main thread of
 a Unix process an interval timer also stops code that waits in C (``time.sleep``) or that
-caught the first stop. The stop is a :class:`BaseException` (not an ``Exception``), so an
-``except Exception`` in the learner's code does not swallow it.
+caught the trace function's stop. The stop is a :class:`BaseException` (not an ``Exception``), so an
+``except Exception`` in the learner's code does not swallow it. (A bare ``except:`` inside
+an endless loop swallows every stop; only the kernel's interrupt, or nbgrader's cell time
+limit, ends that.)
 """
 
 from __future__ import annotations
@@ -80,6 +82,9 @@ def _alarm_available() -> bool:
 
 
 def _ring(signum: int, frame: Any) -> None:
+    """The timer's handler: stop the learner's code, never this module's clean-up."""
+    if frame is not None and frame.f_code.co_filename == __file__:
+        return
     raise TimeLimitReached
 
 
