@@ -291,3 +291,26 @@ def test_hidden_cases_differ_from_the_visible_ones():
         visible = {repr(case.args) for case, _ in exercise.expected()}
         hidden = {repr(case.args) for case, _ in hidden_cases(exercise)}
         assert hidden and not hidden & visible, exercise_id
+
+
+def test_no_chapter_notebook_carries_a_solution_call():
+    import jupytext
+    from chapter_notebook import strip_glue, strip_solution
+
+    calls = 0
+    for chapter in sorted((ROOT / "book").glob("*.md")):
+        if "kernelspec:" not in chapter.read_text("utf-8")[:2000]:
+            continue  # a page without code cells
+        cells = [c for c in jupytext.read(chapter).cells if c.cell_type == "code"]
+        sources = [c.source for c in cells]
+        calls += sum("solution(" in s for s in sources)
+        for source in strip_glue(sources):
+            cleaned = strip_solution(source)
+            assert "solution" not in cleaned.replace("solutions", ""), (chapter.name, cleaned)
+    assert calls > 0  # the book glues solutions: the notebooks leave them out
+    assert strip_solution("from dstoolkit.teaching import solution\nx = solution('mass.bel')"
+                          "\ny = 2") == "y = 2"
+    with pytest.raises(ValueError, match="uses solution"):
+        strip_solution("def f():\n    return solution('mass.bel')")
+    assert strip_solution("from dstoolkit.teaching import check, solution\nprint(1)") == (
+        "from dstoolkit.teaching import check\nprint(1)")
