@@ -12,7 +12,6 @@ import numpy as np
 import pytest
 
 from dstoolkit import IntervalEvidence, MassFunction
-from dstoolkit.teaching._coding import Raised
 from dstoolkit.teaching import (
     REGISTRY,
     CodingExercise,
@@ -24,6 +23,7 @@ from dstoolkit.teaching import (
     mistake,
     solution,
 )
+from dstoolkit.teaching._coding import Raised
 
 IDS = [k for k in exercises() if isinstance(REGISTRY[k], Exercise)]
 CODING = [k for k in exercises() if isinstance(REGISTRY[k], CodingExercise)]

@@ -38,8 +38,6 @@ from ._exercises import (  # noqa: E402
     solution,
     zadeh,
 )
-from ._grading import must_pass, must_pass_alone  # noqa: E402
-from ._limits import set_time_limit  # noqa: E402
 from ._explorers import (  # noqa: E402
     GAUGE_CONDITIONS,
     STATIC_SITE_ENV,
@@ -63,6 +61,7 @@ from ._explorers import (  # noqa: E402
     slider,
     static_site,
 )
+from ._grading import must_pass, must_pass_alone  # noqa: E402
 from ._lab import (  # noqa: E402
     VIRTUAL,
     VIRTUAL_LABEL,
@@ -76,6 +75,7 @@ from ._lab import (  # noqa: E402
     plot_calibration,
     plot_method_levels,
 )
+from ._limits import set_time_limit  # noqa: E402
 from ._print_edition import register_print_figures  # noqa: E402
 
 # the PDF edition shows an explorer's first figure where the web page shows the widget

@@ -34,7 +34,7 @@ import numpy as np
 from dstoolkit.errors import InvalidInputError
 
 from ._checking import NOT_ANSWERED, Feedback, register
-from ._limits import TimeLimitReached, describe, run_limited, too_big, valid_limit
+from ._limits import _TimeLimitReached, describe, run_limited, too_big, valid_limit
 from ._limits import time_limit as default_limit
 
 
@@ -203,7 +203,7 @@ class CodingExercise:
                                     f"function returned {describe(got)}, far more than this "
                                     "case needs.", {"case": number})
                 got = self._normalised(got)
-            except TimeLimitReached:
+            except _TimeLimitReached:
                 return Feedback(self.id, False, f"✘ {self.id}: stopped after {seconds:g} s on "
                                 f"{where}: does your function end? (check(..., time_limit=60) "
                                 "gives it longer.)", {"case": number, "timeout": True})

@@ -28,7 +28,7 @@ _settings = {"time_limit": DEFAULT_TIME_LIMIT}
 BIG = 10_000
 
 
-class TimeLimitReached(BaseException):  # noqa: N818 - a stop signal, not an error
+class _TimeLimitReached(BaseException):  # noqa: N818 - a stop signal, not an error
     """Raised inside the learner's code when the check's deadline has passed."""
 
 
@@ -85,11 +85,11 @@ def _ring(signum: int, frame: Any) -> None:
     """The timer's handler: stop the learner's code, never this module's clean-up."""
     if frame is not None and frame.f_code.co_filename == __file__:
         return
-    raise TimeLimitReached
+    raise _TimeLimitReached
 
 
 def run_limited(fn: Callable[..., Any], args: tuple, end: float) -> Any:
-    """``fn(*args)``, stopped with :class:`TimeLimitReached` at ``end`` (a
+    """``fn(*args)``, stopped with :class:`_TimeLimitReached` at ``end`` (a
     :func:`time.monotonic` value).
 
     The trace function is set only for the frames ``fn`` opens: this function's own frame
@@ -97,11 +97,11 @@ def run_limited(fn: Callable[..., Any], args: tuple, end: float) -> Any:
     """
     left = end - time.monotonic()
     if left <= 0:
-        raise TimeLimitReached
+        raise _TimeLimitReached
 
     def tracer(frame: Any, event: str, arg: Any) -> Any:
         if time.monotonic() > end:
-            raise TimeLimitReached
+            raise _TimeLimitReached
         return tracer
 
     previous_trace = sys.gettrace()
