@@ -52,6 +52,9 @@ c.CourseDirectory.course_id = "{course}"
 # other cells are still graded.
 c.Execute.timeout = {timeout}
 c.Execute.interrupt_on_timeout = True
+# A busy hub may be slow to send a cell's output after its reply: wait for it.
+c.Execute.iopub_timeout = 30
+c.Execute.startup_timeout = 120
 # A released answer cell keeps the learner's stub (``name = ...`` or the function's
 # signature and docstring); the teacher's answer is cleared without a trace.
 c.ClearSolutions.code_stub = {{"python": ""}}
