@@ -6,7 +6,8 @@ JupyterHub (set in ``nbgrader_config.py`` as the page says), a student who fetch
 assignment and submits it from the hub, and Alice, who returns her notebook as a file.
 The install line runs with ``--dry-run`` (it must resolve, but the test environment is
 not reinstalled); ``release_feedback`` gets ``--student`` for the hub's student, as the page
-says for a course that also received files. At the end the exported CSV holds both students with their scores.
+says for a course that also received files. At the end the exported CSV holds both
+students with their scores.
 """
 
 from __future__ import annotations
