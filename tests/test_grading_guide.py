@@ -82,12 +82,13 @@ def test_every_command_of_the_page_runs(tmp_path: Path):
     cwd = ROOT
     folder = home / "dstoolkit-course"
     ran = []
-    for command in commands():
+    for line in commands():
+        command = line
         words = shlex.split(command, comments=True)
         if words[0] == "cd":
             cwd = home / words[1][2:] if words[1].startswith("~/") else cwd / words[1]
             assert cwd.is_dir(), command
-            ran.append(command)
+            ran.append(line)
             continue
         if words[:2] == ["pip", "install"]:
             command = command.replace("pip install", "pip install --dry-run --quiet", 1)
@@ -112,7 +113,7 @@ def test_every_command_of_the_page_runs(tmp_path: Path):
                 folder / "release" / NAME / f"{NAME}.ipynb",
                 folder / "source" / NAME / f"{NAME}.ipynb"), encoding="utf-8")
         _run(command, cwd, env)
-        ran.append(command)
+        ran.append(line)
     assert ran == commands()
     with (folder / "grades.csv").open(encoding="utf-8") as f:
         rows = {row["student_id"]: row for row in csv.DictReader(f)}
