@@ -88,6 +88,10 @@ class MissingExtraError(DstoolkitError, ImportError):
     """An optional part of the package was used without the extra that installs it."""
 
 
+class GradingFailure(DstoolkitError, AssertionError):  # noqa: N818 - a failed test
+    """A graded answer failed its test; the message is the check's verdict."""
+
+
 class DstoolkitWarning(UserWarning):
     """Base class of every warning the package issues."""
 

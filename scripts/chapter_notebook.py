@@ -464,6 +464,40 @@ def strip_glue(sources: list[str]) -> list[str]:
     return cleaned
 
 
+def strip_solution(source: str) -> str:
+    """``source`` without ``dstoolkit.teaching.solution``: its import and the statements
+    that call it (the book glues the exercises' solutions into its pages from hidden
+    cells; a reader's notebook carries none).
+
+    Raises
+    ------
+    ValueError
+        If a statement that is kept still uses ``solution`` (e.g. inside a function).
+    """
+    tree = _parse(source)
+    if tree is None or "solution" not in source:
+        return source
+    lines = source.splitlines()
+    for node in sorted(tree.body, key=lambda n: n.lineno, reverse=True):
+        start = node.decorator_list[0].lineno if getattr(node, "decorator_list", None) else (
+            node.lineno)
+        if isinstance(node, ast.ImportFrom) and node.module == "dstoolkit.teaching" and any(
+                a.name == "solution" for a in node.names):
+            node.names = [a for a in node.names if a.name != "solution"]
+            text = ast.unparse(node) if node.names else None
+            lines[start - 1:node.end_lineno] = [text] if text else []
+        elif not isinstance(node, ast.FunctionDef | ast.ClassDef) and any(
+                isinstance(n, ast.Call) and isinstance(n.func, ast.Name)
+                and n.func.id == "solution" for n in ast.walk(node)):
+            lines[start - 1:node.end_lineno] = []
+    result = re.sub(r"\n{3,}", "\n\n", "\n".join(lines)).strip("\n")
+    left = [n for n in ast.walk(_parse(result) or ast.Module(body=[], type_ignores=[]))
+            if isinstance(n, ast.Name) and n.id == "solution"]
+    if left:
+        raise ValueError(f"a code cell of a reader's notebook uses solution():\n{result}")
+    return result
+
+
 # --------------------------------------------------------------------------------------
 # The notebook
 # --------------------------------------------------------------------------------------
@@ -502,7 +536,7 @@ def clean_notebook(cells: list[dict], refs: References, docname: str,
             continue
         if cell["cell_type"] != "code":
             continue
-        source = next(stripped)
+        source = strip_solution(next(stripped))
         if not source:
             continue
         metadata: dict = {}

@@ -13,8 +13,8 @@ fi
 stamp="$venv/.dstoolkit-installed"
 want="$(sha256sum "$root/pyproject.toml" | cut -d' ' -f1)"
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$want" ]; then
-  echo "==> installing dstoolkit[book,test,audio,lab,speed] into $venv"
-  "$venv/bin/python" -m pip install --quiet -e "$root[book,test,audio,lab,speed]"
+  echo "==> installing dstoolkit[book,test,audio,lab,speed,teach] into $venv"
+  "$venv/bin/python" -m pip install --quiet -e "$root[book,test,audio,lab,speed,teach]"
   "$venv/bin/python" -m ipykernel install --sys-prefix --name python3 >/dev/null
   echo "$want" > "$stamp"
 fi

@@ -2,6 +2,7 @@
 
     .venv/bin/python scripts/sheets.py                 # student sheets → notebooks/
     .venv/bin/python scripts/sheets.py --teacher DIR   # also the instructor sheets → DIR
+    .venv/bin/python scripts/sheets.py --nbgrader DIR  # an nbgrader course → DIR (course.py)
 
 Each chapter with exercises has one source, ``notebooks/source/<chapter stem>.md``. The
 sheet of chapter N is ``notebooks/NN_<stem>.ipynb``: N comes from _toc.yml (chapters are
@@ -48,6 +49,8 @@ CHECK = re.compile(r'check\("([a-z]+\.[a-z0-9-]+)",\s*(\w+)\)')
 ASSIGN = re.compile(r"^(\w+) = \.\.\.[ \t]*(?:#.*)?$", re.MULTILINE)
 EXERCISE_BLOCK = re.compile(r"^(`{3,}|:{3,})\{exercise\}[^\n]*\n:label: ([\w-]+)", re.MULTILINE)
 STUB_BODY = '    raise NotImplementedError("write the body of this function")'
+#: First line of every check cell: a check run before the setup cell says what to do.
+SETUP_GUARD = 'if "check" not in dir(): raise RuntimeError("run the setup cell first")'
 
 
 # -- the book's numbering -------------------------------------------------------------------
@@ -194,6 +197,38 @@ def filled_stub(stub: str, checks: str) -> str:
     return ASSIGN.sub(fill, stub)
 
 
+def stub_names(block: Block) -> set[str]:
+    """The names a stub cell defines: its function, or its ``name = ...`` lines."""
+    if block.arg:
+        from dstoolkit.teaching import REGISTRY
+
+        return {REGISTRY[block.arg].plain.__name__}
+    return set(ASSIGN.findall(block.text))
+
+
+def imported_names(code: str) -> set[str]:
+    """The names bound by the import statements of ``code``."""
+    names: set[str] = set()
+    for node in ast.walk(ast.parse(code)):
+        if isinstance(node, ast.Import | ast.ImportFrom):
+            names.update((alias.asname or alias.name).split(".")[0] for alias in node.names)
+    return names
+
+
+def unshadowed(src: Source) -> None:
+    """Raise ValueError when a stub would rebind a name that the sheet imported (the
+    sheet's "confirm with the library" would then call the learner's stub)."""
+    imported: set[str] = set()
+    for block in src.blocks:
+        if block.kind in ("setup", "code", "explore"):
+            imported |= imported_names(block.text)
+        if block.kind == "stub":
+            clash = stub_names(block) & imported
+            if clash:
+                raise ValueError(f"{src.stem}: a stub defines {sorted(clash)}, which the sheet "
+                                 "imports; rename the exercise's function")
+
+
 # -- notebooks --------------------------------------------------------------------------------
 
 
@@ -223,6 +258,7 @@ def build(src: Source, number: int, title: str, labels: list[str], teacher: bool
             f"Companion of Chapter {number} of the book (`book/{src.stem}.md`): Exercise "
             f"{number}.k here is Exercise {number}.k there.\n\n{src.intro}").strip()
     raw: list[tuple[str, str, dict]] = [("markdown", head, {})]
+    unshadowed(src)
     order = 0
     for i, block in enumerate(src.blocks):
         text, tags = block.text, []
@@ -253,6 +289,8 @@ def build(src: Source, number: int, title: str, labels: list[str], teacher: bool
             continue
         if block.kind in ("check", "explore"):
             tags = ["check" if block.kind == "check" else "explorer"]
+        if block.kind == "check":
+            text = f"{SETUP_GUARD}\n{text}"
         kind = "markdown" if block.kind == "md" else "code"
         raw.append((kind, text, {"tags": tags} if tags else {}))
     if order != len(labels):
@@ -333,11 +371,22 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--teacher", type=Path, default=None,
                         help="also write the instructor sheets (with solutions) to this folder")
+    parser.add_argument("--nbgrader", type=Path, default=None, metavar="DIR",
+                        help="only write an nbgrader course (config and one assignment per "
+                        "chapter) to this folder")
+    parser.add_argument("--chapter", action="append", default=None, metavar="STEM",
+                        help="with --nbgrader: only this chapter (repeatable)")
     parser.add_argument("--counts", action="store_true",
                         help="only print the exercises per chapter by kind")
     args = parser.parse_args(argv)
     if args.counts:
         print(counts(ROOT))
+        return 0
+    if args.nbgrader is not None:
+        from course import write_course
+
+        for path in write_course(args.nbgrader, ROOT, args.chapter):
+            print(path)
         return 0
     for path in write_sheets(ROOT, args.teacher):
         print(path.relative_to(ROOT) if path.is_relative_to(ROOT) else path)

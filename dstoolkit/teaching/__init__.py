@@ -61,6 +61,7 @@ from ._explorers import (  # noqa: E402
     slider,
     static_site,
 )
+from ._grading import must_pass, must_pass_alone  # noqa: E402
 from ._lab import (  # noqa: E402
     VIRTUAL,
     VIRTUAL_LABEL,
@@ -74,6 +75,7 @@ from ._lab import (  # noqa: E402
     plot_calibration,
     plot_method_levels,
 )
+from ._limits import set_time_limit  # noqa: E402
 from ._print_edition import register_print_figures  # noqa: E402
 
 # the PDF edition shows an explorer's first figure where the web page shows the widget
@@ -127,6 +129,8 @@ __all__ = [
     "level_error_from_temperature",
     "level_estimation_explorer",
     "mistake",
+    "must_pass",
+    "must_pass_alone",
     "mass_function_explorer",
     "noise_bounds_explorer",
     "noise_evidence_explorer",
@@ -135,6 +139,7 @@ __all__ = [
     "plot_method_levels",
     "positions",
     "render_filter",
+    "set_time_limit",
     "slider",
     "solution",
     "static_site",

@@ -21,9 +21,11 @@ registered with :func:`dstoolkit.teaching.coding_exercise` and checked by the sa
 
 from __future__ import annotations
 
+import copy
 import html
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from types import FunctionType
 from typing import Any
 
 import numpy as np
@@ -31,6 +33,8 @@ import numpy as np
 from dstoolkit.errors import InvalidInputError
 from dstoolkit.evidence._finite_frame import MassFunction
 from dstoolkit.evidence._intervals import IntervalEvidence
+
+from ._limits import describe, too_big
 
 Solver = Callable[[], Any]
 #: Message of an exercise that still holds its placeholder.
@@ -58,8 +62,12 @@ class Exercise:
             self._cache["solution"] = self.solve()
         return self._cache["solution"]
 
-    def verdict(self, answer: Any) -> Feedback:
-        """Right, a named mistake, close, or wrong with the hint."""
+    def verdict(self, answer: Any, time_limit: float | None = None) -> Feedback:
+        """Right, a named mistake, close, or wrong with the hint (``time_limit`` is for
+        coding exercises and has no use here)."""
+        if too_big(answer):
+            return Feedback(self.id, False, f"✘ {self.id}: wrong: the answer is "
+                            f"{describe(answer)}, far more than this exercise asks for.")
         if self.canonical is not None:
             try:
                 answer = self.canonical(answer)
@@ -162,8 +170,20 @@ def get(exercise_id: str) -> Any:
 
 def solution(exercise_id: str) -> Any:
     """The solution of an exercise (for teachers and tests): a value computed with
-    dstoolkit, or for a coding exercise the plain reference function."""
-    return get(exercise_id).solution
+    dstoolkit, or for a coding exercise the plain reference function.
+
+    Returns a copy: changing it changes neither the kept solution nor what the check
+    cells expect.
+    """
+    value = get(exercise_id).solution
+    if isinstance(value, FunctionType):
+        twin = FunctionType(value.__code__, value.__globals__, value.__name__,
+                            value.__defaults__, value.__closure__)
+        twin.__dict__.update(copy.deepcopy(value.__dict__))
+        twin.__doc__, twin.__qualname__ = value.__doc__, value.__qualname__
+        twin.__module__ = value.__module__
+        return twin
+    return copy.deepcopy(value)
 
 
 def mistake(exercise_id: str) -> Any:
@@ -172,20 +192,21 @@ def mistake(exercise_id: str) -> Any:
     return get(exercise_id).wrong_answer()
 
 
-def check(exercise_id: str, answer: Any) -> Feedback:
+def check(exercise_id: str, answer: Any, *, time_limit: float | None = None) -> Feedback:
     """Compare ``answer`` with the solution of ``exercise_id``: right, or wrong with a hint.
 
     In a notebook, end a cell with ``check("mass.bel", answer)`` to see the verdict. An
     answer left as ``...`` (or ``None``) is reported as not answered yet. For a coding
     exercise the answer is the function itself: ``check("combine.dempster-code",
-    dempster_rule)``.
+    dempster_rule)``. A coding check stops the function after ``time_limit`` seconds (all
+    cases together; by default :func:`~dstoolkit.teaching.set_time_limit`'s, 5 s).
     """
     ex = get(exercise_id)
     if answer is ... or answer is None:
         return Feedback(exercise_id, False,
                         f"{exercise_id}: {NOT_ANSWERED} — replace ... by your answer.",
                         {"pending": True})
-    return ex.verdict(answer)
+    return ex.verdict(answer, time_limit)
 
 
 # -- comparison -------------------------------------------------------------------------
@@ -224,8 +245,11 @@ def _compare(answer: Any, sol: Any, ex: Exercise) -> tuple[bool, str]:
 
 
 def _key(k: Any) -> Any:
+    """A dict key as a set: ``"low"``, ``("low",)`` and ``frozenset({"low"})`` are one key."""
     if isinstance(k, set | frozenset | tuple | list):
         return frozenset(k)
+    if isinstance(k, str):
+        return frozenset([k])
     return k
 
 

@@ -18,9 +18,14 @@ function that still raises NotImplementedError (the stub) is "not answered yet".
 
 from __future__ import annotations
 
+import ast
 import copy
+import inspect
 import math
-from collections.abc import Callable, Mapping, Sequence
+import textwrap
+import time
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -29,6 +34,8 @@ import numpy as np
 from dstoolkit.errors import InvalidInputError
 
 from ._checking import NOT_ANSWERED, Feedback, register
+from ._limits import _TimeLimitReached, describe, run_limited, too_big, valid_limit
+from ._limits import time_limit as default_limit
 
 
 @dataclass(frozen=True)
@@ -50,9 +57,13 @@ class Raised:
         return f"raises {self.error.__name__}" + (f" ({self.text})" if self.text else "")
 
 
-def _outcome(fn: Callable[..., Any], args: tuple) -> Any:
+def _outcome(fn: Callable[..., Any], args: tuple, end: float | None = None) -> Any:
+    """``fn`` on a copy of ``args`` (stopped at ``end``, monotonic time, if given); an
+    exception it raises becomes a :class:`Raised`."""
     try:
-        return fn(*copy.deepcopy(args))
+        if end is None:
+            return fn(*copy.deepcopy(args))
+        return run_limited(fn, copy.deepcopy(args), end)
     except Exception as err:  # noqa: BLE001 - the learner's code may raise anything
         return Raised(type(err), str(err)[:120])
 
@@ -154,48 +165,127 @@ class CodingExercise:
         except Exception as err:  # noqa: BLE001 - the learner's result may be anything
             return Raised(type(err), f"the result could not be read: {err}"[:120])
 
-    def expected(self) -> list[tuple[Case, Any]]:
-        """Every case with the reference's outcome (computed once)."""
+    def expected(self, cases: list[Case] | None = None) -> list[tuple[Case, Any]]:
+        """Every case (``cases``, or the exercise's own, kept after the first call) with the
+        reference's outcome."""
+        if cases is not None:
+            return [(case, _documented(self._normalised(_outcome(self.reference, case.args))))
+                    for case in cases]
         if "expected" not in self._cache:
-            self._cache["expected"] = [
-                (case, _documented(self._normalised(_outcome(self.reference, case.args))))
-                for case in self.cases()]
+            self._cache["expected"] = self.expected(self.cases())
         return self._cache["expected"]
 
     def _inputs(self, case: Case) -> str:
         names = self.arg_names or tuple(f"arg{i + 1}" for i in range(len(case.args)))
         return ", ".join(f"{n} = {show(a, 160)}" for n, a in zip(names, case.args, strict=True))
 
-    def verdict(self, answer: Any) -> Feedback:
-        """Run ``answer`` on every case; report the first failure."""
+    def verdict(self, answer: Any, time_limit: float | None = None,
+                cases: list[tuple[Case, Any]] | None = None) -> Feedback:
+        """Run ``answer`` on every case (``cases``: the chosen and random ones by default;
+        each with the reference's outcome) within ``time_limit`` seconds; report the first
+        failure."""
         if not callable(answer):
             return Feedback(self.id, False, f"✘ {self.id}: give the function itself (its name, "
                             f"without parentheses), not {type(answer).__name__}.")
-        cases = self.expected()
+        if _untouched(answer):
+            return _pending(self.id)
+        cases = self.expected() if cases is None else cases
+        seconds = valid_limit(time_limit) if time_limit is not None else default_limit()
+        end = time.monotonic() + seconds
         for number, (case, want) in enumerate(cases, 1):
-            got = _outcome(answer, case.args)
-            if isinstance(got, Raised) and issubclass(got.error, NotImplementedError):
-                return Feedback(self.id, False, f"{self.id}: {NOT_ANSWERED} — write the body "
-                                "of the function (it still raises NotImplementedError).",
-                                {"pending": True})
-            got = self._normalised(got)
+            where = f"case {number} of {len(cases)} ({case.label})"
+            try:
+                got = _outcome(answer, case.args, end)
+                if isinstance(got, Raised) and issubclass(got.error, NotImplementedError):
+                    return _pending(self.id)
+                if too_big(got):
+                    return Feedback(self.id, False, f"✘ {self.id}: wrong on {where}: your "
+                                    f"function returned {describe(got)}, far more than this "
+                                    "case needs.", {"case": number})
+                got = self._normalised(got)
+            except _TimeLimitReached:
+                return Feedback(self.id, False, f"✘ {self.id}: stopped after {seconds:g} s on "
+                                f"{where}: does your function end? (check(..., time_limit=60) "
+                                "gives it longer.)", {"case": number, "timeout": True})
             if same(got, want):
                 continue
-            head = (f"✘ {self.id}: wrong on case {number} of {len(cases)} ({case.label}).\n"
-                    f"  input:    {self._inputs(case)}\n"
-                    f"  expected: {show(want)}\n"
-                    f"  got:      {show(got)}\n")
-            for wrong, why in self.mistakes:
-                if same(got, self._normalised(_outcome(wrong, case.args))):
-                    return Feedback(self.id, False, head + f"  Mistake: {why}",
-                                    {"mistake": why, "case": number})
-            if isinstance(got, Raised) and not isinstance(want, Raised):
-                return Feedback(self.id, False, head + "  Your function raised an error; "
-                                f"fix it first. Hint: {self.hint}", {"case": number})
-            return Feedback(self.id, False, head + f"  Hint: {self.hint}", {"case": number})
+            return Feedback(self.id, False, self._diagnosis(case, number, len(cases), want, got),
+                            self._details(case, got, number))
         fixed = sum(not c.label.startswith("random") for c, _ in cases)
         return Feedback(self.id, True, f"✔ {self.id}: right on all {len(cases)} cases "
                         f"({fixed} chosen, {len(cases) - fixed} random).")
+
+    def _details(self, case: Case, got: Any, number: int) -> dict[str, Any]:
+        why = self._mistake(case, got)
+        return {"case": number, **({"mistake": why} if why else {})}
+
+    def _mistake(self, case: Case, got: Any) -> str:
+        """The explanation of the registered mistake whose outcome ``got`` is, or ''."""
+        for wrong, why in self.mistakes:
+            if same(got, self._normalised(_outcome(wrong, case.args))):
+                return why
+        return ""
+
+    def _diagnosis(self, case: Case, number: int, total: int, want: Any, got: Any) -> str:
+        """What a learner sees for a failing case. The expected outcome is shown only for a
+        random case or an expected error: a chosen case may be another exercise's answer."""
+        shown = isinstance(want, Raised) or case.label.startswith("random")
+        head = (f"✘ {self.id}: wrong on case {number} of {total} ({case.label}).\n"
+                f"  input:    {self._inputs(case)}\n"
+                + (f"  expected: {show(want)}\n" if shown else "")
+                + f"  got:      {show(got)}\n")
+        if got is None:
+            return head + "  Your function returned None: did you forget `return`?"
+        if isinstance(want, Raised) and not isinstance(got, Raised):
+            return head + (f"  This case must be refused: raise {want.error.__name__} (the "
+                           "docstring says when) instead of returning a result.")
+        why = self._mistake(case, got)
+        if why:
+            return head + f"  Mistake: {why}"
+        if isinstance(got, Raised) and not isinstance(want, Raised):
+            return head + f"  Your function raised an error; fix it first. Hint: {self.hint}"
+        total_mass = _mass_total(got) if _is_masses(want) else None
+        if total_mass is not None and abs(total_mass - 1.0) > 1e-6:
+            return head + (f"  Your masses add up to {total_mass:.6g}, not 1. "
+                           f"Hint: {self.hint}")
+        return head + f"  Hint: {self.hint}"
+
+
+def _pending(exercise_id: str) -> Feedback:
+    return Feedback(exercise_id, False, f"{exercise_id}: {NOT_ANSWERED} — write the body "
+                    "of the function (it still raises NotImplementedError).", {"pending": True})
+
+
+def _untouched(fn: Any) -> bool:
+    """True for a function whose body is only its docstring (and ``...`` or ``pass``)."""
+    try:
+        tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
+    except (OSError, TypeError, SyntaxError, IndentationError):
+        return False
+    node = tree.body[0] if tree.body else None
+    if not isinstance(node, ast.FunctionDef):
+        return False
+    return all(isinstance(stmt, ast.Pass) or (isinstance(stmt, ast.Expr) and isinstance(
+        stmt.value, ast.Constant) and (isinstance(stmt.value.value, str)
+                                       or stmt.value.value is Ellipsis))
+               for stmt in node.body)
+
+
+def _is_masses(value: Any) -> bool:
+    """A dict of masses on sets (plain form) that add up to 1."""
+    return (isinstance(value, dict) and bool(value)
+            and all(isinstance(k, frozenset) for k in value)
+            and all(isinstance(v, float) for v in value.values())
+            and abs(sum(value.values()) - 1.0) < 1e-6)
+
+
+def _mass_total(value: Any) -> float | None:
+    if not isinstance(value, dict):
+        return None
+    try:
+        return float(sum(float(v) for v in value.values()))
+    except (TypeError, ValueError):
+        return None
 
 
 def coding_exercise(
@@ -222,7 +312,23 @@ def coding_exercise(
     return item
 
 
+_SHIFT = [0]
+
+
 def seeded(seed: int) -> np.random.Generator:
     """The random generator of a coding exercise's random cases (fixed seed: the same cases
-    on every run, so a failing case can be looked at again)."""
-    return np.random.default_rng(seed)
+    on every run, so a failing case can be looked at again; hidden tests shift it, see
+    :func:`seed_shift`)."""
+    return np.random.default_rng(seed + _SHIFT[0])
+
+
+@contextmanager
+def seed_shift(shift: int) -> Iterator[None]:
+    """Inside the ``with`` block :func:`seeded` draws from ``seed + shift``: other random
+    cases, the same kinds."""
+    before = _SHIFT[0]
+    _SHIFT[0] = shift
+    try:
+        yield
+    finally:
+        _SHIFT[0] = before

@@ -202,7 +202,7 @@ def _discount_cases() -> list[Case]:
 coding_exercise(
     "combine.discount-code",
     reference=lambda m, rate, frame: _as_dict(discount(_mf(m, frame), rate)),
-    plain=plain.discount,
+    plain=plain.discount_rule,
     cases=_discount_cases,
     arg_names=("m", "rate", "frame"),
     hint="m'(A) = (1 − rate)·m(A) for every A, and m'(Θ) = (1 − rate)·m(Θ) + rate (eqs. 9–10).",
@@ -210,7 +210,7 @@ coding_exercise(
         (lambda m, rate, frame: {**m, frozenset(frame): m.get(frozenset(frame), 0.0) + rate},
          "You added the rate to Θ without scaling the other masses by 1 − rate: the masses "
          "now add up to 1 + rate."),
-        (lambda m, rate, frame: plain.discount(m, 1.0 - rate, frame),
+        (lambda m, rate, frame: plain.discount_rule(m, 1.0 - rate, frame),
          "You multiplied by the rate instead of 1 − rate: a rate is what is taken away."),
     ),
 )
@@ -300,7 +300,7 @@ def _combine_dependent_reference(m1: dict, m2: dict, frame: Any) -> dict:
 coding_exercise(
     "dependent.combine-code",
     reference=_combine_dependent_reference,
-    plain=plain.combine_dependent,
+    plain=plain.dependent_rule,
     cases=lambda: [*_pairs_cases(), Case("total conflict, nothing shared",
                                          ({fs("low"): 1.0}, {fs("high"): 1.0}, set(LEVEL)))],
     arg_names=("m1", "m2", "frame"),
@@ -311,7 +311,7 @@ coding_exercise(
          "You combined without decorrelating: Dempster's rule alone counts what both "
          "sources share twice."),
         (lambda m1, m2, frame: (lambda d, r12, r21: plain.dempster_rule(
-            plain.discount(m1, r12, frame), plain.discount(m2, r21, frame)))(
+            plain.discount_rule(m1, r12, frame), plain.discount_rule(m2, r21, frame)))(
             *plain.dependency(m1, m2, frame)),
          "You discounted at rate R instead of 1 − R: R is the part of the evidence that is "
          "kept (eq. 9)."),
@@ -572,16 +572,16 @@ coding_exercise(
     "gauge.orders-code",
     reference=lambda length, temperature, band: [int(n) for n in resonance_orders(
         length, float(speed_of_sound(temperature)), band)],
-    plain=plain.resonance_orders,
+    plain=plain.orders_in_band,
     cases=_orders_cases,
     arg_names=("length", "temperature", "band"),
     hint="f_F = c/(2L) with c = 331.3 + 0.606 T; the orders run from ⌈f_lo/f_F⌉ to "
     "⌊f_hi/f_F⌋, both ends included.",
     mistakes=(
-        (lambda length, temperature, band: plain.resonance_orders(length / 2, temperature,
+        (lambda length, temperature, band: plain.orders_in_band(length / 2, temperature,
                                                                   band),
          "Your f_F is c/L: the sound goes down the tube and back, so f_F = c/(2L)."),
-        (lambda length, temperature, band: plain.resonance_orders(length, temperature,
+        (lambda length, temperature, band: plain.orders_in_band(length, temperature,
                                                                   band)[1:-1],
          "You left out the orders at the ends of the band: a resonance exactly on f_lo or "
          "f_hi is in the band."),

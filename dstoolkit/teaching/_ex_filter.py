@@ -137,15 +137,15 @@ _ONCE = ((lambda: [(0.5, 1.5, 0.8), (-1.0, 3.0, 0.2)],
 
 
 @exercise("filter.hand-noise", canonical=_rows_canonical,
-          hint="Eqs. 24–26 with p = 1: the one cut α = 0 is the support [−0.5, 0.5] with mass "
-          "1 − ε; Θ = [−2, 2] gets ε. " + _ROWS)
+          hint="Eqs. 24–26 with p = 1: a single cut, at α = 0, shares 1 − ε; what is left "
+          "goes to the frame Θ given in the statement. " + _ROWS)
 def _() -> list:
     return _hand("noise")
 
 
 @exercise("filter.hand-prediction", canonical=_rows_canonical, mistakes=_ONCE,
           hint="Step 2: every state box x̂ + V_i, through f (here f(x) = x), plus every noise "
-          "box V_j, with mass m_i·m_j; the two boxes [−1.5, 3.5] merge. " + _ROWS)
+          "box V_j, with mass m_i·m_j; boxes that come out equal merge. " + _ROWS)
 def _() -> list:
     return _hand("prediction")
 
@@ -157,7 +157,7 @@ def _() -> list:
 
 
 @exercise("filter.hand-fused", canonical=_rows_canonical,
-          hint="Step 4: the reading's evidence is z + W = {[1.2, 2.2]: 0.8, [−0.3, 3.7]: 0.2}; "
+          hint="Step 4: the reading's evidence is z + W (every row of Step 1 moved by z); "
           "intersect every box of Step 3 with every one of it (eq. 1). " + _ROWS,
           mistakes=((lambda: _hand("observation_prediction"),
                      "That is Step 3 again: Step 4 intersects it with the reading's "

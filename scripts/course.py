@@ -1,0 +1,250 @@
+"""An nbgrader course from the exercise sheets' sources.
+
+    .venv/bin/python scripts/sheets.py --nbgrader DIR
+
+writes ``DIR/nbgrader_config.py`` and one assignment per chapter,
+``DIR/source/NN_<stem>/NN_<stem>.ipynb``, with nbgrader's cell metadata:
+
+* the setup cell and the statements are read-only (nbgrader restores them when grading);
+* every stub is an autograded answer cell: the learner's stub, then the teacher's answer
+  between ``### BEGIN SOLUTION`` and ``### END SOLUTION`` (inside the function for a coding
+  exercise), which ``nbgrader generate_assignment`` removes;
+* every check cell becomes an autograder test cell with points. Its visible test is the
+  sheet's check (:func:`dstoolkit.teaching.must_pass`); a coding exercise adds hidden tests
+  on other random cases, run where dstoolkit cannot be reached
+  (:func:`dstoolkit.teaching.must_pass_alone`). The cell imports what it needs itself;
+* every written part (a proof, an explanation, the "why" of a prediction) is a manually
+  graded answer cell with points, holding the teacher's solution for the formgrader.
+
+Points come from the source: ``%% check N`` gives a check N points (default 1, a coding
+check 2); ``%% exercise <label> <kind> N`` gives the exercise's written part N points
+(default 2).
+"""
+
+from __future__ import annotations
+
+import ast
+import inspect
+import re
+import textwrap
+from pathlib import Path
+from typing import Any
+
+import sheets
+
+#: Seconds each cell may run when nbgrader executes a submission (an endless loop in an
+#: answer cell is interrupted after it; the other cells are still graded).
+CELL_TIMEOUT = 60
+COURSE_ID = "dstoolkit"
+WRITTEN = re.compile(r"^\*(?:Your|My) [^*\n]*:\* …[ \t]*$", re.MULTILINE)
+WRITTEN_KINDS = ("proof", "prediction", "explanation")
+CODING_POINTS = 2
+VALUE_POINTS = 1
+WRITTEN_POINTS = 2
+
+CONFIG = '''\
+"""nbgrader configuration of the dstoolkit exercises (written by scripts/sheets.py)."""
+
+c = get_config()  # noqa: F821 - nbgrader provides it
+
+c.CourseDirectory.course_id = "{course}"
+# Each cell of a submission may run {timeout} s; an endless loop is interrupted and the
+# other cells are still graded.
+c.Execute.timeout = {timeout}
+c.Execute.interrupt_on_timeout = True
+# A busy hub may be slow to send a cell's output after its reply: wait for it.
+c.Execute.iopub_timeout = 30
+c.Execute.startup_timeout = 120
+# A released answer cell keeps the learner's stub (``name = ...`` or the function's
+# signature and docstring); the teacher's answer is cleared without a trace.
+c.ClearSolutions.code_stub = {{"python": ""}}
+c.ClearSolutions.text_stub = "*Your answer:* …"
+# Releasing on JupyterHub: uncomment and point at the exchange folder of your hub.
+# c.Exchange.root = "/srv/nbgrader/exchange"
+'''
+
+
+def _meta(grade_id: str, *, grade: bool = False, solution: bool = False,
+          locked: bool = False, points: float | None = None) -> dict:
+    meta: dict[str, Any] = {"grade": grade, "grade_id": grade_id, "locked": locked,
+                            "schema_version": 3, "solution": solution}
+    if points is not None:
+        meta["points"] = points
+    return {"nbgrader": meta}
+
+
+def _body_region(exercise_id: str) -> str:
+    """The learner's stub with the reference body between solution markers."""
+    from dstoolkit.teaching import REGISTRY
+    from dstoolkit.teaching._plain_solutions import HELPERS
+
+    plain = REGISTRY[exercise_id].plain
+    answer = sheets.coding_answer(exercise_id)
+    stub = sheets.coding_stub(exercise_id)
+    head = stub[: stub.rindex("\n")]  # signature and docstring
+    source = textwrap.dedent(inspect.getsource(plain))
+    node = ast.parse(source).body[0]
+    lines = source.splitlines()
+    body = "\n".join(lines[node.body[0].end_lineno:])
+    before = answer[: answer.rindex(f"def {plain.__name__}(")].rstrip().splitlines()
+    imports = [line for line in before if line.startswith("import ")]
+    helpers = "\n".join(line for line in before if not line.startswith("import ")).strip()
+    if imports:
+        body = "\n".join(f"    {line}" for line in imports) + "\n" + body
+    parts = []
+    if helpers:
+        names = ", ".join(HELPERS.get(plain.__name__, ()))
+        parts.append(f"# your {names} here, if this notebook has not got them yet\n"
+                     f"### BEGIN SOLUTION\n{helpers}\n### END SOLUTION\n\n")
+    parts.append(f"{head}\n    ### BEGIN SOLUTION\n{body}\n    ### END SOLUTION")
+    return "".join(parts)
+
+
+def _value_region(stub: str, checks: str, answer: str | None) -> str:
+    """``name = ...`` lines, then the teacher's values between solution markers."""
+    filled = answer if answer is not None else sheets.filled_stub(stub, checks)
+    return f"{stub}\n### BEGIN SOLUTION\n{filled}\n### END SOLUTION"
+
+
+def _test_source(exercise_id: str, variable: str, coding: bool) -> str:
+    if not coding:
+        return (f"from dstoolkit.teaching import must_pass\n\n"
+                f'must_pass("{exercise_id}", {variable})')
+    return (f"from dstoolkit.teaching import must_pass, must_pass_alone\n\n"
+            f'must_pass("{exercise_id}", {variable})\n'
+            f"### BEGIN HIDDEN TESTS\n"
+            f'must_pass_alone("{exercise_id}", {variable})\n'
+            f"### END HIDDEN TESTS")
+
+
+def _written_cell(label: str, n: int, points: float, solution: str) -> tuple:
+    text = solution or "(The teacher's solution is in the instructor sheets.)"
+    return ("markdown", text, _meta(f"{label}-written-{n}", grade=True, solution=True,
+                                    points=points))
+
+
+def _split_written(text: str) -> tuple[str, int]:
+    """The Markdown without its written-answer placeholders, and how many there were."""
+    count = len(WRITTEN.findall(text))
+    return WRITTEN.sub("", text).rstrip(), count
+
+
+def _exercise_solutions(src: sheets.Source) -> dict[str, str]:
+    """{exercise label: its ``%% solution`` text}."""
+    out: dict[str, str] = {}
+    label = ""
+    for block in src.blocks:
+        if block.kind == "exercise":
+            label = block.arg.split()[0]
+        elif block.kind == "solution":
+            out[label] = (out.get(label, "") + "\n\n" + block.text).strip()
+    return out
+
+
+def course_notebook(src: sheets.Source, number: int, title: str, labels: list[str]) -> dict:
+    """The nbgrader source notebook of one chapter (nbformat 4 JSON)."""
+    sheets.unshadowed(src)
+    solutions = _exercise_solutions(src)
+    head = (f"# Chapter {number}: {title}, graded exercises\n\n"
+            f"Exercise {number}.k here is Exercise {number}.k of the book. Run the setup "
+            f"cell first; write your answers in the answer cells; the test cells (they have "
+            f"points) check them as the sheet's check cells do.\n\n{src.intro}").strip()
+    raw: list[tuple[str, str, dict]] = [("markdown", head, _meta("intro", locked=True))]
+    order, label, kind, written, points_of_written = 0, "", "", 0, WRITTEN_POINTS
+    names: dict[str, int] = {}
+
+    def unique(base: str) -> str:
+        names[base] = names.get(base, 0) + 1
+        return base if names[base] == 1 else f"{base}-{names[base]}"
+
+    def close_exercise() -> None:
+        if label and kind in WRITTEN_KINDS and not written:
+            raw.append(_written_cell(label, 1, points_of_written, solutions.get(label, "")))
+
+    for i, block in enumerate(src.blocks):
+        if block.kind == "exercise":
+            close_exercise()
+            parts = block.arg.split()
+            label, kind = parts[0], parts[1]
+            points_of_written = float(parts[2]) if len(parts) > 2 else WRITTEN_POINTS
+            order += 1
+            written = 0
+            text, found = _split_written(block.text)
+            raw.append(("markdown", f"## Exercise {number}.{order}\n\n{text}",
+                        _meta(unique(f"{label}-statement"), locked=True)))
+            for _ in range(found):
+                written += 1
+                raw.append(_written_cell(label, written, points_of_written,
+                                         solutions.get(label, "")))
+            continue
+        if block.kind in ("answer", "solution"):
+            continue
+        if block.kind == "md":
+            text, found = _split_written(block.text)
+            raw.append(("markdown", text, _meta(unique(f"{label or 'text'}-text"),
+                                                locked=True)))
+            for _ in range(found):
+                written += 1
+                raw.append(_written_cell(label, written, points_of_written,
+                                         solutions.get(label, "")))
+            continue
+        if block.kind == "setup":
+            raw.append(("code", block.text, _meta(unique("setup"), locked=True)))
+            continue
+        if block.kind == "stub":
+            if block.arg:
+                text = _body_region(block.arg)
+            else:
+                follows = src.blocks[i + 1] if i + 1 < len(src.blocks) else None
+                answer = follows.text if follows and follows.kind == "answer" else None
+                text = _value_region(block.text, sheets._checks_of(src.blocks, i), answer)
+            raw.append(("code", text, _meta(unique(f"{label}-answer"), solution=True)))
+            continue
+        if block.kind == "check":
+            found = sheets.CHECK.search(block.text)
+            if found is None:
+                raise ValueError(f"{src.stem}: a check cell without check(...): {block.text}")
+            exercise_id, variable = found.groups()
+            coding = exercise_id.endswith("-code")
+            points = float(block.arg) if block.arg else (
+                CODING_POINTS if coding else VALUE_POINTS)
+            raw.append(("code", _test_source(exercise_id, variable, coding),
+                        _meta(unique(f"{exercise_id.replace('.', '-')}-test"), grade=True,
+                              locked=True, points=points)))
+            continue
+        # code and explorer cells: read-only, as in the sheets
+        raw.append(("code", block.text, _meta(unique(f"{label or 'code'}-code"), locked=True)))
+    close_exercise()
+    if order != len(labels):
+        raise ValueError(f"{src.stem}: the sheet has {order} exercises, the chapter "
+                         f"{len(labels)} ({labels})")
+    cells = [sheets._cell(kind, text, n, src.stem, meta)
+             for n, (kind, text, meta) in enumerate(raw)]
+    return {"cells": cells, "metadata": {"kernelspec": {
+        "display_name": "Python 3", "language": "python", "name": "python3"},
+        "language_info": {"name": "python"}}, "nbformat": 4, "nbformat_minor": 5}
+
+
+def assignment_name(stem: str, number: int) -> str:
+    """The assignment (and notebook) name of a chapter: ``NN_<stem>``."""
+    return f"{number:02d}_{stem}"
+
+
+def write_course(folder: Path, root: Path = sheets.ROOT,
+                 chapters: list[str] | None = None) -> list[Path]:
+    """Write the nbgrader course (config and one source assignment per chapter, or only
+    the ``chapters`` stems given) to ``folder``. Returns the paths written."""
+    folder.mkdir(parents=True, exist_ok=True)
+    config = folder / "nbgrader_config.py"
+    config.write_text(CONFIG.format(course=COURSE_ID, timeout=CELL_TIMEOUT), encoding="utf-8")
+    written = [config]
+    for stem, (number, title, src, labels) in sheets.sheets(root).items():
+        if chapters is not None and stem not in chapters:
+            continue
+        name = assignment_name(stem, number)
+        path = folder / "source" / name / f"{name}.ipynb"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(sheets.dump(course_notebook(src, number, title, labels)),
+                        encoding="utf-8")
+        written.append(path)
+    return written
