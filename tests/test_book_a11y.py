@@ -134,11 +134,12 @@ _SLIDERS_JS = """
 })
 """
 
-_UNIT = re.compile(r"\(([^()]*)\)\s*$")
+_UNIT = re.compile(r"\s\(([^()]+)\)\s*$")
 
 
 def _unit(label: str) -> str:
-    """The unit a slider's label ends with, as in "level L (m)" (none: "")."""
+    """The unit a slider's label ends with after a space, in parentheses: "level L (m)"
+    (none: ""; "m({low})" names a set, not a unit)."""
     found = _UNIT.search(label)
     return found.group(1) if found else ""
 
@@ -233,28 +234,70 @@ def test_first_load_within_budget(chromium: object, site: str, built_book: objec
         f"largest: {weight.largest}")
 
 
+_FOCUSED_JS = """() => { const el = document.activeElement;
+    const style = getComputedStyle(el);
+    return {slider: el.getAttribute('role') === 'slider',
+            skip: el.classList.contains('dstoolkit-skip'),
+            math: el.closest('mjx-container') !== null,
+            tag: el.tagName, text: (el.textContent || '').trim().slice(0, 40),
+            outline: style.outlineStyle, width: parseFloat(style.outlineWidth) || 0,
+            shadow: style.boxShadow}; }"""
+
+
+def _start_at_the_top_of_the_article(page: object) -> None:
+    page.evaluate("""() => {
+        const start = document.createElement('span');
+        start.id = 'tab-start'; start.tabIndex = -1;
+        document.querySelector('article.bd-article').prepend(start);
+        start.focus(); }""")
+
+
+def _visibly_focused(focused: dict) -> bool:
+    return (focused["outline"] != "none" and focused["width"] >= 2) or (
+        focused["shadow"] not in ("none", ""))
+
+
 def test_tab_reaches_a_slider_quickly(chromium: object, site: str) -> None:
+    """From the top of the article: Tab to the skip link, Enter, and the first live slider
+    has the focus, in fewer than TAB_PRESSES key presses, every stop visibly focused."""
     context, page = _open(chromium, site, TAB_PAGE)
     try:
-        page.evaluate("""() => {
-            const start = document.createElement('a');
-            start.href = '#'; start.id = 'tab-start'; start.textContent = 'start';
-            document.querySelector('article, .bd-article').prepend(start);
-            start.focus(); }""")
-        for presses in range(1, TAB_PRESSES):
-            page.keyboard.press("Tab")
-            focused = page.evaluate("""() => { const el = document.activeElement;
-                return {slider: el.getAttribute('role') === 'slider',
-                        math: el.closest('mjx-container') !== null,
-                        outline: getComputedStyle(el).outlineStyle,
-                        width: parseFloat(getComputedStyle(el).outlineWidth) || 0,
-                        shadow: getComputedStyle(el).boxShadow}; }""")
+        _start_at_the_top_of_the_article(page)
+        presses, stops = 0, []
+        while presses < TAB_PRESSES:
+            focused = page.evaluate(_FOCUSED_JS)
+            if presses and focused["slider"]:
+                break
+            key = "Enter" if focused["skip"] else "Tab"
+            page.keyboard.press(key)
+            presses += 1
+            focused = page.evaluate(_FOCUSED_JS)
+            stops.append(focused)
             assert not focused["math"], f"{TAB_PAGE}: press {presses} lands on a formula"
-            assert (focused["outline"] != "none" and focused["width"] >= 2) or (
-                focused["shadow"] != "none"), f"{TAB_PAGE}: no visible focus {focused}"
+            assert _visibly_focused(focused), f"{TAB_PAGE}: no visible focus on {focused}"
+        assert page.evaluate(_FOCUSED_JS)["slider"], (
+            f"{TAB_PAGE}: no slider within {TAB_PRESSES - 1} key presses: {stops}")
+        assert stops[0]["skip"], stops[0]
+    finally:
+        context.close()
+
+
+def test_no_formula_is_a_tab_stop_and_focus_is_visible(chromium: object, site: str) -> None:
+    """Tab through the article of TAB_PAGE up to its first slider without the skip link:
+    no stop is a formula, every stop shows where the focus is."""
+    context, page = _open(chromium, site, TAB_PAGE)
+    try:
+        maths = page.locator("mjx-container").count()
+        assert maths > 20, f"{TAB_PAGE}: {maths} formulas"
+        _start_at_the_top_of_the_article(page)
+        for presses in range(1, 400):
+            page.keyboard.press("Tab")
+            focused = page.evaluate(_FOCUSED_JS)
+            assert not focused["math"], f"{TAB_PAGE}: Tab {presses} lands on a formula"
+            assert _visibly_focused(focused), f"{TAB_PAGE}: no visible focus on {focused}"
             if focused["slider"]:
                 break
         else:
-            pytest.fail(f"{TAB_PAGE}: no slider within {TAB_PRESSES - 1} Tab presses")
+            pytest.fail(f"{TAB_PAGE}: Tab never reaches a slider")
     finally:
         context.close()

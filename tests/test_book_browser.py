@@ -127,6 +127,7 @@ _WIDGET_REPORT_JS = """
 _IMAGES_JS = """
 async () => {
   const images = Array.from(document.images);
+  images.forEach(img => { img.loading = 'eager'; });  // the lazy ones load now
   await Promise.all(images.map(img => img.complete ? null : new Promise(resolve => {
     img.addEventListener('load', resolve); img.addEventListener('error', resolve);
   })));

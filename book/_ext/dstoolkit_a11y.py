@@ -13,7 +13,9 @@ as they are):
   (1.5 MB) to draw a dozen icons. ``_static/scripts/fontawesome.js`` is replaced by a
   script that holds only the icons the pages name (found in the written pages) and draws
   them the same way: each ``<i class="fa-solid fa-...">`` becomes an inline ``<svg>``.
-* **Markup of the theme and of the toolchain** that fails WCAG 2.1 (see :data:`FIXES`).
+* **Markup of the theme and of the toolchain** that fails WCAG 2.1, scripts that need not
+  block the first paint, and figures loaded only when they come near the screen (see
+  :data:`FIXES`).
 """
 
 from __future__ import annotations
@@ -53,6 +55,17 @@ FIXES: list[tuple[re.Pattern[str], str]] = [
     # doc-biblioentry inside a role="list": a list's items are listitems.
     (re.compile(r'(<div class="citation"[^>]*?) role="doc-biblioentry"'),
      r'\1 role="listitem"'),
+    # sphinx-togglebutton's chevrons are drawn next to the toggle's text: decoration.
+    (re.compile(r'<svg (?![^>]*aria-hidden)([^>]*class="tb-icon)'),
+     r'<svg aria-hidden="true" \1'),
+    # The figures of the chapters are fetched when they come near the screen, not with
+    # the page (Sphinx writes every image as <img alt="..." src="...">).
+    (re.compile(r'<img alt="'), '<img loading="lazy" alt="'),
+    # Scripts that nothing needs before the page is shown (search, copy and toggle buttons,
+    # tabs) are deferred: they run, in order, once the page is parsed.
+    (re.compile(r'<script ((?:[a-z-]+="[^"]*" )*)src="([^"]*/)?(searchtools|language_data|'
+                r'searchindex|clipboard\.min|copybutton|togglebutton|design-tabs)\.js'),
+     r'<script defer \1src="\2\3.js'),
 ]
 
 

@@ -16,6 +16,9 @@
  *   region: what a change shows (the readout and the figure's text alternative) is
  *   announced.
  *
+ * On a page with an explorer, a "Skip to the first explorer" link opens the article; it is
+ * shown when it takes the keyboard focus.
+ *
  * Every slider gets data-a11y="1" once it is done (the browser tests wait for it).
  */
 (function () {
@@ -143,7 +146,31 @@
     }, 0);
   }
 
+  // A link at the top of the article, shown when it has the keyboard focus, that takes
+  // the focus to the first explorer's first live control (past the text, its links and
+  // its code cells).
+  function addSkipLink() {
+    var article = document.querySelector("article.bd-article, article");
+    if (!article || article.querySelector(".dstoolkit-skip")) return;
+    var link = document.createElement("a");
+    link.className = "dstoolkit-skip";
+    link.href = "#";
+    link.textContent = "Skip to the first explorer";
+    link.addEventListener("click", function (event) {
+      event.preventDefault();
+      var target = document.querySelector(
+        '.widget-subarea [role="slider"][tabindex="0"], .widget-subarea select:not([disabled])');
+      if (!target) return;
+      target.scrollIntoView({block: "center"});
+      target.focus();
+    });
+    article.insertBefore(link, article.firstChild);
+  }
+
   function start() {
+    if (document.querySelector('script[type="application/vnd.jupyter.widget-view+json"]')) {
+      addSkipLink();
+    }
     fix(document);
     new MutationObserver(schedule).observe(document.body, {childList: true, subtree: true});
   }
