@@ -12,20 +12,18 @@ Build the book first (``bash scripts/build-book.sh``). Run from the repository r
 from __future__ import annotations
 
 import argparse
-import functools
 import gzip
 import sys
-import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
-from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from urllib.parse import unquote, urlsplit
 
-import yaml
-
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tests"))
+from conftest import served, toc_pages  # noqa: E402  (the tests' page list and server)
+
 CHROMIUM = "/usr/bin/chromium"
 #: First-load budgets, gzipped bytes: a page with an explorer, and one without.
 BUDGET = 1_500_000
@@ -48,44 +46,6 @@ class Weight:
     def budget(self) -> int:
         """The page's budget in gzipped bytes."""
         return BUDGET if self.explorer else BUDGET_NO_EXPLORER
-
-
-def toc_pages(toc_file: Path = ROOT / "_toc.yml") -> list[str]:
-    """The pages of _toc.yml, root first, without suffix."""
-    toc = yaml.safe_load(toc_file.read_text(encoding="utf-8"))
-    pages = [toc["root"]]
-
-    def walk(node: object) -> None:
-        if isinstance(node, dict):
-            if "file" in node:
-                pages.append(node["file"])
-            for value in node.values():
-                walk(value)
-        elif isinstance(node, list):
-            for item in node:
-                walk(item)
-
-    walk({key: value for key, value in toc.items() if key != "root"})
-    return [p.rsplit(".", 1)[0] if p.endswith((".md", ".ipynb")) else p for p in pages]
-
-
-class _Quiet(SimpleHTTPRequestHandler):
-    def log_message(self, fmt: str, *args: object) -> None:
-        pass
-
-
-@contextmanager
-def served(html_dir: Path) -> Iterator[str]:
-    """The base URL of ``html_dir`` served on 127.0.0.1 while the block runs."""
-    handler = functools.partial(_Quiet, directory=str(html_dir))
-    server = ThreadingHTTPServer(("127.0.0.1", 0), handler)
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    try:
-        yield f"http://127.0.0.1:{server.server_address[1]}/"
-    finally:
-        server.shutdown()
-        server.server_close()
 
 
 def weigh(browser: object, base: str, page_name: str, html_dir: Path) -> Weight:
