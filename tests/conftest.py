@@ -5,12 +5,16 @@ Keep this file to fixtures that more than one test module needs, grouped by topi
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import re
 import subprocess
+import threading
 from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
+from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 
 import nbformat
@@ -100,6 +104,26 @@ def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
     if "toc_page" in metafunc.fixturenames:
         pages = toc_pages()
         metafunc.parametrize("toc_page", pages, ids=pages)
+
+
+class _QuietHandler(SimpleHTTPRequestHandler):
+    def log_message(self, fmt: str, *args: object) -> None:
+        pass
+
+
+@contextmanager
+def served(directory: Path) -> Iterator[str]:
+    """The base URL of ``directory`` served by an http.server thread on 127.0.0.1 while the
+    block runs."""
+    handler = functools.partial(_QuietHandler, directory=str(directory))
+    server = ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield f"http://127.0.0.1:{server.server_address[1]}/"
+    finally:
+        server.shutdown()
+        server.server_close()
 
 
 # --------------------------------------------------------------------------------------

@@ -10,15 +10,12 @@ Without it the tests skip, except when DSTOOLKIT_REQUIRE_BROWSER=1 (CI), where t
 
 from __future__ import annotations
 
-import functools
-import threading
 from collections.abc import Iterator
 from dataclasses import dataclass, field
-from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
 from urllib.parse import urlsplit
 
 import pytest
-from conftest import ARTIFACTS, BookBuild
+from conftest import ARTIFACTS, BookBuild, served
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
@@ -26,11 +23,6 @@ pytestmark = [pytest.mark.browser, pytest.mark.slow]
 SCREENSHOT_PAGES = ("book/intro", "book/mass_functions", "book/dependent_evidence")
 LOCAL_SCHEMES = ("data:", "blob:", "about:")
 TIMEOUT_MS = 30_000
-
-
-class _QuietHandler(SimpleHTTPRequestHandler):
-    def log_message(self, fmt: str, *args: object) -> None:
-        pass
 
 
 @pytest.fixture(scope="module")
@@ -42,15 +34,8 @@ def site(chromium: object, built_book: BookBuild) -> Iterator[str]:
     """
     if not (built_book.html_dir / "index.html").is_file():
         pytest.fail(f"the book was not built, see test_book_build:\n{built_book.tail(20)}")
-    handler = functools.partial(_QuietHandler, directory=str(built_book.html_dir))
-    server = ThreadingHTTPServer(("127.0.0.1", 0), handler)
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    try:
-        yield f"http://127.0.0.1:{server.server_address[1]}/"
-    finally:
-        server.shutdown()
-        server.server_close()
+    with served(built_book.html_dir) as base:
+        yield base
 
 
 @dataclass
@@ -127,6 +112,7 @@ _WIDGET_REPORT_JS = """
 _IMAGES_JS = """
 async () => {
   const images = Array.from(document.images);
+  images.forEach(img => { img.loading = 'eager'; });  // the lazy ones load now
   await Promise.all(images.map(img => img.complete ? null : new Promise(resolve => {
     img.addEventListener('load', resolve); img.addEventListener('error', resolve);
   })));

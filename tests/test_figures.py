@@ -352,3 +352,56 @@ def test_the_style_is_undone_but_nothing_else() -> None:
         assert mpl.is_interactive()
     finally:
         mpl.interactive(before_interactive)
+
+
+# -- methods told apart without colour ------------------------------------------------------
+
+_SIX = ("dependent_evidence", "nassreddine", "direct", "kalman", "particle", "bounded_error")
+
+
+def _line_keys(ax: Axes, labels: set[str]) -> dict[str, tuple[str, str, str]]:
+    """For each line of ``ax`` labelled one of ``labels``: (dash pattern, marker, colour)."""
+    from matplotlib.colors import to_hex
+
+    return {line.get_label(): (str(line.get_linestyle()) + str(line._dash_pattern),
+                               str(line.get_marker()), to_hex(line.get_color()))
+            for line in ax.lines if line.get_label() in labels}
+
+
+def _assert_told_apart(keys: dict[str, tuple[str, str, str]], want: int) -> None:
+    assert len(keys) == want, keys
+    patterns = [(dashes, marker) for dashes, marker, _ in keys.values()]
+    assert len(set(patterns)) == len(patterns), f"two series differ in colour only: {keys}"
+    assert all(marker not in ("None", "", " ") for _, marker in patterns), keys
+
+
+def test_the_methods_have_okabe_ito_colours_and_their_own_lines_and_markers() -> None:
+    palette = {c.lower() for c in plots.OKABE_ITO.values()}
+    styles = [plots.STYLE[m] for m in _SIX]
+    assert {st["color"].lower() for st in styles} <= palette
+    assert len({(str(st["ls"]), st["marker"]) for st in styles}) == len(_SIX)
+    assert len({st["marker"] for st in styles}) == len(_SIX)
+
+
+def test_fig_11_tells_the_methods_apart_without_colour() -> None:
+    """plot_estimates (Figs. 10 and 11) with all six methods: in both panels every method
+    is drawn with its own dash pattern and marker."""
+    rng = np.random.default_rng(1)
+    steps = 30
+    estimates = {m: 4.6 + rng.normal(0, 0.1, steps) for m in _SIX}
+    fig = plots.plot_estimates(4.6, 4.6 + rng.normal(0, 0.3, steps), estimates,
+                               quantity="level", unit="m")
+    labels = {plots.STYLE[m]["label"] for m in _SIX}
+    for ax in fig.axes[:2]:
+        _assert_told_apart(_line_keys(ax, labels), len(_SIX))
+    fig.savefig(io.BytesIO(), format="png")
+
+
+def test_step_errors_tell_methods_and_variants_apart_without_colour() -> None:
+    rng = np.random.default_rng(2)
+    errors = {"paper's filter, start z_1": rng.uniform(0.1, 1, (2, 20)),
+              "paper's filter, start z_1 + E[w]": rng.uniform(0.1, 1, (2, 20))}
+    errors.update({m: rng.uniform(0.1, 1, (2, 20)) for m in _SIX})
+    fig = plots.plot_step_errors(errors)
+    labels = {plots.STYLE.get(m, {"label": m})["label"] for m in errors}
+    _assert_told_apart(_line_keys(fig.axes[0], labels), len(errors))

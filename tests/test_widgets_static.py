@@ -6,6 +6,9 @@ inconsistent. The browser half is tests/test_explorers_browser.py."""
 
 from __future__ import annotations
 
+import html
+import re
+
 import ipywidgets as widgets
 import matplotlib
 import matplotlib.pyplot as plt
@@ -82,21 +85,28 @@ def test_two_live_controls_give_a_stack_of_stacks_linked_to_the_sliders():
     assert linked(outer) == (a, "index", outer, "selected_index")
     for inner in outer.children:
         assert linked(inner) == (b, "index", inner, "selected_index")
-    # every leaf shows the readout of its own state and a figure
+    # every leaf shows the readout of its own state and a figure whose text alternative
+    # gives the controls' values as shown and the readout's numbers
     for i, av in enumerate(a.options):
         for j, bv in enumerate(b.options):
             leaf = outer.children[i].children[j]
-            readout, output = leaf.children
+            readout, picture = leaf.children
             assert f"{av[1] + bv[1]:.4f}" in readout.value
-            assert [o["data"].keys() for o in output.outputs][0] >= {"image/png"}
+            assert picture.value.count("<img ") == 1
+            assert "src='data:image/png;base64," in picture.value
+            alt = html.unescape(re.search(r"alt='([^']*)'", picture.value).group(1))
+            assert alt == (f"Figure for a = {av[0]}, b = {bv[0]}: "
+                           f"a + b {av[1] + bv[1]:.4f}, kind x.")
             assert ex.states[(av[1], bv[1])]["a + b"] == pytest.approx(av[1] + bv[1])
+    assert "dstoolkit-states" in outer._dom_classes
 
 
 def test_the_other_controls_are_disabled_with_a_line_to_the_run_page():
     ex = _toy(static=True)
     assert ex.controls["kind"].disabled
     notes = [c.value for c in ex.children if isinstance(c, widgets.HTML)]
-    assert any("notebook" in n and "href='run.html'" in n for n in notes)
+    assert any("notebook" in n and "href='run.html'" in n and "dstoolkit-site-note" in n
+               and "disabled" in n for n in notes)
     assert not any(getattr(ex.controls[n], "disabled", False) for n in ("a", "b"))
 
 
@@ -105,9 +115,8 @@ def test_an_invalid_state_shows_its_warning_and_no_figure():
     outer = _stack(ex)
     a_values = [v for _, v in ex.controls["a"].options]
     i, j = a_values.index(4.0), 1  # a + b = 5
-    readout, output = outer.children[i].children[j].children
+    (readout,) = outer.children[i].children[j].children  # no picture
     assert "⚠" in readout.value and "too much" in readout.value
-    assert output.outputs == ()
     assert "error" in ex.states[(4.0, 1.0)]
 
 

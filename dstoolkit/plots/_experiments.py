@@ -4,6 +4,7 @@ Fig. 11 (level estimates and errors per step) and Table 3 as a picture."""
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -15,37 +16,62 @@ from dstoolkit.studies._experiments import Table3
 from dstoolkit.studies._paper_results import TABLE3_MEAN_ABS_ERROR_M
 
 from ._kept import animate, set_limits, snapped_limits
-from ._style import log_ticks, new_figure, styled
+from ._style import OKABE_ITO, log_ticks, new_figure, styled
 
-#: Colour, marker and label of each method of Table 3 in every figure.
+#: Colour (Okabe–Ito), line style, marker and label of each method of Table 3 in every
+#: figure: the methods differ in line style and marker as well as in colour, so they can be
+#: told apart without colour (in grey print, or with a colour-vision deficiency).
 STYLE = {
-    "dependent_evidence": {"color": "C0", "label": "dependent evidence (paper)"},
-    "nassreddine": {"color": "C1", "label": "Nassreddine"},
-    "direct": {"color": "C2", "label": "direct (eq. 32)"},
-    "kalman": {"color": "C3", "label": "Kalman"},
-    "particle": {"color": "C4", "label": "particle"},
-    "bounded_error": {"color": "C5", "label": "bounded error"},
+    "dependent_evidence": {"color": OKABE_ITO["blue"], "ls": "-", "marker": "o",
+                           "label": "dependent evidence (paper)"},
+    "nassreddine": {"color": OKABE_ITO["orange"], "ls": "--", "marker": "s",
+                    "label": "Nassreddine"},
+    "direct": {"color": OKABE_ITO["bluish green"], "ls": ":", "marker": "^",
+               "label": "direct (eq. 32)"},
+    "kalman": {"color": OKABE_ITO["vermillion"], "ls": "-.", "marker": "v",
+               "label": "Kalman"},
+    "particle": {"color": OKABE_ITO["reddish purple"], "ls": (0, (5, 1)), "marker": "D",
+                 "label": "particle"},
+    "bounded_error": {"color": OKABE_ITO["sky blue"], "ls": (0, (3, 1, 1, 1, 1, 1)),
+                      "marker": "P", "label": "bounded error"},
 }
+#: Styles of curves that are not one of STYLE's methods (variants of a method), in order.
+EXTRA_STYLES = (
+    {"color": OKABE_ITO["black"], "ls": (0, (1, 1)), "marker": "x"},
+    {"color": OKABE_ITO["blue"], "ls": (0, (6, 2, 1, 2)), "marker": "*"},
+    {"color": OKABE_ITO["vermillion"], "ls": (0, (2, 2)), "marker": "h"},
+    {"color": OKABE_ITO["bluish green"], "ls": (0, (8, 2)), "marker": "<"},
+)
+#: Markers on a line at about this fraction of the axes' diagonal apart (``markevery``).
+MARK_EVERY = 0.1
 
 
-def _style(name: str) -> dict[str, str]:
-    return STYLE.get(name, {"color": "k", "label": name})
+def _style(name: str) -> dict[str, Any]:
+    return STYLE.get(name, {"color": "k", "ls": "-", "marker": "", "label": name})
+
+
+def line_style(st: Mapping[str, Any]) -> dict[str, Any]:
+    """Keyword arguments of ``Axes.plot`` that draw a method of :data:`STYLE` (or of
+    :data:`EXTRA_STYLES`): colour, line style, and markers spaced along the line."""
+    return {"color": st["color"], "ls": st.get("ls", "-"), "marker": st.get("marker", ""),
+            "markevery": MARK_EVERY, "ms": 4}
 
 
 def plot_table3(table: Table3) -> Figure:
-    """Mean absolute level error against the level: ours (solid) and the paper's (dashed)."""
+    """Mean absolute level error against the level: ours (solid, filled markers) and the
+    paper's (dashed, open markers); each method has its own marker and colour."""
     fig = new_figure(6.4, 4.4)
     ax = fig.add_subplot()
     methods = list(dict.fromkeys(r.method for r in table.rows))
     for m in methods:
         rows = [r for r in table.rows if r.method == m]
         st = _style(m)
-        ax.plot([r.level_m for r in rows], [r.mean_abs_error_m for r in rows], "o-",
-                color=st["color"], label=f"{st['label']}, ours")
+        ax.plot([r.level_m for r in rows], [r.mean_abs_error_m for r in rows], ls="-",
+                marker=st["marker"] or "o", color=st["color"], label=f"{st['label']}, ours")
         paper = [(lv, v[m]) for lv, v in TABLE3_MEAN_ABS_ERROR_M.items() if m in v]
         if paper:
-            ax.plot(*zip(*paper, strict=True), "s--", color=st["color"], alpha=0.6,
-                    mfc="none", label=f"{st['label']}, paper")
+            ax.plot(*zip(*paper, strict=True), ls="--", marker=st["marker"] or "s",
+                    color=st["color"], alpha=0.6, mfc="none", label=f"{st['label']}, paper")
     ax.set_yscale("log")
     log_ticks(ax.yaxis)
     ax.set_xlabel("true level L (m)")
@@ -80,7 +106,7 @@ def plot_estimates(truth: np.ndarray, readings: np.ndarray,
     for name in estimates:
         st = _style(name)
         for ax in (ax_a, ax_b):
-            ax.plot([], [], "-", color=st["color"], lw=1, label=st["label"])
+            ax.plot([], [], lw=1, label=st["label"], **line_style(st))
     ax_b.set_yscale("log")
     log_ticks(ax_b.yaxis)
     ax_b.set_xlabel("step k")

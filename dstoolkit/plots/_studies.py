@@ -1,12 +1,14 @@
 """Figures of the studies beyond the paper (:mod:`dstoolkit.studies`).
 
-Methods are drawn in the colours of :data:`dstoolkit.plots.STYLE`, so a method
-looks the same in Table 3, Figs. 10–11 and every study.
+Methods are drawn in the colours, line styles and markers of
+:data:`dstoolkit.plots.STYLE`, so a method looks the same in Table 3, Figs. 10–11 and every
+study, and no two methods differ in colour alone.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -18,19 +20,18 @@ from dstoolkit.evidence._possibility import possibility
 from dstoolkit.filters._model import BoundedNoise
 from dstoolkit.studies._estimation import ExampleComparison, MismatchResult, OrderRuleStudy
 
-from ._experiments import STYLE
+from ._experiments import EXTRA_STYLES, STYLE, line_style
 from ._kept import animate, set_limits, snapped_limits
 from ._style import SMALL_PT, legend_above, log_ticks, new_figure, styled
 
-#: Colours for curves that are not one of STYLE's methods (variants of a method), in order.
-EXTRA_COLOURS = ("C9", "C6", "C7", "C8")
-#: How the order rules are drawn in :func:`plot_order_rule_study`.
-RULE_STYLE = {"eq43": ("o-", "eq. 43"), "fit": ("s--", "series fit"), "true": ("^:", "true")}
+#: How the order rules are drawn in :func:`plot_order_rule_study`: line style, label.
+RULE_STYLE = {"eq43": ("-", "eq. 43"), "fit": ("--", "series fit"), "true": (":", "true")}
 
 
-def _style(name: str) -> dict[str, str | None]:
-    """A method's colour and label; any other name takes the next colour of the cycle."""
-    return STYLE.get(name, {"color": None, "label": name})
+def _style(name: str) -> dict[str, Any]:
+    """A method's colour, line style, marker and label; any other name is drawn black,
+    solid, with a cross."""
+    return STYLE.get(name, {**EXTRA_STYLES[0], "label": name})
 
 
 def _figure(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
@@ -46,14 +47,14 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
     """Mean |x̂_k − x_k| over runs against the step k, one line per method (log scale).
 
     ``errors`` maps a method to absolute errors of shape (runs, K) or (K,); a name that is
-    not a method of STYLE (a variant, say) gets a colour of ``EXTRA_COLOURS``.
+    not a method of STYLE (a variant, say) gets a style of ``EXTRA_STYLES``.
     ``update_step_errors`` draws other errors of the same methods on the axes.
     """
     fig, ax = _figure(ax, (7.5, 3.4))
-    extra = iter(EXTRA_COLOURS)
+    extra = iter(EXTRA_STYLES)
     for name in errors:
-        st = STYLE.get(name) or {"color": next(extra, None), "label": name}
-        ax.semilogy([], [], "-", color=st["color"], lw=1.3, label=st["label"])
+        st = STYLE.get(name) or {**next(extra, EXTRA_STYLES[0]), "label": name}
+        ax.semilogy([], [], lw=1.3, label=st["label"], **line_style(st))
     update_step_errors(ax, errors)
     ax.set_xlabel("step k")
     ax.set_ylabel(f"mean |x̂ − x| ({unit})")
@@ -183,8 +184,8 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
     methods = list(next(iter(study.values())).errors)
     for name in methods:
         st = _style(name)
-        ax.loglog(scales, [study[s].mean_errors()[name] for s in scales], "o-",
-                  color=st["color"], label=st["label"])
+        ax.loglog(scales, [study[s].mean_errors()[name] for s in scales], ls=st["ls"],
+                  marker=st["marker"], color=st["color"], label=st["label"])
     if "bounded_error" in methods:
         for s in scales:
             frac = study[s].inconsistent_runs
@@ -209,16 +210,17 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
 @styled
 def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
     """Mean absolute level error against the level, one panel per simulation (stacked):
-    line style = order rule, colour = method; grey diamonds: the series fit's own level."""
+    line style = order rule, colour and marker = method; grey diamonds on a thick line:
+    the series fit's own level."""
     fig = new_figure(6.4, 1.4 + 2.8 * len(studies))
     axes = fig.subplots(len(studies), 1, sharex=True, squeeze=False)[:, 0]
     for ax, study in zip(axes, studies, strict=True):
         for rule, by_method in study.errors.items():
-            marker, rule_label = RULE_STYLE.get(rule, ("o-", rule))
+            ls, rule_label = RULE_STYLE.get(rule, ("-", rule))
             for name, err in by_method.items():
                 st = _style(name)
-                ax.semilogy(study.levels, err, marker, color=st["color"], ms=4,
-                            label=f"{st['label']}, n_k {rule_label}")
+                ax.semilogy(study.levels, err, ls=ls, marker=st["marker"], color=st["color"],
+                            ms=4, label=f"{st['label']}, n_k {rule_label}")
         ax.semilogy(study.levels, study.slope, "D-", color="0.3", ms=4, lw=2,
                     label="series fit's level c/(2 f_F)")
         ax.set_title(f"{study.simulation}-level simulation", loc="left")
@@ -242,13 +244,13 @@ def plot_example(comparison: ExampleComparison, run: int = 0) -> Figure:
     ax_a.plot(*truth.T, "k-", lw=1.8, label="true")
     for name, est in comparison.estimates.items():
         st = _style(name)
-        ax_a.plot(*np.exp(est[run]).T, "-", color=st["color"], lw=1, label=st["label"])
+        ax_a.plot(*np.exp(est[run]).T, lw=1, label=st["label"], **line_style(st))
     ax_a.set_xlabel("prey P (individuals)")
     ax_a.set_ylabel("predators Q (individuals)")
     ax_a.set_title("(a) one run in the (P, Q) plane", loc="left")
     legend_above(ax_a, ncols=3)
     plot_step_errors(comparison.step_errors(run), ax_b, unit="log-population",
-                     title="(b) |x̂_k − x_k| per step", legend=False)  # colours as in (a)
+                     title="(b) |x̂_k − x_k| per step", legend=False)  # styles as in (a)
     return fig
 
 

@@ -42,6 +42,14 @@ TRUTH_COLOUR = "#2ca02c"
 GREY = "#7f7f7f"
 #: Colour map of focal elements.
 FOCAL_CMAP = "viridis"
+#: The Okabe–Ito palette (Okabe and Ito, "Color Universal Design", 2008): eight colours
+#: that people with any of the common colour-vision deficiencies can tell apart. The
+#: methods of the book are drawn in them, each also with its own line style and marker.
+OKABE_ITO = {
+    "black": "#000000", "orange": "#E69F00", "sky blue": "#56B4E9",
+    "bluish green": "#009E73", "yellow": "#F0E442", "blue": "#0072B2",
+    "vermillion": "#D55E00", "reddish purple": "#CC79A7",
+}
 
 #: The matplotlib settings of the style.
 RC: dict[str, Any] = {

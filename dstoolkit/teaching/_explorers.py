@@ -423,7 +423,10 @@ class Explorer(widgets.VBox):
         for combo in sorted(combos, key=lambda combo: combo == start):
             self.refresh(**dict(zip(names, combo, strict=True)))
             self.states[combo] = dict(self.numbers)
-            leaves[combo] = state_leaf(self.readout, self.output)
+            settings = {self.controls[name].description: shown_value(self.controls[name], v)
+                        for name, v in zip(names, combo, strict=True)}
+            leaves[combo] = state_leaf(self.readout, self.output,
+                                       figure_alt(settings, self.numbers))
         fixed = [c for name, c in self.controls.items() if name not in self.live]
         for control in fixed:
             control.disabled = True
@@ -433,9 +436,75 @@ class Explorer(widgets.VBox):
                          site_note(list(site.values()), bool(fixed)), stack)
 
 
-def state_leaf(readout: widgets.HTML, output: widgets.Output) -> widgets.VBox:
-    """A copy of what a readout and an output show now: one precomputed state."""
-    return widgets.VBox([widgets.HTML(readout.value), widgets.Output(outputs=output.outputs)])
+def shown_value(control: widgets.ValueWidget, value: Any) -> str:
+    """``value`` as ``control`` shows it: a dropdown's option label, a slider's readout."""
+    if isinstance(control, widgets.Dropdown):
+        for label, option in zip(control._options_labels, control._options_values,
+                                 strict=True):
+            if option == value:
+                return str(label)
+        return str(value)
+    if isinstance(control, widgets.IntSlider):
+        return format(int(value), "d")
+    if isinstance(control, widgets.FloatSlider):
+        return format(value, control.readout_format)
+    return str(value)
+
+
+def _plain(value: Any) -> str:
+    if isinstance(value, float | np.floating):
+        return f"{float(value):.4f}"
+    return str(value)
+
+
+def figure_alt(settings: Mapping[str, str], numbers: Mapping[str, Any],
+               what: str = "Figure") -> str:
+    """The text alternative of a precomputed figure, made from its numbers.
+
+    Parameters
+    ----------
+    settings
+        The controls' labels and the values they show for this figure.
+    numbers
+        The numbers of the readout (floats to 4 decimals, as the readout shows them).
+    what
+        The first word(s): what the picture is.
+
+    Returns
+    -------
+    str
+        For example "Figure for level L (m) = 9.6: estimate (m) 9.6100, truth (m) 9.6000."
+    """
+    at = ", ".join(f"{label} = {value}" for label, value in settings.items())
+    shown = ", ".join(f"{name} {_plain(value)}" for name, value in numbers.items())
+    head = f"{what} for {at}" if at else what
+    return f"{head}: {shown}." if shown else f"{head}."
+
+
+def image_html(png: bytes, alt: str) -> str:
+    """A PNG as an ``<img>`` with its text alternative, the picture inlined as a data URL
+    (the book's build moves it into a file beside the page, loaded when the state shows)."""
+    data = base64.b64encode(png).decode("ascii")
+    return (f"<img class='dstoolkit-figure' src='data:image/png;base64,{data}' "
+            f"alt='{html.escape(alt, quote=True)}' style='max-width:100%;height:auto'>")
+
+
+def state_leaf(readout: widgets.HTML, output: widgets.Output,
+               alt: str | Sequence[str] = "Figure") -> widgets.VBox:
+    """A copy of what a readout and an output show now: one precomputed state.
+
+    The output's pictures become ``<img>`` elements with the text alternatives ``alt``
+    (one for every picture, or one for all), in an ``HTML`` widget after the readout.
+    """
+    alts = [alt] if isinstance(alt, str) else list(alt)
+    pictures = [base64.b64decode(o["data"]["image/png"]) for o in output.outputs
+                if "image/png" in o.get("data", {})]
+    images = "".join(image_html(png, alts[min(i, len(alts) - 1)])
+                     for i, png in enumerate(pictures))
+    children: list[widgets.Widget] = [widgets.HTML(readout.value)]
+    if images:
+        children.append(widgets.HTML(images))
+    return widgets.VBox(children)
 
 
 def site_control(control: widgets.ValueWidget, options: Sequence[Any]) -> widgets.ValueWidget:
@@ -474,6 +543,7 @@ def state_stack(controls: Mapping[str, widgets.ValueWidget], live: Mapping[str, 
         options = tuple(live[name])
         box = widgets.Stack([stack((*prefix, v), depth + 1) for v in options],
                             selected_index=options.index(controls[name].value))
+        box.add_class("dstoolkit-states")  # a live region in the book (explorers-a11y.js)
         box.links = [widgets.jslink((site[name], "index"), (box, "selected_index"))]
         return box
 
@@ -484,12 +554,12 @@ def site_note(live: Sequence[widgets.ValueWidget], some_disabled: bool) -> widge
     """The line under an explorer's controls on the static site: which controls answer on
     this page, and where the others work."""
     names = " and ".join(html.escape(c.description) for c in live)
-    rest = ("the greyed-out ones work when this chapter runs as a notebook"
-            if some_disabled else "in a notebook every value is possible")
+    rest = ("the other controls are disabled here and work when this chapter runs as a "
+            "notebook" if some_disabled else "in a notebook every value is possible")
     head = (f"On this page {names} {'answer' if len(live) > 1 else 'answers'}; {rest}"
             if live else "These controls work when this chapter runs as a notebook")
-    return widgets.HTML(f"<p style='font-size:0.9em;margin:0'><i>{head}: see "
-                        f"<a href='{RUN_PAGE}'>Run this book</a>.</i></p>")
+    return widgets.HTML(f"<p class='dstoolkit-site-note' style='font-size:0.9em;margin:0'>"
+                        f"<i>{head}: see <a href='{RUN_PAGE}'>Run this book</a>.</i></p>")
 
 
 # -- mass functions on a finite frame ----------------------------------------------------
@@ -1192,7 +1262,11 @@ class LabWidget(widgets.VBox):
             level.value = value
             self.measurements = 0  # each state is the first record at its level
             self.record()
-            leaves[(value,)] = state_leaf(self.readout, self.output)
+            at = {level.description: shown_value(level, value)}
+            leaves[(value,)] = state_leaf(self.readout, self.output, [
+                figure_alt(at, self.numbers, "Recording and its resonances"),
+                figure_alt(at, {m: v for m, v in self.numbers.items()
+                                if m.endswith("(m)")}, "Level by each method")])
         stack, site = state_stack(self.controls, live, leaves)
         for widget in [*self.controls.values(), self.button, self.refresh]:
             widget.disabled = True

@@ -179,7 +179,8 @@ def plot_method_levels(analysis: measurement.Analysis, ax: Axes | None = None) -
     ax.errorbar([lv.level_m], [y[0]], xerr=[[lv.uncertainty_m]], fmt="o", color="black",
                 ecolor="0.35", elinewidth=6, label="level ± 1σ")
     for yi, (m, value) in zip(y[1:], analysis.filter_levels.items(), strict=True):
-        ax.plot([value], [yi], "s", color=STYLE.get(m, {"color": "k"})["color"])
+        st = STYLE.get(m, {"color": "k", "marker": "s"})
+        ax.plot([value], [yi], ls="", marker=st["marker"], color=st["color"])
     if analysis.true_level_m is not None:
         ax.axvline(analysis.true_level_m, color=TRUTH_COLOUR, lw=1.2, label="true level")
     ax.set_yticks(y, names)

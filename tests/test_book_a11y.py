@@ -1,0 +1,303 @@
+"""The built book against WCAG 2.1 AA in headless Chromium, on every page of _toc.yml.
+
+* axe-core (installed from npm into node_modules, injected into the page from there: no CDN)
+  with the rule sets wcag2a, wcag2aa, wcag21a and wcag21aa, in light and in dark mode, with
+  the explorers rendered and the maths typeset: no violation. Each result is saved in
+  test-artifacts/axe/.
+* every slider is named by its label and its ``aria-valuetext`` is the value it shows (with
+  the unit of its label); a disabled slider is out of the Tab order, exposed as disabled and
+  described by the note that says where it works; every explorer readout is a live region;
+* every image has a written ``alt`` (not a file name), the explorer figures included;
+* at 320 CSS px no page scrolls sideways;
+* every page's first load (everything fetched until ``load``), gzipped, stays within the
+  budget: 1.5 MB, and 1 MB for a page without an explorer;
+* on one explorer page the first slider is reached in fewer than 15 Tab presses from the
+  top of the article.
+
+The browser is conftest's ``chromium`` fixture and the site is test_book_browser's ``site``
+(the book built by scripts/build-book.sh, served on 127.0.0.1). Without Chromium the tests
+skip, except under DSTOOLKIT_REQUIRE_BROWSER=1 (CI), where they fail.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import re
+import sys
+
+import pytest
+from conftest import ARTIFACTS, ROOT, browser_unavailable, toc_pages
+from test_book_browser import _WIDGETS_RENDERED_JS, TIMEOUT_MS, site
+
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
+__all__ = ["site"]  # fixture used by the tests below
+
+AXE = ROOT / "node_modules" / "axe-core" / "axe.min.js"
+AXE_TAGS = ["wcag2a", "wcag2aa", "wcag21a", "wcag21aa"]
+AXE_RESULTS = ARTIFACTS / "axe"
+#: First-load budgets, gzipped bytes.
+BUDGET = 1_500_000
+BUDGET_NO_EXPLORER = 1_000_000
+#: The page whose Tab order is checked, and the most presses its first slider may take.
+TAB_PAGE = "book/mass_functions"
+TAB_PRESSES = 15
+
+_WIDGET_VIEW = 'script[type="application/vnd.jupyter.widget-view+json"]'
+
+
+def _open(chromium: object, site: str, toc_page: str, *, dark: bool = False,
+          width: int = 1280) -> tuple[object, object]:
+    """A new context and page showing ``toc_page`` with its maths typeset and its widgets
+    rendered, in dark mode if ``dark``."""
+    context = chromium.new_context(viewport={"width": width, "height": 900},
+                                   color_scheme="dark" if dark else "light")
+    mode = "dark" if dark else "light"
+    context.add_init_script(
+        f"try {{ localStorage.setItem('mode', '{mode}'); localStorage.setItem('theme', "
+        f"'{mode}'); }} catch (e) {{}}")
+    page = context.new_page()
+    page.set_default_timeout(TIMEOUT_MS)
+    page.goto(site + toc_page + ".html", wait_until="load")
+    _settle(page)
+    if dark:
+        assert page.evaluate("document.documentElement.dataset.theme") == "dark"
+    return context, page
+
+
+def _settle(page: object) -> None:
+    """Wait for MathJax and for every embedded widget to be drawn."""
+    page.evaluate("""async () => {
+      if (window.MathJax && MathJax.startup && MathJax.startup.promise)
+        await MathJax.startup.promise;
+    }""")
+    if page.locator(_WIDGET_VIEW).count():
+        page.wait_for_function(_WIDGETS_RENDERED_JS, timeout=TIMEOUT_MS)
+        page.wait_for_function("() => document.querySelectorAll("
+                               "'.widget-slider[data-a11y]').length === document"
+                               ".querySelectorAll('.widget-slider').length")
+    page.wait_for_timeout(300)
+
+
+def _axe(page: object) -> list[dict]:
+    if not AXE.is_file():
+        browser_unavailable(f"{AXE} missing: run `npm ci` (scripts/build-book.sh does)")
+    page.add_script_tag(path=str(AXE))
+    return page.evaluate(
+        """async (tags) => {
+          const result = await axe.run(document, {
+            runOnly: {type: 'tag', values: tags}, resultTypes: ['violations']});
+          return result.violations.map(v => ({
+            id: v.id, impact: v.impact, help: v.help,
+            nodes: v.nodes.map(n => ({target: n.target.join(' '),
+                                      summary: n.failureSummary,
+                                      html: n.html.slice(0, 200)}))}));
+        }""", AXE_TAGS)
+
+
+@pytest.mark.parametrize("mode", ["light", "dark"])
+def test_axe_finds_no_violation(chromium: object, site: str, toc_page: str, mode: str) -> None:
+    context, page = _open(chromium, site, toc_page, dark=mode == "dark")
+    try:
+        violations = _axe(page)
+    finally:
+        context.close()
+    AXE_RESULTS.mkdir(parents=True, exist_ok=True)
+    stem = f"{toc_page.replace('/', '-')}-{mode}"
+    (AXE_RESULTS / f"{stem}.json").write_text(json.dumps(violations, indent=1),
+                                              encoding="utf-8")
+    summary = [f"{v['id']} ({len(v['nodes'])}): {v['nodes'][0]['target']} "
+               f"{v['nodes'][0]['summary']}" for v in violations]
+    assert not violations, f"{toc_page} ({mode}): " + "\n".join(summary)
+
+
+# What every slider says to assistive technology, beside what it shows.
+_SLIDERS_JS = """
+() => Array.from(document.querySelectorAll('.widget-slider')).map(box => {
+  const handle = box.querySelector('[role="slider"]');
+  const label = box.querySelector('.widget-label');
+  const readout = box.querySelector('.widget-readout');
+  const named = id => id ? id.split(' ').map(i => document.getElementById(i))
+    .filter(Boolean).map(e => e.textContent.trim()).join(' ') : '';
+  return {
+    label: label ? label.textContent.trim() : '',
+    shown: readout ? (readout.value !== undefined && readout.tagName === 'INPUT'
+                      ? readout.value : readout.textContent).trim() : '',
+    name: handle ? (handle.getAttribute('aria-label') ||
+                    named(handle.getAttribute('aria-labelledby'))) : '',
+    valuetext: handle ? handle.getAttribute('aria-valuetext') : null,
+    disabled: box.querySelector('.noUi-target[disabled]') !== null,
+    ariaDisabled: handle ? handle.getAttribute('aria-disabled') : null,
+    tabindex: handle ? handle.getAttribute('tabindex') : null,
+    described: handle ? named(handle.getAttribute('aria-describedby')) : '',
+  };
+})
+"""
+
+_UNIT = re.compile(r"\s\(([^()]+)\)\s*$")
+
+
+def _unit(label: str) -> str:
+    """The unit a slider's label ends with after a space, in parentheses: "level L (m)"
+    (none: ""; "m({low})" names a set, not a unit)."""
+    found = _UNIT.search(label)
+    return found.group(1) if found else ""
+
+
+@pytest.mark.parametrize("page_name", [p for p in toc_pages()
+                                       if (ROOT / f"{p}.md").is_file()])
+def test_sliders_say_what_they_show(chromium: object, site: str, page_name: str) -> None:
+    context, page = _open(chromium, site, page_name)
+    try:
+        sliders = page.evaluate(_SLIDERS_JS)
+        live = page.evaluate("""() => Array.from(document.querySelectorAll(
+            'div.widget-subarea')).map(area => area.querySelector('.widget-slider') === null
+            || area.querySelector('[aria-live="polite"]') !== null)""")
+    finally:
+        context.close()
+    for s in sliders:
+        assert s["label"], f"{page_name}: a slider without a label {s}"
+        assert s["name"] == s["label"], f"{page_name}: slider named {s['name']!r}: {s}"
+        unit = _unit(s["label"])
+        want = f"{s['shown']} {unit}".strip()
+        assert s["valuetext"] == want, f"{page_name}: {s['label']!r} says {s['valuetext']!r}"
+        if s["disabled"]:
+            assert s["ariaDisabled"] == "true" and s["tabindex"] == "-1", (
+                f"{page_name}: disabled {s['label']!r} stays in the Tab order: {s}")
+            assert "notebook" in s["described"], (
+                f"{page_name}: disabled {s['label']!r} is not described by the note: {s}")
+        else:
+            assert s["ariaDisabled"] != "true" and s["tabindex"] == "0", s
+    assert all(live), f"{page_name}: an explorer readout is not in a live region"
+
+
+@pytest.mark.parametrize("page_name", [p for p in toc_pages()
+                                       if (ROOT / f"{p}.md").is_file()])
+def test_every_image_has_a_written_alt(chromium: object, site: str, page_name: str) -> None:
+    context, page = _open(chromium, site, page_name)
+    try:
+        images = page.evaluate("""() => Array.from(document.images).map(img => ({
+            src: img.getAttribute('src').slice(0, 80), alt: img.getAttribute('alt'),
+            decorative: img.getAttribute('role') === 'presentation'
+              || img.closest('[aria-hidden="true"]') !== null}))""")
+    finally:
+        context.close()
+    for image in images:
+        if image["decorative"]:
+            continue
+        alt = image["alt"] or ""
+        assert len(alt.split()) >= 3, f"{page_name}: image without a written alt {image}"
+        assert not re.search(r"\.(png|svg|jpe?g|gif)\b|_images/|_states/", alt), (
+            f"{page_name}: alt is a file name {image}")
+
+
+@pytest.mark.parametrize("page_name", [p for p in toc_pages()
+                                       if (ROOT / f"{p}.md").is_file()])
+def test_no_sideways_scroll_at_320_px(chromium: object, site: str, page_name: str) -> None:
+    context, page = _open(chromium, site, page_name, width=320)
+    try:
+        widths = page.evaluate("""() => ({
+            page: document.documentElement.scrollWidth,
+            view: document.documentElement.clientWidth,
+            wide: Array.from(document.querySelectorAll('.bd-article *')).filter(el => {
+              const box = el.getBoundingClientRect();
+              return box.width > 0 && box.right > document.documentElement.clientWidth + 1;
+            }).slice(0, 5).map(el => el.tagName + '.' + el.className)})""")
+        if page_name in {"book/recursive_filter", "book/run"}:
+            ARTIFACTS.mkdir(exist_ok=True)
+            page.screenshot(path=str(ARTIFACTS / f"{page_name.replace('/', '-')}-320.png"))
+    finally:
+        context.close()
+    assert widths["page"] <= widths["view"], f"{page_name} scrolls sideways at 320 px: {widths}"
+
+
+def _book_weight() -> object:
+    """benchmarks/book_weight.py as a module (it measures what the budget test checks)."""
+    spec = importlib.util.spec_from_file_location("benchmark_book_weight",
+                                                  ROOT / "benchmarks" / "book_weight.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.mark.parametrize("page_name", toc_pages())
+def test_first_load_within_budget(chromium: object, site: str, built_book: object,
+                                  page_name: str) -> None:
+    weight = _book_weight().weigh(chromium, site, page_name, built_book.html_dir)
+    assert weight.files > 3, f"{page_name}: only {weight.files} files fetched"
+    assert weight.budget == (BUDGET if weight.explorer else BUDGET_NO_EXPLORER)
+    assert weight.gzipped <= weight.budget, (
+        f"{page_name}: {weight.gzipped / 1e6:.2f} MB gzipped first load "
+        f"({weight.raw / 1e6:.2f} MB raw) over {weight.budget / 1e6:.1f} MB; "
+        f"largest: {weight.largest}")
+
+
+_FOCUSED_JS = """() => { const el = document.activeElement;
+    const style = getComputedStyle(el);
+    return {slider: el.getAttribute('role') === 'slider',
+            skip: el.classList.contains('dstoolkit-skip'),
+            math: el.closest('mjx-container') !== null,
+            tag: el.tagName, text: (el.textContent || '').trim().slice(0, 40),
+            outline: style.outlineStyle, width: parseFloat(style.outlineWidth) || 0,
+            shadow: style.boxShadow}; }"""
+
+
+def _start_at_the_top_of_the_article(page: object) -> None:
+    page.evaluate("""() => {
+        const start = document.createElement('span');
+        start.id = 'tab-start'; start.tabIndex = -1;
+        document.querySelector('article.bd-article').prepend(start);
+        start.focus(); }""")
+
+
+def _visibly_focused(focused: dict) -> bool:
+    return (focused["outline"] != "none" and focused["width"] >= 2) or (
+        focused["shadow"] not in ("none", ""))
+
+
+def test_tab_reaches_a_slider_quickly(chromium: object, site: str) -> None:
+    """From the top of the article: Tab to the skip link, Enter, and the first live slider
+    has the focus, in fewer than TAB_PRESSES key presses, every stop visibly focused."""
+    context, page = _open(chromium, site, TAB_PAGE)
+    try:
+        _start_at_the_top_of_the_article(page)
+        presses, stops = 0, []
+        while presses < TAB_PRESSES:
+            focused = page.evaluate(_FOCUSED_JS)
+            if presses and focused["slider"]:
+                break
+            key = "Enter" if focused["skip"] else "Tab"
+            page.keyboard.press(key)
+            presses += 1
+            focused = page.evaluate(_FOCUSED_JS)
+            stops.append(focused)
+            assert not focused["math"], f"{TAB_PAGE}: press {presses} lands on a formula"
+            assert _visibly_focused(focused), f"{TAB_PAGE}: no visible focus on {focused}"
+        assert page.evaluate(_FOCUSED_JS)["slider"], (
+            f"{TAB_PAGE}: no slider within {TAB_PRESSES - 1} key presses: {stops}")
+        assert stops[0]["skip"], stops[0]
+    finally:
+        context.close()
+
+
+def test_no_formula_is_a_tab_stop_and_focus_is_visible(chromium: object, site: str) -> None:
+    """Tab through the article of TAB_PAGE up to its first slider without the skip link:
+    no stop is a formula, every stop shows where the focus is."""
+    context, page = _open(chromium, site, TAB_PAGE)
+    try:
+        maths = page.locator("mjx-container").count()
+        assert maths > 20, f"{TAB_PAGE}: {maths} formulas"
+        _start_at_the_top_of_the_article(page)
+        for presses in range(1, 400):
+            page.keyboard.press("Tab")
+            focused = page.evaluate(_FOCUSED_JS)
+            assert not focused["math"], f"{TAB_PAGE}: Tab {presses} lands on a formula"
+            assert _visibly_focused(focused), f"{TAB_PAGE}: no visible focus on {focused}"
+            if focused["slider"]:
+                break
+        else:
+            pytest.fail(f"{TAB_PAGE}: Tab never reaches a slider")
+    finally:
+        context.close()
