@@ -95,13 +95,56 @@ def _axe(page: object) -> list[dict]:
         }""", AXE_TAGS)
 
 
+#: What one visit of a page found, by (page, mode): each page is opened once per colour
+#: mode, and every check of this module reads what that visit recorded.
+_REPORTS: dict[tuple[str, str], dict] = {}
+
+_LIVE_JS = """() => Array.from(document.querySelectorAll('div.widget-subarea')).map(area =>
+    area.querySelector('.widget-slider') === null
+    || area.querySelector('[aria-live="polite"]') !== null)"""
+
+_IMAGES_JS = """() => Array.from(document.images).map(img => ({
+    src: img.getAttribute('src').slice(0, 80), alt: img.getAttribute('alt'),
+    decorative: img.getAttribute('role') === 'presentation'
+      || img.closest('[aria-hidden="true"]') !== null}))"""
+
+_WIDTHS_JS = """() => ({
+    page: document.documentElement.scrollWidth,
+    view: document.documentElement.clientWidth,
+    wide: Array.from(document.querySelectorAll('.bd-article *')).filter(el => {
+      const box = el.getBoundingClientRect();
+      return box.width > 0 && box.right > document.documentElement.clientWidth + 1;
+    }).slice(0, 5).map(el => el.tagName + '.' + el.className)})"""
+
+
+def _report(chromium: object, site: str, toc_page: str, mode: str) -> dict:
+    """Open ``toc_page`` once in ``mode`` and record what the checks read: axe's violations;
+    in light mode also the sliders, the live regions, the images, and the widths after
+    the viewport narrows to 320 CSS px (the page reflows as on a phone)."""
+    key = (toc_page, mode)
+    if key not in _REPORTS:
+        context, page = _open(chromium, site, toc_page, dark=mode == "dark")
+        try:
+            report: dict = {"axe": _axe(page)}
+            if mode == "light":
+                report.update(sliders=page.evaluate(_SLIDERS_JS),
+                              live=page.evaluate(_LIVE_JS), images=page.evaluate(_IMAGES_JS))
+                page.set_viewport_size({"width": 320, "height": 900})
+                page.wait_for_timeout(500)
+                report["widths"] = page.evaluate(_WIDTHS_JS)
+                if toc_page in {"book/recursive_filter", "book/run"}:
+                    ARTIFACTS.mkdir(exist_ok=True)
+                    page.screenshot(
+                        path=str(ARTIFACTS / f"{toc_page.replace('/', '-')}-320.png"))
+        finally:
+            context.close()
+        _REPORTS[key] = report
+    return _REPORTS[key]
+
+
 @pytest.mark.parametrize("mode", ["light", "dark"])
 def test_axe_finds_no_violation(chromium: object, site: str, toc_page: str, mode: str) -> None:
-    context, page = _open(chromium, site, toc_page, dark=mode == "dark")
-    try:
-        violations = _axe(page)
-    finally:
-        context.close()
+    violations = _report(chromium, site, toc_page, mode)["axe"]
     AXE_RESULTS.mkdir(parents=True, exist_ok=True)
     stem = f"{toc_page.replace('/', '-')}-{mode}"
     (AXE_RESULTS / f"{stem}.json").write_text(json.dumps(violations, indent=1),
@@ -147,14 +190,8 @@ def _unit(label: str) -> str:
 @pytest.mark.parametrize("page_name", [p for p in toc_pages()
                                        if (ROOT / f"{p}.md").is_file()])
 def test_sliders_say_what_they_show(chromium: object, site: str, page_name: str) -> None:
-    context, page = _open(chromium, site, page_name)
-    try:
-        sliders = page.evaluate(_SLIDERS_JS)
-        live = page.evaluate("""() => Array.from(document.querySelectorAll(
-            'div.widget-subarea')).map(area => area.querySelector('.widget-slider') === null
-            || area.querySelector('[aria-live="polite"]') !== null)""")
-    finally:
-        context.close()
+    report = _report(chromium, site, page_name, "light")
+    sliders, live = report["sliders"], report["live"]
     for s in sliders:
         assert s["label"], f"{page_name}: a slider without a label {s}"
         assert s["name"] == s["label"], f"{page_name}: slider named {s['name']!r}: {s}"
@@ -174,14 +211,7 @@ def test_sliders_say_what_they_show(chromium: object, site: str, page_name: str)
 @pytest.mark.parametrize("page_name", [p for p in toc_pages()
                                        if (ROOT / f"{p}.md").is_file()])
 def test_every_image_has_a_written_alt(chromium: object, site: str, page_name: str) -> None:
-    context, page = _open(chromium, site, page_name)
-    try:
-        images = page.evaluate("""() => Array.from(document.images).map(img => ({
-            src: img.getAttribute('src').slice(0, 80), alt: img.getAttribute('alt'),
-            decorative: img.getAttribute('role') === 'presentation'
-              || img.closest('[aria-hidden="true"]') !== null}))""")
-    finally:
-        context.close()
+    images = _report(chromium, site, page_name, "light")["images"]
     for image in images:
         if image["decorative"]:
             continue
@@ -194,20 +224,7 @@ def test_every_image_has_a_written_alt(chromium: object, site: str, page_name: s
 @pytest.mark.parametrize("page_name", [p for p in toc_pages()
                                        if (ROOT / f"{p}.md").is_file()])
 def test_no_sideways_scroll_at_320_px(chromium: object, site: str, page_name: str) -> None:
-    context, page = _open(chromium, site, page_name, width=320)
-    try:
-        widths = page.evaluate("""() => ({
-            page: document.documentElement.scrollWidth,
-            view: document.documentElement.clientWidth,
-            wide: Array.from(document.querySelectorAll('.bd-article *')).filter(el => {
-              const box = el.getBoundingClientRect();
-              return box.width > 0 && box.right > document.documentElement.clientWidth + 1;
-            }).slice(0, 5).map(el => el.tagName + '.' + el.className)})""")
-        if page_name in {"book/recursive_filter", "book/run"}:
-            ARTIFACTS.mkdir(exist_ok=True)
-            page.screenshot(path=str(ARTIFACTS / f"{page_name.replace('/', '-')}-320.png"))
-    finally:
-        context.close()
+    widths = _report(chromium, site, page_name, "light")["widths"]
     assert widths["page"] <= widths["view"], f"{page_name} scrolls sideways at 320 px: {widths}"
 
 
