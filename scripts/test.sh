@@ -13,4 +13,4 @@ lint-imports --no-cache
 echo "==> mypy (the core and the command line; [tool.mypy] in pyproject.toml)"
 mypy
 echo "==> pytest"
-python -m pytest "$@"
+python -m pytest --durations=20 "$@"
