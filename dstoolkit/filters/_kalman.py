@@ -256,8 +256,9 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
     kernel: KernelChoice = "numpy"
     name: ClassVar[str] = "kalman"
     DIAGNOSTICS: ClassVar[dict[str, str]] = {
-        "nis": "normalised innovation squared νᵀ S⁻¹ ν (about m on average when the noise "
-               "statistics are right; NaN at the first step)",
+        "nis": "normalised innovation squared, the innovation ν weighted by S⁻¹ on both "
+               "sides (about m on average when the noise statistics are right; NaN at the "
+               "first step)",
     }
 
     def __post_init__(self) -> None:
