@@ -1,4 +1,4 @@
-"""Time the book build (issue 5): clean, re-rendered from the execution cache, and unchanged.
+"""Time the book build: clean, re-rendered from the execution cache, and unchanged.
 
 1. clean: _build/ removed, including the execution cache _build/.jupyter_cache (and a root
    .jupyter_cache if one exists): every chapter is executed. node_modules is kept unless

@@ -1,4 +1,4 @@
-"""Time Dempster's rule and the dependent combination on interval evidence (issue 2).
+"""Time Dempster's rule and the dependent combination on interval evidence.
 
 Sizes as in one filter step: 64 × 16 focal elements (step 6 of the paper's filter) and a
 larger 1024 × 64. Prints the median of repeated runs. Run: python benchmarks/combination.py

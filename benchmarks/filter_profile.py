@@ -1,4 +1,4 @@
-"""Where one step of the paper's filter goes (issue 14): time and numpy calls per block.
+"""Where one step of the paper's filter goes: time and numpy calls per block.
 
 One run of the paper's 9.6 m case (83 resonances, 82 steps, p = 3, ε = 0.05) on the array
 path of :class:`~dstoolkit.filters.DependentEvidenceFilter`. For each block of a step

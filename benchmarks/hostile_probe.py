@@ -1,4 +1,4 @@
-"""Probe dstoolkit as a hostile tester would, and print what happened (issue 11).
+"""Probe dstoolkit as a hostile tester would, and print what happened.
 
 Each probe calls the public API, a command line, or ``analyze`` on a crafted file with
 hostile input, under a time limit, and is classified:

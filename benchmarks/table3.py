@@ -1,4 +1,4 @@
-"""Wall time of the full Table 3 reproduction (issue 4): 10 levels × 100 runs × all methods,
+"""Wall time of the full Table 3 reproduction: 10 levels × 100 runs × all methods,
 frequency-level and waveform-level. Run: python benchmarks/table3.py [--runs N] [--only K]
 """
 

@@ -1,4 +1,4 @@
-"""Latency of every explorer (issues 5 and 14): a control's value changes → a new figure.
+"""Latency of every explorer: a control's value changes → a new figure.
 
 Every explorer of :mod:`dstoolkit.teaching` (the lab's measuring station aside: it measures
 on a button press, not on a value change) is built in a Jupyter kernel (started by

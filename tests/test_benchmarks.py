@@ -1,4 +1,4 @@
-"""The speed scripts print what issue 14 asks of them (their figures are not checked here:
+"""The speed scripts print the figures they promise (their figures are not checked here:
 speed is measured by the scripts, never asserted in tests)."""
 
 from __future__ import annotations

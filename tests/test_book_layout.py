@@ -3,7 +3,7 @@
 Nothing but a code block may scroll sideways: display maths, tables, cell outputs (printed
 results and error messages), figures and widget areas must fit the text column, and a
 widget readout takes at most two lines. A failure names the page, the width and the
-element. Screenshots of the elements issue 13 found clipped (six equations, two tables,
+element. Screenshots of the elements a review found clipped (six equations, two tables,
 the log-axis figure of the recursive filter and the lab's error messages) go to
 test-artifacts/layout/ for a person to look at.
 

@@ -1,4 +1,4 @@
-"""Editorial rules of the book that a script can check (issue 13).
+"""Editorial rules of the book that a script can check.
 
 - no chapter has more than about 4,000 words of prose (code cells and maths not counted);
 - no internal working document is named anywhere a reader or user looks (the book, the

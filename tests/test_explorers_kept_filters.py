@@ -1,4 +1,4 @@
-"""The filter explorers keep their figure and redraw it in place (issue 14): after any
+"""The filter explorers keep their figure and redraw it in place: after any
 number of changes a kept figure holds what a figure drawn afresh for the same setting holds
 (the artists' data, colours, texts, limits), the static site (which renders every state
 through the same kept figure) shows no leftover of an earlier state, and an invalid setting

@@ -12,7 +12,7 @@ bounds of
 and the paper's filter (p = 1) on the Lotka–Volterra example (two states, vertex method).
 The tests check that today's code still gives these numbers to 1e-9 Hz, so that speed
 work cannot change a result unnoticed. The file was written by this module (run as a
-script) before the speed work of issue 14; regenerate it only on purpose:
+script) before the speed work on the filters; regenerate it only on purpose:
 ``python tests/test_filter_golden.py --force``.
 """
 

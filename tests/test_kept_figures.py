@@ -1,4 +1,4 @@
-"""Explorers that keep their figure (issue 14) show what a freshly built one shows.
+"""Explorers that keep their figure show what a freshly built one shows.
 
 The gauge, level-estimation and noise-bounds explorers build their figure once and then
 update its artists. The static site renders every state on one kept figure, so after any
@@ -173,7 +173,7 @@ def test_the_batch_result_of_the_bounded_error_filter_equals_single_runs() -> No
         np.testing.assert_array_equal(batch.diagnostics["resets"][r], one.diagnostics["resets"])
 
 
-#: The recordings stored in tests/data/gauge_golden.npz (by the synthesis before issue 14).
+#: The recordings stored in tests/data/gauge_golden.npz (by the synthesis before its speed-up).
 GOLDEN_CASES = {
     0: (TubeSetup(4.6, 26.5), GAUGE_CONDITIONS, 0),
     1: (TubeSetup(1.6, 5.0, top_reflection=0.9),

@@ -1,4 +1,4 @@
-"""Nassreddine's filter gives the numbers it gave before its clustering was sped up (issue 14).
+"""Nassreddine's filter gives the numbers it gave before its clustering was sped up.
 
 ``tests/data/nassreddine_golden.npz`` holds, for settings that make the focal-element cap
 (Denœux's clustering, :func:`dstoolkit.filters.NassreddineFilter` with ``max_focal``) work

@@ -1,4 +1,4 @@
-"""The paper's rivals (issue 3): Nassreddine's filter and its restart variant, the
+"""The paper's rivals: Nassreddine's filter and its restart variant, the
 bounded-error filter, the (extended) Kalman filter and the bootstrap particle filter."""
 
 import dataclasses

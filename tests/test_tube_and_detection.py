@@ -1,4 +1,4 @@
-"""Synthesised recordings and resonance detection (paper §4.1, §4.3; issue 4).
+"""Synthesised recordings and resonance detection (paper §4.1, §4.3).
 
 Tolerances, and why:
 
