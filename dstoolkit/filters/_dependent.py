@@ -16,13 +16,14 @@ scalar state, 4 state focal elements, 16 predicted, 64 after step 4 and 64 × 16
 products in step 6 before the discounting adds Θ. Nothing grows from step to step,
 because each step restarts from the point estimate.
 
-Two implementations: the object path (``record=True``) runs Steps 2, 3 and 5 with
-:func:`predict`, :func:`observe`, :func:`map_back`, merges equal focal elements (eq. 14)
-and fuses with :mod:`dstoolkit.evidence`'s combination; the array path (``record=False``
-and :meth:`DependentEvidenceFilter.run_batch`) runs every step of a block of runs on
-preallocated buffers (:class:`~dstoolkit.filters._dependent_arrays.StepArrays`, the same
-Step 5 snapping) and fuses with the batch kernels without merging, or with the optional
-compiled kernel (``kernel="numba"``). They give the same numbers (tested).
+Two implementations: the public step (:meth:`DependentEvidenceFilter.step`, which
+``run(..., record=True)`` loops) runs Steps 2, 3 and 5 with :func:`predict`,
+:func:`observe`, :func:`map_back`, merges equal focal elements (eq. 14) and fuses with
+:mod:`dstoolkit.evidence`'s combination; ``run`` and ``run_batch`` run every step of a
+block of runs on preallocated buffers (:class:`~dstoolkit.filters._dependent_arrays.
+StepArrays`, the same Step 5 snapping) and fuse with the batch kernels without merging,
+or with the optional compiled kernel (``kernel="numba"``). They give the same numbers to
+rounding (tested).
 
 Choices the paper leaves open: ``mass_rule`` for m(D) in eq. A3; the start
 x̂_1 (``"observation"``: g⁻¹(z_1) as the paper; ``"mean_corrected"``: g⁻¹(z_1 + E[w]);

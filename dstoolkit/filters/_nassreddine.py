@@ -381,11 +381,15 @@ class NassreddineState(FilterState):
     (``posterior``) and what step k + 1 starts from (``carried``: the posterior after the
     clustering cap, or None for the restart variant, which restarts from x̂_k + E_v), and
     the evidence of the reading, z_k + E_w (``observation``). ``posterior`` and ``carried``
-    are one-run :class:`~dstoolkit.evidence.Boxes` (arrays with a run axis of 1)."""
+    are one-run :class:`~dstoolkit.evidence.Boxes` (arrays with a run axis of 1);
+    ``focal_elements`` and ``merged_mass`` are the posterior's size before the cap and the
+    mass the cap moved."""
 
     posterior: Boxes
     carried: Boxes | None
     observation: IntervalEvidence
+    focal_elements: int = 0
+    merged_mass: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -562,22 +566,20 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
             state.k + 1, IntervalEvidence.from_boxes(start),
             IntervalEvidence.from_boxes(merge_equal_boxes(p_lo, p_hi, p_mass)),
             new.observation, IntervalEvidence.from_boxes(posterior), new.estimate,
-            float(conflict[0]),
-            int(settled[3][0]), float(settled[5][0]), bool(reset[0]))
+            float(conflict[0]), new.focal_elements, new.merged_mass, bool(reset[0]))
         return new, record
 
     def _start_record(self, state: NassreddineState) -> NassreddineRecord:
-        settled = self._settle(state.posterior)
         return NassreddineRecord(
             1, None, None, state.observation, IntervalEvidence.from_boxes(state.posterior),
-            state.estimate, float("nan"), int(settled[3][0]), float(settled[5][0]), False)
+            state.estimate, float("nan"), state.focal_elements, state.merged_mass, False)
 
     @staticmethod
     def _state(model: StateSpaceModel, k: int, posterior: Boxes, settled: tuple[Any, ...],
                observation: IntervalEvidence) -> NassreddineState:
-        est, lo, hi, _, carried, _ = settled
+        est, lo, hi, focal, carried, moved = settled
         return NassreddineState(model, k, est[0], lo[0], hi[0], posterior, carried,
-                                observation)
+                                observation, int(focal[0]), float(moved[0]))
 
     # -- the recursion, vectorised over runs --------------------------------------------------
     def _restarted(self, est: np.ndarray, v: Boxes) -> Boxes:
