@@ -12,8 +12,9 @@ import numbers
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from dstoolkit.errors import InvalidInputError
+from dstoolkit.errors import DetectionError, InvalidInputError
 
 
 def real_array(value: Any, name: str, *, finite: bool = True, allow_inf: bool = False,
@@ -92,3 +93,24 @@ def whole_number(value: Any, name: str, *, low: int = 0, high: int | None = None
         raise error(f"{name} must be a whole number in [{low}, {'∞' if high is None else high}]"
                     f", got {n}")
     return n
+
+
+def as_signal(x: ArrayLike, what: str) -> np.ndarray:
+    """A recording or reference signal as a 1-D finite float array.
+
+    An (n, 1) column (one channel of a recording) is accepted; anything else that is not one
+    finite, non-empty channel raises :class:`~dstoolkit.errors.DetectionError` naming ``what``.
+    """
+    a = np.asarray(x, dtype=float)
+    if a.ndim == 2 and a.shape[1] == 1:
+        a = a[:, 0]
+    if a.ndim != 1:
+        raise DetectionError(
+            f"{what} must be one channel (a 1-D array), got shape {a.shape}; pick a channel, "
+            "e.g. recording[:, 0]"
+        )
+    if a.size == 0:
+        raise DetectionError(f"{what} is empty")
+    if not np.all(np.isfinite(a)):
+        raise DetectionError(f"{what} contains NaN or infinite samples")
+    return a
