@@ -16,15 +16,53 @@ from numpy.typing import ArrayLike
 
 from dstoolkit.errors import DetectionError, InvalidInputError
 
+__all__ = ["as_signal", "real_array", "real_number", "whole_number"]
+
 
 def real_array(value: Any, name: str, *, finite: bool = True, allow_inf: bool = False,
                ndim: tuple[int, ...] | None = None, error: type[InvalidInputError]
                = InvalidInputError) -> np.ndarray:
-    """``value`` as a float array of real numbers.
+    """Return ``value`` as a float array of real numbers, or refuse it by name.
 
-    Refuses (``error``, naming ``name``) strings, complex numbers, objects, ragged lists,
-    arrays of the wrong number of dimensions (``ndim``: the allowed ones) and, with
-    ``finite``, NaN (and ±inf unless ``allow_inf``).
+    Parameters
+    ----------
+    value : array_like
+        What the caller was given: a number, a list or an array of real numbers.
+    name : str
+        The argument's name, as the error message should say it.
+    finite : bool, optional
+        Refuse NaN (and ±inf unless ``allow_inf``). Default True.
+    allow_inf : bool, optional
+        Let ±inf through when ``finite`` is set (a frame bound may be infinite).
+    ndim : tuple of int, optional
+        The numbers of dimensions allowed; None allows any.
+    error : type, optional
+        The :class:`~dstoolkit.errors.InvalidInputError` subclass to raise.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``value`` as a float array of the same shape (no copy when it already is one).
+
+    Raises
+    ------
+    InvalidInputError
+        (or ``error``) For strings, complex numbers, objects, ragged lists, a wrong number
+        of dimensions, or NaN/±inf as above; the message names ``name`` and says what to do.
+
+    See Also
+    --------
+    real_number, whole_number
+
+    Examples
+    --------
+    >>> from dstoolkit.utils.checks import real_array
+    >>> real_array([1, 2.5], "readings")
+    array([1. , 2.5])
+    >>> real_array([1.0, float("nan")], "readings")
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.InvalidInputError: readings contains NaN or infinite values ...
     """
     if isinstance(value, (str, bytes)):
         raise error(f"{name} must be numbers, got the string {value!r}")
@@ -62,7 +100,46 @@ def real_array(value: Any, name: str, *, finite: bool = True, allow_inf: bool = 
 def real_number(value: Any, name: str, *, low: float | None = None, high: float | None = None,
                 low_open: bool = False, high_open: bool = False,
                 error: type[InvalidInputError] = InvalidInputError) -> float:
-    """``value`` as a finite float within [low, high] (open ends with ``*_open``)."""
+    """Return ``value`` as a finite float within ``[low, high]``, or refuse it by name.
+
+    Parameters
+    ----------
+    value : float
+        A real number (a Python or numpy number; not a bool, a string or a complex number).
+    name : str
+        The argument's name, as the error message should say it.
+    low, high : float, optional
+        The bounds; None leaves that side unbounded.
+    low_open, high_open : bool, optional
+        Exclude the bound itself on that side.
+    error : type, optional
+        The :class:`~dstoolkit.errors.InvalidInputError` subclass to raise.
+
+    Returns
+    -------
+    float
+        ``value`` as a float.
+
+    Raises
+    ------
+    InvalidInputError
+        (or ``error``) For a value that is not a real number, is not finite, or lies
+        outside the bounds; the message names ``name`` and the interval.
+
+    See Also
+    --------
+    real_array, whole_number
+
+    Examples
+    --------
+    >>> from dstoolkit.utils.checks import real_number
+    >>> real_number(0.3, "alpha", low=0.0, high=1.0)
+    0.3
+    >>> real_number(1.5, "alpha", low=0.0, high=1.0)
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.InvalidInputError: alpha must lie in [0.0, 1.0], got 1.5
+    """
     if isinstance(value, bool) or not isinstance(value, numbers.Real | np.number) or \
             isinstance(value, complex | np.complexfloating):
         raise error(f"{name} must be a real number, got {value!r}")
@@ -81,7 +158,46 @@ def real_number(value: Any, name: str, *, low: float | None = None, high: float 
 
 def whole_number(value: Any, name: str, *, low: int = 0, high: int | None = None,
                  error: type[InvalidInputError] = InvalidInputError) -> int:
-    """``value`` as an int in [low, high]; floats that are whole numbers are accepted."""
+    """Return ``value`` as an int within ``[low, high]``, or refuse it by name.
+
+    Parameters
+    ----------
+    value : int or float
+        A whole number; a float that is a whole number (``3.0``) is accepted.
+    name : str
+        The argument's name, as the error message should say it.
+    low : int, optional
+        The smallest value allowed. Default 0.
+    high : int, optional
+        The largest value allowed; None for no limit.
+    error : type, optional
+        The :class:`~dstoolkit.errors.InvalidInputError` subclass to raise.
+
+    Returns
+    -------
+    int
+        ``value`` as an int.
+
+    Raises
+    ------
+    InvalidInputError
+        (or ``error``) For a bool, a fraction, a non-finite or non-real value, or one
+        outside the bounds.
+
+    See Also
+    --------
+    real_array, real_number
+
+    Examples
+    --------
+    >>> from dstoolkit.utils.checks import whole_number
+    >>> whole_number(3.0, "runs", low=1)
+    3
+    >>> whole_number(2.5, "runs", low=1)
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.InvalidInputError: runs must be a whole number, got 2.5
+    """
     if isinstance(value, bool) or not isinstance(value, numbers.Real | np.number) or \
             isinstance(value, complex | np.complexfloating):
         raise error(f"{name} must be a whole number, got {value!r}")
@@ -96,10 +212,31 @@ def whole_number(value: Any, name: str, *, low: int = 0, high: int | None = None
 
 
 def as_signal(x: ArrayLike, what: str) -> np.ndarray:
-    """A recording or reference signal as a 1-D finite float array.
+    """Return a recording or reference signal as one finite channel.
 
-    An (n, 1) column (one channel of a recording) is accepted; anything else that is not one
-    finite, non-empty channel raises :class:`~dstoolkit.errors.DetectionError` naming ``what``.
+    Parameters
+    ----------
+    x : array_like, shape (n,) or (n, 1)
+        The samples; an (n, 1) column (one channel of a recording) is accepted.
+    what : str
+        What the signal is ("recording", "reference"), as the error message should say it.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+        The samples as floats.
+
+    Raises
+    ------
+    DetectionError
+        When ``x`` is not one channel, is empty, or holds NaN or infinite samples.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.utils.checks import as_signal
+    >>> as_signal(np.zeros((4, 1)), "recording").shape
+    (4,)
     """
     a = np.asarray(x, dtype=float)
     if a.ndim == 2 and a.shape[1] == 1:
