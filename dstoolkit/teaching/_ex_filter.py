@@ -80,7 +80,7 @@ def _() -> float:
           mistakes=((lambda: (1.0 - 0.05) ** 3,
                      "That is K for the chapter's ε = 0.05; the question asks for ε = 0.1."),))
 def _() -> float:
-    from ._explorers import filter_case
+    from dstoolkit.studies import filter_case
 
     _, _, result = filter_case(*FILTER_CASE, epsilon=CONFLICT_EPSILON, seed=FILTER_SEED)
     return float(result.diagnostics["conflict_step4"][1])
@@ -91,7 +91,7 @@ def _() -> float:
 def _() -> str:
     from dstoolkit.errors import EvidenceError
 
-    from ._explorers import filter_case
+    from dstoolkit.studies import filter_case
 
     for rule in ("min", "m1", "m2"):
         try:

@@ -1,0 +1,501 @@
+"""Interactive explorers (ipywidgets) built from dstoolkit, for the book and the notebooks.
+
+Every explorer is a function that returns an :class:`Explorer`, a ``VBox`` holding its
+controls, a readout of the numbers that matter and an ``Output`` with the figure. One
+definition serves two modes:
+
+* **in a kernel** (a notebook, JupyterLab): every control is live; a change re-renders the
+  figure and the readout.
+* **on the static site** (the book executed by ``scripts/build-book.sh``, which sets the
+  environment variable ``DSTOOLKIT_STATIC_SITE=1``; or ``Explorer(..., static=True)``): the
+  explorer's *live* controls (one or two, declared with ``live=``) are replaced by sliders
+  over precomputed positions. Every combination of positions is rendered at build time into
+  a readout and a PNG, held in an ipywidgets ``Stack`` whose ``selected_index`` is
+  ``jslink``-ed to the slider's ``index``; the browser switches between them with no
+  kernel. Two live controls give a ``Stack`` of ``Stack``s. The other controls are shown
+  disabled, with a line saying that they work when the chapter runs as a notebook.
+
+Adding an explorer is a matter of a ``render(**values)`` function that returns a figure and
+a dict of numbers, a dict of controls, and the positions of its live controls::
+
+    def my_explorer() -> Explorer:
+        def render(level: float) -> tuple[Figure, dict[str, Any]]:
+            fig = plot_something(level)
+            return fig, {"estimate": 1.23}
+
+        level = slider("level L (m)", 5.0, 1.0, 10.0, 0.1)
+        return Explorer({"level": level}, render, live={"level": positions(level, 9)})
+
+Sliders made by :func:`slider` use ``continuous_update=False``: the figure is redrawn
+when the mouse is released, so the page never stalls. A ``render`` that raises an
+:class:`~dstoolkit.errors.EvidenceError` (or any ``ValueError``) shows the message in the
+readout instead of a figure: the learner sees *why* a setting is invalid.
+
+Speed: a redraw keeps the axes where the first figure's layout engine put them (the layout
+is computed once per figure shape, not on every change) and encodes the PNG with fast
+compression as 256 colours (:data:`FIGURE_DPI`, :func:`encode_png`). A render may keep its
+figure and update its artists in place; the artists it marks as animated are then blitted
+onto the rest of the last picture while nothing else changed (:meth:`Explorer.png`).
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import itertools
+import os
+import threading
+import weakref
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
+
+import ipywidgets as widgets
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.colors import to_rgba
+from matplotlib.figure import Figure
+
+from dstoolkit.errors import (
+    DstoolkitError,
+    InvalidInputError,
+)
+from dstoolkit.plots.artists import (
+    TextCachingCanvas,
+)
+
+Render = Callable[..., tuple[Figure | None, Mapping[str, Any]]]
+
+#: The environment variable scripts/build-book.sh sets to "1": explorers built while the book
+#: is executed for the static site precompute the states of their live controls.
+STATIC_SITE_ENV = "DSTOOLKIT_STATIC_SITE"
+#: The page of the book that says how to run the chapters as notebooks (book/run.md), as
+#: linked from an explorer on a chapter page (both live in book/).
+RUN_PAGE = "run.html"
+#: Resolution of the explorers' figures (the notebook's inline backend uses 100 dpi too).
+FIGURE_DPI = 100
+
+
+def static_site() -> bool:
+    """True while scripts/build-book.sh executes the book for the static site
+    (``DSTOOLKIT_STATIC_SITE=1``), False in a notebook."""
+    return os.environ.get(STATIC_SITE_ENV, "") == "1"
+
+
+def slider(
+    description: str,
+    value: float,
+    lo: float,
+    hi: float,
+    step: float,
+    *,
+    readout_format: str = ".3f",
+) -> widgets.FloatSlider:
+    """A float slider that redraws on release (``continuous_update=False``)."""
+    return widgets.FloatSlider(
+        value=value, min=lo, max=hi, step=step, description=description,
+        continuous_update=False, readout_format=readout_format,
+        style={"description_width": "initial"}, layout=widgets.Layout(width="320px"),
+    )
+
+
+def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSlider:
+    """An integer slider that redraws on release."""
+    return widgets.IntSlider(
+        value=value, min=lo, max=hi, step=1, description=description,
+        continuous_update=False, style={"description_width": "initial"},
+        layout=widgets.Layout(width="320px"),
+    )
+
+
+def positions(control: widgets.ValueWidget, count: int = 9, lo: float | None = None,
+              hi: float | None = None) -> tuple[Any, ...]:
+    """``count`` evenly spaced values of a slider between ``lo`` and ``hi`` (its own range by
+    default), on its step, with its current value among them: the positions a live control
+    takes on the static site. A ``Dropdown`` gives all its options."""
+    if isinstance(control, widgets.Dropdown):
+        return tuple(control._options_values)
+    lo = control.min if lo is None else lo
+    hi = control.max if hi is None else hi
+    step = control.step
+    grid = np.round(np.linspace(lo, hi, count) / step) * step
+    values = {round(float(v), 10) for v in grid} | {round(float(control.value), 10)}
+    if isinstance(control, widgets.IntSlider):
+        return tuple(sorted({int(round(v)) for v in values}))
+    return tuple(sorted(values))
+
+
+def _format(value: Any) -> str:
+    if isinstance(value, float | np.floating):
+        return f"{float(value):.4f}"
+    return html.escape(str(value))
+
+
+def readout_html(numbers: Mapping[str, Any]) -> str:
+    """The numbers as a one-row HTML table (floats to 4 decimals)."""
+    head = "".join(f"<th style='padding:0 8px'>{html.escape(k)}</th>" for k in numbers)
+    body = "".join(f"<td style='padding:0 8px'>{_format(v)}</td>" for v in numbers.values())
+    return f"<table><tr>{head}</tr><tr>{body}</tr></table>"
+
+
+def warning_html(message: str, note: str = "") -> str:
+    """A readout that says why a setting is invalid (and ``note``, in italics)."""
+    return (f"<p style='color:#b00020'>⚠ {html.escape(message)}"
+            f"<i>{html.escape(note)}</i></p>")
+
+
+def _sticks_out(fig: Figure) -> bool:
+    """Whether anything drawn on ``fig`` reaches its edges (a tick label pushed out by a
+    fixed layout, cut off by the edge): a pixel of the outermost ring of the drawn canvas
+    that is not the figure's background. Layout engines keep a margin of a few pixels, so
+    that ring is blank in a figure laid out by them. Reading the drawn pixels costs a
+    fraction of a millisecond, where ``fig.get_tightbbox`` lays out every text again."""
+    rgba = np.asarray(fig.canvas.buffer_rgba())
+    background = np.round(np.asarray(to_rgba(fig.get_facecolor())) * 255).astype(np.uint8)
+    ring = np.concatenate([rgba[0], rgba[-1], rgba[:, 0], rgba[:, -1]])
+    return bool((ring != background).any())
+
+
+def encode_png(rgba: np.ndarray, compress_level: int = 1) -> bytes:
+    """An RGBA image (a drawn canvas) as a PNG of 256 colours: a third to a quarter of the
+    bytes of full colour, no visible difference on a plot, and a palette image compresses
+    fast. ``compress_level`` 1 (the kernel: fast) to 9 (the static site: small)."""
+    from PIL import Image as PILImage
+
+    image = PILImage.fromarray(rgba).convert("RGB").quantize(
+        256, method=PILImage.Quantize.FASTOCTREE)
+    buffer = io.BytesIO()
+    image.save(buffer, format="png", compress_level=compress_level)
+    return buffer.getvalue()
+
+
+def png_output(png: bytes) -> dict[str, Any]:
+    """A PNG as an ``Output`` widget's display_data output (what the site embeds)."""
+    return {"output_type": "display_data", "metadata": {},
+            "data": {"image/png": base64.b64encode(png).decode("ascii"),
+                     "text/plain": "<Figure>"}}
+
+
+class Explorer(widgets.VBox):
+    """Controls, a readout of numbers and a figure that follows the controls.
+
+    Parameters
+    ----------
+    controls
+        Named controls; their values are passed to ``render`` as keyword arguments.
+    render
+        ``render(**values) -> (figure or None, numbers)``. The figure is shown as a PNG in
+        the output area and closed; the numbers fill the readout.
+    title
+        Optional bold line above the controls.
+    live
+        The controls that answer on the static site (one or two), each with its positions
+        (:func:`positions`); every combination is rendered when the site is built.
+    static
+        Build the static-site form; default: :func:`static_site` (the environment).
+
+    Attributes
+    ----------
+    controls
+        The control widgets, by name.
+    readout
+        The ``HTML`` readout of the numbers.
+    output
+        The figure's ``Output``. On the static site the live controls are
+        ``SelectionSlider``s (or the original ``Dropdown``) and the others are disabled.
+    figure
+        The last figure drawn (closed; ``figure.savefig`` still works).
+    picture
+        The PNG of that figure as shown (also the explorer's still picture in print).
+    numbers
+        The last numbers shown; ``{"error": message}`` after an invalid setting.
+    states
+        Static site only: the numbers of every precomputed state, keyed by the live
+        controls' values (in the order of ``live``).
+    """
+
+    def __init__(
+        self, controls: Mapping[str, widgets.ValueWidget], render: Render, *, title: str = "",
+        live: Mapping[str, Sequence[Any]] | None = None, static: bool | None = None,
+    ) -> None:
+        super().__init__()
+        self.controls = dict(controls)
+        self._render = render
+        # one refresh at a time: a render and the picture it draws belong together, also
+        # when two threads move the controls (a re-entrant lock: a render may move one)
+        self._lock = threading.RLock()
+        self.live = {name: tuple(values) for name, values in (live or {}).items()}
+        unknown = set(self.live) - set(self.controls)
+        if unknown or len(self.live) > 2:
+            raise InvalidInputError(f"live controls must be one or two of "
+                                    f"{list(self.controls)}, got {list(self.live)}")
+        self.static = static_site() if static is None else static
+        self.figure: Figure | None = None
+        self.picture: bytes | None = None
+        self.numbers: dict[str, Any] = {}
+        self.states: dict[tuple[Any, ...], dict[str, Any]] = {}
+        self.readout = widgets.HTML()
+        self.output = widgets.Output()
+        self._layouts: dict[tuple[Any, ...], list[Any]] = {}
+        self._engines: weakref.WeakKeyDictionary[Figure, Any] = weakref.WeakKeyDictionary()
+        self._kept: Figure | None = None  # the figure whose background is kept for blitting
+        self._background: Any = None
+        self._animated: list[Any] = []
+        self._head = [widgets.HTML(f"<b>{html.escape(title)}</b>")] if title else []
+        if self.static:
+            self._build_static()
+        else:
+            for control in self.controls.values():
+                control.observe(self._on_change, "value")
+            self.children = (*self._head, self._row(self.controls.values()), self.readout,
+                             self.output)
+            self.refresh()
+
+    @staticmethod
+    def _row(children: Any) -> widgets.HBox:
+        return widgets.HBox(list(children), layout=widgets.Layout(flex_flow="row wrap"))
+
+    def values(self) -> dict[str, Any]:
+        """The controls' current values, by name."""
+        return {name: control.value for name, control in self.controls.items()}
+
+    def _on_change(self, _change: Any) -> None:
+        self.refresh()
+
+    def refresh(self, **overrides: Any) -> None:
+        """Render the controls' values (``overrides`` replacing some) into the readout and
+        the output: a new PNG, or a warning and no figure after an invalid setting (any
+        error of the package, a memory budget refused as well). Safe from several
+        threads: one refresh runs at a time."""
+        with self._lock:
+            self._refresh(overrides)
+
+    def _refresh(self, overrides: dict[str, Any]) -> None:
+        try:
+            fig, numbers = self._render(**{**self.values(), **overrides})
+        except (ValueError, DstoolkitError) as exc:  # say what is wrong, whatever the error
+            self.numbers = {"error": str(exc)}
+            # A precomputed state has no figure to fall back on; in a kernel the last one
+            # stays, and the warning says which setting it shows.
+            kept = "" if self.static or not self.output.outputs else (
+                " (the figure below shows the last valid setting)")
+            self.readout.value = warning_html(str(exc), kept)
+            if self.static:
+                self.output.outputs = ()
+            return
+        self.numbers = dict(numbers)
+        self.readout.value = readout_html(self.numbers)
+        if fig is not None:
+            self.figure = fig
+            self.picture = self.png(fig)
+            self.output.outputs = (png_output(self.picture),)
+            plt.close(fig)
+
+    def png(self, fig: Figure) -> bytes:
+        """``fig`` as PNG bytes.
+
+        A render that keeps its figure (returns the same ``Figure`` on every call, updated
+        in place) may mark the artists that follow the controls as *animated*
+        (``artist.set_animated(True)``): while nothing else of the figure changed (matplotlib
+        marks the figure stale when a non-animated artist, a limit or a text changes), the
+        picture of the rest is restored from the last draw and only those artists are drawn
+        on it (blitting), in order of their zorder. Otherwise the whole figure is drawn
+        and the animated artists on top. The figure is drawn on a
+        ``TextCachingCanvas``, which draws text it drew before from a cache (the same pixels).
+        """
+        if not isinstance(fig.canvas, TextCachingCanvas):  # it caches the text it drew
+            TextCachingCanvas(fig)
+        if fig.get_dpi() != FIGURE_DPI:  # set_dpi marks the figure stale, even unchanged
+            fig.set_dpi(FIGURE_DPI)
+        if fig is self._kept and not fig.stale:
+            fig.canvas.restore_region(self._background)
+            animated = self._animated
+        else:
+            self._draw(fig)
+            # the animated artists are looked up at each whole draw (adding an artist makes
+            # the figure stale)
+            animated = sorted(fig.findobj(lambda artist: artist.get_animated()),
+                              key=lambda artist: artist.get_zorder())
+            self._kept = fig if animated else None
+            self._background = fig.canvas.copy_from_bbox(fig.bbox) if animated else None
+            self._animated = animated
+        for artist in animated:
+            fig.draw_artist(artist)
+        return encode_png(np.asarray(fig.canvas.buffer_rgba()),
+                          compress_level=6 if self.static else 1)
+
+    def _draw(self, fig: Figure) -> None:
+        """Draw all of ``fig`` but its animated artists. The first figure of a shape (size,
+        number of axes) is laid out by its layout engine; later ones, and later draws of a
+        kept figure, reuse those axes positions (no layout pass, and axes that stay put when
+        a control moves), unless something (wider tick labels) would then stick out of the
+        figure: that one is laid out afresh."""
+        engine = self._engines.get(fig) or fig.get_layout_engine()
+        key = (*np.round(fig.get_size_inches(), 3), len(fig.axes))
+        layout = self._layouts.get(key) if engine is not None else None
+        if layout is not None:
+            self._engines[fig] = engine  # set_layout_engine("none") hides it from now on
+            fig.set_layout_engine("none")
+            for ax, box in zip(fig.axes, layout, strict=True):
+                if ax.get_position().bounds != box.bounds:
+                    ax.set_position(box)
+        fig.canvas.draw()
+        if layout is not None and _sticks_out(fig):
+            fig.set_layout_engine(engine)
+            for ax in fig.axes:  # set_position took them out of the layout
+                ax.set_in_layout(True)
+            fig.canvas.draw()
+        elif layout is None and engine is not None:
+            self._layouts[key] = [ax.get_position() for ax in fig.axes]
+        fig.stale = False  # the check re-placed titles and ticks where the draw put them
+
+    # -- the static site -------------------------------------------------------------------
+
+    def _build_static(self) -> None:
+        """Render every combination of the live controls' positions into a stack of states
+        (:func:`state_stack`) that the site's sliders switch in the browser."""
+        names = list(self.live)
+        start = tuple(self.controls[name].value for name in names)
+        leaves: dict[tuple[Any, ...], widgets.Widget] = {}
+        combos = itertools.product(*(self.live[name] for name in names))
+        # the start state last: the attributes then describe it, as in a kernel
+        for combo in sorted(combos, key=lambda combo: combo == start):
+            self.refresh(**dict(zip(names, combo, strict=True)))
+            self.states[combo] = dict(self.numbers)
+            settings = {self.controls[name].description: shown_value(self.controls[name], v)
+                        for name, v in zip(names, combo, strict=True)}
+            leaves[combo] = state_leaf(self.readout, self.output,
+                                       figure_alt(settings, self.numbers))
+        fixed = [c for name, c in self.controls.items() if name not in self.live]
+        for control in fixed:
+            control.disabled = True
+        stack, site = state_stack(self.controls, self.live, leaves)
+        self.controls.update(site)
+        self.children = (*self._head, self._row(site.values()), self._row(fixed),
+                         site_note(list(site.values()), bool(fixed)), stack)
+
+
+def shown_value(control: widgets.ValueWidget, value: Any) -> str:
+    """``value`` as ``control`` shows it: a dropdown's option label, a slider's readout."""
+    if isinstance(control, widgets.Dropdown):
+        for label, option in zip(control._options_labels, control._options_values,
+                                 strict=True):
+            if option == value:
+                return str(label)
+        return str(value)
+    if isinstance(control, widgets.IntSlider):
+        return format(int(value), "d")
+    if isinstance(control, widgets.FloatSlider):
+        return format(value, control.readout_format)
+    return str(value)
+
+
+def _plain(value: Any) -> str:
+    if isinstance(value, float | np.floating):
+        return f"{float(value):.4f}"
+    return str(value)
+
+
+def figure_alt(settings: Mapping[str, str], numbers: Mapping[str, Any],
+               what: str = "Figure") -> str:
+    """The text alternative of a precomputed figure, made from its numbers.
+
+    Parameters
+    ----------
+    settings
+        The controls' labels and the values they show for this figure.
+    numbers
+        The numbers of the readout (floats to 4 decimals, as the readout shows them).
+    what
+        The first word(s): what the picture is.
+
+    Returns
+    -------
+    str
+        For example "Figure for level L (m) = 9.6: estimate (m) 9.6100, truth (m) 9.6000."
+    """
+    at = ", ".join(f"{label} = {value}" for label, value in settings.items())
+    shown = ", ".join(f"{name} {_plain(value)}" for name, value in numbers.items())
+    head = f"{what} for {at}" if at else what
+    return f"{head}: {shown}." if shown else f"{head}."
+
+
+def image_html(png: bytes, alt: str) -> str:
+    """A PNG as an ``<img>`` with its text alternative, the picture inlined as a data URL
+    (the book's build moves it into a file beside the page, loaded when the state shows)."""
+    data = base64.b64encode(png).decode("ascii")
+    return (f"<img class='dstoolkit-figure' src='data:image/png;base64,{data}' "
+            f"alt='{html.escape(alt, quote=True)}' style='max-width:100%;height:auto'>")
+
+
+def state_leaf(readout: widgets.HTML, output: widgets.Output,
+               alt: str | Sequence[str] = "Figure") -> widgets.VBox:
+    """A copy of what a readout and an output show now: one precomputed state.
+
+    The output's pictures become ``<img>`` elements with the text alternatives ``alt``
+    (one for every picture, or one for all), in an ``HTML`` widget after the readout.
+    """
+    alts = [alt] if isinstance(alt, str) else list(alt)
+    pictures = [base64.b64decode(o["data"]["image/png"]) for o in output.outputs
+                if "image/png" in o.get("data", {})]
+    images = "".join(image_html(png, alts[min(i, len(alts) - 1)])
+                     for i, png in enumerate(pictures))
+    children: list[widgets.Widget] = [widgets.HTML(readout.value)]
+    if images:
+        children.append(widgets.HTML(images))
+    return widgets.VBox(children)
+
+
+def site_control(control: widgets.ValueWidget, options: Sequence[Any]) -> widgets.ValueWidget:
+    """A control as it is live on the static site: a ``Dropdown`` itself (all its options
+    precomputed), a slider as a ``SelectionSlider`` over ``options`` that follows the drag."""
+    if isinstance(control, widgets.Dropdown):
+        if tuple(control._options_values) != tuple(options):
+            raise InvalidInputError(f"a live dropdown precomputes all its options "
+                                    f"({control.description!r}): pass positions(dropdown)")
+        return control
+    if control.value not in options:
+        raise InvalidInputError(f"the positions of {control.description!r} must include its "
+                                f"value {control.value}: the page opens on it")
+    fmt = "d" if isinstance(control, widgets.IntSlider) else control.readout_format
+    return widgets.SelectionSlider(
+        options=[(format(v, fmt), v) for v in options], value=control.value,
+        description=control.description, continuous_update=True,
+        style={"description_width": control.style.description_width or "initial"},
+        layout=widgets.Layout(width=control.layout.width or "320px"))
+
+
+def state_stack(controls: Mapping[str, widgets.ValueWidget], live: Mapping[str, Sequence[Any]],
+                leaves: Mapping[tuple[Any, ...], widgets.Widget],
+                ) -> tuple[widgets.Stack, dict[str, widgets.ValueWidget]]:
+    """The precomputed states ``leaves`` (keyed by the live controls' values, in the order
+    of ``live``) in a ``Stack`` whose ``selected_index`` is ``jslink``-ed to the first live
+    control's ``index``; with two live controls, a ``Stack`` of ``Stack``s, every inner one
+    linked to the second control. Returns the stack and the site's controls by name."""
+    names = list(live)
+    site = {name: site_control(controls[name], live[name]) for name in names}
+
+    def stack(prefix: tuple[Any, ...], depth: int) -> widgets.Widget:
+        if depth == len(names):
+            return leaves[prefix]
+        name = names[depth]
+        options = tuple(live[name])
+        box = widgets.Stack([stack((*prefix, v), depth + 1) for v in options],
+                            selected_index=options.index(controls[name].value))
+        box.add_class("dstoolkit-states")  # a live region in the book (explorers-a11y.js)
+        box.links = [widgets.jslink((site[name], "index"), (box, "selected_index"))]
+        return box
+
+    return stack((), 0), site
+
+
+def site_note(live: Sequence[widgets.ValueWidget], some_disabled: bool) -> widgets.HTML:
+    """The line under an explorer's controls on the static site: which controls answer on
+    this page, and where the others work."""
+    names = " and ".join(html.escape(c.description) for c in live)
+    rest = ("the other controls are disabled here and work when this chapter runs as a "
+            "notebook" if some_disabled else "in a notebook every value is possible")
+    head = (f"On this page {names} {'answer' if len(live) > 1 else 'answers'}; {rest}"
+            if live else "These controls work when this chapter runs as a notebook")
+    return widgets.HTML(f"<p class='dstoolkit-site-note' style='font-size:0.9em;margin:0'>"
+                        f"<i>{head}: see <a href='{RUN_PAGE}'>Run this book</a>.</i></p>")
