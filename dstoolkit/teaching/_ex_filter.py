@@ -90,7 +90,6 @@ def _() -> float:
           "intersection exceed the energies themselves, so that D > 1?")
 def _() -> str:
     from dstoolkit.errors import EvidenceError
-
     from dstoolkit.studies import filter_case
 
     for rule in ("min", "m1", "m2"):

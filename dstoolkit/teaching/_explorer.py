@@ -64,7 +64,7 @@ from dstoolkit.plots.artists import (
     TextCachingCanvas,
 )
 
-Render = Callable[..., tuple[Figure | None, Mapping[str, Any]]]
+Render = Callable[..., tuple[Figure | Sequence[Figure] | None, Mapping[str, Any]]]
 
 #: The environment variable scripts/build-book.sh sets to "1": explorers built while the book
 #: is executed for the static site precompute the states of their live controls.
@@ -181,42 +181,88 @@ class Explorer(widgets.VBox):
 
     Parameters
     ----------
-    controls
+    controls : Mapping[str, ipywidgets.ValueWidget]
         Named controls; their values are passed to ``render`` as keyword arguments.
-    render
-        ``render(**values) -> (figure or None, numbers)``. The figure is shown as a PNG in
-        the output area and closed; the numbers fill the readout.
-    title
-        Optional bold line above the controls.
-    live
+    render : Callable[..., tuple[Figure | Sequence[Figure] | None, Mapping[str, Any]]]
+        ``render(**values) -> (figures, numbers)``: a figure, several figures or None,
+        and the numbers of the readout. Every figure is shown as a PNG in the output area
+        and closed. An :class:`~dstoolkit.errors.DstoolkitError` or ``ValueError`` it
+        raises is shown as a warning in the readout.
+    title : str, optional
+        A bold line above the controls.
+    live : Mapping[str, Sequence], optional
         The controls that answer on the static site (one or two), each with its positions
         (:func:`positions`); every combination is rendered when the site is built.
-    static
+    static : bool, optional
         Build the static-site form; default: :func:`static_site` (the environment).
+    rows : Sequence[ipywidgets.Widget | Sequence[ipywidgets.Widget]], optional
+        The explorer's body between the title and the readout: widgets, or rows of widgets
+        (buttons and notes as well as controls). Default: one row of all the controls.
+        On the static site the live controls in them become the site's sliders and every
+        other control or button is disabled.
+    draw : bool, optional
+        In a kernel, render the controls' values at once (default); else the readout and
+        the output stay empty until :meth:`refresh`.
 
     Attributes
     ----------
-    controls
-        The control widgets, by name.
-    readout
-        The ``HTML`` readout of the numbers.
-    output
-        The figure's ``Output``. On the static site the live controls are
+    controls : dict[str, ipywidgets.ValueWidget]
+        The control widgets, by name. On the static site the live controls are
         ``SelectionSlider``s (or the original ``Dropdown``) and the others are disabled.
-    figure
-        The last figure drawn (closed; ``figure.savefig`` still works).
-    picture
-        The PNG of that figure as shown (also the explorer's still picture in print).
-    numbers
+    readout : ipywidgets.HTML
+        The readout of the numbers.
+    output : ipywidgets.Output
+        The figures, as PNG outputs (kernel only: the static site shows its precomputed
+        states instead, and this widget is closed empty).
+    figure : Figure or None
+        The last (first) figure drawn (closed; ``figure.savefig`` still works).
+    figures : list[Figure]
+        Every figure of the last render.
+    picture : bytes or None
+        The PNG of ``figure`` as shown (also the explorer's still picture in print).
+    numbers : dict[str, Any]
         The last numbers shown; ``{"error": message}`` after an invalid setting.
-    states
+    states : dict[tuple, dict[str, Any]]
         Static site only: the numbers of every precomputed state, keyed by the live
         controls' values (in the order of ``live``).
+
+    See Also
+    --------
+    slider, positions : Controls and the positions a live control takes on the site.
+    static_site : Whether the static site is being built.
+
+    Examples
+    --------
+    >>> import ipywidgets as widgets
+    >>> from matplotlib.figure import Figure
+    >>> def render(level):
+    ...     fig = Figure(figsize=(3, 2))
+    ...     fig.add_subplot().plot([0, 1], [0, level])
+    ...     return fig, {"level (m)": level}
+    >>> level = slider("level L (m)", 2.0, 1.0, 3.0, 0.5)
+    >>> ex = Explorer({"level": level}, render, static=False)
+    >>> ex.numbers
+    {'level (m)': 2.0}
+    >>> level.value = 3.0
+    >>> ex.numbers, ex.picture[:4]
+    ({'level (m)': 3.0}, b'\x89PNG')
+    >>> site = Explorer({"level": slider("level L (m)", 2.0, 1.0, 3.0, 0.5)}, render,
+    ...                 live={"level": positions(level, 3, 1.0, 3.0)}, static=True)
+    >>> sorted(site.states)
+    [(1.0,), (2.0,), (3.0,)]
     """
+
+    #: In a kernel, whether the figure of the last valid setting stays shown (with a note
+    #: in the warning) when a setting is invalid; else the output is emptied.
+    keeps_last_figure: bool = True
+    #: Whether a change of a control redraws (else only :meth:`refresh` does).
+    redraws_on_change: bool = True
 
     def __init__(
         self, controls: Mapping[str, widgets.ValueWidget], render: Render, *, title: str = "",
         live: Mapping[str, Sequence[Any]] | None = None, static: bool | None = None,
+        rows: Sequence[widgets.Widget | Sequence[widgets.Widget]] | None = None,
+        draw: bool = True,
     ) -> None:
         super().__init__()
         self.controls = dict(controls)
@@ -231,6 +277,7 @@ class Explorer(widgets.VBox):
                                     f"{list(self.controls)}, got {list(self.live)}")
         self.static = static_site() if static is None else static
         self.figure: Figure | None = None
+        self.figures: list[Figure] = []
         self.picture: bytes | None = None
         self.numbers: dict[str, Any] = {}
         self.states: dict[tuple[Any, ...], dict[str, Any]] = {}
@@ -242,54 +289,111 @@ class Explorer(widgets.VBox):
         self._background: Any = None
         self._animated: list[Any] = []
         self._head = [widgets.HTML(f"<b>{html.escape(title)}</b>")] if title else []
+        self._rows = None if rows is None else [
+            row if isinstance(row, widgets.Widget) else self._row(row) for row in rows]
         if self.static:
             self._build_static()
         else:
-            for control in self.controls.values():
-                control.observe(self._on_change, "value")
-            self.children = (*self._head, self._row(self.controls.values()), self.readout,
-                             self.output)
-            self.refresh()
+            if self.redraws_on_change:
+                for control in self.controls.values():
+                    control.observe(self._on_change, "value")
+            body = self._rows or [self._row(self.controls.values())]
+            self.children = (*self._head, *body, self.readout, self.output)
+            if draw:
+                self.refresh()
 
     @staticmethod
     def _row(children: Any) -> widgets.HBox:
         return widgets.HBox(list(children), layout=widgets.Layout(flex_flow="row wrap"))
 
     def values(self) -> dict[str, Any]:
-        """The controls' current values, by name."""
+        """The controls' current values, by name.
+
+        Returns
+        -------
+        dict[str, Any]
+            Each control's ``value``, keyed as in ``controls``.
+        """
         return {name: control.value for name, control in self.controls.items()}
 
     def _on_change(self, _change: Any) -> None:
         self.refresh()
 
     def refresh(self, **overrides: Any) -> None:
-        """Render the controls' values (``overrides`` replacing some) into the readout and
-        the output: a new PNG, or a warning and no figure after an invalid setting (any
-        error of the package, a memory budget refused as well). Safe from several
-        threads: one refresh runs at a time."""
+        """Render the controls' values into the readout and the output.
+
+        A new PNG per figure, or a warning after an invalid setting (any error of the
+        package, a memory budget refused as well). Safe from several threads: one refresh
+        runs at a time.
+
+        Parameters
+        ----------
+        **overrides
+            Values to render instead of some controls' (by control name); the controls
+            themselves do not move.
+        """
         with self._lock:
             self._refresh(overrides)
 
+    def readout_for(self, numbers: Mapping[str, Any]) -> str:
+        """The readout's HTML for the numbers of a valid render.
+
+        Parameters
+        ----------
+        numbers : Mapping[str, Any]
+            The numbers ``render`` returned.
+
+        Returns
+        -------
+        str
+            A one-row table (:func:`readout_html`); an explorer may say more.
+        """
+        return readout_html(numbers)
+
+    def figure_alts(self, settings: Mapping[str, str],
+                    numbers: Mapping[str, Any]) -> list[str]:
+        """The text alternatives of a precomputed state's pictures, one per figure.
+
+        Parameters
+        ----------
+        settings : Mapping[str, str]
+            The live controls' labels and the values they show in this state.
+        numbers : Mapping[str, Any]
+            The state's numbers.
+
+        Returns
+        -------
+        list[str]
+            One :func:`figure_alt` for every picture (the last one serves the rest).
+        """
+        return [figure_alt(settings, numbers)]
+
     def _refresh(self, overrides: dict[str, Any]) -> None:
         try:
-            fig, numbers = self._render(**{**self.values(), **overrides})
+            drawn, numbers = self._render(**{**self.values(), **overrides})
         except (ValueError, DstoolkitError) as exc:  # say what is wrong, whatever the error
             self.numbers = {"error": str(exc)}
             # A precomputed state has no figure to fall back on; in a kernel the last one
-            # stays, and the warning says which setting it shows.
-            kept = "" if self.static or not self.output.outputs else (
-                " (the figure below shows the last valid setting)")
+            # stays (unless the explorer says otherwise), and the warning says which
+            # setting it shows.
+            keep = self.keeps_last_figure and not self.static
+            kept = " (the figure below shows the last valid setting)" if (
+                keep and self.output.outputs) else ""
             self.readout.value = warning_html(str(exc), kept)
-            if self.static:
+            if not keep:
                 self.output.outputs = ()
             return
         self.numbers = dict(numbers)
-        self.readout.value = readout_html(self.numbers)
-        if fig is not None:
-            self.figure = fig
-            self.picture = self.png(fig)
-            self.output.outputs = (png_output(self.picture),)
-            plt.close(fig)
+        self.readout.value = self.readout_for(self.numbers)
+        figures = [] if drawn is None else [drawn] if isinstance(drawn, Figure) else list(drawn)
+        if figures:
+            self.figures = figures
+            self.figure = figures[0]
+            pictures = [self.png(fig) for fig in figures]
+            self.picture = pictures[0]
+            self.output.outputs = tuple(png_output(png) for png in pictures)
+            for fig in figures:
+                plt.close(fig)
 
     def png(self, fig: Figure) -> bytes:
         """``fig`` as PNG bytes.
@@ -353,7 +457,8 @@ class Explorer(widgets.VBox):
 
     def _build_static(self) -> None:
         """Render every combination of the live controls' positions into a stack of states
-        (:func:`state_stack`) that the site's sliders switch in the browser."""
+        (:func:`state_stack`) that the site's sliders switch in the browser. The kernel's
+        readout and output are left empty and closed: only the states carry pictures."""
         names = list(self.live)
         start = tuple(self.controls[name].value for name in names)
         leaves: dict[tuple[Any, ...], widgets.Widget] = {}
@@ -365,14 +470,43 @@ class Explorer(widgets.VBox):
             settings = {self.controls[name].description: shown_value(self.controls[name], v)
                         for name, v in zip(names, combo, strict=True)}
             leaves[combo] = state_leaf(self.readout, self.output,
-                                       figure_alt(settings, self.numbers))
+                                       self.figure_alts(settings, self.numbers))
         fixed = [c for name, c in self.controls.items() if name not in self.live]
-        for control in fixed:
-            control.disabled = True
         stack, site = state_stack(self.controls, self.live, leaves)
+        by_id = {id(self.controls[name]): site[name] for name in names}
         self.controls.update(site)
-        self.children = (*self._head, self._row(site.values()), self._row(fixed),
-                         site_note(list(site.values()), bool(fixed)), stack)
+        body = ([self._row(site.values()), self._row(fixed)] if self._rows is None
+                else [_site_form(row, by_id) for row in self._rows])
+        shown = {id(c) for c in site.values()}
+        for widget in [*fixed, *_widgets_in(body)]:  # controls and buttons alike
+            if id(widget) not in shown and hasattr(widget, "disabled"):
+                widget.disabled = True
+        self.children = (*self._head, *body, site_note(list(site.values()), bool(fixed)),
+                         stack)
+        # the kernel's readout and output are not shown on the site: empty, and closed so
+        # that the page's widget state holds no copy of a picture
+        self.output.outputs = ()
+        self.output.close()
+        self.readout.close()
+
+
+def _site_form(widget: widgets.Widget, site: Mapping[int, widgets.Widget]) -> widgets.Widget:
+    """``widget`` with the live controls in it (keyed by ``id``) replaced by the site's."""
+    if id(widget) in site:
+        return site[id(widget)]
+    if isinstance(widget, widgets.Box):
+        widget.children = tuple(_site_form(child, site) for child in widget.children)
+    return widget
+
+
+def _widgets_in(body: Sequence[widgets.Widget]) -> list[widgets.Widget]:
+    """Every widget in ``body``, boxes opened."""
+    found: list[widgets.Widget] = []
+    for widget in body:
+        found.append(widget)
+        if isinstance(widget, widgets.Box):
+            found.extend(_widgets_in(widget.children))
+    return found
 
 
 def shown_value(control: widgets.ValueWidget, value: Any) -> str:

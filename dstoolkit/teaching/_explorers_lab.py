@@ -3,32 +3,28 @@
 from __future__ import annotations
 
 import html
+from collections.abc import Mapping
 from typing import Any
 
 import ipywidgets as widgets
-import numpy as np
-from IPython.display import Image
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from dstoolkit.errors import (
-    AudioUnavailableError,
-)
+import dstoolkit.audio as audio
+from dstoolkit.audio import Analysis
+from dstoolkit.errors import AudioUnavailableError
+from dstoolkit.plots import STYLE
 
 from ._explorer import (
-    encode_png,
+    Explorer,
     figure_alt,
     positions,
     readout_html,
-    shown_value,
-    site_note,
     slider,
-    state_leaf,
-    state_stack,
-    static_site,
+    warning_html,
 )
 from ._lab import (
     VIRTUAL,
+    VIRTUAL_LABEL,
     LabSettings,
     device_options,
     lab_measurement,
@@ -43,151 +39,181 @@ from ._lab import (
 LAB_LIVE_LEVELS = 8
 
 
-class LabWidget(widgets.VBox):
-    """The lab's measuring station (book/lab.md): pick the devices, give the thermometer's
-    reading, press Record, and read the level with its uncertainty, the resonances and the
-    level by every filter of Table 3.
+class LabWidget(Explorer):
+    """The lab's measuring station (book/lab.md), an :class:`Explorer` redrawn by a button.
 
+    Pick the devices, give the thermometer's reading, press Record, and read the level with
+    its uncertainty, the resonances and the level by every filter of the paper's Table 3.
     With either device picker on "virtual tube (no device)" — the only choice on a machine
     without a sound card — Record simulates the measurement on the virtual tube (its level,
-    the thermometer's error and the room noise are controls; about 0.5 s); with devices it
-    plays the sweep and records it through them (about 7 s), see
-    :func:`dstoolkit.teaching.lab_measurement`. When the widget is built it measures once on the
-    virtual tube, so that a book executed at build time shows a first result.
+    the thermometer's error and the room noise are controls); with devices it plays the
+    sweep and records it through them, see :func:`dstoolkit.teaching.lab_measurement`.
+    When the widget is built it measures once on the virtual tube, so that a book executed
+    at build time shows a first result. On the static site the virtual tube's level is the
+    live control (:data:`LAB_LIVE_LEVELS` positions, each a first record at that level).
+
+    Parameters
+    ----------
+    settings : LabSettings, optional
+        The controls' start values (default ``LabSettings()``).
+    devices : bool, optional
+        False: offer the virtual tube only, with no device lookup. Default: list the
+        devices PortAudio sees.
+    record_now : bool, optional
+        Make the first (virtual) measurement at once (default True).
+    static : bool, optional
+        Build the static-site form; default: :func:`static_site`.
 
     Attributes
     ----------
-    controls : dict
+    controls : dict[str, ipywidgets.ValueWidget]
         The controls by name: ``input``, ``output``, ``temperature``, ``volume``, ``level``,
         ``thermometer_error``, ``room_noise``, ``through_virtual_tube``.
-    button
+    button : ipywidgets.Button
         The Record button; ``button.click()`` records, as a click does.
-    readout
-        The ``HTML`` with the numbers (or the error message).
-    output
-        The ``Output`` with the figures.
-    analysis
-        The last :class:`~dstoolkit.audio.Analysis`, None after a failure.
-    numbers
-        The numbers shown (:func:`dstoolkit.teaching.lab_numbers`), ``{"error": message}`` after
-        a failure.
-    figure
+    devices_button : ipywidgets.Button
+        Looks for sound devices again (:meth:`refresh_devices`).
+    analysis : dstoolkit.audio.Analysis or None
+        The last analysis, None after a failure.
+    numbers : dict[str, Any]
+        The numbers shown (:func:`dstoolkit.teaching.lab_numbers`), ``{"error": message}``
+        after a failure (the output is then emptied: no stale figure).
+    figure : Figure or None
         The last figure of the recording and its resonances.
-    method_figure
+    method_figure : Figure or None
         The last figure of the level by every method.
-    measurements
+    measurements : int
         Records made so far; a simulated record uses it as its seed.
+
+    See Also
+    --------
+    lab_widget : The station with the lab chapter's start values.
+    lab_measurement : One measurement from :class:`LabSettings`.
+
+    Examples
+    --------
+    >>> station = LabWidget(devices=False, record_now=False, static=False)
+    >>> station.controls["level"].value = 3.0
+    >>> station.button.click()
+    >>> round(station.numbers["level (m)"], 2), station.measurements
+    (3.0, 1)
     """
+
+    keeps_last_figure = False  # a failed record shows its message and no stale figure
+    redraws_on_change = False  # only a click of Record measures
 
     def __init__(self, settings: LabSettings | None = None, *, devices: bool | None = None,
                  record_now: bool = True, static: bool | None = None) -> None:
-        super().__init__()
         s = LabSettings() if settings is None else settings
-        inputs = device_options("input") if devices is not False else None
-        outputs = device_options("output") if devices is not False else None
-        self.controls: dict[str, widgets.ValueWidget] = {
-            "input": widgets.Dropdown(options=inputs or [("virtual tube (no device)", VIRTUAL)],
-                                      value=VIRTUAL, description="microphone (input)",
-                                      style={"description_width": "initial"}),
-            "output": widgets.Dropdown(options=outputs or [("virtual tube (no device)",
-                                                            VIRTUAL)],
-                                       value=VIRTUAL, description="speaker (output)",
-                                       style={"description_width": "initial"}),
-            "temperature": slider("thermometer T (°C)", s.temperature_c, -10.0, 40.0, 0.1,
-                                  readout_format=".1f"),
-            "volume": slider("volume (full scale)", s.volume, 0.05, 1.0, 0.05,
-                             readout_format=".2f"),
-            "level": slider("level L (m)", s.level_m, 0.5, 12.0, 0.05, readout_format=".2f"),
-            "thermometer_error": slider("thermometer error (°C)", s.thermometer_error_c,
-                                        -5.0, 5.0, 0.1, readout_format=".1f"),
-            "room_noise": slider("room noise (dBFS)", s.room_noise_dbfs, -80.0, -10.0, 1.0,
-                                 readout_format=".0f"),
-            "through_virtual_tube": widgets.Checkbox(
-                value=s.through_virtual_tube, indent=False,
-                description="with devices: play the virtual tube (loopback, no real tube)"),
-        }
+        c = _lab_controls(s, devices)
         self._sweep = s.sweep
-        self.button = widgets.Button(description="● Record", button_style="danger",
-                                     tooltip="play the sweep and record it")
-        self.button.on_click(self.record)
-        self.refresh = widgets.Button(description="↻ devices",
-                                      tooltip="look for sound devices again")
-        self.refresh.on_click(self.refresh_devices)
-        self.readout = widgets.HTML()
-        self.output = widgets.Output()
-        self.analysis = None
-        self.numbers: dict[str, Any] = {}
-        self.figure: Figure | None = None
+        self.analysis: Analysis | None = None
         self.method_figure: Figure | None = None
         self.measurements = 0
-        for name in ("input", "output", "through_virtual_tube"):
-            self.controls[name].observe(lambda _change: self._sync(), "value")
-        self._sync()
-        c = self.controls
-        for control in c.values():  # aligned labels, sliders with room to move
-            control.style.description_width = "190px"
-            control.layout.width = "440px"
-        c["through_virtual_tube"].layout.width = "auto"
-        c["thermometer_error"].tooltip = "how much the thermometer reads too high"
-
-        def row(*children: widgets.Widget) -> widgets.HBox:
-            return widgets.HBox(list(children), layout=widgets.Layout(flex_flow="row wrap"))
-
-        self.children = (
-            widgets.HTML("<b>The lab: measure a level</b>"),
-            row(c["input"], c["output"]), row(self.refresh),
-            row(c["temperature"], c["volume"]),
+        self.button = widgets.Button(description="● Record", button_style="danger",
+                                     tooltip="play the sweep and record it")
+        self.devices_button = widgets.Button(description="↻ devices",
+                                             tooltip="look for sound devices again")
+        rows = [
+            [c["input"], c["output"]], [self.devices_button],
+            [c["temperature"], c["volume"]],
             widgets.HTML("<i>the virtual tube (without a device, or through a loopback):</i>"),
-            row(c["level"], c["thermometer_error"]),
-            row(c["room_noise"], c["through_virtual_tube"]),
-            row(self.button), self.readout, self.output,
-        )
-        if static_site() if static is None else static:
-            self._build_static()
-        elif record_now:
-            self.record()
+            [c["level"], c["thermometer_error"]],
+            [c["room_noise"], c["through_virtual_tube"]],
+            [self.button],
+        ]
+        super().__init__(c, self._measure, title="The lab: measure a level",
+                         live={"level": positions(c["level"], LAB_LIVE_LEVELS, 1.0, 11.5)},
+                         static=static, rows=rows, draw=record_now)
+        self.button.on_click(self.record)
+        self.devices_button.on_click(self.refresh_devices)
+        for name in ("input", "output", "through_virtual_tube"):
+            c[name].observe(lambda _change: self._sync(), "value")
+        if not self.static:
+            self._sync()
 
-    def _build_static(self) -> None:
-        """The static site's form: one simulated record per position of the virtual tube's
-        level (the live control, :data:`LAB_LIVE_LEVELS`), switched in the browser by a
-        slider (:func:`state_stack`); every other control and the buttons are disabled."""
-        level = self.controls["level"]
-        live = {"level": positions(level, LAB_LIVE_LEVELS, 1.0, 11.5)}
-        start = level.value
-        leaves: dict[tuple[Any, ...], widgets.Widget] = {}
-        for value in sorted(live["level"], key=lambda v: v == start):  # the start one last
-            level.value = value
-            self.measurements = 0  # each state is the first record at its level
-            self.record()
-            at = {level.description: shown_value(level, value)}
-            leaves[(value,)] = state_leaf(self.readout, self.output, [
-                figure_alt(at, self.numbers, "Recording and its resonances"),
-                figure_alt(at, {m: v for m, v in self.numbers.items()
-                                if m.endswith("(m)")}, "Level by each method")])
-        stack, site = state_stack(self.controls, live, leaves)
-        for widget in [*self.controls.values(), self.button, self.refresh]:
-            widget.disabled = True
-        self.controls["level"] = site["level"]
+    def settings(self, values: Mapping[str, Any] | None = None) -> LabSettings:
+        """The controls as :class:`~dstoolkit.teaching.LabSettings`.
 
-        def swap(widget: widgets.Widget) -> widgets.Widget:
-            if widget is level:
-                return site["level"]
-            if isinstance(widget, widgets.HBox):
-                widget.children = tuple(swap(child) for child in widget.children)
-            return widget
+        Parameters
+        ----------
+        values : Mapping[str, Any], optional
+            The controls' values by name; default: their current values.
 
-        rows = [swap(w) for w in self.children if w not in (self.readout, self.output)]
-        self.children = (*rows, site_note([site["level"]], True), stack)
-
-    def settings(self) -> LabSettings:
-        """The controls as :class:`~dstoolkit.teaching.LabSettings` (seed: the record count)."""
-        v = {name: control.value for name, control in self.controls.items()}
+        Returns
+        -------
+        LabSettings
+            The settings of the next record; its seed is the record count (0 for every
+            state of the static site: each is a first record).
+        """
+        v = self.values() if values is None else values
         return LabSettings(temperature_c=v["temperature"], level_m=v["level"],
                            thermometer_error_c=v["thermometer_error"],
                            room_noise_dbfs=v["room_noise"], volume=v["volume"],
                            input_device=v["input"], output_device=v["output"],
                            through_virtual_tube=v["through_virtual_tube"],
-                           seed=self.measurements, sweep=self._sweep)
+                           seed=0 if self.static else self.measurements, sweep=self._sweep)
+
+    def _measure(self, **values: Any) -> tuple[list[Figure], dict[str, Any]]:
+        """The explorer's render: one record with ``values``, its two figures and numbers."""
+        self.analysis = None
+        try:
+            analysis = lab_measurement(self.settings(values))
+        finally:
+            self.measurements += 1
+        self.analysis, self.method_figure = analysis, plot_method_levels(analysis)
+        return [analysis.figure(), self.method_figure], lab_numbers(analysis)
+
+    def readout_for(self, numbers: Mapping[str, Any]) -> str:
+        """The record's readout: the level ± 1σ, the numbers, the level by each filter,
+        the analysis' notes and its full report.
+
+        Parameters
+        ----------
+        numbers : Mapping[str, Any]
+            The numbers of :func:`~dstoolkit.teaching.lab_numbers`.
+
+        Returns
+        -------
+        str
+            The readout's HTML.
+        """
+        analysis = self.analysis
+        if analysis is None:  # pragma: no cover - a valid render always leaves one
+            return super().readout_for(numbers)
+        lv = analysis.level
+        head = (f"<p><b>L = {lv.level_m:.4f} m ± {lv.uncertainty_m:.4f} m</b> (1σ), "
+                f"{html.escape(analysis.recording.metadata.source or '')}</p>")
+        notes = "".join(f"<p style='color:#b36b00'>{html.escape(n)}</p>" for n in analysis.notes)
+        report = (f"<details><summary>full report</summary><pre>"
+                  f"{html.escape(analysis.summary())}</pre></details>")
+        by_method = {STYLE.get(m, {"label": m})["label"]: v
+                     for m, v in analysis.filter_levels.items()}
+        main = {k: v for k, v in numbers.items()
+                if k.removesuffix(" (m)") not in analysis.filter_levels}
+        return (head + readout_html(main) + "<p>level by each filter (m):</p>"
+                + readout_html(by_method) + notes + report)
+
+    def figure_alts(self, settings: Mapping[str, str],
+                    numbers: Mapping[str, Any]) -> list[str]:
+        """The text alternatives of a state's two pictures: the recording with all the
+        numbers, the level by each method with the levels.
+
+        Parameters
+        ----------
+        settings : Mapping[str, str]
+            The level's label and the value it shows.
+        numbers : Mapping[str, Any]
+            The state's numbers.
+
+        Returns
+        -------
+        list[str]
+            Two texts, in the order of the pictures.
+        """
+        return [figure_alt(settings, numbers, "Recording and its resonances"),
+                figure_alt(settings, {m: v for m, v in numbers.items() if m.endswith("(m)")},
+                           "Level by each method")]
 
     def _sync(self) -> None:
         """Grey out the controls the chosen devices do not use."""
@@ -198,67 +224,75 @@ class LabWidget(widgets.VBox):
         self.controls["room_noise"].disabled = not s.simulated
         self.controls["through_virtual_tube"].disabled = s.simulated
 
-    def _fail(self, message: str) -> None:
-        self.analysis, self.numbers = None, {"error": message}
-        self.readout.value = f"<p style='color:#b00020'>⚠ {html.escape(message)}</p>"
-        self.output.outputs = ()
-
     def refresh_devices(self, _button: Any = None) -> None:
-        """Scan the sound devices again (after plugging one in or starting the loopback)."""
-        import dstoolkit.audio as audio
+        """Scan the sound devices again (after plugging one in or starting the loopback).
 
+        Parameters
+        ----------
+        _button : ipywidgets.Button, optional
+            The button clicked (ignored).
+        """
         try:
             audio.refresh_devices()
         except AudioUnavailableError as exc:
-            self._fail(str(exc))
+            self.analysis, self.numbers = None, {"error": str(exc)}
+            self.readout.value = warning_html(str(exc))
+            self.output.outputs = ()
             return
-        for kind, name in (("input", "input"), ("output", "output")):
-            self.controls[name].options = device_options(kind)
+        for name in ("input", "output"):
+            self.controls[name].options = device_options(name)  # type: ignore[arg-type]
             self.controls[name].value = VIRTUAL
 
     def record(self, _button: Any = None) -> None:
-        """Measure once with the current settings and show the result (the button's
-        click handler)."""
-        settings = self.settings()
-        self.button.disabled, self.button.description = True, "recording…"
-        where = ("simulated on the virtual tube (no device)" if settings.simulated
+        """Measure once with the current settings and show the result.
+
+        The button's click handler: the button is disabled while it records.
+
+        Parameters
+        ----------
+        _button : ipywidgets.Button, optional
+            The button clicked (ignored).
+        """
+        where = ("simulated on the virtual tube (no device)" if self.settings().simulated
                  else "playing and recording, about 7 s")
+        self.button.disabled, self.button.description = True, "recording…"
         self.readout.value = f"<p>recording: {html.escape(where)}…</p>"
         try:
-            analysis = lab_measurement(settings)
-        except (AudioUnavailableError, ValueError) as exc:  # DetectionError is a ValueError
-            self._fail(str(exc))
-            return
+            self.refresh()
         finally:
-            self.measurements += 1
             self.button.disabled, self.button.description = False, "● Record"
-        self.analysis, self.numbers = analysis, lab_numbers(analysis)
-        lv = analysis.level
-        head = (f"<p><b>L = {lv.level_m:.4f} m ± {lv.uncertainty_m:.4f} m</b> (1σ), "
-                f"{html.escape(analysis.recording.metadata.source or '')}</p>")
-        notes = "".join(f"<p style='color:#b36b00'>{html.escape(n)}</p>" for n in analysis.notes)
-        report = (f"<details><summary>full report</summary><pre>"
-                  f"{html.escape(analysis.summary())}</pre></details>")
-        from dstoolkit.plots import STYLE
 
-        by_method = {STYLE.get(m, {"label": m})["label"]: v
-                     for m, v in analysis.filter_levels.items()}
-        main = {k: v for k, v in self.numbers.items()
-                if k.removesuffix(" (m)") not in analysis.filter_levels}
-        self.readout.value = (head + readout_html(main) + "<p>level by each filter (m):</p>"
-                              + readout_html(by_method) + notes + report)
-        self.figure, self.method_figure = analysis.figure(), plot_method_levels(analysis)
-        # As PNG images set on the Output widget itself: they show whether or not the
-        # notebook's matplotlib formatter is active, and a book executed at build time
-        # embeds them in the widget's state.
-        self.output.outputs = ()
-        for fig in (self.figure, self.method_figure):
-            if not hasattr(fig.canvas, "buffer_rgba"):  # a Figure() made without pyplot
-                FigureCanvasAgg(fig)
-            fig.set_dpi(96)
-            fig.canvas.draw()
-            png = encode_png(np.asarray(fig.canvas.buffer_rgba()))
-            self.output.append_display_data(Image(data=png, format="png"))
+
+def _lab_controls(s: LabSettings, devices: bool | None) -> dict[str, widgets.ValueWidget]:
+    """The station's controls at the settings ``s``, labels aligned (the device pickers
+    list PortAudio's devices unless ``devices`` is False)."""
+    virtual = [(VIRTUAL_LABEL, VIRTUAL)]
+    controls: dict[str, widgets.ValueWidget] = {
+        "input": widgets.Dropdown(
+            options=device_options("input") if devices is not False else virtual,
+            value=VIRTUAL, description="microphone (input)"),
+        "output": widgets.Dropdown(
+            options=device_options("output") if devices is not False else virtual,
+            value=VIRTUAL, description="speaker (output)"),
+        "temperature": slider("thermometer T (°C)", s.temperature_c, -10.0, 40.0, 0.1,
+                              readout_format=".1f"),
+        "volume": slider("volume (full scale)", s.volume, 0.05, 1.0, 0.05,
+                         readout_format=".2f"),
+        "level": slider("level L (m)", s.level_m, 0.5, 12.0, 0.05, readout_format=".2f"),
+        "thermometer_error": slider("thermometer error (°C)", s.thermometer_error_c,
+                                    -5.0, 5.0, 0.1, readout_format=".1f"),
+        "room_noise": slider("room noise (dBFS)", s.room_noise_dbfs, -80.0, -10.0, 1.0,
+                             readout_format=".0f"),
+        "through_virtual_tube": widgets.Checkbox(
+            value=s.through_virtual_tube, indent=False,
+            description="with devices: play the virtual tube (loopback, no real tube)"),
+    }
+    for control in controls.values():  # aligned labels, sliders with room to move
+        control.style.description_width = "190px"
+        control.layout.width = "440px"
+    controls["through_virtual_tube"].layout.width = "auto"
+    controls["thermometer_error"].tooltip = "how much the thermometer reads too high"
+    return controls
 
 
 def lab_widget(temperature_c: float = 21.0, level_m: float = 2.5, *,
