@@ -2,8 +2,9 @@
 
 An outer enclosure: on random boxes and random functions with exact slope bounds (random
 polynomials, sin, exp, and a map of two variables to two outputs), every value f takes at a
-dense sample of the box lies inside it; its excess width over the true image shrinks at least
-threefold when the pieces double (about fourfold: quadratic); bad slope bounds and a missing one are refused.
+dense sample of the box lies inside it; its excess width over the true image shrinks at
+least threefold when the pieces double (quadratic: about fourfold); bad slope bounds and a
+missing one are refused.
 """
 
 from __future__ import annotations
