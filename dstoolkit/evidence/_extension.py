@@ -436,10 +436,12 @@ def image_mean_value(
     --------
     >>> import numpy as np
     >>> lo, hi = np.array([-1.0]), np.array([2.0])
-    >>> a, b = image_mean_value(lo, hi, lambda x: x[..., 0] ** 2,
-    ...                         lambda l, h: (2 * l, 2 * h), pieces=64)
-    >>> bool(a[0] <= 0.0 and b[0] >= 4.0), round(float(b[0] - a[0]) - 4.0, 2)
-    (True, 0.05)
+    >>> square, slope = (lambda x: x[..., 0] ** 2), (lambda l, h: (2 * l, 2 * h))
+    >>> image_mean_value(lo, hi, square, slope, pieces=1)  # f(c) ± 4 · 1.5
+    (array([-5.75]), array([6.25]))
+    >>> a, b = image_mean_value(lo, hi, square, slope, pieces=64)
+    >>> bool(a[0] <= 0.0 and b[0] >= 4.0), round(float(b[0] - a[0]) - 4.0, 3)
+    (True, 0.002)
     """
     if int(pieces) != pieces or pieces < 1:
         raise EvidenceError(f"pieces must be a whole number >= 1, got {pieces!r}")

@@ -77,8 +77,24 @@ FIGURE_DPI = 100
 
 
 def static_site() -> bool:
-    """True while scripts/build-book.sh executes the book for the static site
-    (``DSTOOLKIT_STATIC_SITE=1``), False in a notebook."""
+    """Whether the book is being executed for the static site.
+
+    Returns
+    -------
+    bool
+        True while scripts/build-book.sh executes the book (it sets the environment
+        variable ``DSTOOLKIT_STATIC_SITE=1``, :data:`STATIC_SITE_ENV`); False in a notebook.
+
+    See Also
+    --------
+    Explorer : Builds its static-site form when this is True.
+
+    Examples
+    --------
+    >>> import os
+    >>> static_site() == (os.environ.get(STATIC_SITE_ENV) == "1")
+    True
+    """
     return os.environ.get(STATIC_SITE_ENV, "") == "1"
 
 
@@ -91,7 +107,36 @@ def slider(
     *,
     readout_format: str = ".3f",
 ) -> widgets.FloatSlider:
-    """A float slider that redraws on release (``continuous_update=False``)."""
+    """A float slider that redraws on release (``continuous_update=False``).
+
+    Parameters
+    ----------
+    description : str
+        The label, with the unit ("level L (m)").
+    value : float
+        The start value.
+    lo, hi : float
+        The range.
+    step : float
+        The step between values.
+    readout_format : str, optional
+        How the value is printed beside the slider (a format spec, default ".3f").
+
+    Returns
+    -------
+    ipywidgets.FloatSlider
+        320 px wide, its label in full.
+
+    See Also
+    --------
+    positions : The values it takes on the static site.
+
+    Examples
+    --------
+    >>> s = slider("level L (m)", 9.6, 1.0, 10.6, 0.1, readout_format=".1f")
+    >>> s.value, s.continuous_update
+    (9.6, False)
+    """
     return widgets.FloatSlider(
         value=value, min=lo, max=hi, step=step, description=description,
         continuous_update=False, readout_format=readout_format,
@@ -100,7 +145,27 @@ def slider(
 
 
 def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSlider:
-    """An integer slider that redraws on release."""
+    """An integer slider that redraws on release.
+
+    Parameters
+    ----------
+    description : str
+        The label.
+    value : int
+        The start value.
+    lo, hi : int
+        The range.
+
+    Returns
+    -------
+    ipywidgets.IntSlider
+        Step 1, ``continuous_update=False``.
+
+    Examples
+    --------
+    >>> int_slider("cuts p", 3, 1, 12).max
+    12
+    """
     return widgets.IntSlider(
         value=value, min=lo, max=hi, step=1, description=description,
         continuous_update=False, style={"description_width": "initial"},
@@ -110,9 +175,32 @@ def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSli
 
 def positions(control: widgets.ValueWidget, count: int = 9, lo: float | None = None,
               hi: float | None = None) -> tuple[Any, ...]:
-    """``count`` evenly spaced values of a slider between ``lo`` and ``hi`` (its own range by
-    default), on its step, with its current value among them: the positions a live control
-    takes on the static site. A ``Dropdown`` gives all its options."""
+    """The positions a live control takes on the static site.
+
+    Parameters
+    ----------
+    control : ipywidgets.ValueWidget
+        A slider (float or integer) or a ``Dropdown``.
+    count : int, optional
+        How many evenly spaced values (default 9).
+    lo, hi : float, optional
+        Their range; default the slider's own.
+
+    Returns
+    -------
+    tuple
+        ``count`` evenly spaced values of the slider on its step, with its current value
+        among them (sorted, duplicates dropped); all the options of a ``Dropdown``.
+
+    See Also
+    --------
+    Explorer : Takes them as ``live=``.
+
+    Examples
+    --------
+    >>> positions(slider("s", 0.37, 0.0, 1.0, 0.01), 5)
+    (0.0, 0.25, 0.37, 0.5, 0.75, 1.0)
+    """
     if isinstance(control, widgets.Dropdown):
         return tuple(control._options_values)
     lo = control.min if lo is None else lo
@@ -396,7 +484,7 @@ class Explorer(widgets.VBox):
                 plt.close(fig)
 
     def png(self, fig: Figure) -> bytes:
-        """``fig`` as PNG bytes.
+        """``fig`` as PNG bytes, drawn as the explorer shows it.
 
         A render that keeps its figure (returns the same ``Figure`` on every call, updated
         in place) may mark the artists that follow the controls as *animated*
@@ -406,6 +494,17 @@ class Explorer(widgets.VBox):
         on it (blitting), in order of their zorder. Otherwise the whole figure is drawn
         and the animated artists on top. The figure is drawn on a
         ``TextCachingCanvas``, which draws text it drew before from a cache (the same pixels).
+
+        Parameters
+        ----------
+        fig : Figure
+            The figure ``render`` returned.
+
+        Returns
+        -------
+        bytes
+            A PNG of 256 colours at :data:`FIGURE_DPI` (:func:`encode_png`): fast
+            compression in a kernel, small on the static site.
         """
         if not isinstance(fig.canvas, TextCachingCanvas):  # it caches the text it drew
             TextCachingCanvas(fig)

@@ -26,14 +26,47 @@ from ._readouts import mismatch_numbers
 
 def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, runs: int = 20,
                           seed: int = 0, start: str = "mean_corrected") -> Explorer:
-    """Every filter on the same simulated gauge runs (eqs. 39–40 with the paper's noises v
-    and w, true orders), each assuming the noise bounds set by the sliders (lower, mode,
-    upper of v and of w): the assumed against the true possibility distributions, and the
-    mean |x̂_k − x_k| per step of every method
-    (:func:`dstoolkit.studies.noise_mismatch`). ``start`` is the paper's filter's
-    start value (a dropdown too). One redraw filters ``runs`` runs by five methods (20 runs:
-    about 0.08 s with the extra ``speed``, 0.11 s without; moving the start value reruns
-    only the paper's filter): sliders redraw on release."""
+    """Every filter on the same simulated gauge runs, each with the noise bounds you assume.
+
+    The sliders set the lower, mode and upper of v and of w that every filter assumes: the
+    figure shows the assumed against the true possibility distributions and the mean
+    |x̂_k − x_k| per step of every method. Moving the start value reruns only the paper's
+    filter.
+
+    Parameters
+    ----------
+    level_m : float, optional
+        The level L, m.
+    temperature_c : float, optional
+        The temperature T, °C.
+    runs : int, optional
+        How many runs are averaged.
+    seed : int, optional
+        The runs' seed.
+    start : {"observation", "mean_corrected"}, optional
+        The paper's filter's start value.
+
+    Returns
+    -------
+    Explorer
+        Controls ``v_lower`` … ``w_upper`` and ``start``; on the static site ``w_upper`` and
+        ``v_upper`` answer. Readout:
+        :func:`~dstoolkit.teaching._readouts.mismatch_numbers`.
+
+    See Also
+    --------
+    dstoolkit.studies.noise_mismatch : The study behind it.
+
+    References
+    ----------
+    The paper's eqs. 39–40 (the gauge's model and noises).
+
+    Examples
+    --------
+    >>> ex = noise_bounds_explorer(runs=2)
+    >>> "bounded error: inconsistent runs" in ex.numbers
+    True
+    """
     from dstoolkit.plots.artists import noise_bounds_figure, update_noise_bounds_figure
     from dstoolkit.studies import ALL_FILTERS, noise_mismatch, tracking_data
 

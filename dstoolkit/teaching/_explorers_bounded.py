@@ -26,9 +26,36 @@ from ._explorer import (
 
 def bounded_error_explorer(v_half: float = 0.1, w_half: float = 1.0, steps: int = 60,
                            seed: int = 7) -> Explorer:
-    """One simulated random walk (seeded) filtered by the bounded-error filter whose
-    noise bounds are the true ones times a factor: too tight → empty boxes or boxes that
-    miss the truth; too wide → wide boxes."""
+    """A bounded-error filter with wrong noise bounds, on one simulated random walk.
+
+    The slider scales the bounds the filter assumes: too tight gives empty boxes (the filter
+    resets) or boxes that miss the truth; too wide gives wide boxes.
+
+    Parameters
+    ----------
+    v_half, w_half : float, optional
+        The true half-widths of the state and observation noises.
+    steps : int, optional
+        The walk's length.
+    seed : int, optional
+        The walk's seed.
+
+    Returns
+    -------
+    Explorer
+        Control ``scale`` (assumed bounds ÷ true ones), live on the static site. Readout:
+        :func:`dstoolkit.filters.enclosure_summary` of the run.
+
+    See Also
+    --------
+    dstoolkit.filters.BoundedErrorFilter, dstoolkit.filters.random_walk
+
+    Examples
+    --------
+    >>> ex = bounded_error_explorer(steps=20)
+    >>> ex.controls["scale"].value
+    1.0
+    """
     from dstoolkit.filters import BoundedErrorFilter
 
     x, z = random_walk(v_half, w_half).simulate([0.0], steps, np.random.default_rng(seed))

@@ -33,9 +33,41 @@ from ._explorer import (
 
 def conflict_explorer(x: float = 0.99, y: float = 0.99, epsilon: float = 0.0,
                       rule: str = "Dempster") -> Explorer:
-    """Zadeh's example (paper eq. 1 and its famous failure): two nearly certain doctors
-    who disagree, combined by Dempster's rule or Yager's, after an optional discount ε
-    (the controls start at the values given)."""
+    """Zadeh's example: two nearly certain doctors who disagree, combined.
+
+    The doctors' masses, an optional discount ε and the rule (Dempster's or Yager's) give
+    the conflict K and the combined masses: Dempster's rule puts all the mass on the
+    diagnosis both found unlikely.
+
+    Parameters
+    ----------
+    x, y : float, optional
+        Doctor 1's m(meningitis) and doctor 2's m(concussion), in [0, 1].
+    epsilon : float, optional
+        The discount ε moved to Θ, in [0, 0.5].
+    rule : {"Dempster", "Yager"}, optional
+        The combination rule.
+
+    Returns
+    -------
+    Explorer
+        Controls ``x``, ``y``, ``epsilon``, ``rule``; on the static site ``epsilon`` and
+        ``rule`` answer. Readout: K and the combined masses.
+
+    See Also
+    --------
+    dstoolkit.evidence.dempster, dstoolkit.evidence.yager, dstoolkit.evidence.zadeh_sources
+
+    References
+    ----------
+    The paper's eq. 1 (Dempster's rule) and its discussion of Zadeh's example.
+
+    Examples
+    --------
+    >>> ex = conflict_explorer()
+    >>> round(ex.numbers["conflict K"], 4), round(ex.numbers["m(tumour)"], 4)
+    (0.9999, 1.0)
+    """
     controls = {
         "x": slider("doctor 1: m(meningitis)", x, 0.0, 1.0, 0.01, readout_format=".2f"),
         "y": slider("doctor 2: m(concussion)", y, 0.0, 1.0, 0.01, readout_format=".2f"),

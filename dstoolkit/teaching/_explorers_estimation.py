@@ -29,13 +29,48 @@ ESTIMATION_FIGURES: dict[str, str] = {"Fig. 10: frequencies": "frequency",
 def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
                               simulation: str = "frequency", order_rule: str = "eq43",
                               figure: str = "Fig. 11: levels", seed: int = 0) -> Explorer:
-    """One simulated sweep filtered by the paper's filter and Nassreddine's (the paper's
-    Figs. 10–11, :func:`dstoolkit.studies.gauge_run`): level, temperature, the
-    simulation of the readings (the paper's w drawn i.i.d., or detected in a synthesised
-    recording), where n_k comes from (eq. 43, the series fit, the truth), the run's seed and
-    which figure. Numbers: ``estimation_numbers(run)``. A frequency-level redraw takes a
-    few hundredths of a second, a waveform-level one a few tenths (a recording is
-    synthesised and analysed): sliders redraw on release."""
+    """One simulated sweep filtered by every method: the paper's Figs. 10–11 for one run.
+
+    Level, temperature, the simulation of the readings (the paper's w drawn i.i.d., or
+    detected in a synthesised recording), where n_k comes from, the run's seed and which
+    figure. A waveform-level redraw synthesises and analyses a recording.
+
+    Parameters
+    ----------
+    level_m : float, optional
+        The level L, m.
+    temperature_c : float, optional
+        The temperature T, °C.
+    simulation : {"frequency", "waveform"}, optional
+        How the readings are simulated.
+    order_rule : {"eq43", "fit", "true"}, optional
+        Where the orders n_k come from.
+    figure : str, optional
+        A key of :data:`ESTIMATION_FIGURES` (the paper's Fig. 10 or Fig. 11).
+    seed : int, optional
+        The run's seed.
+
+    Returns
+    -------
+    Explorer
+        Controls ``level``, ``temperature``, ``simulation``, ``order_rule``, ``figure``,
+        ``seed``; on the static site ``level`` and ``temperature`` answer. Readout:
+        :func:`~dstoolkit.teaching._readouts.estimation_numbers`.
+
+    See Also
+    --------
+    dstoolkit.studies.gauge_run : The run.
+
+    References
+    ----------
+    The paper's Figs. 10–11 and eqs. 32 and 43.
+
+    Examples
+    --------
+    >>> ex = level_estimation_explorer()
+    >>> "wrong n_k" in ex.numbers
+    True
+    """
     from dstoolkit.plots import plot_estimates
     from dstoolkit.plots.artists import update_estimates
     from dstoolkit.studies import gauge_run

@@ -35,11 +35,59 @@ def render_filter(
     orders: str, mass_rule: str, seed: int = 0,
     kept: KeptFigure[FilterErrorsFigure] | None = None,
 ) -> tuple[Figure, dict[str, Any]]:
-    """What :func:`filter_widget` recomputes on every change: the run's figure (estimates,
-    hull and readings against the truth, absolute errors; the paper's Fig. 10) and the
-    numbers of ``filter_summary``. With ``kept`` (a ``KeptFigure`` of
-    a ``FilterErrorsFigure``, as the widget holds) the figure is drawn without pyplot on the
-    first call and redrawn in place on later ones; else each call draws a new figure."""
+    """One run of the paper's filter on a simulated gauge: its figure and its numbers.
+
+    What :func:`filter_widget` recomputes on every change.
+
+    Parameters
+    ----------
+    v_lower, v_mode, v_upper : float
+        The state noise v the filter assumes, Hz.
+    w_lower, w_mode, w_upper : float
+        The observation noise w the filter assumes, Hz (the readings carry the paper's).
+    p : int
+        The number of α-cuts.
+    epsilon : float
+        The discount ε.
+    level : float
+        The level L, m.
+    temperature : float
+        The temperature T, °C.
+    start : {"observation", "mean_corrected"}
+        The start value: z_1 (the paper's) or z_1 + E[w].
+    orders : str
+        Where the orders n_k come from (a key of :data:`dstoolkit.studies.ORDER_SOURCES`).
+    mass_rule : {"min", "m1", "m2"}
+        How m(D) is taken.
+    seed : int, optional
+        The readings' seed.
+    kept : KeptFigure, optional
+        A kept ``FilterErrorsFigure`` (as the widget holds): drawn without pyplot on the
+        first call, redrawn in place later; without it every call draws a new figure.
+
+    Returns
+    -------
+    figure : Figure
+        Estimates, hull and readings against the truth, and the absolute errors (the
+        paper's Fig. 10).
+    numbers : dict[str, Any]
+        :func:`~dstoolkit.teaching._readouts.filter_summary` of the run.
+
+    See Also
+    --------
+    filter_widget, dstoolkit.studies.filter_case
+
+    References
+    ----------
+    The paper's §3.2, eqs. 39–40.
+
+    Examples
+    --------
+    >>> fig, numbers = render_filter(-0.3, 0.0, 0.3, -10.59, -6.9, -3.21, 3, 0.05, 9.6, 23.9,
+    ...                              "observation", "true", "min")
+    >>> numbers["mean |x̂ − x| (Hz)"] < numbers["mean |z − x| (Hz)"]
+    True
+    """
     seq, n, result = filter_case(
         level, temperature, state_noise=(v_lower, v_mode, v_upper),
         obs_noise=(w_lower, w_mode, w_upper), p=p, epsilon=epsilon, start=start,
@@ -58,14 +106,49 @@ def filter_widget(level_m: float = 9.6, temperature_c: float = 23.9, *, p: int =
                   state_noise: tuple[float, float, float] = (-0.3, 0.0, 0.3),
                   obs_noise: tuple[float, float, float] = (-10.59, -6.9, -3.21),
                   seed: int = 0) -> Explorer:
-    """The paper's filter on a simulated gauge (§3.2, eqs. 39–40), live.
+    """The paper's filter on a simulated gauge, live.
 
-    Controls (``widget.controls``): the noise bounds the filter assumes (lower, mode,
-    upper of v and of w; the readings always carry the paper's w), the number of cuts p,
-    the discount ε, the level and temperature, the start value, where the orders n_k come
-    from and the m(D) rule. ``widget.output`` shows the figure of :func:`render_filter`,
-    ``widget.numbers`` the estimates and errors. Sliders redraw on release
-    (``continuous_update=False``); one redraw is a filter run of ~83 steps and a figure.
+    Every redraw is one filter run of about 83 steps and its figure
+    (:func:`render_filter`); sliders redraw on release.
+
+    Parameters
+    ----------
+    level_m : float, optional
+        The start level L, m.
+    temperature_c : float, optional
+        The start temperature T, °C.
+    p : int, optional
+        The number of α-cuts.
+    epsilon : float, optional
+        The discount ε.
+    start : {"observation", "mean_corrected"}, optional
+        The start value.
+    state_noise, obs_noise : tuple of float, optional
+        (lower, mode, upper) of v and w the filter assumes at the start, Hz (the paper's).
+    seed : int, optional
+        The readings' seed.
+
+    Returns
+    -------
+    Explorer
+        Controls: the assumed noise bounds (``v_lower`` … ``w_upper``), ``p``, ``epsilon``,
+        ``level``, ``temperature``, ``start``, ``orders``, ``mass_rule``; on the static site
+        ``level`` and ``epsilon`` answer. Readout: first and last estimates, mean errors,
+        convergence step, mean level error and total-conflict steps.
+
+    See Also
+    --------
+    render_filter, filter_step_explorer
+
+    References
+    ----------
+    The paper's §3.2, eqs. 39–40, and its Fig. 10.
+
+    Examples
+    --------
+    >>> ex = filter_widget()
+    >>> ex.numbers["total-conflict steps"]
+    0
     """
     (v_lo, v_c, v_hi), (w_lo, w_c, w_hi) = state_noise, obs_noise
     controls = {
@@ -104,9 +187,49 @@ def filter_widget(level_m: float = 9.6, temperature_c: float = 23.9, *, p: int =
 def filter_step_explorer(level_m: float = 9.6, temperature_c: float = 23.9, step: int = 2,
                          start: str = "mean_corrected", epsilon: float = 0.05,
                          steps: int = 20, seed: int = 0) -> Explorer:
-    """Every evidence of one step of the paper's filter (Steps 2–6, Fig. 3) on the first
-    ``steps`` readings of a simulated gauge (true orders), with its diagnostics: pick the
-    step, the start value and the discount ε."""
+    """Every evidence of one step of the paper's filter, with its diagnostics.
+
+    On the first ``steps`` readings of a simulated gauge (true orders): pick the step, the
+    start value and the discount ε. Moving the step redraws; it does not filter again.
+
+    Parameters
+    ----------
+    level_m : float, optional
+        The level L, m.
+    temperature_c : float, optional
+        The temperature T, °C.
+    step : int, optional
+        The start step k + 1, from 2.
+    start : {"observation", "mean_corrected"}, optional
+        The start value.
+    epsilon : float, optional
+        The discount ε.
+    steps : int, optional
+        How many readings are filtered.
+    seed : int, optional
+        The readings' seed.
+
+    Returns
+    -------
+    Explorer
+        Controls ``step``, ``start``, ``epsilon``; on the static site ``step`` answers.
+        Readout: the conflicts of Steps 4 and 6, D, R12, R21, the final focal elements, the
+        estimate and its error.
+
+    See Also
+    --------
+    dstoolkit.plots.FilterStepFigure : The figure.
+
+    References
+    ----------
+    The paper's Steps 2–6 and Fig. 3.
+
+    Examples
+    --------
+    >>> ex = filter_step_explorer(steps=4)
+    >>> sorted(ex.numbers)[:2]
+    ['D', 'K (Step 4)']
+    """
     controls = {
         "step": int_slider("step k + 1", step, 2, steps),
         "start": widgets.Dropdown(options=[("z_1 (paper)", "observation"),

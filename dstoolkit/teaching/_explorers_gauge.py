@@ -37,12 +37,47 @@ GAUGE_CONDITIONS = RecordingConditions(speaker_jitter_hz=0.1, microphone_noise_p
 def gauge_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
                    top_reflection: float = 0.3, background_db: float = 50.0,
                    seed: int = 0) -> Explorer:
-    """A simulated gauge (paper §4): level, temperature, the top's reflection R_t and the
-    background noise → the recording's envelope and its detected resonances beside the
-    model n c/(2L) (eqs. 29–32), the detection error z_k − n_k f_F, and the level by the
-    series fit and by eqs. 32/43. One recording (the paper's sweep, seeded) is synthesised
-    and analysed per change (its noise draws are kept), and the figure is kept and updated;
-    the sliders redraw on release."""
+    """A simulated acoustic level gauge: a recording, its resonances and the level.
+
+    Level, temperature, the top's reflection R_t and the background noise give the
+    recording's envelope and its detected resonances beside the model n c/(2L), the
+    detection error z_k − n_k f_F, and the level by the series fit and by eqs. 32/43. One
+    recording (the paper's sweep, seeded) is synthesised and analysed per change.
+
+    Parameters
+    ----------
+    level_m : float, optional
+        The level L, m.
+    temperature_c : float, optional
+        The temperature T, °C.
+    top_reflection : float, optional
+        The reflection R_t of the tube's top, in [0, 0.9].
+    background_db : float, optional
+        The background noise, dB SPL.
+    seed : int, optional
+        The recording's seed (its noise draws are kept).
+
+    Returns
+    -------
+    Explorer
+        Controls ``level``, ``temperature``, ``top_reflection``, ``background``; on the
+        static site ``level`` and ``temperature`` answer. Readout:
+        :func:`~dstoolkit.teaching._readouts.gauge_reading`.
+
+    See Also
+    --------
+    dstoolkit.gauge.synthesize_recording, dstoolkit.gauge.detect_resonances
+
+    References
+    ----------
+    The paper's §4, eqs. 29–32 and 43.
+
+    Examples
+    --------
+    >>> ex = gauge_explorer(level_m=2.0)
+    >>> abs(ex.numbers["fit error (mm)"]) < 50.0
+    True
+    """
     controls = {
         "level": slider("level L (m)", level_m, 1.0, 10.6, 0.1, readout_format=".1f"),
         "temperature": slider("temperature T (°C)", temperature_c, 0.0, 30.0, 0.5,

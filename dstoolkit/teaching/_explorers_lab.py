@@ -297,10 +297,35 @@ def _lab_controls(s: LabSettings, devices: bool | None) -> dict[str, widgets.Val
 
 def lab_widget(temperature_c: float = 21.0, level_m: float = 2.5, *,
                devices: bool | None = None, record_now: bool = True) -> LabWidget:
-    """The lab's measuring station, :class:`LabWidget`: device pickers (filled from
-    :func:`dstoolkit.audio.list_devices` when a sound card is there, else only the virtual
-    tube), the thermometer's reading, the virtual tube's level, a Record button and the
-    result. ``devices=False`` offers the virtual tube only (no device lookup); with
-    ``record_now`` the first (virtual) measurement is made at once."""
+    """The lab's measuring station with the lab chapter's start values.
+
+    Parameters
+    ----------
+    temperature_c : float, optional
+        The thermometer's reading, °C.
+    level_m : float, optional
+        The virtual tube's level, m.
+    devices : bool, optional
+        False: offer the virtual tube only (no device lookup). Default: list the devices.
+    record_now : bool, optional
+        Make the first (virtual) measurement at once.
+
+    Returns
+    -------
+    LabWidget
+        Device pickers (filled from :func:`dstoolkit.audio.list_devices` when a sound card
+        is there, else only the virtual tube), the thermometer's reading, the virtual tube's
+        level, a Record button and the result.
+
+    See Also
+    --------
+    LabWidget, lab_measurement
+
+    Examples
+    --------
+    >>> station = lab_widget(level_m=3.0, devices=False)
+    >>> abs(station.numbers["level (m)"] - 3.0) < 0.01
+    True
+    """
     return LabWidget(LabSettings(temperature_c=temperature_c, level_m=level_m),
                      devices=devices, record_now=record_now)

@@ -34,12 +34,36 @@ LEVEL_FRAME = ("low", "mid", "high")
 
 def mass_function_explorer(low: float = 0.4, mid: float = 0.0, high: float = 0.1,
                            low_mid: float = 0.3) -> Explorer:
-    """Masses on {low}, {mid}, {high} and {low, mid} (the sliders start at the values
-    given); the rest goes to Θ (ignorance).
+    """Masses on {low}, {mid}, {high} and {low, mid}; the rest goes to Θ (ignorance).
 
-    Shows Bel and Pl of every subset of Θ = {low, mid, high} and BetP of the singletons
-    (paper Def. 2; Bel/Pl/BetP as in the chapter on mass functions). Moving mass from Θ
-    to a singleton closes the gap between Bel and Pl.
+    Shows Bel and Pl of every subset of Θ = {low, mid, high} and BetP of the singletons.
+    Moving mass from Θ to a singleton closes the gap between Bel and Pl. A total over 1
+    shows a warning instead of a figure.
+
+    Parameters
+    ----------
+    low, mid, high, low_mid : float, optional
+        The sliders' start values: m({low}), m({mid}), m({high}), m({low, mid}), in [0, 1].
+
+    Returns
+    -------
+    Explorer
+        Controls ``low``, ``mid``, ``high``, ``low_mid``; on the static site ``low`` and
+        ``high`` answer. Readout: m(Θ), BetP of each singleton, Pl({low}) − Bel({low}).
+
+    See Also
+    --------
+    dstoolkit.evidence.MassFunction : Bel, Pl and BetP of a mass function.
+
+    References
+    ----------
+    The paper's Def. 2 (mass functions) and eqs. 2–3 (belief and plausibility).
+
+    Examples
+    --------
+    >>> ex = mass_function_explorer(low=0.5, mid=0.0, high=0.1, low_mid=0.3)
+    >>> round(ex.numbers["m(Θ)"], 2), round(ex.numbers["Pl({low}) − Bel({low})"], 2)
+    (0.1, 0.4)
     """
     controls = {
         "low": slider("m({low})", low, 0.0, 1.0, 0.05, readout_format=".2f"),

@@ -38,9 +38,41 @@ def noise_evidence_explorer(
     lower: float = -0.3, mode: float = 0.0, upper: float = 0.3, p: int = 3,
     epsilon: float = 0.05,
 ) -> Explorer:
-    """Bounded noise → evidence (paper eqs. 22–26): support [lower, upper], mode, number of
-    α-cuts p and discount ε give the focal elements and the p-box. The defaults are the
-    paper's state noise (Table 1); the slider ranges follow the support given."""
+    """From a bounded noise to evidence: α-cuts of a triangular possibility distribution.
+
+    The support [lower, upper], the mode, the number of α-cuts p and the discount ε give
+    the focal elements and the p-box. The slider ranges follow the support given.
+
+    Parameters
+    ----------
+    lower, mode, upper : float, optional
+        The noise's support and mode (default the paper's state noise, Table 1).
+    p : int, optional
+        The number of α-cuts, 1 to 12.
+    epsilon : float, optional
+        The discount ε (the mass on Θ), in [0, 0.5].
+
+    Returns
+    -------
+    Explorer
+        Controls ``lower``, ``mode``, ``upper``, ``p``, ``epsilon``; on the static site ``p``
+        and ``epsilon`` answer. Readout: the mass per cut, m(Θ), Θ and the pignistic
+        expectation.
+
+    See Also
+    --------
+    dstoolkit.evidence.triangular_evidence : The evidence drawn.
+
+    References
+    ----------
+    The paper's eqs. 22–26.
+
+    Examples
+    --------
+    >>> ex = noise_evidence_explorer(p=4, epsilon=0.2)
+    >>> round(ex.numbers["mass per cut"], 2)
+    0.2
+    """
     span = upper - lower if upper > lower else 1.0
     step = float(10.0 ** np.floor(np.log10(span / 200.0)))
     controls = {

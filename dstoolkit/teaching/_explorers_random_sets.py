@@ -238,9 +238,9 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
 
     Examples
     --------
-    >>> ex = extension_explorer(function="x²", lo=-1.0, hi=2.0)  # doctest: +SKIP
-    >>> ex.numbers["subdivision"], ex.numbers["monotone"]  # doctest: +SKIP
-    ('[0, 4]', 'NotMonotoneError')
+    >>> ex = extension_explorer(function="x²", lo=-1.0, hi=2.0)
+    >>> ex.numbers["subdivision"], ex.numbers["monotone"], ex.numbers["mean-value"]
+    ('[0, 4]', 'NotMonotoneError', '[-0.08985, 4.036]')
     """
     controls = {
         "function": widgets.Dropdown(options=list(EXTENSION_FUNCTIONS), value=function,
