@@ -48,11 +48,12 @@ import os
 import threading
 import weakref
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any
+from typing import Any, cast
 
 import ipywidgets as widgets
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.colors import to_rgba
 from matplotlib.figure import Figure
 
@@ -238,10 +239,16 @@ def _sticks_out(fig: Figure) -> bool:
     that is not the figure's background. Layout engines keep a margin of a few pixels, so
     that ring is blank in a figure laid out by them. Reading the drawn pixels costs a
     fraction of a millisecond, where ``fig.get_tightbbox`` lays out every text again."""
-    rgba = np.asarray(fig.canvas.buffer_rgba())
+    rgba = np.asarray(_agg(fig).buffer_rgba())
     background = np.round(np.asarray(to_rgba(fig.get_facecolor())) * 255).astype(np.uint8)
     ring = np.concatenate([rgba[0], rgba[-1], rgba[:, 0], rgba[:, -1]])
     return bool((ring != background).any())
+
+
+def _agg(fig: Figure) -> FigureCanvasAgg:
+    """``fig``'s canvas, an Agg one (a ``TextCachingCanvas`` once :meth:`Explorer.png`
+    drew it)."""
+    return cast(FigureCanvasAgg, fig.canvas)
 
 
 def encode_png(rgba: np.ndarray, compress_level: int = 1) -> bytes:
@@ -511,7 +518,7 @@ class Explorer(widgets.VBox):
         if fig.get_dpi() != FIGURE_DPI:  # set_dpi marks the figure stale, even unchanged
             fig.set_dpi(FIGURE_DPI)
         if fig is self._kept and not fig.stale:
-            fig.canvas.restore_region(self._background)
+            _agg(fig).restore_region(self._background)
             animated = self._animated
         else:
             self._draw(fig)
@@ -520,11 +527,11 @@ class Explorer(widgets.VBox):
             animated = sorted(fig.findobj(lambda artist: artist.get_animated()),
                               key=lambda artist: artist.get_zorder())
             self._kept = fig if animated else None
-            self._background = fig.canvas.copy_from_bbox(fig.bbox) if animated else None
+            self._background = _agg(fig).copy_from_bbox(fig.bbox) if animated else None
             self._animated = animated
         for artist in animated:
             fig.draw_artist(artist)
-        return encode_png(np.asarray(fig.canvas.buffer_rgba()),
+        return encode_png(np.asarray(_agg(fig).buffer_rgba()),
                           compress_level=6 if self.static else 1)
 
     def _draw(self, fig: Figure) -> None:

@@ -10,6 +10,7 @@ import ipywidgets as widgets
 from matplotlib.figure import Figure
 
 from dstoolkit.evidence import (
+    MassRule,
     appendix_evidence,
     combine_dependent,
     dempster,
@@ -32,7 +33,7 @@ from ._explorer import (
 
 
 def dependent_combination_explorer(a2: float = 0.6, a3: float = 0.1, b2: float = 0.3,
-                                   b3: float = 0.6, mass_rule: str = "min") -> Explorer:
+                                   b3: float = 0.6, mass_rule: MassRule = "min") -> Explorer:
     """The paper's Appendix A, live: two dependent pieces of evidence and their combination.
 
     Vary the masses of E1 and E2: their energies, the degree of dependence D, the
@@ -93,7 +94,7 @@ def dependent_combination_explorer(a2: float = 0.6, a3: float = 0.1, b2: float =
             animate(line, spines_of=bars.ax)
         return fig, panels
 
-    def render(a2: float, a3: float, b2: float, b3: float, mass_rule: str):
+    def render(a2: float, a3: float, b2: float, b3: float, mass_rule: MassRule):
         e1, e2 = appendix_evidence((a2, a3), (b2, b3))
         dep = dependence(e1, e2, mass_rule=mass_rule)
         both = combine_dependent(e1, e2, mass_rule=mass_rule)

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import functools
-from typing import Any
+from typing import Any, cast
 
 import ipywidgets as widgets
 from matplotlib.figure import Figure
 
+from dstoolkit.evidence import MassRule
 from dstoolkit.plots import (
     FilterErrorsFigure,
     FilterStepFigure,
@@ -32,7 +33,7 @@ from ._readouts import filter_summary, step_numbers
 def render_filter(
     v_lower: float, v_mode: float, v_upper: float, w_lower: float, w_mode: float,
     w_upper: float, p: int, epsilon: float, level: float, temperature: float, start: str,
-    orders: str, mass_rule: str, seed: int = 0,
+    orders: str, mass_rule: MassRule, seed: int = 0,
     kept: KeptFigure[FilterErrorsFigure] | None = None,
 ) -> tuple[Figure, dict[str, Any]]:
     """One run of the paper's filter on a simulated gauge: its figure and its numbers.
@@ -96,8 +97,8 @@ def render_filter(
     title = (f"L = {level:.1f} m, T = {temperature:.1f} °C (f_F = {seq.fundamental_hz:.2f} "
              f"Hz, {seq.truth.shape[0]} resonances), p = {p}, ε = {epsilon:.2f}, "
              f"start: {start}")
-    fig = (plot_filter_errors(*run, title=title) if kept is None
-           else kept(*run, title=title).figure)
+    fig = cast(Figure, plot_filter_errors(*run, title=title) if kept is None
+               else kept(*run, title=title).figure)
     return fig, filter_summary(seq, n, result)
 
 

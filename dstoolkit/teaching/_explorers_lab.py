@@ -12,7 +12,6 @@ from matplotlib.figure import Figure
 import dstoolkit.audio as audio
 from dstoolkit.audio import Analysis
 from dstoolkit.errors import AudioUnavailableError
-from dstoolkit.plots import STYLE
 
 from ._explorer import (
     Explorer,
@@ -31,6 +30,7 @@ from ._lab import (
     lab_numbers,
     plot_method_levels,
 )
+from ._readouts import method_label
 
 # -- the lab: measure with a sound card, or with the virtual tube ---------------------------------
 
@@ -187,8 +187,7 @@ class LabWidget(Explorer):
         notes = "".join(f"<p style='color:#b36b00'>{html.escape(n)}</p>" for n in analysis.notes)
         report = (f"<details><summary>full report</summary><pre>"
                   f"{html.escape(analysis.summary())}</pre></details>")
-        by_method = {STYLE.get(m, {"label": m})["label"]: v
-                     for m, v in analysis.filter_levels.items()}
+        by_method = {method_label(m): v for m, v in analysis.filter_levels.items()}
         main = {k: v for k, v in numbers.items()
                 if k.removesuffix(" (m)") not in analysis.filter_levels}
         return (head + readout_html(main) + "<p>level by each filter (m):</p>"
@@ -240,7 +239,7 @@ class LabWidget(Explorer):
             self.output.outputs = ()
             return
         for name in ("input", "output"):
-            self.controls[name].options = device_options(name)  # type: ignore[arg-type]
+            self.controls[name].options = device_options(name)
             self.controls[name].value = VIRTUAL
 
     def record(self, _button: Any = None) -> None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Callable
-from typing import Any
+from typing import Any, cast
 
 import ipywidgets as widgets
 import numpy as np
@@ -15,6 +15,7 @@ from dstoolkit.errors import (
     EvidenceError,
     NotMonotoneError,
 )
+from dstoolkit.evidence import ImageMethod
 from dstoolkit.plots import OKABE_ITO
 from dstoolkit.plots.artists import animate
 
@@ -155,9 +156,10 @@ def compare_image_methods(
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
-                i_lo, i_hi = image((lo_a, hi_a), counted, method=method,  # type: ignore[arg-type]
-                                   monotone=signs_a, slope=slope,
-                                   subdivisions=pieces if method == "mean_value" else 8)
+                i_lo, i_hi = cast(tuple[np.ndarray, np.ndarray], image(
+                    (lo_a, hi_a), counted, method=cast(ImageMethod, method),
+                    monotone=signs_a, slope=slope,
+                    subdivisions=pieces if method == "mean_value" else 8))
                 entry["image"] = (float(np.ravel(i_lo)[0]), float(np.ravel(i_hi)[0]))
             except NotMonotoneError as exc:
                 entry["message"] = f"NotMonotoneError: {exc}"
@@ -262,7 +264,8 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
         warns) and the word "refused" (shown when it refuses)."""
         # fixed margins, not a layout engine: the y tick labels change with the function
         # ("−0.75" is wider than "0.0"), and a layout made for the first ones cut the others
-        fig = Figure(figsize=(9.5, 3.6), layout="none")  # not the style's engine either
+        # not the style's engine either (the stubs of matplotlib leave "none" out)
+        fig = Figure(figsize=(9.5, 3.6), layout="none")  # type: ignore[arg-type]
         fig.subplots_adjust(left=0.075, right=0.99, bottom=0.17, top=0.9, wspace=0.06)
         ax, bars = fig.subplots(1, 2, sharey=True, width_ratios=[2.6, 1.7])
         (curve,) = ax.plot(x, x, color="black", lw=1.2)

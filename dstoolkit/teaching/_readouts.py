@@ -20,6 +20,29 @@ from dstoolkit.gauge import (
 from dstoolkit.plots import STYLE
 
 
+def method_label(name: str) -> str:
+    """How the readouts name a method of the paper's Table 3 (its figure label), or
+    ``name`` itself for another one.
+
+    Parameters
+    ----------
+    name : str
+        A method's key ("dependent_evidence", "kalman", …).
+
+    Returns
+    -------
+    str
+        Its label in the figures.
+
+    Examples
+    --------
+    >>> method_label("kalman"), method_label("mine")
+    ('Kalman', 'mine')
+    """
+    style: Any = STYLE.get(name)  # a dict of mixed values: matplotlib's keywords
+    return name if style is None else str(style["label"])
+
+
 def filter_summary(seq: Any, orders: np.ndarray, result: FilterResult) -> dict[str, Any]:
     """The numbers the filter widget prints: first and last estimates, mean absolute errors
     of the estimates and of the readings (Hz), the step from which the error stays below
@@ -90,7 +113,7 @@ def estimation_numbers(run: Any) -> dict[str, Any]:
     freq = run.frequency_errors()
     out: dict[str, Any] = {}
     for name in levels:
-        label = _SHORT_LABELS.get(name, STYLE.get(name, {"label": name})["label"])
+        label = _SHORT_LABELS.get(name) or method_label(name)
         level_mm = 1e3 * float(np.mean(np.abs(levels[name] - run.level_m)))
         out[label] = f"{level_mm:.4g} mm / {float(np.mean(freq[name])):.3g} Hz"
     wrong = int(np.sum(run.orders != run.true_orders[:-1]))
@@ -101,7 +124,7 @@ def estimation_numbers(run: Any) -> dict[str, Any]:
 def mismatch_numbers(result: Any) -> dict[str, Any]:
     """Mean |x̂ − x| (Hz) of each method of a :class:`~dstoolkit.studies.
     MismatchResult`, and the runs in which the strict bounded-error filter failed."""
-    out: dict[str, Any] = {f"{STYLE.get(m, {'label': m})['label']} (Hz)": v
+    out: dict[str, Any] = {f"{method_label(m)} (Hz)": v
                            for m, v in result.mean_errors().items()}
     out["bounded error: inconsistent runs"] = f"{result.inconsistent_runs:.0%}"
     return out
