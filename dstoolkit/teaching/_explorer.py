@@ -26,6 +26,13 @@ a dict of numbers, a dict of controls, and the positions of its live controls::
         level = slider("level L (m)", 5.0, 1.0, 10.0, 0.1)
         return Explorer({"level": level}, render, live={"level": positions(level, 9)})
 
+An explorer with more than one row of controls (buttons, notes between them) passes
+``rows=``; a render may return several figures (one picture each); a subclass may write its
+own readout (:meth:`Explorer.readout_for`) and text alternatives
+(:meth:`Explorer.figure_alts`), or redraw only when asked (``redraws_on_change = False``,
+a button calling :meth:`Explorer.refresh`): the lab's measuring station
+(:class:`~dstoolkit.teaching.LabWidget`) is such an explorer.
+
 Sliders made by :func:`slider` use ``continuous_update=False``: the figure is redrawn
 when the mouse is released, so the page never stalls. A ``render`` that raises an
 :class:`~dstoolkit.errors.EvidenceError` (or any ``ValueError``) shows the message in the
