@@ -558,7 +558,7 @@ def image(
         ``"monotone"`` (Prop. 2, 2 evaluations per box), ``"vertex"`` (Prop. 1, 2^n),
         ``"subdivision"`` (any continuous f, see :func:`image_subdivision`),
         ``"mean_value"`` (an outer enclosure, needs ``slope``; see
-        :func:`image_mean_value`), or ``"auto"``: monotone when every sign is known, else
+        ``image_mean_value``), or ``"auto"``: monotone when every sign is known, else
         vertex.
     monotone
         Signs per argument, shape (n,) or (m, n): +1, −1, or 0 (neither/unknown).

@@ -357,7 +357,7 @@ class Explorer(widgets.VBox):
     #: In a kernel, whether the figure of the last valid setting stays shown (with a note
     #: in the warning) when a setting is invalid; else the output is emptied.
     keeps_last_figure: bool = True
-    #: Whether a change of a control redraws (else only :meth:`refresh` does).
+    #: Whether a change of a control redraws (else only ``refresh()`` does).
     redraws_on_change: bool = True
 
     def __init__(
@@ -448,7 +448,7 @@ class Explorer(widgets.VBox):
         Returns
         -------
         str
-            A one-row table (:func:`readout_html`); an explorer may say more.
+            A one-row table (``readout_html``); an explorer may say more.
         """
         return readout_html(numbers)
 
@@ -466,7 +466,7 @@ class Explorer(widgets.VBox):
         Returns
         -------
         list[str]
-            One :func:`figure_alt` for every picture (the last one serves the rest).
+            One ``figure_alt(settings, numbers)`` for every picture (the last one serves the rest).
         """
         return [figure_alt(settings, numbers)]
 
@@ -517,7 +517,7 @@ class Explorer(widgets.VBox):
         Returns
         -------
         bytes
-            A PNG of 256 colours at :data:`FIGURE_DPI` (:func:`encode_png`): fast
+            A PNG of 256 colours at ``FIGURE_DPI`` (``encode_png``): fast
             compression in a kernel, small on the static site.
         """
         if not isinstance(fig.canvas, TextCachingCanvas):  # it caches the text it drew

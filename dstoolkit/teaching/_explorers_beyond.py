@@ -51,7 +51,7 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
     Explorer
         Controls ``v_lower`` … ``w_upper`` and ``start``; on the static site ``w_upper`` and
         ``v_upper`` answer. Readout:
-        :func:`~dstoolkit.teaching._readouts.mismatch_numbers`.
+        every method's mean |x̂ − x| and the bounded-error filter's inconsistent runs.
 
     See Also
     --------

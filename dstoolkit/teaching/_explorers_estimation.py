@@ -46,7 +46,7 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
     order_rule : {"eq43", "fit", "true"}, optional
         Where the orders n_k come from.
     figure : str, optional
-        A key of :data:`ESTIMATION_FIGURES` (the paper's Fig. 10 or Fig. 11).
+        "Fig. 10: frequencies" or "Fig. 11: levels" (the paper's figures).
     seed : int, optional
         The run's seed.
 
@@ -55,7 +55,7 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
     Explorer
         Controls ``level``, ``temperature``, ``simulation``, ``order_rule``, ``figure``,
         ``seed``; on the static site ``level`` and ``temperature`` answer. Readout:
-        :func:`~dstoolkit.teaching._readouts.estimation_numbers`.
+        per method, mean |L̂ − L| and mean |x̂ − f|, and how many orders n_k are wrong.
 
     See Also
     --------

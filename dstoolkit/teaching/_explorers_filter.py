@@ -62,9 +62,10 @@ def render_filter(
         How m(D) is taken.
     seed : int, optional
         The readings' seed.
-    kept : KeptFigure, optional
-        A kept ``FilterErrorsFigure`` (as the widget holds): drawn without pyplot on the
-        first call, redrawn in place later; without it every call draws a new figure.
+    kept : optional
+        A ``KeptFigure`` of a ``FilterErrorsFigure`` (as the widget holds): drawn without
+        pyplot on the first call, redrawn in place later; without it every call draws a new
+        figure.
 
     Returns
     -------
@@ -72,7 +73,8 @@ def render_filter(
         Estimates, hull and readings against the truth, and the absolute errors (the
         paper's Fig. 10).
     numbers : dict[str, Any]
-        :func:`~dstoolkit.teaching._readouts.filter_summary` of the run.
+        The run's first and last estimates, mean errors, convergence step, mean level
+        error and total-conflict steps.
 
     See Also
     --------

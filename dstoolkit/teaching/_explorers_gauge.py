@@ -62,7 +62,8 @@ def gauge_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
     Explorer
         Controls ``level``, ``temperature``, ``top_reflection``, ``background``; on the
         static site ``level`` and ``temperature`` answer. Readout:
-        :func:`~dstoolkit.teaching._readouts.gauge_reading`.
+        the level by the series fit and by eqs. 32/43, wrong orders, and the resonances
+        found, missed and spurious.
 
     See Also
     --------

@@ -50,7 +50,7 @@ class LabWidget(Explorer):
     sweep and records it through them, see :func:`dstoolkit.teaching.lab_measurement`.
     When the widget is built it measures once on the virtual tube, so that a book executed
     at build time shows a first result. On the static site the virtual tube's level is the
-    live control (:data:`LAB_LIVE_LEVELS` positions, each a first record at that level).
+    live control (``LAB_LIVE_LEVELS`` positions, each a first record at that level).
 
     Parameters
     ----------

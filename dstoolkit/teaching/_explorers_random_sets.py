@@ -99,9 +99,9 @@ def compare_image_methods(
     ----------
     f : Callable
         Vectorised function of points (..., n) to (...,) (one output).
-    lo, hi : float or array_like, shape (n,)
-        The box's ends.
-    signs : int or array_like, shape (n,), optional
+    lo, hi : float or array_like
+        The box's ends, one per argument (n).
+    signs : int or array_like, optional
         The declared monotonicity for the shortcut: +1 or −1 per argument (default +1).
     slope : Callable, optional
         ``slope(lo, hi) -> (d_lo, d_hi)``: a bound of f's derivatives on a box, for the
@@ -215,7 +215,8 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
     Parameters
     ----------
     function : str, optional
-        The start function, a key of :data:`EXTENSION_FUNCTIONS`.
+        The start function, a key of ``EXTENSION_FUNCTIONS`` (x², sin x, x³ − 3x,
+        exp(−x), 2x + 1).
     lo, hi : float, optional
         The start box [lo, hi], within [−4, 4].
     sign : int, optional
