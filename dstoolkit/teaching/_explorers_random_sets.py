@@ -277,7 +277,10 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
                                hatch="///", lw=1.0, ls=look["ls"],
                                label="mean-value enclosure")
         ax.set_xlabel("x")
-        ax.legend(handles=[on_box, enclosure], fontsize=8, loc="upper left")
+        # the legend is drawn with the moving artists, above the hatched band
+        legend = ax.legend(handles=[on_box, enclosure], fontsize=8, loc="upper left",
+                           framealpha=1.0)
+        legend.set_zorder(5)
         methods = {}
         for i, method in enumerate(IMAGE_METHOD_NAMES):
             look = METHOD_LOOK[method]
@@ -295,7 +298,7 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
         bars.set_xlim(-0.6, len(labels) - 0.4)
         bars.set_title("image f([lo, hi])")
         ax.set_title(f"f(x) = {function} on [{lo:g}, {hi:g}]")  # its font; its text follows
-        animate(curve, on_box, box, enclosure, ax.title, spines_of=ax)
+        animate(curve, on_box, box, enclosure, ax.title, legend, spines_of=ax)
         animate(*(a for m in methods.values() for a in m.values()), spines_of=bars)
         return {"fig": fig, "ax": ax, "bars": bars, "curve": curve, "on_box": on_box,
                 "box": box, "enclosure": enclosure, "methods": methods}
