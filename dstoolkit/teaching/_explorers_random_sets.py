@@ -266,8 +266,8 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
         # fixed margins, not a layout engine: the y tick labels change with the function
         # ("−0.75" is wider than "0.0"), and a layout made for the first ones cut the others
         # not the style's engine either (the stubs of matplotlib leave "none" out)
-        fig = Figure(figsize=(9.5, 3.6), layout="none")  # type: ignore[arg-type]
-        fig.subplots_adjust(left=0.075, right=0.99, bottom=0.17, top=0.9, wspace=0.06)
+        fig = Figure(figsize=(9.5, 3.9), layout="none")  # type: ignore[arg-type]
+        fig.subplots_adjust(left=0.075, right=0.99, bottom=0.25, top=0.91, wspace=0.06)
         ax, bars = fig.subplots(1, 2, sharey=True, width_ratios=[2.6, 1.7])
         (curve,) = ax.plot(x, x, color="black", lw=1.2)
         (on_box,) = ax.plot(x, x, color=OKABE_ITO["sky blue"], lw=3.5, label="f on the box")
@@ -277,10 +277,10 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
                                hatch="///", lw=1.0, ls=look["ls"],
                                label="mean-value enclosure")
         ax.set_xlabel("x")
-        # the legend is drawn with the moving artists, above the hatched band
-        legend = ax.legend(handles=[on_box, enclosure], fontsize=8, loc="upper left",
-                           framealpha=1.0)
-        legend.set_zorder(5)
+        # the legend below the panel: inside it, the hatched band (drawn over the still
+        # picture) would cover it
+        ax.legend(handles=[on_box, enclosure], fontsize=8, loc="upper left", ncol=2,
+                  bbox_to_anchor=(0.0, -0.17), frameon=False)
         methods = {}
         for i, method in enumerate(IMAGE_METHOD_NAMES):
             look = METHOD_LOOK[method]
@@ -289,7 +289,8 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
                                      va="center", fontsize=8, color="#b00020",
                                      transform=bars.get_xaxis_transform()),
                 "bar": bars.plot([i, i], [0.0, 1.0], lw=3, ls=look["ls"],
-                                 marker=look["marker"], ms=7, color=look["color"])[0],
+                                 marker=look["marker"], ms=7, color=look["color"],
+                                 clip_on=method != "mean_value")[0],
                 "warning": bars.text(i, 0.0, "⚠", ha="center", va="bottom", color="#b00020",
                                      fontsize=12),
             }
@@ -298,7 +299,7 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
         bars.set_xlim(-0.6, len(labels) - 0.4)
         bars.set_title("image f([lo, hi])")
         ax.set_title(f"f(x) = {function} on [{lo:g}, {hi:g}]")  # its font; its text follows
-        animate(curve, on_box, box, enclosure, ax.title, legend, spines_of=ax)
+        animate(curve, on_box, box, enclosure, ax.title, spines_of=ax)
         animate(*(a for m in methods.values() for a in m.values()), spines_of=bars)
         return {"fig": fig, "ax": ax, "bars": bars, "curve": curve, "on_box": on_box,
                 "box": box, "enclosure": enclosure, "methods": methods}
@@ -335,12 +336,21 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
             shown["warning"].set_y(b)
             numbers[label] = (_shown_image(a, b, method == "mean_value")
                               + (" ⚠ too narrow?" if warn else ""))
-        # the ranges follow what is shown, as when drawn anew: autoscaled from the x extent
-        # of f's panel and the y extent of both (setting them, even unchanged, would redraw
-        # the whole figure)
+        # The ranges follow f on the whole x range, as when drawn anew: autoscaled from the
+        # curve alone (setting them, even unchanged, would redraw the whole figure). The
+        # images lie within f's range, up to the autoscale's margin; the mean-value
+        # enclosure reaches a little beyond it, so its bar is not clipped. Following the
+        # images too would move the ranges, and redraw everything, on nearly every change.
+        # (Animated artists hidden for the relim leave the figure unchanged.)
+        moving = (d["on_box"], d["enclosure"], *(m["bar"] for m in d["methods"].values()))
         extent = _extension_extent(d["ax"], d["bars"])
+        shown = [artist.get_visible() for artist in moving]
+        for artist in moving:
+            artist.set_visible(False)
         for ax in (d["ax"], d["bars"]):
             ax.relim(visible_only=True)
+        for artist, visible in zip(moving, shown, strict=True):
+            artist.set_visible(visible)
         if _extension_extent(d["ax"], d["bars"]) != extent:
             d["ax"].autoscale_view()
         numbers.update({f"{METHOD_LOOK[m]['label']} evaluations": result[m]["evaluations"]
