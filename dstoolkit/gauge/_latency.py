@@ -38,12 +38,30 @@ ARRIVAL_WINDOW_S = 0.002
 class LatencyEstimate:
     """Delay of a recording behind what was played.
 
-    ``recorded[offset + lag + i]`` is ``reference[i]`` played at ``offset``: ``lag`` in
-    samples, :attr:`seconds` = lag / samplerate. ``correlation`` is the normalised
-    correlation (cosine of the angle) between the reference and the recording there, in
-    [−1, 1]: 1 is a perfect copy, near 0 means the reference was not found (negative: the
-    microphone inverts polarity). ``significance`` is the matched filter's peak over its
-    median in the searched range: far above 1 where the reference is present.
+    ``recorded[offset + lag + i]`` is ``reference[i]`` played at ``offset``. Made by
+    :func:`estimate_latency`.
+
+    Parameters
+    ----------
+    lag : int
+        The delay in samples (negative when the input stream started after the output).
+    samplerate : float
+        Sample rate, Hz.
+    correlation : float
+        Normalised correlation (cosine of the angle) between the reference and the recording
+        at the lag, in [−1, 1]: 1 is a perfect copy, near 0 means the reference was not found
+        (negative: the microphone inverts polarity).
+    significance : float
+        The matched filter's peak over its median in the searched range: far above 1 where
+        the reference is present.
+
+    See Also
+    --------
+    estimate_latency : Makes it.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.3 (the sweep and the recording).
     """
 
     lag: int
@@ -53,7 +71,7 @@ class LatencyEstimate:
 
     @property
     def seconds(self) -> float:
-        """The latency τ in seconds."""
+        """The latency τ = lag / samplerate, s."""
         return self.lag / self.samplerate
 
 
@@ -155,6 +173,8 @@ def estimate_latency(
     Returns
     -------
     LatencyEstimate
+        The lag in samples and seconds, the normalised correlation there and the
+        significance of the match.
 
     Raises
     ------
@@ -162,6 +182,15 @@ def estimate_latency(
         Bad arrays (not 1-D, empty, non-finite), a silent reference or recording, a
         recording shorter than the reference, no lag in the search range, or a peak below
         ``min_significance``. It is a ``ValueError``.
+
+    See Also
+    --------
+    detect_resonances : Finds the latency of a recorded sweep with this estimator.
+    latency_offset : How far a latency moves the detected resonances, k τ.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.3 (the sweep and its recording).
 
     Examples
     --------
