@@ -64,6 +64,7 @@ def speed_of_sound_paper(temperature_c: Any) -> np.ndarray | float:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import speed_of_sound_paper
     >>> round(float(speed_of_sound_paper(26.5)), 3)
     347.359
     """
@@ -107,6 +108,7 @@ def speed_of_sound_ideal_gas(temperature_c: Any) -> np.ndarray | float:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import speed_of_sound_ideal_gas
     >>> round(float(speed_of_sound_ideal_gas(0.0)), 2)
     331.3
     """
@@ -196,6 +198,7 @@ def speed_of_sound_cramer(
     --------
     Humid air is faster than the paper's dry-air line:
 
+    >>> from dstoolkit.gauge import speed_of_sound_cramer
     >>> round(float(speed_of_sound_cramer(26.5, relative_humidity=0.5)), 1)
     348.1
     """
@@ -253,6 +256,7 @@ def speed_of_sound(
 
     Examples
     --------
+    >>> from dstoolkit.gauge import speed_of_sound
     >>> float(speed_of_sound(20.0))
     343.42
     >>> speed_of_sound([0.0, 20.0]).tolist()
@@ -308,6 +312,7 @@ def fundamental_frequency(level_m: Any, c: Any) -> np.ndarray | float:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import fundamental_frequency
     >>> float(fundamental_frequency(9.6, 345.78))
     18.009375
     """
@@ -344,6 +349,7 @@ def round_trip_time(level_m: Any, c: Any) -> np.ndarray | float:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import round_trip_time
     >>> float(round_trip_time(1.7171, 343.42))
     0.01
     """
@@ -385,6 +391,7 @@ def resonance_orders(
 
     Examples
     --------
+    >>> from dstoolkit.gauge import resonance_orders
     >>> resonance_orders(1.3, 343.42, band=(1000.0, 1600.0)).tolist()
     [8, 9, 10, 11, 12]
     """
@@ -437,6 +444,7 @@ def resonance_frequencies(
 
     Examples
     --------
+    >>> from dstoolkit.gauge import resonance_frequencies, speed_of_sound
     >>> n, f = resonance_frequencies(9.6, float(speed_of_sound(23.9)))
     >>> int(n[0]), int(n[-1]), n.size
     (56, 138, 83)
@@ -478,6 +486,7 @@ def plane_wave_cutoff(diameter_m: float, c: float) -> float:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import plane_wave_cutoff
     >>> round(plane_wave_cutoff(0.075, 343.42))
     2684
     """

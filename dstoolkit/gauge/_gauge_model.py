@@ -136,6 +136,7 @@ def gauge_state_space_model(
 
     Examples
     --------
+    >>> from dstoolkit.gauge import gauge_state_space_model, simulate_gauge
     >>> from dstoolkit.filters import DependentEvidenceFilter
     >>> seq = simulate_gauge(9.6, 23.9, seed=0)
     >>> model = gauge_state_space_model()
@@ -300,6 +301,7 @@ def simulate_gauge(
 
     Examples
     --------
+    >>> from dstoolkit.gauge import simulate_gauge
     >>> seq = simulate_gauge(9.6, 23.9, seed=0)
     >>> round(seq.fundamental_hz, 2), seq.readings.shape, seq.inputs.shape
     (18.01, (83, 1), (82,))

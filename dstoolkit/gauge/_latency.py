@@ -196,6 +196,8 @@ def estimate_latency(
     --------
     A chirp recorded 441 samples (10 ms at 44.1 kHz) late, at half the amplitude:
 
+    >>> import numpy as np
+    >>> from dstoolkit.gauge import estimate_latency
     >>> from scipy.signal import chirp
     >>> fs = 44100
     >>> t = np.arange(2205) / fs

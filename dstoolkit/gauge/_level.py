@@ -76,6 +76,7 @@ def level_from_resonance(frequency_hz: Any, order: Any, c: Any) -> np.ndarray:
     --------
     The 10th resonance of a 1.3 m air column at 20 °C (c = 343.42 m/s):
 
+    >>> from dstoolkit.gauge import level_from_resonance
     >>> f10 = 10 * 343.42 / (2 * 1.3)
     >>> round(float(level_from_resonance(f10, 10, 343.42)), 6)
     1.3
@@ -124,6 +125,7 @@ def level_from_fundamental(fundamental_hz: Any, c: Any) -> np.ndarray:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import level_from_fundamental
     >>> float(level_from_fundamental(132.0, 343.2))
     1.3
     """
@@ -176,6 +178,7 @@ def orders_eq43(z: Any, extend: bool = False) -> np.ndarray:
     --------
     Three successive resonances 132 Hz apart, from the 10th:
 
+    >>> from dstoolkit.gauge import orders_eq43
     >>> orders_eq43([1320.0, 1452.0, 1584.0]).tolist()
     [10, 11]
     >>> orders_eq43([1320.0, 1452.0, 1584.0], extend=True).tolist()
@@ -218,6 +221,7 @@ def direct_levels(z: Any, c: float) -> np.ndarray:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import direct_levels
     >>> direct_levels([1320.0, 1452.0, 1584.0], c=343.2).tolist()
     [1.3, 1.3]
     """
@@ -253,6 +257,7 @@ def state_transition(x: Any, n: Any) -> np.ndarray:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import state_transition
     >>> float(state_transition(1320.0, 10))
     1452.0
     """
@@ -287,6 +292,7 @@ def state_transition_derivative(x: Any, n: Any) -> np.ndarray:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import state_transition_derivative
     >>> float(state_transition_derivative(1320.0, 10))
     1.1
     """
@@ -356,6 +362,7 @@ def observation(x: Any) -> np.ndarray:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import observation
     >>> observation([1320.0, 1452.0]).tolist()
     [1320.0, 1452.0]
     """
@@ -387,6 +394,7 @@ def observation_inverse(lower: Any, upper: Any) -> tuple[np.ndarray, np.ndarray]
 
     Examples
     --------
+    >>> from dstoolkit.gauge import observation_inverse
     >>> [a.tolist() for a in observation_inverse(1310.0, 1330.0)]
     [1310.0, 1330.0]
     """
@@ -453,6 +461,7 @@ class ResonanceSeriesFit:
 
         Examples
         --------
+        >>> from dstoolkit.gauge import fit_resonance_series
         >>> fit = fit_resonance_series([1320.0, 1452.0, 1584.0, 1716.0])
         >>> fit.level(343.2)
         1.3
@@ -514,6 +523,7 @@ def fit_resonance_series(
     --------
     Four resonances 132 Hz apart, from the 10th, read 0.5 Hz high:
 
+    >>> from dstoolkit.gauge import fit_resonance_series
     >>> fit = fit_resonance_series([1320.5, 1452.5, 1584.5, 1716.5], offset_hz=0.5)
     >>> fit.first_order, fit.fundamental_hz, fit.orders.tolist()
     (10, 132.0, [10, 11, 12, 13])

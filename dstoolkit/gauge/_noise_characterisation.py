@@ -111,6 +111,7 @@ class NoiseCharacterisation:
 
         Examples
         --------
+        >>> from dstoolkit.gauge import NoiseCharacterisation
         >>> noise = NoiseCharacterisation.from_samples("v", [-0.1, 0.0, 0.1])
         >>> noise.mode, round(noise.upper, 6)
         (0.0, 0.3)
@@ -245,6 +246,7 @@ def characterise_state_noise(
 
     Examples
     --------
+    >>> from dstoolkit.gauge import characterise_state_noise
     >>> v = characterise_state_noise(runs=5, seed=1)
     >>> v.samples.shape
     (500,)
@@ -329,6 +331,7 @@ def characterise_observation_noise(
 
     Examples
     --------
+    >>> from dstoolkit.gauge import characterise_observation_noise
     >>> w = characterise_observation_noise([2.0, 4.0], seed=0)
     >>> bool(w.mode < 0)  # a detector that reads f_0 + k t reads high
     True

@@ -158,6 +158,7 @@ def sweep_rate_offset(rate_hz_per_s: float, fundamental_hz: Any) -> np.ndarray |
     --------
     The paper's sweep (280 Hz/s) at 9.6 m (f_F = 18 Hz):
 
+    >>> from dstoolkit.gauge import sweep_rate_offset
     >>> round(float(sweep_rate_offset(280.0, 18.0)), 2)
     7.78
     """
@@ -190,6 +191,7 @@ def latency_offset(rate_hz_per_s: float, latency_s: float) -> float:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import latency_offset
     >>> round(latency_offset(280.0, 0.01), 6)
     2.8
     """
@@ -364,7 +366,7 @@ def envelope(
     Examples
     --------
     >>> import numpy as np
-    >>> from dstoolkit.gauge import LinearSweep
+    >>> from dstoolkit.gauge import LinearSweep, envelope
     >>> sweep = LinearSweep(1000.0, 1200.0, duration=0.5, sample_rate=8000.0)
     >>> t, env = envelope(0.5 * sweep.waveform(), sweep)
     >>> round(float(np.median(env)), 3)
@@ -513,7 +515,8 @@ def detect_resonances(
 
     Examples
     --------
-    >>> from dstoolkit.gauge import TubeSetup, synthesize_recording, typical_conditions
+    >>> from dstoolkit.gauge import (TubeSetup, detect_resonances, synthesize_recording,
+    ...                              typical_conditions)
     >>> rec = synthesize_recording(TubeSetup(4.6, 26.5), conditions=typical_conditions())
     >>> det = detect_resonances(rec)
     >>> round(det.fundamental_hz, 1), det.complete
@@ -633,7 +636,8 @@ def model_peak_frequencies(
     With one echo the peaks sit k/(2 f_F) above the resonances n f_F:
 
     >>> import numpy as np
-    >>> from dstoolkit.gauge import LinearSweep, TubeSetup, sweep_rate_offset
+    >>> from dstoolkit.gauge import (LinearSweep, TubeSetup, model_peak_frequencies,
+    ...                              sweep_rate_offset)
     >>> setup = TubeSetup(1.3, top_reflection=0.0)
     >>> sweep = LinearSweep(1000.0, 1600.0, duration=2.0)
     >>> f = model_peak_frequencies(setup, sweep)
@@ -702,7 +706,8 @@ def detection_precision_hz(
     Examples
     --------
     >>> import numpy as np
-    >>> from dstoolkit.gauge import PAPER_SWEEP, TubeSetup, typical_conditions
+    >>> from dstoolkit.gauge import (PAPER_SWEEP, TubeSetup, detection_precision_hz,
+    ...                              typical_conditions)
     >>> sd = detection_precision_hz(TubeSetup(4.6), typical_conditions(), PAPER_SWEEP,
     ...                             [1000.0, 2000.0])
     >>> sd.shape, bool(np.all(sd >= 0.1))

@@ -50,6 +50,7 @@ class LinearSweep:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import LinearSweep
     >>> sweep = LinearSweep(1000.0, 2400.0, duration=5.0)
     >>> sweep.rate, sweep.n_samples
     (280.0, 220500)

@@ -65,6 +65,7 @@ def spl_to_pa(spl_db: float) -> float:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import spl_to_pa
     >>> round(spl_to_pa(94.0), 4)
     1.0024
     """
@@ -112,6 +113,7 @@ def wall_attenuation(
 
     Examples
     --------
+    >>> from dstoolkit.gauge import wall_attenuation
     >>> round(float(wall_attenuation(1700.0, 0.075, 20.0)), 3)
     0.032
     """
@@ -176,6 +178,7 @@ class TubeSetup:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import TubeSetup
     >>> tube = TubeSetup(9.6, temperature_c=23.9)
     >>> round(tube.fundamental_hz, 2), round(tube.round_trip_s, 4)
     (18.01, 0.0555)
@@ -378,6 +381,7 @@ class RecordingConditions:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import RecordingConditions
     >>> RecordingConditions(latency_s=0.01).latency_s
     0.01
     """
@@ -437,6 +441,7 @@ def typical_conditions(**changes: Any) -> RecordingConditions:
 
     Examples
     --------
+    >>> from dstoolkit.gauge import typical_conditions
     >>> typical_conditions().speaker_jitter_hz
     0.1
     >>> typical_conditions(latency_s=0.0).latency_s
@@ -547,7 +552,7 @@ def model_envelope(setup: TubeSetup, sweep: LinearSweep, emission_time_s: Any,
     Examples
     --------
     >>> import numpy as np
-    >>> from dstoolkit.gauge import LinearSweep, TubeSetup
+    >>> from dstoolkit.gauge import LinearSweep, TubeSetup, model_envelope
     >>> sweep = LinearSweep(1000.0, 1200.0, duration=1.0)
     >>> env = model_envelope(TubeSetup(1.3), sweep, np.linspace(0.1, 0.9, 5))
     >>> env.shape, bool(np.all(env > 0))
@@ -779,7 +784,7 @@ def synthesize_recording(
 
     Examples
     --------
-    >>> from dstoolkit.gauge import LinearSweep, TubeSetup
+    >>> from dstoolkit.gauge import LinearSweep, TubeSetup, synthesize_recording
     >>> sweep = LinearSweep(1000.0, 1200.0, duration=0.5, sample_rate=8000.0)
     >>> rec = synthesize_recording(TubeSetup(1.3), sweep)
     >>> rec.samples.shape, rec.sample_rate

@@ -73,6 +73,7 @@ def virtual_tube_signal(
 
     Examples
     --------
+    >>> from dstoolkit.gauge import LinearSweep, TubeSetup, virtual_tube_signal
     >>> sweep = LinearSweep(1000.0, 1200.0, duration=0.5, sample_rate=8000.0)
     >>> signal = virtual_tube_signal(TubeSetup(1.3), sweep, amplitude=0.5)
     >>> float(abs(signal).max())
