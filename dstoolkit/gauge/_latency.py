@@ -93,8 +93,8 @@ def as_signal(x: ArrayLike, what: str) -> np.ndarray:
 
 
 def _energy(x: np.ndarray) -> float:
-    """Σ x² (by ``einsum``: a BLAS dot of a long vector starts threads, which on a busy
-    machine costs a thousand times the arithmetic)."""
+    """Σ x², by ``einsum``: a BLAS dot of a long vector starts threads, whose start-up
+    outweighs the arithmetic on a busy machine."""
     return float(np.einsum("i,i->", x, x))
 
 
