@@ -41,7 +41,7 @@ if TYPE_CHECKING:
 
 
 def table3_outputs(out: str | Path) -> tuple[Path, Path]:
-    """The CSV path of ``table3`` and the figure beside it.
+    """Name the CSV of ``table3`` and the figure beside it.
 
     ``t.csv`` gets ``t.png``; never the same file: a CSV named ``t.png`` gets the figure
     ``t.figure.png``.
@@ -160,7 +160,7 @@ def table3_command(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of the ``dstoolkit`` command and its three subcommands.
+    """Build the argument parser of the ``dstoolkit`` command and its three subcommands.
 
     Returns
     -------

@@ -36,7 +36,7 @@ _CRAMER = np.array([
 
 
 def speed_of_sound_paper(temperature_c: Any) -> np.ndarray | float:
-    """c = 331.3 + 0.606 T, the paper's linear law for the speed of sound.
+    """Speed of sound by the paper's linear law, c = 331.3 + 0.606 T.
 
     Parameters
     ----------
@@ -80,7 +80,7 @@ def _temperature(value: Any) -> np.ndarray:
 
 
 def speed_of_sound_ideal_gas(temperature_c: Any) -> np.ndarray | float:
-    """c = 331.3 sqrt(1 + T/273.15): dry air as an ideal gas, c proportional to sqrt(T in K).
+    """Speed of sound in dry air as an ideal gas, c = 331.3 sqrt(1 + T/273.15).
 
     Parameters
     ----------
@@ -359,7 +359,7 @@ def round_trip_time(level_m: Any, c: Any) -> np.ndarray | float:
 def resonance_orders(
     level_m: float, c: float, band: tuple[float, float] = DEFAULT_BAND
 ) -> np.ndarray:
-    """The orders n whose resonance n c/(2L) lies inside ``band`` (inclusive).
+    """Find the orders n whose resonance n c/(2L) lies inside ``band`` (inclusive).
 
     Parameters
     ----------
@@ -454,7 +454,7 @@ def resonance_frequencies(
 
 
 def plane_wave_cutoff(diameter_m: float, c: float) -> float:
-    """The frequency above which the first cross mode propagates, 1.8412 c/(π d).
+    """Compute the frequency above which the first cross mode propagates, 1.8412 c/(π d).
 
     Below it only plane waves travel and the one-dimensional model of the tube holds: 2.7 kHz
     for the paper's 75 mm PVC tube, just above its 1000–2500 Hz band.

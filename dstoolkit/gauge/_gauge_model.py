@@ -98,7 +98,7 @@ def _g_inverse(lo: np.ndarray, hi: np.ndarray, x_lo: np.ndarray, x_hi: np.ndarra
 def gauge_state_space_model(
     state_noise: BoundedNoise = GAUGE_STATE_NOISE, obs_noise: BoundedNoise = GAUGE_OBS_NOISE
 ) -> StateSpaceModel:
-    """The gauge as a state-space model: x_{k+1} = x_k (n_k + 1)/n_k + v_k, g(x) = x.
+    """Build the gauge's state-space model: x_{k+1} = x_k (n_k + 1)/n_k + v_k, g(x) = x.
 
     The state x_k is the resonance frequency being tracked (Hz) and the input u_k its order
     n_k. f is increasing in x (n_k > 0) and in v, and g is increasing, so the paper's Prop. 2
@@ -157,7 +157,7 @@ def gauge_state_space_model(
 
 
 def orders_from_readings(z: Any) -> np.ndarray:
-    """The paper's orders n_k of every sequence of readings: the filter's inputs.
+    """Compute the paper's orders n_k of every sequence of readings: the filter's inputs.
 
     Parameters
     ----------

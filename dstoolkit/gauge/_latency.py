@@ -76,7 +76,7 @@ class LatencyEstimate:
 
 
 def as_signal(x: ArrayLike, what: str) -> np.ndarray:
-    """A 1-D finite float array (an (n, 1) column is accepted)."""
+    """Check a signal and return it as a 1-D finite float array (an (n, 1) column too)."""
     a = np.asarray(x, dtype=float)
     if a.ndim == 2 and a.shape[1] == 1:
         a = a[:, 0]
@@ -93,14 +93,19 @@ def as_signal(x: ArrayLike, what: str) -> np.ndarray:
 
 
 def _energy(x: np.ndarray) -> float:
-    """Σ x², by ``einsum``: a BLAS dot of a long vector starts threads, whose start-up
-    outweighs the arithmetic on a busy machine."""
+    """Σ x², by ``einsum``.
+
+    A BLAS dot of a long vector starts threads, whose start-up outweighs the arithmetic on
+    a busy machine.
+    """
     return float(np.einsum("i,i->", x, x))
 
 
 def valid_correlation(recorded: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """``c[j] = Σ_i recorded[j + i] reference[i]`` for j = 0 .. len(recorded) − len(reference)
-    (``scipy.signal.correlate(recorded, reference, "valid")``), by FFT.
+    """Compute the matched filter ``c[j] = Σ_i recorded[j + i] reference[i]`` by FFT.
+
+    For j = 0 .. len(recorded) − len(reference): ``scipy.signal.correlate(recorded,
+    reference, "valid")``.
 
     A circular correlation of length L ≥ len(recorded) does not wrap around at these lags,
     so the transforms need only that length, not len(recorded) + len(reference) − 1: half
@@ -117,9 +122,11 @@ _SPECTRA: dict[tuple[int, int], tuple[weakref.ref[np.ndarray], np.ndarray]] = {}
 
 
 def _reference_spectrum(reference: np.ndarray, size: int) -> np.ndarray:
-    """conj(rfft(reference, size)), kept for a read-only array that owns its memory (it
-    cannot change): the sweep that :func:`~dstoolkit.gauge.detect_resonances` looks for
-    in every recording."""
+    """Compute conj(rfft(reference, size)), kept for a read-only array.
+
+    Only an array that owns its memory is kept (it cannot change): the sweep that
+    :func:`~dstoolkit.gauge.detect_resonances` looks for in every recording.
+    """
     if reference.flags.writeable or reference.base is not None:
         return np.conj(sp_fft.rfft(reference, size))
     key = (id(reference), size)

@@ -135,8 +135,10 @@ def level_from_fundamental(fundamental_hz: Any, c: Any) -> np.ndarray:
 
 
 def _finite_level(level: np.ndarray) -> np.ndarray:
-    """The level, refused when it overflowed or underflowed to 0 (inputs far outside any
-    tube's: the computed number would not be the level)."""
+    """Return the level, or refuse it when it overflowed or underflowed to 0.
+
+    Such inputs lie far outside any tube's: the computed number would not be the level.
+    """
     if not np.all(np.isfinite(level)) or np.any(level <= 0):
         raise InvalidInputError("the level overflows or underflows: the frequencies and the "
                                 "speed of sound are far outside any tube's; give them in Hz "
@@ -145,7 +147,7 @@ def _finite_level(level: np.ndarray) -> np.ndarray:
 
 
 def orders_eq43(z: Any, extend: bool = False) -> np.ndarray:
-    """The paper's orders n_k = [z_k/(z_{k+1} − z_k)], [·] the nearest integer.
+    """Compute the paper's orders n_k = [z_k/(z_{k+1} − z_k)], [·] the nearest integer.
 
     Parameters
     ----------
@@ -190,7 +192,7 @@ def orders_eq43(z: Any, extend: bool = False) -> np.ndarray:
 
 
 def direct_levels(z: Any, c: float) -> np.ndarray:
-    """The paper's direct measurement: eq. (32) with the orders of eq. (43).
+    """Measure the level directly, as the paper: eq. (32) with the orders of eq. (43).
 
     Parameters
     ----------
@@ -230,7 +232,7 @@ def direct_levels(z: Any, c: float) -> np.ndarray:
 
 
 def state_transition(x: Any, n: Any) -> np.ndarray:
-    """The gauge's state transition without noise: f(x, n) = x (n + 1)/n.
+    """Apply the gauge's state transition without noise, f(x, n) = x (n + 1)/n.
 
     The next resonance from this one: the state equation x_{k+1} = f(x_k, n_k) + v_k.
 
@@ -301,7 +303,7 @@ def state_transition_derivative(x: Any, n: Any) -> np.ndarray:
 
 
 def next_resonance(x: Any, n: Any) -> Any:
-    """The arithmetic of the state transition, x (n + 1)/n, on floats or float arrays (no checks).
+    """Compute x (n + 1)/n, the state transition, on floats or float arrays (no checks).
 
     :func:`state_transition` and the gauge model's float maps share it, so both give the same
     numbers.
@@ -338,7 +340,7 @@ def resonance_ratio(n: Any) -> Any:
 
 
 def observation(x: Any) -> np.ndarray:
-    """The gauge's observation map g(x) = x: the reading of the state.
+    """Apply the gauge's observation map g(x) = x: the reading of the state.
 
     The filter adds the noise w to the reading z, g(x_k) = z_k + w_k.
 
@@ -439,7 +441,7 @@ class ResonanceSeriesFit:
     offset_free: bool
 
     def level(self, c: float) -> float:
-        """The level of the fitted spacing, L = c/(2 f_F).
+        """Compute the level of the fitted spacing, L = c/(2 f_F).
 
         Parameters
         ----------

@@ -83,7 +83,7 @@ class NoiseCharacterisation:
     @classmethod
     def from_samples(cls, name: str, samples: Any, k: float = 3.0,
                      details: dict[str, np.ndarray] | None = None) -> NoiseCharacterisation:
-        """The triangle of error samples: the mode at their mean, the bounds at mean ± ``k`` σ.
+        """Fit a triangle to error samples: the mode at their mean, the bounds at mean ± ``k`` σ.
 
         Parameters
         ----------
@@ -160,7 +160,7 @@ class NoiseCharacterisation:
 
     def evidence(self, p: int = 3, epsilon: float = 0.05,
                  theta: tuple[float, float] | None = None) -> IntervalEvidence:
-        """The evidence of Tables 1–2: p α-cuts of mass (1 − ε)/p, and ε on Θ.
+        """Build the evidence of Tables 1–2: p α-cuts of mass (1 − ε)/p, and ε on Θ.
 
         Parameters
         ----------
@@ -206,7 +206,7 @@ def characterise_state_noise(
     points: int = 100,
     seed: int = 0,
 ) -> NoiseCharacterisation:
-    """The state noise v as the paper measured it: the speaker's frequency error.
+    """Measure the state noise v as the paper did: the speaker's frequency error.
 
     The simulated speaker's frequency error δf is read at ``points`` frequencies spread
     uniformly over the sweep in each of ``runs`` calibration runs (the paper's oscilloscope
@@ -278,7 +278,7 @@ def characterise_observation_noise(
     correct_sweep_rate: bool = False,
     correct_latency: bool = False,
 ) -> NoiseCharacterisation:
-    """The observation noise w = true − detected resonance frequency over calibration recordings.
+    """Measure the observation noise w = true − detected resonance frequency, as the paper did.
 
     Recordings are synthesised at each level, their resonances detected by
     :func:`detect_resonances`, and each detected resonance matched to the order n of the model

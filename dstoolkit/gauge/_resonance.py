@@ -132,7 +132,7 @@ class DetectionResult:
 
 
 def sweep_rate_offset(rate_hz_per_s: float, fundamental_hz: Any) -> np.ndarray | float:
-    """k L/c = k/(2 f_F): how far above n f_F the envelope of a sweep peaks.
+    """Compute the sweep-rate offset k L/c = k/(2 f_F): how far above n f_F the envelope peaks.
 
     Parameters
     ----------
@@ -166,7 +166,7 @@ def sweep_rate_offset(rate_hz_per_s: float, fundamental_hz: Any) -> np.ndarray |
 
 
 def latency_offset(rate_hz_per_s: float, latency_s: float) -> float:
-    """k τ: how far a latency τ moves frequencies read as f_0 + k t.
+    """Compute the latency offset k τ: how far τ moves frequencies read as f_0 + k t.
 
     Parameters
     ----------
@@ -268,10 +268,13 @@ def fitted_peak(y: np.ndarray, i: np.ndarray, half_width: int, iterations: int =
 
 def _prominent_peaks(env: np.ndarray, distance: int, expected: int, rel_prominence: float,
                      inside: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Local maxima of ``env`` at least ``distance`` samples apart that lie ``inside`` (a
-    mask) and whose prominence reaches ``rel_prominence`` × the median prominence of the
-    ``expected`` most prominent ones. Prominences are taken on the whole envelope, so a
-    peak near the edge of the mask keeps its true valleys."""
+    """Prominent local maxima of ``env``: indices and prominences.
+
+    The maxima lie at least ``distance`` samples apart and ``inside`` (a mask), and their
+    prominence reaches ``rel_prominence`` × the median prominence of the ``expected`` most
+    prominent ones. Prominences are taken on the whole envelope, so a peak near the edge
+    of the mask keeps its true valleys.
+    """
     cand, props = signal.find_peaks(env, distance=distance, prominence=0.0)
     prom = props["prominences"]
     cand, prom = cand[inside[cand]], prom[inside[cand]]
@@ -306,9 +309,11 @@ def _check_levels(x: np.ndarray, silence_dbfs: float, clip_level: float,
 
 @functools.lru_cache(maxsize=4)
 def _demodulator(sweep: LinearSweep, n: int, latency_s: float) -> np.ndarray:
-    """e^(−iφ(t − τ)) at the ``n`` sample times t of a recording: what moves the sweep to
-    0 Hz (:func:`envelope`). Kept for the next recording of the same length and latency
-    (read-only)."""
+    """Compute the demodulator e^(−iφ(t − τ)) at the ``n`` sample times t of a recording.
+
+    It moves the sweep to 0 Hz (:func:`envelope`). Kept for the next recording of the same
+    length and latency (read-only).
+    """
     carrier = np.exp(-1j * sweep.phase(np.arange(n) / sweep.sample_rate - latency_s))
     carrier.flags.writeable = False
     return carrier
@@ -316,8 +321,10 @@ def _demodulator(sweep: LinearSweep, n: int, latency_s: float) -> np.ndarray:
 
 @functools.lru_cache(maxsize=2)
 def _sweep_waveform(sweep: LinearSweep) -> np.ndarray:
-    """The sweep's drive signal (:meth:`LinearSweep.waveform`), kept (read-only): the
-    reference in which :func:`detect_resonances` finds the latency."""
+    """Compute the sweep's drive signal (:meth:`LinearSweep.waveform`), kept (read-only).
+
+    It is the reference in which :func:`detect_resonances` finds the latency.
+    """
     waveform = sweep.waveform()
     waveform.flags.writeable = False
     return waveform
@@ -382,8 +389,11 @@ def envelope(
 
 def _spacing_from_envelope(freqs: np.ndarray, env: np.ndarray, fF_range: tuple[float, float],
                            min_line: float) -> tuple[float, float]:
-    """Spacing f_F of the envelope's periodic pattern (its strongest line), and its strength
-    relative to the median line in the search range."""
+    """Spacing f_F of the envelope's periodic pattern, and the pattern's strength.
+
+    The spacing is the strongest line of the pattern; its strength is relative to the
+    median line in the search range.
+    """
     df = freqs[1] - freqs[0]
     y = env**2
     y = (y - np.polyval(np.polyfit(freqs, y, 2), freqs)) * np.hanning(y.size)

@@ -84,7 +84,7 @@ class LinearSweep:
 
     @property
     def rate(self) -> float:
-        """k = (f_stop − f_start)/duration, Hz per second."""
+        """The sweep rate k = (f_stop − f_start)/duration, Hz per second."""
         return (self.f_stop - self.f_start) / self.duration
 
     @property
@@ -199,7 +199,7 @@ class LinearSweep:
         return out
 
     def waveform(self, t: Any = None) -> np.ndarray:
-        """The speaker's drive signal cos φ(t) times :meth:`gate`.
+        """Compute the speaker's drive signal, cos φ(t) times :meth:`gate`.
 
         Parameters
         ----------

@@ -213,7 +213,7 @@ class TubeSetup:
 
     @property
     def speed_of_sound(self) -> float:
-        """c at this temperature by ``speed_model``, m/s."""
+        """The speed of sound c at this temperature by ``speed_model``, m/s."""
         kw = {"relative_humidity": self.relative_humidity} if self.speed_model == "cramer" else {}
         return float(speed_of_sound(self.temperature_c, self.speed_model, **kw))
 
@@ -312,7 +312,7 @@ class TubeSetup:
         return gain
 
     def echo_count(self, f_min: float, floor: float = 1e-4, limit: int = 200) -> int:
-        """Number of echoes whose gain at ``f_min`` (the least loss) exceeds ``floor``.
+        """Count the echoes whose gain at ``f_min`` (the least loss) exceeds ``floor``.
 
         Parameters
         ----------
@@ -411,7 +411,7 @@ class RecordingConditions:
 
 
 def typical_conditions(**changes: Any) -> RecordingConditions:
-    """A laptop-and-PVC-tube recording, with optional changes.
+    """Describe a laptop-and-PVC-tube recording, with optional changes.
 
     Speaker jitter σ 0.1 Hz (the paper's σ_v), a 30 dB SPL microphone, 50 dB SPL room noise
     and 10 ms of audio latency.
@@ -499,7 +499,7 @@ class Recording:
         return np.arange(self.samples.size) / self.sweep.sample_rate
 
     def speaker_error_at(self, emission_time_s: Any) -> np.ndarray:
-        """The speaker's frequency error δf at times since the sweep started.
+        """Interpolate the speaker's frequency error δf at times since the sweep started.
 
         Parameters
         ----------
@@ -519,7 +519,7 @@ class Recording:
 
 def model_envelope(setup: TubeSetup, sweep: LinearSweep, emission_time_s: Any,
                    echo_floor: float = 1e-4) -> np.ndarray:
-    """The noise-free envelope of the microphone's pressure over the source amplitude.
+    """Compute the noise-free envelope of the microphone's pressure over the source's.
 
     |Σ_m a_m gate(u − mΔ) e^(−iθ_m(u))| with θ_m(u) = φ(u) − φ(u − mΔ): every echo of the
     sweep, at times u since the sweep started.
@@ -570,9 +570,12 @@ def model_envelope(setup: TubeSetup, sweep: LinearSweep, emission_time_s: Any,
 
 def _shaped_draw(rng: np.random.Generator, n: int, shape: np.ndarray
                  ) -> tuple[np.ndarray, float]:
-    """One draw of Gaussian noise whose amplitude spectrum is ``shape`` (on rfftfreq(n)),
-    and the RMS of the *process* it comes from (the root energy of its impulse response):
-    the draw times ``rms`` / that RMS has the process RMS ``rms``."""
+    """One draw of Gaussian noise of amplitude spectrum ``shape``, and its process's RMS.
+
+    ``shape`` is on rfftfreq(n). The RMS of the *process* the draw comes from is the root
+    energy of its impulse response: the draw times ``rms`` / that RMS has the process RMS
+    ``rms``.
+    """
     x = np.fft.irfft(np.fft.rfft(rng.standard_normal(n)) * shape, n)
     impulse = np.fft.irfft(shape.astype(complex), n)  # x = white ⊛ impulse (circular)
     return x, float(np.sqrt(np.sum(impulse**2)))
@@ -580,27 +583,28 @@ def _shaped_draw(rng: np.random.Generator, n: int, shape: np.ndarray
 
 def _shaped_noise(rng: np.random.Generator, n: int, dt: float, shape: np.ndarray,
                   rms: float) -> np.ndarray:
-    """Stationary Gaussian noise whose amplitude spectrum is ``shape`` (on rfftfreq(n, dt)),
-    scaled so that the *process* has RMS ``rms`` (not each draw: draws vary as they should).
+    """Stationary Gaussian noise whose amplitude spectrum is ``shape`` (on rfftfreq(n, dt)).
+
+    It is scaled so that the *process* has RMS ``rms`` (not each draw: draws vary as they
+    should).
     """
     x, process_rms = _shaped_draw(rng, n, shape)
     return x * (rms / process_rms)
 
 
 def _gaussian_shape(n: int, dt: float, bandwidth_hz: float) -> np.ndarray:
-    """A Gaussian amplitude spectrum of width ``bandwidth_hz`` on rfftfreq(n, dt)."""
+    """Make a Gaussian amplitude spectrum of width ``bandwidth_hz`` on rfftfreq(n, dt)."""
     return np.exp(-0.5 * (np.fft.rfftfreq(n, dt) / bandwidth_hz) ** 2)
 
 
 def _gaussian_process(rng: np.random.Generator, n: int, dt: float, sigma: float,
                       bandwidth_hz: float) -> np.ndarray:
-    """Zero-mean Gaussian series of RMS ``sigma`` with a Gaussian spectrum of width
-    ``bandwidth_hz``."""
+    """Zero-mean Gaussian series of RMS ``sigma``, Gaussian spectrum of ``bandwidth_hz``."""
     return _shaped_noise(rng, n, dt, _gaussian_shape(n, dt, bandwidth_hz), sigma)
 
 
 def _jitter_grid(sweep: LinearSweep, bandwidth_hz: float) -> tuple[np.ndarray, float]:
-    """Times (s since the sweep started) of the speaker's frequency error, and their step."""
+    """Make the times of the speaker's frequency error (s since the sweep started), and step."""
     dt = min(1e-3, 0.1 / bandwidth_hz)
     return np.arange(-0.01, sweep.duration + 0.01 + dt, dt), dt
 
@@ -608,7 +612,7 @@ def _jitter_grid(sweep: LinearSweep, bandwidth_hz: float) -> tuple[np.ndarray, f
 def speaker_frequency_error(
     sweep: LinearSweep, conditions: RecordingConditions, rng: np.random.Generator
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The speaker's frequency error δf(t) over the sweep.
+    """Draw the speaker's frequency error δf(t) over the sweep.
 
     Parameters
     ----------
@@ -634,7 +638,7 @@ def speaker_frequency_error(
 
 
 def _pink_shape(n: int, fs: float) -> np.ndarray:
-    """The amplitude spectrum of 1/f power above 20 Hz (flat below, no DC)."""
+    """Make the amplitude spectrum of 1/f power above 20 Hz (flat below, no DC)."""
     f = np.fft.rfftfreq(n, 1.0 / fs)
     shape = 1.0 / np.sqrt(np.maximum(f, 20.0))
     shape[0] = 0.0
@@ -642,10 +646,12 @@ def _pink_shape(n: int, fs: float) -> np.ndarray:
 
 
 class _Draws(NamedTuple):
-    """The random draws of one recording, before they are scaled to the conditions: the
-    speaker's frequency error, the microphone's white noise, the pink background (each
+    """The random draws of one recording, before they are scaled to the conditions.
+
+    The speaker's frequency error, the microphone's white noise, the pink background (each
     None when its level is 0: then no draw is made). Shaped draws come with the RMS of
-    their process (:func:`_shaped_draw`)."""
+    their process (:func:`_shaped_draw`).
+    """
 
     jitter_times: np.ndarray
     jitter: tuple[np.ndarray, float] | None
@@ -655,7 +661,7 @@ class _Draws(NamedTuple):
 
 def _draw(rng: np.random.Generator, sweep: LinearSweep, n: int, jitter_bandwidth_hz: float,
           jitter: bool, microphone: bool, background: bool) -> _Draws:
-    """The draws of a recording of ``n`` samples, in the order the generator makes them."""
+    """Draw the noises of a recording of ``n`` samples, in the generator's order."""
     t_j, dt = _jitter_grid(sweep, jitter_bandwidth_hz)
     shaped = (_shaped_draw(rng, t_j.size, _gaussian_shape(t_j.size, dt, jitter_bandwidth_hz))
               if jitter else None)
@@ -667,9 +673,11 @@ def _draw(rng: np.random.Generator, sweep: LinearSweep, n: int, jitter_bandwidth
 @functools.lru_cache(maxsize=4)
 def _seeded_draws(seed: int, sweep: LinearSweep, n: int, jitter_bandwidth_hz: float,
                   jitter: bool, microphone: bool, background: bool) -> _Draws:
-    """:func:`_draw` with a fresh generator of an integer ``seed``, kept for the next
-    recording with the same seed (an explorer moving the level redraws the same noise).
-    The arrays are read-only."""
+    """:func:`_draw` with a fresh generator of an integer ``seed``, kept.
+
+    Kept for the next recording with the same seed (an explorer moving the level redraws
+    the same noise). The arrays are read-only.
+    """
     draws = _draw(np.random.default_rng(seed), sweep, n, jitter_bandwidth_hz, jitter,
                   microphone, background)
     for array in (draws.jitter_times, draws.microphone, *(draws.jitter or ()),
@@ -680,9 +688,11 @@ def _seeded_draws(seed: int, sweep: LinearSweep, n: int, jitter_bandwidth_hz: fl
 
 
 def _gated(values: np.ndarray, sweep: LinearSweep, e: np.ndarray) -> np.ndarray:
-    """``values`` times :meth:`LinearSweep.gate` at the ascending times ``e`` (s since the
-    sweep started, within it): the gate is computed only near the sweep's ends, where it is
-    not 1, so the product is the same number for number."""
+    """``values`` times :meth:`LinearSweep.gate` at the ascending times ``e``, in place.
+
+    ``e`` is in s since the sweep started, within it. The gate is computed only near the
+    sweep's ends, where it is not 1, so the product is the same number for number.
+    """
     margin = 2.0 * sweep.taper + 2.0 / sweep.sample_rate
     a = int(np.searchsorted(e, margin))
     b = max(a, int(np.searchsorted(e, sweep.duration - margin)))
@@ -692,8 +702,10 @@ def _gated(values: np.ndarray, sweep: LinearSweep, e: np.ndarray) -> np.ndarray:
 
 
 def _jitter_phase(draws: _Draws, jitter_hz: float) -> tuple[np.ndarray, np.ndarray | None]:
-    """The speaker's frequency error δf (Hz) on ``draws.jitter_times`` and its phase
-    ψ = 2π ∫ δf (trapezoids), None without jitter."""
+    """Scale the speaker's frequency error δf (Hz) on ``draws.jitter_times``; add its phase.
+
+    The phase is ψ = 2π ∫ δf (trapezoids), None without jitter.
+    """
     t_j = draws.jitter_times
     if draws.jitter is None:
         return np.zeros(t_j.size), None
@@ -703,15 +715,17 @@ def _jitter_phase(draws: _Draws, jitter_hz: float) -> tuple[np.ndarray, np.ndarr
 
 
 def _echo_span(u: np.ndarray, delay_s: float, duration_s: float) -> tuple[int, int]:
-    """The samples (``lo:hi`` of the times ``u``) that an echo ``delay_s`` late covers."""
+    """Find the samples (``lo:hi`` of the times ``u``) that an echo ``delay_s`` late covers."""
     return (int(np.searchsorted(u, delay_s)),
             int(np.searchsorted(u, delay_s + duration_s, side="right")))
 
 
 def _echo_wave(sweep: LinearSweep, e: np.ndarray, gain: np.ndarray, t_j: np.ndarray,
                psi_j: np.ndarray | None, out: np.ndarray | None = None) -> np.ndarray:
-    """One echo at the times ``e`` since it left the speaker: gain × gate × cos(φ + ψ), the
-    arithmetic in place (``gain`` is overwritten) and into ``out`` when given."""
+    """One echo at the times ``e`` since it left the speaker: gain × gate × cos(φ + ψ).
+
+    The arithmetic is in place (``gain`` is overwritten) and into ``out`` when given.
+    """
     gain = _gated(gain, sweep, e)
     wave = sweep.phase(e, out=out)
     if psi_j is not None:
@@ -724,8 +738,11 @@ def _echo_wave(sweep: LinearSweep, e: np.ndarray, gain: np.ndarray, t_j: np.ndar
 @functools.lru_cache(maxsize=2)
 def _seeded_direct_wave(seed: int, sweep: LinearSweep, n: int, latency_s: float,
                         jitter_hz: float, kinds: tuple[float, bool, bool, bool]) -> np.ndarray:
-    """The direct wave (m = 0, a_0 = 1) of a recording with an integer seed: the same in
-    every tube, so kept (read-only) for the next recording with these conditions."""
+    """Compute the direct wave (m = 0, a_0 = 1) of a recording with an integer seed, kept.
+
+    It is the same in every tube, so it is kept (read-only) for the next recording with
+    these conditions.
+    """
     u = np.arange(n) / sweep.sample_rate - latency_s
     draws = _seeded_draws(seed, sweep, n, *kinds)
     lo, hi = _echo_span(u, 0.0, sweep.duration)
@@ -743,7 +760,7 @@ def synthesize_recording(
     seed: int | np.random.Generator = 0,
     echo_floor: float = 1e-4,
 ) -> Recording:
-    """The microphone recording of ``sweep`` in the tube ``setup``.
+    """Synthesise the microphone recording of ``sweep`` in the tube ``setup``.
 
     p(t) = P0 [s(u) + Σ_m a_m(f(u − mΔ)) s(u − mΔ)] + noises, u = t − τ, with
     s(u) = gate(u) cos(φ(u) + ψ(u)) and ψ the phase of the speaker's frequency error. Echoes
@@ -831,8 +848,11 @@ def _sound_conditions(cond: RecordingConditions) -> RecordingConditions:
 def _seeded_sound(setup: TubeSetup, sweep: LinearSweep, seed: int, echo_floor: float, n: int,
                   kinds: tuple[float, bool, bool, bool], cond: RecordingConditions
                   ) -> np.ndarray:
-    """:func:`_sound` of a recording with an integer seed, kept (read-only) for the next
-    recording that differs only in the noises' levels (``cond``: :func:`_sound_conditions`)."""
+    """:func:`_sound` of a recording with an integer seed, kept (read-only).
+
+    Kept for the next recording that differs only in the noises' levels (``cond``:
+    :func:`_sound_conditions`).
+    """
     sound = _sound(setup, sweep, _seeded_draws(seed, sweep, n, *kinds), echo_floor, n, cond,
                    direct=_seeded_direct_wave(seed, sweep, n, cond.latency_s,
                                               cond.speaker_jitter_hz, kinds))
@@ -842,8 +862,11 @@ def _seeded_sound(setup: TubeSetup, sweep: LinearSweep, seed: int, echo_floor: f
 
 def _sound(setup: TubeSetup, sweep: LinearSweep, draws: _Draws, echo_floor: float, n: int,
            cond: RecordingConditions, direct: np.ndarray | None = None) -> np.ndarray:
-    """The pressure of the sweep and its echoes at the microphone, P0 [s(u) + Σ_m a_m(f(u −
-    mΔ)) s(u − mΔ)] (eqs. 27–29), without noise; ``direct``: the wave m = 0 if known."""
+    """Compute the pressure of the sweep and its echoes at the microphone, without noise.
+
+    P0 [s(u) + Σ_m a_m(f(u − mΔ)) s(u − mΔ)] (eqs. 27–29); ``direct``: the wave m = 0 if
+    known.
+    """
     u = np.arange(n) / sweep.sample_rate - cond.latency_s
     t_j = draws.jitter_times
     psi_j = _jitter_phase(draws, cond.speaker_jitter_hz)[1]

@@ -33,7 +33,7 @@ def virtual_tube_signal(
     conditions: RecordingConditions | None = None,
     seed: int = 0,
 ) -> np.ndarray:
-    """What the microphone of ``setup`` would hear during ``sweep``, scaled to ``amplitude``.
+    """Compute what the microphone of ``setup`` would hear during ``sweep``, scaled.
 
     Played through a real audio path instead of the bare sweep, it makes the recording carry
     the tube's standing wave and everything real about the path.

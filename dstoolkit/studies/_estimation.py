@@ -126,7 +126,7 @@ class GaugeRun:
         return float(np.mean(self.orders != self.true_orders[:-1]))
 
     def levels(self) -> dict[str, np.ndarray]:
-        """The level of every step, L̂_k = n_k c/(2 x̂_k), k = 1..K−1.
+        """Compute the level of every step, L̂_k = n_k c/(2 x̂_k), k = 1..K−1.
 
         Returns
         -------
@@ -175,8 +175,9 @@ class GaugeRun:
 
 
 def _with_true_orders(case: CaseReadings) -> CaseReadings:
-    """The readings of a synthesised recording with the true order of each (Table 3's
-    waveform simulation keeps only z).
+    """Add the true order of each reading of synthesised recordings.
+
+    Table 3's waveform simulation keeps only z.
 
     The detector leaves the sweep-rate and latency offsets in (as the paper's), so a
     reading of order n sits near n f_F + kL/c + kτ; the simulation knows both offsets and
@@ -645,7 +646,7 @@ def noise_mismatch(data: TrackingData, state_noise: BoundedNoise, obs_noise: Bou
 
 
 def scaled_noise(noise: BoundedNoise, scale: float, mode_shift: float = 0.0) -> BoundedNoise:
-    """The noise with its bounds ``scale`` times as far from the mode, shifted by ``mode_shift``.
+    """Scale a noise's bounds about its mode by ``scale``, and shift it by ``mode_shift``.
 
     Parameters
     ----------
@@ -870,7 +871,7 @@ def order_rule_study(simulation: Simulation = "frequency", runs: int = 30, seed:
 def table3_readings(level_m: float, temperature_c: float, runs: int, seed: int = 0,
                     simulation: Simulation = "frequency",
                     cases: Sequence[tuple[float, float]] = TABLE3_CASES) -> list[CaseReadings]:
-    """The readings :func:`run_table3` draws for one case, with the true orders.
+    """Draw the readings :func:`run_table3` draws for one case, with the true orders.
 
     The same ``runs``, ``seed`` and ``cases`` give the same readings (the case's seed is its
     entry of ``SeedSequence(seed)``), in both simulations.

@@ -60,7 +60,7 @@ CSV_COLUMNS = ("level_m", "temperature_c", "method", "mean_abs_error_m", "runs",
 
 
 def paper_filters(seed: int = 0) -> dict[str, Filter[Any, Any]]:
-    """The filters of Table 3 with the paper's settings.
+    """Make the filters of Table 3 with the paper's settings.
 
     p = 3 α-cuts, ε = 0.05 and the frames Θ of Tables 1–2 for the two evidential filters;
     total conflict keeps the prediction (the paper's filter) or restarts (Nassreddine's), so a
@@ -141,7 +141,7 @@ class CaseReadings:
 
 def frequency_readings(level_m: float, temperature_c: float, runs: int, seed: int,
                        band: tuple[float, float] = DEFAULT_BAND) -> list[CaseReadings]:
-    """Readings drawn from the paper's triangular w (the frequency-level simulation).
+    """Draw readings with the paper's triangular w (the frequency-level simulation).
 
     Parameters
     ----------
@@ -170,7 +170,7 @@ def frequency_readings(level_m: float, temperature_c: float, runs: int, seed: in
 def waveform_readings(level_m: float, temperature_c: float, runs: int, seed: int,
                       conditions: RecordingConditions | None = None,
                       progress: Callable[[int], Any] | None = None) -> list[CaseReadings]:
-    """Readings detected in synthesised recordings (the waveform-level simulation).
+    """Detect readings in synthesised recordings (the waveform-level simulation).
 
     Detection misses a resonance now and then, so runs are grouped by their number of
     readings, one batch per length. The detector works as the paper's (no offset correction),
@@ -212,7 +212,7 @@ def waveform_readings(level_m: float, temperature_c: float, runs: int, seed: int
 
 
 def estimate_orders(case: CaseReadings, rule: OrderRule = "eq43") -> np.ndarray:
-    """The orders n_k, k = 1..K−1, of every run of a case.
+    """Estimate the orders n_k, k = 1..K−1, of every run of a case.
 
     Parameters
     ----------
@@ -261,7 +261,7 @@ def estimate_orders(case: CaseReadings, rule: OrderRule = "eq43") -> np.ndarray:
 
 def estimate_levels(method: str, case: CaseReadings, orders: np.ndarray,
                     filters: Mapping[str, Filter[Any, Any]]) -> np.ndarray:
-    """The level of every step, L̂_k = n_k c/(2 x̂_k), by one method.
+    """Estimate the level of every step, L̂_k = n_k c/(2 x̂_k), by one method.
 
     Parameters
     ----------
@@ -336,6 +336,7 @@ class Table3Row:
     ----------
     Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), Table 3.
     """
+
     level_m: float
     temperature_c: float
     method: str
@@ -345,7 +346,7 @@ class Table3Row:
     paper_m: float | None = None
 
     def as_csv(self) -> dict[str, Any]:
-        """The row as the CSV's columns (:data:`CSV_COLUMNS`).
+        """Give the row as the CSV's columns (:data:`CSV_COLUMNS`).
 
         Returns
         -------
@@ -389,7 +390,7 @@ class Table3:
     per_run_errors: dict[tuple[float, str], np.ndarray] = field(default_factory=dict)
 
     def error(self, level_m: float, method: str) -> float:
-        """The mean absolute level error of one method at one level.
+        """Look up the mean absolute level error of one method at one level.
 
         Parameters
         ----------
@@ -439,7 +440,7 @@ class Table3:
         return atomic_write(path, lambda fh: fh.write(text.getvalue().encode("utf-8")))
 
     def format(self) -> str:
-        """The table as text, ours beside the paper's figures.
+        """Format the table as text, ours beside the paper's figures.
 
         Returns
         -------
@@ -572,7 +573,7 @@ class _NoBar:
 
 
 def _progress_bar(*, total: int, desc: str, disable: bool, unit: str) -> Any:
-    """A tqdm progress bar when tqdm is installed and wanted, else a silent stand-in."""
+    """Make a tqdm progress bar when tqdm is installed and wanted, else a silent stand-in."""
     if disable:
         return _NoBar()
     try:

@@ -16,7 +16,7 @@ ORDER_SOURCES: dict[str, str] = {"true n_k": "true", "eq. 43 from the readings":
 
 
 def gauge_case(level_m: float = 9.6, temperature_c: float = 23.9, seed: int = 0) -> Any:
-    """The seeded gauge sequence of a level and temperature, cached.
+    """Simulate the seeded gauge sequence of a level and temperature, cached.
 
     The readings carry the paper's noise w in the band 1000–2500 Hz; the cache lets an
     explorer re-filter the same readings.
@@ -77,7 +77,7 @@ def filter_case(
     record: bool = False,
     first: int | None = None,
 ) -> tuple[Any, np.ndarray, Any]:
-    """The paper's filter on a seeded gauge sequence.
+    """Run the paper's filter on a seeded gauge sequence.
 
     The readings come from the paper's noise w (Table 2's triangle); ``state_noise`` and
     ``obs_noise`` are what the *filter assumes*. Total conflict keeps the prediction

@@ -45,7 +45,7 @@ def figure_tag(command: str) -> dict[str, str]:
 
 
 def made_by(path: str | os.PathLike[str], command: str) -> bool:
-    """True when ``path`` is a PNG whose text chunks say ``dstoolkit <command>`` made it."""
+    """Tell whether ``path`` is a PNG whose text chunks say ``dstoolkit <command>`` made it."""
     want = f"{FIGURE_KEY}\0dstoolkit {command}".encode()
     try:
         with open(path, "rb") as fh:
@@ -99,10 +99,13 @@ _run: contextvars.ContextVar[_Run | None] = contextvars.ContextVar("dstoolkit_ou
 
 @contextlib.contextmanager
 def output_run() -> Iterator[_Run]:
-    """One command's outputs: checked paths are written without clobbering, and when the
-    body fails (an exception, Ctrl-C, a signal turned into an exception) the files and
-    folders it made are removed. The body may call ``discard()`` on the run it is given
-    to remove them itself (a command that failed but returns an exit status)."""
+    """One command's outputs, removed again if the command fails.
+
+    Checked paths are written without clobbering, and when the body fails (an exception,
+    Ctrl-C, a signal turned into an exception) the files and folders it made are removed.
+    The body may call ``discard()`` on the run it is given to remove them itself (a
+    command that failed but returns an exit status).
+    """
     run = _Run()
     token = _run.set(run)
     try:
@@ -131,8 +134,10 @@ def _link_chain(path: Path) -> list[Path]:
 
 
 def _system_path(path: Path) -> Path | None:
-    """The system folder (``/dev``, ``/proc``, ``/sys``) that ``path`` or a link on the way
-    to its file lies in, else None."""
+    """Find the system folder (``/dev``, ``/proc``, ``/sys``) ``path`` lies in, else None.
+
+    A symbolic link on the way to its file counts too.
+    """
     for candidate in _link_chain(path):
         for folder in SYSTEM_FOLDERS:
             if candidate == folder or folder in candidate.parents:
@@ -141,8 +146,11 @@ def _system_path(path: Path) -> Path | None:
 
 
 def refuse_special(path: Path, what: str) -> None:
-    """Refuse an output that is not a regular file or a new path: a folder, a device, a
-    FIFO, a socket, a path in a system folder, or a symbolic link to one of them."""
+    """Refuse an output that is not a regular file or a new path.
+
+    A folder, a device, a FIFO, a socket, a path in a system folder, or a symbolic link to
+    one of them.
+    """
     system = _system_path(path)
     if system is not None:
         raise OutputPathError(f"{what}: {path} is not a regular file or a new path: it is in "
@@ -246,8 +254,7 @@ def check_outputs(
 
 
 def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], object]) -> Path:
-    """Write ``path`` through ``write(file)`` into a temporary file beside it, then move it
-    into place.
+    """Write ``path`` through ``write(file)`` into a temporary file, then move it in place.
 
     The target appears complete or not at all; the temporary file is removed on failure.
     Missing parent folders are created. A target that is not a regular file or a new path
@@ -290,8 +297,11 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], obje
 
 
 def _place_checked(tmp: str, target: Path, replace: tuple[int, int] | None) -> None:
-    """Move ``tmp`` to ``target`` only if ``target`` is as it was checked: absent (then a
-    hard link creates it, failing if the name appeared), or the same file as before."""
+    """Move ``tmp`` to ``target`` only if ``target`` is as it was checked.
+
+    That is: absent (then a hard link creates it, failing if the name appeared), or the
+    same file as before.
+    """
     appeared = OutputExistsError(
         f"{target} appeared or changed while this command ran; it was kept. Run again "
         "with another output name (or --overwrite to replace it)")
