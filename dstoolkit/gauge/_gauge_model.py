@@ -106,10 +106,10 @@ def gauge_state_space_model(
 
     Parameters
     ----------
-    state_noise : BoundedNoise, optional
+    state_noise : dstoolkit.filters.BoundedNoise, optional
         The state noise v, Hz, one-dimensional (default :data:`GAUGE_STATE_NOISE`: mode 0,
         bounds ±0.3 Hz, Table 1).
-    obs_noise : BoundedNoise, optional
+    obs_noise : dstoolkit.filters.BoundedNoise, optional
         The observation noise w, Hz, one-dimensional (default :data:`GAUGE_OBS_NOISE`: mode
         −6.9 Hz, bounds [−10.59, −3.21] Hz, Table 2).
 
@@ -273,7 +273,7 @@ def simulate_gauge(
         Number of independent runs; None (default) gives one run without the leading axis.
     seed : int, optional
         Seed of the noise draws.
-    obs_noise : BoundedNoise, optional
+    obs_noise : dstoolkit.filters.BoundedNoise, optional
         The noise w, Hz (default :data:`GAUGE_OBS_NOISE`, Table 2's triangle).
 
     Returns

@@ -60,7 +60,7 @@ class NoiseCharacterisation:
         What the noise is, for the summary.
     samples : numpy.ndarray, shape (N,)
         The errors, Hz.
-    bounds : TriangularBounds
+    bounds : dstoolkit.evidence.TriangularBounds
         Lower end, mode and upper end of the triangle, Hz.
     details : dict of str to numpy.ndarray, optional
         Per-sample context, each of shape (N,) (e.g. level, order, true and detected

@@ -242,7 +242,8 @@ def gauge_run(level_m: float = 4.6, temperature_c: float = 26.5,
     seed : int, optional
         Seed of the readings and of the particle filter.
     methods : sequence of str, optional
-        Keys of :func:`paper_filters` (default :data:`FIG10_METHODS`).
+        Keys of :func:`paper_filters` (default the two of Fig. 10,
+        ``("dependent_evidence", "nassreddine")``).
 
     Returns
     -------
