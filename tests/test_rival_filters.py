@@ -281,48 +281,39 @@ def test_kalman_uses_the_noise_means_with_the_sign_convention():
     assert result.estimates[-1, 0] == pytest.approx(5.0, abs=1e-3)
 
 
-def test_the_gauge_float_maps_give_the_array_maps_numbers_exactly():
-    """The gauge's ScalarMaps (eqs. 39–40 on Python floats) equal its array maps bit for bit,
-    so that the Kalman filter's one-run float path equals its batch path."""
-    model = gauge_state_space_model()
-    rng = np.random.default_rng(3)
-    x, n = rng.uniform(100.0, 5000.0, 50), rng.integers(1, 400, 50).astype(float)
-    maps, state, orders = model.scalar_maps, x[:, None], n[:, None]
-    assert maps is not None
-    pairs = [
-        (model.f(state, orders)[:, 0], [maps.f(a, [b]) for a, b in zip(x, n, strict=True)]),
-        (model.jacobian_f(state, orders)[:, 0, 0],
-         [maps.jacobian_f(a, [b]) for a, b in zip(x, n, strict=True)]),
-        (model.g(state)[:, 0], [maps.g(a) for a in x]),
-        (model.jacobian_g(state)[:, 0, 0], [maps.jacobian_g(a) for a in x]),
-    ]
-    for array, floats in pairs:
-        np.testing.assert_array_equal(array, floats)
+def _plain_gauge_model():
+    """Eqs. 39–40 as a user writes them: plain numpy maps, no Jacobians."""
+    package = gauge_state_space_model()
+    return StateSpaceModel(
+        f=lambda x, u: x * (u + 1.0) / u, g=lambda x: x + 0.0,
+        g_inverse=lambda lo, hi, a, b: (np.maximum(lo, a), np.minimum(hi, b)),
+        state_noise=package.state_noise, obs_noise=package.obs_noise)
+
+
+@pytest.mark.parametrize("plain", [False, True], ids=["package", "plain"])
+def test_kalman_one_run_equals_its_run_in_a_batch_exactly(plain):
+    """One run (floats) and a batch ((R,) arrays) run the same recursion: the same numbers,
+    with the model's Jacobians (the package's gauge) or central differences (a user's)."""
+    model = _plain_gauge_model() if plain else gauge_state_space_model()
+    seq = simulate_gauge(9.6, runs=4, seed=2)
+    batch = KalmanFilter().run_batch(model, seq.readings, seq.inputs)
+    for r in range(4):
+        one = KalmanFilter().run(model, seq.readings[r], seq.inputs[r])
+        for name in ("estimates", "lower", "upper"):
+            np.testing.assert_array_equal(getattr(one, name), getattr(batch[r], name))
+        np.testing.assert_array_equal(one.diagnostics["nis"], batch.diagnostics["nis"][r])
 
 
 @pytest.mark.parametrize("level", [0.6, 9.6])
-def test_kalman_float_path_equals_the_array_path(level):
-    """One run on the gauge's float maps gives exactly what the array maps give."""
-    model = gauge_state_space_model()
+def test_kalman_on_a_users_plain_maps_gives_the_package_numbers(level):
+    """Central differences of a user's eqs. 39–40 give the package's analytic slopes' numbers
+    to 1e-9 Hz: the model needs no Jacobians and no float copy of its maps."""
     seq = simulate_gauge(level, seed=2)
-    fast = KalmanFilter().run(model, seq.readings, seq.inputs)
-    plain = KalmanFilter().run(dataclasses.replace(model, scalar_maps=None), seq.readings,
-                               seq.inputs)
+    package = KalmanFilter().run(gauge_state_space_model(), seq.readings, seq.inputs)
+    plain = KalmanFilter().run(_plain_gauge_model(), seq.readings, seq.inputs)
     for name in ("estimates", "lower", "upper"):
-        np.testing.assert_array_equal(getattr(fast, name), getattr(plain, name))
-    np.testing.assert_array_equal(fast.diagnostics["nis"], plain.diagnostics["nis"])
-
-
-def test_kalman_refuses_float_maps_that_disagree_with_the_model():
-    """A gauge model whose f was replaced while its float maps were kept is refused, not
-    filtered with the old eq. 39."""
-    model = gauge_state_space_model()
-    seq = simulate_gauge(seed=0)
-    slower = dataclasses.replace(model, f=lambda x, u: 0.5 * model.f(x, u))
-    with pytest.raises(EvidenceError, match=r"scalar_maps\.f gives"):
-        KalmanFilter().run(slower, seq.readings, seq.inputs)
-    dropped = dataclasses.replace(slower, scalar_maps=None)
-    assert KalmanFilter().run(dropped, seq.readings, seq.inputs).estimates.shape == (83, 1)
+        np.testing.assert_allclose(getattr(plain, name), getattr(package, name), rtol=0,
+                                   atol=1e-9)
 
 
 @pytest.mark.parametrize("flt", RIVALS, ids=IDS)

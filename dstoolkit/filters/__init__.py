@@ -49,7 +49,6 @@ from ._model import (
     BatchResult,
     BoundedNoise,
     FilterResult,
-    ScalarMaps,
     StateSpaceModel,
     with_input,
 )
@@ -94,7 +93,6 @@ __all__ = [
     "ParticleFilter",
     "ParticleRecord",
     "ParticleState",
-    "ScalarMaps",
     "StateSpaceModel",
     "cluster_boxes",
     "converged_at",

@@ -163,25 +163,6 @@ class BoundedNoise:
 
 
 @dataclass(frozen=True)
-class ScalarMaps:
-    """The maps of a model with one state and one reading (n = m = 1), on Python floats.
-
-    An optional speed path for recursions that go one float at a time (the Kalman filter
-    on one run, where numpy calls on (1, 1) arrays would cost more than the arithmetic):
-    ``f(x, u)`` and ``jacobian_f(x, u)`` (∂f/∂x) take the state x as a float and the
-    transition's input row u as a list of floats (None without inputs); ``g(x)`` and
-    ``jacobian_g(x)`` (∂g/∂x) take x. Each returns a float and must give the same numbers
-    as the model's array maps; the inputs have already passed the array f's checks (every
-    filter evaluates f on every transition's input before it starts).
-    """
-
-    f: Callable[[float, Any], float]
-    jacobian_f: Callable[[float, Any], float]
-    g: Callable[[float], float]
-    jacobian_g: Callable[[float], float]
-
-
-@dataclass(frozen=True)
 class StateSpaceModel:
     """x_{k+1} = f(x_k, u_k) + v_k and g(x_k) = z_k + w_k (eq. 21).
 
@@ -215,10 +196,6 @@ class StateSpaceModel:
     jacobian_g
         Optional Jacobians for the (extended) Kalman filter, ``(x, u) -> (n, n)`` and
         ``x -> (m, n)``; finite differences are used when absent.
-    scalar_maps
-        Optional: f, g and their Jacobians on Python floats (:class:`ScalarMaps`) for a
-        scalar state and reading, the same numbers faster; used by the Kalman filter's
-        single runs. Replace it (or set it to None) when you replace f or g.
     """
 
     f: ArrayFn
@@ -232,7 +209,6 @@ class StateSpaceModel:
     jacobian_g: ArrayFn | None = None
     name: str = "model"
     description: str = field(default="", compare=False)
-    scalar_maps: ScalarMaps | None = None
 
     @property
     def state_dim(self) -> int:
@@ -379,6 +355,7 @@ class _MapGuard:
             return out
 
         checked._guard = self  # type: ignore[attr-defined]
+        checked._unchecked = fn  # type: ignore[attr-defined]
         return checked
 
     def check(self, value: Any, name: str) -> None:
@@ -404,6 +381,13 @@ def guarded(model: StateSpaceModel, title: str) -> StateSpaceModel:
         model, f=guard.wrap(model.f, "f"), g=guard.wrap(model.g, "g"),
         g_inverse=None if model.g_inverse is None else guard.wrap(model.g_inverse,
                                                                   "g_inverse"))
+
+
+def unchecked(fn: Callable[..., Any]) -> tuple[Callable[..., Any], _MapGuard | None]:
+    """A guarded map's own function and its guard, for a caller that checks the results
+    itself (the Kalman filter's scalar recursion checks floats, not arrays); a map that is
+    not guarded comes back as it is, with no guard."""
+    return getattr(fn, "_unchecked", fn), getattr(fn, "_guard", None)
 
 
 def at_step(model: StateSpaceModel, k: int) -> None:

@@ -136,9 +136,7 @@ def state_transition_derivative(x: Any, n: Any) -> np.ndarray:
 
 
 def next_resonance(x: Any, n: Any) -> Any:
-    """The arithmetic of eq. 39, x (n + 1)/n, on floats or float arrays alike (no checks):
-    :func:`state_transition` and the gauge model's float maps share it, so both give the
-    same numbers."""
+    """The arithmetic of eq. 39, x (n + 1)/n, on floats or float arrays alike (no checks)."""
     return x * (n + 1.0) / n
 
 
