@@ -52,30 +52,6 @@ class BatchDependence(NamedTuple):
     r21: np.ndarray
 
 
-def dempster(a: Boxes, b: Boxes) -> tuple[Boxes, np.ndarray, np.ndarray]:
-    """Dempster's rule (eq. 1) per run, products in order i·N_b + j, not merged.
-
-    Returns the combined boxes (empty products keep mass 0), the conflict K (R,) and a
-    mask (R,) of runs whose combination exists (1 − K above the tolerance); runs in total
-    conflict get all-zero masses and the caller applies its policy.
-    """
-    d = a.lo.shape[-1]
-    lo = np.maximum(a.lo[:, :, None], b.lo[:, None])
-    lo = lo.reshape(lo.shape[0], -1, d)
-    hi = np.minimum(a.hi[:, :, None], b.hi[:, None]).reshape(lo.shape)
-    nonempty = (lo[..., 0] <= hi[..., 0]) if d == 1 else (lo <= hi).all(axis=-1)
-    products = a.mass[:, :, None] * b.mass[:, None]
-    mass = products.reshape(products.shape[0], -1) * nonempty
-    kept = mass.sum(axis=-1)
-    ok = kept > CONFLICT_TOLERANCE
-    if ok.all():
-        mass /= kept[:, None]
-    else:
-        mass /= np.where(ok, kept, 1.0)[:, None]
-        mass[~ok] = 0.0
-    return Boxes(lo, hi, mass), 1.0 - kept, ok
-
-
 def sizes(e: Boxes) -> np.ndarray:
     """Width (d = 1) or volume of each box, (R, N)."""
     w = e.hi - e.lo
