@@ -19,7 +19,7 @@ from dstoolkit import (
     dependence,
 )
 from dstoolkit.evidence import Boxes, cartesian_product, image
-from dstoolkit.evidence import _batch_kernels as bk
+from dstoolkit.evidence import boxes as bk
 from dstoolkit.filters import (
     DIAGNOSTICS,
     BoundedNoise,

@@ -9,6 +9,7 @@ import pytest
 from dstoolkit import EvidenceError, InconsistentDataError, TotalConflictError
 from dstoolkit.errors import WorkLimitError
 from dstoolkit.evidence import Boxes
+from dstoolkit.evidence.boxes import cluster_boxes, merge_equal_boxes
 from dstoolkit.filters import (
     BoundedErrorFilter,
     BoundedNoise,
@@ -17,10 +18,8 @@ from dstoolkit.filters import (
     NassreddineFilter,
     ParticleFilter,
     StateSpaceModel,
-    cluster_boxes,
     finite_difference_jacobian,
     lotka_volterra,
-    merge_equal_boxes,
     simulate_lotka_volterra,
     systematic_resample,
 )
@@ -419,12 +418,12 @@ def test_nassreddine_auto_kernel_falls_back_to_numpy_without_numba(monkeypatch):
                         lambda name, *a: None if name == "numba" else real(name, *a))
     combine, cluster = NassreddineFilter(kernel="auto")._kernels()
     assert combine is _nassreddine.contracted_posterior
-    assert cluster is _nassreddine.cluster_boxes
+    assert cluster is cluster_boxes
 
 
 @pytest.mark.extras  # numba, the extra "speed"
 def test_compiled_kernels_raise_the_numpy_errors():
-    from dstoolkit.filters._compiled import cluster_boxes_compiled
+    from dstoolkit.evidence.boxes import cluster_boxes_compiled
 
     lo = np.array([[[0.0], [1.0], [2.0]]])
     hi = np.array([[[1.0], [np.inf], [3.0]]])

@@ -208,6 +208,13 @@ def merge_equal(focal: np.ndarray, mass: np.ndarray) -> tuple[np.ndarray, np.nda
 
     Returns each distinct focal element once, in order of first appearance, with the
     summed mass. A stable lexicographic sort groups equal rows (−0.0 equals 0.0).
+
+    Why this merge stays beside :func:`~dstoolkit.evidence.boxes.merge_equal_boxes`: this
+    one serves the evidence objects, one at a time, on any focal element (rows of
+    booleans on a finite frame, boxes on intervals), and keeps the order in which the
+    focal elements first appear, which is what an object shows (``to_rows``, ``repr``).
+    The batch one puts each run's boxes in a canonical order with padding, so that every
+    run of a batch keeps one shape; its compiled twin is the one fast kernel of eq. 14.
     """
     rows = focal.reshape(len(focal), -1)
     order = np.lexsort(rows.T[::-1]) if rows.shape[1] > 1 else np.argsort(rows[:, 0],

@@ -65,7 +65,7 @@ TINY = 1e-300
 
 def least(values: np.ndarray) -> float:
     """The smallest of ``values`` (NaN if one is NaN), as a float; one element is read
-    directly (a tenth of the cost of a reduction)."""
+    directly (cheaper than a reduction)."""
     return values.item() if values.size == 1 else float(np.minimum.reduce(values, axis=None))
 
 
@@ -168,7 +168,7 @@ class DependenceKernel:
         np.divide(self.e2_share, self.merged, out=self.weight)
         np.vecdot(m_d, self.weight, out=self.joint_sum)
         # the six figures per run: in plain floats for one run (a numpy call on one element
-        # costs ten float operations), else in arrays
+        # costs more than a float operation), else in arrays
         if self.single:
             w1, w2 = self.units.ravel().tolist()
             figures = dependence_figures(w1, w2, min(w1, w2), *self.sums.ravel().tolist())
@@ -219,11 +219,11 @@ def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool =
     live = np.ascontiguousarray(np.broadcast_to(a.mass > 0, (runs, na)))
     valid = DependenceKernel(cols, masses, na, mass_rule, out, theta_mass, live).compute()
     if check and not valid:
-        _coefficient_error(out[4], out[5], out[3], mass_rule)
+        coefficient_error(out[4], out[5], out[3], mass_rule)
     return BatchDependence(*out)
 
 
-def _coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray,
+def coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray,
                        mass_rule: str) -> None:
     for name, r in (("R12", r12), ("R21", r21)):
         bad = ~((r >= 0.0) & (r <= 1.0))

@@ -56,8 +56,6 @@ from ._nassreddine import (
     NassreddineFilter,
     NassreddineRecord,
     NassreddineState,
-    cluster_boxes,
-    merge_equal_boxes,
 )
 from ._particle import (
     ParticleFilter,
@@ -94,12 +92,10 @@ __all__ = [
     "ParticleRecord",
     "ParticleState",
     "StateSpaceModel",
-    "cluster_boxes",
     "converged_at",
     "enclosure_summary",
     "finite_difference_jacobian",
     "lotka_volterra",
-    "merge_equal_boxes",
     "observe",
     "predict",
     "random_walk",

@@ -49,17 +49,18 @@ from dstoolkit.errors import EvidenceError, TotalConflictError
 from dstoolkit.evidence import (
     IMAGE_METHODS,
     MASS_RULES,
+    THETA_RULES,
     Boxes,
     ImageMethod,
     IntervalEvidence,
     MassRule,
+    ThetaRule,
     conflict,
     decorrelate,
     dempster,
 )
-from dstoolkit.evidence import _batch_kernels as bk
-from dstoolkit.evidence._combination import THETA_RULES, ThetaRule
-from dstoolkit.evidence._extension import parse_signs, resolve_method, state_signs
+from dstoolkit.evidence import boxes as bk
+from dstoolkit.evidence.boxes import parse_signs, resolve_method, state_signs
 from dstoolkit.utils.budget import check_memory
 from dstoolkit.utils.checks import real_array
 
