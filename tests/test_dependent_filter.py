@@ -100,7 +100,7 @@ def test_record_keeps_every_step_with_the_papers_sizes(gauge):
                 "mapped_back", "final"):
         assert isinstance(getattr(step, key), IntervalEvidence), key
         assert getattr(step, key).mass.sum() == pytest.approx(1.0)
-    assert step.estimate == pytest.approx(step.final.pignistic_expectation())  # eq. 20
+    assert step.estimate == pytest.approx(step.final.pignistic_expectation_1d())  # eq. 20
     d = result.diagnostics  # with p = 3: 4, 16, 64 and 64 × 16 products
     assert np.all(d["n_state"][1:] == 4) and np.all(d["n_prediction"][1:] == 16)
     assert np.all(d["n_observation"][1:] == 4) and np.all(d["n_products_step4"][1:] == 64)
@@ -237,7 +237,7 @@ def test_total_conflict_can_fall_back_to_the_prediction(gauge):
     assert fast.diagnostics["fallback"][4] == 1.0 and np.isnan(fast.diagnostics["r12"][4])
     prediction = rec.steps[4].prediction
     assert rec.steps[4].final is prediction
-    assert fast.estimates[4, 0] == pytest.approx(prediction.pignistic_expectation(), rel=1e-14)
+    assert fast.estimates[4, 0] == pytest.approx(prediction.pignistic_expectation_1d(), rel=1e-14)
     np.testing.assert_allclose(fast.estimates, rec.estimates, rtol=1e-12)
     both = flt.run_batch(MODEL, np.stack([z, gauge.readings[:8]]),
                          np.stack([u, gauge.inputs[:7]])).estimates
@@ -348,9 +348,9 @@ def test_kernels_equal_the_merged_object_path(a, b, rule):
             assert not ok[0]
             continue
         assert ok[0] and k[0] == pytest.approx(conflict(*objects), abs=1e-12)
-        assert x[0, 0] == pytest.approx(both.pignistic_expectation(), abs=1e-12)
+        assert x[0, 0] == pytest.approx(both.pignistic_expectation_1d(), abs=1e-12)
         assert (lo[0, 0], hi[0, 0]) == pytest.approx(tuple(h[0] for h in both.hull()))
-    assert x[0, 0] == pytest.approx(combined.pignistic_expectation(), abs=1e-12)
+    assert x[0, 0] == pytest.approx(combined.pignistic_expectation_1d(), abs=1e-12)
     assert (lo[0, 0], hi[0, 0]) == pytest.approx(tuple(h[0] for h in combined.hull()))
 
 

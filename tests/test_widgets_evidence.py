@@ -63,8 +63,8 @@ def test_dependent_explorer_starts_at_the_papers_example():
     assert ex.numbers["D"] == pytest.approx(dep.degree)
     assert ex.numbers["R12"] == pytest.approx(dep.r12)
     assert ex.numbers["E[dependent]"] == pytest.approx(
-        combine_dependent(e1, e2).pignistic_expectation())
-    assert ex.numbers["E[Dempster]"] == pytest.approx(dempster(e1, e2).pignistic_expectation())
+        combine_dependent(e1, e2).pignistic_expectation_1d())
+    assert ex.numbers["E[Dempster]"] == pytest.approx(dempster(e1, e2).pignistic_expectation_1d())
 
 
 def test_conflict_explorer_shows_zadeh_and_total_conflict():

@@ -327,7 +327,7 @@ def combine_dependent(
     >>> from dstoolkit.evidence import appendix_pair
     >>> e1, e2 = appendix_pair()
     >>> combined = combine_dependent(e1, e2)
-    >>> len(combined), round(combined.pignistic_expectation(), 4)
+    >>> len(combined), round(combined.pignistic_expectation_1d(), 4)
     (5, 1.1355)
     """
     a2, b2, _ = decorrelate(a, b, mass_rule=mass_rule, energy1=energy1, energy2=energy2,

@@ -54,7 +54,9 @@ class IntervalEvidence(Evidence):
     ----------
     lo, hi
         Lower and upper ends, shape (n,) for intervals or (n, d) for d-dimensional boxes.
-        Infinite ends are allowed (an unbounded focal element).
+        Infinite ends are allowed (an unbounded focal element). The attributes ``lo``
+        and ``hi`` are (n, d) whatever d; ``lo_1d`` and ``hi_1d`` give (n,) for
+        intervals.
     mass
         Masses, shape (n,), non-negative, summing to 1.
     merge
@@ -63,7 +65,7 @@ class IntervalEvidence(Evidence):
     Examples
     --------
     >>> e = IntervalEvidence([-0.3, 0.3], [2.6, 1.9], [0.3, 0.7])
-    >>> round(e.pignistic_expectation(), 4)
+    >>> round(e.pignistic_expectation_1d(), 4)
     1.115
     """
 
@@ -161,13 +163,41 @@ class IntervalEvidence(Evidence):
 
     @property
     def lo(self) -> np.ndarray:
-        """Lower ends: shape (n,) for intervals, (n, d) for boxes (read-only)."""
-        return self.boxes_lo[:, 0] if self.dim == 1 else self.boxes_lo
+        """Lower ends, shape (n, d) whatever d (read-only); :attr:`lo_1d` for intervals."""
+        return self.boxes_lo
 
     @property
     def hi(self) -> np.ndarray:
-        """Upper ends: shape (n,) for intervals, (n, d) for boxes (read-only)."""
-        return self.boxes_hi[:, 0] if self.dim == 1 else self.boxes_hi
+        """Upper ends, shape (n, d) whatever d (read-only); :attr:`hi_1d` for intervals."""
+        return self.boxes_hi
+
+    @property
+    def lo_1d(self) -> np.ndarray:
+        """Lower ends of scalar evidence (d = 1), shape (n,) (read-only).
+
+        Raises
+        ------
+        EvidenceError
+            If the focal elements are boxes (d > 1): use :attr:`lo`, shape (n, d).
+        """
+        return self._scalar_column(self.boxes_lo, "lo")
+
+    @property
+    def hi_1d(self) -> np.ndarray:
+        """Upper ends of scalar evidence (d = 1), shape (n,) (read-only).
+
+        Raises
+        ------
+        EvidenceError
+            If the focal elements are boxes (d > 1): use :attr:`hi`, shape (n, d).
+        """
+        return self._scalar_column(self.boxes_hi, "hi")
+
+    def _scalar_column(self, ends: np.ndarray, name: str) -> np.ndarray:
+        if self.dim != 1:
+            raise EvidenceError(f"{name}_1d is for scalar evidence (d = 1); this evidence has "
+                                f"{self.dim}-dimensional boxes: use {name}, shape (n, d)")
+        return ends[:, 0]
 
     @property
     def widths(self) -> np.ndarray:
@@ -270,15 +300,28 @@ class IntervalEvidence(Evidence):
         if self.dim != 1:
             raise EvidenceError("cdf_bounds is defined for scalar (d = 1) evidence only")
         x = real_array(x, "x", allow_inf=True, error=EvidenceError)
-        lower = (self.hi[None, :] <= x.reshape(-1, 1)) @ self._mass
-        upper = (self.lo[None, :] <= x.reshape(-1, 1)) @ self._mass
+        lower = (self.hi_1d[None, :] <= x.reshape(-1, 1)) @ self._mass
+        upper = (self.lo_1d[None, :] <= x.reshape(-1, 1)) @ self._mass
         return lower.reshape(x.shape), upper.reshape(x.shape)
 
-    def pignistic_expectation(self) -> float | np.ndarray:
+    def pignistic_expectation(self) -> np.ndarray:
         """E = Σ_j m(A_j) (a_j⁻ + a_j⁺)/2, the pignistic expectation (eq. 20).
 
-        A scalar for intervals, a vector of length d for boxes. Unbounded focal elements
-        have no expectation: an error says which.
+        Returns
+        -------
+        ndarray, shape (d,)
+            One value per dimension, for intervals (d = 1) too;
+            :meth:`pignistic_expectation_1d` gives the float of scalar evidence.
+
+        Raises
+        ------
+        EvidenceError
+            If a focal element is unbounded: it has no expectation.
+
+        Examples
+        --------
+        >>> IntervalEvidence([0.0, 1.0], [2.0, 3.0], [0.5, 0.5]).pignistic_expectation()
+        array([1.5])
         """
         value = pignistic_expectation(self.as_boxes())[0]
         if not np.all(np.isfinite(value)):
@@ -286,7 +329,27 @@ class IntervalEvidence(Evidence):
                 "the pignistic expectation needs bounded focal elements; replace ±inf ends "
                 "by a finite frame (e.g. discount onto a finite Θ)"
             )
-        return float(value[0]) if self.dim == 1 else value
+        return value
+
+    def pignistic_expectation_1d(self) -> float:
+        """The pignistic expectation (eq. 20) of scalar evidence (d = 1), as a float.
+
+        Raises
+        ------
+        EvidenceError
+            If the focal elements are boxes (d > 1): use :meth:`pignistic_expectation`,
+            or if a focal element is unbounded.
+
+        Examples
+        --------
+        >>> IntervalEvidence([0.0, 1.0], [2.0, 3.0], [0.5, 0.5]).pignistic_expectation_1d()
+        1.5
+        """
+        if self.dim != 1:
+            raise EvidenceError(f"pignistic_expectation_1d is for scalar evidence (d = 1); "
+                                f"this evidence has {self.dim}-dimensional boxes: use "
+                                "pignistic_expectation(), shape (d,)")
+        return float(self.pignistic_expectation()[0])
 
     def shift(self, offset: Any) -> IntervalEvidence:
         """The evidence about X + offset (same masses)."""
@@ -302,7 +365,7 @@ class IntervalEvidence(Evidence):
 
     def to_rows(self) -> np.ndarray:
         """Rows (lo, hi, mass) for d = 1, handy for tables."""
-        return np.column_stack([self.lo, self.hi, self._mass])
+        return np.column_stack([self.lo_1d, self.hi_1d, self._mass])
 
     def __repr__(self) -> str:
         focal, mass = self._merged()  # equal focal elements shown once, masses added

@@ -112,7 +112,7 @@ def triangular_evidence(
     The state noise of the paper's gauge (Table 1):
 
     >>> e = triangular_evidence(-0.3, 0.0, 0.3, p=3, epsilon=0.05, theta=(-10.0, 10.0))
-    >>> e.lo.round(4).tolist(), e.hi.round(4).tolist()
+    >>> e.lo_1d.round(4).tolist(), e.hi_1d.round(4).tolist()
     ([-0.1, -0.2, -0.3, -10.0], [0.1, 0.2, 0.3, 10.0])
     >>> e.mass.round(4).tolist()
     [0.3167, 0.3167, 0.3167, 0.05]
