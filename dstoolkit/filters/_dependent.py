@@ -323,7 +323,24 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
     # -- the public step: Steps 2-6 on IntervalEvidence objects ------------------------------
     def initialize(self, model: StateSpaceModel, z1: Any) -> DependentState:
-        """x̂_1 by the ``start`` rule; see :meth:`Filter.initialize`."""
+        """x̂_1 by the ``start`` rule.
+
+        Parameters
+        ----------
+        model
+            *StateSpaceModel*. The model of eq. 21.
+        z1
+            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+
+        Returns
+        -------
+        DependentState
+            The state of step 1; ``estimate`` is x̂_1, shape (n,).
+
+        See Also
+        --------
+        Filter.initialize : the interface every filter shares.
+        """
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
         model = self._guarded(model)
@@ -332,10 +349,31 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
     def step(self, state: DependentState, z: Any, u: Any = None
              ) -> tuple[DependentState, DependentRecord]:
-        """Steps 2–6 from x̂_k with the reading z_{k+1}; see :meth:`Filter.step`.
+        """Steps 2–6 from x̂_k with the reading z_{k+1}.
 
         Runs the reference path on :class:`~dstoolkit.evidence.IntervalEvidence` (equal
         focal elements merged, eq. 14), which records every evidence of the step.
+
+        Parameters
+        ----------
+        state
+            *DependentState*. What :meth:`initialize` or the previous :meth:`step` returned.
+        z
+            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
+        u
+            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+            k → k + 1 (the gauge's order n_k).
+
+        Returns
+        -------
+        state : DependentState
+            The state of step k + 1; ``estimate`` is x̂_{k+1}, shape (n,).
+        record : DependentRecord
+            What the step computed.
+
+        See Also
+        --------
+        Filter.step : the interface every filter shares.
         """
         model, noise = state.model, state.noise
         maps = self._maps(model)

@@ -299,8 +299,24 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
 
     # -- the public step -----------------------------------------------------------------------
     def initialize(self, model: StateSpaceModel, z1: Any) -> KalmanState:
-        """x̂_1 = g⁻¹(z_1 + E[w]) and P_1 from the reading's box; see
-        :meth:`Filter.initialize`."""
+        """x̂_1 = g⁻¹(z_1 + E[w]) and P_1 from the reading's box.
+
+        Parameters
+        ----------
+        model
+            *StateSpaceModel*. The model of eq. 21.
+        z1
+            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+
+        Returns
+        -------
+        KalmanState
+            The state of step 1; ``estimate`` is x̂_1, shape (n,).
+
+        See Also
+        --------
+        Filter.initialize : the interface every filter shares.
+        """
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
         model = self._guarded(model)
@@ -309,7 +325,29 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
 
     def step(self, state: KalmanState, z: Any, u: Any = None
              ) -> tuple[KalmanState, KalmanRecord]:
-        """Predict with f, update with the reading; see :meth:`Filter.step`."""
+        """Predict with f, update with the reading.
+
+        Parameters
+        ----------
+        state
+            *KalmanState*. What :meth:`initialize` or the previous :meth:`step` returned.
+        z
+            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
+        u
+            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+            k → k + 1 (the gauge's order n_k).
+
+        Returns
+        -------
+        state : KalmanState
+            The state of step k + 1; ``estimate`` is x̂_{k+1}, shape (n,).
+        record : KalmanRecord
+            What the step computed.
+
+        See Also
+        --------
+        Filter.step : the interface every filter shares.
+        """
         model = state.model
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)

@@ -303,7 +303,24 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
 
     # -- the public step -----------------------------------------------------------------------
     def initialize(self, model: StateSpaceModel, z1: Any) -> NassreddineState:
-        """The reading's evidence g⁻¹(z_1 + E_w) ∩ X_0; see :meth:`Filter.initialize`."""
+        """The reading's evidence g⁻¹(z_1 + E_w) ∩ X_0.
+
+        Parameters
+        ----------
+        model
+            *StateSpaceModel*. The model of eq. 21.
+        z1
+            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+
+        Returns
+        -------
+        NassreddineState
+            The state of step 1; ``estimate`` is x̂_1, shape (n,).
+
+        See Also
+        --------
+        Filter.initialize : the interface every filter shares.
+        """
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
         model = self._guarded(model)
@@ -314,7 +331,29 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
 
     def step(self, state: NassreddineState, z: Any, u: Any = None
              ) -> tuple[NassreddineState, NassreddineRecord]:
-        """Predict through f, contract with g⁻¹(z + E_w), cluster; see :meth:`Filter.step`."""
+        """Predict through f, contract with g⁻¹(z + E_w), cluster.
+
+        Parameters
+        ----------
+        state
+            *NassreddineState*. What :meth:`initialize` or the previous :meth:`step` returned.
+        z
+            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
+        u
+            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+            k → k + 1 (the gauge's order n_k).
+
+        Returns
+        -------
+        state : NassreddineState
+            The state of step k + 1; ``estimate`` is x̂_{k+1}, shape (n,).
+        record : NassreddineRecord
+            What the step computed.
+
+        See Also
+        --------
+        Filter.step : the interface every filter shares.
+        """
         model = state.model
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)

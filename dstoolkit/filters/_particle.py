@@ -260,7 +260,24 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
     # -- the public step -----------------------------------------------------------------------
     def initialize(self, model: StateSpaceModel, z1: Any) -> ParticleState:
         """Particles uniform in the reading's box, weighted by their likelihood (the
-        stream ``stream``); see :meth:`Filter.initialize`."""
+        stream ``stream``).
+
+        Parameters
+        ----------
+        model
+            *StateSpaceModel*. The model of eq. 21.
+        z1
+            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+
+        Returns
+        -------
+        ParticleState
+            The state of step 1; ``estimate`` is x̂_1, shape (n,).
+
+        See Also
+        --------
+        Filter.initialize : the interface every filter shares.
+        """
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
         model = self._guarded(model)
@@ -272,8 +289,29 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
 
     def step(self, state: ParticleState, z: Any, u: Any = None
              ) -> tuple[ParticleState, ParticleRecord]:
-        """Resample, propagate through f with drawn state noise, weigh by the reading; see
-        :meth:`Filter.step`."""
+        """Resample, propagate through f with drawn state noise, weigh by the reading.
+
+        Parameters
+        ----------
+        state
+            *ParticleState*. What :meth:`initialize` or the previous :meth:`step` returned.
+        z
+            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
+        u
+            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+            k → k + 1 (the gauge's order n_k).
+
+        Returns
+        -------
+        state : ParticleState
+            The state of step k + 1; ``estimate`` is x̂_{k+1}, shape (n,).
+        record : ParticleRecord
+            What the step computed.
+
+        See Also
+        --------
+        Filter.step : the interface every filter shares.
+        """
         model = state.model
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)
