@@ -44,14 +44,26 @@ InconsistencyPolicy = Literal["raise", "reset"]
 
 @dataclass(frozen=True)
 class BoundedErrorState(FilterState):
-    """The bounded-error filter's state: the box X_k = [lower, upper], centre ``estimate``."""
+    """The bounded-error filter's state: the box X_k = [lower, upper], centre ``estimate``.
+
+    Parameters
+    ----------
+    model
+        *StateSpaceModel*. The model the filter runs on.
+    k
+        *int*. The step whose estimate this is (1 for the first reading).
+    estimate
+        *ndarray, shape (n,)*. x̂_k.
+    lower, upper
+        *ndarray, shape (n,)*. The box X_k = [lower, upper].
+    """
 
 
 @dataclass(frozen=True)
 class BoundedErrorRecord:
     """One step of the bounded-error filter.
 
-    Attributes
+    Parameters
     ----------
     step
         *int*. k, counting the first reading as 1.

@@ -118,7 +118,23 @@ class DependentState(FilterState):
     """The paper's filter's state: x̂_k, the hull of step k's final evidence (``final``,
     None at the start) and Step 1's noise evidence (``noise``, from the model's bounded
     noises; replace it with ``dataclasses.replace`` to step with other evidence). Each
-    step restarts from the point estimate (Step 2), so nothing else passes on."""
+    step restarts from the point estimate (Step 2), so nothing else passes on.
+
+    Parameters
+    ----------
+    model
+        *StateSpaceModel*. The model the filter runs on.
+    k
+        *int*. The step whose estimate this is (1 for the first reading).
+    estimate
+        *ndarray, shape (n,)*. x̂_k.
+    lower, upper
+        *ndarray, shape (n,)*. The hull of step k's final evidence (x̂_1 at the start).
+    noise
+        *NoiseEvidence*. Step 1's evidence of v and w (eqs. 24–26).
+    final
+        *IntervalEvidence or None*. Step k's final evidence; None at the start.
+    """
 
     noise: NoiseEvidence
     final: IntervalEvidence | None = None
@@ -132,7 +148,7 @@ class DependentRecord:
     ``fallback``) and of :data:`COUNTS` (``n_state`` to ``n_products_step6``) hold the
     step's numbers, as floats (NaN where a step has none, e.g. at the start).
 
-    Attributes
+    Parameters
     ----------
     step
         *int*. k + 1, counting the first reading as 1.

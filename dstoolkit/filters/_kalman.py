@@ -208,7 +208,21 @@ def _scalar_recursion(
 @dataclass(frozen=True)
 class KalmanState(FilterState):
     """The Kalman filter's state: x̂_k (``estimate``), P_k (``covariance``, (n, n)) and
-    the band x̂_k ± 3σ (``lower``, ``upper``)."""
+    the band x̂_k ± 3σ (``lower``, ``upper``).
+
+    Parameters
+    ----------
+    model
+        *StateSpaceModel*. The model the filter runs on.
+    k
+        *int*. The step whose estimate this is (1 for the first reading).
+    estimate
+        *ndarray, shape (n,)*. x̂_k.
+    lower, upper
+        *ndarray, shape (n,)*. The band x̂_k ± 3σ.
+    covariance
+        *ndarray, shape (n, n)*. P_k.
+    """
 
     covariance: np.ndarray
 
@@ -217,7 +231,7 @@ class KalmanState(FilterState):
 class KalmanRecord:
     """One step of the Kalman filter (the terms of the module docstring's recursion).
 
-    Attributes
+    Parameters
     ----------
     step
         *int*. k, counting the first reading as 1.

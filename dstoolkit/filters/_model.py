@@ -195,6 +195,10 @@ class StateSpaceModel:
     jacobian_g
         Optional Jacobians for the (extended) Kalman filter, ``(x, u) -> (n, n)`` and
         ``x -> (m, n)``; finite differences are used when absent.
+    name
+        *str*. A short name for messages and tables.
+    description
+        *str*. What the state is, in words (not compared).
     """
 
     f: ArrayFn
@@ -215,8 +219,18 @@ class StateSpaceModel:
         return self.state_noise.dim
 
     def inverse(self) -> BoxInverse:
-        """``g_inverse``, or an :class:`~dstoolkit.errors.EvidenceError` when the model has
-        none (every filter maps readings back to states through it)."""
+        """The model's g⁻¹ on boxes.
+
+        Returns
+        -------
+        callable
+            ``g_inverse(lo, hi, x_lo, x_hi) -> (lo, hi)``.
+
+        Raises
+        ------
+        EvidenceError
+            When the model has none (every filter maps readings back to states through it).
+        """
         if self.g_inverse is None:
             raise EvidenceError(
                 f"model {self.name!r} has no g_inverse(lo, hi, x_lo, x_hi), which the filters "
@@ -237,8 +251,28 @@ class StateSpaceModel:
         inputs: Any = None,
         runs: int | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Draw a truth and its readings: returns ``(x, z)`` of shapes (steps, n), (steps, m),
-        or (runs, steps, ·) when ``runs`` is given. z_k = g(x_k) − w_k."""
+        """Draw a truth and its readings, z_k = g(x_k) − w_k (eq. 21).
+
+        Parameters
+        ----------
+        x0
+            *array_like, shape (n,)*. The first state x_1.
+        steps
+            *int*. T, the number of states and readings.
+        rng
+            *numpy.random.Generator*. The source of the noises.
+        inputs
+            *array_like, shape (T − 1, q), optional*. u_k of each transition.
+        runs
+            *int, optional*. Draw this many independent runs at once.
+
+        Returns
+        -------
+        x : ndarray, shape (T, n) or (runs, T, n)
+            The true states.
+        z : ndarray, shape (T, m) or (runs, T, m)
+            The readings.
+        """
         lead = () if runs is None else (runs,)
         x = np.broadcast_to(np.asarray(x0, dtype=float), (*lead, self.state_dim)).copy()
         xs, zs = [], []
@@ -256,7 +290,7 @@ class StateSpaceModel:
 class FilterResult:
     """What :meth:`Filter.run` returns: one run of a filter over T steps.
 
-    Attributes
+    Parameters
     ----------
     method
         *str*. The filter's :attr:`Filter.name`, e.g. ``"dependent_evidence"``.
@@ -296,7 +330,7 @@ class FilterResult:
 class BatchResult:
     """What :meth:`Filter.run_batch` returns: R independent runs of T steps each.
 
-    Attributes
+    Parameters
     ----------
     method
         *str*. The filter's :attr:`Filter.name`.

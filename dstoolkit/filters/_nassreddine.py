@@ -145,7 +145,30 @@ class NassreddineState(FilterState):
     the evidence of the reading, z_k + E_w (``observation``). ``posterior`` and ``carried``
     are one-run :class:`~dstoolkit.evidence.Boxes` (arrays with a run axis of 1);
     ``focal_elements`` and ``merged_mass`` are the posterior's size before the cap and the
-    mass the cap moved."""
+    mass the cap moved.
+
+    Parameters
+    ----------
+    model
+        *StateSpaceModel*. The model the filter runs on.
+    k
+        *int*. The step whose estimate this is (1 for the first reading).
+    estimate
+        *ndarray, shape (n,)*. x̂_k.
+    lower, upper
+        *ndarray, shape (n,)*. The hull of the posterior.
+    posterior
+        *Boxes*. The posterior of step k before the cap (one run).
+    carried
+        *Boxes or None*. What step k + 1 starts from: the posterior after the cap, or
+        None for the restart variant.
+    observation
+        *IntervalEvidence*. z_k + E_w.
+    focal_elements
+        *int*. The posterior's focal elements before the cap.
+    merged_mass
+        *float*. The mass the cap moved.
+    """
 
     posterior: Boxes
     carried: Boxes | None
@@ -158,7 +181,7 @@ class NassreddineState(FilterState):
 class NassreddineRecord:
     """One step of Nassreddine's filter.
 
-    Attributes
+    Parameters
     ----------
     step
         *int*. k, counting the first reading as 1.

@@ -156,7 +156,27 @@ class ParticleState(FilterState):
     :meth:`ParticleFilter.step`, never advanced in place).
 
     ``particles`` is (N, n) and ``weights`` (N,), summing to 1; ``estimate`` is their
-    weighted mean and ``lower``/``upper`` the hull of the particles with weight."""
+    weighted mean and ``lower``/``upper`` the hull of the particles with weight.
+
+    Parameters
+    ----------
+    model
+        *StateSpaceModel*. The model the filter runs on.
+    k
+        *int*. The step whose estimate this is (1 for the first reading).
+    estimate
+        *ndarray, shape (n,)*. x̂_k.
+    lower, upper
+        *ndarray, shape (n,)*. The hull of the particles with weight.
+    particles
+        *ndarray, shape (N, n)*. The cloud after the reading.
+    weights
+        *ndarray, shape (N,)*. Their weights, summing to 1.
+    rng, offset_rng
+        *numpy.random.Generator*. The run's streams: state noise, resampling offsets.
+    run
+        *int*. The run's index (its streams).
+    """
 
     particles: np.ndarray
     weights: np.ndarray
@@ -169,7 +189,7 @@ class ParticleState(FilterState):
 class ParticleRecord:
     """One step of the particle filter.
 
-    Attributes
+    Parameters
     ----------
     step
         *int*. k, counting the first reading as 1.
