@@ -30,8 +30,6 @@ from ._dependent import (
     DependentRecord,
     DependentState,
     NoiseEvidence,
-    observe,
-    predict,
 )
 from ._example_systems import (
     LOTKA_VOLTERRA_X0,
@@ -96,8 +94,6 @@ __all__ = [
     "enclosure_summary",
     "finite_difference_jacobian",
     "lotka_volterra",
-    "observe",
-    "predict",
     "random_walk",
     "simulate_lotka_volterra",
     "systematic_resample",

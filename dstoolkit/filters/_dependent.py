@@ -92,7 +92,20 @@ COUNTS: tuple[str, ...] = (
 
 @dataclass(frozen=True)
 class NoiseEvidence:
-    """Step 1: the evidence of v and w (eqs. 24–26) and their arrays with a run axis."""
+    """Step 1: the evidence of v and w (eqs. 24–26) and their arrays with a run axis.
+
+    Parameters
+    ----------
+    state
+        *IntervalEvidence*. E_v, the evidence of the state noise v.
+    observation
+        *IntervalEvidence*. E_w, the evidence of the observation noise w.
+    v, w
+        *Boxes*. The same as one-run arrays, boxes (1, N, n) and (1, N, m).
+    prediction_mass
+        *ndarray, shape (1, N_v²)*. The masses of the predicted boxes,
+        ρ_ij = m_v(i)·m_v(j) (eq. 16).
+    """
 
     state: IntervalEvidence
     observation: IntervalEvidence
@@ -173,6 +186,20 @@ class DependentRecord:
     dependence_terms
         *Dependence or None*. En′(E1), En′(E2), En′(E1, E2), D, R12 and R21 of Step 6
         (eqs. A1–A6).
+    conflict_step4, conflict_step6
+        *float*. K of Dempster's rule in Steps 4 and 6 (eq. 1).
+    energy_mapped_back, energy_prediction, joint_energy
+        *float*. En′(E1), En′(E2) and En′(E1, E2) (eqs. A1, A3).
+    dependence, r12, r21
+        *float*. D, R12 and R21 (eqs. A4–A6).
+    fallback
+        *float*. 1 where total conflict made the prediction final, else 0.
+    n_state, n_prediction, n_observation_prediction, n_observation
+        *float*. The focal elements of Steps 2–4's evidence (:data:`COUNTS`).
+    n_fused, n_mapped_back, n_final
+        *float*. The focal elements of Steps 4–6's results.
+    n_products_step4, n_products_step6
+        *float*. The products Dempster's rule forms in Steps 4 and 6.
     """
 
     step: int
@@ -323,6 +350,24 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
         Computed once per noise and setting (cached): a run reuses it at every step, and
         runs of the same model reuse it too.
+
+        Parameters
+        ----------
+        model
+            *StateSpaceModel*. The model whose bounded noises v and w are turned into
+            evidence with the filter's ``p``, ``epsilon`` and ``theta``.
+
+        Returns
+        -------
+        NoiseEvidence
+            E_v, E_w and their arrays.
+
+        Examples
+        --------
+        >>> from dstoolkit.filters import DependentEvidenceFilter, random_walk
+        >>> noise = DependentEvidenceFilter(p=3).noise_evidence(random_walk(0.1, 0.5))
+        >>> len(noise.state), noise.prediction_mass.shape
+        (4, (1, 16))
         """
         return _noise_evidence(_Step1(self, model))
 

@@ -58,6 +58,24 @@ def finite_difference_jacobian(fn: Callable[[np.ndarray], np.ndarray], x: np.nda
 
     ``fn`` must accept arrays with one extra axis before the last, (..., n, n), and act
     row by row; the step of component i is ``FD_STEP · max(1, |x_i|)``.
+
+    Parameters
+    ----------
+    fn
+        *callable*. The map, (..., n) → (..., m), vectorised over leading axes.
+    x
+        *ndarray, shape (..., n)*. Where to differentiate.
+
+    Returns
+    -------
+    ndarray, shape (..., m, n)
+        ∂fn/∂x, the Jacobian the extended Kalman filter uses when the model has none.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> finite_difference_jacobian(lambda x: x ** 2, np.array([3.0])).round(6)
+    array([[6.]])
     """
     n = x.shape[-1]
     step = FD_STEP * np.maximum(1.0, np.abs(x))

@@ -37,6 +37,21 @@ class BoundedNoise:
     Kalman filter, the density for the particle filter. ``lower``, ``mode`` and ``upper``
     are scalars or equal-length vectors; they are stored as read-only float arrays.
 
+    Parameters
+    ----------
+    lower, mode, upper
+        *float or array_like, shape (d,)*. Support and mode of each component (the
+        variable's unit), lower <= mode <= upper.
+
+    Raises
+    ------
+    EvidenceError
+        For non-finite numbers, shapes that differ, or lower > mode or mode > upper.
+
+    References
+    ----------
+    The paper's eqs. (22)–(26) turn it into evidence.
+
     Examples
     --------
     >>> v = BoundedNoise(-0.3, 0.0, 0.3)
@@ -98,7 +113,18 @@ class BoundedNoise:
 
     @classmethod
     def symmetric(cls, half_width: Any) -> BoundedNoise:
-        """Noise in [−h, h] with mode 0."""
+        """Noise in [−h, h] with mode 0.
+
+        Parameters
+        ----------
+        half_width
+            *float or array_like, shape (d,)*. h, one per component.
+
+        Returns
+        -------
+        BoundedNoise
+            The symmetric noise.
+        """
         h = np.atleast_1d(np.asarray(half_width, dtype=float))
         return cls(-h, np.zeros_like(h), h)
 
@@ -119,7 +145,20 @@ class BoundedNoise:
         return (a * a + b * b + c * c - a * b - a * c - b * c) / 18.0
 
     def sample(self, rng: np.random.Generator, size: tuple[int, ...] = ()) -> np.ndarray:
-        """Draws from the triangular densities, shape ``size + (dim,)``."""
+        """Draws from the triangular densities.
+
+        Parameters
+        ----------
+        rng
+            *numpy.random.Generator*. The source.
+        size
+            *tuple of int*. The leading shape.
+
+        Returns
+        -------
+        ndarray, shape ``size + (dim,)``
+            The draws.
+        """
         shape = (*tuple(size), self.dim)
         degenerate = self.upper == self.lower
         hi = np.where(degenerate, self.lower + 1.0, self.upper)
@@ -131,7 +170,18 @@ class BoundedNoise:
         return np.where(degenerate, self.lower, draws) if degenerate.any() else draws
 
     def pdf(self, x: np.ndarray) -> np.ndarray:
-        """Product of the triangular densities of the components; 0 outside the support."""
+        """Product of the triangular densities of the components; 0 outside the support.
+
+        Parameters
+        ----------
+        x
+            *array_like, shape (..., dim)*. Where to evaluate.
+
+        Returns
+        -------
+        ndarray, shape (...)
+            The density (the inverse of the variable's unit to the power dim).
+        """
         x = np.asarray(x, dtype=float)
         a, c, b = self.lower, self.mode, self.upper
         width = np.where(b > a, b - a, 1.0)
@@ -147,7 +197,21 @@ class BoundedNoise:
     ) -> IntervalEvidence:
         """Evidence of the noise vector (eqs. 24–26 per component, product masses eq. 16).
 
-        ``theta`` is one (lo, hi) pair per component, default mode ± 100σ.
+        Parameters
+        ----------
+        p
+            *int*. The number of α-cuts.
+        epsilon
+            *float*. The mass of Θ.
+        theta
+            *array_like, shape (dim, 2), optional*. One (lo, hi) pair per component,
+            default mode ± 100σ.
+
+        Returns
+        -------
+        IntervalEvidence
+            p + 1 focal elements per component (p when ``epsilon`` is 0), their
+            product for dim > 1.
         """
         parts = [
             triangular_evidence(self.lower[i], self.mode[i], self.upper[i], p, epsilon,
@@ -527,8 +591,27 @@ def step_input(inputs: np.ndarray | None, k: int) -> np.ndarray | None:
 
 
 def with_input(f: ArrayFn, u: np.ndarray | None) -> Callable[[np.ndarray], np.ndarray]:
-    """``x ↦ f(x, u)`` for state arrays x (runs, …, n): u (runs, q) is reshaped to
-    (runs, 1, …, 1, q) so that it broadcasts against x whatever axes lie between."""
+    """``x ↦ f(x, u)`` for state arrays x (runs, …, n).
+
+    Parameters
+    ----------
+    f
+        *callable*. The model's ``f(x, u)``.
+    u
+        *ndarray, shape (runs, q), or None*. One input row per run; it is reshaped to
+        (runs, 1, …, 1, q) so that it broadcasts against x whatever axes lie between.
+
+    Returns
+    -------
+    callable
+        ``x ↦ f(x, u)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> with_input(lambda x, u: x * u, np.array([[2.0]]))(np.array([[3.0]]))
+    array([[6.]])
+    """
     if u is None:
         return lambda x: f(x, None)
     return lambda x: f(x, u.reshape(u.shape[0], *([1] * (np.ndim(x) - 2)), u.shape[-1]))

@@ -77,10 +77,17 @@ def systematic_resample(weights: np.ndarray, offsets: np.ndarray, *, compiled: b
 
     Returns
     -------
-    Indices (runs, N): particle i is chosen about N·w_i times, never when w_i = 0.
-    Cumulative weights and positions are quantised to whole multiples of 2⁻⁴⁰ (exact in
-    floating point), and each row is searched on its own, so a row's result does not depend
-    on the other rows.
+    ndarray of int, shape (runs, N)
+        Particle i is chosen about N·w_i times, never when w_i = 0. Cumulative weights
+        and positions are quantised to whole multiples of 2⁻⁴⁰ (exact in floating
+        point), and each row is searched on its own, so a row's result does not depend
+        on the other rows.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> systematic_resample(np.array([[0.1, 0.2, 0.7]]), np.array([0.5]))
+    array([[1, 2, 2]])
     """
     runs, n = weights.shape
     cum = np.floor(np.cumsum(weights, axis=1) * _QUANTUM)
