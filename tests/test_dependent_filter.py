@@ -25,10 +25,10 @@ from dstoolkit.filters import (
     BoundedNoise,
     DependentEvidenceFilter,
     StateSpaceModel,
-    predict,
     simulate_lotka_volterra,
     with_input,
 )
+from dstoolkit.filters._dependent_arrays import predict  # Step 2 on the filter's own maps
 from dstoolkit.gauge import (
     GAUGE_OBS_NOISE,
     PAPER_THETA,
