@@ -148,7 +148,13 @@ class Evidence(ABC):
 
     def merged(self) -> Self:
         """The same evidence with equal focal elements merged, their masses added (eq. 14);
-        ``self`` when it has no equal focal elements."""
+        ``self`` when it has no equal focal elements.
+
+        Returns
+        -------
+        MassFunction or IntervalEvidence
+            The merged evidence, of the type of ``self``.
+        """
         focal, mass = self._merged()
         if focal is self._focal:
             return self

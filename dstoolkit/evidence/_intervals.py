@@ -129,7 +129,20 @@ class IntervalEvidence(Evidence):
 
     @classmethod
     def from_pairs(cls, pairs: Any, *, merge: bool = True) -> IntervalEvidence:
-        """Build from rows ``(lo, hi, mass)`` of scalar intervals."""
+        """Build from rows ``(lo, hi, mass)`` of scalar intervals.
+
+        Parameters
+        ----------
+        pairs
+            *array_like, shape (n, 3)*. Rows (lo, hi, mass).
+        merge
+            *bool*. Merge equal focal elements (eq. 14).
+
+        Returns
+        -------
+        IntervalEvidence
+            Scalar evidence (d = 1).
+        """
         arr = real_array(pairs, "pairs", allow_inf=True, error=EvidenceError)
         if arr.ndim != 2 or arr.shape[1] != 3:
             raise EvidenceError(f"pairs must be rows (lo, hi, mass), got shape {arr.shape}")
@@ -137,12 +150,34 @@ class IntervalEvidence(Evidence):
 
     @classmethod
     def vacuous(cls, lo: Any, hi: Any) -> IntervalEvidence:
-        """Total ignorance on the box [lo, hi]: one focal element with mass 1."""
+        """Total ignorance on the box [lo, hi]: one focal element with mass 1.
+
+        Parameters
+        ----------
+        lo, hi
+            *float or array_like, shape (d,)*. The box [lo, hi] (the variable's unit).
+
+        Returns
+        -------
+        IntervalEvidence
+            One focal element, [lo, hi], with mass 1.
+        """
         return cls(np.atleast_1d(lo)[None, :], np.atleast_1d(hi)[None, :], [1.0])
 
     @classmethod
     def point(cls, value: Any) -> IntervalEvidence:
-        """Certainty of one value: the degenerate interval [x, x] with mass 1."""
+        """Certainty of one value: the degenerate interval [x, x] with mass 1.
+
+        Parameters
+        ----------
+        value
+            *float or array_like, shape (d,)*. x.
+
+        Returns
+        -------
+        IntervalEvidence
+            One focal element, [x, x], with mass 1.
+        """
         return cls.vacuous(value, value)
 
     # -- array views -------------------------------------------------------------------
@@ -205,19 +240,44 @@ class IntervalEvidence(Evidence):
         return self._sizes()
 
     def as_boxes(self) -> Boxes:
-        """The focal elements as a one-run :class:`~dstoolkit.evidence.Boxes`."""
+        """The focal elements as a one-run :class:`~dstoolkit.evidence.Boxes`.
+
+        Returns
+        -------
+        Boxes
+            Boxes (1, n, d) and masses (1, n).
+        """
         return Boxes(self.boxes_lo[None], self.boxes_hi[None], self._mass[None])
 
     @classmethod
     def from_boxes(cls, boxes: Boxes, run: int = 0) -> IntervalEvidence:
         """The mass function of one run of ``boxes``, padding (mass 0) dropped, masses
-        renormalised, equal boxes not merged."""
+        renormalised, equal boxes not merged.
+
+        Parameters
+        ----------
+        boxes
+            *Boxes*. Boxes (R, N, d) and masses (R, N).
+        run
+            *int*. The run to take.
+
+        Returns
+        -------
+        IntervalEvidence
+            That run's evidence.
+        """
         keep = boxes.mass[run] > 0
         mass = boxes.mass[run, keep]
         return cls(boxes.lo[run, keep], boxes.hi[run, keep], mass / mass.sum(), merge=False)
 
     def hull(self) -> tuple[np.ndarray, np.ndarray]:
-        """The smallest box containing every focal element (Θ in eqs. A7–A8)."""
+        """The smallest box containing every focal element (Θ in eqs. A7–A8).
+
+        Returns
+        -------
+        lo, hi : ndarray, shape (d,)
+            The ends of the hull.
+        """
         lo, hi = hull(self.as_boxes())
         return lo[0], hi[0]
 
@@ -288,15 +348,53 @@ class IntervalEvidence(Evidence):
 
     # -- public API ------------------------------------------------------------------------
     def belief(self, lo: Any, hi: Any) -> float:
-        """Bel([lo, hi]) = Σ of masses of focal elements inside [lo, hi] (Def. 3)."""
+        """Bel([lo, hi]) = Σ of masses of focal elements inside [lo, hi] (Def. 3).
+
+        Parameters
+        ----------
+        lo, hi
+            *float or array_like, shape (d,)*. The box [lo, hi] (the variable's unit).
+
+        Returns
+        -------
+        float
+            Bel([lo, hi]) in [0, 1].
+        """
         return self._bel(self._query(lo, hi))
 
     def plausibility(self, lo: Any, hi: Any) -> float:
-        """Pl([lo, hi]) = Σ of masses of focal elements meeting [lo, hi] (Def. 3)."""
+        """Pl([lo, hi]) = Σ of masses of focal elements meeting [lo, hi] (Def. 3).
+
+        Parameters
+        ----------
+        lo, hi
+            *float or array_like, shape (d,)*. The box [lo, hi] (the variable's unit).
+
+        Returns
+        -------
+        float
+            Pl([lo, hi]) in [0, 1].
+        """
         return self._pl(self._query(lo, hi))
 
     def cdf_bounds(self, x: Any) -> tuple[np.ndarray, np.ndarray]:
-        """The p-box: lower F_*(x) = Bel((−∞, x]) and upper F^*(x) = Pl((−∞, x]) (d = 1)."""
+        """The p-box: lower F_*(x) = Bel((−∞, x]) and upper F^*(x) = Pl((−∞, x]) (d = 1).
+
+        Parameters
+        ----------
+        x
+            *array_like*. Where to evaluate (the variable's unit).
+
+        Returns
+        -------
+        lower, upper : ndarray, shape of ``x``
+            F_*(x) and F^*(x).
+
+        Raises
+        ------
+        EvidenceError
+            For boxes (d > 1).
+        """
         if self.dim != 1:
             raise EvidenceError("cdf_bounds is defined for scalar (d = 1) evidence only")
         x = real_array(x, "x", allow_inf=True, error=EvidenceError)
@@ -334,6 +432,11 @@ class IntervalEvidence(Evidence):
     def pignistic_expectation_1d(self) -> float:
         """The pignistic expectation (eq. 20) of scalar evidence (d = 1), as a float.
 
+        Returns
+        -------
+        float
+            E, in the variable's unit.
+
         Raises
         ------
         EvidenceError
@@ -352,7 +455,18 @@ class IntervalEvidence(Evidence):
         return float(self.pignistic_expectation()[0])
 
     def shift(self, offset: Any) -> IntervalEvidence:
-        """The evidence about X + offset (same masses)."""
+        """The evidence about X + offset (same masses).
+
+        Parameters
+        ----------
+        offset
+            *float or array_like, shape (d,)*. The offset (the variable's unit).
+
+        Returns
+        -------
+        IntervalEvidence
+            Every focal element moved by ``offset``.
+        """
         off = np.atleast_1d(real_array(offset, "offset", error=EvidenceError)).reshape(-1)
         if off.size != self.dim:
             raise EvidenceError(f"offset must have {self.dim} component(s), got {off.size}")
@@ -364,7 +478,18 @@ class IntervalEvidence(Evidence):
         return self._with(moved, self._mass, merge=False)
 
     def to_rows(self) -> np.ndarray:
-        """Rows (lo, hi, mass) for d = 1, handy for tables."""
+        """Rows (lo, hi, mass) for d = 1, handy for tables.
+
+        Returns
+        -------
+        ndarray, shape (n, 3)
+            Rows (lo, hi, mass).
+
+        Raises
+        ------
+        EvidenceError
+            For boxes (d > 1).
+        """
         return np.column_stack([self.lo_1d, self.hi_1d, self._mass])
 
     def __repr__(self) -> str:
