@@ -177,7 +177,7 @@ def test_nassreddine_first_step_is_the_reading_mapped_back():
     result = NassreddineFilter(p=3, epsilon=0.05).run(model, [1.0, 1.0], record=True)
     post = result.steps[0].posterior
     # α-cuts of w: [−0.1, 0.1], [−0.2, 0.2], [−0.3, 0.3]; Θ becomes the last one (merged)
-    np.testing.assert_allclose(np.sort(post.hi), [1.1, 1.2, 1.3])
+    np.testing.assert_allclose(np.sort(post.hi_1d), [1.1, 1.2, 1.3])
     np.testing.assert_allclose(np.sort(post.mass), [0.95 / 3, 0.95 / 3, 0.95 / 3 + 0.05])
     assert result.estimates[0, 0] == pytest.approx(1.0)
 
