@@ -53,7 +53,27 @@ class BatchDependence(NamedTuple):
 
 
 def sizes(e: Boxes) -> np.ndarray:
-    """Width (d = 1) or volume of each box, (R, N)."""
+    """Width (d = 1) or volume of each box.
+
+    Parameters
+    ----------
+    e
+        *Boxes*. Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
+
+    Returns
+    -------
+    ndarray, shape (R, N)
+        The sizes (the variable's unit to the power d).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> b = Boxes(np.array([[[0.0], [1.0]]]), np.array([[[2.0], [3.0]]]),
+    ...           np.array([[0.5, 0.5]]))
+    >>> sizes(b)
+    array([[2., 2.]])
+    """
     w = e.hi - e.lo
     return w[..., 0] if w.shape[-1] == 1 else np.prod(w, axis=-1)
 
@@ -239,8 +259,36 @@ def coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray,
 def discount_onto_hull(e: Boxes, reliability: np.ndarray) -> Boxes:
     """m'(A) = R·m(A), m'(Θ) = 1 − R with Θ the hull of E (eqs. 9–10, A7–A8), per run.
 
-    Raises EvidenceError unless every rate R (one per run) lies in [0, 1]: any other
-    number would give negative masses."""
+    Parameters
+    ----------
+    e
+        *Boxes*. Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
+    reliability
+        *ndarray, shape (R,)*. R of each run, in [0, 1].
+
+    Returns
+    -------
+    Boxes
+        N + 1 focal elements per run: the boxes with masses R·m, then the hull with 1 − R.
+
+    Raises
+    ------
+    EvidenceError
+        Unless every rate lies in [0, 1]: any other number would give negative masses.
+
+    References
+    ----------
+    The paper's eqs. (9)–(10) and (A7)–(A8).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> b = Boxes(np.array([[[0.0], [1.0]]]), np.array([[[2.0], [3.0]]]),
+    ...           np.array([[0.5, 0.5]]))
+    >>> discount_onto_hull(b, np.array([0.9])).mass
+    array([[0.45, 0.45, 0.1 ]])
+    """
     rel = np.asarray(reliability, dtype=float)
     if rel.ndim != 1 or not np.all((rel >= 0.0) & (rel <= 1.0)):
         raise EvidenceError(
@@ -357,6 +405,42 @@ def dempster_expectation(
     with ``bounds`` the hull of the combination (R, d) twice. ``work`` reuses buffers
     (``ProductWork.allocate``). ``theta_last`` tells that the last focal element of a
     and of b holds all the others (as after :func:`discount_onto_hull`).
+
+    Parameters
+    ----------
+    a, b
+        *Boxes*. Boxes (R, N_a, d), (R, N_b, d) and their masses.
+    bounds
+        *bool*. Also return the hull of the combination.
+    work
+        *ProductWork, optional*. Buffers to reuse.
+    theta_last
+        *bool*. The last focal element of each holds all the others.
+
+    Returns
+    -------
+    expectation : ndarray, shape (R, d)
+        E of the combination (eq. 20).
+    conflict : ndarray, shape (R,)
+        K (eq. 1).
+    ok : ndarray of bool, shape (R,)
+        Whether the combination exists (K < 1 beyond the tolerance).
+    hull : tuple of ndarray, shape (R, d), or None
+        The hull's ends, with ``bounds``.
+
+    References
+    ----------
+    The paper's eqs. (1) and (20).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> b = Boxes(np.array([[[0.0], [1.0]]]), np.array([[[2.0], [3.0]]]),
+    ...           np.array([[0.5, 0.5]]))
+    >>> expectation, conflict, ok, _ = dempster_expectation(b, b)
+    >>> expectation, conflict, ok
+    (array([[1.5]]), array([0.]), array([ True]))
     """
     theta = (a.lo.shape[1] - 1, b.lo.shape[1] - 1) if theta_last else None
     kernel = ProductKernel(columns(a), columns(b), a.mass, b.mass, work, theta)
