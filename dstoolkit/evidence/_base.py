@@ -24,8 +24,28 @@ MASS_TOLERANCE = 1e-9
 def validate_masses(mass: Any, *, what: str = "masses") -> np.ndarray:
     """Return ``mass`` as a float array after checking it is a probability vector.
 
-    Raises :class:`~dstoolkit.errors.EvidenceError` for an empty vector, NaN or infinite
-    entries, negative entries, or a sum that differs from 1 by more than ``MASS_TOLERANCE``.
+    Parameters
+    ----------
+    mass
+        *array_like, shape (n,)*. The masses.
+    what
+        *str*. What to call them in a message.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The masses as floats.
+
+    Raises
+    ------
+    EvidenceError
+        For an empty vector, NaN or infinite entries, negative entries, or a sum that
+        differs from 1 by more than ``MASS_TOLERANCE``.
+
+    Examples
+    --------
+    >>> validate_masses([0.5, 0.5])
+    array([0.5, 0.5])
     """
     m = real_array(mass, what, finite=False, error=EvidenceError).reshape(-1)
     if m.size == 0:
@@ -58,6 +78,17 @@ class Evidence(ABC):
     """Abstract body of evidence: focal elements (an array, one row each) with masses.
 
     Subclasses implement the set primitives; the algebra lives in :mod:`dstoolkit.evidence`.
+
+    See Also
+    --------
+    MassFunction : evidence on a finite frame.
+    IntervalEvidence : evidence on intervals and boxes.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import Evidence, MassFunction
+    >>> isinstance(MassFunction({"a": 1.0}), Evidence)
+    True
     """
 
     _focal: np.ndarray

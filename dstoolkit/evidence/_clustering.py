@@ -28,6 +28,37 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
     distinct boxes fill its first slots in lexicographic order of (lo, hi), whatever order
     they came in; the remaining slots are zero-mass padding (with the run's first box).
     The masses of equal boxes are added in the order the boxes came in.
+
+    Parameters
+    ----------
+    lo, hi
+        *ndarray, shape (R, N, d)*. The boxes of each run.
+    mass
+        *ndarray, shape (R, N)*. Their masses.
+
+    Returns
+    -------
+    Boxes
+        Boxes (R, W, d) and masses (R, W), W the largest number of distinct boxes of
+        positive mass in a run.
+
+    See Also
+    --------
+    merge_equal_boxes_compiled : the same numbers, compiled (extra ``speed``).
+
+    References
+    ----------
+    The paper's eq. (14).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> merged = merge_equal_boxes(np.array([[[0.0], [0.0], [1.0]]]),
+    ...                            np.array([[[1.0], [1.0], [2.0]]]),
+    ...                            np.array([[0.2, 0.3, 0.5]]))
+    >>> merged.mass
+    array([[0.5, 0.5]])
     """
     runs, rows, n = lo.shape
     valid = mass > 0
@@ -181,7 +212,41 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     every centre, so no stable sort changes their order among themselves, nor the order in
     which their masses are added).
 
-    Returns the capped mass functions and, per run, the mass now carried by merged boxes.
+    Parameters
+    ----------
+    bm
+        *Boxes*. Boxes (R, N, d) and masses (R, N); boxes of positive mass must be
+        bounded.
+    max_focal
+        *int*. The cap, >= 2.
+
+    Returns
+    -------
+    capped : Boxes
+        At most ``max_focal`` focal elements per run.
+    merged_mass : ndarray, shape (R,)
+        The mass now carried by merged boxes.
+
+    Raises
+    ------
+    EvidenceError
+        For NaN or infinite masses, or unbounded boxes of positive mass.
+    WorkLimitError
+        When the rounds do not reach the cap.
+
+    See Also
+    --------
+    cluster_boxes_compiled : the same numbers, compiled (extra ``speed``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> capped, moved = cluster_boxes(Boxes(np.array([[[0.0], [1.0], [5.0]]]),
+    ...                                     np.array([[[1.0], [2.0], [6.0]]]),
+    ...                                     np.array([[0.3, 0.3, 0.4]])), 2)
+    >>> capped.lo[..., 0], capped.hi[..., 0], moved
+    (array([[0., 5.]]), array([[2., 6.]]), array([0.6]))
     """
     count = bounded_count(bm)
     runs, _, n = bm.lo.shape
