@@ -307,7 +307,25 @@ class ProductWork(NamedTuple):
     """Buffers of ``ProductKernel`` (the column layout of ``columns``): ``ends``
     (2, R, d, N_b, N_a) = lo, hi of A_i ∩ B_j; ``stack`` (1 + d, R, N_b, N_a) = [nonempty,
     (lo + hi)·nonempty]; ``partial`` (R, 1 + d, N_b, 1), ``sums`` (R, 1 + d, 1, 1). Each
-    end and each row of the stack is one block: the passes over a batch run faster."""
+    end and each row of the stack is one block: the passes over a batch run faster.
+
+    Parameters
+    ----------
+    ends
+        *ndarray, shape (2, R, d, N_b, N_a)*. The ends of the intersections.
+    stack
+        *ndarray, shape (1 + d, R, N_b, N_a)*. Non-emptiness and twice the centres.
+    partial
+        *ndarray, shape (R, 1 + d, N_b, 1)*. Sums over A.
+    sums
+        *ndarray, shape (R, 1 + d, 1, 1)*. Sums over A and B.
+
+    Examples
+    --------
+    >>> work = ProductWork.allocate(runs=4, d=1, na=3, nb=5)
+    >>> work.ends.shape
+    (2, 4, 1, 5, 3)
+    """
 
     ends: np.ndarray
     stack: np.ndarray
@@ -316,6 +334,18 @@ class ProductWork(NamedTuple):
 
     @classmethod
     def allocate(cls, runs: int, d: int, na: int, nb: int) -> ProductWork:
+        """Empty buffers for ``runs`` runs of boxes in d dimensions, N_a and N_b of them.
+
+        Parameters
+        ----------
+        runs, d, na, nb
+            *int*. R, d, N_a and N_b.
+
+        Returns
+        -------
+        ProductWork
+            The buffers (uninitialised).
+        """
         return cls(np.empty((2, runs, d, nb, na)), np.empty((1 + d, runs, nb, na)),
                    np.empty((runs, 1 + d, nb, 1)), np.empty((runs, 1 + d, 1, 1)))
 

@@ -308,7 +308,23 @@ def joint_energy(a: Evidence, b: Evidence, *, mass_rule: MassRule = "min",
 
 @dataclass(frozen=True)
 class Dependence:
-    """How much two bodies of evidence share (Def. 5, eqs. 5–8, A4–A6)."""
+    """How much two bodies of evidence share (Def. 5, eqs. 5–8, A4–A6).
+
+    Parameters
+    ----------
+    energy1, energy2
+        *float*. En(E1) and En(E2) (eq. 2 / A1).
+    joint_energy
+        *float*. En(E1, E2) (eq. 3 / A3).
+    degree
+        *float*. D (Def. 5, eq. A4).
+    r12, r21
+        *float*. The dependency coefficients (eqs. 7–8, A5–A6).
+
+    See Also
+    --------
+    dependence : computes it.
+    """
 
     energy1: float
     """En(E1) (eq. 2 / A1)."""
