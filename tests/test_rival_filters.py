@@ -480,3 +480,21 @@ def test_particle_compiled_resampling_gives_the_same_indices_and_estimates():
                                                                   gauge.inputs).estimates,
         ParticleFilter(n_particles=300).run_batch(model, gauge.readings,
                                                   gauge.inputs).estimates)
+
+
+@pytest.mark.parametrize("plain", [False, True], ids=["package", "plain"])
+def test_kalman_scalar_recursion_equals_the_matrix_recursion(plain):
+    """For n = m = 1 the term-by-term recursion gives the matrix recursion's numbers (the
+    same operations, grouped differently: equal to rounding)."""
+    model = _plain_gauge_model() if plain else gauge_state_space_model()
+    seq = simulate_gauge(9.6, runs=3, seed=4)
+    flt = KalmanFilter()
+    from dstoolkit.filters._model import batch_readings
+
+    z, u = batch_readings(model, seq.readings, seq.inputs)
+    guarded = flt._guarded(model)
+    x1, p1, nis1 = flt._filter_scalar(guarded, z, u)
+    x2, p2, nis2 = flt._filter(guarded, z, u)
+    np.testing.assert_allclose(x1, x2, rtol=1e-12)
+    np.testing.assert_allclose(p1, p2, rtol=1e-9)
+    np.testing.assert_allclose(nis1[:, 1:], nis2[:, 1:], rtol=1e-8)

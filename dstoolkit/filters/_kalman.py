@@ -482,7 +482,12 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
 
 
 def _scalar(model: StateSpaceModel) -> bool:
-    """Whether every matrix of the recursion is 1 × 1 (the term-by-term path)."""
+    """Whether every matrix of the recursion is 1 × 1 (the term-by-term path).
+
+    Why two paths: :func:`_advance` is the recursion for any n and m, with matrices; for
+    n = m = 1 (the gauge) its dozen small matrix calls a step would cost far more than the
+    arithmetic, so :func:`_scalar_recursion` runs the same recursion term by term. Both
+    are tested against each other and against the public step."""
     return model.state_dim == 1 and model.obs_dim == 1
 
 
