@@ -165,13 +165,18 @@ class _MapsAndSlopes:
             if self.guard is not None:
                 self.guard.check(out, name)
             out = np.broadcast_to(np.asarray(out, dtype=float), x.shape)
-        flat = out.ravel()
         if self.runs == 1:
-            values = flat.tolist()
+            if out.size == 1:
+                value = out.item()
+                if value != value and self.guard is not None:  # NaN
+                    self.guard.check(out, name)
+                return value
+            values = out.ravel().tolist()
             total = sum(values)
             if total != total and self.guard is not None:  # NaN somewhere, or inf − inf
                 self.guard.check(out, name)
-            return values[0] if len(values) == 1 else values
+            return values
+        flat = out.ravel()
         if self.guard is not None and np.isnan(flat).any():
             self.guard.check(out, name)
         return flat
