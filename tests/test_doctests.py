@@ -13,11 +13,13 @@ import pkgutil
 import pytest
 
 CORE = ("dstoolkit.evidence", "dstoolkit.filters", "dstoolkit.gauge", "dstoolkit.studies")
+#: Layers above the core whose examples run here too (the audio ones need no sound device).
+ABOVE_CORE = ("dstoolkit.audio",)
 
 
 def _core_modules() -> list[str]:
     names = ["dstoolkit", "dstoolkit.errors", "dstoolkit.cli"]
-    for package in CORE:
+    for package in CORE + ABOVE_CORE:
         names.append(package)
         path = importlib.import_module(package).__path__
         names += [f"{package}.{info.name}" for info in pkgutil.iter_modules(path)]
