@@ -5,6 +5,7 @@ Keep this file to fixtures that more than one test module needs, grouped by topi
 
 from __future__ import annotations
 
+import fcntl
 import functools
 import json
 import os
@@ -136,12 +137,8 @@ def toc_pages(toc_file: Path = ROOT / "_toc.yml") -> list[str]:
     return [page.rsplit(".", 1)[0] if Path(page).suffix in suffixes else page for page in pages]
 
 
-@pytest.fixture(scope="session")
-def built_book() -> BookBuild:
-    """Build the book in place (``bash scripts/build-book.sh``) once per test session.
-
-    The log is also saved to test-artifacts/book-build.log.
-    """
+def _build_book() -> BookBuild:
+    """Run ``bash scripts/build-book.sh``; save its log to test-artifacts/book-build.log."""
     result = subprocess.run(
         ["bash", str(BUILD_SCRIPT)],
         cwd=ROOT,
@@ -155,6 +152,33 @@ def built_book() -> BookBuild:
     ARTIFACTS.mkdir(exist_ok=True)
     (ARTIFACTS / "book-build.log").write_text(log, encoding="utf-8")
     return BookBuild(result.returncode, log, ROOT / "_build" / "html")
+
+
+@pytest.fixture(scope="session")
+def built_book() -> BookBuild:
+    """Build the book in place (``bash scripts/build-book.sh``) once per test session.
+
+    The log is also saved to test-artifacts/book-build.log. Under pytest-xdist the build
+    runs once per test run, whichever worker asks first: the others wait on a file lock
+    and read its result (scripts/test.sh keeps the book's modules in one worker anyway).
+    """
+    run = os.environ.get("PYTEST_XDIST_TESTRUNUID")
+    if run is None:
+        return _build_book()
+    build_dir = ROOT / "_build"
+    build_dir.mkdir(exist_ok=True)
+    shared = build_dir / f".book-build-{run}.json"
+    with open(build_dir / ".book-build-session.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+        if shared.is_file():
+            done = json.loads(shared.read_text(encoding="utf-8"))
+            return BookBuild(done["returncode"], done["log"], build_dir / "html")
+        for old in build_dir.glob(".book-build-*.json"):  # results of earlier runs
+            old.unlink()
+        result = _build_book()
+        shared.write_text(json.dumps({"returncode": result.returncode, "log": result.log}),
+                          encoding="utf-8")
+        return result
 
 
 def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
