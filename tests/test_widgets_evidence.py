@@ -86,6 +86,7 @@ def test_noise_explorer_reproduces_table_1_and_rejects_a_bad_mode():
     assert "lower <= mode <= upper" in ex.numbers["error"]
 
 
+@pytest.mark.slow
 def test_every_slider_redraws_on_release_only():
     for make in (w.mass_function_explorer, w.conflict_explorer,
                  w.dependent_combination_explorer, w.noise_evidence_explorer,
