@@ -20,17 +20,15 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.errors import EvidenceError
-from dstoolkit.filters import BoundedNoise, ScalarMaps, StateSpaceModel
+from dstoolkit.filters import BoundedNoise, StateSpaceModel
 from dstoolkit.utils.budget import check_memory
 from dstoolkit.utils.checks import real_array, whole_number
 
 from ._acoustics import DEFAULT_BAND, fundamental_frequency, resonance_frequencies, speed_of_sound
 from ._level import (
-    next_resonance,
     observation,
     observation_inverse,
     orders_eq43,
-    resonance_ratio,
     state_transition,
     state_transition_derivative,
 )
@@ -76,16 +74,6 @@ def _jacobian_f(x: np.ndarray, u: Any = None) -> np.ndarray:
 
 def _jacobian_g(x: np.ndarray) -> np.ndarray:
     return np.ones(np.shape(x) + (1,))
-
-
-#: Eqs. 39–40 on Python floats (u = [n_k], checked at the door): the same arithmetic as the
-#: array maps above, for the Kalman filter's single runs.
-GAUGE_SCALAR_MAPS = ScalarMaps(
-    f=lambda x, u: next_resonance(x, u[0]),
-    jacobian_f=lambda x, u: resonance_ratio(u[0]),
-    g=lambda x: x,
-    jacobian_g=lambda x: 1.0,
-)
 
 
 def _g_inverse(lo: np.ndarray, hi: np.ndarray, x_lo: np.ndarray, x_hi: np.ndarray
@@ -152,7 +140,6 @@ def gauge_state_space_model(
         obs_noise=obs_noise, f_monotone=(1, 1), g_monotone=(1,), jacobian_f=_jacobian_f,
         jacobian_g=_jacobian_g, name="gauge",
         description="resonance frequency x_k (Hz) of an acoustic level gauge, eqs. 39–40",
-        scalar_maps=GAUGE_SCALAR_MAPS,
     )
 
 

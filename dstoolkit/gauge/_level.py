@@ -303,10 +303,7 @@ def state_transition_derivative(x: Any, n: Any) -> np.ndarray:
 
 
 def next_resonance(x: Any, n: Any) -> Any:
-    """Compute x (n + 1)/n, the state transition, on floats or float arrays (no checks).
-
-    :func:`state_transition` and the gauge model's float maps share it, so both give the same
-    numbers.
+    """Compute x (n + 1)/n, the arithmetic of eq. 39, on floats or float arrays (no checks).
 
     Parameters
     ----------

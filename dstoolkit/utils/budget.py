@@ -61,7 +61,7 @@ def memory_budget() -> int:
     int
         What :func:`set_memory_budget` set, else the environment variable
         ``DSTOOLKIT_MEMORY_BUDGET`` (bytes, or with a K/M/G suffix), else
-        :data:`DEFAULT_MEMORY_BUDGET` (1 GiB).
+        ``DEFAULT_MEMORY_BUDGET`` (1 GiB).
 
     Raises
     ------
@@ -70,7 +70,7 @@ def memory_budget() -> int:
 
     See Also
     --------
-    set_memory_budget, check_memory
+    set_memory_budget
 
     Examples
     --------
