@@ -18,7 +18,7 @@ For each filter in :data:`REGISTRY` this prints
 Each filter runs on two models of eqs. 39–40: the package's gauge model
 (``gauge_state_space_model``) and the same maps written by a user with the public
 :class:`~dstoolkit.filters.StateSpaceModel` (plain numpy ``f``, ``g``, ``g_inverse``, the
-monotonicity declared, no Jacobians and no float maps): the column "model" says which.
+monotonicity declared, no Jacobians): the column "model" says which.
 Targets: the paper's filter < 5 ms per run and > 100,000 steps/s in a batch of 1000;
 Kalman < 0.5 ms per run; a user's model within 1.5× of the package's. The machine is
 shared: the load average is printed before and after the figures. Where a step of the
@@ -94,7 +94,7 @@ register("particle", ParticleFilter, "bootstrap, 1000 particles, systematic resa
 
 def user_gauge_model() -> StateSpaceModel:
     """Eqs. 39–40 as a user writes them with the public StateSpaceModel: plain numpy maps,
-    no Jacobians (finite differences), no float maps."""
+    no Jacobians (finite differences)."""
     def f(x: np.ndarray, u: np.ndarray) -> np.ndarray:
         return x * (u + 1.0) / u
 

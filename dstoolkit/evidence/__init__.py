@@ -33,11 +33,17 @@ from ._boxes import (
     hull,
     pignistic_expectation,
 )
+from ._clustering import (
+    cluster_boxes,
+    merge_equal_boxes,
+)
 from ._combination import (
     CONFLICT_TOLERANCE,
     MASS_RULES,
+    THETA_RULES,
     Dependence,
     MassRule,
+    ThetaRule,
     combine_dependent,
     conflict,
     decorrelate,
@@ -104,6 +110,8 @@ __all__ = [
     "PAPER_A6",
     "PAPER_EN1",
     "ProductWork",
+    "THETA_RULES",
+    "ThetaRule",
     "TotalConflictError",
     "TriangularBounds",
     "VertexMethodWarning",
@@ -113,6 +121,7 @@ __all__ = [
     "appendix_pair",
     "box_image",
     "cartesian_product",
+    "cluster_boxes",
     "combine_dependent",
     "conflict",
     "decorrelate",
@@ -128,6 +137,7 @@ __all__ = [
     "image_subdivision",
     "joint_energy",
     "memory_budget",
+    "merge_equal_boxes",
     "pignistic_expectation",
     "possibility",
     "projection",

@@ -52,32 +52,28 @@ class BatchDependence(NamedTuple):
     r21: np.ndarray
 
 
-def dempster(a: Boxes, b: Boxes) -> tuple[Boxes, np.ndarray, np.ndarray]:
-    """Dempster's rule (eq. 1) per run, products in order i·N_b + j, not merged.
-
-    Returns the combined boxes (empty products keep mass 0), the conflict K (R,) and a
-    mask (R,) of runs whose combination exists (1 − K above the tolerance); runs in total
-    conflict get all-zero masses and the caller applies its policy.
-    """
-    d = a.lo.shape[-1]
-    lo = np.maximum(a.lo[:, :, None], b.lo[:, None])
-    lo = lo.reshape(lo.shape[0], -1, d)
-    hi = np.minimum(a.hi[:, :, None], b.hi[:, None]).reshape(lo.shape)
-    nonempty = (lo[..., 0] <= hi[..., 0]) if d == 1 else (lo <= hi).all(axis=-1)
-    products = a.mass[:, :, None] * b.mass[:, None]
-    mass = products.reshape(products.shape[0], -1) * nonempty
-    kept = mass.sum(axis=-1)
-    ok = kept > CONFLICT_TOLERANCE
-    if ok.all():
-        mass /= kept[:, None]
-    else:
-        mass /= np.where(ok, kept, 1.0)[:, None]
-        mass[~ok] = 0.0
-    return Boxes(lo, hi, mass), 1.0 - kept, ok
-
-
 def sizes(e: Boxes) -> np.ndarray:
-    """Width (d = 1) or volume of each box, (R, N)."""
+    """Width (d = 1) or volume of each box.
+
+    Parameters
+    ----------
+    e
+        *Boxes*. Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
+
+    Returns
+    -------
+    ndarray, shape (R, N)
+        The sizes (the variable's unit to the power d).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> b = Boxes(np.array([[[0.0], [1.0]]]), np.array([[[2.0], [3.0]]]),
+    ...           np.array([[0.5, 0.5]]))
+    >>> sizes(b)
+    array([[2., 2.]])
+    """
     w = e.hi - e.lo
     return w[..., 0] if w.shape[-1] == 1 else np.prod(w, axis=-1)
 
@@ -89,7 +85,7 @@ TINY = 1e-300
 
 def least(values: np.ndarray) -> float:
     """The smallest of ``values`` (NaN if one is NaN), as a float; one element is read
-    directly (a tenth of the cost of a reduction)."""
+    directly (cheaper than a reduction)."""
     return values.item() if values.size == 1 else float(np.minimum.reduce(values, axis=None))
 
 
@@ -192,7 +188,7 @@ class DependenceKernel:
         np.divide(self.e2_share, self.merged, out=self.weight)
         np.vecdot(m_d, self.weight, out=self.joint_sum)
         # the six figures per run: in plain floats for one run (a numpy call on one element
-        # costs ten float operations), else in arrays
+        # costs more than a float operation), else in arrays
         if self.single:
             w1, w2 = self.units.ravel().tolist()
             figures = dependence_figures(w1, w2, min(w1, w2), *self.sums.ravel().tolist())
@@ -243,11 +239,11 @@ def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool =
     live = np.ascontiguousarray(np.broadcast_to(a.mass > 0, (runs, na)))
     valid = DependenceKernel(cols, masses, na, mass_rule, out, theta_mass, live).compute()
     if check and not valid:
-        _coefficient_error(out[4], out[5], out[3], mass_rule)
+        coefficient_error(out[4], out[5], out[3], mass_rule)
     return BatchDependence(*out)
 
 
-def _coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray,
+def coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray,
                        mass_rule: str) -> None:
     for name, r in (("R12", r12), ("R21", r21)):
         bad = ~((r >= 0.0) & (r <= 1.0))
@@ -263,8 +259,36 @@ def _coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray,
 def discount_onto_hull(e: Boxes, reliability: np.ndarray) -> Boxes:
     """m'(A) = R·m(A), m'(Θ) = 1 − R with Θ the hull of E (eqs. 9–10, A7–A8), per run.
 
-    Raises EvidenceError unless every rate R (one per run) lies in [0, 1]: any other
-    number would give negative masses."""
+    Parameters
+    ----------
+    e
+        *Boxes*. Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
+    reliability
+        *ndarray, shape (R,)*. R of each run, in [0, 1].
+
+    Returns
+    -------
+    Boxes
+        N + 1 focal elements per run: the boxes with masses R·m, then the hull with 1 − R.
+
+    Raises
+    ------
+    EvidenceError
+        Unless every rate lies in [0, 1]: any other number would give negative masses.
+
+    References
+    ----------
+    The paper's eqs. (9)–(10) and (A7)–(A8).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> b = Boxes(np.array([[[0.0], [1.0]]]), np.array([[[2.0], [3.0]]]),
+    ...           np.array([[0.5, 0.5]]))
+    >>> discount_onto_hull(b, np.array([0.9])).mass
+    array([[0.45, 0.45, 0.1 ]])
+    """
     rel = np.asarray(reliability, dtype=float)
     if rel.ndim != 1 or not np.all((rel >= 0.0) & (rel <= 1.0)):
         raise EvidenceError(
@@ -283,7 +307,25 @@ class ProductWork(NamedTuple):
     """Buffers of ``ProductKernel`` (the column layout of ``columns``): ``ends``
     (2, R, d, N_b, N_a) = lo, hi of A_i ∩ B_j; ``stack`` (1 + d, R, N_b, N_a) = [nonempty,
     (lo + hi)·nonempty]; ``partial`` (R, 1 + d, N_b, 1), ``sums`` (R, 1 + d, 1, 1). Each
-    end and each row of the stack is one block: the passes over a batch run faster."""
+    end and each row of the stack is one block: the passes over a batch run faster.
+
+    Parameters
+    ----------
+    ends
+        *ndarray, shape (2, R, d, N_b, N_a)*. The ends of the intersections.
+    stack
+        *ndarray, shape (1 + d, R, N_b, N_a)*. Non-emptiness and twice the centres.
+    partial
+        *ndarray, shape (R, 1 + d, N_b, 1)*. Sums over A.
+    sums
+        *ndarray, shape (R, 1 + d, 1, 1)*. Sums over A and B.
+
+    Examples
+    --------
+    >>> work = ProductWork.allocate(runs=4, d=1, na=3, nb=5)
+    >>> work.ends.shape
+    (2, 4, 1, 5, 3)
+    """
 
     ends: np.ndarray
     stack: np.ndarray
@@ -292,6 +334,18 @@ class ProductWork(NamedTuple):
 
     @classmethod
     def allocate(cls, runs: int, d: int, na: int, nb: int) -> ProductWork:
+        """Empty buffers for ``runs`` runs of boxes in d dimensions, N_a and N_b of them.
+
+        Parameters
+        ----------
+        runs, d, na, nb
+            *int*. R, d, N_a and N_b.
+
+        Returns
+        -------
+        ProductWork
+            The buffers (uninitialised).
+        """
         return cls(np.empty((2, runs, d, nb, na)), np.empty((1 + d, runs, nb, na)),
                    np.empty((runs, 1 + d, nb, 1)), np.empty((runs, 1 + d, 1, 1)))
 
@@ -381,6 +435,42 @@ def dempster_expectation(
     with ``bounds`` the hull of the combination (R, d) twice. ``work`` reuses buffers
     (``ProductWork.allocate``). ``theta_last`` tells that the last focal element of a
     and of b holds all the others (as after :func:`discount_onto_hull`).
+
+    Parameters
+    ----------
+    a, b
+        *Boxes*. Boxes (R, N_a, d), (R, N_b, d) and their masses.
+    bounds
+        *bool*. Also return the hull of the combination.
+    work
+        *ProductWork, optional*. Buffers to reuse.
+    theta_last
+        *bool*. The last focal element of each holds all the others.
+
+    Returns
+    -------
+    expectation : ndarray, shape (R, d)
+        E of the combination (eq. 20).
+    conflict : ndarray, shape (R,)
+        K (eq. 1).
+    ok : ndarray of bool, shape (R,)
+        Whether the combination exists (K < 1 beyond the tolerance).
+    hull : tuple of ndarray, shape (R, d), or None
+        The hull's ends, with ``bounds``.
+
+    References
+    ----------
+    The paper's eqs. (1) and (20).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> b = Boxes(np.array([[[0.0], [1.0]]]), np.array([[[2.0], [3.0]]]),
+    ...           np.array([[0.5, 0.5]]))
+    >>> expectation, conflict, ok, _ = dempster_expectation(b, b)
+    >>> expectation, conflict, ok
+    (array([[1.5]]), array([0.]), array([ True]))
     """
     theta = (a.lo.shape[1] - 1, b.lo.shape[1] - 1) if theta_last else None
     kernel = ProductKernel(columns(a), columns(b), a.mass, b.mass, work, theta)

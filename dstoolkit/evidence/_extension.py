@@ -62,6 +62,40 @@ def cartesian_product(
 
     Rows follow ``itertools.product`` order (the first marginal varies slowest); the box
     dimension is the sum of the marginals' dimensions.
+
+    Parameters
+    ----------
+    marginals
+        *sequence of IntervalEvidence*. The independent marginals, d_i dimensions each.
+    merge
+        *bool*. Merge equal boxes (eq. 14).
+
+    Returns
+    -------
+    IntervalEvidence
+        Π_i n_i boxes in Σ_i d_i dimensions.
+
+    Raises
+    ------
+    EvidenceError
+        For an empty sequence or one holding something else than interval evidence.
+    MemoryBudgetError
+        When the product would exceed the memory budget.
+
+    See Also
+    --------
+    projection : back to a marginal.
+
+    References
+    ----------
+    The paper's eq. (16).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import appendix_pair
+    >>> relation = cartesian_product(appendix_pair())
+    >>> relation.dim, len(relation)
+    (2, 9)
     """
     marginals = list(marginals)
     if not marginals or not all(isinstance(e, IntervalEvidence) for e in marginals):
@@ -84,7 +118,35 @@ def cartesian_product(
 
 
 def projection(evidence: IntervalEvidence, axes: Sequence[int]) -> IntervalEvidence:
-    """Marginal random set on the chosen axes (eqs. 11–12): project each box, merge."""
+    """Marginal random set on the chosen axes (eqs. 11–12): project each box, merge.
+
+    Parameters
+    ----------
+    evidence
+        *IntervalEvidence*. Boxes in d dimensions.
+    axes
+        *sequence of int*. The dimensions to keep, in order.
+
+    Returns
+    -------
+    IntervalEvidence
+        Boxes in ``len(axes)`` dimensions, equal ones merged (eq. 14).
+
+    See Also
+    --------
+    cartesian_product : the relation of independent marginals.
+
+    References
+    ----------
+    The paper's eqs. (11)–(12).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import appendix_pair
+    >>> e1, e2 = appendix_pair()
+    >>> projection(cartesian_product([e1, e2]), [1]).mass.round(4).tolist()
+    [0.1, 0.3, 0.6]
+    """
     axes = list(axes)
     return IntervalEvidence(evidence.boxes_lo[:, axes], evidence.boxes_hi[:, axes],
                             evidence.mass, merge=True)
@@ -179,7 +241,29 @@ def state_signs(monotone: Any, n: int) -> np.ndarray | None:
 
 
 def vertices(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """The 2^n vertices of each box, shape (..., 2^n, n) (eq. 17)."""
+    """The 2^n vertices of each box (eq. 17).
+
+    Parameters
+    ----------
+    lo, hi
+        *ndarray, shape (..., n)*. The boxes' ends.
+
+    Returns
+    -------
+    ndarray, shape (..., 2^n, n)
+        The vertices of each box.
+
+    Raises
+    ------
+    EvidenceError
+        For more dimensions than the vertex method allows.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> vertices(np.array([0.0, 1.0]), np.array([1.0, 2.0])).tolist()
+    [[0.0, 1.0], [1.0, 1.0], [0.0, 2.0], [1.0, 2.0]]
+    """
     n = lo.shape[-1]
     if n > MAX_VERTEX_DIM:
         raise EvidenceError(

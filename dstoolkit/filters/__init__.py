@@ -30,8 +30,6 @@ from ._dependent import (
     DependentRecord,
     DependentState,
     NoiseEvidence,
-    observe,
-    predict,
 )
 from ._example_systems import (
     LOTKA_VOLTERRA_X0,
@@ -49,7 +47,6 @@ from ._model import (
     BatchResult,
     BoundedNoise,
     FilterResult,
-    ScalarMaps,
     StateSpaceModel,
     with_input,
 )
@@ -57,8 +54,6 @@ from ._nassreddine import (
     NassreddineFilter,
     NassreddineRecord,
     NassreddineState,
-    cluster_boxes,
-    merge_equal_boxes,
 )
 from ._particle import (
     ParticleFilter,
@@ -94,16 +89,11 @@ __all__ = [
     "ParticleFilter",
     "ParticleRecord",
     "ParticleState",
-    "ScalarMaps",
     "StateSpaceModel",
-    "cluster_boxes",
     "converged_at",
     "enclosure_summary",
     "finite_difference_jacobian",
     "lotka_volterra",
-    "merge_equal_boxes",
-    "observe",
-    "predict",
     "random_walk",
     "simulate_lotka_volterra",
     "systematic_resample",

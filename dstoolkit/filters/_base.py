@@ -71,7 +71,7 @@ class Block(NamedTuple):
 class FilterState:
     """What every filter's state holds: the model, the step and its estimate.
 
-    Attributes
+    Parameters
     ----------
     model
         *StateSpaceModel*. The model the filter runs on.

@@ -1,8 +1,15 @@
 """The array path of the paper's filter: Steps 2–6 for a block of runs, buffers allocated once.
 
-A step works on arrays of 4–1,100 elements, so its cost is numpy's per-call overhead (some
-0.25–1.5 µs a call, see ``benchmarks/filter_profile.py``); :class:`StepArrays` does a step
-in about 55 numpy calls:
+Why this engine exists beside the public step. The public step
+(:meth:`~dstoolkit.filters.DependentEvidenceFilter.step`) is the reference: it runs Steps
+2–6 on evidence objects, one run at a time, and it is what a learner reads. It cannot be
+the engine of ``run`` and ``run_batch``: it handles one run, and it builds objects and
+merges focal elements (eq. 14) at every step. A step works on arrays of 4–1,100 elements,
+so its cost is numpy's per-call overhead (``benchmarks/filter_profile.py`` measures it);
+:class:`StepArrays` runs a whole block of runs at once in a few dozen numpy calls a step
+and is what the speed of ``run_batch`` rests on. The compiled Step 6
+(:func:`~dstoolkit.filters._compiled.fuse_dependent`, ``kernel="numba"``) is the one
+fast kernel beside it. The three give the same numbers to rounding (tested). How:
 
 - everything constant over a run is computed once: the noise boxes laid out for each
   step's broadcasts, the product masses of Steps 2 and 4 (ρ_ij = m_v(i) m_v(j), ρ_ij m_w(l),
@@ -14,14 +21,14 @@ in about 55 numpy calls:
   axis 1, the focal elements last, in the order [Θ1, E1, E2, Θ2] — E1 = Step 5's
   evidence, column 1 + l·N_p + i for the product of predicted box i with noise box l of
   Step 4, and E2 = the prediction, column 1 + N_1 + i·N_v + j. E1 and E2 together are the
-  operand of :class:`~dstoolkit.evidence._batch_kernels.DependenceKernel` (both energies in
+  operand of :class:`~dstoolkit.evidence.boxes.DependenceKernel` (both energies in
   one pass, m1(D) and m2(D) of eq. A3 in one matrix product), and [Θ1, E1] × [E2, Θ2] the
-  operands of :class:`~dstoolkit.evidence._batch_kernels.ProductKernel` (Dempster's rule
+  operands of :class:`~dstoolkit.evidence.boxes.ProductKernel` (Dempster's rule
   and the pignistic expectation, eqs. 1, 20); every comparison and product runs along
   the long last axis; E2's columns with their centres are also the points where g is
   evaluated (Step 3);
 - for one run, the figures of the dependence (eqs. A1–A6) and the checks are computed on
-  Python floats (one numpy call on one element costs ten float operations); a block of
+  Python floats (one numpy call on one element costs more than a float operation); a block of
   runs computes the same operations on arrays, so a batch equals single runs exactly;
 - the monotonicity checks of the images (Prop. 2) keep every step's values and run once
   per block, and before any other error is raised.
@@ -36,16 +43,17 @@ import numpy as np
 
 from dstoolkit.errors import EvidenceError, NotMonotoneError
 from dstoolkit.evidence import CONFLICT_TOLERANCE, Boxes
-from dstoolkit.evidence._batch_kernels import (
+from dstoolkit.evidence.boxes import (
+    CHECK_RTOL,
     DependenceKernel,
     ProductKernel,
-    _coefficient_error,
+    coefficient_error,
+    image_boxes,
     least,
     per_run,
 )
-from dstoolkit.evidence._compiled import fuse_dependent
-from dstoolkit.evidence._extension import CHECK_RTOL, image_boxes
 
+from ._compiled import fuse_dependent
 from ._model import with_input
 
 if TYPE_CHECKING:
@@ -487,7 +495,7 @@ class StepArrays:
     def _coefficients_error(self, t: int) -> None:
         self.check_images(t + 1)
         diag = self.diag
-        _coefficient_error(diag[6], diag[7], diag[5], self.flt.mass_rule)
+        coefficient_error(diag[6], diag[7], diag[5], self.flt.mass_rule)
 
     def _check_conflict(self, ok: np.ndarray, t: int, step: int) -> None:
         if self.flt.on_conflict == "raise" and not ok.all():

@@ -77,10 +77,17 @@ def systematic_resample(weights: np.ndarray, offsets: np.ndarray, *, compiled: b
 
     Returns
     -------
-    Indices (runs, N): particle i is chosen about N·w_i times, never when w_i = 0.
-    Cumulative weights and positions are quantised to whole multiples of 2⁻⁴⁰ (exact in
-    floating point), and each row is searched on its own, so a row's result does not depend
-    on the other rows.
+    ndarray of int, shape (runs, N)
+        Particle i is chosen about N·w_i times, never when w_i = 0. Cumulative weights
+        and positions are quantised to whole multiples of 2⁻⁴⁰ (exact in floating
+        point), and each row is searched on its own, so a row's result does not depend
+        on the other rows.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> systematic_resample(np.array([[0.1, 0.2, 0.7]]), np.array([0.5]))
+    array([[1, 2, 2]])
     """
     runs, n = weights.shape
     cum = np.floor(np.cumsum(weights, axis=1) * _QUANTUM)
@@ -156,7 +163,27 @@ class ParticleState(FilterState):
     :meth:`ParticleFilter.step`, never advanced in place).
 
     ``particles`` is (N, n) and ``weights`` (N,), summing to 1; ``estimate`` is their
-    weighted mean and ``lower``/``upper`` the hull of the particles with weight."""
+    weighted mean and ``lower``/``upper`` the hull of the particles with weight.
+
+    Parameters
+    ----------
+    model
+        *StateSpaceModel*. The model the filter runs on.
+    k
+        *int*. The step whose estimate this is (1 for the first reading).
+    estimate
+        *ndarray, shape (n,)*. x̂_k.
+    lower, upper
+        *ndarray, shape (n,)*. The hull of the particles with weight.
+    particles
+        *ndarray, shape (N, n)*. The cloud after the reading.
+    weights
+        *ndarray, shape (N,)*. Their weights, summing to 1.
+    rng, offset_rng
+        *numpy.random.Generator*. The run's streams: state noise, resampling offsets.
+    run
+        *int*. The run's index (its streams).
+    """
 
     particles: np.ndarray
     weights: np.ndarray
@@ -169,7 +196,7 @@ class ParticleState(FilterState):
 class ParticleRecord:
     """One step of the particle filter.
 
-    Attributes
+    Parameters
     ----------
     step
         *int*. k, counting the first reading as 1.
@@ -260,7 +287,24 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
     # -- the public step -----------------------------------------------------------------------
     def initialize(self, model: StateSpaceModel, z1: Any) -> ParticleState:
         """Particles uniform in the reading's box, weighted by their likelihood (the
-        stream ``stream``); see :meth:`Filter.initialize`."""
+        stream ``stream``).
+
+        Parameters
+        ----------
+        model
+            *StateSpaceModel*. The model of eq. 21.
+        z1
+            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+
+        Returns
+        -------
+        ParticleState
+            The state of step 1; ``estimate`` is x̂_1, shape (n,).
+
+        See Also
+        --------
+        Filter.initialize : the interface every filter shares.
+        """
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
         model = self._guarded(model)
@@ -272,8 +316,29 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
 
     def step(self, state: ParticleState, z: Any, u: Any = None
              ) -> tuple[ParticleState, ParticleRecord]:
-        """Resample, propagate through f with drawn state noise, weigh by the reading; see
-        :meth:`Filter.step`."""
+        """Resample, propagate through f with drawn state noise, weigh by the reading.
+
+        Parameters
+        ----------
+        state
+            *ParticleState*. What :meth:`initialize` or the previous :meth:`step` returned.
+        z
+            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
+        u
+            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+            k → k + 1 (the gauge's order n_k).
+
+        Returns
+        -------
+        state : ParticleState
+            The state of step k + 1; ``estimate`` is x̂_{k+1}, shape (n,).
+        record : ParticleRecord
+            What the step computed.
+
+        See Also
+        --------
+        Filter.step : the interface every filter shares.
+        """
         model = state.model
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)

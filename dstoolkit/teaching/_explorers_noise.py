@@ -103,7 +103,7 @@ def noise_evidence_explorer(
         t_lo, t_hi = default_theta(lower, mode, upper)
         return fig, {"mass per cut": (1.0 - epsilon) / p, "m(Θ)": epsilon,
                      "Θ": f"[{t_lo:.4g}, {t_hi:.4g}]",
-                     "pignistic expectation": ev.pignistic_expectation()}
+                     "pignistic expectation": ev.pignistic_expectation_1d()}
 
     live = {"p": positions(controls["p"], 8, 1, 8),
             "epsilon": positions(controls["epsilon"], 2, 0.0, 0.5)}
