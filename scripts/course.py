@@ -1,6 +1,6 @@
 """An nbgrader course from the exercise sheets' sources.
 
-    .venv/bin/python scripts/sheets.py --nbgrader DIR
+    .venv/bin/python scripts/sheets.py --nbgrader DIR [--variant N]
 
 writes ``DIR/nbgrader_config.py`` and one assignment per chapter,
 ``DIR/source/NN_<stem>/NN_<stem>.ipynb``, with nbgrader's cell metadata:
@@ -12,7 +12,10 @@ writes ``DIR/nbgrader_config.py`` and one assignment per chapter,
 * every check cell becomes an autograder test cell with points. Its visible test is the
   sheet's check (:func:`dstoolkit.teaching.must_pass`); a coding exercise adds hidden tests
   on other random cases, run where dstoolkit cannot be reached
-  (:func:`dstoolkit.teaching.must_pass_alone`). The cell imports what it needs itself;
+  (:func:`dstoolkit.teaching.must_pass_alone`), a value answer a hidden test that computes
+  the answer afresh from the data of the course's variant, whatever variant or cached
+  solution the notebook set (:func:`dstoolkit.teaching.must_pass_recomputed`). The cell
+  imports what it needs itself;
 * every written part (a proof, an explanation, the "why" of a prediction) is a manually
   graded answer cell with points, holding the teacher's solution for the formgrader.
 
@@ -106,10 +109,13 @@ def _value_region(stub: str, checks: str, answer: str | None) -> str:
     return f"{stub}\n### BEGIN SOLUTION\n{filled}\n### END SOLUTION"
 
 
-def _test_source(exercise_id: str, variable: str, coding: bool) -> str:
+def _test_source(exercise_id: str, variable: str, coding: bool, variant: int = 0) -> str:
     if not coding:
-        return (f"from dstoolkit.teaching import must_pass\n\n"
-                f'must_pass("{exercise_id}", {variable})')
+        return (f"from dstoolkit.teaching import must_pass, must_pass_recomputed\n\n"
+                f'must_pass("{exercise_id}", {variable})\n'
+                f"### BEGIN HIDDEN TESTS\n"
+                f'must_pass_recomputed("{exercise_id}", {variable}, variant={variant})\n'
+                f"### END HIDDEN TESTS")
     return (f"from dstoolkit.teaching import must_pass, must_pass_alone\n\n"
             f'must_pass("{exercise_id}", {variable})\n'
             f"### BEGIN HIDDEN TESTS\n"
@@ -141,8 +147,19 @@ def _exercise_solutions(src: sheets.Source) -> dict[str, str]:
     return out
 
 
-def course_notebook(src: sheets.Source, number: int, title: str, labels: list[str]) -> dict:
-    """The nbgrader source notebook of one chapter (nbformat 4 JSON)."""
+def course_notebook(src: sheets.Source, number: int, title: str, labels: list[str],
+                    variant: int = 0) -> dict:
+    """The nbgrader source notebook of one chapter (nbformat 4 JSON), with the numbers of
+    ``variant`` (0: the book's)."""
+    from dstoolkit.teaching._variants import using_variant
+
+    with using_variant(variant):
+        return _course_notebook(sheets.in_variant(src, variant), number, title, labels,
+                                variant if sheets.varies(src.stem, variant) else 0)
+
+
+def _course_notebook(src: sheets.Source, number: int, title: str, labels: list[str],
+                     variant: int) -> dict:
     sheets.unshadowed(src)
     solutions = _exercise_solutions(src)
     head = (f"# Chapter {number}: {title}, graded exercises\n\n"
@@ -208,7 +225,7 @@ def course_notebook(src: sheets.Source, number: int, title: str, labels: list[st
             coding = exercise_id.endswith("-code")
             points = float(block.arg) if block.arg else (
                 CODING_POINTS if coding else VALUE_POINTS)
-            raw.append(("code", _test_source(exercise_id, variable, coding),
+            raw.append(("code", _test_source(exercise_id, variable, coding, variant),
                         _meta(unique(f"{exercise_id.replace('.', '-')}-test"), grade=True,
                               locked=True, points=points)))
             continue
@@ -231,9 +248,10 @@ def assignment_name(stem: str, number: int) -> str:
 
 
 def write_course(folder: Path, root: Path = sheets.ROOT,
-                 chapters: list[str] | None = None) -> list[Path]:
+                 chapters: list[str] | None = None, variant: int = 0) -> list[Path]:
     """Write the nbgrader course (config and one source assignment per chapter, or only
-    the ``chapters`` stems given) to ``folder``. Returns the paths written."""
+    the ``chapters`` stems given) to ``folder``, with the numbers of ``variant`` (0: the
+    book's). Returns the paths written."""
     folder.mkdir(parents=True, exist_ok=True)
     config = folder / "nbgrader_config.py"
     config.write_text(CONFIG.format(course=COURSE_ID, timeout=CELL_TIMEOUT), encoding="utf-8")
@@ -244,7 +262,7 @@ def write_course(folder: Path, root: Path = sheets.ROOT,
         name = assignment_name(stem, number)
         path = folder / "source" / name / f"{name}.ipynb"
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(sheets.dump(course_notebook(src, number, title, labels)),
+        path.write_text(sheets.dump(course_notebook(src, number, title, labels, variant)),
                         encoding="utf-8")
         written.append(path)
     return written

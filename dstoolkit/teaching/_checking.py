@@ -35,6 +35,7 @@ from dstoolkit.evidence._finite_frame import MassFunction
 from dstoolkit.evidence._intervals import IntervalEvidence
 
 from ._limits import describe, too_big
+from ._variants import current_variant, using_variant
 
 Solver = Callable[[], Any]
 #: Message of an exercise that still holds its placeholder.
@@ -53,14 +54,22 @@ class Exercise:
     mistakes: tuple[tuple[Solver, str], ...] = ()
     canonical: Callable[[Any], Any] | None = None
     """Applied to answers and solutions before comparing (e.g. sort rows of evidence)."""
-    _cache: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
+    varies: bool = False
+    """True when the solver reads its chapter's variant data (see ``set_variant``)."""
+    _cache: dict[Any, Any] = field(default_factory=dict, compare=False, repr=False)
 
     @property
     def solution(self) -> Any:
-        """The solution, computed with dstoolkit (once, then kept)."""
-        if "solution" not in self._cache:
-            self._cache["solution"] = self.solve()
-        return self._cache["solution"]
+        """The solution in the current variant, computed with dstoolkit (once, then kept)."""
+        key = ("solution", current_variant() if self.varies else 0)
+        if key not in self._cache:
+            self._cache[key] = self.solve()
+        return self._cache[key]
+
+    def solution_in(self, variant: int) -> Any:
+        """The solution computed from the data of ``variant`` (kept as :attr:`solution`)."""
+        with using_variant(variant):
+            return self.solution
 
     def verdict(self, answer: Any, time_limit: float | None = None) -> Feedback:
         """Right, a named mistake, close, or wrong with the hint (``time_limit`` is for
@@ -137,16 +146,55 @@ def exercise(
     rtol: float = 1e-3,
     mistakes: tuple[tuple[Solver, str], ...] = (),
     canonical: Callable[[Any], Any] | None = None,
+    varies: bool = False,
 ) -> Callable[[Solver], Solver]:
     """Register the decorated function as the solver of ``exercise_id``.
 
-    Ids are ``"<chapter>.<name>"`` (e.g. ``"mass.bel"``); registering an id twice is an error.
+    Parameters
+    ----------
+    exercise_id : str
+        ``"<chapter>.<name>"``, e.g. ``"mass.bel"``; registering an id twice is an error.
+    hint : str
+        Shown after a wrong answer; it must not state the answer.
+    atol, rtol : float
+        The tolerance of a numerical answer: ``|answer − solution| ≤ atol + rtol·|solution|``.
+    mistakes : tuple of (callable, str)
+        Plausible wrong answers (each computed by a function) and the hint each one gets.
+    canonical : callable, optional
+        Applied to answers and solutions before comparing (e.g. to sort rows).
+    varies : bool
+        The solver reads its chapter's variant data (``data(chapter)``), so that a
+        variant's sheet has other answers than the book's.
+
+    Returns
+    -------
+    callable
+        A decorator that registers the solver and returns it unchanged.
+
+    Raises
+    ------
+    InvalidInputError
+        The id has no chapter part.
+
+    See Also
+    --------
+    check : says whether an answer is right.
+    coding_exercise : registers an exercise whose answer is a function.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import REGISTRY, exercise
+    >>> @exercise("demo.double", hint="Twice 21.")
+    ... def _():
+    ...     return 2 * 21
+    >>> REGISTRY.pop("demo.double").solution
+    42
     """
     if "." not in exercise_id:
         raise InvalidInputError(f"exercise id {exercise_id!r} must look like 'chapter.name'")
 
     def add(solve: Solver) -> Solver:
-        register(Exercise(exercise_id, solve, hint, atol, rtol, mistakes, canonical))
+        register(Exercise(exercise_id, solve, hint, atol, rtol, mistakes, canonical, varies))
         return solve
 
     return add
@@ -192,21 +240,64 @@ def mistake(exercise_id: str) -> Any:
     return get(exercise_id).wrong_answer()
 
 
-def check(exercise_id: str, answer: Any, *, time_limit: float | None = None) -> Feedback:
+def check(exercise_id: str, answer: Any, *, time_limit: float | None = None,
+          variant: int | None = None) -> Feedback:
     """Compare ``answer`` with the solution of ``exercise_id``: right, or wrong with a hint.
 
     In a notebook, end a cell with ``check("mass.bel", answer)`` to see the verdict. An
-    answer left as ``...`` (or ``None``) is reported as not answered yet. For a coding
-    exercise the answer is the function itself: ``check("combine.dempster-code",
-    dempster_rule)``. A coding check stops the function after ``time_limit`` seconds (all
-    cases together; by default :func:`~dstoolkit.teaching.set_time_limit`'s, 5 s).
+    answer left as ``...`` (or ``None``) is reported as not answered yet.
+
+    Parameters
+    ----------
+    exercise_id : str
+        The exercise, ``"<chapter>.<name>"`` (e.g. ``"mass.bel"``).
+    answer : object
+        A number, a sequence or dict of numbers, a bool, a string, a set, evidence; for a
+        coding exercise the function itself (``check("combine.dempster-code",
+        dempster_rule)``).
+    time_limit : float, optional
+        Seconds a coding exercise's function may run, all cases together (by default
+        :func:`~dstoolkit.teaching.set_time_limit`'s, 5 s).
+    variant : int, optional
+        Whose data the solution is computed from: 0 is the book's, ``N`` the sheet of
+        ``scripts/sheets.py --variant N`` (by default the one
+        :func:`~dstoolkit.teaching.set_variant` chose, 0 unless a sheet's setup cell set it).
+
+    Returns
+    -------
+    Feedback
+        True when right; its message says right, or wrong with a hint.
+
+    Raises
+    ------
+    KeyError
+        No exercise ``exercise_id`` (the message lists its chapter's exercises).
+
+    See Also
+    --------
+    must_pass : the same check as a graded test (raises unless right).
+    set_variant : the data the checks compute with.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import check
+    >>> check("mass.bel", 0.8)
+    ✔ mass.bel: right.
+    >>> bool(check("mass.bel", 0.3))
+    False
     """
     ex = get(exercise_id)
     if answer is ... or answer is None:
         return Feedback(exercise_id, False,
                         f"{exercise_id}: {NOT_ANSWERED} — replace ... by your answer.",
                         {"pending": True})
-    return ex.verdict(answer, time_limit)
+    with using_variant(variant):
+        return ex.verdict(answer, time_limit)
+
+
+def answers_differ(ex: Exercise, first: Any, second: Any) -> bool:
+    """Whether two solutions of ``ex`` are told apart by its check (its tolerance)."""
+    return not _compare(ex._canonical(first), ex._canonical(second), ex)[0]
 
 
 # -- comparison -------------------------------------------------------------------------

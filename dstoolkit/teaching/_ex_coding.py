@@ -26,6 +26,7 @@ from dstoolkit.gauge._level import level_from_resonance, orders_eq43
 
 from . import _plain_solutions as plain
 from ._coding import Case, coding_exercise, seeded
+from ._ex_filter import HAND_EPSILON, HAND_XHAT, HAND_Z
 
 # -- data: finite frames ------------------------------------------------------------------
 
@@ -692,9 +693,9 @@ def noise_rows(a: float, c: float, b: float, p: int, epsilon: float,
 
 
 #: The hand example of the chapter: x̂_k, z_{k+1}, f, g and p = 1 noise evidence.
-HAND_STEP = (1.0, 1.7, same_value, same_value, same_value,
-             noise_rows(-0.5, 0.0, 0.5, 1, 0.2, (-2.0, 2.0)),
-             noise_rows(-0.5, 0.0, 0.5, 1, 0.2, (-2.0, 2.0)))
+HAND_STEP = (HAND_XHAT, HAND_Z, same_value, same_value, same_value,
+             noise_rows(-0.5, 0.0, 0.5, 1, HAND_EPSILON, (-2.0, 2.0)),
+             noise_rows(-0.5, 0.0, 0.5, 1, HAND_EPSILON, (-2.0, 2.0)))
 
 
 def _filter_cases() -> list[Case]:

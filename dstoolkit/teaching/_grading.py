@@ -20,14 +20,16 @@ from __future__ import annotations
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from dataclasses import replace
 from importlib.abc import MetaPathFinder
 from types import CellType, FunctionType, ModuleType
 from typing import Any
 
 from dstoolkit.errors import GradingFailure, InvalidInputError
 
-from ._checking import check, get
+from ._checking import Exercise, check, get
 from ._coding import Case, CodingExercise, seed_shift
+from ._variants import using_variant
 
 #: Added to the seeds of a coding exercise's random cases in the hidden tests.
 HIDDEN_SEED_SHIFT = 7919
@@ -55,6 +57,58 @@ def must_pass(exercise_id: str, answer: Any, *, time_limit: float | None = None)
     print(feedback.message)
     if not feedback.correct:
         raise GradingFailure(feedback.message)
+
+
+def must_pass_recomputed(exercise_id: str, answer: Any, *, variant: int) -> None:
+    """Check a value answer against its solution computed afresh from the data of
+    ``variant``; raise unless it is right.
+
+    The hidden test of a value answer in a course: it does not read the kept solution nor
+    the variant the notebook chose (:func:`~dstoolkit.teaching.set_variant`), so an answer
+    copied from the book's solutions fails in a variant, and so does one that switched the
+    notebook back to the book's numbers or altered a kept solution.
+
+    Parameters
+    ----------
+    exercise_id : str
+        A value exercise, e.g. ``"mass.bel"``.
+    answer : object
+        The learner's answer.
+    variant : int
+        The course's variant (0: the book's numbers).
+
+    Raises
+    ------
+    GradingFailure
+        The answer is not right (or not given).
+    InvalidInputError
+        ``exercise_id`` is a coding exercise (its hidden test is :func:`must_pass_alone`).
+
+    See Also
+    --------
+    must_pass : the visible test, the sheet's check.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import must_pass_recomputed
+    >>> must_pass_recomputed("mass.bel", 0.8, variant=0)
+    ✔ hidden test of mass.bel: right.
+    """
+    exercise = get(exercise_id)
+    if not isinstance(exercise, Exercise):
+        raise InvalidInputError(f"{exercise_id!r} is a coding exercise; its hidden tests are "
+                                "must_pass_alone's")
+    if answer is ... or answer is None:
+        feedback = check(exercise_id, answer)
+    else:
+        fresh = replace(exercise, _cache={})  # nothing kept: the solver runs again
+        with using_variant(variant):
+            feedback = fresh.verdict(answer)
+    message = feedback.message.replace("✔ ", "✔ hidden test of ", 1).replace(
+        "✘ ", "✘ hidden test of ", 1)
+    print(message)
+    if not feedback.correct:
+        raise GradingFailure(message)
 
 
 def must_pass_alone(exercise_id: str, answer: Callable[..., Any], *,
