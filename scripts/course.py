@@ -67,6 +67,67 @@ c.ClearSolutions.text_stub = "*Your answer:* …"
 '''
 
 
+# -- maths without MathJax -------------------------------------------------------------------
+# nbgrader's feedback pages load no MathJax, so the course writes its formulas in Unicode:
+# "$\\mathrm{Bel}(\\{\\text{low}\\})$" reads "Bel({low})" in the notebook and on the page.
+
+MATH = re.compile(r"\$\$(.+?)\$\$|\$(?!\s)((?:[^$\n]|\n(?!\n))+?)(?<!\s)\$", re.DOTALL)
+WRAPPERS = re.compile(r"\\(?:mathrm|text|operatorname|mathit|mathbf)\s*\{([^{}]*)\}")
+ACCENTS = {"hat": "\u0302", "bar": "\u0304", "tilde": "\u0303"}
+ACCENT = re.compile(r"\\(hat|bar|tilde)\s*(?:\{([^{}]*)\}|([A-Za-z]))")
+SQRT = re.compile(r"\\sqrt\s*\{([^{}]*)\}")
+SYMBOLS = {
+    "alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "varepsilon": "ε",
+    "epsilon": "ε", "theta": "θ", "kappa": "κ", "lambda": "λ", "mu": "μ", "xi": "ξ",
+    "pi": "π", "rho": "ρ", "sigma": "σ", "tau": "τ", "omega": "ω", "Theta": "Θ",
+    "Delta": "Δ", "Sigma": "Σ", "cdot": "·", "times": "×", "le": "≤", "leq": "≤",
+    "ge": "≥", "geq": "≥", "approx": "≈", "pm": "±", "in": "∈", "ni": "∋", "cap": "∩",
+    "cup": "∪", "oplus": "⊕", "infty": "∞", "to": "→", "dots": "…", "ldots": "…",
+    "lfloor": "⌊", "rfloor": "⌋", "lceil": "⌈", "rceil": "⌉", "neq": "≠", "ne": "≠",
+    "min": "min", "max": "max", "sin": "sin", "cos": "cos", "log": "log", "exp": "exp",
+    "emptyset": "∅", "subseteq": "⊆", "subset": "⊂", "mid": "|", "quad": "  ",
+}
+SPACES = {",": "\u2009", ";": " ", ":": " ", "!": "", " ": " ", "{": "\u27ee", "}": "\u27ef"}
+SUB = dict(zip("0123456789+-=()aehijklmnoprstuvx", "₀₁₂₃₄₅₆₇₈₉₊₋₌₍₎ₐₑₕᵢⱼₖₗₘₙₒₚᵣₛₜᵤᵥₓ", strict=True))
+SUP = dict(zip("0123456789+-=()in", "⁰¹²³⁴⁵⁶⁷⁸⁹⁺⁻⁼⁽⁾ⁱⁿ", strict=True))
+SCRIPT = re.compile(r"([_^])(?:\{([^{}]*)\}|(\\?[A-Za-z0-9]))")
+
+
+def _script(match: re.Match[str]) -> str:
+    kind, body = match.group(1), match.group(2) if match.group(2) is not None else match.group(3)
+    table = SUB if kind == "_" else SUP
+    body = body.replace(" ", "")
+    if all(ch in table for ch in body):
+        return "".join(table[ch] for ch in body)
+    return f"{kind}({body})" if len(body) > 1 else f"{kind}{body}"
+
+
+def plain_maths(text: str) -> str:
+    """Markdown with its ``$…$`` formulas written in Unicode (no MathJax needed).
+
+    Raises ValueError when a formula uses a command this conversion does not know, so a new
+    one in a source is noticed when the course is written.
+    """
+    def convert(match: re.Match[str]) -> str:
+        tex = match.group(1) if match.group(1) is not None else match.group(2)
+        out = tex
+        for _ in range(3):  # nested wrappers: \mathrm{\text{…}}
+            out = WRAPPERS.sub(r"\1", out)
+        out = ACCENT.sub(lambda m: (m.group(2) or m.group(3)) + ACCENTS[m.group(1)], out)
+        out = SQRT.sub(r"√(\1)", out)
+        out = re.sub(r"\\([,;:! {}])", lambda m: SPACES[m.group(1)], out)
+        out = re.sub(r"\\([A-Za-z]+)",
+                     lambda m: SYMBOLS.get(m.group(1), m.group(0)), out)
+        out = SCRIPT.sub(_script, out).replace("-", "−")
+        if "\\" in out:
+            raise ValueError(f"no plain form for the formula ${tex}$ (add its commands to "
+                             "course.SYMBOLS)")
+        out = out.replace("{", "").replace("}", "")
+        return out.replace("\u27ee", "{").replace("\u27ef", "}")
+
+    return MATH.sub(convert, text)
+
+
 def _meta(grade_id: str, *, grade: bool = False, solution: bool = False,
           locked: bool = False, points: float | None = None) -> dict:
     meta: dict[str, Any] = {"grade": grade, "grade_id": grade_id, "locked": locked,
@@ -235,8 +296,8 @@ def _course_notebook(src: sheets.Source, number: int, title: str, labels: list[s
     if order != len(labels):
         raise ValueError(f"{src.stem}: the sheet has {order} exercises, the chapter "
                          f"{len(labels)} ({labels})")
-    cells = [sheets._cell(kind, text, n, src.stem, meta)
-             for n, (kind, text, meta) in enumerate(raw)]
+    cells = [sheets._cell(kind, plain_maths(text) if kind == "markdown" else text, n,
+                          src.stem, meta) for n, (kind, text, meta) in enumerate(raw)]
     return {"cells": cells, "metadata": {"kernelspec": {
         "display_name": "Python 3", "language": "python", "name": "python3"},
         "language_info": {"name": "python"}}, "nbformat": 4, "nbformat_minor": 5}

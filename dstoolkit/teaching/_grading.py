@@ -17,6 +17,7 @@ own implementation fails it.
 
 from __future__ import annotations
 
+import linecache
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -37,7 +38,10 @@ UNREACHABLE = "dstoolkit is not available in this test: write the computation yo
 
 
 def must_pass(exercise_id: str, answer: Any, *, time_limit: float | None = None) -> None:
-    """Print the check's verdict on ``answer``; raise unless it is right.
+    """Print the check's verdict on a right ``answer``; raise with the verdict otherwise.
+
+    The verdict appears once on a feedback page: printed when right, as the error's
+    message when not (and IPython leaves this function out of the traceback).
 
     Parameters
     ----------
@@ -52,11 +56,41 @@ def must_pass(exercise_id: str, answer: Any, *, time_limit: float | None = None)
     ------
     GradingFailure
         The answer is not right (or not given); the message is the check's.
+
+    See Also
+    --------
+    must_pass_alone : the hidden tests of a coding answer.
+    must_pass_recomputed : the hidden test of a value answer.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import must_pass
+    >>> must_pass("mass.bel", 0.8)
+    ✔ mass.bel: right.
+    >>> must_pass("mass.bel", 0.3)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.GradingFailure: ✘ mass.bel: wrong. That is m({low, mid}) alone; ...
     """
+    __tracebackhide__ = True  # noqa: F841 - IPython shows the verdict, not this frame
     feedback = check(exercise_id, answer, time_limit=time_limit)
-    print(feedback.message)
-    if not feedback.correct:
-        raise GradingFailure(feedback.message)
+    _report(feedback.message, feedback.correct)
+
+
+def _report(message: str, correct: bool) -> None:
+    """Print a right verdict; raise a wrong one (shown once, as the error's message)."""
+    __tracebackhide__ = True  # noqa: F841 - IPython shows the verdict, not this frame
+    if not correct:
+        # raised from a one-line frame of its own: IPython always shows the frame that
+        # raised, and this one shows nothing of the grading code
+        exec(_RAISE, {"failure": GradingFailure(message)})  # noqa: S102 - fixed code
+    print(message)
+
+
+_RAISE_SOURCE = "raise failure  # the answer is not right: the verdict is below\n"
+_RAISE = compile(_RAISE_SOURCE, "<test>", "exec")
+# its one line, for the traceback (an entry without a modification time stays cached)
+linecache.cache["<test>"] = (len(_RAISE_SOURCE), None, [_RAISE_SOURCE], "<test>")
 
 
 def must_pass_recomputed(exercise_id: str, answer: Any, *, variant: int) -> None:
@@ -104,11 +138,9 @@ def must_pass_recomputed(exercise_id: str, answer: Any, *, variant: int) -> None
         fresh = replace(exercise, _cache={})  # nothing kept: the solver runs again
         with using_variant(variant):
             feedback = fresh.verdict(answer)
-    message = feedback.message.replace("✔ ", "✔ hidden test of ", 1).replace(
-        "✘ ", "✘ hidden test of ", 1)
-    print(message)
-    if not feedback.correct:
-        raise GradingFailure(message)
+    __tracebackhide__ = True  # noqa: F841 - IPython shows the verdict, not this frame
+    _report(feedback.message.replace("✔ ", "✔ hidden test of ", 1).replace(
+        "✘ ", "✘ hidden test of ", 1), feedback.correct)
 
 
 def must_pass_alone(exercise_id: str, answer: Callable[..., Any], *,
@@ -136,11 +168,9 @@ def must_pass_alone(exercise_id: str, answer: Callable[..., Any], *,
     target = alone(answer) if isinstance(answer, FunctionType) else answer
     with library_hidden():
         feedback = exercise.verdict(target, time_limit, cases)
-    message = feedback.message.replace("✔ ", "✔ hidden tests of ").replace(
-        "✘ ", "✘ hidden tests of ")
-    print(message)
-    if not feedback.correct:
-        raise GradingFailure(message)
+    __tracebackhide__ = True  # noqa: F841 - IPython shows the verdict, not this frame
+    _report(feedback.message.replace("✔ ", "✔ hidden tests of ").replace(
+        "✘ ", "✘ hidden tests of "), feedback.correct)
 
 
 def hidden_cases(exercise: CodingExercise) -> list[tuple[Case, Any]]:
