@@ -64,7 +64,26 @@ c.ClearSolutions.code_stub = {{"python": ""}}
 c.ClearSolutions.text_stub = "*Your answer:* …"
 # Releasing on JupyterHub: uncomment and point at the exchange folder of your hub.
 # c.Exchange.root = "/srv/nbgrader/exchange"
+
+# Feedback pages load nothing from the internet: the assignments write their formulas in
+# Unicode, and templates/feedback/mathjax.html.j2 (next to this file) replaces the MathJax
+# loader of nbgrader's feedback page, a script from a CDN, by nothing.
+import os  # noqa: E402
+import nbgrader  # noqa: E402
+
+c.HTMLExporter.template_name = "feedback"
+c.HTMLExporter.extra_template_basedirs = [
+    os.path.join(os.path.dirname(os.path.abspath(__file__)), "templates"),
+    os.path.join(os.path.dirname(nbgrader.__file__), "server_extensions", "formgrader",
+                 "templates"),
+]
 '''
+#: Replaces nbconvert's MathJax loader on the feedback pages (see CONFIG).
+NO_MATHJAX = """\
+{#- The course's formulas are Unicode: the feedback pages load no MathJax (no CDN). -#}
+{%- macro mathjax(url="") -%}
+{%- endmacro %}
+"""
 
 
 # -- maths without MathJax -------------------------------------------------------------------
@@ -316,7 +335,10 @@ def write_course(folder: Path, root: Path = sheets.ROOT,
     folder.mkdir(parents=True, exist_ok=True)
     config = folder / "nbgrader_config.py"
     config.write_text(CONFIG.format(course=COURSE_ID, timeout=CELL_TIMEOUT), encoding="utf-8")
-    written = [config]
+    template = folder / "templates" / "feedback" / "mathjax.html.j2"
+    template.parent.mkdir(parents=True, exist_ok=True)
+    template.write_text(NO_MATHJAX, encoding="utf-8")
+    written = [config, template]
     for stem, (number, title, src, labels) in sheets.sheets(root).items():
         if chapters is not None and stem not in chapters:
             continue

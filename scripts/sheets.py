@@ -60,7 +60,7 @@ STUB_BODY = '    raise NotImplementedError("write the body of this function")'
 #: First line of every check cell: a check run before the setup cell says what to do.
 SETUP_GUARD = 'if "check" not in dir(): raise RuntimeError("run the setup cell first")'
 PLACEHOLDER = re.compile(r"\{\{(\w+)(?:\[(\d+)\])?\}\}")
-TEACHING_IMPORT = re.compile(r"^from dstoolkit\.teaching import .*$", re.MULTILINE)
+TEACHING_IMPORT = re.compile(r"^from dstoolkit\.teaching import [\w, ]+$", re.MULTILINE)
 
 
 # -- the book's numbering -------------------------------------------------------------------
@@ -139,6 +139,21 @@ def varies(stem: str, variant: int) -> bool:
     return variant > 0 and chapter_of_sheet(stem) is not None
 
 
+def with_variant(setup: str, variant: int, stem: str) -> str:
+    """The setup cell with ``set_variant`` imported from dstoolkit.teaching and called
+    after the last import."""
+    found = TEACHING_IMPORT.search(setup)
+    if found is None:
+        raise ValueError(f"{stem}: the setup cell imports nothing from dstoolkit.teaching; "
+                         "cannot set the variant")
+    setup = setup[:found.end()] + ", set_variant" + setup[found.end():]
+    lines = setup.splitlines()
+    last = max(node.end_lineno or 0 for node in ast.parse(setup).body
+               if isinstance(node, ast.Import | ast.ImportFrom))
+    call = f"set_variant({variant})  # the checks use this sheet's numbers"
+    return "\n".join([*lines[:last], "", call, *lines[last:]])
+
+
 def in_variant(src: Source, variant: int) -> Source:
     """The source with its placeholders filled in for ``variant``; in a variant that
     differs from the book, the setup cell calls ``set_variant`` and the intro says so."""
@@ -148,13 +163,7 @@ def in_variant(src: Source, variant: int) -> Source:
     for block in src.blocks:
         text = render(block.text, src.stem, variant)
         if varies(src.stem, variant) and block.kind == "setup":
-            found = TEACHING_IMPORT.search(text)
-            if found is None:
-                raise ValueError(f"{src.stem}: the setup cell imports nothing from "
-                                 "dstoolkit.teaching; cannot set the variant")
-            text = (text[:found.end()] + "\nfrom dstoolkit.teaching import set_variant\n\n"
-                    f"set_variant({variant})  # the checks use this sheet's numbers"
-                    + text[found.end():])
+            text = with_variant(text, variant, src.stem)
         if varies(src.stem, variant) and block.kind == "solution":
             text = note + text
         blocks.append(Block(block.kind, block.arg, text))

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import csv
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -123,7 +124,8 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, dict[str, str]
                     "extra (bash scripts/ensure-env.sh does)")
     home = tmp_path_factory.mktemp("course")
     written = course.write_course(home, ROOT, [STEM], VARIANT)
-    assert [p.name for p in written] == ["nbgrader_config.py", f"{NAME}.ipynb"]
+    assert [p.name for p in written] == ["nbgrader_config.py", "mathjax.html.j2",
+                                         f"{NAME}.ipynb"]
     _nbgrader(home, "generate_assignment", NAME, "--create")
     release = json.loads((home / "release" / NAME / f"{NAME}.ipynb").read_text("utf-8"))
     teacher = json.loads((home / "source" / NAME / f"{NAME}.ipynb").read_text("utf-8"))
@@ -231,6 +233,7 @@ def test_a_failing_verdict_appears_once_and_the_maths_reads_without_mathjax(
     assert "(m₁ ⊕ m₂)({low})" in page and "The conflict K between" in page
     for raw in ("$K$", "\\mathrm", "\\text{", "\\oplus"):
         assert raw not in page, raw
+    assert not re.search(r"<script[^>]+src=\"https?:", page)  # nothing from a CDN
 
 
 def test_course_config_and_metadata(tmp_path: Path):

@@ -44,7 +44,37 @@ NOT_ANSWERED = "not answered yet"
 
 @dataclass(frozen=True)
 class Exercise:
-    """One exercise: how to compute its solution, a hint, a tolerance, common mistakes."""
+    """One exercise with a checked answer (registered by :func:`exercise`).
+
+    Parameters
+    ----------
+    id : str
+        ``"<chapter>.<name>"``, e.g. ``"mass.bel"``.
+    solve : callable
+        Computes the solution with dstoolkit, from the chapter's data.
+    hint : str
+        Shown after a wrong answer.
+    atol, rtol : float
+        Tolerance of a numerical answer: ``|answer − solution| ≤ atol + rtol·|solution|``.
+    mistakes : tuple of (callable, str)
+        Plausible wrong answers, each computed by a function, with the hint each gets.
+    canonical : callable, optional
+        Applied to answers and solutions before comparing (e.g. to sort rows).
+    varies : bool
+        The solver reads its chapter's variant data, so a variant has other answers.
+
+    See Also
+    --------
+    exercise : registers one.
+    check : the verdict on an answer.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import REGISTRY
+    >>> ex = REGISTRY["mass.bel"]
+    >>> ex.solution_in(0), ex.varies
+    (0.8, True)
+    """
 
     id: str
     solve: Solver
@@ -56,7 +86,8 @@ class Exercise:
     """Applied to answers and solutions before comparing (e.g. sort rows of evidence)."""
     varies: bool = False
     """True when the solver reads its chapter's variant data (see ``set_variant``)."""
-    _cache: dict[Any, Any] = field(default_factory=dict, compare=False, repr=False)
+    _cache: dict[Any, Any] = field(default_factory=dict, init=False, compare=False,
+                                   repr=False)
 
     @property
     def solution(self) -> Any:
@@ -67,13 +98,36 @@ class Exercise:
         return self._cache[key]
 
     def solution_in(self, variant: int) -> Any:
-        """The solution computed from the data of ``variant`` (kept as :attr:`solution`)."""
+        """The solution computed from the data of ``variant`` (kept as :attr:`solution`).
+
+        Parameters
+        ----------
+        variant : int
+            0 for the book's data, ``N`` for ``scripts/sheets.py --variant N``.
+
+        Returns
+        -------
+        object
+            The solution (a number, tuple, dict, …).
+        """
         with using_variant(variant):
             return self.solution
 
     def verdict(self, answer: Any, time_limit: float | None = None) -> Feedback:
-        """Right, a named mistake, close, or wrong with the hint (``time_limit`` is for
-        coding exercises and has no use here)."""
+        """Right, a named mistake, close, or wrong with the hint.
+
+        Parameters
+        ----------
+        answer : object
+            The learner's answer.
+        time_limit : float, optional
+            For coding exercises; no use here.
+
+        Returns
+        -------
+        Feedback
+            The verdict, in the current variant.
+        """
         if too_big(answer):
             return Feedback(self.id, False, f"✘ {self.id}: wrong: the answer is "
                             f"{describe(answer)}, far more than this exercise asks for.")
@@ -100,13 +154,39 @@ class Exercise:
         return value if self.canonical is None else self.canonical(value)
 
     def wrong_answer(self) -> Any:
-        """A plausible wrong answer: the first listed mistake, else the solution moved."""
+        """A plausible wrong answer: the first listed mistake, else the solution moved.
+
+        Returns
+        -------
+        object
+            An answer the check rejects.
+        """
         return self.mistakes[0][0]() if self.mistakes else _moved(self.solution)
 
 
 @dataclass(frozen=True)
 class Feedback:
-    """The verdict of :func:`check`; true when right. Shown as its message in a notebook."""
+    """The verdict of :func:`check`; true when right. Shown as its message in a notebook.
+
+    Parameters
+    ----------
+    exercise_id : str
+        The exercise checked.
+    correct : bool
+        Whether the answer is right.
+    message : str
+        What the learner reads: ``✔ …: right.``, or ``✘ …`` with a hint.
+    details : dict
+        Machine-readable extras: ``"mistake"`` (the named mistake's text), ``"case"`` (a
+        coding exercise's failing case), ``"pending"`` (not answered yet), ``"timeout"``.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import check
+    >>> feedback = check("mass.bel", 0.8)
+    >>> feedback.correct, feedback.message
+    (True, '✔ mass.bel: right.')
+    """
 
     exercise_id: str
     correct: bool
@@ -201,7 +281,24 @@ def exercise(
 
 
 def exercises(prefix: str = "") -> list[str]:
-    """The ids of the registered exercises, those starting with ``prefix`` only."""
+    """The ids of the registered exercises, those starting with ``prefix`` only.
+
+    Parameters
+    ----------
+    prefix : str
+        E.g. ``"mass."`` for the exercises of the chapter on mass functions.
+
+    Returns
+    -------
+    list of str
+        The ids, sorted.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import exercises
+    >>> exercises("mass.b")
+    ['mass.bel', 'mass.bel-pl-code', 'mass.betp', 'mass.betp-code']
+    """
     return sorted(k for k in REGISTRY if k.startswith(prefix))
 
 
@@ -218,10 +315,30 @@ def get(exercise_id: str) -> Any:
 
 def solution(exercise_id: str) -> Any:
     """The solution of an exercise (for teachers and tests): a value computed with
-    dstoolkit, or for a coding exercise the plain reference function.
+    dstoolkit from the current variant's data, or for a coding exercise the plain
+    reference function.
 
-    Returns a copy: changing it changes neither the kept solution nor what the check
-    cells expect.
+    Parameters
+    ----------
+    exercise_id : str
+        The exercise, e.g. ``"mass.bel"``.
+
+    Returns
+    -------
+    object
+        A copy: changing it changes neither the kept solution nor what the check cells
+        expect.
+
+    Raises
+    ------
+    KeyError
+        No exercise ``exercise_id``.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import solution
+    >>> solution("mass.bel")
+    0.8
     """
     value = get(exercise_id).solution
     if isinstance(value, FunctionType):
@@ -236,7 +353,24 @@ def solution(exercise_id: str) -> Any:
 
 def mistake(exercise_id: str) -> Any:
     """A plausible wrong answer to an exercise (its first listed mistake, or for a coding
-    exercise its first wrong implementation); the tests feed it to the check cells."""
+    exercise its first wrong implementation); the tests feed it to the check cells.
+
+    Parameters
+    ----------
+    exercise_id : str
+        The exercise, e.g. ``"mass.bel"``.
+
+    Returns
+    -------
+    object
+        An answer (or function) the check rejects, naming the mistake.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import check, mistake
+    >>> bool(check("mass.bel", mistake("mass.bel")))
+    False
+    """
     return get(exercise_id).wrong_answer()
 
 

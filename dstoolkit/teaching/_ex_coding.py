@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import itertools
 import warnings
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -448,7 +448,8 @@ def _vertex_cases() -> list[Case]:
 def _vertex_reference(f: Any, lo: list, hi: list) -> tuple[float, float]:
     with warnings.catch_warnings():  # the vertex method's warning is the point of case 4
         warnings.simplefilter("ignore")
-        a, b = image((np.array(lo), np.array(hi)), _vectorised(f), method="vertex")
+        a, b = cast(tuple[np.ndarray, np.ndarray],
+                    image((np.array(lo), np.array(hi)), _vectorised(f), method="vertex"))
     return float(a[0]), float(b[0])
 
 

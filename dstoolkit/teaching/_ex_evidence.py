@@ -3,6 +3,8 @@ combining evidence, dependent evidence, noise to evidence, random sets."""
 
 from __future__ import annotations
 
+from typing import Any, cast
+
 import numpy as np
 
 from dstoolkit.errors import TotalConflictError
@@ -128,7 +130,7 @@ def _() -> float:
 
 @exercise("mass.vacuous-betp", hint="Total ignorance spreads the mass of Θ evenly.")
 def _() -> dict[str, float]:
-    return MassFunction.vacuous(FRAME).pignistic()
+    return {str(k): v for k, v in MassFunction.vacuous(FRAME).pignistic().items()}
 
 
 # -- combining evidence (book/combining_evidence.md, notebooks/02_combining_evidence.ipynb) --
@@ -166,7 +168,25 @@ def _() -> float:
 
 def zadeh(x: float = 0.99, y: float = 0.99) -> tuple[MassFunction, MassFunction]:
     """Zadeh's doctors: m1(meningitis) = x, m1(tumour) = 1 − x; m2(concussion) = y,
-    m2(tumour) = 1 − y."""
+    m2(tumour) = 1 − y.
+
+    Parameters
+    ----------
+    x, y : float
+        Each doctor's mass on their own diagnosis, in [0, 1].
+
+    Returns
+    -------
+    (MassFunction, MassFunction)
+        The two doctors' evidence on the frame (meningitis, concussion, tumour).
+
+    Examples
+    --------
+    >>> from dstoolkit import dempster
+    >>> from dstoolkit.teaching import zadeh
+    >>> round(dempster(*zadeh()).mass_of("tumour"), 6)
+    1.0
+    """
     frame = ("meningitis", "concussion", "tumour")
     return (MassFunction({"meningitis": x, "tumour": 1 - x}, frame),
             MassFunction({"concussion": y, "tumour": 1 - y}, frame))
@@ -194,7 +214,19 @@ def _() -> float:
 
 def once() -> MassFunction:
     """One source: m({low}) = 0.5, m(Θ) = 0.5 (combined with itself in combine.twice; in a
-    variant, its own masses)."""
+    variant, its own masses).
+
+    Returns
+    -------
+    MassFunction
+        The source, on the frame :data:`FRAME`.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import once
+    >>> once().mass_of("low")
+    0.5
+    """
     d = data("combine")
     return MassFunction({"low": d["once_low"], FRAME: d["once_theta"]}, FRAME)
 
@@ -343,7 +375,8 @@ def _() -> tuple[float, float]:
                      "each cut gets (1 − ε)/p."),))
 def _() -> float:
     d = data("noise")
-    return float(triangular_evidence(*d["state"], p=d["p"], epsilon=d["epsilon"]).mass[0])
+    a, c, b = d["state"]
+    return float(triangular_evidence(a, c, b, p=d["p"], epsilon=d["epsilon"]).mass[0])
 
 
 @exercise("noise.theta2", hint="σ = (b − a)/6, and Θ = c ± 100σ.", varies=True,
@@ -356,7 +389,7 @@ def _() -> tuple[float, float]:
 @exercise("noise.expectation", hint="Eq. (20): Σ m·(midpoint). Where are the midpoints?",
           varies=True)
 def _() -> float:
-    return triangular_evidence(*_noise("obs")).pignistic_expectation()
+    return float(triangular_evidence(*_noise("obs")).pignistic_expectation())
 
 
 @exercise("noise.pbox", hint="Bel((−∞, x]) counts focal elements entirely left of x; "
@@ -366,7 +399,8 @@ def _() -> float:
                      "intervals entirely left of x."),))
 def _pbox() -> tuple[float, float]:
     d = data("noise")
-    evidence = triangular_evidence(*d["state"], p=d["pbox_p"], epsilon=d["pbox_epsilon"],
+    a, c, b = d["state"]
+    evidence = triangular_evidence(a, c, b, p=d["pbox_p"], epsilon=d["pbox_epsilon"],
                                    theta=(-10, 10))
     lower, upper = evidence.cdf_bounds(d["pbox_x"])
     return float(lower), float(upper)
@@ -429,12 +463,19 @@ def _square_box() -> tuple[float, float]:
     return float(d["square_lo"]), float(d["square_hi"])
 
 
+def box_image(lo: Any, hi: Any, f: Any, **options: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The image of the box [lo, hi] through ``f`` (``dstoolkit.evidence.image`` on a box)."""
+    from dstoolkit.evidence._extension import image
+
+    return cast(tuple[np.ndarray, np.ndarray], image((lo, hi), f, **options))
+
+
 def folded_image(merge: bool = True) -> IntervalEvidence:
     """The image of FOLDED_X through x² (subdivision: one focal element straddles 0)."""
     from dstoolkit.evidence._extension import image
 
-    return image(IntervalEvidence.from_pairs(_folded_x(), merge=False), _square,
-                 method="subdivision", merge=merge)
+    return cast(IntervalEvidence, image(IntervalEvidence.from_pairs(_folded_x(), merge=False),
+                                        _square, method="subdivision", merge=merge))
 
 
 @exercise("random.product", hint="Eq. (16): the mass of a box is the product of the masses "
@@ -457,11 +498,9 @@ def _() -> float:
                      "You evaluated f at the lower and upper corners; f decreases in ξ3, so "
                      "v_min takes ξ3's upper end."),))
 def _() -> tuple[float, float]:
-    from dstoolkit.evidence._extension import image
-
     box = _monotone_box()
-    lo, hi = image((np.array(box[0]), np.array(box[1])), _monotone_f,
-                   method="monotone", monotone=MONOTONE_SIGNS)
+    lo, hi = box_image(np.array(box[0]), np.array(box[1]), _monotone_f,
+                       method="monotone", monotone=MONOTONE_SIGNS)
     return float(lo[0]), float(hi[0])
 
 
@@ -472,10 +511,8 @@ def _() -> tuple[float, float]:
                      "That is the vertex method's answer: x² has its minimum inside the box "
                      "(Prop. 1 does not apply)."),))
 def _() -> tuple[float, float]:
-    from dstoolkit.evidence._extension import image
-
     box = _square_box()
-    lo, hi = image(([box[0]], [box[1]]), _square, method="subdivision")
+    lo, hi = box_image([box[0]], [box[1]], _square, method="subdivision")
     return float(lo[0]), float(hi[0])
 
 
@@ -496,7 +533,7 @@ def _() -> float:
                      "That is f(E[X]); the expectation of the image is taken over the image "
                      "intervals."),))
 def _() -> float:
-    return folded_image().pignistic_expectation()
+    return float(folded_image().pignistic_expectation())
 
 
 @exercise("random.evaluations", atol=0.0, rtol=0.0, varies=True,

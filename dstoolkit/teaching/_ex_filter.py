@@ -7,7 +7,7 @@ from typing import Any
 from dstoolkit.evidence._possibility import triangular_evidence
 
 from ._checking import exercise
-from ._ex_evidence import STATE_NOISE
+from ._ex_evidence import STATE_NOISE, box_image
 from ._variants import book_data, data
 
 # -- the recursive filter (book/recursive_filter.md, notebooks/06_recursive_filter.ipynb) ----
@@ -52,13 +52,11 @@ def _() -> tuple[int, int, int, int]:
 
 
 def _innermost_prediction(twice: bool = True) -> tuple[float, float]:
-    from dstoolkit.evidence._extension import image
-
     d = data("filter")
     xhat, order = d["predict_xhat"], d["predict_order"]
     v = triangular_evidence(*STATE_NOISE)  # innermost cut first (Table 1)
-    lo, hi = image(([xhat + v.lo[0]], [xhat + v.hi[0]]),
-                   lambda x: _gauge_model().f(x, order), monotone=[1])
+    lo, hi = box_image([xhat + v.lo[0]], [xhat + v.hi[0]],
+                       lambda x: _gauge_model().f(x, order), monotone=[1])
     extra = (float(v.lo[0]), float(v.hi[0])) if twice else (0.0, 0.0)
     return float(lo[0]) + extra[0], float(hi[0]) + extra[1]
 

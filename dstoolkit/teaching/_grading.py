@@ -135,7 +135,7 @@ def must_pass_recomputed(exercise_id: str, answer: Any, *, variant: int) -> None
     if answer is ... or answer is None:
         feedback = check(exercise_id, answer)
     else:
-        fresh = replace(exercise, _cache={})  # nothing kept: the solver runs again
+        fresh = replace(exercise)  # a new cache: nothing kept, the solver runs again
         with using_variant(variant):
             feedback = fresh.verdict(answer)
     __tracebackhide__ = True  # noqa: F841 - IPython shows the verdict, not this frame
@@ -153,12 +153,31 @@ def must_pass_alone(exercise_id: str, answer: Callable[..., Any], *,
     imported, and every dstoolkit object the notebook's functions refer to by a global
     name raises when used.
 
+    Parameters
+    ----------
+    exercise_id : str
+        A coding exercise, e.g. ``"combine.dempster-code"``.
+    answer : callable
+        The learner's function.
+    time_limit : float, optional
+        Seconds for all hidden cases together (by default the sheet's).
+
     Raises
     ------
     GradingFailure
         The answer fails a hidden case, runs out of time, or calls dstoolkit.
     InvalidInputError
         ``exercise_id`` is not a coding exercise.
+
+    See Also
+    --------
+    must_pass : the visible test.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import must_pass_alone, solution
+    >>> must_pass_alone("mass.bel-pl-code", solution("mass.bel-pl-code"))  # doctest: +ELLIPSIS
+    ✔ hidden tests of mass.bel-pl-code: right on all ... cases (...).
     """
     exercise = get(exercise_id)
     if not isinstance(exercise, CodingExercise):
