@@ -67,7 +67,8 @@ c.ClearSolutions.text_stub = "*Your answer:* …"
 
 # Feedback pages load nothing from the internet: the assignments write their formulas in
 # Unicode, and templates/feedback/mathjax.html.j2 (next to this file) replaces the MathJax
-# loader of nbgrader's feedback page, a script from a CDN, by nothing.
+# loader of nbgrader's feedback page, a script from a CDN, by a style that wraps long
+# lines of the tests' output.
 import os  # noqa: E402
 import nbgrader  # noqa: E402
 
@@ -78,10 +79,12 @@ c.HTMLExporter.extra_template_basedirs = [
                  "templates"),
 ]
 '''
-#: Replaces nbconvert's MathJax loader on the feedback pages (see CONFIG).
+#: Replaces nbconvert's MathJax loader in the head of the feedback pages (see CONFIG): no
+#: script; instead, long lines of a test's output (a verdict) wrap at narrow widths.
 NO_MATHJAX = """\
 {#- The course's formulas are Unicode: the feedback pages load no MathJax (no CDN). -#}
 {%- macro mathjax(url="") -%}
+<style>div.output_area pre { white-space: pre-wrap; overflow-wrap: break-word; }</style>
 {%- endmacro %}
 """
 
