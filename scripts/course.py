@@ -108,7 +108,12 @@ SYMBOLS = {
     "lfloor": "⌊", "rfloor": "⌋", "lceil": "⌈", "rceil": "⌉", "neq": "≠", "ne": "≠",
     "min": "min", "max": "max", "sin": "sin", "cos": "cos", "log": "log", "exp": "exp",
     "emptyset": "∅", "subseteq": "⊆", "subset": "⊂", "mid": "|", "quad": "  ",
+    "sum": "Σ", "prod": "Π", "bigl": "", "bigr": "", "Bigl": "", "Bigr": "", "left": "",
+    "right": "", "eta": "η", "phi": "φ", "psi": "ψ", "nu": "ν",
 }
+#: Double-struck letters (\mathbb{E} is an expectation).
+DOUBLE_STRUCK = {"E": "𝔼", "R": "ℝ", "N": "ℕ", "Z": "ℤ", "P": "ℙ", "Q": "ℚ", "C": "ℂ"}
+BLACKBOARD = re.compile(r"\\mathbb\s*\{([A-Z])\}")
 SPACES = {",": "\u2009", ";": " ", ":": " ", "!": "", " ": " ", "{": "\u27ee", "}": "\u27ef"}
 SUB = dict(zip("0123456789+-=()aehijklmnoprstuvx", "₀₁₂₃₄₅₆₇₈₉₊₋₌₍₎ₐₑₕᵢⱼₖₗₘₙₒₚᵣₛₜᵤᵥₓ", strict=True))
 SUP = dict(zip("0123456789+-=()in", "⁰¹²³⁴⁵⁶⁷⁸⁹⁺⁻⁼⁽⁾ⁱⁿ", strict=True))
@@ -135,6 +140,7 @@ def plain_maths(text: str) -> str:
         out = tex
         for _ in range(3):  # nested wrappers: \mathrm{\text{…}}
             out = WRAPPERS.sub(r"\1", out)
+        out = BLACKBOARD.sub(lambda m: DOUBLE_STRUCK.get(m.group(1), m.group(1)), out)
         out = ACCENT.sub(lambda m: (m.group(2) or m.group(3)) + ACCENTS[m.group(1)], out)
         out = SQRT.sub(r"√(\1)", out)
         out = re.sub(r"\\([,;:! {}])", lambda m: SPACES[m.group(1)], out)
@@ -270,7 +276,8 @@ def _course_notebook(src: sheets.Source, number: int, title: str, labels: list[s
             order += 1
             written = 0
             text, found = _split_written(block.text)
-            raw.append(("markdown", f"## Exercise {number}.{order}\n\n{text}",
+            raw.append(("markdown", f"{sheets.exercise_heading(src.stem, number, order, label)}"
+                                    f"\n\n{text}",
                         _meta(unique(f"{label}-statement"), locked=True)))
             for _ in range(found):
                 written += 1

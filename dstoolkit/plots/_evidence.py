@@ -34,9 +34,7 @@ from matplotlib.patches import Rectangle
 from matplotlib.text import Text
 
 from dstoolkit.errors import EvidenceError
-from dstoolkit.evidence._finite_frame import MassFunction
-from dstoolkit.evidence._intervals import IntervalEvidence
-from dstoolkit.evidence._possibility import alpha_cuts, possibility
+from dstoolkit.evidence import IntervalEvidence, MassFunction, alpha_cuts, possibility
 
 from ._kept import animate, set_limits
 from ._style import (

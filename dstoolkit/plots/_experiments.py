@@ -12,8 +12,7 @@ from matplotlib.figure import Figure
 from matplotlib.text import Text
 
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.studies._experiments import Table3
-from dstoolkit.studies._paper_results import TABLE3_MEAN_ABS_ERROR_M
+from dstoolkit.studies import TABLE3_MEAN_ABS_ERROR_M, Table3
 
 from ._kept import animate, set_limits, snapped_limits
 from ._style import OKABE_ITO, log_ticks, new_figure, styled

@@ -15,8 +15,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.transforms import offset_copy
 
-from dstoolkit.gauge._resonance import DetectionResult
-from dstoolkit.gauge._tube import Recording, TubeSetup
+from dstoolkit.gauge import DetectionResult, Recording, TubeSetup
 
 from ._evidence import _axes
 from ._kept import animate, set_limits, snapped_limits, zero_based_limits

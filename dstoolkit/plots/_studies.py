@@ -16,9 +16,9 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FixedLocator, NullLocator, StrMethodFormatter
 
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.evidence._possibility import possibility
-from dstoolkit.filters._model import BoundedNoise
-from dstoolkit.studies._estimation import ExampleComparison, MismatchResult, OrderRuleStudy
+from dstoolkit.evidence import possibility
+from dstoolkit.filters import BoundedNoise
+from dstoolkit.studies import ExampleComparison, MismatchResult, OrderRuleStudy
 
 from ._experiments import EXTRA_STYLES, STYLE, line_style
 from ._kept import animate, set_limits, snapped_limits

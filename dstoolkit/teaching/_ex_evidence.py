@@ -8,19 +8,24 @@ from typing import Any, cast
 import numpy as np
 
 from dstoolkit.errors import TotalConflictError
-from dstoolkit.evidence import APPENDIX_A2, PAPER_A6, PAPER_EN1, appendix_pair
-from dstoolkit.evidence._combination import (
+from dstoolkit.evidence import (
+    APPENDIX_A2,
+    PAPER_A6,
+    PAPER_EN1,
+    IntervalEvidence,
+    MassFunction,
+    alpha_cuts,
+    appendix_pair,
     combine_dependent,
     conflict,
     decorrelate,
+    default_theta,
     dempster,
     dependence,
     energy,
     joint_energy,
+    triangular_evidence,
 )
-from dstoolkit.evidence._finite_frame import MassFunction
-from dstoolkit.evidence._intervals import IntervalEvidence
-from dstoolkit.evidence._possibility import alpha_cuts, default_theta, triangular_evidence
 
 from ._checking import exercise
 from ._variants import book_data, data
@@ -465,14 +470,14 @@ def _square_box() -> tuple[float, float]:
 
 def box_image(lo: Any, hi: Any, f: Any, **options: Any) -> tuple[np.ndarray, np.ndarray]:
     """The image of the box [lo, hi] through ``f`` (``dstoolkit.evidence.image`` on a box)."""
-    from dstoolkit.evidence._extension import image
+    from dstoolkit.evidence import image
 
     return cast(tuple[np.ndarray, np.ndarray], image((lo, hi), f, **options))
 
 
 def folded_image(merge: bool = True) -> IntervalEvidence:
     """The image of FOLDED_X through x² (subdivision: one focal element straddles 0)."""
-    from dstoolkit.evidence._extension import image
+    from dstoolkit.evidence import image
 
     return cast(IntervalEvidence, image(IntervalEvidence.from_pairs(_folded_x(), merge=False),
                                         _square, method="subdivision", merge=merge))
@@ -483,7 +488,7 @@ def folded_image(merge: bool = True) -> IntervalEvidence:
           mistakes=((lambda: (_marginals()[0][1][2] + _marginals()[1][0][2]) / 2,
                      "You averaged the two masses; independent marginals multiply (eq. 16)."),))
 def _() -> float:
-    from dstoolkit.evidence._extension import cartesian_product
+    from dstoolkit.evidence import cartesian_product
 
     rel = cartesian_product([IntervalEvidence.from_pairs(rows) for rows in _marginals()])
     lo, hi = np.array(RELATION_BOX)
@@ -542,7 +547,7 @@ def _() -> float:
           mistakes=((lambda: (2 ** data("random")["dim"], 2),
                      "That is per box; count the evaluations of every box of the relation."),))
 def _() -> tuple[int, int]:
-    from dstoolkit.evidence._extension import image
+    from dstoolkit.evidence import image
 
     counts = []
     for method in ("vertex", "monotone"):

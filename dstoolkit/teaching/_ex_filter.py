@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from dstoolkit.evidence._possibility import triangular_evidence
+from dstoolkit.evidence import triangular_evidence
 
 from ._checking import exercise
 from ._ex_evidence import STATE_NOISE, box_image
@@ -29,7 +29,7 @@ book_data("filter", {"hand_xhat": HAND_XHAT, "hand_z": HAND_Z, "hand_epsilon": H
 
 
 def _gauge_model() -> Any:
-    from dstoolkit.gauge._gauge_model import gauge_state_space_model
+    from dstoolkit.gauge import gauge_state_space_model
 
     return gauge_state_space_model()
 
@@ -43,7 +43,7 @@ def _gauge_model() -> Any:
                      "Do not forget Θ: the discount adds one focal element to each noise "
                      "evidence (eq. 26)."),))
 def _() -> tuple[int, int, int, int]:
-    from dstoolkit.filters._dependent import DependentEvidenceFilter
+    from dstoolkit.filters import DependentEvidenceFilter
 
     cuts = data("filter")["count_cuts"]
     noise = DependentEvidenceFilter(p=cuts).noise_evidence(_gauge_model())
