@@ -50,7 +50,8 @@ def remove(*paths: Path) -> None:
 
 def timed_build() -> float:
     """Run scripts/build-book.sh once and return its wall time in seconds (its CPU time,
-    less sensitive to the load of a shared machine, is added to CPU_SECONDS)."""
+    less sensitive to the load of a shared machine, is added to CPU_SECONDS).
+    """
     cpu = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     result = subprocess.run(
@@ -100,7 +101,8 @@ def main() -> None:
 
 def print_sizes(pages: list[Path]) -> None:
     """The size of the site and of every page's HTML (the explorers' precomputed states
-    are embedded in their page; budget: 6 MB a page)."""
+    are embedded in their page; budget: 6 MB a page).
+    """
     site = sum(f.stat().st_size for f in (BUILD / "html").rglob("*") if f.is_file())
     print(f"site _build/html: {site / 1e6:.1f} MB")
     for page in sorted(pages, key=lambda p: -p.stat().st_size):

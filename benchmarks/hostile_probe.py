@@ -107,7 +107,8 @@ class Probe:
 
 def classify(probe: Probe) -> tuple[str, str]:
     """(outcome, detail): outcome is error (clean), ok (a valid result), traceback, wrong or
-    hang."""
+    hang.
+    """
     def alarm(signum: int, frame: Any) -> None:
         raise Hang()
 
@@ -268,7 +269,8 @@ def command_probes(folder: Path) -> Iterator[Probe]:
 
     def command(argv: list[str], protect: list[Path], expect: str) -> Callable[[], Any]:
         """Run the command line in this process; a one-line error, and protected files
-        unchanged, or the exit status 0 when it must succeed."""
+        unchanged, or the exit status 0 when it must succeed.
+        """
         def run() -> int:
             before = {p: p.read_bytes() for p in protect if p.is_file()}
             err = io.StringIO()
@@ -493,7 +495,8 @@ def _as_dict(e: Any) -> dict:
 
 class _Crafted:
     """Pickles as an object of another class with a chosen state (no constructor): what
-    the default pickle of a plain object holds."""
+    the default pickle of a plain object holds.
+    """
 
     def __init__(self, cls: type, state: dict) -> None:
         self.cls, self.state = cls, state
@@ -665,7 +668,8 @@ def _nested(depth: int) -> Any:
 
 def _run_cli(argv: list[str], folder: Path) -> tuple[int, str]:
     """cli.main in this process, from ``folder``: (status, stderr); a KeyboardInterrupt that
-    escapes becomes a RuntimeError (a traceback at the terminal)."""
+    escapes becomes a RuntimeError (a traceback at the terminal).
+    """
     err = io.StringIO()
     cwd = os.getcwd()
     os.chdir(folder)
@@ -704,7 +708,8 @@ def race_probes(folder: Path) -> Iterator[Probe]:
 
     def appears(which: str) -> Callable[[], Any]:
         """A file appears at the CSV (or the figure) while table3 computes: it must
-        survive, and the command must say so."""
+        survive, and the command must say so.
+        """
         def run() -> Any:
             sub = fresh()
             target = sub / ("t.csv" if which == "csv" else "t.png")
@@ -789,7 +794,8 @@ def race_probes(folder: Path) -> Iterator[Probe]:
 
 def signal_probes(folder: Path) -> Iterator[Probe]:
     """table3 in a child process, stopped by a signal once its CSV is written (its figure
-    being drawn): one line, the shell's exit status, no file left."""
+    being drawn): one line, the shell's exit status, no file left.
+    """
     c = "signals"
     counter = itertools.count()
 

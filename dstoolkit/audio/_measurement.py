@@ -153,7 +153,8 @@ def estimate_level(
 ) -> LevelEstimate:
     """Level and uncertainty from detected resonances (eqs. 32, 35), see
     :class:`LevelEstimate`. Missed resonances are fine: the fit uses the detection's
-    ``steps``, which jump over them."""
+    ``steps``, which jump over them.
+    """
     if not math.isfinite(temperature_c) or not -50.0 <= temperature_c <= 100.0:
         raise InvalidInputError(f"temperature_c = {temperature_c} °C is not an air temperature")
     if not temperature_uncertainty_c >= 0:
@@ -398,7 +399,8 @@ UNKNOWN_ONSET_S = 2.0
 def _load_for_analysis(path: str | os.PathLike[str]) -> WavRecording:
     """Read the part of a recording that the analysis uses: up to the sweep's end plus
     :data:`ANALYSIS_TAIL_S` (the whole file when the metadata does not describe the sweep
-    beyond :data:`UNKNOWN_ONSET_S` + the paper's sweep)."""
+    beyond :data:`UNKNOWN_ONSET_S` + the paper's sweep).
+    """
     fh, layout = open_recording(path)
     with fh:
         meta = read_metadata(layout.info)
@@ -1057,7 +1059,8 @@ def measure_command(args: argparse.Namespace) -> int:
 
 def analysis_figure_path(recording: str | os.PathLike[str]) -> Path:
     """The default figure of ``analyze REC``: REC with the suffix .png, or REC.png when the
-    recording itself ends in .png (an output never replaces its input)."""
+    recording itself ends in .png (an output never replaces its input).
+    """
     path = Path(recording)
     figure = path.with_suffix(".png")
     return path.with_name(path.name + ".png") if figure.name == path.name else figure

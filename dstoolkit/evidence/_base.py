@@ -123,7 +123,8 @@ class Evidence(ABC):
     @abstractmethod
     def _energy_unit(self, counted: np.ndarray | None = None) -> float:
         """The size a focal element must have to count fully in the energy (eqs. 2, A1),
-        among the focal elements ``counted`` (a mask; all by default)."""
+        among the focal elements ``counted`` (a mask; all by default).
+        """
 
     @abstractmethod
     def _counts_in_energy(self) -> np.ndarray:
@@ -169,7 +170,8 @@ class Evidence(ABC):
     def _merged(self) -> tuple[np.ndarray, np.ndarray]:
         """The focal elements and masses with equal focal elements merged (eq. 14): what
         every reader of the evidence (``as_dict``, ``repr``, the dependence) sees, so that
-        the merged and the unmerged form of one evidence give one answer. Read-only."""
+        the merged and the unmerged form of one evidence give one answer. Read-only.
+        """
         if self._merged_cache is None:
             focal, mass = merge_equal(self._focal, self._mass)
             focal.flags.writeable = False
@@ -208,11 +210,13 @@ class Evidence(ABC):
     @abstractmethod
     def _from_attributes(cls, state: dict[str, Any]) -> Self:
         """Rebuild an evidence from the attributes a plain pickle of it holds, validating
-        them as the constructor does."""
+        them as the constructor does.
+        """
 
     def __setstate__(self, state: Any) -> None:
         """A pickle in the plain form (attributes, no constructor call): rebuilt through the
-        checks, so that crafted attributes cannot make an invalid evidence."""
+        checks, so that crafted attributes cannot make an invalid evidence.
+        """
         if not isinstance(state, dict):
             raise EvidenceError(f"cannot unpickle a {type(self).__name__} from "
                                 f"{type(state).__name__}; pickle it with dstoolkit")

@@ -85,20 +85,23 @@ TINY = 1e-300
 
 def least(values: np.ndarray) -> float:
     """The smallest of ``values`` (NaN if one is NaN), as a float; one element is read
-    directly (cheaper than a reduction)."""
+    directly (cheaper than a reduction).
+    """
     return values.item() if values.size == 1 else float(np.minimum.reduce(values, axis=None))
 
 
 def per_run(values: np.ndarray) -> Any:
     """``values`` (R,) as a column (R, 1) that broadcasts over each run's row, or for one
-    run as a float (a numpy scalar operand costs as much as an array)."""
+    run as a float (a numpy scalar operand costs as much as an array).
+    """
     return values.item() if values.size == 1 else values[:, None]
 
 
 def columns(e: Boxes) -> np.ndarray:
     """Boxes (R, N, d) in the column layout (R, 2, d, N) of the Step 6 kernels: the ends
     (lo, hi) on axis 1, the focal elements last, so that every product and comparison of
-    focal elements runs along a long, contiguous last axis."""
+    focal elements runs along a long, contiguous last axis.
+    """
     return np.stack([e.lo, e.hi], axis=1).transpose(0, 1, 3, 2)
 
 
@@ -157,7 +160,8 @@ class DependenceKernel:
         """Fill ``out`` and ``theta_mass`` from the current columns and masses; returns
         whether R12 and R21 lie in [0, 1] in every run (``mass_rule="m2"`` can break that:
         D, En ≥ 0 keep R ≤ 1). ``units[:, 0]`` is then the smallest width of E1's live
-        focal elements, negative if one is empty."""
+        focal elements, negative if one is empty.
+        """
         # widths and energies (eq. A1): Σ m/(w + ε) per evidence, times its u + ε
         np.subtract(self.hi, self.lo, out=self.width)
         if self.d > 1:
@@ -388,7 +392,8 @@ class ProductKernel:
 
     def combine(self, est: np.ndarray) -> np.ndarray | None:
         """E into ``est`` (R, d); returns None when every run's combination exists (K < 1
-        above the tolerance), else the mask of those that do. ``self.kept`` = 1 − K."""
+        above the tolerance), else the mask of those that do. ``self.kept`` = 1 − K.
+        """
         _, _, partial, sums = self.work
         np.maximum(self.a_lo, self.b_lo, out=self.lo)
         np.minimum(self.a_hi, self.b_hi, out=self.hi)

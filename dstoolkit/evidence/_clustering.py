@@ -114,7 +114,8 @@ class _Rows:
     def table(self, bm: Boxes, unit: np.ndarray, count: np.ndarray
               ) -> tuple[np.ndarray, np.ndarray]:
         """The boxes with mass of every run, in round 0's order (by centre along dimension 0,
-        stable: ties keep the order of ``bm``), and the run of each."""
+        stable: ties keep the order of ``bm``), and the run of each.
+        """
         runs, width, n = bm.lo.shape
         key = np.where(bm.mass > 0, bm.lo[..., 0] + bm.hi[..., 0], np.inf)  # with mass first
         order = np.argsort(key, axis=1, kind="stable")
@@ -135,7 +136,8 @@ class _Rows:
     def sizes(self, lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
         """|A| of boxes given as rows (n, N): the sum of each box's widths, each divided by
         its run's unit width. The widths are summed along a contiguous last axis (N, n), the
-        layout the stored results were computed with (it decides how the sum rounds)."""
+        layout the stored results were computed with (it decides how the sum rounds).
+        """
         if self.n == 1:
             return (hi[0] - lo[0]) / unit[0]
         widths = np.empty(lo.shape[::-1])
@@ -145,7 +147,8 @@ class _Rows:
 
     def pair_hulls(self, table: np.ndarray) -> np.ndarray:
         """Rows lo, hi, size, mass and mass·size of each neighbour pair's hull A ∪ B, with
-        mass m_A + m_B (C, N − 1); the other rows are filled in for the pairs merged."""
+        mass m_A + m_B (C, N − 1); the other rows are filled in for the pairs merged.
+        """
         a, b = table[:, :-1], table[:, 1:]
         pair = np.empty(a.shape)
         np.minimum(a[self.lo], b[self.lo], out=pair[self.lo])
@@ -294,7 +297,8 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
 def bounded_count(bm: Boxes) -> np.ndarray:
     """The focal elements (boxes of positive mass) of each run; refuses NaN or infinite
     masses, and boxes of positive mass with NaN or infinite bounds (clustering needs
-    sizes)."""
+    sizes).
+    """
     live = bm.mass > 0
     if not (np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo) | ~live[..., None])
             and np.all(np.isfinite(bm.hi) | ~live[..., None])):
@@ -307,14 +311,16 @@ def bounded_count(bm: Boxes) -> np.ndarray:
 
 def unit_widths(bm: Boxes) -> np.ndarray:
     """Each run's mass-weighted mean width per dimension (R, n), 1 where it is 0: the
-    units of the sizes |A| in Denœux's Δ."""
+    units of the sizes |A| in Denœux's Δ.
+    """
     unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
     return np.where(unit > 0, unit, 1.0)
 
 
 def merged_mass(mass: np.ndarray, merged: np.ndarray) -> np.ndarray:
     """The mass carried by merged boxes per run, added smallest first (canonical order:
-    it does not depend on the order the rounds left the boxes in)."""
+    it does not depend on the order the rounds left the boxes in).
+    """
     return row_sum(np.sort(np.where(merged, mass, 0.0), axis=1))
 
 

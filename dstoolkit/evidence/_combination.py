@@ -171,7 +171,8 @@ def _specificity(sizes: np.ndarray, unit: float) -> np.ndarray:
 
 def _energy_terms(e: Evidence, theta: ThetaRule) -> tuple[np.ndarray, float]:
     """Mask of the focal elements that enter the energy, and the unit (the size that counts
-    fully: 1 on a finite frame, the smallest counted width on intervals)."""
+    fully: 1 on a finite frame, the smallest counted width on intervals).
+    """
     if theta not in THETA_RULES:
         raise EvidenceError(f"theta must be one of {THETA_RULES}, got {theta!r}")
     counts = e._counts_in_energy()

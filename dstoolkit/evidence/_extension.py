@@ -160,14 +160,16 @@ def _call(f: Callable[[np.ndarray], Any], points: np.ndarray) -> np.ndarray:
 
 def _evaluate(f: Callable[[np.ndarray], Any], points: np.ndarray, extra: int) -> np.ndarray:
     """f at points laid out (*extra, ..., n), returned as (*extra, ..., m): the extra axes
-    move just before the last one for the call (see the module notes)."""
+    move just before the last one for the call (see the module notes).
+    """
     src, dst = tuple(range(extra)), tuple(range(-extra - 1, -1))
     return np.moveaxis(_call(f, np.moveaxis(points, src, dst)), dst, src)
 
 
 def _checked(f: Callable[[np.ndarray], Any]) -> Callable[[np.ndarray], Any]:
     """``f``, refusing what it returns that is no image: complex values (their imaginary
-    part would be dropped) and NaN or ±inf at points whose coordinates are finite."""
+    part would be dropped) and NaN or ±inf at points whose coordinates are finite.
+    """
     def checked(points: np.ndarray) -> Any:
         raw = f(points)
         try:
@@ -209,7 +211,8 @@ def _outside(values: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 def parse_signs(monotone: Any, n: int) -> np.ndarray | None:
     """Monotonicity signs as an int array of shape (n,) or (m, n); None when unknown.
 
-    Entries are +1 (increasing), −1 (decreasing) or 0 (neither/unknown)."""
+    Entries are +1 (increasing), −1 (decreasing) or 0 (neither/unknown).
+    """
     if monotone is None:
         return None
     s = np.asarray(monotone)
@@ -225,7 +228,8 @@ def parse_signs(monotone: Any, n: int) -> np.ndarray | None:
 
 def state_signs(monotone: Any, n: int) -> np.ndarray | None:
     """Signs of f(x, u) in x from a model's ``f_monotone``, which lists the n state
-    arguments then the n noise arguments of f(x, u) + v (length 2n) or the state only (n)."""
+    arguments then the n noise arguments of f(x, u) + v (length 2n) or the state only (n).
+    """
     if monotone is None:
         return None
     s = np.asarray(monotone)

@@ -96,7 +96,8 @@ class MassFunction(Evidence):
     def _elements(key: Any, frame: tuple | None) -> tuple:
         """The hypotheses of a focal element: a string or a tuple that the frame lists is
         one hypothesis; otherwise a string is the set of its characters and a set,
-        frozenset, tuple or list the set of its members."""
+        frozenset, tuple or list the set of its members.
+        """
         if isinstance(key, str | tuple) and frame and key in frame:
             return (key,)
         if isinstance(key, str | set | frozenset | tuple | list):

@@ -180,7 +180,8 @@ class Filter(ABC, Generic[StateT, RecordT]):
     def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
                 runs: np.ndarray) -> Block:
         """The recursion on a block of runs, Z (R, T, m), U (R, T − 1, q) or None;
-        ``runs`` are the runs' indices in the batch (their random streams, if any)."""
+        ``runs`` are the runs' indices in the batch (their random streams, if any).
+        """
 
     @abstractmethod
     def _bytes_per_run(self, model: StateSpaceModel, n_steps: int) -> float:
@@ -318,7 +319,8 @@ class Filter(ABC, Generic[StateT, RecordT]):
              ) -> tuple[np.ndarray, np.ndarray | None]:
         """One reading z and the input u of the transition into it (``transition=False``:
         the first reading, which has none), checked as :meth:`run` checks them: as a
-        block of one run, (1, m) and (1, q) (or None)."""
+        block of one run, (1, m) and (1, q) (or None).
+        """
         _checked_model(model)
         try:
             zz = np.broadcast_to(real_array(z, "z", ndim=(0, 1), error=EvidenceError),
@@ -337,7 +339,8 @@ class Filter(ABC, Generic[StateT, RecordT]):
     @staticmethod
     def _policy(value: Any, allowed: Sequence[str], name: str, other: str = "") -> None:
         """Refuse a policy (``on_conflict``, ``mass_rule``...) that is not one of ``allowed``
-        (``other`` names what else is accepted, e.g. "a state vector")."""
+        (``other`` names what else is accepted, e.g. "a state vector").
+        """
         if not isinstance(value, str) or value not in allowed:
             raise EvidenceError(
                 f"{name} must be one of {', '.join(repr(a) for a in allowed)}"
@@ -348,7 +351,8 @@ class Filter(ABC, Generic[StateT, RecordT]):
     def _compiled(cls, kernel: Any, purpose: str) -> bool:
         """Whether ``kernel`` (``"numpy"``, ``"numba"`` or ``"auto"``: numba when it is
         installed) asks for the compiled kernels (extra ``speed``) that give the numpy
-        path's numbers bit for bit; refuses another value, or ``"numba"`` without numba."""
+        path's numbers bit for bit; refuses another value, or ``"numba"`` without numba.
+        """
         cls._policy(kernel, ("numpy", "numba", "auto"), "kernel")
         if kernel == "numba":
             require_extra("numba", "speed", f"kernel='numba' of {purpose}")
@@ -357,7 +361,8 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
     def _own(self, name: str, value: Any) -> None:
         """Keep ``value`` as the option ``name`` (the frozen dataclass's field): the checked
-        and converted form, so that later edits of the caller's objects change nothing."""
+        and converted form, so that later edits of the caller's objects change nothing.
+        """
         object.__setattr__(self, name, value)
 
     def _whole(self, name: str, low: int = 0, high: int | None = None) -> None:

@@ -504,7 +504,8 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
     def _engine_by_steps(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
                          runs: np.ndarray) -> Block:
         """The recursion of R runs by the reference :meth:`step`, run after run (the
-        options the vectorised kernels do not implement)."""
+        options the vectorised kernels do not implement).
+        """
         n_runs, n_steps, _ = Z.shape
         n, noise = model.state_dim, self.noise_evidence(model)
         est, lower, upper = (np.empty((n_runs, n_steps, n)) for _ in range(3))
@@ -541,7 +542,8 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
     def _start(self, model: StateSpaceModel, z1: np.ndarray,
                runs: np.ndarray | None = None) -> np.ndarray:
         """x̂_1 for every run, (R, n); ``runs`` are the runs' indices in the batch (None for
-        a single run), which pick their rows of a start given per run."""
+        a single run), which pick their rows of a start given per run.
+        """
         n = model.state_dim
         if not isinstance(self.start, str):
             x0 = np.asarray(self.start, dtype=float)
@@ -573,7 +575,8 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         run_ids: np.ndarray | None = None, bounds: bool = True,
     ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, dict[str, np.ndarray]]:
         """Steps 2–6 for R runs at once (no merging); z (R, T, m), ``run_ids`` the runs'
-        indices in the batch. ``bounds`` also returns the hull of each final evidence."""
+        indices in the batch. ``bounds`` also returns the hull of each final evidence.
+        """
         runs, steps, _ = z.shape
         est = np.empty((runs, steps, maps.model.state_dim))
         hulls = np.empty((runs, steps, 2, est.shape[2])) if bounds else None

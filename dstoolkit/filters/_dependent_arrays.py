@@ -65,7 +65,8 @@ SNAP_RTOL = 1e-12
 
 def _view(array: np.ndarray, *shape: int) -> np.ndarray:
     """``array`` reshaped without a copy (an error if that needs one): writes through it
-    reach ``array``."""
+    reach ``array``.
+    """
     view = array.view()
     view.shape = shape
     return view
@@ -101,7 +102,8 @@ def observe(maps: ModelMaps, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray
 def snap_to_prior(back: np.ndarray, prior: np.ndarray, live: np.ndarray | None) -> None:
     """Step 5's last touch, in place on boxes (..., n, 2): a bound within
     :data:`SNAP_RTOL` · max(|lo|, |hi|) of its predicted box's is set to it, and boxes not
-    ``live`` (mass 0; None: all live) take the predicted box. ``prior`` broadcasts."""
+    ``live`` (mass 0; None: all live) take the predicted box. ``prior`` broadcasts.
+    """
     scale = np.abs(prior).max(axis=-1, keepdims=True)
     scale *= SNAP_RTOL
     near = np.abs(back - prior) <= scale
@@ -148,7 +150,8 @@ class _MonotoneImage:
     """The image of boxes through a function declared monotone with one row of signs (Prop.
     2): the end points are chosen by the signs, the centre is evaluated in the same call and
     the values are kept for the check (:meth:`check`). Points and values have the layout
-    (R, 3, B, dim): v_min, v_max, centre of each of B boxes."""
+    (R, 3, B, dim): v_min, v_max, centre of each of B boxes.
+    """
 
     def __init__(self, signs: np.ndarray, what: str, values: np.ndarray) -> None:
         self.signs = signs
@@ -249,7 +252,8 @@ class StepArrays:
 
     def _columns(self) -> None:
         """The columns [Θ1, E1, E2, Θ2] of Step 6 (lo, hi and centre of each box) and the
-        views of them that every step writes or reads."""
+        views of them that every step writes or reads.
+        """
         runs, n, nv, nw, np_, n1 = self.runs, self.n, self.nv, self.nw, self.np, self.n1
         na, size = n1 + 1, n1 + np_ + 2
         self.boxes = boxes = np.zeros((runs, 3, n, size))
@@ -328,7 +332,8 @@ class StepArrays:
     # -- Steps 2 and 3 -----------------------------------------------------------------------
     def _predict(self, t: int, xhat: np.ndarray, u: np.ndarray | None) -> None:
         """Step 2 into E2's columns: f(x̂ + V_i) + V_j, column i·N_v + j (eqs. 13, 16–19);
-        x̂ (R, 1, 1, n)."""
+        x̂ (R, 1, 1, n).
+        """
         fi = self.f_image
         if fi is not None:
             np.add(xhat, self.f_offsets, out=self.f_points)
@@ -384,7 +389,8 @@ class StepArrays:
                           ) -> np.ndarray | None:
         """Step 4: Dempster's rule of g(E_{k+1|k}) and z + W (eq. 1), products l·N_p + i;
         E1's masses and k4 into :attr:`diag`. Returns None, or the mask of the runs whose
-        combination exists (runs in total conflict get masses 0)."""
+        combination exists (runs in total conflict get masses 0).
+        """
         zw = self.zw[t]
         np.maximum(pz_lo, zw[0], out=self.fused_lo)
         np.minimum(pz_hi, zw[1], out=self.fused_hi)
@@ -413,7 +419,8 @@ class StepArrays:
     def _map_back(self, t: int) -> None:
         """Step 5 into E1's columns: g⁻¹ of each fused box within its predicted box, bounds
         within :data:`SNAP_RTOL` snapped to the predicted box's, placeholders (mass 0) set to
-        the predicted box (as :func:`dstoolkit.filters.map_back`)."""
+        the predicted box (as :func:`dstoolkit.filters.map_back`).
+        """
         lo, hi = self.g_inverse(self.fused_lo, self.fused_hi, *self.prior)
         np.copyto(self.e1_grid_lo, lo)
         np.copyto(self.e1_grid_hi, hi)
@@ -430,7 +437,8 @@ class StepArrays:
     def _fuse_dependent(self, t: int, est: np.ndarray, bounds: np.ndarray | None
                         ) -> np.ndarray | None:
         """Steps 5 and 6 into est[:, t]; returns None or the mask of the runs whose
-        combination exists."""
+        combination exists.
+        """
         self._map_back(t)
         if self.compiled:
             return self._fuse_compiled(t, est, bounds)
@@ -440,7 +448,8 @@ class StepArrays:
 
     def _dependence(self, t: int) -> None:
         """Step 6, first half: the degree of dependence of E1 = Step 5's evidence and E2 =
-        the prediction, and R12, R21 (Def. 5, eqs. A1–A6), into :attr:`diag`."""
+        the prediction, and R12, R21 (Def. 5, eqs. A1–A6), into :attr:`diag`.
+        """
         valid = self.dependence.compute()
         if least(self.e1_least_width) < 0.0:
             self._empty_box(t)
@@ -450,7 +459,8 @@ class StepArrays:
     def _discount(self) -> None:
         """E1 and E2 discounted by R12, R21 onto their hulls Θ1, Θ2 (eqs. 9–10, A7–A8): the
         masses of columns [Θ1, E1, E2, Θ2] (Θ's were set by :meth:`_dependence`) and the
-        hulls of the live boxes."""
+        hulls of the live boxes.
+        """
         np.multiply(self.back_mass, self.r12, out=self.e1_mass)
         np.multiply(self.rho, self.r21, out=self.e2_mass)
         (e1_lo, e1_hi), (e2_lo, e2_hi), (t1_lo, t1_hi), (t2_lo, t2_hi) = self.hull_views
@@ -463,7 +473,8 @@ class StepArrays:
         """Step 6, second half: Dempster's rule (eq. 1) of the discounted E1 and E2, its
         pignistic expectation (eq. 20) into ``est`` (R, n), 1 − k6 into :attr:`diag` and
         with ``bounds`` (R, 2, n) the hull of the combination; returns None or the mask of
-        the runs whose combination exists."""
+        the runs whose combination exists.
+        """
         products = self.products
         ok = products.combine(est)
         np.copyto(self.kept6, products.kept)

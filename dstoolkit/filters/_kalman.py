@@ -86,7 +86,8 @@ def finite_difference_jacobian(fn: Callable[[np.ndarray], np.ndarray], x: np.nda
 
 def _inverse(s_cov: np.ndarray) -> np.ndarray:
     """S⁻¹ for a stack of innovation covariances; the pseudo-inverse where S is singular
-    (noise-free models: zero variances give S = 0 and the gain 0)."""
+    (noise-free models: zero variances give S = 0 and the gain 0).
+    """
     try:
         return np.linalg.inv(s_cov)
     except np.linalg.LinAlgError:
@@ -121,7 +122,8 @@ class _MapsAndSlopes:
     def rows(self, inputs: np.ndarray | None, transitions: int) -> list[Any]:
         """Each transition's inputs in the form :meth:`predict` takes: (R, q) rows, or
         (3R, q) (the rows three times over) when f's slope is a central difference; None
-        without inputs."""
+        without inputs.
+        """
         if inputs is None:
             return [None] * transitions
         if self.jacobian_f is None:
@@ -159,7 +161,8 @@ class _MapsAndSlopes:
 
     def _values(self, fn: Callable[..., Any], name: str, x: np.ndarray, *u: Any) -> Any:
         """fn(x, *u) for states x (k, 1) as k floats (a list for one run, else an array),
-        checked: real numbers, NaN nowhere (±inf allowed)."""
+        checked: real numbers, NaN nowhere (±inf allowed).
+        """
         out = fn(x, *u)
         if type(out) is not np.ndarray or out.dtype != np.float64 or out.shape != x.shape:
             if self.guard is not None:
@@ -198,7 +201,8 @@ def _scalar_recursion(
     estimates, variances and NIS of steps 2..T, one entry per (reading, input) pair
     (inputs as :meth:`_MapsAndSlopes.rows` gives them). ``terms`` collects each step's x⁻,
     P⁻, innovation, S and gain (for the step records); ``at(k)`` is told each step k
-    (counting from 0; the first is ``first``) before it is computed."""
+    (counting from 0; the first is ``first``) before it is computed.
+    """
     out_x: list[Any] = []
     out_cov: list[Any] = []
     out_nis: list[Any] = []
@@ -452,7 +456,8 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
         """The recursion of :meth:`_filter` for a scalar state and reading, term by term
         (every matrix is 1 × 1): on Python floats for one run, on (R,) arrays for a batch,
         with the same operations in the same order, so a batch equals single runs exactly.
-        Each step calls the model's array maps two or four times (:class:`_MapsAndSlopes`)."""
+        Each step calls the model's array maps two or four times (:class:`_MapsAndSlopes`).
+        """
         runs, n_steps, _ = Z.shape
         x0, cov0 = self._start(model, Z[:, 0])
         xs, covs = np.empty((runs, n_steps, 1)), np.empty((runs, n_steps, 1, 1))
@@ -492,7 +497,8 @@ def _scalar(model: StateSpaceModel) -> bool:
     Why two paths: :func:`_advance` is the recursion for any n and m, with matrices; for
     n = m = 1 (the gauge) its dozen small matrix calls a step would cost far more than the
     arithmetic, so :func:`_scalar_recursion` runs the same recursion term by term. Both
-    are tested against each other and against the public step."""
+    are tested against each other and against the public step.
+    """
     return model.state_dim == 1 and model.obs_dim == 1
 
 
@@ -509,7 +515,8 @@ def _state(model: StateSpaceModel, k: int, x: np.ndarray, cov: np.ndarray) -> Ka
 
 def _refuse_contradiction(singular: np.ndarray, surprised: np.ndarray, k: int) -> None:
     """Raise where S = 0 (no noise can explain a difference) and yet the reading differs
-    from its prediction: the pseudo-inverse would give the gain 0 and ignore the reading."""
+    from its prediction: the pseudo-inverse would give the gain 0 and ignore the reading.
+    """
     bad = np.atleast_1d(singular & surprised)
     if bad.any():
         run = int(np.flatnonzero(bad)[0])
@@ -524,7 +531,8 @@ def _advance(model: StateSpaceModel, x: np.ndarray, cov: np.ndarray, z: np.ndarr
              u: np.ndarray | None, k: int) -> tuple[np.ndarray, ...]:
     """Step k − 1 → k (counting from 0) of the module docstring's recursion for R runs:
     x (R, n), P (R, n, n), z (R, m), u (R, q) or None. Returns x⁻, P⁻, the innovation, S,
-    the gain K, x̂, P and the NIS (R,)."""
+    the gain K, x̂, P and the NIS (R,).
+    """
     q_cov = np.diag(model.state_noise.variance)
     r_cov = np.diag(model.obs_noise.variance)
     f_u = with_input(model.f, u)

@@ -98,12 +98,14 @@ class BoundedNoise:
 
     def __reduce__(self) -> tuple[Any, ...]:
         """Pickle, copy and deepcopy rebuild the noise through the constructor: its checks
-        run again and the copy's arrays are read-only too."""
+        run again and the copy's arrays are read-only too.
+        """
         return (BoundedNoise, (self.lower.tolist(), self.mode.tolist(), self.upper.tolist()))
 
     def __setstate__(self, state: Any) -> None:
         """A pickle in the plain form (attributes, no constructor call) goes through the
-        constructor's checks too."""
+        constructor's checks too.
+        """
         try:
             lower, mode, upper = state["lower"], state["mode"], state["upper"]
         except (KeyError, TypeError, IndexError):
@@ -470,7 +472,8 @@ class _MapGuard:
 
 def guarded(model: StateSpaceModel, title: str) -> StateSpaceModel:
     """The model with f, g and g⁻¹ that refuse NaN, complex and non-numeric results, naming
-    the map and the step (:func:`at_step` tells the step); already guarded models pass."""
+    the map and the step (:func:`at_step` tells the step); already guarded models pass.
+    """
     if getattr(model.f, "_guard", None) is not None:
         return model
     guard = _MapGuard(title)
@@ -483,7 +486,8 @@ def guarded(model: StateSpaceModel, title: str) -> StateSpaceModel:
 def unchecked(fn: Callable[..., Any]) -> tuple[Callable[..., Any], _MapGuard | None]:
     """A guarded map's own function and its guard, for a caller that checks the results
     itself (the Kalman filter's scalar recursion checks floats, not arrays); a map that is
-    not guarded comes back as it is, with no guard."""
+    not guarded comes back as it is, with no guard.
+    """
     return getattr(fn, "_unchecked", fn), getattr(fn, "_guard", None)
 
 
@@ -548,7 +552,8 @@ def _probe_inputs(model: StateSpaceModel, u: np.ndarray | None, shape: tuple[int
     """Evaluate f once on the inputs of every transition, u (runs, transitions, q) or None
     (``shape`` = (runs, transitions)), so that an input of the wrong shape or value, or a
     missing one, is reported here, before any work, and not deep inside (the gauge's f
-    refuses orders n_k <= 0 and missing orders here)."""
+    refuses orders n_k <= 0 and missing orders here).
+    """
     x = np.zeros((*shape, model.state_dim))
     try:
         with np.errstate(all="ignore"):
@@ -569,7 +574,8 @@ def single_readings(
     model: StateSpaceModel, z: Any, inputs: Any = None
 ) -> tuple[np.ndarray, np.ndarray | None]:
     """One sequence z (steps, m) (or (steps,) for m = 1) checked and shaped as a batch of one
-    run, with its inputs (transitions, q)."""
+    run, with its inputs (transitions, q).
+    """
     z = real_array(z, "readings", finite=False, error=EvidenceError)
     if z.ndim == 1 and model.obs_dim == 1:
         z = z[:, None]

@@ -107,7 +107,8 @@ def contracted_posterior(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray
     """Dempster's rule (eq. 1) on the contractions (R, N, n) of step 3 and their masses: the
     empty ones (lo > hi somewhere) are the conflict K, the rest are renormalised by the mass
     they keep and equal boxes merged (eq. 14). Returns the posterior, K per run and the
-    runs in total conflict (their masses all 0)."""
+    runs in total conflict (their masses all 0).
+    """
     empty = np.any(lo > hi, axis=-1)
     conflict = row_sum(np.where(empty, mass, 0.0))
     mass = np.where(empty, 0.0, mass)
@@ -418,7 +419,8 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
                  ) -> tuple[Boxes, np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
         """Step k → k + 1 for R runs up to the posterior: predict, contract with the
         reading z (R, m). Returns the posterior, K (R,), the runs reset by total conflict,
-        and the prediction and observation boxes (for the records)."""
+        and the prediction and observation boxes (for the records).
+        """
         runs, n = z.shape[0], model.state_dim
         combine, _ = self._kernels()
         p_lo, p_hi, p_mass = self._predict(model, state, v, u)
@@ -438,7 +440,8 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
     def _settle(self, posterior: Boxes) -> tuple[Any, ...]:
         """What follows the posterior of R runs: estimate, hull, focal elements, the
         evidence carried to the next step (clustered; None for the restart variant) and
-        the mass the clustering moved."""
+        the mass the clustering moved.
+        """
         _, cluster = self._kernels()
         focal = (posterior.mass > 0).sum(axis=1)
         est = pignistic_expectation(posterior)

@@ -123,7 +123,8 @@ def _draws(seed: int, run_ids: Any, state_noise: BoundedNoise, n_steps: int, big
     """Every run's numbers, pre-drawn from its own streams: the start's uniforms (runs, N,
     n), the state noise (runs, steps − 1, N, n) and the resampling offsets (runs, steps −
     1). Each stream is read in the order of the steps, so :meth:`ParticleFilter.step`,
-    drawing one step's numbers at a time, draws the same ones."""
+    drawing one step's numbers at a time, draws the same ones.
+    """
     runs, n = len(run_ids), state_noise.dim
     start_u = np.empty((runs, big_n, n))
     noise = np.empty((runs, max(n_steps - 1, 0), big_n, n))
@@ -149,7 +150,8 @@ def _kept_draws(seed: int, run_ids: tuple[int, ...],
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """:func:`_draws`, kept (read-only) for the next batch of the same runs with the same
     state noise: an explorer that re-filters them under other bounds of the observation
-    noise draws nothing again."""
+    noise draws nothing again.
+    """
     arrays = _draws(seed, run_ids, BoundedNoise(*map(np.array, noise)), n_steps, big_n)
     for a in arrays:
         a.flags.writeable = False
@@ -398,7 +400,8 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
                  run_ids: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Step k → k + 1 (k counting from 1) for R runs: clouds (R, N, n) with weights
         (R, N), the step's offsets (R,) and state noise (R, N, n), readings (R, m).
-        Returns the new clouds, their normalised weights and the re-initialised runs."""
+        Returns the new clouds, their normalised weights and the re-initialised runs.
+        """
         runs, big_n, n = particles.shape
         first_row = (np.arange(runs) * big_n)[:, None]  # each run's first particle, flattened
         compiled = self._compiled(self.kernel, "the particle filter")

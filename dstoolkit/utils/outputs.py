@@ -200,7 +200,8 @@ def _link_chain(path: Path) -> list[Path]:
 
 def _system_path(path: Path) -> Path | None:
     """The system folder (``/dev``, ``/proc``, ``/sys``) that ``path`` or a link on the way
-    to its file lies in, else None."""
+    to its file lies in, else None.
+    """
     for candidate in _link_chain(path):
         for folder in SYSTEM_FOLDERS:
             if candidate == folder or folder in candidate.parents:
@@ -426,7 +427,8 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], obje
 
 def _place_checked(tmp: str, target: Path, replace: tuple[int, int] | None) -> None:
     """Move ``tmp`` to ``target`` only if ``target`` is as it was checked: absent (then a
-    hard link creates it, failing if the name appeared), or the same file as before."""
+    hard link creates it, failing if the name appeared), or the same file as before.
+    """
     appeared = OutputExistsError(
         f"{target} appeared or changed while this command ran; it was kept. Run again "
         "with another output name (or --overwrite to replace it)")
