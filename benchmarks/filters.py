@@ -133,7 +133,7 @@ def time_single(flt: Filter[Any, Any], model: StateSpaceModel, z: np.ndarray,
 
 
 def numpy_call_floor(steps: int, repeat: int = 200) -> float:
-    """Time (s) per iteration, median, of a loop making one numpy call per iteration.
+    """Measure the median time (s) per iteration of a loop making one numpy call each.
 
     The loop has ``steps`` iterations, each making one numpy call on one-element arrays:
     what a step costs per numpy call it makes.
