@@ -283,11 +283,11 @@ class FilterStepFigure:
         if half_width is None:
             obs = entry.observation
             cuts = obs.widths < obs.widths.max()
-            half_width = 0.75 * float((obs.hi[cuts] - obs.lo[cuts]).max() if cuts.any()
+            half_width = 0.75 * float((obs.hi_1d[cuts] - obs.lo_1d[cuts]).max() if cuts.any()
                                       else 1.0)
         centre = est if truth is None else 0.5 * (est + float(truth))
         xlim = (centre - half_width, centre + half_width)
-        shift = centre - float(entry.state.pignistic_expectation())
+        shift = centre - float(entry.state.pignistic_expectation_1d())
         names = dict(FILTER_STEP_PANELS)
         for i, (ax, key) in enumerate(zip(self.axes, self.panels, strict=True)):
             ev = getattr(entry, key)

@@ -56,7 +56,7 @@ def _updated(w: tuple[float, float]) -> IntervalEvidence:
                      "the next reading, so widen the box by v."),))
 def _() -> tuple[float, float]:
     ev = _predicted()
-    return float(ev.lo[0]), float(ev.hi[0])
+    return float(ev.lo_1d[0]), float(ev.hi_1d[0])
 
 
 @exercise("bounded.update",
@@ -69,7 +69,7 @@ def _() -> tuple[float, float]:
                      "both, so intersect.")))
 def _() -> tuple[float, float]:
     ev = _updated(BOUNDED_W)
-    return float(ev.lo[0]), float(ev.hi[0])
+    return float(ev.lo_1d[0]), float(ev.hi_1d[0])
 
 
 @exercise("bounded.too-tight",
@@ -394,7 +394,7 @@ def _() -> tuple[float, float]:
 @exercise("noise.expectation", hint="Eq. (20): Σ m·(midpoint). Where are the midpoints?",
           varies=True)
 def _() -> float:
-    return float(triangular_evidence(*_noise("obs")).pignistic_expectation())
+    return float(triangular_evidence(*_noise("obs")).pignistic_expectation_1d())
 
 
 @exercise("noise.pbox", hint="Bel((−∞, x]) counts focal elements entirely left of x; "
@@ -528,17 +528,17 @@ def _() -> tuple[float, float]:
                      "equal images merge and their masses add up (eq. 14)."),))
 def _() -> float:
     im = folded_image()
-    return float(im.mass[(im.lo == 1.0) & (im.hi == 4.0)][0])
+    return float(im.mass[(im.lo_1d == 1.0) & (im.hi_1d == 4.0)][0])
 
 
 @exercise("random.expectation", hint="Eq. (20): Σ ρ(R_j)·(midpoint of R_j) over the image "
           "[1, 4], [0, 1].", varies=True,
           mistakes=((lambda: IntervalEvidence.from_pairs(
-              _folded_x()).pignistic_expectation() ** 2,
+              _folded_x()).pignistic_expectation_1d() ** 2,
                      "That is f(E[X]); the expectation of the image is taken over the image "
                      "intervals."),))
 def _() -> float:
-    return float(folded_image().pignistic_expectation())
+    return float(folded_image().pignistic_expectation_1d())
 
 
 @exercise("random.evaluations", atol=0.0, rtol=0.0, varies=True,

@@ -55,9 +55,9 @@ def _innermost_prediction(twice: bool = True) -> tuple[float, float]:
     d = data("filter")
     xhat, order = d["predict_xhat"], d["predict_order"]
     v = triangular_evidence(*STATE_NOISE)  # innermost cut first (Table 1)
-    lo, hi = box_image([xhat + v.lo[0]], [xhat + v.hi[0]],
+    lo, hi = box_image([xhat + v.lo_1d[0]], [xhat + v.hi_1d[0]],
                        lambda x: _gauge_model().f(x, order), monotone=[1])
-    extra = (float(v.lo[0]), float(v.hi[0])) if twice else (0.0, 0.0)
+    extra = (float(v.lo_1d[0]), float(v.hi_1d[0])) if twice else (0.0, 0.0)
     return float(lo[0]) + extra[0], float(hi[0]) + extra[1]
 
 
