@@ -219,6 +219,7 @@ def build_finished(app: Sphinx, exception: Exception | None) -> None:
 
 
 def setup(app: Sphinx) -> dict[str, object]:
-    """Register the post-build rewrite."""
+    """Register the post-build rewrite (and, for the PDF, the figures' alternate texts)."""
+    app.setup_extension("dstoolkit_pdf")
     app.connect("build-finished", build_finished)
     return {"parallel_read_safe": True, "parallel_write_safe": True}
