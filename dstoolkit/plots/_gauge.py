@@ -134,14 +134,16 @@ def plot_resonances(
 ) -> Figure:
     """Resonance frequencies z_k with their envelope amplitudes as stems (Fig. 7).
 
-    ``true_frequencies`` (e.g. n c/(2L) in the band) are drawn as thin vertical lines;
-    missed resonances as crosses on the axis, spurious peaks as grey stems.
+    ``true_frequencies`` (e.g. n c/(2L) in the band) are drawn as thin dotted vertical
+    lines; detected resonances as solid stems with dots, missed ones as crosses on the
+    axis, spurious peaks as dashed grey stems topped by a square: each kind has its own
+    line style or marker, not only its colour.
     """
     fig, ax = _axes(ax, (8.0, 3.2))
     if true_frequencies is not None:
         for f in np.asarray(true_frequencies, dtype=float):
-            ax.axvline(f, color=TRUTH_COLOUR, lw=0.5, alpha=0.6)
-        ax.plot([], [], color=TRUTH_COLOUR, lw=0.5, label="n c/(2L)")
+            ax.axvline(f, color=TRUTH_COLOUR, lw=0.8, ls=":")
+        ax.plot([], [], color=TRUTH_COLOUR, lw=0.8, ls=":", label="n c/(2L)")
     markers, stems, base = ax.stem(detection.frequencies, detection.amplitudes,
                                    linefmt="-", markerfmt="o", basefmt=" ",
                                    label=f"detected z_k ({detection.frequencies.size})")
@@ -152,8 +154,12 @@ def plot_resonances(
         ax.plot(detection.missed, np.zeros(detection.missed.size), "x", color=BETP_COLOUR,
                 label=f"missed ({detection.missed.size})")
     if detection.spurious.size:
-        ax.vlines(detection.spurious, 0, 0.5 * np.max(detection.amplitudes), color=GREY,
-                  label=f"spurious ({detection.spurious.size})")
+        top = 0.5 * np.max(detection.amplitudes)
+        ax.vlines(detection.spurious, 0, top, color=GREY, ls="--")
+        ax.plot(detection.spurious, np.full(detection.spurious.size, top), "s", ms=3.5,
+                color=GREY)
+        ax.plot([], [], color=GREY, ls="--", marker="s", ms=3.5,  # the legend's entry
+                label=f"spurious ({detection.spurious.size})")
     ax.set_xlabel("resonance frequency (Hz)")
     ax.set_ylabel("envelope amplitude (full scale)")
     ax.set_ylim(bottom=0)

@@ -22,7 +22,7 @@ from dstoolkit.studies._estimation import ExampleComparison, MismatchResult, Ord
 
 from ._experiments import EXTRA_STYLES, STYLE, line_style
 from ._kept import animate, set_limits, snapped_limits
-from ._style import SMALL_PT, legend_above, log_ticks, new_figure, styled
+from ._style import SMALL_PT, label_line_ends, legend_above, log_ticks, new_figure, styled
 
 #: How the order rules are drawn in :func:`plot_order_rule_study`: line style, label.
 RULE_STYLE = {"eq43": ("-", "eq. 43"), "fit": ("--", "series fit"), "true": (":", "true")}
@@ -43,12 +43,15 @@ def _figure(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes
 
 @styled
 def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *,
-                     unit: str = "Hz", title: str | None = None, legend: bool = True) -> Figure:
+                     unit: str = "Hz", title: str | None = None, legend: bool = True,
+                     end_labels: bool = False) -> Figure:
     """Mean |x̂_k − x_k| over runs against the step k, one line per method (log scale).
 
     ``errors`` maps a method to absolute errors of shape (runs, K) or (K,); a name that is
     not a method of STYLE (a variant, say) gets a style of ``EXTRA_STYLES``.
-    ``update_step_errors`` draws other errors of the same methods on the axes.
+    ``update_step_errors`` draws other errors of the same methods on the axes. With
+    ``end_labels`` each line's name is also written at its end (:func:`label_line_ends`;
+    for a figure that is not redrawn).
     """
     fig, ax = _figure(ax, (7.5, 3.4))
     extra = iter(EXTRA_STYLES)
@@ -64,6 +67,8 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
         ax.set_title(title, loc="left")
     if legend:
         legend_above(ax, ncols=2)
+    if end_labels:
+        label_line_ends(ax)
     return fig
 
 

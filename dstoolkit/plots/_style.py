@@ -21,10 +21,13 @@ from contextlib import contextmanager
 from typing import Any, TypeVar
 
 import matplotlib as mpl
+import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.axis import Axis
 from matplotlib.figure import Figure
 from matplotlib.legend import Legend
+from matplotlib.lines import Line2D
+from matplotlib.text import Text
 from matplotlib.ticker import LogLocator, NullLocator, StrMethodFormatter
 
 #: Width of the book's text column in inches (about 615 px at 96 px per inch, at 1280 px).
@@ -138,6 +141,103 @@ def legend_above(ax: Axes, ncols: int | None = None, **kwargs: Any) -> Legend | 
         if ax.get_title(loc):
             ax.set_title(ax.get_title(loc), loc=loc, pad=8.0 + rows * 1.75 * SMALL_PT)
     return legend
+
+
+def spread_positions(positions: list[float], gap: float, low: float = 0.0,
+                     high: float = 1.0) -> list[float]:
+    """Positions moved apart until neighbours are at least ``gap`` apart: each is pushed up
+    past the one below it, then, if the highest passes ``high``, the stack is pushed down.
+
+    Parameters
+    ----------
+    positions : list of float
+        Wanted positions (any order), e.g. in axes fractions.
+    gap : float
+        The smallest distance between two returned positions, same unit.
+    low, high : float, optional
+        The range the positions should stay in.
+
+    Returns
+    -------
+    list of float
+        The positions, in the order given.
+
+    Examples
+    --------
+    >>> [round(p, 2) for p in spread_positions([0.5, 0.52, 0.9], 0.1)]
+    [0.5, 0.6, 0.9]
+    """
+    order = sorted(range(len(positions)), key=lambda i: positions[i])
+    placed = [float(positions[i]) for i in order]
+    for i in range(1, len(placed)):  # up from the lowest
+        placed[i] = max(placed[i], placed[i - 1] + gap)
+    if placed and placed[-1] > high:  # down from the highest, when the top overflows
+        placed[-1] = max(high, low + gap * (len(placed) - 1))
+        for i in range(len(placed) - 2, -1, -1):
+            placed[i] = min(placed[i], placed[i + 1] - gap)
+    # a pair pushed together by both passes: centre it on its wanted positions
+    for i in range(1, len(placed)):
+        if placed[i] - placed[i - 1] < gap - 1e-12:
+            middle = 0.5 * (placed[i] + placed[i - 1])
+            placed[i - 1], placed[i] = middle - gap / 2, middle + gap / 2
+    result = [0.0] * len(positions)
+    for rank, index in enumerate(order):
+        result[index] = placed[rank]
+    return result
+
+
+def label_line_ends(ax: Axes, lines: list[Line2D] | None = None, *,
+                    labels: list[str] | None = None) -> list[Text]:
+    """Direct labels: each line's label written just right of the data area, level with the
+    line's last point, moved apart where two would overlap.
+
+    A reader matches a series to its name where it ends, without the legend and without
+    telling colours apart. Call it once the axes' limits are final.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes whose lines are labelled.
+    lines : list of matplotlib.lines.Line2D, optional
+        The lines to label; by default every line of ``ax`` with a label (not ``_...``).
+    labels : list of str, optional
+        Their texts (one per line); by default each line's label.
+
+    Returns
+    -------
+    list of matplotlib.text.Text
+        The labels, in the order of ``lines``.
+
+    Examples
+    --------
+    >>> fig = new_figure(4.0, 2.5)
+    >>> ax = fig.subplots()
+    >>> a, = ax.plot([0, 1], [0, 1], "-o", label="rising")
+    >>> b, = ax.plot([0, 1], [1, 0.95], "--s", label="flat")
+    >>> [t.get_text() for t in label_line_ends(ax)]
+    ['rising', 'flat']
+    """
+    if lines is None:
+        lines = [line for line in ax.get_lines() if not line.get_label().startswith("_")]
+    texts = labels if labels is not None else [str(line.get_label()) for line in lines]
+    if len(texts) != len(lines):
+        raise ValueError(f"label_line_ends got {len(lines)} lines and {len(texts)} labels; "
+                         "give one label per line")
+    ax.get_xlim(), ax.get_ylim()  # the limits, autoscaled now if they are still pending
+    to_axes = ax.transScale + ax.transLimits  # data -> axes fraction, whatever the layout
+    ends, kept = [], []
+    for line, text in zip(lines, texts, strict=True):
+        x, y = (np.asarray(v, dtype=float) for v in line.get_data())
+        finite = np.flatnonzero(np.isfinite(x) & np.isfinite(y))
+        if finite.size:
+            ends.append(float(np.clip(to_axes.transform((x[finite[-1]], y[finite[-1]]))[1],
+                                      0.0, 1.0)))
+            kept.append(text)
+    height_pt = ax.get_position().height * ax.figure.get_figheight() * 72.0
+    positions = spread_positions(ends, 1.25 * SMALL_PT / max(height_pt, 1.0))
+    return [ax.text(1.02, y, text, transform=ax.transAxes, ha="left", va="center",
+                    fontsize=SMALL_PT, color="#222222")
+            for y, text in zip(positions, kept, strict=True)]
 
 
 def log_ticks(axis: Axis) -> None:
