@@ -502,3 +502,24 @@ def test_the_resonance_kinds_differ_in_line_style_or_marker() -> None:
     # the two kinds drawn as vertical lines: not both solid, and the spurious stems marked
     assert keys["n c/(2L)"][0] not in ("-", "solid"), keys
     assert keys["spurious"][1] not in ("None", "", " "), keys
+
+
+# -- the examples of the docstrings ---------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", [f"dstoolkit.plots.{info.name}" for info in
+                                  __import__("pkgutil").iter_modules(plots.__path__)])
+def test_docstring_examples_run(name: str) -> None:
+    """Every example in the docstrings of dstoolkit.plots runs (Agg) and shows what it
+    says (doctest)."""
+    import doctest
+    import importlib
+
+    import matplotlib.pyplot as plt
+
+    module = importlib.import_module(name)
+    try:
+        result = doctest.testmod(module, optionflags=doctest.ELLIPSIS, report=False)
+    finally:
+        plt.close("all")
+    assert result.failed == 0, f"{result.failed} of {result.attempted} examples failed"

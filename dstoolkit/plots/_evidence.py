@@ -191,6 +191,8 @@ def plot_focal_intervals(
     ----------
     ev
         Scalar interval evidence.
+    ax
+        Axes to draw on; by default a new figure of its own.
     xlim
         Range of the x axis; default: the hull of the focal elements, 5 % margin.
     title
@@ -201,6 +203,24 @@ def plot_focal_intervals(
         One colour for every bar; default: a colour map over the focal elements.
     xlabel
         Label of the x axis: the quantity and its unit, e.g. ``"frequency (Hz)"``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``ev`` is not scalar interval evidence.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import triangular_evidence
+    >>> ev = triangular_evidence(-10.59, -6.9, -3.21, p=3, epsilon=0.05, theta=(-20.0, 10.0))
+    >>> fig = plot_focal_intervals(ev, xlim=(-12, -2), xlabel="noise w (Hz)")
+    >>> fig.axes[0].get_xlabel()
+    'noise w (Hz)'
     """
     _scalar(ev, "plot_focal_intervals")
     fig, ax = _axes(ax, (6.0, 2.8))
@@ -278,6 +298,41 @@ def plot_pbox(
     two step functions (see :meth:`~dstoolkit.evidence.IntervalEvidence.cdf_bounds`).
     Default ``x``: ``pbox_grid`` over ``xlim``, else over the finite ends of the focal
     elements. (``draw_pbox`` then ``update_pbox``.)
+
+    Parameters
+    ----------
+    ev : dstoolkit.evidence.IntervalEvidence
+        Scalar interval evidence (d = 1).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    x : array_like, shape (n,), optional
+        Points at which both bounds are drawn (unit of the quantity).
+    xlim : tuple of float, optional
+        Range of the x axis (unit of the quantity).
+    title : str, optional
+        Title of the axes.
+    label : str, optional
+        Written after "Bel" and "Pl" in the legend.
+    xlabel : str, optional
+        Label of the x axis: the quantity and its unit.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``ev`` is not scalar interval evidence.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import triangular_evidence
+    >>> ev = triangular_evidence(-10.59, -6.9, -3.21, p=3, epsilon=0.05, theta=(-20.0, 10.0))
+    >>> fig = plot_pbox(ev, xlabel="noise w (Hz)")
+    >>> fig.axes[0].get_xlabel()
+    'noise w (Hz)'
     """
     _scalar(ev, "plot_pbox")
     fig, ax = _axes(ax, (6.0, 2.8))
@@ -294,6 +349,32 @@ def contour(ev: IntervalEvidence, x: Any) -> np.ndarray:
 
     For consonant (nested) evidence it is the possibility distribution the evidence
     stands for (the staircase under π in the paper's Fig. 4).
+
+    Parameters
+    ----------
+    ev : dstoolkit.evidence.IntervalEvidence
+        Scalar interval evidence (d = 1).
+    x : array_like
+        Points (unit of the quantity), any shape.
+
+    Returns
+    -------
+    numpy.ndarray
+        Pl({x}) at each point, the shape of ``x``; values in [0, 1].
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``ev`` is not scalar interval evidence.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import triangular_evidence
+    >>> ev = triangular_evidence(-10.59, -6.9, -3.21, p=3, epsilon=0.05, theta=(-20.0, 10.0))
+    >>> float(contour(ev, -6.9))
+    1.0
+    >>> float(contour(ev, 5.0)) < 0.1
+    True
     """
     _scalar(ev, "contour")
     x = np.asarray(x, dtype=float)
@@ -392,6 +473,38 @@ def plot_possibility(
     With ``evidence`` given, its contour function Pl({x}) is drawn too: the staircase that
     the evidence puts in place of π. (``draw_possibility`` then
     ``update_possibility``.)
+
+    Parameters
+    ----------
+    lower, mode, upper : float
+        Support and mode of π (unit of the quantity), ``lower <= mode <= upper``.
+    p : int, optional
+        Number of α-cuts.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    evidence : dstoolkit.evidence.IntervalEvidence, optional
+        Scalar evidence whose contour function is drawn as well.
+    xlim : tuple of float, optional
+        Range of the x axis; by default the support with a 15 % margin.
+    title : str, optional
+        Title of the axes.
+    xlabel : str, optional
+        Label of the x axis: the quantity and its unit.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    References
+    ----------
+    The paper's eqs. (22) and (24).
+
+    Examples
+    --------
+    >>> fig = plot_possibility(-10.59, -6.9, -3.21, 3, xlabel="noise w (Hz)")
+    >>> fig.axes[0].get_ylabel()
+    'possibility'
     """
     fig, ax = _axes(ax, (6.0, 2.8))
     if xlim is None:
@@ -498,6 +611,36 @@ def plot_bel_pl(
     also get a red tick at their pignistic probability BetP, which always lies between.
     Default subsets: all non-empty subsets for frames of up to 4 hypotheses, else
     the singletons. (``draw_bel_pl`` then ``update_bel_pl``.)
+
+    Parameters
+    ----------
+    mf : dstoolkit.evidence.MassFunction
+        A mass function on a finite frame.
+    subsets : sequence, optional
+        The subsets to draw (each a tuple of hypotheses).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    title : str, optional
+        Title of the axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``mf`` is not a :class:`~dstoolkit.evidence.MassFunction`.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import MassFunction
+    >>> frame = ("low", "mid", "high")
+    >>> mf = MassFunction({("low",): 0.5, ("low", "mid"): 0.3, frame: 0.2}, frame)
+    >>> fig = plot_bel_pl(mf)
+    >>> len(fig.axes)
+    1
     """
     if not isinstance(mf, MassFunction):
         raise EvidenceError("plot_bel_pl draws a MassFunction on a finite frame")
@@ -583,7 +726,36 @@ def plot_masses(
     mf: MassFunction, ax: Axes | None = None, *, title: str | None = None
 ) -> Figure:
     """The masses of a finite mass function, one bar per focal element.
-    (``draw_masses`` then ``update_masses``.)"""
+    (``draw_masses`` then ``update_masses``.)
+
+    Parameters
+    ----------
+    mf : dstoolkit.evidence.MassFunction
+        A mass function on a finite frame.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    title : str, optional
+        Title of the axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``mf`` is not a :class:`~dstoolkit.evidence.MassFunction`.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import MassFunction
+    >>> frame = ("low", "mid", "high")
+    >>> mf = MassFunction({("low",): 0.5, ("low", "mid"): 0.3, frame: 0.2}, frame)
+    >>> fig = plot_masses(mf)
+    >>> len(fig.axes[0].patches)
+    3
+    """
     if not isinstance(mf, MassFunction):
         raise EvidenceError("plot_masses draws a MassFunction on a finite frame")
     fig, ax = _axes(ax, (max(4.0, 0.7 * len(mf.as_dict()) + 1.5), 2.5))
@@ -598,6 +770,39 @@ def plot_products(
     """Dempster's product table (paper eq. 1): cell (i, j) holds m1(A_i)·m2(B_j) on A_i ∩ B_j.
 
     Empty intersections — the conflict K — are hatched grey.
+
+    Parameters
+    ----------
+    a, b : dstoolkit.evidence.MassFunction
+        Two mass functions on one frame.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    title : str, optional
+        Title of the axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If the two are not on the same frame.
+
+    References
+    ----------
+    The paper's eq. (1).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import MassFunction
+    >>> frame = ("low", "mid", "high")
+    >>> mf = MassFunction({("low",): 0.5, ("low", "mid"): 0.3, frame: 0.2}, frame)
+    >>> other = MassFunction({("mid",): 0.6, frame: 0.4}, frame)
+    >>> fig = plot_products(mf, other)
+    >>> len(fig.axes[0].texts)
+    6
     """
     a._check_compatible(b)
     fa, fb = a.focal_elements, b.focal_elements
@@ -639,7 +844,43 @@ def plot_boxes(
     labels: Sequence[str] | None = None,
 ) -> Figure:
     """The focal elements of 2-D interval evidence (a random relation, paper eq. 16) as
-    rectangles shaded by mass, each with its mass (or its ``labels`` entry) at its centre."""
+    rectangles shaded by mass, each with its mass (or its ``labels`` entry) at its centre.
+
+    Parameters
+    ----------
+    ev : dstoolkit.evidence.IntervalEvidence
+        Interval evidence in two dimensions (d = 2).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    xlim, ylim : tuple of float, optional
+        Ranges of the axes; by default the hull of the boxes with a 5 % margin.
+    title : str, optional
+        Title of the axes.
+    labels : sequence of str, optional
+        One text per focal element, written in place of its mass.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``ev`` is not two-dimensional interval evidence.
+
+    References
+    ----------
+    The paper's eq. (16).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import IntervalEvidence
+    >>> ev = IntervalEvidence([[0.0, 0.0], [0.5, 0.2]], [[2.0, 1.0], [1.5, 0.8]], [0.4, 0.6])
+    >>> fig = plot_boxes(ev)
+    >>> sorted(t.get_text() for t in fig.axes[0].texts)
+    ['0.4', '0.6']
+    """
     if not isinstance(ev, IntervalEvidence) or ev.dim != 2:
         raise EvidenceError("plot_boxes draws 2-D interval evidence (IntervalEvidence, d = 2)")
     fig, ax = _axes(ax, (4.5, 4.0))
@@ -666,7 +907,29 @@ def plot_boxes(
 
 def markdown_table(headers: Sequence[str], rows: Iterable[Sequence[Any]],
                    fmt: str = ".4f") -> Any:
-    """A Markdown table (an IPython ``Markdown`` object); floats formatted with ``fmt``."""
+    """A Markdown table (an IPython ``Markdown`` object); floats formatted with ``fmt``.
+
+    Parameters
+    ----------
+    headers : sequence of str
+        The column headers.
+    rows : iterable of sequences
+        The rows, one value per column.
+    fmt : str, optional
+        Format of the floats (``format`` specification).
+
+    Returns
+    -------
+    IPython.display.Markdown
+        The table, shown as a table in a notebook.
+
+    Examples
+    --------
+    >>> print(markdown_table(["x", "y"], [(1.0, "a")], fmt=".1f").data)
+    | x | y |
+    |---|---|
+    | 1.0 | a |
+    """
     from IPython.display import Markdown
 
     def cell(v: Any) -> str:
@@ -685,6 +948,32 @@ def interval_table(ev: IntervalEvidence, paper: Sequence[Sequence[float]] | None
 
     With ``paper`` (rows lo, hi, mass as printed in a paper) a second group of columns
     shows the printed values and the difference of the masses.
+
+    Parameters
+    ----------
+    ev : dstoolkit.evidence.IntervalEvidence
+        Scalar interval evidence (d = 1).
+    paper : sequence of (float, float, float), optional
+        The focal elements and masses as printed, one row per focal element of ``ev``.
+    fmt : str, optional
+        Format of the masses.
+
+    Returns
+    -------
+    IPython.display.Markdown
+        The table.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``ev`` is not scalar, or ``paper`` has another shape than its rows.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import triangular_evidence
+    >>> ev = triangular_evidence(-10.59, -6.9, -3.21, p=3, epsilon=0.05, theta=(-20.0, 10.0))
+    >>> interval_table(ev).data.splitlines()[0]
+    '| focal element | mass |'
     """
     _scalar(ev, "interval_table")
     ours = ev.to_rows()

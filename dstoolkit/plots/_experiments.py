@@ -59,7 +59,29 @@ def line_style(st: Mapping[str, Any]) -> dict[str, Any]:
 
 def plot_table3(table: Table3) -> Figure:
     """Mean absolute level error against the level: ours (solid, filled markers) and the
-    paper's (dashed, open markers); each method has its own marker and colour."""
+    paper's (dashed, open markers); each method has its own marker and colour.
+
+    Parameters
+    ----------
+    table : dstoolkit.studies.Table3
+        The result of :func:`dstoolkit.studies.run_table3`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (not attached to pyplot).
+
+    References
+    ----------
+    The paper's Table 3.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import run_table3
+    >>> table = run_table3(runs=1, methods=("direct",), cases=((1.3, 27.0),), progress=False)
+    >>> plot_table3(table).axes[0].get_xlabel()
+    'true level L (m)'
+    """
     fig = new_figure(6.4, 4.4)
     ax = fig.add_subplot()
     methods = list(dict.fromkeys(r.method for r in table.rows))
@@ -97,6 +119,41 @@ def plot_estimates(truth: np.ndarray, readings: np.ndarray,
     on the figure; a figure that an explorer keeps (``kept``) has its data and title
     animated and its limits snapped to round numbers (``snapped_limits``), so that most
     changes redraw only those (blitting).
+
+    Parameters
+    ----------
+    truth : numpy.ndarray, shape (K,) or scalar
+        The true value per step (unit ``unit``).
+    readings : numpy.ndarray, shape (K,)
+        The readings z_k.
+    estimates : mapping of str to numpy.ndarray, shape (K,)
+        Method name (a key of :data:`STYLE` or any name) to its estimates.
+    quantity : str, optional
+        What is estimated, for the titles and labels.
+    unit : str, optional
+        Its unit.
+    note : str, optional
+        Written after panel (a)'s title.
+    kept : bool, optional
+        Whether an explorer keeps the figure and redraws it (animated data).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, (a) and (b) (not attached to pyplot).
+
+    References
+    ----------
+    The paper's Figs. 10 and 11.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> truth = np.full(5, 4.6)
+    >>> fig = plot_estimates(truth, truth + 0.1, {"direct": truth - 0.05}, quantity="level",
+    ...                      unit="m")
+    >>> len(fig.axes)
+    2
     """
     fig = new_figure(6.4, 5.6)
     ax_a, ax_b = fig.subplots(2, 1, sharex=True)

@@ -50,7 +50,39 @@ def _autoscale(*axes: Axes) -> None:
 
 class EnclosureFigure:
     """The figure of :func:`plot_enclosure`, kept: :meth:`update` draws another run of the
-    same filter in place. Attributes: ``figure``, ``ax``."""
+    same filter in place. Attributes: ``figure``, ``ax``.
+
+    Parameters
+    ----------
+    result : dstoolkit.filters.FilterResult
+        A filter run with ``lower`` and ``upper``, shape (K, d).
+    truth : array_like, shape (K,) or (K, d)
+        The true state per step.
+    readings : array_like, shape (K,), optional
+        The readings, drawn as points.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    component : int, optional
+        Which component of the state is drawn.
+    title : str, optional
+        Title of the axes.
+    ylabel : str, optional
+        Label of the y axis: the state and its unit.
+    pyplot : bool, optional
+        Whether the new figure is attached to pyplot (shown by a notebook).
+
+    See Also
+    --------
+    plot_enclosure : the same figure, drawn once.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import filter_case
+    >>> seq, _, result = filter_case(9.6, 23.9, record=True, first=12)
+    >>> kept = EnclosureFigure(result, seq.truth[:12], seq.readings[:12, 0], pyplot=False)
+    >>> kept.update(result, seq.truth[:12]) is kept.figure
+    True
+    """
 
     @styled
     def __init__(self, result: Any, truth: Any, readings: Any = None, ax: Axes | None = None,
@@ -76,7 +108,29 @@ class EnclosureFigure:
                title: str | None = None) -> Figure:
         """Draw ``result`` (its band [lower, upper] per step), the ``truth`` and the
         ``readings`` (if the figure was built with readings); steps flagged in
-        ``result.diagnostics["resets"]`` get red vertical lines. Returns the figure."""
+        ``result.diagnostics["resets"]`` get red vertical lines. Returns the figure.
+
+        Parameters
+        ----------
+        result : dstoolkit.filters.FilterResult
+            Another run of the filter.
+        truth : array_like, shape (K,) or (K, d)
+            Its true states.
+        readings : array_like, shape (K,), optional
+            Its readings (only for a figure built with readings).
+        title : str, optional
+            Title of the axes.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+
+        Raises
+        ------
+        dstoolkit.errors.EvidenceError
+            If readings are given to a figure built without them.
+        """
         if readings is not None and self._readings is None:
             raise EvidenceError("this figure was built without readings: build a new "
                                 "EnclosureFigure to draw them")
@@ -117,6 +171,37 @@ def plot_enclosure(
     a set-membership filter, hulls of evidence, or ±3σ of a Kalman filter). Steps flagged in
     ``result.diagnostics["resets"]`` (the box became empty) get red vertical lines.
     To redraw it for another run, keep an :class:`EnclosureFigure` instead.
+
+    Parameters
+    ----------
+    result : dstoolkit.filters.FilterResult
+        A filter run with ``lower`` and ``upper``, shape (K, d).
+    truth : array_like, shape (K,) or (K, d)
+        The true state per step.
+    readings : array_like, shape (K,), optional
+        The readings, drawn as points.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    component : int, optional
+        Which component of the state is drawn.
+    title : str, optional
+        Title of the axes.
+    ylabel : str, optional
+        Label of the y axis: the state and its unit.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import filter_case
+    >>> seq, _, result = filter_case(9.6, 23.9, record=True, first=12)
+    >>> fig = plot_enclosure(result, seq.truth[:12], seq.readings[:12, 0],
+    ...                      ylabel="frequency (Hz)")
+    >>> fig.axes[0].get_ylabel()
+    'frequency (Hz)'
     """
     return EnclosureFigure(result, truth, readings, ax, component=component, title=title,
                            ylabel=ylabel).figure
@@ -127,7 +212,37 @@ def plot_enclosure(
 
 class FilterErrorsFigure:
     """The figure of :func:`plot_filter_errors`, kept: :meth:`update` draws another run in
-    place. Attributes: ``figure``, ``axes`` (top, bottom)."""
+    place. Attributes: ``figure``, ``axes`` (top, bottom).
+
+    Parameters
+    ----------
+    result : dstoolkit.filters.FilterResult
+        A run of a scalar filter.
+    truth : array_like, shape (K,)
+        The true state per step.
+    readings : array_like, shape (K,)
+        The readings.
+    axes : sequence of two matplotlib.axes.Axes, optional
+        Axes to draw on (top, bottom); by default a new figure.
+    title : str, optional
+        Title of the axes.
+    unit : str, optional
+        Unit of the state.
+    pyplot : bool, optional
+        Whether the new figure is attached to pyplot (shown by a notebook).
+
+    See Also
+    --------
+    plot_filter_errors : the same figure, drawn once.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import filter_case
+    >>> seq, _, result = filter_case(9.6, 23.9, record=True, first=12)
+    >>> kept = FilterErrorsFigure(result, seq.truth[:12, 0], seq.readings[:12, 0], pyplot=False)
+    >>> len(kept.axes)
+    2
+    """
 
     @styled
     def __init__(self, result: Any, truth: Any, readings: Any,
@@ -161,7 +276,24 @@ class FilterErrorsFigure:
     def update(self, result: Any, truth: Any, readings: Any, *,
                title: str | None = None) -> Figure:
         """Draw the run ``result`` of a scalar filter against ``truth`` and ``readings``;
-        ``title`` goes above the legend, wrapped to the figure's width. Returns the figure."""
+        ``title`` goes above the legend, wrapped to the figure's width. Returns the figure.
+
+        Parameters
+        ----------
+        result : dstoolkit.filters.FilterResult
+            Another run of a scalar filter.
+        truth : array_like, shape (K,)
+            Its true states.
+        readings : array_like, shape (K,)
+            Its readings.
+        title : str, optional
+            Written above the legend.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         x = np.asarray(truth, dtype=float).reshape(-1)
         est = np.asarray(result.estimates, dtype=float).reshape(-1) - x
         z = np.asarray(readings, dtype=float).reshape(-1) - x
@@ -210,6 +342,38 @@ def plot_filter_errors(
     Drawn for speed (the filter widget redraws it on every change, as a kept
     :class:`FilterErrorsFigure`): fixed margins instead of a layout engine, and fixed log
     ticks with plain labels (no minor ticks, no mathtext).
+
+    Parameters
+    ----------
+    result : dstoolkit.filters.FilterResult
+        A run of a scalar filter.
+    truth : array_like, shape (K,)
+        The true state per step.
+    readings : array_like, shape (K,)
+        The readings.
+    axes : sequence of two matplotlib.axes.Axes, optional
+        Axes to draw on (top, bottom); by default a new figure.
+    title : str, optional
+        Title of the axes.
+    unit : str, optional
+        Unit of the state.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    References
+    ----------
+    The paper's Fig. 10.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import filter_case
+    >>> seq, _, result = filter_case(9.6, 23.9, record=True, first=12)
+    >>> fig = plot_filter_errors(result, seq.truth[:12, 0], seq.readings[:12, 0])
+    >>> fig.axes[1].get_yscale()
+    'log'
     """
     return FilterErrorsFigure(result, truth, readings, axes, title=title, unit=unit).figure
 
@@ -232,11 +396,55 @@ FILTER_STEP_PANELS: tuple[tuple[str, str], ...] = (
 class FilterStepFigure:
     """The figure of :func:`plot_filter_step`, kept: :meth:`update` draws another recorded
     step in place, if it has the same panels (:meth:`panels_of`: a step that a total
-    conflict stopped has fewer). Attributes: ``figure``, ``axes``, ``panels``."""
+    conflict stopped has fewer). Attributes: ``figure``, ``axes``, ``panels``.
+
+    Parameters
+    ----------
+    entry : dstoolkit.filters.DependentRecord
+        One recorded step of a scalar model.
+    truth : float, optional
+        The true state of that step.
+    half_width : float, optional
+        Half-width of the x range (unit ``unit``).
+    figsize : tuple of float, optional
+        Width and height (inches); the width is capped at the column's.
+    unit : str, optional
+        Unit of the state.
+    pyplot : bool, optional
+        Whether the figure is attached to pyplot (shown by a notebook).
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``entry`` is not a recorded step of a scalar model.
+
+    See Also
+    --------
+    plot_filter_step : the same figure, drawn once.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import filter_case
+    >>> seq, _, result = filter_case(9.6, 23.9, record=True, first=12)
+    >>> kept = FilterStepFigure(result.steps[1], truth=seq.truth[1, 0], pyplot=False)
+    >>> kept.update(result.steps[2], truth=seq.truth[2, 0]) is kept.figure
+    True
+    """
 
     @staticmethod
     def panels_of(entry: DependentRecord) -> tuple[str, ...]:
-        """The panels a recorded step fills: the keys of ``FILTER_STEP_PANELS`` it holds."""
+        """The panels a recorded step fills: the keys of ``FILTER_STEP_PANELS`` it holds.
+
+        Parameters
+        ----------
+        entry : dstoolkit.filters.DependentRecord
+            One recorded step.
+
+        Returns
+        -------
+        tuple of str
+            The names of its panels, top to bottom.
+        """
         return tuple(key for key, _ in FILTER_STEP_PANELS if getattr(entry, key) is not None)
 
     @styled
@@ -274,7 +482,27 @@ class FilterStepFigure:
                half_width: float | None = None) -> Figure:
         """Draw the recorded step ``entry`` (with the ``truth`` of its state, if given);
         ``half_width`` of the x range: default, 0.75 × the widest cut of the observation
-        evidence (its Θ aside). Returns the figure."""
+        evidence (its Θ aside). Returns the figure.
+
+        Parameters
+        ----------
+        entry : dstoolkit.filters.DependentRecord
+            Another recorded step, with the same panels.
+        truth : float, optional
+            Its true state.
+        half_width : float, optional
+            Half-width of the x range (unit of the state).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+
+        Raises
+        ------
+        dstoolkit.errors.EvidenceError
+            If the step fills other panels than the figure has.
+        """
         _check_step(entry)
         if self.panels_of(entry) != self.panels:
             raise EvidenceError(f"this step fills the panels {self.panels_of(entry)}, the "
@@ -334,6 +562,41 @@ def plot_filter_step(
     compare across panels. ``half_width`` defaults to the half-width of the observation
     evidence's widest cut (its Θ aside) plus a margin. To draw other steps in the same
     figure, keep a :class:`FilterStepFigure` instead.
+
+    Parameters
+    ----------
+    entry : dstoolkit.filters.DependentRecord
+        One recorded step of a scalar model.
+    truth : float, optional
+        The true state of that step.
+    half_width : float, optional
+        Half-width of the x range (unit ``unit``).
+    figsize : tuple of float, optional
+        Width and height (inches); the width is capped at the column's.
+    unit : str, optional
+        Unit of the state.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``entry`` is not a recorded step of a scalar model.
+
+    References
+    ----------
+    The paper's Fig. 3.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import filter_case
+    >>> seq, _, result = filter_case(9.6, 23.9, record=True, first=12)
+    >>> fig = plot_filter_step(result.steps[1], truth=seq.truth[1, 0])
+    >>> len(fig.axes) > 2
+    True
     """
     return FilterStepFigure(entry, truth, half_width=half_width, figsize=figsize,
                             unit=unit).figure

@@ -87,6 +87,39 @@ def plot_recording(
     With ``frequency_axis`` a top axis reads time as the sweep's instantaneous frequency
     f₀ + k (t − τ) (τ from ``detection`` when given, else the simulated latency, else 0).
     The signal is a ``TraceLine`` (drawn through its extremes per pixel column).
+
+    Parameters
+    ----------
+    recording : dstoolkit.gauge.Recording
+        A recording (simulated or real).
+    detection : dstoolkit.gauge.DetectionResult, optional
+        Its detected resonances, drawn on the envelope.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    frequency_axis : bool, optional
+        Whether a top axis reads time as the sweep's frequency.
+    title : str, optional
+        Title of the axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    References
+    ----------
+    The paper's Fig. 6.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import PAPER_SWEEP, TubeSetup, detect_resonances, synthesize_recording
+    >>> from dstoolkit.teaching import GAUGE_CONDITIONS
+    >>> setup = TubeSetup(4.6, 26.5)
+    >>> recording = synthesize_recording(setup, PAPER_SWEEP, GAUGE_CONDITIONS, seed=0)
+    >>> detection = detect_resonances(recording)
+    >>> fig = plot_recording(recording, detection)
+    >>> fig.axes[0].get_xlabel()
+    'time t (s)'
     """
     fig, ax = _axes(ax, (8.0, 3.2))
     t = recording.times
@@ -138,6 +171,37 @@ def plot_resonances(
     lines; detected resonances as solid stems with dots, missed ones as crosses on the
     axis, spurious peaks as dashed grey stems topped by a square: each kind has its own
     line style or marker, not only its colour.
+
+    Parameters
+    ----------
+    detection : dstoolkit.gauge.DetectionResult
+        The resonances detected in one recording.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    true_frequencies : array_like, shape (n,), optional
+        The resonances the model expects, n c/(2L) (Hz).
+    title : str, optional
+        Title of the axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    References
+    ----------
+    The paper's Fig. 7.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import PAPER_SWEEP, TubeSetup, detect_resonances, synthesize_recording
+    >>> from dstoolkit.teaching import GAUGE_CONDITIONS
+    >>> setup = TubeSetup(4.6, 26.5)
+    >>> recording = synthesize_recording(setup, PAPER_SWEEP, GAUGE_CONDITIONS, seed=0)
+    >>> detection = detect_resonances(recording)
+    >>> fig = plot_resonances(detection, true_frequencies=setup.resonances(PAPER_SWEEP.band)[1])
+    >>> fig.axes[0].get_xlabel()
+    'resonance frequency (Hz)'
     """
     fig, ax = _axes(ax, (8.0, 3.2))
     if true_frequencies is not None:

@@ -52,6 +52,34 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
     ``update_step_errors`` draws other errors of the same methods on the axes. With
     ``end_labels`` each line's name is also written at its end (:func:`label_line_ends`;
     for a figure that is not redrawn).
+
+    Parameters
+    ----------
+    errors : mapping of str to numpy.ndarray, shape (runs, K) or (K,)
+        Method (or variant) name to its absolute errors (unit ``unit``).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    unit : str, optional
+        Unit of the errors.
+    title : str, optional
+        Title of the axes.
+    legend : bool, optional
+        Whether the legend is drawn above the axes.
+    end_labels : bool, optional
+        Whether each line is also named at its end.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (not attached to pyplot).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> errors = {"direct": np.full((2, 10), 2.0), "dependent_evidence": np.full(10, 0.5)}
+    >>> fig = plot_step_errors(errors, end_labels=True)
+    >>> len(fig.axes[0].texts)
+    2
     """
     fig, ax = _figure(ax, (7.5, 3.4))
     extra = iter(EXTRA_STYLES)
@@ -115,7 +143,36 @@ def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | 
                           *, title: str | None = None, xlabel: str = "noise (Hz)") -> Figure:
     """The possibility distribution of the true noise (filled) and of the noise a filter
     assumes (line), scalar noises (paper eqs. 22–23). ``update_noise_assumption``
-    draws other noises on the axes."""
+    draws other noises on the axes.
+
+    Parameters
+    ----------
+    true, assumed : dstoolkit.filters.BoundedNoise
+        The noise of the data and the noise the filter assumes (scalar).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    title : str, optional
+        Title of the axes.
+    xlabel : str, optional
+        Label of the x axis: the noise and its unit.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (not attached to pyplot).
+
+    References
+    ----------
+    The paper's eqs. (22)–(23).
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import BoundedNoise
+    >>> fig = plot_noise_assumption(BoundedNoise(-10.59, -6.9, -3.21),
+    ...                             BoundedNoise(-8.0, -6.9, -5.0))
+    >>> fig.axes[0].get_ylabel()
+    'possibility'
+    """
     fig, ax = _figure(ax, (4.0, 2.6))
     x, y_true, y_assumed = _possibilities(true, assumed)
     ax.fill_between(x, y_true, **_TRUE_FILL)
@@ -183,7 +240,28 @@ def update_noise_bounds_figure(fig: Figure, true_v: BoundedNoise, true_w: Bounde
 def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = None) -> Figure:
     """Mean |x̂ − x| of each method against the factor by which the assumed bounds are
     scaled about the modes; the bounded-error filter's marker is red where it failed in
-    some runs (the number printed is the fraction of failed runs)."""
+    some runs (the number printed is the fraction of failed runs).
+
+    Parameters
+    ----------
+    study : mapping of float to dstoolkit.studies.MismatchResult
+        Scale factor to the result of :func:`dstoolkit.studies.bound_scale_study` there.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (not attached to pyplot).
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import bound_scale_study, tracking_data
+    >>> study = bound_scale_study(tracking_data(runs=2), [0.5, 1.0, 2.0],
+    ...                           methods=("kalman", "bounded_error"))
+    >>> plot_scale_study(study).axes[0].get_yscale()
+    'log'
+    """
     fig, ax = _figure(ax, (7.5, 3.6))
     scales = np.array(sorted(study))
     methods = list(next(iter(study.values())).errors)
@@ -216,7 +294,25 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
 def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
     """Mean absolute level error against the level, one panel per simulation (stacked):
     line style = order rule, colour and marker = method; grey diamonds on a thick line:
-    the series fit's own level."""
+    the series fit's own level.
+
+    Parameters
+    ----------
+    studies : sequence of dstoolkit.studies.OrderRuleStudy
+        One result of :func:`dstoolkit.studies.order_rule_study` per panel.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (not attached to pyplot).
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import order_rule_study
+    >>> study = order_rule_study(runs=1, cases=((1.3, 27.0),))
+    >>> len(plot_order_rule_study([study]).axes)
+    1
+    """
     fig = new_figure(6.4, 1.4 + 2.8 * len(studies))
     axes = fig.subplots(len(studies), 1, sharex=True, squeeze=False)[:, 0]
     for ax, study in zip(axes, studies, strict=True):
@@ -241,7 +337,27 @@ def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
 @styled
 def plot_example(comparison: ExampleComparison, run: int = 0) -> Figure:
     """The predator–prey example: (a) the populations (P, Q) of one run, truth, census
-    readings and every method's estimate; (b) |x̂_k − x_k| per step (log-populations)."""
+    readings and every method's estimate; (b) |x̂_k − x_k| per step (log-populations).
+
+    Parameters
+    ----------
+    comparison : dstoolkit.studies.ExampleComparison
+        The result of :func:`dstoolkit.studies.example_comparison`.
+    run : int, optional
+        Which run panel (a) shows.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels (not attached to pyplot).
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import example_comparison
+    >>> fig = plot_example(example_comparison(steps=15, runs=1))
+    >>> len(fig.axes)
+    2
+    """
     fig = new_figure(6.4, 7.6)
     ax_a, ax_b = fig.subplots(2, 1, height_ratios=[1.1, 1])
     truth = np.exp(comparison.truth[run])

@@ -88,6 +88,25 @@ def figure_style() -> Iterator[None]:
     setting: when the first figure of an IPython session is made inside it, the interactive
     mode that IPython's inline backend switches on would be undone, and the notebook's
     later figures would no longer show).
+
+    Yields
+    ------
+    None
+        Inside the block, figures are drawn in the book's style.
+
+    See Also
+    --------
+    use_style : the same style for the rest of the session.
+
+    Examples
+    --------
+    >>> import matplotlib as mpl
+    >>> before = mpl.rcParams["font.size"]
+    >>> with figure_style():
+    ...     mpl.rcParams["font.size"] == FONT_PT
+    True
+    >>> mpl.rcParams["font.size"] == before
+    True
     """
     saved = {key: mpl.rcParams[key] for key in RC}
     mpl.rcParams.update(RC)
@@ -109,7 +128,21 @@ def styled(function: F) -> F:
 
 
 def use_style() -> None:
-    """Make the book's style matplotlib's default (for a chapter that draws its own figures)."""
+    """Make the book's style matplotlib's default (for a chapter that draws its own figures).
+
+    See Also
+    --------
+    figure_style : the style for one block only.
+
+    Examples
+    --------
+    >>> import matplotlib as mpl
+    >>> saved = dict(mpl.rcParams)
+    >>> use_style()
+    >>> mpl.rcParams["axes.labelsize"] == FONT_PT
+    True
+    >>> mpl.rcParams.update(saved)
+    """
     mpl.rcParams.update(RC)
 
 
@@ -128,6 +161,32 @@ def new_figure(width: float = COLUMN_WIDTH_IN, height: float = 3.0) -> Figure:
 def legend_above(ax: Axes, ncols: int | None = None, **kwargs: Any) -> Legend | None:
     """The legend of ``ax`` in rows above its data area, where it cannot hide data; the
     axes' titles move up above it. Returns None when nothing is labelled.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes whose labelled artists the legend names.
+    ncols : int, optional
+        Entries per row; by default as many as there are, up to 3.
+    **kwargs
+        Further keyword arguments of ``matplotlib.axes.Axes.legend``.
+
+    Returns
+    -------
+    matplotlib.legend.Legend or None
+        The legend, or None if nothing is labelled.
+
+    See Also
+    --------
+    label_line_ends : names written at the ends of the lines.
+
+    Examples
+    --------
+    >>> fig = new_figure(4.0, 2.5)
+    >>> ax = fig.subplots()
+    >>> _ = ax.plot([0, 1], [0, 1], label="rising")
+    >>> legend_above(ax).get_texts()[0].get_text()
+    'rising'
     """
     handles, labels = ax.get_legend_handles_labels()
     if not handles:
@@ -245,6 +304,20 @@ def log_ticks(axis: Axis) -> None:
 
     Matplotlib's default labels only the decades, so a range within one decade shows a
     single label, or none.
+
+    Parameters
+    ----------
+    axis : matplotlib.axis.Axis
+        A log-scaled axis, e.g. ``ax.yaxis``.
+
+    Examples
+    --------
+    >>> fig = new_figure(4.0, 2.5)
+    >>> ax = fig.subplots()
+    >>> _ = ax.semilogy([1, 2], [0.3, 0.9])
+    >>> log_ticks(ax.yaxis)
+    >>> type(ax.yaxis.get_major_formatter()).__name__
+    'StrMethodFormatter'
     """
     axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
     axis.set_major_formatter(StrMethodFormatter("{x:g}"))
