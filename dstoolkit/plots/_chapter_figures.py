@@ -23,6 +23,7 @@ from ._style import (
     column_size,
     label_line_ends,
     legend_above,
+    root_figure,
     spread_positions,
     styled,
 )
@@ -118,7 +119,7 @@ def _label_bands(ax: Axes, bands: list[tuple[float, float, str]]) -> None:
         else:
             y = 0.5 * (a + b)
         wanted.append(float(np.clip(to_axes.transform((0.0, y))[1], 0.0, 1.0)))
-    height_pt = ax.get_position().height * ax.figure.get_figheight() * 72.0
+    height_pt = ax.get_position().height * root_figure(ax).get_figheight() * 72.0
     for y, (_, _, text) in zip(spread_positions(wanted, 1.25 * SMALL_PT / height_pt),
                                bands, strict=True):
         ax.text(1.02, y, text, transform=ax.transAxes, ha="left", va="center",

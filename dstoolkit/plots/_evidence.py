@@ -34,9 +34,7 @@ from matplotlib.patches import Rectangle
 from matplotlib.text import Text
 
 from dstoolkit.errors import EvidenceError
-from dstoolkit.evidence._finite_frame import MassFunction
-from dstoolkit.evidence._intervals import IntervalEvidence
-from dstoolkit.evidence._possibility import alpha_cuts, possibility
+from dstoolkit.evidence import IntervalEvidence, MassFunction, alpha_cuts, possibility
 
 from ._kept import animate, set_limits
 from ._style import (
@@ -47,13 +45,14 @@ from ._style import (
     SMALL_PT,
     column_size,
     legend_above,
+    root_figure,
     styled,
 )
 
 
 def _axes(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
     if ax is not None:
-        return ax.figure, ax
+        return root_figure(ax), ax
     fig, new_ax = plt.subplots(figsize=column_size(*figsize), layout="constrained")
     return fig, new_ax
 
@@ -149,7 +148,9 @@ def update_focal_intervals(
     left, right = np.maximum(lo, xlim[0]), np.minimum(hi, xlim[1])
 
     def bar() -> Rectangle:
-        return ax.add_patch(Rectangle((0.0, 0.0), 0.0, 0.0, edgecolor="black", linewidth=0.6))
+        patch = Rectangle((0.0, 0.0), 0.0, 0.0, edgecolor="black", linewidth=0.6)
+        ax.add_patch(patch)
+        return patch
 
     bars = _resize(artists.bars, len(ev), bar, artists.animated)
     for i, rect in enumerate(bars):
@@ -439,10 +440,10 @@ def update_possibility(artists: PossibilityArtists, lower: float, mode: float, u
     alphas = np.arange(p)[::-1] / p
     colours = plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, p))
     artists.cuts.set_segments([[(a, y), (b, y)] for a, b, y in zip(lo, hi, alphas, strict=True)])
-    artists.cuts.set_color(colours)
+    artists.cuts.set_color(list(colours))
     artists.ends.set_segments([[(e, 0.0), (e, y)] for a, b, y in zip(lo, hi, alphas, strict=True)
                                for e in (a, b)])
-    artists.ends.set_color(np.repeat(colours, 2, axis=0))
+    artists.ends.set_color(list(np.repeat(colours, 2, axis=0)))
 
     def label() -> Text:
         return ax.text(0.0, 0.0, "", va="center", fontsize=SMALL_PT)
@@ -534,7 +535,7 @@ def all_subsets(frame: Sequence[Hashable]) -> list[frozenset]:
 def _bel_pl_sets(frame: Sequence[Hashable], subsets: Sequence[Any] | None) -> list[frozenset]:
     if subsets is None:
         subsets = all_subsets(frame) if len(frame) <= 4 else [frozenset([h]) for h in frame]
-    return [frozenset(MassFunction._elements(s, frame)) for s in subsets]
+    return [frozenset(MassFunction._elements(s, tuple(frame))) for s in subsets]
 
 
 @dataclass
@@ -670,8 +671,8 @@ def _fit_category_labels(ax: Axes, names: Sequence[str]) -> None:
     labels = ax.get_xticklabels()
     if not labels:
         return
-    size_in = labels[0].get_fontsize() / 72.0
-    width_in = ax.get_position().width * ax.figure.get_figwidth()
+    size_in = float(labels[0].get_fontsize()) / 72.0
+    width_in = ax.get_position().width * root_figure(ax).get_figwidth()
     slot_in = width_in / max(len(names), np.ptp(ax.get_xlim()), 1.0)
     crowded = max(len(n) for n in names) * 0.6 * size_in > 0.9 * slot_in
     for label in labels:
@@ -697,8 +698,10 @@ def update_masses(artists: MassArtists, mf: MassFunction, *, title: str | None =
     items = mf.as_dict()
 
     def bar() -> Rectangle:
-        return ax.add_patch(Rectangle((0.0, 0.0), 0.8, 0.0, facecolor=BEL_COLOUR,
-                                      edgecolor="black", linewidth=0.5))
+        patch = Rectangle((0.0, 0.0), 0.8, 0.0, facecolor=BEL_COLOUR, edgecolor="black",
+                          linewidth=0.5)
+        ax.add_patch(patch)
+        return patch
 
     def label() -> Text:
         return ax.text(0.0, 0.0, "", ha="center", va="bottom", fontsize=SMALL_PT)
@@ -890,7 +893,8 @@ def plot_boxes(
         ax.add_patch(plt.Rectangle(lo[i], *(hi[i] - lo[i]), facecolor=shade[i], alpha=0.55,
                                    edgecolor="black", linewidth=1.0))
         text = f"{m[i]:.3g}" if labels is None else labels[i]
-        ax.text(*(0.5 * (lo[i] + hi[i])), text, ha="center", va="center", fontsize=9,
+        centre_x, centre_y = 0.5 * (lo[i] + hi[i])
+        ax.text(centre_x, centre_y, text, ha="center", va="center", fontsize=9,
                 bbox={"boxstyle": "round,pad=0.15", "fc": "white", "alpha": 0.8, "lw": 0})
     pad = 0.05 * (hi.max(axis=0) - lo.min(axis=0))
     ax.set_xlim(*(xlim or (lo[:, 0].min() - pad[0], hi[:, 0].max() + pad[0])))
@@ -984,12 +988,12 @@ def interval_table(ev: IntervalEvidence, paper: Sequence[Sequence[float]] | None
     if paper is None:
         return markdown_table(["focal element", "mass"],
                               [(iv(lo, hi), m) for lo, hi, m in ours], fmt)
-    paper = np.asarray(paper, dtype=float)
-    if paper.shape != ours.shape:
-        raise EvidenceError(f"paper rows have shape {paper.shape}, evidence {ours.shape}")
+    printed = np.asarray(paper, dtype=float)
+    if printed.shape != ours.shape:
+        raise EvidenceError(f"paper rows have shape {printed.shape}, evidence {ours.shape}")
     def diff(d: float) -> str:
         return "0" if d == 0 else f"{d:+.1e}"
 
     rows = [(iv(a, b), m, iv(pa, pb), pm, diff(m - pm))
-            for (a, b, m), (pa, pb, pm) in zip(ours, paper, strict=True)]
+            for (a, b, m), (pa, pb, pm) in zip(ours, printed, strict=True)]
     return markdown_table(["computed", "mass", "paper", "mass", "difference"], rows, fmt)

@@ -12,8 +12,7 @@ from matplotlib.figure import Figure
 from matplotlib.text import Text
 
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.studies._experiments import Table3
-from dstoolkit.studies._paper_results import TABLE3_MEAN_ABS_ERROR_M
+from dstoolkit.studies import TABLE3_MEAN_ABS_ERROR_M, Table3
 
 from ._kept import animate, set_limits, snapped_limits
 from ._style import OKABE_ITO, log_ticks, new_figure, styled
@@ -21,7 +20,7 @@ from ._style import OKABE_ITO, log_ticks, new_figure, styled
 #: Colour (Okabe–Ito), line style, marker and label of each method of Table 3 in every
 #: figure: the methods differ in line style and marker as well as in colour, so they can be
 #: told apart without colour (in grey print, or with a colour-vision deficiency).
-STYLE = {
+STYLE: dict[str, dict[str, Any]] = {
     "dependent_evidence": {"color": OKABE_ITO["blue"], "ls": "-", "marker": "o",
                            "label": "dependent evidence (paper)"},
     "nassreddine": {"color": OKABE_ITO["orange"], "ls": "--", "marker": "s",
@@ -36,7 +35,7 @@ STYLE = {
                       "marker": "P", "label": "bounded error"},
 }
 #: Styles of curves that are not one of STYLE's methods (variants of a method), in order.
-EXTRA_STYLES = (
+EXTRA_STYLES: tuple[dict[str, Any], ...] = (
     {"color": OKABE_ITO["black"], "ls": (0, (1, 1)), "marker": "x"},
     {"color": OKABE_ITO["blue"], "ls": (0, (6, 2, 1, 2)), "marker": "*"},
     {"color": OKABE_ITO["vermillion"], "ls": (0, (2, 2)), "marker": "h"},
@@ -217,7 +216,8 @@ def update_estimates(fig: Figure, truth: np.ndarray, readings: np.ndarray,
         if ax.get_ylabel() != label:  # an unchanged label would mark the figure stale
             ax.set_ylabel(label)
     if ax_a.get_title(loc="left") != title:
-        ax_a.set_title(title, loc="left", **({"fontsize": 9} if note else {}))
+        smaller: dict[str, Any] = {"fontsize": 9} if note else {}
+        ax_a.set_title(title, loc="left", **smaller)
     if not true_line.get_animated():
         for ax in (ax_a, ax_b):
             ax.relim()

@@ -25,16 +25,17 @@ from dstoolkit.filters import DependentRecord
 
 from ._evidence import FocalIntervalArtists, draw_focal_intervals, update_focal_intervals
 from ._kept import InnerTicks
-from ._style import BETP_COLOUR, SMALL_PT, column_size, legend_above, styled
+from ._style import BETP_COLOUR, SMALL_PT, column_size, legend_above, root_figure, styled
 
 
 def blank_figure(figsize: tuple[float, float], layout: str, *, pyplot: bool = True) -> Figure:
     """A new figure ``figsize`` inches large: through pyplot (a notebook shows it when the
     cell ends), or a bare :class:`~matplotlib.figure.Figure` that pyplot does not know (an
     explorer keeps it and shows it as a PNG)."""
+    engine: Any = layout  # "constrained" or "none" (no engine, not the rcParams' default)
     if pyplot:
-        return plt.figure(figsize=figsize, layout=layout)
-    return Figure(figsize=figsize, layout=layout)
+        return plt.figure(figsize=figsize, layout=engine)
+    return Figure(figsize=figsize, layout=engine)
 
 
 def _autoscale(*axes: Axes) -> None:
@@ -90,7 +91,7 @@ class EnclosureFigure:
                  ylabel: str = "state x_k", pyplot: bool = True) -> None:
         if ax is None:
             ax = blank_figure(column_size(8.0, 3.0), "constrained", pyplot=pyplot).subplots()
-        self.figure, self.ax, self.component = ax.figure, ax, component
+        self.figure, self.ax, self.component = root_figure(ax), ax, component
         empty = np.zeros(0)
         self._band = ax.fill_between(empty, empty, empty, step="mid", alpha=0.35,
                                      label=f"{result.method} band")
@@ -147,7 +148,7 @@ class EnclosureFigure:
                 (k, np.asarray(readings).reshape(lower.size, -1)[:, 0]) if shown else ([], []))
         for line in self._resets:
             line.remove()
-        self._resets = [ax.axvline(r, color=BETP_COLOUR, lw=1) for r in
+        self._resets = [ax.axvline(float(r), color=BETP_COLOUR, lw=1) for r in
                         np.flatnonzero(result.diagnostics.get("resets", np.zeros(0, bool)))]
         ax.title.set_text(title or "")  # keeps the pad legend_above gave it
         _autoscale(ax)
@@ -253,7 +254,7 @@ class FilterErrorsFigure:
             axes = fig.subplots(2, 1, sharex=True)
             fig.subplots_adjust(left=0.12, right=0.98, top=0.8, bottom=0.11, hspace=0.12)
         top, bottom = axes
-        self.figure, self.axes = top.figure, (top, bottom)
+        self.figure, self.axes = root_figure(top), (top, bottom)
         self._titled = False
         self._deviations = (
             top.plot([], [], ".", ms=3, color="0.55", label="reading z_k − x_k")[0],
@@ -266,7 +267,7 @@ class FilterErrorsFigure:
             bottom.plot([], [], ".", ms=3, color="0.55", label="|z_k − x_k|")[0],
             bottom.plot([], [], "-", lw=1.4, color=BETP_COLOUR, label="|x̂_k − x_k|")[0])
         bottom.set_ylabel(f"|error| ({unit})")
-        bottom.yaxis.set_major_locator(FixedLocator(10.0 ** np.arange(-4, 4)))
+        bottom.yaxis.set_major_locator(FixedLocator((10.0 ** np.arange(-4, 4)).tolist()))
         bottom.yaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
         bottom.yaxis.set_minor_locator(NullLocator())
         bottom.set_xlabel("step k")
@@ -510,11 +511,13 @@ class FilterStepFigure:
         est = float(np.ravel(entry.estimate)[0])
         if half_width is None:
             obs = entry.observation
+            assert obs is not None, "a step that reached the update has its observation"
             cuts = obs.widths < obs.widths.max()
             half_width = 0.75 * float((obs.hi[cuts] - obs.lo[cuts]).max() if cuts.any()
                                       else 1.0)
         centre = est if truth is None else 0.5 * (est + float(truth))
         xlim = (centre - half_width, centre + half_width)
+        assert entry.state is not None, "a recorded step holds the state it started from"
         shift = centre - float(entry.state.pignistic_expectation())
         names = dict(FILTER_STEP_PANELS)
         for i, (ax, key) in enumerate(zip(self.axes, self.panels, strict=True)):
@@ -526,8 +529,9 @@ class FilterStepFigure:
             # y = 1 where matplotlib would put it (nothing is drawn above the panel), so
             # that a draw skips the search for it (a tight box of each panel's y axis)
             ax.set_title(f"{names[key]} — {len(ev)} focal elements", loc="left", y=1.0)
-            if self._lines[i] is not None:
-                estimate, true = self._lines[i]
+            lines = self._lines[i]
+            if lines is not None:
+                estimate, true = lines
                 estimate.set_xdata([est, est])
                 true.set_visible(truth is not None)
                 if truth is not None:

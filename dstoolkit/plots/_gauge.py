@@ -11,12 +11,12 @@ from typing import Any
 
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.transforms import offset_copy
 
-from dstoolkit.gauge._resonance import DetectionResult
-from dstoolkit.gauge._tube import Recording, TubeSetup
+from dstoolkit.gauge import DetectionResult, Recording, TubeSetup
 
 from ._evidence import _axes
 from ._kept import animate, set_limits, snapped_limits, zero_based_limits
@@ -28,6 +28,7 @@ from ._style import (
     SMALL_PT,
     TRUTH_COLOUR,
     legend_above,
+    root_figure,
     styled,
 )
 
@@ -49,9 +50,12 @@ class TraceLine(Line2D):
     """
 
     def draw(self, renderer: Any) -> None:
-        t, y = self.get_xdata(orig=True), self.get_ydata(orig=True)
-        columns = 4 * int(np.ceil(self.axes.bbox.width))
-        lo, hi = sorted(self.axes.get_xlim())
+        t = np.asarray(self.get_xdata(orig=True))
+        y = np.asarray(self.get_ydata(orig=True))
+        axes = self.axes
+        assert axes is not None, "a TraceLine is drawn on axes"
+        columns = 4 * int(np.ceil(axes.bbox.width))
+        lo, hi = sorted(axes.get_xlim())
         first, last = np.searchsorted(t, [lo, hi])
         first, last = max(first - 1, 0), min(last + 1, t.size)
         if last - first < TRACE_RUN * columns:  # a line through waves, not a band: all of it
@@ -148,7 +152,7 @@ def plot_recording(
     if title:
         ax.set_title(title)
     if frequency_axis:  # the top axis holds the frequencies: the legend goes below the label
-        below = offset_copy(ax.transAxes, fig=ax.figure, y=-2.6 * FONT_PT - 2 * SMALL_PT,
+        below = offset_copy(ax.transAxes, fig=root_figure(ax), y=-2.6 * FONT_PT - 2 * SMALL_PT,
                             units="points")
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=below,
                   ncols=3, frameon=False, borderaxespad=0.0)
@@ -276,7 +280,8 @@ def update_gauge_detection(fig: Figure, setup: TubeSetup, detection: DetectionRe
     segments = np.zeros((resonances.size, 2, 2))
     segments[:, :, 0] = resonances[:, None]
     segments[:, 1, 1] = 1.0
-    model.set_segments(segments)
+    assert isinstance(model, LineCollection), "the model's lines are drawn by vlines"
+    model.set_segments(list(segments))
     peaks.set_data(detection.raw_frequencies - detection.latency_offset_hz,
                    detection.amplitudes)
     ax1.title.set_text(f"L = {setup.level_m:.1f} m, T = {setup.temperature_c:.1f} °C, c = "

@@ -16,13 +16,21 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import FixedLocator, NullLocator, StrMethodFormatter
 
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.evidence._possibility import possibility
-from dstoolkit.filters._model import BoundedNoise
-from dstoolkit.studies._estimation import ExampleComparison, MismatchResult, OrderRuleStudy
+from dstoolkit.evidence import possibility
+from dstoolkit.filters import BoundedNoise
+from dstoolkit.studies import ExampleComparison, MismatchResult, OrderRuleStudy
 
 from ._experiments import EXTRA_STYLES, STYLE, line_style
 from ._kept import animate, set_limits, snapped_limits
-from ._style import SMALL_PT, label_line_ends, legend_above, log_ticks, new_figure, styled
+from ._style import (
+    SMALL_PT,
+    label_line_ends,
+    legend_above,
+    log_ticks,
+    new_figure,
+    root_figure,
+    styled,
+)
 
 #: How the order rules are drawn in :func:`plot_order_rule_study`: line style, label.
 RULE_STYLE = {"eq43": ("-", "eq. 43"), "fit": ("--", "series fit"), "true": (":", "true")}
@@ -36,7 +44,7 @@ def _style(name: str) -> dict[str, Any]:
 
 def _figure(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
     if ax is not None:
-        return ax.figure, ax
+        return root_figure(ax), ax
     fig = new_figure(*figsize)
     return fig, fig.add_subplot()
 
@@ -114,7 +122,7 @@ def update_step_errors(ax: Axes, errors: Mapping[str, np.ndarray]) -> None:
         ax.autoscale_view()
         return
     # kept by an explorer (noise_bounds_figure): limits that change only when they must
-    steps = max(len(line.get_xdata()) for line in ax.lines)
+    steps = max(np.size(line.get_xdata()) for line in ax.lines)
     y = np.concatenate([line.get_ydata() for line in ax.lines])
     y = y[np.isfinite(y) & (y > 0)]
     pad = 0.05 * (steps - 1)
@@ -129,13 +137,15 @@ def _possibilities(true: BoundedNoise, assumed: BoundedNoise
     hi = max(true.upper[0], assumed.upper[0])
     pad = 0.15 * (hi - lo if hi > lo else 1.0)
     x = np.linspace(lo - pad, hi + pad, 801)
-    return (x, *(possibility(x, noise.lower[0], noise.mode[0], noise.upper[0])
-                 for noise in (true, assumed)))
+    y_true, y_assumed = (np.asarray(possibility(x, noise.lower[0], noise.mode[0],
+                                                noise.upper[0]))
+                         for noise in (true, assumed))
+    return x, y_true, y_assumed
 
 
 #: How :func:`plot_noise_assumption` draws the true noise (filled) and the assumed (a line).
-_TRUE_FILL = {"color": "0.6", "alpha": 0.5, "label": "true"}
-_ASSUMED_LINE = {"color": "C3", "lw": 1.5, "label": "assumed"}
+_TRUE_FILL: dict[str, Any] = {"color": "0.6", "alpha": 0.5, "label": "true"}
+_ASSUMED_LINE: dict[str, Any] = {"color": "C3", "lw": 1.5, "label": "assumed"}
 
 
 @styled
@@ -192,7 +202,8 @@ def update_noise_assumption(ax: Axes, true: BoundedNoise, assumed: BoundedNoise)
     """Draw other noises on axes of :func:`plot_noise_assumption`; the x limits follow,
     unless the curves are animated (kept by an explorer, :func:`noise_bounds_figure`)."""
     x, y_true, y_assumed = _possibilities(true, assumed)
-    ax.collections[0].set_data(x, y_true, 0)
+    fill: Any = ax.collections[0]  # a FillBetweenPolyCollection (matplotlib 3.10+)
+    fill.set_data(x, y_true, 0)
     ax.lines[0].set_data(x, y_assumed)
     if not ax.lines[0].get_animated():  # kept by an explorer: its x limits stay
         ax.relim()  # the line spans the fill's x range
@@ -278,7 +289,7 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
                 ax.annotate(f"{frac:.0%}", (s, y), textcoords="offset points", xytext=(4, 6),
                             fontsize=SMALL_PT, color="red")
     ax.axvline(1.0, color="black", lw=0.8, ls="--")
-    ax.xaxis.set_major_locator(FixedLocator(scales))
+    ax.xaxis.set_major_locator(FixedLocator(scales.tolist()))
     ax.xaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
     ax.xaxis.set_minor_locator(NullLocator())
     ax.yaxis.set_major_formatter(StrMethodFormatter("{x:g}"))

@@ -108,12 +108,13 @@ def figure_style() -> Iterator[None]:
     >>> mpl.rcParams["font.size"] == before
     True
     """
-    saved = {key: mpl.rcParams[key] for key in RC}
-    mpl.rcParams.update(RC)
+    params: Any = mpl.rcParams  # its keys are typed as literals; RC's are checked by the tests
+    saved = {key: params[key] for key in RC}
+    params.update(RC)
     try:
         yield
     finally:
-        mpl.rcParams.update(saved)
+        params.update(saved)
 
 
 def styled(function: F) -> F:
@@ -143,7 +144,8 @@ def use_style() -> None:
     True
     >>> mpl.rcParams.update(saved)
     """
-    mpl.rcParams.update(RC)
+    params: Any = mpl.rcParams  # its keys are typed as literals
+    params.update(RC)
 
 
 def column_size(width: float, height: float) -> tuple[float, float]:
@@ -151,6 +153,14 @@ def column_size(width: float, height: float) -> tuple[float, float]:
     if width <= COLUMN_WIDTH_IN:
         return (width, height)
     return (COLUMN_WIDTH_IN, height * COLUMN_WIDTH_IN / width)
+
+
+def root_figure(ax: Axes) -> Figure:
+    """The :class:`~matplotlib.figure.Figure` that holds ``ax``, through any subfigures."""
+    fig = ax.figure
+    while not isinstance(fig, Figure):  # a SubFigure: its parent's figure
+        fig = fig.figure
+    return fig
 
 
 def new_figure(width: float = COLUMN_WIDTH_IN, height: float = 3.0) -> Figure:
@@ -277,7 +287,7 @@ def label_line_ends(ax: Axes, lines: list[Line2D] | None = None, *,
     ['rising', 'flat']
     """
     if lines is None:
-        lines = [line for line in ax.get_lines() if not line.get_label().startswith("_")]
+        lines = [line for line in ax.get_lines() if not str(line.get_label()).startswith("_")]
     texts = labels if labels is not None else [str(line.get_label()) for line in lines]
     if len(texts) != len(lines):
         raise ValueError(f"label_line_ends got {len(lines)} lines and {len(texts)} labels; "
@@ -292,7 +302,7 @@ def label_line_ends(ax: Axes, lines: list[Line2D] | None = None, *,
             ends.append(float(np.clip(to_axes.transform((x[finite[-1]], y[finite[-1]]))[1],
                                       0.0, 1.0)))
             kept.append(text)
-    height_pt = ax.get_position().height * ax.figure.get_figheight() * 72.0
+    height_pt = ax.get_position().height * root_figure(ax).get_figheight() * 72.0
     positions = spread_positions(ends, 1.25 * SMALL_PT / max(height_pt, 1.0))
     return [ax.text(1.02, y, text, transform=ax.transAxes, ha="left", va="center",
                     fontsize=SMALL_PT, color="#222222")
