@@ -46,7 +46,7 @@ def plot_image_methods(
 
     Parameters
     ----------
-    cases : mapping of str to (callable, float, float, mapping)
+    cases : collections.abc.Mapping
         Panel title (the function's name) to ``(f, lo, hi, images)``: ``f`` maps points of
         shape (n, 1) to values of shape (n,); ``[lo, hi]`` is the box (no unit); ``images``
         maps ``"subdivision"`` and/or ``"vertex"`` to its ``(a, b)``.
@@ -139,13 +139,14 @@ def plot_sweep_peaks(
 
     Parameters
     ----------
-    frequencies : numpy.ndarray, shape (n,)
-        Frequencies (Hz).
-    steady, swept : numpy.ndarray, shape (n,)
-        Amplitude relative to the source's (no unit) for steady tones and for the sweep
+    frequencies : numpy.ndarray
+        Shape (n,): frequencies (Hz).
+    steady, swept : numpy.ndarray
+        Shape (n,): amplitude relative to the source's (no unit) for steady tones and
+        for the sweep
         read at the speaker's frequency.
-    resonances : numpy.ndarray, shape (m,)
-        The resonances n c/(2L) in the range (Hz).
+    resonances : numpy.ndarray
+        Shape (m,): the resonances n c/(2L) in the range (Hz).
     shift_hz : float
         Where the sweep's peaks sit above them, κ L / c (Hz).
 

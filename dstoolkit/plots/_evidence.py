@@ -306,8 +306,8 @@ def plot_pbox(
         Scalar interval evidence (d = 1).
     ax : matplotlib.axes.Axes, optional
         Axes to draw on; by default a new figure of its own.
-    x : array_like, shape (n,), optional
-        Points at which both bounds are drawn (unit of the quantity).
+    x : array_like, optional
+        Shape (n,): points at which both bounds are drawn (unit of the quantity).
     xlim : tuple of float, optional
         Range of the x axis (unit of the quantity).
     title : str, optional
@@ -617,7 +617,7 @@ def plot_bel_pl(
     ----------
     mf : dstoolkit.evidence.MassFunction
         A mass function on a finite frame.
-    subsets : sequence, optional
+    subsets : collections.abc.Sequence, optional
         The subsets to draw (each a tuple of hypotheses).
     ax : matplotlib.axes.Axes, optional
         Axes to draw on; by default a new figure of its own.
@@ -859,7 +859,7 @@ def plot_boxes(
         Ranges of the axes; by default the hull of the boxes with a 5 % margin.
     title : str, optional
         Title of the axes.
-    labels : sequence of str, optional
+    labels : collections.abc.Sequence, optional
         One text per focal element, written in place of its mass.
 
     Returns
@@ -915,9 +915,9 @@ def markdown_table(headers: Sequence[str], rows: Iterable[Sequence[Any]],
 
     Parameters
     ----------
-    headers : sequence of str
+    headers : collections.abc.Sequence
         The column headers.
-    rows : iterable of sequences
+    rows : collections.abc.Iterable
         The rows, one value per column.
     fmt : str, optional
         Format of the floats (``format`` specification).
@@ -957,8 +957,9 @@ def interval_table(ev: IntervalEvidence, paper: Sequence[Sequence[float]] | None
     ----------
     ev : dstoolkit.evidence.IntervalEvidence
         Scalar interval evidence (d = 1).
-    paper : sequence of (float, float, float), optional
-        The focal elements and masses as printed, one row per focal element of ``ev``.
+    paper : collections.abc.Sequence, optional
+        Rows (lo, hi, mass): the focal elements and masses as printed, one row per
+        focal element of ``ev``.
     fmt : str, optional
         Format of the masses.
 

@@ -121,12 +121,12 @@ def plot_estimates(truth: np.ndarray, readings: np.ndarray,
 
     Parameters
     ----------
-    truth : numpy.ndarray, shape (K,) or scalar
-        The true value per step (unit ``unit``).
-    readings : numpy.ndarray, shape (K,)
-        The readings z_k.
-    estimates : mapping of str to numpy.ndarray, shape (K,)
-        Method name (a key of :data:`STYLE` or any name) to its estimates.
+    truth : numpy.ndarray or float
+        Shape (K,), or a scalar: the true value per step (unit ``unit``).
+    readings : numpy.ndarray
+        Shape (K,): the readings z_k.
+    estimates : collections.abc.Mapping
+        Method name (a key of ``STYLE`` or any name) to its estimates, shape (K,).
     quantity : str, optional
         What is estimated, for the titles and labels.
     unit : str, optional

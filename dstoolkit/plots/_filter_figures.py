@@ -57,10 +57,10 @@ class EnclosureFigure:
     ----------
     result : dstoolkit.filters.FilterResult
         A filter run with ``lower`` and ``upper``, shape (K, d).
-    truth : array_like, shape (K,) or (K, d)
-        The true state per step.
-    readings : array_like, shape (K,), optional
-        The readings, drawn as points.
+    truth : array_like
+        Shape (K,) or (K, d): the true state per step.
+    readings : array_like, optional
+        Shape (K,): the readings, drawn as points.
     ax : matplotlib.axes.Axes, optional
         Axes to draw on; by default a new figure of its own.
     component : int, optional
@@ -115,10 +115,10 @@ class EnclosureFigure:
         ----------
         result : dstoolkit.filters.FilterResult
             Another run of the filter.
-        truth : array_like, shape (K,) or (K, d)
-            Its true states.
-        readings : array_like, shape (K,), optional
-            Its readings (only for a figure built with readings).
+        truth : array_like
+            Shape (K,) or (K, d): its true states.
+        readings : array_like, optional
+            Shape (K,): its readings (only for a figure built with readings).
         title : str, optional
             Title of the axes.
 
@@ -177,10 +177,10 @@ def plot_enclosure(
     ----------
     result : dstoolkit.filters.FilterResult
         A filter run with ``lower`` and ``upper``, shape (K, d).
-    truth : array_like, shape (K,) or (K, d)
-        The true state per step.
-    readings : array_like, shape (K,), optional
-        The readings, drawn as points.
+    truth : array_like
+        Shape (K,) or (K, d): the true state per step.
+    readings : array_like, optional
+        Shape (K,): the readings, drawn as points.
     ax : matplotlib.axes.Axes, optional
         Axes to draw on; by default a new figure of its own.
     component : int, optional
@@ -219,11 +219,11 @@ class FilterErrorsFigure:
     ----------
     result : dstoolkit.filters.FilterResult
         A run of a scalar filter.
-    truth : array_like, shape (K,)
-        The true state per step.
-    readings : array_like, shape (K,)
-        The readings.
-    axes : sequence of two matplotlib.axes.Axes, optional
+    truth : array_like
+        Shape (K,): the true state per step.
+    readings : array_like
+        Shape (K,): the readings.
+    axes : collections.abc.Sequence, optional
         Axes to draw on (top, bottom); by default a new figure.
     title : str, optional
         Title of the axes.
@@ -283,10 +283,10 @@ class FilterErrorsFigure:
         ----------
         result : dstoolkit.filters.FilterResult
             Another run of a scalar filter.
-        truth : array_like, shape (K,)
-            Its true states.
-        readings : array_like, shape (K,)
-            Its readings.
+        truth : array_like
+            Shape (K,): its true states.
+        readings : array_like
+            Shape (K,): its readings.
         title : str, optional
             Written above the legend.
 
@@ -348,11 +348,11 @@ def plot_filter_errors(
     ----------
     result : dstoolkit.filters.FilterResult
         A run of a scalar filter.
-    truth : array_like, shape (K,)
-        The true state per step.
-    readings : array_like, shape (K,)
-        The readings.
-    axes : sequence of two matplotlib.axes.Axes, optional
+    truth : array_like
+        Shape (K,): the true state per step.
+    readings : array_like
+        Shape (K,): the readings.
+    axes : collections.abc.Sequence, optional
         Axes to draw on (top, bottom); by default a new figure.
     title : str, optional
         Title of the axes.

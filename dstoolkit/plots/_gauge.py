@@ -182,8 +182,8 @@ def plot_resonances(
         The resonances detected in one recording.
     ax : matplotlib.axes.Axes, optional
         Axes to draw on; by default a new figure of its own.
-    true_frequencies : array_like, shape (n,), optional
-        The resonances the model expects, n c/(2L) (Hz).
+    true_frequencies : array_like, optional
+        Shape (n,): the resonances the model expects, n c/(2L) (Hz).
     title : str, optional
         Title of the axes.
 

@@ -63,8 +63,9 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
 
     Parameters
     ----------
-    errors : mapping of str to numpy.ndarray, shape (runs, K) or (K,)
-        Method (or variant) name to its absolute errors (unit ``unit``).
+    errors : collections.abc.Mapping
+        Method (or variant) name to its absolute errors (unit ``unit``), shape (runs, K)
+        or (K,).
     ax : matplotlib.axes.Axes, optional
         Axes to draw on; by default a new figure of its own.
     unit : str, optional
@@ -255,7 +256,7 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
 
     Parameters
     ----------
-    study : mapping of float to dstoolkit.studies.MismatchResult
+    study : collections.abc.Mapping
         Scale factor to the result of :func:`dstoolkit.studies.bound_scale_study` there.
     ax : matplotlib.axes.Axes, optional
         Axes to draw on; by default a new figure of its own.
@@ -309,7 +310,7 @@ def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
 
     Parameters
     ----------
-    studies : sequence of dstoolkit.studies.OrderRuleStudy
+    studies : collections.abc.Sequence
         One result of :func:`dstoolkit.studies.order_rule_study` per panel.
 
     Returns
