@@ -240,18 +240,20 @@ def test_every_image_has_a_written_alt(chromium: object, site: str, page_name: s
 @pytest.mark.parametrize("page_name", [p for p in toc_pages()
                                        if (ROOT / f"{p}.md").is_file()])
 def test_boxes_that_scroll_take_the_keyboard_focus_at_320_px(chromium: object, site: str,
-                                                            toc_page: str) -> None:
+                                                            page_name: str) -> None:
     """At 320 CSS px, code, tables, outputs and formulas that scroll inside their own box
     can be scrolled with the keyboard: each is a named Tab stop (axe's
     scrollable-region-focusable finds nothing)."""
-    report = _report(chromium, site, toc_page, "light")
-    assert not report["scroll_boxes"], f"{toc_page}: {report['scroll_boxes']}"
+    report = _report(chromium, site, page_name, "light")
+    assert not report["scroll_boxes"], f"{page_name}: {report['scroll_boxes']}"
     unnamed = [box for box in report["scrolling"]
                if box["tabindex"] == "0" and not box["name"]
                and not box["tag"].startswith(("INPUT", "SELECT", "TEXTAREA"))]
-    assert not unnamed, f"{toc_page}: boxes that scroll without a name: {unnamed[:5]}"
+    assert not unnamed, f"{page_name}: boxes that scroll without a name: {unnamed[:5]}"
 
 
+@pytest.mark.parametrize("page_name", [p for p in toc_pages()
+                                       if (ROOT / f"{p}.md").is_file()])
 def test_no_sideways_scroll_at_320_px(chromium: object, site: str, page_name: str) -> None:
     widths = _report(chromium, site, page_name, "light")["widths"]
     assert widths["page"] <= widths["view"], f"{page_name} scrolls sideways at 320 px: {widths}"
