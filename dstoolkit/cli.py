@@ -16,9 +16,9 @@ from types import FrameType
 from typing import TYPE_CHECKING
 
 from dstoolkit.errors import DstoolkitError, MissingExtraError
-from dstoolkit.evidence._limits import check_memory
 from dstoolkit.studies import METHODS, run_table3
-from dstoolkit.studies._output import (
+from dstoolkit.utils.budget import check_memory
+from dstoolkit.utils.outputs import (
     atomic_write,
     check_outputs,
     figure_tag,

@@ -170,7 +170,8 @@ def course_notebook(src: sheets.Source, number: int, title: str, labels: list[st
             order += 1
             written = 0
             text, found = _split_written(block.text)
-            raw.append(("markdown", f"## Exercise {number}.{order}\n\n{text}",
+            raw.append(("markdown", f"{sheets.exercise_heading(src.stem, number, order, label)}"
+                                    f"\n\n{text}",
                         _meta(unique(f"{label}-statement"), locked=True)))
             for _ in range(found):
                 written += 1

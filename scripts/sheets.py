@@ -47,7 +47,13 @@ KINDS = ("coding", "proof", "prediction", "explanation", "substitution")
 MARKER = re.compile(r"^%% (setup|exercise|md|code|stub|answer|check|explore|solution)\b ?(.*)$")
 CHECK = re.compile(r'check\("([a-z]+\.[a-z0-9-]+)",\s*(\w+)\)')
 ASSIGN = re.compile(r"^(\w+) = \.\.\.[ \t]*(?:#.*)?$", re.MULTILINE)
-EXERCISE_BLOCK = re.compile(r"^(`{3,}|:{3,})\{exercise\}[^\n]*\n:label: ([\w-]+)", re.MULTILINE)
+EXERCISE_BLOCK = re.compile(r"^(`{3,}|:{3,})\{exercise\}[ \t]*(?P<caption>[^\n]*)\n"
+                            r":label: (?P<label>[\w-]+)", re.MULTILINE)
+#: What a reader sees of an exercise: its kind and a difficulty from 1 to 3, written once, as
+#: the title of the chapter's ``{exercise}`` (the site and the PDF show it after the number),
+#: and repeated from there in the sheets' headings.
+SHOWN_KINDS = ("Compute", "Code", "Predict", "Proof", "Explain", "Exam")
+CAPTION = re.compile(rf"^({'|'.join(SHOWN_KINDS)}), difficulty ([1-3]) of 3$")
 STUB_BODY = '    raise NotImplementedError("write the body of this function")'
 #: First line of every check cell: a check run before the setup cell says what to do.
 SETUP_GUARD = 'if "check" not in dir(): raise RuntimeError("run the setup cell first")'
@@ -71,7 +77,27 @@ def chapter_numbers(toc_file: Path = ROOT / "_toc.yml") -> dict[str, int]:
 
 def chapter_exercises(chapter: Path) -> list[str]:
     """The labels of the chapter's ``{exercise}`` blocks, in order."""
-    return [m.group(2) for m in EXERCISE_BLOCK.finditer(chapter.read_text(encoding="utf-8"))]
+    return [m.group("label")
+            for m in EXERCISE_BLOCK.finditer(chapter.read_text(encoding="utf-8"))]
+
+
+def chapter_captions(chapter: Path) -> dict[str, str]:
+    """{label: caption} of the chapter's ``{exercise}`` blocks, e.g. "Proof, difficulty 2 of
+    3"; a block whose title is not such a caption is an error."""
+    out = {}
+    for m in EXERCISE_BLOCK.finditer(chapter.read_text(encoding="utf-8")):
+        if not CAPTION.match(m.group("caption")):
+            raise ValueError(f"{chapter.name}: exercise {m.group('label')} has the title "
+                             f"{m.group('caption')!r}; write its kind ({', '.join(SHOWN_KINDS)}) "
+                             f"and difficulty, e.g. {{exercise}} Proof, difficulty 2 of 3")
+        out[m.group("label")] = m.group("caption")
+    return out
+
+
+def exercise_heading(stem: str, number: int, order: int, label: str) -> str:
+    """The heading of Exercise ``number.order`` in a sheet, with the book's caption."""
+    caption = chapter_captions(ROOT / "book" / f"{stem}.md")[label]
+    return f"## Exercise {number}.{order} ({caption})"
 
 
 def chapter_title(chapter: Path) -> str:
@@ -268,7 +294,8 @@ def build(src: Source, number: int, title: str, labels: list[str], teacher: bool
                 raise ValueError(f"{src.stem}: exercise {label} is number {order + 1} in the "
                                  f"sheet but the chapter's exercises are {labels}")
             order += 1
-            raw.append(("markdown", f"## Exercise {number}.{order}\n\n{text}",
+            heading = exercise_heading(src.stem, number, order, label)
+            raw.append(("markdown", f"{heading}\n\n{text}",
                         {"dstoolkit": {"exercise": label, "kind": kind}}))
             continue
         if block.kind in ("answer", "solution") and not teacher:

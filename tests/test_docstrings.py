@@ -25,6 +25,9 @@ from numpydoc.validate import validate
 
 PACKAGES = (
     "dstoolkit.errors",
+    "dstoolkit.utils.checks",
+    "dstoolkit.utils.budget",
+    "dstoolkit.utils.outputs",
     "dstoolkit.evidence",
     "dstoolkit.filters",
     "dstoolkit.gauge",

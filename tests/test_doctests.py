@@ -1,7 +1,8 @@
-"""The examples in the docstrings of the core run, and give what they show (doctest).
+"""The examples in the docstrings run, and give what they show (doctest).
 
-Every module of the core (errors, evidence, filters, gauge, studies) and the command line
-is searched; the main public functions must carry an example.
+Every module of every layer (errors, utils, evidence, filters, gauge, studies, plots, audio,
+teaching) and the command line is searched; the main public functions must carry an example
+(``tests/test_docstrings.py`` asks it of every exported function and class).
 """
 
 from __future__ import annotations
@@ -12,19 +13,28 @@ import pkgutil
 
 import pytest
 
-CORE = ("dstoolkit.evidence", "dstoolkit.filters", "dstoolkit.gauge", "dstoolkit.studies")
+LAYERS = (
+    "dstoolkit.utils",
+    "dstoolkit.evidence",
+    "dstoolkit.filters",
+    "dstoolkit.gauge",
+    "dstoolkit.studies",
+    "dstoolkit.plots",
+    "dstoolkit.audio",
+    "dstoolkit.teaching",
+)
 
 
-def _core_modules() -> list[str]:
+def _modules() -> list[str]:
     names = ["dstoolkit", "dstoolkit.errors", "dstoolkit.cli"]
-    for package in CORE:
+    for package in LAYERS:
         names.append(package)
         path = importlib.import_module(package).__path__
         names += [f"{package}.{info.name}" for info in pkgutil.iter_modules(path)]
     return names
 
 
-@pytest.mark.parametrize("name", _core_modules())
+@pytest.mark.parametrize("name", _modules())
 def test_docstring_examples(name: str) -> None:
     module = importlib.import_module(name)
     result = doctest.testmod(module, optionflags=doctest.ELLIPSIS, report=False)

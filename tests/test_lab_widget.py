@@ -9,7 +9,7 @@ temperature with a right thermometer changes c by 0.606 m/s per °C and not the 
 settings print the toolkit's message (clipping, too few resonances) instead of a level.
 
 In-process, with sounddevice imitated: the device pickers list what PortAudio sees, and a
-Record with devices calls dstoolkit.audio._measurement.measure with them (nothing is played).
+Record with devices calls dstoolkit.audio.measure with them (nothing is played).
 """
 
 from __future__ import annotations
@@ -22,11 +22,11 @@ import numpy as np
 import pytest
 from conftest import printed_json
 
+import dstoolkit.audio as audio
 from dstoolkit.audio import RecordingMetadata, WavRecording
-from dstoolkit.audio import _devices as audio
-from dstoolkit.audio import _measurement as measurement
 from dstoolkit.errors import AudioUnavailableError
 from dstoolkit.gauge import TubeSetup
+from dstoolkit.studies import METHODS
 from dstoolkit.teaching import (
     VIRTUAL,
     VIRTUAL_LABEL,
@@ -96,7 +96,7 @@ def test_first_state_is_a_virtual_measurement(states: list[dict]) -> None:
     assert abs(first["level (m)"] - 2.5) < 0.01 and first["true level (m)"] == 2.5
     assert first["resonances"] == 20 and first["missed"] == 0
     assert 50.0 <= first["latency (ms)"] <= 200.0
-    assert set(first) >= {f"{m} (m)" for m in measurement.METHODS}
+    assert set(first) >= {f"{m} (m)" for m in METHODS}
     assert f"L = {first['level (m)']:.4f} m" in first["readout"]
     assert "true 2.5 m" in first["title"]
     assert first["measurements"] == 1 and first["button"] == ["● Record", False]
@@ -166,9 +166,9 @@ def fake_audio(monkeypatch: pytest.MonkeyPatch) -> list[dict]:
     def fake_measure(temperature_c, **kwargs):
         calls.append({"temperature_c": temperature_c, **kwargs})
         tube = kwargs["virtual_tube"] or TubeSetup(level_m=3.0, temperature_c=temperature_c)
-        return measurement.analyze(measurement.simulate_measurement(tube))
+        return audio.analyze(audio.simulate_measurement(tube))
 
-    monkeypatch.setattr(measurement, "measure", fake_measure)
+    monkeypatch.setattr(audio, "measure", fake_measure)
     return calls
 
 
@@ -210,7 +210,7 @@ def test_an_audio_failure_is_shown_not_raised(fake_audio, monkeypatch) -> None:
     def broken(*args, **kwargs):
         raise AudioUnavailableError("PortAudio failed to play and record: unplugged")
 
-    monkeypatch.setattr(measurement, "measure", broken)
+    monkeypatch.setattr(audio, "measure", broken)
     station = LabWidget(record_now=False)
     station.controls["input"].value = 3
     station.controls["output"].value = 5
@@ -255,7 +255,7 @@ def test_lab_measurement_with_a_thermometer_error() -> None:
 
 
 def test_calibration_figure_needs_the_calibration_metadata() -> None:
-    rec = measurement.simulate_measurement(TubeSetup(level_m=2.0), latency_s=0.08)
+    rec = audio.simulate_measurement(TubeSetup(level_m=2.0), latency_s=0.08)
     fig = plot_calibration(rec)
     assert "τ = 80.00 ms" in [t.get_text() for t in fig.axes[2].get_legend().get_texts()]
     bare = WavRecording(rec.samples, rec.samplerate, RecordingMetadata())

@@ -13,8 +13,8 @@ from dstoolkit import cli
 from dstoolkit.audio import _measurement, save_recording, simulate_measurement
 from dstoolkit.errors import OutputExistsError, OutputPathError
 from dstoolkit.gauge import TubeSetup
-from dstoolkit.studies import _output
-from dstoolkit.studies._output import atomic_write, check_outputs, figure_tag, made_by
+from dstoolkit.utils import outputs as _output
+from dstoolkit.utils.outputs import atomic_write, check_outputs, figure_tag, made_by
 
 
 @pytest.fixture(scope="module")

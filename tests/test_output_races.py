@@ -14,7 +14,7 @@ from dstoolkit import cli
 from dstoolkit.audio import save_recording, simulate_measurement
 from dstoolkit.errors import InvalidInputError, OutputExistsError, OutputPathError
 from dstoolkit.gauge import TubeSetup
-from dstoolkit.studies._output import atomic_write, check_outputs, output_run
+from dstoolkit.utils.outputs import atomic_write, check_outputs, output_run
 
 TABLE3_SMALL = ["--runs", "1", "--methods", "direct", "--quiet"]
 SOMEONE_ELSES = "made by someone else meanwhile\n"

@@ -49,7 +49,8 @@ from dstoolkit.errors import (
     InvalidInputError,
     NoAudioDeviceError,
 )
-from dstoolkit.gauge._latency import LatencyEstimate, as_signal, estimate_latency
+from dstoolkit.gauge import LatencyEstimate, estimate_latency
+from dstoolkit.utils.checks import as_signal
 
 #: Silence played before and after a signal, in seconds, at least. The input stream may
 #: start a little after the output stream and the delay τ may reach a few hundred ms: the

@@ -49,21 +49,29 @@ from dstoolkit.errors import (
     DstoolkitError,
     InvalidInputError,
 )
-from dstoolkit.evidence._limits import check_memory
-from dstoolkit.gauge._acoustics import SpeedModel, speed_of_sound
-from dstoolkit.gauge._level import ResonanceSeriesFit, fit_resonance_series
-from dstoolkit.gauge._resonance import DetectionResult, detect_resonances
-from dstoolkit.gauge._sweep import PAPER_SWEEP, LinearSweep
-from dstoolkit.gauge._tube import Recording, TubeSetup
-from dstoolkit.gauge._virtual_tube import DEFAULT_AMPLITUDE, virtual_tube_signal
-from dstoolkit.studies._experiments import (
+from dstoolkit.gauge import (
+    DEFAULT_AMPLITUDE,
+    PAPER_SWEEP,
+    DetectionResult,
+    LinearSweep,
+    Recording,
+    ResonanceSeriesFit,
+    SpeedModel,
+    TubeSetup,
+    detect_resonances,
+    fit_resonance_series,
+    speed_of_sound,
+    virtual_tube_signal,
+)
+from dstoolkit.studies import (
     METHODS,
     CaseReadings,
     estimate_levels,
     estimate_orders,
     paper_filters,
 )
-from dstoolkit.studies._output import atomic_write, check_outputs, figure_tag, made_by
+from dstoolkit.utils.budget import check_memory
+from dstoolkit.utils.outputs import atomic_write, check_outputs, figure_tag, made_by
 
 from ._recording_io import (
     RecordingFileError,
@@ -241,7 +249,7 @@ class Analysis:
         """The recording with its envelope and peaks (Fig. 6) above the resonances (Fig. 7)."""
         from matplotlib.figure import Figure
 
-        from dstoolkit.plots._gauge import plot_recording, plot_resonances
+        from dstoolkit.plots import plot_recording, plot_resonances
 
         fig = Figure(figsize=(8.0, 6.4), layout="constrained")
         top, bottom = fig.subplots(2, 1)

@@ -34,7 +34,7 @@ from scipy.io import wavfile
 
 from dstoolkit._reprs import short_repr
 from dstoolkit.errors import RecordingFileError, RecordingNotFoundError
-from dstoolkit.studies._output import atomic_write, check_outputs
+from dstoolkit.utils.outputs import atomic_write, check_outputs
 
 METADATA_VERSION = 1
 _INT_SCALE = {np.dtype(np.int16): 32768.0, np.dtype(np.int32): 2147483648.0}

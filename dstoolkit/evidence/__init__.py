@@ -12,6 +12,11 @@ from dstoolkit.errors import (
     TotalConflictError,
     VertexMethodWarning,
 )
+from dstoolkit.utils.budget import (
+    DEFAULT_MEMORY_BUDGET,
+    memory_budget,
+    set_memory_budget,
+)
 
 from ._base import (
     Evidence,
@@ -69,11 +74,6 @@ from ._finite_frame import (
 )
 from ._intervals import (
     IntervalEvidence,
-)
-from ._limits import (
-    DEFAULT_MEMORY_BUDGET,
-    memory_budget,
-    set_memory_budget,
 )
 from ._possibility import (
     TriangularBounds,

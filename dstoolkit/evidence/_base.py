@@ -16,8 +16,7 @@ from typing import Any, Self
 import numpy as np
 
 from dstoolkit.errors import EvidenceError
-
-from ._checks import real_array
+from dstoolkit.utils.checks import real_array
 
 MASS_TOLERANCE = 1e-9
 

@@ -18,10 +18,10 @@ import numpy as np
 
 from dstoolkit._reprs import short_repr
 from dstoolkit.errors import EvidenceError, TotalConflictError
+from dstoolkit.utils.budget import check_memory
+from dstoolkit.utils.checks import real_number
 
 from ._base import Evidence
-from ._checks import real_number
-from ._limits import check_memory
 
 E = TypeVar("E", bound=Evidence)
 #: m(D) in the energy of the intersection (eq. A3): the smaller mass, or one side's.

@@ -30,9 +30,9 @@ from typing import Any, Literal
 import numpy as np
 
 from dstoolkit.errors import EvidenceError, NotMonotoneError, VertexMethodWarning
+from dstoolkit.utils.budget import check_memory
 
 from ._intervals import IntervalEvidence
-from ._limits import check_memory
 
 #: How the image of a box is found (see :func:`image`).
 ImageMethod = Literal["auto", "vertex", "monotone", "subdivision"]

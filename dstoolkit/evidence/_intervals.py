@@ -11,10 +11,10 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.errors import EvidenceError
+from dstoolkit.utils.checks import real_array
 
 from ._base import Evidence, validate_masses
 from ._boxes import Boxes, hull, pignistic_expectation
-from ._checks import real_array
 
 
 def _as_box_array(values: Any, name: str) -> np.ndarray:

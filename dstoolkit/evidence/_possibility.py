@@ -15,8 +15,8 @@ import numpy as np
 
 from dstoolkit._reprs import short_repr
 from dstoolkit.errors import EvidenceError
+from dstoolkit.utils.checks import real_array, real_number, whole_number
 
-from ._checks import real_array, real_number, whole_number
 from ._combination import discount
 from ._intervals import IntervalEvidence
 

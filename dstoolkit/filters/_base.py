@@ -32,8 +32,8 @@ from typing import Any, ClassVar, Generic, Literal, NamedTuple, TypeVar
 import numpy as np
 
 from dstoolkit.errors import EvidenceError, require_extra
-from dstoolkit.evidence._checks import real_array, real_number, whole_number
-from dstoolkit.evidence._limits import rows_per_chunk
+from dstoolkit.utils.budget import rows_per_chunk
+from dstoolkit.utils.checks import real_array, real_number, whole_number
 
 from ._model import (
     BatchResult,

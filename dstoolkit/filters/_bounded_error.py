@@ -29,7 +29,7 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 
 from dstoolkit.errors import EvidenceError, InconsistentDataError
-from dstoolkit.evidence._extension import box_image
+from dstoolkit.evidence import box_image
 
 from ._base import Block, Filter, FilterState, KernelChoice
 from ._model import (

@@ -23,8 +23,7 @@ from collections.abc import Callable
 import numpy as np
 
 from dstoolkit.errors import require_extra
-from dstoolkit.evidence._boxes import Boxes
-from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
+from dstoolkit.evidence import CONFLICT_TOLERANCE, Boxes
 
 from . import _nassreddine as nassreddine
 

@@ -46,27 +46,22 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 
 from dstoolkit.errors import EvidenceError, TotalConflictError
-from dstoolkit.evidence import _batch_kernels as bk
-from dstoolkit.evidence._batch_kernels import Boxes
-from dstoolkit.evidence._checks import real_array
-from dstoolkit.evidence._combination import (
+from dstoolkit.evidence import (
+    IMAGE_METHODS,
     MASS_RULES,
-    THETA_RULES,
+    Boxes,
+    ImageMethod,
+    IntervalEvidence,
     MassRule,
-    ThetaRule,
     conflict,
     decorrelate,
     dempster,
 )
-from dstoolkit.evidence._extension import (
-    IMAGE_METHODS,
-    ImageMethod,
-    parse_signs,
-    resolve_method,
-    state_signs,
-)
-from dstoolkit.evidence._intervals import IntervalEvidence
-from dstoolkit.evidence._limits import check_memory
+from dstoolkit.evidence import _batch_kernels as bk
+from dstoolkit.evidence._combination import THETA_RULES, ThetaRule
+from dstoolkit.evidence._extension import parse_signs, resolve_method, state_signs
+from dstoolkit.utils.budget import check_memory
+from dstoolkit.utils.checks import real_array
 
 from ._base import Block, Filter, FilterState, KernelChoice
 from ._dependent_arrays import StepArrays, map_back, observe, predict

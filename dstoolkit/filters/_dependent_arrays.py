@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from dstoolkit.errors import EvidenceError, NotMonotoneError
+from dstoolkit.evidence import CONFLICT_TOLERANCE, Boxes
 from dstoolkit.evidence._batch_kernels import (
     DependenceKernel,
     ProductKernel,
@@ -42,8 +43,6 @@ from dstoolkit.evidence._batch_kernels import (
     least,
     per_run,
 )
-from dstoolkit.evidence._boxes import Boxes
-from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
 from dstoolkit.evidence._compiled import fuse_dependent
 from dstoolkit.evidence._extension import CHECK_RTOL, image_boxes
 

@@ -18,9 +18,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from dstoolkit.errors import EvidenceError
-from dstoolkit.evidence._checks import real_array
-from dstoolkit.evidence._intervals import IntervalEvidence
-from dstoolkit.evidence._possibility import triangular_evidence
+from dstoolkit.evidence import IntervalEvidence, triangular_evidence
+from dstoolkit.utils.checks import real_array
 
 ArrayFn = Callable[..., np.ndarray]
 #: ``g_inverse(lo, hi, x_lo, x_hi) -> (lo, hi)``: the states in [x_lo, x_hi] whose image meets
@@ -157,7 +156,7 @@ class BoundedNoise:
         ]
         if self.dim == 1:
             return parts[0]
-        from dstoolkit.evidence._extension import cartesian_product
+        from dstoolkit.evidence import cartesian_product
 
         return cartesian_product(parts)
 

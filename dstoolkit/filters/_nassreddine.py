@@ -64,10 +64,15 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 
 from dstoolkit.errors import EvidenceError, TotalConflictError, WorkLimitError
-from dstoolkit.evidence._boxes import Boxes, hull, pignistic_expectation, row_sum
-from dstoolkit.evidence._combination import CONFLICT_TOLERANCE
-from dstoolkit.evidence._extension import box_image
-from dstoolkit.evidence._intervals import IntervalEvidence
+from dstoolkit.evidence import (
+    CONFLICT_TOLERANCE,
+    Boxes,
+    IntervalEvidence,
+    box_image,
+    hull,
+    pignistic_expectation,
+)
+from dstoolkit.evidence._boxes import row_sum
 
 from ._base import Block, Filter, FilterState, KernelChoice
 from ._model import (

@@ -21,7 +21,7 @@ from typing import Any, Literal
 import numpy as np
 
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.evidence._checks import real_array
+from dstoolkit.utils.checks import real_array
 
 #: The speed-of-sound models of :func:`speed_of_sound`.
 SpeedModel = Literal["paper", "ideal_gas", "cramer"]

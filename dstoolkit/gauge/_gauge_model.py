@@ -20,9 +20,9 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.errors import EvidenceError
-from dstoolkit.evidence._checks import real_array, whole_number
-from dstoolkit.evidence._limits import check_memory
-from dstoolkit.filters._model import BoundedNoise, ScalarMaps, StateSpaceModel
+from dstoolkit.filters import BoundedNoise, ScalarMaps, StateSpaceModel
+from dstoolkit.utils.budget import check_memory
+from dstoolkit.utils.checks import real_array, whole_number
 
 from ._acoustics import DEFAULT_BAND, fundamental_frequency, resonance_frequencies, speed_of_sound
 from ._level import (

@@ -25,6 +25,7 @@ from scipy import fft as sp_fft
 from scipy import signal
 
 from dstoolkit.errors import DetectionError
+from dstoolkit.utils.checks import as_signal
 
 #: Fraction of the strongest arrival that counts as an arrival. A direct sound followed by
 #: an echo 1 + R_t ≤ 2 times louder still reaches half of the maximum; 0.4 leaves room.
@@ -55,23 +56,6 @@ class LatencyEstimate:
     def seconds(self) -> float:
         """The latency τ in seconds."""
         return self.lag / self.samplerate
-
-
-def as_signal(x: ArrayLike, what: str) -> np.ndarray:
-    """A 1-D finite float array (an (n, 1) column is accepted)."""
-    a = np.asarray(x, dtype=float)
-    if a.ndim == 2 and a.shape[1] == 1:
-        a = a[:, 0]
-    if a.ndim != 1:
-        raise DetectionError(
-            f"{what} must be one channel (a 1-D array), got shape {a.shape}; pick a channel, "
-            "e.g. recording[:, 0]"
-        )
-    if a.size == 0:
-        raise DetectionError(f"{what} is empty")
-    if not np.all(np.isfinite(a)):
-        raise DetectionError(f"{what} contains NaN or infinite samples")
-    return a
 
 
 def _energy(x: np.ndarray) -> float:

@@ -21,8 +21,8 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.evidence._checks import real_array, whole_number
-from dstoolkit.evidence._limits import check_memory
+from dstoolkit.utils.budget import check_memory
+from dstoolkit.utils.checks import real_array, whole_number
 
 #: Largest order n_1 of the first resonance that :func:`fit_resonance_series` tries.
 MAX_FIRST_ORDER = 100_000

@@ -24,8 +24,8 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.evidence._intervals import IntervalEvidence
-from dstoolkit.evidence._possibility import (
+from dstoolkit.evidence import (
+    IntervalEvidence,
     TriangularBounds,
     possibility,
     triangular_evidence,

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.evidence._checks import real_number
+from dstoolkit.utils.checks import real_number
 
 
 @dataclass(frozen=True)

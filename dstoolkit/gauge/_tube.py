@@ -30,8 +30,8 @@ import numpy as np
 
 from dstoolkit._reprs import short_repr
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.evidence._checks import real_number
-from dstoolkit.evidence._limits import check_memory
+from dstoolkit.utils.budget import check_memory
+from dstoolkit.utils.checks import real_number
 
 from ._acoustics import (
     DEFAULT_BAND,

@@ -42,11 +42,17 @@ from dstoolkit.filters import (
     StateSpaceModel,
     simulate_lotka_volterra,
 )
-from dstoolkit.gauge._acoustics import resonance_frequencies, speed_of_sound
-from dstoolkit.gauge._gauge_model import GAUGE_OBS_NOISE, GAUGE_STATE_NOISE, gauge_state_space_model
-from dstoolkit.gauge._level import fit_resonance_series, level_from_resonance
-from dstoolkit.gauge._sweep import PAPER_SWEEP
-from dstoolkit.gauge._tube import typical_conditions
+from dstoolkit.gauge import (
+    GAUGE_OBS_NOISE,
+    GAUGE_STATE_NOISE,
+    PAPER_SWEEP,
+    fit_resonance_series,
+    gauge_state_space_model,
+    level_from_resonance,
+    resonance_frequencies,
+    speed_of_sound,
+    typical_conditions,
+)
 
 from ._experiments import (
     CaseReadings,

@@ -32,19 +32,24 @@ from dstoolkit.filters import (
     NassreddineFilter,
     ParticleFilter,
 )
-from dstoolkit.gauge._acoustics import DEFAULT_BAND, speed_of_sound
-from dstoolkit.gauge._gauge_model import PAPER_THETA, gauge_state_space_model, simulate_gauge
-from dstoolkit.gauge._level import fit_resonance_series, level_from_resonance, orders_eq43
-from dstoolkit.gauge._resonance import detect_resonances
-from dstoolkit.gauge._sweep import PAPER_SWEEP
-from dstoolkit.gauge._tube import (
+from dstoolkit.gauge import (
+    DEFAULT_BAND,
+    PAPER_SWEEP,
+    PAPER_THETA,
     RecordingConditions,
     TubeSetup,
+    detect_resonances,
+    fit_resonance_series,
+    gauge_state_space_model,
+    level_from_resonance,
+    orders_eq43,
+    simulate_gauge,
+    speed_of_sound,
     synthesize_recording,
     typical_conditions,
 )
+from dstoolkit.utils.outputs import atomic_write
 
-from ._output import atomic_write
 from ._paper_results import TABLE3_CASES, TABLE3_MEAN_ABS_ERROR_M
 
 #: How readings are simulated: from the paper's noise distributions, or by detecting the

@@ -23,7 +23,7 @@ def gauge_case(level_m: float = 9.6, temperature_c: float = 23.9, seed: int = 0)
 
 @functools.lru_cache(maxsize=32)
 def _gauge_case(level_m: float, temperature_c: float, seed: int) -> Any:
-    from dstoolkit.gauge._gauge_model import simulate_gauge
+    from dstoolkit.gauge import simulate_gauge
 
     return simulate_gauge(level_m, temperature_c, seed=seed)
 
@@ -52,8 +52,8 @@ def filter_case(
     the first readings only; ``record`` keeps every step's evidence.
     Returns ``(sequence, orders n_1..n_{K−1}, FilterResult)``.
     """
-    from dstoolkit.filters._dependent import DependentEvidenceFilter
-    from dstoolkit.gauge._gauge_model import gauge_state_space_model
+    from dstoolkit.filters import DependentEvidenceFilter
+    from dstoolkit.gauge import gauge_state_space_model
 
     seq = gauge_case(level_m, temperature_c, seed)
     if orders not in ORDER_SOURCES.values():

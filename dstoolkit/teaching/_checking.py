@@ -31,8 +31,7 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.evidence._finite_frame import MassFunction
-from dstoolkit.evidence._intervals import IntervalEvidence
+from dstoolkit.evidence import IntervalEvidence, MassFunction
 
 from ._limits import describe, too_big
 

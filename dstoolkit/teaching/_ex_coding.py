@@ -14,15 +14,20 @@ from typing import Any
 
 import numpy as np
 
-from dstoolkit.evidence._combination import combine_dependent, dempster, dependence, discount
-from dstoolkit.evidence._combination import energy as _energy
-from dstoolkit.evidence._extension import cartesian_product, image
-from dstoolkit.evidence._finite_frame import MassFunction
-from dstoolkit.evidence._intervals import IntervalEvidence
-from dstoolkit.evidence._possibility import triangular_evidence
-from dstoolkit.filters._model import BoundedNoise
-from dstoolkit.gauge._acoustics import resonance_orders, speed_of_sound
-from dstoolkit.gauge._level import level_from_resonance, orders_eq43
+from dstoolkit.evidence import (
+    IntervalEvidence,
+    MassFunction,
+    cartesian_product,
+    combine_dependent,
+    dempster,
+    dependence,
+    discount,
+    image,
+    triangular_evidence,
+)
+from dstoolkit.evidence import energy as _energy
+from dstoolkit.filters import BoundedNoise
+from dstoolkit.gauge import level_from_resonance, orders_eq43, resonance_orders, speed_of_sound
 
 from . import _plain_solutions as plain
 from ._coding import Case, coding_exercise, seeded

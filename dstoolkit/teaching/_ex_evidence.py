@@ -6,19 +6,24 @@ from __future__ import annotations
 import numpy as np
 
 from dstoolkit.errors import TotalConflictError
-from dstoolkit.evidence import APPENDIX_A2, PAPER_A6, PAPER_EN1, appendix_pair
-from dstoolkit.evidence._combination import (
+from dstoolkit.evidence import (
+    APPENDIX_A2,
+    PAPER_A6,
+    PAPER_EN1,
+    IntervalEvidence,
+    MassFunction,
+    alpha_cuts,
+    appendix_pair,
     combine_dependent,
     conflict,
     decorrelate,
+    default_theta,
     dempster,
     dependence,
     energy,
     joint_energy,
+    triangular_evidence,
 )
-from dstoolkit.evidence._finite_frame import MassFunction
-from dstoolkit.evidence._intervals import IntervalEvidence
-from dstoolkit.evidence._possibility import alpha_cuts, default_theta, triangular_evidence
 
 from ._checking import exercise
 
@@ -347,7 +352,7 @@ def _square(x: np.ndarray) -> np.ndarray:
 
 def folded_image(merge: bool = True) -> IntervalEvidence:
     """The image of FOLDED_X through x² (subdivision: one focal element straddles 0)."""
-    from dstoolkit.evidence._extension import image
+    from dstoolkit.evidence import image
 
     return image(IntervalEvidence.from_pairs(FOLDED_X, merge=False), _square,
                  method="subdivision", merge=merge)
@@ -358,7 +363,7 @@ def folded_image(merge: bool = True) -> IntervalEvidence:
           mistakes=((lambda: (RELATION_X1[1][2] + RELATION_X2[0][2]) / 2,
                      "You averaged the two masses; independent marginals multiply (eq. 16)."),))
 def _() -> float:
-    from dstoolkit.evidence._extension import cartesian_product
+    from dstoolkit.evidence import cartesian_product
 
     rel = cartesian_product([IntervalEvidence.from_pairs(RELATION_X1),
                              IntervalEvidence.from_pairs(RELATION_X2)])
@@ -374,7 +379,7 @@ def _() -> float:
                      "You evaluated f at the lower and upper corners; f decreases in ξ3, so "
                      "v_min takes ξ3's upper end."),))
 def _() -> tuple[float, float]:
-    from dstoolkit.evidence._extension import image
+    from dstoolkit.evidence import image
 
     lo, hi = image((np.array(MONOTONE_BOX[0]), np.array(MONOTONE_BOX[1])), _monotone_f,
                    method="monotone", monotone=MONOTONE_SIGNS)
@@ -387,7 +392,7 @@ def _() -> tuple[float, float]:
                      "That is the vertex method's answer: x² has its minimum inside the box "
                      "(Prop. 1 does not apply)."),))
 def _() -> tuple[float, float]:
-    from dstoolkit.evidence._extension import image
+    from dstoolkit.evidence import image
 
     lo, hi = image(([SQUARE_BOX[0]], [SQUARE_BOX[1]]), _square, method="subdivision")
     return float(lo[0]), float(hi[0])
@@ -418,7 +423,7 @@ def _() -> float:
           mistakes=((lambda: (2 ** COUNT_DIM, 2),
                      "That is per box; the relation has 16 boxes."),))
 def _() -> tuple[int, int]:
-    from dstoolkit.evidence._extension import image
+    from dstoolkit.evidence import image
 
     counts = []
     for method in ("vertex", "monotone"):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from dstoolkit.evidence._possibility import triangular_evidence
+from dstoolkit.evidence import triangular_evidence
 
 from ._checking import exercise
 from ._ex_evidence import STATE_NOISE
@@ -22,7 +22,7 @@ CONFLICT_EPSILON, COUNT_CUTS = 0.1, 5
 
 
 def _gauge_model() -> Any:
-    from dstoolkit.gauge._gauge_model import gauge_state_space_model
+    from dstoolkit.gauge import gauge_state_space_model
 
     return gauge_state_space_model()
 
@@ -36,7 +36,7 @@ def _gauge_model() -> Any:
                      "Do not forget Θ: the discount adds one focal element to each noise "
                      "evidence (eq. 26)."),))
 def _() -> tuple[int, int, int, int]:
-    from dstoolkit.filters._dependent import DependentEvidenceFilter
+    from dstoolkit.filters import DependentEvidenceFilter
 
     noise = DependentEvidenceFilter(p=COUNT_CUTS).noise_evidence(_gauge_model())
     nv, nw = len(noise.state), len(noise.observation)
@@ -44,7 +44,7 @@ def _() -> tuple[int, int, int, int]:
 
 
 def _innermost_prediction(twice: bool = True) -> tuple[float, float]:
-    from dstoolkit.evidence._extension import image
+    from dstoolkit.evidence import image
 
     v = triangular_evidence(*STATE_NOISE)  # innermost cut first (Table 1)
     lo, hi = image(([PREDICT_XHAT + v.lo[0]], [PREDICT_XHAT + v.hi[0]]),

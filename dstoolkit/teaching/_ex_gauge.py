@@ -7,9 +7,15 @@ from typing import Any
 
 import numpy as np
 
-from dstoolkit.gauge._acoustics import fundamental_frequency, resonance_orders, speed_of_sound
-from dstoolkit.gauge._level import level_from_resonance, orders_eq43
-from dstoolkit.gauge._resonance import latency_offset, sweep_rate_offset
+from dstoolkit.gauge import (
+    fundamental_frequency,
+    latency_offset,
+    level_from_resonance,
+    orders_eq43,
+    resonance_orders,
+    speed_of_sound,
+    sweep_rate_offset,
+)
 
 from ._checking import REGISTRY, exercise
 from ._ex_filter import PAPER_Z1
@@ -158,7 +164,7 @@ def _() -> float:
                     (lambda: 1.8412 * _lab_c() / (np.pi * 0.075),
                      "That is the cutoff of the paper's 75 mm tube; this pipe is narrower.")))
 def _() -> float:
-    from dstoolkit.gauge._acoustics import plane_wave_cutoff
+    from dstoolkit.gauge import plane_wave_cutoff
 
     return plane_wave_cutoff(LAB_CUTOFF_DIAMETER, _lab_c())
 
@@ -231,7 +237,7 @@ def _() -> float:
 def improvement_table() -> Any:
     """The Table 3 row of the improvement exercise: 4.6 m, true orders, the paper's filter
     and direct measurement, IMPROVEMENT_RUNS runs from seed IMPROVEMENT_SEED."""
-    from dstoolkit.studies._experiments import run_table3
+    from dstoolkit.studies import run_table3
 
     return run_table3(runs=IMPROVEMENT_RUNS, seed=IMPROVEMENT_SEED, cases=[FIG10_CASE],
                       methods=("dependent_evidence", "direct"), order_rule="true",
@@ -257,7 +263,7 @@ FAILURE_SCALE, FAILURE_RUNS, FAILURE_SEED = 0.75, 20, 0
 
 def _paper_w() -> Any:
     """The paper's observation noise w (Table 2) as the filters take it."""
-    from dstoolkit.gauge._gauge_model import GAUGE_OBS_NOISE
+    from dstoolkit.gauge import GAUGE_OBS_NOISE
 
     return GAUGE_OBS_NOISE
 
@@ -282,8 +288,7 @@ def _() -> float:
 
 def _example_sizes(p: int) -> tuple[int, int]:
     """(focal elements of E_v, of E_w) of the predator–prey example with p cuts."""
-    from dstoolkit.filters._dependent import DependentEvidenceFilter
-    from dstoolkit.filters._example_systems import lotka_volterra
+    from dstoolkit.filters import DependentEvidenceFilter, lotka_volterra
 
     noise = DependentEvidenceFilter(p=p).noise_evidence(lotka_volterra())
     return len(noise.state), len(noise.observation)
@@ -305,8 +310,8 @@ def _() -> int:
           "BoundedErrorFilter(on_inconsistent='raise') on each run, count the runs that raise "
           "InconsistentDataError and divide by the number of runs.")
 def _() -> float:
-    from dstoolkit.gauge._gauge_model import gauge_state_space_model
-    from dstoolkit.studies._estimation import bounded_error_failures, scaled_noise, tracking_data
+    from dstoolkit.gauge import gauge_state_space_model
+    from dstoolkit.studies import bounded_error_failures, scaled_noise, tracking_data
 
     data = tracking_data(*FIG10_CASE, runs=FAILURE_RUNS, seed=FAILURE_SEED)
     model = gauge_state_space_model(scaled_noise(data.state_noise, FAILURE_SCALE),

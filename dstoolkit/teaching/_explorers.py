@@ -67,52 +67,61 @@ from dstoolkit.errors import (
     InvalidInputError,
     NotMonotoneError,
 )
-from dstoolkit.evidence import ZADEH_FRAME, appendix_evidence, yager, zadeh_sources
-from dstoolkit.evidence._combination import (
+from dstoolkit.evidence import (
+    ZADEH_FRAME,
+    MassFunction,
+    appendix_evidence,
     combine_dependent,
     conflict,
+    default_theta,
     dempster,
     dependence,
+    triangular_evidence,
+    yager,
+    zadeh_sources,
 )
-from dstoolkit.evidence._finite_frame import MassFunction
-from dstoolkit.evidence._possibility import default_theta, triangular_evidence
-from dstoolkit.filters import enclosure_summary, random_walk
-from dstoolkit.filters._model import BoundedNoise
-from dstoolkit.gauge._level import (
+from dstoolkit.filters import BoundedNoise, enclosure_summary, random_walk
+from dstoolkit.gauge import (
+    PAPER_SWEEP,
+    DetectionResult,
+    RecordingConditions,
+    TubeSetup,
+    detect_resonances,
     direct_levels,
     fit_resonance_series,
     orders_eq43,
+    spl_to_pa,
+    synthesize_recording,
 )
-from dstoolkit.gauge._resonance import DetectionResult, detect_resonances
-from dstoolkit.gauge._sweep import PAPER_SWEEP
-from dstoolkit.gauge._tube import RecordingConditions, TubeSetup, spl_to_pa, synthesize_recording
 from dstoolkit.plots import (
     EnclosureFigure,
     FilterErrorsFigure,
     FilterStepFigure,
     plot_filter_errors,
 )
-from dstoolkit.plots._evidence import (
+from dstoolkit.plots.artists import (
     BelPlArtists,
     FocalIntervalArtists,
+    KeptFigure,
     MassArtists,
     PboxArtists,
     PossibilityArtists,
+    TextCachingCanvas,
+    animate,
     draw_bel_pl,
     draw_focal_intervals,
     draw_masses,
     draw_pbox,
     draw_possibility,
+    gauge_detection_figure,
     pbox_grid,
     update_bel_pl,
     update_focal_intervals,
+    update_gauge_detection,
     update_masses,
     update_pbox,
     update_possibility,
 )
-from dstoolkit.plots._gauge import gauge_detection_figure, update_gauge_detection
-from dstoolkit.plots._kept import KeptFigure, animate
-from dstoolkit.plots._text_cache import TextCachingCanvas
 from dstoolkit.studies import ORDER_SOURCES, filter_case, gauge_case
 
 from ._lab import (
@@ -768,7 +777,7 @@ def bounded_error_explorer(v_half: float = 0.1, w_half: float = 1.0, steps: int 
     """One simulated random walk (seeded) filtered by the bounded-error filter whose
     noise bounds are the true ones times a factor: too tight → empty boxes or boxes that
     miss the truth; too wide → wide boxes."""
-    from dstoolkit.filters._bounded_error import BoundedErrorFilter
+    from dstoolkit.filters import BoundedErrorFilter
 
     x, z = random_walk(v_half, w_half).simulate([0.0], steps, np.random.default_rng(seed))
     filt = BoundedErrorFilter(on_inconsistent="reset")
@@ -814,7 +823,7 @@ def compare_image_methods(
     """
     import warnings
 
-    from dstoolkit.evidence._extension import image
+    from dstoolkit.evidence import image
 
     lo_a, hi_a = np.atleast_1d(np.asarray(lo, float)), np.atleast_1d(np.asarray(hi, float))
     signs_a = np.broadcast_to(np.asarray(signs, dtype=int), lo_a.shape)
@@ -1308,7 +1317,7 @@ class LabWidget(widgets.VBox):
 
     def refresh_devices(self, _button: Any = None) -> None:
         """Scan the sound devices again (after plugging one in or starting the loopback)."""
-        from dstoolkit.audio import _devices as audio
+        import dstoolkit.audio as audio
 
         try:
             audio.refresh_devices()
@@ -1342,7 +1351,7 @@ class LabWidget(widgets.VBox):
         notes = "".join(f"<p style='color:#b36b00'>{html.escape(n)}</p>" for n in analysis.notes)
         report = (f"<details><summary>full report</summary><pre>"
                   f"{html.escape(analysis.summary())}</pre></details>")
-        from dstoolkit.plots._experiments import STYLE
+        from dstoolkit.plots import STYLE
 
         by_method = {STYLE.get(m, {"label": m})["label"]: v
                      for m, v in analysis.filter_levels.items()}
@@ -1390,7 +1399,7 @@ def estimation_numbers(run: Any) -> dict[str, Any]:
     """What the level-estimation explorer prints for a :class:`~dstoolkit.studies.GaugeRun`:
     for the readings (direct, eq. 32) and each filter, "mean |L̂ − L| mm / mean |x̂ − f| Hz"
     in one entry, and how many orders n_k are wrong."""
-    from dstoolkit.plots._experiments import STYLE
+    from dstoolkit.plots import STYLE
 
     levels = run.levels()
     freq = run.frequency_errors()
@@ -1414,8 +1423,9 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
     which figure. Numbers: ``estimation_numbers(run)``. A frequency-level redraw takes a
     few hundredths of a second, a waveform-level one a few tenths (a recording is
     synthesised and analysed): sliders redraw on release."""
-    from dstoolkit.plots._experiments import plot_estimates, update_estimates
-    from dstoolkit.studies._estimation import gauge_run
+    from dstoolkit.plots import plot_estimates
+    from dstoolkit.plots.artists import update_estimates
+    from dstoolkit.studies import gauge_run
 
     controls = {
         "level": slider("level L (m)", level_m, 1.3, 10.6, 0.1, readout_format=".1f"),
@@ -1463,7 +1473,7 @@ def level_estimation_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
 def mismatch_numbers(result: Any) -> dict[str, Any]:
     """Mean |x̂ − x| (Hz) of each method of a :class:`~dstoolkit.studies.
     MismatchResult`, and the runs in which the strict bounded-error filter failed."""
-    from dstoolkit.plots._experiments import STYLE
+    from dstoolkit.plots import STYLE
 
     out: dict[str, Any] = {f"{STYLE.get(m, {'label': m})['label']} (Hz)": v
                            for m, v in result.mean_errors().items()}
@@ -1481,8 +1491,8 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
     start value (a dropdown too). One redraw filters ``runs`` runs by five methods (20 runs:
     about 0.08 s with the extra ``speed``, 0.11 s without; moving the start value reruns
     only the paper's filter): sliders redraw on release."""
-    from dstoolkit.plots._studies import noise_bounds_figure, update_noise_bounds_figure
-    from dstoolkit.studies._estimation import ALL_FILTERS, noise_mismatch, tracking_data
+    from dstoolkit.plots.artists import noise_bounds_figure, update_noise_bounds_figure
+    from dstoolkit.studies import ALL_FILTERS, noise_mismatch, tracking_data
 
     # the start value moves only the paper's filter: the others are kept per noise bounds
     paper, others = ("dependent_evidence",), tuple(m for m in ALL_FILTERS

@@ -26,15 +26,11 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from scipy import signal
 
-from dstoolkit.audio import _devices as audio
-from dstoolkit.audio import _measurement as measurement
-from dstoolkit.audio._recording_io import WavRecording
+import dstoolkit.audio as audio
+from dstoolkit.audio import WavRecording
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.gauge._acoustics import speed_of_sound
-from dstoolkit.gauge._sweep import PAPER_SWEEP, LinearSweep
-from dstoolkit.gauge._tube import TubeSetup
-from dstoolkit.plots._experiments import STYLE
-from dstoolkit.plots._gauge import GREY, TRUTH_COLOUR
+from dstoolkit.gauge import PAPER_SWEEP, LinearSweep, TubeSetup, speed_of_sound
+from dstoolkit.plots import GREY, STYLE, TRUTH_COLOUR
 
 #: The value of the device pickers that means "no sound card: the virtual tube".
 VIRTUAL = "virtual"
@@ -116,7 +112,7 @@ class LabSettings:
         return float(0.05 + 0.15 * np.random.default_rng(self.seed).random())
 
 
-def lab_measurement(settings: LabSettings) -> measurement.Analysis:
+def lab_measurement(settings: LabSettings) -> audio.Analysis:
     """Measure a level as the lab's controls say, and analyse it with every filter.
 
     With the virtual tube: :func:`dstoolkit.audio.simulate_measurement` (no audio at
@@ -134,18 +130,18 @@ def lab_measurement(settings: LabSettings) -> measurement.Analysis:
     """
     s = settings
     if s.simulated:
-        recording = measurement.simulate_measurement(
+        recording = audio.simulate_measurement(
             s.virtual_tube, temperature_c=s.temperature_c, sweep=s.sweep,
             latency_s=s.simulated_latency_s, noise_rms=10.0 ** (s.room_noise_dbfs / 20.0),
             amplitude=s.volume, seed=s.seed)
-        return measurement.analyze(recording)
-    return measurement.measure(
+        return audio.analyze(recording)
+    return audio.measure(
         s.temperature_c, sweep=s.sweep, input_device=s.input_device,
         output_device=s.output_device,
         virtual_tube=s.virtual_tube if s.through_virtual_tube else None, amplitude=s.volume)
 
 
-def lab_numbers(analysis: measurement.Analysis) -> dict[str, Any]:
+def lab_numbers(analysis: audio.Analysis) -> dict[str, Any]:
     """The numbers the lab widget prints for one analysis: the level and its uncertainty,
     the truth when known, the resonances, the latency and the level by every filter."""
     lv, det = analysis.level, analysis.detection
@@ -163,7 +159,7 @@ def lab_numbers(analysis: measurement.Analysis) -> dict[str, Any]:
 # -- pictures -----------------------------------------------------------------------------------
 
 
-def plot_method_levels(analysis: measurement.Analysis, ax: Axes | None = None) -> Figure:
+def plot_method_levels(analysis: audio.Analysis, ax: Axes | None = None) -> Figure:
     """The level by the series fit (with its 1σ and 2σ uncertainty) and by every filter
     (eq. 32 per step with the orders of eq. 43, averaged), beside the true level if known."""
     if ax is None:
@@ -212,7 +208,7 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
                                 "(latency and sweep onset); record it with "
                                 "dstoolkit.audio.measure")
     chirp_s = audio.calibration_chirp(fs).size / fs
-    played = meta.sweep_onset_s - meta.latency_s - measurement.CALIBRATION_GAP_S - chirp_s
+    played = meta.sweep_onset_s - meta.latency_s - audio.CALIBRATION_GAP_S - chirp_s
     c = calibration_correlation(recording)
     t = np.arange(recording.samples.size) / fs
     fig = Figure(figsize=(8.0, 6.6), layout="constrained")

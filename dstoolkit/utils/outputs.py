@@ -34,18 +34,64 @@ from typing import IO
 
 from dstoolkit.errors import OutputExistsError, OutputPathError
 
+__all__ = [
+    "atomic_write",
+    "check_outputs",
+    "figure_tag",
+    "made_by",
+    "output_run",
+    "refuse_special",
+]
+
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 #: The PNG text key that marks a figure as made by a dstoolkit command.
 FIGURE_KEY = "Software"
 
 
 def figure_tag(command: str) -> dict[str, str]:
-    """PNG metadata naming the command that made a figure (``savefig(metadata=...)``)."""
+    """Return PNG metadata naming the command that made a figure.
+
+    Parameters
+    ----------
+    command : str
+        The command-line command ("study", "measure"...).
+
+    Returns
+    -------
+    dict of str to str
+        For ``Figure.savefig(..., metadata=figure_tag(command))``; :func:`made_by` reads it.
+
+    Examples
+    --------
+    >>> from dstoolkit.utils.outputs import figure_tag
+    >>> figure_tag("study")
+    {'Software': 'dstoolkit study'}
+    """
     return {FIGURE_KEY: f"dstoolkit {command}"}
 
 
 def made_by(path: str | os.PathLike[str], command: str) -> bool:
-    """True when ``path`` is a PNG whose text chunks say ``dstoolkit <command>`` made it."""
+    """Tell whether a PNG file was made by a given dstoolkit command.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to look at (only its first chunks are read).
+    command : str
+        The command that may have made it.
+
+    Returns
+    -------
+    bool
+        True when ``path`` is a PNG whose text chunks carry :func:`figure_tag` of
+        ``command``; False for anything else, including a file that cannot be read.
+
+    Examples
+    --------
+    >>> from dstoolkit.utils.outputs import made_by
+    >>> made_by("/nonexistent/figure.png", "study")
+    False
+    """
     want = f"{FIGURE_KEY}\0dstoolkit {command}".encode()
     try:
         with open(path, "rb") as fh:
@@ -99,10 +145,32 @@ _run: contextvars.ContextVar[_Run | None] = contextvars.ContextVar("dstoolkit_ou
 
 @contextlib.contextmanager
 def output_run() -> Iterator[_Run]:
-    """One command's outputs: checked paths are written without clobbering, and when the
-    body fails (an exception, Ctrl-C, a signal turned into an exception) the files and
-    folders it made are removed. The body may call ``discard()`` on the run it is given
-    to remove them itself (a command that failed but returns an exit status)."""
+    """Hold one command's outputs, so that a failed command leaves no files behind.
+
+    Inside the ``with`` block, paths checked by :func:`check_outputs` are written by
+    :func:`atomic_write` without clobbering; when the body fails (an exception, Ctrl-C, a
+    signal turned into an exception) the files and folders it made are removed.
+
+    Yields
+    ------
+    run
+        The run; its ``discard()`` removes what was made, for a command that failed but
+        returns an exit status instead of raising.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from dstoolkit.utils.outputs import atomic_write, output_run
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> try:
+    ...     with output_run():
+    ...         _ = atomic_write(folder / "a.txt", lambda fh: fh.write(b"half"))
+    ...         raise KeyboardInterrupt
+    ... except KeyboardInterrupt:
+    ...     pass
+    >>> (folder / "a.txt").exists()
+    False
+    """
     run = _Run()
     token = _run.set(run)
     try:
@@ -141,8 +209,30 @@ def _system_path(path: Path) -> Path | None:
 
 
 def refuse_special(path: Path, what: str) -> None:
-    """Refuse an output that is not a regular file or a new path: a folder, a device, a
-    FIFO, a socket, a path in a system folder, or a symbolic link to one of them."""
+    """Refuse an output that is not a regular file or a new path.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The output path.
+    what : str
+        What the output is, as the message should name it.
+
+    Raises
+    ------
+    OutputPathError
+        For a folder, a device, a FIFO, a socket, a path in ``/dev``, ``/proc`` or ``/sys``,
+        or a symbolic link to one of them.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> from dstoolkit.utils.outputs import refuse_special
+    >>> refuse_special(Path("/dev/null"), "the figure")
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.OutputPathError: the figure: /dev/null is not a regular file or a new path: ...
+    """
     system = _system_path(path)
     if system is not None:
         raise OutputPathError(f"{what}: {path} is not a regular file or a new path: it is in "
@@ -198,15 +288,40 @@ def check_outputs(
 
     Parameters
     ----------
-    outputs
+    outputs : mapping of str to path
         ``{what: path}``, e.g. ``{"the CSV": "t.csv", "the figure": "t.png"}``.
-    inputs
+    inputs : sequence of path, optional
         Files the command reads: no output may be one of them.
-    overwrite
+    overwrite : bool, optional
         Allow replacing existing files (``--overwrite``).
-    replaceable
+    replaceable : callable, optional
         Says whether an existing file may be replaced anyway (a figure the same command
         made, :func:`made_by`).
+
+    Returns
+    -------
+    dict of str to pathlib.Path
+        The same keys, with each path as a :class:`~pathlib.Path`.
+
+    Raises
+    ------
+    OutputPathError
+        An output that is an input, two outputs that are one file, a folder, a device, or a
+        folder that cannot be written.
+    OutputExistsError
+        An existing file, unless ``overwrite`` or ``replaceable`` allows it.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from dstoolkit.utils.outputs import check_outputs
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> check_outputs({"the CSV": folder / "t.csv"})["the CSV"].name
+    't.csv'
+    >>> check_outputs({"the CSV": folder / "t.csv", "the copy": folder / "t.csv"})
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.OutputPathError: the copy and the CSV would both be written to ...
     """
     checked: dict[str, Path] = {}
     seen: dict[Path, str] = {}
@@ -256,12 +371,32 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], obje
     replaced is replaced only if it is still the file that was checked; otherwise an
     :class:`~dstoolkit.errors.OutputExistsError` says that the file appeared meanwhile.
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to write.
+    write : callable
+        Called once with the temporary file opened for binary writing.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
     Raises
     ------
     OutputPathError
         The target is a folder, a device, a FIFO, a socket, or in a system folder.
     OutputExistsError
         The target appeared, or changed, after it was checked.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from dstoolkit.utils.outputs import atomic_write
+    >>> target = pathlib.Path(tempfile.mkdtemp()) / "out" / "a.txt"
+    >>> atomic_write(target, lambda fh: fh.write(b"done")).read_bytes()
+    b'done'
     """
     target = Path(path)
     refuse_special(target, "the output")
