@@ -335,7 +335,8 @@ def test_tab_reaches_a_slider_quickly(chromium: object, site: str) -> None:
 #: many; the slider itself is marked last.
 _MARK_TAB_STOPS_JS = """() => {
     const slider = document.querySelector('.widget-subarea [role="slider"][tabindex="0"]');
-    const all = Array.from(document.querySelectorAll('article.bd-article ' +
+    const article = document.querySelector('article.bd-article');
+    const all = Array.from(article.querySelectorAll(
       'a[href], button, summary, input, select, textarea, [tabindex="0"]'));
     const stops = all.filter(el => !el.disabled && el.getAttribute('tabindex') !== '-1'
       && el.getClientRects().length > 0 && getComputedStyle(el).visibility !== 'hidden'

@@ -1,9 +1,9 @@
 /*
  * Boxes that scroll sideways can be scrolled with the keyboard.
  *
- * On a narrow screen a line of code, a wide table, a cell's output or a long formula
- * scrolls inside its own box instead of widening the page (dstoolkit.css). A box that
- * does scroll gets the keyboard focus (tabindex="0", so the arrow keys scroll it), the role
+ * On a narrow screen a line of code, a wide table, a cell's output, an explorer's row of
+ * controls or a long formula scrolls inside its own box instead of widening the page
+ * (dstoolkit.css). Any box of the article that does scroll gets the keyboard focus (tabindex="0", so the arrow keys scroll it), the role
  * of a region and a name that says what it holds ("Code, scrolls sideways"); a box that
  * fits again gives them back, so on a wide screen the Tab order holds only links and
  * controls. Checked again when the window is resized and when the page changes (MathJax
@@ -14,18 +14,7 @@
 (function () {
   "use strict";
 
-  // What may scroll, and the name of what it holds.
-  var BOXES = [
-    [".bd-article div.highlight pre", "Code"],
-    [".bd-article div.highlight", "Code"],
-    [".bd-article div.cell_output div.output.text_html", "Output"],
-    [".bd-article div.cell_output div.output.text_markdown", "Output"],
-    [".bd-article .pst-scrollable-table-container", "Table"],
-    [".bd-article div.table-wrapper", "Table"],
-    [".bd-article mjx-container", "Formula"]
-  ];
   var MARK = "data-scroll-box";
-
   // Content that passes its box by a few pixels (the overhang of an italic glyph in a
   // formula) is not a reason to scroll: the same 13 px margin as axe-core's rule
   // scrollable-region-focusable.
@@ -37,31 +26,51 @@
     return overflow === "auto" || overflow === "scroll";
   }
 
-  function nameOf(box, kind) {
+  // What a box holds, for its name.
+  function kindOf(box) {
+    if (box.tagName === "MJX-CONTAINER") return "Formula";
+    if (box.matches("pre, div.highlight")) return "Code";
+    if (box.matches("table, .pst-scrollable-table-container, div.table-wrapper")) {
+      return "Table";
+    }
+    if (box.closest(".widget-subarea, .jupyter-widgets")) return "Controls";
+    if (box.closest("div.cell_output")) return "Output";
+    return "Content";
+  }
+
+  function nameOf(box) {
+    var kind = kindOf(box);
     var caption = box.querySelector("caption");
     var text = caption ? caption.textContent.replace(/\s+/g, " ").trim() : "";
     return (text ? kind + " " + text : kind) + ", scrolls sideways";
   }
 
-  // A marked box keeps, in MARK, the tabindex it had before (MathJax gives formulas -1).
+  // Every box of the article that scrolls sideways takes the focus and is named; a marked
+  // box keeps, in MARK, the tabindex it had before (MathJax gives formulas -1, the theme
+  // gives some code blocks 0 without a name).
   function update() {
-    BOXES.forEach(function (entry) {
-      document.querySelectorAll(entry[0]).forEach(function (box) {
-        var marked = box.hasAttribute(MARK);
-        if (scrolls(box)) {
-          if (marked || box.getAttribute("tabindex") === "0") return; // done, or focusable
-          box.setAttribute(MARK, box.getAttribute("tabindex") || "");
-          box.setAttribute("tabindex", "0");
+    document.querySelectorAll(".bd-article *").forEach(function (box) {
+      if (box.tagName.indexOf("MJX-") === 0 && box.tagName !== "MJX-CONTAINER") return;
+      var marked = box.hasAttribute(MARK);
+      if (scrolls(box)) {
+        if (marked) return;
+        var named = box.hasAttribute("aria-label") || box.hasAttribute("aria-labelledby");
+        if (box.getAttribute("tabindex") === "0" && named) return; // done by its maker
+        box.setAttribute(MARK, box.getAttribute("tabindex") || "");
+        box.setAttribute("tabindex", "0");
+        if (!named) {
           box.setAttribute("role", "region");
-          box.setAttribute("aria-label", nameOf(box, entry[1]));
-        } else if (marked) {
-          var before = box.getAttribute(MARK);
-          if (before) box.setAttribute("tabindex", before); else box.removeAttribute("tabindex");
-          ["role", "aria-label", MARK].forEach(function (name) {
-            box.removeAttribute(name);
-          });
+          box.setAttribute("aria-label", nameOf(box));
         }
-      });
+      } else if (marked) {
+        var before = box.getAttribute(MARK);
+        if (before) box.setAttribute("tabindex", before); else box.removeAttribute("tabindex");
+        if (box.getAttribute("role") === "region") box.removeAttribute("role");
+        if (/, scrolls sideways$/.test(box.getAttribute("aria-label") || "")) {
+          box.removeAttribute("aria-label");
+        }
+        box.removeAttribute(MARK);
+      }
     });
   }
 
