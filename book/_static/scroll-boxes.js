@@ -1,10 +1,11 @@
 /*
- * Boxes that scroll sideways can be scrolled with the keyboard.
+ * Boxes that scroll can be scrolled with the keyboard.
  *
  * On a narrow screen a line of code, a wide table, a cell's output, an explorer's row of
  * controls or a long formula scrolls inside its own box instead of widening the page
- * (dstoolkit.css). Any box of the article that does scroll gets the keyboard focus (tabindex="0", so the arrow keys scroll it), the role
- * of a region and a name that says what it holds ("Code, scrolls sideways"); a box that
+ * (dstoolkit.css). Any box of the article that does scroll gets the keyboard focus
+ * (tabindex="0", so the arrow keys scroll it), the role of a region and a name that says
+ * what it holds ("Code, scrolls sideways"); a box that
  * fits again gives them back, so on a wide screen the Tab order holds only links and
  * controls. Checked again when the window is resized and when the page changes (MathJax
  * typesets, the explorers draw).
@@ -15,15 +16,25 @@
   "use strict";
 
   var MARK = "data-scroll-box";
+  var SIDEWAYS = ", scrolls sideways";
   // Content that passes its box by a few pixels (the overhang of an italic glyph in a
   // formula) is not a reason to scroll: the same 13 px margin as axe-core's rule
   // scrollable-region-focusable.
   var OVERHANG_PX = 13;
 
+  function scrollable(value) {
+    return value === "auto" || value === "scroll";
+  }
+
+  // "x" when a box scrolls sideways, "y" when it scrolls only up and down, "" when not.
   function scrolls(box) {
-    if (box.scrollWidth <= box.clientWidth + OVERHANG_PX) return false;
-    var overflow = window.getComputedStyle(box).overflowX;
-    return overflow === "auto" || overflow === "scroll";
+    var wide = box.scrollWidth > box.clientWidth + OVERHANG_PX;
+    var tall = box.scrollHeight > box.clientHeight + OVERHANG_PX;
+    if (!wide && !tall) return "";
+    var style = window.getComputedStyle(box);
+    if (wide && scrollable(style.overflowX)) return "x";
+    if (tall && scrollable(style.overflowY)) return "y";
+    return "";
   }
 
   // What a box holds, for its name.
@@ -38,11 +49,11 @@
     return "Content";
   }
 
-  function nameOf(box) {
+  function nameOf(box, direction) {
     var kind = kindOf(box);
     var caption = box.querySelector("caption");
     var text = caption ? caption.textContent.replace(/\s+/g, " ").trim() : "";
-    return (text ? kind + " " + text : kind) + ", scrolls sideways";
+    return (text ? kind + " " + text : kind) + (direction === "x" ? SIDEWAYS : ", scrolls");
   }
 
   // Every box of the article that scrolls sideways takes the focus and is named; a marked
@@ -52,21 +63,30 @@
     document.querySelectorAll(".bd-article *").forEach(function (box) {
       if (box.tagName.indexOf("MJX-") === 0 && box.tagName !== "MJX-CONTAINER") return;
       var marked = box.hasAttribute(MARK);
-      if (scrolls(box)) {
+      var direction = scrolls(box);
+      var named = box.hasAttribute("aria-label") || box.hasAttribute("aria-labelledby");
+      if (!direction && !named && box.getAttribute("tabindex") === "0"
+          && box.scrollWidth > box.clientWidth + 1
+          && !box.matches("a, button, input, select, textarea, summary, [role]")) {
+        // a box the theme made a Tab stop because it scrolls by a few pixels: named too
+        box.setAttribute("aria-label", kindOf(box) + SIDEWAYS);
+        box.setAttribute("role", "region");
+        return;
+      }
+      if (direction) {
         if (marked) return;
-        var named = box.hasAttribute("aria-label") || box.hasAttribute("aria-labelledby");
         if (box.getAttribute("tabindex") === "0" && named) return; // done by its maker
         box.setAttribute(MARK, box.getAttribute("tabindex") || "");
         box.setAttribute("tabindex", "0");
         if (!named) {
           box.setAttribute("role", "region");
-          box.setAttribute("aria-label", nameOf(box));
+          box.setAttribute("aria-label", nameOf(box, direction));
         }
       } else if (marked) {
         var before = box.getAttribute(MARK);
         if (before) box.setAttribute("tabindex", before); else box.removeAttribute("tabindex");
         if (box.getAttribute("role") === "region") box.removeAttribute("role");
-        if (/, scrolls sideways$/.test(box.getAttribute("aria-label") || "")) {
+        if (/, scrolls( sideways)?$/.test(box.getAttribute("aria-label") || "")) {
           box.removeAttribute("aria-label");
         }
         box.removeAttribute(MARK);
