@@ -108,7 +108,11 @@
     window.addEventListener("resize", schedule);
     window.addEventListener("load", schedule);
     var article = document.querySelector("article.bd-article") || document.body;
-    new MutationObserver(schedule).observe(article, {childList: true, subtree: true});
+    // the theme makes scrolling code blocks Tab stops on its own, after a resize: a new
+    // tabindex is a change to look at too
+    new MutationObserver(schedule).observe(article, {childList: true, subtree: true,
+                                                     attributes: true,
+                                                     attributeFilter: ["tabindex"]});
   }
 
   if (document.readyState === "loading") {
