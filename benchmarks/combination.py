@@ -18,7 +18,7 @@ def random_evidence(n: int, rng: np.random.Generator, share: IntervalEvidence | 
     hi = lo + rng.uniform(0.5, 2.0, n)
     if share is not None:  # a few focal elements in common, as dependent evidence has
         k = min(4, n, len(share))
-        lo[:k], hi[:k] = share.lo[:k], share.hi[:k]
+        lo[:k], hi[:k] = share.lo_1d[:k], share.hi_1d[:k]
     return IntervalEvidence(lo, hi, rng.dirichlet(np.ones(n)))
 
 

@@ -1,7 +1,15 @@
 """The ``dstoolkit`` command (also ``python -m dstoolkit``): table3, measure, analyze.
 
 ``table3`` needs the core only (its figure needs the ``plots`` extra); ``measure`` plays
-and records through a sound card (the ``audio`` extra) or a simulated one.
+and records through a sound card (the ``audio`` extra) or a simulated one; ``analyze``
+reads a recorded WAV file.
+
+Examples
+--------
+>>> from dstoolkit.cli import build_parser
+>>> args = build_parser().parse_args(["table3", "--runs", "5", "--out", "t.csv"])
+>>> args.command, args.runs, args.orders
+('table3', 5, 'eq43')
 """
 
 from __future__ import annotations
@@ -33,8 +41,31 @@ if TYPE_CHECKING:
 
 
 def table3_outputs(out: str | Path) -> tuple[Path, Path]:
-    """The CSV path and the figure beside it (``t.csv`` → ``t.png``); never the same file:
-    a CSV named ``t.png`` gets the figure ``t.figure.png``."""
+    """Name the CSV of ``table3`` and the figure beside it.
+
+    ``t.csv`` gets ``t.png``; never the same file: a CSV named ``t.png`` gets the figure
+    ``t.figure.png``.
+
+    Parameters
+    ----------
+    out : str or os.PathLike
+        The CSV path (``--out``).
+
+    Returns
+    -------
+    csv_path : pathlib.Path
+        The CSV.
+    figure_path : pathlib.Path
+        The figure beside it.
+
+    Examples
+    --------
+    >>> from dstoolkit.cli import table3_outputs
+    >>> [p.name for p in table3_outputs("out/t.csv")]
+    ['t.csv', 't.png']
+    >>> [p.name for p in table3_outputs("t.png")]
+    ['t.png', 't.figure.png']
+    """
     csv_path = Path(out)
     if csv_path.name in ("", ".", ".."):
         return csv_path, csv_path  # refused by check_outputs: a folder, not a file
@@ -50,8 +81,53 @@ TABLE3_BYTES_PER_RUN = 160 * 8 * 8
 
 
 def table3_command(args: argparse.Namespace) -> int:
-    """Reproduce Table 3: CSV, a figure beside it (with the ``plots`` extra), and the table
-    next to the paper's."""
+    """Reproduce Table 3: the CSV, a figure beside it (with the ``plots`` extra), and the table.
+
+    The table is printed next to the paper's figures. The memory and the outputs are checked
+    before anything is computed.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed ``table3`` arguments (:func:`build_parser`).
+
+    Returns
+    -------
+    int
+        The exit status, 0.
+
+    Raises
+    ------
+    MemoryBudgetError
+        ``--runs`` would exceed the memory budget.
+    OutputPathError
+        An output that cannot be written, or exists without ``--overwrite``.
+    InvalidInputError
+        An unknown method.
+
+    See Also
+    --------
+    dstoolkit.studies.run_table3 : The computation.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), Table 3.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from dstoolkit.cli import build_parser, table3_command
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     out = str(Path(folder) / "t.csv")
+    ...     args = build_parser().parse_args(["table3", "--runs", "2", "--methods", "direct",
+    ...                                       "--quiet", "--out", out])
+    ...     status = table3_command(args)  # doctest: +ELLIPSIS
+    Table 3, frequency-level simulation, orders by eq43, seed 0
+    ...
+    >>> status
+    0
+    """
     methods = tuple(args.methods.split(",")) if args.methods else METHODS
     csv_path, figure_path = table3_outputs(args.out)
     plot_table3: Callable[[Table3], Figure] | None = None
@@ -84,7 +160,24 @@ def table3_command(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of the ``dstoolkit`` command and its three subcommands."""
+    """Build the argument parser of the ``dstoolkit`` command and its three subcommands.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        ``table3``, ``measure`` and ``analyze``; each sets ``func`` to the function that runs
+        it.
+
+    See Also
+    --------
+    main : Parses and runs.
+
+    Examples
+    --------
+    >>> from dstoolkit.cli import build_parser
+    >>> build_parser().parse_args(["table3"]).simulation
+    'frequency'
+    """
     parser = argparse.ArgumentParser(
         prog="dstoolkit",
         description="Evidence-theory state estimation and the acoustic level gauge "
@@ -124,7 +217,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 class _Terminated(BaseException):
-    """SIGTERM, raised where the command was so that it stops like after Ctrl-C."""
+    """SIGTERM, raised where the command was so that it stops as after Ctrl-C."""
 
 
 #: Exit statuses after a signal: 128 + the signal's number, as a shell reports them.
@@ -133,19 +226,61 @@ EXIT_TERMINATED = 128 + signal.SIGTERM
 
 
 def _stop(signum: int, frame: FrameType | None) -> None:
-    """The first Ctrl-C or SIGTERM stops the command; any later one is ignored while the
-    command removes what it made."""
+    """Stop the command at the first Ctrl-C or SIGTERM; ignore any later one.
+
+    Later signals are ignored while the command removes what it made.
+
+    Parameters
+    ----------
+    signum : int
+        The signal's number.
+    frame : types.FrameType or None
+        The frame the signal interrupted.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        For SIGINT.
+    _Terminated
+        For SIGTERM.
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
     raise KeyboardInterrupt if signum == signal.SIGINT else _Terminated
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the exit status.
+    """Run the command line ``argv``.
 
     A package error or an OS error becomes one line on stderr (exit status 2). Ctrl-C and
     SIGTERM stop the command with one line on stderr and the exit status 130 or 143; the
     files and folders the command had made are removed, as after any failure.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit status: 0, 2 after an error, 130 after Ctrl-C, 143 after SIGTERM.
+
+    See Also
+    --------
+    build_parser : The arguments.
+
+    Examples
+    --------
+    An error is one line on stderr and the status 2 (here, before any file is touched: the
+    runs would not fit in memory):
+
+    >>> import contextlib, io
+    >>> from dstoolkit.cli import main
+    >>> with contextlib.redirect_stderr(io.StringIO()) as err:
+    ...     status = main(["table3", "--runs", "10000000000000"])
+    >>> status, err.getvalue().startswith("error:")
+    (2, True)
     """
     handlers = None
     if threading.current_thread() is threading.main_thread():

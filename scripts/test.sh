@@ -12,5 +12,12 @@ echo "==> import layers (.importlinter)"
 lint-imports --no-cache
 echo "==> mypy (the core and the command line; [tool.mypy] in pyproject.toml)"
 mypy
-echo "==> pytest"
-python -m pytest --durations=20 "$@"
+# Two workers: the book's modules (built once) in one, the rest in the other (whole modules
+# per worker; tests/conftest.py groups them). DSTOOLKIT_TEST_WORKERS=0 runs in one process.
+workers="${DSTOOLKIT_TEST_WORKERS:-2}"
+echo "==> pytest ($workers workers)"
+if [ "$workers" = 0 ]; then
+  python -m pytest --durations=20 "$@"
+else
+  python -m pytest -n "$workers" --dist loadscope --no-loadscope-reorder --durations=20 "$@"
+fi

@@ -5,6 +5,7 @@ Keep this file to fixtures that more than one test module needs, grouped by topi
 
 from __future__ import annotations
 
+import fcntl
 import functools
 import json
 import os
@@ -24,6 +25,64 @@ from nbclient import NotebookClient
 
 ROOT = Path(__file__).resolve().parents[1]
 ARTIFACTS = ROOT / "test-artifacts"
+
+# --------------------------------------------------------------------------------------
+# Two workers (pytest-xdist, `-n 2 --dist loadscope` in scripts/test.sh)
+# --------------------------------------------------------------------------------------
+
+#: Modules that read the built book (or build it, or its PDF, in the same _build folder):
+#: one worker runs them all, in this order, so the book is built once and nothing rewrites
+#: _build while a browser reads it. They go first, so the build starts at once while the
+#: other worker runs everything else.
+BOOK_MODULES = (
+    "test_book_build.py",
+    "test_book_a11y.py",
+    "test_book_browser.py",
+    "test_book_layout.py",
+    "test_explorers_browser.py",
+    "test_chapter_notebooks.py",
+    "test_printed_numbers.py",
+    "test_jupyterlab.py",
+    "test_book_pdf.py",
+)
+#: Modules that start PulseAudio loopbacks: one worker runs them, one after the other.
+AUDIO_MODULES = ("test_audio_loopback.py", "test_audio_faults.py")
+
+
+def _module(nodeid: str) -> str:
+    return nodeid.split("::", 1)[0].rsplit("/", 1)[-1]
+
+
+def worker_group(nodeid: str) -> str | None:
+    """The group of tests that must run in one worker ("book", "audio"), or None."""
+    module = _module(nodeid)
+    if module in BOOK_MODULES:
+        return "book"
+    if module in AUDIO_MODULES:
+        return "audio"
+    return None
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Under xdist, put the book's modules first (in BOOK_MODULES order), so that its
+    worker starts the build at once; alone, keep the usual order (quick tests first)."""
+    if getattr(config.option, "numprocesses", None):
+        rank = {name: i for i, name in enumerate(BOOK_MODULES)}
+        items.sort(key=lambda item: rank.get(_module(item.nodeid), len(rank)))
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config: pytest.Config, log: object) -> object:
+    """Whole modules per worker (their module fixtures run once), and the groups of
+    :func:`worker_group` each kept in one worker."""
+    from xdist.scheduler import LoadScopeScheduling
+
+    class _Groups(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            return worker_group(nodeid) or super()._split_scope(nodeid)
+
+    return _Groups(config, log)
+
 
 # --------------------------------------------------------------------------------------
 # The book: built once per session with the same command a user runs
@@ -78,12 +137,8 @@ def toc_pages(toc_file: Path = ROOT / "_toc.yml") -> list[str]:
     return [page.rsplit(".", 1)[0] if Path(page).suffix in suffixes else page for page in pages]
 
 
-@pytest.fixture(scope="session")
-def built_book() -> BookBuild:
-    """Build the book in place (``bash scripts/build-book.sh``) once per test session.
-
-    The log is also saved to test-artifacts/book-build.log.
-    """
+def _build_book() -> BookBuild:
+    """Run ``bash scripts/build-book.sh``; save its log to test-artifacts/book-build.log."""
     result = subprocess.run(
         ["bash", str(BUILD_SCRIPT)],
         cwd=ROOT,
@@ -97,6 +152,33 @@ def built_book() -> BookBuild:
     ARTIFACTS.mkdir(exist_ok=True)
     (ARTIFACTS / "book-build.log").write_text(log, encoding="utf-8")
     return BookBuild(result.returncode, log, ROOT / "_build" / "html")
+
+
+@pytest.fixture(scope="session")
+def built_book() -> BookBuild:
+    """Build the book in place (``bash scripts/build-book.sh``) once per test session.
+
+    The log is also saved to test-artifacts/book-build.log. Under pytest-xdist the build
+    runs once per test run, whichever worker asks first: the others wait on a file lock
+    and read its result (scripts/test.sh keeps the book's modules in one worker anyway).
+    """
+    run = os.environ.get("PYTEST_XDIST_TESTRUNUID")
+    if run is None:
+        return _build_book()
+    build_dir = ROOT / "_build"
+    build_dir.mkdir(exist_ok=True)
+    shared = build_dir / f".book-build-{run}.json"
+    with open(build_dir / ".book-build-session.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+        if shared.is_file():
+            done = json.loads(shared.read_text(encoding="utf-8"))
+            return BookBuild(done["returncode"], done["log"], build_dir / "html")
+        for old in build_dir.glob(".book-build-*.json"):  # results of earlier runs
+            old.unlink()
+        result = _build_book()
+        shared.write_text(json.dumps({"returncode": result.returncode, "log": result.log}),
+                          encoding="utf-8")
+        return result
 
 
 def pytest_generate_tests(metafunc: pytest.Metafunc) -> None:
@@ -282,9 +364,10 @@ def browser_unavailable(reason: str) -> None:
     pytest.skip(reason)
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def chromium() -> Iterator[object]:
-    """A headless Debian Chromium driven by Playwright."""
+    """A headless Debian Chromium driven by Playwright, launched once for every page visit of
+    the session (each test opens its own context or page in it)."""
     if not (CHROMIUM.is_file() and os.access(CHROMIUM, os.X_OK)):
         browser_unavailable(f"{CHROMIUM} not found: apt-get install chromium")
     try:

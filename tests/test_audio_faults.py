@@ -101,6 +101,7 @@ def _measure_with_fault(env: dict[str, str], folder: Path, fault: signal.Signals
 
 
 
+@pytest.mark.slow
 @pytest.mark.audio
 def test_a_stalled_server_ends_the_measurement_with_a_stall_error(loopback, tmp_path):
     (tmp_path / "rec.wav").write_bytes(b"an earlier recording")
@@ -115,6 +116,7 @@ def test_a_stalled_server_ends_the_measurement_with_a_stall_error(loopback, tmp_
     assert sorted(p.name for p in tmp_path.iterdir()) == ["rec.wav"]
 
 
+@pytest.mark.slow
 @pytest.mark.audio
 def test_a_dead_server_is_named_in_the_error(loopback, tmp_path):
     result, elapsed = _measure_with_fault(loopback, tmp_path, signal.SIGKILL)

@@ -26,7 +26,7 @@ from dstoolkit.audio import analyze, load_recording, measure
 from dstoolkit.errors import AudioUnavailableError
 from dstoolkit.gauge import TubeSetup, estimate_latency
 
-pytestmark = pytest.mark.audio
+pytestmark = [pytest.mark.audio, pytest.mark.slow]
 
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPT = ROOT / "scripts" / "audio-loopback.sh"

@@ -8,6 +8,8 @@ import sys
 from pathlib import Path
 from types import ModuleType
 
+import pytest
+
 BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
 
 
@@ -44,6 +46,7 @@ def test_the_filter_benchmark_prints_the_floor_beside_the_steps(capsys):
     assert sum("load average" in line for line in lines) == 2
 
 
+@pytest.mark.slow
 def test_the_filter_profile_shows_every_block_of_a_step(capsys):
     """filter_profile.py prints, for the numpy path, a row per block of Steps 2–6 with its
     time and numpy calls per step (counted, not guessed), the rest, and the load average."""

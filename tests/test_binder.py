@@ -21,6 +21,7 @@ def test_binder_installs_the_teaching_and_speed_extras() -> None:
     assert lines == [".[teaching,speed]"]
 
 
+@pytest.mark.slow
 @pytest.mark.extras  # numba, the extra "speed"
 def test_post_build_compiles_every_kernel_into_the_cache(tmp_path: Path) -> None:
     script = ROOT / "binder" / "postBuild"

@@ -18,10 +18,12 @@ from dstoolkit.evidence import (
     DEFAULT_MEMORY_BUDGET,
     Boxes,
     IntervalEvidence,
+    _clustering,
     dempster,
     memory_budget,
     set_memory_budget,
 )
+from dstoolkit.evidence.boxes import cluster_boxes
 from dstoolkit.filters import (
     BatchResult,
     BoundedErrorFilter,
@@ -32,8 +34,6 @@ from dstoolkit.filters import (
     KalmanFilter,
     NassreddineFilter,
     ParticleFilter,
-    _nassreddine,
-    cluster_boxes,
     random_walk,
 )
 from dstoolkit.gauge import gauge_state_space_model, simulate_gauge
@@ -146,7 +146,7 @@ def test_cluster_boxes_refuses_nan_and_stops_at_its_round_limit(monkeypatch):
     boxes = Boxes(lo, lo + 1.0, np.full((1, 40), 1 / 40))
     with pytest.raises(EvidenceError, match="finite"):
         cluster_boxes(Boxes(lo * np.nan, lo, boxes.mass), 4)
-    monkeypatch.setattr(_nassreddine, "MAX_CLUSTER_ROUNDS", 1)
+    monkeypatch.setattr(_clustering, "MAX_CLUSTER_ROUNDS", 1)
     with pytest.raises(WorkLimitError, match="in 1 rounds"):
         cluster_boxes(boxes, 2)
 

@@ -1,6 +1,6 @@
 """Nassreddine's focal-element cap gives, bit for bit, what its rule says, run by run.
 
-:func:`dstoolkit.filters.cluster_boxes` is vectorised over runs and takes shortcuts (in one
+:func:`dstoolkit.evidence.boxes.cluster_boxes` is vectorised over runs and takes shortcuts (in one
 dimension it does not sort again after the first round; a run that fits leaves the rounds).
 Here a plain-Python rendering of the rule in its docstring (Denœux's clustering: sort by
 centre along the dimension of the round, merge the neighbour pairs whose Δ is a local
@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from dstoolkit.evidence import Boxes
-from dstoolkit.filters import cluster_boxes, merge_equal_boxes
+from dstoolkit.evidence.boxes import cluster_boxes, merge_equal_boxes
 
 Box = tuple[tuple[float, ...], tuple[float, ...], float]
 
@@ -91,7 +91,7 @@ def kernels(kind: str):
     """(merge_equal_boxes, cluster_boxes) of ``kind``."""
     if kind == "numpy":
         return merge_equal_boxes, cluster_boxes
-    from dstoolkit.filters._compiled import (
+    from dstoolkit.evidence.boxes import (
         cluster_boxes_compiled,
         merge_equal_boxes_compiled,
     )

@@ -19,6 +19,7 @@ import dataclasses
 import importlib
 import inspect
 import sys
+import typing
 
 import pytest
 from numpydoc.validate import validate
@@ -58,7 +59,9 @@ def public_callables(package: str) -> list[tuple[str, bool]]:
     found: list[tuple[str, bool]] = []
     for name in getattr(module, "__all__", []):
         obj = getattr(module, name)
-        if not callable(obj):
+        # Type aliases (Literal[...] and the like) are callable but not functions: their
+        # ``#:`` comment documents them.
+        if not callable(obj) or typing.get_origin(obj) is not None:
             continue
         # Plain data (records, states, results) and error classes need no example of their own.
         plain = inspect.isclass(obj) and (

@@ -60,10 +60,10 @@ def test_the_option_reaches_the_combination() -> None:
     out = dependence(e1, e2, theta="left_out")
     assert out.energy1 == pytest.approx(energy(e1, theta="left_out"))
     assert out.joint_energy == pytest.approx(joint_energy(e1, e2, theta="left_out"))
-    paper = combine_dependent(e1, e2).pignistic_expectation()
-    left_out = combine_dependent(e1, e2, theta="left_out").pignistic_expectation()
+    paper = combine_dependent(e1, e2).pignistic_expectation_1d()
+    left_out = combine_dependent(e1, e2, theta="left_out").pignistic_expectation_1d()
     assert paper != left_out
-    assert combine_dependent(e1, e2, theta="paper").pignistic_expectation() == paper
+    assert combine_dependent(e1, e2, theta="paper").pignistic_expectation_1d() == paper
 
 
 def test_an_unknown_definition_is_refused() -> None:

@@ -86,7 +86,26 @@ def test_interval_belief_plausibility_pbox_and_expectation():
     lower, upper = e.cdf_bounds([0.5, 2.0, 3.0])
     np.testing.assert_allclose(lower, [0.0, 0.4, 1.0])
     np.testing.assert_allclose(upper, [0.4, 1.0, 1.0])
-    assert e.pignistic_expectation() == pytest.approx(0.4 * 1.0 + 0.6 * 2.0)
+    assert e.pignistic_expectation_1d() == pytest.approx(0.4 * 1.0 + 0.6 * 2.0)
+
+
+def test_interval_evidence_has_one_shape_whatever_its_dimension():
+    """lo and hi are (n, d) for intervals too, pignistic_expectation() is (d,); the 1-D
+    conveniences are named, and refuse boxes with a message naming the general ones."""
+    e = IntervalEvidence([0.0, 1.0], [1.0, 3.0], [0.4, 0.6])
+    assert e.lo.shape == e.hi.shape == (2, 1)
+    assert e.lo_1d.tolist() == [0.0, 1.0] and e.hi_1d.tolist() == [1.0, 3.0]
+    expectation = e.pignistic_expectation()
+    assert isinstance(expectation, np.ndarray) and expectation.shape == (1,)
+    assert isinstance(e.pignistic_expectation_1d(), float)
+    assert e.pignistic_expectation_1d() == expectation[0]
+    boxes = IntervalEvidence([[0, 0], [1, 1]], [[2, 2], [3, 3]], [0.5, 0.5])
+    assert boxes.lo.shape == (2, 2) and boxes.pignistic_expectation().shape == (2,)
+    for name in ("lo_1d", "hi_1d"):
+        with pytest.raises(EvidenceError, match=r"use (lo|hi), shape \(n, d\)"):
+            getattr(boxes, name)
+    with pytest.raises(EvidenceError, match=r"use pignistic_expectation\(\)"):
+        boxes.pignistic_expectation_1d()
 
 
 def test_interval_merging_of_equal_focal_elements():

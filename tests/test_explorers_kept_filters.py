@@ -120,6 +120,7 @@ STEP_CHANGES = (("step", 5), ("epsilon", 0.1), ("start", "observation"), ("step"
                 ("epsilon", 0.05))  # Θ (m = ε) labelled at ε > 0.05 only: a label goes
 
 
+@pytest.mark.slow
 def test_the_step_explorer_redraws_in_place_and_matches_a_fresh_figure():
     ex = w.filter_step_explorer()
     kept = {len(ex.figure.axes): ex.figure}
@@ -146,6 +147,7 @@ def test_a_kept_step_figure_refuses_a_step_with_other_panels():
     assert_same_picture(kept.figure, plots.plot_filter_step(run.steps[3]))
 
 
+@pytest.mark.slow
 def test_the_static_step_explorer_shows_each_state_as_drawn_afresh():
     # The static site renders every state through one Explorer: its kept figure must not
     # carry anything of the state before. Render the states in the site's order, compare.

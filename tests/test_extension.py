@@ -206,8 +206,8 @@ def test_image_of_a_random_relation_and_its_expectation():
     out = image(rel, lambda x: x[..., 0] + 2 * x[..., 1], monotone=[1, 1])
     assert out.dim == 1 and out.mass.sum() == pytest.approx(1.0)
     # E[x + 2y] = E[x] + 2E[y] for the pignistic expectation of a product relation (eq. 20)
-    expected = E1.pignistic_expectation() + 2 * E2.pignistic_expectation()
-    assert out.pignistic_expectation() == pytest.approx(expected, rel=1e-12)
+    expected = E1.pignistic_expectation_1d() + 2 * E2.pignistic_expectation_1d()
+    assert out.pignistic_expectation_1d() == pytest.approx(expected, rel=1e-12)
 
 
 def test_box_image_reads_a_models_signs_and_broadcasts_run_inputs():

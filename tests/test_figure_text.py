@@ -156,6 +156,7 @@ EXPLORERS = ["mass_function_explorer", "conflict_explorer",
              "extension_explorer", "filter_step_explorer", "bounded_error_explorer"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", EXPLORERS)
 def test_explorer_text_reads_right(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
     from dstoolkit.plots import use_style

@@ -102,6 +102,7 @@ def test_an_invalid_gauge_setting_warns_and_keeps_the_last_figure() -> None:
     assert picture(ex.figure) == picture(gauge_explorer(1.0, 26.5, 0.4, 90.0).figure)
 
 
+@pytest.mark.slow
 def test_the_level_explorer_keeps_one_figure_per_kind_and_shows_what_a_fresh_one_shows(
 ) -> None:
     ex = level_estimation_explorer()

@@ -30,7 +30,7 @@ def test_evidence_has_the_shape_of_table_1() -> None:
     v = characterise_state_noise(runs=5, seed=0)
     ev = v.evidence(p=3, epsilon=0.05, theta=(-10.0, 10.0))
     assert np.allclose(np.sort(ev.mass), [0.05, 0.95 / 3, 0.95 / 3, 0.95 / 3])
-    widths = np.sort(ev.hi - ev.lo)
+    widths = np.sort(ev.hi_1d - ev.lo_1d)
     # nested cuts at α = 2/3, 1/3, 0 of a ±3σ triangle: widths 2σ, 4σ, 6σ, then Θ
     assert np.allclose(widths[:3], [2 * v.sigma, 4 * v.sigma, 6 * v.sigma])
     assert widths[3] == pytest.approx(20.0)
@@ -42,7 +42,7 @@ def test_paper_table_2_from_its_own_figures() -> None:
     samples = -6.9 + 1.23 * x / x.std(ddof=1)
     w = NoiseCharacterisation.from_samples("w", samples)
     ev = w.evidence()
-    assert np.allclose(np.sort(ev.lo)[1:], [-10.59, -9.36, -8.13], atol=0.01)
+    assert np.allclose(np.sort(ev.lo_1d)[1:], [-10.59, -9.36, -8.13], atol=0.01)
 
 
 def test_observation_noise_sign_and_offsets() -> None:

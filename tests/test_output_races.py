@@ -147,6 +147,7 @@ def test_the_signal_handlers_are_given_back(tmp_path, capsys):
     assert (signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)) == before
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("sig", "status", "word"), [(signal.SIGINT, 130, "interrupted"),
                                                      (signal.SIGTERM, 143, "terminated")])
 def test_a_signal_halfway_leaves_no_traceback_and_no_file(tmp_path, sig, status, word):

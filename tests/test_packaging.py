@@ -150,6 +150,7 @@ def _without(missing: str, code: str) -> subprocess.CompletedProcess[str]:
                           text=True, timeout=300, check=False, cwd=ROOT)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("missing", "module", "extra"),
     [
@@ -177,6 +178,7 @@ def test_a_layer_without_its_extra_names_the_extra(missing: str, module: str,
     assert repr(missing) in proc.stdout  # it says which package is missing
 
 
+@pytest.mark.slow
 def test_audio_without_sounddevice_still_imports() -> None:
     proc = _without("sounddevice", """
         from dstoolkit.audio import audio_available
@@ -185,6 +187,7 @@ def test_audio_without_sounddevice_still_imports() -> None:
     assert proc.returncode == 0, proc.stderr
 
 
+@pytest.mark.slow
 def test_import_dstoolkit_imports_no_optional_dependency() -> None:
     code = textwrap.dedent(f"""
         import sys

@@ -12,10 +12,10 @@ from dstoolkit.gauge import GAUGE_OBS_NOISE, PAPER_CALIBRATION_LEVELS
 
 def test_interval_ends_and_masses_cannot_be_written() -> None:
     e = IntervalEvidence([-0.3, 0.3], [2.6, 1.9], [0.3, 0.7])
-    for view in (e.lo, e.hi, e.mass, e.boxes_lo, e.boxes_hi):
+    for view in (e.lo_1d, e.hi_1d, e.mass, e.boxes_lo, e.boxes_hi):
         with pytest.raises(ValueError, match="read-only"):
             view[0] = 5.0
-    assert e.lo.tolist() == [-0.3, 0.3] and e.hi.tolist() == [2.6, 1.9]
+    assert e.lo_1d.tolist() == [-0.3, 0.3] and e.hi_1d.tolist() == [2.6, 1.9]
     assert e.mass.tolist() == [0.3, 0.7]
 
 
@@ -50,7 +50,7 @@ def test_constructor_input_is_copied_not_frozen() -> None:
     lo = np.array([0.0, 1.0])
     e = IntervalEvidence(lo, [2.0, 3.0], [0.5, 0.5], merge=False)
     lo[0] = -7.0  # the caller's array stays theirs, writable, and the evidence is unchanged
-    assert e.lo.tolist() == [0.0, 1.0]
+    assert e.lo_1d.tolist() == [0.0, 1.0]
 
 
 def test_noise_bounds_and_module_constants_are_read_only() -> None:

@@ -9,6 +9,7 @@ import pytest
 from dstoolkit import EvidenceError, InconsistentDataError, TotalConflictError
 from dstoolkit.errors import WorkLimitError
 from dstoolkit.evidence import Boxes
+from dstoolkit.evidence.boxes import cluster_boxes, merge_equal_boxes
 from dstoolkit.filters import (
     BoundedErrorFilter,
     BoundedNoise,
@@ -17,10 +18,8 @@ from dstoolkit.filters import (
     NassreddineFilter,
     ParticleFilter,
     StateSpaceModel,
-    cluster_boxes,
     finite_difference_jacobian,
     lotka_volterra,
-    merge_equal_boxes,
     simulate_lotka_volterra,
     systematic_resample,
 )
@@ -178,7 +177,7 @@ def test_nassreddine_first_step_is_the_reading_mapped_back():
     result = NassreddineFilter(p=3, epsilon=0.05).run(model, [1.0, 1.0], record=True)
     post = result.steps[0].posterior
     # α-cuts of w: [−0.1, 0.1], [−0.2, 0.2], [−0.3, 0.3]; Θ becomes the last one (merged)
-    np.testing.assert_allclose(np.sort(post.hi), [1.1, 1.2, 1.3])
+    np.testing.assert_allclose(np.sort(post.hi_1d), [1.1, 1.2, 1.3])
     np.testing.assert_allclose(np.sort(post.mass), [0.95 / 3, 0.95 / 3, 0.95 / 3 + 0.05])
     assert result.estimates[0, 0] == pytest.approx(1.0)
 
@@ -281,48 +280,39 @@ def test_kalman_uses_the_noise_means_with_the_sign_convention():
     assert result.estimates[-1, 0] == pytest.approx(5.0, abs=1e-3)
 
 
-def test_the_gauge_float_maps_give_the_array_maps_numbers_exactly():
-    """The gauge's ScalarMaps (eqs. 39–40 on Python floats) equal its array maps bit for bit,
-    so that the Kalman filter's one-run float path equals its batch path."""
-    model = gauge_state_space_model()
-    rng = np.random.default_rng(3)
-    x, n = rng.uniform(100.0, 5000.0, 50), rng.integers(1, 400, 50).astype(float)
-    maps, state, orders = model.scalar_maps, x[:, None], n[:, None]
-    assert maps is not None
-    pairs = [
-        (model.f(state, orders)[:, 0], [maps.f(a, [b]) for a, b in zip(x, n, strict=True)]),
-        (model.jacobian_f(state, orders)[:, 0, 0],
-         [maps.jacobian_f(a, [b]) for a, b in zip(x, n, strict=True)]),
-        (model.g(state)[:, 0], [maps.g(a) for a in x]),
-        (model.jacobian_g(state)[:, 0, 0], [maps.jacobian_g(a) for a in x]),
-    ]
-    for array, floats in pairs:
-        np.testing.assert_array_equal(array, floats)
+def _plain_gauge_model():
+    """Eqs. 39–40 as a user writes them: plain numpy maps, no Jacobians."""
+    package = gauge_state_space_model()
+    return StateSpaceModel(
+        f=lambda x, u: x * (u + 1.0) / u, g=lambda x: x + 0.0,
+        g_inverse=lambda lo, hi, a, b: (np.maximum(lo, a), np.minimum(hi, b)),
+        state_noise=package.state_noise, obs_noise=package.obs_noise)
+
+
+@pytest.mark.parametrize("plain", [False, True], ids=["package", "plain"])
+def test_kalman_one_run_equals_its_run_in_a_batch_exactly(plain):
+    """One run (floats) and a batch ((R,) arrays) run the same recursion: the same numbers,
+    with the model's Jacobians (the package's gauge) or central differences (a user's)."""
+    model = _plain_gauge_model() if plain else gauge_state_space_model()
+    seq = simulate_gauge(9.6, runs=4, seed=2)
+    batch = KalmanFilter().run_batch(model, seq.readings, seq.inputs)
+    for r in range(4):
+        one = KalmanFilter().run(model, seq.readings[r], seq.inputs[r])
+        for name in ("estimates", "lower", "upper"):
+            np.testing.assert_array_equal(getattr(one, name), getattr(batch[r], name))
+        np.testing.assert_array_equal(one.diagnostics["nis"], batch.diagnostics["nis"][r])
 
 
 @pytest.mark.parametrize("level", [0.6, 9.6])
-def test_kalman_float_path_equals_the_array_path(level):
-    """One run on the gauge's float maps gives exactly what the array maps give."""
-    model = gauge_state_space_model()
+def test_kalman_on_a_users_plain_maps_gives_the_package_numbers(level):
+    """Central differences of a user's eqs. 39–40 give the package's analytic slopes' numbers
+    to 1e-9 Hz: the model needs no Jacobians and no float copy of its maps."""
     seq = simulate_gauge(level, seed=2)
-    fast = KalmanFilter().run(model, seq.readings, seq.inputs)
-    plain = KalmanFilter().run(dataclasses.replace(model, scalar_maps=None), seq.readings,
-                               seq.inputs)
+    package = KalmanFilter().run(gauge_state_space_model(), seq.readings, seq.inputs)
+    plain = KalmanFilter().run(_plain_gauge_model(), seq.readings, seq.inputs)
     for name in ("estimates", "lower", "upper"):
-        np.testing.assert_array_equal(getattr(fast, name), getattr(plain, name))
-    np.testing.assert_array_equal(fast.diagnostics["nis"], plain.diagnostics["nis"])
-
-
-def test_kalman_refuses_float_maps_that_disagree_with_the_model():
-    """A gauge model whose f was replaced while its float maps were kept is refused, not
-    filtered with the old eq. 39."""
-    model = gauge_state_space_model()
-    seq = simulate_gauge(seed=0)
-    slower = dataclasses.replace(model, f=lambda x, u: 0.5 * model.f(x, u))
-    with pytest.raises(EvidenceError, match=r"scalar_maps\.f gives"):
-        KalmanFilter().run(slower, seq.readings, seq.inputs)
-    dropped = dataclasses.replace(slower, scalar_maps=None)
-    assert KalmanFilter().run(dropped, seq.readings, seq.inputs).estimates.shape == (83, 1)
+        np.testing.assert_allclose(getattr(plain, name), getattr(package, name), rtol=0,
+                                   atol=1e-9)
 
 
 @pytest.mark.parametrize("flt", RIVALS, ids=IDS)
@@ -405,7 +395,7 @@ def test_nassreddine_keeps_unit_mass_under_heavy_conflict():
         model, data.readings[2][:, None], inputs=data.orders[2], record=True)
     for k, step in enumerate(run.steps):
         assert run.estimates[k, 0] == pytest.approx(
-            step.posterior.pignistic_expectation(), rel=1e-9)
+            step.posterior.pignistic_expectation_1d(), rel=1e-9)
     assert np.all(run.lower[:, 0] <= run.estimates[:, 0] + 1e-9)
     assert np.all(run.estimates[:, 0] <= run.upper[:, 0] + 1e-9)
 
@@ -428,12 +418,12 @@ def test_nassreddine_auto_kernel_falls_back_to_numpy_without_numba(monkeypatch):
                         lambda name, *a: None if name == "numba" else real(name, *a))
     combine, cluster = NassreddineFilter(kernel="auto")._kernels()
     assert combine is _nassreddine.contracted_posterior
-    assert cluster is _nassreddine.cluster_boxes
+    assert cluster is cluster_boxes
 
 
 @pytest.mark.extras  # numba, the extra "speed"
 def test_compiled_kernels_raise_the_numpy_errors():
-    from dstoolkit.filters._compiled import cluster_boxes_compiled
+    from dstoolkit.evidence.boxes import cluster_boxes_compiled
 
     lo = np.array([[[0.0], [1.0], [2.0]]])
     hi = np.array([[[1.0], [np.inf], [3.0]]])
@@ -490,3 +480,21 @@ def test_particle_compiled_resampling_gives_the_same_indices_and_estimates():
                                                                   gauge.inputs).estimates,
         ParticleFilter(n_particles=300).run_batch(model, gauge.readings,
                                                   gauge.inputs).estimates)
+
+
+@pytest.mark.parametrize("plain", [False, True], ids=["package", "plain"])
+def test_kalman_scalar_recursion_equals_the_matrix_recursion(plain):
+    """For n = m = 1 the term-by-term recursion gives the matrix recursion's numbers (the
+    same operations, grouped differently: equal to rounding)."""
+    model = _plain_gauge_model() if plain else gauge_state_space_model()
+    seq = simulate_gauge(9.6, runs=3, seed=4)
+    flt = KalmanFilter()
+    from dstoolkit.filters._model import batch_readings
+
+    z, u = batch_readings(model, seq.readings, seq.inputs)
+    guarded = flt._guarded(model)
+    x1, p1, nis1 = flt._filter_scalar(guarded, z, u)
+    x2, p2, nis2 = flt._filter(guarded, z, u)
+    np.testing.assert_allclose(x1, x2, rtol=1e-12)
+    np.testing.assert_allclose(p1, p2, rtol=1e-9)
+    np.testing.assert_allclose(nis1[:, 1:], nis2[:, 1:], rtol=1e-8)

@@ -11,6 +11,7 @@ import pytest
 from dstoolkit.studies import CSV_COLUMNS, METHODS, TABLE3_CASES, run_table3
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("simulation", "runs"), [("frequency", 3), ("waveform", 1)])
 def test_table3_command_writes_csv_figure_and_table(tmp_path, simulation, runs):
     out = tmp_path / f"{simulation}.csv"

@@ -22,6 +22,7 @@ Headless machines and CI reach a software loopback made by ``scripts/audio-loopb
 
 from __future__ import annotations
 
+import importlib
 import json
 import os
 import select
@@ -81,14 +82,17 @@ NO_DEVICE_HINT = (
 
 
 def _sounddevice() -> ModuleType:
-    """Import sounddevice, or raise :class:`~dstoolkit.errors.AudioUnavailableError` saying
-    what to install.
+    """Import sounddevice.
+
+    Raise :class:`~dstoolkit.errors.AudioUnavailableError` saying what to install when it
+    cannot be imported.
 
     Without the PortAudio library ``import sounddevice`` raises ``OSError`` (not
     ``ImportError``); without the package it raises ``ImportError``. Both are caught.
     """
     try:
-        import sounddevice
+        # by name: sounddevice ships no type information, and every use goes through here
+        sounddevice = importlib.import_module("sounddevice")
     except (ImportError, OSError) as exc:
         raise AudioUnavailableError(
             f"real audio is unavailable: importing sounddevice failed "
@@ -98,7 +102,25 @@ def _sounddevice() -> ModuleType:
 
 
 def audio_available() -> bool:
-    """Return True when sounddevice imports and PortAudio sees at least one device."""
+    """Whether real audio can be used here.
+
+    Returns
+    -------
+    bool
+        True when sounddevice imports and PortAudio sees at least one device; False when
+        sounddevice or PortAudio is missing or there is no device. Never raises for those.
+
+    See Also
+    --------
+    list_devices : The devices themselves.
+    simulate_measurement : A measurement without any device.
+
+    Examples
+    --------
+    >>> from dstoolkit.audio import audio_available
+    >>> isinstance(audio_available(), bool)
+    True
+    """
     try:
         return len(list_devices()) > 0
     except AudioUnavailableError:
@@ -106,8 +128,31 @@ def audio_available() -> bool:
 
 
 def refresh_devices() -> None:
-    """Make PortAudio scan the devices again (after a sound server started or a USB card
-    was plugged in). PortAudio scans only when it is initialised, at ``import sounddevice``.
+    """Make PortAudio scan the devices again.
+
+    PortAudio scans only when it is initialised, at ``import sounddevice``; call this after
+    a sound server started or a USB card was plugged in, then :func:`list_devices`.
+
+    Raises
+    ------
+    AudioUnavailableError
+        sounddevice or PortAudio is not installed.
+
+    See Also
+    --------
+    list_devices : What PortAudio sees after the scan.
+
+    Examples
+    --------
+    >>> from dstoolkit.audio import list_devices, refresh_devices
+    >>> from dstoolkit.errors import AudioUnavailableError
+    >>> try:
+    ...     refresh_devices()
+    ...     found = list_devices()
+    ... except AudioUnavailableError:  # no sounddevice or PortAudio on this machine
+    ...     found = []
+    >>> isinstance(found, list)
+    True
     """
     sd = _sounddevice()
     # sounddevice has no public re-scan; terminate/initialise is its documented idiom.
@@ -117,7 +162,33 @@ def refresh_devices() -> None:
 
 @dataclass(frozen=True)
 class AudioDevice:
-    """One PortAudio device, as :func:`list_devices` reports it."""
+    """One PortAudio device, as :func:`list_devices` reports it.
+
+    Parameters
+    ----------
+    index : int
+        PortAudio's index of the device (what :func:`choose_device` returns).
+    name : str
+        The device's name, e.g. ``"pulse"`` for the software loopback.
+    hostapi : str
+        The host API that reaches it (ALSA, PulseAudio, Core Audio, WASAPI, ...).
+    max_input_channels, max_output_channels : int
+        Channels it records and plays (0: it does not record, or does not play).
+    default_samplerate : float
+        Its default sample rate, Hz.
+    default_input, default_output : bool
+        Whether it is the system's default input or output device.
+
+    See Also
+    --------
+    list_devices : Every device PortAudio sees.
+
+    Examples
+    --------
+    >>> from dstoolkit.audio import AudioDevice
+    >>> print(AudioDevice(4, "pulse", "ALSA", 32, 32, 44100.0, True, True))
+    <>  4 pulse (ALSA, 32 in, 32 out, 44100 Hz)
+    """
 
     index: int
     name: str
@@ -154,6 +225,26 @@ def list_devices(kind: Literal["input", "output"] | None = None) -> list[AudioDe
     ------
     AudioUnavailableError
         sounddevice or PortAudio is not installed.
+    NoAudioDeviceError
+        PortAudio could not list the devices.
+    InvalidInputError
+        ``kind`` is neither "input", "output" nor None.
+
+    See Also
+    --------
+    choose_device : One device by index or name.
+    refresh_devices : Scan again after plugging a device in.
+
+    Examples
+    --------
+    >>> from dstoolkit.audio import list_devices
+    >>> from dstoolkit.errors import AudioUnavailableError
+    >>> try:
+    ...     inputs = list_devices("input")
+    ... except AudioUnavailableError:  # no sounddevice or PortAudio on this machine
+    ...     inputs = []
+    >>> all(device.max_input_channels > 0 for device in inputs)
+    True
     """
     if kind not in (None, "input", "output"):
         raise InvalidInputError(f"kind must be 'input', 'output' or None, not {kind!r}")
@@ -188,8 +279,42 @@ def list_devices(kind: Literal["input", "output"] | None = None) -> list[AudioDe
 def choose_device(device: int | str | None, kind: Literal["input", "output"]) -> int:
     """Resolve a device given by index, by (part of) its name, or None for the default.
 
-    Returns the PortAudio index. Raises :class:`~dstoolkit.errors.NoAudioDeviceError` when
-    there is no such device (or no default one), listing the devices that exist.
+    Parameters
+    ----------
+    device : int or str or None
+        PortAudio index, (part of) a name as :func:`list_devices` shows it, or None for
+        the system's default device of that kind.
+    kind : {"input", "output"}
+        Whether the device must record or play.
+
+    Returns
+    -------
+    int
+        The PortAudio index of the device.
+
+    Raises
+    ------
+    NoAudioDeviceError
+        There is no such device (or no default one); the message lists the devices that
+        exist.
+    AudioUnavailableError
+        sounddevice or PortAudio is not installed.
+    InvalidInputError
+        ``kind`` is neither "input" nor "output".
+
+    See Also
+    --------
+    list_devices : The devices to choose from.
+
+    Examples
+    --------
+    The kind is checked before any device is looked at:
+
+    >>> from dstoolkit.audio import choose_device
+    >>> choose_device(None, "speaker")
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.InvalidInputError: kind must be 'input' or 'output', not 'speaker'
     """
     if kind not in ("input", "output"):
         raise InvalidInputError(f"kind must be 'input' or 'output', not {kind!r}")
@@ -216,11 +341,52 @@ def calibration_chirp(
     f_stop_hz: float = 5000.0,
     amplitude: float = 0.5,
 ) -> np.ndarray:
-    """A short windowed linear chirp whose autocorrelation has one sharp peak.
+    """Make a short windowed linear chirp whose autocorrelation has one sharp peak.
 
     Played before the sweep in the same stream, its position in the recording gives the
-    audio latency (:func:`~dstoolkit.gauge.estimate_latency`). The band suits laptop speakers and
+    audio latency τ that shifts every detected resonance (the paper's §4.3;
+    :func:`~dstoolkit.gauge.estimate_latency`). The band suits laptop speakers and
     microphones; its ends are tapered (Tukey window) so it starts and stops without clicks.
+
+    Parameters
+    ----------
+    samplerate : float
+        Sample rate, Hz.
+    duration_s : float
+        Length of the chirp, s.
+    f_start_hz, f_stop_hz : float
+        Band of the chirp, Hz; 0 < f_start_hz < f_stop_hz < samplerate / 2.
+    amplitude : float
+        Peak amplitude, full scale.
+
+    Returns
+    -------
+    ndarray, shape (round(duration_s * samplerate),)
+        The samples, full scale.
+
+    Raises
+    ------
+    InvalidInputError
+        A sample rate or duration that is not positive, or a band outside (0, samplerate/2).
+
+    See Also
+    --------
+    dstoolkit.gauge.estimate_latency : Finds the chirp in a recording.
+    measure_latency : Plays the chirp and finds it.
+
+    Examples
+    --------
+    A chirp found again in a recording that lags by 0.1 s (no sound device needed):
+
+    >>> import numpy as np
+    >>> from dstoolkit.audio import calibration_chirp
+    >>> from dstoolkit.gauge import estimate_latency
+    >>> chirp = calibration_chirp(16000)
+    >>> chirp.shape
+    (4000,)
+    >>> recorded = np.concatenate([np.zeros(1600), chirp, np.zeros(1600)])
+    >>> estimate_latency(chirp, recorded, 16000).seconds
+    0.1
     """
     if samplerate <= 0 or duration_s <= 0:
         raise InvalidInputError(
@@ -241,10 +407,29 @@ def calibration_chirp(
 class PlayRecordResult:
     """What :func:`play_record` played and recorded, sample for sample from the start.
 
-    ``played`` is the signal with its lead-in and tail of silence; ``recorded`` has the
-    same length. ``signal_start`` is the index in ``played`` of the signal's first sample.
-    ``status`` is PortAudio's summary of the stream's flags; ``dropped_samples`` is True
-    when they say input was lost or output was late (the recording then has gaps).
+    Parameters
+    ----------
+    played : ndarray, shape (N,)
+        The signal with its lead-in and tail of silence, full scale.
+    recorded : ndarray, shape (N,)
+        What the input recorded meanwhile, full scale; as long as ``played``.
+    samplerate : float
+        Hz, both directions.
+    signal_start : int
+        Index in ``played`` of the signal's first sample.
+    latency_setting : float or str
+        The latency asked of PortAudio (s, or "low"/"high").
+    input_device, output_device : int
+        PortAudio indices of the devices used.
+    status : str
+        PortAudio's summary of the stream's flags.
+    dropped_samples : bool
+        True when the flags say input was lost or output was late (the recording then has
+        gaps).
+
+    See Also
+    --------
+    play_record : Makes it.
     """
 
     played: np.ndarray
@@ -258,10 +443,27 @@ class PlayRecordResult:
     dropped_samples: bool
 
     def segment(self, start: int, length: int, latency: LatencyEstimate) -> np.ndarray:
-        """The recording of ``played[start:start + length]``, corrected for the latency.
+        """Return the recording of ``played[start:start + length]``, corrected for the latency.
 
-        Raises :class:`~dstoolkit.errors.DetectionError` when the recording does not cover it
-        (a recording too short for the sweep: play a longer tail).
+        Parameters
+        ----------
+        start : int
+            Index in ``played`` of the first sample wanted.
+        length : int
+            Number of samples.
+        latency : LatencyEstimate
+            The latency τ of this stream (:func:`~dstoolkit.gauge.estimate_latency`).
+
+        Returns
+        -------
+        ndarray, shape (length,)
+            ``recorded[start + lag : start + lag + length]``, full scale (a view).
+
+        Raises
+        ------
+        DetectionError
+            The recording does not cover it (a recording too short for the sweep: play a
+            longer tail).
         """
         first = start + latency.lag
         if first < 0 or first + length > self.recorded.size:
@@ -303,6 +505,11 @@ def play_record(
         PortAudio's suggested latency (s). ``DEFAULT_LATENCY_S`` worked through the
         PulseAudio loopback; very low values risk dropped samples.
 
+    Returns
+    -------
+    PlayRecordResult
+        What was played and recorded, sample for sample.
+
     Raises
     ------
     AudioUnavailableError
@@ -312,8 +519,29 @@ def play_record(
         :data:`STREAM_OPEN_TIMEOUT_S`, or it runs :data:`STREAM_GRACE_S` past its length:
         the stream runs in a child process, which is then killed);
         AudioServerError when the PulseAudio server died (:func:`check_sound_server`).
-    ValueError
-        Bad signal or settings.
+    InvalidInputError
+        Bad signal or settings (also a ValueError); checked before any device is opened.
+
+    Warns
+    -----
+    AudioDropoutWarning
+        The stream dropped samples: the recording has gaps.
+
+    See Also
+    --------
+    simulate_measurement : The same programme through a simulated loopback, no device.
+    measure_latency : Play and record a calibration chirp.
+
+    Examples
+    --------
+    The signal is checked before any device is opened (a measurement without a sound
+    device goes through :func:`simulate_measurement` instead):
+
+    >>> from dstoolkit.audio import play_record
+    >>> play_record([0.0, 1.5, 0.0], 44100)
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.InvalidInputError: the signal peaks at 1.5 > 1 and would clip: scale it down
     """
     sig = as_signal(x, "signal")
     peak = float(np.max(np.abs(sig)))
@@ -359,8 +587,15 @@ def play_record(
 
 
 def sound_server_problem() -> str | None:
-    """What is wrong with the PulseAudio server the environment points at, or None.
+    """Say what is wrong with the PulseAudio server the environment points at, or None.
 
+    Returns
+    -------
+    str or None
+        A sentence naming the server and what is wrong with it, or None.
+
+    Notes
+    -----
     Checks each ``unix:`` socket of ``PULSE_SERVER`` (else ``$PULSE_RUNTIME_PATH/native``
     or ``$XDG_RUNTIME_DIR/pulse/native``): a socket that is missing or refuses connections
     means the server is not running. A server that accepts connections may still be
@@ -389,7 +624,42 @@ def sound_server_problem() -> str | None:
 
 
 def check_sound_server() -> None:
-    """Raise :class:`~dstoolkit.errors.AudioServerError` when the sound server has gone away."""
+    """Raise :class:`~dstoolkit.errors.AudioServerError` when the sound server has gone away.
+
+    Each ``unix:`` socket of ``PULSE_SERVER`` (else ``$PULSE_RUNTIME_PATH/native`` or
+    ``$XDG_RUNTIME_DIR/pulse/native``) is tried: a socket that is missing or refuses
+    connections means the server is not running. Without PulseAudio nothing is checked.
+
+    Raises
+    ------
+    AudioServerError
+        The PulseAudio server the environment points at is not running.
+
+    See Also
+    --------
+    play_record : Calls it when a stream fails.
+
+    Examples
+    --------
+    A server whose socket does not exist:
+
+    >>> import os, tempfile
+    >>> from dstoolkit.audio import check_sound_server
+    >>> from dstoolkit.errors import AudioServerError
+    >>> saved = os.environ.get("PULSE_SERVER")
+    >>> missing = os.path.join(tempfile.mkdtemp(), "native")
+    >>> os.environ["PULSE_SERVER"] = "unix:" + missing
+    >>> try:
+    ...     check_sound_server()
+    ... except AudioServerError as exc:
+    ...     print("is not running" in str(exc))
+    ... finally:
+    ...     if saved is None:
+    ...         del os.environ["PULSE_SERVER"]
+    ...     else:
+    ...         os.environ["PULSE_SERVER"] = saved
+    True
+    """
     problem = sound_server_problem()
     if problem is not None:
         raise AudioServerError(
@@ -526,9 +796,48 @@ def measure_latency(
 
     The delay differs each time a stream is opened (it did by tens of ms through the
     PulseAudio loopback), so a measurement should carry its own chirp; this function is
-    for checking a set-up. Raises :class:`~dstoolkit.errors.DetectionError` when the chirp is
-    not found (|correlation| below ``min_correlation``): the microphone does not hear the
-    speaker.
+    for checking a set-up.
+
+    Parameters
+    ----------
+    samplerate : int
+        Hz, both directions.
+    input_device, output_device : int or str, optional
+        Index or (part of a) name, see :func:`list_devices`; None for the defaults.
+    latency : float or "low" or "high"
+        PortAudio's suggested latency, s.
+    min_correlation : float
+        Smallest |normalised correlation| at which the chirp counts as found.
+
+    Returns
+    -------
+    LatencyEstimate
+        The delay τ (``lag`` in samples, ``seconds``) and how well the chirp matched.
+
+    Raises
+    ------
+    DetectionError
+        The chirp is not found (|correlation| below ``min_correlation``): the microphone
+        does not hear the speaker.
+    AudioUnavailableError
+        No sounddevice/PortAudio or no device (see :func:`play_record`).
+    InvalidInputError
+        A sample rate that is not positive.
+
+    See Also
+    --------
+    calibration_chirp : The signal played.
+    check_calibration : The test applied to the estimate.
+
+    Examples
+    --------
+    The settings are checked before any device is opened:
+
+    >>> from dstoolkit.audio import measure_latency
+    >>> measure_latency(0)
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.InvalidInputError: samplerate (0) and duration_s (0.25) must be positive
     """
     chirp = calibration_chirp(samplerate)
     result = play_record(chirp, samplerate, input_device=input_device,
@@ -542,7 +851,38 @@ def measure_latency(
 def check_calibration(
     estimate: LatencyEstimate, min_correlation: float = MIN_CALIBRATION_CORRELATION
 ) -> None:
-    """Raise :class:`~dstoolkit.errors.DetectionError` when the calibration chirp was not found."""
+    """Raise :class:`~dstoolkit.errors.DetectionError` when the calibration chirp was not found.
+
+    Parameters
+    ----------
+    estimate : LatencyEstimate
+        Where the chirp was found and how well it matched
+        (:func:`~dstoolkit.gauge.estimate_latency`).
+    min_correlation : float
+        Smallest |normalised correlation| at which the chirp counts as found.
+
+    Raises
+    ------
+    DetectionError
+        |``estimate.correlation``| is below ``min_correlation``: the input does not hear the
+        output.
+
+    See Also
+    --------
+    measure_latency : Plays the chirp, finds it and checks it.
+
+    Examples
+    --------
+    >>> from dstoolkit.audio import check_calibration
+    >>> from dstoolkit.gauge import LatencyEstimate
+    >>> check_calibration(LatencyEstimate(lag=4410, samplerate=44100.0, correlation=0.93,
+    ...                                   significance=40.0))
+    >>> check_calibration(LatencyEstimate(lag=12, samplerate=44100.0, correlation=0.05,
+    ...                                   significance=1.2))
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.DetectionError: the calibration chirp was not found in the recording ...
+    """
     if abs(estimate.correlation) < min_correlation:
         raise DetectionError(
             f"the calibration chirp was not found in the recording (correlation "

@@ -35,7 +35,7 @@ import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
@@ -113,6 +113,26 @@ class LevelEstimate:
     - ``temperature_uncertainty_m``: L σ_c/c from the thermometer's uncertainty
       (c = 331.3 + 0.606 T: 0.5 °C is 0.09 % of L, 8 mm at 9.6 m).
 
+    Parameters
+    ----------
+    level_m : float
+        The level L = c/(2 f_F), m (the paper's eq. 35 with the fitted f_F).
+    uncertainty_m : float
+        Its standard uncertainty, m: the three terms below in quadrature.
+    fit_uncertainty_m : float
+        From the slope's least-squares standard error, m.
+    offset_uncertainty_m : float
+        Half the difference from the fit with b = 0, m.
+    temperature_uncertainty_m : float
+        From the thermometer's uncertainty, m.
+    speed_of_sound : float
+        c at the measured temperature, m/s (the paper's eq. 32).
+    fit : ResonanceSeriesFit
+        The fit of the resonance series (:func:`dstoolkit.gauge.fit_resonance_series`).
+
+    See Also
+    --------
+    analyze : Returns one in :attr:`Analysis.level`.
     """
 
     level_m: float
@@ -131,9 +151,11 @@ def estimate_level(
     temperature_uncertainty_c: float = DEFAULT_TEMPERATURE_UNCERTAINTY_C,
     speed_model: SpeedModel = "paper",
 ) -> LevelEstimate:
-    """Level and uncertainty from detected resonances (eqs. 32, 35), see
-    :class:`LevelEstimate`. Missed resonances are fine: the fit uses the detection's
-    ``steps``, which jump over them."""
+    """Estimate the level and its uncertainty from detected resonances (eqs. 32, 35).
+
+    See :class:`LevelEstimate`. Missed resonances are fine: the fit uses the detection's
+    ``steps``, which jump over them.
+    """
     if not math.isfinite(temperature_c) or not -50.0 <= temperature_c <= 100.0:
         raise InvalidInputError(f"temperature_c = {temperature_c} °C is not an air temperature")
     if not temperature_uncertainty_c >= 0:
@@ -168,9 +190,44 @@ def filter_levels(
     methods: Sequence[str] = METHODS,
     seed: int = 0,
 ) -> dict[str, float]:
-    """The level by each method of Table 3 (the paper's filter, Nassreddine's, direct,
-    Kalman, particle) over one recording's resonances, m.
+    """Estimate the level (m) by each method of Table 3 over one recording's resonances.
 
+    The methods: the paper's filter, Nassreddine's, direct, Kalman, particle.
+
+    Parameters
+    ----------
+    detection : DetectionResult
+        The recording's resonances (:func:`dstoolkit.gauge.detect_resonances`).
+    speed_of_sound : float
+        c, m/s (the paper's eq. 32).
+    methods : sequence of str
+        Methods to run, keys of Table 3: "dependent_evidence", "nassreddine", "direct",
+        "kalman", "particle".
+    seed : int
+        Seed of the particle filter's random numbers.
+
+    Returns
+    -------
+    dict of str to float
+        The mean level L̂ by each method, m, in the order of ``methods``.
+
+    Raises
+    ------
+    DetectionError
+        Fewer than 3 consecutive resonances.
+
+    See Also
+    --------
+    analyze : Calls it with its ``methods``.
+    dstoolkit.studies.estimate_levels : The level per step by one method.
+
+    References
+    ----------
+    The paper's eqs. 32 (speed of sound), 39 (the state transition) and 43 (the orders),
+    and its Table 3.
+
+    Notes
+    -----
     Each method gives a level per step, L̂_k = n_k c/(2 x̂_k) (eq. 32, orders by eq. 43),
     averaged here (:func:`dstoolkit.studies.estimate_levels`, the paper's noise
     evidence of Tables 1–2). The readings are the detector's with the latency corrected but
@@ -178,6 +235,18 @@ def filter_levels(
     how its observation noise w (mode −6.9 Hz) was characterised. Eq. 39 links neighbouring
     resonances, so over a missed one it does not hold: the methods run on the longest run of
     consecutive resonances.
+
+    Examples
+    --------
+    A recording of a 9.6 m virtual tube, simulated without a sound device:
+
+    >>> from dstoolkit.audio import analyze, filter_levels, simulate_measurement
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> rec = simulate_measurement(TubeSetup(level_m=9.6, temperature_c=20.0))
+    >>> found = analyze(rec, methods=())
+    >>> levels = filter_levels(found.detection, found.level.speed_of_sound, ["kalman"])
+    >>> round(levels["kalman"], 1)
+    9.6
     """
     steps = detection.steps
     breaks = np.flatnonzero(np.diff(steps) != 1) + 1
@@ -203,9 +272,32 @@ def filter_levels(
 class Analysis:
     """A recording analysed: its resonances and the level.
 
-    ``gauge_recording`` is the part from the moment the sweep was played (τ before it
-    arrives), in the form the gauge's detection and plots take. ``filter_levels`` holds
-    the level by each method of Table 3 (:func:`filter_levels`), empty when not asked.
+    Parameters
+    ----------
+    recording : WavRecording
+        The recording as read (or as made).
+    gauge_recording : Recording
+        The part from the moment the sweep was played (τ before it arrives), in the form
+        the gauge's detection and plots take.
+    detection : DetectionResult
+        The resonances found (:func:`dstoolkit.gauge.detect_resonances`).
+    level : LevelEstimate
+        The level and its uncertainty.
+    temperature_c : float
+        The air temperature used, °C.
+    latency_s : float
+        The audio latency τ corrected, s.
+    true_level_m : float or None
+        The true level when known (virtual tube), m.
+    filter_levels : dict of str to float
+        The level by each method of Table 3 (:func:`filter_levels`), m; empty when not
+        asked.
+    notes : tuple of str
+        Warnings and assumptions, one line each (missed resonances, an assumed sweep).
+
+    See Also
+    --------
+    analyze : Makes it.
     """
 
     recording: WavRecording
@@ -220,10 +312,25 @@ class Analysis:
 
     @property
     def error_m(self) -> float | None:
-        """Measured − true level when the truth is known (virtual tube), else None."""
+        """Measured − true level when the truth is known (virtual tube), else None.
+
+        Returns
+        -------
+        float or None
+            ``level.level_m - true_level_m``, m.
+        """
         return None if self.true_level_m is None else self.level.level_m - self.true_level_m
 
     def summary(self) -> str:
+        """Describe the analysis in a few lines of text, as the command line prints it.
+
+        Returns
+        -------
+        str
+            Level ± uncertainty and its parts, the resonances found, missed and spurious,
+            temperature and latency, the error against a known level, the levels by method
+            and the notes, one per line.
+        """
         lv = self.level
         d = self.detection
         lines = [
@@ -236,9 +343,9 @@ class Analysis:
             f"temperature {self.temperature_c:g} °C (c = {lv.speed_of_sound:.2f} m/s), "
             f"audio latency {1e3 * self.latency_s:.1f} ms",
         ]
-        if self.true_level_m is not None:
-            lines.append(f"true level {self.true_level_m:g} m: error "
-                         f"{1e3 * self.error_m:+.1f} mm")
+        error = self.error_m
+        if error is not None:
+            lines.append(f"true level {self.true_level_m:g} m: error {1e3 * error:+.1f} mm")
         if self.filter_levels:
             lines.append("by method (eq. 32 per step, orders by eq. 43, averaged): " + ", ".join(
                 f"{m} {lv_m:.4f} m" for m, lv_m in self.filter_levels.items()))
@@ -246,7 +353,15 @@ class Analysis:
         return "\n".join(lines)
 
     def figure(self) -> Figure:
-        """The recording with its envelope and peaks (Fig. 6) above the resonances (Fig. 7)."""
+        """Draw the recording with its envelope and peaks (Fig. 6) above the resonances (Fig. 7).
+
+        Needs matplotlib (the ``plots`` extra).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            Two panels, not shown (save it with ``savefig``).
+        """
         from matplotlib.figure import Figure
 
         from dstoolkit.plots import plot_recording, plot_resonances
@@ -267,9 +382,9 @@ class Analysis:
 
 
 def sweep_from_metadata(metadata: RecordingMetadata, samplerate: float) -> LinearSweep | None:
-    """The sweep a recording's metadata describes, or None when it does not say."""
+    """Return the sweep a recording's metadata describes, or None when it does not say."""
     m = metadata
-    if None in (m.f_start_hz, m.f_stop_hz, m.sweep_duration_s):
+    if m.f_start_hz is None or m.f_stop_hz is None or m.sweep_duration_s is None:
         return None
     taper = PAPER_SWEEP.taper if m.sweep_taper_s is None else m.sweep_taper_s
     return LinearSweep(f_start=m.f_start_hz, f_stop=m.f_stop_hz, duration=m.sweep_duration_s,
@@ -284,9 +399,11 @@ UNKNOWN_ONSET_S = 2.0
 
 
 def _load_for_analysis(path: str | os.PathLike[str]) -> WavRecording:
-    """Read the part of a recording that the analysis uses: up to the sweep's end plus
-    :data:`ANALYSIS_TAIL_S` (the whole file when the metadata does not describe the sweep
-    beyond :data:`UNKNOWN_ONSET_S` + the paper's sweep)."""
+    """Read the part of a recording that the analysis uses.
+
+    That is up to the sweep's end plus :data:`ANALYSIS_TAIL_S` (the whole file when the
+    metadata does not describe the sweep beyond :data:`UNKNOWN_ONSET_S` + the paper's sweep).
+    """
     fh, layout = open_recording(path)
     with fh:
         meta = read_metadata(layout.info)
@@ -315,16 +432,23 @@ def analyze(
 
     Parameters
     ----------
-    recording
+    recording : WavRecording or path-like
         Made by :func:`measure` / :func:`simulate_measurement`, or any mono WAV of a sweep.
-    temperature_c
+    temperature_c : float, optional
         Air temperature, °C; default the one in the metadata. One of the two is needed.
-    sweep
+    sweep : LinearSweep, optional
         The played sweep; default the metadata's, else the paper's (1000 → 2400 Hz, 5 s).
-    temperature_uncertainty_c
+    temperature_uncertainty_c : float
         Standard uncertainty of the temperature, °C.
-    methods
+    speed_model : {"paper", "ideal_gas", "cramer"}
+        How c follows from the temperature (:func:`dstoolkit.gauge.speed_of_sound`).
+    methods : sequence of str
         Methods of Table 3 whose level to add (:func:`filter_levels`); () for none.
+
+    Returns
+    -------
+    Analysis
+        The resonances, the level with its uncertainty, the levels by method and notes.
 
     Notes
     -----
@@ -340,8 +464,29 @@ def analyze(
         not raise: they are listed and the level uses those that remain.
     RecordingFileError, FileNotFoundError
         An unreadable file.
-    ValueError
-        No temperature.
+    InvalidInputError
+        No temperature (also a ValueError).
+
+    See Also
+    --------
+    measure : Record, then analyse.
+    simulate_measurement : A recording without a sound device.
+
+    References
+    ----------
+    The paper's §4: the resonances of the tube, eqs. 32 (speed of sound) and 35 (the
+    level from the fundamental).
+
+    Examples
+    --------
+    >>> from dstoolkit.audio import analyze, simulate_measurement
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> rec = simulate_measurement(TubeSetup(level_m=9.6, temperature_c=20.0))
+    >>> found = analyze(rec, methods=())
+    >>> round(found.level.level_m, 2), found.detection.frequencies.size
+    (9.6, 77)
+    >>> abs(found.error_m) < found.level.uncertainty_m
+    True
     """
     rec = recording if isinstance(recording, WavRecording) else _load_for_analysis(recording)
     meta = rec.metadata
@@ -488,19 +633,47 @@ def record_measurement(
     output_device: int | str | None = None,
     virtual_tube: TubeSetup | None = None,
     amplitude: float = DEFAULT_AMPLITUDE,
-    latency: float | str = audio.DEFAULT_LATENCY_S,
+    latency: float | Literal["low", "high"] = audio.DEFAULT_LATENCY_S,
     save: str | os.PathLike[str] | None = None,
     overwrite: bool = False,
     attempts: int = 3,
 ) -> WavRecording:
     """Play the programme (module docstring) and record it; return the recording.
 
-    ``temperature_c`` is what the thermometer says (stored in the metadata); with a
-    ``virtual_tube`` it defaults to the tube's. ``save`` writes the WAV file; an existing
-    file is refused before anything is played unless ``overwrite=True``. A recording
-    in which the stream dropped samples (PortAudio reports an xrun, or the two chirps give
-    different latencies) is discarded and the measurement repeated, up to ``attempts``
-    times in all.
+    A recording in which the stream dropped samples (PortAudio reports an xrun, or the two
+    chirps give different latencies) is discarded and the measurement repeated, up to
+    ``attempts`` times in all.
+
+    Parameters
+    ----------
+    temperature_c : float, optional
+        What the thermometer says, °C (stored in the metadata); with a ``virtual_tube`` it
+        defaults to the tube's.
+    sweep : LinearSweep
+        The sweep to play (default the paper's, 1000 → 2400 Hz in 5 s); its sample rate
+        must be a whole number of Hz.
+    input_device, output_device : int or str, optional
+        Index or (part of a) name, see :func:`list_devices`; None for the defaults.
+    virtual_tube : TubeSetup, optional
+        Play the sweep as heard through this tube (with a loopback the recording is then
+        a tube's); None plays the bare sweep.
+    amplitude : float
+        Peak of the played signal, full scale.
+    latency : float or str
+        PortAudio's suggested latency, s (or "low"/"high").
+    save : path-like, optional
+        Write the recording there (WAV with metadata).
+    overwrite : bool
+        Replace an existing ``save`` file; otherwise it is refused before anything is
+        played.
+    attempts : int
+        How many recordings to try in all when samples are dropped.
+
+    Returns
+    -------
+    WavRecording
+        The samples from the start of the programme and their metadata (temperature,
+        sweep, onset, latency, the true level of a virtual tube).
 
     Raises
     ------
@@ -510,6 +683,27 @@ def record_measurement(
         A calibration chirp is not in the recording: the input does not hear the output.
     AudioDropoutError
         Samples were dropped in every attempt.
+    InvalidInputError
+        No temperature, fewer than one attempt, or a sweep whose sample rate is not a whole
+        number; checked before any device is opened.
+    OutputExistsError
+        ``save`` exists and ``overwrite`` is False.
+
+    See Also
+    --------
+    simulate_measurement : The same recording through a simulated loopback.
+    measure : Record, then analyse.
+
+    Examples
+    --------
+    The settings are checked before any device is opened (without a sound device, use
+    :func:`simulate_measurement`):
+
+    >>> from dstoolkit.audio import record_measurement
+    >>> record_measurement()
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.InvalidInputError: give the air temperature (temperature_c, °C)
     """
     if temperature_c is None:
         if virtual_tube is None:
@@ -565,13 +759,67 @@ def measure(
     output_device: int | str | None = None,
     virtual_tube: TubeSetup | None = None,
     amplitude: float = DEFAULT_AMPLITUDE,
-    latency: float | str = audio.DEFAULT_LATENCY_S,
+    latency: float | Literal["low", "high"] = audio.DEFAULT_LATENCY_S,
     save: str | os.PathLike[str] | None = None,
     overwrite: bool = False,
     temperature_uncertainty_c: float = DEFAULT_TEMPERATURE_UNCERTAINTY_C,
 ) -> Analysis:
-    """Measure a level: :func:`record_measurement` then :func:`analyze`. ``save`` never
-    replaces an existing file unless ``overwrite=True``."""
+    """Measure a level: :func:`record_measurement` then :func:`analyze`.
+
+    Parameters
+    ----------
+    temperature_c : float, optional
+        What the thermometer says, °C; with a ``virtual_tube`` it defaults to the tube's.
+    sweep : LinearSweep
+        The sweep to play (default the paper's).
+    input_device, output_device : int or str, optional
+        Index or (part of a) name, see :func:`list_devices`; None for the defaults.
+    virtual_tube : TubeSetup, optional
+        Play the sweep as heard through this tube; None plays the bare sweep.
+    amplitude : float
+        Peak of the played signal, full scale.
+    latency : float or str
+        PortAudio's suggested latency, s (or "low"/"high").
+    save : path-like, optional
+        Write the recording there; never replaces an existing file unless
+        ``overwrite=True``.
+    overwrite : bool
+        Replace an existing ``save`` file.
+    temperature_uncertainty_c : float
+        Standard uncertainty of the temperature, °C.
+
+    Returns
+    -------
+    Analysis
+        The level with its uncertainty and the resonances.
+
+    Raises
+    ------
+    AudioUnavailableError
+        No sounddevice/PortAudio, or no device.
+    DetectionError
+        The input does not hear the output, or too few resonances.
+    AudioDropoutError
+        Samples were dropped in every attempt.
+    InvalidInputError
+        No temperature; checked before any device is opened.
+
+    See Also
+    --------
+    record_measurement, analyze : Its two steps.
+    simulate_measurement : A recording without a sound device.
+
+    Examples
+    --------
+    Without a sound device, the same two steps run on a simulated recording:
+
+    >>> from dstoolkit.audio import analyze, simulate_measurement
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> found = analyze(simulate_measurement(TubeSetup(level_m=4.0, temperature_c=15.0)),
+    ...                 methods=())
+    >>> round(found.level.level_m, 2)
+    4.0
+    """
     recording = record_measurement(
         temperature_c, sweep=sweep, input_device=input_device, output_device=output_device,
         virtual_tube=virtual_tube, amplitude=amplitude, latency=latency, save=save,
@@ -590,9 +838,52 @@ def simulate_measurement(
     amplitude: float = DEFAULT_AMPLITUDE,
     seed: int = 0,
 ) -> WavRecording:
-    """The recording :func:`record_measurement` would make through a perfect loopback of
-    latency ``latency_s`` (a pure delay, plus white noise of ``noise_rms`` full scale), with
-    no audio at all. Same programme, same latency estimation, same metadata."""
+    """Simulate the recording :func:`record_measurement` would make through a perfect loopback.
+
+    The loopback has latency ``latency_s`` (a pure delay, plus white noise of ``noise_rms``
+    full scale), with no audio at all. Same programme, same latency estimation, same
+    metadata.
+
+    Parameters
+    ----------
+    virtual_tube : TubeSetup
+        The tube the sweep is heard through (its level is stored as the true level).
+    temperature_c : float, optional
+        The temperature stored in the metadata, °C; default the tube's.
+    sweep : LinearSweep
+        The sweep played (default the paper's).
+    latency_s : float
+        The loopback's delay, s, in [0, ``MIN_PADDING_S``).
+    noise_rms : float
+        RMS of the white noise added, full scale.
+    amplitude : float
+        Peak of the played signal, full scale.
+    seed : int
+        Seed of the noise.
+
+    Returns
+    -------
+    WavRecording
+        The samples from the start of the programme and their metadata.
+
+    Raises
+    ------
+    InvalidInputError
+        A latency outside [0, ``MIN_PADDING_S``).
+
+    See Also
+    --------
+    record_measurement : The same with a sound device.
+    analyze : Finds the level in it.
+
+    Examples
+    --------
+    >>> from dstoolkit.audio import simulate_measurement
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> rec = simulate_measurement(TubeSetup(level_m=9.6, temperature_c=20.0))
+    >>> rec.samplerate, rec.metadata.level_m, rec.metadata.latency_s
+    (44100, 9.6, 0.1)
+    """
     if not 0 <= latency_s < audio.MIN_PADDING_S:
         raise InvalidInputError(
             f"latency_s must be in [0, {audio.MIN_PADDING_S}) s, got {latency_s}")
@@ -619,7 +910,29 @@ def _device(text: str | None) -> int | str | None:
 
 
 def add_measure_arguments(parser: argparse.ArgumentParser) -> None:
-    """Options of ``python -m dstoolkit measure``."""
+    """Add the options of ``python -m dstoolkit measure`` to ``parser``.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        Gains ``--temperature`` (required), ``--input``, ``--output``, ``--save``,
+        ``--figure``, ``--virtual-level``, ``--latency``, ``--list-devices`` and
+        ``--overwrite``.
+
+    See Also
+    --------
+    measure_command : Runs the parsed options.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> from dstoolkit.audio import add_measure_arguments
+    >>> parser = argparse.ArgumentParser()
+    >>> add_measure_arguments(parser)
+    >>> args = parser.parse_args(["--temperature", "20", "--virtual-level", "9.6"])
+    >>> args.temperature, args.virtual_level, args.figure
+    (20.0, 9.6, 'measurement.png')
+    """
     parser.add_argument("--temperature", type=float, required=True, metavar="T",
                         help="air temperature in the tube, °C")
     parser.add_argument("--input", metavar="DEV", help="input device index or name")
@@ -639,7 +952,28 @@ def add_measure_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
-    """Options of ``python -m dstoolkit analyze``."""
+    """Add the options of ``python -m dstoolkit analyze`` to ``parser``.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        Gains the positional ``recording`` and ``--temperature``, ``--figure`` and
+        ``--overwrite``.
+
+    See Also
+    --------
+    analyze_command : Runs the parsed options.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> from dstoolkit.audio import add_analyze_arguments
+    >>> parser = argparse.ArgumentParser()
+    >>> add_analyze_arguments(parser)
+    >>> args = parser.parse_args(["rec.wav", "--temperature", "18.5"])
+    >>> args.recording, args.temperature, args.figure
+    ('rec.wav', 18.5, None)
+    """
     parser.add_argument("recording", metavar="REC.wav", help="a recording (WAV)")
     parser.add_argument("--temperature", type=float, metavar="T",
                         help="air temperature, °C (default: the recording's metadata)")
@@ -663,15 +997,47 @@ def _fail(exc: BaseException) -> int:
 
 
 def _figure_check(command: str) -> Callable[[Path], bool]:
-    """An existing figure may be replaced when the same command made it."""
+    """Allow replacing an existing figure when the same command made it."""
     return lambda path: path.suffix.lower() == ".png" and made_by(path, command)
 
 
 def measure_command(args: argparse.Namespace) -> int:
     """``python -m dstoolkit measure``: measure, print level ± uncertainty, save a figure.
-    Returns the exit status (0 ok, 1 with a message on stderr). The output paths are
-    checked before the measurement starts; none replaces a file unless ``--overwrite``
-    (a figure an earlier ``measure`` made may be replaced)."""
+
+    The output paths are checked before the measurement starts; none replaces a file
+    unless ``--overwrite`` (a figure an earlier ``measure`` made may be replaced).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Options parsed by a parser that :func:`add_measure_arguments` set up.
+
+    Returns
+    -------
+    int
+        The exit status: 0 done, 1 with a one-line message on stderr.
+
+    See Also
+    --------
+    measure : What it runs.
+
+    Examples
+    --------
+    An existing recording is not replaced: the command stops before it plays anything.
+
+    >>> import argparse, os, tempfile
+    >>> from dstoolkit.audio import add_measure_arguments, measure_command
+    >>> parser = argparse.ArgumentParser()
+    >>> add_measure_arguments(parser)
+    >>> folder = tempfile.mkdtemp()
+    >>> kept = os.path.join(folder, "rec.wav")
+    >>> open(kept, "w").close()
+    >>> measure_command(parser.parse_args(["--temperature", "20", "--save", kept,
+    ...                                    "--figure", os.path.join(folder, "m.png")]))
+    1
+    >>> os.path.getsize(kept)
+    0
+    """
     try:
         if args.list_devices:
             for device in audio.list_devices():
@@ -697,8 +1063,11 @@ def measure_command(args: argparse.Namespace) -> int:
 
 
 def analysis_figure_path(recording: str | os.PathLike[str]) -> Path:
-    """The default figure of ``analyze REC``: REC with the suffix .png, or REC.png when the
-    recording itself ends in .png (an output never replaces its input)."""
+    """Return the default figure of ``analyze REC``.
+
+    That is REC with the suffix .png, or REC.png when the recording itself ends in .png (an
+    output never replaces its input).
+    """
     path = Path(recording)
     figure = path.with_suffix(".png")
     return path.with_name(path.name + ".png") if figure.name == path.name else figure
@@ -706,9 +1075,43 @@ def analysis_figure_path(recording: str | os.PathLike[str]) -> Path:
 
 def analyze_command(args: argparse.Namespace) -> int:
     """``python -m dstoolkit analyze REC.wav``: print level ± uncertainty, save a figure.
-    Returns the exit status (0 ok, 1 with a message on stderr). The figure never replaces
-    the recording, nor an existing file unless ``--overwrite`` (or an earlier ``analyze``
-    made it); it is checked before the analysis starts."""
+
+    The figure never replaces the recording, nor an existing file unless ``--overwrite``
+    (or an earlier ``analyze`` made it); it is checked before the analysis starts.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Options parsed by a parser that :func:`add_analyze_arguments` set up.
+
+    Returns
+    -------
+    int
+        The exit status: 0 done, 1 with a one-line message on stderr.
+
+    See Also
+    --------
+    analyze : What it runs.
+
+    Examples
+    --------
+    A simulated recording, saved and analysed (no sound device):
+
+    >>> import argparse, os, tempfile
+    >>> from dstoolkit.audio import (add_analyze_arguments, analyze_command,
+    ...                              save_recording, simulate_measurement)
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> rec = simulate_measurement(TubeSetup(level_m=9.6, temperature_c=20.0))
+    >>> path = os.path.join(tempfile.mkdtemp(), "rec.wav")
+    >>> save_recording(path, rec.samples, rec.samplerate, rec.metadata)
+    >>> parser = argparse.ArgumentParser()
+    >>> add_analyze_arguments(parser)
+    >>> analyze_command(parser.parse_args([path]))
+    level L = 9.59... m ± 0.00... m (1 sigma; ...)
+    ...
+    figure saved to ...rec.png
+    0
+    """
     try:
         figure = args.figure or analysis_figure_path(args.recording)
         paths = check_outputs({"the figure": figure}, inputs=[args.recording],

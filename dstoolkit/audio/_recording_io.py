@@ -44,7 +44,7 @@ _INT_SCALE = {np.dtype(np.int16): 32768.0, np.dtype(np.int32): 2147483648.0}
 class RecordingMetadata:
     """What is known about a recording besides its samples. Every field may be unknown.
 
-    Attributes
+    Parameters
     ----------
     temperature_c : float or None
         Air temperature in the tube, °C (sound speed c = 331.3 + 0.606 T).
@@ -67,6 +67,25 @@ class RecordingMetadata:
         How the recording was made, e.g. "loopback virtual tube" or a device name.
     extra : dict
         Anything else that JSON can hold.
+
+    Raises
+    ------
+    RecordingFileError
+        A field of the wrong type, not finite, a length or level that is not positive, or
+        a band that does not rise.
+
+    See Also
+    --------
+    save_recording, load_recording : Store it in a WAV file and read it back.
+
+    Examples
+    --------
+    >>> from dstoolkit.audio import RecordingMetadata
+    >>> meta = RecordingMetadata(temperature_c=20, level_m=9.6)
+    >>> meta.temperature_c, meta.latency_s
+    (20.0, None)
+    >>> RecordingMetadata.from_json(meta.to_json()) == meta
+    True
     """
 
     temperature_c: float | None = None
@@ -114,6 +133,18 @@ class RecordingMetadata:
             raise RecordingFileError(f"extra must be a dict, got {type(self.extra).__name__}")
 
     def to_json(self) -> str:
+        """Return the metadata as one line of JSON, as stored in the WAV file's comment.
+
+        Returns
+        -------
+        str
+            A JSON object with every field and the format's version.
+
+        Raises
+        ------
+        RecordingFileError
+            ``extra`` holds something JSON cannot (a NaN, an object).
+        """
         payload = {"dstoolkit_metadata": METADATA_VERSION, **asdict(self)}
         try:
             return json.dumps(payload, allow_nan=False, sort_keys=True)
@@ -122,7 +153,24 @@ class RecordingMetadata:
 
     @classmethod
     def from_json(cls, text: str) -> RecordingMetadata:
-        """Parse metadata written by :meth:`to_json`; a one-line error for anything else."""
+        """Parse metadata written by :meth:`to_json`; a one-line error for anything else.
+
+        Parameters
+        ----------
+        text : str
+            The JSON text. Fields of a newer version go into ``extra``.
+
+        Returns
+        -------
+        RecordingMetadata
+            The metadata it holds.
+
+        Raises
+        ------
+        RecordingFileError
+            Not dstoolkit metadata: not JSON, too long or too deeply nested, a key given
+            twice, or fields of the wrong type.
+        """
         if len(text) > MAX_METADATA_BYTES:
             raise RecordingFileError(f"the metadata holds {len(text)} characters, more than "
                                      f"{MAX_METADATA_BYTES}")
@@ -148,8 +196,11 @@ class RecordingMetadata:
 
 
 def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
-    """A JSON object whose keys are all different: a key given twice makes the metadata
-    ambiguous (which temperature holds?), so it is refused."""
+    """Build a JSON object whose keys are all different.
+
+    A key given twice makes the metadata ambiguous (which temperature holds?), so it is
+    refused.
+    """
     out: dict[str, Any] = {}
     for key, value in pairs:
         if key in out:
@@ -183,9 +234,24 @@ def _json_depth(text: str) -> int:
 
 @dataclass(frozen=True)
 class WavRecording:
-    """A mono recording as stored in a WAV file: samples (float, full scale ±1), sample
-    rate (Hz) and metadata. (:class:`dstoolkit.gauge.Recording` is the gauge's view of a
-    recording, cropped to the sweep; :mod:`dstoolkit.audio` converts.)"""
+    """A mono recording as stored in a WAV file.
+
+    :class:`dstoolkit.gauge.Recording` is the gauge's view of a recording, cropped to the
+    sweep; :func:`analyze` converts.
+
+    Parameters
+    ----------
+    samples : ndarray, shape (N,)
+        The samples, float, full scale ±1.
+    samplerate : int
+        Hz.
+    metadata : RecordingMetadata
+        What is known about it besides the samples.
+
+    See Also
+    --------
+    load_recording, save_recording : Read and write one.
+    """
 
     samples: np.ndarray
     samplerate: int
@@ -193,6 +259,13 @@ class WavRecording:
 
     @property
     def duration_s(self) -> float:
+        """The length of the recording, s.
+
+        Returns
+        -------
+        float
+            ``samples.size / samplerate``.
+        """
         return self.samples.size / self.samplerate
 
 
@@ -237,6 +310,32 @@ def save_recording(
     overwrite : bool
         Replace an existing file. By default an existing file is kept and
         :class:`~dstoolkit.errors.OutputExistsError` is raised.
+
+    Raises
+    ------
+    RecordingFileError
+        Samples that are not real, finite and 1-D, a sample rate outside 1 kHz–1 MHz, a
+        peak beyond ±1 in int16, or a file :func:`load_recording` could not read back.
+    OutputExistsError
+        The file exists and ``overwrite`` is False.
+
+    See Also
+    --------
+    load_recording : Reads it back.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> import numpy as np
+    >>> from dstoolkit.audio import RecordingMetadata, load_recording, save_recording
+    >>> path = os.path.join(tempfile.mkdtemp(), "tone.wav")
+    >>> tone = 0.5 * np.sin(2 * np.pi * 440 * np.arange(8000) / 8000)
+    >>> save_recording(path, tone, 8000, RecordingMetadata(temperature_c=21.0))
+    >>> back = load_recording(path)
+    >>> back.samplerate, back.duration_s, back.metadata.temperature_c
+    (8000, 1.0, 21.0)
+    >>> bool(np.array_equal(back.samples, tone.astype(np.float32)))
+    True
     """
     given = np.asarray(samples)
     if given.dtype.kind not in "biuf":
@@ -292,8 +391,11 @@ def save_recording(
 
 
 def _readable(riff: bytes, path: str | os.PathLike[str]) -> None:
-    """Refuse to write a file that :func:`load_recording` would refuse: too large, or
-    metadata over :data:`MAX_METADATA_BYTES` or nested too deep."""
+    """Refuse to write a file that :func:`load_recording` would refuse.
+
+    That is a file too large, or metadata over :data:`MAX_METADATA_BYTES` or nested too
+    deep.
+    """
     if len(riff) > MAX_RECORDING_BYTES:
         raise RecordingFileError(
             f"the recording would take {len(riff) / 2**20:.0f} MiB, more than the "
@@ -403,8 +505,11 @@ def _parse_info(body: bytes, path: str | os.PathLike[str]) -> dict[bytes, str]:
 
 
 def read_layout(fh: Any, size: int, path: str | os.PathLike[str]) -> WavLayout:
-    """Walk the RIFF chunks of an open WAV file: the format, where the samples are, and
-    the LIST/INFO text fields (at most :data:`MAX_METADATA_BYTES`). Reads no samples."""
+    """Walk the RIFF chunks of an open WAV file.
+
+    Find the format, where the samples are, and the LIST/INFO text fields (at most
+    :data:`MAX_METADATA_BYTES`). Reads no samples.
+    """
     head = fh.read(12)
     if len(head) < 12 or head[:4] not in (b"RIFF", b"RIFX") or head[8:12] != b"WAVE":
         raise RecordingFileError(
@@ -459,8 +564,10 @@ def read_layout(fh: Any, size: int, path: str | os.PathLike[str]) -> WavLayout:
 
 def read_samples(fh: Any, layout: WavLayout, channel: int, stop: int | None = None
                  ) -> np.ndarray:
-    """Frames [0, stop) of one channel as float64 at full scale ±1 (PCM scaled, unsigned
-    8-bit centred); memory: the raw frames plus 8 bytes per sample."""
+    """Read frames [0, stop) of one channel as float64 at full scale ±1.
+
+    PCM is scaled, unsigned 8-bit centred; memory: the raw frames plus 8 bytes per sample.
+    """
     frames = layout.frames if stop is None else max(0, min(stop, layout.frames))
     fh.seek(layout.data_offset)
     raw = fh.read(frames * layout.block_align)
@@ -480,7 +587,7 @@ def read_samples(fh: Any, layout: WavLayout, channel: int, stop: int | None = No
 
 
 def read_metadata(info: dict[bytes, str]) -> RecordingMetadata:
-    """The dstoolkit metadata stored in the ICMT comment, or unknown metadata."""
+    """Read the dstoolkit metadata stored in the ICMT comment, or unknown metadata."""
     comment = info.get(b"ICMT")
     if comment is not None and comment.lstrip().startswith("{") and "dstoolkit_metadata" in comment:
         return RecordingMetadata.from_json(comment)
@@ -511,12 +618,44 @@ def load_recording(path: str | os.PathLike[str], *, channel: int = 0,
     impossible format, metadata over :data:`MAX_METADATA_BYTES` or nested deeper than
     :data:`MAX_METADATA_DEPTH`, fields of the wrong type.
 
+    Parameters
+    ----------
+    path : path-like
+        The WAV file.
+    channel : int
+        Which channel of a multichannel file to read (0 is the first).
+    stop_s : float, optional
+        Read only the first ``stop_s`` seconds; None reads the whole file.
+
+    Returns
+    -------
+    WavRecording
+        The samples as float64 at full scale ±1, the sample rate and the metadata.
+
     Raises
     ------
     RecordingFileError
         Not a WAV file, an unreadable one, or a channel it does not have.
     RecordingNotFoundError
         No such file (also a FileNotFoundError).
+
+    See Also
+    --------
+    save_recording : Writes one.
+
+    Examples
+    --------
+    A file without dstoolkit metadata loads with every field unknown:
+
+    >>> import os, tempfile
+    >>> import numpy as np
+    >>> from scipy.io import wavfile
+    >>> from dstoolkit.audio import load_recording
+    >>> path = os.path.join(tempfile.mkdtemp(), "plain.wav")
+    >>> wavfile.write(path, 16000, np.full(1600, 16384, dtype=np.int16))
+    >>> rec = load_recording(path)
+    >>> rec.duration_s, float(rec.samples[0]), rec.metadata.temperature_c
+    (0.1, 0.5, None)
     """
     fh, layout = open_recording(path)
     with fh:

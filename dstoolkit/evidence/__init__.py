@@ -1,7 +1,9 @@
-"""The evidence algebra: mass functions on finite frames and on intervals, the
-combination rules (Dempster's eq. 1, the dependent combination of eqs. 8-20, rivals
-such as Yager's), possibility distributions turned into evidence (eqs. 21-24), the
-extension principle (eqs. 25-29) and the batched kernels the filters use.
+"""The evidence algebra: mass functions, their combination rules and the batched kernels.
+
+Mass functions on finite frames and on intervals, the combination rules (Dempster's eq. 1,
+the dependent combination of eqs. 8-20, rivals such as Yager's), possibility distributions
+turned into evidence (eqs. 21-24), the extension principle (eqs. 25-29) and the batched
+kernels the filters use.
 """
 
 from __future__ import annotations
@@ -33,11 +35,17 @@ from ._boxes import (
     hull,
     pignistic_expectation,
 )
+from ._clustering import (
+    cluster_boxes,
+    merge_equal_boxes,
+)
 from ._combination import (
     CONFLICT_TOLERANCE,
     MASS_RULES,
+    THETA_RULES,
     Dependence,
     MassRule,
+    ThetaRule,
     combine_dependent,
     conflict,
     decorrelate,
@@ -104,6 +112,8 @@ __all__ = [
     "PAPER_A6",
     "PAPER_EN1",
     "ProductWork",
+    "THETA_RULES",
+    "ThetaRule",
     "TotalConflictError",
     "TriangularBounds",
     "VertexMethodWarning",
@@ -113,6 +123,7 @@ __all__ = [
     "appendix_pair",
     "box_image",
     "cartesian_product",
+    "cluster_boxes",
     "combine_dependent",
     "conflict",
     "decorrelate",
@@ -128,6 +139,7 @@ __all__ = [
     "image_subdivision",
     "joint_energy",
     "memory_budget",
+    "merge_equal_boxes",
     "pignistic_expectation",
     "possibility",
     "projection",

@@ -24,8 +24,28 @@ MASS_TOLERANCE = 1e-9
 def validate_masses(mass: Any, *, what: str = "masses") -> np.ndarray:
     """Return ``mass`` as a float array after checking it is a probability vector.
 
-    Raises :class:`~dstoolkit.errors.EvidenceError` for an empty vector, NaN or infinite
-    entries, negative entries, or a sum that differs from 1 by more than ``MASS_TOLERANCE``.
+    Parameters
+    ----------
+    mass
+        *array_like, shape (n,)*. The masses.
+    what
+        *str*. What to call them in a message.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The masses as floats.
+
+    Raises
+    ------
+    EvidenceError
+        For an empty vector, NaN or infinite entries, negative entries, or a sum that
+        differs from 1 by more than ``MASS_TOLERANCE``.
+
+    Examples
+    --------
+    >>> validate_masses([0.5, 0.5])
+    array([0.5, 0.5])
     """
     m = real_array(mass, what, finite=False, error=EvidenceError).reshape(-1)
     if m.size == 0:
@@ -58,6 +78,17 @@ class Evidence(ABC):
     """Abstract body of evidence: focal elements (an array, one row each) with masses.
 
     Subclasses implement the set primitives; the algebra lives in :mod:`dstoolkit.evidence`.
+
+    See Also
+    --------
+    MassFunction : evidence on a finite frame.
+    IntervalEvidence : evidence on intervals and boxes.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import Evidence, MassFunction
+    >>> isinstance(MassFunction({"a": 1.0}), Evidence)
+    True
     """
 
     _focal: np.ndarray
@@ -66,7 +97,7 @@ class Evidence(ABC):
     # -- primitives every representation implements ---------------------------------
     @abstractmethod
     def _with(self, focal: np.ndarray, mass: np.ndarray, *, merge: bool = True) -> Self:
-        """A new evidence of the same kind and frame with these focal elements."""
+        """Return a new evidence of the same kind and frame with these focal elements."""
 
     @abstractmethod
     def _check_same_frame(self, other: Self) -> None:
@@ -91,8 +122,10 @@ class Evidence(ABC):
 
     @abstractmethod
     def _energy_unit(self, counted: np.ndarray | None = None) -> float:
-        """The size a focal element must have to count fully in the energy (eqs. 2, A1),
-        among the focal elements ``counted`` (a mask; all by default)."""
+        """Return the size a focal element must have to count fully in the energy (eqs. 2, A1).
+
+        Among the focal elements ``counted`` (a mask; all by default).
+        """
 
     @abstractmethod
     def _counts_in_energy(self) -> np.ndarray:
@@ -100,7 +133,7 @@ class Evidence(ABC):
 
     @abstractmethod
     def _theta(self) -> np.ndarray:
-        """The frame Θ as one focal element (one row), where discounting puts its mass."""
+        """Return the frame Θ as one focal element (one row), where discounting puts its mass."""
 
     @abstractmethod
     def _keys(self) -> np.ndarray:
@@ -136,9 +169,12 @@ class Evidence(ABC):
             focal, mass)
 
     def _merged(self) -> tuple[np.ndarray, np.ndarray]:
-        """The focal elements and masses with equal focal elements merged (eq. 14): what
-        every reader of the evidence (``as_dict``, ``repr``, the dependence) sees, so that
-        the merged and the unmerged form of one evidence give one answer. Read-only."""
+        """Return the focal elements and masses with equal focal elements merged (eq. 14).
+
+        This is what every reader of the evidence (``as_dict``, ``repr``, the dependence)
+        sees, so that the merged and the unmerged form of one evidence give one answer.
+        Read-only.
+        """
         if self._merged_cache is None:
             focal, mass = merge_equal(self._focal, self._mass)
             focal.flags.writeable = False
@@ -147,8 +183,15 @@ class Evidence(ABC):
         return self._merged_cache
 
     def merged(self) -> Self:
-        """The same evidence with equal focal elements merged, their masses added (eq. 14);
-        ``self`` when it has no equal focal elements."""
+        """Return the same evidence with equal focal elements merged, their masses added (eq. 14).
+
+        ``self`` when it has no equal focal elements.
+
+        Returns
+        -------
+        MassFunction or IntervalEvidence
+            The merged evidence, of the type of ``self``.
+        """
         focal, mass = self._merged()
         if focal is self._focal:
             return self
@@ -157,7 +200,7 @@ class Evidence(ABC):
     # -- copies: pickle, copy and deepcopy rebuild through the constructor's checks ----
     @abstractmethod
     def _state(self) -> tuple[Any, ...]:
-        """What :meth:`_restore` needs to rebuild this evidence (plain values and arrays)."""
+        """Return what :meth:`_restore` needs to rebuild this evidence (plain values and arrays)."""
 
     @classmethod
     @abstractmethod
@@ -170,12 +213,17 @@ class Evidence(ABC):
     @classmethod
     @abstractmethod
     def _from_attributes(cls, state: dict[str, Any]) -> Self:
-        """Rebuild an evidence from the attributes a plain pickle of it holds, validating
-        them as the constructor does."""
+        """Rebuild an evidence from the attributes a plain pickle of it holds.
+
+        The attributes are validated as the constructor does.
+        """
 
     def __setstate__(self, state: Any) -> None:
-        """A pickle in the plain form (attributes, no constructor call): rebuilt through the
-        checks, so that crafted attributes cannot make an invalid evidence."""
+        """Restore a pickle in the plain form (attributes, no constructor call).
+
+        It is rebuilt through the checks, so that crafted attributes cannot make an invalid
+        evidence.
+        """
         if not isinstance(state, dict):
             raise EvidenceError(f"cannot unpickle a {type(self).__name__} from "
                                 f"{type(state).__name__}; pickle it with dstoolkit")
@@ -208,6 +256,13 @@ def merge_equal(focal: np.ndarray, mass: np.ndarray) -> tuple[np.ndarray, np.nda
 
     Returns each distinct focal element once, in order of first appearance, with the
     summed mass. A stable lexicographic sort groups equal rows (−0.0 equals 0.0).
+
+    Why this merge stays beside :func:`~dstoolkit.evidence.boxes.merge_equal_boxes`: this
+    one serves the evidence objects, one at a time, on any focal element (rows of
+    booleans on a finite frame, boxes on intervals), and keeps the order in which the
+    focal elements first appear, which is what an object shows (``to_rows``, ``repr``).
+    The batch one puts each run's boxes in a canonical order with padding, so that every
+    run of a batch keeps one shape; its compiled twin is the one fast kernel of eq. 14.
     """
     rows = focal.reshape(len(focal), -1)
     order = np.lexsort(rows.T[::-1]) if rows.shape[1] > 1 else np.argsort(rows[:, 0],

@@ -52,32 +52,28 @@ class BatchDependence(NamedTuple):
     r21: np.ndarray
 
 
-def dempster(a: Boxes, b: Boxes) -> tuple[Boxes, np.ndarray, np.ndarray]:
-    """Dempster's rule (eq. 1) per run, products in order i·N_b + j, not merged.
-
-    Returns the combined boxes (empty products keep mass 0), the conflict K (R,) and a
-    mask (R,) of runs whose combination exists (1 − K above the tolerance); runs in total
-    conflict get all-zero masses and the caller applies its policy.
-    """
-    d = a.lo.shape[-1]
-    lo = np.maximum(a.lo[:, :, None], b.lo[:, None])
-    lo = lo.reshape(lo.shape[0], -1, d)
-    hi = np.minimum(a.hi[:, :, None], b.hi[:, None]).reshape(lo.shape)
-    nonempty = (lo[..., 0] <= hi[..., 0]) if d == 1 else (lo <= hi).all(axis=-1)
-    products = a.mass[:, :, None] * b.mass[:, None]
-    mass = products.reshape(products.shape[0], -1) * nonempty
-    kept = mass.sum(axis=-1)
-    ok = kept > CONFLICT_TOLERANCE
-    if ok.all():
-        mass /= kept[:, None]
-    else:
-        mass /= np.where(ok, kept, 1.0)[:, None]
-        mass[~ok] = 0.0
-    return Boxes(lo, hi, mass), 1.0 - kept, ok
-
-
 def sizes(e: Boxes) -> np.ndarray:
-    """Width (d = 1) or volume of each box, (R, N)."""
+    """Width (d = 1) or volume of each box.
+
+    Parameters
+    ----------
+    e
+        *Boxes*. Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
+
+    Returns
+    -------
+    ndarray, shape (R, N)
+        The sizes (the variable's unit to the power d).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> b = Boxes(np.array([[[0.0], [1.0]]]), np.array([[[2.0], [3.0]]]),
+    ...           np.array([[0.5, 0.5]]))
+    >>> sizes(b)
+    array([[2., 2.]])
+    """
     w = e.hi - e.lo
     return w[..., 0] if w.shape[-1] == 1 else np.prod(w, axis=-1)
 
@@ -88,27 +84,35 @@ TINY = 1e-300
 
 
 def least(values: np.ndarray) -> float:
-    """The smallest of ``values`` (NaN if one is NaN), as a float; one element is read
-    directly (a tenth of the cost of a reduction)."""
+    """Return the smallest of ``values`` (NaN if one is NaN), as a float.
+
+    One element is read directly (cheaper than a reduction).
+    """
     return values.item() if values.size == 1 else float(np.minimum.reduce(values, axis=None))
 
 
 def per_run(values: np.ndarray) -> Any:
-    """``values`` (R,) as a column (R, 1) that broadcasts over each run's row, or for one
-    run as a float (a numpy scalar operand costs as much as an array)."""
+    """Return ``values`` (R,) as a column (R, 1) that broadcasts over each run's row.
+
+    For one run, return a float (a numpy scalar operand costs as much as an array).
+    """
     return values.item() if values.size == 1 else values[:, None]
 
 
 def columns(e: Boxes) -> np.ndarray:
-    """Boxes (R, N, d) in the column layout (R, 2, d, N) of the Step 6 kernels: the ends
-    (lo, hi) on axis 1, the focal elements last, so that every product and comparison of
-    focal elements runs along a long, contiguous last axis."""
+    """Lay out boxes (R, N, d) in the column layout (R, 2, d, N) of the Step 6 kernels.
+
+    The ends (lo, hi) lie on axis 1, the focal elements last, so that every product and
+    comparison of focal elements runs along a long, contiguous last axis.
+    """
     return np.stack([e.lo, e.hi], axis=1).transpose(0, 1, 3, 2)
 
 
 class DependenceKernel:
-    """En'(E1), En'(E2), En'(E1, E2), D, R12, R21 (Def. 5, eqs. A1, A3–A6) per run, on
-    buffers and views bound once, for E1 and E2 held as the columns of one array.
+    """En'(E1), En'(E2), En'(E1, E2), D, R12, R21 (Def. 5, eqs. A1, A3–A6) per run.
+
+    Computed on buffers and views bound once, for E1 and E2 held as the columns of one
+    array.
 
     ``cols`` (R, 2, d, N) holds E1's focal elements in columns [0, n1) and E2's after;
     ``masses`` (R, 2, N) E1's masses in row 0 (0 on E2's columns) and E2's in row 1 (0 on
@@ -158,10 +162,12 @@ class DependenceKernel:
         self.coefficients = out[4:6]
 
     def compute(self) -> bool:
-        """Fill ``out`` and ``theta_mass`` from the current columns and masses; returns
-        whether R12 and R21 lie in [0, 1] in every run (``mass_rule="m2"`` can break that:
-        D, En ≥ 0 keep R ≤ 1). ``units[:, 0]`` is then the smallest width of E1's live
-        focal elements, negative if one is empty."""
+        """Fill ``out`` and ``theta_mass`` from the current columns and masses.
+
+        Returns whether R12 and R21 lie in [0, 1] in every run (``mass_rule="m2"`` can
+        break that: D, En ≥ 0 keep R ≤ 1). ``units[:, 0]`` is then the smallest width of
+        E1's live focal elements, negative if one is empty.
+        """
         # widths and energies (eq. A1): Σ m/(w + ε) per evidence, times its u + ε
         np.subtract(self.hi, self.lo, out=self.width)
         if self.d > 1:
@@ -192,7 +198,7 @@ class DependenceKernel:
         np.divide(self.e2_share, self.merged, out=self.weight)
         np.vecdot(m_d, self.weight, out=self.joint_sum)
         # the six figures per run: in plain floats for one run (a numpy call on one element
-        # costs ten float operations), else in arrays
+        # costs more than a float operation), else in arrays
         if self.single:
             w1, w2 = self.units.ravel().tolist()
             figures = dependence_figures(w1, w2, min(w1, w2), *self.sums.ravel().tolist())
@@ -208,9 +214,10 @@ class DependenceKernel:
 
 def dependence_figures(u1: Any, u2: Any, u12: Any, s1: Any, s2: Any, s12: Any
                        ) -> tuple[Any, ...]:
-    """En'(E1), En'(E2), En'(E1, E2), D, R12, R21, 1 − R12, 1 − R21 (eqs. A1, A3–A6) from
-    the smallest live widths of E1, E2 and both (u1, u2, u12) and the sums Σ m/(w + ε) of
-    eqs. A1 and A3 (s1, s2, s12); floats or arrays alike.
+    """Compute En'(E1), En'(E2), En'(E1, E2), D, R12, R21, 1 − R12, 1 − R21 (eqs. A1, A3–A6).
+
+    From the smallest live widths of E1, E2 and both (u1, u2, u12) and the sums
+    Σ m/(w + ε) of eqs. A1 and A3 (s1, s2, s12); floats or arrays alike.
 
     D = 2 En'(E1, E2)/(En'(E1) + En'(E2)) (eq. A4); R12 = 1 − D/2 · En'(E2)/En'(E1), R21
     likewise (eqs. A5–A6); ε = :data:`TINY` turns 0/0 into 0 (no energy: D = 0, R = 1).
@@ -223,8 +230,9 @@ def dependence_figures(u1: Any, u2: Any, u12: Any, s1: Any, s2: Any, s12: Any
 
 def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool = True
                ) -> BatchDependence:
-    """Energies, energy of the intersection, D, R12, R21 of E1 = a, E2 = b per run
-    (Def. 5, eqs. A1, A3–A6), equal to :func:`dstoolkit.dependence` on the merged evidence
+    """Compute the energies, energy of the intersection, D, R12, R21 of E1 = a, E2 = b per run.
+
+    Def. 5, eqs. A1, A3–A6; equal to :func:`dstoolkit.dependence` on the merged evidence
     (``DependenceKernel`` on the columns of a then b).
 
     E2's masses must be positive (E1 may hold mass-0 placeholders). With ``check``, raises
@@ -243,11 +251,11 @@ def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool =
     live = np.ascontiguousarray(np.broadcast_to(a.mass > 0, (runs, na)))
     valid = DependenceKernel(cols, masses, na, mass_rule, out, theta_mass, live).compute()
     if check and not valid:
-        _coefficient_error(out[4], out[5], out[3], mass_rule)
+        coefficient_error(out[4], out[5], out[3], mass_rule)
     return BatchDependence(*out)
 
 
-def _coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray,
+def coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray,
                        mass_rule: str) -> None:
     for name, r in (("R12", r12), ("R21", r21)):
         bad = ~((r >= 0.0) & (r <= 1.0))
@@ -263,8 +271,36 @@ def _coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray,
 def discount_onto_hull(e: Boxes, reliability: np.ndarray) -> Boxes:
     """m'(A) = R·m(A), m'(Θ) = 1 − R with Θ the hull of E (eqs. 9–10, A7–A8), per run.
 
-    Raises EvidenceError unless every rate R (one per run) lies in [0, 1]: any other
-    number would give negative masses."""
+    Parameters
+    ----------
+    e
+        *Boxes*. Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
+    reliability
+        *ndarray, shape (R,)*. R of each run, in [0, 1].
+
+    Returns
+    -------
+    Boxes
+        N + 1 focal elements per run: the boxes with masses R·m, then the hull with 1 − R.
+
+    Raises
+    ------
+    EvidenceError
+        Unless every rate lies in [0, 1]: any other number would give negative masses.
+
+    References
+    ----------
+    The paper's eqs. (9)–(10) and (A7)–(A8).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> b = Boxes(np.array([[[0.0], [1.0]]]), np.array([[[2.0], [3.0]]]),
+    ...           np.array([[0.5, 0.5]]))
+    >>> discount_onto_hull(b, np.array([0.9])).mass
+    array([[0.45, 0.45, 0.1 ]])
+    """
     rel = np.asarray(reliability, dtype=float)
     if rel.ndim != 1 or not np.all((rel >= 0.0) & (rel <= 1.0)):
         raise EvidenceError(
@@ -280,10 +316,30 @@ def discount_onto_hull(e: Boxes, reliability: np.ndarray) -> Boxes:
 
 
 class ProductWork(NamedTuple):
-    """Buffers of ``ProductKernel`` (the column layout of ``columns``): ``ends``
-    (2, R, d, N_b, N_a) = lo, hi of A_i ∩ B_j; ``stack`` (1 + d, R, N_b, N_a) = [nonempty,
-    (lo + hi)·nonempty]; ``partial`` (R, 1 + d, N_b, 1), ``sums`` (R, 1 + d, 1, 1). Each
-    end and each row of the stack is one block: the passes over a batch run faster."""
+    """Buffers of ``ProductKernel`` (the column layout of ``columns``).
+
+    ``ends`` (2, R, d, N_b, N_a) = lo, hi of A_i ∩ B_j; ``stack`` (1 + d, R, N_b, N_a) =
+    [nonempty, (lo + hi)·nonempty]; ``partial`` (R, 1 + d, N_b, 1), ``sums``
+    (R, 1 + d, 1, 1). Each end and each row of the stack is one block: the passes over a
+    batch run faster.
+
+    Parameters
+    ----------
+    ends
+        *ndarray, shape (2, R, d, N_b, N_a)*. The ends of the intersections.
+    stack
+        *ndarray, shape (1 + d, R, N_b, N_a)*. Non-emptiness and twice the centres.
+    partial
+        *ndarray, shape (R, 1 + d, N_b, 1)*. Sums over A.
+    sums
+        *ndarray, shape (R, 1 + d, 1, 1)*. Sums over A and B.
+
+    Examples
+    --------
+    >>> work = ProductWork.allocate(runs=4, d=1, na=3, nb=5)
+    >>> work.ends.shape
+    (2, 4, 1, 5, 3)
+    """
 
     ends: np.ndarray
     stack: np.ndarray
@@ -292,13 +348,26 @@ class ProductWork(NamedTuple):
 
     @classmethod
     def allocate(cls, runs: int, d: int, na: int, nb: int) -> ProductWork:
+        """Empty buffers for ``runs`` runs of boxes in d dimensions, N_a and N_b of them.
+
+        Parameters
+        ----------
+        runs, d, na, nb
+            *int*. R, d, N_a and N_b.
+
+        Returns
+        -------
+        ProductWork
+            The buffers (uninitialised).
+        """
         return cls(np.empty((2, runs, d, nb, na)), np.empty((1 + d, runs, nb, na)),
                    np.empty((runs, 1 + d, nb, 1)), np.empty((runs, 1 + d, 1, 1)))
 
 
 class ProductKernel:
-    """Pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of A and B per run,
-    without forming the N_a·N_b products' masses, on buffers and views bound once:
+    """Pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of A and B per run.
+
+    It does without forming the N_a·N_b products' masses, on buffers and views bound once:
 
         E = Σ_ij m_a(i) m_b(j) [A_i ∩ B_j ≠ ∅] c(A_i ∩ B_j) / (1 − K),  c = the centre,
 
@@ -333,8 +402,11 @@ class ProductKernel:
         self.kept, self.total = sums[:, 0, 0, 0], sums[:, 1:, 0, 0]
 
     def combine(self, est: np.ndarray) -> np.ndarray | None:
-        """E into ``est`` (R, d); returns None when every run's combination exists (K < 1
-        above the tolerance), else the mask of those that do. ``self.kept`` = 1 − K."""
+        """Write E into ``est`` (R, d).
+
+        Returns None when every run's combination exists (K < 1 above the tolerance), else
+        the mask of those that do. ``self.kept`` = 1 − K.
+        """
         _, _, partial, sums = self.work
         np.maximum(self.a_lo, self.b_lo, out=self.lo)
         np.minimum(self.a_hi, self.b_hi, out=self.hi)
@@ -357,7 +429,7 @@ class ProductKernel:
         return ok
 
     def hull(self, out: np.ndarray) -> np.ndarray:
-        """The hull of the combination (after :meth:`combine`) into ``out`` (R, 2, d)."""
+        """Write the hull of the combination (after :meth:`combine`) into ``out`` (R, 2, d)."""
         ends = self.work.ends
         if self.theta is not None:
             theta1_mass, theta2_mass, meet, corner = self.theta
@@ -376,11 +448,48 @@ def dempster_expectation(
     a: Boxes, b: Boxes, bounds: bool = False, *, work: ProductWork | None = None,
     theta_last: bool = False,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray] | None]:
-    """Pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of a and b, per run
-    (``ProductKernel``). Returns E (R, d), K (R,), the mask of runs with K < 1, and
+    """Compute the pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of a and b.
+
+    Per run (``ProductKernel``). Returns E (R, d), K (R,), the mask of runs with K < 1, and
     with ``bounds`` the hull of the combination (R, d) twice. ``work`` reuses buffers
     (``ProductWork.allocate``). ``theta_last`` tells that the last focal element of a
     and of b holds all the others (as after :func:`discount_onto_hull`).
+
+    Parameters
+    ----------
+    a, b
+        *Boxes*. Boxes (R, N_a, d), (R, N_b, d) and their masses.
+    bounds
+        *bool*. Also return the hull of the combination.
+    work
+        *ProductWork, optional*. Buffers to reuse.
+    theta_last
+        *bool*. The last focal element of each holds all the others.
+
+    Returns
+    -------
+    expectation : ndarray, shape (R, d)
+        E of the combination (eq. 20).
+    conflict : ndarray, shape (R,)
+        K (eq. 1).
+    ok : ndarray of bool, shape (R,)
+        Whether the combination exists (K < 1 beyond the tolerance).
+    hull : tuple of ndarray, shape (R, d), or None
+        The hull's ends, with ``bounds``.
+
+    References
+    ----------
+    The paper's eqs. (1) and (20).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> b = Boxes(np.array([[[0.0], [1.0]]]), np.array([[[2.0], [3.0]]]),
+    ...           np.array([[0.5, 0.5]]))
+    >>> expectation, conflict, ok, _ = dempster_expectation(b, b)
+    >>> expectation, conflict, ok
+    (array([[1.5]]), array([0.]), array([ True]))
     """
     theta = (a.lo.shape[1] - 1, b.lo.shape[1] - 1) if theta_last else None
     kernel = ProductKernel(columns(a), columns(b), a.mass, b.mass, work, theta)

@@ -19,7 +19,31 @@ import numpy as np
 
 
 class Boxes(NamedTuple):
-    """Focal elements ``lo``, ``hi`` (R, N, d) with masses ``mass`` (R, N)."""
+    """Focal elements ``lo``, ``hi`` (R, N, d) with masses ``mass`` (R, N).
+
+    One row per run of a batch; entries of mass 0 are placeholders (padding).
+
+    Parameters
+    ----------
+    lo, hi
+        *ndarray, shape (R, N, d)*. The ends of the boxes (the variable's unit).
+    mass
+        *ndarray, shape (R, N)*. Their masses, each row summing to 1 (a row (1, N)
+        broadcasts over the runs).
+
+    See Also
+    --------
+    dstoolkit.evidence.IntervalEvidence.as_boxes : to the objects.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> b = Boxes(np.array([[[0.0], [1.0]]]), np.array([[[2.0], [3.0]]]),
+    ...           np.array([[0.5, 0.5]]))
+    >>> b.lo.shape, b.mass.shape
+    ((1, 2, 1), (1, 2))
+    """
 
     lo: np.ndarray
     hi: np.ndarray
@@ -37,8 +61,29 @@ def row_sum(values: np.ndarray) -> np.ndarray:
 
 def hull(e: Boxes, out: tuple[np.ndarray, np.ndarray] | None = None
          ) -> tuple[np.ndarray, np.ndarray]:
-    """The smallest box holding every focal element of positive mass, (R, d) twice (Θ of
-    eqs. A7–A8); written into ``out`` when given."""
+    """Return the smallest box holding every focal element of positive mass (Θ of eqs. A7–A8).
+
+    Parameters
+    ----------
+    e
+        *Boxes*. Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
+    out
+        *tuple of ndarray, shape (R, d), optional*. Where to write the result.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (R, d)
+        The ends of the hull of each run.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> b = Boxes(np.array([[[0.0], [1.0]]]), np.array([[[2.0], [3.0]]]),
+    ...           np.array([[0.5, 0.5]]))
+    >>> hull(b)
+    (array([[0.]]), array([[3.]]))
+    """
     live = e.mass > 0
     lo, hi = (None, None) if out is None else out
     if live.all():
@@ -48,7 +93,35 @@ def hull(e: Boxes, out: tuple[np.ndarray, np.ndarray] | None = None
 
 
 def pignistic_expectation(e: Boxes) -> np.ndarray:
-    """E = Σ_j m(A_j) (a_j⁻ + a_j⁺)/2 per run (eq. 20), shape (R, d); masses sum to 1."""
+    """E = Σ_j m(A_j) (a_j⁻ + a_j⁺)/2 per run, the pignistic expectation (eq. 20).
+
+    Parameters
+    ----------
+    e
+        *Boxes*. Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
+
+    Returns
+    -------
+    ndarray, shape (R, d)
+        E of each run (the variable's unit).
+
+    See Also
+    --------
+    dstoolkit.evidence.IntervalEvidence.pignistic_expectation : for one object.
+
+    References
+    ----------
+    The paper's eq. (20).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.evidence.boxes import Boxes
+    >>> b = Boxes(np.array([[[0.0], [1.0]]]), np.array([[[2.0], [3.0]]]),
+    ...           np.array([[0.5, 0.5]]))
+    >>> pignistic_expectation(b)
+    array([[1.5]])
+    """
     return row_sum(e.mass[..., None] * (0.5 * (e.lo + e.hi)))
 
 

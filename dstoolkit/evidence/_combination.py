@@ -61,26 +61,82 @@ def _check_evidence(e: object, name: str) -> None:
 
 
 def conflict(a: Evidence, b: Evidence) -> float:
-    """K = Σ_{B ∩ C = ∅} m1(B) m2(C), the mass of conflicting products (eq. 1)."""
+    """K = Σ_{B ∩ C = ∅} m1(B) m2(C), the mass of conflicting products (eq. 1).
+
+    Parameters
+    ----------
+    a, b
+        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+        or of the same dimension d (interval evidence, boxes (n, d)).
+
+    Returns
+    -------
+    float
+        K in [0, 1]; 1 means total conflict (no focal element of E1 meets one of E2).
+
+    Raises
+    ------
+    EvidenceError
+        If ``a`` or ``b`` is not evidence, or the two do not share a frame or dimension.
+
+    See Also
+    --------
+    dempster : renormalises the products that do not conflict by 1 − K.
+    yager : gives K to Θ instead.
+
+    References
+    ----------
+    The paper's eq. (1).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import MassFunction
+    >>> m1 = MassFunction({"a": 0.6, "abc": 0.4})
+    >>> m2 = MassFunction({"b": 0.5, "abc": 0.5}, frame=m1.frame)
+    >>> round(conflict(m1, m2), 4)
+    0.3
+    """
     _, mass, nonempty = _products(a, b)
     return float(mass[~nonempty].sum())
 
 
 def dempster(a: E, b: E, *, merge: bool = True) -> E:
-    """Dempster's rule m = m1 ⊕ m2 (eq. 1): products on intersections, renormalised by 1 − K
-    (computed as the sum of the kept products, so that the masses sum to 1 however close
-    K comes to 1).
+    """Combine two bodies of evidence by Dempster's rule m = m1 ⊕ m2 (eq. 1).
+
+    Products on intersections, renormalised by 1 − K (computed as the sum of the kept
+    products, so that the masses sum to 1 however close K comes to 1).
 
     Parameters
     ----------
+    a, b
+        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+        or of the same dimension d (interval evidence, boxes (n, d)).
     merge
-        Merge equal focal elements (default). With ``merge=False`` the non-empty products
-        are kept in order (row i·n2 + j is A_i ∩ B_j), as in the paper's worked example.
+        *bool*. Merge equal focal elements (default, eq. 14). With ``merge=False`` the
+        non-empty products are kept in order (row i·n2 + j is A_i ∩ B_j), as in the
+        paper's worked example.
+
+    Returns
+    -------
+    MassFunction or IntervalEvidence
+        m1 ⊕ m2, of the type of ``a``.
 
     Raises
     ------
     TotalConflictError
         When K = 1: the two bodies of evidence contradict each other entirely.
+    EvidenceError
+        If ``a`` or ``b`` is not evidence, or the two do not share a frame or dimension.
+
+    See Also
+    --------
+    conflict : K alone.
+    combine_dependent : Dempster's rule after discounting what two sources share.
+    yager : the rival that gives K to Θ.
+
+    References
+    ----------
+    The paper's eq. (1); equal focal elements merge by eq. (14).
 
     Examples
     --------
@@ -108,15 +164,18 @@ def dempster(a: E, b: E, *, merge: bool = True) -> E:
 
 
 def _specificity(sizes: np.ndarray, unit: float) -> np.ndarray:
-    """unit / size with 0-size elements counting 1 (a point is fully specific)."""
+    """Compute unit / size with 0-size elements counting 1 (a point is fully specific)."""
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(sizes > 0, unit / sizes, 1.0)
     return np.where(np.isfinite(sizes), ratio, 0.0)
 
 
 def _energy_terms(e: Evidence, theta: ThetaRule) -> tuple[np.ndarray, float]:
-    """Mask of the focal elements that enter the energy, and the unit (the size that counts
-    fully: 1 on a finite frame, the smallest counted width on intervals)."""
+    """Return the mask of the focal elements that enter the energy, and the unit.
+
+    The unit is the size that counts fully: 1 on a finite frame, the smallest counted width
+    on intervals.
+    """
     if theta not in THETA_RULES:
         raise EvidenceError(f"theta must be one of {THETA_RULES}, got {theta!r}")
     counts = e._counts_in_energy()
@@ -128,19 +187,42 @@ def _energy_terms(e: Evidence, theta: ThetaRule) -> tuple[np.ndarray, float]:
 
 
 def energy(e: Evidence, *, theta: ThetaRule = "paper") -> float:
-    """Energy of evidence En(E) = Σ_{A ≠ Θ} m(A)/|A| (eq. 2); on intervals
-    En'(E) = Σ m(A_i) w_min / w(A_i) (eq. A1). Always in [0, 1], 1 for a Bayesian evidence.
+    """Compute the energy of evidence En(E) = Σ_{A ≠ Θ} m(A)/|A| (eq. 2).
+
+    On intervals En'(E) = Σ m(A_i) w_min / w(A_i) (eq. A1). Always in [0, 1], 1 for a
+    Bayesian evidence.
 
     Parameters
     ----------
+    e
+        *MassFunction or IntervalEvidence*. The evidence E.
     theta
-        ``"paper"`` (default): the paper's definitions. Eq. 2 leaves Θ out, so the vacuous
-        mass function has energy 0; eq. A1 counts every bounded focal element, the hull
-        (Θ of interval evidence) included, so the vacuous interval evidence {Θ: 1} has
-        energy 1. ``"left_out"``: Θ (the frame, or the hull of the focal elements) is left
-        out on intervals too, and w_min is the smallest width of the others: the vacuous
-        evidence then has energy 0 in both cases, and discounting by R multiplies the
-        energy by R, as eq. 5 of the paper assumes.
+        *{"paper", "left_out"}*. ``"paper"`` (default): the paper's definitions. Eq. 2
+        leaves Θ out, so the vacuous mass function has energy 0; eq. A1 counts every bounded
+        focal element, the hull (Θ of interval evidence) included, so the vacuous interval
+        evidence {Θ: 1} has energy 1. ``"left_out"``: Θ (the frame, or the hull of the focal
+        elements) is left out on intervals too, and w_min is the smallest width of the
+        others: the vacuous evidence then has energy 0 in both cases, and discounting by R
+        multiplies the energy by R, as eq. 5 of the paper assumes.
+
+    Returns
+    -------
+    float
+        En(E) in [0, 1] (dimensionless: widths divide widths).
+
+    Raises
+    ------
+    EvidenceError
+        If ``theta`` is not one of the two rules.
+
+    See Also
+    --------
+    joint_energy : the energy of what two bodies of evidence share.
+    dependence : the degree of dependence built from the energies.
+
+    References
+    ----------
+    The paper's eqs. (2) and (A1); eq. (A2) is the worked value below.
 
     Examples
     --------
@@ -161,7 +243,7 @@ def energy(e: Evidence, *, theta: ThetaRule = "paper") -> float:
 
 
 def _common(a: Evidence, b: Evidence) -> tuple[np.ndarray, np.ndarray]:
-    """Indices (i, j) of focal elements that a and b share (equal sets or intervals)."""
+    """Find the indices (i, j) of focal elements that a and b share (equal sets or intervals)."""
     ka, kb = a._keys(), b._keys()
     _, ia, ib = np.intersect1d(ka, kb, assume_unique=False, return_indices=True)
     return ia, ib
@@ -177,6 +259,41 @@ def joint_energy(a: Evidence, b: Evidence, *, mass_rule: MassRule = "min",
     ``mass_rule`` = ``"min"`` (default) takes min(m1(D), m2(D)), ``"m1"`` or ``"m2"`` one side.
     ``theta`` as in :func:`energy`: with ``"left_out"`` a common D counts only if it is
     neither evidence's Θ, and the widths w_min are those of :func:`energy`.
+
+    Parameters
+    ----------
+    a, b
+        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+        or of the same dimension d (interval evidence, boxes (n, d)).
+    mass_rule
+        *{"min", "m1", "m2"}*. The mass m(D) of a common focal element.
+    theta
+        *{"paper", "left_out"}*. The energy's definition, as in :func:`energy`.
+
+    Returns
+    -------
+    float
+        En(E1, E2) ≥ 0 (dimensionless); 0 when E1 and E2 share no focal element.
+
+    Raises
+    ------
+    EvidenceError
+        For an unknown ``mass_rule``, or evidence that does not share a frame or dimension.
+
+    See Also
+    --------
+    energy : the energy of one body of evidence.
+    dependence : D, R12 and R21 from the three energies.
+
+    References
+    ----------
+    The paper's eqs. (3), (A3) and the worked value (A9).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import appendix_pair
+    >>> round(joint_energy(*appendix_pair()), 4)  # eq. A9
+    0.45
     """
     if mass_rule not in MASS_RULES:
         raise EvidenceError(f"mass_rule must be one of {MASS_RULES}, got {mass_rule!r}")
@@ -197,7 +314,23 @@ def joint_energy(a: Evidence, b: Evidence, *, mass_rule: MassRule = "min",
 
 @dataclass(frozen=True)
 class Dependence:
-    """How much two bodies of evidence share (Def. 5, eqs. 5–8, A4–A6)."""
+    """How much two bodies of evidence share (Def. 5, eqs. 5–8, A4–A6).
+
+    Parameters
+    ----------
+    energy1, energy2
+        *float*. En(E1) and En(E2) (eq. 2 / A1).
+    joint_energy
+        *float*. En(E1, E2) (eq. 3 / A3).
+    degree
+        *float*. D (Def. 5, eq. A4).
+    r12, r21
+        *float*. The dependency coefficients (eqs. 7–8, A5–A6).
+
+    See Also
+    --------
+    dependence : computes it.
+    """
 
     energy1: float
     """En(E1) (eq. 2 / A1)."""
@@ -241,6 +374,38 @@ def dependence(
     En'(E1) = 0.8655 in Appendix A. With D = 0 (nothing shared) both coefficients are 1.
     ``theta`` chooses the energy's definition (:func:`energy`); ``"paper"`` by default.
 
+    Parameters
+    ----------
+    a, b
+        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+        or of the same dimension d (interval evidence, boxes (n, d)).
+    mass_rule
+        *{"min", "m1", "m2"}*. The mass m(D) of a common focal element (eq. A3).
+    energy1, energy2
+        *float in [0, 1], optional*. En(E1) and En(E2) to use instead of computing them.
+    theta
+        *{"paper", "left_out"}*. The energy's definition, as in :func:`energy`.
+
+    Returns
+    -------
+    Dependence
+        En(E1), En(E2), En(E1, E2), D, R12 and R21.
+
+    Raises
+    ------
+    EvidenceError
+        For an energy outside [0, 1], energies that share energy while one is 0, or
+        coefficients that overflow.
+
+    See Also
+    --------
+    decorrelate : discounts E1 and E2 by the coefficients.
+    combine_dependent : the whole combination of dependent evidence.
+
+    References
+    ----------
+    The paper's Def. 5 and eqs. (4)–(8), (A4)–(A6).
+
     Examples
     --------
     E1 and E2 of the paper's Appendix A share the focal element [0.3, 1.9]:
@@ -282,6 +447,40 @@ def discount(e: E, rate: float, theta: np.ndarray | None = None) -> E:
     Θ is the frame for a mass function and, by default, the hull of the focal elements for
     interval evidence (eqs. A7–A8); pass ``theta`` (one focal-element row: a bit mask, or
     ``[lo..., hi...]``) to discount onto another Θ.
+
+    Parameters
+    ----------
+    e
+        *MassFunction or IntervalEvidence*. The evidence to discount.
+    rate
+        *float in [0, 1]*. The discount rate 1 − R, R the reliability of the source.
+    theta
+        *ndarray, optional*. Θ as one focal-element row: a boolean mask over the frame,
+        or ``[lo..., hi...]`` (2d numbers) for interval evidence.
+
+    Returns
+    -------
+    MassFunction or IntervalEvidence
+        The discounted evidence, of the type of ``e``.
+
+    Raises
+    ------
+    EvidenceError
+        If ``rate`` lies outside [0, 1] or ``theta`` is not a focal element of the frame.
+
+    See Also
+    --------
+    decorrelate : discounts two dependent bodies of evidence by their coefficients.
+
+    References
+    ----------
+    The paper's eqs. (9)–(10) and (A7)–(A8).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import MassFunction
+    >>> discount(MassFunction({"a": 0.6, "abc": 0.4}), 0.5)
+    MassFunction({a}: 0.3, {a, b, c}: 0.7)
     """
     _check_evidence(e, "the evidence")
     try:
@@ -299,9 +498,43 @@ def decorrelate(
     a: E, b: E, *, mass_rule: MassRule = "min", energy1: float | None = None,
     energy2: float | None = None, theta: ThetaRule = "paper",
 ) -> tuple[E, E, Dependence]:
-    """Discount E1 by R12 and E2 by R21 so they can be combined as if independent
-    (eqs. 9–10, A7–A8). Returns the two discounted evidences and the :class:`Dependence`;
-    ``theta`` chooses the energy's definition (:func:`energy`)."""
+    """Discount E1 by R12 and E2 by R21 so they can be combined as if independent.
+
+    Parameters
+    ----------
+    a, b
+        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+        or of the same dimension d (interval evidence, boxes (n, d)).
+    mass_rule, energy1, energy2, theta
+        As in :func:`dependence`.
+
+    Returns
+    -------
+    tuple of (evidence, evidence, Dependence)
+        E1 discounted at rate 1 − R12, E2 at rate 1 − R21, and the :class:`Dependence`.
+
+    Raises
+    ------
+    EvidenceError
+        If a coefficient lies outside [0, 1] (``mass_rule="m2"`` can do that), or as
+        :func:`dependence` raises.
+
+    See Also
+    --------
+    dependence : the coefficients alone.
+    combine_dependent : this, then Dempster's rule.
+
+    References
+    ----------
+    The paper's eqs. (9)–(10) and (A7)–(A8).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import appendix_pair
+    >>> e1, e2, dep = decorrelate(*appendix_pair())
+    >>> round(dep.r12, 4), round(float(e1.mass.sum()), 4)
+    (0.7522, 1.0)
+    """
     dep = dependence(a, b, mass_rule=mass_rule, energy1=energy1, energy2=energy2,
                      theta=theta)
     for name, r in (("R12", dep.r12), ("R21", dep.r21)):
@@ -318,16 +551,48 @@ def combine_dependent(
     a: E, b: E, *, mass_rule: MassRule = "min", energy1: float | None = None,
     energy2: float | None = None, merge: bool = True, theta: ThetaRule = "paper",
 ) -> E:
-    """Combination of dependent evidence (§2.2, eqs. 9–10; App. A, eqs. A7–A8): decorrelate
-    both by their dependency coefficients, then apply Dempster's rule (eq. 1). ``theta``
-    chooses the energy's definition (:func:`energy`): the paper's by default.
+    """Combine dependent evidence (§2.2, eqs. 9–10; App. A, eqs. A7–A8).
+
+    Decorrelate both by their dependency coefficients, then apply Dempster's rule (eq. 1).
+    ``theta`` chooses the energy's definition (:func:`energy`): the paper's by default.
+
+    Parameters
+    ----------
+    a, b
+        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+        or of the same dimension d (interval evidence, boxes (n, d)).
+    mass_rule, energy1, energy2, theta
+        As in :func:`dependence`.
+    merge
+        *bool*. Merge equal focal elements of the result (eq. 14), as in :func:`dempster`.
+
+    Returns
+    -------
+    MassFunction or IntervalEvidence
+        The combination, of the type of ``a``.
+
+    Raises
+    ------
+    TotalConflictError
+        When the discounted bodies of evidence conflict totally.
+    EvidenceError
+        As :func:`decorrelate` raises.
+
+    See Also
+    --------
+    decorrelate : the discounting step.
+    dempster : the combination of independent evidence.
+
+    References
+    ----------
+    The paper's §2.2, eqs. (9)–(10), and Appendix A, eqs. (A7)–(A8).
 
     Examples
     --------
     >>> from dstoolkit.evidence import appendix_pair
     >>> e1, e2 = appendix_pair()
     >>> combined = combine_dependent(e1, e2)
-    >>> len(combined), round(combined.pignistic_expectation(), 4)
+    >>> len(combined), round(combined.pignistic_expectation_1d(), 4)
     (5, 1.1355)
     """
     a2, b2, _ = decorrelate(a, b, mass_rule=mass_rule, energy1=energy1, energy2=energy2,
@@ -340,6 +605,37 @@ def yager(a: E, b: E) -> E:
 
     It equals Dempster's result discounted at rate K (same products, then K to Θ); under
     total conflict (K = 1) everything goes to Θ.
+
+    Parameters
+    ----------
+    a, b
+        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+        or of the same dimension d (interval evidence, boxes (n, d)).
+
+    Returns
+    -------
+    MassFunction or IntervalEvidence
+        The combination, of the type of ``a``.
+
+    Raises
+    ------
+    EvidenceError
+        If ``a`` or ``b`` is not evidence, or the two do not share a frame or dimension.
+
+    See Also
+    --------
+    dempster : normalises K away instead.
+
+    References
+    ----------
+    Yager, Inf. Sci. 41 (1987); a rival of the paper's eq. (1).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import MassFunction
+    >>> m1 = MassFunction({"a": 0.6, "abc": 0.4})
+    >>> yager(m1, MassFunction({"b": 0.5, "abc": 0.5}, frame=m1.frame))
+    MassFunction({a}: 0.3, {b}: 0.2, {a, b, c}: 0.5)
     """
     k = conflict(a, b)
     try:

@@ -1,196 +1,306 @@
-"""Optional compiled kernel (extra ``speed``: numba) for Step 6 of the paper's filter.
+"""Optional compiled box kernels (extra ``speed``: numba).
 
-The numpy path (:class:`~dstoolkit.evidence._batch_kernels.DependenceKernel`,
-:class:`~dstoolkit.evidence._batch_kernels.ProductKernel` and the hulls) makes some 27
-numpy calls per step on arrays of 16–2,600 elements; one run of the filter is bound by
-their overhead, a batch by the passes over the 65 × 17 products and the 80 × 16 equality
-matrix, whose short inner loops numpy broadcasts slowly (``benchmarks/filter_profile.py``).
-:func:`fuse_dependent` does the same arithmetic in plain loops, once per run: the degree
-of dependence and the coefficients of E1, E2 (Def. 5, eqs. A1, A3–A6), their discounting
-onto their hulls Θ1, Θ2 (eqs. A7–A8), Dempster's rule (eq. 1), the pignistic expectation
-(eq. 20) and the hull of the result.
-Its sums are added in another order than numpy's, so its results agree with the numpy path
-to rounding (tested), and they do not depend on the number of runs in a block.
+The merge of equal boxes (eq. 14) and Denœux's clustering, run by run in plain loops.
 
-Nothing requires it: :class:`~dstoolkit.filters.DependentEvidenceFilter` uses it only with
-``kernel="numba"``.
+They give the numbers of :func:`~dstoolkit.evidence.boxes.merge_equal_boxes` and
+:func:`~dstoolkit.evidence.boxes.cluster_boxes` bit for bit (tested): the same rules, the
+same floating-point operations in the same order. In numpy both are a few dozen calls per
+round on every run at once; compiled, one pass per run. Nothing requires them
+(Nassreddine's filter uses them with ``kernel="numba"`` or ``"auto"``).
 """
 
 from __future__ import annotations
 
 import functools
 from collections.abc import Callable
-from typing import Any
 
 import numpy as np
 
 from dstoolkit.errors import require_extra
 
-from ._batch_kernels import TINY
-from ._combination import CONFLICT_TOLERANCE, MASS_RULES
+from . import _clustering as clustering
+from ._boxes import Boxes
 
-#: Codes of the mass rules of eq. A3 in the compiled kernel.
-RULE_CODES: dict[str, int] = {rule: code for code, rule in enumerate(MASS_RULES)}
+#: The codes the clustering kernel returns.
+FITS, TOO_MANY_ROUNDS, NO_PAIR = 0, 1, 2
 
 
-def _fuse(cols: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, rule: int,
-          est: np.ndarray, diag: np.ndarray, ok: np.ndarray, lower: np.ndarray,
-          upper: np.ndarray) -> None:  # pragma: no cover - compiled by numba
-    """See :func:`fuse_dependent`; plain loops for numba."""
-    runs, _, d, _ = cols.shape
-    np_ = rho.shape[0]
-    e2 = n1
-    on_b = np.empty(np_)
-    merged = np.empty(np_)
-    theta1 = np.empty((d, 2))
-    theta2 = np.empty((d, 2))
+def _row_less(key: np.ndarray, a: int, b: int) -> bool:  # pragma: no cover - numba
+    """Row a's key before row b's (lexicographic; equal keys: not before)."""
+    for j in range(key.shape[1]):
+        if key[a, j] < key[b, j]:
+            return True
+        if key[a, j] > key[b, j]:
+            return False
+    return False
+
+
+def _stable_order(key: np.ndarray, order: np.ndarray, work: np.ndarray
+                  ) -> None:  # pragma: no cover - numba
+    """Set ``order`` to the rows of ``key`` sorted lexicographically, stable, as ``np.lexsort``.
+
+    Equal keys keep their order: insertion sort of blocks of 16 rows, then merges of
+    neighbouring blocks (skipped where two blocks are in order already).
+    """
+    rows = key.shape[0]
+    for i in range(rows):
+        order[i] = i
+    for start in range(0, rows, 16):
+        for i in range(start + 1, min(start + 16, rows)):
+            row, j = order[i], i
+            while j > start and _row_less(key, row, order[j - 1]):
+                order[j] = order[j - 1]
+                j -= 1
+            order[j] = row
+    src, dst = order, work
+    width = 16
+    while width < rows:
+        for start in range(0, rows, 2 * width):
+            mid, end = min(start + width, rows), min(start + 2 * width, rows)
+            if mid >= end or not _row_less(key, src[mid], src[mid - 1]):
+                for k in range(start, end):  # in order already
+                    dst[k] = src[k]
+                continue
+            i, j, k = start, mid, start
+            while i < mid and j < end:
+                if _row_less(key, src[j], src[i]):
+                    dst[k] = src[j]
+                    j += 1
+                else:
+                    dst[k] = src[i]
+                    i += 1
+                k += 1
+            while i < mid:
+                dst[k] = src[i]
+                i += 1
+                k += 1
+            while j < end:
+                dst[k] = src[j]
+                j += 1
+                k += 1
+        src, dst = dst, src
+        width *= 2
+    if src is not order:
+        for i in range(rows):
+            order[i] = src[i]
+
+
+def _merge(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, out_lo: np.ndarray,
+           out_hi: np.ndarray, out_mass: np.ndarray) -> int:  # pragma: no cover - numba
+    """Merge equal boxes per run (eq. 14) as ``merge_equal_boxes``.
+
+    Rows are sorted by (no mass, lo, hi), stable; equal rows' masses added in that order;
+    padding copies the first row. Returns the width (the most boxes with mass in a run, at
+    least 1). Only the rows with mass are sorted (the others come last and are dropped), all
+    of them in a run without mass (its first row in that order is the padding).
+    """
+    runs, rows, n = lo.shape
+    key = np.empty((rows, 2 * n))
+    rows_of, order, work = (np.empty(rows, np.int64), np.empty(rows, np.int64),
+                            np.empty(rows, np.int64))
+    counts = np.zeros(runs, np.int64)
     for r in range(runs):
-        # m1(D) and m2(D) seen from each focal element of E2 (eq. A3)
-        for j in range(np_):
-            s1 = 0.0
-            for i in range(n1):
-                same = True
-                for c in range(d):
-                    if (cols[r, 0, c, 1 + i] != cols[r, 0, c, 1 + e2 + j]
-                            or cols[r, 1, c, 1 + i] != cols[r, 1, c, 1 + e2 + j]):
-                        same = False
+        m = 0
+        for i in range(rows):
+            if mass[r, i] > 0:
+                rows_of[m] = i
+                m += 1
+        dead = m == 0
+        if dead:
+            for i in range(rows):
+                rows_of[i] = i
+            m = rows
+        for k in range(m):
+            i = rows_of[k]
+            for j in range(n):
+                key[k, j], key[k, n + j] = lo[r, i, j], hi[r, i, j]
+        _stable_order(key[:m], order[:m], work[:m])
+        groups = 0
+        for k in range(m):
+            new = k == 0
+            if not new:
+                for j in range(2 * n):
+                    if key[order[k], j] != key[order[k - 1], j]:
+                        new = True
                         break
-                if same:
-                    s1 += back_mass[r, i]
-            s2 = 0.0
-            for k in range(np_):
-                same = True
-                for c in range(d):
-                    if (cols[r, 0, c, 1 + e2 + k] != cols[r, 0, c, 1 + e2 + j]
-                            or cols[r, 1, c, 1 + e2 + k] != cols[r, 1, c, 1 + e2 + j]):
-                        same = False
-                        break
-                if same:
-                    s2 += rho[k]
-            on_b[j] = s1
-            merged[j] = s2
-        # energies (eq. A1): smallest live width u, Σ m/(w + ε) times (u + ε)
-        u1 = np.inf
-        u2 = np.inf
-        sum1 = 0.0
-        sum2 = 0.0
-        for i in range(n1):
-            w = 1.0
-            for c in range(d):
-                w *= cols[r, 1, c, 1 + i] - cols[r, 0, c, 1 + i]
-            if back_mass[r, i] > 0.0:
-                u1 = min(u1, w)
-            sum1 += back_mass[r, i] / (w + TINY)
-        joint = 0.0
-        for j in range(np_):
-            w = 1.0
-            for c in range(d):
-                w *= cols[r, 1, c, 1 + e2 + j] - cols[r, 0, c, 1 + e2 + j]
-            if rho[j] > 0.0:
-                u2 = min(u2, w)
-            sum2 += rho[j] / (w + TINY)
-            if rule == 0:
-                m_d = min(on_b[j], merged[j])
-            elif rule == 1:
-                m_d = on_b[j]
-            else:
-                m_d = merged[j] if on_b[j] > 0.0 else 0.0
-            joint += m_d * rho[j] / merged[j] / (w + TINY)
-        u1 += TINY
-        u2 += TINY
-        en1 = u1 * sum1
-        en2 = u2 * sum2
-        joint *= min(u1, u2)
-        degree = 2.0 * joint / (en1 + en2 + TINY)
-        r12 = 1.0 - 0.5 * degree * en2 / (en1 + TINY)
-        r21 = 1.0 - 0.5 * degree * en1 / (en2 + TINY)
-        # Θ1, Θ2: hulls of the live focal elements (eqs. A7–A8)
-        for c in range(d):
-            theta1[c, 0] = np.inf
-            theta1[c, 1] = -np.inf
-            theta2[c, 0] = np.inf
-            theta2[c, 1] = -np.inf
-        for i in range(n1):
-            if back_mass[r, i] > 0.0:
-                for c in range(d):
-                    theta1[c, 0] = min(theta1[c, 0], cols[r, 0, c, 1 + i])
-                    theta1[c, 1] = max(theta1[c, 1], cols[r, 1, c, 1 + i])
-        for j in range(np_):
-            if rho[j] > 0.0:
-                for c in range(d):
-                    theta2[c, 0] = min(theta2[c, 0], cols[r, 0, c, 1 + e2 + j])
-                    theta2[c, 1] = max(theta2[c, 1], cols[r, 1, c, 1 + e2 + j])
-        # Dempster's rule of the discounted evidence, its expectation and hull (eqs. 1, 20)
-        kept = 0.0
-        for c in range(d):
-            est[r, c] = 0.0
-            lower[r, c] = np.inf
-            upper[r, c] = -np.inf
-        for i in range(n1 + 1):
-            m_a = back_mass[r, i] * r12 if i < n1 else 1.0 - r12
-            for j in range(np_ + 1):
-                m_b = rho[j] * r21 if j < np_ else 1.0 - r21
-                nonempty = True
-                for c in range(d):
-                    a_lo = cols[r, 0, c, 1 + i] if i < n1 else theta1[c, 0]
-                    a_hi = cols[r, 1, c, 1 + i] if i < n1 else theta1[c, 1]
-                    b_lo = cols[r, 0, c, 1 + e2 + j] if j < np_ else theta2[c, 0]
-                    b_hi = cols[r, 1, c, 1 + e2 + j] if j < np_ else theta2[c, 1]
-                    if max(a_lo, b_lo) > min(a_hi, b_hi):
-                        nonempty = False
-                        break
-                if not nonempty:
-                    continue
-                m = m_a * m_b
-                kept += m
-                for c in range(d):
-                    a_lo = cols[r, 0, c, 1 + i] if i < n1 else theta1[c, 0]
-                    a_hi = cols[r, 1, c, 1 + i] if i < n1 else theta1[c, 1]
-                    b_lo = cols[r, 0, c, 1 + e2 + j] if j < np_ else theta2[c, 0]
-                    b_hi = cols[r, 1, c, 1 + e2 + j] if j < np_ else theta2[c, 1]
-                    lo, hi = max(a_lo, b_lo), min(a_hi, b_hi)
-                    est[r, c] += m * (lo + hi)
-                    if m > 0.0:
-                        lower[r, c] = min(lower[r, c], lo)
-                        upper[r, c] = max(upper[r, c], hi)
-        ok[r] = kept > CONFLICT_TOLERANCE
-        scale = 0.5 / kept if ok[r] else 0.5
-        for c in range(d):
-            est[r, c] *= scale
-        diag[r, 0] = kept
-        diag[r, 1] = en1
-        diag[r, 2] = en2
-        diag[r, 3] = joint
-        diag[r, 4] = degree
-        diag[r, 5] = r12
-        diag[r, 6] = r21
+            i = rows_of[order[k]]
+            if new:
+                for j in range(n):
+                    out_lo[r, groups, j], out_hi[r, groups, j] = lo[r, i, j], hi[r, i, j]
+                out_mass[r, groups] = 0.0
+                groups += 1
+                if dead:
+                    break
+            out_mass[r, groups - 1] += mass[r, i]
+        counts[r] = 0 if dead else groups
+    width = max(1, counts.max())
+    for r in range(runs):
+        for g in range(counts[r], width):
+            for j in range(n):
+                out_lo[r, g, j], out_hi[r, g, j] = out_lo[r, 0, j], out_hi[r, 0, j]
+            out_mass[r, g] = 0.0
+    return width
+
+
+def _size(lo: np.ndarray, hi: np.ndarray, i: int, unit: np.ndarray, r: int
+          ) -> float:  # pragma: no cover - numba
+    """Compute |A| of box i: the sum of its widths, each divided by run r's unit width.
+
+    As ``_sizes`` does.
+    """
+    total = (hi[i, 0] - lo[i, 0]) / unit[r, 0]
+    for j in range(1, lo.shape[1]):
+        total += (hi[i, j] - lo[i, j]) / unit[r, j]
+    return total
+
+
+def _cluster(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, unit: np.ndarray,
+             cap: int, max_rounds: int, out_lo: np.ndarray, out_hi: np.ndarray,
+             out_mass: np.ndarray, out_merged: np.ndarray) -> int:  # pragma: no cover
+    """Cluster boxes by Denœux's method as ``cluster_boxes``, run by run.
+
+    Each round sorts the boxes by centre along dimension round % n (stable; skipped when
+    they are in order already, as a stable sort would leave them), merges the neighbour
+    pairs whose Δ is a local minimum, cheapest first (ties: leftmost), never below ``cap``.
+    Writes each run's boxes in their final order (zero-mass padding after) and whether each
+    was merged.
+    """
+    runs, rows, n = lo.shape
+    b_lo, b_hi = np.empty((rows, n)), np.empty((rows, n))
+    b_m, b_ms, b_merged = np.empty(rows), np.empty(rows), np.zeros(rows, np.bool_)
+    t_lo, t_hi = np.empty((rows, n)), np.empty((rows, n))
+    t_m, t_ms, t_merged = np.empty(rows), np.empty(rows), np.zeros(rows, np.bool_)
+    p_lo, p_hi = np.empty((rows, n)), np.empty((rows, n))
+    p_m, p_ms, cost = np.empty(rows), np.empty(rows), np.empty(rows)
+    key, local = np.empty(rows), np.empty(rows, np.int64)
+    chosen = np.zeros(rows, np.bool_)
+    for r in range(runs):
+        k = 0
+        for i in range(rows):
+            if mass[r, i] > 0:
+                for j in range(n):
+                    b_lo[k, j], b_hi[k, j] = lo[r, i, j], hi[r, i, j]
+                b_m[k] = mass[r, i]
+                b_ms[k] = b_m[k] * _size(b_lo, b_hi, k, unit, r)
+                b_merged[k] = False
+                k += 1
+        rnd = 0
+        while k > cap:
+            if rnd == max_rounds:
+                return TOO_MANY_ROUNDS
+            d = rnd % n
+            ordered = True
+            for i in range(k):
+                key[i] = b_lo[i, d] + b_hi[i, d]
+                if i > 0 and key[i] < key[i - 1]:
+                    ordered = False
+            if not ordered:  # by centre, stable
+                order = np.argsort(key[:k], kind="mergesort")
+                for i in range(k):
+                    o = order[i]
+                    for j in range(n):
+                        t_lo[i, j], t_hi[i, j] = b_lo[o, j], b_hi[o, j]
+                    t_m[i], t_ms[i], t_merged[i] = b_m[o], b_ms[o], b_merged[o]
+                b_lo, t_lo, b_hi, t_hi = t_lo, b_lo, t_hi, b_hi
+                b_m, t_m, b_ms, t_ms, b_merged, t_merged = t_m, b_m, t_ms, b_ms, t_merged, b_merged
+            for i in range(k - 1):  # each neighbour pair's hull and its Δ
+                for j in range(n):
+                    p_lo[i, j] = min(b_lo[i, j], b_lo[i + 1, j])
+                    p_hi[i, j] = max(b_hi[i, j], b_hi[i + 1, j])
+                p_m[i] = b_m[i] + b_m[i + 1]
+                p_ms[i] = p_m[i] * _size(p_lo, p_hi, i, unit, r)
+                cost[i] = p_ms[i] - b_ms[i] - b_ms[i + 1]
+            found = 0
+            for i in range(k - 1):
+                c = cost[i]
+                if (np.isfinite(c) and (i == 0 or c <= cost[i - 1])
+                        and (i == k - 2 or c < cost[i + 1])):
+                    local[found] = i
+                    found += 1
+            if found == 0:
+                return NO_PAIR
+            chosen[: k - 1] = False
+            if found <= k - cap:
+                for i in range(found):
+                    chosen[local[i]] = True
+            else:  # the cheapest, ties leftmost
+                ranked = np.argsort(cost[local[:found]], kind="mergesort")
+                for i in range(k - cap):
+                    chosen[local[ranked[i]]] = True
+            kept = i = 0
+            while i < k:  # in place: kept ≤ i
+                if i < k - 1 and chosen[i]:  # the pair's hull; its second box goes
+                    for j in range(n):
+                        b_lo[kept, j], b_hi[kept, j] = p_lo[i, j], p_hi[i, j]
+                    b_m[kept], b_ms[kept], b_merged[kept] = p_m[i], p_ms[i], True
+                    i += 2
+                else:
+                    if kept != i:
+                        for j in range(n):
+                            b_lo[kept, j], b_hi[kept, j] = b_lo[i, j], b_hi[i, j]
+                        b_m[kept], b_ms[kept], b_merged[kept] = b_m[i], b_ms[i], b_merged[i]
+                    i += 1
+                kept += 1
+            k = kept
+            rnd += 1
+        for i in range(out_mass.shape[1]):
+            inside = i < k
+            for j in range(n):
+                out_lo[r, i, j] = b_lo[i, j] if inside else 0.0
+                out_hi[r, i, j] = b_hi[i, j] if inside else 0.0
+            out_mass[r, i] = b_m[i] if inside else 0.0
+            out_merged[r, i] = b_merged[i] if inside else False
+    return FITS
 
 
 @functools.cache
-def _compiled() -> Callable[..., None]:
-    require_extra("numba", "speed", "the compiled kernel of the paper's filter")
+def _compiled() -> tuple[Callable[..., int], Callable[..., int]]:
+    """Return the two box kernels, compiled on first use (and cached on disk by numba).
+
+    The helpers they call are compiled first and take their names in this module: numba
+    resolves a kernel's calls by name when it compiles it.
+    """
+    require_extra("numba", "speed", "the compiled box kernels (merge and clustering)")
     import numba
 
-    kernel: Callable[..., None] = numba.njit(cache=True, nogil=True)(_fuse)
-    return kernel
+    jit = numba.njit(cache=True, nogil=True)
+    names = globals()
+    for name in ("_row_less", "_stable_order", "_size"):
+        names[name] = jit(names[name])
+    return jit(_merge), jit(_cluster)
 
 
-def fuse_dependent(cols: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int,
-                   mass_rule: str, est: np.ndarray, diag: np.ndarray, bounds: Any
-                   ) -> np.ndarray:
-    """Step 6 of the paper's filter for every run, compiled (extra ``speed``).
+def merge_equal_boxes_compiled(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes:
+    """:func:`~dstoolkit.evidence.boxes.merge_equal_boxes`, compiled: the same numbers."""
+    merge = _compiled()[0]
+    lo, hi = np.ascontiguousarray(lo, dtype=float), np.ascontiguousarray(hi, dtype=float)
+    mass = np.ascontiguousarray(mass, dtype=float)
+    out_lo, out_hi, out_mass = np.empty_like(lo), np.empty_like(hi), np.empty_like(mass)
+    width = merge(lo, hi, mass, out_lo, out_hi, out_mass)
+    return Boxes(out_lo[:, :width], out_hi[:, :width], out_mass[:, :width])
 
-    ``cols`` (R, ≥ 2, d, N) holds the columns of the array path (lo, hi, ... on axis 1):
-    one free column, E1 (n1 columns, masses ``back_mass`` (R, n1), 0 for placeholders),
-    then E2 (masses ``rho`` (N_2,), all positive); writes the expectation into ``est``
-    (R, d), (1 − K, En'(E1), En'(E2), En'(E1, E2), D, R12, R21) into ``diag`` (R, 7) and the
-    hull into ``bounds`` (R, 2, d) (lower, upper); returns the mask of runs with K < 1.
+
+def cluster_boxes_compiled(bm: Boxes, max_focal: int, max_rounds: int | None = None
+                           ) -> tuple[Boxes, np.ndarray]:
+    """Run :func:`~dstoolkit.evidence.boxes.cluster_boxes`, compiled.
+
+    The same numbers and errors (``max_rounds``: its limit of rounds, default
+    ``MAX_CLUSTER_ROUNDS``).
     """
-    runs = cols.shape[0]
-    ok = np.empty(runs, dtype=bool)
-    _compiled()(cols, np.ascontiguousarray(back_mass), np.ascontiguousarray(rho), n1,
-                RULE_CODES[mass_rule], est, diag, ok, bounds[:, 0], bounds[:, 1])
-    return ok
-
-
-__all__: list[str] = ["RULE_CODES", "fuse_dependent"]
+    rounds = clustering.MAX_CLUSTER_ROUNDS if max_rounds is None else max_rounds
+    count = clustering.bounded_count(bm)
+    runs, _, n = bm.lo.shape
+    if int(count.max()) <= max_focal:
+        return merge_equal_boxes_compiled(bm.lo, bm.hi, bm.mass), np.zeros(runs)
+    lo, hi = np.empty((runs, max_focal, n)), np.empty((runs, max_focal, n))
+    mass, merged = np.empty((runs, max_focal)), np.empty((runs, max_focal), dtype=bool)
+    code = _compiled()[1](np.ascontiguousarray(bm.lo, dtype=float),
+                          np.ascontiguousarray(bm.hi, dtype=float),
+                          np.ascontiguousarray(bm.mass, dtype=float),
+                          np.ascontiguousarray(clustering.unit_widths(bm)), max_focal, rounds,
+                          lo, hi, mass, merged)
+    if code == TOO_MANY_ROUNDS:
+        raise clustering.too_many_rounds(max_focal, rounds)
+    if code == NO_PAIR:
+        raise clustering.no_pair()
+    return merge_equal_boxes_compiled(lo, hi, mass), clustering.merged_mass(mass, merged)

@@ -49,11 +49,46 @@ MAX_VERTEX_DIM = 16
 def cartesian_product(
     marginals: Sequence[IntervalEvidence], *, merge: bool = True
 ) -> IntervalEvidence:
-    """Random relation of independent marginals: boxes C_1 × … × C_n with masses
-    m_1(C_1)···m_n(C_n) (eq. 16, decomposable Cartesian product).
+    """Form the random relation of independent marginals (eq. 16).
+
+    Boxes C_1 × … × C_n with masses m_1(C_1)···m_n(C_n) (decomposable Cartesian product).
 
     Rows follow ``itertools.product`` order (the first marginal varies slowest); the box
     dimension is the sum of the marginals' dimensions.
+
+    Parameters
+    ----------
+    marginals
+        *sequence of IntervalEvidence*. The independent marginals, d_i dimensions each.
+    merge
+        *bool*. Merge equal boxes (eq. 14).
+
+    Returns
+    -------
+    IntervalEvidence
+        Π_i n_i boxes in Σ_i d_i dimensions.
+
+    Raises
+    ------
+    EvidenceError
+        For an empty sequence or one holding something else than interval evidence.
+    MemoryBudgetError
+        When the product would exceed the memory budget.
+
+    See Also
+    --------
+    projection : back to a marginal.
+
+    References
+    ----------
+    The paper's eq. (16).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import appendix_pair
+    >>> relation = cartesian_product(appendix_pair())
+    >>> relation.dim, len(relation)
+    (2, 9)
     """
     marginals = list(marginals)
     if not marginals or not all(isinstance(e, IntervalEvidence) for e in marginals):
@@ -76,7 +111,35 @@ def cartesian_product(
 
 
 def projection(evidence: IntervalEvidence, axes: Sequence[int]) -> IntervalEvidence:
-    """Marginal random set on the chosen axes (eqs. 11–12): project each box, merge."""
+    """Marginal random set on the chosen axes (eqs. 11–12): project each box, merge.
+
+    Parameters
+    ----------
+    evidence
+        *IntervalEvidence*. Boxes in d dimensions.
+    axes
+        *sequence of int*. The dimensions to keep, in order.
+
+    Returns
+    -------
+    IntervalEvidence
+        Boxes in ``len(axes)`` dimensions, equal ones merged (eq. 14).
+
+    See Also
+    --------
+    cartesian_product : the relation of independent marginals.
+
+    References
+    ----------
+    The paper's eqs. (11)–(12).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import appendix_pair
+    >>> e1, e2 = appendix_pair()
+    >>> projection(cartesian_product([e1, e2]), [1]).mass.round(4).tolist()
+    [0.1, 0.3, 0.6]
+    """
     axes = list(axes)
     return IntervalEvidence(evidence.boxes_lo[:, axes], evidence.boxes_hi[:, axes],
                             evidence.mass, merge=True)
@@ -97,15 +160,20 @@ def _call(f: Callable[[np.ndarray], Any], points: np.ndarray) -> np.ndarray:
 
 
 def _evaluate(f: Callable[[np.ndarray], Any], points: np.ndarray, extra: int) -> np.ndarray:
-    """f at points laid out (*extra, ..., n), returned as (*extra, ..., m): the extra axes
-    move just before the last one for the call (see the module notes)."""
+    """Evaluate f at points laid out (*extra, ..., n), returned as (*extra, ..., m).
+
+    The extra axes move just before the last one for the call (see the module notes).
+    """
     src, dst = tuple(range(extra)), tuple(range(-extra - 1, -1))
     return np.moveaxis(_call(f, np.moveaxis(points, src, dst)), dst, src)
 
 
 def _checked(f: Callable[[np.ndarray], Any]) -> Callable[[np.ndarray], Any]:
-    """``f``, refusing what it returns that is no image: complex values (their imaginary
-    part would be dropped) and NaN or ±inf at points whose coordinates are finite."""
+    """Wrap ``f``, refusing what it returns that is no image.
+
+    That is complex values (their imaginary part would be dropped) and NaN or ±inf at
+    points whose coordinates are finite.
+    """
     def checked(points: np.ndarray) -> Any:
         raw = f(points)
         try:
@@ -138,7 +206,7 @@ def _checked(f: Callable[[np.ndarray], Any]) -> Callable[[np.ndarray], Any]:
 
 
 def _outside(values: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """values < lo or values > hi beyond rounding (CHECK_RTOL); NaN counts as inside."""
+    """Test values < lo or values > hi beyond rounding (CHECK_RTOL); NaN counts as inside."""
     with np.errstate(invalid="ignore"):
         slack = CHECK_RTOL * (np.abs(lo) + np.abs(hi))
         return np.minimum(values - lo, hi - values) < -slack
@@ -147,7 +215,8 @@ def _outside(values: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 def parse_signs(monotone: Any, n: int) -> np.ndarray | None:
     """Monotonicity signs as an int array of shape (n,) or (m, n); None when unknown.
 
-    Entries are +1 (increasing), −1 (decreasing) or 0 (neither/unknown)."""
+    Entries are +1 (increasing), −1 (decreasing) or 0 (neither/unknown).
+    """
     if monotone is None:
         return None
     s = np.asarray(monotone)
@@ -162,8 +231,11 @@ def parse_signs(monotone: Any, n: int) -> np.ndarray | None:
 
 
 def state_signs(monotone: Any, n: int) -> np.ndarray | None:
-    """Signs of f(x, u) in x from a model's ``f_monotone``, which lists the n state
-    arguments then the n noise arguments of f(x, u) + v (length 2n) or the state only (n)."""
+    """Read the signs of f(x, u) in x from a model's ``f_monotone``.
+
+    ``f_monotone`` lists the n state arguments then the n noise arguments of f(x, u) + v
+    (length 2n) or the state only (n).
+    """
     if monotone is None:
         return None
     s = np.asarray(monotone)
@@ -171,7 +243,29 @@ def state_signs(monotone: Any, n: int) -> np.ndarray | None:
 
 
 def vertices(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """The 2^n vertices of each box, shape (..., 2^n, n) (eq. 17)."""
+    """Return the 2^n vertices of each box (eq. 17).
+
+    Parameters
+    ----------
+    lo, hi
+        *ndarray, shape (..., n)*. The boxes' ends.
+
+    Returns
+    -------
+    ndarray, shape (..., 2^n, n)
+        The vertices of each box.
+
+    Raises
+    ------
+    EvidenceError
+        For more dimensions than the vertex method allows.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> vertices(np.array([0.0, 1.0]), np.array([1.0, 2.0])).tolist()
+    [[0.0, 1.0], [1.0, 1.0], [0.0, 2.0], [1.0, 2.0]]
+    """
     n = lo.shape[-1]
     if n > MAX_VERTEX_DIM:
         raise EvidenceError(
@@ -183,7 +277,7 @@ def vertices(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 
 
 def _interior_samples(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """The centre and centre ± w/4 along each axis: shape (..., 2n + 1, n)."""
+    """Return the centre and centre ± w/4 along each axis: shape (..., 2n + 1, n)."""
     n = lo.shape[-1]
     steps = np.concatenate([np.zeros((1, n)), np.eye(n), -np.eye(n)])
     return 0.5 * (lo + hi)[..., None, :] + steps * (0.25 * (hi - lo))[..., None, :]

@@ -34,6 +34,18 @@ class MassFunction(Evidence):
     frame
         The frame Θ (any hashable hypotheses, order kept). Default: the union of the focal
         elements, in order of appearance.
+    merge
+        *bool*. Merge equal focal elements, adding their masses (eq. 14). Default True.
+
+    Raises
+    ------
+    EvidenceError
+        For masses that are negative or do not sum to 1, or focal elements outside the
+        frame.
+
+    References
+    ----------
+    The paper's Defs. 1–3.
 
     Examples
     --------
@@ -82,9 +94,12 @@ class MassFunction(Evidence):
     # -- construction helpers -----------------------------------------------------------
     @staticmethod
     def _elements(key: Any, frame: tuple | None) -> tuple:
-        """The hypotheses of a focal element: a string or a tuple that the frame lists is
-        one hypothesis; otherwise a string is the set of its characters and a set,
-        frozenset, tuple or list the set of its members."""
+        """Return the hypotheses of a focal element.
+
+        A string or a tuple that the frame lists is one hypothesis; otherwise a string is
+        the set of its characters and a set, frozenset, tuple or list the set of its
+        members.
+        """
         if isinstance(key, str | tuple) and frame and key in frame:
             return (key,)
         if isinstance(key, str | set | frozenset | tuple | list):
@@ -145,13 +160,36 @@ class MassFunction(Evidence):
 
     @classmethod
     def vacuous(cls, frame: Iterable[Hashable]) -> MassFunction:
-        """Total ignorance: m(Θ) = 1."""
+        """Total ignorance: m(Θ) = 1.
+
+        Parameters
+        ----------
+        frame
+            *iterable of hashable*. Θ, the hypotheses.
+
+        Returns
+        -------
+        MassFunction
+            m(Θ) = 1.
+        """
         frame = tuple(frame)
         return cls({frozenset(frame): 1.0}, frame)
 
     @classmethod
     def bayesian(cls, probabilities: Mapping[Hashable, float]) -> MassFunction:
-        """A probability distribution as a mass function on singletons."""
+        """Make a mass function on singletons from a probability distribution.
+
+        Parameters
+        ----------
+        probabilities
+            *mapping of hypothesis to float*. P(θ) for each θ, summing to 1; the frame is
+            their keys.
+
+        Returns
+        -------
+        MassFunction
+            m({θ}) = P(θ).
+        """
         return cls({frozenset([h]): p for h, p in probabilities.items()}, probabilities)
 
     # -- primitives -----------------------------------------------------------------------
@@ -217,37 +255,109 @@ class MassFunction(Evidence):
         return [self._decode(f) for f in self._focal]
 
     def as_dict(self) -> dict[frozenset, float]:
-        """``{focal element: mass}``, equal focal elements merged (their masses added)."""
+        """``{focal element: mass}``, equal focal elements merged (their masses added).
+
+        Returns
+        -------
+        dict of frozenset to float
+            The mass of each focal element.
+        """
         focal, mass = self._merged()
         return dict(zip((self._decode(f) for f in focal), mass.tolist(), strict=True))
 
     def mass_of(self, subset: Any) -> float:
-        """m(A) (0 when A is not a focal element)."""
+        """m(A) (0 when A is not a focal element).
+
+        Parameters
+        ----------
+        subset
+            *iterable of hypotheses, or a single hypothesis*. A, a subset of the frame.
+
+        Returns
+        -------
+        float
+            m(A).
+        """
         q = self._query(subset)[0]
         return float(self._mass[self._focal == q].sum())
 
     def belief(self, subset: Any) -> float:
-        """Bel(A) = Σ_{B ⊆ A} m(B) (Def. 3)."""
+        """Bel(A) = Σ_{B ⊆ A} m(B) (Def. 3).
+
+        Parameters
+        ----------
+        subset
+            *iterable of hypotheses, or a single hypothesis*. A, a subset of the frame.
+
+        Returns
+        -------
+        float
+            Bel(A) in [0, 1].
+        """
         return self._bel(self._query(subset))
 
     def plausibility(self, subset: Any) -> float:
-        """Pl(A) = Σ_{B ∩ A ≠ ∅} m(B) (Def. 3)."""
+        """Pl(A) = Σ_{B ∩ A ≠ ∅} m(B) (Def. 3).
+
+        Parameters
+        ----------
+        subset
+            *iterable of hypotheses, or a single hypothesis*. A, a subset of the frame.
+
+        Returns
+        -------
+        float
+            Pl(A) in [0, 1].
+        """
         return self._pl(self._query(subset))
 
     def commonality(self, subset: Any) -> float:
-        """Q(A) = Σ_{B ⊇ A} m(B)."""
+        """Q(A) = Σ_{B ⊇ A} m(B).
+
+        Parameters
+        ----------
+        subset
+            *iterable of hypotheses, or a single hypothesis*. A, a subset of the frame.
+
+        Returns
+        -------
+        float
+            Q(A) in [0, 1].
+        """
         q = self._query(subset)[0]
         return float(self._mass[(self._focal & q) == q].sum())
 
     def pignistic(self) -> dict[Hashable, float]:
-        """Pignistic probability BetP(θ) = Σ_{A ∋ θ} m(A)/|A| (Smets; eq. 20's discrete form)."""
+        """Pignistic probability BetP(θ) = Σ_{A ∋ θ} m(A)/|A| (Smets; eq. 20's discrete form).
+
+        Returns
+        -------
+        dict of hypothesis to float
+            BetP(θ) for every θ of the frame, summing to 1.
+        """
         share = self._mass / self._sizes()
         bits = (self._focal[:, None] >> np.arange(len(self.frame), dtype=np.uint64)) & 1
         probs = share @ bits.astype(float)
         return dict(zip(self.frame, probs.tolist(), strict=True))
 
     def condition(self, subset: Any) -> MassFunction:
-        """Dempster conditioning on A: combine with the categorical m(A) = 1."""
+        """Dempster conditioning on A: combine with the categorical m(A) = 1.
+
+        Parameters
+        ----------
+        subset
+            *iterable of hypotheses, or a single hypothesis*. A, a subset of the frame.
+
+        Returns
+        -------
+        MassFunction
+            m(· | A).
+
+        Raises
+        ------
+        TotalConflictError
+            If no focal element meets A.
+        """
         from ._combination import dempster
 
         return dempster(self, MassFunction({self._decode(self._query(subset)[0]): 1.0},

@@ -54,7 +54,9 @@ class IntervalEvidence(Evidence):
     ----------
     lo, hi
         Lower and upper ends, shape (n,) for intervals or (n, d) for d-dimensional boxes.
-        Infinite ends are allowed (an unbounded focal element).
+        Infinite ends are allowed (an unbounded focal element). The attributes ``lo``
+        and ``hi`` are (n, d) whatever d; ``lo_1d`` and ``hi_1d`` give (n,) for
+        intervals.
     mass
         Masses, shape (n,), non-negative, summing to 1.
     merge
@@ -63,7 +65,7 @@ class IntervalEvidence(Evidence):
     Examples
     --------
     >>> e = IntervalEvidence([-0.3, 0.3], [2.6, 1.9], [0.3, 0.7])
-    >>> round(e.pignistic_expectation(), 4)
+    >>> round(e.pignistic_expectation_1d(), 4)
     1.115
     """
 
@@ -127,7 +129,20 @@ class IntervalEvidence(Evidence):
 
     @classmethod
     def from_pairs(cls, pairs: Any, *, merge: bool = True) -> IntervalEvidence:
-        """Build from rows ``(lo, hi, mass)`` of scalar intervals."""
+        """Build from rows ``(lo, hi, mass)`` of scalar intervals.
+
+        Parameters
+        ----------
+        pairs
+            *array_like, shape (n, 3)*. Rows (lo, hi, mass).
+        merge
+            *bool*. Merge equal focal elements (eq. 14).
+
+        Returns
+        -------
+        IntervalEvidence
+            Scalar evidence (d = 1).
+        """
         arr = real_array(pairs, "pairs", allow_inf=True, error=EvidenceError)
         if arr.ndim != 2 or arr.shape[1] != 3:
             raise EvidenceError(f"pairs must be rows (lo, hi, mass), got shape {arr.shape}")
@@ -135,12 +150,34 @@ class IntervalEvidence(Evidence):
 
     @classmethod
     def vacuous(cls, lo: Any, hi: Any) -> IntervalEvidence:
-        """Total ignorance on the box [lo, hi]: one focal element with mass 1."""
+        """Total ignorance on the box [lo, hi]: one focal element with mass 1.
+
+        Parameters
+        ----------
+        lo, hi
+            *float or array_like, shape (d,)*. The box [lo, hi] (the variable's unit).
+
+        Returns
+        -------
+        IntervalEvidence
+            One focal element, [lo, hi], with mass 1.
+        """
         return cls(np.atleast_1d(lo)[None, :], np.atleast_1d(hi)[None, :], [1.0])
 
     @classmethod
     def point(cls, value: Any) -> IntervalEvidence:
-        """Certainty of one value: the degenerate interval [x, x] with mass 1."""
+        """Certainty of one value: the degenerate interval [x, x] with mass 1.
+
+        Parameters
+        ----------
+        value
+            *float or array_like, shape (d,)*. x.
+
+        Returns
+        -------
+        IntervalEvidence
+            One focal element, [x, x], with mass 1.
+        """
         return cls.vacuous(value, value)
 
     # -- array views -------------------------------------------------------------------
@@ -161,13 +198,41 @@ class IntervalEvidence(Evidence):
 
     @property
     def lo(self) -> np.ndarray:
-        """Lower ends: shape (n,) for intervals, (n, d) for boxes (read-only)."""
-        return self.boxes_lo[:, 0] if self.dim == 1 else self.boxes_lo
+        """Lower ends, shape (n, d) whatever d (read-only); :attr:`lo_1d` for intervals."""
+        return self.boxes_lo
 
     @property
     def hi(self) -> np.ndarray:
-        """Upper ends: shape (n,) for intervals, (n, d) for boxes (read-only)."""
-        return self.boxes_hi[:, 0] if self.dim == 1 else self.boxes_hi
+        """Upper ends, shape (n, d) whatever d (read-only); :attr:`hi_1d` for intervals."""
+        return self.boxes_hi
+
+    @property
+    def lo_1d(self) -> np.ndarray:
+        """Lower ends of scalar evidence (d = 1), shape (n,) (read-only).
+
+        Raises
+        ------
+        EvidenceError
+            If the focal elements are boxes (d > 1): use :attr:`lo`, shape (n, d).
+        """
+        return self._scalar_column(self.boxes_lo, "lo")
+
+    @property
+    def hi_1d(self) -> np.ndarray:
+        """Upper ends of scalar evidence (d = 1), shape (n,) (read-only).
+
+        Raises
+        ------
+        EvidenceError
+            If the focal elements are boxes (d > 1): use :attr:`hi`, shape (n, d).
+        """
+        return self._scalar_column(self.boxes_hi, "hi")
+
+    def _scalar_column(self, ends: np.ndarray, name: str) -> np.ndarray:
+        if self.dim != 1:
+            raise EvidenceError(f"{name}_1d is for scalar evidence (d = 1); this evidence has "
+                                f"{self.dim}-dimensional boxes: use {name}, shape (n, d)")
+        return ends[:, 0]
 
     @property
     def widths(self) -> np.ndarray:
@@ -175,19 +240,45 @@ class IntervalEvidence(Evidence):
         return self._sizes()
 
     def as_boxes(self) -> Boxes:
-        """The focal elements as a one-run :class:`~dstoolkit.evidence.Boxes`."""
+        """Return the focal elements as a one-run :class:`~dstoolkit.evidence.Boxes`.
+
+        Returns
+        -------
+        Boxes
+            Boxes (1, n, d) and masses (1, n).
+        """
         return Boxes(self.boxes_lo[None], self.boxes_hi[None], self._mass[None])
 
     @classmethod
     def from_boxes(cls, boxes: Boxes, run: int = 0) -> IntervalEvidence:
-        """The mass function of one run of ``boxes``, padding (mass 0) dropped, masses
-        renormalised, equal boxes not merged."""
+        """Return the mass function of one run of ``boxes``.
+
+        Padding (mass 0) is dropped, masses renormalised, equal boxes not merged.
+
+        Parameters
+        ----------
+        boxes
+            *Boxes*. Boxes (R, N, d) and masses (R, N).
+        run
+            *int*. The run to take.
+
+        Returns
+        -------
+        IntervalEvidence
+            That run's evidence.
+        """
         keep = boxes.mass[run] > 0
         mass = boxes.mass[run, keep]
         return cls(boxes.lo[run, keep], boxes.hi[run, keep], mass / mass.sum(), merge=False)
 
     def hull(self) -> tuple[np.ndarray, np.ndarray]:
-        """The smallest box containing every focal element (Θ in eqs. A7–A8)."""
+        """Return the smallest box containing every focal element (Θ in eqs. A7–A8).
+
+        Returns
+        -------
+        lo, hi : ndarray, shape (d,)
+            The ends of the hull.
+        """
         lo, hi = hull(self.as_boxes())
         return lo[0], hi[0]
 
@@ -258,27 +349,78 @@ class IntervalEvidence(Evidence):
 
     # -- public API ------------------------------------------------------------------------
     def belief(self, lo: Any, hi: Any) -> float:
-        """Bel([lo, hi]) = Σ of masses of focal elements inside [lo, hi] (Def. 3)."""
+        """Bel([lo, hi]) = Σ of masses of focal elements inside [lo, hi] (Def. 3).
+
+        Parameters
+        ----------
+        lo, hi
+            *float or array_like, shape (d,)*. The box [lo, hi] (the variable's unit).
+
+        Returns
+        -------
+        float
+            Bel([lo, hi]) in [0, 1].
+        """
         return self._bel(self._query(lo, hi))
 
     def plausibility(self, lo: Any, hi: Any) -> float:
-        """Pl([lo, hi]) = Σ of masses of focal elements meeting [lo, hi] (Def. 3)."""
+        """Pl([lo, hi]) = Σ of masses of focal elements meeting [lo, hi] (Def. 3).
+
+        Parameters
+        ----------
+        lo, hi
+            *float or array_like, shape (d,)*. The box [lo, hi] (the variable's unit).
+
+        Returns
+        -------
+        float
+            Pl([lo, hi]) in [0, 1].
+        """
         return self._pl(self._query(lo, hi))
 
     def cdf_bounds(self, x: Any) -> tuple[np.ndarray, np.ndarray]:
-        """The p-box: lower F_*(x) = Bel((−∞, x]) and upper F^*(x) = Pl((−∞, x]) (d = 1)."""
+        """Return the p-box: lower F_*(x) = Bel((−∞, x]) and upper F^*(x) = Pl((−∞, x]) (d = 1).
+
+        Parameters
+        ----------
+        x
+            *array_like*. Where to evaluate (the variable's unit).
+
+        Returns
+        -------
+        lower, upper : ndarray, shape of ``x``
+            F_*(x) and F^*(x).
+
+        Raises
+        ------
+        EvidenceError
+            For boxes (d > 1).
+        """
         if self.dim != 1:
             raise EvidenceError("cdf_bounds is defined for scalar (d = 1) evidence only")
         x = real_array(x, "x", allow_inf=True, error=EvidenceError)
-        lower = (self.hi[None, :] <= x.reshape(-1, 1)) @ self._mass
-        upper = (self.lo[None, :] <= x.reshape(-1, 1)) @ self._mass
+        lower = (self.hi_1d[None, :] <= x.reshape(-1, 1)) @ self._mass
+        upper = (self.lo_1d[None, :] <= x.reshape(-1, 1)) @ self._mass
         return lower.reshape(x.shape), upper.reshape(x.shape)
 
-    def pignistic_expectation(self) -> float | np.ndarray:
+    def pignistic_expectation(self) -> np.ndarray:
         """E = Σ_j m(A_j) (a_j⁻ + a_j⁺)/2, the pignistic expectation (eq. 20).
 
-        A scalar for intervals, a vector of length d for boxes. Unbounded focal elements
-        have no expectation: an error says which.
+        Returns
+        -------
+        ndarray, shape (d,)
+            One value per dimension, for intervals (d = 1) too;
+            :meth:`pignistic_expectation_1d` gives the float of scalar evidence.
+
+        Raises
+        ------
+        EvidenceError
+            If a focal element is unbounded: it has no expectation.
+
+        Examples
+        --------
+        >>> IntervalEvidence([0.0, 1.0], [2.0, 3.0], [0.5, 0.5]).pignistic_expectation()
+        array([1.5])
         """
         value = pignistic_expectation(self.as_boxes())[0]
         if not np.all(np.isfinite(value)):
@@ -286,10 +428,46 @@ class IntervalEvidence(Evidence):
                 "the pignistic expectation needs bounded focal elements; replace ±inf ends "
                 "by a finite frame (e.g. discount onto a finite Θ)"
             )
-        return float(value[0]) if self.dim == 1 else value
+        return value
+
+    def pignistic_expectation_1d(self) -> float:
+        """Return the pignistic expectation (eq. 20) of scalar evidence (d = 1), as a float.
+
+        Returns
+        -------
+        float
+            E, in the variable's unit.
+
+        Raises
+        ------
+        EvidenceError
+            If the focal elements are boxes (d > 1): use :meth:`pignistic_expectation`,
+            or if a focal element is unbounded.
+
+        Examples
+        --------
+        >>> IntervalEvidence([0.0, 1.0], [2.0, 3.0], [0.5, 0.5]).pignistic_expectation_1d()
+        1.5
+        """
+        if self.dim != 1:
+            raise EvidenceError(f"pignistic_expectation_1d is for scalar evidence (d = 1); "
+                                f"this evidence has {self.dim}-dimensional boxes: use "
+                                "pignistic_expectation(), shape (d,)")
+        return float(self.pignistic_expectation()[0])
 
     def shift(self, offset: Any) -> IntervalEvidence:
-        """The evidence about X + offset (same masses)."""
+        """Return the evidence about X + offset (same masses).
+
+        Parameters
+        ----------
+        offset
+            *float or array_like, shape (d,)*. The offset (the variable's unit).
+
+        Returns
+        -------
+        IntervalEvidence
+            Every focal element moved by ``offset``.
+        """
         off = np.atleast_1d(real_array(offset, "offset", error=EvidenceError)).reshape(-1)
         if off.size != self.dim:
             raise EvidenceError(f"offset must have {self.dim} component(s), got {off.size}")
@@ -301,8 +479,19 @@ class IntervalEvidence(Evidence):
         return self._with(moved, self._mass, merge=False)
 
     def to_rows(self) -> np.ndarray:
-        """Rows (lo, hi, mass) for d = 1, handy for tables."""
-        return np.column_stack([self.lo, self.hi, self._mass])
+        """Rows (lo, hi, mass) for d = 1, handy for tables.
+
+        Returns
+        -------
+        ndarray, shape (n, 3)
+            Rows (lo, hi, mass).
+
+        Raises
+        ------
+        EvidenceError
+            For boxes (d > 1).
+        """
+        return np.column_stack([self.lo_1d, self.hi_1d, self._mass])
 
     def __repr__(self) -> str:
         focal, mass = self._merged()  # equal focal elements shown once, masses added

@@ -22,7 +22,19 @@ from ._intervals import IntervalEvidence
 
 
 class TriangularBounds(NamedTuple):
-    """Support [lower, upper] and mode of a triangular possibility distribution."""
+    """Support [lower, upper] and mode of a triangular possibility distribution.
+
+    Parameters
+    ----------
+    lower, mode, upper
+        *float*. Support [lower, upper] and mode of the triangle (the noise's unit),
+        lower <= mode <= upper.
+
+    Examples
+    --------
+    >>> TriangularBounds(-0.3, 0.0, 0.3).sigma
+    0.09999999999999999
+    """
 
     lower: float
     mode: float
@@ -38,7 +50,7 @@ class TriangularBounds(NamedTuple):
 
 
 def _check_triangle(lower: Any, mode: Any, upper: Any) -> tuple[float, float, float]:
-    """The triangle's ends and mode as floats, finite, ordered, with a finite 100σ frame."""
+    """Return the triangle's ends and mode as floats: finite, ordered, with a finite 100σ frame."""
     lower, mode, upper = (real_number(v, name, error=EvidenceError) for v, name in
                           ((lower, "lower"), (mode, "mode"), (upper, "upper")))
     if not lower <= mode <= upper:
@@ -54,7 +66,39 @@ def _check_triangle(lower: Any, mode: Any, upper: Any) -> tuple[float, float, fl
 
 
 def possibility(x: Any, lower: float, mode: float, upper: float) -> np.ndarray:
-    """The triangular possibility distribution π(x) with support [lower, upper] (eq. 22)."""
+    """Evaluate the triangular possibility distribution π(x) with support [lower, upper] (eq. 22).
+
+    Parameters
+    ----------
+    x
+        *array_like*. Where to evaluate (the noise's unit).
+    lower, mode, upper
+        *float*. Support [lower, upper] and mode of the triangle (the noise's unit),
+        lower <= mode <= upper.
+
+    Returns
+    -------
+    ndarray, shape of ``x``
+        π(x) in [0, 1]: 1 at the mode, 0 outside the support.
+
+    Raises
+    ------
+    EvidenceError
+        For non-finite numbers or lower > mode or mode > upper.
+
+    See Also
+    --------
+    alpha_cuts : its level sets.
+
+    References
+    ----------
+    The paper's eq. (22).
+
+    Examples
+    --------
+    >>> possibility([0.0, 0.15, 0.5], -0.3, 0.0, 0.3)
+    array([1. , 0.5, 0. ])
+    """
     lower, mode, upper = _check_triangle(lower, mode, upper)
     x = real_array(x, "x", allow_inf=True, error=EvidenceError)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -67,9 +111,41 @@ def possibility(x: Any, lower: float, mode: float, upper: float) -> np.ndarray:
 def alpha_cuts(
     lower: float, mode: float, upper: float, p: int
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The α-cuts [a + α(c − a), b − α(b − c)] at α_i = i/p, i = 0..p−1 (eqs. 23–24).
+    """Compute the α-cuts [a + α(c − a), b − α(b − c)] at α_i = i/p, i = 0..p−1 (eqs. 23–24).
 
     Returned innermost first, as in the paper's Tables 1–2.
+
+    Parameters
+    ----------
+    lower, mode, upper
+        *float*. Support [lower, upper] and mode of the triangle (the noise's unit),
+        lower <= mode <= upper.
+    p
+        *int*. The number of cuts, p >= 1.
+
+    Returns
+    -------
+    lo, hi : ndarray, shape (p,)
+        The ends of the cuts, innermost first.
+
+    Raises
+    ------
+    EvidenceError
+        For non-finite numbers or lower > mode or mode > upper.
+
+    See Also
+    --------
+    triangular_evidence : gives the cuts their masses.
+
+    References
+    ----------
+    The paper's eqs. (23)–(24).
+
+    Examples
+    --------
+    >>> lo, hi = alpha_cuts(-0.3, 0.0, 0.3, 3)
+    >>> lo.round(4).tolist(), hi.round(4).tolist()
+    ([-0.1, -0.2, -0.3], [0.1, 0.2, 0.3])
     """
     lower, mode, upper = _check_triangle(lower, mode, upper)
     p = whole_number(p, "the number of cuts p", low=1, high=10_000, error=EvidenceError)
@@ -78,7 +154,24 @@ def alpha_cuts(
 
 
 def default_theta(lower: float, mode: float, upper: float) -> tuple[float, float]:
-    """Θ = mode ± 100σ with σ = (upper − lower)/6 (the paper's choice in Tables 1–2)."""
+    """Θ = mode ± 100σ with σ = (upper − lower)/6 (the paper's choice in Tables 1–2).
+
+    Parameters
+    ----------
+    lower, mode, upper
+        *float*. Support [lower, upper] and mode of the triangle (the noise's unit),
+        lower <= mode <= upper.
+
+    Returns
+    -------
+    tuple of float
+        (lo, hi) of Θ.
+
+    Examples
+    --------
+    >>> default_theta(-0.3, 0.0, 0.3)
+    (-10.0, 10.0)
+    """
     sigma = (upper - lower) / 6.0
     return mode - 100.0 * sigma, mode + 100.0 * sigma
 
@@ -107,12 +200,26 @@ def triangular_evidence(
     theta
         The frame (lo, hi) that receives ε. Default :func:`default_theta`.
 
+    Returns
+    -------
+    IntervalEvidence
+        p nested cuts (innermost first) and Θ, scalar (d = 1).
+
+    Raises
+    ------
+    EvidenceError
+        For a bad triangle, p < 1, or ε outside [0, 1).
+
+    References
+    ----------
+    The paper's eqs. (24)–(26) and Tables 1–2.
+
     Examples
     --------
     The state noise of the paper's gauge (Table 1):
 
     >>> e = triangular_evidence(-0.3, 0.0, 0.3, p=3, epsilon=0.05, theta=(-10.0, 10.0))
-    >>> e.lo.round(4).tolist(), e.hi.round(4).tolist()
+    >>> e.lo_1d.round(4).tolist(), e.hi_1d.round(4).tolist()
     ([-0.1, -0.2, -0.3, -10.0], [0.1, 0.2, 0.3, 10.0])
     >>> e.mass.round(4).tolist()
     [0.3167, 0.3167, 0.3167, 0.05]
@@ -141,7 +248,27 @@ def triangular_evidence(
 def triangular_from_samples(samples: Any, k: float = 3.0) -> TriangularBounds:
     """Bounds mean ± kσ and mode at the mean of measured errors (the paper's Figs. 8–9).
 
-    ``k`` is a finite number ≥ 0 (how many standard deviations the bounds lie away).
+    Parameters
+    ----------
+    samples
+        *array_like, shape (N,)*. Measured errors (the noise's unit), N >= 2.
+    k
+        *float*. How many standard deviations the bounds lie away, finite, >= 0.
+
+    Returns
+    -------
+    TriangularBounds
+        mean − kσ, the mean, mean + kσ.
+
+    Raises
+    ------
+    EvidenceError
+        For fewer than two samples, non-finite ones, or a bad ``k``.
+
+    Examples
+    --------
+    >>> triangular_from_samples([-0.1, 0.0, 0.1])
+    TriangularBounds(lower=-0.3, mode=0.0, upper=0.3)
     """
     x = real_array(samples, "error samples", finite=False, error=EvidenceError).reshape(-1)
     k = real_number(k, "k", low=0.0, error=EvidenceError)

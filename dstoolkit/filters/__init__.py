@@ -1,6 +1,8 @@
-"""State-space models and the filters: the paper's dependent-evidence filter
-(Steps 1-6, eqs. 30-31), Nassreddine's filter, a bounded-error (set-membership) filter,
-the extended Kalman filter and a bootstrap particle filter, and example systems.
+"""State-space models, the filters and example systems.
+
+The paper's dependent-evidence filter (Steps 1-6, eqs. 30-31), Nassreddine's filter, a
+bounded-error (set-membership) filter, the extended Kalman filter and a bootstrap particle
+filter, and example systems.
 """
 
 from __future__ import annotations
@@ -30,8 +32,6 @@ from ._dependent import (
     DependentRecord,
     DependentState,
     NoiseEvidence,
-    observe,
-    predict,
 )
 from ._example_systems import (
     LOTKA_VOLTERRA_X0,
@@ -49,7 +49,6 @@ from ._model import (
     BatchResult,
     BoundedNoise,
     FilterResult,
-    ScalarMaps,
     StateSpaceModel,
     with_input,
 )
@@ -57,8 +56,6 @@ from ._nassreddine import (
     NassreddineFilter,
     NassreddineRecord,
     NassreddineState,
-    cluster_boxes,
-    merge_equal_boxes,
 )
 from ._particle import (
     ParticleFilter,
@@ -94,16 +91,11 @@ __all__ = [
     "ParticleFilter",
     "ParticleRecord",
     "ParticleState",
-    "ScalarMaps",
     "StateSpaceModel",
-    "cluster_boxes",
     "converged_at",
     "enclosure_summary",
     "finite_difference_jacobian",
     "lotka_volterra",
-    "merge_equal_boxes",
-    "observe",
-    "predict",
     "random_walk",
     "simulate_lotka_volterra",
     "systematic_resample",

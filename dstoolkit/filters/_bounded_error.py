@@ -44,14 +44,26 @@ InconsistencyPolicy = Literal["raise", "reset"]
 
 @dataclass(frozen=True)
 class BoundedErrorState(FilterState):
-    """The bounded-error filter's state: the box X_k = [lower, upper], centre ``estimate``."""
+    """The bounded-error filter's state: the box X_k = [lower, upper], centre ``estimate``.
+
+    Parameters
+    ----------
+    model
+        *StateSpaceModel*. The model the filter runs on.
+    k
+        *int*. The step whose estimate this is (1 for the first reading).
+    estimate
+        *ndarray, shape (n,)*. x̂_k.
+    lower, upper
+        *ndarray, shape (n,)*. The box X_k = [lower, upper].
+    """
 
 
 @dataclass(frozen=True)
 class BoundedErrorRecord:
     """One step of the bounded-error filter.
 
-    Attributes
+    Parameters
     ----------
     step
         *int*. k, counting the first reading as 1.
@@ -126,7 +138,24 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
 
     # -- the public step -----------------------------------------------------------------------
     def initialize(self, model: StateSpaceModel, z1: Any) -> BoundedErrorState:
-        """X_1 = g⁻¹(z_1 + [w_lo, w_hi]) (∩ ``initial_box``); see :meth:`Filter.initialize`."""
+        """X_1 = g⁻¹(z_1 + [w_lo, w_hi]) (∩ ``initial_box``).
+
+        Parameters
+        ----------
+        model
+            *StateSpaceModel*. The model of eq. 21.
+        z1
+            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+
+        Returns
+        -------
+        BoundedErrorState
+            The state of step 1; ``estimate`` is x̂_1, shape (n,).
+
+        See Also
+        --------
+        Filter.initialize : the interface every filter shares.
+        """
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
         model = self._guarded(model)
@@ -135,7 +164,29 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
 
     def step(self, state: BoundedErrorState, z: Any, u: Any = None
              ) -> tuple[BoundedErrorState, BoundedErrorRecord]:
-        """Predict the box through f, intersect with g⁻¹(z + W); see :meth:`Filter.step`."""
+        """Predict the box through f, intersect with g⁻¹(z + W).
+
+        Parameters
+        ----------
+        state
+            *BoundedErrorState*. What :meth:`initialize` or the previous :meth:`step` returned.
+        z
+            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
+        u
+            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+            k → k + 1 (the gauge's order n_k).
+
+        Returns
+        -------
+        state : BoundedErrorState
+            The state of step k + 1; ``estimate`` is x̂_{k+1}, shape (n,).
+        record : BoundedErrorRecord
+            What the step computed.
+
+        See Also
+        --------
+        Filter.step : the interface every filter shares.
+        """
         model = state.model
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)
@@ -155,7 +206,8 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
         """Step k → k + 1 for R runs: boxes (R, n), readings z (R, m), inputs (R, q).
 
         Returns the predicted box, the reading's box within it, the final box and the
-        resets (R,)."""
+        resets (R,).
+        """
         f_lo, f_hi = box_image(with_input(model.f, u), lo, hi, model.f_monotone)
         p_lo = f_lo + model.state_noise.lower
         p_hi = f_hi + model.state_noise.upper

@@ -49,17 +49,18 @@ from dstoolkit.errors import EvidenceError, TotalConflictError
 from dstoolkit.evidence import (
     IMAGE_METHODS,
     MASS_RULES,
+    THETA_RULES,
     Boxes,
     ImageMethod,
     IntervalEvidence,
     MassRule,
+    ThetaRule,
     conflict,
     decorrelate,
     dempster,
 )
-from dstoolkit.evidence import _batch_kernels as bk
-from dstoolkit.evidence._combination import THETA_RULES, ThetaRule
-from dstoolkit.evidence._extension import parse_signs, resolve_method, state_signs
+from dstoolkit.evidence import boxes as bk
+from dstoolkit.evidence.boxes import parse_signs, resolve_method, state_signs
 from dstoolkit.utils.budget import check_memory
 from dstoolkit.utils.checks import real_array
 
@@ -91,7 +92,20 @@ COUNTS: tuple[str, ...] = (
 
 @dataclass(frozen=True)
 class NoiseEvidence:
-    """Step 1: the evidence of v and w (eqs. 24–26) and their arrays with a run axis."""
+    """Step 1: the evidence of v and w (eqs. 24–26) and their arrays with a run axis.
+
+    Parameters
+    ----------
+    state
+        *IntervalEvidence*. E_v, the evidence of the state noise v.
+    observation
+        *IntervalEvidence*. E_w, the evidence of the observation noise w.
+    v, w
+        *Boxes*. The same as one-run arrays, boxes (1, N, n) and (1, N, m).
+    prediction_mass
+        *ndarray, shape (1, N_v²)*. The masses of the predicted boxes,
+        ρ_ij = m_v(i)·m_v(j) (eq. 16).
+    """
 
     state: IntervalEvidence
     observation: IntervalEvidence
@@ -114,10 +128,28 @@ class ModelMaps:
 
 @dataclass(frozen=True)
 class DependentState(FilterState):
-    """The paper's filter's state: x̂_k, the hull of step k's final evidence (``final``,
-    None at the start) and Step 1's noise evidence (``noise``, from the model's bounded
-    noises; replace it with ``dataclasses.replace`` to step with other evidence). Each
-    step restarts from the point estimate (Step 2), so nothing else passes on."""
+    """The paper's filter's state: x̂_k, step k's final hull and Step 1's noise evidence.
+
+    The hull of step k's final evidence is ``final`` (None at the start) and Step 1's noise
+    evidence ``noise``, from the model's bounded noises; replace it with
+    ``dataclasses.replace`` to step with other evidence. Each step restarts from the point
+    estimate (Step 2), so nothing else passes on.
+
+    Parameters
+    ----------
+    model
+        *StateSpaceModel*. The model the filter runs on.
+    k
+        *int*. The step whose estimate this is (1 for the first reading).
+    estimate
+        *ndarray, shape (n,)*. x̂_k.
+    lower, upper
+        *ndarray, shape (n,)*. The hull of step k's final evidence (x̂_1 at the start).
+    noise
+        *NoiseEvidence*. Step 1's evidence of v and w (eqs. 24–26).
+    final
+        *IntervalEvidence or None*. Step k's final evidence; None at the start.
+    """
 
     noise: NoiseEvidence
     final: IntervalEvidence | None = None
@@ -131,7 +163,7 @@ class DependentRecord:
     ``fallback``) and of :data:`COUNTS` (``n_state`` to ``n_products_step6``) hold the
     step's numbers, as floats (NaN where a step has none, e.g. at the start).
 
-    Attributes
+    Parameters
     ----------
     step
         *int*. k + 1, counting the first reading as 1.
@@ -156,6 +188,20 @@ class DependentRecord:
     dependence_terms
         *Dependence or None*. En′(E1), En′(E2), En′(E1, E2), D, R12 and R21 of Step 6
         (eqs. A1–A6).
+    conflict_step4, conflict_step6
+        *float*. K of Dempster's rule in Steps 4 and 6 (eq. 1).
+    energy_mapped_back, energy_prediction, joint_energy
+        *float*. En′(E1), En′(E2) and En′(E1, E2) (eqs. A1, A3).
+    dependence, r12, r21
+        *float*. D, R12 and R21 (eqs. A4–A6).
+    fallback
+        *float*. 1 where total conflict made the prediction final, else 0.
+    n_state, n_prediction, n_observation_prediction, n_observation
+        *float*. The focal elements of Steps 2–4's evidence (:data:`COUNTS`).
+    n_fused, n_mapped_back, n_final
+        *float*. The focal elements of Steps 4–6's results.
+    n_products_step4, n_products_step6
+        *float*. The products Dempster's rule forms in Steps 4 and 6.
     """
 
     step: int
@@ -306,6 +352,24 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
         Computed once per noise and setting (cached): a run reuses it at every step, and
         runs of the same model reuse it too.
+
+        Parameters
+        ----------
+        model
+            *StateSpaceModel*. The model whose bounded noises v and w are turned into
+            evidence with the filter's ``p``, ``epsilon`` and ``theta``.
+
+        Returns
+        -------
+        NoiseEvidence
+            E_v, E_w and their arrays.
+
+        Examples
+        --------
+        >>> from dstoolkit.filters import DependentEvidenceFilter, random_walk
+        >>> noise = DependentEvidenceFilter(p=3).noise_evidence(random_walk(0.1, 0.5))
+        >>> len(noise.state), noise.prediction_mass.shape
+        (4, (1, 16))
         """
         return _noise_evidence(_Step1(self, model))
 
@@ -322,7 +386,24 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
     # -- the public step: Steps 2-6 on IntervalEvidence objects ------------------------------
     def initialize(self, model: StateSpaceModel, z1: Any) -> DependentState:
-        """x̂_1 by the ``start`` rule; see :meth:`Filter.initialize`."""
+        """x̂_1 by the ``start`` rule.
+
+        Parameters
+        ----------
+        model
+            *StateSpaceModel*. The model of eq. 21.
+        z1
+            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+
+        Returns
+        -------
+        DependentState
+            The state of step 1; ``estimate`` is x̂_1, shape (n,).
+
+        See Also
+        --------
+        Filter.initialize : the interface every filter shares.
+        """
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
         model = self._guarded(model)
@@ -331,10 +412,31 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
     def step(self, state: DependentState, z: Any, u: Any = None
              ) -> tuple[DependentState, DependentRecord]:
-        """Steps 2–6 from x̂_k with the reading z_{k+1}; see :meth:`Filter.step`.
+        """Run Steps 2–6 from x̂_k with the reading z_{k+1}.
 
         Runs the reference path on :class:`~dstoolkit.evidence.IntervalEvidence` (equal
         focal elements merged, eq. 14), which records every evidence of the step.
+
+        Parameters
+        ----------
+        state
+            *DependentState*. What :meth:`initialize` or the previous :meth:`step` returned.
+        z
+            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
+        u
+            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+            k → k + 1 (the gauge's order n_k).
+
+        Returns
+        -------
+        state : DependentState
+            The state of step k + 1; ``estimate`` is x̂_{k+1}, shape (n,).
+        record : DependentRecord
+            What the step computed.
+
+        See Also
+        --------
+        Filter.step : the interface every filter shares.
         """
         model, noise = state.model, state.noise
         maps = self._maps(model)
@@ -372,7 +474,7 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
     def _fuse_objects(self, maps: ModelMaps, pred: IntervalEvidence,
                       obs_pred: IntervalEvidence, obs: IntervalEvidence, t: int,
                       entry: dict[str, Any]) -> IntervalEvidence | None:
-        """Steps 4–6 with dstoolkit.evidence; None when total conflict falls back."""
+        """Run Steps 4–6 with dstoolkit.evidence; None when total conflict falls back."""
         try:
             fused = dempster(obs_pred, obs, merge=False)
         except TotalConflictError:
@@ -403,8 +505,10 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
     def _engine_by_steps(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
                          runs: np.ndarray) -> Block:
-        """The recursion of R runs by the reference :meth:`step`, run after run (the
-        options the vectorised kernels do not implement)."""
+        """Run the recursion of R runs by the reference :meth:`step`, run after run.
+
+        This serves the options the vectorised kernels do not implement.
+        """
         n_runs, n_steps, _ = Z.shape
         n, noise = model.state_dim, self.noise_evidence(model)
         est, lower, upper = (np.empty((n_runs, n_steps, n)) for _ in range(3))
@@ -431,7 +535,7 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         return Block(est, lower, upper, diag)
 
     def _check_runs(self, runs: int) -> None:
-        """A start per run, (R, n), must have one row for each run of the batch."""
+        """Check that a start per run, (R, n), has one row for each run of the batch."""
         if not isinstance(self.start, str) and np.ndim(self.start) == 2 \
                 and np.shape(self.start)[0] != runs:
             raise EvidenceError(
@@ -440,8 +544,11 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
     def _start(self, model: StateSpaceModel, z1: np.ndarray,
                runs: np.ndarray | None = None) -> np.ndarray:
-        """x̂_1 for every run, (R, n); ``runs`` are the runs' indices in the batch (None for
-        a single run), which pick their rows of a start given per run."""
+        """Return x̂_1 for every run, (R, n).
+
+        ``runs`` are the runs' indices in the batch (None for a single run), which pick
+        their rows of a start given per run.
+        """
         n = model.state_dim
         if not isinstance(self.start, str):
             x0 = np.asarray(self.start, dtype=float)
@@ -472,8 +579,11 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         self, maps: ModelMaps, noise: NoiseEvidence, z: np.ndarray, inputs: np.ndarray | None,
         run_ids: np.ndarray | None = None, bounds: bool = True,
     ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, dict[str, np.ndarray]]:
-        """Steps 2–6 for R runs at once (no merging); z (R, T, m), ``run_ids`` the runs'
-        indices in the batch. ``bounds`` also returns the hull of each final evidence."""
+        """Run Steps 2–6 for R runs at once (no merging).
+
+        z (R, T, m), ``run_ids`` the runs' indices in the batch. ``bounds`` also returns the
+        hull of each final evidence.
+        """
         runs, steps, _ = z.shape
         est = np.empty((runs, steps, maps.model.state_dim))
         hulls = np.empty((runs, steps, 2, est.shape[2])) if bounds else None

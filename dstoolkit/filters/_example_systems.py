@@ -85,6 +85,12 @@ def lotka_volterra(
     -------
     StateSpaceModel
         With f, g, the exact box inverse ``g_inverse`` and both Jacobians (vectorised).
+
+    Examples
+    --------
+    >>> model = lotka_volterra()
+    >>> model.state_dim, model.obs_dim
+    (2, 2)
     """
     rates = np.array([h, alpha, beta, gamma, delta], dtype=float)
     if not np.all(np.isfinite(rates)) or np.any(rates <= 0):
@@ -180,6 +186,12 @@ def simulate_lotka_volterra(
     model, x, z
         The model, the true states (steps, 2) and readings (steps, 2), or with a leading
         ``runs`` axis. z_k = g(x_k) − w_k.
+
+    Examples
+    --------
+    >>> model, x, z = simulate_lotka_volterra(steps=5, seed=0)
+    >>> x.shape, z.shape
+    ((5, 2), (5, 2))
     """
     model = lotka_volterra() if model is None else model
     start = LOTKA_VOLTERRA_X0 if x0 is None else np.asarray(x0, dtype=float)
@@ -188,9 +200,26 @@ def simulate_lotka_volterra(
 
 
 def random_walk(v_half: float, w_half: float) -> StateSpaceModel:
-    """x_{k+1} = x_k + v_k read directly, g(x) = x = z + w (eq. 21), with symmetric
-    triangular noises |v| <= v_half and |w| <= w_half: the demo system of the chapter on
-    bounded noise."""
+    """x_{k+1} = x_k + v_k read directly, g(x) = x = z + w (eq. 21).
+
+    The demo system of the chapter on bounded noise.
+
+    Parameters
+    ----------
+    v_half, w_half
+        *float*. Half-widths of the symmetric triangular noises, |v| <= v_half and
+        |w| <= w_half (the state's unit).
+
+    Returns
+    -------
+    StateSpaceModel
+        The model, n = m = 1, no input.
+
+    Examples
+    --------
+    >>> random_walk(0.1, 0.5).name
+    'random walk, |v| <= 0.1, |w| <= 0.5'
+    """
     return StateSpaceModel(
         f=lambda x, u: x,
         g=lambda x: x,

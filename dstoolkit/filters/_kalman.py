@@ -22,14 +22,14 @@ reading is all the filter knows). ``lower``/``upper`` of the result are x̂ ± 3
 Kalman filter has no evidence, and this band is its closest analogue.
 
 For a scalar state and reading (the gauge, eqs. 39–40) every matrix is 1 × 1 and the
-recursion runs term by term: on Python floats for one run, through the model's float maps
-(:class:`ScalarMaps`) when it has them, and on arrays of runs for a batch, with the same
-operations in the same order, so every path gives the same numbers.
+recursion runs term by term: on Python floats for one run and on arrays of runs for a
+batch, with the same operations in the same order, so both give the same numbers. Each
+step calls the model's own array maps once per value and slope (a central difference is
+one call on three points), so a model written by a user runs as fast as the package's.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -40,11 +40,11 @@ from dstoolkit.errors import EvidenceError, InconsistentDataError
 
 from ._base import Block, Filter, FilterState, KernelChoice
 from ._model import (
-    ScalarMaps,
     StateSpaceModel,
     at_step,
     first_reading_box,
     step_input,
+    unchecked,
     with_input,
 )
 
@@ -58,6 +58,24 @@ def finite_difference_jacobian(fn: Callable[[np.ndarray], np.ndarray], x: np.nda
 
     ``fn`` must accept arrays with one extra axis before the last, (..., n, n), and act
     row by row; the step of component i is ``FD_STEP · max(1, |x_i|)``.
+
+    Parameters
+    ----------
+    fn
+        *callable*. The map, (..., n) → (..., m), vectorised over leading axes.
+    x
+        *ndarray, shape (..., n)*. Where to differentiate.
+
+    Returns
+    -------
+    ndarray, shape (..., m, n)
+        ∂fn/∂x, the Jacobian the extended Kalman filter uses when the model has none.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> finite_difference_jacobian(lambda x: x ** 2, np.array([3.0])).round(6)
+    array([[6.]])
     """
     n = x.shape[-1]
     step = FD_STEP * np.maximum(1.0, np.abs(x))
@@ -67,8 +85,10 @@ def finite_difference_jacobian(fn: Callable[[np.ndarray], np.ndarray], x: np.nda
 
 
 def _inverse(s_cov: np.ndarray) -> np.ndarray:
-    """S⁻¹ for a stack of innovation covariances; the pseudo-inverse where S is singular
-    (noise-free models: zero variances give S = 0 and the gain 0)."""
+    """Invert S for a stack of innovation covariances; the pseudo-inverse where S is singular.
+
+    Noise-free models: zero variances give S = 0 and the gain 0.
+    """
     try:
         return np.linalg.inv(s_cov)
     except np.linalg.LinAlgError:
@@ -82,91 +102,128 @@ def _reciprocal(s: Any) -> Any:
     return np.divide(1.0, s, out=np.zeros_like(s), where=s != 0.0)
 
 
-def _array_maps(model: StateSpaceModel, runs: int) -> ScalarMaps:
-    """The model's array maps (Jacobians by finite differences when it has none) as
-    :class:`ScalarMaps` on a float (one run) or an (R,) array of states (a batch); u is the
-    step's input rows (R, q) or None."""
+class _MapsAndSlopes:
+    """f and ∂f/∂x, g and ∂g/∂x of a model with one state and one reading (n = m = 1).
 
-    def call(fn: Callable[..., Any], x: Any, *u: Any) -> Any:
-        out = np.asarray(fn(np.reshape(x, (runs, 1)), *u), dtype=float)
-        return out.item() if runs == 1 else out.reshape(runs)
+    On one run's state as a Python float or a batch's states as an (R,) array.
 
-    def jacobian_f(x: np.ndarray, u: Any) -> np.ndarray:
-        if model.jacobian_f is not None:
-            return model.jacobian_f(x, u)
-        return finite_difference_jacobian(with_input(model.f, u), x)
+    Each value and its slope come from the model's own array maps: the map and its
+    Jacobian when the model has one, otherwise the map once on the three points x,
+    x + h and x − h (the central difference of :func:`finite_difference_jacobian`, the
+    same arithmetic). The results are checked here as the guard would check them (NaN,
+    complex, non-numbers), on the floats, so that one run costs two or four small numpy
+    calls a step and nothing else: no float copy of the maps in the model.
+    """
 
-    def jacobian_g(x: np.ndarray) -> np.ndarray:
-        if model.jacobian_g is not None:
-            return model.jacobian_g(x)
-        return finite_difference_jacobian(model.g, x)
+    def __init__(self, model: StateSpaceModel, runs: int) -> None:
+        self.runs = runs
+        self.f, self.guard = unchecked(model.f)
+        self.g, _ = unchecked(model.g)
+        self.jacobian_f, self.jacobian_g = model.jacobian_f, model.jacobian_g
 
-    return ScalarMaps(
-        f=lambda x, u: call(model.f, x, u), jacobian_f=lambda x, u: call(jacobian_f, x, u),
-        g=lambda x: call(model.g, x), jacobian_g=lambda x: call(jacobian_g, x),
-    )
+    def rows(self, inputs: np.ndarray | None, transitions: int) -> list[Any]:
+        """Return each transition's inputs in the form :meth:`predict` takes.
 
+        (R, q) rows, or (3R, q) (the rows three times over) when f's slope is a central
+        difference; None without inputs.
+        """
+        if inputs is None:
+            return [None] * transitions
+        if self.jacobian_f is None:
+            inputs = np.concatenate([inputs, inputs, inputs])
+        return list(np.swapaxes(inputs, 0, 1))
 
-def _check_agreement(model: StateSpaceModel, maps: ScalarMaps, x: float, row: Any,
-                     u: np.ndarray | None) -> None:
-    """Refuse float maps that do not give the array maps' numbers at x̂_1 and the first
-    input: a model whose f or g was replaced while its ``scalar_maps`` were kept."""
-    arrays = _array_maps(model, 1)
-    pairs = {"f": (maps.f(x, row), arrays.f(x, u)),
-             "jacobian_f": (maps.jacobian_f(x, row), arrays.jacobian_f(x, u)),
-             "g": (maps.g(x), arrays.g(x)),
-             "jacobian_g": (maps.jacobian_g(x), arrays.jacobian_g(x))}
-    for name, (fast, plain) in pairs.items():
-        if not math.isclose(fast, plain, rel_tol=1e-9, abs_tol=1e-12):
-            raise EvidenceError(
-                f"the model's scalar_maps.{name} gives {fast!r} where its array map gives "
-                f"{plain!r} (x = {x!r}, u = {row!r}); rebuild scalar_maps for the model's "
-                "maps or set scalar_maps=None"
-            )
+    def predict(self, x: Any, u: Any) -> tuple[Any, Any]:
+        """f(x, u) and ∂f/∂x at x."""
+        if self.jacobian_f is None:
+            return self._central(self.f, "f", x, u)
+        column = self._column(x)
+        return self._values(self.f, "f", column, u), self._slope(self.jacobian_f(column, u))
 
+    def observe(self, x: Any) -> tuple[Any, Any]:
+        """g(x) and ∂g/∂x at x."""
+        if self.jacobian_g is None:
+            return self._central(self.g, "g", x)
+        column = self._column(x)
+        return self._values(self.g, "g", column), self._slope(self.jacobian_g(column))
 
-def _scalar_terms(model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
-                  x0: np.ndarray, cov0: np.ndarray) -> tuple[ScalarMaps, Any, Any, Any, Any]:
-    """What :func:`_scalar_recursion` runs on: the maps, x̂_1, P_1, the readings z_2..z_T and
-    the inputs u_1..u_{T−1}; Python floats for one run (the model's float maps when it
-    has them), (R,) arrays for a batch of R runs."""
-    runs, n_steps, _ = Z.shape
-    if runs == 1 and model.scalar_maps is not None:
-        rows = [None] * (n_steps - 1) if U is None else U[0].tolist()
-        _check_agreement(model, model.scalar_maps, x0.item(), rows[0], step_input(U, 1))
-        return model.scalar_maps, x0.item(), cov0.item(), Z[0, 1:, 0].tolist(), rows
-    inputs = [step_input(U, k) for k in range(1, n_steps)]
-    if runs == 1:
-        return _array_maps(model, 1), x0.item(), cov0.item(), Z[0, 1:, 0].tolist(), inputs
-    return _array_maps(model, runs), x0[:, 0], cov0[:, 0, 0], Z[:, 1:, 0].T, inputs
+    def _column(self, x: Any) -> np.ndarray:
+        return np.array([[x]]) if self.runs == 1 else x[:, None]
+
+    def _central(self, fn: Callable[..., Any], name: str, x: Any, *u: Any
+                 ) -> tuple[Any, Any]:
+        if self.runs == 1:
+            step = FD_STEP * max(1.0, abs(x))
+            value, plus, minus = self._values(
+                fn, name, np.array([[x], [x + step], [x - step]]), *u)
+        else:
+            step = FD_STEP * np.maximum(1.0, np.abs(x))
+            out = self._values(fn, name, np.concatenate([x, x + step, x - step])[:, None], *u)
+            value, plus, minus = out[:self.runs], out[self.runs:-self.runs], out[-self.runs:]
+        return value, (plus - minus) / (2.0 * step)
+
+    def _values(self, fn: Callable[..., Any], name: str, x: np.ndarray, *u: Any) -> Any:
+        """Evaluate fn(x, *u) for states x (k, 1) as k floats (a list for one run, else an array).
+
+        Checked: real numbers, NaN nowhere (±inf allowed).
+        """
+        out = fn(x, *u)
+        if type(out) is not np.ndarray or out.dtype != np.float64 or out.shape != x.shape:
+            if self.guard is not None:
+                self.guard.check(out, name)
+            out = np.broadcast_to(np.asarray(out, dtype=float), x.shape)
+        if self.runs == 1:
+            if out.size == 1:
+                value = out.item()
+                if value != value and self.guard is not None:  # NaN
+                    self.guard.check(out, name)
+                return value
+            values = out.ravel().tolist()
+            total = sum(values)
+            if total != total and self.guard is not None:  # NaN somewhere, or inf − inf
+                self.guard.check(out, name)
+            return values
+        flat = out.ravel()
+        if self.guard is not None and np.isnan(flat).any():
+            self.guard.check(out, name)
+        return flat
+
+    def _slope(self, jacobian: Any) -> Any:
+        """Return a Jacobian (R, 1, 1) as a float (one run) or an (R,) array."""
+        if type(jacobian) is not np.ndarray or jacobian.dtype != np.float64:
+            jacobian = np.asarray(jacobian, dtype=float)
+        return jacobian.item() if self.runs == 1 else jacobian.reshape(self.runs)
 
 
 def _scalar_recursion(
-    maps: ScalarMaps, x: Any, cov: Any, readings: Any, inputs: Any,
+    maps: _MapsAndSlopes, x: Any, cov: Any, readings: Any, inputs: Any,
     q: float, r: float, v_mean: float, w_mean: float, terms: list[tuple[Any, ...]] | None = None,
     at: Callable[[int], None] | None = None, first: int = 1,
 ) -> tuple[list[Any], list[Any], list[Any]]:
-    """The module docstring's recursion for n = m = 1 (eq. 21: F = ∂f/∂x, H = ∂g/∂x,
-    Q = Var[v], R = Var[w]) from the start (x̂_1, P_1), on floats or (R,) arrays alike:
-    estimates, variances and NIS of steps 2..T, one entry per (reading, input) pair.
-    ``terms`` collects each step's x⁻, P⁻, innovation, S and gain (for the step records);
-    ``at(k)`` is told each step k (counting from 0; the first is ``first``) before it is
-    computed."""
-    f, jac_f, g, jac_g = maps.f, maps.jacobian_f, maps.g, maps.jacobian_g
+    """Run the module docstring's recursion for n = m = 1 from the start (x̂_1, P_1).
+
+    Eq. 21: F = ∂f/∂x, H = ∂g/∂x, Q = Var[v], R = Var[w]; on floats or (R,) arrays alike:
+    estimates, variances and NIS of steps 2..T, one entry per (reading, input) pair
+    (inputs as :meth:`_MapsAndSlopes.rows` gives them). ``terms`` collects each step's x⁻,
+    P⁻, innovation, S and gain (for the step records); ``at(k)`` is told each step k
+    (counting from 0; the first is ``first``) before it is computed.
+    """
     out_x: list[Any] = []
     out_cov: list[Any] = []
     out_nis: list[Any] = []
+    one = maps.runs == 1
     for k, (z, u) in enumerate(zip(readings, inputs, strict=True), start=first):
         if at is not None:
             at(k)
-        slope = jac_f(x, u)
-        x_pred = f(x, u) + v_mean
+        fx, slope = maps.predict(x, u)
+        x_pred = fx + v_mean
         cov_pred = slope * cov * slope + q
-        h = jac_g(x_pred)
-        innovation = z - (g(x_pred) - w_mean)
+        gx, h = maps.observe(x_pred)
+        innovation = z - (gx - w_mean)
         ph = cov_pred * h
         s = h * ph + r
-        _refuse_contradiction(np.asarray(s == 0.0), np.asarray(innovation != 0.0), k)
+        if not one or s == 0.0:
+            _refuse_contradiction(np.asarray(s == 0.0), np.asarray(innovation != 0.0), k)
         s_inv = _reciprocal(s)
         gain = ph * s_inv
         x = x_pred + gain * innovation
@@ -182,8 +239,23 @@ def _scalar_recursion(
 
 @dataclass(frozen=True)
 class KalmanState(FilterState):
-    """The Kalman filter's state: x̂_k (``estimate``), P_k (``covariance``, (n, n)) and
-    the band x̂_k ± 3σ (``lower``, ``upper``)."""
+    """The Kalman filter's state: x̂_k, P_k and the band x̂_k ± 3σ.
+
+    x̂_k is ``estimate``, P_k ``covariance`` ((n, n)) and the band ``lower``, ``upper``.
+
+    Parameters
+    ----------
+    model
+        *StateSpaceModel*. The model the filter runs on.
+    k
+        *int*. The step whose estimate this is (1 for the first reading).
+    estimate
+        *ndarray, shape (n,)*. x̂_k.
+    lower, upper
+        *ndarray, shape (n,)*. The band x̂_k ± 3σ.
+    covariance
+        *ndarray, shape (n, n)*. P_k.
+    """
 
     covariance: np.ndarray
 
@@ -192,7 +264,7 @@ class KalmanState(FilterState):
 class KalmanRecord:
     """One step of the Kalman filter (the terms of the module docstring's recursion).
 
-    Attributes
+    Parameters
     ----------
     step
         *int*. k, counting the first reading as 1.
@@ -274,8 +346,24 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
 
     # -- the public step -----------------------------------------------------------------------
     def initialize(self, model: StateSpaceModel, z1: Any) -> KalmanState:
-        """x̂_1 = g⁻¹(z_1 + E[w]) and P_1 from the reading's box; see
-        :meth:`Filter.initialize`."""
+        """x̂_1 = g⁻¹(z_1 + E[w]) and P_1 from the reading's box.
+
+        Parameters
+        ----------
+        model
+            *StateSpaceModel*. The model of eq. 21.
+        z1
+            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+
+        Returns
+        -------
+        KalmanState
+            The state of step 1; ``estimate`` is x̂_1, shape (n,).
+
+        See Also
+        --------
+        Filter.initialize : the interface every filter shares.
+        """
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
         model = self._guarded(model)
@@ -284,17 +372,39 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
 
     def step(self, state: KalmanState, z: Any, u: Any = None
              ) -> tuple[KalmanState, KalmanRecord]:
-        """Predict with f, update with the reading; see :meth:`Filter.step`."""
+        """Predict with f, update with the reading.
+
+        Parameters
+        ----------
+        state
+            *KalmanState*. What :meth:`initialize` or the previous :meth:`step` returned.
+        z
+            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
+        u
+            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+            k → k + 1 (the gauge's order n_k).
+
+        Returns
+        -------
+        state : KalmanState
+            The state of step k + 1; ``estimate`` is x̂_{k+1}, shape (n,).
+        record : KalmanRecord
+            What the step computed.
+
+        See Also
+        --------
+        Filter.step : the interface every filter shares.
+        """
         model = state.model
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)
         x, cov = state.estimate[None], state.covariance[None]
         if _scalar(model):
             terms: list[tuple[Any, ...]] = []
-            maps, x1, cov1, _, rows = _scalar_terms(
-                model, np.concatenate([zz, zz])[None], None if uu is None else uu[None],
-                x, cov)
-            out = _scalar_recursion(maps, x1, cov1, [float(zz[0, 0])], rows[:1],
+            maps = _MapsAndSlopes(model, 1)
+            rows = maps.rows(None if uu is None else uu[:, None], 1)
+            out = _scalar_recursion(maps, state.estimate.item(), state.covariance.item(),
+                                    [float(zz[0, 0])], rows,
                                     *_scalar_noise(model), terms=terms, first=state.k)
             x_pred, cov_pred, innovation, s_cov, gain = terms[0]
             new_x = np.array([[out[0][0]]])
@@ -349,11 +459,12 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
     def _filter_scalar(
         self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The recursion of :meth:`_filter` for a scalar state and reading, term by term
-        (every matrix is 1 × 1): on Python floats for one run, on (R,) arrays for a batch,
+        """Run the recursion of :meth:`_filter` for a scalar state and reading, term by term.
+
+        Every matrix is 1 × 1: on Python floats for one run, on (R,) arrays for a batch,
         with the same operations in the same order, so a batch equals single runs exactly.
-        One run uses the model's :class:`ScalarMaps` when it has them (no numpy call per
-        step at all), else its array maps on (1, 1) arrays."""
+        Each step calls the model's array maps two or four times (:class:`_MapsAndSlopes`).
+        """
         runs, n_steps, _ = Z.shape
         x0, cov0 = self._start(model, Z[:, 0])
         xs, covs = np.empty((runs, n_steps, 1)), np.empty((runs, n_steps, 1, 1))
@@ -361,8 +472,13 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
         xs[:, 0], covs[:, 0] = x0, cov0
         if n_steps == 1:
             return xs, covs, nis
-        out = _scalar_recursion(*_scalar_terms(model, Z, U, x0, cov0), *_scalar_noise(model),
-                                at=lambda k: at_step(model, k))
+        maps = _MapsAndSlopes(model, runs)
+        if runs == 1:
+            start, readings = (x0.item(), cov0.item()), Z[0, 1:, 0].tolist()
+        else:
+            start, readings = (x0[:, 0], cov0[:, 0, 0]), list(Z[:, 1:, 0].T)
+        out = _scalar_recursion(maps, *start, readings, maps.rows(U, n_steps - 1),
+                                *_scalar_noise(model), at=lambda k: at_step(model, k))
         xs[:, 1:, 0], covs[:, 1:, 0, 0], nis[:, 1:] = (np.array(o).T for o in out)
         return xs, covs, nis
 
@@ -383,7 +499,13 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
 
 
 def _scalar(model: StateSpaceModel) -> bool:
-    """Whether every matrix of the recursion is 1 × 1 (the term-by-term path)."""
+    """Whether every matrix of the recursion is 1 × 1 (the term-by-term path).
+
+    Why two paths: :func:`_advance` is the recursion for any n and m, with matrices; for
+    n = m = 1 (the gauge) its dozen small matrix calls a step would cost far more than the
+    arithmetic, so :func:`_scalar_recursion` runs the same recursion term by term. Both
+    are tested against each other and against the public step.
+    """
     return model.state_dim == 1 and model.obs_dim == 1
 
 
@@ -399,8 +521,11 @@ def _state(model: StateSpaceModel, k: int, x: np.ndarray, cov: np.ndarray) -> Ka
 
 
 def _refuse_contradiction(singular: np.ndarray, surprised: np.ndarray, k: int) -> None:
-    """Raise where S = 0 (no noise can explain a difference) and yet the reading differs
-    from its prediction: the pseudo-inverse would give the gain 0 and ignore the reading."""
+    """Raise where S = 0 (no noise can explain a difference) and yet the reading differs.
+
+    The reading differs from its prediction: the pseudo-inverse would give the gain 0 and
+    ignore the reading.
+    """
     bad = np.atleast_1d(singular & surprised)
     if bad.any():
         run = int(np.flatnonzero(bad)[0])
@@ -413,9 +538,11 @@ def _refuse_contradiction(singular: np.ndarray, surprised: np.ndarray, k: int) -
 
 def _advance(model: StateSpaceModel, x: np.ndarray, cov: np.ndarray, z: np.ndarray,
              u: np.ndarray | None, k: int) -> tuple[np.ndarray, ...]:
-    """Step k − 1 → k (counting from 0) of the module docstring's recursion for R runs:
+    """Advance step k − 1 → k (counting from 0) of the module docstring's recursion for R runs.
+
     x (R, n), P (R, n, n), z (R, m), u (R, q) or None. Returns x⁻, P⁻, the innovation, S,
-    the gain K, x̂, P and the NIS (R,)."""
+    the gain K, x̂, P and the NIS (R,).
+    """
     q_cov = np.diag(model.state_noise.variance)
     r_cov = np.diag(model.obs_noise.variance)
     f_u = with_input(model.f, u)

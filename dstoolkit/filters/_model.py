@@ -37,6 +37,21 @@ class BoundedNoise:
     Kalman filter, the density for the particle filter. ``lower``, ``mode`` and ``upper``
     are scalars or equal-length vectors; they are stored as read-only float arrays.
 
+    Parameters
+    ----------
+    lower, mode, upper
+        *float or array_like, shape (d,)*. Support and mode of each component (the
+        variable's unit), lower <= mode <= upper.
+
+    Raises
+    ------
+    EvidenceError
+        For non-finite numbers, shapes that differ, or lower > mode or mode > upper.
+
+    References
+    ----------
+    The paper's eqs. (22)–(26) turn it into evidence.
+
     Examples
     --------
     >>> v = BoundedNoise(-0.3, 0.0, 0.3)
@@ -82,13 +97,17 @@ class BoundedNoise:
                           for name in ("lower", "mode", "upper")))
 
     def __reduce__(self) -> tuple[Any, ...]:
-        """Pickle, copy and deepcopy rebuild the noise through the constructor: its checks
-        run again and the copy's arrays are read-only too."""
+        """Rebuild the noise through the constructor in pickle, copy and deepcopy.
+
+        Its checks run again and the copy's arrays are read-only too.
+        """
         return (BoundedNoise, (self.lower.tolist(), self.mode.tolist(), self.upper.tolist()))
 
     def __setstate__(self, state: Any) -> None:
-        """A pickle in the plain form (attributes, no constructor call) goes through the
-        constructor's checks too."""
+        """Restore a pickle in the plain form (attributes, no constructor call).
+
+        It goes through the constructor's checks too.
+        """
         try:
             lower, mode, upper = state["lower"], state["mode"], state["upper"]
         except (KeyError, TypeError, IndexError):
@@ -98,7 +117,18 @@ class BoundedNoise:
 
     @classmethod
     def symmetric(cls, half_width: Any) -> BoundedNoise:
-        """Noise in [−h, h] with mode 0."""
+        """Noise in [−h, h] with mode 0.
+
+        Parameters
+        ----------
+        half_width
+            *float or array_like, shape (d,)*. h, one per component.
+
+        Returns
+        -------
+        BoundedNoise
+            The symmetric noise.
+        """
         h = np.atleast_1d(np.asarray(half_width, dtype=float))
         return cls(-h, np.zeros_like(h), h)
 
@@ -119,7 +149,20 @@ class BoundedNoise:
         return (a * a + b * b + c * c - a * b - a * c - b * c) / 18.0
 
     def sample(self, rng: np.random.Generator, size: tuple[int, ...] = ()) -> np.ndarray:
-        """Draws from the triangular densities, shape ``size + (dim,)``."""
+        """Draws from the triangular densities.
+
+        Parameters
+        ----------
+        rng
+            *numpy.random.Generator*. The source.
+        size
+            *tuple of int*. The leading shape.
+
+        Returns
+        -------
+        ndarray, shape ``size + (dim,)``
+            The draws.
+        """
         shape = (*tuple(size), self.dim)
         degenerate = self.upper == self.lower
         hi = np.where(degenerate, self.lower + 1.0, self.upper)
@@ -131,7 +174,18 @@ class BoundedNoise:
         return np.where(degenerate, self.lower, draws) if degenerate.any() else draws
 
     def pdf(self, x: np.ndarray) -> np.ndarray:
-        """Product of the triangular densities of the components; 0 outside the support."""
+        """Product of the triangular densities of the components; 0 outside the support.
+
+        Parameters
+        ----------
+        x
+            *array_like, shape (..., dim)*. Where to evaluate.
+
+        Returns
+        -------
+        ndarray, shape (...)
+            The density (the inverse of the variable's unit to the power dim).
+        """
         x = np.asarray(x, dtype=float)
         a, c, b = self.lower, self.mode, self.upper
         width = np.where(b > a, b - a, 1.0)
@@ -147,7 +201,21 @@ class BoundedNoise:
     ) -> IntervalEvidence:
         """Evidence of the noise vector (eqs. 24–26 per component, product masses eq. 16).
 
-        ``theta`` is one (lo, hi) pair per component, default mode ± 100σ.
+        Parameters
+        ----------
+        p
+            *int*. The number of α-cuts.
+        epsilon
+            *float*. The mass of Θ.
+        theta
+            *array_like, shape (dim, 2), optional*. One (lo, hi) pair per component,
+            default mode ± 100σ.
+
+        Returns
+        -------
+        IntervalEvidence
+            p + 1 focal elements per component (p when ``epsilon`` is 0), their
+            product for dim > 1.
         """
         parts = [
             triangular_evidence(self.lower[i], self.mode[i], self.upper[i], p, epsilon,
@@ -159,25 +227,6 @@ class BoundedNoise:
         from dstoolkit.evidence import cartesian_product
 
         return cartesian_product(parts)
-
-
-@dataclass(frozen=True)
-class ScalarMaps:
-    """The maps of a model with one state and one reading (n = m = 1), on Python floats.
-
-    An optional speed path for recursions that go one float at a time (the Kalman filter
-    on one run, where numpy calls on (1, 1) arrays would cost more than the arithmetic):
-    ``f(x, u)`` and ``jacobian_f(x, u)`` (∂f/∂x) take the state x as a float and the
-    transition's input row u as a list of floats (None without inputs); ``g(x)`` and
-    ``jacobian_g(x)`` (∂g/∂x) take x. Each returns a float and must give the same numbers
-    as the model's array maps; the inputs have already passed the array f's checks (every
-    filter evaluates f on every transition's input before it starts).
-    """
-
-    f: Callable[[float, Any], float]
-    jacobian_f: Callable[[float, Any], float]
-    g: Callable[[float], float]
-    jacobian_g: Callable[[float], float]
 
 
 @dataclass(frozen=True)
@@ -214,10 +263,10 @@ class StateSpaceModel:
     jacobian_g
         Optional Jacobians for the (extended) Kalman filter, ``(x, u) -> (n, n)`` and
         ``x -> (m, n)``; finite differences are used when absent.
-    scalar_maps
-        Optional: f, g and their Jacobians on Python floats (:class:`ScalarMaps`) for a
-        scalar state and reading, the same numbers faster; used by the Kalman filter's
-        single runs. Replace it (or set it to None) when you replace f or g.
+    name
+        *str*. A short name for messages and tables.
+    description
+        *str*. What the state is, in words (not compared).
     """
 
     f: ArrayFn
@@ -231,7 +280,6 @@ class StateSpaceModel:
     jacobian_g: ArrayFn | None = None
     name: str = "model"
     description: str = field(default="", compare=False)
-    scalar_maps: ScalarMaps | None = None
 
     @property
     def state_dim(self) -> int:
@@ -239,8 +287,18 @@ class StateSpaceModel:
         return self.state_noise.dim
 
     def inverse(self) -> BoxInverse:
-        """``g_inverse``, or an :class:`~dstoolkit.errors.EvidenceError` when the model has
-        none (every filter maps readings back to states through it)."""
+        """Return the model's g⁻¹ on boxes.
+
+        Returns
+        -------
+        callable
+            ``g_inverse(lo, hi, x_lo, x_hi) -> (lo, hi)``.
+
+        Raises
+        ------
+        EvidenceError
+            When the model has none (every filter maps readings back to states through it).
+        """
         if self.g_inverse is None:
             raise EvidenceError(
                 f"model {self.name!r} has no g_inverse(lo, hi, x_lo, x_hi), which the filters "
@@ -261,8 +319,28 @@ class StateSpaceModel:
         inputs: Any = None,
         runs: int | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Draw a truth and its readings: returns ``(x, z)`` of shapes (steps, n), (steps, m),
-        or (runs, steps, ·) when ``runs`` is given. z_k = g(x_k) − w_k."""
+        """Draw a truth and its readings, z_k = g(x_k) − w_k (eq. 21).
+
+        Parameters
+        ----------
+        x0
+            *array_like, shape (n,)*. The first state x_1.
+        steps
+            *int*. T, the number of states and readings.
+        rng
+            *numpy.random.Generator*. The source of the noises.
+        inputs
+            *array_like, shape (T − 1, q), optional*. u_k of each transition.
+        runs
+            *int, optional*. Draw this many independent runs at once.
+
+        Returns
+        -------
+        x : ndarray, shape (T, n) or (runs, T, n)
+            The true states.
+        z : ndarray, shape (T, m) or (runs, T, m)
+            The readings.
+        """
         lead = () if runs is None else (runs,)
         x = np.broadcast_to(np.asarray(x0, dtype=float), (*lead, self.state_dim)).copy()
         xs, zs = [], []
@@ -280,7 +358,7 @@ class StateSpaceModel:
 class FilterResult:
     """What :meth:`Filter.run` returns: one run of a filter over T steps.
 
-    Attributes
+    Parameters
     ----------
     method
         *str*. The filter's :attr:`Filter.name`, e.g. ``"dependent_evidence"``.
@@ -320,7 +398,7 @@ class FilterResult:
 class BatchResult:
     """What :meth:`Filter.run_batch` returns: R independent runs of T steps each.
 
-    Attributes
+    Parameters
     ----------
     method
         *str*. The filter's :attr:`Filter.name`.
@@ -378,6 +456,7 @@ class _MapGuard:
             return out
 
         checked._guard = self  # type: ignore[attr-defined]
+        checked._unchecked = fn  # type: ignore[attr-defined]
         return checked
 
     def check(self, value: Any, name: str) -> None:
@@ -394,8 +473,11 @@ class _MapGuard:
 
 
 def guarded(model: StateSpaceModel, title: str) -> StateSpaceModel:
-    """The model with f, g and g⁻¹ that refuse NaN, complex and non-numeric results, naming
-    the map and the step (:func:`at_step` tells the step); already guarded models pass."""
+    """Return the model with f, g and g⁻¹ that refuse NaN, complex and non-numeric results.
+
+    They name the map and the step (:func:`at_step` tells the step); already guarded models
+    pass.
+    """
     if getattr(model.f, "_guard", None) is not None:
         return model
     guard = _MapGuard(title)
@@ -403,6 +485,16 @@ def guarded(model: StateSpaceModel, title: str) -> StateSpaceModel:
         model, f=guard.wrap(model.f, "f"), g=guard.wrap(model.g, "g"),
         g_inverse=None if model.g_inverse is None else guard.wrap(model.g_inverse,
                                                                   "g_inverse"))
+
+
+def unchecked(fn: Callable[..., Any]) -> tuple[Callable[..., Any], _MapGuard | None]:
+    """Return a guarded map's own function and its guard.
+
+    This is for a caller that checks the results itself (the Kalman filter's scalar
+    recursion checks floats, not arrays); a map that is not guarded comes back as it is,
+    with no guard.
+    """
+    return getattr(fn, "_unchecked", fn), getattr(fn, "_guard", None)
 
 
 def at_step(model: StateSpaceModel, k: int) -> None:
@@ -463,10 +555,12 @@ def batch_readings(
 
 def _probe_inputs(model: StateSpaceModel, u: np.ndarray | None, shape: tuple[int, ...]
                   ) -> None:
-    """Evaluate f once on the inputs of every transition, u (runs, transitions, q) or None
-    (``shape`` = (runs, transitions)), so that an input of the wrong shape or value, or a
-    missing one, is reported here, before any work, and not deep inside (the gauge's f
-    refuses orders n_k <= 0 and missing orders here)."""
+    """Evaluate f once on the inputs of every transition, u (runs, transitions, q) or None.
+
+    ``shape`` = (runs, transitions). An input of the wrong shape or value, or a missing one,
+    is thus reported here, before any work, and not deep inside (the gauge's f refuses
+    orders n_k <= 0 and missing orders here).
+    """
     x = np.zeros((*shape, model.state_dim))
     try:
         with np.errstate(all="ignore"):
@@ -486,8 +580,10 @@ def _probe_inputs(model: StateSpaceModel, u: np.ndarray | None, shape: tuple[int
 def single_readings(
     model: StateSpaceModel, z: Any, inputs: Any = None
 ) -> tuple[np.ndarray, np.ndarray | None]:
-    """One sequence z (steps, m) (or (steps,) for m = 1) checked and shaped as a batch of one
-    run, with its inputs (transitions, q)."""
+    """Check and shape one sequence z (steps, m) (or (steps,) for m = 1) as a batch of one run.
+
+    Its inputs are (transitions, q).
+    """
     z = real_array(z, "readings", finite=False, error=EvidenceError)
     if z.ndim == 1 and model.obs_dim == 1:
         z = z[:, None]
@@ -504,13 +600,32 @@ def single_readings(
 
 
 def step_input(inputs: np.ndarray | None, k: int) -> np.ndarray | None:
-    """The inputs u (runs, q) of the transition into step k (None without inputs)."""
+    """Return the inputs u (runs, q) of the transition into step k (None without inputs)."""
     return None if inputs is None else inputs[:, k - 1]
 
 
 def with_input(f: ArrayFn, u: np.ndarray | None) -> Callable[[np.ndarray], np.ndarray]:
-    """``x ↦ f(x, u)`` for state arrays x (runs, …, n): u (runs, q) is reshaped to
-    (runs, 1, …, 1, q) so that it broadcasts against x whatever axes lie between."""
+    """``x ↦ f(x, u)`` for state arrays x (runs, …, n).
+
+    Parameters
+    ----------
+    f
+        *callable*. The model's ``f(x, u)``.
+    u
+        *ndarray, shape (runs, q), or None*. One input row per run; it is reshaped to
+        (runs, 1, …, 1, q) so that it broadcasts against x whatever axes lie between.
+
+    Returns
+    -------
+    callable
+        ``x ↦ f(x, u)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> with_input(lambda x, u: x * u, np.array([[2.0]]))(np.array([[3.0]]))
+    array([[6.]])
+    """
     if u is None:
         return lambda x: f(x, None)
     return lambda x: f(x, u.reshape(u.shape[0], *([1] * (np.ndim(x) - 2)), u.shape[-1]))
@@ -519,7 +634,7 @@ def with_input(f: ArrayFn, u: np.ndarray | None) -> Callable[[np.ndarray], np.nd
 def first_reading_box(
     model: StateSpaceModel, z: np.ndarray, prior: Any = None
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The states consistent with a reading: g⁻¹(z + [w_lo, w_hi]) ∩ prior (eq. 21).
+    """Find the states consistent with a reading: g⁻¹(z + [w_lo, w_hi]) ∩ prior (eq. 21).
 
     ``z`` has shape (..., m); ``prior`` is a box ``(lo, hi)`` of the state, default the
     whole space. Returns (lo, hi) of shape (..., n); empty boxes have lo > hi somewhere.

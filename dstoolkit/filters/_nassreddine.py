@@ -23,13 +23,14 @@ bounds, g⁻¹(z_1 + [w_lo, w_hi]) (so the Θ element of E_w becomes that box).
 Focal-element cap (hierarchical clustering)
 -------------------------------------------
 The posterior of step 3 has up to N·|E_v|·|E_w| boxes, so a cap is needed before it is
-propagated. Policy (:func:`cluster_boxes`): after merging equal boxes, while more than
-``max_focal`` remain, pairs of similar boxes are replaced by their hull carrying both
-masses, the pairs chosen by Denœux's criterion (Int. J. Approx. Reasoning 2001: smallest
-increase of mass × size). Every box lies inside the box that receives its mass, so the
-capped mass function is an outer approximation: less committed, never more confident than
-the exact one. The mass carried by merged boxes is ``diagnostics["merged_mass"]``. The
-estimate and the hull of each step are taken from the posterior *before* the cap.
+propagated. Policy (:func:`~dstoolkit.evidence.boxes.cluster_boxes`): after merging equal
+boxes, while more than ``max_focal`` remain, pairs of similar boxes are replaced by their
+hull carrying both masses, the pairs chosen by Denœux's criterion (Int. J. Approx.
+Reasoning 2001: smallest increase of mass × size). Every box lies inside the box that
+receives its mass, so the capped mass function is an outer approximation: less committed,
+never more confident than the exact one. The mass carried by merged boxes is
+``diagnostics["merged_mass"]``. The estimate and the hull of each step are taken from the
+posterior *before* the cap.
 
 A simpler rule was tried and rejected: keep the N − 1 heaviest boxes and give the rest
 to their hull (Lowrance's summarization). The hull is as wide as the widest light box,
@@ -63,7 +64,7 @@ from typing import Any, ClassVar, Literal
 
 import numpy as np
 
-from dstoolkit.errors import EvidenceError, TotalConflictError, WorkLimitError
+from dstoolkit.errors import EvidenceError, TotalConflictError
 from dstoolkit.evidence import (
     CONFLICT_TOLERANCE,
     Boxes,
@@ -72,7 +73,11 @@ from dstoolkit.evidence import (
     hull,
     pignistic_expectation,
 )
-from dstoolkit.evidence._boxes import row_sum
+from dstoolkit.evidence.boxes import (
+    cluster_boxes,
+    merge_equal_boxes,
+    row_sum,
+)
 
 from ._base import Block, Filter, FilterState, KernelChoice
 from ._model import (
@@ -88,269 +93,23 @@ ConflictPolicy = Literal["raise", "reset"]
 #: Memory for the contraction arrays of one chunk of runs (a speed setting; the memory
 #: budget, :func:`dstoolkit.evidence.memory_budget`, caps it too).
 CHUNK_BYTES = 96 * 2**20
-#: Clustering rounds after which :func:`cluster_boxes` gives up (each round halves at most
-#: the excess, so a few dozen suffice for any real posterior).
-MAX_CLUSTER_ROUNDS = 10_000
+
 
 
 def noise_boxes(noise: BoundedNoise, p: int, epsilon: float, theta: Any) -> Boxes:
-    """The evidence of a bounded noise (eqs. 24–26) as a one-run :class:`Boxes`."""
+    """Build the evidence of a bounded noise (eqs. 24–26) as a one-run :class:`Boxes`."""
     ev = noise.evidence(p=p, epsilon=epsilon, theta=theta)
     return Boxes(ev.boxes_lo[None], ev.boxes_hi[None], np.asarray(ev.mass)[None])
 
 
-def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes:
-    """Merge equal boxes within each run, adding their masses (eq. 14).
-
-    Input rows with mass 0 are dropped. The result is compacted and canonical: run r's
-    distinct boxes fill its first slots in lexicographic order of (lo, hi), whatever order
-    they came in; the remaining slots are zero-mass padding (with the run's first box).
-    The masses of equal boxes are added in the order the boxes came in.
-    """
-    runs, rows, n = lo.shape
-    valid = mass > 0
-    keys = (*(hi[..., j] for j in range(n - 1, -1, -1)),
-            *(lo[..., j] for j in range(n - 1, -1, -1)), ~valid)
-    order = np.lexsort(keys, axis=-1)
-    order += (np.arange(runs) * rows)[:, None]  # index into the flattened rows
-    lo, hi = np.take(lo.reshape(-1, n), order, axis=0), np.take(hi.reshape(-1, n), order, axis=0)
-    weight = np.take(np.where(valid, mass, 0.0), order)
-    valid = weight > 0
-    start = np.ones((runs, rows), dtype=bool)  # first row of a group of equal boxes
-    start[:, 1:] = valid[:, 1:] != valid[:, :-1]
-    for side in (lo, hi):
-        for j in range(n):
-            start[:, 1:] |= side[:, 1:, j] != side[:, :-1, j]
-    group = np.cumsum(start, axis=1)
-    group -= 1
-    summed = np.bincount((group + (np.arange(runs) * rows)[:, None]).ravel(),
-                         weights=weight.ravel(), minlength=runs * rows).reshape(runs, rows)
-    width = max(1, int(np.count_nonzero(summed > 0, axis=1).max()))
-    heads = np.flatnonzero(start & valid)  # the first row of each group with mass
-    dest = np.take(group, heads) + heads // rows * width
-    out = []
-    for side in (lo, hi):
-        merged = np.empty((runs, width, n))
-        merged[:] = side[:, :1]  # padding: the run's first box
-        merged.reshape(-1, n)[dest] = np.take(side.reshape(-1, n), heads, axis=0)
-        out.append(merged)
-    return Boxes(out[0], out[1], summed[:, :width])
-
-
-class _Rows:
-    """Row layout of :func:`cluster_boxes`'s box table (C, N): one row per quantity, one
-    column per box; the boxes of the runs still being clustered sit side by side, run after
-    run, each run's boxes in the order of the round (n = state dim).
-
-    ``[lo (n) | hi (n) | size | mass·size | merged | centre (n) | mass | unit (n)]``: a round
-    drops the boxes merged away with one compaction and keeps each quantity contiguous. The
-    per-box terms of Denœux's Δ (|A| and m_A·|A|), the sort keys (lo + hi per dimension) and
-    the run's unit widths are computed once per box, when it is made, not in every round (the
-    same operations on the same values, so the same numbers).
-    """
-
-    def __init__(self, n: int) -> None:
-        self.n = n
-        self.lo, self.hi = slice(0, n), slice(n, 2 * n)
-        self.size, self.ms, self.merged = 2 * n, 2 * n + 1, 2 * n + 2
-        self.centre, self.mass = 2 * n + 3, 3 * n + 3  # centre: first of n rows
-        self.box = slice(0, 3 * n + 4)  # what a merge rewrites
-        self.unit = slice(3 * n + 4, 4 * n + 4)
-        self.count = 4 * n + 4
-
-    def table(self, bm: Boxes, unit: np.ndarray, count: np.ndarray
-              ) -> tuple[np.ndarray, np.ndarray]:
-        """The boxes with mass of every run, in round 0's order (by centre along dimension 0,
-        stable: ties keep the order of ``bm``), and the run of each."""
-        runs, width, n = bm.lo.shape
-        key = np.where(bm.mass > 0, bm.lo[..., 0] + bm.hi[..., 0], np.inf)  # with mass first
-        order = np.argsort(key, axis=1, kind="stable")
-        order += (np.arange(runs) * width)[:, None]
-        first = order[np.arange(width) < count[:, None]]  # run after run
-        run = np.repeat(np.arange(runs), count)
-        table = np.empty((self.count, len(first)))
-        table[self.lo] = np.take(bm.lo.reshape(-1, n), first, axis=0).T
-        table[self.hi] = np.take(bm.hi.reshape(-1, n), first, axis=0).T
-        table[self.unit] = unit[run, 0].T
-        table[self.size] = self.sizes(table[self.lo], table[self.hi], table[self.unit])
-        np.take(bm.mass, first, out=table[self.mass])
-        np.multiply(table[self.mass], table[self.size], out=table[self.ms])
-        table[self.merged] = 0.0
-        np.add(table[self.lo], table[self.hi], out=table[self.centre : self.mass])
-        return table, run
-
-    def sizes(self, lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
-        """|A| of boxes given as rows (n, N): the sum of each box's widths, each divided by
-        its run's unit width. The widths are summed along a contiguous last axis (N, n), the
-        layout the stored results were computed with (it decides how the sum rounds)."""
-        if self.n == 1:
-            return (hi[0] - lo[0]) / unit[0]
-        widths = np.empty(lo.shape[::-1])
-        np.subtract(hi.T, lo.T, out=widths)
-        np.divide(widths, unit.T, out=widths)
-        return np.sum(widths, axis=-1)
-
-    def pair_hulls(self, table: np.ndarray) -> np.ndarray:
-        """Rows lo, hi, size, mass and mass·size of each neighbour pair's hull A ∪ B, with
-        mass m_A + m_B (C, N − 1); the other rows are filled in for the pairs merged."""
-        a, b = table[:, :-1], table[:, 1:]
-        pair = np.empty(a.shape)
-        np.minimum(a[self.lo], b[self.lo], out=pair[self.lo])
-        np.maximum(a[self.hi], b[self.hi], out=pair[self.hi])
-        pair[self.size] = self.sizes(pair[self.lo], pair[self.hi], a[self.unit])
-        np.add(a[self.mass], b[self.mass], out=pair[self.mass])
-        np.multiply(pair[self.mass], pair[self.size], out=pair[self.ms])
-        return pair
-
-    def merge_pairs(self, table: np.ndarray, pair: np.ndarray, picked: np.ndarray) -> None:
-        """Write the hull of each picked pair (boxes i, i + 1) over box i, marked merged."""
-        hulls = np.take(pair[self.box], picked, axis=1)
-        hulls[self.merged] = 1.0
-        np.add(hulls[self.lo], hulls[self.hi], out=hulls[self.centre : self.mass])
-        table[self.box, picked] = hulls
-
-
-def _local_minima(cost: np.ndarray) -> np.ndarray:
-    """Pairs whose finite Δ is ≤ the left neighbour's and < the right neighbour's.
-
-    Two such pairs are never neighbours, so their merges do not overlap.
-    """
-    local = np.isfinite(cost)
-    local[1:] &= cost[1:] <= cost[:-1]
-    local[:-1] &= cost[:-1] < cost[1:]
-    return local
-
-
-def _cheapest(local: np.ndarray, cost: np.ndarray, run: np.ndarray, allowed: np.ndarray
-              ) -> np.ndarray:
-    """The pairs to merge, as indices: each run's ``allowed`` cheapest local minima (ties:
-    leftmost first); ``run`` is the run of each pair. Ranking is skipped when every run may
-    take all its local minima.
-    """
-    at = np.flatnonzero(local)
-    per_run = np.bincount(run[at], minlength=len(allowed))
-    if np.all(per_run <= allowed):
-        return at
-    at = at[np.lexsort((cost[at], run[at]))]  # by run, then by Δ (stable: leftmost first)
-    ranked = run[at]
-    first = np.cumsum(per_run) - per_run  # where each run's local minima begin in that order
-    return at[np.arange(len(at)) - first[ranked] < allowed[ranked]]
-
-
-def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
-    """Cap each run at ``max_focal`` focal elements by merging similar boxes into their hull.
-
-    Denœux's outer approximation by hierarchical clustering (2001): two focal elements A, B
-    are replaced by their hull with mass m(A) + m(B), choosing pairs with the smallest
-    increase of the mass-weighted size, Δ = (m_A + m_B)|A ∪ B| − m_A|A| − m_B|B|, where |·|
-    is the sum of the box's widths, each divided by the run's mass-weighted mean width in
-    that dimension. Every box lies in the box that receives its mass, so the result is an
-    outer approximation. To stay vectorised, each round sorts the boxes by their centre
-    along one dimension (the dimensions take turns) and merges, in parallel, the neighbour
-    pairs whose Δ is a local minimum along that order, cheapest first, never going below
-    ``max_focal``; rounds repeat until every run fits.
-
-    Two shortcuts give the same merges with less work. In one dimension the boxes stay in
-    order after round 0: a hull's centre lies between its pair's (it is lo + hi of one box,
-    or lo_A + hi_B with lo_A ≤ lo_B and hi_B ≥ hi_A, which lies between lo_A + hi_A and
-    lo_B + hi_B, rounding included), so the next round only drops the boxes merged away.
-    A run that fits leaves the rounds: later sorts would only reorder its boxes, and the
-    closing merge of equal boxes (eq. 14) puts them in canonical order (equal boxes share
-    every centre, so no stable sort changes their order among themselves, nor the order in
-    which their masses are added).
-
-    Returns the capped mass functions and, per run, the mass now carried by merged boxes.
-    """
-    count = bounded_count(bm)
-    runs, _, n = bm.lo.shape
-    if int(count.max()) <= max_focal:
-        return merge_equal_boxes(bm.lo, bm.hi, bm.mass), np.zeros(runs)
-    unit = unit_widths(bm)[:, None, :]
-    rows = _Rows(n)
-    table, run = rows.table(bm, unit, count)
-    done = np.zeros((rows.count, runs, max_focal))  # each run's boxes once it fits
-    active = np.ones(runs, dtype=bool)  # the runs still in the rounds
-    for rnd in range(MAX_CLUSTER_ROUNDS + 1):
-        fits = active & (count <= max_focal)
-        if fits.any():
-            start = np.cumsum(count * active) - count * active  # each run's first column
-            leaving = fits[run]
-            at = np.flatnonzero(leaving)
-            place = run[at] * max_focal + at - start[run[at]]
-            done.reshape(rows.count, -1)[:, place] = table[:, at]
-            active &= ~fits
-            if not active.any():
-                break
-            table, run = np.compress(~leaving, table, axis=1), run[~leaving]
-        if rnd == MAX_CLUSTER_ROUNDS:
-            raise too_many_rounds(max_focal, MAX_CLUSTER_ROUNDS, int(count[active].max()))
-        if n > 1 and rnd > 0:  # by centre along dimension rnd % n, within each run
-            order = np.lexsort((table[rows.centre + rnd % n], run))
-            table = np.take(table, order, axis=1)
-        pair = rows.pair_hulls(table)
-        cost = pair[rows.ms] - table[rows.ms, :-1] - table[rows.ms, 1:]
-        cost[run[1:] != run[:-1]] = np.inf  # no pair across two runs
-        picked = _cheapest(_local_minima(cost), cost, run[:-1],
-                           np.where(active, count - max_focal, 0))
-        if not len(picked):
-            raise no_pair()
-        rows.merge_pairs(table, pair, picked)
-        count = count - np.bincount(run[picked], minlength=runs)
-        kept = np.ones(len(run), dtype=bool)
-        kept[picked + 1] = False  # the second box of each pair merged
-        table, run = np.compress(kept, table, axis=1), run[kept]
-    lo, hi = np.moveaxis(done[rows.lo], 0, -1), np.moveaxis(done[rows.hi], 0, -1)
-    mass = done[rows.mass]
-    return merge_equal_boxes(lo, hi, mass), merged_mass(mass, done[rows.merged] > 0)
-
-
-def bounded_count(bm: Boxes) -> np.ndarray:
-    """The focal elements (boxes of positive mass) of each run; refuses NaN or infinite
-    masses, and boxes of positive mass with NaN or infinite bounds (clustering needs
-    sizes)."""
-    live = bm.mass > 0
-    if not (np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo) | ~live[..., None])
-            and np.all(np.isfinite(bm.hi) | ~live[..., None])):
-        raise EvidenceError(
-            "cluster_boxes needs bounded boxes with finite masses; got NaN or infinite values "
-            "(check the filter's inputs and noise bounds)"
-        )
-    return live.sum(axis=1)
-
-
-def unit_widths(bm: Boxes) -> np.ndarray:
-    """Each run's mass-weighted mean width per dimension (R, n), 1 where it is 0: the
-    units of the sizes |A| in Denœux's Δ."""
-    unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
-    return np.where(unit > 0, unit, 1.0)
-
-
-def merged_mass(mass: np.ndarray, merged: np.ndarray) -> np.ndarray:
-    """The mass carried by merged boxes per run, added smallest first (canonical order:
-    it does not depend on the order the rounds left the boxes in)."""
-    return row_sum(np.sort(np.where(merged, mass, 0.0), axis=1))
-
-
-def too_many_rounds(max_focal: int, rounds: int, remain: int | None = None) -> WorkLimitError:
-    """The error of a clustering that did not reach ``max_focal`` in ``rounds`` rounds."""
-    left = "" if remain is None else f" ({remain} remain)"
-    return WorkLimitError(f"clustering the focal elements did not reach max_focal = "
-                          f"{max_focal} in {rounds} rounds{left}; raise max_focal")
-
-
-def no_pair() -> WorkLimitError:
-    """The error of a clustering round that finds no pair to merge."""
-    return WorkLimitError("clustering the focal elements found no pair to merge (their sizes "
-                          "are not finite numbers); check the model's f and g for NaN or "
-                          "infinite images")
-
-
 def contracted_posterior(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray
                          ) -> tuple[Boxes, np.ndarray, np.ndarray]:
-    """Dempster's rule (eq. 1) on the contractions (R, N, n) of step 3 and their masses: the
-    empty ones (lo > hi somewhere) are the conflict K, the rest are renormalised by the mass
-    they keep and equal boxes merged (eq. 14). Returns the posterior, K per run and the
-    runs in total conflict (their masses all 0)."""
+    """Apply Dempster's rule (eq. 1) to the contractions (R, N, n) of step 3 and their masses.
+
+    The empty ones (lo > hi somewhere) are the conflict K, the rest are renormalised by the
+    mass they keep and equal boxes merged (eq. 14). Returns the posterior, K per run and the
+    runs in total conflict (their masses all 0).
+    """
     empty = np.any(lo > hi, axis=-1)
     conflict = row_sum(np.where(empty, mass, 0.0))
     mass = np.where(empty, 0.0, mass)
@@ -382,13 +141,37 @@ def _replace_runs(bm: Boxes, runs: np.ndarray, new: Boxes) -> Boxes:
 
 @dataclass(frozen=True)
 class NassreddineState(FilterState):
-    """Nassreddine's filter's state: the posterior mass function on boxes of step k
-    (``posterior``) and what step k + 1 starts from (``carried``: the posterior after the
-    clustering cap, or None for the restart variant, which restarts from x̂_k + E_v), and
-    the evidence of the reading, z_k + E_w (``observation``). ``posterior`` and ``carried``
-    are one-run :class:`~dstoolkit.evidence.Boxes` (arrays with a run axis of 1);
-    ``focal_elements`` and ``merged_mass`` are the posterior's size before the cap and the
-    mass the cap moved."""
+    """Nassreddine's filter's state: the posterior, what step k + 1 starts from, the reading.
+
+    The posterior mass function on boxes of step k is ``posterior``; what step k + 1 starts
+    from is ``carried`` (the posterior after the clustering cap, or None for the restart
+    variant, which restarts from x̂_k + E_v); the evidence of the reading, z_k + E_w, is
+    ``observation``. ``posterior`` and ``carried`` are one-run
+    :class:`~dstoolkit.evidence.Boxes` (arrays with a run axis of 1); ``focal_elements``
+    and ``merged_mass`` are the posterior's size before the cap and the mass the cap moved.
+
+    Parameters
+    ----------
+    model
+        *StateSpaceModel*. The model the filter runs on.
+    k
+        *int*. The step whose estimate this is (1 for the first reading).
+    estimate
+        *ndarray, shape (n,)*. x̂_k.
+    lower, upper
+        *ndarray, shape (n,)*. The hull of the posterior.
+    posterior
+        *Boxes*. The posterior of step k before the cap (one run).
+    carried
+        *Boxes or None*. What step k + 1 starts from: the posterior after the cap, or
+        None for the restart variant.
+    observation
+        *IntervalEvidence*. z_k + E_w.
+    focal_elements
+        *int*. The posterior's focal elements before the cap.
+    merged_mass
+        *float*. The mass the cap moved.
+    """
 
     posterior: Boxes
     carried: Boxes | None
@@ -401,7 +184,7 @@ class NassreddineState(FilterState):
 class NassreddineRecord:
     """One step of Nassreddine's filter.
 
-    Attributes
+    Parameters
     ----------
     step
         *int*. k, counting the first reading as 1.
@@ -515,9 +298,11 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         self._compiled(self.kernel, "Nassreddine's filter")
 
     def _kernels(self) -> tuple[Any, Any]:
-        """The correction (:func:`contracted_posterior`) and the clustering of ``kernel``."""
+        """Return the correction (:func:`contracted_posterior`) and the clustering of ``kernel``."""
         if self._compiled(self.kernel, "Nassreddine's filter"):
-            from ._compiled import cluster_boxes_compiled, contracted_posterior_compiled
+            from dstoolkit.evidence.boxes import cluster_boxes_compiled
+
+            from ._compiled import contracted_posterior_compiled
 
             return contracted_posterior_compiled, cluster_boxes_compiled
         return contracted_posterior, cluster_boxes
@@ -537,14 +322,31 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         return max(1, int(CHUNK_BYTES // self._bytes_per_run(model)))
 
     def _noise(self, model: StateSpaceModel) -> tuple[Boxes, Boxes]:
-        """The evidence of v and w (eqs. 24–26) as one-run boxes."""
+        """Build the evidence of v and w (eqs. 24–26) as one-run boxes."""
         theta_v, theta_w = (None, None) if self.theta is None else self.theta
         return (noise_boxes(model.state_noise, self.p, self.epsilon, theta_v),
                 noise_boxes(model.obs_noise, self.p, self.epsilon, theta_w))
 
     # -- the public step -----------------------------------------------------------------------
     def initialize(self, model: StateSpaceModel, z1: Any) -> NassreddineState:
-        """The reading's evidence g⁻¹(z_1 + E_w) ∩ X_0; see :meth:`Filter.initialize`."""
+        """Return the reading's evidence g⁻¹(z_1 + E_w) ∩ X_0.
+
+        Parameters
+        ----------
+        model
+            *StateSpaceModel*. The model of eq. 21.
+        z1
+            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+
+        Returns
+        -------
+        NassreddineState
+            The state of step 1; ``estimate`` is x̂_1, shape (n,).
+
+        See Also
+        --------
+        Filter.initialize : the interface every filter shares.
+        """
         self._check_model(model)
         z, _ = self._one(model, z1, transition=False)
         model = self._guarded(model)
@@ -555,7 +357,29 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
 
     def step(self, state: NassreddineState, z: Any, u: Any = None
              ) -> tuple[NassreddineState, NassreddineRecord]:
-        """Predict through f, contract with g⁻¹(z + E_w), cluster; see :meth:`Filter.step`."""
+        """Predict through f, contract with g⁻¹(z + E_w), cluster.
+
+        Parameters
+        ----------
+        state
+            *NassreddineState*. What :meth:`initialize` or the previous :meth:`step` returned.
+        z
+            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
+        u
+            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+            k → k + 1 (the gauge's order n_k).
+
+        Returns
+        -------
+        state : NassreddineState
+            The state of step k + 1; ``estimate`` is x̂_{k+1}, shape (n,).
+        record : NassreddineRecord
+            What the step computed.
+
+        See Also
+        --------
+        Filter.step : the interface every filter shares.
+        """
         model = state.model
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)
@@ -595,9 +419,11 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
     def _correct(self, model: StateSpaceModel, state: Boxes, v: Boxes, w: Boxes,
                  z: np.ndarray, u: np.ndarray | None, k: int
                  ) -> tuple[Boxes, np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
-        """Step k → k + 1 for R runs up to the posterior: predict, contract with the
-        reading z (R, m). Returns the posterior, K (R,), the runs reset by total conflict,
-        and the prediction and observation boxes (for the records)."""
+        """Correct step k → k + 1 for R runs up to the posterior.
+
+        Predict, contract with the reading z (R, m). Returns the posterior, K (R,), the runs
+        reset by total conflict, and the prediction and observation boxes (for the records).
+        """
         runs, n = z.shape[0], model.state_dim
         combine, _ = self._kernels()
         p_lo, p_hi, p_mass = self._predict(model, state, v, u)
@@ -615,9 +441,11 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         return posterior, conflict, dead, (p_lo, p_hi, p_mass, y_lo, y_hi)
 
     def _settle(self, posterior: Boxes) -> tuple[Any, ...]:
-        """What follows the posterior of R runs: estimate, hull, focal elements, the
-        evidence carried to the next step (clustered; None for the restart variant) and
-        the mass the clustering moved."""
+        """Settle what follows the posterior of R runs.
+
+        Estimate, hull, focal elements, the evidence carried to the next step (clustered;
+        None for the restart variant) and the mass the clustering moved.
+        """
         _, cluster = self._kernels()
         focal = (posterior.mass > 0).sum(axis=1)
         est = pignistic_expectation(posterior)

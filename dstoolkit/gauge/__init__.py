@@ -1,6 +1,8 @@
-"""The acoustic standing-wave level gauge: speed of sound (eq. 33), the sweep, the
-tube simulator, resonance detection, the level equations (eqs. 32, 39, 40, 43), noise
-characterisation (Figs. 8-9) and the gauge's state-space model.
+"""The acoustic standing-wave level gauge of the paper's §4.
+
+The speed of sound (eq. 33), the sweep, the tube simulator, resonance detection, the level
+equations (eqs. 32, 39, 40, 43), noise characterisation (Figs. 8–9) and the gauge's
+state-space model (eqs. 36–43).
 """
 
 from __future__ import annotations

@@ -20,17 +20,15 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.errors import EvidenceError
-from dstoolkit.filters import BoundedNoise, ScalarMaps, StateSpaceModel
+from dstoolkit.filters import BoundedNoise, StateSpaceModel
 from dstoolkit.utils.budget import check_memory
 from dstoolkit.utils.checks import real_array, whole_number
 
 from ._acoustics import DEFAULT_BAND, fundamental_frequency, resonance_frequencies, speed_of_sound
 from ._level import (
-    next_resonance,
     observation,
     observation_inverse,
     orders_eq43,
-    resonance_ratio,
     state_transition,
     state_transition_derivative,
 )
@@ -78,16 +76,6 @@ def _jacobian_g(x: np.ndarray) -> np.ndarray:
     return np.ones(np.shape(x) + (1,))
 
 
-#: Eqs. 39–40 on Python floats (u = [n_k], checked at the door): the same arithmetic as the
-#: array maps above, for the Kalman filter's single runs.
-GAUGE_SCALAR_MAPS = ScalarMaps(
-    f=lambda x, u: next_resonance(x, u[0]),
-    jacobian_f=lambda x, u: resonance_ratio(u[0]),
-    g=lambda x: x,
-    jacobian_g=lambda x: 1.0,
-)
-
-
 def _g_inverse(lo: np.ndarray, hi: np.ndarray, x_lo: np.ndarray, x_hi: np.ndarray
                ) -> tuple[np.ndarray, np.ndarray]:
     """States in [x_lo, x_hi] whose reading lies in [lo, hi]: g is the identity."""
@@ -98,9 +86,51 @@ def _g_inverse(lo: np.ndarray, hi: np.ndarray, x_lo: np.ndarray, x_hi: np.ndarra
 def gauge_state_space_model(
     state_noise: BoundedNoise = GAUGE_STATE_NOISE, obs_noise: BoundedNoise = GAUGE_OBS_NOISE
 ) -> StateSpaceModel:
-    """Eqs. 39–40: x_{k+1} = x_k (n_k + 1)/n_k + v_k, g(x) = x, input u_k = n_k.
+    """Build the gauge's state-space model: x_{k+1} = x_k (n_k + 1)/n_k + v_k, g(x) = x.
 
-    f is increasing in x (n_k > 0) and in v, g increasing: Prop. 2 applies to both.
+    The state x_k is the resonance frequency being tracked (Hz) and the input u_k its order
+    n_k. f is increasing in x (n_k > 0) and in v, and g is increasing, so the paper's Prop. 2
+    applies to both.
+
+    Parameters
+    ----------
+    state_noise : dstoolkit.filters.BoundedNoise, optional
+        The state noise v, Hz, one-dimensional (default :data:`GAUGE_STATE_NOISE`: mode 0,
+        bounds ±0.3 Hz, Table 1).
+    obs_noise : dstoolkit.filters.BoundedNoise, optional
+        The observation noise w, Hz, one-dimensional (default :data:`GAUGE_OBS_NOISE`: mode
+        −6.9 Hz, bounds [−10.59, −3.21] Hz, Table 2).
+
+    Returns
+    -------
+    dstoolkit.filters.StateSpaceModel
+        The model; its maps take the orders n_k as inputs, shape (T−1,) or (runs, T−1).
+
+    Raises
+    ------
+    EvidenceError
+        A noise that is not one-dimensional. The maps raise it too when called without the
+        orders, or with orders that are not positive.
+
+    See Also
+    --------
+    simulate_gauge : Readings to run the model on.
+    state_transition, observation : The maps of eqs. (39)–(40).
+    dstoolkit.filters.DependentEvidenceFilter : The paper's filter, which runs on it.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (36)–(43), Tables 1–2.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import gauge_state_space_model, simulate_gauge
+    >>> from dstoolkit.filters import DependentEvidenceFilter
+    >>> seq = simulate_gauge(9.6, 23.9, seed=0)
+    >>> model = gauge_state_space_model()
+    >>> result = DependentEvidenceFilter().run(model, seq.readings, seq.inputs)
+    >>> result.estimates.shape
+    (83, 1)
     """
     for name, noise in (("state_noise", state_noise), ("obs_noise", obs_noise)):
         if noise.dim != 1:
@@ -110,13 +140,33 @@ def gauge_state_space_model(
         obs_noise=obs_noise, f_monotone=(1, 1), g_monotone=(1,), jacobian_f=_jacobian_f,
         jacobian_g=_jacobian_g, name="gauge",
         description="resonance frequency x_k (Hz) of an acoustic level gauge, eqs. 39–40",
-        scalar_maps=GAUGE_SCALAR_MAPS,
     )
 
 
 def orders_from_readings(z: Any) -> np.ndarray:
-    """Eq. 43 for one sequence (T,) or (T, 1) → (T−1,), or a batch (runs, T[, 1]) →
-    (runs, T−1): the filter's inputs."""
+    """Compute the paper's orders n_k of every sequence of readings: the filter's inputs.
+
+    Parameters
+    ----------
+    z : array_like, shape (T,), (T, 1), (runs, T) or (runs, T, 1)
+        Readings, Hz, each sequence strictly increasing.
+
+    Returns
+    -------
+    numpy.ndarray of int, shape (T−1,) or (runs, T−1)
+        The orders of eq. (43).
+
+    Raises
+    ------
+    EvidenceError
+        Readings of another shape.
+    InvalidInputError
+        A sequence that does not increase strictly.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eq. (43).
+    """
     arr = np.asarray(z, dtype=float)
     if arr.ndim and arr.shape[-1] == 1 and arr.ndim >= 2:
         arr = arr[..., 0]
@@ -131,7 +181,37 @@ def orders_from_readings(z: Any) -> np.ndarray:
 
 @dataclass(frozen=True)
 class GaugeSequence:
-    """A simulated sweep: true resonances, noisy readings and the filter's inputs."""
+    """A simulated sweep: the true resonances, the noisy readings and the filter's inputs.
+
+    Made by :func:`simulate_gauge`.
+
+    Parameters
+    ----------
+    level_m : float
+        L, m.
+    temperature_c : float
+        Air temperature, °C.
+    speed_of_sound : float
+        c, m/s (the paper's law).
+    fundamental_hz : float
+        f_F = c/(2L), Hz.
+    orders : numpy.ndarray of int, shape (T,)
+        True orders n_k of the resonances in the band.
+    truth : numpy.ndarray, shape (T, 1)
+        True resonance frequencies f_k = n_k c/(2L), Hz.
+    readings : numpy.ndarray, shape (T, 1) or (runs, T, 1)
+        z_k = f_k − w_k, Hz.
+    inputs : numpy.ndarray of int, shape (T−1,) or (runs, T−1)
+        Orders from the readings by eq. (43), what the paper feeds eq. (39).
+
+    See Also
+    --------
+    simulate_gauge : Makes it.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (31)–(35), (40) and (43).
+    """
 
     level_m: float
     temperature_c: float
@@ -148,7 +228,7 @@ class GaugeSequence:
 
     @property
     def true_inputs(self) -> np.ndarray:
-        """The true orders n_1..n_{T−1}, (T−1,)."""
+        """The true orders n_1..n_{T−1}, shape (T−1,)."""
         return self.orders[:-1]
 
 
@@ -161,11 +241,59 @@ def simulate_gauge(
     seed: int = 0,
     obs_noise: BoundedNoise = GAUGE_OBS_NOISE,
 ) -> GaugeSequence:
-    """Gauge-like readings: the resonances of the band (eqs. 31–35, c = 331.3 + 0.606 T)
-    read with triangular noise w, z_k = f_k − w_k.
+    """Gauge-like readings: the resonances of a band read with the paper's noise w.
 
-    At the paper's 9.6 m, 23.9 °C and [1000, 2500] Hz: f_F = 18.01 Hz, 83 resonances
-    (n = 56..138). The truth follows eq. 39 exactly (v = 0): the resonances are physical.
+    The resonances f_k = n_k c/(2L), c = 331.3 + 0.606 T, are read as z_k = f_k − w_k with w
+    drawn from the triangle of ``obs_noise``. The truth follows eq. (39) exactly (v = 0): the
+    resonances are physical. At the paper's 9.6 m, 23.9 °C and [1000, 2500] Hz: f_F =
+    18.01 Hz, 83 resonances (n = 56..138).
+
+    Parameters
+    ----------
+    level_m : float, optional
+        L, m (default 9.6, the paper's longest level).
+    temperature_c : float, optional
+        Air temperature, °C (default 23.9).
+    band : tuple of float, optional
+        (low, high) in Hz (default :data:`DEFAULT_BAND`).
+    runs : int, optional
+        Number of independent runs; None (default) gives one run without the leading axis.
+    seed : int, optional
+        Seed of the noise draws.
+    obs_noise : dstoolkit.filters.BoundedNoise, optional
+        The noise w, Hz (default :data:`GAUGE_OBS_NOISE`, Table 2's triangle).
+
+    Returns
+    -------
+    GaugeSequence
+        Truth (T, 1), readings (T, 1) or (runs, T, 1) and the orders of eq. (43).
+
+    Raises
+    ------
+    EvidenceError
+        Fewer than two resonances in the band.
+    InvalidInputError
+        A level, temperature or number of runs that is not valid.
+    MemoryBudgetError
+        ``runs`` would exceed the memory budget.
+
+    See Also
+    --------
+    gauge_state_space_model : The model to filter the readings with.
+    synthesize_recording : Readings from a simulated recording instead.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (31)–(35), (40), (43) and §4.3.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import simulate_gauge
+    >>> seq = simulate_gauge(9.6, 23.9, seed=0)
+    >>> round(seq.fundamental_hz, 2), seq.readings.shape, seq.inputs.shape
+    (18.01, (83, 1), (82,))
+    >>> simulate_gauge(9.6, 23.9, runs=5).readings.shape
+    (5, 83, 1)
     """
     c = float(speed_of_sound(temperature_c))
     orders, freqs = resonance_frequencies(level_m, c, band)

@@ -39,12 +39,30 @@ ARRIVAL_WINDOW_S = 0.002
 class LatencyEstimate:
     """Delay of a recording behind what was played.
 
-    ``recorded[offset + lag + i]`` is ``reference[i]`` played at ``offset``: ``lag`` in
-    samples, :attr:`seconds` = lag / samplerate. ``correlation`` is the normalised
-    correlation (cosine of the angle) between the reference and the recording there, in
-    [−1, 1]: 1 is a perfect copy, near 0 means the reference was not found (negative: the
-    microphone inverts polarity). ``significance`` is the matched filter's peak over its
-    median in the searched range: far above 1 where the reference is present.
+    ``recorded[offset + lag + i]`` is ``reference[i]`` played at ``offset``. Made by
+    :func:`estimate_latency`.
+
+    Parameters
+    ----------
+    lag : int
+        The delay in samples (negative when the input stream started after the output).
+    samplerate : float
+        Sample rate, Hz.
+    correlation : float
+        Normalised correlation (cosine of the angle) between the reference and the recording
+        at the lag, in [−1, 1]: 1 is a perfect copy, near 0 means the reference was not found
+        (negative: the microphone inverts polarity).
+    significance : float
+        The matched filter's peak over its median in the searched range: far above 1 where
+        the reference is present.
+
+    See Also
+    --------
+    estimate_latency : Makes it.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.3 (the sweep and the recording).
     """
 
     lag: int
@@ -54,19 +72,24 @@ class LatencyEstimate:
 
     @property
     def seconds(self) -> float:
-        """The latency τ in seconds."""
+        """The latency τ = lag / samplerate, s."""
         return self.lag / self.samplerate
 
 
 def _energy(x: np.ndarray) -> float:
-    """Σ x² (by ``einsum``: a BLAS dot of a long vector starts threads, which on a busy
-    machine costs a thousand times the arithmetic)."""
+    """Σ x², by ``einsum``.
+
+    A BLAS dot of a long vector starts threads, whose start-up outweighs the arithmetic on
+    a busy machine.
+    """
     return float(np.einsum("i,i->", x, x))
 
 
 def valid_correlation(recorded: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """``c[j] = Σ_i recorded[j + i] reference[i]`` for j = 0 .. len(recorded) − len(reference)
-    (``scipy.signal.correlate(recorded, reference, "valid")``), by FFT.
+    """Compute the matched filter ``c[j] = Σ_i recorded[j + i] reference[i]`` by FFT.
+
+    For j = 0 .. len(recorded) − len(reference): ``scipy.signal.correlate(recorded,
+    reference, "valid")``.
 
     A circular correlation of length L ≥ len(recorded) does not wrap around at these lags,
     so the transforms need only that length, not len(recorded) + len(reference) − 1: half
@@ -83,9 +106,11 @@ _SPECTRA: dict[tuple[int, int], tuple[weakref.ref[np.ndarray], np.ndarray]] = {}
 
 
 def _reference_spectrum(reference: np.ndarray, size: int) -> np.ndarray:
-    """conj(rfft(reference, size)), kept for a read-only array that owns its memory (it
-    cannot change): the sweep that :func:`~dstoolkit.gauge.detect_resonances` looks for
-    in every recording."""
+    """Compute conj(rfft(reference, size)), kept for a read-only array.
+
+    Only an array that owns its memory is kept (it cannot change): the sweep that
+    :func:`~dstoolkit.gauge.detect_resonances` looks for in every recording.
+    """
     if reference.flags.writeable or reference.base is not None:
         return np.conj(sp_fft.rfft(reference, size))
     key = (id(reference), size)
@@ -139,6 +164,8 @@ def estimate_latency(
     Returns
     -------
     LatencyEstimate
+        The lag in samples and seconds, the normalised correlation there and the
+        significance of the match.
 
     Raises
     ------
@@ -147,10 +174,21 @@ def estimate_latency(
         recording shorter than the reference, no lag in the search range, or a peak below
         ``min_significance``. It is a ``ValueError``.
 
+    See Also
+    --------
+    detect_resonances : Finds the latency of a recorded sweep with this estimator.
+    latency_offset : How far a latency moves the detected resonances, k τ.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.3 (the sweep and its recording).
+
     Examples
     --------
     A chirp recorded 441 samples (10 ms at 44.1 kHz) late, at half the amplitude:
 
+    >>> import numpy as np
+    >>> from dstoolkit.gauge import estimate_latency
     >>> from scipy.signal import chirp
     >>> fs = 44100
     >>> t = np.arange(2205) / fs

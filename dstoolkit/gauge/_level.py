@@ -40,12 +40,43 @@ def _as_increasing(z: Any, what: str = "resonance frequencies") -> np.ndarray:
 
 
 def level_from_resonance(frequency_hz: Any, order: Any, c: Any) -> np.ndarray:
-    """Eq. 32: L = n c/(2 f), vectorised (m).
+    """L = n c/(2 f): the level from one resonance and its order.
+
+    Parameters
+    ----------
+    frequency_hz : float or array_like, any shape
+        Resonance frequency f, Hz; positive.
+    order : int or array_like, broadcastable with ``frequency_hz``
+        Its order n; positive.
+    c : float or array_like, broadcastable
+        Speed of sound, m/s; positive.
+
+    Returns
+    -------
+    numpy.ndarray
+        L, m, with the broadcast shape of the arguments.
+
+    Raises
+    ------
+    InvalidInputError
+        An argument that is not positive and finite, or a level that overflows or underflows
+        (frequencies or speeds far outside any tube's: not in Hz and m/s).
+
+    See Also
+    --------
+    level_from_fundamental : L from the spacing of the resonances.
+    orders_eq43 : The orders the paper uses.
+    direct_levels : Eq. (32) with the orders of eq. (43), one level per reading.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eq. (32).
 
     Examples
     --------
     The 10th resonance of a 1.3 m air column at 20 °C (c = 343.42 m/s):
 
+    >>> from dstoolkit.gauge import level_from_resonance
     >>> f10 = 10 * 343.42 / (2 * 1.3)
     >>> round(float(level_from_resonance(f10, 10, 343.42)), 6)
     1.3
@@ -64,10 +95,37 @@ def _positive(value: Any, name: str) -> np.ndarray:
 
 
 def level_from_fundamental(fundamental_hz: Any, c: Any) -> np.ndarray:
-    """L = c/(2 f_F) (eq. 35 solved for L), m.
+    """L = c/(2 f_F): the level from the spacing of the resonances.
+
+    Parameters
+    ----------
+    fundamental_hz : float or array_like, any shape
+        The fundamental f_F (the spacing of the resonances), Hz; positive.
+    c : float or array_like, broadcastable
+        Speed of sound, m/s; positive.
+
+    Returns
+    -------
+    numpy.ndarray
+        L, m, with the broadcast shape of the arguments.
+
+    Raises
+    ------
+    InvalidInputError
+        An argument that is not positive and finite, or a level that overflows or underflows.
+
+    See Also
+    --------
+    fundamental_frequency : The inverse, f_F = c/(2L).
+    fit_resonance_series : f_F fitted to a whole series of readings.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eq. (35), solved for L.
 
     Examples
     --------
+    >>> from dstoolkit.gauge import level_from_fundamental
     >>> float(level_from_fundamental(132.0, 343.2))
     1.3
     """
@@ -77,8 +135,10 @@ def level_from_fundamental(fundamental_hz: Any, c: Any) -> np.ndarray:
 
 
 def _finite_level(level: np.ndarray) -> np.ndarray:
-    """The level, refused when it overflowed or underflowed to 0 (inputs far outside any
-    tube's: the computed number would not be the level)."""
+    """Return the level, or refuse it when it overflowed or underflowed to 0.
+
+    Such inputs lie far outside any tube's: the computed number would not be the level.
+    """
     if not np.all(np.isfinite(level)) or np.any(level <= 0):
         raise InvalidInputError("the level overflows or underflows: the frequencies and the "
                                 "speed of sound are far outside any tube's; give them in Hz "
@@ -87,14 +147,40 @@ def _finite_level(level: np.ndarray) -> np.ndarray:
 
 
 def orders_eq43(z: Any, extend: bool = False) -> np.ndarray:
-    """Eqs. 33/43: n_k = round(z_k/(z_{k+1} − z_k)) for k = 1..K−1.
+    """Compute the paper's orders n_k = [z_k/(z_{k+1} − z_k)], [·] the nearest integer.
 
-    With ``extend`` the last reading gets n_{K−1} + 1, so that every z_k has an order.
+    Parameters
+    ----------
+    z : array_like, shape (K,)
+        Resonance frequencies z_1..z_K, Hz, strictly increasing; K ≥ 2.
+    extend : bool, optional
+        If True, the last reading gets n_{K−1} + 1, so that every z_k has an order.
+
+    Returns
+    -------
+    numpy.ndarray of int, shape (K−1,) or (K,) with ``extend``
+        The orders n_k.
+
+    Raises
+    ------
+    InvalidInputError
+        Fewer than two readings, a reading that is not finite, or readings that do not
+        increase strictly.
+
+    See Also
+    --------
+    fit_resonance_series : A more robust estimate of the orders, from every reading at once.
+    direct_levels : Eq. (32) with these orders.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (33) and (43).
 
     Examples
     --------
     Three successive resonances 132 Hz apart, from the 10th:
 
+    >>> from dstoolkit.gauge import orders_eq43
     >>> orders_eq43([1320.0, 1452.0, 1584.0]).tolist()
     [10, 11]
     >>> orders_eq43([1320.0, 1452.0, 1584.0], extend=True).tolist()
@@ -106,11 +192,38 @@ def orders_eq43(z: Any, extend: bool = False) -> np.ndarray:
 
 
 def direct_levels(z: Any, c: float) -> np.ndarray:
-    """The paper's direct measurement: eq. 32 with the orders of eq. 43, one level per
-    reading z_1..z_{K−1} (m).
+    """Measure the level directly, as the paper: eq. (32) with the orders of eq. (43).
+
+    Parameters
+    ----------
+    z : array_like, shape (K,)
+        Resonance frequencies z_1..z_K, Hz, strictly increasing; K ≥ 2.
+    c : float
+        Speed of sound, m/s; positive.
+
+    Returns
+    -------
+    numpy.ndarray, shape (K−1,)
+        One level per reading z_1..z_{K−1}, m.
+
+    Raises
+    ------
+    InvalidInputError
+        Fewer than two readings, readings that do not increase strictly, or a speed that is
+        not positive.
+
+    See Also
+    --------
+    orders_eq43, level_from_resonance
+    dstoolkit.filters.DependentEvidenceFilter : Filters the readings before eq. (32).
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (32)–(33) and (43); Table 3's "direct" column.
 
     Examples
     --------
+    >>> from dstoolkit.gauge import direct_levels
     >>> direct_levels([1320.0, 1452.0, 1584.0], c=343.2).tolist()
     [1.3, 1.3]
     """
@@ -119,10 +232,34 @@ def direct_levels(z: Any, c: float) -> np.ndarray:
 
 
 def state_transition(x: Any, n: Any) -> np.ndarray:
-    """Eq. 39 without noise: f(x, n) = x (n + 1)/n, the next resonance from this one.
+    """Apply the gauge's state transition without noise, f(x, n) = x (n + 1)/n.
+
+    The next resonance from this one: the state equation x_{k+1} = f(x_k, n_k) + v_k.
+
+    Parameters
+    ----------
+    x : float or array_like, any shape
+        The resonance frequency x_k, Hz.
+    n : float or array_like, broadcastable with ``x``
+        Its order n_k; positive.
+
+    Returns
+    -------
+    numpy.ndarray
+        f(x, n), Hz, with the broadcast shape.
+
+    See Also
+    --------
+    state_transition_derivative : ∂f/∂x.
+    gauge_state_space_model : The model this map belongs to.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (36)–(39).
 
     Examples
     --------
+    >>> from dstoolkit.gauge import state_transition
     >>> float(state_transition(1320.0, 10))
     1452.0
     """
@@ -130,30 +267,136 @@ def state_transition(x: Any, n: Any) -> np.ndarray:
 
 
 def state_transition_derivative(x: Any, n: Any) -> np.ndarray:
-    """∂f/∂x = (n + 1)/n > 0: f is increasing in x (Prop. 2 applies), for Kalman filters."""
+    """∂f/∂x = (n + 1)/n > 0 for the gauge's state transition, for Kalman filters.
+
+    f is increasing in x, so the paper's Prop. 2 (a monotone map sends a box's corners to the
+    image's corners) applies.
+
+    Parameters
+    ----------
+    x : float or array_like, any shape
+        The resonance frequency x_k, Hz (only its shape is used).
+    n : float or array_like, broadcastable with ``x``
+        Its order n_k; positive.
+
+    Returns
+    -------
+    numpy.ndarray
+        (n + 1)/n, dimensionless, with the broadcast shape of ``x`` and ``n``.
+
+    See Also
+    --------
+    state_transition : The map itself.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eq. (39) and Prop. 2.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import state_transition_derivative
+    >>> float(state_transition_derivative(1320.0, 10))
+    1.1
+    """
     ratio = resonance_ratio(np.asarray(n, dtype=float))
     return ratio + np.zeros_like(x, dtype=float)  # the shape x and n broadcast to
 
 
 def next_resonance(x: Any, n: Any) -> Any:
-    """The arithmetic of eq. 39, x (n + 1)/n, on floats or float arrays alike (no checks):
-    :func:`state_transition` and the gauge model's float maps share it, so both give the
-    same numbers."""
+    """Compute x (n + 1)/n, the arithmetic of eq. 39, on floats or float arrays (no checks).
+
+    Parameters
+    ----------
+    x : float or numpy.ndarray
+        The resonance frequency, Hz.
+    n : float or numpy.ndarray
+        Its order.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The next resonance, Hz.
+    """
     return x * (n + 1.0) / n
 
 
 def resonance_ratio(n: Any) -> Any:
-    """(n + 1)/n, the slope ∂f/∂x of eq. 39, on floats or float arrays alike (no checks)."""
+    """(n + 1)/n, the slope ∂f/∂x of the state transition, on floats or float arrays (no checks).
+
+    Parameters
+    ----------
+    n : float or numpy.ndarray
+        The order.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The ratio, dimensionless.
+    """
     return (n + 1.0) / n
 
 
 def observation(x: Any) -> np.ndarray:
-    """Eq. 40: g(x) = x, the reading of the state (the filter adds w to z)."""
+    """Apply the gauge's observation map g(x) = x: the reading of the state.
+
+    The filter adds the noise w to the reading z, g(x_k) = z_k + w_k.
+
+    Parameters
+    ----------
+    x : float or array_like, any shape
+        The resonance frequency, Hz.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``x`` as a float array, Hz.
+
+    See Also
+    --------
+    observation_inverse : g⁻¹ of a box.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eq. (40).
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import observation
+    >>> observation([1320.0, 1452.0]).tolist()
+    [1320.0, 1452.0]
+    """
     return np.asarray(x, dtype=float)
 
 
 def observation_inverse(lower: Any, upper: Any) -> tuple[np.ndarray, np.ndarray]:
-    """g⁻¹ of a box [lower, upper] of readings: the same box (g is the identity)."""
+    """g⁻¹ of a box [lower, upper] of readings: the same box, since g is the identity.
+
+    Parameters
+    ----------
+    lower, upper : float or array_like, same shape
+        Ends of the box of readings, Hz.
+
+    Returns
+    -------
+    lower : numpy.ndarray
+        Lower ends of the states whose reading lies in the box, Hz.
+    upper : numpy.ndarray
+        Upper ends, Hz.
+
+    See Also
+    --------
+    observation : g itself.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eq. (40).
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import observation_inverse
+    >>> [a.tolist() for a in observation_inverse(1310.0, 1330.0)]
+    [1310.0, 1330.0]
+    """
     return np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
 
 
@@ -161,8 +404,30 @@ def observation_inverse(lower: Any, upper: Any) -> tuple[np.ndarray, np.ndarray]
 class ResonanceSeriesFit:
     """z_k = f_F (n_1 + s_k) + b fitted to a whole series of resonances.
 
-    ``orders`` are n_1 + s_k, the order of each reading, for eq. 39;
-    ``residual_rms_hz`` the RMS misfit; ``offset_free`` tells whether b was fitted.
+    Made by :func:`fit_resonance_series`.
+
+    Parameters
+    ----------
+    first_order : int
+        n_1, the order of the first reading.
+    fundamental_hz : float
+        f_F, the spacing of the resonances, Hz.
+    offset_hz : float
+        b, Hz (given, or fitted when ``offset_free``).
+    residual_rms_hz : float
+        RMS misfit of the readings, Hz.
+    orders : numpy.ndarray of int, shape (K,)
+        n_1 + s_k, the order of each reading, for eq. (39).
+    offset_free : bool
+        Whether b was fitted.
+
+    See Also
+    --------
+    fit_resonance_series : Makes it.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (32) and (35).
     """
 
     first_order: int
@@ -173,7 +438,33 @@ class ResonanceSeriesFit:
     offset_free: bool
 
     def level(self, c: float) -> float:
-        """L = c/(2 f_F), m."""
+        """Compute the level of the fitted spacing, L = c/(2 f_F).
+
+        Parameters
+        ----------
+        c : float
+            Speed of sound, m/s; positive.
+
+        Returns
+        -------
+        float
+            L, m.
+
+        See Also
+        --------
+        level_from_fundamental
+
+        References
+        ----------
+        Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eq. (35).
+
+        Examples
+        --------
+        >>> from dstoolkit.gauge import fit_resonance_series
+        >>> fit = fit_resonance_series([1320.0, 1452.0, 1584.0, 1716.0])
+        >>> fit.level(343.2)
+        1.3
+        """
         return float(level_from_fundamental(self.fundamental_hz, c))
 
 
@@ -183,25 +474,58 @@ def fit_resonance_series(
     offset_hz: float | None = 0.0,
     max_first_order: int | None = None,
 ) -> ResonanceSeriesFit:
-    """Fit z_k = f_F (n_1 + s_k) + b with integer n_1 ≥ 1 (eqs. 32, 35).
+    """Fit z_k = f_F (n_1 + s_k) + b to a series of resonances, with an integer n_1 ≥ 1.
+
+    For each candidate n_1, f_F = Σ m_k (z_k − b) / Σ m_k² with m_k = n_1 + s_k, and the n_1
+    with the least squared misfit wins: a wrong n_1 leaves a misfit growing linearly across the
+    band, about f_F (s_k − s̄)/n̄, which all K readings see at once. That makes the orders far
+    more robust than eq. (43), which divides by the difference of two noisy readings.
 
     Parameters
     ----------
-    z
-        Resonance frequencies, increasing (Hz).
-    steps
+    z : array_like, shape (K,)
+        Resonance frequencies, Hz, strictly increasing; K ≥ 2.
+    steps : array_like of int, shape (K,), optional
         s_k, the relative orders (default 0, 1, 2, …); a jump of 2 marks a missed resonance
-        (:attr:`dstoolkit.gauge.DetectionResult.steps`).
-    offset_hz
-        b when it is known, default 0 (offsets already removed by the detector). For each
-        candidate n_1, f_F = Σ m_k (z_k − b) / Σ m_k² with m_k = n_1 + s_k, and the n_1 with
-        the least squared misfit wins: a wrong n_1 leaves a misfit growing linearly across
-        the band, about f_F (s_k − s̄)/n̄, which all K readings see at once.
-        None fits b as well: then n_1 cannot come from the misfit (every n_1 fits the same
-        straight line), so f_F is the slope and n_1 = round(intercept/slope), which needs
-        |b| < f_F/2.
-    max_first_order
+        (:attr:`DetectionResult.steps`).
+    offset_hz : float or None, optional
+        b when it is known, Hz (default 0: offsets already removed by the detector). None
+        fits b as well: then n_1 cannot come from the misfit (every n_1 fits the same straight
+        line), so f_F is the slope and n_1 = round(intercept/slope), which needs |b| < f_F/2.
+    max_first_order : int, optional
         Largest n_1 tried (default 3 z_1/slope + 10).
+
+    Returns
+    -------
+    ResonanceSeriesFit
+        n_1, f_F, b, the RMS misfit and the order of every reading.
+
+    Raises
+    ------
+    InvalidInputError
+        Fewer than two readings, readings that do not increase, steps that are not increasing
+        integers (one per reading), or orders beyond ``MAX_FIRST_ORDER`` (the readings are not
+        one tube's resonances).
+    MemoryBudgetError
+        The search over n_1 would exceed the memory budget.
+
+    See Also
+    --------
+    orders_eq43 : The paper's orders, from pairs of readings.
+    level_from_fundamental : The level of the fitted spacing.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (32), (35) and (43).
+
+    Examples
+    --------
+    Four resonances 132 Hz apart, from the 10th, read 0.5 Hz high:
+
+    >>> from dstoolkit.gauge import fit_resonance_series
+    >>> fit = fit_resonance_series([1320.5, 1452.5, 1584.5, 1716.5], offset_hz=0.5)
+    >>> fit.first_order, fit.fundamental_hz, fit.orders.tolist()
+    (10, 132.0, [10, 11, 12, 13])
     """
     z = _as_increasing(z)
     s = np.arange(z.size) if steps is None else real_array(steps, "steps").reshape(-1)

@@ -44,15 +44,50 @@ _C_RANGE = (300.0, 370.0)
 
 @dataclass(frozen=True)
 class DetectionResult:
-    """Resonances found in one recording.
+    """Resonances found in one recording, made by :func:`detect_resonances`.
 
-    ``frequencies`` are the resonance frequencies z_k (Hz), ascending, with spurious peaks
-    removed and the selected offsets subtracted; ``steps`` their relative orders
-    (0, 1, 2, ... with a jump where a resonance was missed); ``amplitudes`` the envelope at
-    each peak (full-scale units). ``raw_frequencies`` are f₀ + k t at the peak times, before
-    any correction. ``missed`` holds the lattice frequencies where a resonance was expected
-    but not found (a gap ≈ 2 f_F), ``spurious`` the rejected peaks (off the lattice or a
-    second peak of one order, spacing ≈ f_F/2).
+    Parameters
+    ----------
+    frequencies : numpy.ndarray, shape (K,)
+        The resonance frequencies z_k, Hz, ascending, with spurious peaks removed and the
+        selected offsets subtracted: the observations of eq. (40).
+    steps : numpy.ndarray of int, shape (K,)
+        Their relative orders 0, 1, 2, … with a jump where a resonance was missed.
+    amplitudes : numpy.ndarray, shape (K,)
+        The envelope at each peak, full-scale units.
+    raw_frequencies : numpy.ndarray, shape (K,)
+        f_0 + k t at the peak times, Hz, before any correction.
+    peak_times : numpy.ndarray, shape (K,)
+        Recording times of the peaks, s.
+    fundamental_hz : float
+        The spacing f_F of the resonances, Hz.
+    sweep_rate_offset_hz : float
+        k/(2 f_F), Hz: how far above n f_F the envelope of a sweep peaks.
+    latency_offset_hz : float
+        k τ, Hz: how far the latency moves the readings.
+    latency_s : float
+        The latency τ, s.
+    missed : numpy.ndarray, shape (M,)
+        Frequencies where a resonance was expected but not found (a gap of about 2 f_F), Hz.
+    spurious : numpy.ndarray, shape (S,)
+        Rejected peaks (off the lattice, or a second peak of one order), Hz.
+    envelope_times : numpy.ndarray, shape (E,)
+        Times of the envelope's samples, s.
+    envelope : numpy.ndarray, shape (E,)
+        The envelope, full-scale units.
+    sweep : LinearSweep
+        The sweep that was played.
+    corrected : tuple of bool, optional
+        Whether the sweep-rate and the latency offsets were subtracted.
+
+    See Also
+    --------
+    detect_resonances : Makes it.
+    fit_resonance_series : Uses ``frequencies`` and ``steps``.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.1 and §4.3, Figs. 6–7.
     """
 
     frequencies: np.ndarray
@@ -78,11 +113,18 @@ class DetectionResult:
 
     @property
     def offset_hz(self) -> float:
-        """Total offset subtracted from ``raw_frequencies``."""
+        """Total offset subtracted from ``raw_frequencies``, Hz."""
         return (self.sweep_rate_offset_hz * self.corrected[0]
                 + self.latency_offset_hz * self.corrected[1])
 
     def summary(self) -> str:
+        """One line: the number of resonances, f_F, the offsets, τ, the missed and spurious peaks.
+
+        Returns
+        -------
+        str
+            The line.
+        """
         return (f"{self.frequencies.size} resonances, f_F = {self.fundamental_hz:.3f} Hz, "
                 f"offsets k/(2f_F) = {self.sweep_rate_offset_hz:.3f} Hz, "
                 f"kτ = {self.latency_offset_hz:.3f} Hz (τ = {1e3 * self.latency_s:.2f} ms), "
@@ -90,18 +132,89 @@ class DetectionResult:
 
 
 def sweep_rate_offset(rate_hz_per_s: float, fundamental_hz: Any) -> np.ndarray | float:
-    """k L/c = k/(2 f_F): how far above n f_F the envelope of a sweep peaks, Hz."""
+    """Compute the sweep-rate offset k L/c = k/(2 f_F): how far above n f_F the envelope peaks.
+
+    Parameters
+    ----------
+    rate_hz_per_s : float
+        The sweep rate k, Hz/s.
+    fundamental_hz : float or array_like, any shape
+        The spacing f_F of the resonances, Hz.
+
+    Returns
+    -------
+    numpy.ndarray or float
+        The offset, Hz, shaped as ``fundamental_hz``.
+
+    See Also
+    --------
+    latency_offset : The other offset of a detected resonance.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.1 (the offset of the detected resonances).
+
+    Examples
+    --------
+    The paper's sweep (280 Hz/s) at 9.6 m (f_F = 18 Hz):
+
+    >>> from dstoolkit.gauge import sweep_rate_offset
+    >>> round(float(sweep_rate_offset(280.0, 18.0)), 2)
+    7.78
+    """
     return rate_hz_per_s / (2.0 * np.asarray(fundamental_hz, dtype=float))
 
 
 def latency_offset(rate_hz_per_s: float, latency_s: float) -> float:
-    """k τ: how far a latency τ moves frequencies read as f₀ + k t, Hz."""
+    """Compute the latency offset k τ: how far τ moves frequencies read as f_0 + k t.
+
+    Parameters
+    ----------
+    rate_hz_per_s : float
+        The sweep rate k, Hz/s.
+    latency_s : float
+        The latency τ, s.
+
+    Returns
+    -------
+    float
+        The offset, Hz.
+
+    See Also
+    --------
+    sweep_rate_offset : The other offset.
+    estimate_latency : Measures τ.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.3.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import latency_offset
+    >>> round(latency_offset(280.0, 0.01), 6)
+    2.8
+    """
     return rate_hz_per_s * latency_s
 
 
 def parabolic_peak(y: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Sub-sample position and height of peaks at indices ``i`` of ``y`` from the parabola
-    through (i−1, i, i+1). Returns ``(position, height)``; vectorised over ``i``."""
+    """Sub-sample position and height of peaks from the parabola through three samples.
+
+    Parameters
+    ----------
+    y : numpy.ndarray, shape (N,)
+        The sampled curve.
+    i : numpy.ndarray of int, shape (P,)
+        Indices of the peaks.
+
+    Returns
+    -------
+    position : numpy.ndarray, shape (P,)
+        Fractional indices of the vertices.
+    height : numpy.ndarray, shape (P,)
+        Heights of the vertices.
+    """
     i = np.clip(np.asarray(i, dtype=int), 1, y.size - 2)
     a, b, c = y[i - 1], y[i], y[i + 1]
     den = a - 2.0 * b + c
@@ -113,11 +226,28 @@ def parabolic_peak(y: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray
 
 def fitted_peak(y: np.ndarray, i: np.ndarray, half_width: int, iterations: int = 2
                 ) -> tuple[np.ndarray, np.ndarray]:
-    """Sub-sample peaks from a parabola fitted by least squares to ``y`` within
-    ±``half_width`` samples of each index ``i`` (recentred ``iterations`` times).
+    """Sub-sample peaks from a parabola fitted by least squares within ±``half_width`` samples.
 
-    With ``half_width`` = 1 this is 3-point :func:`parabolic_peak`; a wider window averages
-    the envelope's noise over the top of the peak. Returns ``(position, height)``.
+    With ``half_width`` = 1 this is the 3-point :func:`parabolic_peak`; a wider window averages
+    the envelope's noise over the top of the peak.
+
+    Parameters
+    ----------
+    y : numpy.ndarray, shape (N,)
+        The sampled curve.
+    i : numpy.ndarray of int, shape (P,)
+        Indices of the peaks.
+    half_width : int
+        Half-width of the fit window, samples.
+    iterations : int, optional
+        Times the window is recentred on the vertex (default 2).
+
+    Returns
+    -------
+    position : numpy.ndarray, shape (P,)
+        Fractional indices of the vertices.
+    height : numpy.ndarray, shape (P,)
+        Heights of the vertices.
     """
     h = max(1, int(half_width))
     offsets = np.arange(-h, h + 1)
@@ -138,10 +268,13 @@ def fitted_peak(y: np.ndarray, i: np.ndarray, half_width: int, iterations: int =
 
 def _prominent_peaks(env: np.ndarray, distance: int, expected: int, rel_prominence: float,
                      inside: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Local maxima of ``env`` at least ``distance`` samples apart that lie ``inside`` (a
-    mask) and whose prominence reaches ``rel_prominence`` × the median prominence of the
-    ``expected`` most prominent ones. Prominences are taken on the whole envelope, so a
-    peak near the edge of the mask keeps its true valleys."""
+    """Prominent local maxima of ``env``: indices and prominences.
+
+    The maxima lie at least ``distance`` samples apart and ``inside`` (a mask), and their
+    prominence reaches ``rel_prominence`` × the median prominence of the ``expected`` most
+    prominent ones. Prominences are taken on the whole envelope, so a peak near the edge
+    of the mask keeps its true valleys.
+    """
     cand, props = signal.find_peaks(env, distance=distance, prominence=0.0)
     prom = props["prominences"]
     cand, prom = cand[inside[cand]], prom[inside[cand]]
@@ -176,9 +309,11 @@ def _check_levels(x: np.ndarray, silence_dbfs: float, clip_level: float,
 
 @functools.lru_cache(maxsize=4)
 def _demodulator(sweep: LinearSweep, n: int, latency_s: float) -> np.ndarray:
-    """e^(−iφ(t − τ)) at the ``n`` sample times t of a recording: what moves the sweep to
-    0 Hz (:func:`envelope`). Kept for the next recording of the same length and latency
-    (read-only)."""
+    """Compute the demodulator e^(−iφ(t − τ)) at the ``n`` sample times t of a recording.
+
+    It moves the sweep to 0 Hz (:func:`envelope`). Kept for the next recording of the same
+    length and latency (read-only).
+    """
     carrier = np.exp(-1j * sweep.phase(np.arange(n) / sweep.sample_rate - latency_s))
     carrier.flags.writeable = False
     return carrier
@@ -186,8 +321,10 @@ def _demodulator(sweep: LinearSweep, n: int, latency_s: float) -> np.ndarray:
 
 @functools.lru_cache(maxsize=2)
 def _sweep_waveform(sweep: LinearSweep) -> np.ndarray:
-    """The sweep's drive signal (:meth:`LinearSweep.waveform`), kept (read-only): the
-    reference in which :func:`detect_resonances` finds the latency."""
+    """Compute the sweep's drive signal (:meth:`LinearSweep.waveform`), kept (read-only).
+
+    It is the reference in which :func:`detect_resonances` finds the latency.
+    """
     waveform = sweep.waveform()
     waveform.flags.writeable = False
     return waveform
@@ -197,13 +334,50 @@ def envelope(
     samples: np.ndarray, sweep: LinearSweep, latency_s: float = 0.0,
     bandwidth_hz: float = 200.0, envelope_rate_hz: float = 1000.0,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Envelope of the recording, tracking the sweep: ``(times, envelope)``.
+    """Envelope of a recording of the sweep, tracking the sweep's frequency.
 
     The recording is multiplied by e^(−iφ(t − τ)) (the sweep moves to 0 Hz, the echoes to
-    beats at m k Δ Hz), low-passed at ``bandwidth_hz`` (zero-phase Butterworth, order 4)
-    and its magnitude doubled: the Hilbert envelope restricted to a band that follows the
-    sweep, which rejects noise outside ±``bandwidth_hz`` of the instantaneous frequency.
-    Returned at about ``envelope_rate_hz`` samples per second.
+    beats at m k Δ Hz), low-passed at ``bandwidth_hz`` (zero-phase Butterworth, order 4) and
+    its magnitude doubled: the Hilbert envelope restricted to a band that follows the sweep,
+    which rejects noise outside ±``bandwidth_hz`` of the instantaneous frequency.
+
+    Parameters
+    ----------
+    samples : numpy.ndarray, shape (n,)
+        The recording, full-scale units.
+    sweep : LinearSweep
+        The sweep that was played.
+    latency_s : float, optional
+        The latency τ, s (default 0).
+    bandwidth_hz : float, optional
+        Bandwidth of the low-pass, Hz (default 200).
+    envelope_rate_hz : float, optional
+        About how many envelope samples per second to return (default 1000).
+
+    Returns
+    -------
+    times : numpy.ndarray, shape (E,)
+        Recording times of the envelope's samples, s.
+    envelope : numpy.ndarray, shape (E,)
+        The envelope, full-scale units.
+
+    See Also
+    --------
+    detect_resonances : Finds the resonances as the envelope's peaks.
+    model_envelope : The noise-free envelope of the model.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (27)–(29), Figs. 6–7.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.gauge import LinearSweep, envelope
+    >>> sweep = LinearSweep(1000.0, 1200.0, duration=0.5, sample_rate=8000.0)
+    >>> t, env = envelope(0.5 * sweep.waveform(), sweep)
+    >>> round(float(np.median(env)), 3)
+    0.5
     """
     fs = sweep.sample_rate
     base = samples * _demodulator(sweep, samples.size, latency_s)
@@ -215,8 +389,11 @@ def envelope(
 
 def _spacing_from_envelope(freqs: np.ndarray, env: np.ndarray, fF_range: tuple[float, float],
                            min_line: float) -> tuple[float, float]:
-    """Spacing f_F of the envelope's periodic pattern (its strongest line), and its strength
-    relative to the median line in the search range."""
+    """Spacing f_F of the envelope's periodic pattern, and the pattern's strength.
+
+    The spacing is the strongest line of the pattern; its strength is relative to the
+    median line in the search range.
+    """
     df = freqs[1] - freqs[0]
     y = env**2
     y = (y - np.polyval(np.polyfit(freqs, y, 2), freqs)) * np.hanning(y.size)
@@ -284,46 +461,76 @@ def detect_resonances(
     clip_level: float = 0.999,
     max_clipped_fraction: float = 1e-4,
 ) -> DetectionResult:
-    """Resonance frequencies z_k of a recorded sweep (the observations of eq. 40).
+    """Resonance frequencies z_k of a recorded sweep: the observations of eq. (40).
+
+    The chain: check the recording (silence, clipping); find the latency τ by matched
+    filtering with the sweep; take the envelope; read time as instantaneous frequency; find the
+    peaks with sub-sample precision; place them on the lattice of spacing f_F to find missed and
+    spurious ones; remove the offsets k/(2 f_F) and k τ.
 
     Parameters
     ----------
-    recording
-        A :class:`~dstoolkit.gauge.Recording`, or samples in full-scale units with ``sweep``.
-    sweep
+    recording : Recording or numpy.ndarray, shape (n,)
+        A :class:`Recording`, or samples in full-scale units with ``sweep``.
+    sweep : LinearSweep, optional
         The played sweep (default: the recording's).
-    latency_s
-        τ if known; None estimates it (:func:`estimate_latency`).
-    correct_sweep_rate, correct_latency
-        Subtract k/(2 f_F) and k τ (module docstring). False for both mimics a detector
-        that reads f₀ + k t, as the paper's (its w has mode −6.9 Hz).
-    level_range_m
-        Levels considered possible; bounds the spacing search.
-    bandwidth_hz
-        Envelope bandwidth around the sweep (:func:`envelope`); must exceed a few k/f_F.
-    rel_prominence
-        A peak counts when its prominence exceeds this fraction of the median prominence
-        of the strongest expected peaks.
-    peak_window
-        Half-width of the parabola fitted at each peak, as a fraction of f_F (0.125: the
-        top ±45° of the beat, where the envelope is nearly parabolic).
-    lattice_tolerance
+    latency_s : float, optional
+        τ, s, if known; None (default) estimates it (:func:`estimate_latency`).
+    correct_sweep_rate, correct_latency : bool, optional
+        Subtract k/(2 f_F) and k τ (default True). False for both mimics a detector that reads
+        f_0 + k t, as the paper's (its w has mode −6.9 Hz).
+    level_range_m : tuple of float, optional
+        Levels considered possible, m; bounds the spacing search (default 0.5–15).
+    bandwidth_hz : float, optional
+        Envelope bandwidth around the sweep, Hz (:func:`envelope`); must exceed a few k/f_F.
+    rel_prominence : float, optional
+        A peak counts when its prominence exceeds this fraction of the median prominence of
+        the strongest expected peaks.
+    peak_window : float, optional
+        Half-width of the parabola fitted at each peak, as a fraction of f_F (0.125: the top
+        ±45° of the beat, where the envelope is nearly parabolic).
+    lattice_tolerance : float, optional
         Peaks further than this fraction of f_F from the lattice are spurious.
-    min_resonances
+    min_resonances : int, optional
         Fewer resonances raise :class:`~dstoolkit.errors.DetectionError`.
-    min_line
+    min_line : float, optional
         Required strength of the envelope's periodic pattern; weaker: "no tube echo".
-    min_modulation
+    min_modulation : float, optional
         Required spread (5th to 95th percentile) of the envelope relative to its median;
         flatter: "no tube echo".
-    silence_dbfs, clip_level, max_clipped_fraction
-        Thresholds of the silence and clipping checks.
+    silence_dbfs, clip_level, max_clipped_fraction : float, optional
+        Thresholds of the silence (dBFS) and clipping (full scale, fraction of samples) checks.
+
+    Returns
+    -------
+    DetectionResult
+        The readings z_k (K,), Hz, their relative orders, the offsets, the missed and spurious
+        peaks, and the envelope.
 
     Raises
     ------
     DetectionError
         Silence, clipping, no sweep, no tube echo, or too few resonances; the message says
         which and what to do.
+
+    See Also
+    --------
+    synthesize_recording : A simulated recording to detect.
+    fit_resonance_series : The orders and the level from the result.
+    characterise_observation_noise : The error of this detector.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (27)–(30), §4.1, §4.3, Figs. 6–7.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import (TubeSetup, detect_resonances, synthesize_recording,
+    ...                              typical_conditions)
+    >>> rec = synthesize_recording(TubeSetup(4.6, 26.5), conditions=typical_conditions())
+    >>> det = detect_resonances(rec)
+    >>> round(det.fundamental_hz, 1), det.complete
+    (37.7, True)
     """
     if isinstance(recording, Recording):
         samples, sweep = recording.samples, sweep or recording.sweep
@@ -401,13 +608,53 @@ def model_peak_frequencies(
     setup: TubeSetup, sweep: LinearSweep, peak_window: float = 0.125,
     resolution_hz: float = 0.05, echo_floor: float = 1e-4,
 ) -> np.ndarray:
-    """Resonances of the noise-free model: peaks of :func:`~dstoolkit.gauge.model_envelope`
-    found as :func:`detect_resonances` finds them, read as the sweep's frequency f(u), Hz
-    (no latency, no correction).
+    """Resonances of the noise-free model, found as :func:`detect_resonances` finds them.
 
-    Only peaks with the first echo present and away from the sweep's ends are returned.
-    With one echo (R_t = 0) they sit at n f_F + k/(2 f_F); each later echo m adds
+    The peaks of :func:`model_envelope`, read as the sweep's frequency f(u), Hz (no latency,
+    no correction). Only peaks with the first echo present and away from the sweep's ends are
+    returned. With one echo (R_t = 0) they sit at n f_F + k/(2 f_F); each later echo m adds
     k π Δ² m(m − 1) of phase and moves them by up to a few Hz.
+
+    Parameters
+    ----------
+    setup : TubeSetup
+        The simulated gauge.
+    sweep : LinearSweep
+        The sweep.
+    peak_window : float, optional
+        Half-width of the fitted parabola, fraction of f_F (default 0.125).
+    resolution_hz : float, optional
+        Step of the envelope in sweep frequency, Hz (default 0.05).
+    echo_floor : float, optional
+        Echoes weaker than this (relative to the direct wave) are left out (default 1e-4).
+
+    Returns
+    -------
+    numpy.ndarray, shape (K,)
+        The model's peak frequencies, Hz, ascending.
+
+    See Also
+    --------
+    detect_resonances, model_envelope
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (27)–(30), §4.1.
+
+    Examples
+    --------
+    With one echo the peaks sit k/(2 f_F) above the resonances n f_F:
+
+    >>> import numpy as np
+    >>> from dstoolkit.gauge import (LinearSweep, TubeSetup, model_peak_frequencies,
+    ...                              sweep_rate_offset)
+    >>> setup = TubeSetup(1.3, top_reflection=0.0)
+    >>> sweep = LinearSweep(1000.0, 1600.0, duration=2.0)
+    >>> f = model_peak_frequencies(setup, sweep)
+    >>> offset = sweep_rate_offset(sweep.rate, setup.fundamental_hz)
+    >>> n = np.rint((f - offset) / setup.fundamental_hz)
+    >>> bool(np.allclose(f, n * setup.fundamental_hz + offset, atol=0.05))
+    True
     """
     u = np.arange(0.0, sweep.duration, resolution_hz / sweep.rate)
     env = model_envelope(setup, sweep, u, echo_floor)
@@ -427,7 +674,7 @@ def detection_precision_hz(
     setup: TubeSetup, conditions: RecordingConditions, sweep: LinearSweep, frequency_hz: Any,
     bandwidth_hz: float = 200.0, peak_window: float = 0.125, include_speaker: bool = True,
 ) -> np.ndarray:
-    """Predicted standard deviation (Hz) of a detected resonance at ``frequency_hz``.
+    """Predicted standard deviation of a detected resonance at ``frequency_hz``.
 
     Single-echo approximation. The envelope E = |1 + a e^(iθ)|, θ = 2π f/f_F, has curvature
     κ = P0 a/(1 + a) (2π/f_F)² at its peaks; a parabola fitted over ±h = ±``peak_window`` f_F
@@ -435,6 +682,46 @@ def detection_precision_hz(
     σ_e sqrt(3/N)/(h κ). The envelope's noise is σ_e = sqrt(2 B G(f)), G the one-sided
     spectral density (Pa²/Hz) of microphone, background (pink) and quantisation noise at f.
     The speaker's frequency error moves the peak one for one: its σ adds in quadrature.
+
+    Parameters
+    ----------
+    setup : TubeSetup
+        The simulated gauge.
+    conditions : RecordingConditions
+        Noise levels of the recording.
+    sweep : LinearSweep
+        The sweep.
+    frequency_hz : float or array_like, any shape
+        Frequencies of the resonances, Hz.
+    bandwidth_hz : float, optional
+        The envelope's bandwidth B, Hz (default 200, as the detector's).
+    peak_window : float, optional
+        Half-width of the fitted parabola, fraction of f_F (default 0.125).
+    include_speaker : bool, optional
+        Add the speaker's jitter in quadrature (default True).
+
+    Returns
+    -------
+    numpy.ndarray
+        The standard deviation, Hz, shaped as ``frequency_hz``.
+
+    See Also
+    --------
+    detect_resonances : The detector whose precision this predicts.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.3 (the noise w of the detected resonances).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.gauge import (PAPER_SWEEP, TubeSetup, detection_precision_hz,
+    ...                              typical_conditions)
+    >>> sd = detection_precision_hz(TubeSetup(4.6), typical_conditions(), PAPER_SWEEP,
+    ...                             [1000.0, 2000.0])
+    >>> sd.shape, bool(np.all(sd >= 0.1))
+    ((2,), True)
     """
     f = np.asarray(frequency_hz, dtype=float)
     c = conditions

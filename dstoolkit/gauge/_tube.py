@@ -14,10 +14,10 @@ cutoff (2.7 kHz for d = 75 mm) the 1-D model holds.
 
 Each echo is the analytic sweep evaluated at the delayed time (an exact fractional delay);
 its loss is taken at the instantaneous frequency it carries, which is exact to first order
-because the sweep changes frequency slowly (k Δ² ≪ 1 cycle per echo period). A 5 s,
-44.1 kHz recording synthesises in a few hundredths of a second
-(``benchmarks/gauge_synthesis.py``); the noise draws of an integer seed are kept for the
-next recording with that seed.
+because the sweep changes frequency slowly (k Δ² ≪ 1 cycle per echo period). The
+synthesis works in place on a few reused arrays, and the noise draws of an integer seed
+are kept for the next recording with that seed (``benchmarks/gauge_synthesis.py`` times
+it).
 """
 
 from __future__ import annotations
@@ -47,7 +47,28 @@ P_REF = 20e-6
 
 
 def spl_to_pa(spl_db: float) -> float:
-    """RMS pressure (Pa) of a sound pressure level in dB re 20 µPa."""
+    """RMS pressure of a sound pressure level in dB re 20 µPa.
+
+    Parameters
+    ----------
+    spl_db : float
+        The sound pressure level, dB SPL.
+
+    Returns
+    -------
+    float
+        The RMS pressure, Pa.
+
+    See Also
+    --------
+    RecordingConditions : Takes its noise levels in Pa.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import spl_to_pa
+    >>> round(spl_to_pa(94.0), 4)
+    1.0024
+    """
     return float(P_REF * 10.0 ** (spl_db / 20.0))
 
 
@@ -55,12 +76,46 @@ def wall_attenuation(
     frequency_hz: Any, diameter_m: float, temperature_c: float, pressure_pa: float = 101325.0,
     out: np.ndarray | None = None,
 ) -> np.ndarray:
-    """Kirchhoff's visco-thermal attenuation of a plane wave in a rigid tube, Np/m.
+    """Kirchhoff's visco-thermal attenuation of a plane wave in a rigid tube.
 
     α = sqrt(π f η/ρ) (1 + (γ − 1)/sqrt(Pr)) / (r c), with Sutherland's viscosity η(T),
     ρ = p/(R T), γ = 1.4, Pr = 0.71. For d = 75 mm at 1700 Hz: 0.032 Np/m, so a 9.6 m round
-    trip (19.2 m) keeps e^(−0.62) ≈ 54 % of the amplitude. Into ``out`` when given (it may
-    be the frequencies' own array).
+    trip (19.2 m) keeps e^(−0.62) ≈ 54 % of the amplitude.
+
+    Parameters
+    ----------
+    frequency_hz : float or array_like, any shape
+        Frequencies, Hz.
+    diameter_m : float
+        Inner diameter of the tube, m.
+    temperature_c : float
+        Air temperature, °C.
+    pressure_pa : float, optional
+        Static pressure, Pa (default 101325).
+    out : numpy.ndarray, optional
+        Float array of the shape of ``frequency_hz`` to write into (it may be the
+        frequencies' own array).
+
+    Returns
+    -------
+    numpy.ndarray or float
+        α, Np/m, shaped as ``frequency_hz``.
+
+    See Also
+    --------
+    TubeSetup.attenuation : This loss with a roughness factor and a constant added.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.1 (the tube).
+    G. Kirchhoff, "Über den Einfluss der Wärmeleitung in einem Gase auf die
+    Schallbewegung", Ann. Phys. 134:177 (1868).
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import wall_attenuation
+    >>> round(float(wall_attenuation(1700.0, 0.075, 20.0)), 3)
+    0.032
     """
     tk = temperature_c + 273.15
     eta = 1.458e-6 * tk**1.5 / (tk + 110.4)
@@ -85,26 +140,48 @@ class TubeSetup:
 
     Parameters
     ----------
-    level_m
-        L, distance from the speaker platform to the liquid surface, m.
-    temperature_c
-        Air temperature, °C; sets c by ``speed_model``.
-    diameter_m
-        Inner diameter (the paper's PVC tube: 75 mm).
-    surface_reflection
-        R_s, pressure reflection coefficient of the liquid surface (water: ≈ 1).
-    top_reflection
-        R_t, reflection coefficient of the speaker end (0 = anechoic top, 1 = rigid). The
-        default 0.3 is an assumption (the paper does not say); it makes later echoes move
-        the resonances by 1–3 Hz (see :func:`dstoolkit.gauge.model_peak_frequencies`).
-    wall_loss_factor
-        Multiplies Kirchhoff's wall loss (rough or jointed tubes lose more: 1–2).
-    extra_attenuation_np_per_m
-        Frequency-independent loss added to the wall loss, Np/m.
-    speed_model
-        "paper", "ideal_gas" or "cramer" (see :func:`dstoolkit.gauge.speed_of_sound`).
-    relative_humidity
-        Used by the "cramer" model only.
+    level_m : float
+        L, distance from the speaker platform to the liquid surface, m; positive.
+    temperature_c : float, optional
+        Air temperature, °C (default 20); sets c by ``speed_model``.
+    diameter_m : float, optional
+        Inner diameter, m (default 0.075, the paper's PVC tube).
+    surface_reflection : float, optional
+        R_s, pressure reflection coefficient of the liquid surface, in [0, 1] (water: ≈ 1).
+    top_reflection : float, optional
+        R_t, reflection coefficient of the speaker end, in [0, 1] (0 = anechoic top, 1 =
+        rigid). The default 0.3 is an assumption (the paper does not say); it makes later
+        echoes move the resonances by 1–3 Hz (see :func:`model_peak_frequencies`).
+    wall_loss_factor : float, optional
+        Multiplies Kirchhoff's wall loss (rough or jointed tubes lose more: 1–2); ≥ 0.
+    extra_attenuation_np_per_m : float, optional
+        Frequency-independent loss added to the wall loss, Np/m; ≥ 0.
+    speed_model : {"paper", "ideal_gas", "cramer"}, optional
+        The law of c (see :func:`speed_of_sound`).
+    relative_humidity : float, optional
+        Fraction in [0, 1], used by the "cramer" model only.
+
+    Raises
+    ------
+    InvalidInputError
+        A field that is not a finite real number, a level or diameter that is not positive, a
+        reflection coefficient outside [0, 1] or a negative loss.
+
+    See Also
+    --------
+    synthesize_recording : Records a sweep in the tube.
+    resonance_frequencies : Its resonances.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (27)–(35), §4.1.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> tube = TubeSetup(9.6, temperature_c=23.9)
+    >>> round(tube.fundamental_hz, 2), round(tube.round_trip_s, 4)
+    (18.01, 0.0555)
     """
 
     level_m: float
@@ -136,27 +213,64 @@ class TubeSetup:
 
     @property
     def speed_of_sound(self) -> float:
-        """c at this temperature, m/s."""
+        """The speed of sound c at this temperature by ``speed_model``, m/s."""
         kw = {"relative_humidity": self.relative_humidity} if self.speed_model == "cramer" else {}
         return float(speed_of_sound(self.temperature_c, self.speed_model, **kw))
 
     @property
     def fundamental_hz(self) -> float:
-        """f_F = c/(2L) (eq. 35)."""
+        """f_F = c/(2L), the paper's eq. (35), Hz."""
         return float(fundamental_frequency(self.level_m, self.speed_of_sound))
 
     @property
     def round_trip_s(self) -> float:
-        """Δ = 2L/c, delay of the first surface echo."""
+        """Δ = 2L/c, the delay of the first surface echo, s."""
         return 2.0 * self.level_m / self.speed_of_sound
 
     def resonances(self, band: tuple[float, float] = DEFAULT_BAND) -> tuple[np.ndarray, np.ndarray]:
-        """Orders n and frequencies n c/(2L) in ``band`` (eqs. 31–32)."""
+        """Orders n and frequencies n c/(2L) of the resonances in ``band``.
+
+        Parameters
+        ----------
+        band : tuple of float, optional
+            (low, high) in Hz (default :data:`DEFAULT_BAND`).
+
+        Returns
+        -------
+        orders : numpy.ndarray of int, shape (K,)
+            n, ascending.
+        frequencies : numpy.ndarray, shape (K,)
+            f_n, Hz.
+
+        See Also
+        --------
+        resonance_frequencies
+
+        References
+        ----------
+        Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (31)–(32).
+        """
         return resonance_frequencies(self.level_m, self.speed_of_sound, band)
 
     def attenuation(self, frequency_hz: Any, out: np.ndarray | None = None) -> np.ndarray:
-        """α(f), Np/m: wall loss × ``wall_loss_factor`` + ``extra_attenuation_np_per_m``;
-        into ``out`` when given (it may be ``frequency_hz`` itself)."""
+        """α(f): the wall loss times ``wall_loss_factor`` plus ``extra_attenuation_np_per_m``.
+
+        Parameters
+        ----------
+        frequency_hz : float or array_like, any shape
+            Frequencies, Hz.
+        out : numpy.ndarray, optional
+            Float array to write into (it may be ``frequency_hz`` itself).
+
+        Returns
+        -------
+        numpy.ndarray or float
+            α, Np/m, shaped as ``frequency_hz``.
+
+        See Also
+        --------
+        wall_attenuation
+        """
         alpha = wall_attenuation(frequency_hz, self.diameter_m, self.temperature_c, out=out)
         alpha *= self.wall_loss_factor  # in place for an array (a new one: ours to change)
         alpha += self.extra_attenuation_np_per_m
@@ -164,8 +278,26 @@ class TubeSetup:
 
     def echo_gain(self, m: int, frequency_hz: Any, out: np.ndarray | None = None
                   ) -> np.ndarray:
-        """a_m(f) = (1 + R_t) R_s^m R_t^(m−1) e^(−2mLα(f)) at the microphone; a_0 = 1. Into
-        ``out`` when given (it may be ``frequency_hz`` itself)."""
+        """a_m(f) = (1 + R_t) R_s^m R_t^(m−1) e^(−2mLα(f)), the gain of echo m at the microphone.
+
+        Parameters
+        ----------
+        m : int
+            The echo's number, ≥ 0; a_0 = 1 is the direct wave.
+        frequency_hz : float or array_like, any shape
+            Frequencies the echo carries, Hz.
+        out : numpy.ndarray, optional
+            Float array to write into (it may be ``frequency_hz`` itself).
+
+        Returns
+        -------
+        numpy.ndarray or float
+            a_m(f), relative to the direct wave, shaped as ``frequency_hz``.
+
+        References
+        ----------
+        Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (27)–(29).
+        """
         f = np.asarray(frequency_hz, dtype=float)
         if m == 0:
             if out is None:
@@ -180,7 +312,22 @@ class TubeSetup:
         return gain
 
     def echo_count(self, f_min: float, floor: float = 1e-4, limit: int = 200) -> int:
-        """Number of echoes whose gain at ``f_min`` (least loss) exceeds ``floor``."""
+        """Count the echoes whose gain at ``f_min`` (the least loss) exceeds ``floor``.
+
+        Parameters
+        ----------
+        f_min : float
+            The lowest frequency of the sweep, Hz.
+        floor : float, optional
+            Smallest gain counted, relative to the direct wave (default 1e-4).
+        limit : int, optional
+            Most echoes counted (default 200).
+
+        Returns
+        -------
+        int
+            The number of echoes, in [0, ``limit``].
+        """
         m = np.arange(1, limit + 1)
         rs, rt = self.surface_reflection, self.top_reflection
         loss = float(np.exp(-2.0 * self.level_m * self.attenuation(f_min)))
@@ -197,25 +344,46 @@ class RecordingConditions:
 
     Parameters
     ----------
-    source_pressure_pa
+    source_pressure_pa : float, optional
         Amplitude of the outgoing (direct) wave at the microphone, Pa (1 Pa ≈ 91 dB SPL rms).
-    speaker_jitter_hz
+    speaker_jitter_hz : float, optional
         RMS error of the frequency the speaker actually emits, Hz: the paper's state noise v
         was measured this way (σ_v = 0.1 Hz, §4.3). A slowly wandering Gaussian process.
-    speaker_jitter_bandwidth_hz
+    speaker_jitter_bandwidth_hz : float, optional
         Bandwidth of that wander (a Gaussian spectrum of this standard deviation), Hz.
-    microphone_noise_pa
+    microphone_noise_pa : float, optional
         RMS self-noise of the microphone (white over the full band), Pa.
-    background_noise_pa
+    background_noise_pa : float, optional
         RMS ambient noise reaching the microphone (pink, 1/f power above 20 Hz), Pa.
-    latency_s
+    latency_s : float, optional
         τ: the sweep starts τ after the recording (audio output + input latency), s.
-    full_scale_pa
-        Pressure that reaches digital full scale 1.0; louder samples clip.
-    bits
-        Quantisation of the converter (None: no quantisation).
-    tail_s
+    full_scale_pa : float, optional
+        Pressure that reaches digital full scale 1.0, Pa; louder samples clip.
+    bits : int or None, optional
+        Quantisation of the converter, 2–32 bits (None: no quantisation).
+    tail_s : float, optional
         Recording time after the sweep ends (and after τ), s.
+
+    Raises
+    ------
+    InvalidInputError
+        A negative noise, latency, tail or source pressure, a full scale or jitter bandwidth
+        that is not positive, or ``bits`` outside 2–32.
+
+    See Also
+    --------
+    typical_conditions : A laptop-and-PVC-tube recording.
+    synthesize_recording : Uses them.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.3.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import RecordingConditions
+    >>> RecordingConditions(latency_s=0.01).latency_s
+    0.01
     """
 
     source_pressure_pa: float = 1.0
@@ -243,8 +411,42 @@ class RecordingConditions:
 
 
 def typical_conditions(**changes: Any) -> RecordingConditions:
-    """A laptop-and-PVC-tube recording: speaker jitter σ 0.1 Hz (the paper's σ_v), a 30 dB SPL
-    microphone, 50 dB SPL room noise and 10 ms of audio latency; ``changes`` override."""
+    """Describe a laptop-and-PVC-tube recording, with optional changes.
+
+    Speaker jitter σ 0.1 Hz (the paper's σ_v), a 30 dB SPL microphone, 50 dB SPL room noise
+    and 10 ms of audio latency.
+
+    Parameters
+    ----------
+    **changes
+        Fields of :class:`RecordingConditions` to override.
+
+    Returns
+    -------
+    RecordingConditions
+        The conditions.
+
+    Raises
+    ------
+    InvalidInputError
+        An override that is not valid.
+
+    See Also
+    --------
+    RecordingConditions
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.3 (σ_v = 0.1 Hz).
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import typical_conditions
+    >>> typical_conditions().speaker_jitter_hz
+    0.1
+    >>> typical_conditions(latency_s=0.0).latency_s
+    0.0
+    """
     base = {"speaker_jitter_hz": 0.1, "microphone_noise_pa": spl_to_pa(30.0),
             "background_noise_pa": spl_to_pa(50.0), "latency_s": 0.01}
     return RecordingConditions(**{**base, **changes})
@@ -252,7 +454,32 @@ def typical_conditions(**changes: Any) -> RecordingConditions:
 
 @dataclass(frozen=True)
 class Recording:
-    """A microphone recording in digital full-scale units, with the truth when simulated."""
+    """A microphone recording in digital full-scale units, with the truth when simulated.
+
+    Parameters
+    ----------
+    samples : numpy.ndarray, shape (n,)
+        The samples, full-scale units in [−1, 1].
+    sweep : LinearSweep
+        The sweep that was played.
+    setup : TubeSetup, optional
+        The simulated tube (None for a real recording).
+    conditions : RecordingConditions, optional
+        The simulated conditions.
+    speaker_error_times : numpy.ndarray, shape (J,), optional
+        Times of the speaker's frequency error, s since the sweep started.
+    speaker_error_hz : numpy.ndarray, shape (J,), optional
+        The speaker's frequency error δf at those times, Hz.
+
+    See Also
+    --------
+    synthesize_recording : Makes one.
+    detect_resonances : Reads its resonances.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.3.
+    """
 
     samples: np.ndarray
     sweep: LinearSweep
@@ -263,14 +490,27 @@ class Recording:
 
     @property
     def sample_rate(self) -> float:
+        """Samples per second, Hz (the sweep's)."""
         return self.sweep.sample_rate
 
     @property
     def times(self) -> np.ndarray:
+        """Times of the samples since the recording started, s, shape (n,)."""
         return np.arange(self.samples.size) / self.sweep.sample_rate
 
     def speaker_error_at(self, emission_time_s: Any) -> np.ndarray:
-        """The speaker's frequency error δf (Hz) at times since the sweep started."""
+        """Interpolate the speaker's frequency error δf at times since the sweep started.
+
+        Parameters
+        ----------
+        emission_time_s : float or array_like, any shape
+            Times since the sweep started, s.
+
+        Returns
+        -------
+        numpy.ndarray
+            δf, Hz, shaped as ``emission_time_s`` (zeros for a real recording).
+        """
         t = np.asarray(emission_time_s, dtype=float)
         if self.speaker_error_hz is None or self.speaker_error_times is None:
             return np.zeros_like(t)
@@ -279,9 +519,45 @@ class Recording:
 
 def model_envelope(setup: TubeSetup, sweep: LinearSweep, emission_time_s: Any,
                    echo_floor: float = 1e-4) -> np.ndarray:
-    """Noise-free envelope |Σ_m a_m gate(u − mΔ) e^(−iθ_m(u))| of the microphone pressure
-    over the source amplitude, θ_m(u) = φ(u) − φ(u − mΔ), at times u since the sweep
-    started (eq. 29 with every echo)."""
+    """Compute the noise-free envelope of the microphone's pressure over the source's.
+
+    |Σ_m a_m gate(u − mΔ) e^(−iθ_m(u))| with θ_m(u) = φ(u) − φ(u − mΔ): every echo of the
+    sweep, at times u since the sweep started.
+
+    Parameters
+    ----------
+    setup : TubeSetup
+        The simulated gauge.
+    sweep : LinearSweep
+        The sweep.
+    emission_time_s : float or array_like, any shape
+        Times u since the sweep started, s.
+    echo_floor : float, optional
+        Echoes weaker than this (relative to the direct wave) are left out (default 1e-4).
+
+    Returns
+    -------
+    numpy.ndarray
+        The envelope, relative to the direct wave, shaped as ``emission_time_s``.
+
+    See Also
+    --------
+    envelope : The envelope of a recording.
+    model_peak_frequencies : The peaks of this envelope.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eq. (29).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.gauge import LinearSweep, TubeSetup, model_envelope
+    >>> sweep = LinearSweep(1000.0, 1200.0, duration=1.0)
+    >>> env = model_envelope(TubeSetup(1.3), sweep, np.linspace(0.1, 0.9, 5))
+    >>> env.shape, bool(np.all(env > 0))
+    ((5,), True)
+    """
     u = np.asarray(emission_time_s, dtype=float)
     delta = setup.round_trip_s
     total = np.zeros(u.shape, complex)
@@ -294,9 +570,12 @@ def model_envelope(setup: TubeSetup, sweep: LinearSweep, emission_time_s: Any,
 
 def _shaped_draw(rng: np.random.Generator, n: int, shape: np.ndarray
                  ) -> tuple[np.ndarray, float]:
-    """One draw of Gaussian noise whose amplitude spectrum is ``shape`` (on rfftfreq(n)),
-    and the RMS of the *process* it comes from (the root energy of its impulse response):
-    the draw times ``rms`` / that RMS has the process RMS ``rms``."""
+    """One draw of Gaussian noise of amplitude spectrum ``shape``, and its process's RMS.
+
+    ``shape`` is on rfftfreq(n). The RMS of the *process* the draw comes from is the root
+    energy of its impulse response: the draw times ``rms`` / that RMS has the process RMS
+    ``rms``.
+    """
     x = np.fft.irfft(np.fft.rfft(rng.standard_normal(n)) * shape, n)
     impulse = np.fft.irfft(shape.astype(complex), n)  # x = white ⊛ impulse (circular)
     return x, float(np.sqrt(np.sum(impulse**2)))
@@ -304,27 +583,28 @@ def _shaped_draw(rng: np.random.Generator, n: int, shape: np.ndarray
 
 def _shaped_noise(rng: np.random.Generator, n: int, dt: float, shape: np.ndarray,
                   rms: float) -> np.ndarray:
-    """Stationary Gaussian noise whose amplitude spectrum is ``shape`` (on rfftfreq(n, dt)),
-    scaled so that the *process* has RMS ``rms`` (not each draw: draws vary as they should).
+    """Stationary Gaussian noise whose amplitude spectrum is ``shape`` (on rfftfreq(n, dt)).
+
+    It is scaled so that the *process* has RMS ``rms`` (not each draw: draws vary as they
+    should).
     """
     x, process_rms = _shaped_draw(rng, n, shape)
     return x * (rms / process_rms)
 
 
 def _gaussian_shape(n: int, dt: float, bandwidth_hz: float) -> np.ndarray:
-    """A Gaussian amplitude spectrum of width ``bandwidth_hz`` on rfftfreq(n, dt)."""
+    """Make a Gaussian amplitude spectrum of width ``bandwidth_hz`` on rfftfreq(n, dt)."""
     return np.exp(-0.5 * (np.fft.rfftfreq(n, dt) / bandwidth_hz) ** 2)
 
 
 def _gaussian_process(rng: np.random.Generator, n: int, dt: float, sigma: float,
                       bandwidth_hz: float) -> np.ndarray:
-    """Zero-mean Gaussian series of RMS ``sigma`` with a Gaussian spectrum of width
-    ``bandwidth_hz``."""
+    """Zero-mean Gaussian series of RMS ``sigma``, Gaussian spectrum of ``bandwidth_hz``."""
     return _shaped_noise(rng, n, dt, _gaussian_shape(n, dt, bandwidth_hz), sigma)
 
 
 def _jitter_grid(sweep: LinearSweep, bandwidth_hz: float) -> tuple[np.ndarray, float]:
-    """Times (s since the sweep started) of the speaker's frequency error, and their step."""
+    """Make the times of the speaker's frequency error (s since the sweep started), and step."""
     dt = min(1e-3, 0.1 / bandwidth_hz)
     return np.arange(-0.01, sweep.duration + 0.01 + dt, dt), dt
 
@@ -332,8 +612,24 @@ def _jitter_grid(sweep: LinearSweep, bandwidth_hz: float) -> tuple[np.ndarray, f
 def speaker_frequency_error(
     sweep: LinearSweep, conditions: RecordingConditions, rng: np.random.Generator
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The speaker's frequency error δf(t) (Hz) over the sweep: ``(times, δf)`` on a grid
-    of at most 1 ms; zero when ``conditions.speaker_jitter_hz`` is 0 (no draw is made)."""
+    """Draw the speaker's frequency error δf(t) over the sweep.
+
+    Parameters
+    ----------
+    sweep : LinearSweep
+        The sweep.
+    conditions : RecordingConditions
+        Its ``speaker_jitter_hz`` and ``speaker_jitter_bandwidth_hz``.
+    rng : numpy.random.Generator
+        Source of the draw (none is made without jitter).
+
+    Returns
+    -------
+    times : numpy.ndarray, shape (J,)
+        Times since the sweep started, s, on a grid of at most 1 ms.
+    error : numpy.ndarray, shape (J,)
+        δf, Hz; zero when ``conditions.speaker_jitter_hz`` is 0.
+    """
     t, dt = _jitter_grid(sweep, conditions.speaker_jitter_bandwidth_hz)
     if conditions.speaker_jitter_hz <= 0:
         return t, np.zeros(t.size)
@@ -342,7 +638,7 @@ def speaker_frequency_error(
 
 
 def _pink_shape(n: int, fs: float) -> np.ndarray:
-    """The amplitude spectrum of 1/f power above 20 Hz (flat below, no DC)."""
+    """Make the amplitude spectrum of 1/f power above 20 Hz (flat below, no DC)."""
     f = np.fft.rfftfreq(n, 1.0 / fs)
     shape = 1.0 / np.sqrt(np.maximum(f, 20.0))
     shape[0] = 0.0
@@ -350,10 +646,12 @@ def _pink_shape(n: int, fs: float) -> np.ndarray:
 
 
 class _Draws(NamedTuple):
-    """The random draws of one recording, before they are scaled to the conditions: the
-    speaker's frequency error, the microphone's white noise, the pink background (each
+    """The random draws of one recording, before they are scaled to the conditions.
+
+    The speaker's frequency error, the microphone's white noise, the pink background (each
     None when its level is 0: then no draw is made). Shaped draws come with the RMS of
-    their process (:func:`_shaped_draw`)."""
+    their process (:func:`_shaped_draw`).
+    """
 
     jitter_times: np.ndarray
     jitter: tuple[np.ndarray, float] | None
@@ -363,7 +661,7 @@ class _Draws(NamedTuple):
 
 def _draw(rng: np.random.Generator, sweep: LinearSweep, n: int, jitter_bandwidth_hz: float,
           jitter: bool, microphone: bool, background: bool) -> _Draws:
-    """The draws of a recording of ``n`` samples, in the order the generator makes them."""
+    """Draw the noises of a recording of ``n`` samples, in the generator's order."""
     t_j, dt = _jitter_grid(sweep, jitter_bandwidth_hz)
     shaped = (_shaped_draw(rng, t_j.size, _gaussian_shape(t_j.size, dt, jitter_bandwidth_hz))
               if jitter else None)
@@ -375,9 +673,11 @@ def _draw(rng: np.random.Generator, sweep: LinearSweep, n: int, jitter_bandwidth
 @functools.lru_cache(maxsize=4)
 def _seeded_draws(seed: int, sweep: LinearSweep, n: int, jitter_bandwidth_hz: float,
                   jitter: bool, microphone: bool, background: bool) -> _Draws:
-    """:func:`_draw` with a fresh generator of an integer ``seed``, kept for the next
-    recording with the same seed (an explorer moving the level redraws the same noise).
-    The arrays are read-only."""
+    """:func:`_draw` with a fresh generator of an integer ``seed``, kept.
+
+    Kept for the next recording with the same seed (an explorer moving the level redraws
+    the same noise). The arrays are read-only.
+    """
     draws = _draw(np.random.default_rng(seed), sweep, n, jitter_bandwidth_hz, jitter,
                   microphone, background)
     for array in (draws.jitter_times, draws.microphone, *(draws.jitter or ()),
@@ -388,9 +688,11 @@ def _seeded_draws(seed: int, sweep: LinearSweep, n: int, jitter_bandwidth_hz: fl
 
 
 def _gated(values: np.ndarray, sweep: LinearSweep, e: np.ndarray) -> np.ndarray:
-    """``values`` times :meth:`LinearSweep.gate` at the ascending times ``e`` (s since the
-    sweep started, within it): the gate is computed only near the sweep's ends, where it is
-    not 1, so the product is the same number for number."""
+    """``values`` times :meth:`LinearSweep.gate` at the ascending times ``e``, in place.
+
+    ``e`` is in s since the sweep started, within it. The gate is computed only near the
+    sweep's ends, where it is not 1, so the product is the same number for number.
+    """
     margin = 2.0 * sweep.taper + 2.0 / sweep.sample_rate
     a = int(np.searchsorted(e, margin))
     b = max(a, int(np.searchsorted(e, sweep.duration - margin)))
@@ -400,8 +702,10 @@ def _gated(values: np.ndarray, sweep: LinearSweep, e: np.ndarray) -> np.ndarray:
 
 
 def _jitter_phase(draws: _Draws, jitter_hz: float) -> tuple[np.ndarray, np.ndarray | None]:
-    """The speaker's frequency error δf (Hz) on ``draws.jitter_times`` and its phase
-    ψ = 2π ∫ δf (trapezoids), None without jitter."""
+    """Scale the speaker's frequency error δf (Hz) on ``draws.jitter_times``; add its phase.
+
+    The phase is ψ = 2π ∫ δf (trapezoids), None without jitter.
+    """
     t_j = draws.jitter_times
     if draws.jitter is None:
         return np.zeros(t_j.size), None
@@ -411,15 +715,17 @@ def _jitter_phase(draws: _Draws, jitter_hz: float) -> tuple[np.ndarray, np.ndarr
 
 
 def _echo_span(u: np.ndarray, delay_s: float, duration_s: float) -> tuple[int, int]:
-    """The samples (``lo:hi`` of the times ``u``) that an echo ``delay_s`` late covers."""
+    """Find the samples (``lo:hi`` of the times ``u``) that an echo ``delay_s`` late covers."""
     return (int(np.searchsorted(u, delay_s)),
             int(np.searchsorted(u, delay_s + duration_s, side="right")))
 
 
 def _echo_wave(sweep: LinearSweep, e: np.ndarray, gain: np.ndarray, t_j: np.ndarray,
                psi_j: np.ndarray | None, out: np.ndarray | None = None) -> np.ndarray:
-    """One echo at the times ``e`` since it left the speaker: gain × gate × cos(φ + ψ), the
-    arithmetic in place (``gain`` is overwritten) and into ``out`` when given."""
+    """One echo at the times ``e`` since it left the speaker: gain × gate × cos(φ + ψ).
+
+    The arithmetic is in place (``gain`` is overwritten) and into ``out`` when given.
+    """
     gain = _gated(gain, sweep, e)
     wave = sweep.phase(e, out=out)
     if psi_j is not None:
@@ -432,8 +738,11 @@ def _echo_wave(sweep: LinearSweep, e: np.ndarray, gain: np.ndarray, t_j: np.ndar
 @functools.lru_cache(maxsize=2)
 def _seeded_direct_wave(seed: int, sweep: LinearSweep, n: int, latency_s: float,
                         jitter_hz: float, kinds: tuple[float, bool, bool, bool]) -> np.ndarray:
-    """The direct wave (m = 0, a_0 = 1) of a recording with an integer seed: the same in
-    every tube, so kept (read-only) for the next recording with these conditions."""
+    """Compute the direct wave (m = 0, a_0 = 1) of a recording with an integer seed, kept.
+
+    It is the same in every tube, so it is kept (read-only) for the next recording with
+    these conditions.
+    """
     u = np.arange(n) / sweep.sample_rate - latency_s
     draws = _seeded_draws(seed, sweep, n, *kinds)
     lo, hi = _echo_span(u, 0.0, sweep.duration)
@@ -451,12 +760,52 @@ def synthesize_recording(
     seed: int | np.random.Generator = 0,
     echo_floor: float = 1e-4,
 ) -> Recording:
-    """The microphone recording of ``sweep`` in the tube ``setup`` (eqs. 27–29).
+    """Synthesise the microphone recording of ``sweep`` in the tube ``setup``.
 
     p(t) = P0 [s(u) + Σ_m a_m(f(u − mΔ)) s(u − mΔ)] + noises, u = t − τ, with
-    s(u) = gate(u) cos(φ(u) + ψ(u)) and ψ the phase of the speaker's frequency error.
-    Echoes weaker than ``echo_floor`` are dropped. Returns samples / full scale, clipped to
-    [−1, 1] and quantised. Seeded: equal arguments give equal recordings.
+    s(u) = gate(u) cos(φ(u) + ψ(u)) and ψ the phase of the speaker's frequency error. Echoes
+    weaker than ``echo_floor`` are dropped. Seeded: equal arguments give equal recordings.
+
+    Parameters
+    ----------
+    setup : TubeSetup
+        The simulated gauge.
+    sweep : LinearSweep, optional
+        The sweep (default :data:`PAPER_SWEEP`).
+    conditions : RecordingConditions, optional
+        Noise, gain and timing (default: no noise, no latency).
+    seed : int or numpy.random.Generator, optional
+        Seed or generator of the noises (default 0).
+    echo_floor : float, optional
+        Echoes weaker than this (relative to the direct wave) are left out (default 1e-4).
+
+    Returns
+    -------
+    Recording
+        Samples / full scale, shape (n,), clipped to [−1, 1] and quantised; n covers the
+        latency, the sweep and the tail.
+
+    Raises
+    ------
+    MemoryBudgetError
+        A recording that would exceed the memory budget.
+
+    See Also
+    --------
+    detect_resonances : Reads the resonances of the recording.
+    virtual_tube_signal : The same pressure, to play through a real audio path.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (27)–(29), §4.3.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import LinearSweep, TubeSetup, synthesize_recording
+    >>> sweep = LinearSweep(1000.0, 1200.0, duration=0.5, sample_rate=8000.0)
+    >>> rec = synthesize_recording(TubeSetup(1.3), sweep)
+    >>> rec.samples.shape, rec.sample_rate
+    ((4800,), 8000.0)
     """
     cond = RecordingConditions() if conditions is None else conditions
     fs = sweep.sample_rate
@@ -499,8 +848,11 @@ def _sound_conditions(cond: RecordingConditions) -> RecordingConditions:
 def _seeded_sound(setup: TubeSetup, sweep: LinearSweep, seed: int, echo_floor: float, n: int,
                   kinds: tuple[float, bool, bool, bool], cond: RecordingConditions
                   ) -> np.ndarray:
-    """:func:`_sound` of a recording with an integer seed, kept (read-only) for the next
-    recording that differs only in the noises' levels (``cond``: :func:`_sound_conditions`)."""
+    """:func:`_sound` of a recording with an integer seed, kept (read-only).
+
+    Kept for the next recording that differs only in the noises' levels (``cond``:
+    :func:`_sound_conditions`).
+    """
     sound = _sound(setup, sweep, _seeded_draws(seed, sweep, n, *kinds), echo_floor, n, cond,
                    direct=_seeded_direct_wave(seed, sweep, n, cond.latency_s,
                                               cond.speaker_jitter_hz, kinds))
@@ -510,8 +862,11 @@ def _seeded_sound(setup: TubeSetup, sweep: LinearSweep, seed: int, echo_floor: f
 
 def _sound(setup: TubeSetup, sweep: LinearSweep, draws: _Draws, echo_floor: float, n: int,
            cond: RecordingConditions, direct: np.ndarray | None = None) -> np.ndarray:
-    """The pressure of the sweep and its echoes at the microphone, P0 [s(u) + Σ_m a_m(f(u −
-    mΔ)) s(u − mΔ)] (eqs. 27–29), without noise; ``direct``: the wave m = 0 if known."""
+    """Compute the pressure of the sweep and its echoes at the microphone, without noise.
+
+    P0 [s(u) + Σ_m a_m(f(u − mΔ)) s(u − mΔ)] (eqs. 27–29); ``direct``: the wave m = 0 if
+    known.
+    """
     u = np.arange(n) / sweep.sample_rate - cond.latency_s
     t_j = draws.jitter_times
     psi_j = _jitter_phase(draws, cond.speaker_jitter_hz)[1]

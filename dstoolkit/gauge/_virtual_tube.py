@@ -33,7 +33,10 @@ def virtual_tube_signal(
     conditions: RecordingConditions | None = None,
     seed: int = 0,
 ) -> np.ndarray:
-    """What the microphone of ``setup`` would hear during ``sweep``, scaled to ``amplitude``.
+    """Compute what the microphone of ``setup`` would hear during ``sweep``, scaled.
+
+    Played through a real audio path instead of the bare sweep, it makes the recording carry
+    the tube's standing wave and everything real about the path.
 
     Parameters
     ----------
@@ -41,19 +44,40 @@ def virtual_tube_signal(
         The simulated gauge (level, temperature, losses, reflections).
     sweep : LinearSweep
         The sweep the speaker plays.
-    amplitude : float
-        Peak of the returned signal, in (0, 1].
+    amplitude : float, optional
+        Peak of the returned signal, full scale, in (0, 1] (default :data:`DEFAULT_AMPLITUDE`).
     conditions : RecordingConditions, optional
         Noise to add (microphone, background, speaker jitter); its latency, clipping and
         quantisation are ignored because the real audio path supplies its own.
-    seed : int
+    seed : int, optional
         Seed of the noises.
 
     Returns
     -------
-    numpy.ndarray
-        Starts with the sweep's first sample (no latency) and lasts the sweep plus the
-        time for the echoes to die down below 1e-3 (at most 1 s).
+    numpy.ndarray, shape (n,)
+        Samples in full-scale units. It starts with the sweep's first sample (no latency) and
+        lasts the sweep plus the time for the echoes to die down below 1e-3 (at most 1 s).
+
+    Raises
+    ------
+    InvalidInputError
+        An amplitude outside (0, 1].
+
+    See Also
+    --------
+    synthesize_recording : The recording itself, with latency, clipping and quantisation.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (27)–(29).
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import LinearSweep, TubeSetup, virtual_tube_signal
+    >>> sweep = LinearSweep(1000.0, 1200.0, duration=0.5, sample_rate=8000.0)
+    >>> signal = virtual_tube_signal(TubeSetup(1.3), sweep, amplitude=0.5)
+    >>> float(abs(signal).max())
+    0.5
     """
     if not 0 < amplitude <= 1:
         raise InvalidInputError(f"amplitude must be in (0, 1], got {amplitude}")

@@ -135,7 +135,7 @@ def update_focal_intervals(
     :func:`plot_focal_intervals`): an explorer's kept figure follows the evidence."""
     _scalar(ev, "plot_focal_intervals")
     ax = artists.ax
-    lo, hi, m = ev.lo, ev.hi, ev.mass
+    lo, hi, m = ev.lo_1d, ev.hi_1d, ev.mass
     if xlim is None:
         a, b = float(np.min(lo)), float(np.max(hi))
         pad = 0.05 * (b - a if b > a else 1.0)
@@ -338,7 +338,7 @@ def plot_pbox(
     _scalar(ev, "plot_pbox")
     fig, ax = _axes(ax, (6.0, 2.8))
     if x is None:
-        finite = np.concatenate([ev.lo, ev.hi])
+        finite = np.concatenate([ev.lo_1d, ev.hi_1d])
         finite = finite[np.isfinite(finite)]
         x = pbox_grid(*(xlim if xlim is not None else (finite.min(), finite.max())))
     update_pbox(draw_pbox(ax, x, title=title, label=label, xlabel=xlabel), ev)
@@ -379,7 +379,7 @@ def contour(ev: IntervalEvidence, x: Any) -> np.ndarray:
     """
     _scalar(ev, "contour")
     x = np.asarray(x, dtype=float)
-    inside = (ev.lo[None, :] <= x.reshape(-1, 1)) & (ev.hi[None, :] >= x.reshape(-1, 1))
+    inside = (ev.lo_1d[None, :] <= x.reshape(-1, 1)) & (ev.hi_1d[None, :] >= x.reshape(-1, 1))
     return (inside @ ev.mass).reshape(x.shape)
 
 

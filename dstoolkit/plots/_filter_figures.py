@@ -513,12 +513,12 @@ class FilterStepFigure:
             obs = entry.observation
             assert obs is not None, "a step that reached the update has its observation"
             cuts = obs.widths < obs.widths.max()
-            half_width = 0.75 * float((obs.hi[cuts] - obs.lo[cuts]).max() if cuts.any()
+            half_width = 0.75 * float((obs.hi_1d[cuts] - obs.lo_1d[cuts]).max() if cuts.any()
                                       else 1.0)
         centre = est if truth is None else 0.5 * (est + float(truth))
         xlim = (centre - half_width, centre + half_width)
         assert entry.state is not None, "a recorded step holds the state it started from"
-        shift = centre - float(entry.state.pignistic_expectation())
+        shift = centre - float(entry.state.pignistic_expectation_1d())
         names = dict(FILTER_STEP_PANELS)
         for i, (ax, key) in enumerate(zip(self.axes, self.panels, strict=True)):
             ev = getattr(entry, key)

@@ -1,5 +1,13 @@
-"""The paper's studies: the Table 3 reproduction and the estimation experiments
-beyond the paper, with the figures the paper prints as data.
+"""The paper's studies: Table 3 reproduced, and the estimation experiments beyond it.
+
+The figures the paper prints are kept as data (:data:`TABLE3_MEAN_ABS_ERROR_M`) to compare
+with; every study runs seeded, so its numbers can be reproduced.
+
+Examples
+--------
+>>> from dstoolkit.studies import TABLE3_CASES, TABLE3_MEAN_ABS_ERROR_M
+>>> TABLE3_CASES[-1], TABLE3_MEAN_ABS_ERROR_M[9.6]["dependent_evidence"]
+((9.6, 23.9), 0.0435)
 """
 
 from __future__ import annotations

@@ -81,9 +81,38 @@ ALL_FILTERS: tuple[str, ...] = ("dependent_evidence", "nassreddine", "bounded_er
 class GaugeRun:
     """One simulated sweep filtered by several methods (the paper's Figs. 10–11).
 
-    Arrays are per reading k = 1..K: ``truth`` f_k = n_k c/(2L) of the resonance behind
-    each reading, ``readings`` z_k, ``true_orders`` n_k; ``orders`` (K−1,) are those the
-    order rule gives for eq. 39 and eq. 32; ``estimates`` maps a method to x̂_k (K,), Hz.
+    Made by :func:`gauge_run`. Arrays are per reading k = 1..K.
+
+    Parameters
+    ----------
+    level_m : float
+        L, m.
+    temperature_c : float
+        Air temperature, °C.
+    simulation : str
+        ``"frequency"`` or ``"waveform"``.
+    order_rule : str
+        How the orders were obtained: ``"eq43"``, ``"fit"`` or ``"true"``.
+    speed_of_sound : float
+        c, m/s.
+    truth : numpy.ndarray, shape (K,)
+        f_k = n_k c/(2L) of the resonance behind each reading, Hz.
+    readings : numpy.ndarray, shape (K,)
+        z_k, Hz.
+    true_orders : numpy.ndarray of int, shape (K,)
+        The true n_k.
+    orders : numpy.ndarray of int, shape (K−1,)
+        The orders the rule gives, used by eqs. (39) and (32).
+    estimates : dict of str to numpy.ndarray, optional
+        Method to x̂_k, shape (K,), Hz.
+
+    See Also
+    --------
+    gauge_run : Makes it.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), Figs. 10–11.
     """
 
     level_m: float
@@ -103,7 +132,17 @@ class GaugeRun:
         return float(np.mean(self.orders != self.true_orders[:-1]))
 
     def levels(self) -> dict[str, np.ndarray]:
-        """L̂_k = n_k c/(2 x̂_k) (eq. 32) for k = 1..K−1: ``direct`` (x̂ = z) and each method."""
+        """Compute the level of every step, L̂_k = n_k c/(2 x̂_k), k = 1..K−1.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            ``"direct"`` (x̂ = z) and each method to L̂, shape (K−1,), m.
+
+        References
+        ----------
+        Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eq. (32), Fig. 11.
+        """
         out = {"direct": level_from_resonance(self.readings[:-1], self.orders,
                                               self.speed_of_sound)}
         for name, x in self.estimates.items():
@@ -111,13 +150,29 @@ class GaugeRun:
         return out
 
     def frequency_errors(self) -> dict[str, np.ndarray]:
-        """|x̂_k − f_k| (Hz) per step; ``direct`` is |z_k − f_k|."""
+        """|x̂_k − f_k| per step; ``"direct"`` is |z_k − f_k|.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            Method to the errors, shape (K,), Hz.
+
+        References
+        ----------
+        Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), Fig. 10.
+        """
         out = {"direct": np.abs(self.readings - self.truth)}
         out.update({name: np.abs(x - self.truth) for name, x in self.estimates.items()})
         return out
 
     def summary(self) -> dict[str, float]:
-        """Mean |x̂ − f| (Hz) and mean |L̂ − L| (m) of every method, and the wrong orders."""
+        """Mean |x̂ − f| (Hz) and mean |L̂ − L| (m) of every method, and the wrong orders.
+
+        Returns
+        -------
+        dict of str to float
+            Label (with its unit) to value.
+        """
         freq = {f"{m}: mean |x̂ − f| (Hz)": float(e.mean())
                 for m, e in self.frequency_errors().items()}
         lev = {f"{m}: mean |L̂ − L| (m)": float(np.mean(np.abs(v - self.level_m)))
@@ -126,8 +181,9 @@ class GaugeRun:
 
 
 def _with_true_orders(case: CaseReadings) -> CaseReadings:
-    """The readings of a synthesised recording with the true order of each (Table 3's
-    waveform simulation keeps only z).
+    """Add the true order of each reading of synthesised recordings.
+
+    Table 3's waveform simulation keeps only z.
 
     The detector leaves the sweep-rate and latency offsets in (as the paper's), so a
     reading of order n sits near n f_F + kL/c + kτ; the simulation knows both offsets and
@@ -146,7 +202,26 @@ def filter_states(method: str, case: CaseReadings, orders: np.ndarray,
                   filters: Mapping[str, Filter[Any, Any]],
                   model: StateSpaceModel | None = None
                   ) -> np.ndarray:
-    """x̂_k of every run (runs, K) by one of ``filters`` on the gauge model (eqs. 39–40)."""
+    """x̂_k of every run by one of ``filters`` on the gauge model.
+
+    Parameters
+    ----------
+    method : str
+        A key of ``filters``.
+    case : CaseReadings
+        The readings, (runs, K).
+    orders : numpy.ndarray of int, shape (runs, K−1)
+        The orders n_k.
+    filters : mapping of str to dstoolkit.filters.Filter
+        The filters by name.
+    model : dstoolkit.filters.StateSpaceModel, optional
+        The model (default :func:`~dstoolkit.gauge.gauge_state_space_model`).
+
+    Returns
+    -------
+    numpy.ndarray, shape (runs, K)
+        x̂_k, Hz.
+    """
     model = gauge_state_space_model() if model is None else model
     return filters[method].run_batch(model, case.readings[..., None],
                                      inputs=orders).estimates[..., 0]
@@ -157,10 +232,49 @@ def gauge_run(level_m: float = 4.6, temperature_c: float = 26.5,
               seed: int = 0, methods: Sequence[str] = FIG10_METHODS) -> GaugeRun:
     """One sweep at ``level_m`` filtered by ``methods`` (the paper's Figs. 10–11).
 
-    ``simulation`` and ``order_rule`` mean what they mean in
-    :func:`dstoolkit.studies.run_table3`; the filters have the paper's settings
-    (:func:`~dstoolkit.studies.paper_filters`). The true orders are known in both
-    simulations, so ``order_rule="true"`` works for either.
+    The filters have the paper's settings (:func:`paper_filters`). The true orders are known
+    in both simulations, so ``order_rule="true"`` works for either.
+
+    Parameters
+    ----------
+    level_m : float, optional
+        L, m (default 4.6).
+    temperature_c : float, optional
+        Air temperature, °C (default 26.5).
+    simulation : {"frequency", "waveform"}, optional
+        As in :func:`run_table3`.
+    order_rule : {"eq43", "fit", "true"}, optional
+        As in :func:`run_table3`.
+    seed : int, optional
+        Seed of the readings and of the particle filter.
+    methods : sequence of str, optional
+        Keys of :func:`paper_filters` (default the two of Fig. 10,
+        ``("dependent_evidence", "nassreddine")``).
+
+    Returns
+    -------
+    GaugeRun
+        The readings, the truth and every method's estimates.
+
+    Raises
+    ------
+    InvalidInputError
+        An unknown simulation, order rule or method.
+
+    See Also
+    --------
+    run_table3 : The same on many runs and levels.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (32), (39)–(43), Figs. 10–11.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import gauge_run
+    >>> run = gauge_run(4.6, 26.5, methods=("dependent_evidence",))
+    >>> run.readings.shape, run.orders.shape, sorted(run.levels())
+    ((40,), (39,), ['dependent_evidence', 'direct'])
     """
     if simulation == "frequency":
         (case,) = frequency_readings(level_m, temperature_c, 1, seed)
@@ -187,8 +301,42 @@ def gauge_run(level_m: float = 4.6, temperature_c: float = 26.5,
 
 def table3_rows(table: Table3, methods: Sequence[str] = ("dependent_evidence", "nassreddine",
                                                             "direct")) -> list[list[Any]]:
-    """Rows ``[L, T, ours, paper, ours, paper, ...]`` of Table 3 for ``methods``, the
-    paper's printed value (or "—" where it has none) beside each of ours."""
+    """Rows ``[L, T, ours, paper, ours, paper, ...]`` of Table 3 for ``methods``.
+
+    Parameters
+    ----------
+    table : Table3
+        The reproduced table.
+    methods : sequence of str, optional
+        Methods of the table, in the order wanted (default the three the paper prints).
+
+    Returns
+    -------
+    list of list
+        Per case: the level and temperature as text, then each method's error (m) beside the
+        paper's printed value (or "—" where it has none).
+
+    Raises
+    ------
+    KeyError
+        A method the table does not hold.
+
+    See Also
+    --------
+    run_table3 : Makes the table.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), Table 3.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import run_table3, table3_rows
+    >>> table = run_table3(runs=2, cases=[(1.3, 27.0)], methods=("direct",), progress=False)
+    >>> row = table3_rows(table, methods=("direct",))[0]
+    >>> row[:2], row[3]
+    (['1.3', '27.0'], 0.238)
+    """
     rows = []
     for level, temp in dict.fromkeys((r.level_m, r.temperature_c) for r in table.rows):
         row: list[Any] = [f"{level:.1f}", f"{temp:.1f}"]
@@ -203,11 +351,43 @@ def table3_rows(table: Table3, methods: Sequence[str] = ("dependent_evidence", "
 
 def all_filters(seed: int = 0, *, p: int = 3, start: str = "observation",
                 n_particles: int = 500) -> dict[str, Any]:
-    """Every filter with the paper's settings (p cuts, ε = 0.05, Θ = mode ± 100σ of the
-    noise the model assumes) and the rivals' defaults. The evidential filters fall back
-    instead of raising on total conflict, as in Table 3; the bounded-error filter restarts
-    from the reading when its box becomes empty (:func:`noise_mismatch` also runs it strictly
-    to count the runs where it fails). ``start`` is the paper's filter's x̂_1."""
+    """Every filter of the toolkit with the paper's settings and the rivals' defaults.
+
+    The evidential filters use p cuts, ε = 0.05 and Θ = mode ± 100σ of the noise the model
+    assumes, and fall back instead of raising on total conflict, as in Table 3; the
+    bounded-error filter restarts from the reading when its box becomes empty
+    (:func:`noise_mismatch` also runs it strictly to count the runs where it fails).
+
+    Parameters
+    ----------
+    seed : int, optional
+        Seed of the particle filter.
+    p : int, optional
+        α-cuts of the evidential filters (default 3).
+    start : str, optional
+        The paper's filter's x̂_1 (default ``"observation"``).
+    n_particles : int, optional
+        Particles of the particle filter (default 500).
+
+    Returns
+    -------
+    dict of str to dstoolkit.filters.Filter
+        The filters by the names of :data:`ALL_FILTERS`.
+
+    See Also
+    --------
+    paper_filters : The filters of Table 3.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.3.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import ALL_FILTERS, all_filters
+    >>> tuple(all_filters()) == ALL_FILTERS
+    True
+    """
     return {
         "dependent_evidence": DependentEvidenceFilter(p=p, epsilon=0.05, start=start,
                                                       on_conflict="predict"),
@@ -221,8 +401,29 @@ def all_filters(seed: int = 0, *, p: int = 3, start: str = "observation",
 
 @dataclass(frozen=True)
 class TrackingData:
-    """Runs of the gauge's eqs. 39–40 with both noises: truth and readings (runs, K) in Hz
-    and the true orders n_1..n_{K−1} that drive eq. 39."""
+    """Runs of the gauge's eqs. (39)–(40) with both noises. Made by :func:`tracking_data`.
+
+    Parameters
+    ----------
+    level_m : float
+        L, m.
+    temperature_c : float
+        Air temperature, °C.
+    truth : numpy.ndarray, shape (runs, K)
+        The states x_k, Hz.
+    readings : numpy.ndarray, shape (runs, K)
+        z_k, Hz.
+    orders : numpy.ndarray of int, shape (runs, K−1)
+        The true orders n_1..n_{K−1} that drive eq. (39).
+    state_noise : dstoolkit.filters.BoundedNoise
+        The true v, Hz.
+    obs_noise : dstoolkit.filters.BoundedNoise
+        The true w, Hz.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (39)–(40).
+    """
 
     level_m: float
     temperature_c: float
@@ -236,9 +437,46 @@ class TrackingData:
 def tracking_data(level_m: float = 4.6, temperature_c: float = 26.5, runs: int = 20,
                   seed: int = 0, state_noise: BoundedNoise = GAUGE_STATE_NOISE,
                   obs_noise: BoundedNoise = GAUGE_OBS_NOISE) -> TrackingData:
-    """Simulate eqs. 39–40 from the first resonance of the band: x_{k+1} = x_k (n_k + 1)/n_k
-    + v_k, z_k = x_k − w_k, with the true orders (the estimator of n_k is studied apart) and
-    the given true noises (default: the paper's)."""
+    """Simulate the gauge's eqs. (39)–(40) from the first resonance of the band.
+
+    x_{k+1} = x_k (n_k + 1)/n_k + v_k, z_k = x_k − w_k, with the true orders (the estimator
+    of n_k is studied apart) and the given true noises.
+
+    Parameters
+    ----------
+    level_m : float, optional
+        L, m (default 4.6).
+    temperature_c : float, optional
+        Air temperature, °C (default 26.5).
+    runs : int, optional
+        Number of runs (default 20).
+    seed : int, optional
+        Seed of the noises.
+    state_noise : dstoolkit.filters.BoundedNoise, optional
+        The true v, Hz (default the paper's).
+    obs_noise : dstoolkit.filters.BoundedNoise, optional
+        The true w, Hz (default the paper's).
+
+    Returns
+    -------
+    TrackingData
+        Truth and readings (runs, K), Hz, and the orders (runs, K−1).
+
+    See Also
+    --------
+    noise_mismatch : Filters the data with other assumed noises.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (39)–(40), Tables 1–2.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import tracking_data
+    >>> data = tracking_data(runs=3)
+    >>> data.readings.shape, data.orders.shape
+    ((3, 40), (3, 39))
+    """
     c = float(speed_of_sound(temperature_c))
     n, f = resonance_frequencies(level_m, c)
     model = gauge_state_space_model(state_noise, obs_noise)
@@ -252,11 +490,20 @@ def tracking_data(level_m: float = 4.6, temperature_c: float = 26.5, runs: int =
 class MismatchResult:
     """Errors of every method on :class:`TrackingData` under assumed noises.
 
-    ``errors`` maps a method to |x̂ − x| (runs, K) in Hz; ``seconds`` to its wall time over
-    all runs. ``inconsistent_runs`` is the fraction of runs in which the strict bounded-error
-    filter raised :class:`~dstoolkit.errors.InconsistentDataError`, ``message`` the first such
-    message ("" when it never failed); its ``errors`` are those of the variant that restarts
-    from the reading instead.
+    Made by :func:`noise_mismatch`.
+
+    Parameters
+    ----------
+    errors : dict of str to numpy.ndarray
+        Method to |x̂ − x|, shape (runs, K), Hz. The bounded-error filter's are those of the
+        variant that restarts from the reading.
+    seconds : dict of str to float
+        Method to its wall time over all runs, s.
+    inconsistent_runs : float, optional
+        Fraction of runs in which the strict bounded-error filter raised
+        :class:`~dstoolkit.errors.InconsistentDataError`.
+    message : str, optional
+        The first such message ("" when it never failed).
     """
 
     errors: dict[str, np.ndarray]
@@ -265,23 +512,71 @@ class MismatchResult:
     message: str = ""
 
     def mean_errors(self) -> dict[str, float]:
-        """Mean |x̂ − x| (Hz) of each method over runs and steps."""
+        """Mean |x̂ − x| of each method over runs and steps.
+
+        Returns
+        -------
+        dict of str to float
+            Method to the mean error, Hz.
+        """
         return {m: float(e.mean()) for m, e in self.errors.items()}
 
     def worst_errors(self) -> dict[str, float]:
-        """Largest |x̂ − x| (Hz) of each method over runs and steps."""
+        """Largest |x̂ − x| of each method over runs and steps.
+
+        Returns
+        -------
+        dict of str to float
+            Method to the largest error, Hz.
+        """
         return {m: float(e.max()) for m, e in self.errors.items()}
 
 
 def bounded_error_failures(model: StateSpaceModel, data: TrackingData,
                            resets: np.ndarray | None = None) -> tuple[float, str]:
-    """Fraction of the runs in which the strict bounded-error filter finds the data
-    inconsistent with the model's bounds, and the first message it gives.
+    """How often the strict bounded-error filter finds the data inconsistent with the bounds.
 
-    A strict run fails exactly where the filter that restarts from the reading first
-    restarts (both compute the same boxes until then), so the runs are filtered once, in a
-    batch, by the restarting filter (or its ``resets`` (runs, steps) are passed); only the
-    first failed run is filtered strictly again, for its message.
+    A strict run fails exactly where the filter that restarts from the reading first restarts
+    (both compute the same boxes until then), so the runs are filtered once, in a batch, by
+    the restarting filter (or its ``resets`` are passed); only the first failed run is filtered
+    strictly again, for its message.
+
+    Parameters
+    ----------
+    model : dstoolkit.filters.StateSpaceModel
+        The model with the assumed bounds.
+    data : TrackingData
+        The runs.
+    resets : numpy.ndarray of bool, shape (runs, K), optional
+        The restarting filter's resets, if already computed.
+
+    Returns
+    -------
+    fraction : float
+        Fraction of the runs that fail.
+    message : str
+        The first failure's message ("" when none fails).
+
+    See Also
+    --------
+    dstoolkit.filters.BoundedErrorFilter
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §1 (set-membership estimation under bounded noise).
+
+    Examples
+    --------
+    Bounds half as wide as the noise's make the data inconsistent:
+
+    >>> from dstoolkit.gauge import GAUGE_OBS_NOISE, GAUGE_STATE_NOISE, gauge_state_space_model
+    >>> from dstoolkit.studies import bounded_error_failures, scaled_noise, tracking_data
+    >>> data = tracking_data(runs=3)
+    >>> model = gauge_state_space_model(scaled_noise(GAUGE_STATE_NOISE, 0.5),
+    ...                                 scaled_noise(GAUGE_OBS_NOISE, 0.5))
+    >>> fraction, message = bounded_error_failures(model, data)
+    >>> fraction, message.startswith("inconsistent data")
+    (1.0, True)
     """
     if resets is None:
         resets = BoundedErrorFilter(on_inconsistent="reset").run_batch(
@@ -300,8 +595,47 @@ def bounded_error_failures(model: StateSpaceModel, data: TrackingData,
 def noise_mismatch(data: TrackingData, state_noise: BoundedNoise, obs_noise: BoundedNoise,
                    methods: Sequence[str] = ALL_FILTERS, seed: int = 0,
                    start: str = "observation") -> MismatchResult:
-    """Filter ``data`` (made with the true noises) by ``methods`` that assume
-    ``state_noise`` and ``obs_noise`` (the model of eqs. 39–40 with other bounds)."""
+    """Filter ``data`` (made with the true noises) by methods that assume other noises.
+
+    Parameters
+    ----------
+    data : TrackingData
+        The runs.
+    state_noise : dstoolkit.filters.BoundedNoise
+        The v the methods assume, Hz.
+    obs_noise : dstoolkit.filters.BoundedNoise
+        The w the methods assume, Hz.
+    methods : sequence of str, optional
+        Names of :func:`all_filters` (default all).
+    seed : int, optional
+        Seed of the particle filter.
+    start : str, optional
+        The paper's filter's x̂_1.
+
+    Returns
+    -------
+    MismatchResult
+        The errors (runs, K), Hz, and wall times of every method, and how often the strict
+        bounded-error filter fails.
+
+    See Also
+    --------
+    bound_scale_study : This study over a range of bound scales.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (39)–(40), Tables 1–2.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import GAUGE_OBS_NOISE, GAUGE_STATE_NOISE
+    >>> from dstoolkit.studies import noise_mismatch, tracking_data
+    >>> data = tracking_data(runs=3)
+    >>> result = noise_mismatch(data, GAUGE_STATE_NOISE, GAUGE_OBS_NOISE,
+    ...                         methods=("kalman", "bounded_error"))
+    >>> result.errors["kalman"].shape, result.inconsistent_runs
+    ((3, 40), 0.0)
+    """
     model = gauge_state_space_model(state_noise, obs_noise)
     filters = all_filters(seed, start=start)
     errors, seconds, resets = {}, {}, None
@@ -319,8 +653,35 @@ def noise_mismatch(data: TrackingData, state_noise: BoundedNoise, obs_noise: Bou
 
 
 def scaled_noise(noise: BoundedNoise, scale: float, mode_shift: float = 0.0) -> BoundedNoise:
-    """The noise with its bounds moved ``scale`` times as far from the mode, and the mode
-    (and the bounds with it) shifted by ``mode_shift``."""
+    """Scale a noise's bounds about its mode by ``scale``, and shift it by ``mode_shift``.
+
+    Parameters
+    ----------
+    noise : dstoolkit.filters.BoundedNoise
+        A one-dimensional noise.
+    scale : float
+        Factor on the distances of the bounds from the mode.
+    mode_shift : float, optional
+        Shift of the mode and the bounds, in the noise's unit (default 0).
+
+    Returns
+    -------
+    dstoolkit.filters.BoundedNoise
+        The scaled noise.
+
+    Raises
+    ------
+    EvidenceError
+        A negative scale (the bounds would cross the mode).
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import BoundedNoise
+    >>> from dstoolkit.studies import scaled_noise
+    >>> noise = scaled_noise(BoundedNoise(-1.0, 0.0, 2.0), 2.0, mode_shift=1.0)
+    >>> float(noise.lower[0]), float(noise.mode[0]), float(noise.upper[0])
+    (-1.0, 1.0, 5.0)
+    """
     c = noise.mode + mode_shift
     return BoundedNoise(c - scale * (noise.mode - noise.lower), c,
                         c + scale * (noise.upper - noise.mode))
@@ -329,7 +690,41 @@ def scaled_noise(noise: BoundedNoise, scale: float, mode_shift: float = 0.0) -> 
 def bound_scale_study(data: TrackingData, scales: Sequence[float],
                       methods: Sequence[str] = ALL_FILTERS, seed: int = 0,
                       start: str = "observation") -> dict[float, MismatchResult]:
-    """:func:`noise_mismatch` with both noises' bounds scaled about their modes."""
+    """:func:`noise_mismatch` with both noises' bounds scaled about their modes.
+
+    Parameters
+    ----------
+    data : TrackingData
+        The runs.
+    scales : sequence of float
+        The factors on the bounds' distances from the modes.
+    methods : sequence of str, optional
+        Names of :func:`all_filters` (default all).
+    seed : int, optional
+        Seed of the particle filter.
+    start : str, optional
+        The paper's filter's x̂_1.
+
+    Returns
+    -------
+    dict of float to MismatchResult
+        Scale to the result.
+
+    See Also
+    --------
+    scaled_noise, noise_mismatch
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), Tables 1–2.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import bound_scale_study, tracking_data
+    >>> study = bound_scale_study(tracking_data(runs=2), [1.0, 2.0], methods=("kalman",))
+    >>> sorted(study)
+    [1.0, 2.0]
+    """
     return {float(s): noise_mismatch(data, scaled_noise(data.state_noise, s),
                                      scaled_noise(data.obs_noise, s), methods, seed, start)
             for s in scales}
@@ -340,8 +735,37 @@ def bound_scale_study(data: TrackingData, scales: Sequence[float],
 
 def start_study(data: TrackingData, starts: Sequence[str] = ("observation", "mean_corrected")
                 ) -> dict[str, np.ndarray]:
-    """|x̂_k − x_k| (runs, K) of the paper's filter started from z_1 (the paper) and from
-    z_1 + E[w]; the model assumes the data's true noises."""
+    """|x̂_k − x_k| of the paper's filter started from z_1 (the paper) and from z_1 + E[w].
+
+    The model assumes the data's true noises.
+
+    Parameters
+    ----------
+    data : TrackingData
+        The runs.
+    starts : sequence of str, optional
+        The starts to compare (default ``"observation"`` and ``"mean_corrected"``).
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        Start to the errors, shape (runs, K), Hz.
+
+    See Also
+    --------
+    dstoolkit.filters.DependentEvidenceFilter
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §3.2 (the start x̂_1).
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import start_study, tracking_data
+    >>> errors = start_study(tracking_data(runs=2))
+    >>> sorted(errors), errors["observation"].shape
+    (['mean_corrected', 'observation'], (2, 40))
+    """
     model = gauge_state_space_model(data.state_noise, data.obs_noise)
     return {s: np.abs(DependentEvidenceFilter(start=s, on_conflict="predict")
                       .run_batch(model, data.readings, inputs=data.orders).estimates[..., 0]
@@ -353,9 +777,27 @@ def start_study(data: TrackingData, starts: Sequence[str] = ("observation", "mea
 
 @dataclass(frozen=True)
 class OrderRuleStudy:
-    """Mean absolute level error (m) per order rule and method at every level, the
-    fraction of wrong orders per rule (``wrong``), and the mean absolute error of the
-    series fit's own level c/(2 f_F) (``slope``, no orders needed), for one simulation."""
+    """Level errors per order rule and method at every level, for one simulation.
+
+    Made by :func:`order_rule_study`.
+
+    Parameters
+    ----------
+    simulation : str
+        ``"frequency"`` or ``"waveform"``.
+    levels : numpy.ndarray, shape (C,)
+        The levels of the cases, m.
+    errors : dict of str to dict of str to numpy.ndarray
+        Rule to method to the mean absolute level error per case, shape (C,), m.
+    wrong : dict of str to numpy.ndarray
+        Rule to the fraction of wrong orders per case, shape (C,).
+    slope : numpy.ndarray, shape (C,)
+        Mean absolute error of the series fit's own level c/(2 f_F) (no orders needed), m.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (32) and (43).
+    """
 
     simulation: str
     levels: np.ndarray
@@ -368,9 +810,46 @@ def order_rule_study(simulation: Simulation = "frequency", runs: int = 30, seed:
                      rules: Sequence[OrderRule] = ("eq43", "fit", "true"),
                      methods: Sequence[str] = ("direct", "dependent_evidence"),
                      cases: Sequence[tuple[float, float]] = TABLE3_CASES) -> OrderRuleStudy:
-    """Level errors of ``methods`` with n_k from each rule, on the same readings (Table 3's
-    seeds). In the waveform simulation the true orders come from the known offsets, as in
-    :func:`gauge_run`."""
+    """Level errors of ``methods`` with n_k from each rule, on the same readings.
+
+    The readings are Table 3's (the same seeds). In the waveform simulation the true orders
+    come from the known offsets, as in :func:`gauge_run`.
+
+    Parameters
+    ----------
+    simulation : {"frequency", "waveform"}, optional
+        As in :func:`run_table3`.
+    runs : int, optional
+        Runs per case (default 30).
+    seed : int, optional
+        Seed, as in :func:`run_table3`.
+    rules : sequence of str, optional
+        Order rules (default ``"eq43"``, ``"fit"``, ``"true"``).
+    methods : sequence of str, optional
+        ``"direct"`` and names of :func:`paper_filters`.
+    cases : sequence of (float, float), optional
+        (level in m, temperature in °C) (default :data:`TABLE3_CASES`).
+
+    Returns
+    -------
+    OrderRuleStudy
+        The errors per rule, method and case, and the wrong orders per rule.
+
+    See Also
+    --------
+    dstoolkit.gauge.orders_eq43, dstoolkit.gauge.fit_resonance_series
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eqs. (32) and (43), Table 3.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import order_rule_study
+    >>> study = order_rule_study(runs=2, cases=[(1.3, 27.0)], methods=("direct",))
+    >>> sorted(study.errors), study.errors["true"]["direct"].shape
+    (['eq43', 'fit', 'true'], (1,))
+    """
     filters = paper_filters(seed)
     seeds = np.random.SeedSequence(seed).generate_state(len(cases))
     errors: dict[str, dict[str, np.ndarray]] = {
@@ -399,9 +878,51 @@ def order_rule_study(simulation: Simulation = "frequency", runs: int = 30, seed:
 def table3_readings(level_m: float, temperature_c: float, runs: int, seed: int = 0,
                     simulation: Simulation = "frequency",
                     cases: Sequence[tuple[float, float]] = TABLE3_CASES) -> list[CaseReadings]:
-    """The readings :func:`~dstoolkit.studies.run_table3` draws for the case
-    (level_m, temperature_c) with the same ``runs``, ``seed`` and ``cases`` (its seed is
-    the case's entry of ``SeedSequence(seed)``), with the true orders in both simulations."""
+    """Draw the readings :func:`run_table3` draws for one case, with the true orders.
+
+    The same ``runs``, ``seed`` and ``cases`` give the same readings (the case's seed is its
+    entry of ``SeedSequence(seed)``), in both simulations.
+
+    Parameters
+    ----------
+    level_m : float
+        L, m: one of the levels of ``cases``.
+    temperature_c : float
+        Air temperature, °C.
+    runs : int
+        Runs.
+    seed : int, optional
+        Seed, as in :func:`run_table3`.
+    simulation : {"frequency", "waveform"}, optional
+        As in :func:`run_table3`.
+    cases : sequence of (float, float), optional
+        The cases (default :data:`TABLE3_CASES`).
+
+    Returns
+    -------
+    list of CaseReadings
+        One batch per number of readings (one in the frequency simulation).
+
+    Raises
+    ------
+    InvalidInputError
+        A level that is not one of the cases.
+
+    See Also
+    --------
+    filter_level_errors : Table 3's figure for other filters on these readings.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), Table 3.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import table3_readings
+    >>> (case,) = table3_readings(1.3, 27.0, runs=2)
+    >>> case.readings.shape == case.true_orders.shape
+    True
+    """
     levels = [c[0] for c in cases]
     if level_m not in levels:
         raise InvalidInputError(f"level {level_m} m is not one of the cases {levels}")
@@ -415,8 +936,38 @@ def table3_readings(level_m: float, temperature_c: float, runs: int, seed: int =
 def filter_level_errors(filters: Mapping[str, Filter[Any, Any]],
                         batches: Sequence[CaseReadings],
                         order_rule: OrderRule = "true") -> dict[str, float]:
-    """Table 3's figure, the mean over runs of the mean |L̂_k − L| (eq. 32), for every
-    filter of ``filters`` (any settings) on the same readings ``batches``."""
+    """Table 3's figure for every filter of ``filters`` (any settings) on the same readings.
+
+    Parameters
+    ----------
+    filters : mapping of str to dstoolkit.filters.Filter
+        The filters by name.
+    batches : sequence of CaseReadings
+        The readings (:func:`table3_readings`).
+    order_rule : {"eq43", "fit", "true"}, optional
+        How n_k is obtained (default ``"true"``).
+
+    Returns
+    -------
+    dict of str to float
+        Name to the mean over runs of the mean |L̂_k − L|, m.
+
+    See Also
+    --------
+    run_table3 : The paper's filters on every case.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eq. (32), Table 3.
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import KalmanFilter
+    >>> from dstoolkit.studies import filter_level_errors, table3_readings
+    >>> errors = filter_level_errors({"kalman": KalmanFilter()}, table3_readings(1.3, 27.0, 2))
+    >>> sorted(errors)
+    ['kalman']
+    """
     orders = [estimate_orders(b, order_rule) for b in batches]
     return {name: float(np.mean(np.concatenate([
         np.mean(np.abs(estimate_levels(name, b, n, filters) - b.level_m), axis=1)
@@ -428,8 +979,25 @@ def filter_level_errors(filters: Mapping[str, Filter[Any, Any]],
 
 @dataclass(frozen=True)
 class ExampleComparison:
-    """Every filter on the predator–prey example: truth and readings (runs, T, 2), the
-    estimates of each method (runs, T, 2), and its wall time per run (s)."""
+    """Every filter on the predator–prey example. Made by :func:`example_comparison`.
+
+    Parameters
+    ----------
+    model : dstoolkit.filters.StateSpaceModel
+        The example's model.
+    truth : numpy.ndarray, shape (runs, T, 2)
+        The states (log-populations).
+    readings : numpy.ndarray, shape (runs, T, 2)
+        The readings.
+    estimates : dict of str to numpy.ndarray
+        Method to x̂, shape (runs, T, 2).
+    seconds_per_run : dict of str to float
+        Method to its wall time per run, s.
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §3 (the filter on a general model).
+    """
 
     model: StateSpaceModel
     truth: np.ndarray
@@ -438,12 +1006,29 @@ class ExampleComparison:
     seconds_per_run: dict[str, float]
 
     def rms_errors(self) -> dict[str, float]:
-        """Root mean square of |x̂ − x| (Euclidean, log-populations) over runs and steps."""
+        """Root mean square of |x̂ − x| (Euclidean, log-populations) over runs and steps.
+
+        Returns
+        -------
+        dict of str to float
+            Method to the RMS error.
+        """
         return {m: float(np.sqrt(np.mean(np.sum((x - self.truth) ** 2, axis=-1))))
                 for m, x in self.estimates.items()}
 
     def step_errors(self, run: int = 0) -> dict[str, np.ndarray]:
-        """|x̂_k − x_k| (Euclidean) per step of one run."""
+        """|x̂_k − x_k| (Euclidean) per step of one run.
+
+        Parameters
+        ----------
+        run : int, optional
+            The run (default 0).
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            Method to the errors, shape (T,).
+        """
         return {m: np.linalg.norm(x[run] - self.truth[run], axis=-1)
                 for m, x in self.estimates.items()}
 
@@ -452,8 +1037,41 @@ def example_comparison(steps: int = 60, runs: int = 4, seed: int = 0, p: int = 2
                        methods: Sequence[str] = ALL_FILTERS) -> ExampleComparison:
     """Run every filter on :func:`~dstoolkit.filters.simulate_lotka_volterra`.
 
-    ``p`` cuts for both evidential filters: the paper's filter fuses (p + 1)^10 products per
-    step on a two-dimensional state (1 048 576 for p = 3), so the chapter uses p = 2.
+    The paper's filter fuses (p + 1)^10 products per step on a two-dimensional state
+    (1 048 576 for p = 3), so the chapter uses p = 2.
+
+    Parameters
+    ----------
+    steps : int, optional
+        Steps T (default 60).
+    runs : int, optional
+        Runs (default 4).
+    seed : int, optional
+        Seed of the simulation and the particle filter.
+    p : int, optional
+        α-cuts of both evidential filters (default 2).
+    methods : sequence of str, optional
+        Names of :func:`all_filters` (default all).
+
+    Returns
+    -------
+    ExampleComparison
+        Truth, readings and every method's estimates, (runs, T, 2).
+
+    See Also
+    --------
+    dstoolkit.filters.simulate_lotka_volterra
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §3.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import example_comparison
+    >>> result = example_comparison(steps=10, runs=2, methods=("kalman",))
+    >>> result.estimates["kalman"].shape
+    (2, 10, 2)
     """
     model, x, z = simulate_lotka_volterra(steps=steps, runs=runs, seed=seed)
     filters = all_filters(seed, p=p)

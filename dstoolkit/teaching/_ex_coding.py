@@ -522,7 +522,7 @@ coding_exercise(
 def _bounded_reference(box: Any, v: Any, w: Any, z: float) -> tuple[float, float]:
     pred = IntervalEvidence.vacuous(box[0] + v[0], box[1] + v[1])
     ev = dempster(pred, IntervalEvidence.vacuous(z + w[0], z + w[1]))
-    return float(ev.lo[0]), float(ev.hi[0])
+    return float(ev.lo_1d[0]), float(ev.hi_1d[0])
 
 
 def _bounded_cases() -> list[Case]:

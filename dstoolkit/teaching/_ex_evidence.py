@@ -53,7 +53,7 @@ def _updated(w: tuple[float, float]) -> IntervalEvidence:
                      "the next reading, so widen the box by v."),))
 def _() -> tuple[float, float]:
     ev = _predicted()
-    return float(ev.lo[0]), float(ev.hi[0])
+    return float(ev.lo_1d[0]), float(ev.hi_1d[0])
 
 
 @exercise("bounded.update",
@@ -66,7 +66,7 @@ def _() -> tuple[float, float]:
                      "both, so intersect.")))
 def _() -> tuple[float, float]:
     ev = _updated(BOUNDED_W)
-    return float(ev.lo[0]), float(ev.hi[0])
+    return float(ev.lo_1d[0]), float(ev.hi_1d[0])
 
 
 @exercise("bounded.too-tight",
@@ -313,7 +313,7 @@ def _() -> tuple[float, float]:
 
 @exercise("noise.expectation", hint="Eq. (20): Σ m·(midpoint). Where are the midpoints?")
 def _() -> float:
-    return triangular_evidence(*OBS_NOISE).pignistic_expectation()
+    return triangular_evidence(*OBS_NOISE).pignistic_expectation_1d()
 
 
 @exercise("noise.pbox", hint="Bel((−∞, x]) counts focal elements entirely left of x; "
@@ -405,16 +405,16 @@ def _() -> tuple[float, float]:
                      "equal images merge and their masses add up (eq. 14)."),))
 def _() -> float:
     im = folded_image()
-    return float(im.mass[(im.lo == 1.0) & (im.hi == 4.0)][0])
+    return float(im.mass[(im.lo_1d == 1.0) & (im.hi_1d == 4.0)][0])
 
 
 @exercise("random.expectation", hint="Eq. (20): Σ ρ(R_j)·(midpoint of R_j) over the image "
           "[1, 4], [0, 1].",
-          mistakes=((lambda: IntervalEvidence.from_pairs(FOLDED_X).pignistic_expectation() ** 2,
+          mistakes=((lambda: IntervalEvidence.from_pairs(FOLDED_X).pignistic_expectation_1d() ** 2,
                      "That is f(E[X]); the expectation of the image is taken over the image "
                      "intervals."),))
 def _() -> float:
-    return folded_image().pignistic_expectation()
+    return folded_image().pignistic_expectation_1d()
 
 
 @exercise("random.evaluations", atol=0.0, rtol=0.0,

@@ -47,9 +47,9 @@ def _innermost_prediction(twice: bool = True) -> tuple[float, float]:
     from dstoolkit.evidence import image
 
     v = triangular_evidence(*STATE_NOISE)  # innermost cut first (Table 1)
-    lo, hi = image(([PREDICT_XHAT + v.lo[0]], [PREDICT_XHAT + v.hi[0]]),
+    lo, hi = image(([PREDICT_XHAT + v.lo_1d[0]], [PREDICT_XHAT + v.hi_1d[0]]),
                    lambda x: _gauge_model().f(x, PREDICT_ORDER), monotone=[1])
-    extra = (float(v.lo[0]), float(v.hi[0])) if twice else (0.0, 0.0)
+    extra = (float(v.lo_1d[0]), float(v.hi_1d[0])) if twice else (0.0, 0.0)
     return float(lo[0]) + extra[0], float(hi[0]) + extra[1]
 
 

@@ -707,11 +707,11 @@ def dependent_combination_explorer(a2: float = 0.6, a3: float = 0.1, b2: float =
         fig, panels = drawn()
         for (bars, line), ev in zip(panels, (e1, e2, both, naive), strict=True):
             update_focal_intervals(bars, ev, xlim=(-0.4, 3.6))
-            line.set_xdata([ev.pignistic_expectation()] * 2)
+            line.set_xdata([ev.pignistic_expectation_1d()] * 2)
         return fig, {"En'(E1)": dep.energy1, "En'(E2)": dep.energy2,
                      "En'(E1,E2)": dep.joint_energy, "D": dep.degree, "R12": dep.r12,
-                     "R21": dep.r21, "E[dependent]": both.pignistic_expectation(),
-                     "E[Dempster]": naive.pignistic_expectation()}
+                     "R21": dep.r21, "E[dependent]": both.pignistic_expectation_1d(),
+                     "E[Dempster]": naive.pignistic_expectation_1d()}
 
     live = {"a2": positions(controls["a2"], 9, 0.0, 0.8)}
     return Explorer(controls, render, title="Dependent evidence: the paper's Appendix A",
@@ -758,7 +758,7 @@ def noise_evidence_explorer(
         t_lo, t_hi = default_theta(lower, mode, upper)
         return fig, {"mass per cut": (1.0 - epsilon) / p, "m(Θ)": epsilon,
                      "Θ": f"[{t_lo:.4g}, {t_hi:.4g}]",
-                     "pignistic expectation": ev.pignistic_expectation()}
+                     "pignistic expectation": ev.pignistic_expectation_1d()}
 
     live = {"p": positions(controls["p"], 8, 1, 8),
             "epsilon": positions(controls["epsilon"], 2, 0.0, 0.5)}

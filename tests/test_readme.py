@@ -1,0 +1,41 @@
+"""The README's Python examples run as written, and the filter example prints what it says:
+the public step loop ends on the estimate that ``run`` gives, and a batch is (runs, T, n)."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import re
+from pathlib import Path
+
+import pytest
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+BLOCKS = re.findall(r"```python\n(.*?)```", README.read_text(encoding="utf-8"), re.S)
+
+
+def _run(code: str) -> str:
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        exec(compile(code, str(README), "exec"), {"__name__": "__readme__"})
+    return out.getvalue()
+
+
+def test_the_readme_has_its_examples() -> None:
+    assert len(BLOCKS) >= 2
+    assert any("flt.step(" in block for block in BLOCKS)
+
+
+@pytest.mark.parametrize("index", range(len(BLOCKS)))
+def test_readme_example_runs(index: int) -> None:
+    assert _run(BLOCKS[index]).strip()
+
+
+def test_the_step_loop_ends_where_run_ends() -> None:
+    block = next(b for b in BLOCKS if "flt.step(" in b)
+    lines = _run(block).strip().splitlines()
+    assert lines[-1] == "(2, 4, 1)"
+    for line in lines[:-1]:
+        name, stepped, ran = re.fullmatch(r"(\w+) \[(\S+)\] (\S+)", line).groups()
+        assert name in {"dependent_evidence", "kalman"}
+        assert float(stepped) == pytest.approx(float(ran.strip("[]")), abs=1e-12)
