@@ -1,5 +1,6 @@
-"""Measure virtual-tube levels through the PulseAudio loopback, repeatedly
-(the lab's measurement path end to end, without a speaker or microphone).
+"""Measure virtual-tube levels through the PulseAudio loopback, repeatedly.
+
+This is the lab's measurement path end to end, without a speaker or microphone.
 
 Starts the loopback (scripts/audio-loopback.sh; stops it again if it started it), then for
 each of the paper's levels runs ``--repeat`` measurements with the paper's sweep

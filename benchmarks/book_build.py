@@ -49,8 +49,10 @@ def remove(*paths: Path) -> None:
 
 
 def timed_build() -> float:
-    """Run scripts/build-book.sh once and return its wall time in seconds (its CPU time,
-    less sensitive to the load of a shared machine, is added to CPU_SECONDS)."""
+    """Run scripts/build-book.sh once and return its wall time in seconds.
+
+    Its CPU time, less sensitive to the load of a shared machine, is added to CPU_SECONDS.
+    """
     cpu = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     result = subprocess.run(
@@ -99,8 +101,10 @@ def main() -> None:
 
 
 def print_sizes(pages: list[Path]) -> None:
-    """The size of the site and of every page's HTML (the explorers' precomputed states
-    are embedded in their page; budget: 6 MB a page)."""
+    """Print the size of the site and of every page's HTML.
+
+    The explorers' precomputed states are embedded in their page; budget: 6 MB a page.
+    """
     site = sum(f.stat().st_size for f in (BUILD / "html").rglob("*") if f.is_file())
     print(f"site _build/html: {site / 1e6:.1f} MB")
     for page in sorted(pages, key=lambda p: -p.stat().st_size):

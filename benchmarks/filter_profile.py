@@ -119,8 +119,11 @@ def counting_numpy(counts: Counter[str]) -> Iterator[None]:
 def timed_blocks(times: dict[str, list[int]], calls: dict[str, int],
                  counts: Counter[str], clock: Callable[[], int] = time.perf_counter_ns
                  ) -> Iterator[None]:
-    """Wrap each block's method: its time (ns of ``clock``) per call into ``times`` and the
-    numpy calls it made into ``calls``."""
+    """Wrap each block's method to record its calls.
+
+    Each call adds its time (ns of ``clock``) to ``times`` and the numpy calls it made to
+    ``calls``.
+    """
     step_arrays = importlib.import_module(STEP_CLASS).StepArrays
     saved = {name: getattr(step_arrays, name) for _, name in BLOCKS}
 
@@ -157,9 +160,12 @@ def numpy_call_floor(repeat: int = 2000) -> float:
 
 def profile(flt: DependentEvidenceFilter, repeat: int
             ) -> tuple[float, float, dict[str, float], dict[str, float], float]:
-    """Median run time (s) untimed; with the block timers, the median run time (s) and
-    each block's median µs per step; each block's numpy calls per step and the whole
-    run's."""
+    """Profile a filter's run, untimed and with the block timers.
+
+    Return the median run time (s) untimed; with the block timers, the median run time (s)
+    and each block's median µs per step; each block's numpy calls per step and the whole
+    run's.
+    """
     model, seq = gauge_state_space_model(), simulate_gauge(seed=0)
     steps = seq.orders.size - 1
     run = lambda: flt.run(model, seq.readings, seq.inputs)  # noqa: E731
@@ -214,8 +220,11 @@ def report(title: str, flt: DependentEvidenceFilter, repeat: int, floor: float) 
 
 
 def batch_blocks(flt: DependentEvidenceFilter, runs: int) -> tuple[float, dict[str, float]]:
-    """CPU time (s) of ``run_batch`` on ``runs`` sequences, and each block's CPU µs per run
-    and step (a batch is bound by the passes over its arrays, not by the calls)."""
+    """Time ``run_batch`` on ``runs`` sequences, in CPU time (s), and each block within it.
+
+    Each block's time is in CPU µs per run and step (a batch is bound by the passes over its
+    arrays, not by the calls).
+    """
     model, seq = gauge_state_space_model(), simulate_gauge(runs=runs, seed=1)
     steps = runs * (seq.orders.size - 1)
     flt.run_batch(model, seq.readings[:2], seq.inputs[:2])

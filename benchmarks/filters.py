@@ -93,8 +93,10 @@ register("particle", ParticleFilter, "bootstrap, 1000 particles, systematic resa
 
 
 def user_gauge_model() -> StateSpaceModel:
-    """Eqs. 39–40 as a user writes them with the public StateSpaceModel: plain numpy maps,
-    no Jacobians (finite differences)."""
+    """Build eqs. 39–40 as a user writes them with the public StateSpaceModel.
+
+    Plain numpy maps, no Jacobians (finite differences).
+    """
     def f(x: np.ndarray, u: np.ndarray) -> np.ndarray:
         return x * (u + 1.0) / u
 
@@ -115,9 +117,11 @@ MODELS: dict[str, Callable[[], StateSpaceModel]] = {
 
 def time_single(flt: Filter[Any, Any], model: StateSpaceModel, z: np.ndarray,
                 u: np.ndarray, repeat: int) -> tuple[float, float, float]:
-    """Median and best wall time (s) of one run, after a warm-up run, and the median CPU
-    time of this process (s): on a shared machine the wall time also counts the waits for
-    a core, the CPU time does not."""
+    """Time one run: median and best wall time (s), after a warm-up run, and median CPU time.
+
+    The CPU time (s) is this process's: on a shared machine the wall time also counts the
+    waits for a core, the CPU time does not.
+    """
     flt.run(model, z, u)
     times, cpu = [], []
     for _ in range(repeat):
@@ -129,8 +133,11 @@ def time_single(flt: Filter[Any, Any], model: StateSpaceModel, z: np.ndarray,
 
 
 def numpy_call_floor(steps: int, repeat: int = 200) -> float:
-    """Median time (s) per iteration of a loop of ``steps`` iterations, each making one
-    numpy call on one-element arrays: what a step costs per numpy call it makes."""
+    """Measure the median time (s) per iteration of a loop making one numpy call each.
+
+    The loop has ``steps`` iterations, each making one numpy call on one-element arrays:
+    what a step costs per numpy call it makes.
+    """
     a, b, c = np.ones(1), np.ones(1), np.empty(1)
     times = []
     for _ in range(repeat):

@@ -1,7 +1,8 @@
-"""Time the gauge: synthesise one recording (5 s, 44.1 kHz, the paper's sweep) and detect
-its resonances, at three levels, noise-free and noisy; then one observation-noise
-characterisation over the paper's 30 calibration levels (what Table 3's waveform-level
-simulation repeats for every run).
+"""Time the gauge: synthesise one recording and detect its resonances.
+
+The recording lasts 5 s at 44.1 kHz with the paper's sweep, at three levels, noise-free and
+noisy; then one observation-noise characterisation over the paper's 30 calibration levels
+(what Table 3's waveform-level simulation repeats for every run).
 
 Prints medians of repeated runs. Run: python benchmarks/gauge_synthesis.py
 """

@@ -106,8 +106,10 @@ class Probe:
 
 
 def classify(probe: Probe) -> tuple[str, str]:
-    """(outcome, detail): outcome is error (clean), ok (a valid result), traceback, wrong or
-    hang."""
+    """Classify a probe's result as (outcome, detail).
+
+    The outcome is error (clean), ok (a valid result), traceback, wrong or hang.
+    """
     def alarm(signum: int, frame: Any) -> None:
         raise Hang()
 
@@ -267,8 +269,11 @@ def command_probes(folder: Path) -> Iterator[Probe]:
         return path
 
     def command(argv: list[str], protect: list[Path], expect: str) -> Callable[[], Any]:
-        """Run the command line in this process; a one-line error, and protected files
-        unchanged, or the exit status 0 when it must succeed."""
+        """Run the command line in this process and check its outcome.
+
+        Expected: a one-line error, and protected files unchanged, or the exit status 0 when
+        it must succeed.
+        """
         def run() -> int:
             before = {p: p.read_bytes() for p in protect if p.is_file()}
             err = io.StringIO()
@@ -492,8 +497,10 @@ def _as_dict(e: Any) -> dict:
 
 
 class _Crafted:
-    """Pickles as an object of another class with a chosen state (no constructor): what
-    the default pickle of a plain object holds."""
+    """Pickle as an object of another class with a chosen state (no constructor).
+
+    This is what the default pickle of a plain object holds.
+    """
 
     def __init__(self, cls: type, state: dict) -> None:
         self.cls, self.state = cls, state
@@ -664,8 +671,10 @@ def _nested(depth: int) -> Any:
 
 
 def _run_cli(argv: list[str], folder: Path) -> tuple[int, str]:
-    """cli.main in this process, from ``folder``: (status, stderr); a KeyboardInterrupt that
-    escapes becomes a RuntimeError (a traceback at the terminal)."""
+    """Run cli.main in this process, from ``folder``, and return (status, stderr).
+
+    A KeyboardInterrupt that escapes becomes a RuntimeError (a traceback at the terminal).
+    """
     err = io.StringIO()
     cwd = os.getcwd()
     os.chdir(folder)
@@ -703,8 +712,10 @@ def race_probes(folder: Path) -> Iterator[Probe]:
         return sub
 
     def appears(which: str) -> Callable[[], Any]:
-        """A file appears at the CSV (or the figure) while table3 computes: it must
-        survive, and the command must say so."""
+        """Make a file appear at the CSV (or the figure) while table3 computes.
+
+        The file must survive, and the command must say so.
+        """
         def run() -> Any:
             sub = fresh()
             target = sub / ("t.csv" if which == "csv" else "t.png")
@@ -788,8 +799,11 @@ def race_probes(folder: Path) -> Iterator[Probe]:
 
 
 def signal_probes(folder: Path) -> Iterator[Probe]:
-    """table3 in a child process, stopped by a signal once its CSV is written (its figure
-    being drawn): one line, the shell's exit status, no file left."""
+    """Run table3 in a child process, stopped by a signal once its CSV is written.
+
+    Its figure is being drawn then. Expected: one line, the shell's exit status, no file
+    left.
+    """
     c = "signals"
     counter = itertools.count()
 
@@ -909,7 +923,7 @@ def budget_probes(folder: Path) -> Iterator[Probe]:
 
 
 def boundary_probes() -> Iterator[Probe]:
-    """What the filters are given (the lead's part of the second pass)."""
+    """Probe what the filters are given (the lead's part of the second pass)."""
     c = "filters' boundary (lead)"
     from dstoolkit.filters import StateSpaceModel
 

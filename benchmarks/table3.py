@@ -1,5 +1,7 @@
-"""Wall time of the full Table 3 reproduction: 10 levels × 100 runs × all methods,
-frequency-level and waveform-level. Run: python benchmarks/table3.py [--runs N] [--only K]
+"""Wall time of the full Table 3 reproduction.
+
+10 levels × 100 runs × all methods, frequency-level and waveform-level. Run: python
+benchmarks/table3.py [--runs N] [--only K]
 """
 
 from __future__ import annotations

@@ -113,7 +113,7 @@ def in_kernel(changes: dict[str, tuple], n: int) -> dict[str, list[float]]:
 
 
 def in_process(changes: int) -> dict[str, list[float]]:
-    """The filter widget's changes without a kernel, split into filter run, figure and PNG."""
+    """Time the filter widget's changes without a kernel: filter run, figure and PNG."""
     import matplotlib
 
     matplotlib.use("Agg")

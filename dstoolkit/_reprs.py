@@ -17,7 +17,7 @@ DIGITS = 4
 
 
 def short_number(value: Any) -> str:
-    """A float (or array of floats) to :data:`DIGITS` significant digits; others as repr."""
+    """Format a float (or array of floats) to :data:`DIGITS` significant digits; others as repr."""
     if isinstance(value, bool | np.bool_):
         return repr(bool(value))
     if isinstance(value, float | np.floating):

@@ -67,7 +67,13 @@ sphinx["latex_elements"] = {
     # wide tables and long lines of code outputs break instead of running off the page
     "sphinxsetup": "verbatimwrapslines=true, verbatimforcewraps=true",
     # the part "Back matter" and every chapter after it are not numbered, as on the web
+    # the outline (bookmarks): every chapter and section (Sphinx asks hyperref for depth
+    # 5), numbered as in the text, open on the chapters
+    "passoptionstopackages": r"\PassOptionsToPackage{bookmarksnumbered,bookmarksopen,"
+                             r"bookmarksopenlevel=0}{hyperref}",
+    # accsupp: each figure's description as its alternate text (book/_ext/dstoolkit_pdf.py)
     "preamble": r"""\usepackage{amssymb}
+\usepackage{accsupp}
 \makeatletter
 \let\dstk@part\part
 \renewcommand{\part}[1]{\def\dstk@title{#1}\def\dstk@back{Back matter}%

@@ -12,7 +12,10 @@
 * every page's first load (everything fetched until ``load``), gzipped, stays within the
   budget: 1.5 MB, and 1 MB for a page without an explorer;
 * on one explorer page the first slider is reached in fewer than 15 Tab presses from the
-  top of the article.
+  top of the article with the skip link, and without it the Tab order is the text's links
+  and controls in order, nothing else (no formula);
+* at 320 CSS px every box that scrolls sideways (code, tables, outputs, formulas) takes the
+  keyboard focus and has a name (axe's scrollable-region-focusable).
 
 The browser is conftest's ``chromium`` fixture and the site is test_book_browser's ``site``
 (the book built by scripts/build-book.sh, served on 127.0.0.1). Without Chromium the tests
@@ -79,20 +82,23 @@ def _settle(page: object) -> None:
     page.wait_for_timeout(300)
 
 
-def _axe(page: object) -> list[dict]:
+def _axe(page: object, *, rules: list[str] | None = None) -> list[dict]:
+    """axe's violations on ``page``: of the rule sets AXE_TAGS, or of ``rules`` only."""
     if not AXE.is_file():
         browser_unavailable(f"{AXE} missing: run `npm ci` (scripts/build-book.sh does)")
-    page.add_script_tag(path=str(AXE))
+    if not page.evaluate("typeof window.axe !== 'undefined'"):
+        page.add_script_tag(path=str(AXE))
+    run_only = {"type": "rule", "values": rules} if rules else {"type": "tag",
+                                                                 "values": AXE_TAGS}
     return page.evaluate(
-        """async (tags) => {
-          const result = await axe.run(document, {
-            runOnly: {type: 'tag', values: tags}, resultTypes: ['violations']});
+        """async (runOnly) => {
+          const result = await axe.run(document, {runOnly, resultTypes: ['violations']});
           return result.violations.map(v => ({
             id: v.id, impact: v.impact, help: v.help,
             nodes: v.nodes.map(n => ({target: n.target.join(' '),
                                       summary: n.failureSummary,
                                       html: n.html.slice(0, 200)}))}));
-        }""", AXE_TAGS)
+        }""", run_only)
 
 
 #: What one visit of a page found, by (page, mode): each page is opened once per colour
@@ -117,6 +123,12 @@ _WIDTHS_JS = """() => ({
     }).slice(0, 5).map(el => el.tagName + '.' + el.className)})"""
 
 
+#: Boxes of the article that scroll sideways, and whether each takes the focus with a name.
+_SCROLLING_JS = """() => Array.from(document.querySelectorAll('.bd-article *')).filter(el =>
+    el.scrollWidth > el.clientWidth + 1
+    && ['auto', 'scroll'].includes(getComputedStyle(el).overflowX)).map(el => ({
+      tag: el.tagName + '.' + el.className, tabindex: el.getAttribute('tabindex'),
+      name: el.getAttribute('aria-label') || ''}))"""
 def _report(chromium: object, site: str, toc_page: str, mode: str) -> dict:
     """Open ``toc_page`` once in ``mode`` and record what the checks read: axe's violations;
     in light mode also the sliders, the live regions, the images, and the widths after
@@ -132,6 +144,10 @@ def _report(chromium: object, site: str, toc_page: str, mode: str) -> dict:
                 page.set_viewport_size({"width": 320, "height": 900})
                 page.wait_for_timeout(500)
                 report["widths"] = page.evaluate(_WIDTHS_JS)
+                # what scrolls inside its own box now takes the keyboard focus (the
+                # page's scroll-boxes.js looks again 150 ms after a resize)
+                report["scroll_boxes"] = _axe(page, rules=["scrollable-region-focusable"])
+                report["scrolling"] = page.evaluate(_SCROLLING_JS)
                 if toc_page in {"book/recursive_filter", "book/run"}:
                     ARTIFACTS.mkdir(exist_ok=True)
                     page.screenshot(
@@ -223,6 +239,21 @@ def test_every_image_has_a_written_alt(chromium: object, site: str, page_name: s
 
 @pytest.mark.parametrize("page_name", [p for p in toc_pages()
                                        if (ROOT / f"{p}.md").is_file()])
+def test_boxes_that_scroll_take_the_keyboard_focus_at_320_px(chromium: object, site: str,
+                                                            page_name: str) -> None:
+    """At 320 CSS px, code, tables, outputs and formulas that scroll inside their own box
+    can be scrolled with the keyboard: each is a named Tab stop (axe's
+    scrollable-region-focusable finds nothing)."""
+    report = _report(chromium, site, page_name, "light")
+    assert not report["scroll_boxes"], f"{page_name}: {report['scroll_boxes']}"
+    unnamed = [box for box in report["scrolling"]
+               if box["tabindex"] == "0" and not box["name"]
+               and not box["tag"].startswith(("INPUT", "SELECT", "TEXTAREA"))]
+    assert not unnamed, f"{page_name}: boxes that scroll without a name: {unnamed[:5]}"
+
+
+@pytest.mark.parametrize("page_name", [p for p in toc_pages()
+                                       if (ROOT / f"{p}.md").is_file()])
 def test_no_sideways_scroll_at_320_px(chromium: object, site: str, page_name: str) -> None:
     widths = _report(chromium, site, page_name, "light")["widths"]
     assert widths["page"] <= widths["view"], f"{page_name} scrolls sideways at 320 px: {widths}"
@@ -299,22 +330,45 @@ def test_tab_reaches_a_slider_quickly(chromium: object, site: str) -> None:
         context.close()
 
 
-def test_no_formula_is_a_tab_stop_and_focus_is_visible(chromium: object, site: str) -> None:
+#: Marks, in document order, what may take the focus in the article before its first live
+#: slider (links, buttons, summaries, form controls, named scroll boxes) and returns how
+#: many; the slider itself is marked last.
+_MARK_TAB_STOPS_JS = """() => {
+    const slider = document.querySelector('.widget-subarea [role="slider"][tabindex="0"]');
+    const article = document.querySelector('article.bd-article');
+    const all = Array.from(article.querySelectorAll(
+      'a[href], button, summary, input, select, textarea, [tabindex="0"]'));
+    const stops = all.filter(el => !el.disabled && el.getAttribute('tabindex') !== '-1'
+      && el.getClientRects().length > 0 && getComputedStyle(el).visibility !== 'hidden'
+      && (slider.compareDocumentPosition(el) & Node.DOCUMENT_POSITION_PRECEDING));
+    stops.concat([slider]).forEach((el, i) => el.setAttribute('data-tab-stop', String(i)));
+    return stops.length; }"""
+
+
+def test_without_the_skip_link_tab_follows_the_text(chromium: object, site: str) -> None:
     """Tab through the article of TAB_PAGE up to its first slider without the skip link:
-    no stop is a formula, every stop shows where the focus is."""
+    the stops are its links and controls in the order of the text, each once (no formula,
+    nothing that is not a control), every one visibly focused; the number of presses is
+    what the text before the first explorer holds."""
     context, page = _open(chromium, site, TAB_PAGE)
     try:
         maths = page.locator("mjx-container").count()
         assert maths > 20, f"{TAB_PAGE}: {maths} formulas"
         _start_at_the_top_of_the_article(page)
-        for presses in range(1, 400):
+        page.evaluate("() => document.querySelector('.dstoolkit-skip')?.remove()")
+        expected = page.evaluate(_MARK_TAB_STOPS_JS)
+        order = []
+        for presses in range(1, expected + 2):
             page.keyboard.press("Tab")
             focused = page.evaluate(_FOCUSED_JS)
+            stop = page.evaluate("() => document.activeElement.getAttribute('data-tab-stop')")
+            order.append(stop)
             assert not focused["math"], f"{TAB_PAGE}: Tab {presses} lands on a formula"
             assert _visibly_focused(focused), f"{TAB_PAGE}: no visible focus on {focused}"
-            if focused["slider"]:
-                break
-        else:
-            pytest.fail(f"{TAB_PAGE}: Tab never reaches a slider")
+            assert stop == str(presses - 1), (
+                f"{TAB_PAGE}: Tab {presses} lands on {focused}, stop {stop}, not on the "
+                f"next link or control of the text ({presses - 1}); order so far {order}")
+        assert page.evaluate(_FOCUSED_JS)["slider"], f"{TAB_PAGE}: {order}"
+        print(f"{TAB_PAGE}: first slider at Tab {expected + 1} without the skip link")
     finally:
         context.close()

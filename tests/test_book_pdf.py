@@ -2,8 +2,11 @@
 
 Checks the PDF as a reader would get it: every chapter is in it (its title in the text of
 the PDF), its figures are there (embedded images, at least one per figure of the web
-edition), the LaTeX log has no missing glyph and no undefined reference or citation, and a
-few pages turned into PNGs (pdftoppm) are not blank. The PNGs go to test-artifacts/pdf/.
+edition), every figure carries its written description as its alternate text (the ``/Alt``
+of a marked-content span around the picture, as on the web), the outline (bookmarks) holds
+every chapter and each of its sections, the LaTeX log has no missing glyph and no undefined
+reference or citation, and a few pages turned into PNGs (pdftoppm) are not blank. The PNGs
+go to test-artifacts/pdf/.
 
 Needs XeLaTeX (TeX Live), latexmk and poppler-utils; without them the test skips, except
 when DSTOOLKIT_REQUIRE_PDF=1 (CI), where it fails.
@@ -15,6 +18,7 @@ import os
 import re
 import shutil
 import subprocess
+import zlib
 from pathlib import Path
 
 import pytest
@@ -25,7 +29,7 @@ pytestmark = pytest.mark.slow
 REQUIRE_PDF = os.environ.get("DSTOOLKIT_REQUIRE_PDF") == "1"
 LATEX_DIR = ROOT / "_build" / "latex"
 SHOTS = ARTIFACTS / "pdf"
-TOOLS = ("xelatex", "latexmk", "pdftoppm", "pdftotext", "pdfimages", "pdfinfo")
+TOOLS = ("xelatex", "latexmk", "pdftoppm", "pdftotext", "pdfimages", "pdfinfo", "pdftohtml")
 #: Lines of the LaTeX log that mean a reader sees something wrong.
 LOG_PROBLEMS = re.compile(
     r"Missing character: There is no .*|"
@@ -156,3 +160,75 @@ def test_pages_render_and_are_not_blank(pdf: Path) -> None:
         image = Image.open(prefix.with_suffix(".png")).convert("L")
         dark = image.point(lambda value: 255 if value < 128 else 0).histogram()[255]
         assert dark > 200, f"page {number} looks blank ({dark} dark pixels)"
+
+
+def _headings(page: str) -> list[str]:
+    """The chapter heading (``# ``) and the section headings (``## ``) of a page, outside
+    code, with their maths left out (an outline entry cannot hold TeX)."""
+    import jupytext
+
+    found = []
+    for cell in jupytext.read(ROOT / f"{page}.md").cells:
+        if cell.cell_type == "markdown":
+            found += re.findall(r"^##? (.+)$", cell.source, flags=re.M)
+    return [" ".join(_words(re.sub(r"\$[^$]*\$", " ", title)).split()) for title in found]
+
+
+def _outline(pdf: Path) -> list[str]:
+    """The titles of the PDF's outline (bookmarks), at every level (pdftohtml -xml)."""
+    xml = _run("pdftohtml", "-xml", "-i", "-q", "-stdout", "-f", "1", "-l", "1", pdf)
+    outline = re.search(r"<outline>.*</outline>", xml, flags=re.S)
+    assert outline, "the PDF has no outline"
+    items = re.findall(r"<item[^>]*>(.*?)</item>", outline.group(0), flags=re.S)
+    return [" ".join(_words(re.sub(r"<[^>]+>", "", item)).split()) for item in items]
+
+
+def test_the_outline_holds_every_chapter_and_section(pdf: Path) -> None:
+    outline = _outline(pdf)
+    expected = {page: _headings(page) for page in toc_pages()[1:]}
+    assert sum(len(titles) for titles in expected.values()) > 100, expected
+    missing = [f"{page}: {title!r}" for page, titles in expected.items() for title in titles
+               if not any(title in entry for entry in outline)]
+    assert not missing, f"{len(missing)} headings not in the outline: {missing[:20]}"
+
+
+_STREAM = re.compile(rb"stream\r?\n(.*?)\r?\nendstream", re.S)
+_ALT = re.compile(rb"/Alt\s*<([0-9A-Fa-f\s]*)>")
+
+
+def _alternate_texts(pdf: Path) -> list[str]:
+    """Every ``/Alt`` of a marked-content span in the PDF's (deflated) content streams."""
+    found = []
+    for stream in _STREAM.finditer(pdf.read_bytes()):
+        try:
+            data = zlib.decompress(stream.group(1))
+        except zlib.error:
+            data = stream.group(1)
+        for digits in _ALT.findall(data):
+            raw = bytes.fromhex(re.sub(rb"\s", b"", digits).decode())
+            text = raw[2:].decode("utf-16-be") if raw[:2] == b"\xfe\xff" else raw.decode()
+            found.append(" ".join(text.split()))
+    return found
+
+
+def _figure_descriptions() -> dict[str, str]:
+    """Each captioned figure's written description (its ``mystnb.image.alt``)."""
+    import jupytext
+
+    described = {}
+    for page in toc_pages():
+        for cell in jupytext.read(ROOT / f"{page}.md").cells:
+            mystnb = cell.metadata.get("mystnb", {})
+            alt = mystnb.get("image", {}).get("alt")
+            if cell.cell_type == "code" and mystnb.get("figure") and alt:
+                described[f"{page}: {mystnb['figure'].get('name')}"] = " ".join(alt.split())
+    return described
+
+
+def test_every_figure_has_its_description_as_alternate_text(pdf: Path) -> None:
+    descriptions = _figure_descriptions()
+    figures, _ = _figures_and_explorers()
+    assert len(descriptions) == figures, "a figure of the book has no written description"
+    alternates = set(_alternate_texts(pdf))
+    missing = [name for name, alt in descriptions.items() if alt not in alternates]
+    assert not missing, f"figures without their description in the PDF: {missing}"

@@ -177,6 +177,35 @@ def _step_errors() -> Figure:
                                    "dependent_evidence": rng.uniform(0.05, 1, (3, 20))})
 
 
+def _image_cases() -> dict[str, tuple[Callable[[np.ndarray], np.ndarray], float, float,
+                                       dict[str, tuple[float, float]]]]:
+    """The chapter's two functions on which the vertex method fails, and both images."""
+    return {"x²": (lambda x: x[..., 0] ** 2, -1.0, 2.0,
+                   {"vertex": (1.0, 4.0), "subdivision": (0.0, 4.0)}),
+            "sin x": (lambda x: np.sin(x[..., 0]), 0.0, 3.0,
+                      {"vertex": (0.0, float(np.sin(3.0))), "subdivision": (0.0, 1.0)})}
+
+
+@figure("plot_image_methods")
+def _image_methods() -> Figure:
+    return plots.plot_image_methods(_image_cases())
+
+
+def _sweep_inputs() -> tuple[np.ndarray, ...]:
+    """Steady-tone and sweep amplitudes of a tube with resonances 17.9 Hz apart."""
+    f = np.linspace(1500.0, 1560.0, 1200)
+    resonances = np.arange(1503.6, 1560.0, 17.9)
+    steady = np.max([1 / (1 + ((f - r) / 0.8) ** 2) for r in resonances], axis=0)
+    swept = np.max([0.8 / (1 + ((f - r - 1.9) / 1.2) ** 2) for r in resonances], axis=0)
+    return f, steady, swept, resonances
+
+
+@figure("plot_sweep_peaks")
+def _sweep_peaks() -> Figure:
+    f, steady, swept, resonances = _sweep_inputs()
+    return plots.plot_sweep_peaks(f, steady, swept, resonances, 1.9)
+
+
 @figure("plot_noise_assumption")
 def _noise_assumption() -> Figure:
     return plots.plot_noise_assumption(BoundedNoise(-10.59, -6.9, -3.21),
@@ -405,3 +434,92 @@ def test_step_errors_tell_methods_and_variants_apart_without_colour() -> None:
     fig = plots.plot_step_errors(errors)
     labels = {plots.STYLE.get(m, {"label": m})["label"] for m in errors}
     _assert_told_apart(_line_keys(fig.axes[0], labels), len(errors))
+
+
+# -- series told apart by line style or marker, and named next to them ---------------------
+
+
+def _direct_labels(ax: Axes) -> set[str]:
+    """Texts written right of the data area of ``ax`` (labels at the series' ends)."""
+    return {t.get_text() for t in ax.texts
+            if t.get_transform() == ax.transAxes and t.get_position()[0] > 1.0}
+
+
+def test_step_errors_with_end_labels_name_each_line_at_its_end() -> None:
+    """The start figure of the recursive filter's chapter: two runs of the filter and the
+    readings, raw and corrected; four styles, each series named at its end."""
+    rng = np.random.default_rng(3)
+    errors = {"filter, x̂_1 = z_1 (paper)": 7 * np.exp(-np.arange(40) / 12) + 0.3,
+              "filter, x̂_1 = z_1 + E[w]": 2 * np.exp(-np.arange(40) / 8) + 0.25,
+              "|z_k − x_k|": rng.uniform(5, 9, (6, 40)),
+              "|z_k + E[w] − x_k|": rng.uniform(0.5, 2.5, (6, 40))}
+    fig = plots.plot_step_errors(errors, end_labels=True)
+    ax = fig.axes[0]
+    _assert_told_apart(_line_keys(ax, set(errors)), len(errors))
+    assert _direct_labels(ax) == set(errors)
+    fig.savefig(io.BytesIO(), format="png")
+    boxes = [t.get_window_extent() for t in ax.texts]
+    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:]), (
+        "two end labels overlap")
+    assert not plots.plot_step_errors(errors).axes[0].texts, "end labels only when asked"
+
+
+def test_the_sweep_figure_tells_curves_and_lattices_apart_without_colour() -> None:
+    fig = _sweep_peaks()
+    ax = fig.axes[0]
+    curves = {"steady tones, eq. (29)", "sweep, read as f(u)"}
+    keys = _line_keys(ax, curves)
+    assert len(keys) == 2 and len({dashes for dashes, _, _ in keys.values()}) == 2, keys
+    assert _direct_labels(ax) == curves
+    styles = {str(c.get_linestyle()) for c in ax.collections}
+    assert len(ax.collections) == 2 and len(styles) == 2, styles
+
+
+def test_the_image_bands_differ_in_hatch_and_are_named_beside_them() -> None:
+    fig = _image_methods()
+    for ax in fig.axes:
+        hatches = [patch.get_hatch() for patch in ax.patches]
+        assert len(hatches) == 2 and len(set(hatches)) == 2 and None not in hatches, hatches
+        assert {text.split(":")[0] for text in _direct_labels(ax)} == {"vertex",
+                                                                      "subdivision"}
+    fig.savefig(io.BytesIO(), format="png")
+
+
+def test_the_resonance_kinds_differ_in_line_style_or_marker() -> None:
+    """Detected, missed and spurious resonances and the lattice n c/(2L): each entry of the
+    legend has its own (dash pattern, marker)."""
+    from dataclasses import replace
+
+    _, det, setup = _detection()
+    det = replace(det, missed=det.frequencies[:2] + 3.0, spurious=det.frequencies[:2] + 7.0)
+    fig = plots.plot_resonances(det, true_frequencies=setup.resonances(PAPER_SWEEP.band)[1])
+    legend = fig.axes[0].get_legend()
+    keys = {text.get_text().split(" (")[0]: (str(handle.get_linestyle()),
+                                             str(handle.get_marker()))
+            for text, handle in zip(legend.get_texts(), legend.legend_handles, strict=True)}
+    assert set(keys) == {"n c/(2L)", "detected z_k", "missed", "spurious"}, keys
+    assert len(set(keys.values())) == 4, f"two kinds differ in colour only: {keys}"
+    # the two kinds drawn as vertical lines: not both solid, and the spurious stems marked
+    assert keys["n c/(2L)"][0] not in ("-", "solid"), keys
+    assert keys["spurious"][1] not in ("None", "", " "), keys
+
+
+# -- the examples of the docstrings ---------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", [f"dstoolkit.plots.{info.name}" for info in
+                                  __import__("pkgutil").iter_modules(plots.__path__)])
+def test_docstring_examples_run(name: str) -> None:
+    """Every example in the docstrings of dstoolkit.plots runs (Agg) and shows what it
+    says (doctest)."""
+    import doctest
+    import importlib
+
+    import matplotlib.pyplot as plt
+
+    module = importlib.import_module(name)
+    try:
+        result = doctest.testmod(module, optionflags=doctest.ELLIPSIS, report=False)
+    finally:
+        plt.close("all")
+    assert result.failed == 0, f"{result.failed} of {result.attempted} examples failed"

@@ -219,6 +219,9 @@ def build_finished(app: Sphinx, exception: Exception | None) -> None:
 
 
 def setup(app: Sphinx) -> dict[str, object]:
-    """Register the post-build rewrite."""
+    """Register the post-build rewrite (and, for the PDF, the figures' alternate texts)."""
+    app.setup_extension("dstoolkit_pdf")
+    # boxes that scroll sideways take the keyboard focus (book/_static/scroll-boxes.js)
+    app.add_js_file("scroll-boxes.js", loading_method="defer")
     app.connect("build-finished", build_finished)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

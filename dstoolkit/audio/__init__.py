@@ -1,5 +1,7 @@
-"""Real audio for the lab: sound devices (needs the ``audio`` extra: sounddevice),
-recordings in WAV files with metadata, and the measure/analyze commands.
+"""Real audio for the lab.
+
+Sound devices (needs the ``audio`` extra: sounddevice), recordings in WAV files with
+metadata, and the measure/analyze commands.
 """
 
 from __future__ import annotations

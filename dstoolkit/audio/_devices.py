@@ -82,8 +82,10 @@ NO_DEVICE_HINT = (
 
 
 def _sounddevice() -> ModuleType:
-    """Import sounddevice, or raise :class:`~dstoolkit.errors.AudioUnavailableError` saying
-    what to install.
+    """Import sounddevice.
+
+    Raise :class:`~dstoolkit.errors.AudioUnavailableError` saying what to install when it
+    cannot be imported.
 
     Without the PortAudio library ``import sounddevice`` raises ``OSError`` (not
     ``ImportError``); without the package it raises ``ImportError``. Both are caught.
@@ -339,7 +341,7 @@ def calibration_chirp(
     f_stop_hz: float = 5000.0,
     amplitude: float = 0.5,
 ) -> np.ndarray:
-    """A short windowed linear chirp whose autocorrelation has one sharp peak.
+    """Make a short windowed linear chirp whose autocorrelation has one sharp peak.
 
     Played before the sweep in the same stream, its position in the recording gives the
     audio latency τ that shifts every detected resonance (the paper's §4.3;
@@ -441,7 +443,7 @@ class PlayRecordResult:
     dropped_samples: bool
 
     def segment(self, start: int, length: int, latency: LatencyEstimate) -> np.ndarray:
-        """The recording of ``played[start:start + length]``, corrected for the latency.
+        """Return the recording of ``played[start:start + length]``, corrected for the latency.
 
         Parameters
         ----------
@@ -585,7 +587,7 @@ def play_record(
 
 
 def sound_server_problem() -> str | None:
-    """What is wrong with the PulseAudio server the environment points at, or None.
+    """Say what is wrong with the PulseAudio server the environment points at, or None.
 
     Returns
     -------

@@ -151,9 +151,11 @@ def estimate_level(
     temperature_uncertainty_c: float = DEFAULT_TEMPERATURE_UNCERTAINTY_C,
     speed_model: SpeedModel = "paper",
 ) -> LevelEstimate:
-    """Level and uncertainty from detected resonances (eqs. 32, 35), see
-    :class:`LevelEstimate`. Missed resonances are fine: the fit uses the detection's
-    ``steps``, which jump over them."""
+    """Estimate the level and its uncertainty from detected resonances (eqs. 32, 35).
+
+    See :class:`LevelEstimate`. Missed resonances are fine: the fit uses the detection's
+    ``steps``, which jump over them.
+    """
     if not math.isfinite(temperature_c) or not -50.0 <= temperature_c <= 100.0:
         raise InvalidInputError(f"temperature_c = {temperature_c} °C is not an air temperature")
     if not temperature_uncertainty_c >= 0:
@@ -188,8 +190,9 @@ def filter_levels(
     methods: Sequence[str] = METHODS,
     seed: int = 0,
 ) -> dict[str, float]:
-    """The level by each method of Table 3 (the paper's filter, Nassreddine's, direct,
-    Kalman, particle) over one recording's resonances, m.
+    """Estimate the level (m) by each method of Table 3 over one recording's resonances.
+
+    The methods: the paper's filter, Nassreddine's, direct, Kalman, particle.
 
     Parameters
     ----------
@@ -319,7 +322,7 @@ class Analysis:
         return None if self.true_level_m is None else self.level.level_m - self.true_level_m
 
     def summary(self) -> str:
-        """The analysis in a few lines of text, as the command line prints it.
+        """Describe the analysis in a few lines of text, as the command line prints it.
 
         Returns
         -------
@@ -350,7 +353,7 @@ class Analysis:
         return "\n".join(lines)
 
     def figure(self) -> Figure:
-        """The recording with its envelope and peaks (Fig. 6) above the resonances (Fig. 7).
+        """Draw the recording with its envelope and peaks (Fig. 6) above the resonances (Fig. 7).
 
         Needs matplotlib (the ``plots`` extra).
 
@@ -379,7 +382,7 @@ class Analysis:
 
 
 def sweep_from_metadata(metadata: RecordingMetadata, samplerate: float) -> LinearSweep | None:
-    """The sweep a recording's metadata describes, or None when it does not say."""
+    """Return the sweep a recording's metadata describes, or None when it does not say."""
     m = metadata
     if m.f_start_hz is None or m.f_stop_hz is None or m.sweep_duration_s is None:
         return None
@@ -396,9 +399,11 @@ UNKNOWN_ONSET_S = 2.0
 
 
 def _load_for_analysis(path: str | os.PathLike[str]) -> WavRecording:
-    """Read the part of a recording that the analysis uses: up to the sweep's end plus
-    :data:`ANALYSIS_TAIL_S` (the whole file when the metadata does not describe the sweep
-    beyond :data:`UNKNOWN_ONSET_S` + the paper's sweep)."""
+    """Read the part of a recording that the analysis uses.
+
+    That is up to the sweep's end plus :data:`ANALYSIS_TAIL_S` (the whole file when the
+    metadata does not describe the sweep beyond :data:`UNKNOWN_ONSET_S` + the paper's sweep).
+    """
     fh, layout = open_recording(path)
     with fh:
         meta = read_metadata(layout.info)
@@ -833,9 +838,11 @@ def simulate_measurement(
     amplitude: float = DEFAULT_AMPLITUDE,
     seed: int = 0,
 ) -> WavRecording:
-    """The recording :func:`record_measurement` would make through a perfect loopback of
-    latency ``latency_s`` (a pure delay, plus white noise of ``noise_rms`` full scale), with
-    no audio at all. Same programme, same latency estimation, same metadata.
+    """Simulate the recording :func:`record_measurement` would make through a perfect loopback.
+
+    The loopback has latency ``latency_s`` (a pure delay, plus white noise of ``noise_rms``
+    full scale), with no audio at all. Same programme, same latency estimation, same
+    metadata.
 
     Parameters
     ----------
@@ -990,7 +997,7 @@ def _fail(exc: BaseException) -> int:
 
 
 def _figure_check(command: str) -> Callable[[Path], bool]:
-    """An existing figure may be replaced when the same command made it."""
+    """Allow replacing an existing figure when the same command made it."""
     return lambda path: path.suffix.lower() == ".png" and made_by(path, command)
 
 
@@ -1056,8 +1063,11 @@ def measure_command(args: argparse.Namespace) -> int:
 
 
 def analysis_figure_path(recording: str | os.PathLike[str]) -> Path:
-    """The default figure of ``analyze REC``: REC with the suffix .png, or REC.png when the
-    recording itself ends in .png (an output never replaces its input)."""
+    """Return the default figure of ``analyze REC``.
+
+    That is REC with the suffix .png, or REC.png when the recording itself ends in .png (an
+    output never replaces its input).
+    """
     path = Path(recording)
     figure = path.with_suffix(".png")
     return path.with_name(path.name + ".png") if figure.name == path.name else figure

@@ -133,7 +133,7 @@ class RecordingMetadata:
             raise RecordingFileError(f"extra must be a dict, got {type(self.extra).__name__}")
 
     def to_json(self) -> str:
-        """The metadata as one line of JSON, as stored in the WAV file's comment.
+        """Return the metadata as one line of JSON, as stored in the WAV file's comment.
 
         Returns
         -------
@@ -196,8 +196,11 @@ class RecordingMetadata:
 
 
 def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
-    """A JSON object whose keys are all different: a key given twice makes the metadata
-    ambiguous (which temperature holds?), so it is refused."""
+    """Build a JSON object whose keys are all different.
+
+    A key given twice makes the metadata ambiguous (which temperature holds?), so it is
+    refused.
+    """
     out: dict[str, Any] = {}
     for key, value in pairs:
         if key in out:
@@ -388,8 +391,11 @@ def save_recording(
 
 
 def _readable(riff: bytes, path: str | os.PathLike[str]) -> None:
-    """Refuse to write a file that :func:`load_recording` would refuse: too large, or
-    metadata over :data:`MAX_METADATA_BYTES` or nested too deep."""
+    """Refuse to write a file that :func:`load_recording` would refuse.
+
+    That is a file too large, or metadata over :data:`MAX_METADATA_BYTES` or nested too
+    deep.
+    """
     if len(riff) > MAX_RECORDING_BYTES:
         raise RecordingFileError(
             f"the recording would take {len(riff) / 2**20:.0f} MiB, more than the "
@@ -499,8 +505,11 @@ def _parse_info(body: bytes, path: str | os.PathLike[str]) -> dict[bytes, str]:
 
 
 def read_layout(fh: Any, size: int, path: str | os.PathLike[str]) -> WavLayout:
-    """Walk the RIFF chunks of an open WAV file: the format, where the samples are, and
-    the LIST/INFO text fields (at most :data:`MAX_METADATA_BYTES`). Reads no samples."""
+    """Walk the RIFF chunks of an open WAV file.
+
+    Find the format, where the samples are, and the LIST/INFO text fields (at most
+    :data:`MAX_METADATA_BYTES`). Reads no samples.
+    """
     head = fh.read(12)
     if len(head) < 12 or head[:4] not in (b"RIFF", b"RIFX") or head[8:12] != b"WAVE":
         raise RecordingFileError(
@@ -555,8 +564,10 @@ def read_layout(fh: Any, size: int, path: str | os.PathLike[str]) -> WavLayout:
 
 def read_samples(fh: Any, layout: WavLayout, channel: int, stop: int | None = None
                  ) -> np.ndarray:
-    """Frames [0, stop) of one channel as float64 at full scale ±1 (PCM scaled, unsigned
-    8-bit centred); memory: the raw frames plus 8 bytes per sample."""
+    """Read frames [0, stop) of one channel as float64 at full scale ±1.
+
+    PCM is scaled, unsigned 8-bit centred; memory: the raw frames plus 8 bytes per sample.
+    """
     frames = layout.frames if stop is None else max(0, min(stop, layout.frames))
     fh.seek(layout.data_offset)
     raw = fh.read(frames * layout.block_align)
@@ -576,7 +587,7 @@ def read_samples(fh: Any, layout: WavLayout, channel: int, stop: int | None = No
 
 
 def read_metadata(info: dict[bytes, str]) -> RecordingMetadata:
-    """The dstoolkit metadata stored in the ICMT comment, or unknown metadata."""
+    """Read the dstoolkit metadata stored in the ICMT comment, or unknown metadata."""
     comment = info.get(b"ICMT")
     if comment is not None and comment.lstrip().startswith("{") and "dstoolkit_metadata" in comment:
         return RecordingMetadata.from_json(comment)

@@ -1,7 +1,9 @@
-"""The evidence algebra: mass functions on finite frames and on intervals, the
-combination rules (Dempster's eq. 1, the dependent combination of eqs. 8-20, rivals
-such as Yager's), possibility distributions turned into evidence (eqs. 21-24), the
-extension principle (eqs. 25-29) and the batched kernels the filters use.
+"""The evidence algebra: mass functions, their combination rules and the batched kernels.
+
+Mass functions on finite frames and on intervals, the combination rules (Dempster's eq. 1,
+the dependent combination of eqs. 8-20, rivals such as Yager's), possibility distributions
+turned into evidence (eqs. 21-24), the extension principle (eqs. 25-29) and the batched
+kernels the filters use.
 """
 
 from __future__ import annotations

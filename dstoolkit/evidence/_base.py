@@ -97,7 +97,7 @@ class Evidence(ABC):
     # -- primitives every representation implements ---------------------------------
     @abstractmethod
     def _with(self, focal: np.ndarray, mass: np.ndarray, *, merge: bool = True) -> Self:
-        """A new evidence of the same kind and frame with these focal elements."""
+        """Return a new evidence of the same kind and frame with these focal elements."""
 
     @abstractmethod
     def _check_same_frame(self, other: Self) -> None:
@@ -122,8 +122,10 @@ class Evidence(ABC):
 
     @abstractmethod
     def _energy_unit(self, counted: np.ndarray | None = None) -> float:
-        """The size a focal element must have to count fully in the energy (eqs. 2, A1),
-        among the focal elements ``counted`` (a mask; all by default)."""
+        """Return the size a focal element must have to count fully in the energy (eqs. 2, A1).
+
+        Among the focal elements ``counted`` (a mask; all by default).
+        """
 
     @abstractmethod
     def _counts_in_energy(self) -> np.ndarray:
@@ -131,7 +133,7 @@ class Evidence(ABC):
 
     @abstractmethod
     def _theta(self) -> np.ndarray:
-        """The frame Θ as one focal element (one row), where discounting puts its mass."""
+        """Return the frame Θ as one focal element (one row), where discounting puts its mass."""
 
     @abstractmethod
     def _keys(self) -> np.ndarray:
@@ -167,9 +169,12 @@ class Evidence(ABC):
             focal, mass)
 
     def _merged(self) -> tuple[np.ndarray, np.ndarray]:
-        """The focal elements and masses with equal focal elements merged (eq. 14): what
-        every reader of the evidence (``as_dict``, ``repr``, the dependence) sees, so that
-        the merged and the unmerged form of one evidence give one answer. Read-only."""
+        """Return the focal elements and masses with equal focal elements merged (eq. 14).
+
+        This is what every reader of the evidence (``as_dict``, ``repr``, the dependence)
+        sees, so that the merged and the unmerged form of one evidence give one answer.
+        Read-only.
+        """
         if self._merged_cache is None:
             focal, mass = merge_equal(self._focal, self._mass)
             focal.flags.writeable = False
@@ -178,7 +183,8 @@ class Evidence(ABC):
         return self._merged_cache
 
     def merged(self) -> Self:
-        """The same evidence with equal focal elements merged, their masses added (eq. 14);
+        """Return the same evidence with equal focal elements merged, their masses added (eq. 14).
+
         ``self`` when it has no equal focal elements.
 
         Returns
@@ -194,7 +200,7 @@ class Evidence(ABC):
     # -- copies: pickle, copy and deepcopy rebuild through the constructor's checks ----
     @abstractmethod
     def _state(self) -> tuple[Any, ...]:
-        """What :meth:`_restore` needs to rebuild this evidence (plain values and arrays)."""
+        """Return what :meth:`_restore` needs to rebuild this evidence (plain values and arrays)."""
 
     @classmethod
     @abstractmethod
@@ -207,12 +213,17 @@ class Evidence(ABC):
     @classmethod
     @abstractmethod
     def _from_attributes(cls, state: dict[str, Any]) -> Self:
-        """Rebuild an evidence from the attributes a plain pickle of it holds, validating
-        them as the constructor does."""
+        """Rebuild an evidence from the attributes a plain pickle of it holds.
+
+        The attributes are validated as the constructor does.
+        """
 
     def __setstate__(self, state: Any) -> None:
-        """A pickle in the plain form (attributes, no constructor call): rebuilt through the
-        checks, so that crafted attributes cannot make an invalid evidence."""
+        """Restore a pickle in the plain form (attributes, no constructor call).
+
+        It is rebuilt through the checks, so that crafted attributes cannot make an invalid
+        evidence.
+        """
         if not isinstance(state, dict):
             raise EvidenceError(f"cannot unpickle a {type(self).__name__} from "
                                 f"{type(state).__name__}; pickle it with dstoolkit")

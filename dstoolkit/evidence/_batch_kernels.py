@@ -84,27 +84,35 @@ TINY = 1e-300
 
 
 def least(values: np.ndarray) -> float:
-    """The smallest of ``values`` (NaN if one is NaN), as a float; one element is read
-    directly (cheaper than a reduction)."""
+    """Return the smallest of ``values`` (NaN if one is NaN), as a float.
+
+    One element is read directly (cheaper than a reduction).
+    """
     return values.item() if values.size == 1 else float(np.minimum.reduce(values, axis=None))
 
 
 def per_run(values: np.ndarray) -> Any:
-    """``values`` (R,) as a column (R, 1) that broadcasts over each run's row, or for one
-    run as a float (a numpy scalar operand costs as much as an array)."""
+    """Return ``values`` (R,) as a column (R, 1) that broadcasts over each run's row.
+
+    For one run, return a float (a numpy scalar operand costs as much as an array).
+    """
     return values.item() if values.size == 1 else values[:, None]
 
 
 def columns(e: Boxes) -> np.ndarray:
-    """Boxes (R, N, d) in the column layout (R, 2, d, N) of the Step 6 kernels: the ends
-    (lo, hi) on axis 1, the focal elements last, so that every product and comparison of
-    focal elements runs along a long, contiguous last axis."""
+    """Lay out boxes (R, N, d) in the column layout (R, 2, d, N) of the Step 6 kernels.
+
+    The ends (lo, hi) lie on axis 1, the focal elements last, so that every product and
+    comparison of focal elements runs along a long, contiguous last axis.
+    """
     return np.stack([e.lo, e.hi], axis=1).transpose(0, 1, 3, 2)
 
 
 class DependenceKernel:
-    """En'(E1), En'(E2), En'(E1, E2), D, R12, R21 (Def. 5, eqs. A1, A3–A6) per run, on
-    buffers and views bound once, for E1 and E2 held as the columns of one array.
+    """En'(E1), En'(E2), En'(E1, E2), D, R12, R21 (Def. 5, eqs. A1, A3–A6) per run.
+
+    Computed on buffers and views bound once, for E1 and E2 held as the columns of one
+    array.
 
     ``cols`` (R, 2, d, N) holds E1's focal elements in columns [0, n1) and E2's after;
     ``masses`` (R, 2, N) E1's masses in row 0 (0 on E2's columns) and E2's in row 1 (0 on
@@ -154,10 +162,12 @@ class DependenceKernel:
         self.coefficients = out[4:6]
 
     def compute(self) -> bool:
-        """Fill ``out`` and ``theta_mass`` from the current columns and masses; returns
-        whether R12 and R21 lie in [0, 1] in every run (``mass_rule="m2"`` can break that:
-        D, En ≥ 0 keep R ≤ 1). ``units[:, 0]`` is then the smallest width of E1's live
-        focal elements, negative if one is empty."""
+        """Fill ``out`` and ``theta_mass`` from the current columns and masses.
+
+        Returns whether R12 and R21 lie in [0, 1] in every run (``mass_rule="m2"`` can
+        break that: D, En ≥ 0 keep R ≤ 1). ``units[:, 0]`` is then the smallest width of
+        E1's live focal elements, negative if one is empty.
+        """
         # widths and energies (eq. A1): Σ m/(w + ε) per evidence, times its u + ε
         np.subtract(self.hi, self.lo, out=self.width)
         if self.d > 1:
@@ -204,9 +214,10 @@ class DependenceKernel:
 
 def dependence_figures(u1: Any, u2: Any, u12: Any, s1: Any, s2: Any, s12: Any
                        ) -> tuple[Any, ...]:
-    """En'(E1), En'(E2), En'(E1, E2), D, R12, R21, 1 − R12, 1 − R21 (eqs. A1, A3–A6) from
-    the smallest live widths of E1, E2 and both (u1, u2, u12) and the sums Σ m/(w + ε) of
-    eqs. A1 and A3 (s1, s2, s12); floats or arrays alike.
+    """Compute En'(E1), En'(E2), En'(E1, E2), D, R12, R21, 1 − R12, 1 − R21 (eqs. A1, A3–A6).
+
+    From the smallest live widths of E1, E2 and both (u1, u2, u12) and the sums
+    Σ m/(w + ε) of eqs. A1 and A3 (s1, s2, s12); floats or arrays alike.
 
     D = 2 En'(E1, E2)/(En'(E1) + En'(E2)) (eq. A4); R12 = 1 − D/2 · En'(E2)/En'(E1), R21
     likewise (eqs. A5–A6); ε = :data:`TINY` turns 0/0 into 0 (no energy: D = 0, R = 1).
@@ -219,8 +230,9 @@ def dependence_figures(u1: Any, u2: Any, u12: Any, s1: Any, s2: Any, s12: Any
 
 def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool = True
                ) -> BatchDependence:
-    """Energies, energy of the intersection, D, R12, R21 of E1 = a, E2 = b per run
-    (Def. 5, eqs. A1, A3–A6), equal to :func:`dstoolkit.dependence` on the merged evidence
+    """Compute the energies, energy of the intersection, D, R12, R21 of E1 = a, E2 = b per run.
+
+    Def. 5, eqs. A1, A3–A6; equal to :func:`dstoolkit.dependence` on the merged evidence
     (``DependenceKernel`` on the columns of a then b).
 
     E2's masses must be positive (E1 may hold mass-0 placeholders). With ``check``, raises
@@ -304,10 +316,12 @@ def discount_onto_hull(e: Boxes, reliability: np.ndarray) -> Boxes:
 
 
 class ProductWork(NamedTuple):
-    """Buffers of ``ProductKernel`` (the column layout of ``columns``): ``ends``
-    (2, R, d, N_b, N_a) = lo, hi of A_i ∩ B_j; ``stack`` (1 + d, R, N_b, N_a) = [nonempty,
-    (lo + hi)·nonempty]; ``partial`` (R, 1 + d, N_b, 1), ``sums`` (R, 1 + d, 1, 1). Each
-    end and each row of the stack is one block: the passes over a batch run faster.
+    """Buffers of ``ProductKernel`` (the column layout of ``columns``).
+
+    ``ends`` (2, R, d, N_b, N_a) = lo, hi of A_i ∩ B_j; ``stack`` (1 + d, R, N_b, N_a) =
+    [nonempty, (lo + hi)·nonempty]; ``partial`` (R, 1 + d, N_b, 1), ``sums``
+    (R, 1 + d, 1, 1). Each end and each row of the stack is one block: the passes over a
+    batch run faster.
 
     Parameters
     ----------
@@ -351,8 +365,9 @@ class ProductWork(NamedTuple):
 
 
 class ProductKernel:
-    """Pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of A and B per run,
-    without forming the N_a·N_b products' masses, on buffers and views bound once:
+    """Pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of A and B per run.
+
+    It does without forming the N_a·N_b products' masses, on buffers and views bound once:
 
         E = Σ_ij m_a(i) m_b(j) [A_i ∩ B_j ≠ ∅] c(A_i ∩ B_j) / (1 − K),  c = the centre,
 
@@ -387,8 +402,11 @@ class ProductKernel:
         self.kept, self.total = sums[:, 0, 0, 0], sums[:, 1:, 0, 0]
 
     def combine(self, est: np.ndarray) -> np.ndarray | None:
-        """E into ``est`` (R, d); returns None when every run's combination exists (K < 1
-        above the tolerance), else the mask of those that do. ``self.kept`` = 1 − K."""
+        """Write E into ``est`` (R, d).
+
+        Returns None when every run's combination exists (K < 1 above the tolerance), else
+        the mask of those that do. ``self.kept`` = 1 − K.
+        """
         _, _, partial, sums = self.work
         np.maximum(self.a_lo, self.b_lo, out=self.lo)
         np.minimum(self.a_hi, self.b_hi, out=self.hi)
@@ -411,7 +429,7 @@ class ProductKernel:
         return ok
 
     def hull(self, out: np.ndarray) -> np.ndarray:
-        """The hull of the combination (after :meth:`combine`) into ``out`` (R, 2, d)."""
+        """Write the hull of the combination (after :meth:`combine`) into ``out`` (R, 2, d)."""
         ends = self.work.ends
         if self.theta is not None:
             theta1_mass, theta2_mass, meet, corner = self.theta
@@ -430,8 +448,9 @@ def dempster_expectation(
     a: Boxes, b: Boxes, bounds: bool = False, *, work: ProductWork | None = None,
     theta_last: bool = False,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray] | None]:
-    """Pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of a and b, per run
-    (``ProductKernel``). Returns E (R, d), K (R,), the mask of runs with K < 1, and
+    """Compute the pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of a and b.
+
+    Per run (``ProductKernel``). Returns E (R, d), K (R,), the mask of runs with K < 1, and
     with ``bounds`` the hull of the combination (R, d) twice. ``work`` reuses buffers
     (``ProductWork.allocate``). ``theta_last`` tells that the last focal element of a
     and of b holds all the others (as after :func:`discount_onto_hull`).

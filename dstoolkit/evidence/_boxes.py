@@ -61,7 +61,7 @@ def row_sum(values: np.ndarray) -> np.ndarray:
 
 def hull(e: Boxes, out: tuple[np.ndarray, np.ndarray] | None = None
          ) -> tuple[np.ndarray, np.ndarray]:
-    """The smallest box holding every focal element of positive mass (Θ of eqs. A7–A8).
+    """Return the smallest box holding every focal element of positive mass (Θ of eqs. A7–A8).
 
     Parameters
     ----------

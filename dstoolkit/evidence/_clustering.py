@@ -1,6 +1,7 @@
-"""Box operations on batches of evidence: equal boxes merged (eq. 14), and Denœux's
-hierarchical clustering, which caps the number of focal elements by an outer
-approximation (Int. J. Approx. Reasoning 2001).
+"""Box operations on batches of evidence: equal boxes merged, and Denœux's clustering.
+
+Equal boxes are merged by eq. 14; Denœux's hierarchical clustering caps the number of focal
+elements by an outer approximation (Int. J. Approx. Reasoning 2001).
 
 Both work on :class:`~dstoolkit.evidence.boxes.Boxes` with a leading run axis (every run
 at once); :mod:`dstoolkit.evidence._compiled` holds their compiled twins (extra
@@ -91,9 +92,11 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
 
 
 class _Rows:
-    """Row layout of :func:`cluster_boxes`'s box table (C, N): one row per quantity, one
-    column per box; the boxes of the runs still being clustered sit side by side, run after
-    run, each run's boxes in the order of the round (n = state dim).
+    """Row layout of :func:`cluster_boxes`'s box table (C, N).
+
+    One row per quantity, one column per box; the boxes of the runs still being clustered
+    sit side by side, run after run, each run's boxes in the order of the round (n = state
+    dim).
 
     ``[lo (n) | hi (n) | size | mass·size | merged | centre (n) | mass | unit (n)]``: a round
     drops the boxes merged away with one compaction and keeps each quantity contiguous. The
@@ -113,8 +116,11 @@ class _Rows:
 
     def table(self, bm: Boxes, unit: np.ndarray, count: np.ndarray
               ) -> tuple[np.ndarray, np.ndarray]:
-        """The boxes with mass of every run, in round 0's order (by centre along dimension 0,
-        stable: ties keep the order of ``bm``), and the run of each."""
+        """Tabulate the boxes with mass of every run, in round 0's order, and the run of each.
+
+        Round 0's order is by centre along dimension 0, stable: ties keep the order of
+        ``bm``.
+        """
         runs, width, n = bm.lo.shape
         key = np.where(bm.mass > 0, bm.lo[..., 0] + bm.hi[..., 0], np.inf)  # with mass first
         order = np.argsort(key, axis=1, kind="stable")
@@ -133,9 +139,12 @@ class _Rows:
         return table, run
 
     def sizes(self, lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
-        """|A| of boxes given as rows (n, N): the sum of each box's widths, each divided by
-        its run's unit width. The widths are summed along a contiguous last axis (N, n), the
-        layout the stored results were computed with (it decides how the sum rounds)."""
+        """Compute |A| of boxes given as rows (n, N).
+
+        That is the sum of each box's widths, each divided by its run's unit width. The
+        widths are summed along a contiguous last axis (N, n), the layout the stored results
+        were computed with (it decides how the sum rounds).
+        """
         if self.n == 1:
             return (hi[0] - lo[0]) / unit[0]
         widths = np.empty(lo.shape[::-1])
@@ -144,8 +153,11 @@ class _Rows:
         return np.sum(widths, axis=-1)
 
     def pair_hulls(self, table: np.ndarray) -> np.ndarray:
-        """Rows lo, hi, size, mass and mass·size of each neighbour pair's hull A ∪ B, with
-        mass m_A + m_B (C, N − 1); the other rows are filled in for the pairs merged."""
+        """Fill rows lo, hi, size, mass and mass·size of each neighbour pair's hull A ∪ B.
+
+        The hull has mass m_A + m_B (C, N − 1); the other rows are filled in for the pairs
+        merged.
+        """
         a, b = table[:, :-1], table[:, 1:]
         pair = np.empty(a.shape)
         np.minimum(a[self.lo], b[self.lo], out=pair[self.lo])
@@ -176,9 +188,10 @@ def _local_minima(cost: np.ndarray) -> np.ndarray:
 
 def _cheapest(local: np.ndarray, cost: np.ndarray, run: np.ndarray, allowed: np.ndarray
               ) -> np.ndarray:
-    """The pairs to merge, as indices: each run's ``allowed`` cheapest local minima (ties:
-    leftmost first); ``run`` is the run of each pair. Ranking is skipped when every run may
-    take all its local minima.
+    """Choose the pairs to merge, as indices: each run's ``allowed`` cheapest local minima.
+
+    Ties: leftmost first; ``run`` is the run of each pair. Ranking is skipped when every run
+    may take all its local minima.
     """
     at = np.flatnonzero(local)
     per_run = np.bincount(run[at], minlength=len(allowed))
@@ -292,9 +305,11 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
 
 
 def bounded_count(bm: Boxes) -> np.ndarray:
-    """The focal elements (boxes of positive mass) of each run; refuses NaN or infinite
-    masses, and boxes of positive mass with NaN or infinite bounds (clustering needs
-    sizes)."""
+    """Count the focal elements (boxes of positive mass) of each run.
+
+    Refuses NaN or infinite masses, and boxes of positive mass with NaN or infinite bounds
+    (clustering needs sizes).
+    """
     live = bm.mass > 0
     if not (np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo) | ~live[..., None])
             and np.all(np.isfinite(bm.hi) | ~live[..., None])):
@@ -306,27 +321,31 @@ def bounded_count(bm: Boxes) -> np.ndarray:
 
 
 def unit_widths(bm: Boxes) -> np.ndarray:
-    """Each run's mass-weighted mean width per dimension (R, n), 1 where it is 0: the
-    units of the sizes |A| in Denœux's Δ."""
+    """Compute each run's mass-weighted mean width per dimension (R, n), 1 where it is 0.
+
+    These are the units of the sizes |A| in Denœux's Δ.
+    """
     unit = row_sum(bm.mass[..., None] * (bm.hi - bm.lo)) / row_sum(bm.mass)[:, None]
     return np.where(unit > 0, unit, 1.0)
 
 
 def merged_mass(mass: np.ndarray, merged: np.ndarray) -> np.ndarray:
-    """The mass carried by merged boxes per run, added smallest first (canonical order:
-    it does not depend on the order the rounds left the boxes in)."""
+    """Sum the mass carried by merged boxes per run, smallest first.
+
+    This canonical order does not depend on the order the rounds left the boxes in.
+    """
     return row_sum(np.sort(np.where(merged, mass, 0.0), axis=1))
 
 
 def too_many_rounds(max_focal: int, rounds: int, remain: int | None = None) -> WorkLimitError:
-    """The error of a clustering that did not reach ``max_focal`` in ``rounds`` rounds."""
+    """Return the error of a clustering that did not reach ``max_focal`` in ``rounds`` rounds."""
     left = "" if remain is None else f" ({remain} remain)"
     return WorkLimitError(f"clustering the focal elements did not reach max_focal = "
                           f"{max_focal} in {rounds} rounds{left}; raise max_focal")
 
 
 def no_pair() -> WorkLimitError:
-    """The error of a clustering round that finds no pair to merge."""
+    """Return the error of a clustering round that finds no pair to merge."""
     return WorkLimitError("clustering the focal elements found no pair to merge (their sizes "
                           "are not finite numbers); check the model's f and g for NaN or "
                           "infinite images")

@@ -101,9 +101,10 @@ def conflict(a: Evidence, b: Evidence) -> float:
 
 
 def dempster(a: E, b: E, *, merge: bool = True) -> E:
-    """Dempster's rule m = m1 ⊕ m2 (eq. 1): products on intersections, renormalised by 1 − K
-    (computed as the sum of the kept products, so that the masses sum to 1 however close
-    K comes to 1).
+    """Combine two bodies of evidence by Dempster's rule m = m1 ⊕ m2 (eq. 1).
+
+    Products on intersections, renormalised by 1 − K (computed as the sum of the kept
+    products, so that the masses sum to 1 however close K comes to 1).
 
     Parameters
     ----------
@@ -163,15 +164,18 @@ def dempster(a: E, b: E, *, merge: bool = True) -> E:
 
 
 def _specificity(sizes: np.ndarray, unit: float) -> np.ndarray:
-    """unit / size with 0-size elements counting 1 (a point is fully specific)."""
+    """Compute unit / size with 0-size elements counting 1 (a point is fully specific)."""
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(sizes > 0, unit / sizes, 1.0)
     return np.where(np.isfinite(sizes), ratio, 0.0)
 
 
 def _energy_terms(e: Evidence, theta: ThetaRule) -> tuple[np.ndarray, float]:
-    """Mask of the focal elements that enter the energy, and the unit (the size that counts
-    fully: 1 on a finite frame, the smallest counted width on intervals)."""
+    """Return the mask of the focal elements that enter the energy, and the unit.
+
+    The unit is the size that counts fully: 1 on a finite frame, the smallest counted width
+    on intervals.
+    """
     if theta not in THETA_RULES:
         raise EvidenceError(f"theta must be one of {THETA_RULES}, got {theta!r}")
     counts = e._counts_in_energy()
@@ -183,8 +187,10 @@ def _energy_terms(e: Evidence, theta: ThetaRule) -> tuple[np.ndarray, float]:
 
 
 def energy(e: Evidence, *, theta: ThetaRule = "paper") -> float:
-    """Energy of evidence En(E) = Σ_{A ≠ Θ} m(A)/|A| (eq. 2); on intervals
-    En'(E) = Σ m(A_i) w_min / w(A_i) (eq. A1). Always in [0, 1], 1 for a Bayesian evidence.
+    """Compute the energy of evidence En(E) = Σ_{A ≠ Θ} m(A)/|A| (eq. 2).
+
+    On intervals En'(E) = Σ m(A_i) w_min / w(A_i) (eq. A1). Always in [0, 1], 1 for a
+    Bayesian evidence.
 
     Parameters
     ----------
@@ -237,7 +243,7 @@ def energy(e: Evidence, *, theta: ThetaRule = "paper") -> float:
 
 
 def _common(a: Evidence, b: Evidence) -> tuple[np.ndarray, np.ndarray]:
-    """Indices (i, j) of focal elements that a and b share (equal sets or intervals)."""
+    """Find the indices (i, j) of focal elements that a and b share (equal sets or intervals)."""
     ka, kb = a._keys(), b._keys()
     _, ia, ib = np.intersect1d(ka, kb, assume_unique=False, return_indices=True)
     return ia, ib
@@ -545,9 +551,10 @@ def combine_dependent(
     a: E, b: E, *, mass_rule: MassRule = "min", energy1: float | None = None,
     energy2: float | None = None, merge: bool = True, theta: ThetaRule = "paper",
 ) -> E:
-    """Combination of dependent evidence (§2.2, eqs. 9–10; App. A, eqs. A7–A8): decorrelate
-    both by their dependency coefficients, then apply Dempster's rule (eq. 1). ``theta``
-    chooses the energy's definition (:func:`energy`): the paper's by default.
+    """Combine dependent evidence (§2.2, eqs. 9–10; App. A, eqs. A7–A8).
+
+    Decorrelate both by their dependency coefficients, then apply Dempster's rule (eq. 1).
+    ``theta`` chooses the energy's definition (:func:`energy`): the paper's by default.
 
     Parameters
     ----------

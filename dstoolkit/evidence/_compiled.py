@@ -1,5 +1,6 @@
-"""Optional compiled box kernels (extra ``speed``: numba): the merge of equal boxes
-(eq. 14) and Denœux's clustering, run by run in plain loops.
+"""Optional compiled box kernels (extra ``speed``: numba).
+
+The merge of equal boxes (eq. 14) and Denœux's clustering, run by run in plain loops.
 
 They give the numbers of :func:`~dstoolkit.evidence.boxes.merge_equal_boxes` and
 :func:`~dstoolkit.evidence.boxes.cluster_boxes` bit for bit (tested): the same rules, the
@@ -36,9 +37,11 @@ def _row_less(key: np.ndarray, a: int, b: int) -> bool:  # pragma: no cover - nu
 
 def _stable_order(key: np.ndarray, order: np.ndarray, work: np.ndarray
                   ) -> None:  # pragma: no cover - numba
-    """``order`` := the rows of ``key`` sorted lexicographically, stable, as ``np.lexsort``
-    (equal keys keep their order): insertion sort of blocks of 16 rows, then merges of
-    neighbouring blocks (skipped where two blocks are in order already)."""
+    """Set ``order`` to the rows of ``key`` sorted lexicographically, stable, as ``np.lexsort``.
+
+    Equal keys keep their order: insertion sort of blocks of 16 rows, then merges of
+    neighbouring blocks (skipped where two blocks are in order already).
+    """
     rows = key.shape[0]
     for i in range(rows):
         order[i] = i
@@ -84,11 +87,13 @@ def _stable_order(key: np.ndarray, order: np.ndarray, work: np.ndarray
 
 def _merge(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, out_lo: np.ndarray,
            out_hi: np.ndarray, out_mass: np.ndarray) -> int:  # pragma: no cover - numba
-    """Eq. 14 per run as ``merge_equal_boxes``: rows sorted by (no mass, lo, hi), stable;
-    equal rows' masses added in that order; padding copies the first row. Returns the
-    width (the most boxes with mass in a run, at least 1). Only the rows with mass are
-    sorted (the others come last and are dropped), all of them in a run without mass (its
-    first row in that order is the padding)."""
+    """Merge equal boxes per run (eq. 14) as ``merge_equal_boxes``.
+
+    Rows are sorted by (no mass, lo, hi), stable; equal rows' masses added in that order;
+    padding copies the first row. Returns the width (the most boxes with mass in a run, at
+    least 1). Only the rows with mass are sorted (the others come last and are dropped), all
+    of them in a run without mass (its first row in that order is the padding).
+    """
     runs, rows, n = lo.shape
     key = np.empty((rows, 2 * n))
     rows_of, order, work = (np.empty(rows, np.int64), np.empty(rows, np.int64),
@@ -139,8 +144,10 @@ def _merge(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, out_lo: np.ndarray,
 
 def _size(lo: np.ndarray, hi: np.ndarray, i: int, unit: np.ndarray, r: int
           ) -> float:  # pragma: no cover - numba
-    """|A| of box i: the sum of its widths, each divided by run r's unit width (as
-    ``_sizes``)."""
+    """Compute |A| of box i: the sum of its widths, each divided by run r's unit width.
+
+    As ``_sizes`` does.
+    """
     total = (hi[i, 0] - lo[i, 0]) / unit[r, 0]
     for j in range(1, lo.shape[1]):
         total += (hi[i, j] - lo[i, j]) / unit[r, j]
@@ -150,11 +157,14 @@ def _size(lo: np.ndarray, hi: np.ndarray, i: int, unit: np.ndarray, r: int
 def _cluster(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, unit: np.ndarray,
              cap: int, max_rounds: int, out_lo: np.ndarray, out_hi: np.ndarray,
              out_mass: np.ndarray, out_merged: np.ndarray) -> int:  # pragma: no cover
-    """Denœux's clustering as ``cluster_boxes``, run by run: each round sorts the boxes by
-    centre along dimension round % n (stable; skipped when they are in order already, as
-    a stable sort would leave them), merges the neighbour pairs whose Δ is a local minimum,
-    cheapest first (ties: leftmost), never below ``cap``. Writes each run's boxes in their
-    final order (zero-mass padding after) and whether each was merged."""
+    """Cluster boxes by Denœux's method as ``cluster_boxes``, run by run.
+
+    Each round sorts the boxes by centre along dimension round % n (stable; skipped when
+    they are in order already, as a stable sort would leave them), merges the neighbour
+    pairs whose Δ is a local minimum, cheapest first (ties: leftmost), never below ``cap``.
+    Writes each run's boxes in their final order (zero-mass padding after) and whether each
+    was merged.
+    """
     runs, rows, n = lo.shape
     b_lo, b_hi = np.empty((rows, n)), np.empty((rows, n))
     b_m, b_ms, b_merged = np.empty(rows), np.empty(rows), np.zeros(rows, np.bool_)
@@ -245,9 +255,11 @@ def _cluster(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, unit: np.ndarray,
 
 @functools.cache
 def _compiled() -> tuple[Callable[..., int], Callable[..., int]]:
-    """The two box kernels, compiled on first use (and cached on disk by numba). The helpers
-    they call are compiled first and take their names in this module: numba resolves a
-    kernel's calls by name when it compiles it."""
+    """Return the two box kernels, compiled on first use (and cached on disk by numba).
+
+    The helpers they call are compiled first and take their names in this module: numba
+    resolves a kernel's calls by name when it compiles it.
+    """
     require_extra("numba", "speed", "the compiled box kernels (merge and clustering)")
     import numba
 
@@ -270,8 +282,11 @@ def merge_equal_boxes_compiled(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray)
 
 def cluster_boxes_compiled(bm: Boxes, max_focal: int, max_rounds: int | None = None
                            ) -> tuple[Boxes, np.ndarray]:
-    """:func:`~dstoolkit.evidence.boxes.cluster_boxes`, compiled: the same numbers and errors
-    (``max_rounds``: its limit of rounds, default ``MAX_CLUSTER_ROUNDS``)."""
+    """Run :func:`~dstoolkit.evidence.boxes.cluster_boxes`, compiled.
+
+    The same numbers and errors (``max_rounds``: its limit of rounds, default
+    ``MAX_CLUSTER_ROUNDS``).
+    """
     rounds = clustering.MAX_CLUSTER_ROUNDS if max_rounds is None else max_rounds
     count = clustering.bounded_count(bm)
     runs, _, n = bm.lo.shape

@@ -55,8 +55,10 @@ def appendix_pair() -> tuple[IntervalEvidence, IntervalEvidence]:
 def appendix_evidence(m1: tuple[float, float] = (0.6, 0.1),
                       m2: tuple[float, float] = (0.3, 0.6)) -> tuple[IntervalEvidence,
                                                                       IntervalEvidence]:
-    """E1 and E2 of the paper's Appendix A with the masses of their 2nd and 3rd focal
-    elements given; what is left goes to the first (widest) one. Defaults: the paper's.
+    """Build E1 and E2 of the paper's Appendix A with chosen masses.
+
+    The masses of their 2nd and 3rd focal elements are given; what is left goes to the
+    first (widest) one. Defaults: the paper's.
 
     Parameters
     ----------

@@ -57,8 +57,9 @@ MAX_VERTEX_DIM = 16
 def cartesian_product(
     marginals: Sequence[IntervalEvidence], *, merge: bool = True
 ) -> IntervalEvidence:
-    """Random relation of independent marginals: boxes C_1 × … × C_n with masses
-    m_1(C_1)···m_n(C_n) (eq. 16, decomposable Cartesian product).
+    """Form the random relation of independent marginals (eq. 16).
+
+    Boxes C_1 × … × C_n with masses m_1(C_1)···m_n(C_n) (decomposable Cartesian product).
 
     Rows follow ``itertools.product`` order (the first marginal varies slowest); the box
     dimension is the sum of the marginals' dimensions.
@@ -167,15 +168,20 @@ def _call(f: Callable[[np.ndarray], Any], points: np.ndarray) -> np.ndarray:
 
 
 def _evaluate(f: Callable[[np.ndarray], Any], points: np.ndarray, extra: int) -> np.ndarray:
-    """f at points laid out (*extra, ..., n), returned as (*extra, ..., m): the extra axes
-    move just before the last one for the call (see the module notes)."""
+    """Evaluate f at points laid out (*extra, ..., n), returned as (*extra, ..., m).
+
+    The extra axes move just before the last one for the call (see the module notes).
+    """
     src, dst = tuple(range(extra)), tuple(range(-extra - 1, -1))
     return np.moveaxis(_call(f, np.moveaxis(points, src, dst)), dst, src)
 
 
 def _checked(f: Callable[[np.ndarray], Any]) -> Callable[[np.ndarray], Any]:
-    """``f``, refusing what it returns that is no image: complex values (their imaginary
-    part would be dropped) and NaN or ±inf at points whose coordinates are finite."""
+    """Wrap ``f``, refusing what it returns that is no image.
+
+    That is complex values (their imaginary part would be dropped) and NaN or ±inf at
+    points whose coordinates are finite.
+    """
     def checked(points: np.ndarray) -> Any:
         raw = f(points)
         try:
@@ -208,7 +214,7 @@ def _checked(f: Callable[[np.ndarray], Any]) -> Callable[[np.ndarray], Any]:
 
 
 def _outside(values: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """values < lo or values > hi beyond rounding (CHECK_RTOL); NaN counts as inside."""
+    """Test values < lo or values > hi beyond rounding (CHECK_RTOL); NaN counts as inside."""
     with np.errstate(invalid="ignore"):
         slack = CHECK_RTOL * (np.abs(lo) + np.abs(hi))
         return np.minimum(values - lo, hi - values) < -slack
@@ -217,7 +223,8 @@ def _outside(values: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 def parse_signs(monotone: Any, n: int) -> np.ndarray | None:
     """Monotonicity signs as an int array of shape (n,) or (m, n); None when unknown.
 
-    Entries are +1 (increasing), −1 (decreasing) or 0 (neither/unknown)."""
+    Entries are +1 (increasing), −1 (decreasing) or 0 (neither/unknown).
+    """
     if monotone is None:
         return None
     s = np.asarray(monotone)
@@ -232,8 +239,11 @@ def parse_signs(monotone: Any, n: int) -> np.ndarray | None:
 
 
 def state_signs(monotone: Any, n: int) -> np.ndarray | None:
-    """Signs of f(x, u) in x from a model's ``f_monotone``, which lists the n state
-    arguments then the n noise arguments of f(x, u) + v (length 2n) or the state only (n)."""
+    """Read the signs of f(x, u) in x from a model's ``f_monotone``.
+
+    ``f_monotone`` lists the n state arguments then the n noise arguments of f(x, u) + v
+    (length 2n) or the state only (n).
+    """
     if monotone is None:
         return None
     s = np.asarray(monotone)
@@ -241,7 +251,7 @@ def state_signs(monotone: Any, n: int) -> np.ndarray | None:
 
 
 def vertices(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """The 2^n vertices of each box (eq. 17).
+    """Return the 2^n vertices of each box (eq. 17).
 
     Parameters
     ----------
@@ -275,7 +285,7 @@ def vertices(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 
 
 def _interior_samples(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """The centre and centre ± w/4 along each axis: shape (..., 2n + 1, n)."""
+    """Return the centre and centre ± w/4 along each axis: shape (..., 2n + 1, n)."""
     n = lo.shape[-1]
     steps = np.concatenate([np.zeros((1, n)), np.eye(n), -np.eye(n)])
     return 0.5 * (lo + hi)[..., None, :] + steps * (0.25 * (hi - lo))[..., None, :]

@@ -94,9 +94,12 @@ class MassFunction(Evidence):
     # -- construction helpers -----------------------------------------------------------
     @staticmethod
     def _elements(key: Any, frame: tuple | None) -> tuple:
-        """The hypotheses of a focal element: a string or a tuple that the frame lists is
-        one hypothesis; otherwise a string is the set of its characters and a set,
-        frozenset, tuple or list the set of its members."""
+        """Return the hypotheses of a focal element.
+
+        A string or a tuple that the frame lists is one hypothesis; otherwise a string is
+        the set of its characters and a set, frozenset, tuple or list the set of its
+        members.
+        """
         if isinstance(key, str | tuple) and frame and key in frame:
             return (key,)
         if isinstance(key, str | set | frozenset | tuple | list):
@@ -174,7 +177,7 @@ class MassFunction(Evidence):
 
     @classmethod
     def bayesian(cls, probabilities: Mapping[Hashable, float]) -> MassFunction:
-        """A probability distribution as a mass function on singletons.
+        """Make a mass function on singletons from a probability distribution.
 
         Parameters
         ----------

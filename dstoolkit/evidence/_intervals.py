@@ -240,7 +240,7 @@ class IntervalEvidence(Evidence):
         return self._sizes()
 
     def as_boxes(self) -> Boxes:
-        """The focal elements as a one-run :class:`~dstoolkit.evidence.Boxes`.
+        """Return the focal elements as a one-run :class:`~dstoolkit.evidence.Boxes`.
 
         Returns
         -------
@@ -251,8 +251,9 @@ class IntervalEvidence(Evidence):
 
     @classmethod
     def from_boxes(cls, boxes: Boxes, run: int = 0) -> IntervalEvidence:
-        """The mass function of one run of ``boxes``, padding (mass 0) dropped, masses
-        renormalised, equal boxes not merged.
+        """Return the mass function of one run of ``boxes``.
+
+        Padding (mass 0) is dropped, masses renormalised, equal boxes not merged.
 
         Parameters
         ----------
@@ -271,7 +272,7 @@ class IntervalEvidence(Evidence):
         return cls(boxes.lo[run, keep], boxes.hi[run, keep], mass / mass.sum(), merge=False)
 
     def hull(self) -> tuple[np.ndarray, np.ndarray]:
-        """The smallest box containing every focal element (Θ in eqs. A7–A8).
+        """Return the smallest box containing every focal element (Θ in eqs. A7–A8).
 
         Returns
         -------
@@ -378,7 +379,7 @@ class IntervalEvidence(Evidence):
         return self._pl(self._query(lo, hi))
 
     def cdf_bounds(self, x: Any) -> tuple[np.ndarray, np.ndarray]:
-        """The p-box: lower F_*(x) = Bel((−∞, x]) and upper F^*(x) = Pl((−∞, x]) (d = 1).
+        """Return the p-box: lower F_*(x) = Bel((−∞, x]) and upper F^*(x) = Pl((−∞, x]) (d = 1).
 
         Parameters
         ----------
@@ -430,7 +431,7 @@ class IntervalEvidence(Evidence):
         return value
 
     def pignistic_expectation_1d(self) -> float:
-        """The pignistic expectation (eq. 20) of scalar evidence (d = 1), as a float.
+        """Return the pignistic expectation (eq. 20) of scalar evidence (d = 1), as a float.
 
         Returns
         -------
@@ -455,7 +456,7 @@ class IntervalEvidence(Evidence):
         return float(self.pignistic_expectation()[0])
 
     def shift(self, offset: Any) -> IntervalEvidence:
-        """The evidence about X + offset (same masses).
+        """Return the evidence about X + offset (same masses).
 
         Parameters
         ----------

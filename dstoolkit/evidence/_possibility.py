@@ -50,7 +50,7 @@ class TriangularBounds(NamedTuple):
 
 
 def _check_triangle(lower: Any, mode: Any, upper: Any) -> tuple[float, float, float]:
-    """The triangle's ends and mode as floats, finite, ordered, with a finite 100σ frame."""
+    """Return the triangle's ends and mode as floats: finite, ordered, with a finite 100σ frame."""
     lower, mode, upper = (real_number(v, name, error=EvidenceError) for v, name in
                           ((lower, "lower"), (mode, "mode"), (upper, "upper")))
     if not lower <= mode <= upper:
@@ -66,7 +66,7 @@ def _check_triangle(lower: Any, mode: Any, upper: Any) -> tuple[float, float, fl
 
 
 def possibility(x: Any, lower: float, mode: float, upper: float) -> np.ndarray:
-    """The triangular possibility distribution π(x) with support [lower, upper] (eq. 22).
+    """Evaluate the triangular possibility distribution π(x) with support [lower, upper] (eq. 22).
 
     Parameters
     ----------
@@ -111,7 +111,7 @@ def possibility(x: Any, lower: float, mode: float, upper: float) -> np.ndarray:
 def alpha_cuts(
     lower: float, mode: float, upper: float, p: int
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The α-cuts [a + α(c − a), b − α(b − c)] at α_i = i/p, i = 0..p−1 (eqs. 23–24).
+    """Compute the α-cuts [a + α(c − a), b − α(b − c)] at α_i = i/p, i = 0..p−1 (eqs. 23–24).
 
     Returned innermost first, as in the paper's Tables 1–2.
 

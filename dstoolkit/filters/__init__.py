@@ -1,6 +1,8 @@
-"""State-space models and the filters: the paper's dependent-evidence filter
-(Steps 1-6, eqs. 30-31), Nassreddine's filter, a bounded-error (set-membership) filter,
-the extended Kalman filter and a bootstrap particle filter, and example systems.
+"""State-space models, the filters and example systems.
+
+The paper's dependent-evidence filter (Steps 1-6, eqs. 30-31), Nassreddine's filter, a
+bounded-error (set-membership) filter, the extended Kalman filter and a bootstrap particle
+filter, and example systems.
 """
 
 from __future__ import annotations

@@ -44,7 +44,7 @@ def enclosure_summary(result: Any, truth: Any) -> dict[str, Any]:
 
 
 def converged_at(errors: Any, threshold: float = 1.0) -> int | None:
-    """The first step from which every |error| stays below a threshold.
+    """Find the first step from which every |error| stays below a threshold.
 
     Parameters
     ----------

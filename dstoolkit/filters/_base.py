@@ -139,7 +139,7 @@ class Filter(ABC, Generic[StateT, RecordT]):
     # -- what each filter writes -------------------------------------------------------------
     @abstractmethod
     def initialize(self, model: StateSpaceModel, z1: Any) -> StateT:
-        """The state after the first reading.
+        """Return the state after the first reading.
 
         Parameters
         ----------
@@ -179,8 +179,10 @@ class Filter(ABC, Generic[StateT, RecordT]):
     @abstractmethod
     def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
                 runs: np.ndarray) -> Block:
-        """The recursion on a block of runs, Z (R, T, m), U (R, T − 1, q) or None;
-        ``runs`` are the runs' indices in the batch (their random streams, if any)."""
+        """Run the recursion on a block of runs, Z (R, T, m), U (R, T − 1, q) or None.
+
+        ``runs`` are the runs' indices in the batch (their random streams, if any).
+        """
 
     @abstractmethod
     def _bytes_per_run(self, model: StateSpaceModel, n_steps: int) -> float:
@@ -188,7 +190,7 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
     @abstractmethod
     def _start_record(self, state: StateT) -> RecordT:
-        """The record of the first step (the start: what :meth:`initialize` found)."""
+        """Return the record of the first step (the start: what :meth:`initialize` found)."""
 
     def _check_model(self, model: StateSpaceModel) -> None:
         """Refuse a model this filter cannot use (e.g. without g⁻¹); default: accept."""
@@ -197,7 +199,7 @@ class Filter(ABC, Generic[StateT, RecordT]):
         """Refuse options that do not fit a batch of ``runs`` runs; default: accept."""
 
     def _chunk_cap(self, model: StateSpaceModel, n_steps: int) -> int | None:
-        """Runs per block at most (None: as many as the memory budget allows)."""
+        """Return the most runs per block (None: as many as the memory budget allows)."""
         return None
 
     @property
@@ -292,7 +294,7 @@ class Filter(ABC, Generic[StateT, RecordT]):
              for key in blocks[0].diagnostics})
 
     def _guarded(self, model: StateSpaceModel) -> StateSpaceModel:
-        """The model whose maps refuse NaN and complex results, naming the step."""
+        """Return the model whose maps refuse NaN and complex results, naming the step."""
         return guarded(model, self._title)
 
     def _run_steps(self, model: StateSpaceModel, z: np.ndarray, u: np.ndarray | None
@@ -316,9 +318,11 @@ class Filter(ABC, Generic[StateT, RecordT]):
     @staticmethod
     def _one(model: StateSpaceModel, z: Any, u: Any = None, *, transition: bool = True
              ) -> tuple[np.ndarray, np.ndarray | None]:
-        """One reading z and the input u of the transition into it (``transition=False``:
-        the first reading, which has none), checked as :meth:`run` checks them: as a
-        block of one run, (1, m) and (1, q) (or None)."""
+        """Check one reading z and the input u of the transition into it as :meth:`run` does.
+
+        ``transition=False``: the first reading, which has none. They are checked as a
+        block of one run, (1, m) and (1, q) (or None).
+        """
         _checked_model(model)
         try:
             zz = np.broadcast_to(real_array(z, "z", ndim=(0, 1), error=EvidenceError),
@@ -336,8 +340,10 @@ class Filter(ABC, Generic[StateT, RecordT]):
     # -- options -----------------------------------------------------------------------------
     @staticmethod
     def _policy(value: Any, allowed: Sequence[str], name: str, other: str = "") -> None:
-        """Refuse a policy (``on_conflict``, ``mass_rule``...) that is not one of ``allowed``
-        (``other`` names what else is accepted, e.g. "a state vector")."""
+        """Refuse a policy (``on_conflict``, ``mass_rule``...) that is not one of ``allowed``.
+
+        ``other`` names what else is accepted, e.g. "a state vector".
+        """
         if not isinstance(value, str) or value not in allowed:
             raise EvidenceError(
                 f"{name} must be one of {', '.join(repr(a) for a in allowed)}"
@@ -346,9 +352,12 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
     @classmethod
     def _compiled(cls, kernel: Any, purpose: str) -> bool:
-        """Whether ``kernel`` (``"numpy"``, ``"numba"`` or ``"auto"``: numba when it is
-        installed) asks for the compiled kernels (extra ``speed``) that give the numpy
-        path's numbers bit for bit; refuses another value, or ``"numba"`` without numba."""
+        """Tell whether ``kernel`` asks for the compiled kernels (extra ``speed``).
+
+        ``kernel`` is ``"numpy"``, ``"numba"`` or ``"auto"`` (numba when it is installed);
+        the compiled kernels give the numpy path's numbers bit for bit. Refuses another
+        value, or ``"numba"`` without numba.
+        """
         cls._policy(kernel, ("numpy", "numba", "auto"), "kernel")
         if kernel == "numba":
             require_extra("numba", "speed", f"kernel='numba' of {purpose}")
@@ -356,8 +365,11 @@ class Filter(ABC, Generic[StateT, RecordT]):
                                      and importlib.util.find_spec("numba") is not None)
 
     def _own(self, name: str, value: Any) -> None:
-        """Keep ``value`` as the option ``name`` (the frozen dataclass's field): the checked
-        and converted form, so that later edits of the caller's objects change nothing."""
+        """Keep ``value`` as the option ``name`` (the frozen dataclass's field).
+
+        The checked and converted form is kept, so that later edits of the caller's objects
+        change nothing.
+        """
         object.__setattr__(self, name, value)
 
     def _whole(self, name: str, low: int = 0, high: int | None = None) -> None:
@@ -428,7 +440,7 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
     @staticmethod
     def _cuts(p: Any, epsilon: Any) -> None:
-        """The noise evidence's number of α-cuts p and discount ε (eqs. 24–26)."""
+        """Check the noise evidence's number of α-cuts p and discount ε (eqs. 24–26)."""
         whole_number(p, "p (number of α-cuts)", low=1, high=1000, error=EvidenceError)
         real_number(epsilon, "epsilon", low=0.0, high=1.0, high_open=True,
                     error=EvidenceError)

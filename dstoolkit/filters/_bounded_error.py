@@ -206,7 +206,8 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
         """Step k → k + 1 for R runs: boxes (R, n), readings z (R, m), inputs (R, q).
 
         Returns the predicted box, the reading's box within it, the final box and the
-        resets (R,)."""
+        resets (R,).
+        """
         f_lo, f_hi = box_image(with_input(model.f, u), lo, hi, model.f_monotone)
         p_lo = f_lo + model.state_noise.lower
         p_hi = f_hi + model.state_noise.upper

@@ -203,8 +203,11 @@ def fuse_dependent(cols: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1:
 def _contract(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, tolerance: float,
               kept_mass: np.ndarray, conflict: np.ndarray, dead: np.ndarray
               ) -> None:  # pragma: no cover - numba
-    """As ``contracted_posterior`` before its merge: K (sequential sums, as ``row_sum``),
-    the runs in total conflict, the masses renormalised by the mass kept."""
+    """Do what ``contracted_posterior`` does before its merge.
+
+    K (sequential sums, as ``row_sum``), the runs in total conflict, the masses renormalised
+    by the mass kept.
+    """
     runs, rows, n = lo.shape
     for r in range(runs):
         k_sum, m_sum = 0.0, 0.0
@@ -235,8 +238,10 @@ def _compiled_contract() -> Callable[..., None]:
 
 def contracted_posterior_compiled(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray
                                   ) -> tuple[Boxes, np.ndarray, np.ndarray]:
-    """:func:`~dstoolkit.filters._nassreddine.contracted_posterior`, compiled: the same
-    numbers."""
+    """Run :func:`~dstoolkit.filters._nassreddine.contracted_posterior`, compiled.
+
+    The same numbers.
+    """
     contract = _compiled_contract()
     lo, hi = np.ascontiguousarray(lo, dtype=float), np.ascontiguousarray(hi, dtype=float)
     mass = np.ascontiguousarray(mass, dtype=float)
@@ -267,6 +272,8 @@ def _compiled_search() -> Callable[..., None]:
 
 
 def resample_search(cum: np.ndarray, pos: np.ndarray, idx: np.ndarray) -> None:
-    """``idx[r] := np.searchsorted(cum[r], pos[r], side="right")`` for every run r, the
-    positions ``pos[r]`` in ascending order (systematic resampling's), compiled."""
+    """Set ``idx[r] := np.searchsorted(cum[r], pos[r], side="right")`` for every run r.
+
+    The positions ``pos[r]`` are in ascending order (systematic resampling's); compiled.
+    """
     _compiled_search()(np.ascontiguousarray(cum), np.ascontiguousarray(pos), idx)

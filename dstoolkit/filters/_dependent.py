@@ -128,10 +128,12 @@ class ModelMaps:
 
 @dataclass(frozen=True)
 class DependentState(FilterState):
-    """The paper's filter's state: x̂_k, the hull of step k's final evidence (``final``,
-    None at the start) and Step 1's noise evidence (``noise``, from the model's bounded
-    noises; replace it with ``dataclasses.replace`` to step with other evidence). Each
-    step restarts from the point estimate (Step 2), so nothing else passes on.
+    """The paper's filter's state: x̂_k, step k's final hull and Step 1's noise evidence.
+
+    The hull of step k's final evidence is ``final`` (None at the start) and Step 1's noise
+    evidence ``noise``, from the model's bounded noises; replace it with
+    ``dataclasses.replace`` to step with other evidence. Each step restarts from the point
+    estimate (Step 2), so nothing else passes on.
 
     Parameters
     ----------
@@ -410,7 +412,7 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
     def step(self, state: DependentState, z: Any, u: Any = None
              ) -> tuple[DependentState, DependentRecord]:
-        """Steps 2–6 from x̂_k with the reading z_{k+1}.
+        """Run Steps 2–6 from x̂_k with the reading z_{k+1}.
 
         Runs the reference path on :class:`~dstoolkit.evidence.IntervalEvidence` (equal
         focal elements merged, eq. 14), which records every evidence of the step.
@@ -472,7 +474,7 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
     def _fuse_objects(self, maps: ModelMaps, pred: IntervalEvidence,
                       obs_pred: IntervalEvidence, obs: IntervalEvidence, t: int,
                       entry: dict[str, Any]) -> IntervalEvidence | None:
-        """Steps 4–6 with dstoolkit.evidence; None when total conflict falls back."""
+        """Run Steps 4–6 with dstoolkit.evidence; None when total conflict falls back."""
         try:
             fused = dempster(obs_pred, obs, merge=False)
         except TotalConflictError:
@@ -503,8 +505,10 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
     def _engine_by_steps(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
                          runs: np.ndarray) -> Block:
-        """The recursion of R runs by the reference :meth:`step`, run after run (the
-        options the vectorised kernels do not implement)."""
+        """Run the recursion of R runs by the reference :meth:`step`, run after run.
+
+        This serves the options the vectorised kernels do not implement.
+        """
         n_runs, n_steps, _ = Z.shape
         n, noise = model.state_dim, self.noise_evidence(model)
         est, lower, upper = (np.empty((n_runs, n_steps, n)) for _ in range(3))
@@ -531,7 +535,7 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         return Block(est, lower, upper, diag)
 
     def _check_runs(self, runs: int) -> None:
-        """A start per run, (R, n), must have one row for each run of the batch."""
+        """Check that a start per run, (R, n), has one row for each run of the batch."""
         if not isinstance(self.start, str) and np.ndim(self.start) == 2 \
                 and np.shape(self.start)[0] != runs:
             raise EvidenceError(
@@ -540,8 +544,11 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
     def _start(self, model: StateSpaceModel, z1: np.ndarray,
                runs: np.ndarray | None = None) -> np.ndarray:
-        """x̂_1 for every run, (R, n); ``runs`` are the runs' indices in the batch (None for
-        a single run), which pick their rows of a start given per run."""
+        """Return x̂_1 for every run, (R, n).
+
+        ``runs`` are the runs' indices in the batch (None for a single run), which pick
+        their rows of a start given per run.
+        """
         n = model.state_dim
         if not isinstance(self.start, str):
             x0 = np.asarray(self.start, dtype=float)
@@ -572,8 +579,11 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         self, maps: ModelMaps, noise: NoiseEvidence, z: np.ndarray, inputs: np.ndarray | None,
         run_ids: np.ndarray | None = None, bounds: bool = True,
     ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, dict[str, np.ndarray]]:
-        """Steps 2–6 for R runs at once (no merging); z (R, T, m), ``run_ids`` the runs'
-        indices in the batch. ``bounds`` also returns the hull of each final evidence."""
+        """Run Steps 2–6 for R runs at once (no merging).
+
+        z (R, T, m), ``run_ids`` the runs' indices in the batch. ``bounds`` also returns the
+        hull of each final evidence.
+        """
         runs, steps, _ = z.shape
         est = np.empty((runs, steps, maps.model.state_dim))
         hulls = np.empty((runs, steps, 2, est.shape[2])) if bounds else None

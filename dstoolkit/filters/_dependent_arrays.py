@@ -64,8 +64,10 @@ SNAP_RTOL = 1e-12
 
 
 def _view(array: np.ndarray, *shape: int) -> np.ndarray:
-    """``array`` reshaped without a copy (an error if that needs one): writes through it
-    reach ``array``."""
+    """Reshape ``array`` without a copy (an error if that needs one).
+
+    Writes through the result reach ``array``.
+    """
     view = array.view()
     view.shape = shape
     return view
@@ -99,9 +101,12 @@ def observe(maps: ModelMaps, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray
 
 
 def snap_to_prior(back: np.ndarray, prior: np.ndarray, live: np.ndarray | None) -> None:
-    """Step 5's last touch, in place on boxes (..., n, 2): a bound within
-    :data:`SNAP_RTOL` · max(|lo|, |hi|) of its predicted box's is set to it, and boxes not
-    ``live`` (mass 0; None: all live) take the predicted box. ``prior`` broadcasts."""
+    """Apply Step 5's last touch, in place on boxes (..., n, 2).
+
+    A bound within :data:`SNAP_RTOL` · max(|lo|, |hi|) of its predicted box's is set to
+    it, and boxes not ``live`` (mass 0; None: all live) take the predicted box. ``prior``
+    broadcasts.
+    """
     scale = np.abs(prior).max(axis=-1, keepdims=True)
     scale *= SNAP_RTOL
     near = np.abs(back - prior) <= scale
@@ -112,7 +117,7 @@ def snap_to_prior(back: np.ndarray, prior: np.ndarray, live: np.ndarray | None) 
 
 def empty_box_error(back: np.ndarray, lo: np.ndarray, hi: np.ndarray, step: int
                     ) -> EvidenceError | None:
-    """The error for a mapped-back box (..., n, 2) that came out empty, or None."""
+    """Return the error for a mapped-back box (..., n, 2) that came out empty, or None."""
     empty = back[..., 0] > back[..., 1]
     if not empty.any():
         return None
@@ -127,8 +132,9 @@ def empty_box_error(back: np.ndarray, lo: np.ndarray, hi: np.ndarray, step: int
 
 def map_back(maps: ModelMaps, fused: Boxes, prior_lo: np.ndarray, prior_hi: np.ndarray,
              step: int) -> Boxes:
-    """Step 5: g⁻¹ of each fused box within its predicted box; placeholders (mass 0) take
-    the predicted box so that every box stays finite.
+    """Step 5: map each fused box back by g⁻¹ within its predicted box.
+
+    Placeholders (mass 0) take the predicted box so that every box stays finite.
 
     g⁻¹(g(P)) is P up to rounding, but dependence is found by *exact* equality with the
     predicted boxes (eq. A3): a bound within :data:`SNAP_RTOL` of its predicted box's bound
@@ -145,10 +151,12 @@ def map_back(maps: ModelMaps, fused: Boxes, prior_lo: np.ndarray, prior_hi: np.n
 
 
 class _MonotoneImage:
-    """The image of boxes through a function declared monotone with one row of signs (Prop.
-    2): the end points are chosen by the signs, the centre is evaluated in the same call and
-    the values are kept for the check (:meth:`check`). Points and values have the layout
-    (R, 3, B, dim): v_min, v_max, centre of each of B boxes."""
+    """The image of boxes through a function declared monotone with one row of signs.
+
+    Prop. 2: the end points are chosen by the signs, the centre is evaluated in the same
+    call and the values are kept for the check (:meth:`check`). Points and values have the
+    layout (R, 3, B, dim): v_min, v_max, centre of each of B boxes.
+    """
 
     def __init__(self, signs: np.ndarray, what: str, values: np.ndarray) -> None:
         self.signs = signs
@@ -248,8 +256,10 @@ class StepArrays:
             self.g_points = np.empty((runs, 3, np_, n))
 
     def _columns(self) -> None:
-        """The columns [Θ1, E1, E2, Θ2] of Step 6 (lo, hi and centre of each box) and the
-        views of them that every step writes or reads."""
+        """Lay out the columns [Θ1, E1, E2, Θ2] of Step 6 and their views.
+
+        Each box has lo, hi and centre; every step writes or reads the views.
+        """
         runs, n, nv, nw, np_, n1 = self.runs, self.n, self.nv, self.nw, self.np, self.n1
         na, size = n1 + 1, n1 + np_ + 2
         self.boxes = boxes = np.zeros((runs, 3, n, size))
@@ -327,8 +337,10 @@ class StepArrays:
 
     # -- Steps 2 and 3 -----------------------------------------------------------------------
     def _predict(self, t: int, xhat: np.ndarray, u: np.ndarray | None) -> None:
-        """Step 2 into E2's columns: f(x̂ + V_i) + V_j, column i·N_v + j (eqs. 13, 16–19);
-        x̂ (R, 1, 1, n)."""
+        """Step 2 into E2's columns: f(x̂ + V_i) + V_j, column i·N_v + j (eqs. 13, 16–19).
+
+        x̂ (R, 1, 1, n).
+        """
         fi = self.f_image
         if fi is not None:
             np.add(xhat, self.f_offsets, out=self.f_points)
@@ -355,7 +367,7 @@ class StepArrays:
         return values[:, 0, None], values[:, 1, None]
 
     def check_images(self, steps: int) -> None:
-        """The deferred monotonicity checks of steps 2..``steps`` (Prop. 2)."""
+        """Run the deferred monotonicity checks of steps 2..``steps`` (Prop. 2)."""
         for image in (self.f_image, self.g_image):
             if image is not None:
                 image.check(steps)
@@ -367,11 +379,13 @@ class StepArrays:
     # -- one step ----------------------------------------------------------------------------
     def step(self, t: int, est: np.ndarray, u: np.ndarray | None,
              bounds: np.ndarray | None) -> tuple[np.ndarray | None, np.ndarray | None]:
-        """Steps 2–6 of estimate t + 1 from x̂ = est[:, t − 1]; writes est[:, t], with
-        ``bounds`` the hull of the final evidence into bounds[:, t], and the diagnostics
-        (1 − k4, 1 − k6, En'(E1), En'(E2), En'(E1, E2), D, R12, R21) into :attr:`diag`. ``u`` is
-        the input of f, shaped to broadcast against (R, 3, N_v, n). Returns the masks of
-        the runs where Steps 4 and 6 exist (None: all of them).
+        """Run Steps 2–6 of estimate t + 1 from x̂ = est[:, t − 1].
+
+        Writes est[:, t], with ``bounds`` the hull of the final evidence into bounds[:, t],
+        and the diagnostics (1 − k4, 1 − k6, En'(E1), En'(E2), En'(E1, E2), D, R12, R21)
+        into :attr:`diag`. ``u`` is the input of f, shaped to broadcast against
+        (R, 3, N_v, n). Returns the masks of the runs where Steps 4 and 6 exist (None: all
+        of them).
         """
         self._predict(t, est[:, t - 1, None, None], u)
         ok4 = self._fuse_observation(t, *self._observe(t))
@@ -382,9 +396,11 @@ class StepArrays:
 
     def _fuse_observation(self, t: int, pz_lo: np.ndarray, pz_hi: np.ndarray
                           ) -> np.ndarray | None:
-        """Step 4: Dempster's rule of g(E_{k+1|k}) and z + W (eq. 1), products l·N_p + i;
-        E1's masses and k4 into :attr:`diag`. Returns None, or the mask of the runs whose
-        combination exists (runs in total conflict get masses 0)."""
+        """Step 4: Dempster's rule of g(E_{k+1|k}) and z + W (eq. 1), products l·N_p + i.
+
+        E1's masses and k4 go into :attr:`diag`. Returns None, or the mask of the runs whose
+        combination exists (runs in total conflict get masses 0).
+        """
         zw = self.zw[t]
         np.maximum(pz_lo, zw[0], out=self.fused_lo)
         np.minimum(pz_hi, zw[1], out=self.fused_hi)
@@ -411,9 +427,11 @@ class StepArrays:
         return ok4
 
     def _map_back(self, t: int) -> None:
-        """Step 5 into E1's columns: g⁻¹ of each fused box within its predicted box, bounds
-        within :data:`SNAP_RTOL` snapped to the predicted box's, placeholders (mass 0) set to
-        the predicted box (as :func:`dstoolkit.filters.map_back`)."""
+        """Step 5 into E1's columns: g⁻¹ of each fused box within its predicted box.
+
+        Bounds within :data:`SNAP_RTOL` are snapped to the predicted box's, placeholders
+        (mass 0) set to the predicted box (as :func:`dstoolkit.filters.map_back`).
+        """
         lo, hi = self.g_inverse(self.fused_lo, self.fused_hi, *self.prior)
         np.copyto(self.e1_grid_lo, lo)
         np.copyto(self.e1_grid_hi, hi)
@@ -429,8 +447,10 @@ class StepArrays:
 
     def _fuse_dependent(self, t: int, est: np.ndarray, bounds: np.ndarray | None
                         ) -> np.ndarray | None:
-        """Steps 5 and 6 into est[:, t]; returns None or the mask of the runs whose
-        combination exists."""
+        """Run Steps 5 and 6 into est[:, t].
+
+        Returns None or the mask of the runs whose combination exists.
+        """
         self._map_back(t)
         if self.compiled:
             return self._fuse_compiled(t, est, bounds)
@@ -439,8 +459,11 @@ class StepArrays:
         return self._combine(est[:, t], None if bounds is None else bounds[:, t])
 
     def _dependence(self, t: int) -> None:
-        """Step 6, first half: the degree of dependence of E1 = Step 5's evidence and E2 =
-        the prediction, and R12, R21 (Def. 5, eqs. A1–A6), into :attr:`diag`."""
+        """Step 6, first half: the degree of dependence of E1 and E2, and R12, R21.
+
+        E1 = Step 5's evidence and E2 = the prediction (Def. 5, eqs. A1–A6); the results go
+        into :attr:`diag`.
+        """
         valid = self.dependence.compute()
         if least(self.e1_least_width) < 0.0:
             self._empty_box(t)
@@ -448,9 +471,11 @@ class StepArrays:
             self._coefficients_error(t)  # only mass_rule="m2" can do that
 
     def _discount(self) -> None:
-        """E1 and E2 discounted by R12, R21 onto their hulls Θ1, Θ2 (eqs. 9–10, A7–A8): the
-        masses of columns [Θ1, E1, E2, Θ2] (Θ's were set by :meth:`_dependence`) and the
-        hulls of the live boxes."""
+        """Discount E1 and E2 by R12, R21 onto their hulls Θ1, Θ2 (eqs. 9–10, A7–A8).
+
+        This sets the masses of columns [Θ1, E1, E2, Θ2] (Θ's were set by
+        :meth:`_dependence`) and the hulls of the live boxes.
+        """
         np.multiply(self.back_mass, self.r12, out=self.e1_mass)
         np.multiply(self.rho, self.r21, out=self.e2_mass)
         (e1_lo, e1_hi), (e2_lo, e2_hi), (t1_lo, t1_hi), (t2_lo, t2_hi) = self.hull_views
@@ -460,10 +485,12 @@ class StepArrays:
         np.maximum.reduce(e2_hi, axis=-1, out=t2_hi)
 
     def _combine(self, est: np.ndarray, bounds: np.ndarray | None) -> np.ndarray | None:
-        """Step 6, second half: Dempster's rule (eq. 1) of the discounted E1 and E2, its
-        pignistic expectation (eq. 20) into ``est`` (R, n), 1 − k6 into :attr:`diag` and
-        with ``bounds`` (R, 2, n) the hull of the combination; returns None or the mask of
-        the runs whose combination exists."""
+        """Step 6, second half: Dempster's rule (eq. 1) of the discounted E1 and E2.
+
+        Its pignistic expectation (eq. 20) goes into ``est`` (R, n), 1 − k6 into
+        :attr:`diag` and with ``bounds`` (R, 2, n) the hull of the combination; returns None
+        or the mask of the runs whose combination exists.
+        """
         products = self.products
         ok = products.combine(est)
         np.copyto(self.kept6, products.kept)

@@ -85,8 +85,10 @@ def finite_difference_jacobian(fn: Callable[[np.ndarray], np.ndarray], x: np.nda
 
 
 def _inverse(s_cov: np.ndarray) -> np.ndarray:
-    """S⁻¹ for a stack of innovation covariances; the pseudo-inverse where S is singular
-    (noise-free models: zero variances give S = 0 and the gain 0)."""
+    """Invert S for a stack of innovation covariances; the pseudo-inverse where S is singular.
+
+    Noise-free models: zero variances give S = 0 and the gain 0.
+    """
     try:
         return np.linalg.inv(s_cov)
     except np.linalg.LinAlgError:
@@ -101,8 +103,9 @@ def _reciprocal(s: Any) -> Any:
 
 
 class _MapsAndSlopes:
-    """f and ∂f/∂x, g and ∂g/∂x of a model with one state and one reading (n = m = 1), on
-    one run's state as a Python float or a batch's states as an (R,) array.
+    """f and ∂f/∂x, g and ∂g/∂x of a model with one state and one reading (n = m = 1).
+
+    On one run's state as a Python float or a batch's states as an (R,) array.
 
     Each value and its slope come from the model's own array maps: the map and its
     Jacobian when the model has one, otherwise the map once on the three points x,
@@ -119,9 +122,11 @@ class _MapsAndSlopes:
         self.jacobian_f, self.jacobian_g = model.jacobian_f, model.jacobian_g
 
     def rows(self, inputs: np.ndarray | None, transitions: int) -> list[Any]:
-        """Each transition's inputs in the form :meth:`predict` takes: (R, q) rows, or
-        (3R, q) (the rows three times over) when f's slope is a central difference; None
-        without inputs."""
+        """Return each transition's inputs in the form :meth:`predict` takes.
+
+        (R, q) rows, or (3R, q) (the rows three times over) when f's slope is a central
+        difference; None without inputs.
+        """
         if inputs is None:
             return [None] * transitions
         if self.jacobian_f is None:
@@ -158,8 +163,10 @@ class _MapsAndSlopes:
         return value, (plus - minus) / (2.0 * step)
 
     def _values(self, fn: Callable[..., Any], name: str, x: np.ndarray, *u: Any) -> Any:
-        """fn(x, *u) for states x (k, 1) as k floats (a list for one run, else an array),
-        checked: real numbers, NaN nowhere (±inf allowed)."""
+        """Evaluate fn(x, *u) for states x (k, 1) as k floats (a list for one run, else an array).
+
+        Checked: real numbers, NaN nowhere (±inf allowed).
+        """
         out = fn(x, *u)
         if type(out) is not np.ndarray or out.dtype != np.float64 or out.shape != x.shape:
             if self.guard is not None:
@@ -182,7 +189,7 @@ class _MapsAndSlopes:
         return flat
 
     def _slope(self, jacobian: Any) -> Any:
-        """A Jacobian (R, 1, 1) as a float (one run) or an (R,) array."""
+        """Return a Jacobian (R, 1, 1) as a float (one run) or an (R,) array."""
         if type(jacobian) is not np.ndarray or jacobian.dtype != np.float64:
             jacobian = np.asarray(jacobian, dtype=float)
         return jacobian.item() if self.runs == 1 else jacobian.reshape(self.runs)
@@ -193,12 +200,14 @@ def _scalar_recursion(
     q: float, r: float, v_mean: float, w_mean: float, terms: list[tuple[Any, ...]] | None = None,
     at: Callable[[int], None] | None = None, first: int = 1,
 ) -> tuple[list[Any], list[Any], list[Any]]:
-    """The module docstring's recursion for n = m = 1 (eq. 21: F = ∂f/∂x, H = ∂g/∂x,
-    Q = Var[v], R = Var[w]) from the start (x̂_1, P_1), on floats or (R,) arrays alike:
+    """Run the module docstring's recursion for n = m = 1 from the start (x̂_1, P_1).
+
+    Eq. 21: F = ∂f/∂x, H = ∂g/∂x, Q = Var[v], R = Var[w]; on floats or (R,) arrays alike:
     estimates, variances and NIS of steps 2..T, one entry per (reading, input) pair
     (inputs as :meth:`_MapsAndSlopes.rows` gives them). ``terms`` collects each step's x⁻,
     P⁻, innovation, S and gain (for the step records); ``at(k)`` is told each step k
-    (counting from 0; the first is ``first``) before it is computed."""
+    (counting from 0; the first is ``first``) before it is computed.
+    """
     out_x: list[Any] = []
     out_cov: list[Any] = []
     out_nis: list[Any] = []
@@ -230,8 +239,9 @@ def _scalar_recursion(
 
 @dataclass(frozen=True)
 class KalmanState(FilterState):
-    """The Kalman filter's state: x̂_k (``estimate``), P_k (``covariance``, (n, n)) and
-    the band x̂_k ± 3σ (``lower``, ``upper``).
+    """The Kalman filter's state: x̂_k, P_k and the band x̂_k ± 3σ.
+
+    x̂_k is ``estimate``, P_k ``covariance`` ((n, n)) and the band ``lower``, ``upper``.
 
     Parameters
     ----------
@@ -449,10 +459,12 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
     def _filter_scalar(
         self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The recursion of :meth:`_filter` for a scalar state and reading, term by term
-        (every matrix is 1 × 1): on Python floats for one run, on (R,) arrays for a batch,
+        """Run the recursion of :meth:`_filter` for a scalar state and reading, term by term.
+
+        Every matrix is 1 × 1: on Python floats for one run, on (R,) arrays for a batch,
         with the same operations in the same order, so a batch equals single runs exactly.
-        Each step calls the model's array maps two or four times (:class:`_MapsAndSlopes`)."""
+        Each step calls the model's array maps two or four times (:class:`_MapsAndSlopes`).
+        """
         runs, n_steps, _ = Z.shape
         x0, cov0 = self._start(model, Z[:, 0])
         xs, covs = np.empty((runs, n_steps, 1)), np.empty((runs, n_steps, 1, 1))
@@ -492,7 +504,8 @@ def _scalar(model: StateSpaceModel) -> bool:
     Why two paths: :func:`_advance` is the recursion for any n and m, with matrices; for
     n = m = 1 (the gauge) its dozen small matrix calls a step would cost far more than the
     arithmetic, so :func:`_scalar_recursion` runs the same recursion term by term. Both
-    are tested against each other and against the public step."""
+    are tested against each other and against the public step.
+    """
     return model.state_dim == 1 and model.obs_dim == 1
 
 
@@ -508,8 +521,11 @@ def _state(model: StateSpaceModel, k: int, x: np.ndarray, cov: np.ndarray) -> Ka
 
 
 def _refuse_contradiction(singular: np.ndarray, surprised: np.ndarray, k: int) -> None:
-    """Raise where S = 0 (no noise can explain a difference) and yet the reading differs
-    from its prediction: the pseudo-inverse would give the gain 0 and ignore the reading."""
+    """Raise where S = 0 (no noise can explain a difference) and yet the reading differs.
+
+    The reading differs from its prediction: the pseudo-inverse would give the gain 0 and
+    ignore the reading.
+    """
     bad = np.atleast_1d(singular & surprised)
     if bad.any():
         run = int(np.flatnonzero(bad)[0])
@@ -522,9 +538,11 @@ def _refuse_contradiction(singular: np.ndarray, surprised: np.ndarray, k: int) -
 
 def _advance(model: StateSpaceModel, x: np.ndarray, cov: np.ndarray, z: np.ndarray,
              u: np.ndarray | None, k: int) -> tuple[np.ndarray, ...]:
-    """Step k − 1 → k (counting from 0) of the module docstring's recursion for R runs:
+    """Advance step k − 1 → k (counting from 0) of the module docstring's recursion for R runs.
+
     x (R, n), P (R, n, n), z (R, m), u (R, q) or None. Returns x⁻, P⁻, the innovation, S,
-    the gain K, x̂, P and the NIS (R,)."""
+    the gain K, x̂, P and the NIS (R,).
+    """
     q_cov = np.diag(model.state_noise.variance)
     r_cov = np.diag(model.obs_noise.variance)
     f_u = with_input(model.f, u)

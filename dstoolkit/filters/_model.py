@@ -97,13 +97,17 @@ class BoundedNoise:
                           for name in ("lower", "mode", "upper")))
 
     def __reduce__(self) -> tuple[Any, ...]:
-        """Pickle, copy and deepcopy rebuild the noise through the constructor: its checks
-        run again and the copy's arrays are read-only too."""
+        """Rebuild the noise through the constructor in pickle, copy and deepcopy.
+
+        Its checks run again and the copy's arrays are read-only too.
+        """
         return (BoundedNoise, (self.lower.tolist(), self.mode.tolist(), self.upper.tolist()))
 
     def __setstate__(self, state: Any) -> None:
-        """A pickle in the plain form (attributes, no constructor call) goes through the
-        constructor's checks too."""
+        """Restore a pickle in the plain form (attributes, no constructor call).
+
+        It goes through the constructor's checks too.
+        """
         try:
             lower, mode, upper = state["lower"], state["mode"], state["upper"]
         except (KeyError, TypeError, IndexError):
@@ -283,7 +287,7 @@ class StateSpaceModel:
         return self.state_noise.dim
 
     def inverse(self) -> BoxInverse:
-        """The model's g⁻¹ on boxes.
+        """Return the model's g⁻¹ on boxes.
 
         Returns
         -------
@@ -469,8 +473,11 @@ class _MapGuard:
 
 
 def guarded(model: StateSpaceModel, title: str) -> StateSpaceModel:
-    """The model with f, g and g⁻¹ that refuse NaN, complex and non-numeric results, naming
-    the map and the step (:func:`at_step` tells the step); already guarded models pass."""
+    """Return the model with f, g and g⁻¹ that refuse NaN, complex and non-numeric results.
+
+    They name the map and the step (:func:`at_step` tells the step); already guarded models
+    pass.
+    """
     if getattr(model.f, "_guard", None) is not None:
         return model
     guard = _MapGuard(title)
@@ -481,9 +488,12 @@ def guarded(model: StateSpaceModel, title: str) -> StateSpaceModel:
 
 
 def unchecked(fn: Callable[..., Any]) -> tuple[Callable[..., Any], _MapGuard | None]:
-    """A guarded map's own function and its guard, for a caller that checks the results
-    itself (the Kalman filter's scalar recursion checks floats, not arrays); a map that is
-    not guarded comes back as it is, with no guard."""
+    """Return a guarded map's own function and its guard.
+
+    This is for a caller that checks the results itself (the Kalman filter's scalar
+    recursion checks floats, not arrays); a map that is not guarded comes back as it is,
+    with no guard.
+    """
     return getattr(fn, "_unchecked", fn), getattr(fn, "_guard", None)
 
 
@@ -545,10 +555,12 @@ def batch_readings(
 
 def _probe_inputs(model: StateSpaceModel, u: np.ndarray | None, shape: tuple[int, ...]
                   ) -> None:
-    """Evaluate f once on the inputs of every transition, u (runs, transitions, q) or None
-    (``shape`` = (runs, transitions)), so that an input of the wrong shape or value, or a
-    missing one, is reported here, before any work, and not deep inside (the gauge's f
-    refuses orders n_k <= 0 and missing orders here)."""
+    """Evaluate f once on the inputs of every transition, u (runs, transitions, q) or None.
+
+    ``shape`` = (runs, transitions). An input of the wrong shape or value, or a missing one,
+    is thus reported here, before any work, and not deep inside (the gauge's f refuses
+    orders n_k <= 0 and missing orders here).
+    """
     x = np.zeros((*shape, model.state_dim))
     try:
         with np.errstate(all="ignore"):
@@ -568,8 +580,10 @@ def _probe_inputs(model: StateSpaceModel, u: np.ndarray | None, shape: tuple[int
 def single_readings(
     model: StateSpaceModel, z: Any, inputs: Any = None
 ) -> tuple[np.ndarray, np.ndarray | None]:
-    """One sequence z (steps, m) (or (steps,) for m = 1) checked and shaped as a batch of one
-    run, with its inputs (transitions, q)."""
+    """Check and shape one sequence z (steps, m) (or (steps,) for m = 1) as a batch of one run.
+
+    Its inputs are (transitions, q).
+    """
     z = real_array(z, "readings", finite=False, error=EvidenceError)
     if z.ndim == 1 and model.obs_dim == 1:
         z = z[:, None]
@@ -586,7 +600,7 @@ def single_readings(
 
 
 def step_input(inputs: np.ndarray | None, k: int) -> np.ndarray | None:
-    """The inputs u (runs, q) of the transition into step k (None without inputs)."""
+    """Return the inputs u (runs, q) of the transition into step k (None without inputs)."""
     return None if inputs is None else inputs[:, k - 1]
 
 
@@ -620,7 +634,7 @@ def with_input(f: ArrayFn, u: np.ndarray | None) -> Callable[[np.ndarray], np.nd
 def first_reading_box(
     model: StateSpaceModel, z: np.ndarray, prior: Any = None
 ) -> tuple[np.ndarray, np.ndarray]:
-    """The states consistent with a reading: g⁻¹(z + [w_lo, w_hi]) ∩ prior (eq. 21).
+    """Find the states consistent with a reading: g⁻¹(z + [w_lo, w_hi]) ∩ prior (eq. 21).
 
     ``z`` has shape (..., m); ``prior`` is a box ``(lo, hi)`` of the state, default the
     whole space. Returns (lo, hi) of shape (..., n); empty boxes have lo > hi somewhere.

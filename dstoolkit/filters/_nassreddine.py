@@ -97,17 +97,19 @@ CHUNK_BYTES = 96 * 2**20
 
 
 def noise_boxes(noise: BoundedNoise, p: int, epsilon: float, theta: Any) -> Boxes:
-    """The evidence of a bounded noise (eqs. 24–26) as a one-run :class:`Boxes`."""
+    """Build the evidence of a bounded noise (eqs. 24–26) as a one-run :class:`Boxes`."""
     ev = noise.evidence(p=p, epsilon=epsilon, theta=theta)
     return Boxes(ev.boxes_lo[None], ev.boxes_hi[None], np.asarray(ev.mass)[None])
 
 
 def contracted_posterior(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray
                          ) -> tuple[Boxes, np.ndarray, np.ndarray]:
-    """Dempster's rule (eq. 1) on the contractions (R, N, n) of step 3 and their masses: the
-    empty ones (lo > hi somewhere) are the conflict K, the rest are renormalised by the mass
-    they keep and equal boxes merged (eq. 14). Returns the posterior, K per run and the
-    runs in total conflict (their masses all 0)."""
+    """Apply Dempster's rule (eq. 1) to the contractions (R, N, n) of step 3 and their masses.
+
+    The empty ones (lo > hi somewhere) are the conflict K, the rest are renormalised by the
+    mass they keep and equal boxes merged (eq. 14). Returns the posterior, K per run and the
+    runs in total conflict (their masses all 0).
+    """
     empty = np.any(lo > hi, axis=-1)
     conflict = row_sum(np.where(empty, mass, 0.0))
     mass = np.where(empty, 0.0, mass)
@@ -139,13 +141,14 @@ def _replace_runs(bm: Boxes, runs: np.ndarray, new: Boxes) -> Boxes:
 
 @dataclass(frozen=True)
 class NassreddineState(FilterState):
-    """Nassreddine's filter's state: the posterior mass function on boxes of step k
-    (``posterior``) and what step k + 1 starts from (``carried``: the posterior after the
-    clustering cap, or None for the restart variant, which restarts from x̂_k + E_v), and
-    the evidence of the reading, z_k + E_w (``observation``). ``posterior`` and ``carried``
-    are one-run :class:`~dstoolkit.evidence.Boxes` (arrays with a run axis of 1);
-    ``focal_elements`` and ``merged_mass`` are the posterior's size before the cap and the
-    mass the cap moved.
+    """Nassreddine's filter's state: the posterior, what step k + 1 starts from, the reading.
+
+    The posterior mass function on boxes of step k is ``posterior``; what step k + 1 starts
+    from is ``carried`` (the posterior after the clustering cap, or None for the restart
+    variant, which restarts from x̂_k + E_v); the evidence of the reading, z_k + E_w, is
+    ``observation``. ``posterior`` and ``carried`` are one-run
+    :class:`~dstoolkit.evidence.Boxes` (arrays with a run axis of 1); ``focal_elements``
+    and ``merged_mass`` are the posterior's size before the cap and the mass the cap moved.
 
     Parameters
     ----------
@@ -295,7 +298,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         self._compiled(self.kernel, "Nassreddine's filter")
 
     def _kernels(self) -> tuple[Any, Any]:
-        """The correction (:func:`contracted_posterior`) and the clustering of ``kernel``."""
+        """Return the correction (:func:`contracted_posterior`) and the clustering of ``kernel``."""
         if self._compiled(self.kernel, "Nassreddine's filter"):
             from dstoolkit.evidence.boxes import cluster_boxes_compiled
 
@@ -319,14 +322,14 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         return max(1, int(CHUNK_BYTES // self._bytes_per_run(model)))
 
     def _noise(self, model: StateSpaceModel) -> tuple[Boxes, Boxes]:
-        """The evidence of v and w (eqs. 24–26) as one-run boxes."""
+        """Build the evidence of v and w (eqs. 24–26) as one-run boxes."""
         theta_v, theta_w = (None, None) if self.theta is None else self.theta
         return (noise_boxes(model.state_noise, self.p, self.epsilon, theta_v),
                 noise_boxes(model.obs_noise, self.p, self.epsilon, theta_w))
 
     # -- the public step -----------------------------------------------------------------------
     def initialize(self, model: StateSpaceModel, z1: Any) -> NassreddineState:
-        """The reading's evidence g⁻¹(z_1 + E_w) ∩ X_0.
+        """Return the reading's evidence g⁻¹(z_1 + E_w) ∩ X_0.
 
         Parameters
         ----------
@@ -416,9 +419,11 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
     def _correct(self, model: StateSpaceModel, state: Boxes, v: Boxes, w: Boxes,
                  z: np.ndarray, u: np.ndarray | None, k: int
                  ) -> tuple[Boxes, np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
-        """Step k → k + 1 for R runs up to the posterior: predict, contract with the
-        reading z (R, m). Returns the posterior, K (R,), the runs reset by total conflict,
-        and the prediction and observation boxes (for the records)."""
+        """Correct step k → k + 1 for R runs up to the posterior.
+
+        Predict, contract with the reading z (R, m). Returns the posterior, K (R,), the runs
+        reset by total conflict, and the prediction and observation boxes (for the records).
+        """
         runs, n = z.shape[0], model.state_dim
         combine, _ = self._kernels()
         p_lo, p_hi, p_mass = self._predict(model, state, v, u)
@@ -436,9 +441,11 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         return posterior, conflict, dead, (p_lo, p_hi, p_mass, y_lo, y_hi)
 
     def _settle(self, posterior: Boxes) -> tuple[Any, ...]:
-        """What follows the posterior of R runs: estimate, hull, focal elements, the
-        evidence carried to the next step (clustered; None for the restart variant) and
-        the mass the clustering moved."""
+        """Settle what follows the posterior of R runs.
+
+        Estimate, hull, focal elements, the evidence carried to the next step (clustered;
+        None for the restart variant) and the mass the clustering moved.
+        """
         _, cluster = self._kernels()
         focal = (posterior.mass > 0).sum(axis=1)
         est = pignistic_expectation(posterior)

@@ -64,7 +64,7 @@ _QUANTUM = 2.0**40
 
 def systematic_resample(weights: np.ndarray, offsets: np.ndarray, *, compiled: bool = False
                         ) -> np.ndarray:
-    """Indices chosen by systematic resampling, one row per run.
+    """Choose indices by systematic resampling, one row per run.
 
     Parameters
     ----------
@@ -114,16 +114,18 @@ def _normalised(weights: np.ndarray) -> np.ndarray:
 
 
 def _stream(seed: int, *key: int) -> np.random.Generator:
-    """The random stream of run ``key[0]`` (and of a re-initialisation at step ``key[1]``)."""
+    """Return run ``key[0]``'s random stream (and a re-initialisation's at step ``key[1]``)."""
     return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=key))
 
 
 def _draws(seed: int, run_ids: Any, state_noise: BoundedNoise, n_steps: int, big_n: int
            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Every run's numbers, pre-drawn from its own streams: the start's uniforms (runs, N,
-    n), the state noise (runs, steps − 1, N, n) and the resampling offsets (runs, steps −
-    1). Each stream is read in the order of the steps, so :meth:`ParticleFilter.step`,
-    drawing one step's numbers at a time, draws the same ones."""
+    """Pre-draw every run's numbers from its own streams.
+
+    The start's uniforms (runs, N, n), the state noise (runs, steps − 1, N, n) and the
+    resampling offsets (runs, steps − 1). Each stream is read in the order of the steps, so
+    :meth:`ParticleFilter.step`, drawing one step's numbers at a time, draws the same ones.
+    """
     runs, n = len(run_ids), state_noise.dim
     start_u = np.empty((runs, big_n, n))
     noise = np.empty((runs, max(n_steps - 1, 0), big_n, n))
@@ -137,7 +139,7 @@ def _draws(seed: int, run_ids: Any, state_noise: BoundedNoise, n_steps: int, big
 
 
 def _copied(rng: np.random.Generator) -> np.random.Generator:
-    """A generator in the same state as ``rng``, to draw from without advancing ``rng``."""
+    """Return a generator in the same state as ``rng``, to draw from without advancing ``rng``."""
     copy = np.random.Generator(type(rng.bit_generator)())
     copy.bit_generator.state = rng.bit_generator.state
     return copy
@@ -147,9 +149,11 @@ def _copied(rng: np.random.Generator) -> np.random.Generator:
 def _kept_draws(seed: int, run_ids: tuple[int, ...],
                 noise: tuple[tuple[float, ...], ...], n_steps: int, big_n: int
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`_draws`, kept (read-only) for the next batch of the same runs with the same
-    state noise: an explorer that re-filters them under other bounds of the observation
-    noise draws nothing again."""
+    """Return :func:`_draws`, kept (read-only) for the next batch of the same runs.
+
+    Kept for the same state noise: an explorer that re-filters them under other bounds of
+    the observation noise draws nothing again.
+    """
     arrays = _draws(seed, run_ids, BoundedNoise(*map(np.array, noise)), n_steps, big_n)
     for a in arrays:
         a.flags.writeable = False
@@ -158,9 +162,10 @@ def _kept_draws(seed: int, run_ids: tuple[int, ...],
 
 @dataclass(frozen=True)
 class ParticleState(FilterState):
-    """The particle filter's state: the weighted cloud after the reading and the run's
-    random streams (``rng`` for the state noise, ``offset_rng`` for the resampling; copied by
-    :meth:`ParticleFilter.step`, never advanced in place).
+    """The particle filter's state: the weighted cloud after the reading and the random streams.
+
+    The run's random streams are ``rng`` for the state noise, ``offset_rng`` for the
+    resampling; copied by :meth:`ParticleFilter.step`, never advanced in place.
 
     ``particles`` is (N, n) and ``weights`` (N,), summing to 1; ``estimate`` is their
     weighted mean and ``lower``/``upper`` the hull of the particles with weight.
@@ -286,8 +291,9 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
 
     # -- the public step -----------------------------------------------------------------------
     def initialize(self, model: StateSpaceModel, z1: Any) -> ParticleState:
-        """Particles uniform in the reading's box, weighted by their likelihood (the
-        stream ``stream``).
+        """Draw particles uniform in the reading's box, weighted by their likelihood.
+
+        They are drawn from the stream ``stream``.
 
         Parameters
         ----------
@@ -396,9 +402,12 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
     def _advance(self, model: StateSpaceModel, particles: np.ndarray, w: np.ndarray,
                  offsets: np.ndarray, noise: np.ndarray, z: np.ndarray, u: np.ndarray | None,
                  run_ids: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Step k → k + 1 (k counting from 1) for R runs: clouds (R, N, n) with weights
-        (R, N), the step's offsets (R,) and state noise (R, N, n), readings (R, m).
-        Returns the new clouds, their normalised weights and the re-initialised runs."""
+        """Advance step k → k + 1 (k counting from 1) for R runs.
+
+        Clouds (R, N, n) with weights (R, N), the step's offsets (R,) and state noise
+        (R, N, n), readings (R, m). Returns the new clouds, their normalised weights and the
+        re-initialised runs.
+        """
         runs, big_n, n = particles.shape
         first_row = (np.arange(runs) * big_n)[:, None]  # each run's first particle, flattened
         compiled = self._compiled(self.kernel, "the particle filter")

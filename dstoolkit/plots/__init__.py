@@ -13,6 +13,7 @@ from dstoolkit.errors import require_extra
 
 require_extra("matplotlib", "plots", "dstoolkit.plots")
 
+from ._chapter_figures import plot_image_methods, plot_sweep_peaks  # noqa: E402
 from ._evidence import (  # noqa: E402
     contour,
     interval_table,
@@ -56,8 +57,10 @@ from ._style import (  # noqa: E402
     OKABE_ITO,
     TRUTH_COLOUR,
     figure_style,
+    label_line_ends,
     legend_above,
     log_ticks,
+    spread_positions,
     use_style,
 )
 
@@ -74,6 +77,7 @@ __all__ = [
     "contour",
     "figure_style",
     "interval_table",
+    "label_line_ends",
     "legend_above",
     "log_ticks",
     "markdown_table",
@@ -85,6 +89,7 @@ __all__ = [
     "plot_filter_errors",
     "plot_filter_step",
     "plot_focal_intervals",
+    "plot_image_methods",
     "plot_masses",
     "plot_noise_assumption",
     "plot_order_rule_study",
@@ -95,6 +100,8 @@ __all__ = [
     "plot_resonances",
     "plot_scale_study",
     "plot_step_errors",
+    "plot_sweep_peaks",
     "plot_table3",
+    "spread_positions",
     "use_style",
 ]

@@ -45,13 +45,14 @@ from ._style import (
     SMALL_PT,
     column_size,
     legend_above,
+    root_figure,
     styled,
 )
 
 
 def _axes(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
     if ax is not None:
-        return ax.figure, ax
+        return root_figure(ax), ax
     fig, new_ax = plt.subplots(figsize=column_size(*figsize), layout="constrained")
     return fig, new_ax
 
@@ -147,7 +148,9 @@ def update_focal_intervals(
     left, right = np.maximum(lo, xlim[0]), np.minimum(hi, xlim[1])
 
     def bar() -> Rectangle:
-        return ax.add_patch(Rectangle((0.0, 0.0), 0.0, 0.0, edgecolor="black", linewidth=0.6))
+        patch = Rectangle((0.0, 0.0), 0.0, 0.0, edgecolor="black", linewidth=0.6)
+        ax.add_patch(patch)
+        return patch
 
     bars = _resize(artists.bars, len(ev), bar, artists.animated)
     for i, rect in enumerate(bars):
@@ -189,6 +192,8 @@ def plot_focal_intervals(
     ----------
     ev
         Scalar interval evidence.
+    ax
+        Axes to draw on; by default a new figure of its own.
     xlim
         Range of the x axis; default: the hull of the focal elements, 5 % margin.
     title
@@ -199,6 +204,24 @@ def plot_focal_intervals(
         One colour for every bar; default: a colour map over the focal elements.
     xlabel
         Label of the x axis: the quantity and its unit, e.g. ``"frequency (Hz)"``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``ev`` is not scalar interval evidence.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import triangular_evidence
+    >>> ev = triangular_evidence(-10.59, -6.9, -3.21, p=3, epsilon=0.05, theta=(-20.0, 10.0))
+    >>> fig = plot_focal_intervals(ev, xlim=(-12, -2), xlabel="noise w (Hz)")
+    >>> fig.axes[0].get_xlabel()
+    'noise w (Hz)'
     """
     _scalar(ev, "plot_focal_intervals")
     fig, ax = _axes(ax, (6.0, 2.8))
@@ -276,6 +299,41 @@ def plot_pbox(
     two step functions (see :meth:`~dstoolkit.evidence.IntervalEvidence.cdf_bounds`).
     Default ``x``: ``pbox_grid`` over ``xlim``, else over the finite ends of the focal
     elements. (``draw_pbox`` then ``update_pbox``.)
+
+    Parameters
+    ----------
+    ev : dstoolkit.evidence.IntervalEvidence
+        Scalar interval evidence (d = 1).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    x : array_like, optional
+        Shape (n,): points at which both bounds are drawn (unit of the quantity).
+    xlim : tuple of float, optional
+        Range of the x axis (unit of the quantity).
+    title : str, optional
+        Title of the axes.
+    label : str, optional
+        Written after "Bel" and "Pl" in the legend.
+    xlabel : str, optional
+        Label of the x axis: the quantity and its unit.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``ev`` is not scalar interval evidence.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import triangular_evidence
+    >>> ev = triangular_evidence(-10.59, -6.9, -3.21, p=3, epsilon=0.05, theta=(-20.0, 10.0))
+    >>> fig = plot_pbox(ev, xlabel="noise w (Hz)")
+    >>> fig.axes[0].get_xlabel()
+    'noise w (Hz)'
     """
     _scalar(ev, "plot_pbox")
     fig, ax = _axes(ax, (6.0, 2.8))
@@ -292,6 +350,32 @@ def contour(ev: IntervalEvidence, x: Any) -> np.ndarray:
 
     For consonant (nested) evidence it is the possibility distribution the evidence
     stands for (the staircase under π in the paper's Fig. 4).
+
+    Parameters
+    ----------
+    ev : dstoolkit.evidence.IntervalEvidence
+        Scalar interval evidence (d = 1).
+    x : array_like
+        Points (unit of the quantity), any shape.
+
+    Returns
+    -------
+    numpy.ndarray
+        Pl({x}) at each point, the shape of ``x``; values in [0, 1].
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``ev`` is not scalar interval evidence.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import triangular_evidence
+    >>> ev = triangular_evidence(-10.59, -6.9, -3.21, p=3, epsilon=0.05, theta=(-20.0, 10.0))
+    >>> float(contour(ev, -6.9))
+    1.0
+    >>> float(contour(ev, 5.0)) < 0.1
+    True
     """
     _scalar(ev, "contour")
     x = np.asarray(x, dtype=float)
@@ -356,10 +440,10 @@ def update_possibility(artists: PossibilityArtists, lower: float, mode: float, u
     alphas = np.arange(p)[::-1] / p
     colours = plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, p))
     artists.cuts.set_segments([[(a, y), (b, y)] for a, b, y in zip(lo, hi, alphas, strict=True)])
-    artists.cuts.set_color(colours)
+    artists.cuts.set_color(list(colours))
     artists.ends.set_segments([[(e, 0.0), (e, y)] for a, b, y in zip(lo, hi, alphas, strict=True)
                                for e in (a, b)])
-    artists.ends.set_color(np.repeat(colours, 2, axis=0))
+    artists.ends.set_color(list(np.repeat(colours, 2, axis=0)))
 
     def label() -> Text:
         return ax.text(0.0, 0.0, "", va="center", fontsize=SMALL_PT)
@@ -390,6 +474,38 @@ def plot_possibility(
     With ``evidence`` given, its contour function Pl({x}) is drawn too: the staircase that
     the evidence puts in place of π. (``draw_possibility`` then
     ``update_possibility``.)
+
+    Parameters
+    ----------
+    lower, mode, upper : float
+        Support and mode of π (unit of the quantity), ``lower <= mode <= upper``.
+    p : int, optional
+        Number of α-cuts.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    evidence : dstoolkit.evidence.IntervalEvidence, optional
+        Scalar evidence whose contour function is drawn as well.
+    xlim : tuple of float, optional
+        Range of the x axis; by default the support with a 15 % margin.
+    title : str, optional
+        Title of the axes.
+    xlabel : str, optional
+        Label of the x axis: the quantity and its unit.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    References
+    ----------
+    The paper's eqs. (22) and (24).
+
+    Examples
+    --------
+    >>> fig = plot_possibility(-10.59, -6.9, -3.21, 3, xlabel="noise w (Hz)")
+    >>> fig.axes[0].get_ylabel()
+    'possibility'
     """
     fig, ax = _axes(ax, (6.0, 2.8))
     if xlim is None:
@@ -419,7 +535,7 @@ def all_subsets(frame: Sequence[Hashable]) -> list[frozenset]:
 def _bel_pl_sets(frame: Sequence[Hashable], subsets: Sequence[Any] | None) -> list[frozenset]:
     if subsets is None:
         subsets = all_subsets(frame) if len(frame) <= 4 else [frozenset([h]) for h in frame]
-    return [frozenset(MassFunction._elements(s, frame)) for s in subsets]
+    return [frozenset(MassFunction._elements(s, tuple(frame))) for s in subsets]
 
 
 @dataclass
@@ -496,6 +612,36 @@ def plot_bel_pl(
     also get a red tick at their pignistic probability BetP, which always lies between.
     Default subsets: all non-empty subsets for frames of up to 4 hypotheses, else
     the singletons. (``draw_bel_pl`` then ``update_bel_pl``.)
+
+    Parameters
+    ----------
+    mf : dstoolkit.evidence.MassFunction
+        A mass function on a finite frame.
+    subsets : collections.abc.Sequence, optional
+        The subsets to draw (each a tuple of hypotheses).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    title : str, optional
+        Title of the axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``mf`` is not a :class:`~dstoolkit.evidence.MassFunction`.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import MassFunction
+    >>> frame = ("low", "mid", "high")
+    >>> mf = MassFunction({("low",): 0.5, ("low", "mid"): 0.3, frame: 0.2}, frame)
+    >>> fig = plot_bel_pl(mf)
+    >>> len(fig.axes)
+    1
     """
     if not isinstance(mf, MassFunction):
         raise EvidenceError("plot_bel_pl draws a MassFunction on a finite frame")
@@ -525,8 +671,8 @@ def _fit_category_labels(ax: Axes, names: Sequence[str]) -> None:
     labels = ax.get_xticklabels()
     if not labels:
         return
-    size_in = labels[0].get_fontsize() / 72.0
-    width_in = ax.get_position().width * ax.figure.get_figwidth()
+    size_in = float(labels[0].get_fontsize()) / 72.0
+    width_in = ax.get_position().width * root_figure(ax).get_figwidth()
     slot_in = width_in / max(len(names), np.ptp(ax.get_xlim()), 1.0)
     crowded = max(len(n) for n in names) * 0.6 * size_in > 0.9 * slot_in
     for label in labels:
@@ -552,8 +698,10 @@ def update_masses(artists: MassArtists, mf: MassFunction, *, title: str | None =
     items = mf.as_dict()
 
     def bar() -> Rectangle:
-        return ax.add_patch(Rectangle((0.0, 0.0), 0.8, 0.0, facecolor=BEL_COLOUR,
-                                      edgecolor="black", linewidth=0.5))
+        patch = Rectangle((0.0, 0.0), 0.8, 0.0, facecolor=BEL_COLOUR, edgecolor="black",
+                          linewidth=0.5)
+        ax.add_patch(patch)
+        return patch
 
     def label() -> Text:
         return ax.text(0.0, 0.0, "", ha="center", va="bottom", fontsize=SMALL_PT)
@@ -581,7 +729,36 @@ def plot_masses(
     mf: MassFunction, ax: Axes | None = None, *, title: str | None = None
 ) -> Figure:
     """The masses of a finite mass function, one bar per focal element.
-    (``draw_masses`` then ``update_masses``.)"""
+    (``draw_masses`` then ``update_masses``.)
+
+    Parameters
+    ----------
+    mf : dstoolkit.evidence.MassFunction
+        A mass function on a finite frame.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    title : str, optional
+        Title of the axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``mf`` is not a :class:`~dstoolkit.evidence.MassFunction`.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import MassFunction
+    >>> frame = ("low", "mid", "high")
+    >>> mf = MassFunction({("low",): 0.5, ("low", "mid"): 0.3, frame: 0.2}, frame)
+    >>> fig = plot_masses(mf)
+    >>> len(fig.axes[0].patches)
+    3
+    """
     if not isinstance(mf, MassFunction):
         raise EvidenceError("plot_masses draws a MassFunction on a finite frame")
     fig, ax = _axes(ax, (max(4.0, 0.7 * len(mf.as_dict()) + 1.5), 2.5))
@@ -596,6 +773,39 @@ def plot_products(
     """Dempster's product table (paper eq. 1): cell (i, j) holds m1(A_i)·m2(B_j) on A_i ∩ B_j.
 
     Empty intersections — the conflict K — are hatched grey.
+
+    Parameters
+    ----------
+    a, b : dstoolkit.evidence.MassFunction
+        Two mass functions on one frame.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    title : str, optional
+        Title of the axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If the two are not on the same frame.
+
+    References
+    ----------
+    The paper's eq. (1).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import MassFunction
+    >>> frame = ("low", "mid", "high")
+    >>> mf = MassFunction({("low",): 0.5, ("low", "mid"): 0.3, frame: 0.2}, frame)
+    >>> other = MassFunction({("mid",): 0.6, frame: 0.4}, frame)
+    >>> fig = plot_products(mf, other)
+    >>> len(fig.axes[0].texts)
+    6
     """
     a._check_compatible(b)
     fa, fb = a.focal_elements, b.focal_elements
@@ -637,7 +847,43 @@ def plot_boxes(
     labels: Sequence[str] | None = None,
 ) -> Figure:
     """The focal elements of 2-D interval evidence (a random relation, paper eq. 16) as
-    rectangles shaded by mass, each with its mass (or its ``labels`` entry) at its centre."""
+    rectangles shaded by mass, each with its mass (or its ``labels`` entry) at its centre.
+
+    Parameters
+    ----------
+    ev : dstoolkit.evidence.IntervalEvidence
+        Interval evidence in two dimensions (d = 2).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    xlim, ylim : tuple of float, optional
+        Ranges of the axes; by default the hull of the boxes with a 5 % margin.
+    title : str, optional
+        Title of the axes.
+    labels : collections.abc.Sequence, optional
+        One text per focal element, written in place of its mass.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``ev`` is not two-dimensional interval evidence.
+
+    References
+    ----------
+    The paper's eq. (16).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import IntervalEvidence
+    >>> ev = IntervalEvidence([[0.0, 0.0], [0.5, 0.2]], [[2.0, 1.0], [1.5, 0.8]], [0.4, 0.6])
+    >>> fig = plot_boxes(ev)
+    >>> sorted(t.get_text() for t in fig.axes[0].texts)
+    ['0.4', '0.6']
+    """
     if not isinstance(ev, IntervalEvidence) or ev.dim != 2:
         raise EvidenceError("plot_boxes draws 2-D interval evidence (IntervalEvidence, d = 2)")
     fig, ax = _axes(ax, (4.5, 4.0))
@@ -647,7 +893,8 @@ def plot_boxes(
         ax.add_patch(plt.Rectangle(lo[i], *(hi[i] - lo[i]), facecolor=shade[i], alpha=0.55,
                                    edgecolor="black", linewidth=1.0))
         text = f"{m[i]:.3g}" if labels is None else labels[i]
-        ax.text(*(0.5 * (lo[i] + hi[i])), text, ha="center", va="center", fontsize=9,
+        centre_x, centre_y = 0.5 * (lo[i] + hi[i])
+        ax.text(centre_x, centre_y, text, ha="center", va="center", fontsize=9,
                 bbox={"boxstyle": "round,pad=0.15", "fc": "white", "alpha": 0.8, "lw": 0})
     pad = 0.05 * (hi.max(axis=0) - lo.min(axis=0))
     ax.set_xlim(*(xlim or (lo[:, 0].min() - pad[0], hi[:, 0].max() + pad[0])))
@@ -664,7 +911,29 @@ def plot_boxes(
 
 def markdown_table(headers: Sequence[str], rows: Iterable[Sequence[Any]],
                    fmt: str = ".4f") -> Any:
-    """A Markdown table (an IPython ``Markdown`` object); floats formatted with ``fmt``."""
+    """A Markdown table (an IPython ``Markdown`` object); floats formatted with ``fmt``.
+
+    Parameters
+    ----------
+    headers : collections.abc.Sequence
+        The column headers.
+    rows : collections.abc.Iterable
+        The rows, one value per column.
+    fmt : str, optional
+        Format of the floats (``format`` specification).
+
+    Returns
+    -------
+    IPython.display.Markdown
+        The table, shown as a table in a notebook.
+
+    Examples
+    --------
+    >>> print(markdown_table(["x", "y"], [(1.0, "a")], fmt=".1f").data)
+    | x | y |
+    |---|---|
+    | 1.0 | a |
+    """
     from IPython.display import Markdown
 
     def cell(v: Any) -> str:
@@ -683,6 +952,33 @@ def interval_table(ev: IntervalEvidence, paper: Sequence[Sequence[float]] | None
 
     With ``paper`` (rows lo, hi, mass as printed in a paper) a second group of columns
     shows the printed values and the difference of the masses.
+
+    Parameters
+    ----------
+    ev : dstoolkit.evidence.IntervalEvidence
+        Scalar interval evidence (d = 1).
+    paper : collections.abc.Sequence, optional
+        Rows (lo, hi, mass): the focal elements and masses as printed, one row per
+        focal element of ``ev``.
+    fmt : str, optional
+        Format of the masses.
+
+    Returns
+    -------
+    IPython.display.Markdown
+        The table.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``ev`` is not scalar, or ``paper`` has another shape than its rows.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import triangular_evidence
+    >>> ev = triangular_evidence(-10.59, -6.9, -3.21, p=3, epsilon=0.05, theta=(-20.0, 10.0))
+    >>> interval_table(ev).data.splitlines()[0]
+    '| focal element | mass |'
     """
     _scalar(ev, "interval_table")
     ours = ev.to_rows()
@@ -693,12 +989,12 @@ def interval_table(ev: IntervalEvidence, paper: Sequence[Sequence[float]] | None
     if paper is None:
         return markdown_table(["focal element", "mass"],
                               [(iv(lo, hi), m) for lo, hi, m in ours], fmt)
-    paper = np.asarray(paper, dtype=float)
-    if paper.shape != ours.shape:
-        raise EvidenceError(f"paper rows have shape {paper.shape}, evidence {ours.shape}")
+    printed = np.asarray(paper, dtype=float)
+    if printed.shape != ours.shape:
+        raise EvidenceError(f"paper rows have shape {printed.shape}, evidence {ours.shape}")
     def diff(d: float) -> str:
         return "0" if d == 0 else f"{d:+.1e}"
 
     rows = [(iv(a, b), m, iv(pa, pb), pm, diff(m - pm))
-            for (a, b, m), (pa, pb, pm) in zip(ours, paper, strict=True)]
+            for (a, b, m), (pa, pb, pm) in zip(ours, printed, strict=True)]
     return markdown_table(["computed", "mass", "paper", "mass", "difference"], rows, fmt)

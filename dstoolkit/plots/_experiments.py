@@ -20,7 +20,7 @@ from ._style import OKABE_ITO, log_ticks, new_figure, styled
 #: Colour (Okabe–Ito), line style, marker and label of each method of Table 3 in every
 #: figure: the methods differ in line style and marker as well as in colour, so they can be
 #: told apart without colour (in grey print, or with a colour-vision deficiency).
-STYLE = {
+STYLE: dict[str, dict[str, Any]] = {
     "dependent_evidence": {"color": OKABE_ITO["blue"], "ls": "-", "marker": "o",
                            "label": "dependent evidence (paper)"},
     "nassreddine": {"color": OKABE_ITO["orange"], "ls": "--", "marker": "s",
@@ -35,7 +35,7 @@ STYLE = {
                       "marker": "P", "label": "bounded error"},
 }
 #: Styles of curves that are not one of STYLE's methods (variants of a method), in order.
-EXTRA_STYLES = (
+EXTRA_STYLES: tuple[dict[str, Any], ...] = (
     {"color": OKABE_ITO["black"], "ls": (0, (1, 1)), "marker": "x"},
     {"color": OKABE_ITO["blue"], "ls": (0, (6, 2, 1, 2)), "marker": "*"},
     {"color": OKABE_ITO["vermillion"], "ls": (0, (2, 2)), "marker": "h"},
@@ -58,7 +58,29 @@ def line_style(st: Mapping[str, Any]) -> dict[str, Any]:
 
 def plot_table3(table: Table3) -> Figure:
     """Mean absolute level error against the level: ours (solid, filled markers) and the
-    paper's (dashed, open markers); each method has its own marker and colour."""
+    paper's (dashed, open markers); each method has its own marker and colour.
+
+    Parameters
+    ----------
+    table : dstoolkit.studies.Table3
+        The result of :func:`dstoolkit.studies.run_table3`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (not attached to pyplot).
+
+    References
+    ----------
+    The paper's Table 3.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import run_table3
+    >>> table = run_table3(runs=1, methods=("direct",), cases=((1.3, 27.0),), progress=False)
+    >>> plot_table3(table).axes[0].get_xlabel()
+    'true level L (m)'
+    """
     fig = new_figure(6.4, 4.4)
     ax = fig.add_subplot()
     methods = list(dict.fromkeys(r.method for r in table.rows))
@@ -96,6 +118,41 @@ def plot_estimates(truth: np.ndarray, readings: np.ndarray,
     on the figure; a figure that an explorer keeps (``kept``) has its data and title
     animated and its limits snapped to round numbers (``snapped_limits``), so that most
     changes redraw only those (blitting).
+
+    Parameters
+    ----------
+    truth : numpy.ndarray or float
+        Shape (K,), or a scalar: the true value per step (unit ``unit``).
+    readings : numpy.ndarray
+        Shape (K,): the readings z_k.
+    estimates : collections.abc.Mapping
+        Method name (a key of ``STYLE`` or any name) to its estimates, shape (K,).
+    quantity : str, optional
+        What is estimated, for the titles and labels.
+    unit : str, optional
+        Its unit.
+    note : str, optional
+        Written after panel (a)'s title.
+    kept : bool, optional
+        Whether an explorer keeps the figure and redraws it (animated data).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, (a) and (b) (not attached to pyplot).
+
+    References
+    ----------
+    The paper's Figs. 10 and 11.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> truth = np.full(5, 4.6)
+    >>> fig = plot_estimates(truth, truth + 0.1, {"direct": truth - 0.05}, quantity="level",
+    ...                      unit="m")
+    >>> len(fig.axes)
+    2
     """
     fig = new_figure(6.4, 5.6)
     ax_a, ax_b = fig.subplots(2, 1, sharex=True)
@@ -159,7 +216,8 @@ def update_estimates(fig: Figure, truth: np.ndarray, readings: np.ndarray,
         if ax.get_ylabel() != label:  # an unchanged label would mark the figure stale
             ax.set_ylabel(label)
     if ax_a.get_title(loc="left") != title:
-        ax_a.set_title(title, loc="left", **({"fontsize": 9} if note else {}))
+        smaller: dict[str, Any] = {"fontsize": 9} if note else {}
+        ax_a.set_title(title, loc="left", **smaller)
     if not true_line.get_animated():
         for ax in (ax_a, ax_b):
             ax.relim()

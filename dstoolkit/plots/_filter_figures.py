@@ -25,16 +25,17 @@ from dstoolkit.filters import DependentRecord
 
 from ._evidence import FocalIntervalArtists, draw_focal_intervals, update_focal_intervals
 from ._kept import InnerTicks
-from ._style import BETP_COLOUR, SMALL_PT, column_size, legend_above, styled
+from ._style import BETP_COLOUR, SMALL_PT, column_size, legend_above, root_figure, styled
 
 
 def blank_figure(figsize: tuple[float, float], layout: str, *, pyplot: bool = True) -> Figure:
     """A new figure ``figsize`` inches large: through pyplot (a notebook shows it when the
     cell ends), or a bare :class:`~matplotlib.figure.Figure` that pyplot does not know (an
     explorer keeps it and shows it as a PNG)."""
+    engine: Any = layout  # "constrained" or "none" (no engine, not the rcParams' default)
     if pyplot:
-        return plt.figure(figsize=figsize, layout=layout)
-    return Figure(figsize=figsize, layout=layout)
+        return plt.figure(figsize=figsize, layout=engine)
+    return Figure(figsize=figsize, layout=engine)
 
 
 def _autoscale(*axes: Axes) -> None:
@@ -50,7 +51,39 @@ def _autoscale(*axes: Axes) -> None:
 
 class EnclosureFigure:
     """The figure of :func:`plot_enclosure`, kept: :meth:`update` draws another run of the
-    same filter in place. Attributes: ``figure``, ``ax``."""
+    same filter in place. Attributes: ``figure``, ``ax``.
+
+    Parameters
+    ----------
+    result : dstoolkit.filters.FilterResult
+        A filter run with ``lower`` and ``upper``, shape (K, d).
+    truth : array_like
+        Shape (K,) or (K, d): the true state per step.
+    readings : array_like, optional
+        Shape (K,): the readings, drawn as points.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    component : int, optional
+        Which component of the state is drawn.
+    title : str, optional
+        Title of the axes.
+    ylabel : str, optional
+        Label of the y axis: the state and its unit.
+    pyplot : bool, optional
+        Whether the new figure is attached to pyplot (shown by a notebook).
+
+    See Also
+    --------
+    plot_enclosure : the same figure, drawn once.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import filter_case
+    >>> seq, _, result = filter_case(9.6, 23.9, record=True, first=12)
+    >>> kept = EnclosureFigure(result, seq.truth[:12], seq.readings[:12, 0], pyplot=False)
+    >>> kept.update(result, seq.truth[:12]) is kept.figure
+    True
+    """
 
     @styled
     def __init__(self, result: Any, truth: Any, readings: Any = None, ax: Axes | None = None,
@@ -58,7 +91,7 @@ class EnclosureFigure:
                  ylabel: str = "state x_k", pyplot: bool = True) -> None:
         if ax is None:
             ax = blank_figure(column_size(8.0, 3.0), "constrained", pyplot=pyplot).subplots()
-        self.figure, self.ax, self.component = ax.figure, ax, component
+        self.figure, self.ax, self.component = root_figure(ax), ax, component
         empty = np.zeros(0)
         self._band = ax.fill_between(empty, empty, empty, step="mid", alpha=0.35,
                                      label=f"{result.method} band")
@@ -76,7 +109,29 @@ class EnclosureFigure:
                title: str | None = None) -> Figure:
         """Draw ``result`` (its band [lower, upper] per step), the ``truth`` and the
         ``readings`` (if the figure was built with readings); steps flagged in
-        ``result.diagnostics["resets"]`` get red vertical lines. Returns the figure."""
+        ``result.diagnostics["resets"]`` get red vertical lines. Returns the figure.
+
+        Parameters
+        ----------
+        result : dstoolkit.filters.FilterResult
+            Another run of the filter.
+        truth : array_like
+            Shape (K,) or (K, d): its true states.
+        readings : array_like, optional
+            Shape (K,): its readings (only for a figure built with readings).
+        title : str, optional
+            Title of the axes.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+
+        Raises
+        ------
+        dstoolkit.errors.EvidenceError
+            If readings are given to a figure built without them.
+        """
         if readings is not None and self._readings is None:
             raise EvidenceError("this figure was built without readings: build a new "
                                 "EnclosureFigure to draw them")
@@ -93,7 +148,7 @@ class EnclosureFigure:
                 (k, np.asarray(readings).reshape(lower.size, -1)[:, 0]) if shown else ([], []))
         for line in self._resets:
             line.remove()
-        self._resets = [ax.axvline(r, color=BETP_COLOUR, lw=1) for r in
+        self._resets = [ax.axvline(float(r), color=BETP_COLOUR, lw=1) for r in
                         np.flatnonzero(result.diagnostics.get("resets", np.zeros(0, bool)))]
         ax.title.set_text(title or "")  # keeps the pad legend_above gave it
         _autoscale(ax)
@@ -117,6 +172,37 @@ def plot_enclosure(
     a set-membership filter, hulls of evidence, or ±3σ of a Kalman filter). Steps flagged in
     ``result.diagnostics["resets"]`` (the box became empty) get red vertical lines.
     To redraw it for another run, keep an :class:`EnclosureFigure` instead.
+
+    Parameters
+    ----------
+    result : dstoolkit.filters.FilterResult
+        A filter run with ``lower`` and ``upper``, shape (K, d).
+    truth : array_like
+        Shape (K,) or (K, d): the true state per step.
+    readings : array_like, optional
+        Shape (K,): the readings, drawn as points.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    component : int, optional
+        Which component of the state is drawn.
+    title : str, optional
+        Title of the axes.
+    ylabel : str, optional
+        Label of the y axis: the state and its unit.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import filter_case
+    >>> seq, _, result = filter_case(9.6, 23.9, record=True, first=12)
+    >>> fig = plot_enclosure(result, seq.truth[:12], seq.readings[:12, 0],
+    ...                      ylabel="frequency (Hz)")
+    >>> fig.axes[0].get_ylabel()
+    'frequency (Hz)'
     """
     return EnclosureFigure(result, truth, readings, ax, component=component, title=title,
                            ylabel=ylabel).figure
@@ -127,7 +213,37 @@ def plot_enclosure(
 
 class FilterErrorsFigure:
     """The figure of :func:`plot_filter_errors`, kept: :meth:`update` draws another run in
-    place. Attributes: ``figure``, ``axes`` (top, bottom)."""
+    place. Attributes: ``figure``, ``axes`` (top, bottom).
+
+    Parameters
+    ----------
+    result : dstoolkit.filters.FilterResult
+        A run of a scalar filter.
+    truth : array_like
+        Shape (K,): the true state per step.
+    readings : array_like
+        Shape (K,): the readings.
+    axes : collections.abc.Sequence, optional
+        Axes to draw on (top, bottom); by default a new figure.
+    title : str, optional
+        Title of the axes.
+    unit : str, optional
+        Unit of the state.
+    pyplot : bool, optional
+        Whether the new figure is attached to pyplot (shown by a notebook).
+
+    See Also
+    --------
+    plot_filter_errors : the same figure, drawn once.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import filter_case
+    >>> seq, _, result = filter_case(9.6, 23.9, record=True, first=12)
+    >>> kept = FilterErrorsFigure(result, seq.truth[:12, 0], seq.readings[:12, 0], pyplot=False)
+    >>> len(kept.axes)
+    2
+    """
 
     @styled
     def __init__(self, result: Any, truth: Any, readings: Any,
@@ -138,7 +254,7 @@ class FilterErrorsFigure:
             axes = fig.subplots(2, 1, sharex=True)
             fig.subplots_adjust(left=0.12, right=0.98, top=0.8, bottom=0.11, hspace=0.12)
         top, bottom = axes
-        self.figure, self.axes = top.figure, (top, bottom)
+        self.figure, self.axes = root_figure(top), (top, bottom)
         self._titled = False
         self._deviations = (
             top.plot([], [], ".", ms=3, color="0.55", label="reading z_k − x_k")[0],
@@ -151,7 +267,7 @@ class FilterErrorsFigure:
             bottom.plot([], [], ".", ms=3, color="0.55", label="|z_k − x_k|")[0],
             bottom.plot([], [], "-", lw=1.4, color=BETP_COLOUR, label="|x̂_k − x_k|")[0])
         bottom.set_ylabel(f"|error| ({unit})")
-        bottom.yaxis.set_major_locator(FixedLocator(10.0 ** np.arange(-4, 4)))
+        bottom.yaxis.set_major_locator(FixedLocator((10.0 ** np.arange(-4, 4)).tolist()))
         bottom.yaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
         bottom.yaxis.set_minor_locator(NullLocator())
         bottom.set_xlabel("step k")
@@ -161,7 +277,24 @@ class FilterErrorsFigure:
     def update(self, result: Any, truth: Any, readings: Any, *,
                title: str | None = None) -> Figure:
         """Draw the run ``result`` of a scalar filter against ``truth`` and ``readings``;
-        ``title`` goes above the legend, wrapped to the figure's width. Returns the figure."""
+        ``title`` goes above the legend, wrapped to the figure's width. Returns the figure.
+
+        Parameters
+        ----------
+        result : dstoolkit.filters.FilterResult
+            Another run of a scalar filter.
+        truth : array_like
+            Shape (K,): its true states.
+        readings : array_like
+            Shape (K,): its readings.
+        title : str, optional
+            Written above the legend.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         x = np.asarray(truth, dtype=float).reshape(-1)
         est = np.asarray(result.estimates, dtype=float).reshape(-1) - x
         z = np.asarray(readings, dtype=float).reshape(-1) - x
@@ -210,6 +343,38 @@ def plot_filter_errors(
     Drawn for speed (the filter widget redraws it on every change, as a kept
     :class:`FilterErrorsFigure`): fixed margins instead of a layout engine, and fixed log
     ticks with plain labels (no minor ticks, no mathtext).
+
+    Parameters
+    ----------
+    result : dstoolkit.filters.FilterResult
+        A run of a scalar filter.
+    truth : array_like
+        Shape (K,): the true state per step.
+    readings : array_like
+        Shape (K,): the readings.
+    axes : collections.abc.Sequence, optional
+        Axes to draw on (top, bottom); by default a new figure.
+    title : str, optional
+        Title of the axes.
+    unit : str, optional
+        Unit of the state.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    References
+    ----------
+    The paper's Fig. 10.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import filter_case
+    >>> seq, _, result = filter_case(9.6, 23.9, record=True, first=12)
+    >>> fig = plot_filter_errors(result, seq.truth[:12, 0], seq.readings[:12, 0])
+    >>> fig.axes[1].get_yscale()
+    'log'
     """
     return FilterErrorsFigure(result, truth, readings, axes, title=title, unit=unit).figure
 
@@ -232,11 +397,55 @@ FILTER_STEP_PANELS: tuple[tuple[str, str], ...] = (
 class FilterStepFigure:
     """The figure of :func:`plot_filter_step`, kept: :meth:`update` draws another recorded
     step in place, if it has the same panels (:meth:`panels_of`: a step that a total
-    conflict stopped has fewer). Attributes: ``figure``, ``axes``, ``panels``."""
+    conflict stopped has fewer). Attributes: ``figure``, ``axes``, ``panels``.
+
+    Parameters
+    ----------
+    entry : dstoolkit.filters.DependentRecord
+        One recorded step of a scalar model.
+    truth : float, optional
+        The true state of that step.
+    half_width : float, optional
+        Half-width of the x range (unit ``unit``).
+    figsize : tuple of float, optional
+        Width and height (inches); the width is capped at the column's.
+    unit : str, optional
+        Unit of the state.
+    pyplot : bool, optional
+        Whether the figure is attached to pyplot (shown by a notebook).
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``entry`` is not a recorded step of a scalar model.
+
+    See Also
+    --------
+    plot_filter_step : the same figure, drawn once.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import filter_case
+    >>> seq, _, result = filter_case(9.6, 23.9, record=True, first=12)
+    >>> kept = FilterStepFigure(result.steps[1], truth=seq.truth[1, 0], pyplot=False)
+    >>> kept.update(result.steps[2], truth=seq.truth[2, 0]) is kept.figure
+    True
+    """
 
     @staticmethod
     def panels_of(entry: DependentRecord) -> tuple[str, ...]:
-        """The panels a recorded step fills: the keys of ``FILTER_STEP_PANELS`` it holds."""
+        """The panels a recorded step fills: the keys of ``FILTER_STEP_PANELS`` it holds.
+
+        Parameters
+        ----------
+        entry : dstoolkit.filters.DependentRecord
+            One recorded step.
+
+        Returns
+        -------
+        tuple of str
+            The names of its panels, top to bottom.
+        """
         return tuple(key for key, _ in FILTER_STEP_PANELS if getattr(entry, key) is not None)
 
     @styled
@@ -274,7 +483,27 @@ class FilterStepFigure:
                half_width: float | None = None) -> Figure:
         """Draw the recorded step ``entry`` (with the ``truth`` of its state, if given);
         ``half_width`` of the x range: default, 0.75 × the widest cut of the observation
-        evidence (its Θ aside). Returns the figure."""
+        evidence (its Θ aside). Returns the figure.
+
+        Parameters
+        ----------
+        entry : dstoolkit.filters.DependentRecord
+            Another recorded step, with the same panels.
+        truth : float, optional
+            Its true state.
+        half_width : float, optional
+            Half-width of the x range (unit of the state).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+
+        Raises
+        ------
+        dstoolkit.errors.EvidenceError
+            If the step fills other panels than the figure has.
+        """
         _check_step(entry)
         if self.panels_of(entry) != self.panels:
             raise EvidenceError(f"this step fills the panels {self.panels_of(entry)}, the "
@@ -282,11 +511,13 @@ class FilterStepFigure:
         est = float(np.ravel(entry.estimate)[0])
         if half_width is None:
             obs = entry.observation
+            assert obs is not None, "a step that reached the update has its observation"
             cuts = obs.widths < obs.widths.max()
             half_width = 0.75 * float((obs.hi_1d[cuts] - obs.lo_1d[cuts]).max() if cuts.any()
                                       else 1.0)
         centre = est if truth is None else 0.5 * (est + float(truth))
         xlim = (centre - half_width, centre + half_width)
+        assert entry.state is not None, "a recorded step holds the state it started from"
         shift = centre - float(entry.state.pignistic_expectation_1d())
         names = dict(FILTER_STEP_PANELS)
         for i, (ax, key) in enumerate(zip(self.axes, self.panels, strict=True)):
@@ -298,8 +529,9 @@ class FilterStepFigure:
             # y = 1 where matplotlib would put it (nothing is drawn above the panel), so
             # that a draw skips the search for it (a tight box of each panel's y axis)
             ax.set_title(f"{names[key]} — {len(ev)} focal elements", loc="left", y=1.0)
-            if self._lines[i] is not None:
-                estimate, true = self._lines[i]
+            lines = self._lines[i]
+            if lines is not None:
+                estimate, true = lines
                 estimate.set_xdata([est, est])
                 true.set_visible(truth is not None)
                 if truth is not None:
@@ -334,6 +566,41 @@ def plot_filter_step(
     compare across panels. ``half_width`` defaults to the half-width of the observation
     evidence's widest cut (its Θ aside) plus a margin. To draw other steps in the same
     figure, keep a :class:`FilterStepFigure` instead.
+
+    Parameters
+    ----------
+    entry : dstoolkit.filters.DependentRecord
+        One recorded step of a scalar model.
+    truth : float, optional
+        The true state of that step.
+    half_width : float, optional
+        Half-width of the x range (unit ``unit``).
+    figsize : tuple of float, optional
+        Width and height (inches); the width is capped at the column's.
+    unit : str, optional
+        Unit of the state.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    Raises
+    ------
+    dstoolkit.errors.EvidenceError
+        If ``entry`` is not a recorded step of a scalar model.
+
+    References
+    ----------
+    The paper's Fig. 3.
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import filter_case
+    >>> seq, _, result = filter_case(9.6, 23.9, record=True, first=12)
+    >>> fig = plot_filter_step(result.steps[1], truth=seq.truth[1, 0])
+    >>> len(fig.axes) > 2
+    True
     """
     return FilterStepFigure(entry, truth, half_width=half_width, figsize=figsize,
                             unit=unit).figure

@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.transforms import offset_copy
@@ -27,6 +28,7 @@ from ._style import (
     SMALL_PT,
     TRUTH_COLOUR,
     legend_above,
+    root_figure,
     styled,
 )
 
@@ -48,9 +50,12 @@ class TraceLine(Line2D):
     """
 
     def draw(self, renderer: Any) -> None:
-        t, y = self.get_xdata(orig=True), self.get_ydata(orig=True)
-        columns = 4 * int(np.ceil(self.axes.bbox.width))
-        lo, hi = sorted(self.axes.get_xlim())
+        t = np.asarray(self.get_xdata(orig=True))
+        y = np.asarray(self.get_ydata(orig=True))
+        axes = self.axes
+        assert axes is not None, "a TraceLine is drawn on axes"
+        columns = 4 * int(np.ceil(axes.bbox.width))
+        lo, hi = sorted(axes.get_xlim())
         first, last = np.searchsorted(t, [lo, hi])
         first, last = max(first - 1, 0), min(last + 1, t.size)
         if last - first < TRACE_RUN * columns:  # a line through waves, not a band: all of it
@@ -86,6 +91,39 @@ def plot_recording(
     With ``frequency_axis`` a top axis reads time as the sweep's instantaneous frequency
     f₀ + k (t − τ) (τ from ``detection`` when given, else the simulated latency, else 0).
     The signal is a ``TraceLine`` (drawn through its extremes per pixel column).
+
+    Parameters
+    ----------
+    recording : dstoolkit.gauge.Recording
+        A recording (simulated or real).
+    detection : dstoolkit.gauge.DetectionResult, optional
+        Its detected resonances, drawn on the envelope.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    frequency_axis : bool, optional
+        Whether a top axis reads time as the sweep's frequency.
+    title : str, optional
+        Title of the axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    References
+    ----------
+    The paper's Fig. 6.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import PAPER_SWEEP, TubeSetup, detect_resonances, synthesize_recording
+    >>> from dstoolkit.teaching import GAUGE_CONDITIONS
+    >>> setup = TubeSetup(4.6, 26.5)
+    >>> recording = synthesize_recording(setup, PAPER_SWEEP, GAUGE_CONDITIONS, seed=0)
+    >>> detection = detect_resonances(recording)
+    >>> fig = plot_recording(recording, detection)
+    >>> fig.axes[0].get_xlabel()
+    'time t (s)'
     """
     fig, ax = _axes(ax, (8.0, 3.2))
     t = recording.times
@@ -114,7 +152,7 @@ def plot_recording(
     if title:
         ax.set_title(title)
     if frequency_axis:  # the top axis holds the frequencies: the legend goes below the label
-        below = offset_copy(ax.transAxes, fig=ax.figure, y=-2.6 * FONT_PT - 2 * SMALL_PT,
+        below = offset_copy(ax.transAxes, fig=root_figure(ax), y=-2.6 * FONT_PT - 2 * SMALL_PT,
                             units="points")
         ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=below,
                   ncols=3, frameon=False, borderaxespad=0.0)
@@ -133,14 +171,47 @@ def plot_resonances(
 ) -> Figure:
     """Resonance frequencies z_k with their envelope amplitudes as stems (Fig. 7).
 
-    ``true_frequencies`` (e.g. n c/(2L) in the band) are drawn as thin vertical lines;
-    missed resonances as crosses on the axis, spurious peaks as grey stems.
+    ``true_frequencies`` (e.g. n c/(2L) in the band) are drawn as thin dotted vertical
+    lines; detected resonances as solid stems with dots, missed ones as crosses on the
+    axis, spurious peaks as dashed grey stems topped by a square: each kind has its own
+    line style or marker, not only its colour.
+
+    Parameters
+    ----------
+    detection : dstoolkit.gauge.DetectionResult
+        The resonances detected in one recording.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    true_frequencies : array_like, optional
+        Shape (n,): the resonances the model expects, n c/(2L) (Hz).
+    title : str, optional
+        Title of the axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure drawn on.
+
+    References
+    ----------
+    The paper's Fig. 7.
+
+    Examples
+    --------
+    >>> from dstoolkit.gauge import PAPER_SWEEP, TubeSetup, detect_resonances, synthesize_recording
+    >>> from dstoolkit.teaching import GAUGE_CONDITIONS
+    >>> setup = TubeSetup(4.6, 26.5)
+    >>> recording = synthesize_recording(setup, PAPER_SWEEP, GAUGE_CONDITIONS, seed=0)
+    >>> detection = detect_resonances(recording)
+    >>> fig = plot_resonances(detection, true_frequencies=setup.resonances(PAPER_SWEEP.band)[1])
+    >>> fig.axes[0].get_xlabel()
+    'resonance frequency (Hz)'
     """
     fig, ax = _axes(ax, (8.0, 3.2))
     if true_frequencies is not None:
         for f in np.asarray(true_frequencies, dtype=float):
-            ax.axvline(f, color=TRUTH_COLOUR, lw=0.5, alpha=0.6)
-        ax.plot([], [], color=TRUTH_COLOUR, lw=0.5, label="n c/(2L)")
+            ax.axvline(f, color=TRUTH_COLOUR, lw=0.8, ls=":")
+        ax.plot([], [], color=TRUTH_COLOUR, lw=0.8, ls=":", label="n c/(2L)")
     markers, stems, base = ax.stem(detection.frequencies, detection.amplitudes,
                                    linefmt="-", markerfmt="o", basefmt=" ",
                                    label=f"detected z_k ({detection.frequencies.size})")
@@ -151,8 +222,12 @@ def plot_resonances(
         ax.plot(detection.missed, np.zeros(detection.missed.size), "x", color=BETP_COLOUR,
                 label=f"missed ({detection.missed.size})")
     if detection.spurious.size:
-        ax.vlines(detection.spurious, 0, 0.5 * np.max(detection.amplitudes), color=GREY,
-                  label=f"spurious ({detection.spurious.size})")
+        top = 0.5 * np.max(detection.amplitudes)
+        ax.vlines(detection.spurious, 0, top, color=GREY, ls="--")
+        ax.plot(detection.spurious, np.full(detection.spurious.size, top), "s", ms=3.5,
+                color=GREY)
+        ax.plot([], [], color=GREY, ls="--", marker="s", ms=3.5,  # the legend's entry
+                label=f"spurious ({detection.spurious.size})")
     ax.set_xlabel("resonance frequency (Hz)")
     ax.set_ylabel("envelope amplitude (full scale)")
     ax.set_ylim(bottom=0)
@@ -205,7 +280,8 @@ def update_gauge_detection(fig: Figure, setup: TubeSetup, detection: DetectionRe
     segments = np.zeros((resonances.size, 2, 2))
     segments[:, :, 0] = resonances[:, None]
     segments[:, 1, 1] = 1.0
-    model.set_segments(segments)
+    assert isinstance(model, LineCollection), "the model's lines are drawn by vlines"
+    model.set_segments(list(segments))
     peaks.set_data(detection.raw_frequencies - detection.latency_offset_hz,
                    detection.amplitudes)
     ax1.title.set_text(f"L = {setup.level_m:.1f} m, T = {setup.temperature_c:.1f} °C, c = "

@@ -125,7 +125,7 @@ class InnerTicks(AutoLocator):
         self.margin = margin
 
     def tick_values(self, vmin: float, vmax: float) -> Any:
-        ticks = super().tick_values(vmin, vmax)
+        ticks = np.asarray(super().tick_values(vmin, vmax), dtype=float)
         lo, hi = min(vmin, vmax), max(vmin, vmax)
         inset = self.margin * (hi - lo)
         return ticks[(ticks >= lo + inset) & (ticks <= hi - inset)]

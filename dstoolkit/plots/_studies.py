@@ -22,7 +22,15 @@ from dstoolkit.studies import ExampleComparison, MismatchResult, OrderRuleStudy
 
 from ._experiments import EXTRA_STYLES, STYLE, line_style
 from ._kept import animate, set_limits, snapped_limits
-from ._style import SMALL_PT, legend_above, log_ticks, new_figure, styled
+from ._style import (
+    SMALL_PT,
+    label_line_ends,
+    legend_above,
+    log_ticks,
+    new_figure,
+    root_figure,
+    styled,
+)
 
 #: How the order rules are drawn in :func:`plot_order_rule_study`: line style, label.
 RULE_STYLE = {"eq43": ("-", "eq. 43"), "fit": ("--", "series fit"), "true": (":", "true")}
@@ -36,19 +44,51 @@ def _style(name: str) -> dict[str, Any]:
 
 def _figure(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
     if ax is not None:
-        return ax.figure, ax
+        return root_figure(ax), ax
     fig = new_figure(*figsize)
     return fig, fig.add_subplot()
 
 
 @styled
 def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *,
-                     unit: str = "Hz", title: str | None = None, legend: bool = True) -> Figure:
+                     unit: str = "Hz", title: str | None = None, legend: bool = True,
+                     end_labels: bool = False) -> Figure:
     """Mean |x̂_k − x_k| over runs against the step k, one line per method (log scale).
 
     ``errors`` maps a method to absolute errors of shape (runs, K) or (K,); a name that is
     not a method of STYLE (a variant, say) gets a style of ``EXTRA_STYLES``.
-    ``update_step_errors`` draws other errors of the same methods on the axes.
+    ``update_step_errors`` draws other errors of the same methods on the axes. With
+    ``end_labels`` each line's name is also written at its end (:func:`label_line_ends`;
+    for a figure that is not redrawn).
+
+    Parameters
+    ----------
+    errors : collections.abc.Mapping
+        Method (or variant) name to its absolute errors (unit ``unit``), shape (runs, K)
+        or (K,).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    unit : str, optional
+        Unit of the errors.
+    title : str, optional
+        Title of the axes.
+    legend : bool, optional
+        Whether the legend is drawn above the axes.
+    end_labels : bool, optional
+        Whether each line is also named at its end.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (not attached to pyplot).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> errors = {"direct": np.full((2, 10), 2.0), "dependent_evidence": np.full(10, 0.5)}
+    >>> fig = plot_step_errors(errors, end_labels=True)
+    >>> len(fig.axes[0].texts)
+    2
     """
     fig, ax = _figure(ax, (7.5, 3.4))
     extra = iter(EXTRA_STYLES)
@@ -64,6 +104,8 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
         ax.set_title(title, loc="left")
     if legend:
         legend_above(ax, ncols=2)
+    if end_labels:
+        label_line_ends(ax)
     return fig
 
 
@@ -81,7 +123,7 @@ def update_step_errors(ax: Axes, errors: Mapping[str, np.ndarray]) -> None:
         ax.autoscale_view()
         return
     # kept by an explorer (noise_bounds_figure): limits that change only when they must
-    steps = max(len(line.get_xdata()) for line in ax.lines)
+    steps = max(np.size(line.get_xdata()) for line in ax.lines)
     y = np.concatenate([line.get_ydata() for line in ax.lines])
     y = y[np.isfinite(y) & (y > 0)]
     pad = 0.05 * (steps - 1)
@@ -96,13 +138,15 @@ def _possibilities(true: BoundedNoise, assumed: BoundedNoise
     hi = max(true.upper[0], assumed.upper[0])
     pad = 0.15 * (hi - lo if hi > lo else 1.0)
     x = np.linspace(lo - pad, hi + pad, 801)
-    return (x, *(possibility(x, noise.lower[0], noise.mode[0], noise.upper[0])
-                 for noise in (true, assumed)))
+    y_true, y_assumed = (np.asarray(possibility(x, noise.lower[0], noise.mode[0],
+                                                noise.upper[0]))
+                         for noise in (true, assumed))
+    return x, y_true, y_assumed
 
 
 #: How :func:`plot_noise_assumption` draws the true noise (filled) and the assumed (a line).
-_TRUE_FILL = {"color": "0.6", "alpha": 0.5, "label": "true"}
-_ASSUMED_LINE = {"color": "C3", "lw": 1.5, "label": "assumed"}
+_TRUE_FILL: dict[str, Any] = {"color": "0.6", "alpha": 0.5, "label": "true"}
+_ASSUMED_LINE: dict[str, Any] = {"color": "C3", "lw": 1.5, "label": "assumed"}
 
 
 @styled
@@ -110,7 +154,36 @@ def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | 
                           *, title: str | None = None, xlabel: str = "noise (Hz)") -> Figure:
     """The possibility distribution of the true noise (filled) and of the noise a filter
     assumes (line), scalar noises (paper eqs. 22–23). ``update_noise_assumption``
-    draws other noises on the axes."""
+    draws other noises on the axes.
+
+    Parameters
+    ----------
+    true, assumed : dstoolkit.filters.BoundedNoise
+        The noise of the data and the noise the filter assumes (scalar).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+    title : str, optional
+        Title of the axes.
+    xlabel : str, optional
+        Label of the x axis: the noise and its unit.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (not attached to pyplot).
+
+    References
+    ----------
+    The paper's eqs. (22)–(23).
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import BoundedNoise
+    >>> fig = plot_noise_assumption(BoundedNoise(-10.59, -6.9, -3.21),
+    ...                             BoundedNoise(-8.0, -6.9, -5.0))
+    >>> fig.axes[0].get_ylabel()
+    'possibility'
+    """
     fig, ax = _figure(ax, (4.0, 2.6))
     x, y_true, y_assumed = _possibilities(true, assumed)
     ax.fill_between(x, y_true, **_TRUE_FILL)
@@ -130,7 +203,8 @@ def update_noise_assumption(ax: Axes, true: BoundedNoise, assumed: BoundedNoise)
     """Draw other noises on axes of :func:`plot_noise_assumption`; the x limits follow,
     unless the curves are animated (kept by an explorer, :func:`noise_bounds_figure`)."""
     x, y_true, y_assumed = _possibilities(true, assumed)
-    ax.collections[0].set_data(x, y_true, 0)
+    fill: Any = ax.collections[0]  # a FillBetweenPolyCollection (matplotlib 3.10+)
+    fill.set_data(x, y_true, 0)
     ax.lines[0].set_data(x, y_assumed)
     if not ax.lines[0].get_animated():  # kept by an explorer: its x limits stay
         ax.relim()  # the line spans the fill's x range
@@ -178,7 +252,28 @@ def update_noise_bounds_figure(fig: Figure, true_v: BoundedNoise, true_w: Bounde
 def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = None) -> Figure:
     """Mean |x̂ − x| of each method against the factor by which the assumed bounds are
     scaled about the modes; the bounded-error filter's marker is red where it failed in
-    some runs (the number printed is the fraction of failed runs)."""
+    some runs (the number printed is the fraction of failed runs).
+
+    Parameters
+    ----------
+    study : collections.abc.Mapping
+        Scale factor to the result of :func:`dstoolkit.studies.bound_scale_study` there.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw on; by default a new figure of its own.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (not attached to pyplot).
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import bound_scale_study, tracking_data
+    >>> study = bound_scale_study(tracking_data(runs=2), [0.5, 1.0, 2.0],
+    ...                           methods=("kalman", "bounded_error"))
+    >>> plot_scale_study(study).axes[0].get_yscale()
+    'log'
+    """
     fig, ax = _figure(ax, (7.5, 3.6))
     scales = np.array(sorted(study))
     methods = list(next(iter(study.values())).errors)
@@ -195,7 +290,7 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
                 ax.annotate(f"{frac:.0%}", (s, y), textcoords="offset points", xytext=(4, 6),
                             fontsize=SMALL_PT, color="red")
     ax.axvline(1.0, color="black", lw=0.8, ls="--")
-    ax.xaxis.set_major_locator(FixedLocator(scales))
+    ax.xaxis.set_major_locator(FixedLocator(scales.tolist()))
     ax.xaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
     ax.xaxis.set_minor_locator(NullLocator())
     ax.yaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
@@ -211,7 +306,25 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
 def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
     """Mean absolute level error against the level, one panel per simulation (stacked):
     line style = order rule, colour and marker = method; grey diamonds on a thick line:
-    the series fit's own level."""
+    the series fit's own level.
+
+    Parameters
+    ----------
+    studies : collections.abc.Sequence
+        One result of :func:`dstoolkit.studies.order_rule_study` per panel.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure (not attached to pyplot).
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import order_rule_study
+    >>> study = order_rule_study(runs=1, cases=((1.3, 27.0),))
+    >>> len(plot_order_rule_study([study]).axes)
+    1
+    """
     fig = new_figure(6.4, 1.4 + 2.8 * len(studies))
     axes = fig.subplots(len(studies), 1, sharex=True, squeeze=False)[:, 0]
     for ax, study in zip(axes, studies, strict=True):
@@ -236,7 +349,27 @@ def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
 @styled
 def plot_example(comparison: ExampleComparison, run: int = 0) -> Figure:
     """The predator–prey example: (a) the populations (P, Q) of one run, truth, census
-    readings and every method's estimate; (b) |x̂_k − x_k| per step (log-populations)."""
+    readings and every method's estimate; (b) |x̂_k − x_k| per step (log-populations).
+
+    Parameters
+    ----------
+    comparison : dstoolkit.studies.ExampleComparison
+        The result of :func:`dstoolkit.studies.example_comparison`.
+    run : int, optional
+        Which run panel (a) shows.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels (not attached to pyplot).
+
+    Examples
+    --------
+    >>> from dstoolkit.studies import example_comparison
+    >>> fig = plot_example(example_comparison(steps=15, runs=1))
+    >>> len(fig.axes)
+    2
+    """
     fig = new_figure(6.4, 7.6)
     ax_a, ax_b = fig.subplots(2, 1, height_ratios=[1.1, 1])
     truth = np.exp(comparison.truth[run])

@@ -21,10 +21,13 @@ from contextlib import contextmanager
 from typing import Any, TypeVar
 
 import matplotlib as mpl
+import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.axis import Axis
 from matplotlib.figure import Figure
 from matplotlib.legend import Legend
+from matplotlib.lines import Line2D
+from matplotlib.text import Text
 from matplotlib.ticker import LogLocator, NullLocator, StrMethodFormatter
 
 #: Width of the book's text column in inches (about 615 px at 96 px per inch, at 1280 px).
@@ -85,13 +88,33 @@ def figure_style() -> Iterator[None]:
     setting: when the first figure of an IPython session is made inside it, the interactive
     mode that IPython's inline backend switches on would be undone, and the notebook's
     later figures would no longer show).
+
+    Yields
+    ------
+    None
+        Inside the block, figures are drawn in the book's style.
+
+    See Also
+    --------
+    use_style : the same style for the rest of the session.
+
+    Examples
+    --------
+    >>> import matplotlib as mpl
+    >>> before = mpl.rcParams["font.size"]
+    >>> with figure_style():
+    ...     mpl.rcParams["font.size"] == FONT_PT
+    True
+    >>> mpl.rcParams["font.size"] == before
+    True
     """
-    saved = {key: mpl.rcParams[key] for key in RC}
-    mpl.rcParams.update(RC)
+    params: Any = mpl.rcParams  # its keys are typed as literals; RC's are checked by the tests
+    saved = {key: params[key] for key in RC}
+    params.update(RC)
     try:
         yield
     finally:
-        mpl.rcParams.update(saved)
+        params.update(saved)
 
 
 def styled(function: F) -> F:
@@ -106,8 +129,23 @@ def styled(function: F) -> F:
 
 
 def use_style() -> None:
-    """Make the book's style matplotlib's default (for a chapter that draws its own figures)."""
-    mpl.rcParams.update(RC)
+    """Make the book's style matplotlib's default (for a chapter that draws its own figures).
+
+    See Also
+    --------
+    figure_style : the style for one block only.
+
+    Examples
+    --------
+    >>> import matplotlib as mpl
+    >>> saved = dict(mpl.rcParams)
+    >>> use_style()
+    >>> mpl.rcParams["axes.labelsize"] == FONT_PT
+    True
+    >>> mpl.rcParams.update(saved)
+    """
+    params: Any = mpl.rcParams  # its keys are typed as literals
+    params.update(RC)
 
 
 def column_size(width: float, height: float) -> tuple[float, float]:
@@ -115,6 +153,14 @@ def column_size(width: float, height: float) -> tuple[float, float]:
     if width <= COLUMN_WIDTH_IN:
         return (width, height)
     return (COLUMN_WIDTH_IN, height * COLUMN_WIDTH_IN / width)
+
+
+def root_figure(ax: Axes) -> Figure:
+    """The :class:`~matplotlib.figure.Figure` that holds ``ax``, through any subfigures."""
+    fig = ax.figure
+    while not isinstance(fig, Figure):  # a SubFigure: its parent's figure
+        fig = fig.figure
+    return fig
 
 
 def new_figure(width: float = COLUMN_WIDTH_IN, height: float = 3.0) -> Figure:
@@ -125,6 +171,32 @@ def new_figure(width: float = COLUMN_WIDTH_IN, height: float = 3.0) -> Figure:
 def legend_above(ax: Axes, ncols: int | None = None, **kwargs: Any) -> Legend | None:
     """The legend of ``ax`` in rows above its data area, where it cannot hide data; the
     axes' titles move up above it. Returns None when nothing is labelled.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes whose labelled artists the legend names.
+    ncols : int, optional
+        Entries per row; by default as many as there are, up to 3.
+    **kwargs
+        Further keyword arguments of ``matplotlib.axes.Axes.legend``.
+
+    Returns
+    -------
+    matplotlib.legend.Legend or None
+        The legend, or None if nothing is labelled.
+
+    See Also
+    --------
+    label_line_ends : names written at the ends of the lines.
+
+    Examples
+    --------
+    >>> fig = new_figure(4.0, 2.5)
+    >>> ax = fig.subplots()
+    >>> _ = ax.plot([0, 1], [0, 1], label="rising")
+    >>> legend_above(ax).get_texts()[0].get_text()
+    'rising'
     """
     handles, labels = ax.get_legend_handles_labels()
     if not handles:
@@ -140,11 +212,122 @@ def legend_above(ax: Axes, ncols: int | None = None, **kwargs: Any) -> Legend | 
     return legend
 
 
+def spread_positions(positions: list[float], gap: float, low: float = 0.0,
+                     high: float = 1.0) -> list[float]:
+    """Positions moved apart until neighbours are at least ``gap`` apart: each is pushed up
+    past the one below it, then, if the highest passes ``high``, the stack is pushed down.
+
+    Parameters
+    ----------
+    positions : list of float
+        Wanted positions (any order), e.g. in axes fractions.
+    gap : float
+        The smallest distance between two returned positions, same unit.
+    low, high : float, optional
+        The range the positions should stay in.
+
+    Returns
+    -------
+    list of float
+        The positions, in the order given.
+
+    Examples
+    --------
+    >>> [round(p, 2) for p in spread_positions([0.5, 0.52, 0.9], 0.1)]
+    [0.5, 0.6, 0.9]
+    """
+    order = sorted(range(len(positions)), key=lambda i: positions[i])
+    placed = [float(positions[i]) for i in order]
+    for i in range(1, len(placed)):  # up from the lowest
+        placed[i] = max(placed[i], placed[i - 1] + gap)
+    if placed and placed[-1] > high:  # down from the highest, when the top overflows
+        placed[-1] = max(high, low + gap * (len(placed) - 1))
+        for i in range(len(placed) - 2, -1, -1):
+            placed[i] = min(placed[i], placed[i + 1] - gap)
+    # a pair pushed together by both passes: centre it on its wanted positions
+    for i in range(1, len(placed)):
+        if placed[i] - placed[i - 1] < gap - 1e-12:
+            middle = 0.5 * (placed[i] + placed[i - 1])
+            placed[i - 1], placed[i] = middle - gap / 2, middle + gap / 2
+    result = [0.0] * len(positions)
+    for rank, index in enumerate(order):
+        result[index] = placed[rank]
+    return result
+
+
+def label_line_ends(ax: Axes, lines: list[Line2D] | None = None, *,
+                    labels: list[str] | None = None) -> list[Text]:
+    """Direct labels: each line's label written just right of the data area, level with the
+    line's last point, moved apart where two would overlap.
+
+    A reader matches a series to its name where it ends, without the legend and without
+    telling colours apart. Call it once the axes' limits are final.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes whose lines are labelled.
+    lines : list of matplotlib.lines.Line2D, optional
+        The lines to label; by default every line of ``ax`` with a label (not ``_...``).
+    labels : list of str, optional
+        Their texts (one per line); by default each line's label.
+
+    Returns
+    -------
+    list of matplotlib.text.Text
+        The labels, in the order of ``lines``.
+
+    Examples
+    --------
+    >>> fig = new_figure(4.0, 2.5)
+    >>> ax = fig.subplots()
+    >>> a, = ax.plot([0, 1], [0, 1], "-o", label="rising")
+    >>> b, = ax.plot([0, 1], [1, 0.95], "--s", label="flat")
+    >>> [t.get_text() for t in label_line_ends(ax)]
+    ['rising', 'flat']
+    """
+    if lines is None:
+        lines = [line for line in ax.get_lines() if not str(line.get_label()).startswith("_")]
+    texts = labels if labels is not None else [str(line.get_label()) for line in lines]
+    if len(texts) != len(lines):
+        raise ValueError(f"label_line_ends got {len(lines)} lines and {len(texts)} labels; "
+                         "give one label per line")
+    ax.get_xlim(), ax.get_ylim()  # the limits, autoscaled now if they are still pending
+    to_axes = ax.transScale + ax.transLimits  # data -> axes fraction, whatever the layout
+    ends, kept = [], []
+    for line, text in zip(lines, texts, strict=True):
+        x, y = (np.asarray(v, dtype=float) for v in line.get_data())
+        finite = np.flatnonzero(np.isfinite(x) & np.isfinite(y))
+        if finite.size:
+            ends.append(float(np.clip(to_axes.transform((x[finite[-1]], y[finite[-1]]))[1],
+                                      0.0, 1.0)))
+            kept.append(text)
+    height_pt = ax.get_position().height * root_figure(ax).get_figheight() * 72.0
+    positions = spread_positions(ends, 1.25 * SMALL_PT / max(height_pt, 1.0))
+    return [ax.text(1.02, y, text, transform=ax.transAxes, ha="left", va="center",
+                    fontsize=SMALL_PT, color="#222222")
+            for y, text in zip(positions, kept, strict=True)]
+
+
 def log_ticks(axis: Axis) -> None:
     """Readable ticks on a log axis: 1, 2, 5 per decade, written as plain numbers (0.2, 5).
 
     Matplotlib's default labels only the decades, so a range within one decade shows a
     single label, or none.
+
+    Parameters
+    ----------
+    axis : matplotlib.axis.Axis
+        A log-scaled axis, e.g. ``ax.yaxis``.
+
+    Examples
+    --------
+    >>> fig = new_figure(4.0, 2.5)
+    >>> ax = fig.subplots()
+    >>> _ = ax.semilogy([1, 2], [0.3, 0.9])
+    >>> log_ticks(ax.yaxis)
+    >>> type(ax.yaxis.get_major_formatter()).__name__
+    'StrMethodFormatter'
     """
     axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
     axis.set_major_formatter(StrMethodFormatter("{x:g}"))

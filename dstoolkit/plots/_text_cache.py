@@ -68,10 +68,11 @@ class TextCachingRenderer(RendererAgg):
             for table_name, gap, ascent, descent in (
                     ("OS/2", "sTypoLineGap", "sTypoAscender", "sTypoDescender"),
                     ("hhea", "lineGap", "ascent", "descent")):
-                table = font.get_sfnt_table(table_name)
-                if table is None:
+                table: Any = font.get_sfnt_table(table_name)  # type: ignore[call-overload]
+                head: Any = font.get_sfnt_table("head")
+                if table is None or head is None:
                     continue
-                scale = (1 / font.get_sfnt_table("head")["unitsPerEm"]
+                scale = (1 / head["unitsPerEm"]
                          * prop.get_size_in_points() * self.dpi / 72)
                 cached = (table[ascent] * scale, -table[descent] * scale, table[gap] * scale)
                 break

@@ -61,7 +61,7 @@ from ._explorers_lab import LabWidget, lab_widget  # noqa: E402
 from ._explorers_mass import mass_function_explorer  # noqa: E402
 from ._explorers_noise import noise_evidence_explorer  # noqa: E402
 from ._explorers_random_sets import compare_image_methods, extension_explorer  # noqa: E402
-from ._grading import must_pass, must_pass_alone  # noqa: E402
+from ._grading import must_pass, must_pass_alone, must_pass_recomputed  # noqa: E402
 from ._lab import (  # noqa: E402
     VIRTUAL,
     VIRTUAL_LABEL,
@@ -77,6 +77,7 @@ from ._lab import (  # noqa: E402
 )
 from ._limits import set_time_limit  # noqa: E402
 from ._print_edition import register_print_figures  # noqa: E402
+from ._variants import set_variant  # noqa: E402
 
 # the PDF edition shows an explorer's first figure where the web page shows the widget
 register_print_figures(Explorer, LabWidget)
@@ -131,6 +132,7 @@ __all__ = [
     "mistake",
     "must_pass",
     "must_pass_alone",
+    "must_pass_recomputed",
     "mass_function_explorer",
     "noise_bounds_explorer",
     "noise_evidence_explorer",
@@ -140,6 +142,7 @@ __all__ = [
     "positions",
     "render_filter",
     "set_time_limit",
+    "set_variant",
     "slider",
     "solution",
     "static_site",

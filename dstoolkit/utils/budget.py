@@ -36,8 +36,11 @@ MAX_MEMORY_BUDGET = 2**50
 
 
 def _parse_bytes(given: str) -> int:
-    """The budget ``DSTOOLKIT_MEMORY_BUDGET`` gives: bytes, or a number with a K/M/G
-    suffix (``KiB``, ``MB`` ... read as powers of 1024), from 1 MiB to 1 PiB."""
+    """Parse the budget ``DSTOOLKIT_MEMORY_BUDGET`` gives.
+
+    Bytes, or a number with a K/M/G suffix (``KiB``, ``MB`` ... read as powers of 1024),
+    from 1 MiB to 1 PiB.
+    """
     text = given.strip().upper().removesuffix("B").removesuffix("I")
     unit = text[-1:] if text[-1:] in _SUFFIX else ""
     number = text[: len(text) - len(unit)].strip()

@@ -199,8 +199,10 @@ def _link_chain(path: Path) -> list[Path]:
 
 
 def _system_path(path: Path) -> Path | None:
-    """The system folder (``/dev``, ``/proc``, ``/sys``) that ``path`` or a link on the way
-    to its file lies in, else None."""
+    """Find the system folder (``/dev``, ``/proc``, ``/sys``) that ``path`` lies in.
+
+    A link on the way to its file counts too; None when there is none.
+    """
     for candidate in _link_chain(path):
         for folder in SYSTEM_FOLDERS:
             if candidate == folder or folder in candidate.parents:
@@ -361,8 +363,9 @@ def check_outputs(
 
 
 def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], object]) -> Path:
-    """Write ``path`` through ``write(file)`` into a temporary file beside it, then move it
-    into place.
+    """Write ``path`` through ``write(file)`` into a temporary file, then move it into place.
+
+    The temporary file lies beside ``path``.
 
     The target appears complete or not at all; the temporary file is removed on failure.
     Missing parent folders are created. A target that is not a regular file or a new path
@@ -425,8 +428,11 @@ def atomic_write(path: str | os.PathLike[str], write: Callable[[IO[bytes]], obje
 
 
 def _place_checked(tmp: str, target: Path, replace: tuple[int, int] | None) -> None:
-    """Move ``tmp`` to ``target`` only if ``target`` is as it was checked: absent (then a
-    hard link creates it, failing if the name appeared), or the same file as before."""
+    """Move ``tmp`` to ``target`` only if ``target`` is as it was checked.
+
+    That is absent (then a hard link creates it, failing if the name appeared), or the same
+    file as before.
+    """
     appeared = OutputExistsError(
         f"{target} appeared or changed while this command ran; it was kept. Run again "
         "with another output name (or --overwrite to replace it)")

@@ -1,0 +1,123 @@
+/*
+ * Boxes that scroll can be scrolled with the keyboard.
+ *
+ * On a narrow screen a line of code, a wide table, a cell's output, an explorer's row of
+ * controls or a long formula scrolls inside its own box instead of widening the page
+ * (dstoolkit.css). Any box of the article that does scroll gets the keyboard focus
+ * (tabindex="0", so the arrow keys scroll it), the role of a region and a name that says
+ * what it holds ("Code, scrolls sideways"); a box that
+ * fits again gives them back, so on a wide screen the Tab order holds only links and
+ * controls. Checked again when the window is resized and when the page changes (MathJax
+ * typesets, the explorers draw).
+ *
+ * Loaded on every page by book/_ext/dstoolkit_a11y.py.
+ */
+(function () {
+  "use strict";
+
+  var MARK = "data-scroll-box";
+  var SIDEWAYS = ", scrolls sideways";
+  // Content that passes its box by a few pixels (the overhang of an italic glyph in a
+  // formula) is not a reason to scroll: the same 13 px margin as axe-core's rule
+  // scrollable-region-focusable.
+  var OVERHANG_PX = 13;
+
+  function scrollable(value) {
+    return value === "auto" || value === "scroll";
+  }
+
+  // "x" when a box scrolls sideways, "y" when it scrolls only up and down, "" when not.
+  function scrolls(box) {
+    var wide = box.scrollWidth > box.clientWidth + OVERHANG_PX;
+    var tall = box.scrollHeight > box.clientHeight + OVERHANG_PX;
+    if (!wide && !tall) return "";
+    var style = window.getComputedStyle(box);
+    if (wide && scrollable(style.overflowX)) return "x";
+    if (tall && scrollable(style.overflowY)) return "y";
+    return "";
+  }
+
+  // What a box holds, for its name.
+  function kindOf(box) {
+    if (box.tagName === "MJX-CONTAINER") return "Formula";
+    if (box.matches("pre, div.highlight")) return "Code";
+    if (box.matches("table, .pst-scrollable-table-container, div.table-wrapper")) {
+      return "Table";
+    }
+    if (box.closest(".widget-subarea, .jupyter-widgets")) return "Controls";
+    if (box.closest("div.cell_output")) return "Output";
+    return "Content";
+  }
+
+  function nameOf(box, direction) {
+    var kind = kindOf(box);
+    var caption = box.querySelector("caption");
+    var text = caption ? caption.textContent.replace(/\s+/g, " ").trim() : "";
+    return (text ? kind + " " + text : kind) + (direction === "x" ? SIDEWAYS : ", scrolls");
+  }
+
+  // Every box of the article that scrolls sideways takes the focus and is named; a marked
+  // box keeps, in MARK, the tabindex it had before (MathJax gives formulas -1, the theme
+  // gives some code blocks 0 without a name).
+  function update() {
+    document.querySelectorAll(".bd-article *").forEach(function (box) {
+      if (box.tagName.indexOf("MJX-") === 0 && box.tagName !== "MJX-CONTAINER") return;
+      var marked = box.hasAttribute(MARK);
+      var direction = scrolls(box);
+      var named = box.hasAttribute("aria-label") || box.hasAttribute("aria-labelledby");
+      if (!direction && !named && box.getAttribute("tabindex") === "0"
+          && box.scrollWidth > box.clientWidth + 1
+          && !box.matches("a, button, input, select, textarea, summary, [role]")) {
+        // a box the theme made a Tab stop because it scrolls by a few pixels: named too
+        box.setAttribute("aria-label", kindOf(box) + SIDEWAYS);
+        box.setAttribute("role", "region");
+        return;
+      }
+      if (direction) {
+        if (marked) return;
+        if (box.getAttribute("tabindex") === "0" && named) return; // done by its maker
+        box.setAttribute(MARK, box.getAttribute("tabindex") || "");
+        box.setAttribute("tabindex", "0");
+        if (!named) {
+          box.setAttribute("role", "region");
+          box.setAttribute("aria-label", nameOf(box, direction));
+        }
+      } else if (marked) {
+        var before = box.getAttribute(MARK);
+        if (before) box.setAttribute("tabindex", before); else box.removeAttribute("tabindex");
+        if (box.getAttribute("role") === "region") box.removeAttribute("role");
+        if (/, scrolls( sideways)?$/.test(box.getAttribute("aria-label") || "")) {
+          box.removeAttribute("aria-label");
+        }
+        box.removeAttribute(MARK);
+      }
+    });
+  }
+
+  var pending = null;
+  function schedule() {
+    if (pending !== null) return;
+    pending = window.setTimeout(function () {
+      pending = null;
+      update();
+    }, 150);
+  }
+
+  function start() {
+    update();
+    window.addEventListener("resize", schedule);
+    window.addEventListener("load", schedule);
+    var article = document.querySelector("article.bd-article") || document.body;
+    // the theme makes scrolling code blocks Tab stops on its own, after a resize: a new
+    // tabindex is a change to look at too
+    new MutationObserver(schedule).observe(article, {childList: true, subtree: true,
+                                                     attributes: true,
+                                                     attributeFilter: ["tabindex"]});
+  }
+
+  if (document.readyState === "loading") {
+    document.addEventListener("DOMContentLoaded", start);
+  } else {
+    start();
+  }
+})();

@@ -1,0 +1,197 @@
+"""Figures of single chapters: the image of a function by two methods, and a sweep's
+envelope against the resonances of steady tones.
+
+Each series has its own line style, hatch or marker and a label written next to it, so
+that none is told apart by its colour alone.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+
+from dstoolkit.errors import InvalidInputError
+
+from ._evidence import _axes
+from ._style import (
+    OKABE_ITO,
+    SMALL_PT,
+    column_size,
+    label_line_ends,
+    legend_above,
+    root_figure,
+    spread_positions,
+    styled,
+)
+
+#: How each method's image is drawn: colour, hatch, the label's name.
+_BANDS = {"subdivision": (OKABE_ITO["bluish green"], "//", "subdivision"),
+          "vertex": (OKABE_ITO["orange"], "\\\\", "vertex")}
+
+
+@styled
+def plot_image_methods(
+    cases: Mapping[str, tuple[Callable[[np.ndarray], np.ndarray], float, float,
+                              Mapping[str, Sequence[float]]]],
+) -> Figure:
+    """The image of a function of one variable on a box by two methods, one panel a case.
+
+    In each panel: the function near the box (thin), on the box (thick), and as hatched
+    horizontal bands the image [a, b] that each method gives, each band labelled at the
+    right edge with its method and interval.
+
+    Parameters
+    ----------
+    cases : collections.abc.Mapping
+        Panel title (the function's name) to ``(f, lo, hi, images)``: ``f`` maps points of
+        shape (n, 1) to values of shape (n,); ``[lo, hi]`` is the box (no unit); ``images``
+        maps ``"subdivision"`` and/or ``"vertex"`` to its ``(a, b)``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel per case, stacked.
+
+    Raises
+    ------
+    InvalidInputError
+        If ``cases`` is empty or names a method other than the two.
+
+    See Also
+    --------
+    dstoolkit.teaching.compare_image_methods : the images this figure draws.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> square = lambda x: x[..., 0] ** 2
+    >>> fig = plot_image_methods({"x²": (square, -1.0, 2.0,
+    ...                           {"vertex": (1.0, 4.0), "subdivision": (0.0, 4.0)})})
+    >>> [t.get_text() for t in fig.axes[0].texts]
+    ['subdivision: [0, 4]', 'vertex: [1, 4]', 'f on [-1, 2]']
+    """
+    if not cases:
+        raise InvalidInputError("plot_image_methods needs at least one case")
+    fig, grid = plt.subplots(len(cases), 1, figsize=column_size(6.4, 3.2 * len(cases)),
+                             layout="constrained", squeeze=False)
+    axes = list(grid[:, 0])
+    for ax, (name, (f, lo, hi, images)) in zip(axes, cases.items(), strict=True):
+        unknown = set(images) - set(_BANDS)
+        if unknown:
+            raise InvalidInputError(f"plot_image_methods draws the methods {sorted(_BANDS)}, "
+                                    f"not {sorted(unknown)}")
+        x = np.linspace(lo - 1.0, hi + 1.0, 400)
+        ax.plot(x, f(x[:, None]), color=OKABE_ITO["black"], lw=1)
+        inside = np.linspace(lo, hi, 200)
+        ax.plot(inside, f(inside[:, None]), color=OKABE_ITO["blue"], lw=3)
+        bands = []
+        for method, (colour, hatch, label) in _BANDS.items():
+            if method in images:
+                a, b = np.round(np.asarray(images[method], dtype=float), 10) + 0.0
+                ax.axhspan(a, b, facecolor=colour, alpha=0.3, hatch=hatch,
+                           edgecolor=colour, lw=0.8)
+                bands.append((a, b, f"{label}: [{a:.3g}, {b:.3g}]"))
+        ax.set_title(f"f(x) = {name}", loc="left")
+        ax.set_xlabel("x (no unit)")
+        ax.set_ylabel("f(x) (no unit)")
+        _label_bands(ax, bands)
+        ax.annotate(f"f on [{lo:g}, {hi:g}]", xy=(hi, float(f(np.array([[hi]]))[0])),
+                    xytext=(-6, 6), textcoords="offset points", ha="right", va="bottom",
+                    fontsize=SMALL_PT)
+    return fig
+
+
+def _label_bands(ax: Axes, bands: list[tuple[float, float, str]]) -> None:
+    """Each band's label right of the axes, beside the part of the band no narrower band
+    covers (the middle of the larger free part), moved apart where two would overlap."""
+    ax.get_ylim()  # the limits, autoscaled now if they are still pending
+    to_axes = ax.transScale + ax.transLimits
+    wanted = []
+    for a, b, _ in bands:
+        inner = [(c, d) for c, d, _ in bands if a <= c and d <= b and (c, d) != (a, b)]
+        if inner:  # the larger of the two parts outside the narrower band
+            c, d = inner[0]
+            y = 0.5 * (a + c) if c - a >= b - d else 0.5 * (d + b)
+        else:
+            y = 0.5 * (a + b)
+        wanted.append(float(np.clip(to_axes.transform((0.0, y))[1], 0.0, 1.0)))
+    height_pt = ax.get_position().height * root_figure(ax).get_figheight() * 72.0
+    for y, (_, _, text) in zip(spread_positions(wanted, 1.25 * SMALL_PT / height_pt),
+                               bands, strict=True):
+        ax.text(1.02, y, text, transform=ax.transAxes, ha="left", va="center",
+                fontsize=SMALL_PT, color="#222222")
+
+
+@styled
+def plot_sweep_peaks(
+    frequencies: np.ndarray,
+    steady: np.ndarray,
+    swept: np.ndarray,
+    resonances: np.ndarray,
+    shift_hz: float,
+) -> Figure:
+    """Amplitude against frequency for steady tones and for a sweep, with the resonances
+    n c/(2L) and the same shifted by ``shift_hz``, where the sweep's envelope peaks.
+
+    Parameters
+    ----------
+    frequencies : numpy.ndarray
+        Shape (n,): frequencies (Hz).
+    steady, swept : numpy.ndarray
+        Shape (n,): amplitude relative to the source's (no unit) for steady tones and
+        for the sweep
+        read at the speaker's frequency.
+    resonances : numpy.ndarray
+        Shape (m,): the resonances n c/(2L) in the range (Hz).
+    shift_hz : float
+        Where the sweep's peaks sit above them, κ L / c (Hz).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The two curves, labelled at their ends, and the two sets of vertical lines (dotted
+        and dash-dotted), named in the legend above.
+
+    Raises
+    ------
+    InvalidInputError
+        If the three curves' arrays do not have one shape.
+
+    See Also
+    --------
+    plot_resonances : the resonances a detector finds in a recording.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> f = np.linspace(100.0, 130.0, 301)
+    >>> fig = plot_sweep_peaks(f, np.cos(f / 3) ** 2, np.cos((f - 1) / 3) ** 2,
+    ...                        np.array([108.4, 117.8]), 1.0)
+    >>> [t.get_text() for t in fig.axes[0].texts]
+    ['steady tones, eq. (29)', 'sweep, read as f(u)']
+    """
+    frequencies, steady, swept = (np.asarray(v, dtype=float)
+                                  for v in (frequencies, steady, swept))
+    if not frequencies.shape == steady.shape == swept.shape:
+        raise InvalidInputError(
+            f"plot_sweep_peaks needs frequencies, steady and swept of one shape, got "
+            f"{frequencies.shape}, {steady.shape} and {swept.shape}")
+    fig, ax = _axes(None, (6.4, 3.0))
+    resonances = np.asarray(resonances, dtype=float)
+    curves = [ax.plot(frequencies, steady, color=OKABE_ITO["black"], ls="-",
+                      label="steady tones, eq. (29)")[0],
+              ax.plot(frequencies, swept, color=OKABE_ITO["blue"], ls="--",
+                      label="sweep, read as f(u)")[0]]
+    ax.vlines(resonances, 0, 1, transform=ax.get_xaxis_transform(),
+              color=OKABE_ITO["bluish green"], lw=1.2, ls=":", label="n c/(2L)")
+    ax.vlines(resonances + shift_hz, 0, 1, transform=ax.get_xaxis_transform(),
+              color=OKABE_ITO["vermillion"], lw=1, ls="-.", label="n c/(2L) + κL/c")
+    ax.set_xlabel("frequency (Hz)")
+    ax.set_ylabel("amplitude / A (no unit)")
+    legend_above(ax, ncols=2)
+    label_line_ends(ax, curves)
+    return fig
