@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import functools
-from typing import Any, cast
+from typing import Any
 
 import ipywidgets as widgets
 from matplotlib.figure import Figure
@@ -99,8 +99,8 @@ def render_filter(
     title = (f"L = {level:.1f} m, T = {temperature:.1f} °C (f_F = {seq.fundamental_hz:.2f} "
              f"Hz, {seq.truth.shape[0]} resonances), p = {p}, ε = {epsilon:.2f}, "
              f"start: {start}")
-    fig = cast(Figure, plot_filter_errors(*run, title=title) if kept is None
-               else kept(*run, title=title).figure)
+    fig = (plot_filter_errors(*run, title=title) if kept is None
+           else kept(*run, title=title).figure)
     return fig, filter_summary(seq, n, result)
 
 
