@@ -74,7 +74,8 @@ class Raised:
 
 def _outcome(fn: Callable[..., Any], args: tuple, end: float | None = None) -> Any:
     """``fn`` on a copy of ``args`` (stopped at ``end``, monotonic time, if given); an
-    exception it raises becomes a :class:`Raised`."""
+    exception it raises becomes a :class:`Raised`.
+    """
     try:
         if end is None:
             return fn(*copy.deepcopy(args))
@@ -120,7 +121,8 @@ def _plain(x: Any) -> Any:
 
 def same(got: Any, expected: Any, atol: float = 1e-9, rtol: float = 1e-6) -> bool:
     """Equal as plain data: numbers within tolerance, dicts without zero-mass entries,
-    an expected exception matched by the same type or a subclass."""
+    an expected exception matched by the same type or a subclass.
+    """
     got, expected = _plain(got), _plain(expected)
     if isinstance(expected, Raised):
         return isinstance(got, Raised) and issubclass(got.error, expected.error)
@@ -316,7 +318,8 @@ class CodingExercise:
 
     def _diagnosis(self, case: Case, number: int, total: int, want: Any, got: Any) -> str:
         """What a learner sees for a failing case. The expected outcome is shown only for a
-        random case or an expected error: a chosen case may be another exercise's answer."""
+        random case or an expected error: a chosen case may be another exercise's answer.
+        """
         shown = isinstance(want, Raised) or case.label.startswith("random")
         head = (f"✘ {self.id}: wrong on case {number} of {total} ({case.label}).\n"
                 f"  input:    {self._inputs(case)}\n"
@@ -443,14 +446,16 @@ _SHIFT = [0]
 def seeded(seed: int) -> np.random.Generator:
     """The random generator of a coding exercise's random cases (fixed seed: the same cases
     on every run, so a failing case can be looked at again; hidden tests shift it, see
-    :func:`seed_shift`)."""
+    :func:`seed_shift`).
+    """
     return np.random.default_rng(seed + _SHIFT[0])
 
 
 @contextmanager
 def seed_shift(shift: int) -> Iterator[None]:
     """Inside the ``with`` block :func:`seeded` draws from ``seed + shift``: other random
-    cases, the same kinds."""
+    cases, the same kinds.
+    """
     before = _SHIFT[0]
     _SHIFT[0] = shift
     try:

@@ -706,7 +706,8 @@ HAND_STEP = (HAND_XHAT, HAND_Z, same_value, same_value, same_value,
 
 def _filter_cases() -> list[Case]:
     """Numbers exact in binary (multiples of 1/8, p = 1, 2 or 4): boxes that are equal on
-    paper are equal in floating point, so the common focal elements of Step 6 are found."""
+    paper are equal in floating point, so the common focal elements of Step 6 are found.
+    """
     rng = seeded(111)
     v4 = noise_rows(-0.5, 0.0, 0.5, 4, 0.05, (-8.0, 8.0))
     w4 = noise_rows(-1.0, -0.5, 0.0, 4, 0.05, (-16.0, 16.0))
@@ -732,7 +733,8 @@ def filter_record(xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: lis
                   w_rows: list) -> Any:
     """Every evidence of one step of dstoolkit's filter from x̂ with reading z: the
     :class:`~dstoolkit.filters.DependentRecord` of step 2, by the public
-    ``initialize``/``step`` with the noise evidence of the rows."""
+    ``initialize``/``step`` with the noise evidence of the rows.
+    """
     import dataclasses
 
     from dstoolkit.evidence import Boxes

@@ -1,5 +1,6 @@
 """Checked exercises of the evidence chapters: why bounded noise, mass functions,
-combining evidence, dependent evidence, noise to evidence, random sets."""
+combining evidence, dependent evidence, noise to evidence, random sets.
+"""
 
 from __future__ import annotations
 
@@ -90,7 +91,8 @@ book_data("mass", {"m_low": 0.5, "m_low_mid": 0.3, "m_theta": 0.2})
 
 def level_mass() -> MassFunction:
     """The chapter's running example: m({low}) = 0.5, m({low, mid}) = 0.3, m(Θ) = 0.2
-    (in a variant, its own masses)."""
+    (in a variant, its own masses).
+    """
     d = data("mass")
     return MassFunction({"low": d["m_low"], ("low", "mid"): d["m_low_mid"],
                          FRAME: d["m_theta"]}, FRAME)
@@ -148,7 +150,8 @@ book_data("combine", {"m1_low": 0.6, "m1_theta": 0.4, "m2_high": 0.7, "m2_mid_hi
 
 def sensor_masses() -> tuple[MassFunction, MassFunction]:
     """Two level sensors: m1({low}) = 0.6, m1(Θ) = 0.4; m2({high}) = 0.7,
-    m2({mid, high}) = 0.2, m2(Θ) = 0.1 (in a variant, its own masses)."""
+    m2({mid, high}) = 0.2, m2(Θ) = 0.1 (in a variant, its own masses).
+    """
     d = data("combine")
     m1 = MassFunction({"low": d["m1_low"], FRAME: d["m1_theta"]}, FRAME)
     m2 = MassFunction({"high": d["m2_high"], ("mid", "high"): d["m2_mid_high"],
@@ -252,7 +255,8 @@ book_data("dependent", {"e1_low": 0.5, "e1_low_mid": 0.3, "e1_theta": 0.2, "e2_l
 
 def dependent_pair() -> tuple[MassFunction, MassFunction]:
     """E1 = {low: 0.5, {low, mid}: 0.3, Θ: 0.2}; E2 = {low: 0.4, mid: 0.4, Θ: 0.2}: they
-    share {low} and Θ (in a variant, its own masses)."""
+    share {low} and Θ (in a variant, its own masses).
+    """
     d = data("dependent")
     return (MassFunction({"low": d["e1_low"], ("low", "mid"): d["e1_low_mid"],
                           FRAME: d["e1_theta"]}, FRAME),

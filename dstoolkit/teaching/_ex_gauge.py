@@ -1,5 +1,6 @@
 """Checked exercises of the gauge chapters: the level gauge, the lab, estimating the
-level, beyond the paper."""
+level, beyond the paper.
+"""
 
 from __future__ import annotations
 
@@ -248,7 +249,8 @@ def _() -> float:
 
 def improvement_table() -> Any:
     """The Table 3 row of the improvement exercise: 4.6 m, true orders, the paper's filter
-    and direct measurement, IMPROVEMENT_RUNS runs from seed IMPROVEMENT_SEED."""
+    and direct measurement, IMPROVEMENT_RUNS runs from seed IMPROVEMENT_SEED.
+    """
     from dstoolkit.studies import run_table3
 
     return run_table3(runs=IMPROVEMENT_RUNS, seed=IMPROVEMENT_SEED, cases=[FIG10_CASE],

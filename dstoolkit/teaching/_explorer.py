@@ -245,7 +245,8 @@ def _sticks_out(fig: Figure) -> bool:
     fixed layout, cut off by the edge): a pixel of the outermost ring of the drawn canvas
     that is not the figure's background. Layout engines keep a margin of a few pixels, so
     that ring is blank in a figure laid out by them. Reading the drawn pixels costs a
-    fraction of a millisecond, where ``fig.get_tightbbox`` lays out every text again."""
+    fraction of a millisecond, where ``fig.get_tightbbox`` lays out every text again.
+    """
     rgba = np.asarray(_agg(fig).buffer_rgba())
     background = np.round(np.asarray(to_rgba(fig.get_facecolor())) * 255).astype(np.uint8)
     ring = np.concatenate([rgba[0], rgba[-1], rgba[:, 0], rgba[:, -1]])
@@ -254,14 +255,16 @@ def _sticks_out(fig: Figure) -> bool:
 
 def _agg(fig: Figure) -> FigureCanvasAgg:
     """``fig``'s canvas, an Agg one (a ``TextCachingCanvas`` once :meth:`Explorer.png`
-    drew it)."""
+    drew it).
+    """
     return cast(FigureCanvasAgg, fig.canvas)
 
 
 def encode_png(rgba: np.ndarray, compress_level: int = 1) -> bytes:
     """An RGBA image (a drawn canvas) as a PNG of 256 colours: a third to a quarter of the
     bytes of full colour, no visible difference on a plot, and a palette image compresses
-    fast. ``compress_level`` 1 (the kernel: fast) to 9 (the static site: small)."""
+    fast. ``compress_level`` 1 (the kernel: fast) to 9 (the static site: small).
+    """
     from PIL import Image as PILImage
 
     image = PILImage.fromarray(rgba).convert("RGB").quantize(
@@ -546,7 +549,8 @@ class Explorer(widgets.VBox):
         number of axes) is laid out by its layout engine; later ones, and later draws of a
         kept figure, reuse those axes positions (no layout pass, and axes that stay put when
         a control moves), unless something (wider tick labels) would then stick out of the
-        figure: that one is laid out afresh."""
+        figure: that one is laid out afresh.
+        """
         engine = self._engines.get(fig) or fig.get_layout_engine()
         key = (*np.round(fig.get_size_inches(), 3), len(fig.axes))
         layout = self._layouts.get(key) if engine is not None else None
@@ -571,7 +575,8 @@ class Explorer(widgets.VBox):
     def _build_static(self) -> None:
         """Render every combination of the live controls' positions into a stack of states
         (:func:`state_stack`) that the site's sliders switch in the browser. The kernel's
-        readout and output are left empty and closed: only the states carry pictures."""
+        readout and output are left empty and closed: only the states carry pictures.
+        """
         names = list(self.live)
         start = tuple(self.controls[name].value for name in names)
         leaves: dict[tuple[Any, ...], widgets.Widget] = {}
@@ -669,7 +674,8 @@ def figure_alt(settings: Mapping[str, str], numbers: Mapping[str, Any],
 
 def image_html(png: bytes, alt: str) -> str:
     """A PNG as an ``<img>`` with its text alternative, the picture inlined as a data URL
-    (the book's build moves it into a file beside the page, loaded when the state shows)."""
+    (the book's build moves it into a file beside the page, loaded when the state shows).
+    """
     data = base64.b64encode(png).decode("ascii")
     return (f"<img class='dstoolkit-figure' src='data:image/png;base64,{data}' "
             f"alt='{html.escape(alt, quote=True)}' style='max-width:100%;height:auto'>")
@@ -695,7 +701,8 @@ def state_leaf(readout: widgets.HTML, output: widgets.Output,
 
 def site_control(control: widgets.ValueWidget, options: Sequence[Any]) -> widgets.ValueWidget:
     """A control as it is live on the static site: a ``Dropdown`` itself (all its options
-    precomputed), a slider as a ``SelectionSlider`` over ``options`` that follows the drag."""
+    precomputed), a slider as a ``SelectionSlider`` over ``options`` that follows the drag.
+    """
     if isinstance(control, widgets.Dropdown):
         if tuple(control._options_values) != tuple(options):
             raise InvalidInputError(f"a live dropdown precomputes all its options "
@@ -718,7 +725,8 @@ def state_stack(controls: Mapping[str, widgets.ValueWidget], live: Mapping[str, 
     """The precomputed states ``leaves`` (keyed by the live controls' values, in the order
     of ``live``) in a ``Stack`` whose ``selected_index`` is ``jslink``-ed to the first live
     control's ``index``; with two live controls, a ``Stack`` of ``Stack``s, every inner one
-    linked to the second control. Returns the stack and the site's controls by name."""
+    linked to the second control. Returns the stack and the site's controls by name.
+    """
     names = list(live)
     site = {name: site_control(controls[name], live[name]) for name in names}
 
@@ -738,7 +746,8 @@ def state_stack(controls: Mapping[str, widgets.ValueWidget], live: Mapping[str, 
 
 def site_note(live: Sequence[widgets.ValueWidget], some_disabled: bool) -> widgets.HTML:
     """The line under an explorer's controls on the static site: which controls answer on
-    this page, and where the others work."""
+    this page, and where the others work.
+    """
     names = " and ".join(html.escape(c.description) for c in live)
     rest = ("the other controls are disabled here and work when this chapter runs as a "
             "notebook" if some_disabled else "in a notebook every value is possible")

@@ -1,5 +1,6 @@
 """The explorer of the chapter on combining evidence (book/combining_evidence.md): Zadeh's two
-doctors."""
+doctors.
+"""
 
 from __future__ import annotations
 

@@ -1,5 +1,6 @@
 """The explorer of the chapter on dependent evidence (book/dependent_evidence.md): the paper's
-Appendix A."""
+Appendix A.
+"""
 
 from __future__ import annotations
 
@@ -84,7 +85,8 @@ def dependent_combination_explorer(a2: float = 0.6, a3: float = 0.1, b2: float =
     @functools.cache
     def drawn() -> tuple[Figure, list[tuple[FocalIntervalArtists, Any]]]:
         """The figure, made by the first render and updated by the others: per panel, the
-        bars and the red line at the pignistic expectation."""
+        bars and the red line at the pignistic expectation.
+        """
         fig = Figure(figsize=(10, 4.6), layout="constrained")
         axes = fig.subplots(2, 2, sharex=True)
         panels = [(draw_focal_intervals(ax, title=name, animated=True),

@@ -1,5 +1,6 @@
 """The explorer of the chapter on random sets (book/random_sets.md): the image of an interval
-by four methods (vertex, monotone, subdivision, and the mean-value form's outer enclosure)."""
+by four methods (vertex, monotone, subdivision, and the mean-value form's outer enclosure).
+"""
 
 from __future__ import annotations
 
@@ -172,7 +173,8 @@ def compare_image_methods(
 
 def _extension_extent(ax: Any, bars: Any) -> tuple[float, ...]:
     """What the autoscaled ranges of :func:`extension_explorer`'s figure follow: the data
-    x extent of f's panel ``ax`` and the y extent of both panels (they share y)."""
+    x extent of f's panel ``ax`` and the y extent of both panels (they share y).
+    """
     ys = [v for a in (ax, bars) for v in a.dataLim.intervaly if np.isfinite(v)]
     return (*ax.dataLim.intervalx, min(ys, default=np.nan), max(ys, default=np.nan))
 
@@ -180,7 +182,8 @@ def _extension_extent(ax: Any, bars: Any) -> tuple[float, ...]:
 def _shown_image(a: float, b: float, outer: bool) -> str:
     """An image as the readout prints it: 4 significant digits of its ends to 10 decimals
     (1e-19 from the zoom shows as 0). An outer enclosure is rounded outward, so that the
-    printed interval still contains the image."""
+    printed interval still contains the image.
+    """
     a, b = (float(v) for v in np.round([a, b], 10) + 0.0)
     if outer:
         a = a if float(f"{a:.4g}") <= a else _down(a)
@@ -262,7 +265,8 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
         """The figure, made by the first render and updated by the others: f, f on the
         box, the box and the mean-value enclosure as a hatched band; per method its image
         as a bar (own line style and end markers, its name below), a ⚠ (shown when it
-        warns) and the word "refused" (shown when it refuses)."""
+        warns) and the word "refused" (shown when it refuses).
+        """
         # fixed margins, not a layout engine: the y tick labels change with the function
         # ("−0.75" is wider than "0.0"), and a layout made for the first ones cut the others
         # not the style's engine either (the stubs of matplotlib leave "none" out)

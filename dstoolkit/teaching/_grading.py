@@ -238,7 +238,8 @@ def _from_dstoolkit(value: Any) -> bool:
 def alone(fn: FunctionType) -> FunctionType:
     """A copy of ``fn`` whose global names and closure variables (and those of the
     functions of its notebook it calls) that refer to dstoolkit objects are replaced by
-    objects that raise on use."""
+    objects that raise on use.
+    """
     source = fn.__globals__
     names: dict[str, Any] = {}
     for key, value in source.items():

@@ -110,7 +110,8 @@ class LabSettings:
     @property
     def simulated_latency_s(self) -> float:
         """The audio latency of the simulated sound card: 50–200 ms, a new one per seed, as
-        a real stream has (the calibration chirp finds it)."""
+        a real stream has (the calibration chirp finds it).
+        """
         return float(0.05 + 0.15 * np.random.default_rng(self.seed).random())
 
 
@@ -145,7 +146,8 @@ def lab_measurement(settings: LabSettings) -> audio.Analysis:
 
 def lab_numbers(analysis: audio.Analysis) -> dict[str, Any]:
     """The numbers the lab widget prints for one analysis: the level and its uncertainty,
-    the truth when known, the resonances, the latency and the level by every filter."""
+    the truth when known, the resonances, the latency and the level by every filter.
+    """
     lv, det = analysis.level, analysis.detection
     numbers: dict[str, Any] = {"level (m)": lv.level_m, "± 1σ (m)": lv.uncertainty_m}
     if analysis.true_level_m is not None and analysis.error_m is not None:
@@ -163,7 +165,8 @@ def lab_numbers(analysis: audio.Analysis) -> dict[str, Any]:
 
 def plot_method_levels(analysis: audio.Analysis, ax: Axes | None = None) -> Figure:
     """The level by the series fit (with its 1σ and 2σ uncertainty) and by every filter
-    (eq. 32 per step with the orders of eq. 43, averaged), beside the true level if known."""
+    (eq. 32 per step with the orders of eq. 43, averaged), beside the true level if known.
+    """
     if ax is None:
         fig = Figure(figsize=(8.0, 2.6), layout="constrained")
         ax = fig.add_subplot()
@@ -191,7 +194,8 @@ def plot_method_levels(analysis: audio.Analysis, ax: Axes | None = None) -> Figu
 def calibration_correlation(recording: WavRecording) -> np.ndarray:
     """|c[j]| = |Σ_i recording[j + i] chirp[i]| normalised to its maximum: the matched
     filter of :func:`dstoolkit.gauge.estimate_latency` over the whole recording (index j is
-    where a chirp would start)."""
+    where a chirp would start).
+    """
     chirp = audio.calibration_chirp(recording.samplerate)
     c = np.abs(signal.correlate(recording.samples, chirp, mode="valid", method="fft"))
     return c / max(float(c.max()), 1e-300)
@@ -202,7 +206,8 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
     chirp's matched filter over the recording (middle) and around the opening chirp, in ms
     after it was played (bottom). Needs a recording made by
     :func:`~dstoolkit.audio.measure` or :func:`~dstoolkit.audio.simulate_measurement`
-    (its metadata say when the chirp was played)."""
+    (its metadata say when the chirp was played).
+    """
     meta, fs = recording.metadata, recording.samplerate
     if meta.latency_s is None or meta.sweep_onset_s is None:
         raise InvalidInputError("the recording's metadata do not hold the calibration "
@@ -246,7 +251,8 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
 
 def draw_gauge(ax: Axes | None = None) -> Figure:
     """A wiring diagram of the lab's gauge: tube, liquid, speaker and microphone at the top,
-    thermometer, the cables to the laptop's sound card, and the level L."""
+    thermometer, the cables to the laptop's sound card, and the level L.
+    """
     if ax is None:
         fig = Figure(figsize=(8.0, 6.0), layout="constrained")
         ax = fig.add_subplot()
@@ -323,7 +329,8 @@ def _sounddevice_without_devices() -> types.ModuleType:
 def imitate_audio_failure(kind: Literal["no sounddevice", "no device"]) -> Iterator[None]:
     """Inside the block, ``import sounddevice`` fails ("no sounddevice": as without the
     package) or PortAudio sees no device ("no device": as on a machine without a sound
-    card). Nothing is played or recorded; the real module is restored afterwards."""
+    card). Nothing is played or recorded; the real module is restored afterwards.
+    """
     if kind == "no sounddevice":
         stand_in: types.ModuleType | None = None  # None in sys.modules: import raises
     elif kind == "no device":
@@ -345,7 +352,8 @@ def imitate_audio_failure(kind: Literal["no sounddevice", "no device"]) -> Itera
 def level_error_from_temperature(level_m: float, temperature_c: float,
                                  thermometer_error_c: float) -> float:
     """The level error (m) of a thermometer that reads ``thermometer_error_c`` too high:
-    L = c/(2 f_F) (eq. 35) scales with c, so δL = L (c(T + δT) − c(T))/c(T)."""
+    L = c/(2 f_F) (eq. 35) scales with c, so δL = L (c(T + δT) − c(T))/c(T).
+    """
     c_true = float(speed_of_sound(temperature_c))
     c_read = float(speed_of_sound(temperature_c + thermometer_error_c))
     return level_m * (c_read - c_true) / c_true

@@ -1,6 +1,7 @@
 """The readouts of the explorers: the numbers a reader sees under a figure, as text keys
 with their units (a filter run's summary, one step of the filter, a gauge's detection, one
-run of the gauge, every filter under wrong noise bounds)."""
+run of the gauge, every filter under wrong noise bounds).
+"""
 
 from __future__ import annotations
 
@@ -47,7 +48,8 @@ def filter_summary(seq: Any, orders: np.ndarray, result: FilterResult) -> dict[s
     """The numbers the filter widget prints: first and last estimates, mean absolute errors
     of the estimates and of the readings (Hz), the step from which the error stays below
     1 Hz, the mean level error |L̂_k − L| with L̂_k = n_k c/(2 x̂_k) (eq. 32, mm, as in
-    Table 3) and the steps in total conflict."""
+    Table 3) and the steps in total conflict.
+    """
     x = seq.truth[:, 0]
     est = result.estimates[:, 0]
     level = level_from_resonance(est[:-1], orders, seq.speed_of_sound)
@@ -66,7 +68,8 @@ def filter_summary(seq: Any, orders: np.ndarray, result: FilterResult) -> dict[s
 def step_numbers(result: FilterResult, step: int, truth: float) -> dict[str, Any]:
     """The diagnostics of one step of a recorded run (1-based ``step`` >= 2): conflicts of
     both fusions, D, R12, R21, the focal elements of the final evidence, the estimate and
-    its error."""
+    its error.
+    """
     d, t = result.diagnostics, step - 1
     est = float(result.estimates[t, 0])
     return {"K (Step 4)": float(d["conflict_step4"][t]),
@@ -108,7 +111,8 @@ _SHORT_LABELS = {"direct": "direct", "dependent_evidence": "paper's filter"}
 def estimation_numbers(run: Any) -> dict[str, Any]:
     """What the level-estimation explorer prints for a :class:`~dstoolkit.studies.GaugeRun`:
     for the readings (direct, eq. 32) and each filter, "mean |L̂ − L| mm / mean |x̂ − f| Hz"
-    in one entry, and how many orders n_k are wrong."""
+    in one entry, and how many orders n_k are wrong.
+    """
     levels = run.levels()
     freq = run.frequency_errors()
     out: dict[str, Any] = {}
@@ -123,7 +127,8 @@ def estimation_numbers(run: Any) -> dict[str, Any]:
 
 def mismatch_numbers(result: Any) -> dict[str, Any]:
     """Mean |x̂ − x| (Hz) of each method of a :class:`~dstoolkit.studies.
-    MismatchResult`, and the runs in which the strict bounded-error filter failed."""
+    MismatchResult`, and the runs in which the strict bounded-error filter failed.
+    """
     out: dict[str, Any] = {f"{method_label(m)} (Hz)": v
                            for m, v in result.mean_errors().items()}
     out["bounded error: inconsistent runs"] = f"{result.inconsistent_runs:.0%}"

@@ -124,7 +124,8 @@ DRAW: dict[str, Callable[[np.random.Generator], Data]] = {
 
 def book_data(chapter: str, values: Data) -> None:
     """Register the book's data of ``chapter`` (variant 0); its variants are drawn by
-    ``DRAW[chapter]`` with the same keys."""
+    ``DRAW[chapter]`` with the same keys.
+    """
     BOOK[chapter] = values
 
 
@@ -195,7 +196,8 @@ def using_variant(variant: int | None) -> Iterator[int]:
 
 def data(chapter: str, variant: int | None = None) -> Data:
     """The data of ``chapter`` (an exercise-id prefix such as ``"mass"``) in ``variant``
-    (by default the current one). Variant 0 is the book's."""
+    (by default the current one). Variant 0 is the book's.
+    """
     if chapter not in BOOK:
         raise InvalidInputError(f"no variant data for {chapter!r}; chapters with variants: "
                                 f"{sorted(BOOK)}")
