@@ -97,7 +97,7 @@ class Exercise:
         return self._cache[key]
 
     def solution_in(self, variant: int) -> Any:
-        """The solution computed from the data of ``variant`` (kept as :attr:`solution`).
+        """Return the solution computed from the data of ``variant`` (kept as :attr:`solution`).
 
         Parameters
         ----------
@@ -153,7 +153,7 @@ class Exercise:
         return value if self.canonical is None else self.canonical(value)
 
     def wrong_answer(self) -> Any:
-        """A plausible wrong answer: the first listed mistake, else the solution moved.
+        """Return a plausible wrong answer: the first listed mistake, else the solution moved.
 
         Returns
         -------
@@ -280,7 +280,7 @@ def exercise(
 
 
 def exercises(prefix: str = "") -> list[str]:
-    """The ids of the registered exercises, those starting with ``prefix`` only.
+    """Return the ids of the registered exercises, those starting with ``prefix`` only.
 
     Parameters
     ----------
@@ -302,7 +302,7 @@ def exercises(prefix: str = "") -> list[str]:
 
 
 def get(exercise_id: str) -> Any:
-    """The registered exercise ``exercise_id`` (a KeyError lists its chapter's ids)."""
+    """Return the registered exercise ``exercise_id`` (a KeyError lists its chapter's ids)."""
     try:
         return REGISTRY[exercise_id]
     except KeyError:
@@ -313,9 +313,10 @@ def get(exercise_id: str) -> Any:
 
 
 def solution(exercise_id: str) -> Any:
-    """The solution of an exercise (for teachers and tests): a value computed with
-    dstoolkit from the current variant's data, or for a coding exercise the plain
-    reference function.
+    """Return the solution of an exercise (for teachers and tests).
+
+    A value computed with dstoolkit from the current variant's data, or for a coding exercise the
+    plain reference function.
 
     Parameters
     ----------
@@ -469,7 +470,10 @@ def _compare(answer: Any, sol: Any, ex: Exercise) -> tuple[bool, str]:
 
 
 def _key(k: Any) -> Any:
-    """A dict key as a set: ``"low"``, ``("low",)`` and ``frozenset({"low"})`` are one key."""
+    """Return a dict key as a set.
+
+    ``"low"``, ``("low",)`` and ``frozenset({"low"})`` are one key.
+    """
     if isinstance(k, set | frozenset | tuple | list):
         return frozenset(k)
     if isinstance(k, str):
@@ -504,7 +508,7 @@ def _nearly(answer: Any, sol: Any, ex: Exercise) -> bool:
 
 
 def _moved(value: Any) -> Any:
-    """An answer that is clearly not ``value`` (same type and shape)."""
+    """Return an answer that is clearly not ``value`` (same type and shape)."""
     value = _canonical(value)
     if isinstance(value, bool | np.bool_):
         return not value

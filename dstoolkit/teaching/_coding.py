@@ -73,8 +73,9 @@ class Raised:
 
 
 def _outcome(fn: Callable[..., Any], args: tuple, end: float | None = None) -> Any:
-    """``fn`` on a copy of ``args`` (stopped at ``end``, monotonic time, if given); an
-    exception it raises becomes a :class:`Raised`.
+    """``fn`` on a copy of ``args`` (stopped at ``end``, monotonic time, if given).
+
+    An exception it raises becomes a :class:`Raised`.
     """
     try:
         if end is None:
@@ -85,7 +86,7 @@ def _outcome(fn: Callable[..., Any], args: tuple, end: float | None = None) -> A
 
 
 def _documented(outcome: Any) -> Any:
-    """dstoolkit's own errors as the built-in error the exercises ask for (ValueError)."""
+    """Dstoolkit's own errors as the built-in error the exercises ask for (ValueError)."""
     if isinstance(outcome, Raised) and issubclass(outcome.error, ValueError):
         return Raised(ValueError, "as the docstring asks")
     return outcome
@@ -120,8 +121,10 @@ def _plain(x: Any) -> Any:
 
 
 def same(got: Any, expected: Any, atol: float = 1e-9, rtol: float = 1e-6) -> bool:
-    """Equal as plain data: numbers within tolerance, dicts without zero-mass entries,
-    an expected exception matched by the same type or a subclass.
+    """Equal as plain data.
+
+    Numbers within tolerance, dicts without zero-mass entries, an expected exception matched by the
+    same type or a subclass.
     """
     got, expected = _plain(got), _plain(expected)
     if isinstance(expected, Raised):
@@ -144,7 +147,7 @@ def same(got: Any, expected: Any, atol: float = 1e-9, rtol: float = 1e-6) -> boo
 
 
 def show(x: Any, limit: int = 300) -> str:
-    """A short, readable form of a value (sets as {a, b}, floats to 6 digits)."""
+    """Return a short, readable form of a value (sets as {a, b}, floats to 6 digits)."""
     x = _plain(x)
     if isinstance(x, float):
         text = f"{x:.6g}"
@@ -213,7 +216,7 @@ class CodingExercise:
         return self.plain
 
     def wrong_answer(self) -> Callable[..., Any]:
-        """The first registered wrong implementation.
+        """Return the first registered wrong implementation.
 
         Returns
         -------
@@ -310,15 +313,17 @@ class CodingExercise:
         return {"case": number, **({"mistake": why} if why else {})}
 
     def _mistake(self, case: Case, got: Any) -> str:
-        """The explanation of the registered mistake whose outcome ``got`` is, or ''."""
+        """Return the explanation of the registered mistake whose outcome ``got`` is, or ''."""
         for wrong, why in self.mistakes:
             if same(got, self._normalised(_outcome(wrong, case.args))):
                 return why
         return ""
 
     def _diagnosis(self, case: Case, number: int, total: int, want: Any, got: Any) -> str:
-        """What a learner sees for a failing case. The expected outcome is shown only for a
-        random case or an expected error: a chosen case may be another exercise's answer.
+        """Return what a learner sees for a failing case.
+
+        The expected outcome is shown only for a random case or an expected error: a chosen case may
+        be another exercise's answer.
         """
         shown = isinstance(want, Raised) or case.label.startswith("random")
         head = (f"✘ {self.id}: wrong on case {number} of {total} ({case.label}).\n"
@@ -348,7 +353,7 @@ def _pending(exercise_id: str) -> Feedback:
 
 
 def _untouched(fn: Any) -> bool:
-    """True for a function whose body is only its docstring (and ``...`` or ``pass``)."""
+    """Return True for a function whose body is only its docstring (and ``...`` or ``pass``)."""
     try:
         tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
     except (OSError, TypeError, SyntaxError, IndentationError):
@@ -363,7 +368,7 @@ def _untouched(fn: Any) -> bool:
 
 
 def _is_masses(value: Any) -> bool:
-    """A dict of masses on sets (plain form) that add up to 1."""
+    """Return a dict of masses on sets (plain form) that add up to 1."""
     return (isinstance(value, dict) and bool(value)
             and all(isinstance(k, frozenset) for k in value)
             and all(isinstance(v, float) for v in value.values())
@@ -453,8 +458,9 @@ def seeded(seed: int) -> np.random.Generator:
 
 @contextmanager
 def seed_shift(shift: int) -> Iterator[None]:
-    """Inside the ``with`` block :func:`seeded` draws from ``seed + shift``: other random
-    cases, the same kinds.
+    """Inside the ``with`` block :func:`seeded` draws from ``seed + shift``.
+
+    Other random cases, the same kinds.
     """
     before = _SHIFT[0]
     _SHIFT[0] = shift

@@ -40,7 +40,7 @@ LEVEL = ("low", "mid", "high")
 
 
 def fs(*items: Any) -> frozenset:
-    """A focal element: ``fs("low", "mid")``."""
+    """Return a focal element: ``fs("low", "mid")``."""
     return frozenset(items)
 
 
@@ -705,8 +705,10 @@ HAND_STEP = (HAND_XHAT, HAND_Z, same_value, same_value, same_value,
 
 
 def _filter_cases() -> list[Case]:
-    """Numbers exact in binary (multiples of 1/8, p = 1, 2 or 4): boxes that are equal on
-    paper are equal in floating point, so the common focal elements of Step 6 are found.
+    """Numbers exact in binary (multiples of 1/8, p = 1, 2 or 4).
+
+    Boxes that are equal on paper are equal in floating point, so the common focal elements of Step
+    6 are found.
     """
     rng = seeded(111)
     v4 = noise_rows(-0.5, 0.0, 0.5, 4, 0.05, (-8.0, 8.0))
@@ -731,9 +733,10 @@ def _filter_cases() -> list[Case]:
 
 def filter_record(xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list,
                   w_rows: list) -> Any:
-    """Every evidence of one step of dstoolkit's filter from x̂ with reading z: the
-    :class:`~dstoolkit.filters.DependentRecord` of step 2, by the public
-    ``initialize``/``step`` with the noise evidence of the rows.
+    """Every evidence of one step of dstoolkit's filter from x̂ with reading z.
+
+    The :class:`~dstoolkit.filters.DependentRecord` of step 2, by the public ``initialize``/``step``
+    with the noise evidence of the rows.
     """
     import dataclasses
 
@@ -768,7 +771,7 @@ def _filter_outcome(result: Any) -> list:
 
 def _plain_dempster_step6(xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list,
                           w_rows: list) -> tuple[list, float]:
-    """The step with plain Dempster in Step 6 (no decorrelation): the classic mistake."""
+    """Return the step with plain Dempster in Step 6 (no decorrelation): the classic mistake."""
     pred: dict = {}
     for vl, vh, mv in v_rows:
         for ul, uh, mu in v_rows:

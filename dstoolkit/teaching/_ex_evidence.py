@@ -1,5 +1,7 @@
-"""Checked exercises of the evidence chapters: why bounded noise, mass functions,
-combining evidence, dependent evidence, noise to evidence, random sets.
+"""Checked exercises of the evidence chapters.
+
+Why bounded noise, mass functions, combining evidence, dependent evidence, noise to evidence, random
+sets.
 """
 
 from __future__ import annotations
@@ -39,7 +41,7 @@ BOUNDED_W_TIGHT = (-0.2, 0.2)
 
 
 def _box(lo: float, hi: float) -> IntervalEvidence:
-    """A set as categorical evidence: the interval [lo, hi] with mass 1."""
+    """Return a set as categorical evidence: the interval [lo, hi] with mass 1."""
     return IntervalEvidence.vacuous(lo, hi)
 
 
@@ -90,8 +92,9 @@ book_data("mass", {"m_low": 0.5, "m_low_mid": 0.3, "m_theta": 0.2})
 
 
 def level_mass() -> MassFunction:
-    """The chapter's running example: m({low}) = 0.5, m({low, mid}) = 0.3, m(Θ) = 0.2
-    (in a variant, its own masses).
+    """Return the chapter's running example.
+
+    m({low}) = 0.5, m({low, mid}) = 0.3, m(Θ) = 0.2 (in a variant, its own masses).
     """
     d = data("mass")
     return MassFunction({"low": d["m_low"], ("low", "mid"): d["m_low_mid"],
@@ -149,8 +152,10 @@ book_data("combine", {"m1_low": 0.6, "m1_theta": 0.4, "m2_high": 0.7, "m2_mid_hi
 
 
 def sensor_masses() -> tuple[MassFunction, MassFunction]:
-    """Two level sensors: m1({low}) = 0.6, m1(Θ) = 0.4; m2({high}) = 0.7,
-    m2({mid, high}) = 0.2, m2(Θ) = 0.1 (in a variant, its own masses).
+    """Two level sensors.
+
+    m1({low}) = 0.6, m1(Θ) = 0.4; m2({high}) = 0.7, m2({mid, high}) = 0.2, m2(Θ) = 0.1 (in a
+    variant, its own masses).
     """
     d = data("combine")
     m1 = MassFunction({"low": d["m1_low"], FRAME: d["m1_theta"]}, FRAME)
@@ -175,8 +180,9 @@ def _() -> float:
 
 
 def zadeh(x: float = 0.99, y: float = 0.99) -> tuple[MassFunction, MassFunction]:
-    """Zadeh's doctors: m1(meningitis) = x, m1(tumour) = 1 − x; m2(concussion) = y,
-    m2(tumour) = 1 − y.
+    """Zadeh's doctors.
+
+    m1(meningitis) = x, m1(tumour) = 1 − x; m2(concussion) = y, m2(tumour) = 1 − y.
 
     Parameters
     ----------
@@ -254,8 +260,9 @@ book_data("dependent", {"e1_low": 0.5, "e1_low_mid": 0.3, "e1_theta": 0.2, "e2_l
 
 
 def dependent_pair() -> tuple[MassFunction, MassFunction]:
-    """E1 = {low: 0.5, {low, mid}: 0.3, Θ: 0.2}; E2 = {low: 0.4, mid: 0.4, Θ: 0.2}: they
-    share {low} and Θ (in a variant, its own masses).
+    """E1 = {low: 0.5, {low, mid}: 0.3, Θ: 0.2}.
+
+    E2 = {low: 0.4, mid: 0.4, Θ: 0.2}: they share {low} and Θ (in a variant, its own masses).
     """
     d = data("dependent")
     return (MassFunction({"low": d["e1_low"], ("low", "mid"): d["e1_low_mid"],
@@ -365,7 +372,10 @@ book_data("noise", {"state": STATE_NOISE, "obs": OBS_NOISE, "p": 4, "epsilon": 0
 
 
 def _noise(name: str) -> tuple[float, float, float]:
-    """The sheet's state (``"state"``) or observation (``"obs"``) noise: lower, mode, upper."""
+    """Return the sheet's state (``"state"``) or observation (``"obs"``) noise.
+
+    Lower, mode, upper.
+    """
     return data("noise")[name]
 
 
@@ -480,7 +490,7 @@ def box_image(lo: Any, hi: Any, f: Any, **options: Any) -> tuple[np.ndarray, np.
 
 
 def folded_image(merge: bool = True) -> IntervalEvidence:
-    """The image of FOLDED_X through x² (subdivision: one focal element straddles 0)."""
+    """Return the image of FOLDED_X through x² (subdivision: one focal element straddles 0)."""
     from dstoolkit.evidence import image
 
     return cast(IntervalEvidence, image(IntervalEvidence.from_pairs(_folded_x(), merge=False),

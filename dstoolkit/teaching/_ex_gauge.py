@@ -1,5 +1,6 @@
-"""Checked exercises of the gauge chapters: the level gauge, the lab, estimating the
-level, beyond the paper.
+"""Checked exercises of the gauge chapters.
+
+The level gauge, the lab, estimating the level, beyond the paper.
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ def _fundamental(case: tuple[float, float]) -> float:
 
 
 def eq43_readings() -> np.ndarray:
-    """The two readings of the eq. 43 exercise.
+    """Return the two readings of the eq. 43 exercise.
 
     Returns
     -------
@@ -248,8 +249,10 @@ def _() -> float:
 
 
 def improvement_table() -> Any:
-    """The Table 3 row of the improvement exercise: 4.6 m, true orders, the paper's filter
-    and direct measurement, IMPROVEMENT_RUNS runs from seed IMPROVEMENT_SEED.
+    """Return the Table 3 row of the improvement exercise.
+
+    4.6 m, true orders, the paper's filter and direct measurement, IMPROVEMENT_RUNS runs from seed
+    IMPROVEMENT_SEED.
     """
     from dstoolkit.studies import run_table3
 
@@ -276,7 +279,7 @@ FAILURE_SCALE, FAILURE_RUNS, FAILURE_SEED = 0.75, 20, 0
 
 
 def _paper_w() -> Any:
-    """The paper's observation noise w (Table 2) as the filters take it."""
+    """Return the paper's observation noise w (Table 2) as the filters take it."""
     from dstoolkit.gauge import GAUGE_OBS_NOISE
 
     return GAUGE_OBS_NOISE

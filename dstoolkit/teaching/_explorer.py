@@ -115,7 +115,7 @@ def slider(
     *,
     readout_format: str = ".3f",
 ) -> widgets.FloatSlider:
-    """A float slider that redraws on release (``continuous_update=False``).
+    """Return a float slider that redraws on release (``continuous_update=False``).
 
     Parameters
     ----------
@@ -153,7 +153,7 @@ def slider(
 
 
 def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSlider:
-    """An integer slider that redraws on release.
+    """Return an integer slider that redraws on release.
 
     Parameters
     ----------
@@ -183,7 +183,7 @@ def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSli
 
 def positions(control: widgets.ValueWidget, count: int = 9, lo: float | None = None,
               hi: float | None = None) -> tuple[Any, ...]:
-    """The positions a live control takes on the static site.
+    """Return the positions a live control takes on the static site.
 
     Parameters
     ----------
@@ -228,14 +228,14 @@ def _format(value: Any) -> str:
 
 
 def readout_html(numbers: Mapping[str, Any]) -> str:
-    """The numbers as a one-row HTML table (floats to 4 decimals)."""
+    """Return the numbers as a one-row HTML table (floats to 4 decimals)."""
     head = "".join(f"<th style='padding:0 8px'>{html.escape(k)}</th>" for k in numbers)
     body = "".join(f"<td style='padding:0 8px'>{_format(v)}</td>" for v in numbers.values())
     return f"<table><tr>{head}</tr><tr>{body}</tr></table>"
 
 
 def warning_html(message: str, note: str = "") -> str:
-    """A readout that says why a setting is invalid (and ``note``, in italics)."""
+    """Return a readout that says why a setting is invalid (and ``note``, in italics)."""
     return (f"<p style='color:#b00020'>⚠ {html.escape(message)}"
             f"<i>{html.escape(note)}</i></p>")
 
@@ -254,16 +254,16 @@ def _sticks_out(fig: Figure) -> bool:
 
 
 def _agg(fig: Figure) -> FigureCanvasAgg:
-    """``fig``'s canvas, an Agg one (a ``TextCachingCanvas`` once :meth:`Explorer.png`
-    drew it).
+    """``fig``'s canvas, an Agg one (a ``TextCachingCanvas`` once :meth:`Explorer.png` drew it).
     """
     return cast(FigureCanvasAgg, fig.canvas)
 
 
 def encode_png(rgba: np.ndarray, compress_level: int = 1) -> bytes:
-    """An RGBA image (a drawn canvas) as a PNG of 256 colours: a third to a quarter of the
-    bytes of full colour, no visible difference on a plot, and a palette image compresses
-    fast. ``compress_level`` 1 (the kernel: fast) to 9 (the static site: small).
+    """Return an RGBA image (a drawn canvas) as a PNG of 256 colours.
+
+    A third to a quarter of the bytes of full colour, no visible difference on a plot, and a palette
+    image compresses fast. ``compress_level`` 1 (the kernel: fast) to 9 (the static site: small).
     """
     from PIL import Image as PILImage
 
@@ -275,7 +275,7 @@ def encode_png(rgba: np.ndarray, compress_level: int = 1) -> bytes:
 
 
 def png_output(png: bytes) -> dict[str, Any]:
-    """A PNG as an ``Output`` widget's display_data output (what the site embeds)."""
+    """Return a PNG as an ``Output`` widget's display_data output (what the site embeds)."""
     return {"output_type": "display_data", "metadata": {},
             "data": {"image/png": base64.b64encode(png).decode("ascii"),
                      "text/plain": "<Figure>"}}
@@ -412,7 +412,7 @@ class Explorer(widgets.VBox):
         return widgets.HBox(list(children), layout=widgets.Layout(flex_flow="row wrap"))
 
     def values(self) -> dict[str, Any]:
-        """The controls' current values, by name.
+        """Return the controls' current values, by name.
 
         Returns
         -------
@@ -441,7 +441,7 @@ class Explorer(widgets.VBox):
             self._refresh(overrides)
 
     def readout_for(self, numbers: Mapping[str, Any]) -> str:
-        """The readout's HTML for the numbers of a valid render.
+        """Return the readout's HTML for the numbers of a valid render.
 
         Parameters
         ----------
@@ -457,7 +457,7 @@ class Explorer(widgets.VBox):
 
     def figure_alts(self, settings: Mapping[str, str],
                     numbers: Mapping[str, Any]) -> list[str]:
-        """The text alternatives of a precomputed state's pictures, one per figure.
+        """Return the text alternatives of a precomputed state's pictures, one per figure.
 
         Parameters
         ----------
@@ -545,11 +545,12 @@ class Explorer(widgets.VBox):
                           compress_level=6 if self.static else 1)
 
     def _draw(self, fig: Figure) -> None:
-        """Draw all of ``fig`` but its animated artists. The first figure of a shape (size,
-        number of axes) is laid out by its layout engine; later ones, and later draws of a
-        kept figure, reuse those axes positions (no layout pass, and axes that stay put when
-        a control moves), unless something (wider tick labels) would then stick out of the
-        figure: that one is laid out afresh.
+        """Draw all of ``fig`` but its animated artists.
+
+        The first figure of a shape (size, number of axes) is laid out by its layout engine; later
+        ones, and later draws of a kept figure, reuse those axes positions (no layout pass, and axes
+        that stay put when a control moves), unless something (wider tick labels) would then stick
+        out of the figure: that one is laid out afresh.
         """
         engine = self._engines.get(fig) or fig.get_layout_engine()
         key = (*np.round(fig.get_size_inches(), 3), len(fig.axes))
@@ -650,7 +651,7 @@ def _plain(value: Any) -> str:
 
 def figure_alt(settings: Mapping[str, str], numbers: Mapping[str, Any],
                what: str = "Figure") -> str:
-    """The text alternative of a precomputed figure, made from its numbers.
+    """Return the text alternative of a precomputed figure, made from its numbers.
 
     Parameters
     ----------
@@ -683,7 +684,7 @@ def image_html(png: bytes, alt: str) -> str:
 
 def state_leaf(readout: widgets.HTML, output: widgets.Output,
                alt: str | Sequence[str] = "Figure") -> widgets.VBox:
-    """A copy of what a readout and an output show now: one precomputed state.
+    """Return a copy of what a readout and an output show now: one precomputed state.
 
     The output's pictures become ``<img>`` elements with the text alternatives ``alt``
     (one for every picture, or one for all), in an ``HTML`` widget after the readout.
@@ -700,8 +701,10 @@ def state_leaf(readout: widgets.HTML, output: widgets.Output,
 
 
 def site_control(control: widgets.ValueWidget, options: Sequence[Any]) -> widgets.ValueWidget:
-    """A control as it is live on the static site: a ``Dropdown`` itself (all its options
-    precomputed), a slider as a ``SelectionSlider`` over ``options`` that follows the drag.
+    """Return a control as it is live on the static site.
+
+    A ``Dropdown`` itself (all its options precomputed), a slider as a ``SelectionSlider`` over
+    ``options`` that follows the drag.
     """
     if isinstance(control, widgets.Dropdown):
         if tuple(control._options_values) != tuple(options):
@@ -745,8 +748,9 @@ def state_stack(controls: Mapping[str, widgets.ValueWidget], live: Mapping[str, 
 
 
 def site_note(live: Sequence[widgets.ValueWidget], some_disabled: bool) -> widgets.HTML:
-    """The line under an explorer's controls on the static site: which controls answer on
-    this page, and where the others work.
+    """Return the line under an explorer's controls on the static site.
+
+    Which controls answer on this page, and where the others work.
     """
     names = " and ".join(html.escape(c.description) for c in live)
     rest = ("the other controls are disabled here and work when this chapter runs as a "

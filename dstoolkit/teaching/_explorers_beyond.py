@@ -1,5 +1,6 @@
-"""The explorer of the chapter beyond the paper (book/beyond_the_paper.md): every filter under
-wrong noise bounds.
+"""The explorer of the chapter beyond the paper (book/beyond_the_paper.md).
+
+Every filter under wrong noise bounds.
 """
 
 from __future__ import annotations

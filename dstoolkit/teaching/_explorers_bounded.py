@@ -1,5 +1,6 @@
-"""The explorer of the chapter on why bounded noise (book/why_bounded_noise.md): a bounded-
-error filter with wrong bounds.
+"""The explorer of the chapter on why bounded noise (book/why_bounded_noise.md).
+
+A bounded- error filter with wrong bounds.
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ from ._explorer import (
 
 def bounded_error_explorer(v_half: float = 0.1, w_half: float = 1.0, steps: int = 60,
                            seed: int = 7) -> Explorer:
-    """A bounded-error filter with wrong noise bounds, on one simulated random walk.
+    """Return a bounded-error filter with wrong noise bounds, on one simulated random walk.
 
     The slider scales the bounds the filter assumes: too tight gives empty boxes (the filter
     resets) or boxes that miss the truth; too wide gives wide boxes.

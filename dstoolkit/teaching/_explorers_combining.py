@@ -1,5 +1,6 @@
-"""The explorer of the chapter on combining evidence (book/combining_evidence.md): Zadeh's two
-doctors.
+"""The explorer of the chapter on combining evidence (book/combining_evidence.md).
+
+Zadeh's two doctors.
 """
 
 from __future__ import annotations
@@ -79,7 +80,7 @@ def conflict_explorer(x: float = 0.99, y: float = 0.99, epsilon: float = 0.0,
 
     @functools.cache
     def drawn() -> tuple[Figure, list[MassArtists]]:
-        """The figure, made by the first render and updated by the others."""
+        """Return the figure, made by the first render and updated by the others."""
         fig = Figure(figsize=(10, 2.8), layout="constrained")
         axes = fig.subplots(1, 3, sharey=True)
         panels = [draw_masses(ax, title=name, animated=True) for ax, name in

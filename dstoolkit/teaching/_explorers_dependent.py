@@ -1,5 +1,6 @@
-"""The explorer of the chapter on dependent evidence (book/dependent_evidence.md): the paper's
-Appendix A.
+"""The explorer of the chapter on dependent evidence (book/dependent_evidence.md).
+
+The paper's Appendix A.
 """
 
 from __future__ import annotations
@@ -35,7 +36,7 @@ from ._explorer import (
 
 def dependent_combination_explorer(a2: float = 0.6, a3: float = 0.1, b2: float = 0.3,
                                    b3: float = 0.6, mass_rule: MassRule = "min") -> Explorer:
-    """The paper's Appendix A, live: two dependent pieces of evidence and their combination.
+    """Return the paper's Appendix A, live: two dependent pieces of evidence and their combination.
 
     Vary the masses of E1 and E2: their energies, the degree of dependence D, the
     dependency coefficients R12, R21 and the combined evidence, beside plain Dempster that
@@ -84,8 +85,9 @@ def dependent_combination_explorer(a2: float = 0.6, a3: float = 0.1, b2: float =
 
     @functools.cache
     def drawn() -> tuple[Figure, list[tuple[FocalIntervalArtists, Any]]]:
-        """The figure, made by the first render and updated by the others: per panel, the
-        bars and the red line at the pignistic expectation.
+        """Return the figure, made by the first render and updated by the others.
+
+        Per panel, the bars and the red line at the pignistic expectation.
         """
         fig = Figure(figsize=(10, 4.6), layout="constrained")
         axes = fig.subplots(2, 2, sharex=True)

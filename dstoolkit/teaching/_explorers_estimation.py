@@ -1,5 +1,6 @@
-"""The explorer of the chapter on estimating the level (book/estimating_level.md): the
-paper's Figs. 10–11 for one run.
+"""The explorer of the chapter on estimating the level (book/estimating_level.md).
+
+The paper's Figs. 10–11 for one run.
 """
 
 from __future__ import annotations

@@ -109,7 +109,7 @@ def filter_widget(level_m: float = 9.6, temperature_c: float = 23.9, *, p: int =
                   state_noise: tuple[float, float, float] = (-0.3, 0.0, 0.3),
                   obs_noise: tuple[float, float, float] = (-10.59, -6.9, -3.21),
                   seed: int = 0) -> Explorer:
-    """The paper's filter on a simulated gauge, live.
+    """Return the paper's filter on a simulated gauge, live.
 
     Every redraw is one filter run of about 83 steps and its figure
     (:func:`render_filter`); sliders redraw on release.

@@ -37,7 +37,7 @@ GAUGE_CONDITIONS = RecordingConditions(speaker_jitter_hz=0.1, microphone_noise_p
 def gauge_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
                    top_reflection: float = 0.3, background_db: float = 50.0,
                    seed: int = 0) -> Explorer:
-    """A simulated acoustic level gauge: a recording, its resonances and the level.
+    """Return a simulated acoustic level gauge: a recording, its resonances and the level.
 
     Level, temperature, the top's reflection R_t and the background noise give the
     recording's envelope and its detected resonances beside the model n c/(2L), the

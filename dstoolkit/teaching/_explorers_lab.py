@@ -133,7 +133,7 @@ class LabWidget(Explorer):
             self._sync()
 
     def settings(self, values: Mapping[str, Any] | None = None) -> LabSettings:
-        """The controls as :class:`~dstoolkit.teaching.LabSettings`.
+        """Return the controls as :class:`~dstoolkit.teaching.LabSettings`.
 
         Parameters
         ----------
@@ -155,7 +155,7 @@ class LabWidget(Explorer):
                            seed=0 if self.static else self.measurements, sweep=self._sweep)
 
     def _measure(self, **values: Any) -> tuple[list[Figure], dict[str, Any]]:
-        """The explorer's render: one record with ``values``, its two figures and numbers."""
+        """Return the explorer's render: one record with ``values``, its two figures and numbers."""
         self.analysis = None
         try:
             analysis = lab_measurement(self.settings(values))
@@ -165,8 +165,10 @@ class LabWidget(Explorer):
         return [analysis.figure(), self.method_figure], lab_numbers(analysis)
 
     def readout_for(self, numbers: Mapping[str, Any]) -> str:
-        """The record's readout: the level ± 1σ, the numbers, the level by each filter,
-        the analysis' notes and its full report.
+        """Return the record's readout.
+
+        The level ± 1σ, the numbers, the level by each filter, the analysis' notes and its full
+        report.
 
         Parameters
         ----------
@@ -195,8 +197,9 @@ class LabWidget(Explorer):
 
     def figure_alts(self, settings: Mapping[str, str],
                     numbers: Mapping[str, Any]) -> list[str]:
-        """The text alternatives of a state's two pictures: the recording with all the
-        numbers, the level by each method with the levels.
+        """Return the text alternatives of a state's two pictures.
+
+        The recording with all the numbers, the level by each method with the levels.
 
         Parameters
         ----------
@@ -297,7 +300,7 @@ def _lab_controls(s: LabSettings, devices: bool | None) -> dict[str, widgets.Val
 
 def lab_widget(temperature_c: float = 21.0, level_m: float = 2.5, *,
                devices: bool | None = None, record_now: bool = True) -> LabWidget:
-    """The lab's measuring station with the lab chapter's start values.
+    """Return the lab's measuring station with the lab chapter's start values.
 
     Parameters
     ----------

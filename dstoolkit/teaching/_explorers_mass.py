@@ -74,7 +74,7 @@ def mass_function_explorer(low: float = 0.4, mid: float = 0.0, high: float = 0.1
 
     @functools.cache
     def drawn() -> tuple[Figure, MassArtists, BelPlArtists]:
-        """The figure, made by the first render and updated by the others."""
+        """Return the figure, made by the first render and updated by the others."""
         fig = Figure(figsize=(9.5, 3.0), layout="constrained")
         ax1, ax2 = fig.subplots(1, 2, width_ratios=[1, 2.2])
         return (fig, draw_masses(ax1, title="masses", animated=True),

@@ -86,7 +86,7 @@ def noise_evidence_explorer(
 
     @functools.cache
     def drawn() -> tuple[Figure, PossibilityArtists, FocalIntervalArtists, PboxArtists]:
-        """The figure, made by the first render and updated by the others."""
+        """Return the figure, made by the first render and updated by the others."""
         fig = Figure(figsize=(12, 3.0), layout="constrained")
         ax1, ax2, ax3 = fig.subplots(1, 3)
         return (fig, draw_possibility(ax1, view, evidence=True, title="π and its α-cuts",

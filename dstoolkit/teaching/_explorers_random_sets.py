@@ -1,5 +1,7 @@
-"""The explorer of the chapter on random sets (book/random_sets.md): the image of an interval
-by four methods (vertex, monotone, subdivision, and the mean-value form's outer enclosure).
+"""The explorer of the chapter on random sets (book/random_sets.md).
+
+The image of an interval by four methods (vertex, monotone, subdivision, and the mean-value form's
+outer enclosure).
 """
 
 from __future__ import annotations
@@ -39,13 +41,13 @@ EXTENSION_FUNCTIONS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
 
 
 def _square(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The interval {x² : x in [lo, hi]}."""
+    """Return the interval {x² : x in [lo, hi]}."""
     a, b = lo**2, hi**2
     return np.where((lo <= 0) & (hi >= 0), 0.0, np.minimum(a, b)), np.maximum(a, b)
 
 
 def _cos(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The interval {cos x : x in [lo, hi]}: the ends, and ±1 where cos peaks inside."""
+    """Return the interval {cos x : x in [lo, hi]}: the ends, and ±1 where cos peaks inside."""
     a, b = np.cos(lo), np.cos(hi)
     top = np.floor(hi / (2 * np.pi)) * 2 * np.pi >= lo
     bottom = np.floor((hi - np.pi) / (2 * np.pi)) * 2 * np.pi + np.pi >= lo
@@ -172,17 +174,19 @@ def compare_image_methods(
 
 
 def _extension_extent(ax: Any, bars: Any) -> tuple[float, ...]:
-    """What the autoscaled ranges of :func:`extension_explorer`'s figure follow: the data
-    x extent of f's panel ``ax`` and the y extent of both panels (they share y).
+    """Return what the autoscaled ranges of :func:`extension_explorer`'s figure follow.
+
+    The data x extent of f's panel ``ax`` and the y extent of both panels (they share y).
     """
     ys = [v for a in (ax, bars) for v in a.dataLim.intervaly if np.isfinite(v)]
     return (*ax.dataLim.intervalx, min(ys, default=np.nan), max(ys, default=np.nan))
 
 
 def _shown_image(a: float, b: float, outer: bool) -> str:
-    """An image as the readout prints it: 4 significant digits of its ends to 10 decimals
-    (1e-19 from the zoom shows as 0). An outer enclosure is rounded outward, so that the
-    printed interval still contains the image.
+    """Return an image as the readout prints it.
+
+    4 significant digits of its ends to 10 decimals (1e-19 from the zoom shows as 0). An outer
+    enclosure is rounded outward, so that the printed interval still contains the image.
     """
     a, b = (float(v) for v in np.round([a, b], 10) + 0.0)
     if outer:
@@ -206,7 +210,7 @@ def _up(x: float) -> float:
 
 def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0,
                        sign: int = 1) -> Explorer:
-    """The image of an interval through a function of one variable by four methods.
+    """Return the image of an interval through a function of one variable by four methods.
 
     The vertex method (Prop. 1, eq. 17), the monotone shortcut with a declared sign
     (Prop. 2, eqs. 18–19) and subdivision give values f takes (inner approximations):
@@ -262,10 +266,11 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
 
     @functools.cache
     def drawn() -> dict[str, Any]:
-        """The figure, made by the first render and updated by the others: f, f on the
-        box, the box and the mean-value enclosure as a hatched band; per method its image
-        as a bar (own line style and end markers, its name below), a ⚠ (shown when it
-        warns) and the word "refused" (shown when it refuses).
+        """Return the figure, made by the first render and updated by the others.
+
+        f, f on the box, the box and the mean-value enclosure as a hatched band; per method its
+        image as a bar (own line style and end markers, its name below), a ⚠ (shown when it warns)
+        and the word "refused" (shown when it refuses).
         """
         # fixed margins, not a layout engine: the y tick labels change with the function
         # ("−0.75" is wider than "0.0"), and a layout made for the first ones cut the others

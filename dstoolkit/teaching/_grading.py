@@ -94,8 +94,9 @@ linecache.cache["<test>"] = (len(_RAISE_SOURCE), None, [_RAISE_SOURCE], "<test>"
 
 
 def must_pass_recomputed(exercise_id: str, answer: Any, *, variant: int) -> None:
-    """Check a value answer against its solution computed afresh from the data of
-    ``variant``; raise unless it is right.
+    """Check a value answer against its solution computed afresh from the data of ``variant``.
+
+    Raise unless it is right.
 
     The hidden test of a value answer in a course: it does not read the kept solution nor
     the variant the notebook chose (:func:`~dstoolkit.teaching.set_variant`), so an answer
@@ -145,8 +146,9 @@ def must_pass_recomputed(exercise_id: str, answer: Any, *, variant: int) -> None
 
 def must_pass_alone(exercise_id: str, answer: Callable[..., Any], *,
                     time_limit: float | None = None) -> None:
-    """Run a coding answer on hidden cases where dstoolkit cannot be reached; raise unless
-    it is right on all of them.
+    """Run a coding answer on hidden cases where dstoolkit cannot be reached.
+
+    Raise unless it is right on all of them.
 
     The hidden cases are the exercise's random cases drawn from other seeds (its chosen
     cases when it has no random ones). While the answer runs, dstoolkit cannot be
@@ -193,7 +195,7 @@ def must_pass_alone(exercise_id: str, answer: Callable[..., Any], *,
 
 
 def hidden_cases(exercise: CodingExercise) -> list[tuple[Case, Any]]:
-    """The hidden cases of a coding exercise with the reference's outcomes (kept)."""
+    """Return the hidden cases of a coding exercise with the reference's outcomes (kept)."""
     if "hidden" not in exercise._cache:
         with seed_shift(HIDDEN_SEED_SHIFT):
             cases = exercise.cases()
@@ -252,7 +254,7 @@ def alone(fn: FunctionType) -> FunctionType:
 
 
 def _cell(name: str, cell: CellType) -> CellType:
-    """A closure cell, with a dstoolkit object replaced by one that raises on use."""
+    """Return a closure cell, with a dstoolkit object replaced by one that raises on use."""
     try:
         value = cell.cell_contents
     except ValueError:  # an empty cell

@@ -109,8 +109,9 @@ class LabSettings:
 
     @property
     def simulated_latency_s(self) -> float:
-        """The audio latency of the simulated sound card: 50–200 ms, a new one per seed, as
-        a real stream has (the calibration chirp finds it).
+        """The audio latency of the simulated sound card.
+
+        50–200 ms, a new one per seed, as a real stream has (the calibration chirp finds it).
         """
         return float(0.05 + 0.15 * np.random.default_rng(self.seed).random())
 
@@ -145,8 +146,10 @@ def lab_measurement(settings: LabSettings) -> audio.Analysis:
 
 
 def lab_numbers(analysis: audio.Analysis) -> dict[str, Any]:
-    """The numbers the lab widget prints for one analysis: the level and its uncertainty,
-    the truth when known, the resonances, the latency and the level by every filter.
+    """Return the numbers the lab widget prints for one analysis.
+
+    The level and its uncertainty, the truth when known, the resonances, the latency and the level
+    by every filter.
     """
     lv, det = analysis.level, analysis.detection
     numbers: dict[str, Any] = {"level (m)": lv.level_m, "± 1σ (m)": lv.uncertainty_m}
@@ -192,9 +195,10 @@ def plot_method_levels(analysis: audio.Analysis, ax: Axes | None = None) -> Figu
 
 
 def calibration_correlation(recording: WavRecording) -> np.ndarray:
-    """|c[j]| = |Σ_i recording[j + i] chirp[i]| normalised to its maximum: the matched
-    filter of :func:`dstoolkit.gauge.estimate_latency` over the whole recording (index j is
-    where a chirp would start).
+    """|c[j]| = |Σ_i recording[j + i] chirp[i]| normalised to its maximum.
+
+    The matched filter of :func:`dstoolkit.gauge.estimate_latency` over the whole recording (index j
+    is where a chirp would start).
     """
     chirp = audio.calibration_chirp(recording.samplerate)
     c = np.abs(signal.correlate(recording.samples, chirp, mode="valid", method="fft"))
@@ -202,11 +206,12 @@ def calibration_correlation(recording: WavRecording) -> np.ndarray:
 
 
 def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure:
-    """How the latency is found: the recording with its two chirps and the sweep (top), the
-    chirp's matched filter over the recording (middle) and around the opening chirp, in ms
-    after it was played (bottom). Needs a recording made by
-    :func:`~dstoolkit.audio.measure` or :func:`~dstoolkit.audio.simulate_measurement`
-    (its metadata say when the chirp was played).
+    """How the latency is found.
+
+    The recording with its two chirps and the sweep (top), the chirp's matched filter over the
+    recording (middle) and around the opening chirp, in ms after it was played (bottom). Needs a
+    recording made by :func:`~dstoolkit.audio.measure` or
+    :func:`~dstoolkit.audio.simulate_measurement` (its metadata say when the chirp was played).
     """
     meta, fs = recording.metadata, recording.samplerate
     if meta.latency_s is None or meta.sweep_onset_s is None:
@@ -250,8 +255,10 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
 
 
 def draw_gauge(ax: Axes | None = None) -> Figure:
-    """A wiring diagram of the lab's gauge: tube, liquid, speaker and microphone at the top,
-    thermometer, the cables to the laptop's sound card, and the level L.
+    """Return a wiring diagram of the lab's gauge.
+
+    Tube, liquid, speaker and microphone at the top, thermometer, the cables to the laptop's sound
+    card, and the level L.
     """
     if ax is None:
         fig = Figure(figsize=(8.0, 6.0), layout="constrained")
@@ -310,7 +317,7 @@ class _PortAudioError(Exception):
 
 
 def _sounddevice_without_devices() -> types.ModuleType:
-    """A stand-in for sounddevice on a machine where PortAudio finds no device."""
+    """Return a stand-in for sounddevice on a machine where PortAudio finds no device."""
     sd = types.ModuleType("sounddevice")
     sd.PortAudioError = _PortAudioError  # type: ignore[attr-defined]
     sd.default = types.SimpleNamespace(device=[-1, -1])  # type: ignore[attr-defined]
@@ -351,7 +358,8 @@ def imitate_audio_failure(kind: Literal["no sounddevice", "no device"]) -> Itera
 
 def level_error_from_temperature(level_m: float, temperature_c: float,
                                  thermometer_error_c: float) -> float:
-    """The level error (m) of a thermometer that reads ``thermometer_error_c`` too high:
+    """Return the level error (m) of a thermometer that reads ``thermometer_error_c`` too high.
+
     L = c/(2 f_F) (eq. 35) scales with c, so δL = L (c(T + δT) − c(T))/c(T).
     """
     c_true = float(speed_of_sound(temperature_c))

@@ -67,7 +67,7 @@ def set_time_limit(seconds: float) -> float:
 
 
 def time_limit() -> float:
-    """The time limit of a check, in seconds (see :func:`set_time_limit`)."""
+    """Return the time limit of a check, in seconds (see :func:`set_time_limit`)."""
     return _settings["time_limit"]
 
 
@@ -84,7 +84,7 @@ def valid_limit(seconds: Any) -> float:
 
 
 def _alarm_available() -> bool:
-    """An interval timer can be used: Unix, the main thread, and no one else's alarm."""
+    """Return an interval timer can be used: Unix, the main thread, and no one else's alarm."""
     if not hasattr(signal, "setitimer") or threading.current_thread() is not (
             threading.main_thread()):
         return False
@@ -94,7 +94,7 @@ def _alarm_available() -> bool:
 
 
 def _ring(signum: int, frame: Any) -> None:
-    """The timer's handler: stop the learner's code, never this module's clean-up."""
+    """Return the timer's handler: stop the learner's code, never this module's clean-up."""
     if frame is not None and frame.f_code.co_filename == __file__:
         return
     raise _TimeLimitReached
@@ -162,7 +162,7 @@ def count_items(value: Any, limit: int = BIG) -> int:
 
 
 def describe(value: Any) -> str:
-    """A short description of a value: its type and size, never its contents."""
+    """Return a short description of a value: its type and size, never its contents."""
     if value is None:
         return "None"
     shape = getattr(value, "shape", None)
@@ -178,7 +178,7 @@ def describe(value: Any) -> str:
 
 
 def too_big(value: Any) -> bool:
-    """True when ``value`` holds more than :data:`BIG` numbers or items."""
+    """Return True when ``value`` holds more than :data:`BIG` numbers or items."""
     try:
         return count_items(value) > BIG
     except Exception:  # noqa: BLE001 - an odd object whose len() or size fails

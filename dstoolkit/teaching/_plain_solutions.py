@@ -28,9 +28,10 @@ def bel_pl(m, a):
 
 
 def pignistic(m):
-    """The pignistic probability BetP: each focal element shares its mass
-    equally among its members. m: dict {frozenset: mass}. Returns
-    {hypothesis: probability}.
+    """Return the pignistic probability BetP.
+
+    Each focal element shares its mass equally among its members. m: dict
+    {frozenset: mass}. Returns {hypothesis: probability}.
     """
     betp: dict = {}
     for focal, mass in m.items():
@@ -40,8 +41,9 @@ def pignistic(m):
 
 
 def dempster_rule(m1, m2):
-    """Dempster's rule m1 ⊕ m2 (eq. 1): products on intersections,
-    renormalised by 1 − K.
+    """Dempster's rule m1 ⊕ m2 (eq. 1).
+
+    Products on intersections, renormalised by 1 − K.
 
     m1, m2: dicts {frozenset: mass}. Returns the combined dict (no empty set
     in it). Raises ValueError when the sources are in total conflict (K =
@@ -61,9 +63,10 @@ def dempster_rule(m1, m2):
 
 
 def discount_rule(m, rate, frame):
-    """Discount m at ``rate`` (eqs. 9–10): every mass times (1 − rate), and
-    ``rate`` more on the whole frame Θ. m: dict {frozenset: mass}; frame:
-    the set Θ. Returns a dict.
+    """Discount m at ``rate`` (eqs. 9–10).
+
+    Every mass times (1 − rate), and ``rate`` more on the whole frame Θ. m:
+    dict {frozenset: mass}; frame: the set Θ. Returns a dict.
     """
     theta = frozenset(frame)
     out = {focal: (1.0 - rate) * mass for focal, mass in m.items()}
@@ -72,8 +75,7 @@ def discount_rule(m, rate, frame):
 
 
 def dependency(m1, m2, frame):
-    """Degree of dependence D and dependency coefficients R12, R21 (eqs.
-    2–8).
+    """Degree of dependence D and dependency coefficients R12, R21 (eqs. 2–8).
 
     En(E) = Σ m(A)/|A| over the focal elements A ≠ Θ (eq. 2); the energy of
     the intersection sums min(m1(A), m2(A))/|A| over the focal elements A ≠
@@ -108,8 +110,9 @@ def dependent_rule(m1, m2, frame):
 
 
 def interval_energy(rows):
-    """The energy En′ of interval evidence (eq. A1): Σ m(A_i) · w_min /
-    w(A_i).
+    """Return the energy En′ of interval evidence (eq. A1).
+
+    Σ m(A_i) · w_min / w(A_i).
 
     rows: list of (lo, hi, mass). w(A) = hi − lo is the width, w_min the
     smallest width among the rows. A row of width 0 counts with weight 1 (a
@@ -143,7 +146,9 @@ def triangular_rows(a, c, b, p, epsilon):
 
 
 def cdf_bounds(rows, x):
-    """The p-box at x: (Bel((−∞, x]), Pl((−∞, x])) of interval evidence.
+    """Return the p-box at x.
+
+    (Bel((−∞, x]), Pl((−∞, x])) of interval evidence.
 
     rows: list of (lo, hi, mass). Bel counts the rows entirely at or left of
     x (hi ≤ x), Pl the rows that reach x or further left (lo ≤ x).
@@ -154,17 +159,21 @@ def cdf_bounds(rows, x):
 
 
 def vertex_image(f, lo, hi):
-    """The vertex method (Prop. 1): the image of the box [lo, hi] through f
-    as (min, max) of f over the 2^n corners. lo, hi: sequences of n numbers;
-    f takes a list of n numbers and returns a number.
+    """Return the vertex method (Prop. 1).
+
+    The image of the box [lo, hi] through f as (min, max) of f over the 2^n
+    corners. lo, hi: sequences of n numbers; f takes a list of n numbers and
+    returns a number.
     """
     values = [f(list(corner)) for corner in itertools.product(*zip(lo, hi, strict=True))]
     return min(values), max(values)
 
 
 def product_relation(x1, x2):
-    """The random relation of two independent marginals (eq. 16): every pair
-    of focal elements gives the box C1 × C2 with mass m1(C1)·m2(C2).
+    """Return the random relation of two independent marginals (eq. 16).
+
+    Every pair of focal elements gives the box C1 × C2 with mass
+    m1(C1)·m2(C2).
 
     x1, x2: lists of (lo, hi, mass). Returns a dict {((lo1, hi1), (lo2,
     hi2)): mass}.

@@ -13,10 +13,11 @@ from typing import Any
 
 
 def first_figure_png(widget: Any) -> bytes | None:
-    """PNG of the figure an explorer shows: the one it shows (its ``picture`` attribute),
-    else its ``figure`` saved at 96 dpi, or None. Reusing the shown picture leaves a kept
-    figure untouched (saving at another resolution would make it draw itself whole on the
-    next change).
+    """PNG of the figure an explorer shows.
+
+    The one it shows (its ``picture`` attribute), else its ``figure`` saved at 96 dpi, or None.
+    Reusing the shown picture leaves a kept figure untouched (saving at another resolution would
+    make it draw itself whole on the next change).
     """
     picture = getattr(widget, "picture", None)
     if picture is not None:

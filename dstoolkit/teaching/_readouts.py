@@ -1,6 +1,8 @@
-"""The readouts of the explorers: the numbers a reader sees under a figure, as text keys
-with their units (a filter run's summary, one step of the filter, a gauge's detection, one
-run of the gauge, every filter under wrong noise bounds).
+"""The readouts of the explorers.
+
+The numbers a reader sees under a figure, as text keys with their units (a filter run's summary, one
+step of the filter, a gauge's detection, one run of the gauge, every filter under wrong noise
+bounds).
 """
 
 from __future__ import annotations
@@ -45,10 +47,11 @@ def method_label(name: str) -> str:
 
 
 def filter_summary(seq: Any, orders: np.ndarray, result: FilterResult) -> dict[str, Any]:
-    """The numbers the filter widget prints: first and last estimates, mean absolute errors
-    of the estimates and of the readings (Hz), the step from which the error stays below
-    1 Hz, the mean level error |L̂_k − L| with L̂_k = n_k c/(2 x̂_k) (eq. 32, mm, as in
-    Table 3) and the steps in total conflict.
+    """Return the numbers the filter widget prints.
+
+    First and last estimates, mean absolute errors of the estimates and of the readings (Hz), the
+    step from which the error stays below 1 Hz, the mean level error |L̂_k − L| with L̂_k = n_k c/(2
+    x̂_k) (eq. 32, mm, as in Table 3) and the steps in total conflict.
     """
     x = seq.truth[:, 0]
     est = result.estimates[:, 0]
@@ -66,9 +69,10 @@ def filter_summary(seq: Any, orders: np.ndarray, result: FilterResult) -> dict[s
 
 
 def step_numbers(result: FilterResult, step: int, truth: float) -> dict[str, Any]:
-    """The diagnostics of one step of a recorded run (1-based ``step`` >= 2): conflicts of
-    both fusions, D, R12, R21, the focal elements of the final evidence, the estimate and
-    its error.
+    """Return the diagnostics of one step of a recorded run (1-based ``step`` >= 2).
+
+    Conflicts of both fusions, D, R12, R21, the focal elements of the final evidence, the estimate
+    and its error.
     """
     d, t = result.diagnostics, step - 1
     est = float(result.estimates[t, 0])
@@ -80,7 +84,7 @@ def step_numbers(result: FilterResult, step: int, truth: float) -> dict[str, Any
 
 
 def gauge_reading(setup: TubeSetup, detection: DetectionResult) -> dict[str, Any]:
-    """The numbers the gauge explorer prints for one detection in the tube ``setup``.
+    """Return the numbers the gauge explorer prints for one detection in the tube ``setup``.
 
     The level by the series fit z_k = f_F (n_1 + s_k) + b (b free, the slope only) and by
     the paper's direct measurement (eq. 32 with the orders of eq. 43 at every reading: their
@@ -109,9 +113,10 @@ _SHORT_LABELS = {"direct": "direct", "dependent_evidence": "paper's filter"}
 
 
 def estimation_numbers(run: Any) -> dict[str, Any]:
-    """What the level-estimation explorer prints for a :class:`~dstoolkit.studies.GaugeRun`:
-    for the readings (direct, eq. 32) and each filter, "mean |L̂ − L| mm / mean |x̂ − f| Hz"
-    in one entry, and how many orders n_k are wrong.
+    """Return what the level-estimation explorer prints for a :class:`~dstoolkit.studies.GaugeRun`.
+
+    For the readings (direct, eq. 32) and each filter, "mean |L̂ − L| mm / mean |x̂ − f| Hz" in one
+    entry, and how many orders n_k are wrong.
     """
     levels = run.levels()
     freq = run.frequency_errors()

@@ -45,7 +45,7 @@ _drawn: dict[tuple[str, int], Data] = {}
 
 
 def _pick(rng: np.random.Generator, lo: float, hi: float, step: float) -> float:
-    """A number of the grid lo, lo + step, …, hi, rounded to the grid's decimals."""
+    """Return a number of the grid lo, lo + step, …, hi, rounded to the grid's decimals."""
     count = int(round((hi - lo) / step)) + 1
     return round(lo + step * int(rng.integers(count)), 6)
 
@@ -123,8 +123,9 @@ DRAW: dict[str, Callable[[np.random.Generator], Data]] = {
 
 
 def book_data(chapter: str, values: Data) -> None:
-    """Register the book's data of ``chapter`` (variant 0); its variants are drawn by
-    ``DRAW[chapter]`` with the same keys.
+    """Register the book's data of ``chapter`` (variant 0).
+
+    Its variants are drawn by ``DRAW[chapter]`` with the same keys.
     """
     BOOK[chapter] = values
 
@@ -138,8 +139,7 @@ def valid_variant(variant: Any) -> int:
 
 
 def set_variant(variant: int) -> int:
-    """Make the checks use the data of ``variant`` (the setup cell of a variant's sheet
-    calls it).
+    """Make the checks use the data of ``variant`` (the setup cell of a variant's sheet calls it).
 
     Parameters
     ----------
@@ -177,7 +177,7 @@ def set_variant(variant: int) -> int:
 
 
 def current_variant() -> int:
-    """The variant the checks use now (see :func:`set_variant`)."""
+    """Return the variant the checks use now (see :func:`set_variant`)."""
     return _state["variant"]
 
 
@@ -236,5 +236,5 @@ def _draw(chapter: str, variant: int) -> Data:
 
 
 def chapter_of_sheet(stem: str) -> str | None:
-    """The chapter (exercise-id prefix) whose data the sheet ``stem`` shows, if it varies."""
+    """Return the chapter (exercise-id prefix) whose data the sheet ``stem`` shows, if it varies."""
     return SHEET_CHAPTER.get(stem)
