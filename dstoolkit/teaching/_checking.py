@@ -352,8 +352,10 @@ def solution(exercise_id: str) -> Any:
 
 
 def mistake(exercise_id: str) -> Any:
-    """A plausible wrong answer to an exercise (its first listed mistake, or for a coding
-    exercise its first wrong implementation); the tests feed it to the check cells.
+    """Return a plausible wrong answer to an exercise; the tests feed it to the check cells.
+
+    It is the exercise's first listed mistake, or for a coding exercise its first wrong
+    implementation.
 
     Parameters
     ----------

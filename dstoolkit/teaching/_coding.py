@@ -449,9 +449,10 @@ _SHIFT = [0]
 
 
 def seeded(seed: int) -> np.random.Generator:
-    """The random generator of a coding exercise's random cases (fixed seed: the same cases
-    on every run, so a failing case can be looked at again; hidden tests shift it, see
-    :func:`seed_shift`).
+    """Return the random generator of a coding exercise's random cases.
+
+    Its seed is fixed: the same cases on every run, so a failing case can be looked at again;
+    hidden tests shift it, see :func:`seed_shift`.
     """
     return np.random.default_rng(seed + _SHIFT[0])
 

@@ -227,8 +227,9 @@ def _() -> float:
 
 
 def once() -> MassFunction:
-    """One source: m({low}) = 0.5, m(Θ) = 0.5 (combined with itself in combine.twice; in a
-    variant, its own masses).
+    """Return one source: m({low}) = 0.5, m(Θ) = 0.5.
+
+    It is combined with itself in combine.twice; in a variant, it has its own masses.
 
     Returns
     -------
@@ -483,7 +484,7 @@ def _square_box() -> tuple[float, float]:
 
 
 def box_image(lo: Any, hi: Any, f: Any, **options: Any) -> tuple[np.ndarray, np.ndarray]:
-    """The image of the box [lo, hi] through ``f`` (``dstoolkit.evidence.image`` on a box)."""
+    """Return the image of the box [lo, hi] through ``f`` (``dstoolkit.evidence.image``)."""
     from dstoolkit.evidence import image
 
     return cast(tuple[np.ndarray, np.ndarray], image((lo, hi), f, **options))

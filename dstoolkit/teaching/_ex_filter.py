@@ -113,8 +113,10 @@ def _() -> str:
 
 
 def hand_step() -> tuple:
-    """The hand example's step (x̂_k, z_{k+1}, f, g, g⁻¹, v rows, w rows) with the sheet's
-    x̂_k, z_{k+1} and ε (the book's is ``_ex_coding.HAND_STEP``).
+    """Return the hand example's step with the sheet's x̂_k, z_{k+1} and ε.
+
+    The step is (x̂_k, z_{k+1}, f, g, g⁻¹, v rows, w rows); the book's is
+    ``_ex_coding.HAND_STEP``.
     """
     from ._ex_coding import HAND_STEP, noise_rows
 

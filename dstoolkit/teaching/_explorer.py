@@ -241,10 +241,11 @@ def warning_html(message: str, note: str = "") -> str:
 
 
 def _sticks_out(fig: Figure) -> bool:
-    """Whether anything drawn on ``fig`` reaches its edges (a tick label pushed out by a
-    fixed layout, cut off by the edge): a pixel of the outermost ring of the drawn canvas
-    that is not the figure's background. Layout engines keep a margin of a few pixels, so
-    that ring is blank in a figure laid out by them. Reading the drawn pixels costs a
+    """Tell whether anything drawn on ``fig`` reaches its edges.
+
+    Something reaching an edge (a tick label pushed out by a fixed layout, cut off by the edge)
+    is a pixel of the outermost ring of the drawn canvas that is not the figure's background.
+    Layout engines keep a margin of a few pixels, so that ring is blank in a figure laid out by them. Reading the drawn pixels costs a
     fraction of a millisecond, where ``fig.get_tightbbox`` lays out every text again.
     """
     rgba = np.asarray(_agg(fig).buffer_rgba())
@@ -254,8 +255,7 @@ def _sticks_out(fig: Figure) -> bool:
 
 
 def _agg(fig: Figure) -> FigureCanvasAgg:
-    """``fig``'s canvas, an Agg one (a ``TextCachingCanvas`` once :meth:`Explorer.png` drew it).
-    """
+    """Return ``fig``'s Agg canvas (a ``TextCachingCanvas`` once :meth:`Explorer.png` drew it)."""
     return cast(FigureCanvasAgg, fig.canvas)
 
 
@@ -282,7 +282,7 @@ def png_output(png: bytes) -> dict[str, Any]:
 
 
 class Explorer(widgets.VBox):
-    """Controls, a readout of numbers and a figure that follows the controls.
+    r"""Controls, a readout of numbers and a figure that follows the controls.
 
     Parameters
     ----------
@@ -574,8 +574,9 @@ class Explorer(widgets.VBox):
     # -- the static site -------------------------------------------------------------------
 
     def _build_static(self) -> None:
-        """Render every combination of the live controls' positions into a stack of states
-        (:func:`state_stack`) that the site's sliders switch in the browser. The kernel's
+        """Render every combination of the live controls' positions into a stack of states.
+
+        The site's sliders switch the states (:func:`state_stack`) in the browser. The kernel's
         readout and output are left empty and closed: only the states carry pictures.
         """
         names = list(self.live)
@@ -674,8 +675,9 @@ def figure_alt(settings: Mapping[str, str], numbers: Mapping[str, Any],
 
 
 def image_html(png: bytes, alt: str) -> str:
-    """A PNG as an ``<img>`` with its text alternative, the picture inlined as a data URL
-    (the book's build moves it into a file beside the page, loaded when the state shows).
+    """Return a PNG as an ``<img>`` with its text alternative, inlined as a data URL.
+
+    The book's build moves the picture into a file beside the page, loaded when the state shows.
     """
     data = base64.b64encode(png).decode("ascii")
     return (f"<img class='dstoolkit-figure' src='data:image/png;base64,{data}' "
@@ -725,8 +727,10 @@ def site_control(control: widgets.ValueWidget, options: Sequence[Any]) -> widget
 def state_stack(controls: Mapping[str, widgets.ValueWidget], live: Mapping[str, Sequence[Any]],
                 leaves: Mapping[tuple[Any, ...], widgets.Widget],
                 ) -> tuple[widgets.Stack, dict[str, widgets.ValueWidget]]:
-    """The precomputed states ``leaves`` (keyed by the live controls' values, in the order
-    of ``live``) in a ``Stack`` whose ``selected_index`` is ``jslink``-ed to the first live
+    """Put the precomputed states in a ``Stack`` linked to the live controls.
+
+    The states ``leaves`` (keyed by the live controls' values, in the order of ``live``) go
+    in a ``Stack`` whose ``selected_index`` is ``jslink``-ed to the first live
     control's ``index``; with two live controls, a ``Stack`` of ``Stack``s, every inner one
     linked to the second control. Returns the stack and the site's controls by name.
     """

@@ -266,8 +266,9 @@ class LabWidget(Explorer):
 
 
 def _lab_controls(s: LabSettings, devices: bool | None) -> dict[str, widgets.ValueWidget]:
-    """The station's controls at the settings ``s``, labels aligned (the device pickers
-    list PortAudio's devices unless ``devices`` is False).
+    """Return the station's controls at the settings ``s``, labels aligned.
+
+    The device pickers list PortAudio's devices unless ``devices`` is False.
     """
     virtual = [(VIRTUAL_LABEL, VIRTUAL)]
     controls: dict[str, widgets.ValueWidget] = {

@@ -92,7 +92,9 @@ def compare_image_methods(
     f: Callable[[np.ndarray], np.ndarray], lo: Any, hi: Any, signs: Any = 1,
     slope: SlopeBound | None = None, *, pieces: int = MEAN_VALUE_PIECES,
 ) -> dict[str, dict[str, Any]]:
-    """The image of one box [lo, hi] through f by every method of :func:`~dstoolkit.evidence.image`.
+    """Return the image of one box [lo, hi] through f by every method.
+
+    The methods are those of :func:`~dstoolkit.evidence.image`.
 
     The vertex method (Prop. 1), the monotone shortcut with the declared ``signs``
     (Prop. 2) and subdivision (the fallback) are inner approximations; the mean-value

@@ -238,9 +238,10 @@ def _from_dstoolkit(value: Any) -> bool:
 
 
 def alone(fn: FunctionType) -> FunctionType:
-    """A copy of ``fn`` whose global names and closure variables (and those of the
-    functions of its notebook it calls) that refer to dstoolkit objects are replaced by
-    objects that raise on use.
+    """Return a copy of ``fn`` whose references to dstoolkit objects raise on use.
+
+    The global names and closure variables of ``fn`` (and those of the functions of its
+    notebook it calls) that refer to dstoolkit objects are replaced by objects that raise on use.
     """
     source = fn.__globals__
     names: dict[str, Any] = {}

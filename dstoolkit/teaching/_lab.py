@@ -167,8 +167,10 @@ def lab_numbers(analysis: audio.Analysis) -> dict[str, Any]:
 
 
 def plot_method_levels(analysis: audio.Analysis, ax: Axes | None = None) -> Figure:
-    """The level by the series fit (with its 1σ and 2σ uncertainty) and by every filter
-    (eq. 32 per step with the orders of eq. 43, averaged), beside the true level if known.
+    """Plot the level by the series fit and by every filter, beside the true level if known.
+
+    The series fit is shown with its 1σ and 2σ uncertainty; each filter's level is eq. 32 per
+    step with the orders of eq. 43, averaged.
     """
     if ax is None:
         fig = Figure(figsize=(8.0, 2.6), layout="constrained")
@@ -334,7 +336,9 @@ def _sounddevice_without_devices() -> types.ModuleType:
 
 @contextmanager
 def imitate_audio_failure(kind: Literal["no sounddevice", "no device"]) -> Iterator[None]:
-    """Inside the block, ``import sounddevice`` fails ("no sounddevice": as without the
+    """Make the sound card fail inside the block, as on a machine without one.
+
+    Inside the block, ``import sounddevice`` fails ("no sounddevice": as without the
     package) or PortAudio sees no device ("no device": as on a machine without a sound
     card). Nothing is played or recorded; the real module is restored afterwards.
     """

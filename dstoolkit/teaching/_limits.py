@@ -101,8 +101,9 @@ def _ring(signum: int, frame: Any) -> None:
 
 
 def run_limited(fn: Callable[..., Any], args: tuple, end: float) -> Any:
-    """``fn(*args)``, stopped with :class:`_TimeLimitReached` at ``end`` (a
-    :func:`time.monotonic` value).
+    """Run ``fn(*args)`` and stop it with :class:`_TimeLimitReached` at ``end``.
+
+    ``end`` is a :func:`time.monotonic` value.
 
     The trace function is set only for the frames ``fn`` opens: this function's own frame
     is not traced, so its clean-up always runs.

@@ -97,9 +97,10 @@ def dependency(m1, m2, frame):
 
 
 def dependent_rule(m1, m2, frame):
-    """Combination of dependent evidence (§2.2): discount E1 at rate 1 − R12
-    and E2 at rate 1 − R21 (decorrelation, eqs. 9–10), then Dempster's rule
-    (eq. 1).
+    """Combine dependent evidence (§2.2).
+
+    Discount E1 at rate 1 − R12 and E2 at rate 1 − R21 (decorrelation,
+    eqs. 9–10), then apply Dempster's rule (eq. 1).
 
     m1, m2: dicts {frozenset: mass}; frame: Θ. Returns the combined dict;
     raises ValueError under total conflict. Uses dependency, discount_rule and
@@ -127,8 +128,9 @@ def interval_energy(rows):
 
 
 def triangular_rows(a, c, b, p, epsilon):
-    """Evidence of a noise with triangular possibility on [a, b], mode c
-    (eqs. 22–26).
+    """Evidence of a noise with triangular possibility (eqs. 22–26).
+
+    The possibility is triangular on [a, b] with mode c.
 
     The p α-cuts at α = 0, 1/p, …, (p − 1)/p are [a + α(c − a), b − α(b −
     c)], each with mass (1 − ε)/p; if ε > 0, Θ = [c − 100σ, c + 100σ] with σ
@@ -182,8 +184,9 @@ def product_relation(x1, x2):
 
 
 def bounded_step(box, v, w, z):
-    """One step of the bounded-error filter for x_{k+1} = x_k + v and g(x) =
-    x = z + w.
+    """One step of the bounded-error filter.
+
+    The model is x_{k+1} = x_k + v and g(x) = x = z + w.
 
     box, v, w: (lo, hi) pairs. Predict [box + v], intersect with what the
     reading allows, [z + w_lo, z + w_hi]. Returns (lo, hi); raises
@@ -197,9 +200,10 @@ def bounded_step(box, v, w, z):
 
 
 def orders_in_band(length, temperature, band):
-    """The orders n of the resonances n·c/(2L) that lie in ``band`` = (f_lo,
-    f_hi), ends included, with c = 331.3 + 0.606·T (the paper's law).
-    Returns a list of ints.
+    """Return the orders n of the resonances n·c/(2L) that lie in ``band``.
+
+    ``band`` = (f_lo, f_hi), ends included, with c = 331.3 + 0.606·T (the
+    paper's law). Returns a list of ints.
     """
     c = 331.3 + 0.606 * temperature
     f_f = c / (2.0 * length)
@@ -207,24 +211,29 @@ def orders_in_band(length, temperature, band):
 
 
 def level_from_two_readings(z1, z2, temperature):
-    """The order of z1 by eq. 43, n1 = round(z1/(z2 − z1)), and the level L
-    = n1·c/(2 z1) (eq. 32) with c = 331.3 + 0.606·T. Returns (n1, L).
+    """Return the order of z1 (eq. 43) and the level L (eq. 32).
+
+    n1 = round(z1/(z2 − z1)) and L = n1·c/(2 z1) with c = 331.3 + 0.606·T.
+    Returns (n1, L).
     """
     n1 = round(z1 / (z2 - z1))
     return n1, n1 * (331.3 + 0.606 * temperature) / (2.0 * z1)
 
 
 def triangle_sigma(a, c, b):
-    """The standard deviation of the triangular density on [a, b] with mode
-    c: the square root of (a² + b² + c² − ab − ac − bc)/18.
+    """Return the standard deviation of the triangular density.
+
+    The density is on [a, b] with mode c; its standard deviation is the
+    square root of (a² + b² + c² − ab − ac − bc)/18.
     """
     return math.sqrt((a * a + b * b + c * c - a * b - a * c - b * c) / 18.0)
 
 
 def filter_step(xhat, z, f, g, g_inv, v_rows, w_rows):
-    """One step of the paper's filter (Steps 2–6) for a scalar model with f
-    and g increasing: x_{k+1} = f(x_k) + v_k and g(x_k) = z_k + w_k (eq.
-    21).
+    """One step of the paper's filter (Steps 2–6) for a scalar model.
+
+    The model is x_{k+1} = f(x_k) + v_k and g(x_k) = z_k + w_k (eq. 21),
+    with f and g increasing.
 
     xhat: the estimate x̂_k; z: the next reading z_{k+1}; f, g, g_inv:
     functions of one number (g_inv the inverse of g); v_rows, w_rows: E_v

@@ -31,8 +31,9 @@ def first_figure_png(widget: Any) -> bytes | None:
 
 
 def register_print_figures(*widget_types: type) -> None:
-    """Give ``widget_types`` an ``image/png`` representation in the running IPython shell
-    (nothing happens outside IPython).
+    """Give ``widget_types`` an ``image/png`` representation in the running IPython shell.
+
+    Nothing happens outside IPython.
     """
     try:
         from IPython import get_ipython

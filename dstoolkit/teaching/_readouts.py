@@ -24,8 +24,9 @@ from dstoolkit.plots import STYLE
 
 
 def method_label(name: str) -> str:
-    """How the readouts name a method of the paper's Table 3 (its figure label), or
-    ``name`` itself for another one.
+    """Return how the readouts name a method of the paper's Table 3.
+
+    That is its figure label, or ``name`` itself for another method.
 
     Parameters
     ----------
@@ -131,8 +132,10 @@ def estimation_numbers(run: Any) -> dict[str, Any]:
 
 
 def mismatch_numbers(result: Any) -> dict[str, Any]:
-    """Mean |x̂ − x| (Hz) of each method of a :class:`~dstoolkit.studies.
-    MismatchResult`, and the runs in which the strict bounded-error filter failed.
+    """Mean |x̂ − x| (Hz) of each method, and the runs where the strict filter failed.
+
+    The methods are those of a :class:`~dstoolkit.studies.MismatchResult`; the runs are
+    those in which the strict bounded-error filter failed.
     """
     out: dict[str, Any] = {f"{method_label(m)} (Hz)": v
                            for m, v in result.mean_errors().items()}

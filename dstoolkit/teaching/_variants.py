@@ -195,8 +195,9 @@ def using_variant(variant: int | None) -> Iterator[int]:
 
 
 def data(chapter: str, variant: int | None = None) -> Data:
-    """The data of ``chapter`` (an exercise-id prefix such as ``"mass"``) in ``variant``
-    (by default the current one). Variant 0 is the book's.
+    """Return the data of ``chapter`` in ``variant`` (by default the current one).
+
+    ``chapter`` is an exercise-id prefix such as ``"mass"``. Variant 0 is the book's.
     """
     if chapter not in BOOK:
         raise InvalidInputError(f"no variant data for {chapter!r}; chapters with variants: "
