@@ -245,8 +245,9 @@ def _sticks_out(fig: Figure) -> bool:
 
     Something reaching an edge (a tick label pushed out by a fixed layout, cut off by the edge)
     is a pixel of the outermost ring of the drawn canvas that is not the figure's background.
-    Layout engines keep a margin of a few pixels, so that ring is blank in a figure laid out by them. Reading the drawn pixels costs a
-    fraction of a millisecond, where ``fig.get_tightbbox`` lays out every text again.
+    Layout engines keep a margin of a few pixels, so that ring is blank in a figure laid out by
+    them. Reading the drawn pixels costs a fraction of a millisecond, where ``fig.get_tightbbox``
+    lays out every text again.
     """
     rgba = np.asarray(_agg(fig).buffer_rgba())
     background = np.round(np.asarray(to_rgba(fig.get_facecolor())) * 255).astype(np.uint8)
