@@ -440,6 +440,52 @@ def image_subdivision(
     Why not interval arithmetic: it needs f rewritten in interval operations and returns
     an outer enclosure, wider than the image whenever a variable occurs twice (the
     dependency problem), so it would disagree with Props. 1–2 where they hold.
+
+    Parameters
+    ----------
+    lo, hi
+        Lower and upper ends of the boxes, arrays of shape (..., n), ``lo <= hi``.
+    f
+        Vectorised continuous map from points (..., n) to (..., m) or (...,).
+    subdivisions
+        k, the sub-boxes per axis: an even integer ≥ 4. The grid holds (k+1)^n points per
+        box, so memory grows as (k+1)^n.
+    tol
+        Where the zoom stops, relative to the box width: in (0, 1).
+    candidates
+        How many of the grid's best local extrema are refined, per output and extreme.
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray
+        Ends of the images, shape (..., m) (m = 1 for a scalar f).
+
+    Raises
+    ------
+    EvidenceError
+        ``subdivisions`` not an even integer ≥ 4, or ``tol`` outside (0, 1).
+    MemoryBudgetError
+        The grid would not fit in memory; use fewer subdivisions.
+
+    See Also
+    --------
+    image : the extension principle on evidence, which picks a method.
+    image_vertex : the vertex method (Prop. 1), exact for f without interior extrema.
+
+    References
+    ----------
+    The paper's eqs. 13–15 (the image of a focal element) and Props. 1–2 (the vertex and
+    monotone methods this one agrees with where they hold).
+
+    Examples
+    --------
+    x² on [−1, 2] has its minimum inside the box, which the vertices miss:
+
+    >>> import numpy as np
+    >>> lo, hi = image_subdivision(np.array([-1.0]), np.array([2.0]),
+    ...                            lambda x: x[..., 0] ** 2)
+    >>> round(float(lo[0]), 9), float(hi[0])
+    (0.0, 4.0)
     """
     k = int(subdivisions)
     if k < 4 or k % 2:
@@ -620,6 +666,54 @@ def box_image(
 
     ``monotone`` follows :class:`~dstoolkit.filters.StateSpaceModel`: signs of the n state
     arguments, optionally followed by n noise signs (ignored), or None (vertex method).
+
+    Parameters
+    ----------
+    f
+        Vectorised map from points (..., n) to (..., m) or (...,).
+    lo, hi
+        Lower and upper ends of the boxes, array-likes of shape (..., n), ``lo <= hi``.
+    monotone
+        Signs of f per state argument, shape (n,) or (2n,) with the noise signs last
+        (ignored): +1, −1 or 0 (unknown); None when no sign is known.
+    method
+        ``"monotone"``, ``"vertex"``, ``"subdivision"`` or ``"auto"`` (monotone when every
+        sign is known, else vertex); see :func:`image`.
+    check
+        Verify the method's hypothesis cheaply (NotMonotoneError, VertexMethodWarning).
+    tol
+        Subdivision tolerance, relative to the box width, in (0, 1).
+    subdivisions
+        Sub-boxes per axis for ``"subdivision"``: an even integer ≥ 4.
+
+    Returns
+    -------
+    lo, hi : numpy.ndarray
+        Ends of the images, shape (..., m).
+
+    Raises
+    ------
+    EvidenceError
+        A monotone method without signs, or bad ``subdivisions``/``tol``.
+    NotMonotoneError
+        With ``check``, f visibly breaks the declared signs.
+
+    See Also
+    --------
+    image : the same on :class:`IntervalEvidence`, with its checks of the boxes and of f.
+    image_subdivision : the method for any continuous f.
+
+    References
+    ----------
+    The paper's eq. 13 (image of a focal element) and eqs. 17–19 (the filter's predicted
+    state and measurement evidence).
+
+    Examples
+    --------
+    >>> lo, hi = box_image(lambda x: 2.0 * x[..., 0], [[-1.0], [0.0]], [[2.0], [1.0]],
+    ...                    monotone=[1])
+    >>> lo.ravel().tolist(), hi.ravel().tolist()
+    ([-2.0, 0.0], [4.0, 2.0])
     """
     lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
     signs = state_signs(monotone, lo.shape[-1])
@@ -667,6 +761,9 @@ def image(
         For ``"mean_value"``: ``slope(lo, hi) -> (d_lo, d_hi)``, bounds of f's partial
         derivatives on boxes (..., n), each (..., n) for a scalar f or (..., m, n). Its
         ``subdivisions`` are then the sub-boxes per axis.
+    subdivisions
+        For ``"subdivision"``: sub-boxes per axis, an even integer ≥ 4 (the grid holds
+        (k+1)^n points per box); for ``"mean_value"``: pieces per axis.
 
     Returns
     -------
@@ -676,6 +773,25 @@ def image(
     ------
     EvidenceError
         Bad boxes, or an f that returns complex values, or NaN or ±inf at finite points.
+
+    See Also
+    --------
+    box_image : the array kernel the filters call.
+    image_subdivision : the method for any continuous f.
+
+    References
+    ----------
+    The paper's eqs. 13–15 (extension principle), Prop. 1 (vertex method, eq. 17) and
+    Prop. 2 (monotone functions).
+
+    Examples
+    --------
+    x² through two focal elements; [−1, 1] has its minimum inside, so subdivision:
+
+    >>> from dstoolkit.evidence import IntervalEvidence
+    >>> e = IntervalEvidence([[-1.0], [0.0]], [[1.0], [2.0]], [0.5, 0.5])
+    >>> image(e, lambda x: x[..., 0] ** 2, method="subdivision")
+    IntervalEvidence([0, 1]: 0.5, [0, 4]: 0.5)
     """
     if isinstance(evidence_or_arrays, IntervalEvidence):
         lo, hi = evidence_or_arrays.boxes_lo, evidence_or_arrays.boxes_hi
