@@ -58,7 +58,7 @@ def device_options(kind: Literal["input", "output"]) -> list[tuple[str, Any]]:
 class LabSettings:
     """What the lab's controls say.
 
-    Attributes
+    Parameters
     ----------
     temperature_c
         The thermometer's reading, °C: the analysis takes c from it (c = 331.3 + 0.606 T).
@@ -83,6 +83,21 @@ class LabSettings:
         Seed of the simulated recording's noise and latency.
     sweep
         The sweep (default the paper's, 1000 → 2400 Hz in 5 s).
+
+    See Also
+    --------
+    lab_measurement : the measurement these settings describe.
+    dstoolkit.audio.simulate_measurement : the virtual tube's recording.
+
+    References
+    ----------
+    The paper's law of the speed of sound, c = 331.3 + 0.606 T (m/s, T in °C).
+
+    Examples
+    --------
+    >>> s = LabSettings(level_m=3.0, thermometer_error_c=1.5)
+    >>> s.simulated, s.virtual_tube.temperature_c
+    (True, 19.5)
     """
 
     temperature_c: float = 21.0
@@ -123,6 +138,17 @@ def lab_measurement(settings: LabSettings) -> audio.Analysis:
     all), then :func:`~dstoolkit.audio.analyze`. With devices:
     :func:`dstoolkit.audio.measure` plays and records through them (about 7 s).
 
+    Parameters
+    ----------
+    settings
+        The lab's controls: level (m), temperature (°C), devices, sweep, seed.
+
+    Returns
+    -------
+    dstoolkit.audio.Analysis
+        The recording, its resonances, the level ± uncertainty (m) and the level by every
+        filter; with the virtual tube also the true level and the error.
+
     Raises
     ------
     AudioUnavailableError
@@ -131,6 +157,26 @@ def lab_measurement(settings: LabSettings) -> audio.Analysis:
         A bad recording: silent, clipped, too short, no tube echo, too few resonances.
     ValueError
         Bad settings.
+
+    See Also
+    --------
+    lab_numbers : the numbers the lab widget prints for the analysis.
+    dstoolkit.audio.analyze : the analysis of a recording.
+
+    References
+    ----------
+    The level is the paper's eq. 35, L = c/(2 f_F), from the spacing of the resonances; each
+    filter follows eq. 32 per step with the orders of eq. 43.
+
+    Examples
+    --------
+    The virtual tube with a short sweep (no sound card is touched):
+
+    >>> from dstoolkit.gauge import LinearSweep
+    >>> short = LinearSweep(1000.0, 1600.0, duration=2.0)
+    >>> analysis = lab_measurement(LabSettings(level_m=9.6, sweep=short))
+    >>> round(analysis.level.level_m, 2)
+    9.6
     """
     s = settings
     if s.simulated:
@@ -150,6 +196,33 @@ def lab_numbers(analysis: audio.Analysis) -> dict[str, Any]:
 
     The level and its uncertainty, the truth when known, the resonances, the latency and the level
     by every filter.
+
+    Parameters
+    ----------
+    analysis
+        An analysis from :func:`lab_measurement` or :func:`dstoolkit.audio.analyze`.
+
+    Returns
+    -------
+    dict
+        Label (with its unit: m, mm, ms, m/s) → value: ``"level (m)"``, ``"± 1σ (m)"``,
+        ``"true level (m)"`` and ``"error (mm)"`` when the truth is known, ``"resonances"``,
+        ``"missed"``, ``"latency (ms)"``, ``"c (m/s)"`` and ``"<filter> (m)"`` per filter.
+
+    See Also
+    --------
+    lab_measurement : the measurement these numbers describe.
+
+    Examples
+    --------
+    >>> from dstoolkit.audio import analyze, simulate_measurement
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> rec = simulate_measurement(TubeSetup(level_m=9.6, temperature_c=20.0))
+    >>> numbers = lab_numbers(analyze(rec, methods=("direct",)))
+    >>> numbers["true level (m)"], numbers["resonances"], round(numbers["c (m/s)"], 2)
+    (9.6, 77, 343.42)
+    >>> list(numbers)[-1]
+    'direct (m)'
     """
     lv, det = analysis.level, analysis.detection
     numbers: dict[str, Any] = {"level (m)": lv.level_m, "± 1σ (m)": lv.uncertainty_m}
@@ -171,6 +244,38 @@ def plot_method_levels(analysis: audio.Analysis, ax: Axes | None = None) -> Figu
 
     The series fit is shown with its 1σ and 2σ uncertainty; each filter's level is eq. 32 per
     step with the orders of eq. 43, averaged.
+
+    Parameters
+    ----------
+    analysis
+        An analysis from :func:`lab_measurement` or :func:`dstoolkit.audio.analyze`.
+    ax
+        Axes to draw on; None draws on a new figure (8 × 2.6 in).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure of ``ax`` (or the new one): one row per method, level L in m.
+
+    See Also
+    --------
+    lab_numbers : the same levels as numbers.
+
+    References
+    ----------
+    The paper's eqs. 32 and 43 (the level from one resonance and its order) and eq. 35
+    (the level from the spacing of the resonances).
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from dstoolkit.audio import analyze, simulate_measurement
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> rec = simulate_measurement(TubeSetup(level_m=9.6, temperature_c=20.0))
+    >>> fig = plot_method_levels(analyze(rec, methods=("direct",)))
+    >>> [t.get_text() for t in fig.axes[0].get_yticklabels()][0]
+    'series fit (spacing)'
     """
     if ax is None:
         fig = Figure(figsize=(8.0, 2.6), layout="constrained")
@@ -201,6 +306,33 @@ def calibration_correlation(recording: WavRecording) -> np.ndarray:
 
     The matched filter of :func:`dstoolkit.gauge.estimate_latency` over the whole recording (index j
     is where a chirp would start).
+
+    Parameters
+    ----------
+    recording
+        A recording with the calibration chirps, from :func:`~dstoolkit.audio.measure` or
+        :func:`~dstoolkit.audio.simulate_measurement`.
+
+    Returns
+    -------
+    numpy.ndarray
+        |c[j]| / max |c|, shape (samples − chirp samples + 1,), dimensionless in [0, 1].
+
+    See Also
+    --------
+    plot_calibration : the picture of this correlation.
+
+    Examples
+    --------
+    The opening chirp is found one latency after it was played:
+
+    >>> import numpy as np
+    >>> from dstoolkit.audio import simulate_measurement
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> rec = simulate_measurement(TubeSetup(level_m=9.6, temperature_c=20.0))
+    >>> c = calibration_correlation(rec)
+    >>> float(c.max()), c.ndim
+    (1.0, 1)
     """
     chirp = audio.calibration_chirp(recording.samplerate)
     c = np.abs(signal.correlate(recording.samples, chirp, mode="valid", method="fft"))
@@ -214,6 +346,38 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
     recording (middle) and around the opening chirp, in ms after it was played (bottom). Needs a
     recording made by :func:`~dstoolkit.audio.measure` or
     :func:`~dstoolkit.audio.simulate_measurement` (its metadata say when the chirp was played).
+
+    Parameters
+    ----------
+    recording
+        A recording whose metadata hold the latency and the sweep's onset (s).
+    zoom_ms
+        Half width of the bottom panel around the latency, ms.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Three panels (8 × 6.6 in): recording, matched filter, zoom on the latency.
+
+    Raises
+    ------
+    InvalidInputError
+        The recording's metadata do not hold the calibration.
+
+    See Also
+    --------
+    calibration_correlation : the matched filter drawn in the middle and bottom panels.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from dstoolkit.audio import simulate_measurement
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> rec = simulate_measurement(TubeSetup(level_m=9.6, temperature_c=20.0))
+    >>> fig = plot_calibration(rec, zoom_ms=2.0)
+    >>> len(fig.axes), fig.axes[2].get_legend().get_texts()[0].get_text()
+    (3, 'τ = 100.00 ms')
     """
     meta, fs = recording.metadata, recording.samplerate
     if meta.latency_s is None or meta.sweep_onset_s is None:
@@ -261,6 +425,27 @@ def draw_gauge(ax: Axes | None = None) -> Figure:
 
     Tube, liquid, speaker and microphone at the top, thermometer, the cables to the laptop's sound
     card, and the level L.
+
+    Parameters
+    ----------
+    ax
+        Axes to draw on; None draws on a new figure (8 × 6 in).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure of ``ax`` (or the new one).
+
+    See Also
+    --------
+    lab_measurement : a measurement with this gauge (or its virtual tube).
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> draw_gauge().axes[0].get_title()
+    "The lab's gauge: speaker and microphone at the top, level L below"
     """
     if ax is None:
         fig = Figure(figsize=(8.0, 6.0), layout="constrained")
@@ -341,6 +526,32 @@ def imitate_audio_failure(kind: Literal["no sounddevice", "no device"]) -> Itera
     Inside the block, ``import sounddevice`` fails ("no sounddevice": as without the
     package) or PortAudio sees no device ("no device": as on a machine without a sound
     card). Nothing is played or recorded; the real module is restored afterwards.
+
+    Parameters
+    ----------
+    kind
+        ``"no sounddevice"`` or ``"no device"``.
+
+    Yields
+    ------
+    None
+        Inside the block, the failure holds.
+
+    Raises
+    ------
+    InvalidInputError
+        ``kind`` is neither of the two.
+
+    See Also
+    --------
+    dstoolkit.audio.audio_available : what the block makes False.
+
+    Examples
+    --------
+    >>> from dstoolkit.audio import audio_available
+    >>> with imitate_audio_failure("no device"):
+    ...     audio_available()
+    False
     """
     if kind == "no sounddevice":
         stand_in: types.ModuleType | None = None  # None in sys.modules: import raises
@@ -365,6 +576,35 @@ def level_error_from_temperature(level_m: float, temperature_c: float,
     """Return the level error (m) of a thermometer that reads ``thermometer_error_c`` too high.
 
     L = c/(2 f_F) (eq. 35) scales with c, so δL = L (c(T + δT) − c(T))/c(T).
+
+    Parameters
+    ----------
+    level_m
+        The true level L, m.
+    temperature_c
+        The air's true temperature T, °C.
+    thermometer_error_c
+        How much the thermometer reads too high, δT in °C (negative: too low).
+
+    Returns
+    -------
+    float
+        δL, m: positive when the level is overestimated.
+
+    See Also
+    --------
+    LabSettings : ``thermometer_error_c`` sets this error on the virtual tube.
+
+    References
+    ----------
+    The paper's eq. 35 (L = c/(2 f_F)) and its law c = 331.3 + 0.606 T.
+
+    Examples
+    --------
+    A thermometer 1 °C too high over 2.5 m of air at 21 °C:
+
+    >>> round(1e3 * level_error_from_temperature(2.5, 21.0, 1.0), 1)
+    4.4
     """
     c_true = float(speed_of_sound(temperature_c))
     c_read = float(speed_of_sound(temperature_c + thermometer_error_c))
