@@ -86,7 +86,7 @@ def _outcome(fn: Callable[..., Any], args: tuple, end: float | None = None) -> A
 
 
 def _documented(outcome: Any) -> Any:
-    """Dstoolkit's own errors as the built-in error the exercises ask for (ValueError)."""
+    """Report dstoolkit's own errors as the built-in error the exercises ask for (ValueError)."""
     if isinstance(outcome, Raised) and issubclass(outcome.error, ValueError):
         return Raised(ValueError, "as the docstring asks")
     return outcome

@@ -261,9 +261,10 @@ book_data("dependent", {"e1_low": 0.5, "e1_low_mid": 0.3, "e1_theta": 0.2, "e2_l
 
 
 def dependent_pair() -> tuple[MassFunction, MassFunction]:
-    """E1 = {low: 0.5, {low, mid}: 0.3, Θ: 0.2}.
+    """Return the two dependent pieces of evidence E1 and E2: they share {low} and Θ.
 
-    E2 = {low: 0.4, mid: 0.4, Θ: 0.2}: they share {low} and Θ (in a variant, its own masses).
+    E1 = {low: 0.5, {low, mid}: 0.3, Θ: 0.2}; E2 = {low: 0.4, mid: 0.4, Θ: 0.2} (in a
+    variant, its own masses).
     """
     d = data("dependent")
     return (MassFunction({"low": d["e1_low"], ("low", "mid"): d["e1_low_mid"],

@@ -1,6 +1,6 @@
 """The explorer of the chapter on why bounded noise (book/why_bounded_noise.md).
 
-A bounded- error filter with wrong bounds.
+A bounded-error filter with wrong bounds.
 """
 
 from __future__ import annotations

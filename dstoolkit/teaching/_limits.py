@@ -84,7 +84,7 @@ def valid_limit(seconds: Any) -> float:
 
 
 def _alarm_available() -> bool:
-    """Return an interval timer can be used: Unix, the main thread, and no one else's alarm."""
+    """Tell whether an interval timer can be used: Unix, the main thread, no one else's alarm."""
     if not hasattr(signal, "setitimer") or threading.current_thread() is not (
             threading.main_thread()):
         return False
@@ -94,7 +94,7 @@ def _alarm_available() -> bool:
 
 
 def _ring(signum: int, frame: Any) -> None:
-    """Return the timer's handler: stop the learner's code, never this module's clean-up."""
+    """Handle the timer's signal: stop the learner's code, never this module's clean-up."""
     if frame is not None and frame.f_code.co_filename == __file__:
         return
     raise _TimeLimitReached

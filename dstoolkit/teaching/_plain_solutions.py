@@ -148,9 +148,9 @@ def triangular_rows(a, c, b, p, epsilon):
 
 
 def cdf_bounds(rows, x):
-    """Return the p-box at x.
+    """Return the p-box of interval evidence at x.
 
-    (Bel((−∞, x]), Pl((−∞, x])) of interval evidence.
+    That is (Bel((−∞, x]), Pl((−∞, x])).
 
     rows: list of (lo, hi, mass). Bel counts the rows entirely at or left of
     x (hi ≤ x), Pl the rows that reach x or further left (lo ≤ x).
@@ -161,9 +161,9 @@ def cdf_bounds(rows, x):
 
 
 def vertex_image(f, lo, hi):
-    """Return the vertex method (Prop. 1).
+    """Return the image of a box by the vertex method (Prop. 1).
 
-    The image of the box [lo, hi] through f as (min, max) of f over the 2^n
+    The image of the box [lo, hi] through f is (min, max) of f over the 2^n
     corners. lo, hi: sequences of n numbers; f takes a list of n numbers and
     returns a number.
     """
