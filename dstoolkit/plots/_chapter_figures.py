@@ -107,7 +107,8 @@ def plot_image_methods(
 
 def _label_bands(ax: Axes, bands: list[tuple[float, float, str]]) -> None:
     """Each band's label right of the axes, beside the part of the band no narrower band
-    covers (the middle of the larger free part), moved apart where two would overlap."""
+    covers (the middle of the larger free part), moved apart where two would overlap.
+    """
     ax.get_ylim()  # the limits, autoscaled now if they are still pending
     to_axes = ax.transScale + ax.transLimits
     wanted = []

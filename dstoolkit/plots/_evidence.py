@@ -75,7 +75,8 @@ def _resize(artists: list[A], count: int, make: Callable[[], A], animated: bool)
     by ``make()`` (in order, as a fresh drawing makes them; if ``animated``, so marked and
     :data:`SPARE_ARTISTS` more), the others hidden, not removed (adding or removing an
     artist redraws a kept figure whole; hiding an animated one does not). The caller then
-    sets every shown one's data."""
+    sets every shown one's data.
+    """
     if len(artists) < count:
         for _ in range(count - len(artists) + (SPARE_ARTISTS if animated else 0)):
             artists.append(make())
@@ -92,7 +93,8 @@ def _resize(artists: list[A], count: int, make: Callable[[], A], animated: bool)
 class FocalIntervalArtists:
     """What :func:`plot_focal_intervals` draws on ``ax``: one bar per focal element and the
     masses written on them. Made by ``draw_focal_intervals``, set by
-    ``update_focal_intervals``."""
+    ``update_focal_intervals``.
+    """
 
     ax: Axes
     animated: bool = False
@@ -104,7 +106,8 @@ class FocalIntervalArtists:
 def draw_focal_intervals(ax: Axes, *, title: str | None = None, xlabel: str = "x",
                          animated: bool = False) -> FocalIntervalArtists:
     """The parts of :func:`plot_focal_intervals` that no evidence changes (axis labels, y
-    range, title) on ``ax``; the bars come with ``update_focal_intervals``."""
+    range, title) on ``ax``; the bars come with ``update_focal_intervals``.
+    """
     _fixed_parts(ax, xlabel, "cumulated mass", 1.0, title, animated)
     return FocalIntervalArtists(ax, animated)
 
@@ -112,7 +115,8 @@ def draw_focal_intervals(ax: Axes, *, title: str | None = None, xlabel: str = "x
 def _fixed_parts(ax: Axes, xlabel: str, ylabel: str, top: float, title: str | None,
                  animated: bool) -> None:
     """Labels, y range [0, ``top``] and title of a bar panel; its spines animated with
-    its bars."""
+    its bars.
+    """
     ax.set_ylim(0, top)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
@@ -132,7 +136,8 @@ def update_focal_intervals(
     colour: str | None = None,
 ) -> None:
     """Draw ``ev`` in the bars of ``draw_focal_intervals`` (the parameters as in
-    :func:`plot_focal_intervals`): an explorer's kept figure follows the evidence."""
+    :func:`plot_focal_intervals`): an explorer's kept figure follows the evidence.
+    """
     _scalar(ev, "plot_focal_intervals")
     ax = artists.ax
     lo, hi, m = ev.lo_1d, ev.hi_1d, ev.mass
@@ -232,7 +237,8 @@ def plot_focal_intervals(
 
 def pbox_grid(a: float, b: float) -> np.ndarray:
     """The points at which :func:`plot_pbox` evaluates a p-box over [a, b]: 801, with a 5 %
-    margin on both sides."""
+    margin on both sides.
+    """
     pad = 0.05 * (b - a if b > a else 1.0)
     return np.linspace(a - pad, b + pad, 801)
 
@@ -240,7 +246,8 @@ def pbox_grid(a: float, b: float) -> np.ndarray:
 @dataclass
 class PboxArtists:
     """What :func:`plot_pbox` draws on ``ax`` at the points ``x``: the band between the two
-    cdfs and their step lines. Made by ``draw_pbox``, set by ``update_pbox``."""
+    cdfs and their step lines. Made by ``draw_pbox``, set by ``update_pbox``.
+    """
 
     ax: Axes
     x: np.ndarray
@@ -253,7 +260,8 @@ class PboxArtists:
 def draw_pbox(ax: Axes, x: Any, *, title: str | None = None, label: str = "",
               xlabel: str = "x", animated: bool = False) -> PboxArtists:
     """The parts of :func:`plot_pbox` at the points ``x`` that no evidence changes (lines,
-    legend, ranges, labels) on ``ax``; the cdfs come with ``update_pbox``."""
+    legend, ranges, labels) on ``ax``; the cdfs come with ``update_pbox``.
+    """
     x = np.asarray(x, dtype=float)
     zero = np.zeros_like(x)
     prefix = f"{label} " if label else ""
@@ -387,7 +395,8 @@ def contour(ev: IntervalEvidence, x: Any) -> np.ndarray:
 class PossibilityArtists:
     """What :func:`plot_possibility` draws on ``ax`` at the points ``x``: π, the α-cuts
     (their levels and, dotted, their ends), the α of each cut and the evidence's contour.
-    Made by ``draw_possibility``, set by ``update_possibility``."""
+    Made by ``draw_possibility``, set by ``update_possibility``.
+    """
 
     ax: Axes
     x: np.ndarray
@@ -405,7 +414,8 @@ def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = Fa
                      animated: bool = False) -> PossibilityArtists:
     """The parts of :func:`plot_possibility` over ``xlim`` that no distribution changes
     (lines, legend, ranges, labels) on ``ax``, with the contour line if ``evidence``; the
-    data come with ``update_possibility``."""
+    data come with ``update_possibility``.
+    """
     x = np.linspace(xlim[0], xlim[1], 801)
     zero = np.zeros_like(x)
     (pi,) = ax.plot(x, zero, color="black", lw=1.5, label="π(x)")
@@ -433,7 +443,8 @@ def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = Fa
 def update_possibility(artists: PossibilityArtists, lower: float, mode: float, upper: float,
                        p: int = 3, evidence: IntervalEvidence | None = None) -> None:
     """Draw π(lower, mode, upper) (eq. 22), its ``p`` α-cuts (eq. 24) and the contour of
-    ``evidence`` (if the artists have its line) in the artists of ``draw_possibility``."""
+    ``evidence`` (if the artists have its line) in the artists of ``draw_possibility``.
+    """
     x, ax = artists.x, artists.ax
     artists.pi.set_ydata(possibility(x, lower, mode, upper))
     lo, hi = alpha_cuts(lower, mode, upper, p)
@@ -542,7 +553,8 @@ def _bel_pl_sets(frame: Sequence[Hashable], subsets: Sequence[Any] | None) -> li
 class BelPlArtists:
     """What :func:`plot_bel_pl` draws on ``ax`` for the subsets ``sets`` of ``frame``: the
     Bel bars, the Pl − Bel bars on them and the BetP ticks of the ``single`` ones (their
-    indices). Made by ``draw_bel_pl``, set by ``update_bel_pl``."""
+    indices). Made by ``draw_bel_pl``, set by ``update_bel_pl``.
+    """
 
     ax: Axes
     frame: tuple[Hashable, ...]
@@ -557,7 +569,8 @@ class BelPlArtists:
 def draw_bel_pl(ax: Axes, frame: Sequence[Hashable], subsets: Sequence[Any] | None = None, *,
                 title: str | None = None, animated: bool = False) -> BelPlArtists:
     """The parts of :func:`plot_bel_pl` that no masses on ``frame`` change (bars, ticks,
-    legend, labels) on ``ax``; the heights come with ``update_bel_pl``."""
+    legend, labels) on ``ax``; the heights come with ``update_bel_pl``.
+    """
     sets = _bel_pl_sets(frame, subsets)
     xs = np.arange(len(sets))
     zero = np.zeros(len(sets))
@@ -654,7 +667,8 @@ def plot_bel_pl(
 @dataclass
 class MassArtists:
     """What :func:`plot_masses` draws on ``ax``: one bar per focal element, its mass written
-    on it. Made by ``draw_masses``, set by ``update_masses``."""
+    on it. Made by ``draw_masses``, set by ``update_masses``.
+    """
 
     ax: Axes
     animated: bool = False
@@ -667,7 +681,8 @@ class MassArtists:
 def _fit_category_labels(ax: Axes, names: Sequence[str]) -> None:
     """Tilt the category labels of ``ax`` when, set level, they would run into each other:
     each gets the axes' width over the number of categories, and a label is about 0.6 em
-    wide per character."""
+    wide per character.
+    """
     labels = ax.get_xticklabels()
     if not labels:
         return
@@ -683,7 +698,8 @@ def _fit_category_labels(ax: Axes, names: Sequence[str]) -> None:
 
 def draw_masses(ax: Axes, *, title: str | None = None, animated: bool = False) -> MassArtists:
     """The parts of :func:`plot_masses` that no masses change (labels, y range, title) on
-    ``ax``; the bars come with ``update_masses``."""
+    ``ax``; the bars come with ``update_masses``.
+    """
     _fixed_parts(ax, "focal element", "mass", 1.1, title, animated)
     return MassArtists(ax, animated)
 
@@ -691,7 +707,8 @@ def draw_masses(ax: Axes, *, title: str | None = None, animated: bool = False) -
 @styled
 def update_masses(artists: MassArtists, mf: MassFunction, *, title: str | None = None) -> None:
     """Draw the masses of ``mf`` in the artists of ``draw_masses`` (one bar per focal
-    element, the x range following their number) and ``title`` if given."""
+    element, the x range following their number) and ``title`` if given.
+    """
     if not isinstance(mf, MassFunction):
         raise EvidenceError("plot_masses draws a MassFunction on a finite frame")
     ax = artists.ax

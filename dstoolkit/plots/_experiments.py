@@ -1,5 +1,6 @@
 """Figures of the paper's results: Fig. 10 (frequency estimates and errors per step),
-Fig. 11 (level estimates and errors per step) and Table 3 as a picture."""
+Fig. 11 (level estimates and errors per step) and Table 3 as a picture.
+"""
 
 from __future__ import annotations
 
@@ -51,7 +52,8 @@ def _style(name: str) -> dict[str, Any]:
 
 def line_style(st: Mapping[str, Any]) -> dict[str, Any]:
     """Keyword arguments of ``Axes.plot`` that draw a method of :data:`STYLE` (or of
-    :data:`EXTRA_STYLES`): colour, line style, and markers spaced along the line."""
+    :data:`EXTRA_STYLES`): colour, line style, and markers spaced along the line.
+    """
     return {"color": st["color"], "ls": st.get("ls", "-"), "marker": st.get("marker", ""),
             "markevery": MARK_EVERY, "ms": 4}
 
@@ -190,7 +192,8 @@ def update_estimates(fig: Figure, truth: np.ndarray, readings: np.ndarray,
                      estimates: Mapping[str, np.ndarray], *, quantity: str = "frequency",
                      unit: str = "Hz", note: str = "") -> None:
     """Draw other values on a figure of :func:`plot_estimates` made for the same methods
-    (``estimates`` with the same names, in the same order): data, limits, labels."""
+    (``estimates`` with the same names, in the same order): data, limits, labels.
+    """
     ax_a, ax_b = fig.axes[:2]
     true_line, reading_a, *est_a = ax_a.lines
     reading_b, *est_b = ax_b.lines

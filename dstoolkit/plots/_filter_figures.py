@@ -31,7 +31,8 @@ from ._style import BETP_COLOUR, SMALL_PT, column_size, legend_above, root_figur
 def blank_figure(figsize: tuple[float, float], layout: str, *, pyplot: bool = True) -> Figure:
     """A new figure ``figsize`` inches large: through pyplot (a notebook shows it when the
     cell ends), or a bare :class:`~matplotlib.figure.Figure` that pyplot does not know (an
-    explorer keeps it and shows it as a PNG)."""
+    explorer keeps it and shows it as a PNG).
+    """
     engine: Any = layout  # "constrained" or "none" (no engine, not the rcParams' default)
     if pyplot:
         return plt.figure(figsize=figsize, layout=engine)

@@ -269,7 +269,8 @@ def gauge_detection_figure(setup: TubeSetup, detection: DetectionResult) -> Figu
 def update_gauge_detection(fig: Figure, setup: TubeSetup, detection: DetectionResult) -> None:
     """Draw another detection on a :func:`gauge_detection_figure`: new data and title; the
     envelope's limits where they cross round numbers, the error's where it crosses
-    1, 2, 5 × 10ⁿ Hz."""
+    1, 2, 5 × 10ⁿ Hz.
+    """
     (ax1, ax2), sweep = fig.axes, detection.sweep
     envelope, peaks = ax1.lines
     (model,) = ax1.collections

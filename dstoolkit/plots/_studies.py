@@ -38,7 +38,8 @@ RULE_STYLE = {"eq43": ("-", "eq. 43"), "fit": ("--", "series fit"), "true": (":"
 
 def _style(name: str) -> dict[str, Any]:
     """A method's colour, line style, marker and label; any other name is drawn black,
-    solid, with a cross."""
+    solid, with a cross.
+    """
     return STYLE.get(name, {**EXTRA_STYLES[0], "label": name})
 
 
@@ -111,7 +112,8 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
 
 def update_step_errors(ax: Axes, errors: Mapping[str, np.ndarray]) -> None:
     """Draw other errors on axes of :func:`plot_step_errors` drawn for the same methods
-    (the same names in the same order); the limits follow."""
+    (the same names in the same order); the limits follow.
+    """
     if len(ax.lines) != len(errors):
         raise InvalidInputError(f"these axes draw {len(ax.lines)} methods, not "
                                 f"{len(errors)}: draw them anew with plot_step_errors")
@@ -201,7 +203,8 @@ def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | 
 @styled
 def update_noise_assumption(ax: Axes, true: BoundedNoise, assumed: BoundedNoise) -> None:
     """Draw other noises on axes of :func:`plot_noise_assumption`; the x limits follow,
-    unless the curves are animated (kept by an explorer, :func:`noise_bounds_figure`)."""
+    unless the curves are animated (kept by an explorer, :func:`noise_bounds_figure`).
+    """
     x, y_true, y_assumed = _possibilities(true, assumed)
     fill: Any = ax.collections[0]  # a FillBetweenPolyCollection (matplotlib 3.10+)
     fill.set_data(x, y_true, 0)
@@ -222,7 +225,8 @@ def noise_bounds_figure(true_v: BoundedNoise, true_w: BoundedNoise, assumed_v: B
     The noises' axes span ``v_range`` and ``w_range`` (the sliders' ranges of the bounds,
     with matplotlib's margin) whatever the assumption, the errors' axis snaps to round
     numbers (``snapped_limits``) and the data are animated: most changes redraw only the
-    data (blitting), and the true noise stands still while the assumed one moves."""
+    data (blitting), and the true noise stands still while the assumed one moves.
+    """
     fig = Figure(figsize=(11, 3.8), layout="constrained")
     ax_v, ax_w, ax_e = fig.subplots(1, 3, width_ratios=[1, 1, 2.2])
     plot_noise_assumption(true_v, assumed_v, ax_v, title="state noise v (Hz)")
@@ -241,7 +245,8 @@ def update_noise_bounds_figure(fig: Figure, true_v: BoundedNoise, true_w: Bounde
                                assumed_v: BoundedNoise, assumed_w: BoundedNoise,
                                errors: Mapping[str, np.ndarray]) -> None:
     """Draw other assumed noises and their errors on a :func:`noise_bounds_figure` (its
-    title stays)."""
+    title stays).
+    """
     ax_v, ax_w, ax_e = fig.axes
     update_noise_assumption(ax_v, true_v, assumed_v)
     update_noise_assumption(ax_w, true_w, assumed_w)
