@@ -347,8 +347,8 @@ def plot_filter_errors(
     """Plot a scalar filter run against the truth, as the paper's Fig. 10.
 
     Top, x̂_k − x_k and the readings' z_k − x_k; bottom, the absolute errors |x̂_k − x_k|
-    and |z_k − x_k| on a log scale. (The hull of the final evidence is not drawn: with the discounts' Θ in it,
-    it is far wider than the readings' spread.)
+    and |z_k − x_k| on a log scale. (The hull of the final evidence is not drawn: with the
+    discounts' Θ in it, it is far wider than the readings' spread.)
 
     Drawn for speed (the filter widget redraws it on every change, as a kept
     :class:`FilterErrorsFigure`): fixed margins instead of a layout engine, and fixed log
@@ -407,8 +407,9 @@ FILTER_STEP_PANELS: tuple[tuple[str, str], ...] = (
 class FilterStepFigure:
     """The figure of :func:`plot_filter_step`, kept.
 
-    :meth:`update` draws another recorded step in place, if it has the same panels (:meth:`panels_of`: a step that a total
-    conflict stopped has fewer). Attributes: ``figure``, ``axes``, ``panels``.
+    :meth:`update` draws another recorded step in place, if it has the same panels
+    (:meth:`panels_of`: a step that a total conflict stopped has fewer). Attributes: ``figure``,
+    ``axes``, ``panels``.
 
     Parameters
     ----------

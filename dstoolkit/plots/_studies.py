@@ -207,7 +207,8 @@ def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | 
 def update_noise_assumption(ax: Axes, true: BoundedNoise, assumed: BoundedNoise) -> None:
     """Draw other noises on axes of :func:`plot_noise_assumption`.
 
-    The x limits follow, unless the curves are animated (kept by an explorer, :func:`noise_bounds_figure`).
+    The x limits follow, unless the curves are animated (kept by an explorer,
+    :func:`noise_bounds_figure`).
     """
     x, y_true, y_assumed = _possibilities(true, assumed)
     fill: Any = ax.collections[0]  # a FillBetweenPolyCollection (matplotlib 3.10+)
@@ -224,13 +225,13 @@ def noise_bounds_figure(true_v: BoundedNoise, true_w: BoundedNoise, assumed_v: B
                         w_range: tuple[float, float]) -> Figure:
     """Draw the noise-bounds explorer's figure.
 
-    The true and assumed possibility distributions of v and w (:func:`plot_noise_assumption`) beside every method's mean error per step
-    (:func:`plot_step_errors`, titled ``title``). The explorer's own (11 in wide, in the
-    notebook's style); :func:`update_noise_bounds_figure` draws other assumptions on it.
-    The noises' axes span ``v_range`` and ``w_range`` (the sliders' ranges of the bounds,
-    with matplotlib's margin) whatever the assumption, the errors' axis snaps to round
-    numbers (``snapped_limits``) and the data are animated: most changes redraw only the
-    data (blitting), and the true noise stands still while the assumed one moves.
+    The true and assumed possibility distributions of v and w (:func:`plot_noise_assumption`) beside
+    every method's mean error per step (:func:`plot_step_errors`, titled ``title``). The explorer's
+    own (11 in wide, in the notebook's style); :func:`update_noise_bounds_figure` draws other
+    assumptions on it. The noises' axes span ``v_range`` and ``w_range`` (the sliders' ranges of the
+    bounds, with matplotlib's margin) whatever the assumption, the errors' axis snaps to round
+    numbers (``snapped_limits``) and the data are animated: most changes redraw only the data
+    (blitting), and the true noise stands still while the assumed one moves.
     """
     fig = Figure(figsize=(11, 3.8), layout="constrained")
     ax_v, ax_w, ax_e = fig.subplots(1, 3, width_ratios=[1, 1, 2.2])
@@ -263,8 +264,8 @@ def update_noise_bounds_figure(fig: Figure, true_v: BoundedNoise, true_w: Bounde
 def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = None) -> Figure:
     """Plot mean |x̂ − x| of each method against the factor scaling the assumed bounds.
 
-    The bounds are scaled about the modes; the bounded-error filter's marker is red where it failed in
-    some runs (the number printed is the fraction of failed runs).
+    The bounds are scaled about the modes; the bounded-error filter's marker is red where it failed
+    in some runs (the number printed is the fraction of failed runs).
 
     Parameters
     ----------
@@ -363,7 +364,8 @@ def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
 def plot_example(comparison: ExampleComparison, run: int = 0) -> Figure:
     """Plot the predator–prey example.
 
-    (a) the populations (P, Q) of one run, truth, census readings and every method's estimate; (b) |x̂_k − x_k| per step (log-populations).
+    (a) the populations (P, Q) of one run, truth, census readings and every method's
+    estimate; (b) |x̂_k − x_k| per step (log-populations).
 
     Parameters
     ----------
