@@ -75,9 +75,8 @@ def _resize(artists: list[A], count: int, make: Callable[[], A], animated: bool)
 
     Missing ones are made by ``make()`` (in order, as a fresh drawing makes them; if
     ``animated``, so marked and :data:`SPARE_ARTISTS` more), the others hidden, not removed
-    (adding or removing an
-    artist redraws a kept figure whole; hiding an animated one does not). The caller then
-    sets every shown one's data.
+    (adding or removing an artist redraws a kept figure whole; hiding an animated one does
+    not). The caller then sets every shown one's data.
     """
     if len(artists) < count:
         for _ in range(count - len(artists) + (SPARE_ARTISTS if animated else 0)):
@@ -96,8 +95,7 @@ class FocalIntervalArtists:
     """What :func:`plot_focal_intervals` draws on ``ax``.
 
     One bar per focal element and the masses written on them. Made by
-    ``draw_focal_intervals``, set by
-    ``update_focal_intervals``.
+    ``draw_focal_intervals``, set by ``update_focal_intervals``.
     """
 
     ax: Axes
@@ -408,8 +406,7 @@ class PossibilityArtists:
     """What :func:`plot_possibility` draws on ``ax`` at the points ``x``.
 
     π, the α-cuts (their levels and, dotted, their ends), the α of each cut and the
-    evidence's contour.
-    Made by ``draw_possibility``, set by ``update_possibility``.
+    evidence's contour. Made by ``draw_possibility``, set by ``update_possibility``.
     """
 
     ax: Axes
@@ -428,8 +425,8 @@ def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = Fa
                      animated: bool = False) -> PossibilityArtists:
     """Draw the parts of :func:`plot_possibility` over ``xlim`` that no distribution changes.
 
-    Lines, legend, ranges, labels on ``ax``, with the contour line if ``evidence``; the
-    data come with ``update_possibility``.
+    Lines, legend, ranges, labels on ``ax``, with the contour line if ``evidence``; the data
+    come with ``update_possibility``.
     """
     x = np.linspace(xlim[0], xlim[1], 801)
     zero = np.zeros_like(x)

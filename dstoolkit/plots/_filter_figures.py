@@ -32,8 +32,8 @@ def blank_figure(figsize: tuple[float, float], layout: str, *, pyplot: bool = Tr
     """Make a new figure ``figsize`` inches large.
 
     Through pyplot (a notebook shows it when the cell ends), or a bare
-    :class:`~matplotlib.figure.Figure` that pyplot does not know (an
-    explorer keeps it and shows it as a PNG).
+    :class:`~matplotlib.figure.Figure` that pyplot does not know (an explorer keeps it and
+    shows it as a PNG).
     """
     engine: Any = layout  # "constrained" or "none" (no engine, not the rcParams' default)
     if pyplot:
@@ -408,8 +408,8 @@ class FilterStepFigure:
     """The figure of :func:`plot_filter_step`, kept.
 
     :meth:`update` draws another recorded step in place, if it has the same panels
-    (:meth:`panels_of`: a step that a total conflict stopped has fewer). Attributes: ``figure``,
-    ``axes``, ``panels``.
+    (:meth:`panels_of`: a step that a total conflict stopped has fewer). Attributes:
+    ``figure``, ``axes``, ``panels``.
 
     Parameters
     ----------

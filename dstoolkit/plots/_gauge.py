@@ -243,8 +243,9 @@ def plot_resonances(
 def gauge_detection_figure(setup: TubeSetup, detection: DetectionResult) -> Figure:
     """Draw the gauge explorer's picture of one detection in the tube ``setup``.
 
-    Top, the recording's envelope against the sweep's frequency, the model's resonances n c/(2L)
-    (eqs. 29–32) and the detected peaks; bottom, the detection error z_k − n_k f_F.
+    Top, the recording's envelope against the sweep's frequency, the model's resonances
+    n c/(2L) (eqs. 29–32) and the detected peaks; bottom, the detection error
+    z_k − n_k f_F.
 
     Built once and kept: :func:`update_gauge_detection` draws another detection on it. The
     data and the title are animated and the limits snap to round numbers, so that most

@@ -125,9 +125,10 @@ def set_limits(ax: Axes, *, x: tuple[float, float] | None = None,
 class InnerTicks(AutoLocator):
     """Return matplotlib's default ticks, less those within ``margin`` of either end.
 
-    ``margin`` is a fraction of the view. Their labels then never reach past the axes' ends, so that
-    a kept figure whose limits move keeps its layout (a label sticking out of the figure makes
-    :meth:`dstoolkit.teaching.Explorer.png` lay it out afresh, a second whole draw).
+    ``margin`` is a fraction of the view. Their labels then never reach past the axes' ends,
+    so that a kept figure whose limits move keeps its layout (a label sticking out of the
+    figure makes :meth:`dstoolkit.teaching.Explorer.png` lay it out afresh, a second whole
+    draw).
     """
 
     def __init__(self, margin: float = 0.04) -> None:

@@ -225,12 +225,13 @@ def noise_bounds_figure(true_v: BoundedNoise, true_w: BoundedNoise, assumed_v: B
                         w_range: tuple[float, float]) -> Figure:
     """Draw the noise-bounds explorer's figure.
 
-    The true and assumed possibility distributions of v and w (:func:`plot_noise_assumption`) beside
-    every method's mean error per step (:func:`plot_step_errors`, titled ``title``). The explorer's
-    own (11 in wide, in the notebook's style); :func:`update_noise_bounds_figure` draws other
-    assumptions on it. The noises' axes span ``v_range`` and ``w_range`` (the sliders' ranges of the
-    bounds, with matplotlib's margin) whatever the assumption, the errors' axis snaps to round
-    numbers (``snapped_limits``) and the data are animated: most changes redraw only the data
+    The true and assumed possibility distributions of v and w
+    (:func:`plot_noise_assumption`) beside every method's mean error per step
+    (:func:`plot_step_errors`, titled ``title``). The explorer's own (11 in wide, in the
+    notebook's style); :func:`update_noise_bounds_figure` draws other assumptions on it. The
+    noises' axes span ``v_range`` and ``w_range`` (the sliders' ranges of the bounds, with
+    matplotlib's margin) whatever the assumption, the errors' axis snaps to round numbers
+    (``snapped_limits``) and the data are animated: most changes redraw only the data
     (blitting), and the true noise stands still while the assumed one moves.
     """
     fig = Figure(figsize=(11, 3.8), layout="constrained")
@@ -264,8 +265,8 @@ def update_noise_bounds_figure(fig: Figure, true_v: BoundedNoise, true_w: Bounde
 def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = None) -> Figure:
     """Plot mean |x̂ − x| of each method against the factor scaling the assumed bounds.
 
-    The bounds are scaled about the modes; the bounded-error filter's marker is red where it failed
-    in some runs (the number printed is the fraction of failed runs).
+    The bounds are scaled about the modes; the bounded-error filter's marker is red where it
+    failed in some runs (the number printed is the fraction of failed runs).
 
     Parameters
     ----------
@@ -319,8 +320,8 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
 def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
     """Plot mean absolute level error against the level, one panel per simulation (stacked).
 
-    Line style = order rule, colour and marker = method; grey diamonds on a thick line:
-    the series fit's own level.
+    Line style = order rule, colour and marker = method; grey diamonds on a thick line: the
+    series fit's own level.
 
     Parameters
     ----------

@@ -217,8 +217,8 @@ def spread_positions(positions: list[float], gap: float, low: float = 0.0,
                      high: float = 1.0) -> list[float]:
     """Move positions apart until neighbours are at least ``gap`` apart.
 
-    Each is pushed up past the one below it, then, if the highest passes ``high``, the
-    stack is pushed down.
+    Each is pushed up past the one below it, then, if the highest passes ``high``, the stack
+    is pushed down.
 
     Parameters
     ----------
