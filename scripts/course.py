@@ -1,6 +1,6 @@
 """An nbgrader course from the exercise sheets' sources.
 
-    .venv/bin/python scripts/sheets.py --nbgrader DIR
+    .venv/bin/python scripts/sheets.py --nbgrader DIR [--variant N]
 
 writes ``DIR/nbgrader_config.py`` and one assignment per chapter,
 ``DIR/source/NN_<stem>/NN_<stem>.ipynb``, with nbgrader's cell metadata:
@@ -12,7 +12,10 @@ writes ``DIR/nbgrader_config.py`` and one assignment per chapter,
 * every check cell becomes an autograder test cell with points. Its visible test is the
   sheet's check (:func:`dstoolkit.teaching.must_pass`); a coding exercise adds hidden tests
   on other random cases, run where dstoolkit cannot be reached
-  (:func:`dstoolkit.teaching.must_pass_alone`). The cell imports what it needs itself;
+  (:func:`dstoolkit.teaching.must_pass_alone`), a value answer a hidden test that computes
+  the answer afresh from the data of the course's variant, whatever variant or cached
+  solution the notebook set (:func:`dstoolkit.teaching.must_pass_recomputed`). The cell
+  imports what it needs itself;
 * every written part (a proof, an explanation, the "why" of a prediction) is a manually
   graded answer cell with points, holding the teacher's solution for the formgrader.
 
@@ -61,7 +64,96 @@ c.ClearSolutions.code_stub = {{"python": ""}}
 c.ClearSolutions.text_stub = "*Your answer:* …"
 # Releasing on JupyterHub: uncomment and point at the exchange folder of your hub.
 # c.Exchange.root = "/srv/nbgrader/exchange"
+
+# Feedback pages load nothing from the internet: the assignments write their formulas in
+# Unicode, and templates/feedback/mathjax.html.j2 (next to this file) replaces the MathJax
+# loader of nbgrader's feedback page, a script from a CDN, by a style that wraps long
+# lines of the tests' output.
+import os  # noqa: E402
+import nbgrader  # noqa: E402
+
+c.HTMLExporter.template_name = "feedback"
+c.HTMLExporter.extra_template_basedirs = [
+    os.path.join(os.path.dirname(os.path.abspath(__file__)), "templates"),
+    os.path.join(os.path.dirname(nbgrader.__file__), "server_extensions", "formgrader",
+                 "templates"),
+]
 '''
+#: Replaces nbconvert's MathJax loader in the head of the feedback pages (see CONFIG): no
+#: script; instead, long lines of a test's output (a verdict) wrap at narrow widths.
+NO_MATHJAX = """\
+{#- The course's formulas are Unicode: the feedback pages load no MathJax (no CDN). -#}
+{%- macro mathjax(url="") -%}
+<style>div.output_area pre { white-space: pre-wrap; overflow-wrap: break-word; }</style>
+{%- endmacro %}
+"""
+
+
+# -- maths without MathJax -------------------------------------------------------------------
+# nbgrader's feedback pages load no MathJax, so the course writes its formulas in Unicode:
+# "$\\mathrm{Bel}(\\{\\text{low}\\})$" reads "Bel({low})" in the notebook and on the page.
+
+MATH = re.compile(r"\$\$(.+?)\$\$|\$(?!\s)((?:[^$\n]|\n(?!\n))+?)(?<!\s)\$", re.DOTALL)
+WRAPPERS = re.compile(r"\\(?:mathrm|text|operatorname|mathit|mathbf)\s*\{([^{}]*)\}")
+ACCENTS = {"hat": "\u0302", "bar": "\u0304", "tilde": "\u0303"}
+ACCENT = re.compile(r"\\(hat|bar|tilde)\s*(?:\{([^{}]*)\}|([A-Za-z]))")
+SQRT = re.compile(r"\\sqrt\s*\{([^{}]*)\}")
+SYMBOLS = {
+    "alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "varepsilon": "ε",
+    "epsilon": "ε", "theta": "θ", "kappa": "κ", "lambda": "λ", "mu": "μ", "xi": "ξ",
+    "pi": "π", "rho": "ρ", "sigma": "σ", "tau": "τ", "omega": "ω", "Theta": "Θ",
+    "Delta": "Δ", "Sigma": "Σ", "cdot": "·", "times": "×", "le": "≤", "leq": "≤",
+    "ge": "≥", "geq": "≥", "approx": "≈", "pm": "±", "in": "∈", "ni": "∋", "cap": "∩",
+    "cup": "∪", "oplus": "⊕", "infty": "∞", "to": "→", "dots": "…", "ldots": "…",
+    "lfloor": "⌊", "rfloor": "⌋", "lceil": "⌈", "rceil": "⌉", "neq": "≠", "ne": "≠",
+    "min": "min", "max": "max", "sin": "sin", "cos": "cos", "log": "log", "exp": "exp",
+    "emptyset": "∅", "subseteq": "⊆", "subset": "⊂", "mid": "|", "quad": "  ",
+    "sum": "Σ", "prod": "Π", "bigl": "", "bigr": "", "Bigl": "", "Bigr": "", "left": "",
+    "right": "", "eta": "η", "phi": "φ", "psi": "ψ", "nu": "ν",
+}
+#: Double-struck letters (\mathbb{E} is an expectation).
+DOUBLE_STRUCK = {"E": "𝔼", "R": "ℝ", "N": "ℕ", "Z": "ℤ", "P": "ℙ", "Q": "ℚ", "C": "ℂ"}
+BLACKBOARD = re.compile(r"\\mathbb\s*\{([A-Z])\}")
+SPACES = {",": "\u2009", ";": " ", ":": " ", "!": "", " ": " ", "{": "\u27ee", "}": "\u27ef"}
+SUB = dict(zip("0123456789+-=()aehijklmnoprstuvx", "₀₁₂₃₄₅₆₇₈₉₊₋₌₍₎ₐₑₕᵢⱼₖₗₘₙₒₚᵣₛₜᵤᵥₓ", strict=True))
+SUP = dict(zip("0123456789+-=()in", "⁰¹²³⁴⁵⁶⁷⁸⁹⁺⁻⁼⁽⁾ⁱⁿ", strict=True))
+SCRIPT = re.compile(r"([_^])(?:\{([^{}]*)\}|(\\?[A-Za-z0-9]))")
+
+
+def _script(match: re.Match[str]) -> str:
+    kind, body = match.group(1), match.group(2) if match.group(2) is not None else match.group(3)
+    table = SUB if kind == "_" else SUP
+    body = body.replace(" ", "")
+    if all(ch in table for ch in body):
+        return "".join(table[ch] for ch in body)
+    return f"{kind}({body})" if len(body) > 1 else f"{kind}{body}"
+
+
+def plain_maths(text: str) -> str:
+    """Markdown with its ``$…$`` formulas written in Unicode (no MathJax needed).
+
+    Raises ValueError when a formula uses a command this conversion does not know, so a new
+    one in a source is noticed when the course is written.
+    """
+    def convert(match: re.Match[str]) -> str:
+        tex = match.group(1) if match.group(1) is not None else match.group(2)
+        out = tex
+        for _ in range(3):  # nested wrappers: \mathrm{\text{…}}
+            out = WRAPPERS.sub(r"\1", out)
+        out = BLACKBOARD.sub(lambda m: DOUBLE_STRUCK.get(m.group(1), m.group(1)), out)
+        out = ACCENT.sub(lambda m: (m.group(2) or m.group(3)) + ACCENTS[m.group(1)], out)
+        out = SQRT.sub(r"√(\1)", out)
+        out = re.sub(r"\\([,;:! {}])", lambda m: SPACES[m.group(1)], out)
+        out = re.sub(r"\\([A-Za-z]+)",
+                     lambda m: SYMBOLS.get(m.group(1), m.group(0)), out)
+        out = SCRIPT.sub(_script, out).replace("-", "−")
+        if "\\" in out:
+            raise ValueError(f"no plain form for the formula ${tex}$ (add its commands to "
+                             "course.SYMBOLS)")
+        out = out.replace("{", "").replace("}", "")
+        return out.replace("\u27ee", "{").replace("\u27ef", "}")
+
+    return MATH.sub(convert, text)
 
 
 def _meta(grade_id: str, *, grade: bool = False, solution: bool = False,
@@ -106,10 +198,13 @@ def _value_region(stub: str, checks: str, answer: str | None) -> str:
     return f"{stub}\n### BEGIN SOLUTION\n{filled}\n### END SOLUTION"
 
 
-def _test_source(exercise_id: str, variable: str, coding: bool) -> str:
+def _test_source(exercise_id: str, variable: str, coding: bool, variant: int = 0) -> str:
     if not coding:
-        return (f"from dstoolkit.teaching import must_pass\n\n"
-                f'must_pass("{exercise_id}", {variable})')
+        return (f"from dstoolkit.teaching import must_pass, must_pass_recomputed\n\n"
+                f'must_pass("{exercise_id}", {variable})\n'
+                f"### BEGIN HIDDEN TESTS\n"
+                f'must_pass_recomputed("{exercise_id}", {variable}, variant={variant})\n'
+                f"### END HIDDEN TESTS")
     return (f"from dstoolkit.teaching import must_pass, must_pass_alone\n\n"
             f'must_pass("{exercise_id}", {variable})\n'
             f"### BEGIN HIDDEN TESTS\n"
@@ -141,8 +236,19 @@ def _exercise_solutions(src: sheets.Source) -> dict[str, str]:
     return out
 
 
-def course_notebook(src: sheets.Source, number: int, title: str, labels: list[str]) -> dict:
-    """The nbgrader source notebook of one chapter (nbformat 4 JSON)."""
+def course_notebook(src: sheets.Source, number: int, title: str, labels: list[str],
+                    variant: int = 0) -> dict:
+    """The nbgrader source notebook of one chapter (nbformat 4 JSON), with the numbers of
+    ``variant`` (0: the book's)."""
+    from dstoolkit.teaching._variants import using_variant
+
+    with using_variant(variant):
+        return _course_notebook(sheets.in_variant(src, variant), number, title, labels,
+                                variant if sheets.varies(src.stem, variant) else 0)
+
+
+def _course_notebook(src: sheets.Source, number: int, title: str, labels: list[str],
+                     variant: int) -> dict:
     sheets.unshadowed(src)
     solutions = _exercise_solutions(src)
     head = (f"# Chapter {number}: {title}, graded exercises\n\n"
@@ -209,7 +315,7 @@ def course_notebook(src: sheets.Source, number: int, title: str, labels: list[st
             coding = exercise_id.endswith("-code")
             points = float(block.arg) if block.arg else (
                 CODING_POINTS if coding else VALUE_POINTS)
-            raw.append(("code", _test_source(exercise_id, variable, coding),
+            raw.append(("code", _test_source(exercise_id, variable, coding, variant),
                         _meta(unique(f"{exercise_id.replace('.', '-')}-test"), grade=True,
                               locked=True, points=points)))
             continue
@@ -219,8 +325,8 @@ def course_notebook(src: sheets.Source, number: int, title: str, labels: list[st
     if order != len(labels):
         raise ValueError(f"{src.stem}: the sheet has {order} exercises, the chapter "
                          f"{len(labels)} ({labels})")
-    cells = [sheets._cell(kind, text, n, src.stem, meta)
-             for n, (kind, text, meta) in enumerate(raw)]
+    cells = [sheets._cell(kind, plain_maths(text) if kind == "markdown" else text, n,
+                          src.stem, meta) for n, (kind, text, meta) in enumerate(raw)]
     return {"cells": cells, "metadata": {"kernelspec": {
         "display_name": "Python 3", "language": "python", "name": "python3"},
         "language_info": {"name": "python"}}, "nbformat": 4, "nbformat_minor": 5}
@@ -232,20 +338,24 @@ def assignment_name(stem: str, number: int) -> str:
 
 
 def write_course(folder: Path, root: Path = sheets.ROOT,
-                 chapters: list[str] | None = None) -> list[Path]:
+                 chapters: list[str] | None = None, variant: int = 0) -> list[Path]:
     """Write the nbgrader course (config and one source assignment per chapter, or only
-    the ``chapters`` stems given) to ``folder``. Returns the paths written."""
+    the ``chapters`` stems given) to ``folder``, with the numbers of ``variant`` (0: the
+    book's). Returns the paths written."""
     folder.mkdir(parents=True, exist_ok=True)
     config = folder / "nbgrader_config.py"
     config.write_text(CONFIG.format(course=COURSE_ID, timeout=CELL_TIMEOUT), encoding="utf-8")
-    written = [config]
+    template = folder / "templates" / "feedback" / "mathjax.html.j2"
+    template.parent.mkdir(parents=True, exist_ok=True)
+    template.write_text(NO_MATHJAX, encoding="utf-8")
+    written = [config, template]
     for stem, (number, title, src, labels) in sheets.sheets(root).items():
         if chapters is not None and stem not in chapters:
             continue
         name = assignment_name(stem, number)
         path = folder / "source" / name / f"{name}.ipynb"
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(sheets.dump(course_notebook(src, number, title, labels)),
+        path.write_text(sheets.dump(course_notebook(src, number, title, labels, variant)),
                         encoding="utf-8")
         written.append(path)
     return written

@@ -3,6 +3,8 @@
     .venv/bin/python scripts/sheets.py                 # student sheets → notebooks/
     .venv/bin/python scripts/sheets.py --teacher DIR   # also the instructor sheets → DIR
     .venv/bin/python scripts/sheets.py --nbgrader DIR  # an nbgrader course → DIR (course.py)
+    .venv/bin/python scripts/sheets.py --variant 3 --out DIR   # variant 3's sheets → DIR
+    .venv/bin/python scripts/sheets.py --nbgrader DIR --variant 3  # … as an nbgrader course
 
 Each chapter with exercises has one source, ``notebooks/source/<chapter stem>.md``. The
 sheet of chapter N is ``notebooks/NN_<stem>.ipynb``: N comes from _toc.yml (chapters are
@@ -25,6 +27,12 @@ sheet's introduction):
     %% check                      a check cell, both editions
     %% explore                    an explorer cell, both editions
     %% solution                   Markdown, the teacher's edition only
+
+``{{name}}`` (or ``{{name[i]}}``) in a block stands for a number of the chapter's data
+(:mod:`dstoolkit.teaching._variants`): the book's in the sheets under ``notebooks/``, and
+variant N's with ``--variant N``, whose setup cell calls ``set_variant(N)`` so that the
+checks compute the answers from the same numbers. Chapters without variant data are the
+book's in every variant.
 """
 
 from __future__ import annotations
@@ -57,6 +65,8 @@ CAPTION = re.compile(rf"^({'|'.join(SHOWN_KINDS)}), difficulty ([1-3]) of 3$")
 STUB_BODY = '    raise NotImplementedError("write the body of this function")'
 #: First line of every check cell: a check run before the setup cell says what to do.
 SETUP_GUARD = 'if "check" not in dir(): raise RuntimeError("run the setup cell first")'
+PLACEHOLDER = re.compile(r"\{\{(\w+)(?:\[(\d+)\])?\}\}")
+TEACHING_IMPORT = re.compile(r"^from dstoolkit\.teaching import [\w, ]+$", re.MULTILINE)
 
 
 # -- the book's numbering -------------------------------------------------------------------
@@ -111,6 +121,83 @@ def chapter_title(chapter: Path) -> str:
 def sheet_path(stem: str, number: int, folder: Path) -> Path:
     """``folder/NN_<stem>.ipynb``."""
     return folder / f"{number:02d}_{stem}.ipynb"
+
+
+# -- variants ---------------------------------------------------------------------------------
+
+
+def _number(value: Any) -> str:
+    """A datum as the sheet shows it: whole floats without ``.0``, tuples element-wise."""
+    if isinstance(value, tuple | list):
+        return "(" + ", ".join(_number(v) for v in value) + ")"
+    if isinstance(value, float) and value.is_integer():
+        return str(int(value))
+    if isinstance(value, float):
+        return repr(float(f"{value:.10g}"))
+    return str(value)
+
+
+def render(text: str, stem: str, variant: int) -> str:
+    """``text`` with every ``{{name}}`` replaced by the chapter's datum in ``variant``."""
+    from dstoolkit.teaching._variants import chapter_of_sheet, data
+
+    chapter = chapter_of_sheet(stem)
+    if chapter is None:
+        if PLACEHOLDER.search(text):
+            raise ValueError(f"{stem}: {{{{…}}}} in a sheet whose chapter has no variant data")
+        return text
+    values = data(chapter, variant)
+
+    def fill(match: re.Match[str]) -> str:
+        name, index = match.group(1), match.group(2)
+        if name not in values:
+            raise ValueError(f"{stem}: no datum {name!r}; the chapter's are {sorted(values)}")
+        value = values[name]
+        return _number(value if index is None else value[int(index)])
+
+    return PLACEHOLDER.sub(fill, text)
+
+
+def varies(stem: str, variant: int) -> bool:
+    """Whether the sheet ``stem`` in ``variant`` has other numbers than the book's."""
+    from dstoolkit.teaching._variants import chapter_of_sheet
+
+    return variant > 0 and chapter_of_sheet(stem) is not None
+
+
+def with_variant(setup: str, variant: int, stem: str) -> str:
+    """The setup cell with ``set_variant`` imported from dstoolkit.teaching and called
+    after the last import."""
+    found = TEACHING_IMPORT.search(setup)
+    if found is None:
+        raise ValueError(f"{stem}: the setup cell imports nothing from dstoolkit.teaching; "
+                         "cannot set the variant")
+    setup = setup[:found.end()] + ", set_variant" + setup[found.end():]
+    lines = setup.splitlines()
+    last = max(node.end_lineno or 0 for node in ast.parse(setup).body
+               if isinstance(node, ast.Import | ast.ImportFrom))
+    call = f"set_variant({variant})  # the checks use this sheet's numbers"
+    return "\n".join([*lines[:last], "", call, *lines[last:]])
+
+
+def in_variant(src: Source, variant: int) -> Source:
+    """The source with its placeholders filled in for ``variant``; in a variant that
+    differs from the book, the setup cell calls ``set_variant`` and the intro says so."""
+    blocks = []
+    note = ("*(Worked with the book's numbers; this sheet's variant has others. The "
+            "method is the same.)*\n\n")
+    for block in src.blocks:
+        text = render(block.text, src.stem, variant)
+        if varies(src.stem, variant) and block.kind == "setup":
+            text = with_variant(text, variant, src.stem)
+        if varies(src.stem, variant) and block.kind == "solution":
+            text = note + text
+        blocks.append(Block(block.kind, block.arg, text))
+    intro = render(src.intro, src.stem, variant)
+    if varies(src.stem, variant):
+        intro = (f"**Variant {variant}.** The numbers of this sheet differ from the book's; "
+                 f"its checks know them.\n\n{intro}")
+    return Source(src.stem, intro, blocks)
 
 
 # -- the source -------------------------------------------------------------------------------
@@ -277,8 +364,17 @@ def _checks_of(blocks: list[Block], i: int) -> str:
     return "\n".join(out)
 
 
-def build(src: Source, number: int, title: str, labels: list[str], teacher: bool) -> dict:
-    """The sheet of chapter ``number`` as a notebook (nbformat 4 JSON)."""
+def build(src: Source, number: int, title: str, labels: list[str], teacher: bool,
+          variant: int = 0) -> dict:
+    """The sheet of chapter ``number`` as a notebook (nbformat 4 JSON), with the numbers of
+    ``variant`` (0: the book's)."""
+    from dstoolkit.teaching._variants import using_variant
+
+    with using_variant(variant):
+        return _build(in_variant(src, variant), number, title, labels, teacher)
+
+
+def _build(src: Source, number: int, title: str, labels: list[str], teacher: bool) -> dict:
     edition = " (teacher's edition)" if teacher else ""
     head = (f"# Exercises of Chapter {number}: {title}{edition}\n\n"
             f"Companion of Chapter {number} of the book (`book/{src.stem}.md`): Exercise "
@@ -358,6 +454,26 @@ def relink(root: Path, stem: str, name: str) -> None:
             path.write_text(new, encoding="utf-8")
 
 
+def write_variant(variant: int, out: Path, root: Path = ROOT,
+                  teacher: Path | None = None) -> list[Path]:
+    """Write the student sheets of ``variant`` to ``out`` (and with ``teacher`` its
+    instructor sheets there). Returns the paths."""
+    from dstoolkit.teaching._variants import valid_variant
+
+    variant = valid_variant(variant)
+    written = []
+    for stem, (number, title, src, labels) in sheets(root).items():
+        for folder, is_teacher in ((out, False), (teacher, True)):
+            if folder is None:
+                continue
+            folder.mkdir(parents=True, exist_ok=True)
+            path = sheet_path(stem, number, folder)
+            path.write_text(dump(build(src, number, title, labels, is_teacher, variant)),
+                            encoding="utf-8")
+            written.append(path)
+    return written
+
+
 def write_sheets(root: Path = ROOT, teacher: Path | None = None) -> list[Path]:
     """Write every student sheet to ``notebooks/`` (renaming sheets whose chapter number
     changed) and, with ``teacher``, every instructor sheet there. Returns the paths."""
@@ -403,16 +519,30 @@ def main(argv: list[str] | None = None) -> int:
                         "chapter) to this folder")
     parser.add_argument("--chapter", action="append", default=None, metavar="STEM",
                         help="with --nbgrader: only this chapter (repeatable)")
+    parser.add_argument("--variant", type=int, default=0, metavar="N",
+                        help="the numbers of variant N (0: the book's) for the chapters with "
+                        "variant data; needs --out DIR or --nbgrader DIR")
+    parser.add_argument("--out", type=Path, default=None, metavar="DIR",
+                        help="with --variant: write the student sheets to this folder")
     parser.add_argument("--counts", action="store_true",
                         help="only print the exercises per chapter by kind")
     args = parser.parse_args(argv)
     if args.counts:
         print(counts(ROOT))
         return 0
+    if args.variant < 0:
+        parser.error("--variant takes a whole number ≥ 0 (0 is the book's data)")
     if args.nbgrader is not None:
         from course import write_course
 
-        for path in write_course(args.nbgrader, ROOT, args.chapter):
+        for path in write_course(args.nbgrader, ROOT, args.chapter, args.variant):
+            print(path)
+        return 0
+    if args.variant > 0 or args.out is not None:
+        if args.out is None:
+            parser.error("--variant N writes to --out DIR (the sheets under notebooks/ are "
+                         "the book's)")
+        for path in write_variant(args.variant, args.out, ROOT, args.teacher):
             print(path)
         return 0
     for path in write_sheets(ROOT, args.teacher):

@@ -1,7 +1,8 @@
 """The nbgrader course (scripts/sheets.py --nbgrader DIR) grades as an instructor needs.
 
-The real nbgrader pipeline runs offline on the generated assignment of Chapter 3:
-``generate_assignment``, ``autograde`` of seven made-up submissions, a written part graded
+The real nbgrader pipeline runs offline on the generated assignment of Chapter 3 in
+variant 1 (other numbers than the book's): ``generate_assignment``, ``autograde`` of eight
+made-up submissions, a written part graded
 by hand through the gradebook, ``generate_feedback`` and ``export``. The exported CSV must
 hold the exact score of each submission:
 
@@ -13,13 +14,21 @@ hold the exact score of each submission:
   function, stopped by the check's time limit): the points of the cells that are right;
 * one that redefines ``check`` and ``must_pass`` and edits a test cell: 0;
 * one whose coding answers only call dstoolkit's own implementation: the value answers'
-  points only (the hidden tests run where dstoolkit cannot be reached).
+  points only (the hidden tests run where dstoolkit cannot be reached);
+* one that copies the book's printed answers and switches the notebook back to the book's
+  numbers (``set_variant(0)``), so that the visible tests pass: the coding points and the
+  one value answer that is the same in every variant only (the hidden tests compute the
+  answers from the variant's data).
+
+The feedback pages write the formulas in Unicode (nbgrader's pages load no MathJax) and show
+a failing check's verdict once.
 """
 
 from __future__ import annotations
 
 import csv
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -31,6 +40,8 @@ sys.path.insert(0, str(ROOT / "scripts"))
 import course  # noqa: E402
 import sheets  # noqa: E402
 
+from dstoolkit.teaching._variants import data  # noqa: E402
+
 pytestmark = pytest.mark.slow
 
 STEM = "combining_evidence"
@@ -39,13 +50,29 @@ NBGRADER = Path(sys.executable).with_name("nbgrader")
 #: The per-cell limit of this test's autograde run (the course's own is longer).
 CELL_TIMEOUT = 20
 
-VALUES = {  # answer cell → the right answer (the test does not trust the generator)
+VARIANT = 1
+BOOK_VALUES = {  # answer cell → the answer printed in the book (variant 0)
     "ce-ex-conflict-answer": "K = 0.54",
     "ce-ex-low-answer": "m12_low = 0.1304347826",
     "ce-ex-zadeh-answer": "K_zadeh = 0.9999",
     "ce-ex-zadeh-answer-2": "tumour = 1.0",
     "ce-ex-twice-answer": "twice = 0.75",
 }
+
+
+def _variant_values(d: dict) -> dict[str, str]:
+    """The right answers of the variant, by the chapter's formulas (the test does not trust
+    the generator's answers)."""
+    k = d["m1_low"] * (d["m2_high"] + d["m2_mid_high"])
+    return {"ce-ex-conflict-answer": f"K = {k!r}",
+            "ce-ex-low-answer": f"m12_low = {d['m1_low'] * d['m2_theta'] / (1 - k)!r}",
+            "ce-ex-zadeh-answer": f"K_zadeh = {1 - d['zadeh_x_rest'] * d['zadeh_y_rest']!r}",
+            "ce-ex-zadeh-answer-2": "tumour = 1.0",
+            "ce-ex-twice-answer": f"twice = {1 - d['once_theta'] ** 2!r}"}
+
+
+VALUES = _variant_values(data("combine", VARIANT))
+BACK_TO_THE_BOOK = "from dstoolkit.teaching import set_variant\nset_variant(0)\n"
 WRAP_DEMPSTER = '''def dempster_rule(m1, m2):
     from dstoolkit import MassFunction, dempster
     frame = frozenset().union(*m1, *m2)
@@ -96,8 +123,9 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, dict[str, str]
         pytest.fail(f"nbgrader is not installed in {NBGRADER.parent}: install the teach "
                     "extra (bash scripts/ensure-env.sh does)")
     home = tmp_path_factory.mktemp("course")
-    written = course.write_course(home, ROOT, [STEM])
-    assert [p.name for p in written] == ["nbgrader_config.py", f"{NAME}.ipynb"]
+    written = course.write_course(home, ROOT, [STEM], VARIANT)
+    assert [p.name for p in written] == ["nbgrader_config.py", "mathjax.html.j2",
+                                         f"{NAME}.ipynb"]
     _nbgrader(home, "generate_assignment", NAME, "--create")
     release = json.loads((home / "release" / NAME / f"{NAME}.ipynb").read_text("utf-8"))
     teacher = json.loads((home / "source" / NAME / f"{NAME}.ipynb").read_text("utf-8"))
@@ -129,6 +157,9 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, dict[str, str]
         "wraps_dstoolkit": _submission(release, teacher, {
             **right_values, "ce-ex-code-dempster-answer": WRAP_DEMPSTER,
             "ce-ex-code-discount-answer": WRAP_DISCOUNT}),
+        "copies_the_book": _submission(release, teacher, {
+            **all_right, **BOOK_VALUES,
+            "ce-ex-conflict-answer": BACK_TO_THE_BOOK + BOOK_VALUES["ce-ex-conflict-answer"]}),
     }
     for student, nb in submissions.items():
         folder = home / "submitted" / student / NAME
@@ -141,7 +172,9 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, dict[str, str]
     _nbgrader(home, "export", "--to", "grades.csv")
     with (home / "grades.csv").open(encoding="utf-8") as f:
         rows = {row["student_id"]: row for row in csv.DictReader(f)}
-    rows["_home"] = {"path": str(home)}
+    written = sum(c["metadata"]["nbgrader"]["points"] for c in teacher["cells"]
+                  if c["cell_type"] == "markdown" and c["metadata"]["nbgrader"]["grade"])
+    rows["_home"] = {"path": str(home), "written": str(written)}
     return rows
 
 
@@ -166,13 +199,17 @@ EXPECTED = {
     "endless_loop": AUTOGRADED - course.VALUE_POINTS - course.CODING_POINTS,
     "cheater": 0.0,
     "wraps_dstoolkit": 5 * course.VALUE_POINTS,
+    "copies_the_book": course.VALUE_POINTS + 2 * course.CODING_POINTS,
 }
 
 
 @pytest.mark.parametrize("student", sorted(EXPECTED))
 def test_exported_score(graded: dict[str, dict[str, str]], student: str):
     row = graded[student]
-    assert float(row["max_score"]) == AUTOGRADED + 2 * course.WRITTEN_POINTS
+    # the written parts: at least the two of the sheet's proof and prediction
+    written = float(graded["_home"]["written"])
+    assert written >= 2 * course.WRITTEN_POINTS
+    assert float(row["max_score"]) == AUTOGRADED + written
     assert float(row["score"]) == EXPECTED[student], row
 
 
@@ -186,6 +223,22 @@ def test_feedback_pages_show_the_checks_verdicts(graded: dict[str, dict[str, str
     assert "stopped after" in loop and "does your function end?" in loop
     wraps = (home / "feedback" / "wraps_dstoolkit" / NAME / f"{NAME}.html").read_text("utf-8")
     assert "dstoolkit is not available in this test" in wraps
+    book = (home / "feedback" / "copies_the_book" / NAME / f"{NAME}.html").read_text("utf-8")
+    assert "✔ combine.conflict: right." in book  # the visible test, on the book's numbers
+    assert "✘ hidden test of combine.conflict: wrong" in book
+
+
+def test_a_failing_verdict_appears_once_and_the_maths_reads_without_mathjax(
+        graded: dict[str, dict[str, str]]):
+    home = Path(graded["_home"]["path"])
+    page = (home / "feedback" / "partly_right" / NAME / f"{NAME}.html").read_text("utf-8")
+    assert page.count("✘ combine.low: wrong") == 1
+    assert page.count("✘ combine.discount-code: wrong on case") == 1
+    assert "GradingFailure" in page and "_grading.py" not in page
+    assert "(m₁ ⊕ m₂)({low})" in page and "The conflict K between" in page
+    for raw in ("$K$", "\\mathrm", "\\text{", "\\oplus"):
+        assert raw not in page, raw
+    assert not re.search(r"<script[^>]+src=\"https?:", page)  # nothing from a CDN
 
 
 def test_course_config_and_metadata(tmp_path: Path):
@@ -207,8 +260,12 @@ def test_course_config_and_metadata(tmp_path: Path):
         for cell in tests:
             assert cell["metadata"]["nbgrader"]["points"] > 0
             assert cell["source"].startswith("from dstoolkit.teaching import must_pass")
-            if "-code" in cell["source"]:
-                assert "### BEGIN HIDDEN TESTS" in cell["source"]
+            hidden = "must_pass_alone" if "-code" in cell["source"] else "must_pass_recomputed"
+            assert f"### BEGIN HIDDEN TESTS\n{hidden}(" in cell["source"]
+        for cell in nb["cells"]:
+            if cell["cell_type"] == "markdown":
+                assert not course.MATH.search(cell["source"]), (stem, cell["source"])
+                assert "\\" not in cell["source"], (stem, cell["source"])
         answers = [c for c in nb["cells"] if c["metadata"]["nbgrader"]["solution"]
                    and c["cell_type"] == "code"]
         assert len(answers) == sum(b.kind == "stub" for b in src.blocks)

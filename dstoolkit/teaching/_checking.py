@@ -34,6 +34,7 @@ from dstoolkit.errors import InvalidInputError
 from dstoolkit.evidence import IntervalEvidence, MassFunction
 
 from ._limits import describe, too_big
+from ._variants import current_variant, using_variant
 
 Solver = Callable[[], Any]
 #: Message of an exercise that still holds its placeholder.
@@ -42,7 +43,37 @@ NOT_ANSWERED = "not answered yet"
 
 @dataclass(frozen=True)
 class Exercise:
-    """One exercise: how to compute its solution, a hint, a tolerance, common mistakes."""
+    """One exercise with a checked answer (registered by :func:`exercise`).
+
+    Parameters
+    ----------
+    id : str
+        ``"<chapter>.<name>"``, e.g. ``"mass.bel"``.
+    solve : callable
+        Computes the solution with dstoolkit, from the chapter's data.
+    hint : str
+        Shown after a wrong answer.
+    atol, rtol : float
+        Tolerance of a numerical answer: ``|answer − solution| ≤ atol + rtol·|solution|``.
+    mistakes : tuple of (callable, str)
+        Plausible wrong answers, each computed by a function, with the hint each gets.
+    canonical : callable, optional
+        Applied to answers and solutions before comparing (e.g. to sort rows).
+    varies : bool
+        The solver reads its chapter's variant data, so a variant has other answers.
+
+    See Also
+    --------
+    exercise : registers one.
+    check : the verdict on an answer.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import REGISTRY
+    >>> ex = REGISTRY["mass.bel"]
+    >>> ex.solution_in(0), ex.varies
+    (0.8, True)
+    """
 
     id: str
     solve: Solver
@@ -52,18 +83,50 @@ class Exercise:
     mistakes: tuple[tuple[Solver, str], ...] = ()
     canonical: Callable[[Any], Any] | None = None
     """Applied to answers and solutions before comparing (e.g. sort rows of evidence)."""
-    _cache: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
+    varies: bool = False
+    """True when the solver reads its chapter's variant data (see ``set_variant``)."""
+    _cache: dict[Any, Any] = field(default_factory=dict, init=False, compare=False,
+                                   repr=False)
 
     @property
     def solution(self) -> Any:
-        """The solution, computed with dstoolkit (once, then kept)."""
-        if "solution" not in self._cache:
-            self._cache["solution"] = self.solve()
-        return self._cache["solution"]
+        """The solution in the current variant, computed with dstoolkit (once, then kept)."""
+        key = ("solution", current_variant() if self.varies else 0)
+        if key not in self._cache:
+            self._cache[key] = self.solve()
+        return self._cache[key]
+
+    def solution_in(self, variant: int) -> Any:
+        """The solution computed from the data of ``variant`` (kept as :attr:`solution`).
+
+        Parameters
+        ----------
+        variant : int
+            0 for the book's data, ``N`` for ``scripts/sheets.py --variant N``.
+
+        Returns
+        -------
+        object
+            The solution (a number, tuple, dict, …).
+        """
+        with using_variant(variant):
+            return self.solution
 
     def verdict(self, answer: Any, time_limit: float | None = None) -> Feedback:
-        """Right, a named mistake, close, or wrong with the hint (``time_limit`` is for
-        coding exercises and has no use here)."""
+        """Right, a named mistake, close, or wrong with the hint.
+
+        Parameters
+        ----------
+        answer : object
+            The learner's answer.
+        time_limit : float, optional
+            For coding exercises; no use here.
+
+        Returns
+        -------
+        Feedback
+            The verdict, in the current variant.
+        """
         if too_big(answer):
             return Feedback(self.id, False, f"✘ {self.id}: wrong: the answer is "
                             f"{describe(answer)}, far more than this exercise asks for.")
@@ -90,13 +153,39 @@ class Exercise:
         return value if self.canonical is None else self.canonical(value)
 
     def wrong_answer(self) -> Any:
-        """A plausible wrong answer: the first listed mistake, else the solution moved."""
+        """A plausible wrong answer: the first listed mistake, else the solution moved.
+
+        Returns
+        -------
+        object
+            An answer the check rejects.
+        """
         return self.mistakes[0][0]() if self.mistakes else _moved(self.solution)
 
 
 @dataclass(frozen=True)
 class Feedback:
-    """The verdict of :func:`check`; true when right. Shown as its message in a notebook."""
+    """The verdict of :func:`check`; true when right. Shown as its message in a notebook.
+
+    Parameters
+    ----------
+    exercise_id : str
+        The exercise checked.
+    correct : bool
+        Whether the answer is right.
+    message : str
+        What the learner reads: ``✔ …: right.``, or ``✘ …`` with a hint.
+    details : dict
+        Machine-readable extras: ``"mistake"`` (the named mistake's text), ``"case"`` (a
+        coding exercise's failing case), ``"pending"`` (not answered yet), ``"timeout"``.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import check
+    >>> feedback = check("mass.bel", 0.8)
+    >>> feedback.correct, feedback.message
+    (True, '✔ mass.bel: right.')
+    """
 
     exercise_id: str
     correct: bool
@@ -136,23 +225,79 @@ def exercise(
     rtol: float = 1e-3,
     mistakes: tuple[tuple[Solver, str], ...] = (),
     canonical: Callable[[Any], Any] | None = None,
+    varies: bool = False,
 ) -> Callable[[Solver], Solver]:
     """Register the decorated function as the solver of ``exercise_id``.
 
-    Ids are ``"<chapter>.<name>"`` (e.g. ``"mass.bel"``); registering an id twice is an error.
+    Parameters
+    ----------
+    exercise_id : str
+        ``"<chapter>.<name>"``, e.g. ``"mass.bel"``; registering an id twice is an error.
+    hint : str
+        Shown after a wrong answer; it must not state the answer.
+    atol, rtol : float
+        The tolerance of a numerical answer: ``|answer − solution| ≤ atol + rtol·|solution|``.
+    mistakes : tuple of (callable, str)
+        Plausible wrong answers (each computed by a function) and the hint each one gets.
+    canonical : callable, optional
+        Applied to answers and solutions before comparing (e.g. to sort rows).
+    varies : bool
+        The solver reads its chapter's variant data (``data(chapter)``), so that a
+        variant's sheet has other answers than the book's.
+
+    Returns
+    -------
+    callable
+        A decorator that registers the solver and returns it unchanged.
+
+    Raises
+    ------
+    InvalidInputError
+        The id has no chapter part.
+
+    See Also
+    --------
+    check : says whether an answer is right.
+    coding_exercise : registers an exercise whose answer is a function.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import REGISTRY, exercise
+    >>> @exercise("demo.double", hint="Twice 21.")
+    ... def _():
+    ...     return 2 * 21
+    >>> REGISTRY.pop("demo.double").solution
+    42
     """
     if "." not in exercise_id:
         raise InvalidInputError(f"exercise id {exercise_id!r} must look like 'chapter.name'")
 
     def add(solve: Solver) -> Solver:
-        register(Exercise(exercise_id, solve, hint, atol, rtol, mistakes, canonical))
+        register(Exercise(exercise_id, solve, hint, atol, rtol, mistakes, canonical, varies))
         return solve
 
     return add
 
 
 def exercises(prefix: str = "") -> list[str]:
-    """The ids of the registered exercises, those starting with ``prefix`` only."""
+    """The ids of the registered exercises, those starting with ``prefix`` only.
+
+    Parameters
+    ----------
+    prefix : str
+        E.g. ``"mass."`` for the exercises of the chapter on mass functions.
+
+    Returns
+    -------
+    list of str
+        The ids, sorted.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import exercises
+    >>> exercises("mass.b")
+    ['mass.bel', 'mass.bel-pl-code', 'mass.betp', 'mass.betp-code']
+    """
     return sorted(k for k in REGISTRY if k.startswith(prefix))
 
 
@@ -169,10 +314,30 @@ def get(exercise_id: str) -> Any:
 
 def solution(exercise_id: str) -> Any:
     """The solution of an exercise (for teachers and tests): a value computed with
-    dstoolkit, or for a coding exercise the plain reference function.
+    dstoolkit from the current variant's data, or for a coding exercise the plain
+    reference function.
 
-    Returns a copy: changing it changes neither the kept solution nor what the check
-    cells expect.
+    Parameters
+    ----------
+    exercise_id : str
+        The exercise, e.g. ``"mass.bel"``.
+
+    Returns
+    -------
+    object
+        A copy: changing it changes neither the kept solution nor what the check cells
+        expect.
+
+    Raises
+    ------
+    KeyError
+        No exercise ``exercise_id``.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import solution
+    >>> solution("mass.bel")
+    0.8
     """
     value = get(exercise_id).solution
     if isinstance(value, FunctionType):
@@ -187,25 +352,85 @@ def solution(exercise_id: str) -> Any:
 
 def mistake(exercise_id: str) -> Any:
     """A plausible wrong answer to an exercise (its first listed mistake, or for a coding
-    exercise its first wrong implementation); the tests feed it to the check cells."""
+    exercise its first wrong implementation); the tests feed it to the check cells.
+
+    Parameters
+    ----------
+    exercise_id : str
+        The exercise, e.g. ``"mass.bel"``.
+
+    Returns
+    -------
+    object
+        An answer (or function) the check rejects, naming the mistake.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import check, mistake
+    >>> bool(check("mass.bel", mistake("mass.bel")))
+    False
+    """
     return get(exercise_id).wrong_answer()
 
 
-def check(exercise_id: str, answer: Any, *, time_limit: float | None = None) -> Feedback:
+def check(exercise_id: str, answer: Any, *, time_limit: float | None = None,
+          variant: int | None = None) -> Feedback:
     """Compare ``answer`` with the solution of ``exercise_id``: right, or wrong with a hint.
 
     In a notebook, end a cell with ``check("mass.bel", answer)`` to see the verdict. An
-    answer left as ``...`` (or ``None``) is reported as not answered yet. For a coding
-    exercise the answer is the function itself: ``check("combine.dempster-code",
-    dempster_rule)``. A coding check stops the function after ``time_limit`` seconds (all
-    cases together; by default :func:`~dstoolkit.teaching.set_time_limit`'s, 5 s).
+    answer left as ``...`` (or ``None``) is reported as not answered yet.
+
+    Parameters
+    ----------
+    exercise_id : str
+        The exercise, ``"<chapter>.<name>"`` (e.g. ``"mass.bel"``).
+    answer : object
+        A number, a sequence or dict of numbers, a bool, a string, a set, evidence; for a
+        coding exercise the function itself (``check("combine.dempster-code",
+        dempster_rule)``).
+    time_limit : float, optional
+        Seconds a coding exercise's function may run, all cases together (by default
+        :func:`~dstoolkit.teaching.set_time_limit`'s, 5 s).
+    variant : int, optional
+        Whose data the solution is computed from: 0 is the book's, ``N`` the sheet of
+        ``scripts/sheets.py --variant N`` (by default the one
+        :func:`~dstoolkit.teaching.set_variant` chose, 0 unless a sheet's setup cell set it).
+
+    Returns
+    -------
+    Feedback
+        True when right; its message says right, or wrong with a hint.
+
+    Raises
+    ------
+    KeyError
+        No exercise ``exercise_id`` (the message lists its chapter's exercises).
+
+    See Also
+    --------
+    must_pass : the same check as a graded test (raises unless right).
+    set_variant : the data the checks compute with.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import check
+    >>> check("mass.bel", 0.8)
+    ✔ mass.bel: right.
+    >>> bool(check("mass.bel", 0.3))
+    False
     """
     ex = get(exercise_id)
     if answer is ... or answer is None:
         return Feedback(exercise_id, False,
                         f"{exercise_id}: {NOT_ANSWERED} — replace ... by your answer.",
                         {"pending": True})
-    return ex.verdict(answer, time_limit)
+    with using_variant(variant):
+        return ex.verdict(answer, time_limit)
+
+
+def answers_differ(ex: Exercise, first: Any, second: Any) -> bool:
+    """Whether two solutions of ``ex`` are told apart by its check (its tolerance)."""
+    return not _compare(ex._canonical(first), ex._canonical(second), ex)[0]
 
 
 # -- comparison -------------------------------------------------------------------------

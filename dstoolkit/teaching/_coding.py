@@ -40,7 +40,22 @@ from ._limits import time_limit as default_limit
 
 @dataclass(frozen=True)
 class Case:
-    """One test case: a short label (e.g. ``"total conflict"``) and the arguments."""
+    """One test case of a coding exercise.
+
+    Parameters
+    ----------
+    label : str
+        What the case is, shown in the feedback (e.g. ``"total conflict"``); labels of
+        seeded random cases start with ``"random"``.
+    args : tuple
+        The arguments the learner's function is called with (a fresh copy each time).
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import Case
+    >>> Case("a point", ([[1.0, 1.0, 1.0]],)).label
+    'a point'
+    """
 
     label: str
     args: tuple
@@ -76,7 +91,18 @@ def _documented(outcome: Any) -> Any:
 
 
 def _plain(x: Any) -> Any:
-    """Numbers, arrays, tuples, lists and dicts → floats, lists and dicts (keys as sets)."""
+    """Numbers, arrays, tuples, lists and dicts → floats, lists and dicts (keys as sets).
+
+    Parameters
+    ----------
+    x : object
+        An outcome of a function under test.
+
+    Returns
+    -------
+    object
+        Its plain form, compared by :func:`same`.
+    """
     if isinstance(x, Raised | str | bool | np.bool_) or x is None:
         return x
     if isinstance(x, Mapping):
@@ -135,7 +161,38 @@ def show(x: Any, limit: int = 300) -> str:
 
 @dataclass(frozen=True)
 class CodingExercise:
-    """A coding exercise; see the module docstring."""
+    """A coding exercise: the learner writes a function, the check runs it on cases.
+
+    Parameters
+    ----------
+    id : str
+        ``"<chapter>.<name>-code"``.
+    reference : callable
+        The computation done with dstoolkit, on the same plain data as the learner's.
+    plain : callable
+        The reference implementation without dstoolkit (the teacher's solution).
+    cases : callable
+        Returns the list of :class:`Case` (chosen and seeded random ones).
+    hint : str
+        Shown after a wrong result.
+    mistakes : tuple of (callable, str)
+        Wrong implementations and the explanation each one gets.
+    normalise : callable
+        Brings an outcome to the form compared (plain data by default).
+    arg_names : tuple of str
+        The names of the function's arguments, for the feedback.
+
+    See Also
+    --------
+    coding_exercise : registers one.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import REGISTRY, check
+    >>> ex = REGISTRY["mass.bel-pl-code"]
+    >>> bool(check(ex.id, ex.solution))
+    True
+    """
 
     id: str
     reference: Callable[..., Any]
@@ -145,7 +202,8 @@ class CodingExercise:
     mistakes: tuple[tuple[Callable[..., Any], str], ...] = ()
     normalise: Callable[[Any], Any] = _plain
     arg_names: tuple[str, ...] = ()
-    _cache: dict[str, Any] = field(default_factory=dict, compare=False, repr=False)
+    _cache: dict[str, Any] = field(default_factory=dict, init=False, compare=False,
+                                   repr=False)
 
     @property
     def solution(self) -> Callable[..., Any]:
@@ -153,7 +211,13 @@ class CodingExercise:
         return self.plain
 
     def wrong_answer(self) -> Callable[..., Any]:
-        """The first registered wrong implementation."""
+        """The first registered wrong implementation.
+
+        Returns
+        -------
+        callable
+            A function the check rejects, naming its mistake.
+        """
         return self.mistakes[0][0]
 
     def _normalised(self, x: Any) -> Any:
@@ -166,8 +230,18 @@ class CodingExercise:
             return Raised(type(err), f"the result could not be read: {err}"[:120])
 
     def expected(self, cases: list[Case] | None = None) -> list[tuple[Case, Any]]:
-        """Every case (``cases``, or the exercise's own, kept after the first call) with the
-        reference's outcome."""
+        """Every case with the reference's outcome.
+
+        Parameters
+        ----------
+        cases : list of Case, optional
+            The cases; by default the exercise's own (kept after the first call).
+
+        Returns
+        -------
+        list of (Case, object)
+            Each case with the outcome the learner's function must give.
+        """
         if cases is not None:
             return [(case, _documented(self._normalised(_outcome(self.reference, case.args))))
                     for case in cases]
@@ -181,9 +255,23 @@ class CodingExercise:
 
     def verdict(self, answer: Any, time_limit: float | None = None,
                 cases: list[tuple[Case, Any]] | None = None) -> Feedback:
-        """Run ``answer`` on every case (``cases``: the chosen and random ones by default;
-        each with the reference's outcome) within ``time_limit`` seconds; report the first
-        failure."""
+        """Run ``answer`` on every case within a time limit; report the first failure.
+
+        Parameters
+        ----------
+        answer : callable
+            The learner's function.
+        time_limit : float, optional
+            Seconds for all cases together (by default the sheet's, see
+            :func:`~dstoolkit.teaching.set_time_limit`).
+        cases : list of (Case, object), optional
+            Cases with the reference's outcomes; by default :meth:`expected`.
+
+        Returns
+        -------
+        Feedback
+            Right on all cases, or the first failing case with a diagnosis.
+        """
         if not callable(answer):
             return Feedback(self.id, False, f"✘ {self.id}: give the function itself (its name, "
                             f"without parentheses), not {type(answer).__name__}.")
@@ -301,8 +389,45 @@ def coding_exercise(
 ) -> CodingExercise:
     """Register a coding exercise (see the module docstring) and return it.
 
-    At least one mistake (a wrong implementation with its explanation) is required: the
-    sheets' tests feed it to the check cell, which must name it.
+    Parameters
+    ----------
+    exercise_id : str
+        ``"<chapter>.<name>-code"``.
+    reference : callable
+        The computation done with dstoolkit, on plain data.
+    plain : callable
+        The reference implementation without dstoolkit (what teachers see).
+    cases : callable
+        Returns the list of :class:`Case`.
+    hint : str
+        Shown after a wrong result.
+    mistakes : tuple of (callable, str)
+        Wrong implementations and their explanations; at least one (the sheets' tests
+        feed it to the check cell, which must name it).
+    normalise : callable
+        Brings an outcome to the form compared.
+    arg_names : tuple of str
+        The names of the function's arguments, for the feedback.
+
+    Returns
+    -------
+    CodingExercise
+        The registered exercise.
+
+    Raises
+    ------
+    InvalidInputError
+        No mistake given, or the id is taken or has no chapter part.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import REGISTRY, Case, check, coding_exercise
+    >>> ex = coding_exercise("demo.twice-code", reference=lambda x: 2 * x,
+    ...                      plain=lambda x: x + x, cases=lambda: [Case("one", (1.0,))],
+    ...                      hint="Twice x.", mistakes=((lambda x: x, "That is x."),))
+    >>> check("demo.twice-code", lambda x: x).message.splitlines()[-1]
+    '  Mistake: That is x.'
+    >>> del REGISTRY["demo.twice-code"]
     """
     if not mistakes:
         raise InvalidInputError(f"coding exercise {exercise_id!r} needs at least one mistake")

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import itertools
 import warnings
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -31,6 +31,7 @@ from dstoolkit.gauge import level_from_resonance, orders_eq43, resonance_orders,
 
 from . import _plain_solutions as plain
 from ._coding import Case, coding_exercise, seeded
+from ._ex_filter import HAND_EPSILON, HAND_XHAT, HAND_Z
 
 # -- data: finite frames ------------------------------------------------------------------
 
@@ -452,7 +453,8 @@ def _vertex_cases() -> list[Case]:
 def _vertex_reference(f: Any, lo: list, hi: list) -> tuple[float, float]:
     with warnings.catch_warnings():  # the vertex method's warning is the point of case 4
         warnings.simplefilter("ignore")
-        a, b = image((np.array(lo), np.array(hi)), _vectorised(f), method="vertex")
+        a, b = cast(tuple[np.ndarray, np.ndarray],
+                    image((np.array(lo), np.array(hi)), _vectorised(f), method="vertex"))
     return float(a[0]), float(b[0])
 
 
@@ -697,9 +699,9 @@ def noise_rows(a: float, c: float, b: float, p: int, epsilon: float,
 
 
 #: The hand example of the chapter: x̂_k, z_{k+1}, f, g and p = 1 noise evidence.
-HAND_STEP = (1.0, 1.7, same_value, same_value, same_value,
-             noise_rows(-0.5, 0.0, 0.5, 1, 0.2, (-2.0, 2.0)),
-             noise_rows(-0.5, 0.0, 0.5, 1, 0.2, (-2.0, 2.0)))
+HAND_STEP = (HAND_XHAT, HAND_Z, same_value, same_value, same_value,
+             noise_rows(-0.5, 0.0, 0.5, 1, HAND_EPSILON, (-2.0, 2.0)),
+             noise_rows(-0.5, 0.0, 0.5, 1, HAND_EPSILON, (-2.0, 2.0)))
 
 
 def _filter_cases() -> list[Case]:

@@ -46,7 +46,19 @@ def _fundamental(case: tuple[float, float]) -> float:
 
 
 def eq43_readings() -> np.ndarray:
-    """The two readings of the eq. 43 exercise, Hz."""
+    """The two readings of the eq. 43 exercise.
+
+    Returns
+    -------
+    numpy.ndarray, shape (2,)
+        z_1 = 57 f_F + 0.2 and z_2 = 58 f_F − 0.2 at 9.6 m and 23.9 °C, Hz.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import eq43_readings
+    >>> eq43_readings().shape
+    (2,)
+    """
     return np.array(EQ43_ORDERS) * _fundamental(LONG_CASE) + np.array(EQ43_ERRORS)
 
 

@@ -17,17 +17,20 @@ own implementation fails it.
 
 from __future__ import annotations
 
+import linecache
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from dataclasses import replace
 from importlib.abc import MetaPathFinder
 from types import CellType, FunctionType, ModuleType
 from typing import Any
 
 from dstoolkit.errors import GradingFailure, InvalidInputError
 
-from ._checking import check, get
+from ._checking import Exercise, check, get
 from ._coding import Case, CodingExercise, seed_shift
+from ._variants import using_variant
 
 #: Added to the seeds of a coding exercise's random cases in the hidden tests.
 HIDDEN_SEED_SHIFT = 7919
@@ -35,7 +38,10 @@ UNREACHABLE = "dstoolkit is not available in this test: write the computation yo
 
 
 def must_pass(exercise_id: str, answer: Any, *, time_limit: float | None = None) -> None:
-    """Print the check's verdict on ``answer``; raise unless it is right.
+    """Print the check's verdict on a right ``answer``; raise with the verdict otherwise.
+
+    The verdict appears once on a feedback page: printed when right, as the error's
+    message when not (and IPython leaves this function out of the traceback).
 
     Parameters
     ----------
@@ -50,11 +56,91 @@ def must_pass(exercise_id: str, answer: Any, *, time_limit: float | None = None)
     ------
     GradingFailure
         The answer is not right (or not given); the message is the check's.
+
+    See Also
+    --------
+    must_pass_alone : the hidden tests of a coding answer.
+    must_pass_recomputed : the hidden test of a value answer.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import must_pass
+    >>> must_pass("mass.bel", 0.8)
+    ✔ mass.bel: right.
+    >>> must_pass("mass.bel", 0.3)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.GradingFailure: ✘ mass.bel: wrong. That is m({low, mid}) alone; ...
     """
+    __tracebackhide__ = True  # noqa: F841 - IPython shows the verdict, not this frame
     feedback = check(exercise_id, answer, time_limit=time_limit)
-    print(feedback.message)
-    if not feedback.correct:
-        raise GradingFailure(feedback.message)
+    _report(feedback.message, feedback.correct)
+
+
+def _report(message: str, correct: bool) -> None:
+    """Print a right verdict; raise a wrong one (shown once, as the error's message)."""
+    __tracebackhide__ = True  # noqa: F841 - IPython shows the verdict, not this frame
+    if not correct:
+        # raised from a one-line frame of its own: IPython always shows the frame that
+        # raised, and this one shows nothing of the grading code
+        exec(_RAISE, {"failure": GradingFailure(message)})  # noqa: S102 - fixed code
+    print(message)
+
+
+_RAISE_SOURCE = "raise failure  # the answer is not right: the verdict is below\n"
+_RAISE = compile(_RAISE_SOURCE, "<test>", "exec")
+# its one line, for the traceback (an entry without a modification time stays cached)
+linecache.cache["<test>"] = (len(_RAISE_SOURCE), None, [_RAISE_SOURCE], "<test>")
+
+
+def must_pass_recomputed(exercise_id: str, answer: Any, *, variant: int) -> None:
+    """Check a value answer against its solution computed afresh from the data of
+    ``variant``; raise unless it is right.
+
+    The hidden test of a value answer in a course: it does not read the kept solution nor
+    the variant the notebook chose (:func:`~dstoolkit.teaching.set_variant`), so an answer
+    copied from the book's solutions fails in a variant, and so does one that switched the
+    notebook back to the book's numbers or altered a kept solution.
+
+    Parameters
+    ----------
+    exercise_id : str
+        A value exercise, e.g. ``"mass.bel"``.
+    answer : object
+        The learner's answer.
+    variant : int
+        The course's variant (0: the book's numbers).
+
+    Raises
+    ------
+    GradingFailure
+        The answer is not right (or not given).
+    InvalidInputError
+        ``exercise_id`` is a coding exercise (its hidden test is :func:`must_pass_alone`).
+
+    See Also
+    --------
+    must_pass : the visible test, the sheet's check.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import must_pass_recomputed
+    >>> must_pass_recomputed("mass.bel", 0.8, variant=0)
+    ✔ hidden test of mass.bel: right.
+    """
+    exercise = get(exercise_id)
+    if not isinstance(exercise, Exercise):
+        raise InvalidInputError(f"{exercise_id!r} is a coding exercise; its hidden tests are "
+                                "must_pass_alone's")
+    if answer is ... or answer is None:
+        feedback = check(exercise_id, answer)
+    else:
+        fresh = replace(exercise)  # a new cache: nothing kept, the solver runs again
+        with using_variant(variant):
+            feedback = fresh.verdict(answer)
+    __tracebackhide__ = True  # noqa: F841 - IPython shows the verdict, not this frame
+    _report(feedback.message.replace("✔ ", "✔ hidden test of ", 1).replace(
+        "✘ ", "✘ hidden test of ", 1), feedback.correct)
 
 
 def must_pass_alone(exercise_id: str, answer: Callable[..., Any], *,
@@ -67,12 +153,31 @@ def must_pass_alone(exercise_id: str, answer: Callable[..., Any], *,
     imported, and every dstoolkit object the notebook's functions refer to by a global
     name raises when used.
 
+    Parameters
+    ----------
+    exercise_id : str
+        A coding exercise, e.g. ``"combine.dempster-code"``.
+    answer : callable
+        The learner's function.
+    time_limit : float, optional
+        Seconds for all hidden cases together (by default the sheet's).
+
     Raises
     ------
     GradingFailure
         The answer fails a hidden case, runs out of time, or calls dstoolkit.
     InvalidInputError
         ``exercise_id`` is not a coding exercise.
+
+    See Also
+    --------
+    must_pass : the visible test.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import must_pass_alone, solution
+    >>> must_pass_alone("mass.bel-pl-code", solution("mass.bel-pl-code"))  # doctest: +ELLIPSIS
+    ✔ hidden tests of mass.bel-pl-code: right on all ... cases (...).
     """
     exercise = get(exercise_id)
     if not isinstance(exercise, CodingExercise):
@@ -82,11 +187,9 @@ def must_pass_alone(exercise_id: str, answer: Callable[..., Any], *,
     target = alone(answer) if isinstance(answer, FunctionType) else answer
     with library_hidden():
         feedback = exercise.verdict(target, time_limit, cases)
-    message = feedback.message.replace("✔ ", "✔ hidden tests of ").replace(
-        "✘ ", "✘ hidden tests of ")
-    print(message)
-    if not feedback.correct:
-        raise GradingFailure(message)
+    __tracebackhide__ = True  # noqa: F841 - IPython shows the verdict, not this frame
+    _report(feedback.message.replace("✔ ", "✔ hidden tests of ").replace(
+        "✘ ", "✘ hidden tests of "), feedback.correct)
 
 
 def hidden_cases(exercise: CodingExercise) -> list[tuple[Case, Any]]:

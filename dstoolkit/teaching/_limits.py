@@ -47,6 +47,18 @@ def set_time_limit(seconds: float) -> float:
     -------
     float
         The previous default.
+
+    Raises
+    ------
+    InvalidInputError
+        ``seconds`` is not a number more than 0.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import set_time_limit
+    >>> previous = set_time_limit(20)
+    >>> set_time_limit(previous)
+    20.0
     """
     seconds = valid_limit(seconds)
     previous = _settings["time_limit"]

@@ -32,7 +32,7 @@ def pignistic(m):
     equally among its members. m: dict {frozenset: mass}. Returns
     {hypothesis: probability}.
     """
-    betp = {}
+    betp: dict = {}
     for focal, mass in m.items():
         for h in focal:
             betp[h] = betp.get(h, 0.0) + mass / len(focal)
@@ -47,7 +47,8 @@ def dempster_rule(m1, m2):
     in it). Raises ValueError when the sources are in total conflict (K =
     1).
     """
-    combined, k = {}, 0.0
+    combined: dict = {}
+    k = 0.0
     for (b, mb), (c, mc) in itertools.product(m1.items(), m2.items()):
         meet = b & c
         if meet:
@@ -224,7 +225,7 @@ def filter_step(xhat, z, f, g, g_inv, v_rows, w_rows):
     """
 
     def merged(rows):  # equal focal elements merge, their masses add (eq. 14)
-        out = {}
+        out: dict = {}
         for lo, hi, m in rows:
             out[(lo, hi)] = out.get((lo, hi), 0.0) + m
         return [(lo, hi, m) for (lo, hi), m in out.items()]

@@ -1,0 +1,238 @@
+"""Variants of the exercise sheets: the same questions on other numbers.
+
+Variant 0 is the book's data. Variant ``N > 0`` draws the data of each chapter (masses,
+readings, intervals) from a seed made of ``N`` and the chapter's name, so that the answers
+printed in the book do not answer it. The sheets show a variant's data
+(``scripts/sheets.py --variant N``), and the checks compute their expected answers from
+the same data: a solver reads ``data("mass")["m_low"]``, never a stored answer.
+
+A draw is kept only if every exercise of the chapter that varies gets another answer than
+in the book and in the :data:`WINDOW` variants before it (by the exercise's own tolerance);
+otherwise the next draw from the same seed is tried. So any ``WINDOW + 1`` consecutive
+variants (1–11, say, for a class in eleven groups) answer every such question differently.
+Variants are drawn in order (variant 5 after 1–4), which keeps them the same on every run.
+"""
+
+from __future__ import annotations
+
+import zlib
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import Any
+
+import numpy as np
+
+from dstoolkit.errors import InvalidInputError
+
+Data = dict[str, Any]
+
+#: The book's data of each chapter with variants (variant 0), by exercise-id prefix; each
+#: chapter's module of exercises adds its own (:func:`book_data`).
+BOOK: dict[str, Data] = {}
+
+#: Which chapter's data each sheet (source stem) shows.
+SHEET_CHAPTER = {"mass_functions": "mass", "combining_evidence": "combine",
+                 "dependent_evidence": "dependent", "random_sets": "random",
+                 "noise_to_evidence": "noise", "recursive_filter": "filter"}
+
+#: Draws tried before giving up (a draw is refused when an answer equals the book's).
+ATTEMPTS = 200
+#: A variant's answers differ from those of this many variants before it.
+WINDOW = 10
+
+_state: dict[str, int] = {"variant": 0}
+_drawn: dict[tuple[str, int], Data] = {}
+
+
+def _pick(rng: np.random.Generator, lo: float, hi: float, step: float) -> float:
+    """A number of the grid lo, lo + step, …, hi, rounded to the grid's decimals."""
+    count = int(round((hi - lo) / step)) + 1
+    return round(lo + step * int(rng.integers(count)), 6)
+
+
+def _masses(rng: np.random.Generator, first: tuple[float, float], second: tuple[float, float],
+            least: float = 0.1, step: float = 0.05) -> tuple[float, float, float]:
+    """Three masses a, b, 1 − a − b on a grid, the last at least ``least``."""
+    while True:
+        a, b = _pick(rng, *first, step), _pick(rng, *second, step)
+        rest = round(1.0 - a - b, 6)
+        if rest >= least - 1e-9:
+            return a, b, rest
+
+
+def _mass(rng: np.random.Generator) -> Data:
+    a, b, t = _masses(rng, (0.2, 0.6), (0.1, 0.4))
+    return {"m_low": a, "m_low_mid": b, "m_theta": t}
+
+
+def _combine(rng: np.random.Generator) -> Data:
+    m1 = _pick(rng, 0.3, 0.8, 0.05)
+    high, mid_high, theta = _masses(rng, (0.3, 0.7), (0.1, 0.3), least=0.05)
+    x, y = _pick(rng, 0.9, 0.98, 0.01), _pick(rng, 0.9, 0.98, 0.01)
+    q = _pick(rng, 0.2, 0.8, 0.1)
+    return {"m1_low": m1, "m1_theta": round(1 - m1, 6), "m2_high": high,
+            "m2_mid_high": mid_high, "m2_theta": theta, "zadeh_x": x,
+            "zadeh_x_rest": round(1 - x, 6), "zadeh_y": y, "zadeh_y_rest": round(1 - y, 6),
+            "once_low": q, "once_theta": round(1 - q, 6)}
+
+
+def _dependent(rng: np.random.Generator) -> Data:
+    while True:
+        e1 = _masses(rng, (0.3, 0.6), (0.1, 0.4))
+        e2 = _masses(rng, (0.1, 0.5), (0.1, 0.5))
+        if e2[0] < e1[0]:  # the shared {low}: min(m1, m2) is E2's, as in the book
+            return dict(zip(("e1_low", "e1_low_mid", "e1_theta", "e2_low", "e2_mid",
+                             "e2_theta"), (*e1, *e2), strict=True))
+
+
+def _random(rng: np.random.Generator) -> Data:
+    x1, x2 = _pick(rng, 0.2, 0.8, 0.1), _pick(rng, 0.2, 0.8, 0.1)
+    lo = tuple(int(v) for v in rng.integers(-2, 3, size=3))
+    hi = tuple(int(a + w) for a, w in zip(lo, rng.integers(1, 4, size=3), strict=True))
+    fold = _masses(rng, (0.1, 0.4), (0.1, 0.4))
+    return {"x1_a": x1, "x1_b": round(1 - x1, 6), "x2_a": x2, "x2_b": round(1 - x2, 6),
+            "mono_lo": lo, "mono_hi": hi, "square_lo": -_pick(rng, 0.5, 3.0, 0.1),
+            "square_hi": _pick(rng, 0.5, 4.0, 0.1), "fold_a": fold[0], "fold_b": fold[1],
+            "fold_c": fold[2], "boxes": int(rng.choice([9, 12, 20, 25, 27, 36])),
+            "dim": int(rng.integers(2, 5))}
+
+
+def _noise(rng: np.random.Generator) -> Data:
+    s = _pick(rng, 0.2, 1.2, 0.1)
+    mode, half = _pick(rng, -9.0, -3.0, 0.1), _pick(rng, 2.0, 5.0, 0.01)
+    return {"state": (-s, 0.0, s), "obs": (round(mode - half, 6), mode, round(mode + half, 6)),
+            "p": int(rng.integers(2, 13)), "epsilon": _pick(rng, 0.0, 0.3, 0.01),
+            "pbox_x": _pick(rng, 0.05, 1.0, 0.05), "pbox_p": int(rng.integers(2, 9)),
+            "pbox_epsilon": _pick(rng, 0.0, 0.3, 0.01), "state_note": "", "obs_note": ""}
+
+
+def _filter(rng: np.random.Generator) -> Data:
+    xhat = _pick(rng, -1.0, 3.0, 0.5)
+    return {"hand_xhat": int(xhat) if float(xhat).is_integer() else xhat,
+            "hand_z": round(xhat + _pick(rng, -0.9, 0.9, 0.1), 6),
+            "hand_epsilon": _pick(rng, 0.05, 0.45, 0.01),
+            "count_cuts": int(rng.choice([p for p in range(2, 21) if p != 5])),
+            "predict_xhat": int(_pick(rng, 900, 1500, 10)),
+            "predict_order": int(rng.integers(40, 81)), "z1": _pick(rng, 990.0, 1100.0, 0.1),
+            "conflict_epsilon": _pick(rng, 0.12, 0.4, 0.01)}
+
+
+DRAW: dict[str, Callable[[np.random.Generator], Data]] = {
+    "mass": _mass, "combine": _combine, "dependent": _dependent, "random": _random,
+    "noise": _noise, "filter": _filter}
+
+
+def book_data(chapter: str, values: Data) -> None:
+    """Register the book's data of ``chapter`` (variant 0); its variants are drawn by
+    ``DRAW[chapter]`` with the same keys."""
+    BOOK[chapter] = values
+
+
+def valid_variant(variant: Any) -> int:
+    """``variant`` as an int ≥ 0, or :class:`~dstoolkit.errors.InvalidInputError`."""
+    if isinstance(variant, bool) or not isinstance(variant, int | np.integer) or variant < 0:
+        raise InvalidInputError(f"a variant is a whole number ≥ 0 (0 is the book's data), "
+                                f"not {variant!r}")
+    return int(variant)
+
+
+def set_variant(variant: int) -> int:
+    """Make the checks use the data of ``variant`` (the setup cell of a variant's sheet
+    calls it).
+
+    Parameters
+    ----------
+    variant : int
+        0 for the book's data, ``N > 0`` for the numbers of ``scripts/sheets.py
+        --variant N``.
+
+    Returns
+    -------
+    int
+        The variant used before.
+
+    Raises
+    ------
+    InvalidInputError
+        ``variant`` is not a whole number ≥ 0.
+
+    See Also
+    --------
+    check : compares an answer with the solution computed from the variant's data.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching import check, set_variant
+    >>> previous = set_variant(3)
+    >>> bool(check("mass.bel", 0.8))   # the book's answer, not variant 3's
+    False
+    >>> set_variant(previous)
+    3
+    """
+    variant = valid_variant(variant)
+    previous = _state["variant"]
+    _state["variant"] = variant
+    return previous
+
+
+def current_variant() -> int:
+    """The variant the checks use now (see :func:`set_variant`)."""
+    return _state["variant"]
+
+
+@contextmanager
+def using_variant(variant: int | None) -> Iterator[int]:
+    """Within the block the checks use ``variant`` (``None``: leave it as it is)."""
+    if variant is None:
+        yield current_variant()
+        return
+    previous = set_variant(variant)
+    try:
+        yield variant
+    finally:
+        _state["variant"] = previous
+
+
+def data(chapter: str, variant: int | None = None) -> Data:
+    """The data of ``chapter`` (an exercise-id prefix such as ``"mass"``) in ``variant``
+    (by default the current one). Variant 0 is the book's."""
+    if chapter not in BOOK:
+        raise InvalidInputError(f"no variant data for {chapter!r}; chapters with variants: "
+                                f"{sorted(BOOK)}")
+    variant = current_variant() if variant is None else valid_variant(variant)
+    if variant == 0:
+        return BOOK[chapter]
+    for earlier in range(1, variant + 1):
+        if (chapter, earlier) not in _drawn:
+            _drawn[(chapter, earlier)] = _draw(chapter, earlier)
+    return _drawn[(chapter, variant)]
+
+
+def _draw(chapter: str, variant: int) -> Data:
+    from ._checking import REGISTRY, answers_differ
+
+    rng = np.random.default_rng([variant, zlib.crc32(chapter.encode())])
+    # reverse order of ids: the filter's slowest solver (conflict-start) is tried last
+    varying = [ex for ex_id, ex in sorted(REGISTRY.items(), reverse=True)
+               if ex_id.split(".")[0] == chapter and getattr(ex, "varies", False)]
+    others = [[ex.solution_in(v) for v in (0, *range(max(1, variant - WINDOW), variant))]
+              for ex in varying]
+    key = (chapter, variant)
+    for _ in range(ATTEMPTS):
+        candidate = DRAW[chapter](rng)
+        _drawn[key] = candidate
+        try:
+            with using_variant(variant):
+                if all(answers_differ(ex, ex.solve(), sol) for ex, sols in
+                       zip(varying, others, strict=True) for sol in sols):
+                    return candidate
+        finally:
+            del _drawn[key]
+    raise RuntimeError(f"no data for variant {variant} of {chapter!r} whose answers all "
+                       f"differ from the book's and the {WINDOW} variants before in "
+                       f"{ATTEMPTS} draws")
+
+
+def chapter_of_sheet(stem: str) -> str | None:
+    """The chapter (exercise-id prefix) whose data the sheet ``stem`` shows, if it varies."""
+    return SHEET_CHAPTER.get(stem)

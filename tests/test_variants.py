@@ -1,0 +1,152 @@
+"""Variants of the sheets (scripts/sheets.py --variant N): other numbers, same questions.
+
+* Two variants show other data than each other and than the book in every sheet of
+  Chapters 2–7.
+* The teacher's answers of each variant (run from its teacher's edition) pass its own
+  checks and fail the other variant's and the book's, for every exercise that varies; the
+  exercises that do not vary are the few listed here (choices and the paper's own example).
+* The hidden test of a value answer computes the answer afresh from the variant's data:
+  the book's answer fails it even after the notebook switched back to the book's numbers
+  and overwrote a kept solution.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import pytest
+from conftest import ROOT
+
+from dstoolkit.errors import GradingFailure, InvalidInputError
+from dstoolkit.teaching import REGISTRY, check, must_pass_recomputed, set_variant, solution
+from dstoolkit.teaching._variants import SHEET_CHAPTER, current_variant, data
+
+sys.path.insert(0, str(ROOT / "scripts"))
+import sheets  # noqa: E402
+
+VARIANTS = (1, 2)
+#: Value exercises of Chapters 2–7 whose answer is the same in every variant: choices, a
+#: uniform distribution, and the paper's own worked example of Appendix A.
+NOT_VARYING = {"mass.vacuous-betp", "combine.zadeh", "dependent.a2", "dependent.en1-exact",
+               "dependent.a6", "dependent.theta-merges", "filter.mass-rule"}
+
+
+@pytest.fixture(autouse=True)
+def _book_variant_afterwards():
+    yield
+    set_variant(0)
+
+
+def _teacher_answers(stem: str, variant: int) -> tuple[dict, list[tuple[str, str]]]:
+    """Run the setup, code and answer cells of the teacher's edition of ``variant``; return
+    the namespace and the (exercise id, variable) of its check cells."""
+    number, title, src, labels = sheets.sheets()[stem]
+    notebook = sheets.build(src, number, title, labels, True, variant)
+    namespace: dict = {}
+    checks = []
+    for cell in notebook["cells"]:
+        tags = cell["metadata"].get("tags", [])
+        if cell["cell_type"] != "code" or "explorer" in tags:
+            continue
+        if "check" in tags:
+            checks.extend(sheets.CHECK.findall(cell["source"]))
+            continue
+        exec(cell["source"], namespace)  # noqa: S102 - the project's own teacher sheet
+    set_variant(0)
+    return namespace, checks
+
+
+def test_chapters_two_to_seven_have_variants():
+    numbers = {stem: n for stem, (n, *_rest) in sheets.sheets().items()}
+    assert sorted(numbers[stem] for stem in SHEET_CHAPTER) == [2, 3, 4, 5, 6, 7]
+
+
+@pytest.mark.parametrize("stem", sorted(SHEET_CHAPTER))
+def test_the_data_differ_between_variants_and_from_the_book(stem: str):
+    number, title, src, labels = sheets.sheets()[stem]
+    setups = {}
+    for variant in (0, *VARIANTS):
+        notebook = sheets.build(src, number, title, labels, False, variant)
+        statements = [c["source"] for c in notebook["cells"]
+                      if c["metadata"].get("dstoolkit") or "set_variant" in c["source"]
+                      or c is notebook["cells"][1]]
+        setups[variant] = "\n".join(statements)
+        assert "{{" not in "".join(c["source"] for c in notebook["cells"])
+    assert len(set(setups.values())) == 3
+    chapter = SHEET_CHAPTER[stem]
+    assert data(chapter, 1) != data(chapter, 2) != data(chapter, 0)
+
+
+@pytest.mark.parametrize("stem", sorted(SHEET_CHAPTER))
+def test_each_variants_answers_pass_its_checks_and_fail_the_others(stem: str):
+    runs = {variant: _teacher_answers(stem, variant) for variant in VARIANTS}
+    varying = 0
+    for variant, (namespace, checks) in runs.items():
+        assert checks
+        other = VARIANTS[1] if variant == VARIANTS[0] else VARIANTS[0]
+        for exercise_id, name in checks:
+            answer = namespace[name]
+            assert check(exercise_id, answer, variant=variant), (exercise_id, variant)
+            if getattr(REGISTRY[exercise_id], "varies", False):
+                varying += 1
+                assert not check(exercise_id, answer, variant=other), (exercise_id, variant)
+                assert not check(exercise_id, answer, variant=0), (exercise_id, variant)
+            elif not exercise_id.endswith("-code"):
+                assert exercise_id in NOT_VARYING, f"{exercise_id} does not vary"
+    assert varying >= 2
+
+
+def test_the_set_of_exercises_that_do_not_vary_is_small_and_named():
+    prefixes = set(SHEET_CHAPTER.values())
+    values = [k for k, v in REGISTRY.items()
+              if k.split(".")[0] in prefixes and not k.endswith("-code")]
+    fixed = {k for k in values if not REGISTRY[k].varies}
+    assert fixed == NOT_VARYING
+    assert len(values) - len(fixed) >= 30
+
+
+def test_the_book_sheets_are_variant_zero():
+    for stem, (number, title, src, labels) in sheets.sheets().items():
+        path = sheets.sheet_path(stem, number, ROOT / "notebooks")
+        assert sheets.dump(sheets.build(src, number, title, labels, False, 0)) == \
+            path.read_text(encoding="utf-8"), stem
+
+
+def test_the_hidden_test_recomputes_from_the_variants_data(capsys):
+    book_answer = solution("mass.bel")
+    set_variant(1)
+    right = solution("mass.bel")
+    assert book_answer != pytest.approx(right)
+    must_pass_recomputed("mass.bel", right, variant=1)
+    # a notebook that switches back to the book's numbers and overwrites a kept solution
+    set_variant(0)
+    REGISTRY["mass.bel"]._cache[("solution", 1)] = book_answer
+    try:
+        with pytest.raises(GradingFailure, match="hidden test of mass.bel"):
+            must_pass_recomputed("mass.bel", book_answer, variant=1)
+    finally:
+        del REGISTRY["mass.bel"]._cache[("solution", 1)]
+    printed = capsys.readouterr().out
+    assert "✔ hidden test of mass.bel: right." in printed
+    assert "✘" not in printed  # a wrong verdict is the error's message, not printed too
+    with pytest.raises(InvalidInputError, match="coding exercise"):
+        must_pass_recomputed("combine.dempster-code", None, variant=1)
+
+
+def test_variants_are_checked_and_restored():
+    with pytest.raises(InvalidInputError, match="whole number"):
+        set_variant(-1)
+    with pytest.raises(InvalidInputError, match="whole number"):
+        set_variant(1.5)  # type: ignore[arg-type]
+    assert current_variant() == 0
+    assert check("mass.bel", solution("mass.bel"), variant=2) is not None
+    assert current_variant() == 0
+
+
+def test_the_command_line_writes_a_variant_and_refuses_the_book_folder(tmp_path):
+    assert sheets.main(["--variant", "1", "--out", str(tmp_path / "s")]) == 0
+    assert (tmp_path / "s" / "02_mass_functions.ipynb").exists()
+    text = (tmp_path / "s" / "02_mass_functions.ipynb").read_text(encoding="utf-8")
+    assert "set_variant(1)" in text and "Variant 1" in text
+    with pytest.raises(SystemExit):
+        sheets.main(["--variant", "1"])
