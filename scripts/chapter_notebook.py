@@ -117,7 +117,8 @@ def _cite(keys: str, refs: References, textual: bool, warn: Warn) -> str:
 
 def split_glue(content: str) -> tuple[str, str]:
     """``"name:.2f"`` -> ``("name", ".2f")``; ``"name"`` -> ``("name", "")``, as myst-nb
-    splits the content of ``{glue:text}``."""
+    splits the content of ``{glue:text}``.
+    """
     key, _, spec = content.rpartition(":")
     return (key, spec) if key else (content, "")
 
@@ -235,7 +236,8 @@ def _closing(lines: list[str], start: int, fence: str) -> int:
 
 def _options(body: list[str]) -> tuple[dict[str, str], list[str]]:
     """Split a directive's body into its options (``:key: value`` or a ``---`` block) and
-    its content."""
+    its content.
+    """
     options: dict[str, str] = {}
     i = 0
     if body and body[0].strip() == "---":
@@ -356,7 +358,8 @@ def _is_docstring(node: ast.stmt) -> bool:
 
 class _GlueStatements:
     """Decides which statements only feed ``glue``: its import, calls of it or of helper
-    functions whose body only calls it, and blocks made of nothing else."""
+    functions whose body only calls it, and blocks made of nothing else.
+    """
 
     def __init__(self, names: set[str]):
         self.names = set(names)
@@ -403,7 +406,8 @@ def _first_line(node: ast.stmt) -> int:
 def _edits(body: list[ast.stmt], glue: _GlueStatements, keep_one: bool
            ) -> list[tuple[int, int, str | None]]:
     """Line ranges (1-based, inclusive) to delete from ``body``; a range with text is
-    replaced by that text (``pass`` where a block would otherwise be left empty)."""
+    replaced by that text (``pass`` where a block would otherwise be left empty).
+    """
     edits: list[tuple[int, int, str | None]] = []
     removed = [s for s in body if glue.is_glue(s)]
     for node in body:
@@ -424,7 +428,8 @@ def _edits(body: list[ast.stmt], glue: _GlueStatements, keep_one: bool
 
 def _parse(source: str) -> ast.Module | None:
     """The syntax tree of a code cell, IPython's line magics and shell escapes read as
-    ``pass`` (so that line numbers stay); None for a cell magic (``%%``)."""
+    ``pass`` (so that line numbers stay); None for a cell magic (``%%``).
+    """
     if source.lstrip().startswith("%%"):
         return None
     return ast.parse(re.sub(r"(?m)^(\s*)[%!].*$", r"\1pass", source))

@@ -239,7 +239,8 @@ def _exercise_solutions(src: sheets.Source) -> dict[str, str]:
 def course_notebook(src: sheets.Source, number: int, title: str, labels: list[str],
                     variant: int = 0) -> dict:
     """The nbgrader source notebook of one chapter (nbformat 4 JSON), with the numbers of
-    ``variant`` (0: the book's)."""
+    ``variant`` (0: the book's).
+    """
     from dstoolkit.teaching._variants import using_variant
 
     with using_variant(variant):
@@ -341,7 +342,8 @@ def write_course(folder: Path, root: Path = sheets.ROOT,
                  chapters: list[str] | None = None, variant: int = 0) -> list[Path]:
     """Write the nbgrader course (config and one source assignment per chapter, or only
     the ``chapters`` stems given) to ``folder``, with the numbers of ``variant`` (0: the
-    book's). Returns the paths written."""
+    book's). Returns the paths written.
+    """
     folder.mkdir(parents=True, exist_ok=True)
     config = folder / "nbgrader_config.py"
     config.write_text(CONFIG.format(course=COURSE_ID, timeout=CELL_TIMEOUT), encoding="utf-8")

@@ -89,7 +89,8 @@ PREAMBLE = r"""\documentclass[11pt,a4paper]{article}
 
 def _wiring() -> str:
     """The wiring diagram in TikZ: the tube, the speaker on top, the microphone in the wall
-    below it, the thermometer probe, the liquid surface, and the cables to the laptop."""
+    below it, the thermometer probe, the liquid surface, and the cables to the laptop.
+    """
     return r"""\begin{center}
 \begin{tikzpicture}[scale=1.15, font=\small, >={Stealth}, line width=0.6pt,
                     box/.style={draw, rounded corners, align=center, inner sep=4pt}]

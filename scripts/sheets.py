@@ -74,7 +74,8 @@ TEACHING_IMPORT = re.compile(r"^from dstoolkit\.teaching import [\w, ]+$", re.MU
 
 def chapter_numbers(toc_file: Path = ROOT / "_toc.yml") -> dict[str, int]:
     """{chapter stem: number}: the chapters of numbered parts, in order, counted across
-    parts (``use_multitoc_numbering``); unnumbered parts (back matter) are left out."""
+    parts (``use_multitoc_numbering``); unnumbered parts (back matter) are left out.
+    """
     toc = yaml.safe_load(toc_file.read_text(encoding="utf-8"))
     numbers: dict[str, int] = {}
     for part in toc.get("parts", []):
@@ -93,7 +94,8 @@ def chapter_exercises(chapter: Path) -> list[str]:
 
 def chapter_captions(chapter: Path) -> dict[str, str]:
     """{label: caption} of the chapter's ``{exercise}`` blocks, e.g. "Proof, difficulty 2 of
-    3"; a block whose title is not such a caption is an error."""
+    3"; a block whose title is not such a caption is an error.
+    """
     out = {}
     for m in EXERCISE_BLOCK.finditer(chapter.read_text(encoding="utf-8")):
         if not CAPTION.match(m.group("caption")):
@@ -167,7 +169,8 @@ def varies(stem: str, variant: int) -> bool:
 
 def with_variant(setup: str, variant: int, stem: str) -> str:
     """The setup cell with ``set_variant`` imported from dstoolkit.teaching and called
-    after the last import."""
+    after the last import.
+    """
     found = TEACHING_IMPORT.search(setup)
     if found is None:
         raise ValueError(f"{stem}: the setup cell imports nothing from dstoolkit.teaching; "
@@ -182,7 +185,8 @@ def with_variant(setup: str, variant: int, stem: str) -> str:
 
 def in_variant(src: Source, variant: int) -> Source:
     """The source with its placeholders filled in for ``variant``; in a variant that
-    differs from the book, the setup cell calls ``set_variant`` and the intro says so."""
+    differs from the book, the setup cell calls ``set_variant`` and the intro says so.
+    """
     blocks = []
     note = ("*(Worked with the book's numbers; this sheet's variant has others. The "
             "method is the same.)*\n\n")
@@ -330,7 +334,8 @@ def imported_names(code: str) -> set[str]:
 
 def unshadowed(src: Source) -> None:
     """Raise ValueError when a stub would rebind a name that the sheet imported (the
-    sheet's "confirm with the library" would then call the learner's stub)."""
+    sheet's "confirm with the library" would then call the learner's stub).
+    """
     imported: set[str] = set()
     for block in src.blocks:
         if block.kind in ("setup", "code", "explore"):
@@ -367,7 +372,8 @@ def _checks_of(blocks: list[Block], i: int) -> str:
 def build(src: Source, number: int, title: str, labels: list[str], teacher: bool,
           variant: int = 0) -> dict:
     """The sheet of chapter ``number`` as a notebook (nbformat 4 JSON), with the numbers of
-    ``variant`` (0: the book's)."""
+    ``variant`` (0: the book's).
+    """
     from dstoolkit.teaching._variants import using_variant
 
     with using_variant(variant):
@@ -432,7 +438,8 @@ def dump(notebook: dict) -> str:
 
 def sheets(root: Path = ROOT) -> dict[str, tuple[int, str, Source, list[str]]]:
     """{stem: (chapter number, title, source, the chapter's exercise labels)} for every
-    chapter with a source."""
+    chapter with a source.
+    """
     numbers = chapter_numbers(root / "_toc.yml")
     out = {}
     for path in sorted((root / "notebooks" / "source").glob("*.md")):
@@ -457,7 +464,8 @@ def relink(root: Path, stem: str, name: str) -> None:
 def write_variant(variant: int, out: Path, root: Path = ROOT,
                   teacher: Path | None = None) -> list[Path]:
     """Write the student sheets of ``variant`` to ``out`` (and with ``teacher`` its
-    instructor sheets there). Returns the paths."""
+    instructor sheets there). Returns the paths.
+    """
     from dstoolkit.teaching._variants import valid_variant
 
     variant = valid_variant(variant)
@@ -476,7 +484,8 @@ def write_variant(variant: int, out: Path, root: Path = ROOT,
 
 def write_sheets(root: Path = ROOT, teacher: Path | None = None) -> list[Path]:
     """Write every student sheet to ``notebooks/`` (renaming sheets whose chapter number
-    changed) and, with ``teacher``, every instructor sheet there. Returns the paths."""
+    changed) and, with ``teacher``, every instructor sheet there. Returns the paths.
+    """
     written = []
     for stem, (number, title, src, labels) in sheets(root).items():
         target = sheet_path(stem, number, root / "notebooks")

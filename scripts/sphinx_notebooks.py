@@ -284,7 +284,8 @@ def _merge_pages(app: Sphinx, env, docnames, other) -> None:
 
 def pages_to_rewrite(app: Sphinx, env) -> list[str]:
     """Chapter pages and the tables of downloads depend on what Sphinx does not watch (the
-    sheets in notebooks/, the list of chapters): write them again on every build."""
+    sheets in notebooks/, the list of chapters): write them again on every build.
+    """
     return sorted(set(chapters(app)) | _download_pages(env))
 
 

@@ -43,7 +43,8 @@ ANALYSIS_ALLOWANCE_BYTES = 64 * 2**20
 
 def valid(value: Any) -> None:
     """Raise AssertionError when a returned value is invalid: NaN numbers, an evidence its
-    constructor refuses or whose masses do not sum to 1, non-finite estimates."""
+    constructor refuses or whose masses do not sum to 1, non-finite estimates.
+    """
     if isinstance(value, Evidence):
         _validate_masses(value.mass)
         assert abs(float(np.sum(value.mass)) - 1.0) <= 1e-9
@@ -248,7 +249,8 @@ SPECIAL_OUTPUTS = ("a link to an open file's /proc entry", "a link to a FIFO", "
 
 def special_output(kind: str, folder: Path) -> tuple[Path, Any]:
     """An output path of a kind in :data:`SPECIAL_OUTPUTS`, made in ``folder``, and what
-    must stay open while it is used (an open file, a socket; close it after), or None."""
+    must stay open while it is used (an open file, a socket; close it after), or None.
+    """
     path = folder / "fig.png"
     keep: Any = None
     if kind == SPECIAL_OUTPUTS[0]:
@@ -286,7 +288,8 @@ def table3_signalled(work: Path, sig: int, wait_s: float = 600.0) -> tuple[int |
     """Run ``table3 --out work/out/t.csv`` (one run, the direct method) in a child process
     whose figure never finishes; once the CSV is written, send ``sig``. Returns the exit
     status, what it printed on stderr, and whether the CSV was there when the signal went.
-    The child uses the dstoolkit this process imported."""
+    The child uses the dstoolkit this process imported.
+    """
     import dstoolkit
 
     ready = work.parent / f".{work.name}.ready"

@@ -64,7 +64,8 @@ def pdf() -> Path:
 
 def _chapter_titles() -> dict[str, str]:
     """The first heading of every page of the table of contents (the root page opens the
-    book without a chapter heading: its first sentence stands for it)."""
+    book without a chapter heading: its first sentence stands for it).
+    """
     titles = {}
     for page in toc_pages()[1:]:
         text = (ROOT / f"{page}.md").read_text(encoding="utf-8")
@@ -93,7 +94,8 @@ def test_every_chapter_is_in_the_pdf(pdf: Path) -> None:
 
 def test_only_the_numbered_parts_have_chapter_numbers(pdf: Path) -> None:
     """The table of contents numbers the chapters of the numbered parts of _toc.yml, as the
-    web edition does, and not those of the back matter (Notation, Glossary, ...)."""
+    web edition does, and not those of the back matter (Notation, Glossary, ...).
+    """
     import yaml
 
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
@@ -164,7 +166,8 @@ def test_pages_render_and_are_not_blank(pdf: Path) -> None:
 
 def _headings(page: str) -> list[str]:
     """The chapter heading (``# ``) and the section headings (``## ``) of a page, outside
-    code, with their maths left out (an outline entry cannot hold TeX)."""
+    code, with their maths left out (an outline entry cannot hold TeX).
+    """
     import jupytext
 
     found = []

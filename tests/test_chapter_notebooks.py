@@ -35,7 +35,8 @@ RAW_MYST = re.compile(r"\{[\w:.+-]+\}`|^\s*[`~:]{3,}\s*\{|^\s*:(label|class|tags
 def directive_phrases(chapter_source: str, directive: str) -> list[str]:
     """Plain phrases (no maths, no markup) of at least 25 characters that occur only in the
     bodies of the chapter's ``{directive}`` blocks: what must (exercise) or must not
-    (solution) be seen of them."""
+    (solution) be seen of them.
+    """
     block = rf"^(`{{3,}})\{{{directive}\}}.*?\n(.*?)^\1\s*$"
     phrases = []
     for _, body in re.findall(block, chapter_source, re.MULTILINE | re.DOTALL):

@@ -176,7 +176,8 @@ def _numbers(value) -> list[float]:
 
 def _written(x: float) -> set[str]:
     """How a number may be written in a text (2–4 decimals, either minus sign), when it
-    says more than a round number does."""
+    says more than a round number does.
+    """
     if x == int(x) or abs(x) in (0.1, 0.2, 0.25, 0.5, 0.75):
         return set()
     out = set()

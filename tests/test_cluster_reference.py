@@ -137,7 +137,8 @@ def test_merge_equal_boxes_adds_masses_in_the_order_given(kind):
 @pytest.mark.extras  # numba, the extra "speed"
 def test_the_compiled_merge_and_cluster_return_the_numpy_arrays_whole():
     """Padding, widths and runs without mass included: the compiled functions return the
-    arrays of the numpy ones, element for element."""
+    arrays of the numpy ones, element for element.
+    """
     compiled_merge, compiled_cluster = kernels("numba")
     rng = np.random.default_rng(21)
     for case in range(60):

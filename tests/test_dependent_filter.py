@@ -121,7 +121,8 @@ def test_array_path_has_the_unmerged_sizes_of_spec_5(gauge):
 
 def test_prediction_is_the_extension_principle_over_the_random_relation(gauge):
     """Step 2 images f on the state boxes and adds V; the literal eq. 13 over (x̂ + V) × V
-    through F(x, v) = f(x, u) + v gives the same evidence."""
+    through F(x, v) = f(x, u) + v gives the same evidence.
+    """
     noise = FILTER.noise_evidence(MODEL)
     x_hat, order = gauge.readings[3], gauge.inputs[3]
     p_lo, p_hi = predict(FILTER._maps(MODEL), noise, x_hat[None],
@@ -145,7 +146,8 @@ def test_batch_equals_single_runs(gauge_runs):
 
 def test_object_path_equals_array_path(gauge):
     """record=True merges focal elements and fuses with dstoolkit.evidence; the array
-    path does not merge: same estimates, hulls and diagnostics."""
+    path does not merge: same estimates, hulls and diagnostics.
+    """
     for flt in (FILTER, DependentEvidenceFilter(mass_rule="m1", start="mean_corrected", p=2,
                                                 theta=PAPER_THETA)):
         fast = flt.run(MODEL, gauge.readings, gauge.inputs)
@@ -210,7 +212,8 @@ def test_start_options(gauge):
 
 def test_without_discount_the_papers_start_conflicts_at_once(gauge):
     """x̂_1 = z_1 is off by −E[w] = 6.9 Hz, far beyond v's ±0.3 Hz: with ε = 0 (no Θ) the
-    first prediction and observation share nothing."""
+    first prediction and observation share nothing.
+    """
     with pytest.raises(TotalConflictError, match="Step 4 of estimate 2"):
         DependentEvidenceFilter(epsilon=0.0).run(MODEL, gauge.readings, gauge.inputs)
 
@@ -265,7 +268,8 @@ def _emptying(model: StateSpaceModel) -> StateSpaceModel:
 def test_an_empty_box_from_g_inverse_is_refused_on_every_path(gauge):
     """Step 5 refuses a g⁻¹ that returns an empty box for a focal element of positive mass:
     the array path (one run, a batch, the compiled kernel) and the object path, for n = 1
-    and 2."""
+    and 2.
+    """
     start = gauge.readings[0] + GAUGE_OBS_NOISE.mode
     lv, _, z_lv = simulate_lotka_volterra(steps=4, runs=2, seed=4)
     cases = [(_emptying(MODEL), gauge.readings[:4], gauge.inputs[:3], start),
@@ -371,7 +375,8 @@ def test_kernels_on_the_appendix_a_example():
 def test_compiled_kernel_does_a_step_as_the_numpy_path(gauge):
     """From the same state (start = the numpy path's x̂_k), one step of kernel="numba"
     gives the numpy path's estimate, hull and diagnostics to rounding, at every k (K is 1
-    minus a sum of some 1,100 products in another order: equal to 1e-12)."""
+    minus a sum of some 1,100 products in another order: equal to 1e-12).
+    """
     ref = FILTER.run(MODEL, gauge.readings, gauge.inputs)
     for k in range(len(gauge.readings) - 1):
         z, u = gauge.readings[k:k + 2], gauge.inputs[k:k + 1]
@@ -392,7 +397,8 @@ def test_compiled_kernel_agrees_with_the_numpy_path(gauge):
     run in another order, so x̂ differs by an ulp and the runs drift apart by rounding; the
     estimates and hulls stay equal to 1e-12, the diagnostics to 1e-7 (an energy divides by
     the smallest focal element, which can be 1e-4 Hz wide: an ulp of a 2,000 Hz bound,
-    2e-13 Hz, is 2e-9 of it)."""
+    2e-13 Hz, is 2e-9 of it).
+    """
     model, _, z_lv = simulate_lotka_volterra(steps=25, runs=3, seed=4)
     cases = [
         ({}, MODEL, gauge.readings, gauge.inputs),

@@ -66,7 +66,8 @@ def test_g_inverse_is_the_exact_preimage_within_the_prior(a, width, p_lo, p_widt
 
 def test_g_inverse_of_non_positive_readings():
     """A census box reaching below 0 says nothing about the lower end; one wholly below 0
-    is impossible (empty)."""
+    is impossible (empty).
+    """
     lo, hi = MODEL.g_inverse(np.array([-1.0, -2.0]), np.array([2.0, -0.5]),
                              np.array([-5.0, -5.0]), np.array([5.0, 5.0]))
     assert lo[0] == -5.0 and hi[0] == pytest.approx(np.log(2.0))
@@ -76,7 +77,8 @@ def test_g_inverse_of_non_positive_readings():
 def test_vertex_images_are_exact_even_on_wide_boxes():
     """Each component of f is monotone in each argument on the whole plane, so the vertex
     method (4 evaluations) equals a fine subdivision, with no warning, on boxes as wide as
-    the frames Θ of the discount."""
+    the frames Θ of the discount.
+    """
     rng = np.random.default_rng(0)
     centre = rng.uniform(-2, 1.5, size=(200, 2))
     half = rng.uniform(0.0, 1.0, size=(200, 2))

@@ -1,5 +1,6 @@
 """The examples in the docstrings of the exercise side of the teaching layer run and give
-what they show (the checks, the graded tests, the time limit, the variants)."""
+what they show (the checks, the graded tests, the time limit, the variants).
+"""
 
 from __future__ import annotations
 

@@ -2,7 +2,8 @@
 answer with a hint, and recognises the common mistakes it lists; every coding exercise
 accepts its plain reference solution, names each registered wrong implementation, reports
 the first failing case with input, expected and got, and survives the learner's
-exceptions."""
+exceptions.
+"""
 
 from __future__ import annotations
 

@@ -62,7 +62,8 @@ BOOK_VALUES = {  # answer cell → the answer printed in the book (variant 0)
 
 def _variant_values(d: dict) -> dict[str, str]:
     """The right answers of the variant, by the chapter's formulas (the test does not trust
-    the generator's answers)."""
+    the generator's answers).
+    """
     k = d["m1_low"] * (d["m2_high"] + d["m2_mid_high"])
     return {"ce-ex-conflict-answer": f"K = {k!r}",
             "ce-ex-low-answer": f"m12_low = {d['m1_low'] * d['m2_theta'] / (1 - k)!r}",
@@ -107,7 +108,8 @@ def _cells(nb: dict) -> dict[str, dict]:
 def _submission(release: dict, teacher: dict, answers: dict[str, str],
                 edits: dict[str, str] | None = None) -> dict:
     """The released notebook with ``answers`` in answer cells (``"teacher"``: the source's
-    own answer) and ``edits`` written over any other cell."""
+    own answer) and ``edits`` written over any other cell.
+    """
     nb = json.loads(json.dumps(release))
     cells, source = _cells(nb), _cells(teacher)
     for grade_id, text in {**answers, **(edits or {})}.items():

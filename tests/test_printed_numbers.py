@@ -59,7 +59,8 @@ def test_the_counter_counts() -> None:
 
 def test_the_printed_results_are_short() -> None:
     """The results chapters print: dependence, noise bounds, recording conditions and
-    metadata, a run's summary."""
+    metadata, a run's summary.
+    """
     from dstoolkit.audio import RecordingMetadata
     from dstoolkit.evidence import IntervalEvidence, TriangularBounds, dependence
     from dstoolkit.teaching import GAUGE_CONDITIONS

@@ -1,5 +1,6 @@
 """One answer per object: the merged and the unmerged form of one evidence read alike, and
-copies (pickle, copy, deepcopy) keep an evidence, or a noise, valid and read-only."""
+copies (pickle, copy, deepcopy) keep an evidence, or a noise, valid and read-only.
+"""
 
 from __future__ import annotations
 
@@ -210,7 +211,8 @@ def test_copies_of_noise_bounds_stay_read_only_and_valid(copier):
 
 class _Plain:
     """Pickles as a plain object of ``cls`` with the attributes ``state`` (no
-    constructor): what a crafted, or an old, pickle holds."""
+    constructor): what a crafted, or an old, pickle holds.
+    """
 
     def __init__(self, cls: type, state: dict) -> None:
         self.cls, self.state = cls, state

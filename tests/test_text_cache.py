@@ -1,5 +1,6 @@
 """The explorers' canvas caches the text it drew (dstoolkit.plots._text_cache): the pictures
-must be the same to the byte as plain Agg's, text drawn again from the cache included."""
+must be the same to the byte as plain Agg's, text drawn again from the cache included.
+"""
 
 from __future__ import annotations
 
@@ -19,7 +20,8 @@ from dstoolkit.teaching import filter_step_explorer, gauge_explorer  # noqa: E40
 
 def pixels(fig: Figure, canvas: type[FigureCanvasAgg]) -> np.ndarray:
     """``fig`` drawn whole on a new ``canvas``, its animated artists on top (as an
-    explorer draws a figure that changed)."""
+    explorer draws a figure that changed).
+    """
     canvas(fig)
     fig.canvas.draw()
     for artist in sorted(fig.findobj(lambda a: a.get_animated()), key=lambda a: a.get_zorder()):
@@ -29,7 +31,8 @@ def pixels(fig: Figure, canvas: type[FigureCanvasAgg]) -> np.ndarray:
 
 def text_figure(shift: float) -> Figure:
     """Text of every kind a figure draws: rotated, small and large, bold, non-antialiased,
-    mathtext, non-ASCII, at positions whose sub-pixel part moves with ``shift``."""
+    mathtext, non-ASCII, at positions whose sub-pixel part moves with ``shift``.
+    """
     fig = Figure(figsize=(4.0, 3.0), dpi=96)
     ax = fig.subplots()
     ax.plot([0, 1], [0, 1])
@@ -46,7 +49,8 @@ def text_figure(shift: float) -> Figure:
 def test_cached_text_draws_the_same_pixels_as_agg() -> None:
     """On a matplotlib whose text path the cache replays (3.11's: the one installed in the
     project's environment), the canvas caches; on another it draws as Agg does. Either way
-    the pixels are Agg's."""
+    the pixels are Agg's.
+    """
     if tuple(int(part) for part in matplotlib.__version__.split(".")[:2]) == (3, 11):
         assert _text_cache.SUPPORTED, "3.11 changed its text path: see plots/_text_cache.py"
     _text_cache._layouts.clear()
@@ -76,7 +80,8 @@ def test_the_cache_stays_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
 ])
 def test_explorer_pictures_are_agg_pictures(make, changes) -> None:
     """What an explorer shows (drawn through its caching canvas, blitted or whole) is what
-    plain Agg draws for the same figure."""
+    plain Agg draws for the same figure.
+    """
     ex = make()
     for name, value in changes:
         ex.controls[name].value = value
