@@ -315,7 +315,7 @@ def _visibly_focused(focused: dict) -> bool:
 
 
 def test_tab_reaches_a_slider_quickly(chromium: object, site: str) -> None:
-    """From the top of the article, Tab, the skip link and Enter reach the first live slider.
+    """From the top of the article, Tab to the skip link and Enter focus the first live slider.
 
     The slider has the focus in fewer than TAB_PRESSES key presses, every stop visibly
     focused.
