@@ -832,7 +832,7 @@ def thread_probes() -> Iterator[Probe]:
     try:
         import ipywidgets as widgets
 
-        from dstoolkit.teaching._explorers import Explorer
+        from dstoolkit.teaching import Explorer
     except ImportError:
         return
 
@@ -1032,7 +1032,7 @@ def main() -> None:
 
     with contextlib.suppress(ImportError):
         import dstoolkit.plots  # noqa: F401
-        import dstoolkit.teaching._explorers  # noqa: F401
+        import dstoolkit.teaching  # noqa: F401
     counts: dict[str, Counter[str]] = {c: Counter() for c in CATEGORIES}
     problems = []
     with tempfile.TemporaryDirectory() as tmp:

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Run every check: ruff over the package, tests and scripts, the import-layer contract, mypy on the
-# core, then pytest (toolkit, gauge, doctests, packaging, notebooks, book build, and the
+# Run every check: ruff over the package, tests and scripts, the import-layer contract, mypy over
+# every layer, then pytest (toolkit, gauge, doctests, packaging, notebooks, book build, and the
 # built book in headless Chromium). Creates .venv on first use.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -10,7 +10,7 @@ echo "==> ruff"
 ruff check dstoolkit tests benchmarks scripts
 echo "==> import layers (.importlinter)"
 lint-imports --no-cache
-echo "==> mypy (the core and the command line; [tool.mypy] in pyproject.toml)"
+echo "==> mypy (every layer; [tool.mypy] in pyproject.toml)"
 mypy
 # Two workers: the book's modules (built once) in one, the rest in the other (whole modules
 # per worker; tests/conftest.py groups them). DSTOOLKIT_TEST_WORKERS=0 runs in one process.

@@ -232,7 +232,7 @@ def test_a_valid_budget_from_the_environment(monkeypatch, text, nbytes):
 # -- explorers from two threads ------------------------------------------------------------
 def test_an_explorer_renders_one_refresh_at_a_time():
     widgets = pytest.importorskip("ipywidgets")
-    from dstoolkit.teaching._explorers import Explorer
+    from dstoolkit.teaching import Explorer
 
     busy = {"now": 0, "most": 0}
     guard = threading.Lock()
@@ -266,7 +266,7 @@ def test_an_explorer_renders_one_refresh_at_a_time():
                                    EvidenceError("total conflict")])
 def test_explorer_refresh_shows_every_package_error(error):
     widgets = pytest.importorskip("ipywidgets")
-    from dstoolkit.teaching._explorers import Explorer
+    from dstoolkit.teaching import Explorer
 
     def render(x: float):
         if x > 1:

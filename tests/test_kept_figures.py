@@ -231,7 +231,7 @@ def test_a_kept_figure_redraws_only_its_data_and_shows_the_pixels_of_a_whole_dra
     picture shown is pixel for pixel the figure drawn whole."""
     from base64 import b64decode
 
-    from dstoolkit.teaching._explorers import Explorer
+    from dstoolkit.teaching import Explorer
 
     ex = build()
     draws: list[Figure] = []

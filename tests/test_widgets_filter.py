@@ -147,8 +147,11 @@ def test_extension_explorer_shows_the_vertex_method_failing_on_sin():
     assert ex.numbers["vertex"].startswith("[0, 0.1411]") and "⚠" in ex.numbers["vertex"]
     assert ex.numbers["monotone"] == "NotMonotoneError"
     assert ex.numbers["subdivision"] == "[0, 1]"
+    lo, hi = (float(v) for v in ex.numbers["mean-value"].strip("[]").split(", "))
+    assert lo <= 0.0 and hi >= 1.0 and hi - lo < 1.2  # outer, and not by much
     ex.controls["function"].value = "2x + 1"
     assert ex.numbers["vertex"] == ex.numbers["monotone"] == ex.numbers["subdivision"] == "[1, 7]"
+    assert ex.numbers["mean-value"] == "[1, 7]"  # exact on a linear function
     ex.controls["lo"].value = 3.5
     assert "lo > hi" in ex.numbers["error"]
 
@@ -162,3 +165,8 @@ def test_compare_image_methods_counts_and_flags():
     assert out["subdivision"]["image"] == pytest.approx((0.0, 4.0), abs=1e-12)
     # checks included: 2 vertices + 3 interior samples; 2 corners + the centre
     assert out["vertex"]["evaluations"] == 5 and out["monotone"]["evaluations"] == 3
+    assert "mean_value" not in out  # it needs a slope bound
+    outer = w.compare_image_methods(lambda x: x[..., 0] ** 2, -1.0, 2.0, 1,
+                                    slope=lambda lo, hi: (2 * lo, 2 * hi), pieces=1)
+    assert outer["mean_value"]["image"] == pytest.approx((-5.75, 6.25))  # f(c) ± 4 · 1.5
+    assert outer["mean_value"]["evaluations"] == 1

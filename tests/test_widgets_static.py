@@ -279,3 +279,12 @@ def _png_of(ex: Explorer) -> bytes:
     import base64
 
     return base64.b64decode(ex.output.outputs[0]["data"]["image/png"])
+
+
+def test_the_site_keeps_no_picture_outside_its_states():
+    """The kernel's output and readout are not shown on the site: the output is emptied
+    and both are closed, so that the page's widget state holds pictures only in the
+    precomputed states."""
+    ex = _toy(static=True)
+    assert ex.output.outputs == () and ex.output.comm is None and ex.readout.comm is None
+    assert ex.output not in ex.children and ex.picture is not None  # print keeps its still

@@ -12,7 +12,12 @@ are boxes with product masses (eq. 16). A function f maps each box A to its imag
   :class:`~dstoolkit.errors.NotMonotoneError` when the declaration is visibly wrong);
 - by **subdivision** for any continuous f: a grid of (k+1)^n points per box, then a zoom
   on the best local extrema of the grid until the spacing is below ``tol`` times the box
-  width (an inner approximation, exact for monotone f; see :func:`image_subdivision`).
+  width (an inner approximation, exact for monotone f; see :func:`image_subdivision`);
+- by the **mean-value form** for a differentiable f with a bound on its slopes: an *outer*
+  enclosure, never narrower than the true image (see :func:`image_mean_value`).
+
+The first three return values that f takes (inner approximations); the mean-value form is
+the one guaranteed to contain the image.
 
 Array conventions: boxes are ``lo``/``hi`` arrays of shape (..., n); f is called with
 points of shape (..., *extra, n) — the extra axes (vertices, samples) come just before the
@@ -35,9 +40,12 @@ from dstoolkit.utils.budget import check_memory
 from ._intervals import IntervalEvidence
 
 #: How the image of a box is found (see :func:`image`).
-ImageMethod = Literal["auto", "vertex", "monotone", "subdivision"]
+ImageMethod = Literal["auto", "vertex", "monotone", "subdivision", "mean_value"]
 #: The values of :data:`ImageMethod`.
-IMAGE_METHODS: tuple[str, ...] = ("auto", "vertex", "monotone", "subdivision")
+IMAGE_METHODS: tuple[str, ...] = ("auto", "vertex", "monotone", "subdivision", "mean_value")
+#: A bound on f's slopes over boxes: ``slope(lo, hi) -> (d_lo, d_hi)``, each of shape
+#: (..., n) for a scalar f or (..., m, n), with every ∂f_i/∂x_j on the box in [d_lo, d_hi].
+SlopeBound = Callable[[np.ndarray, np.ndarray], tuple[Any, Any]]
 
 #: Relative slack of the monotone and vertex checks (rounding, not modelling error).
 CHECK_RTOL = 1e-10
@@ -475,6 +483,88 @@ def image_subdivision(
     return out_lo, out_hi
 
 
+def image_mean_value(
+    lo: np.ndarray, hi: np.ndarray, f: Callable[[np.ndarray], Any], slope: SlopeBound, *,
+    pieces: int = 8,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Mean-value form: an outer enclosure of f on boxes [lo, hi], never narrower than f(A).
+
+    By the mean-value theorem f(x) = f(c) + Σ_j ∂f/∂x_j(ξ) (x_j − c_j) for some ξ in the box,
+    c its centre; with every slope ∂f/∂x_j on the box in [d⁻_j, d⁺_j] and |x_j − c_j| ≤ h_j,
+
+        f(A) ⊆ f(c) + Σ_j [d⁻_j, d⁺_j] · [−h_j, h_j] = f(c) ± Σ_j max(|d⁻_j|, |d⁺_j|) h_j.
+
+    The excess width shrinks like the square of the width, so each box is cut into
+    ``pieces`` parts per axis (``pieces``^n sub-boxes) and the hull of their enclosures is
+    returned, widened outward by a few units of rounding so that floating point cannot make
+    it too narrow.
+
+    Parameters
+    ----------
+    lo, hi : numpy.ndarray, shape (..., n)
+        The boxes' lower and upper ends.
+    f : Callable
+        Vectorised map from points (..., n) to (..., m) or (...,).
+    slope : Callable
+        ``slope(lo, hi) -> (d_lo, d_hi)``: bounds of f's partial derivatives over the boxes
+        [lo, hi] of shape (..., n); each of shape (..., n) for a scalar f, (..., m, n) else.
+        A bound that does not hold on the box voids the guarantee.
+    pieces : int, optional
+        Sub-boxes per axis (default 8).
+
+    Returns
+    -------
+    tuple of numpy.ndarray, shape (..., m)
+        The enclosures' lower and upper ends (m = 1 for a scalar f).
+
+    Raises
+    ------
+    EvidenceError
+        A slope bound of the wrong shape, with NaN, or with d_lo > d_hi; ``pieces`` < 1.
+
+    See Also
+    --------
+    image : The image of evidence or boxes by any method (``method="mean_value"``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> lo, hi = np.array([-1.0]), np.array([2.0])
+    >>> square, slope = (lambda x: x[..., 0] ** 2), (lambda l, h: (2 * l, 2 * h))
+    >>> image_mean_value(lo, hi, square, slope, pieces=1)  # f(c) ± 4 · 1.5
+    (array([-5.75]), array([6.25]))
+    >>> a, b = image_mean_value(lo, hi, square, slope, pieces=64)
+    >>> bool(a[0] <= 0.0 and b[0] >= 4.0), round(float(b[0] - a[0]) - 4.0, 3)
+    (True, 0.002)
+    """
+    if int(pieces) != pieces or pieces < 1:
+        raise EvidenceError(f"pieces must be a whole number >= 1, got {pieces!r}")
+    k, n = int(pieces), lo.shape[-1]
+    check_memory(float(k) ** n * lo.size * 8 * 8, f"the mean-value form on {k}^{n} sub-boxes "
+                 "per box", "use fewer pieces (subdivisions=) or fewer boxes")
+    steps = np.stack(np.meshgrid(*([np.arange(k)] * n), indexing="ij"), -1).reshape(-1, n)
+    width = (hi - lo)[..., None, :]
+    sub_lo = lo[..., None, :] + width * (steps / k)  # (..., k^n, n)
+    sub_hi = lo[..., None, :] + width * ((steps + 1) / k)
+    centre, half = 0.5 * (sub_lo + sub_hi), 0.5 * (sub_hi - sub_lo)
+    at_centre = _call(f, centre)  # (..., k^n, m)
+    d_lo, d_hi = (np.asarray(d, dtype=float) for d in slope(sub_lo, sub_hi))
+    if d_lo.shape == centre.shape:  # a scalar f: one row of slopes
+        d_lo, d_hi = d_lo[..., None, :], d_hi[..., None, :]
+    want = (*at_centre.shape, n)
+    if d_lo.shape != want or d_hi.shape != want:
+        raise EvidenceError(
+            f"slope(lo, hi) must return two arrays of shape {centre.shape} (scalar f) or "
+            f"{want}, got {d_lo.shape} and {d_hi.shape}")
+    if np.isnan(d_lo).any() or np.isnan(d_hi).any() or np.any(d_lo > d_hi):
+        raise EvidenceError("slope(lo, hi) returned NaN or d_lo > d_hi; it must bound every "
+                            "partial derivative of f on the box from below and above")
+    spread = np.sum(np.maximum(np.abs(d_lo), np.abs(d_hi)) * half[..., None, :], axis=-1)
+    slack = 4.0 * np.finfo(float).eps * (np.abs(at_centre) + spread)  # rounding, outward
+    return ((at_centre - spread - slack).min(axis=-2),
+            (at_centre + spread + slack).max(axis=-2))
+
+
 def resolve_method(method: str, signs: np.ndarray | None) -> str:
     """``auto`` → ``monotone`` when every sign is known (non-zero), else ``vertex``."""
     if method not in IMAGE_METHODS:
@@ -498,8 +588,14 @@ def image_boxes(
     check: bool = True,
     tol: float = 1e-9,
     subdivisions: int = 8,
+    slope: SlopeBound | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Array kernel behind :func:`image`: ``method`` already resolved, signs parsed."""
+    if method == "mean_value":
+        if slope is None:
+            raise EvidenceError("method='mean_value' needs slope=: a function (lo, hi) -> "
+                                "(d_lo, d_hi) bounding f's derivatives on a box")
+        return image_mean_value(lo, hi, f, slope, pieces=subdivisions)
     if method == "monotone":
         if signs is None:
             raise EvidenceError("method='monotone' needs the signs of f (one +1/−1 per argument)")
@@ -541,6 +637,7 @@ def image(
     subdivisions: int = 8,
     check: bool = True,
     merge: bool = True,
+    slope: SlopeBound | None = None,
 ) -> IntervalEvidence | tuple[np.ndarray, np.ndarray]:
     """Image of a random relation through f (extension principle, eqs. 13–15).
 
@@ -553,8 +650,10 @@ def image(
         Vectorised map from points (..., n) to (..., m) or (...,); see the module notes.
     method
         ``"monotone"`` (Prop. 2, 2 evaluations per box), ``"vertex"`` (Prop. 1, 2^n),
-        ``"subdivision"`` (any continuous f, see :func:`image_subdivision`), or
-        ``"auto"``: monotone when every sign is known, else vertex.
+        ``"subdivision"`` (any continuous f, see :func:`image_subdivision`),
+        ``"mean_value"`` (an outer enclosure, needs ``slope``; see
+        ``image_mean_value``), or ``"auto"``: monotone when every sign is known, else
+        vertex.
     monotone
         Signs per argument, shape (n,) or (m, n): +1, −1, or 0 (neither/unknown).
     tol
@@ -564,6 +663,10 @@ def image(
         declaration, VertexMethodWarning when the vertex method visibly fails.
     merge
         For evidence input: merge equal images, adding masses (eq. 14).
+    slope
+        For ``"mean_value"``: ``slope(lo, hi) -> (d_lo, d_hi)``, bounds of f's partial
+        derivatives on boxes (..., n), each (..., n) for a scalar f or (..., m, n). Its
+        ``subdivisions`` are then the sub-boxes per axis.
 
     Returns
     -------
@@ -599,7 +702,7 @@ def image(
     signs = parse_signs(monotone, lo.shape[-1])
     resolved = resolve_method(method, signs)
     out_lo, out_hi = image_boxes(lo, hi, _checked(f), resolved, signs, check=check, tol=tol,
-                                 subdivisions=subdivisions)
+                                 subdivisions=subdivisions, slope=slope)
     if np.isnan(out_lo).any() or np.isnan(out_hi).any():
         raise EvidenceError("the image has NaN ends (f is not defined on all of a box); "
                             "check f's domain or the boxes given")

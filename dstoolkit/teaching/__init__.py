@@ -1,5 +1,10 @@
 """The teaching layer (needs the ``teaching`` extra): the explorers (widgets), the
 exercise check cells and the lab helpers.
+
+The explorers' framework (:class:`Explorer`, its controls, its static-site form) is
+``_explorer``; each chapter's explorers are in ``_explorers_<chapter>`` (the lab's
+measuring station, :class:`LabWidget`, is an ``Explorer`` too), and the numbers they print
+in ``_readouts``.
 """
 
 from __future__ import annotations
@@ -38,29 +43,24 @@ from ._exercises import (  # noqa: E402
     solution,
     zadeh,
 )
-from ._explorers import (  # noqa: E402
-    GAUGE_CONDITIONS,
+from ._explorer import (  # noqa: E402
     STATIC_SITE_ENV,
     Explorer,
-    LabWidget,
-    bounded_error_explorer,
-    compare_image_methods,
-    conflict_explorer,
-    dependent_combination_explorer,
-    extension_explorer,
-    filter_step_explorer,
-    filter_widget,
-    gauge_explorer,
-    lab_widget,
-    level_estimation_explorer,
-    mass_function_explorer,
-    noise_bounds_explorer,
-    noise_evidence_explorer,
     positions,
-    render_filter,
     slider,
     static_site,
 )
+from ._explorers_beyond import noise_bounds_explorer  # noqa: E402
+from ._explorers_bounded import bounded_error_explorer  # noqa: E402
+from ._explorers_combining import conflict_explorer  # noqa: E402
+from ._explorers_dependent import dependent_combination_explorer  # noqa: E402
+from ._explorers_estimation import level_estimation_explorer  # noqa: E402
+from ._explorers_filter import filter_step_explorer, filter_widget, render_filter  # noqa: E402
+from ._explorers_gauge import GAUGE_CONDITIONS, gauge_explorer  # noqa: E402
+from ._explorers_lab import LabWidget, lab_widget  # noqa: E402
+from ._explorers_mass import mass_function_explorer  # noqa: E402
+from ._explorers_noise import noise_evidence_explorer  # noqa: E402
+from ._explorers_random_sets import compare_image_methods, extension_explorer  # noqa: E402
 from ._grading import must_pass, must_pass_alone, must_pass_recomputed  # noqa: E402
 from ._lab import (  # noqa: E402
     VIRTUAL,

@@ -88,7 +88,7 @@ def _() -> float:
           mistakes=((lambda: (1.0 - 0.05) ** 3,
                      "That is K for the chapter's ε = 0.05; the question asks for another ε."),))
 def _() -> float:
-    from ._explorers import filter_case
+    from dstoolkit.studies import filter_case
 
     epsilon = data("filter")["conflict_epsilon"]
     _, _, result = filter_case(*FILTER_CASE, epsilon=epsilon, seed=FILTER_SEED)
@@ -99,8 +99,7 @@ def _() -> float:
           "intersection exceed the energies themselves, so that D > 1?")
 def _() -> str:
     from dstoolkit.errors import EvidenceError
-
-    from ._explorers import filter_case
+    from dstoolkit.studies import filter_case
 
     for rule in ("min", "m1", "m2"):
         try:

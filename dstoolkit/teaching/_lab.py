@@ -18,7 +18,7 @@ import types
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, Literal, cast
 
 import numpy as np
 from matplotlib import patches
@@ -31,6 +31,8 @@ from dstoolkit.audio import WavRecording
 from dstoolkit.errors import InvalidInputError
 from dstoolkit.gauge import PAPER_SWEEP, LinearSweep, TubeSetup, speed_of_sound
 from dstoolkit.plots import GREY, STYLE, TRUTH_COLOUR
+
+from ._readouts import method_label
 
 #: The value of the device pickers that means "no sound card: the virtual tube".
 VIRTUAL = "virtual"
@@ -146,7 +148,7 @@ def lab_numbers(analysis: audio.Analysis) -> dict[str, Any]:
     the truth when known, the resonances, the latency and the level by every filter."""
     lv, det = analysis.level, analysis.detection
     numbers: dict[str, Any] = {"level (m)": lv.level_m, "± 1σ (m)": lv.uncertainty_m}
-    if analysis.true_level_m is not None:
+    if analysis.true_level_m is not None and analysis.error_m is not None:
         numbers["true level (m)"] = analysis.true_level_m
         numbers["error (mm)"] = 1e3 * analysis.error_m
     numbers.update({"resonances": int(det.frequencies.size), "missed": int(det.missed.size),
@@ -165,17 +167,16 @@ def plot_method_levels(analysis: audio.Analysis, ax: Axes | None = None) -> Figu
     if ax is None:
         fig = Figure(figsize=(8.0, 2.6), layout="constrained")
         ax = fig.add_subplot()
-    fig = ax.figure
+    fig = cast(Figure, ax.figure)
     lv = analysis.level
-    names = ["series fit (spacing)", *(STYLE.get(m, {"label": m})["label"]
-                                       for m in analysis.filter_levels)]
+    names = ["series fit (spacing)", *(method_label(m) for m in analysis.filter_levels)]
     y = np.arange(len(names))[::-1]
     ax.errorbar([lv.level_m], [y[0]], xerr=[[2 * lv.uncertainty_m]], fmt="none",
                 ecolor="0.75", elinewidth=6, label="± 2σ")
     ax.errorbar([lv.level_m], [y[0]], xerr=[[lv.uncertainty_m]], fmt="o", color="black",
                 ecolor="0.35", elinewidth=6, label="level ± 1σ")
     for yi, (m, value) in zip(y[1:], analysis.filter_levels.items(), strict=True):
-        st = STYLE.get(m, {"color": "k", "marker": "s"})
+        st: Any = STYLE.get(m, {"color": "k", "marker": "s"})
         ax.plot([value], [yi], ls="", marker=st["marker"], color=st["color"])
     if analysis.true_level_m is not None:
         ax.axvline(analysis.true_level_m, color=TRUTH_COLOUR, lw=1.2, label="true level")
@@ -249,7 +250,7 @@ def draw_gauge(ax: Axes | None = None) -> Figure:
     if ax is None:
         fig = Figure(figsize=(8.0, 6.0), layout="constrained")
         ax = fig.add_subplot()
-    fig = ax.figure
+    fig = cast(Figure, ax.figure)
     ax.set_xlim(-3.2, 8.6)
     ax.set_ylim(-0.6, 11.2)
     ax.set_aspect("equal")
@@ -285,7 +286,7 @@ def draw_gauge(ax: Axes | None = None) -> Figure:
                                         fc="#f0f0f0", ec="black"))
     ax.text(6.85, 4.55, "laptop", fontsize=9, ha="center", weight="bold")
     ax.text(6.85, 3.8, "headphone out → amplifier\nmic in / USB", fontsize=7, ha="center")
-    cable = {"color": "black", "lw": 1.0}
+    cable: dict[str, Any] = {"color": "black", "lw": 1.0}
     ax.plot([inner + 0.25, 4.6, 4.6, 5.4], [10.2, 10.2, 4.8, 4.8], **cable)
     ax.plot([inner + 0.26, 0.6 + inner, 0.6 + inner, 4.3, 4.3, 5.4],
             [9.3, 9.3, 9.75, 9.75, 4.0, 4.0], ls="--", **cable)

@@ -1,5 +1,6 @@
-"""The readouts of the filter explorers: a run's summary and one step's numbers, as text
-keys a reader sees (units in the keys)."""
+"""The readouts of the explorers: the numbers a reader sees under a figure, as text keys
+with their units (a filter run's summary, one step of the filter, a gauge's detection, one
+run of the gauge, every filter under wrong noise bounds)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,38 @@ from typing import Any
 import numpy as np
 
 from dstoolkit.filters import FilterResult, converged_at
-from dstoolkit.gauge import level_from_resonance
+from dstoolkit.gauge import (
+    DetectionResult,
+    TubeSetup,
+    direct_levels,
+    fit_resonance_series,
+    level_from_resonance,
+    orders_eq43,
+)
+from dstoolkit.plots import STYLE
+
+
+def method_label(name: str) -> str:
+    """How the readouts name a method of the paper's Table 3 (its figure label), or
+    ``name`` itself for another one.
+
+    Parameters
+    ----------
+    name : str
+        A method's key ("dependent_evidence", "kalman", …).
+
+    Returns
+    -------
+    str
+        Its label in the figures.
+
+    Examples
+    --------
+    >>> method_label("kalman"), method_label("mine")
+    ('Kalman', 'mine')
+    """
+    style: Any = STYLE.get(name)  # a dict of mixed values: matplotlib's keywords
+    return name if style is None else str(style["label"])
 
 
 def filter_summary(seq: Any, orders: np.ndarray, result: FilterResult) -> dict[str, Any]:
@@ -42,3 +74,57 @@ def step_numbers(result: FilterResult, step: int, truth: float) -> dict[str, Any
             "R12": float(d["r12"][t]), "R21": float(d["r21"][t]),
             "final focal elements": int(d["n_final"][t]),
             "x̂ (Hz)": est, "x̂ − x (Hz)": est - float(truth)}
+
+
+def gauge_reading(setup: TubeSetup, detection: DetectionResult) -> dict[str, Any]:
+    """The numbers the gauge explorer prints for one detection in the tube ``setup``.
+
+    The level by the series fit z_k = f_F (n_1 + s_k) + b (b free, the slope only) and by
+    the paper's direct measurement (eq. 32 with the orders of eq. 43 at every reading: their
+    mean and mean absolute error); how many of those orders are wrong; the detection's
+    count, missed and spurious peaks.
+    """
+    c, f_f = setup.speed_of_sound, setup.fundamental_hz
+    z = detection.frequencies
+    fit = fit_resonance_series(z, detection.steps, offset_hz=None)
+    true_orders = np.rint(z / f_f)
+    direct = direct_levels(z, c)
+    return {
+        "series-fit L (m)": fit.level(c),
+        "fit error (mm)": 1e3 * (fit.level(c) - setup.level_m),
+        "eq. 32/43: mean L (m)": float(np.mean(direct)),
+        "mean |L_k − L| (mm)": 1e3 * float(np.mean(np.abs(direct - setup.level_m))),
+        "eq. 43 orders wrong": f"{int(np.sum(orders_eq43(z) != true_orders[:-1]))}/{z.size - 1}",
+        "resonances": int(z.size),
+        "missed": int(detection.missed.size),
+        "spurious": int(detection.spurious.size),
+    }
+
+
+#: Short method names for readouts that must fit two lines.
+_SHORT_LABELS = {"direct": "direct", "dependent_evidence": "paper's filter"}
+
+
+def estimation_numbers(run: Any) -> dict[str, Any]:
+    """What the level-estimation explorer prints for a :class:`~dstoolkit.studies.GaugeRun`:
+    for the readings (direct, eq. 32) and each filter, "mean |L̂ − L| mm / mean |x̂ − f| Hz"
+    in one entry, and how many orders n_k are wrong."""
+    levels = run.levels()
+    freq = run.frequency_errors()
+    out: dict[str, Any] = {}
+    for name in levels:
+        label = _SHORT_LABELS.get(name) or method_label(name)
+        level_mm = 1e3 * float(np.mean(np.abs(levels[name] - run.level_m)))
+        out[label] = f"{level_mm:.4g} mm / {float(np.mean(freq[name])):.3g} Hz"
+    wrong = int(np.sum(run.orders != run.true_orders[:-1]))
+    out["wrong n_k"] = f"{wrong}/{run.orders.size}"
+    return out
+
+
+def mismatch_numbers(result: Any) -> dict[str, Any]:
+    """Mean |x̂ − x| (Hz) of each method of a :class:`~dstoolkit.studies.
+    MismatchResult`, and the runs in which the strict bounded-error filter failed."""
+    out: dict[str, Any] = {f"{method_label(m)} (Hz)": v
+                           for m, v in result.mean_errors().items()}
+    out["bounded error: inconsistent runs"] = f"{result.inconsistent_runs:.0%}"
+    return out

@@ -1,0 +1,748 @@
+"""Interactive explorers (ipywidgets) built from dstoolkit, for the book and the notebooks.
+
+Every explorer is a function that returns an :class:`Explorer`, a ``VBox`` holding its
+controls, a readout of the numbers that matter and an ``Output`` with the figure. One
+definition serves two modes:
+
+* **in a kernel** (a notebook, JupyterLab): every control is live; a change re-renders the
+  figure and the readout.
+* **on the static site** (the book executed by ``scripts/build-book.sh``, which sets the
+  environment variable ``DSTOOLKIT_STATIC_SITE=1``; or ``Explorer(..., static=True)``): the
+  explorer's *live* controls (one or two, declared with ``live=``) are replaced by sliders
+  over precomputed positions. Every combination of positions is rendered at build time into
+  a readout and a PNG, held in an ipywidgets ``Stack`` whose ``selected_index`` is
+  ``jslink``-ed to the slider's ``index``; the browser switches between them with no
+  kernel. Two live controls give a ``Stack`` of ``Stack``s. The other controls are shown
+  disabled, with a line saying that they work when the chapter runs as a notebook.
+
+Adding an explorer is a matter of a ``render(**values)`` function that returns a figure and
+a dict of numbers, a dict of controls, and the positions of its live controls::
+
+    def my_explorer() -> Explorer:
+        def render(level: float) -> tuple[Figure, dict[str, Any]]:
+            fig = plot_something(level)
+            return fig, {"estimate": 1.23}
+
+        level = slider("level L (m)", 5.0, 1.0, 10.0, 0.1)
+        return Explorer({"level": level}, render, live={"level": positions(level, 9)})
+
+An explorer with more than one row of controls (buttons, notes between them) passes
+``rows=``; a render may return several figures (one picture each); a subclass may write its
+own readout (:meth:`Explorer.readout_for`) and text alternatives
+(:meth:`Explorer.figure_alts`), or redraw only when asked (``redraws_on_change = False``,
+a button calling :meth:`Explorer.refresh`): the lab's measuring station
+(:class:`~dstoolkit.teaching.LabWidget`) is such an explorer.
+
+Sliders made by :func:`slider` use ``continuous_update=False``: the figure is redrawn
+when the mouse is released, so the page never stalls. A ``render`` that raises an
+:class:`~dstoolkit.errors.EvidenceError` (or any ``ValueError``) shows the message in the
+readout instead of a figure: the learner sees *why* a setting is invalid.
+
+Speed: a redraw keeps the axes where the first figure's layout engine put them (the layout
+is computed once per figure shape, not on every change) and encodes the PNG with fast
+compression as 256 colours (:data:`FIGURE_DPI`, :func:`encode_png`). A render may keep its
+figure and update its artists in place; the artists it marks as animated are then blitted
+onto the rest of the last picture while nothing else changed (:meth:`Explorer.png`).
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import itertools
+import os
+import threading
+import weakref
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any, cast
+
+import ipywidgets as widgets
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.colors import to_rgba
+from matplotlib.figure import Figure
+
+from dstoolkit.errors import (
+    DstoolkitError,
+    InvalidInputError,
+)
+from dstoolkit.plots.artists import (
+    TextCachingCanvas,
+)
+
+Render = Callable[..., tuple[Figure | Sequence[Figure] | None, Mapping[str, Any]]]
+
+#: The environment variable scripts/build-book.sh sets to "1": explorers built while the book
+#: is executed for the static site precompute the states of their live controls.
+STATIC_SITE_ENV = "DSTOOLKIT_STATIC_SITE"
+#: The page of the book that says how to run the chapters as notebooks (book/run.md), as
+#: linked from an explorer on a chapter page (both live in book/).
+RUN_PAGE = "run.html"
+#: Resolution of the explorers' figures (the notebook's inline backend uses 100 dpi too).
+FIGURE_DPI = 100
+
+
+def static_site() -> bool:
+    """Whether the book is being executed for the static site.
+
+    Returns
+    -------
+    bool
+        True while scripts/build-book.sh executes the book (it sets the environment
+        variable ``DSTOOLKIT_STATIC_SITE=1``, :data:`STATIC_SITE_ENV`); False in a notebook.
+
+    See Also
+    --------
+    Explorer : Builds its static-site form when this is True.
+
+    Examples
+    --------
+    >>> import os
+    >>> static_site() == (os.environ.get(STATIC_SITE_ENV) == "1")
+    True
+    """
+    return os.environ.get(STATIC_SITE_ENV, "") == "1"
+
+
+def slider(
+    description: str,
+    value: float,
+    lo: float,
+    hi: float,
+    step: float,
+    *,
+    readout_format: str = ".3f",
+) -> widgets.FloatSlider:
+    """A float slider that redraws on release (``continuous_update=False``).
+
+    Parameters
+    ----------
+    description : str
+        The label, with the unit ("level L (m)").
+    value : float
+        The start value.
+    lo, hi : float
+        The range.
+    step : float
+        The step between values.
+    readout_format : str, optional
+        How the value is printed beside the slider (a format spec, default ".3f").
+
+    Returns
+    -------
+    ipywidgets.FloatSlider
+        320 px wide, its label in full.
+
+    See Also
+    --------
+    positions : The values it takes on the static site.
+
+    Examples
+    --------
+    >>> s = slider("level L (m)", 9.6, 1.0, 10.6, 0.1, readout_format=".1f")
+    >>> s.value, s.continuous_update
+    (9.6, False)
+    """
+    return widgets.FloatSlider(
+        value=value, min=lo, max=hi, step=step, description=description,
+        continuous_update=False, readout_format=readout_format,
+        style={"description_width": "initial"}, layout=widgets.Layout(width="320px"),
+    )
+
+
+def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSlider:
+    """An integer slider that redraws on release.
+
+    Parameters
+    ----------
+    description : str
+        The label.
+    value : int
+        The start value.
+    lo, hi : int
+        The range.
+
+    Returns
+    -------
+    ipywidgets.IntSlider
+        Step 1, ``continuous_update=False``.
+
+    Examples
+    --------
+    >>> int_slider("cuts p", 3, 1, 12).max
+    12
+    """
+    return widgets.IntSlider(
+        value=value, min=lo, max=hi, step=1, description=description,
+        continuous_update=False, style={"description_width": "initial"},
+        layout=widgets.Layout(width="320px"),
+    )
+
+
+def positions(control: widgets.ValueWidget, count: int = 9, lo: float | None = None,
+              hi: float | None = None) -> tuple[Any, ...]:
+    """The positions a live control takes on the static site.
+
+    Parameters
+    ----------
+    control : ipywidgets.ValueWidget
+        A slider (float or integer) or a ``Dropdown``.
+    count : int, optional
+        How many evenly spaced values (default 9).
+    lo, hi : float, optional
+        Their range; default the slider's own.
+
+    Returns
+    -------
+    tuple
+        ``count`` evenly spaced values of the slider on its step, with its current value
+        among them (sorted, duplicates dropped); all the options of a ``Dropdown``.
+
+    See Also
+    --------
+    Explorer : Takes them as ``live=``.
+
+    Examples
+    --------
+    >>> positions(slider("s", 0.37, 0.0, 1.0, 0.01), 5)
+    (0.0, 0.25, 0.37, 0.5, 0.75, 1.0)
+    """
+    if isinstance(control, widgets.Dropdown):
+        return tuple(control._options_values)
+    lo = control.min if lo is None else lo
+    hi = control.max if hi is None else hi
+    step = control.step
+    grid = np.round(np.linspace(lo, hi, count) / step) * step
+    values = {round(float(v), 10) for v in grid} | {round(float(control.value), 10)}
+    if isinstance(control, widgets.IntSlider):
+        return tuple(sorted({int(round(v)) for v in values}))
+    return tuple(sorted(values))
+
+
+def _format(value: Any) -> str:
+    if isinstance(value, float | np.floating):
+        return f"{float(value):.4f}"
+    return html.escape(str(value))
+
+
+def readout_html(numbers: Mapping[str, Any]) -> str:
+    """The numbers as a one-row HTML table (floats to 4 decimals)."""
+    head = "".join(f"<th style='padding:0 8px'>{html.escape(k)}</th>" for k in numbers)
+    body = "".join(f"<td style='padding:0 8px'>{_format(v)}</td>" for v in numbers.values())
+    return f"<table><tr>{head}</tr><tr>{body}</tr></table>"
+
+
+def warning_html(message: str, note: str = "") -> str:
+    """A readout that says why a setting is invalid (and ``note``, in italics)."""
+    return (f"<p style='color:#b00020'>⚠ {html.escape(message)}"
+            f"<i>{html.escape(note)}</i></p>")
+
+
+def _sticks_out(fig: Figure) -> bool:
+    """Whether anything drawn on ``fig`` reaches its edges (a tick label pushed out by a
+    fixed layout, cut off by the edge): a pixel of the outermost ring of the drawn canvas
+    that is not the figure's background. Layout engines keep a margin of a few pixels, so
+    that ring is blank in a figure laid out by them. Reading the drawn pixels costs a
+    fraction of a millisecond, where ``fig.get_tightbbox`` lays out every text again."""
+    rgba = np.asarray(_agg(fig).buffer_rgba())
+    background = np.round(np.asarray(to_rgba(fig.get_facecolor())) * 255).astype(np.uint8)
+    ring = np.concatenate([rgba[0], rgba[-1], rgba[:, 0], rgba[:, -1]])
+    return bool((ring != background).any())
+
+
+def _agg(fig: Figure) -> FigureCanvasAgg:
+    """``fig``'s canvas, an Agg one (a ``TextCachingCanvas`` once :meth:`Explorer.png`
+    drew it)."""
+    return cast(FigureCanvasAgg, fig.canvas)
+
+
+def encode_png(rgba: np.ndarray, compress_level: int = 1) -> bytes:
+    """An RGBA image (a drawn canvas) as a PNG of 256 colours: a third to a quarter of the
+    bytes of full colour, no visible difference on a plot, and a palette image compresses
+    fast. ``compress_level`` 1 (the kernel: fast) to 9 (the static site: small)."""
+    from PIL import Image as PILImage
+
+    image = PILImage.fromarray(rgba).convert("RGB").quantize(
+        256, method=PILImage.Quantize.FASTOCTREE)
+    buffer = io.BytesIO()
+    image.save(buffer, format="png", compress_level=compress_level)
+    return buffer.getvalue()
+
+
+def png_output(png: bytes) -> dict[str, Any]:
+    """A PNG as an ``Output`` widget's display_data output (what the site embeds)."""
+    return {"output_type": "display_data", "metadata": {},
+            "data": {"image/png": base64.b64encode(png).decode("ascii"),
+                     "text/plain": "<Figure>"}}
+
+
+class Explorer(widgets.VBox):
+    """Controls, a readout of numbers and a figure that follows the controls.
+
+    Parameters
+    ----------
+    controls : Mapping[str, ipywidgets.ValueWidget]
+        Named controls; their values are passed to ``render`` as keyword arguments.
+    render : Callable[..., tuple[Figure | Sequence[Figure] | None, Mapping[str, Any]]]
+        ``render(**values) -> (figures, numbers)``: a figure, several figures or None,
+        and the numbers of the readout. Every figure is shown as a PNG in the output area
+        and closed. An :class:`~dstoolkit.errors.DstoolkitError` or ``ValueError`` it
+        raises is shown as a warning in the readout.
+    title : str, optional
+        A bold line above the controls.
+    live : Mapping[str, Sequence], optional
+        The controls that answer on the static site (one or two), each with its positions
+        (:func:`positions`); every combination is rendered when the site is built.
+    static : bool, optional
+        Build the static-site form; default: :func:`static_site` (the environment).
+    rows : Sequence[ipywidgets.Widget | Sequence[ipywidgets.Widget]], optional
+        The explorer's body between the title and the readout: widgets, or rows of widgets
+        (buttons and notes as well as controls). Default: one row of all the controls.
+        On the static site the live controls in them become the site's sliders and every
+        other control or button is disabled.
+    draw : bool, optional
+        In a kernel, render the controls' values at once (default); else the readout and
+        the output stay empty until :meth:`refresh`.
+
+    Attributes
+    ----------
+    controls : dict[str, ipywidgets.ValueWidget]
+        The control widgets, by name. On the static site the live controls are
+        ``SelectionSlider``s (or the original ``Dropdown``) and the others are disabled.
+    readout : ipywidgets.HTML
+        The readout of the numbers.
+    output : ipywidgets.Output
+        The figures, as PNG outputs (kernel only: the static site shows its precomputed
+        states instead, and this widget is closed empty).
+    figure : Figure or None
+        The last (first) figure drawn (closed; ``figure.savefig`` still works).
+    figures : list[Figure]
+        Every figure of the last render.
+    picture : bytes or None
+        The PNG of ``figure`` as shown (also the explorer's still picture in print).
+    numbers : dict[str, Any]
+        The last numbers shown; ``{"error": message}`` after an invalid setting.
+    states : dict[tuple, dict[str, Any]]
+        Static site only: the numbers of every precomputed state, keyed by the live
+        controls' values (in the order of ``live``).
+
+    See Also
+    --------
+    slider, positions : Controls and the positions a live control takes on the site.
+    static_site : Whether the static site is being built.
+
+    Examples
+    --------
+    >>> import ipywidgets as widgets
+    >>> from matplotlib.figure import Figure
+    >>> def render(level):
+    ...     fig = Figure(figsize=(3, 2))
+    ...     fig.add_subplot().plot([0, 1], [0, level])
+    ...     return fig, {"level (m)": level}
+    >>> level = slider("level L (m)", 2.0, 1.0, 3.0, 0.5)
+    >>> ex = Explorer({"level": level}, render, static=False)
+    >>> ex.numbers
+    {'level (m)': 2.0}
+    >>> level.value = 3.0
+    >>> ex.numbers, ex.picture[:4]
+    ({'level (m)': 3.0}, b'\x89PNG')
+    >>> site = Explorer({"level": slider("level L (m)", 2.0, 1.0, 3.0, 0.5)}, render,
+    ...                 live={"level": positions(level, 3, 1.0, 3.0)}, static=True)
+    >>> sorted(site.states)
+    [(1.0,), (2.0,), (3.0,)]
+    """
+
+    #: In a kernel, whether the figure of the last valid setting stays shown (with a note
+    #: in the warning) when a setting is invalid; else the output is emptied.
+    keeps_last_figure: bool = True
+    #: Whether a change of a control redraws (else only ``refresh()`` does).
+    redraws_on_change: bool = True
+
+    def __init__(
+        self, controls: Mapping[str, widgets.ValueWidget], render: Render, *, title: str = "",
+        live: Mapping[str, Sequence[Any]] | None = None, static: bool | None = None,
+        rows: Sequence[widgets.Widget | Sequence[widgets.Widget]] | None = None,
+        draw: bool = True,
+    ) -> None:
+        super().__init__()
+        self.controls = dict(controls)
+        self._render = render
+        # one refresh at a time: a render and the picture it draws belong together, also
+        # when two threads move the controls (a re-entrant lock: a render may move one)
+        self._lock = threading.RLock()
+        self.live = {name: tuple(values) for name, values in (live or {}).items()}
+        unknown = set(self.live) - set(self.controls)
+        if unknown or len(self.live) > 2:
+            raise InvalidInputError(f"live controls must be one or two of "
+                                    f"{list(self.controls)}, got {list(self.live)}")
+        self.static = static_site() if static is None else static
+        self.figure: Figure | None = None
+        self.figures: list[Figure] = []
+        self.picture: bytes | None = None
+        self.numbers: dict[str, Any] = {}
+        self.states: dict[tuple[Any, ...], dict[str, Any]] = {}
+        self.readout = widgets.HTML()
+        self.output = widgets.Output()
+        self._layouts: dict[tuple[Any, ...], list[Any]] = {}
+        self._engines: weakref.WeakKeyDictionary[Figure, Any] = weakref.WeakKeyDictionary()
+        self._kept: Figure | None = None  # the figure whose background is kept for blitting
+        self._background: Any = None
+        self._animated: list[Any] = []
+        self._head = [widgets.HTML(f"<b>{html.escape(title)}</b>")] if title else []
+        self._rows = None if rows is None else [
+            row if isinstance(row, widgets.Widget) else self._row(row) for row in rows]
+        if self.static:
+            self._build_static()
+        else:
+            if self.redraws_on_change:
+                for control in self.controls.values():
+                    control.observe(self._on_change, "value")
+            body = self._rows or [self._row(self.controls.values())]
+            self.children = (*self._head, *body, self.readout, self.output)
+            if draw:
+                self.refresh()
+
+    @staticmethod
+    def _row(children: Any) -> widgets.HBox:
+        return widgets.HBox(list(children), layout=widgets.Layout(flex_flow="row wrap"))
+
+    def values(self) -> dict[str, Any]:
+        """The controls' current values, by name.
+
+        Returns
+        -------
+        dict[str, Any]
+            Each control's ``value``, keyed as in ``controls``.
+        """
+        return {name: control.value for name, control in self.controls.items()}
+
+    def _on_change(self, _change: Any) -> None:
+        self.refresh()
+
+    def refresh(self, **overrides: Any) -> None:
+        """Render the controls' values into the readout and the output.
+
+        A new PNG per figure, or a warning after an invalid setting (any error of the
+        package, a memory budget refused as well). Safe from several threads: one refresh
+        runs at a time.
+
+        Parameters
+        ----------
+        **overrides
+            Values to render instead of some controls' (by control name); the controls
+            themselves do not move.
+        """
+        with self._lock:
+            self._refresh(overrides)
+
+    def readout_for(self, numbers: Mapping[str, Any]) -> str:
+        """The readout's HTML for the numbers of a valid render.
+
+        Parameters
+        ----------
+        numbers : Mapping[str, Any]
+            The numbers ``render`` returned.
+
+        Returns
+        -------
+        str
+            A one-row table (``readout_html``); an explorer may say more.
+        """
+        return readout_html(numbers)
+
+    def figure_alts(self, settings: Mapping[str, str],
+                    numbers: Mapping[str, Any]) -> list[str]:
+        """The text alternatives of a precomputed state's pictures, one per figure.
+
+        Parameters
+        ----------
+        settings : Mapping[str, str]
+            The live controls' labels and the values they show in this state.
+        numbers : Mapping[str, Any]
+            The state's numbers.
+
+        Returns
+        -------
+        list[str]
+            One ``figure_alt(settings, numbers)`` for every picture (the last one serves the rest).
+        """
+        return [figure_alt(settings, numbers)]
+
+    def _refresh(self, overrides: dict[str, Any]) -> None:
+        try:
+            drawn, numbers = self._render(**{**self.values(), **overrides})
+        except (ValueError, DstoolkitError) as exc:  # say what is wrong, whatever the error
+            self.numbers = {"error": str(exc)}
+            # A precomputed state has no figure to fall back on; in a kernel the last one
+            # stays (unless the explorer says otherwise), and the warning says which
+            # setting it shows.
+            keep = self.keeps_last_figure and not self.static
+            kept = " (the figure below shows the last valid setting)" if (
+                keep and self.output.outputs) else ""
+            self.readout.value = warning_html(str(exc), kept)
+            if not keep:
+                self.output.outputs = ()
+            return
+        self.numbers = dict(numbers)
+        self.readout.value = self.readout_for(self.numbers)
+        figures = [] if drawn is None else [drawn] if isinstance(drawn, Figure) else list(drawn)
+        if figures:
+            self.figures = figures
+            self.figure = figures[0]
+            pictures = [self.png(fig) for fig in figures]
+            self.picture = pictures[0]
+            self.output.outputs = tuple(png_output(png) for png in pictures)
+            for fig in figures:
+                plt.close(fig)
+
+    def png(self, fig: Figure) -> bytes:
+        """``fig`` as PNG bytes, drawn as the explorer shows it.
+
+        A render that keeps its figure (returns the same ``Figure`` on every call, updated
+        in place) may mark the artists that follow the controls as *animated*
+        (``artist.set_animated(True)``): while nothing else of the figure changed (matplotlib
+        marks the figure stale when a non-animated artist, a limit or a text changes), the
+        picture of the rest is restored from the last draw and only those artists are drawn
+        on it (blitting), in order of their zorder. Otherwise the whole figure is drawn
+        and the animated artists on top. The figure is drawn on a
+        ``TextCachingCanvas``, which draws text it drew before from a cache (the same pixels).
+
+        Parameters
+        ----------
+        fig : Figure
+            The figure ``render`` returned.
+
+        Returns
+        -------
+        bytes
+            A PNG of 256 colours at ``FIGURE_DPI`` (``encode_png``): fast
+            compression in a kernel, small on the static site.
+        """
+        if not isinstance(fig.canvas, TextCachingCanvas):  # it caches the text it drew
+            TextCachingCanvas(fig)
+        if fig.get_dpi() != FIGURE_DPI:  # set_dpi marks the figure stale, even unchanged
+            fig.set_dpi(FIGURE_DPI)
+        if fig is self._kept and not fig.stale:
+            _agg(fig).restore_region(self._background)
+            animated = self._animated
+        else:
+            self._draw(fig)
+            # the animated artists are looked up at each whole draw (adding an artist makes
+            # the figure stale)
+            animated = sorted(fig.findobj(lambda artist: artist.get_animated()),
+                              key=lambda artist: artist.get_zorder())
+            self._kept = fig if animated else None
+            self._background = _agg(fig).copy_from_bbox(fig.bbox) if animated else None
+            self._animated = animated
+        for artist in animated:
+            fig.draw_artist(artist)
+        return encode_png(np.asarray(_agg(fig).buffer_rgba()),
+                          compress_level=6 if self.static else 1)
+
+    def _draw(self, fig: Figure) -> None:
+        """Draw all of ``fig`` but its animated artists. The first figure of a shape (size,
+        number of axes) is laid out by its layout engine; later ones, and later draws of a
+        kept figure, reuse those axes positions (no layout pass, and axes that stay put when
+        a control moves), unless something (wider tick labels) would then stick out of the
+        figure: that one is laid out afresh."""
+        engine = self._engines.get(fig) or fig.get_layout_engine()
+        key = (*np.round(fig.get_size_inches(), 3), len(fig.axes))
+        layout = self._layouts.get(key) if engine is not None else None
+        if layout is not None:
+            self._engines[fig] = engine  # set_layout_engine("none") hides it from now on
+            fig.set_layout_engine("none")
+            for ax, box in zip(fig.axes, layout, strict=True):
+                if ax.get_position().bounds != box.bounds:
+                    ax.set_position(box)
+        fig.canvas.draw()
+        if layout is not None and _sticks_out(fig):
+            fig.set_layout_engine(engine)
+            for ax in fig.axes:  # set_position took them out of the layout
+                ax.set_in_layout(True)
+            fig.canvas.draw()
+        elif layout is None and engine is not None:
+            self._layouts[key] = [ax.get_position() for ax in fig.axes]
+        fig.stale = False  # the check re-placed titles and ticks where the draw put them
+
+    # -- the static site -------------------------------------------------------------------
+
+    def _build_static(self) -> None:
+        """Render every combination of the live controls' positions into a stack of states
+        (:func:`state_stack`) that the site's sliders switch in the browser. The kernel's
+        readout and output are left empty and closed: only the states carry pictures."""
+        names = list(self.live)
+        start = tuple(self.controls[name].value for name in names)
+        leaves: dict[tuple[Any, ...], widgets.Widget] = {}
+        combos = itertools.product(*(self.live[name] for name in names))
+        # the start state last: the attributes then describe it, as in a kernel
+        for combo in sorted(combos, key=lambda combo: combo == start):
+            self.refresh(**dict(zip(names, combo, strict=True)))
+            self.states[combo] = dict(self.numbers)
+            settings = {self.controls[name].description: shown_value(self.controls[name], v)
+                        for name, v in zip(names, combo, strict=True)}
+            leaves[combo] = state_leaf(self.readout, self.output,
+                                       self.figure_alts(settings, self.numbers))
+        fixed = [c for name, c in self.controls.items() if name not in self.live]
+        stack, site = state_stack(self.controls, self.live, leaves)
+        by_id = {id(self.controls[name]): site[name] for name in names}
+        self.controls.update(site)
+        body = ([self._row(site.values()), self._row(fixed)] if self._rows is None
+                else [_site_form(row, by_id) for row in self._rows])
+        shown = {id(c) for c in site.values()}
+        for widget in [*fixed, *_widgets_in(body)]:  # controls and buttons alike
+            if id(widget) not in shown and hasattr(widget, "disabled"):
+                widget.disabled = True
+        self.children = (*self._head, *body, site_note(list(site.values()), bool(fixed)),
+                         stack)
+        # the kernel's readout and output are not shown on the site: empty, and closed so
+        # that the page's widget state holds no copy of a picture
+        self.output.outputs = ()
+        self.output.close()
+        self.readout.close()
+
+
+def _site_form(widget: widgets.Widget, site: Mapping[int, widgets.Widget]) -> widgets.Widget:
+    """``widget`` with the live controls in it (keyed by ``id``) replaced by the site's."""
+    if id(widget) in site:
+        return site[id(widget)]
+    if isinstance(widget, widgets.Box):
+        widget.children = tuple(_site_form(child, site) for child in widget.children)
+    return widget
+
+
+def _widgets_in(body: Sequence[widgets.Widget]) -> list[widgets.Widget]:
+    """Every widget in ``body``, boxes opened."""
+    found: list[widgets.Widget] = []
+    for widget in body:
+        found.append(widget)
+        if isinstance(widget, widgets.Box):
+            found.extend(_widgets_in(widget.children))
+    return found
+
+
+def shown_value(control: widgets.ValueWidget, value: Any) -> str:
+    """``value`` as ``control`` shows it: a dropdown's option label, a slider's readout."""
+    if isinstance(control, widgets.Dropdown):
+        for label, option in zip(control._options_labels, control._options_values,
+                                 strict=True):
+            if option == value:
+                return str(label)
+        return str(value)
+    if isinstance(control, widgets.IntSlider):
+        return format(int(value), "d")
+    if isinstance(control, widgets.FloatSlider):
+        return format(value, control.readout_format)
+    return str(value)
+
+
+def _plain(value: Any) -> str:
+    if isinstance(value, float | np.floating):
+        return f"{float(value):.4f}"
+    return str(value)
+
+
+def figure_alt(settings: Mapping[str, str], numbers: Mapping[str, Any],
+               what: str = "Figure") -> str:
+    """The text alternative of a precomputed figure, made from its numbers.
+
+    Parameters
+    ----------
+    settings
+        The controls' labels and the values they show for this figure.
+    numbers
+        The numbers of the readout (floats to 4 decimals, as the readout shows them).
+    what
+        The first word(s): what the picture is.
+
+    Returns
+    -------
+    str
+        For example "Figure for level L (m) = 9.6: estimate (m) 9.6100, truth (m) 9.6000."
+    """
+    at = ", ".join(f"{label} = {value}" for label, value in settings.items())
+    shown = ", ".join(f"{name} {_plain(value)}" for name, value in numbers.items())
+    head = f"{what} for {at}" if at else what
+    return f"{head}: {shown}." if shown else f"{head}."
+
+
+def image_html(png: bytes, alt: str) -> str:
+    """A PNG as an ``<img>`` with its text alternative, the picture inlined as a data URL
+    (the book's build moves it into a file beside the page, loaded when the state shows)."""
+    data = base64.b64encode(png).decode("ascii")
+    return (f"<img class='dstoolkit-figure' src='data:image/png;base64,{data}' "
+            f"alt='{html.escape(alt, quote=True)}' style='max-width:100%;height:auto'>")
+
+
+def state_leaf(readout: widgets.HTML, output: widgets.Output,
+               alt: str | Sequence[str] = "Figure") -> widgets.VBox:
+    """A copy of what a readout and an output show now: one precomputed state.
+
+    The output's pictures become ``<img>`` elements with the text alternatives ``alt``
+    (one for every picture, or one for all), in an ``HTML`` widget after the readout.
+    """
+    alts = [alt] if isinstance(alt, str) else list(alt)
+    pictures = [base64.b64decode(o["data"]["image/png"]) for o in output.outputs
+                if "image/png" in o.get("data", {})]
+    images = "".join(image_html(png, alts[min(i, len(alts) - 1)])
+                     for i, png in enumerate(pictures))
+    children: list[widgets.Widget] = [widgets.HTML(readout.value)]
+    if images:
+        children.append(widgets.HTML(images))
+    return widgets.VBox(children)
+
+
+def site_control(control: widgets.ValueWidget, options: Sequence[Any]) -> widgets.ValueWidget:
+    """A control as it is live on the static site: a ``Dropdown`` itself (all its options
+    precomputed), a slider as a ``SelectionSlider`` over ``options`` that follows the drag."""
+    if isinstance(control, widgets.Dropdown):
+        if tuple(control._options_values) != tuple(options):
+            raise InvalidInputError(f"a live dropdown precomputes all its options "
+                                    f"({control.description!r}): pass positions(dropdown)")
+        return control
+    if control.value not in options:
+        raise InvalidInputError(f"the positions of {control.description!r} must include its "
+                                f"value {control.value}: the page opens on it")
+    fmt = "d" if isinstance(control, widgets.IntSlider) else control.readout_format
+    return widgets.SelectionSlider(
+        options=[(format(v, fmt), v) for v in options], value=control.value,
+        description=control.description, continuous_update=True,
+        style={"description_width": control.style.description_width or "initial"},
+        layout=widgets.Layout(width=control.layout.width or "320px"))
+
+
+def state_stack(controls: Mapping[str, widgets.ValueWidget], live: Mapping[str, Sequence[Any]],
+                leaves: Mapping[tuple[Any, ...], widgets.Widget],
+                ) -> tuple[widgets.Stack, dict[str, widgets.ValueWidget]]:
+    """The precomputed states ``leaves`` (keyed by the live controls' values, in the order
+    of ``live``) in a ``Stack`` whose ``selected_index`` is ``jslink``-ed to the first live
+    control's ``index``; with two live controls, a ``Stack`` of ``Stack``s, every inner one
+    linked to the second control. Returns the stack and the site's controls by name."""
+    names = list(live)
+    site = {name: site_control(controls[name], live[name]) for name in names}
+
+    def stack(prefix: tuple[Any, ...], depth: int) -> widgets.Widget:
+        if depth == len(names):
+            return leaves[prefix]
+        name = names[depth]
+        options = tuple(live[name])
+        box = widgets.Stack([stack((*prefix, v), depth + 1) for v in options],
+                            selected_index=options.index(controls[name].value))
+        box.add_class("dstoolkit-states")  # a live region in the book (explorers-a11y.js)
+        box.links = [widgets.jslink((site[name], "index"), (box, "selected_index"))]
+        return box
+
+    return stack((), 0), site
+
+
+def site_note(live: Sequence[widgets.ValueWidget], some_disabled: bool) -> widgets.HTML:
+    """The line under an explorer's controls on the static site: which controls answer on
+    this page, and where the others work."""
+    names = " and ".join(html.escape(c.description) for c in live)
+    rest = ("the other controls are disabled here and work when this chapter runs as a "
+            "notebook" if some_disabled else "in a notebook every value is possible")
+    head = (f"On this page {names} {'answer' if len(live) > 1 else 'answers'}; {rest}"
+            if live else "These controls work when this chapter runs as a notebook")
+    return widgets.HTML(f"<p class='dstoolkit-site-note' style='font-size:0.9em;margin:0'>"
+                        f"<i>{head}: see <a href='{RUN_PAGE}'>Run this book</a>.</i></p>")
