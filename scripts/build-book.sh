@@ -31,6 +31,9 @@ if command -v flock >/dev/null 2>&1; then
   fi
 fi
 
+# --- TeX Live for the printable lab handout (installed with apt-get as root when missing) --
+source scripts/ensure-tex.sh
+
 # --- Node.js and npm ---------------------------------------------------------------------
 if ! command -v npm >/dev/null 2>&1 || ! command -v node >/dev/null 2>&1; then
   die "Node.js and npm are needed to install the book's offline assets (MathJax and the

@@ -16,25 +16,8 @@ cd "$book_root"
 
 die() { echo "build-pdf.sh: error: $*" >&2; exit 2; }
 
-# --- TeX Live (Debian packages, about 2 minutes to install) ----------------------------
-TEX_PACKAGES="texlive-xetex texlive-latex-extra texlive-fonts-recommended fonts-freefont-otf latexmk"
-have_tex() {
-  command -v xelatex >/dev/null 2>&1 && command -v latexmk >/dev/null 2>&1 \
-    && fc-list : family 2>/dev/null | grep "FreeSerif" >/dev/null  # no -q: pipefail, SIGPIPE
-}
-if ! have_tex; then
-  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
-    echo "==> apt-get install $TEX_PACKAGES"
-    export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq
-    # shellcheck disable=SC2086
-    apt-get install -y -qq --no-install-recommends $TEX_PACKAGES >/dev/null
-  else
-    die "the PDF needs XeLaTeX, latexmk and the GNU FreeFont fonts. On Debian/Ubuntu:
-  sudo apt-get install --no-install-recommends $TEX_PACKAGES"
-  fi
-fi
-have_tex || die "xelatex, latexmk or FreeSerif still missing after apt-get"
+# --- TeX Live (Debian packages, installed with apt-get as root when missing) -------------
+source scripts/ensure-tex.sh
 
 # --- the web edition: executes and checks every chapter, fills the execution cache -------
 bash scripts/build-book.sh

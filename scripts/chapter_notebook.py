@@ -1,4 +1,4 @@
-"""Turn a chapter of the book (a MyST Markdown notebook) into a clean Jupyter notebook.
+r"""Turn a chapter of the book (a MyST Markdown notebook) into a clean Jupyter notebook.
 
 The chapters in ``book/`` are written for Jupyter Book: their Markdown holds MyST roles and
 directives (``{eq}``, ``{glue:text}``, ``{exercise}``, ``{solution}``, ...) that JupyterLab
@@ -7,7 +7,7 @@ rewrites a chapter for a reader who runs it in JupyterLab:
 
 - cross-references become the text the book shows: ``{eq}`mf-bel``` -> ``(3.2)``,
   ``{numref}`` -> ``Fig. 3.1``, ``{doc}`` -> the chapter's title and number, citations ->
-  ``Xu et al. (2017)``; numbered display equations get their ``\\tag{3.2}``;
+  ``Xu et al. (2017)``; numbered display equations get their ``\tag{3.2}``;
 - ``{glue:text}`` shows the value the chapter glued when the book was built (the code cells
   that compute it are still there); the calls to ``myst_nb.glue`` are removed from the code,
   so that the notebook runs with ``dstoolkit[teaching]`` alone;
@@ -85,7 +85,7 @@ def _split_explicit(content: str) -> tuple[str | None, str]:
 
 
 def _docname(target: str, docname: str) -> str:
-    """The docname a ``{doc}`` target names, relative to the chapter's folder."""
+    """Return the docname a ``{doc}`` target names, relative to the chapter's folder."""
     target = target.removesuffix(".md").removesuffix(".ipynb")
     if target.startswith("/"):
         return target.lstrip("/")
@@ -116,14 +116,16 @@ def _cite(keys: str, refs: References, textual: bool, warn: Warn) -> str:
 
 
 def split_glue(content: str) -> tuple[str, str]:
-    """``"name:.2f"`` -> ``("name", ".2f")``; ``"name"`` -> ``("name", "")``, as myst-nb
-    splits the content of ``{glue:text}``."""
+    """Split the content of ``{glue:text}`` into its name and format, as myst-nb does.
+
+    ``"name:.2f"`` -> ``("name", ".2f")``; ``"name"`` -> ``("name", "")``.
+    """
     key, _, spec = content.rpartition(":")
     return (key, spec) if key else (content, "")
 
 
 def _role(name: str, content: str, refs: References, docname: str, warn: Warn) -> str:
-    """The Markdown that stands for one role."""
+    """Return the Markdown that stands for one role."""
     if name == "glue:md":
         key = split_glue(content)[0]
         if key not in refs.glue_markdown:
@@ -234,8 +236,10 @@ def _closing(lines: list[str], start: int, fence: str) -> int:
 
 
 def _options(body: list[str]) -> tuple[dict[str, str], list[str]]:
-    """Split a directive's body into its options (``:key: value`` or a ``---`` block) and
-    its content."""
+    """Split a directive's body into its options and its content.
+
+    The options are ``:key: value`` lines or a ``---`` block.
+    """
     options: dict[str, str] = {}
     i = 0
     if body and body[0].strip() == "---":
@@ -258,7 +262,7 @@ def _quote(markdown: str) -> str:
 
 def _directive(name: str, argument: str, body: list[str], refs: References, docname: str,
                warn: Warn) -> str:
-    """The Markdown that stands for one directive (empty for a solution)."""
+    """Return the Markdown that stands for one directive (empty for a solution)."""
     options, content = _options(body)
     if name in _DROPPED:
         return ""
@@ -291,7 +295,7 @@ def _directive(name: str, argument: str, body: list[str], refs: References, docn
 
 def clean_markdown(text: str, refs: References, docname: str = "",
                    warn: Warn = _ignore) -> str:
-    """The Markdown of a chapter's cell with every MyST role and directive rewritten.
+    """Return a chapter's cell's Markdown with every MyST role and directive rewritten.
 
     Solutions are dropped; see the module docstring for the rest.
     """
@@ -355,8 +359,11 @@ def _is_docstring(node: ast.stmt) -> bool:
 
 
 class _GlueStatements:
-    """Decides which statements only feed ``glue``: its import, calls of it or of helper
-    functions whose body only calls it, and blocks made of nothing else."""
+    """Decide which statements only feed ``glue``.
+
+    Those are its import, calls of it or of helper functions whose body only calls it, and
+    blocks made of nothing else.
+    """
 
     def __init__(self, names: set[str]):
         self.names = set(names)
@@ -402,8 +409,11 @@ def _first_line(node: ast.stmt) -> int:
 
 def _edits(body: list[ast.stmt], glue: _GlueStatements, keep_one: bool
            ) -> list[tuple[int, int, str | None]]:
-    """Line ranges (1-based, inclusive) to delete from ``body``; a range with text is
-    replaced by that text (``pass`` where a block would otherwise be left empty)."""
+    """Line ranges (1-based, inclusive) to delete from ``body``.
+
+    A range with text is replaced by that text (``pass`` where a block would otherwise be
+    left empty).
+    """
     edits: list[tuple[int, int, str | None]] = []
     removed = [s for s in body if glue.is_glue(s)]
     for node in body:
@@ -423,16 +433,21 @@ def _edits(body: list[ast.stmt], glue: _GlueStatements, keep_one: bool
 
 
 def _parse(source: str) -> ast.Module | None:
-    """The syntax tree of a code cell, IPython's line magics and shell escapes read as
-    ``pass`` (so that line numbers stay); None for a cell magic (``%%``)."""
+    """Parse a code cell, reading IPython's line magics and shell escapes as ``pass``.
+
+    The ``pass`` keeps the line numbers. Return the syntax tree, or None for a cell magic
+    (``%%``).
+    """
     if source.lstrip().startswith("%%"):
         return None
     return ast.parse(re.sub(r"(?m)^(\s*)[%!].*$", r"\1pass", source))
 
 
 def strip_glue(sources: list[str]) -> list[str]:
-    """The code cells ``sources`` without ``myst_nb.glue``: its import, its calls, and the
-    helper functions that only call it. A cell left without code becomes ``""``.
+    """Return the code cells ``sources`` without ``myst_nb.glue``.
+
+    Removed are its import, its calls, and the helper functions that only call it. A cell
+    left without code becomes ``""``.
 
     Raises
     ------
@@ -465,9 +480,10 @@ def strip_glue(sources: list[str]) -> list[str]:
 
 
 def strip_solution(source: str) -> str:
-    """``source`` without ``dstoolkit.teaching.solution``: its import and the statements
-    that call it (the book glues the exercises' solutions into its pages from hidden
-    cells; a reader's notebook carries none).
+    """Return ``source`` without ``dstoolkit.teaching.solution``.
+
+    Removed are its import and the statements that call it (the book glues the exercises'
+    solutions into its pages from hidden cells; a reader's notebook carries none).
 
     Raises
     ------
@@ -514,7 +530,7 @@ def _markdown_cell(source: str) -> dict:
 
 def clean_notebook(cells: list[dict], refs: References, docname: str,
                    preface: str = "", warn: Warn = _ignore) -> dict:
-    """A clean nbformat-4 notebook (a JSON-ready dict) from a chapter's cells.
+    """Build a clean nbformat-4 notebook (a JSON-ready dict) from a chapter's cells.
 
     Parameters
     ----------

@@ -166,7 +166,7 @@ def _meta(grade_id: str, *, grade: bool = False, solution: bool = False,
 
 
 def _body_region(exercise_id: str) -> str:
-    """The learner's stub with the reference body between solution markers."""
+    """Return the learner's stub with the reference body between solution markers."""
     from dstoolkit.teaching import REGISTRY
     from dstoolkit.teaching._plain_solutions import HELPERS
 
@@ -219,7 +219,7 @@ def _written_cell(label: str, n: int, points: float, solution: str) -> tuple:
 
 
 def _split_written(text: str) -> tuple[str, int]:
-    """The Markdown without its written-answer placeholders, and how many there were."""
+    """Return the Markdown without its written-answer placeholders, and how many there were."""
     count = len(WRITTEN.findall(text))
     return WRITTEN.sub("", text).rstrip(), count
 
@@ -238,8 +238,10 @@ def _exercise_solutions(src: sheets.Source) -> dict[str, str]:
 
 def course_notebook(src: sheets.Source, number: int, title: str, labels: list[str],
                     variant: int = 0) -> dict:
-    """The nbgrader source notebook of one chapter (nbformat 4 JSON), with the numbers of
-    ``variant`` (0: the book's)."""
+    """Build the nbgrader source notebook of one chapter (nbformat 4 JSON).
+
+    It holds the numbers of ``variant`` (0: the book's).
+    """
     from dstoolkit.teaching._variants import using_variant
 
     with using_variant(variant):
@@ -333,15 +335,17 @@ def _course_notebook(src: sheets.Source, number: int, title: str, labels: list[s
 
 
 def assignment_name(stem: str, number: int) -> str:
-    """The assignment (and notebook) name of a chapter: ``NN_<stem>``."""
+    """Return the assignment (and notebook) name of a chapter: ``NN_<stem>``."""
     return f"{number:02d}_{stem}"
 
 
 def write_course(folder: Path, root: Path = sheets.ROOT,
                  chapters: list[str] | None = None, variant: int = 0) -> list[Path]:
-    """Write the nbgrader course (config and one source assignment per chapter, or only
-    the ``chapters`` stems given) to ``folder``, with the numbers of ``variant`` (0: the
-    book's). Returns the paths written."""
+    """Write the nbgrader course to ``folder`` and return the paths written.
+
+    The course is the config and one source assignment per chapter (or only for the
+    ``chapters`` stems given), with the numbers of ``variant`` (0: the book's).
+    """
     folder.mkdir(parents=True, exist_ok=True)
     config = folder / "nbgrader_config.py"
     config.write_text(CONFIG.format(course=COURSE_ID, timeout=CELL_TIMEOUT), encoding="utf-8")

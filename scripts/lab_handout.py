@@ -36,7 +36,7 @@ DATA_ROWS = 10
 
 
 def handout_numbers() -> dict[str, Any]:
-    """The numbers the handout prints, each computed by ``dstoolkit``."""
+    """Return the numbers the handout prints, each computed by ``dstoolkit``."""
     from dstoolkit.audio import CALIBRATION_GAP_S, calibration_chirp
     from dstoolkit.gauge import (
         PAPER_SWEEP,
@@ -88,8 +88,11 @@ PREAMBLE = r"""\documentclass[11pt,a4paper]{article}
 
 
 def _wiring() -> str:
-    """The wiring diagram in TikZ: the tube, the speaker on top, the microphone in the wall
-    below it, the thermometer probe, the liquid surface, and the cables to the laptop."""
+    """Draw the wiring diagram in TikZ.
+
+    It shows the tube, the speaker on top, the microphone in the wall below it, the
+    thermometer probe, the liquid surface, and the cables to the laptop.
+    """
     return r"""\begin{center}
 \begin{tikzpicture}[scale=1.15, font=\small, >={Stealth}, line width=0.6pt,
                     box/.style={draw, rounded corners, align=center, inner sep=4pt}]
@@ -128,7 +131,7 @@ platform to the surface.
 
 
 def handout_tex(n: dict[str, Any]) -> str:
-    """The handout's LaTeX source, with the numbers ``n`` of :func:`handout_numbers`."""
+    """Return the handout's LaTeX source, with the numbers ``n`` of :func:`handout_numbers`."""
     reference = "\n".join(
         rf"{level:.3f} & {f_f:.1f} & {count} \\" for level, f_f, count in n["rows"])
     blank_rows = "\n".join(r" & & & & & & & \\[7mm] \hline" for _ in range(DATA_ROWS))

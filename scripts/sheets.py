@@ -73,8 +73,11 @@ TEACHING_IMPORT = re.compile(r"^from dstoolkit\.teaching import [\w, ]+$", re.MU
 
 
 def chapter_numbers(toc_file: Path = ROOT / "_toc.yml") -> dict[str, int]:
-    """{chapter stem: number}: the chapters of numbered parts, in order, counted across
-    parts (``use_multitoc_numbering``); unnumbered parts (back matter) are left out."""
+    """Return {chapter stem: number} for the chapters of numbered parts.
+
+    The chapters are taken in order and counted across parts (``use_multitoc_numbering``);
+    unnumbered parts (back matter) are left out.
+    """
     toc = yaml.safe_load(toc_file.read_text(encoding="utf-8"))
     numbers: dict[str, int] = {}
     for part in toc.get("parts", []):
@@ -86,14 +89,17 @@ def chapter_numbers(toc_file: Path = ROOT / "_toc.yml") -> dict[str, int]:
 
 
 def chapter_exercises(chapter: Path) -> list[str]:
-    """The labels of the chapter's ``{exercise}`` blocks, in order."""
+    """Return the labels of the chapter's ``{exercise}`` blocks, in order."""
     return [m.group("label")
             for m in EXERCISE_BLOCK.finditer(chapter.read_text(encoding="utf-8"))]
 
 
 def chapter_captions(chapter: Path) -> dict[str, str]:
-    """{label: caption} of the chapter's ``{exercise}`` blocks, e.g. "Proof, difficulty 2 of
-    3"; a block whose title is not such a caption is an error."""
+    """Return {label: caption} of the chapter's ``{exercise}`` blocks.
+
+    A caption reads e.g. "Proof, difficulty 2 of 3"; a block whose title is not such a
+    caption is an error.
+    """
     out = {}
     for m in EXERCISE_BLOCK.finditer(chapter.read_text(encoding="utf-8")):
         if not CAPTION.match(m.group("caption")):
@@ -105,13 +111,13 @@ def chapter_captions(chapter: Path) -> dict[str, str]:
 
 
 def exercise_heading(stem: str, number: int, order: int, label: str) -> str:
-    """The heading of Exercise ``number.order`` in a sheet, with the book's caption."""
+    """Return the heading of Exercise ``number.order`` in a sheet, with the book's caption."""
     caption = chapter_captions(ROOT / "book" / f"{stem}.md")[label]
     return f"## Exercise {number}.{order} ({caption})"
 
 
 def chapter_title(chapter: Path) -> str:
-    """The chapter's first level-1 heading."""
+    """Return the chapter's first level-1 heading."""
     for line in chapter.read_text(encoding="utf-8").splitlines():
         if line.startswith("# "):
             return line[2:].strip()
@@ -127,7 +133,7 @@ def sheet_path(stem: str, number: int, folder: Path) -> Path:
 
 
 def _number(value: Any) -> str:
-    """A datum as the sheet shows it: whole floats without ``.0``, tuples element-wise."""
+    """Write a datum as the sheet shows it: whole floats without ``.0``, tuples element-wise."""
     if isinstance(value, tuple | list):
         return "(" + ", ".join(_number(v) for v in value) + ")"
     if isinstance(value, float) and value.is_integer():
@@ -166,8 +172,10 @@ def varies(stem: str, variant: int) -> bool:
 
 
 def with_variant(setup: str, variant: int, stem: str) -> str:
-    """The setup cell with ``set_variant`` imported from dstoolkit.teaching and called
-    after the last import."""
+    """Return the setup cell with ``set_variant`` imported from dstoolkit.teaching.
+
+    The call of ``set_variant`` comes after the last import.
+    """
     found = TEACHING_IMPORT.search(setup)
     if found is None:
         raise ValueError(f"{stem}: the setup cell imports nothing from dstoolkit.teaching; "
@@ -181,8 +189,11 @@ def with_variant(setup: str, variant: int, stem: str) -> str:
 
 
 def in_variant(src: Source, variant: int) -> Source:
-    """The source with its placeholders filled in for ``variant``; in a variant that
-    differs from the book, the setup cell calls ``set_variant`` and the intro says so."""
+    """Return the source with its placeholders filled in for ``variant``.
+
+    In a variant that differs from the book, the setup cell calls ``set_variant`` and the
+    intro says so.
+    """
     blocks = []
     note = ("*(Worked with the book's numbers; this sheet's variant has others. The "
             "method is the same.)*\n\n")
@@ -271,7 +282,7 @@ def _literal(value: Any) -> str:
 
 
 def coding_stub(exercise_id: str) -> str:
-    """The learner's stub: the reference solution's signature and docstring, no body."""
+    """Return the learner's stub: the reference solution's signature and docstring, no body."""
     from dstoolkit.teaching import REGISTRY
 
     source = textwrap.dedent(inspect.getsource(REGISTRY[exercise_id].plain))
@@ -281,7 +292,7 @@ def coding_stub(exercise_id: str) -> str:
 
 
 def coding_answer(exercise_id: str) -> str:
-    """The reference implementation (and the solutions it calls), as plain source."""
+    """Return the reference implementation (and the solutions it calls), as plain source."""
     from dstoolkit.teaching import REGISTRY
     from dstoolkit.teaching._plain_solutions import HELPERS
 
@@ -311,7 +322,7 @@ def filled_stub(stub: str, checks: str) -> str:
 
 
 def stub_names(block: Block) -> set[str]:
-    """The names a stub cell defines: its function, or its ``name = ...`` lines."""
+    """Return the names a stub cell defines: its function, or its ``name = ...`` lines."""
     if block.arg:
         from dstoolkit.teaching import REGISTRY
 
@@ -320,7 +331,7 @@ def stub_names(block: Block) -> set[str]:
 
 
 def imported_names(code: str) -> set[str]:
-    """The names bound by the import statements of ``code``."""
+    """Return the names bound by the import statements of ``code``."""
     names: set[str] = set()
     for node in ast.walk(ast.parse(code)):
         if isinstance(node, ast.Import | ast.ImportFrom):
@@ -329,8 +340,10 @@ def imported_names(code: str) -> set[str]:
 
 
 def unshadowed(src: Source) -> None:
-    """Raise ValueError when a stub would rebind a name that the sheet imported (the
-    sheet's "confirm with the library" would then call the learner's stub)."""
+    """Raise ValueError when a stub would rebind a name that the sheet imported.
+
+    The sheet's "confirm with the library" would then call the learner's stub.
+    """
     imported: set[str] = set()
     for block in src.blocks:
         if block.kind in ("setup", "code", "explore"):
@@ -354,7 +367,7 @@ def _cell(kind: str, source: str, index: int, stem: str, meta: dict | None = Non
 
 
 def _checks_of(blocks: list[Block], i: int) -> str:
-    """The check cells after block ``i``, up to the next exercise."""
+    """Return the check cells after block ``i``, up to the next exercise."""
     out = []
     for block in blocks[i + 1:]:
         if block.kind == "exercise":
@@ -366,8 +379,10 @@ def _checks_of(blocks: list[Block], i: int) -> str:
 
 def build(src: Source, number: int, title: str, labels: list[str], teacher: bool,
           variant: int = 0) -> dict:
-    """The sheet of chapter ``number`` as a notebook (nbformat 4 JSON), with the numbers of
-    ``variant`` (0: the book's)."""
+    """Build the sheet of chapter ``number`` as a notebook (nbformat 4 JSON).
+
+    It holds the numbers of ``variant`` (0: the book's).
+    """
     from dstoolkit.teaching._variants import using_variant
 
     with using_variant(variant):
@@ -426,13 +441,15 @@ def _build(src: Source, number: int, title: str, labels: list[str], teacher: boo
 
 
 def dump(notebook: dict) -> str:
-    """The notebook as stored: JSON with one-space indent, as Jupyter writes it."""
+    """Return the notebook as stored: JSON with one-space indent, as Jupyter writes it."""
     return json.dumps(notebook, indent=1, ensure_ascii=False) + "\n"
 
 
 def sheets(root: Path = ROOT) -> dict[str, tuple[int, str, Source, list[str]]]:
-    """{stem: (chapter number, title, source, the chapter's exercise labels)} for every
-    chapter with a source."""
+    """Collect every chapter with a source.
+
+    Return {stem: (chapter number, title, source, the chapter's exercise labels)}.
+    """
     numbers = chapter_numbers(root / "_toc.yml")
     out = {}
     for path in sorted((root / "notebooks" / "source").glob("*.md")):
@@ -456,8 +473,10 @@ def relink(root: Path, stem: str, name: str) -> None:
 
 def write_variant(variant: int, out: Path, root: Path = ROOT,
                   teacher: Path | None = None) -> list[Path]:
-    """Write the student sheets of ``variant`` to ``out`` (and with ``teacher`` its
-    instructor sheets there). Returns the paths."""
+    """Write the student sheets of ``variant`` to ``out`` and return the paths.
+
+    With ``teacher``, its instructor sheets are written there too.
+    """
     from dstoolkit.teaching._variants import valid_variant
 
     variant = valid_variant(variant)
@@ -475,8 +494,11 @@ def write_variant(variant: int, out: Path, root: Path = ROOT,
 
 
 def write_sheets(root: Path = ROOT, teacher: Path | None = None) -> list[Path]:
-    """Write every student sheet to ``notebooks/`` (renaming sheets whose chapter number
-    changed) and, with ``teacher``, every instructor sheet there. Returns the paths."""
+    """Write every student sheet to ``notebooks/`` and return the paths.
+
+    Sheets whose chapter number changed are renamed. With ``teacher``, every instructor
+    sheet is written there too.
+    """
     written = []
     for stem, (number, title, src, labels) in sheets(root).items():
         target = sheet_path(stem, number, root / "notebooks")
@@ -496,7 +518,7 @@ def write_sheets(root: Path = ROOT, teacher: Path | None = None) -> list[Path]:
 
 
 def counts(root: Path = ROOT) -> str:
-    """A table of the exercises per chapter by kind."""
+    """Return a table of the exercises per chapter by kind."""
     rows = [f"{'':>3} {'chapter':22}" + "".join(f"{k:>13}" for k in KINDS) + f"{'total':>7}"]
     total = dict.fromkeys(KINDS, 0)
     for stem, (number, _, src, _) in sorted(sheets(root).items(), key=lambda x: x[1][0]):

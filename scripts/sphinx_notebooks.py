@@ -218,7 +218,7 @@ def write_notebooks(app: Sphinx, exception: Exception | None) -> None:
 
 
 def _download_link(href: str, text: str) -> str:
-    """A link that downloads ``href`` (the file's name is its tooltip)."""
+    """Return a link that downloads ``href`` (the file's name is its tooltip)."""
     name = html.escape(href.rsplit("/", 1)[-1])
     return (f'<a class="reference download" download title="{name}" '
             f'href="{html.escape(href)}">{text}</a>')
@@ -230,7 +230,7 @@ def _run_page(app: Sphinx) -> str | None:
 
 
 def _chapter_line(app: Sphinx, chapter: Chapter) -> nodes.raw:
-    """The line under a chapter's title: its notebook, its sheet, how to run them."""
+    """Return the line under a chapter's title: its notebook, its sheet, how to run them."""
     base = app.builder.get_target_uri(chapter.docname)
     parts = [_download_link(relative_uri(base, chapter.notebook_path),
                             "this chapter as a notebook")]
@@ -248,7 +248,7 @@ def _chapter_line(app: Sphinx, chapter: Chapter) -> nodes.raw:
 
 
 def _downloads_table(app: Sphinx, docname: str) -> nodes.raw:
-    """A table of every chapter with its notebook and exercise sheet."""
+    """Return a table of every chapter with its notebook and exercise sheet."""
     base = app.builder.get_target_uri(docname)
     rows = []
     for chapter in chapters(app).values():
@@ -268,7 +268,7 @@ def _downloads_table(app: Sphinx, docname: str) -> nodes.raw:
 
 
 def _download_pages(env) -> set[str]:
-    """The pages that hold a ``{chapter-downloads}`` table (kept in the environment)."""
+    """Return the pages that hold a ``{chapter-downloads}`` table (kept in the environment)."""
     if not hasattr(env, "dstoolkit_download_pages"):
         env.dstoolkit_download_pages = set()
     return env.dstoolkit_download_pages
@@ -283,8 +283,11 @@ def _merge_pages(app: Sphinx, env, docnames, other) -> None:
 
 
 def pages_to_rewrite(app: Sphinx, env) -> list[str]:
-    """Chapter pages and the tables of downloads depend on what Sphinx does not watch (the
-    sheets in notebooks/, the list of chapters): write them again on every build."""
+    """Write the chapter pages and the tables of downloads again on every build.
+
+    They depend on what Sphinx does not watch (the sheets in notebooks/, the list of
+    chapters).
+    """
     return sorted(set(chapters(app)) | _download_pages(env))
 
 
@@ -341,7 +344,7 @@ def resolve_page(app: Sphinx, doctree: nodes.document, docname: str) -> None:
 
 
 def repository_url(config) -> str:
-    """The repository address (``repository.url`` of _config.yml), or ""."""
+    """Return the repository address (``repository.url`` of _config.yml), or ""."""
     return (config.html_theme_options.get("repository_url") or "").strip()
 
 

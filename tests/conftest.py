@@ -54,7 +54,7 @@ def _module(nodeid: str) -> str:
 
 
 def worker_group(nodeid: str) -> str | None:
-    """The group of tests that must run in one worker ("book", "audio"), or None."""
+    """Return the group of tests that must run in one worker ("book", "audio"), or None."""
     module = _module(nodeid)
     if module in BOOK_MODULES:
         return "book"
@@ -64,8 +64,11 @@ def worker_group(nodeid: str) -> str | None:
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Under xdist, put the book's modules first (in BOOK_MODULES order), so that its
-    worker starts the build at once; alone, keep the usual order (quick tests first)."""
+    """Under xdist, put the book's modules first (in BOOK_MODULES order).
+
+    Its worker then starts the build at once; alone, keep the usual order (quick tests
+    first).
+    """
     if getattr(config.option, "numprocesses", None):
         rank = {name: i for i, name in enumerate(BOOK_MODULES)}
         items.sort(key=lambda item: rank.get(_module(item.nodeid), len(rank)))
@@ -73,8 +76,10 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 
 @pytest.hookimpl(optionalhook=True)
 def pytest_xdist_make_scheduler(config: pytest.Config, log: object) -> object:
-    """Whole modules per worker (their module fixtures run once), and the groups of
-    :func:`worker_group` each kept in one worker."""
+    """Schedule whole modules per worker (their module fixtures run once).
+
+    The groups of :func:`worker_group` are each kept in one worker.
+    """
     from xdist.scheduler import LoadScopeScheduling
 
     class _Groups(LoadScopeScheduling):
@@ -109,7 +114,7 @@ class BookBuild:
         return rest if found else ""
 
     def tail(self, lines: int = 60) -> str:
-        """The last lines of the log, for assertion messages."""
+        """Return the last lines of the log, for assertion messages."""
         return "\n".join(self.log.splitlines()[-lines:])
 
 
@@ -195,8 +200,10 @@ class _QuietHandler(SimpleHTTPRequestHandler):
 
 @contextmanager
 def served(directory: Path) -> Iterator[str]:
-    """The base URL of ``directory`` served by an http.server thread on 127.0.0.1 while the
-    block runs."""
+    """Serve ``directory`` by an http.server thread on 127.0.0.1 while the block runs.
+
+    Yield its base URL.
+    """
     handler = functools.partial(_QuietHandler, directory=str(directory))
     server = ThreadingHTTPServer(("127.0.0.1", 0), handler)
     thread = threading.Thread(target=server.serve_forever, daemon=True)
@@ -270,8 +277,11 @@ def state(ex):
 
 @dataclass(frozen=True)
 class ExplorerRun:
-    """A kernel run of :func:`drive_explorers`: the executed notebook and the tagged lines
-    it printed (``"BEFORE i"``, ``"AFTER i"`` and the tags of the extra cells)."""
+    """A kernel run of :func:`drive_explorers`.
+
+    It holds the executed notebook and the tagged lines it printed (``"BEFORE i"``,
+    ``"AFTER i"`` and the tags of the extra cells).
+    """
 
     notebook: nbformat.NotebookNode
     printed: dict[str, str]
@@ -284,10 +294,12 @@ class ExplorerRun:
 
 def drive_explorers(changes: dict[str, tuple[str, object]],
                     extra_cells: tuple[str, ...] = ()) -> ExplorerRun:
-    """For each explorer call ``w.<call>`` (key i of ``changes``): display it and print its
-    state, then set ``controls[name].value`` and print the state again; then run the
-    ``extra_cells`` (which see the explorers as ``ex0, ex1, …``). Widget state is stored in
-    the notebook's metadata, as in the built book."""
+    """Drive each explorer call ``w.<call>`` (key i of ``changes``) in a kernel.
+
+    Display it and print its state, then set ``controls[name].value`` and print the state
+    again; then run the ``extra_cells`` (which see the explorers as ``ex0, ex1, …``).
+    Widget state is stored in the notebook's metadata, as in the built book.
+    """
     cells = [nbformat.v4.new_code_cell(_EXPLORER_SETUP)]
     for i, call in enumerate(changes):
         cells.append(nbformat.v4.new_code_cell(
@@ -317,9 +329,11 @@ def drive_explorers(changes: dict[str, tuple[str, object]],
 
 
 def printed_json(cells: list[str]) -> tuple[list[dict], nbformat.NotebookNode]:
-    """Execute ``cells`` in a fresh kernel started at the repository root (widget state
-    stored); return the JSON each cell printed last on stdout (None for a cell that printed
-    nothing), and the notebook."""
+    """Execute ``cells`` in a fresh kernel started at the repository root (widget state stored).
+
+    Return the JSON each cell printed last on stdout (None for a cell that printed nothing),
+    and the notebook.
+    """
     nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(c) for c in cells])
     NotebookClient(nb, timeout=CELL_TIMEOUT, kernel_name="python3", store_widget_state=True,
                    resources={"metadata": {"path": str(ROOT)}}).execute()
@@ -332,8 +346,10 @@ def printed_json(cells: list[str]) -> tuple[list[dict], nbformat.NotebookNode]:
 
 
 def output_widget_mimes(nb: nbformat.NotebookNode) -> list[list[str]]:
-    """For each Output widget in the stored widget state (what the book embeds), the MIME
-    types of what it shows."""
+    """List the MIME types each Output widget in the stored widget state shows.
+
+    The stored widget state is what the book embeds.
+    """
     state = nb.metadata["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
     return [[mime for o in model["state"].get("outputs", []) for mime in o.get("data", {})]
             for model in state.values() if model["model_name"] == "OutputModel"]
@@ -366,8 +382,11 @@ def browser_unavailable(reason: str) -> None:
 
 @pytest.fixture(scope="session")
 def chromium() -> Iterator[object]:
-    """A headless Debian Chromium driven by Playwright, launched once for every page visit of
-    the session (each test opens its own context or page in it)."""
+    """Launch a headless Debian Chromium driven by Playwright, once for the session.
+
+    Every page visit of the session uses it (each test opens its own context or page in
+    it).
+    """
     if not (CHROMIUM.is_file() and os.access(CHROMIUM, os.X_OK)):
         browser_unavailable(f"{CHROMIUM} not found: apt-get install chromium")
     try:

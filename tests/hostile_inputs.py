@@ -42,8 +42,11 @@ ANALYSIS_ALLOWANCE_BYTES = 64 * 2**20
 
 
 def valid(value: Any) -> None:
-    """Raise AssertionError when a returned value is invalid: NaN numbers, an evidence its
-    constructor refuses or whose masses do not sum to 1, non-finite estimates."""
+    """Raise AssertionError when a returned value is invalid.
+
+    Invalid are NaN numbers, an evidence its constructor refuses or whose masses do not sum
+    to 1, and non-finite estimates.
+    """
     if isinstance(value, Evidence):
         _validate_masses(value.mass)
         assert abs(float(np.sum(value.mass)) - 1.0) <= 1e-9
@@ -97,7 +100,7 @@ def _riff(*chunks: bytes, declared: int | None = None) -> bytes:
 
 
 def good_recording() -> tuple[np.ndarray, int, dict]:
-    """Samples, sample rate and metadata (as a JSON dict) of a simulated 2.6 m tube."""
+    """Return samples, sample rate and metadata (as a JSON dict) of a simulated 2.6 m tube."""
     from dstoolkit.audio import simulate_measurement
     from dstoolkit.gauge import TubeSetup
 
@@ -247,8 +250,11 @@ SPECIAL_OUTPUTS = ("a link to an open file's /proc entry", "a link to a FIFO", "
 
 
 def special_output(kind: str, folder: Path) -> tuple[Path, Any]:
-    """An output path of a kind in :data:`SPECIAL_OUTPUTS`, made in ``folder``, and what
-    must stay open while it is used (an open file, a socket; close it after), or None."""
+    """Make in ``folder`` an output path of a kind in :data:`SPECIAL_OUTPUTS`.
+
+    Return it and what must stay open while it is used (an open file, a socket; close it
+    after), or None.
+    """
     path = folder / "fig.png"
     keep: Any = None
     if kind == SPECIAL_OUTPUTS[0]:
@@ -283,10 +289,13 @@ raise SystemExit(main(sys.argv[2:]))
 
 def table3_signalled(work: Path, sig: int, wait_s: float = 600.0) -> tuple[int | None, str,
                                                                             bool]:
-    """Run ``table3 --out work/out/t.csv`` (one run, the direct method) in a child process
-    whose figure never finishes; once the CSV is written, send ``sig``. Returns the exit
-    status, what it printed on stderr, and whether the CSV was there when the signal went.
-    The child uses the dstoolkit this process imported."""
+    """Run ``table3 --out work/out/t.csv`` in a child process and send ``sig`` to it.
+
+    The run is one run of the direct method, and its figure never finishes; ``sig`` is sent
+    once the CSV is written. Returns the exit status, what it printed on stderr, and whether
+    the CSV was there when the signal went. The child uses the dstoolkit this process
+    imported.
+    """
     import dstoolkit
 
     ready = work.parent / f".{work.name}.ready"

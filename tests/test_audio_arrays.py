@@ -28,7 +28,7 @@ CHIRP = calibration_chirp(FS)
 
 
 def delayed(reference: np.ndarray, start: int, total: int) -> np.ndarray:
-    """A recording of length ``total`` holding ``reference`` from sample ``start``."""
+    """Return a recording of length ``total`` holding ``reference`` from sample ``start``."""
     out = np.zeros(total)
     out[start : start + reference.size] = reference
     return out

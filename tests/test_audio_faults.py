@@ -52,7 +52,7 @@ def _loopback_env() -> dict[str, str]:
 
 @pytest.fixture
 def loopback() -> Iterator[dict[str, str]]:
-    """A loopback of this test's own (it is stopped or killed on purpose)."""
+    """Start a loopback of this test's own (it is stopped or killed on purpose)."""
     env = _loopback_env()
     try:
         yield env

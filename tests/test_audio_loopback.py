@@ -118,8 +118,11 @@ def test_measure_latency_through_the_loopback(loopback) -> None:
 
 @pytest.mark.parametrize(("level", "temperature"), [(1.3, 27.0), (5.6, 26.5), (9.6, 23.9)])
 def test_virtual_tube_level_through_the_loopback(loopback, tmp_path, level, temperature) -> None:
-    """The paper's sweep, shaped by the tube model, played and recorded through the real
-    audio path: the level comes back within TOLERANCE_M and within 2 stated sigmas."""
+    """The paper's sweep, shaped by the tube model, gives the level through the real audio path.
+
+    The sweep is played and recorded through the real audio path: the level comes back
+    within TOLERANCE_M and within 2 stated sigmas.
+    """
     path = tmp_path / "rec.wav"
     analysis = measure(virtual_tube=TubeSetup(level_m=level, temperature_c=temperature),
                        input_device=DEVICE, output_device=DEVICE, save=path)

@@ -85,7 +85,7 @@ class FakePortAudioError(Exception):
 
 
 def fake_sounddevice_without_devices() -> types.ModuleType:
-    """What sounddevice does on a machine where PortAudio finds no device."""
+    """Imitate what sounddevice does on a machine where PortAudio finds no device."""
     sd = types.ModuleType("sounddevice")
     sd.PortAudioError = FakePortAudioError
     sd.default = types.SimpleNamespace(device=[-1, -1])

@@ -1,5 +1,7 @@
-"""The speed scripts print the figures they promise (their figures are not checked here:
-speed is measured by the scripts, never asserted in tests)."""
+"""The speed scripts print the figures they promise.
+
+Their figures are not checked here: speed is measured by the scripts, never asserted in tests.
+"""
 
 from __future__ import annotations
 
@@ -24,8 +26,10 @@ def load(name: str) -> ModuleType:
 
 
 def test_the_latency_benchmark_times_every_explorer():
-    """Every explorer of dstoolkit.teaching has its value changes in widget_latency.py (the
-    lab's measuring station aside: it measures on a button press)."""
+    """Every explorer of dstoolkit.teaching has its value changes in widget_latency.py.
+
+    The lab's measuring station aside: it measures on a button press.
+    """
     from dstoolkit import teaching
 
     timed = {call.split("(")[0] for call in load("widget_latency").CHANGES}
@@ -34,8 +38,11 @@ def test_the_latency_benchmark_times_every_explorer():
 
 
 def test_the_filter_benchmark_prints_the_floor_beside_the_steps(capsys):
-    """filters.py prints the load average before and after, and a table whose first row is
-    the floor (one numpy call per step, × floor = 1) above each filter's per-step time."""
+    """filters.py prints the load average before and after, and the floor above the filters.
+
+    Its table's first row is the floor (one numpy call per step, × floor = 1), above each
+    filter's per-step time.
+    """
     assert load("filters").main(["--runs", "3", "--repeat", "2", "--filters", "kalman"]) == 0
     lines = capsys.readouterr().out.splitlines()
     header = next(i for i, line in enumerate(lines) if line.startswith("filter "))
@@ -48,8 +55,11 @@ def test_the_filter_benchmark_prints_the_floor_beside_the_steps(capsys):
 
 @pytest.mark.slow
 def test_the_filter_profile_shows_every_block_of_a_step(capsys):
-    """filter_profile.py prints, for the numpy path, a row per block of Steps 2–6 with its
-    time and numpy calls per step (counted, not guessed), the rest, and the load average."""
+    """filter_profile.py prints, for the numpy path, a row per block of Steps 2–6.
+
+    Each row holds its time and numpy calls per step (counted, not guessed); then come the
+    rest, and the load average.
+    """
     profile = load("filter_profile")
     assert profile.main(["--repeat", "2", "--runs", "8"]) == 0
     out = capsys.readouterr().out

@@ -1,6 +1,9 @@
-"""The launch (Binder) button's environment: binder/requirements.txt installs dstoolkit with
-the extras the sheets and explorers use, and binder/postBuild compiles the optional kernels
-once, when the image is built, into numba's cache on disk."""
+"""The launch (Binder) button's environment.
+
+binder/requirements.txt installs dstoolkit with the extras the sheets and explorers use,
+and binder/postBuild compiles the optional kernels once, when the image is built, into
+numba's cache on disk.
+"""
 
 from __future__ import annotations
 

@@ -51,8 +51,10 @@ _WIDGET_VIEW = 'script[type="application/vnd.jupyter.widget-view+json"]'
 
 def _open(chromium: object, site: str, toc_page: str, *, dark: bool = False,
           width: int = 1280) -> tuple[object, object]:
-    """A new context and page showing ``toc_page`` with its maths typeset and its widgets
-    rendered, in dark mode if ``dark``."""
+    """Open a new context and page showing ``toc_page``, its maths typeset, its widgets rendered.
+
+    The page is in dark mode if ``dark``.
+    """
     context = chromium.new_context(viewport={"width": width, "height": 900},
                                    color_scheme="dark" if dark else "light")
     mode = "dark" if dark else "light"
@@ -83,7 +85,7 @@ def _settle(page: object) -> None:
 
 
 def _axe(page: object, *, rules: list[str] | None = None) -> list[dict]:
-    """axe's violations on ``page``: of the rule sets AXE_TAGS, or of ``rules`` only."""
+    """Axe's violations on ``page``: of the rule sets AXE_TAGS, or of ``rules`` only."""
     if not AXE.is_file():
         browser_unavailable(f"{AXE} missing: run `npm ci` (scripts/build-book.sh does)")
     if not page.evaluate("typeof window.axe !== 'undefined'"):
@@ -130,9 +132,12 @@ _SCROLLING_JS = """() => Array.from(document.querySelectorAll('.bd-article *')).
       tag: el.tagName + '.' + el.className, tabindex: el.getAttribute('tabindex'),
       name: el.getAttribute('aria-label') || ''}))"""
 def _report(chromium: object, site: str, toc_page: str, mode: str) -> dict:
-    """Open ``toc_page`` once in ``mode`` and record what the checks read: axe's violations;
-    in light mode also the sliders, the live regions, the images, and the widths after
-    the viewport narrows to 320 CSS px (the page reflows as on a phone)."""
+    """Open ``toc_page`` once in ``mode`` and record what the checks read.
+
+    That is axe's violations; in light mode also the sliders, the live regions, the images,
+    and the widths after the viewport narrows to 320 CSS px (the page reflows as on a
+    phone).
+    """
     key = (toc_page, mode)
     if key not in _REPORTS:
         context, page = _open(chromium, site, toc_page, dark=mode == "dark")
@@ -197,8 +202,10 @@ _UNIT = re.compile(r"\s\(([^()]+)\)\s*$")
 
 
 def _unit(label: str) -> str:
-    """The unit a slider's label ends with after a space, in parentheses: "level L (m)"
-    (none: ""; "m({low})" names a set, not a unit)."""
+    """Return the unit a slider's label ends with after a space, in parentheses.
+
+    "level L (m)" gives "m"; none gives ""; "m({low})" names a set, not a unit.
+    """
     found = _UNIT.search(label)
     return found.group(1) if found else ""
 
@@ -241,9 +248,11 @@ def test_every_image_has_a_written_alt(chromium: object, site: str, page_name: s
                                        if (ROOT / f"{p}.md").is_file()])
 def test_boxes_that_scroll_take_the_keyboard_focus_at_320_px(chromium: object, site: str,
                                                             page_name: str) -> None:
-    """At 320 CSS px, code, tables, outputs and formulas that scroll inside their own box
-    can be scrolled with the keyboard: each is a named Tab stop (axe's
-    scrollable-region-focusable finds nothing)."""
+    """At 320 CSS px, every box that scrolls on its own can be scrolled with the keyboard.
+
+    Code, tables, outputs and formulas that scroll inside their own box are each a named
+    Tab stop (axe's scrollable-region-focusable finds nothing).
+    """
     report = _report(chromium, site, page_name, "light")
     assert not report["scroll_boxes"], f"{page_name}: {report['scroll_boxes']}"
     unnamed = [box for box in report["scrolling"]
@@ -306,8 +315,11 @@ def _visibly_focused(focused: dict) -> bool:
 
 
 def test_tab_reaches_a_slider_quickly(chromium: object, site: str) -> None:
-    """From the top of the article: Tab to the skip link, Enter, and the first live slider
-    has the focus, in fewer than TAB_PRESSES key presses, every stop visibly focused."""
+    """From the top of the article, Tab to the skip link and Enter focus the first live slider.
+
+    The slider has the focus in fewer than TAB_PRESSES key presses, every stop visibly
+    focused.
+    """
     context, page = _open(chromium, site, TAB_PAGE)
     try:
         _start_at_the_top_of_the_article(page)
@@ -346,10 +358,12 @@ _MARK_TAB_STOPS_JS = """() => {
 
 
 def test_without_the_skip_link_tab_follows_the_text(chromium: object, site: str) -> None:
-    """Tab through the article of TAB_PAGE up to its first slider without the skip link:
-    the stops are its links and controls in the order of the text, each once (no formula,
+    """Tab through TAB_PAGE's article up to its first slider, without the skip link.
+
+    The stops are its links and controls in the order of the text, each once (no formula,
     nothing that is not a control), every one visibly focused; the number of presses is
-    what the text before the first explorer holds."""
+    what the text before the first explorer holds.
+    """
     context, page = _open(chromium, site, TAB_PAGE)
     try:
         maths = page.locator("mjx-container").count()

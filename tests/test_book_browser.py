@@ -27,7 +27,7 @@ TIMEOUT_MS = 30_000
 
 @pytest.fixture(scope="module")
 def site(chromium: object, built_book: BookBuild) -> Iterator[str]:
-    """Base URL of _build/html served by a local http.server thread on 127.0.0.1.
+    """Serve _build/html by a local http.server thread on 127.0.0.1; yield its base URL.
 
     A build that only warned (--keep-going still writes every page) is checked anyway, so
     that one run reports both; test_book_build fails on the warnings themselves.

@@ -1,6 +1,9 @@
-"""The book builds with `bash scripts/build-book.sh` (jupyter-book build . -W -n --keep-going)
-without a warning, and every page of the site is self-contained: no script, style, font or
-image from another site, and the state of every widget embedded in the page."""
+"""The book builds with `bash scripts/build-book.sh` without a warning, and is self-contained.
+
+The build runs jupyter-book build . -W -n --keep-going. Every page of the site is
+self-contained: no script, style, font or image from another site, and the state of every
+widget embedded in the page.
+"""
 
 from __future__ import annotations
 

@@ -63,8 +63,11 @@ def pdf() -> Path:
 
 
 def _chapter_titles() -> dict[str, str]:
-    """The first heading of every page of the table of contents (the root page opens the
-    book without a chapter heading: its first sentence stands for it)."""
+    """Return the first heading of every page of the table of contents.
+
+    The root page opens the book without a chapter heading: its first sentence stands for
+    it.
+    """
     titles = {}
     for page in toc_pages()[1:]:
         text = (ROOT / f"{page}.md").read_text(encoding="utf-8")
@@ -92,8 +95,10 @@ def test_every_chapter_is_in_the_pdf(pdf: Path) -> None:
 
 
 def test_only_the_numbered_parts_have_chapter_numbers(pdf: Path) -> None:
-    """The table of contents numbers the chapters of the numbered parts of _toc.yml, as the
-    web edition does, and not those of the back matter (Notation, Glossary, ...)."""
+    """The table of contents numbers the chapters of the numbered parts of _toc.yml only.
+
+    So does the web edition; the back matter (Notation, Glossary, ...) is not numbered.
+    """
     import yaml
 
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
@@ -163,8 +168,11 @@ def test_pages_render_and_are_not_blank(pdf: Path) -> None:
 
 
 def _headings(page: str) -> list[str]:
-    """The chapter heading (``# ``) and the section headings (``## ``) of a page, outside
-    code, with their maths left out (an outline entry cannot hold TeX)."""
+    """Return the chapter heading (``# ``) and the section headings (``## ``) of a page.
+
+    Only those outside code count, with their maths left out (an outline entry cannot hold
+    TeX).
+    """
     import jupytext
 
     found = []
@@ -175,7 +183,7 @@ def _headings(page: str) -> list[str]:
 
 
 def _outline(pdf: Path) -> list[str]:
-    """The titles of the PDF's outline (bookmarks), at every level (pdftohtml -xml)."""
+    """Return the titles of the PDF's outline (bookmarks), at every level (pdftohtml -xml)."""
     xml = _run("pdftohtml", "-xml", "-i", "-q", "-stdout", "-f", "1", "-l", "1", pdf)
     outline = re.search(r"<outline>.*</outline>", xml, flags=re.S)
     assert outline, "the PDF has no outline"

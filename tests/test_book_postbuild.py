@@ -1,6 +1,8 @@
-"""The book's post-build step (book/_ext/dstoolkit_a11y.py) on small pages: explorer
-pictures leave the page for files beside it, the theme's markup is mended, Font Awesome is
-cut to the icons the pages use, and a second run changes nothing."""
+"""The book's post-build step (book/_ext/dstoolkit_a11y.py) on small pages.
+
+Explorer pictures leave the page for files beside it, the theme's markup is mended, Font
+Awesome is cut to the icons the pages use, and a second run changes nothing.
+"""
 
 from __future__ import annotations
 

@@ -33,9 +33,11 @@ RAW_MYST = re.compile(r"\{[\w:.+-]+\}`|^\s*[`~:]{3,}\s*\{|^\s*:(label|class|tags
 
 
 def directive_phrases(chapter_source: str, directive: str) -> list[str]:
-    """Plain phrases (no maths, no markup) of at least 25 characters that occur only in the
-    bodies of the chapter's ``{directive}`` blocks: what must (exercise) or must not
-    (solution) be seen of them."""
+    """Return plain phrases found only in the bodies of the chapter's ``{directive}`` blocks.
+
+    The phrases have no maths and no markup and at least 25 characters: what must
+    (exercise) or must not (solution) be seen of them.
+    """
     block = rf"^(`{{3,}})\{{{directive}\}}.*?\n(.*?)^\1\s*$"
     phrases = []
     for _, body in re.findall(block, chapter_source, re.MULTILINE | re.DOTALL):
@@ -272,7 +274,7 @@ def test_chapter_notebook_shows_glued_values(built_book: BookBuild, stem: str) -
 
 
 def _download_link(name: str) -> re.Pattern[str]:
-    """A link on a chapter page that downloads notebooks/<name>."""
+    """Match a link on a chapter page that downloads notebooks/<name>."""
     return re.compile(rf'<a [^>]*\bdownload\b[^>]*href="\.\./notebooks/{re.escape(name)}"')
 
 

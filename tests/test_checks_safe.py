@@ -123,7 +123,7 @@ def test_none_returned_asks_about_return():
 
 def test_an_untouched_stub_is_not_answered_yet():
     def bel_pl(m, a):
-        """The released stub: docstring only."""
+        """Stand for the released stub: docstring only."""
 
     assert "not answered yet" in check("mass.bel-pl-code", bel_pl).message
 
@@ -175,8 +175,10 @@ def _numbers(value) -> list[float]:
 
 
 def _written(x: float) -> set[str]:
-    """How a number may be written in a text (2–4 decimals, either minus sign), when it
-    says more than a round number does."""
+    """Return how a number may be written in a text (2–4 decimals, either minus sign).
+
+    That is when the number says more than a round number does.
+    """
     if x == int(x) or abs(x) in (0.1, 0.2, 0.25, 0.5, 0.75):
         return set()
     out = set()

@@ -34,7 +34,7 @@ def merged_equal(boxes: list[Box]) -> list[Box]:
 
 
 def clustered(boxes: list[Box], cap: int) -> tuple[list[Box], float]:
-    """The clustering rule on one run's boxes: the capped boxes and the merged mass."""
+    """Apply the clustering rule to one run's boxes; return the capped boxes and merged mass."""
     n = len(boxes[0][0])
     mass_total = sum(m for _, _, m in boxes)
     unit = [sum(m * (hi[d] - lo[d]) for lo, hi, m in boxes) / mass_total for d in range(n)]
@@ -136,8 +136,10 @@ def test_merge_equal_boxes_adds_masses_in_the_order_given(kind):
 
 @pytest.mark.extras  # numba, the extra "speed"
 def test_the_compiled_merge_and_cluster_return_the_numpy_arrays_whole():
-    """Padding, widths and runs without mass included: the compiled functions return the
-    arrays of the numpy ones, element for element."""
+    """The compiled functions return the numpy ones' arrays, element for element.
+
+    Padding, widths and runs without mass included.
+    """
     compiled_merge, compiled_cluster = kernels("numba")
     rng = np.random.default_rng(21)
     for case in range(60):

@@ -1,5 +1,8 @@
-"""What a course needs from every chapter: a recap, annotated reading, solutions that end
-with their reasoning, and the instructors' page in the table of contents."""
+"""What a course needs from every chapter.
+
+A recap, annotated reading, solutions that end with their reasoning, and the instructors'
+page in the table of contents.
+"""
 
 from __future__ import annotations
 

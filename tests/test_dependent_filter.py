@@ -120,8 +120,11 @@ def test_array_path_has_the_unmerged_sizes_of_spec_5(gauge):
 
 
 def test_prediction_is_the_extension_principle_over_the_random_relation(gauge):
-    """Step 2 images f on the state boxes and adds V; the literal eq. 13 over (x̂ + V) × V
-    through F(x, v) = f(x, u) + v gives the same evidence."""
+    """Step 2 images f on the state boxes and adds V, as the literal eq. 13 does.
+
+    The literal eq. 13 over (x̂ + V) × V through F(x, v) = f(x, u) + v gives the same
+    evidence.
+    """
     noise = FILTER.noise_evidence(MODEL)
     x_hat, order = gauge.readings[3], gauge.inputs[3]
     p_lo, p_hi = predict(FILTER._maps(MODEL), noise, x_hat[None],
@@ -144,8 +147,11 @@ def test_batch_equals_single_runs(gauge_runs):
 
 
 def test_object_path_equals_array_path(gauge):
-    """record=True merges focal elements and fuses with dstoolkit.evidence; the array
-    path does not merge: same estimates, hulls and diagnostics."""
+    """The object path gives the array path's estimates, hulls and diagnostics.
+
+    record=True merges focal elements and fuses with dstoolkit.evidence; the array path
+    does not merge.
+    """
     for flt in (FILTER, DependentEvidenceFilter(mass_rule="m1", start="mean_corrected", p=2,
                                                 theta=PAPER_THETA)):
         fast = flt.run(MODEL, gauge.readings, gauge.inputs)
@@ -209,8 +215,10 @@ def test_start_options(gauge):
 
 
 def test_without_discount_the_papers_start_conflicts_at_once(gauge):
-    """x̂_1 = z_1 is off by −E[w] = 6.9 Hz, far beyond v's ±0.3 Hz: with ε = 0 (no Θ) the
-    first prediction and observation share nothing."""
+    """With ε = 0 (no Θ) the first prediction and observation share nothing.
+
+    x̂_1 = z_1 is off by −E[w] = 6.9 Hz, far beyond v's ±0.3 Hz.
+    """
     with pytest.raises(TotalConflictError, match="Step 4 of estimate 2"):
         DependentEvidenceFilter(epsilon=0.0).run(MODEL, gauge.readings, gauge.inputs)
 
@@ -254,7 +262,7 @@ def test_wrong_monotone_declaration_is_caught_in_the_filter(gauge):
 
 
 def _emptying(model: StateSpaceModel) -> StateSpaceModel:
-    """The model with a g⁻¹ that returns every box empty (lo above hi)."""
+    """Return the model with a g⁻¹ that returns every box empty (lo above hi)."""
     def g_inverse(lo, hi, x_lo, x_hi):
         return np.maximum(hi, x_hi) + 1.0, np.minimum(lo, x_lo)
     return StateSpaceModel(f=model.f, g=model.g, g_inverse=g_inverse,
@@ -263,9 +271,11 @@ def _emptying(model: StateSpaceModel) -> StateSpaceModel:
 
 
 def test_an_empty_box_from_g_inverse_is_refused_on_every_path(gauge):
-    """Step 5 refuses a g⁻¹ that returns an empty box for a focal element of positive mass:
-    the array path (one run, a batch, the compiled kernel) and the object path, for n = 1
-    and 2."""
+    """Step 5 refuses a g⁻¹ that returns an empty box for a focal element of positive mass.
+
+    So do the array path (one run, a batch, the compiled kernel) and the object path, for
+    n = 1 and 2.
+    """
     start = gauge.readings[0] + GAUGE_OBS_NOISE.mode
     lv, _, z_lv = simulate_lotka_volterra(steps=4, runs=2, seed=4)
     cases = [(_emptying(MODEL), gauge.readings[:4], gauge.inputs[:3], start),
@@ -369,9 +379,12 @@ def test_kernels_on_the_appendix_a_example():
 # -- the optional compiled kernel (extra "speed") ---------------------------------------------
 @pytest.mark.extras  # numba, the extra "speed"
 def test_compiled_kernel_does_a_step_as_the_numpy_path(gauge):
-    """From the same state (start = the numpy path's x̂_k), one step of kernel="numba"
-    gives the numpy path's estimate, hull and diagnostics to rounding, at every k (K is 1
-    minus a sum of some 1,100 products in another order: equal to 1e-12)."""
+    """One step of kernel="numba" gives the numpy path's numbers to rounding.
+
+    From the same state (start = the numpy path's x̂_k), the estimate, hull and diagnostics
+    agree at every k (K is 1 minus a sum of some 1,100 products in another order: equal to
+    1e-12).
+    """
     ref = FILTER.run(MODEL, gauge.readings, gauge.inputs)
     for k in range(len(gauge.readings) - 1):
         z, u = gauge.readings[k:k + 2], gauge.inputs[k:k + 1]
@@ -387,12 +400,15 @@ def test_compiled_kernel_does_a_step_as_the_numpy_path(gauge):
 
 @pytest.mark.extras  # numba, the extra "speed"
 def test_compiled_kernel_agrees_with_the_numpy_path(gauge):
-    """Whole runs: on the gauge (p = 3; p = 2 with the paper's Θ and m(D) = m1), on the 2-D
-    Lotka–Volterra system, and through a total conflict kept as the prediction. The sums
-    run in another order, so x̂ differs by an ulp and the runs drift apart by rounding; the
-    estimates and hulls stay equal to 1e-12, the diagnostics to 1e-7 (an energy divides by
-    the smallest focal element, which can be 1e-4 Hz wide: an ulp of a 2,000 Hz bound,
-    2e-13 Hz, is 2e-9 of it)."""
+    """Whole runs of kernel="numba" agree with the numpy path.
+
+    On the gauge (p = 3; p = 2 with the paper's Θ and m(D) = m1), on the 2-D Lotka–Volterra
+    system, and through a total conflict kept as the prediction. The sums run in another
+    order, so x̂ differs by an ulp and the runs drift apart by rounding; the estimates and
+    hulls stay equal to 1e-12, the diagnostics to 1e-7 (an energy divides by the smallest
+    focal element, which can be 1e-4 Hz wide: an ulp of a 2,000 Hz bound, 2e-13 Hz, is 2e-9
+    of it).
+    """
     model, _, z_lv = simulate_lotka_volterra(steps=25, runs=3, seed=4)
     cases = [
         ({}, MODEL, gauge.readings, gauge.inputs),

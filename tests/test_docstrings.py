@@ -74,7 +74,7 @@ def public_callables(package: str) -> list[tuple[str, bool]]:
 
 
 def problems(qualname: str, exported: bool) -> list[str]:
-    """The numpydoc errors of ``qualname`` among the checked codes, as ``CODE message``."""
+    """Return the numpydoc errors of ``qualname`` among the checked codes, as ``CODE message``."""
     codes = EVERY + (EXPORTED if exported else ())
     report = validate(qualname)
     return [f"{code} {message}" for code, message in report["errors"] if code in codes]

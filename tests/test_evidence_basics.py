@@ -90,8 +90,11 @@ def test_interval_belief_plausibility_pbox_and_expectation():
 
 
 def test_interval_evidence_has_one_shape_whatever_its_dimension():
-    """lo and hi are (n, d) for intervals too, pignistic_expectation() is (d,); the 1-D
-    conveniences are named, and refuse boxes with a message naming the general ones."""
+    """Lo and hi are (n, d) for intervals too, and pignistic_expectation() is (d,).
+
+    The 1-D conveniences are named, and refuse boxes with a message naming the general
+    ones.
+    """
     e = IntervalEvidence([0.0, 1.0], [1.0, 3.0], [0.4, 0.6])
     assert e.lo.shape == e.hi.shape == (2, 1)
     assert e.lo_1d.tolist() == [0.0, 1.0] and e.hi_1d.tolist() == [1.0, 3.0]

@@ -51,7 +51,7 @@ def grid_evidence(draw):
 
 
 def to_finite(idx, weights):
-    """The same evidence on the finite frame of grid points."""
+    """Return the same evidence on the finite frame of grid points."""
     frame = tuple(range(GRID.size))
     masses: dict[frozenset, float] = {}
     for (i, j), w in zip(idx, weights, strict=True):

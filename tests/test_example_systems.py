@@ -65,8 +65,10 @@ def test_g_inverse_is_the_exact_preimage_within_the_prior(a, width, p_lo, p_widt
 
 
 def test_g_inverse_of_non_positive_readings():
-    """A census box reaching below 0 says nothing about the lower end; one wholly below 0
-    is impossible (empty)."""
+    """g⁻¹ of a census box reaching below 0 says nothing about the lower end.
+
+    One wholly below 0 is impossible (empty).
+    """
     lo, hi = MODEL.g_inverse(np.array([-1.0, -2.0]), np.array([2.0, -0.5]),
                              np.array([-5.0, -5.0]), np.array([5.0, 5.0]))
     assert lo[0] == -5.0 and hi[0] == pytest.approx(np.log(2.0))
@@ -74,9 +76,11 @@ def test_g_inverse_of_non_positive_readings():
 
 
 def test_vertex_images_are_exact_even_on_wide_boxes():
-    """Each component of f is monotone in each argument on the whole plane, so the vertex
-    method (4 evaluations) equals a fine subdivision, with no warning, on boxes as wide as
-    the frames Θ of the discount."""
+    """The vertex method (4 evaluations) equals a fine subdivision, even on wide boxes.
+
+    Each component of f is monotone in each argument on the whole plane, so the two agree,
+    with no warning, on boxes as wide as the frames Θ of the discount.
+    """
     rng = np.random.default_rng(0)
     centre = rng.uniform(-2, 1.5, size=(200, 2))
     half = rng.uniform(0.0, 1.0, size=(200, 2))
@@ -124,7 +128,9 @@ def lv_runs():
 
 @pytest.mark.parametrize("flt", FILTERS, ids=lambda f: f.name)
 def test_every_filter_tracks_the_two_dimensional_example(flt, lv_runs):
-    """Bounds a broken filter misses, in log-population units (RMSE over 4 × 60 steps):
+    """Every filter stays within bounds a broken filter misses, in log-population units.
+
+    The bounds, on the RMSE over 4 × 60 steps:
 
     - below 0.9 × the RMSE of inverting each reading alone, g⁻¹(z + E[w]): a filter that
       ignores the dynamics (or its prediction) only matches it;

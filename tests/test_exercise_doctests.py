@@ -1,5 +1,8 @@
-"""The examples in the docstrings of the exercise side of the teaching layer run and give
-what they show (the checks, the graded tests, the time limit, the variants)."""
+"""The examples in the docstrings of the teaching layer's exercise side run as shown.
+
+They cover the checks, the graded tests, the time limit and the variants, and give what
+they show.
+"""
 
 from __future__ import annotations
 

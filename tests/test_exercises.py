@@ -1,8 +1,10 @@
-"""The exercise checker: every registered exercise accepts its solution, rejects a wrong
-answer with a hint, and recognises the common mistakes it lists; every coding exercise
-accepts its plain reference solution, names each registered wrong implementation, reports
-the first failing case with input, expected and got, and survives the learner's
-exceptions."""
+"""The exercise checker and the coding exercises' checks.
+
+Every registered exercise accepts its solution, rejects a wrong answer with a hint, and
+recognises the common mistakes it lists; every coding exercise accepts its plain reference
+solution, names each registered wrong implementation, reports the first failing case with
+input, expected and got, and survives the learner's exceptions.
+"""
 
 from __future__ import annotations
 
@@ -30,7 +32,7 @@ CODING = [k for k in exercises() if isinstance(REGISTRY[k], CodingExercise)]
 
 
 def perturbed(value: object) -> object:
-    """An answer that is clearly not ``value`` (same type and shape)."""
+    """Return an answer that is clearly not ``value`` (same type and shape)."""
     if isinstance(value, bool | np.bool_):
         return not value
     if isinstance(value, str):

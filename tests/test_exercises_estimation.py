@@ -1,6 +1,8 @@
-"""Exercises of the chapters *Estimating the level* ("estimating.*") and *Beyond the paper*
-("beyond.*"), their sheets notebooks/NN_estimating_level.ipynb and
-notebooks/NN_beyond_the_paper.ipynb, and the claims the two chapters' prose makes.
+"""Exercises, sheets and prose claims of the chapters *Estimating the level* and *Beyond the paper*.
+
+The exercises are "estimating.*" and "beyond.*", their sheets
+notebooks/NN_estimating_level.ipynb and notebooks/NN_beyond_the_paper.ipynb; the claims
+are those the two chapters' prose makes.
 
 Every solution is accepted, every listed mistake is rejected with its own hint, a plainly
 wrong answer gets the generic hint, and the solutions agree with the paper's numbers where

@@ -1,6 +1,7 @@
-"""Exercises of the chapters on random sets ("random.*") and the recursive filter
-("filter.*"), their sheets notebooks/05_random_sets.ipynb and 06_recursive_filter.ipynb,
-and the two chapters themselves.
+"""Exercises, sheets and text of the chapters on random sets and the recursive filter.
+
+The exercises are "random.*" and "filter.*", their sheets notebooks/05_random_sets.ipynb
+and 06_recursive_filter.ipynb, and the two chapters themselves are tested.
 
 Every solution is accepted, a plainly wrong answer is rejected with the exercise's hint,
 every listed mistake gets its own hint, and the solutions agree with what the chapters

@@ -1,12 +1,13 @@
-"""The explorers on the built static site (no kernel), in headless Chromium: on every page
-with an explorer, every enabled slider moved with the keyboard (arrow keys on its handle)
-and every enabled dropdown changed switches the figure or the readout; a disabled slider
-does not move; no console error. Screenshots of every explorer before and after its first
-slider moves go to test-artifacts/explorers/.
+"""The explorers on the built static site (no kernel), in headless Chromium.
 
-The browser is conftest's ``chromium`` fixture, the pages come from tests/test_book_browser.py
-(its ``site`` fixture: the book built by scripts/build-book.sh, served on 127.0.0.1). Without
-Chromium the tests skip, except under DSTOOLKIT_REQUIRE_BROWSER=1 (CI), where they fail.
+On every page with an explorer, every enabled slider moved with the keyboard (arrow keys on its
+handle) and every enabled dropdown changed switches the figure or the readout; a disabled slider
+does not move; no console error. Screenshots of every explorer before and after its first slider
+moves go to test-artifacts/explorers/.
+
+The browser is conftest's ``chromium`` fixture, the pages come from tests/test_book_browser.py (its
+``site`` fixture: the book built by scripts/build-book.sh, served on 127.0.0.1). Without Chromium
+the tests skip, except under DSTOOLKIT_REQUIRE_BROWSER=1 (CI), where they fail.
 """
 
 from __future__ import annotations
@@ -28,7 +29,7 @@ _EXPLORER_CALL = re.compile(
 
 
 def explorer_pages() -> list[str]:
-    """The pages of _toc.yml whose source has an explorer cell."""
+    """Return the pages of _toc.yml whose source has an explorer cell."""
     return [page for page in toc_pages()
             if (ROOT / f"{page}.md").is_file()
             and _EXPLORER_CALL.search((ROOT / f"{page}.md").read_text(encoding="utf-8"))]
@@ -72,8 +73,10 @@ def _wait_for_change(page: object, area: object, before: str, timeout_ms: int = 
 
 
 def _slider_moves(page: object, area: object, slider: object) -> tuple[bool, bool]:
-    """Press → (then ← if the slider sat at its end) on the slider's handle; return
-    (the slider's readout changed, the explorer's figure or readout changed)."""
+    """Press → (then ← if the slider sat at its end) on the slider's handle.
+
+    Return (the slider's readout changed, the explorer's figure or readout changed).
+    """
     readout = slider.locator(".widget-readout")
     before_value, before = readout.inner_text(), _shown(area)
     handle = slider.locator(".noUi-handle")

@@ -1,7 +1,9 @@
-"""The evidence explorers keep their figure and update its artists on every change: after
-any path of changes the kept figure shows what a freshly built explorer shows at the same
-values (the static site precomputes its states on one kept figure), and an invalid setting
-leaves the last figure alone."""
+"""The evidence explorers keep their figure and update its artists on every change.
+
+After any path of changes the kept figure shows what a freshly built explorer shows at the same
+values (the static site precomputes its states on one kept figure), and an invalid setting leaves
+the last figure alone.
+"""
 
 from __future__ import annotations
 
@@ -60,7 +62,7 @@ INVALID = {
 
 
 def _data(artist: object) -> tuple:
-    """What an artist shows: its geometry in data coordinates, colours, text, visibility."""
+    """Return what an artist shows: its geometry in data coordinates, colours, text, visibility."""
     if isinstance(artist, Line2D):
         x, y = artist.get_data()
         return ("line", np.asarray(x, float), np.asarray(y, float), artist.get_color(),
@@ -120,8 +122,10 @@ def assert_same(a: object, b: object, where: str = "") -> None:
 
 
 def whole(fig: Figure, like: Figure | None = None) -> np.ndarray:
-    """``fig`` drawn whole, its animated artists in order of zorder among the others (as
-    saved), with the axes where ``like`` has them (no layout pass) if given."""
+    """Draw ``fig`` whole, its animated artists in order of zorder among the others.
+
+    As saved; with the axes where ``like`` has them (no layout pass) if given.
+    """
     if like is not None:
         fig.set_layout_engine("none")
         for ax, other in zip(fig.axes, like.axes, strict=True):

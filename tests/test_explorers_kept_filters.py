@@ -1,8 +1,10 @@
-"""The filter explorers keep their figure and redraw it in place: after any
-number of changes a kept figure holds what a figure drawn afresh for the same setting holds
-(the artists' data, colours, texts, limits), the static site (which renders every state
-through the same kept figure) shows no leftover of an earlier state, and an invalid setting
-keeps the last figure and says so. Speed is measured in benchmarks/widget_latency.py."""
+"""The filter explorers keep their figure and redraw it in place.
+
+After any number of changes a kept figure holds what a figure drawn afresh for the same setting
+holds (the artists' data, colours, texts, limits), the static site (which renders every state
+through the same kept figure) shows no leftover of an earlier state, and an invalid setting keeps
+the last figure and says so. Speed is measured in benchmarks/widget_latency.py.
+"""
 
 from __future__ import annotations
 
@@ -26,9 +28,12 @@ def _visible(artists: list) -> list:
 
 
 def _state(fig: Figure) -> dict:
-    """What a figure shows, artist by artist: limits, titles, labels, the data and colours
-    of every visible line and collection, every visible text and the legends. (Not the
-    ticks: they follow the limits and the size of the axes, which the layout sets.)"""
+    """Return what a figure shows, artist by artist.
+
+    Limits, titles, labels, the data and colours of every visible line and collection, every
+    visible text and the legends. (Not the ticks: they follow the limits and the size of the
+    axes, which the layout sets.)
+    """
     out: dict = {"suptitle": fig._suptitle.get_text() if fig._suptitle else "",
                  "size": tuple(fig.get_size_inches()), "axes": []}
     for ax in fig.axes:
@@ -182,8 +187,11 @@ def test_the_bounded_error_explorer_keeps_its_figure_and_its_legend():
 
 
 def test_the_zero_line_widens_the_view_only_when_zero_lies_outside_it():
-    """As an axhline drawn after the data: at 1.6 m and ε = 0.25 every deviation is > 0, and
-    the view is the data's with 5 % margins (0 lies within them), in a kept figure too."""
+    """Keep the view that an axhline drawn after the data would give.
+
+    At 1.6 m and ε = 0.25 every deviation is > 0, and the view is the data's with 5 % margins
+    (0 lies within them), in a kept figure too.
+    """
     ex = w.filter_widget()
     for level in (1.6, 9.6, 1.6):
         ex.controls["epsilon"].value = 0.25

@@ -75,8 +75,10 @@ def text_problems(fig: Figure) -> list[str]:
 
 
 def _drawn_tick_labels(axis) -> list[Text]:
-    """The tick labels a draw shows: those of the ticks inside the view limits (matplotlib
-    keeps label artists for ticks outside them, which it skips when drawing)."""
+    """Return the tick labels a draw shows: those of the ticks inside the view limits.
+
+    Matplotlib keeps label artists for ticks outside them, which it skips when drawing.
+    """
     if not axis.axes.axison or not axis.get_visible():
         return []
     ticks = axis._update_ticks()  # the ticks Axis.draw draws
@@ -86,9 +88,12 @@ def _drawn_tick_labels(axis) -> list[Text]:
 
 
 def _glyphs_collide(a: Text, box_a: Bbox, b: Text, box_b: Bbox, dpi: float) -> bool:
-    """Whether two labels whose upright boxes overlap really collide. Level labels: yes.
-    Labels turned by the same angle are parallel strips centred on their boxes' centres;
-    they collide when the centres are less than a line height apart across the strips."""
+    """Whether two labels whose upright boxes overlap really collide.
+
+    Level labels: yes. Labels turned by the same angle are parallel strips centred on their
+    boxes' centres; they collide when the centres are less than a line height apart across
+    the strips.
+    """
     angle = np.deg2rad(a.get_rotation())
     if np.isclose(np.sin(angle), 0.0) or not np.isclose(a.get_rotation(), b.get_rotation()):
         return True
@@ -131,10 +136,12 @@ def test_a_tidy_figure_passes() -> None:
 
 
 def explorer_states(name: str) -> Iterator[tuple[str, Figure]]:
-    """Every precomputed state of an explorer, drawn as the static site draws it: the
-    explorer is built for the site (which renders every state, the start one last, and
+    """Yield every precomputed state of an explorer, drawn as the static site draws it.
+
+    The explorer is built for the site (which renders every state, the start one last, and
     keeps the layout of the first), then each state is rendered again in the same order
-    with the same kept figure and layouts."""
+    with the same kept figure and layouts.
+    """
     from dstoolkit import teaching
 
     explorer = getattr(teaching, name)()

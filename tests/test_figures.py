@@ -179,7 +179,7 @@ def _step_errors() -> Figure:
 
 def _image_cases() -> dict[str, tuple[Callable[[np.ndarray], np.ndarray], float, float,
                                        dict[str, tuple[float, float]]]]:
-    """The chapter's two functions on which the vertex method fails, and both images."""
+    """Return the chapter's two functions on which the vertex method fails, and both images."""
     return {"x²": (lambda x: x[..., 0] ** 2, -1.0, 2.0,
                    {"vertex": (1.0, 4.0), "subdivision": (0.0, 4.0)}),
             "sin x": (lambda x: np.sin(x[..., 0]), 0.0, 3.0,
@@ -234,7 +234,7 @@ def _example() -> Figure:
 
 
 def _rendered(name: str) -> Figure:
-    """The figure, drawn (which lays out every text); a PNG of it in test-artifacts/figures."""
+    """Draw the figure (which lays out every text); save a PNG of it in test-artifacts/figures."""
     fig = FIGURES[name]()
     SHOTS.mkdir(parents=True, exist_ok=True)
     fig.savefig(SHOTS / f"{name}.png", format="png", dpi=96)
@@ -353,8 +353,10 @@ def test_legends_do_not_hide_data(rendered: tuple[str, Figure]) -> None:
 
 
 def test_the_log_ticks_of_a_short_range_are_readable() -> None:
-    """A log axis over about a decade shows several plain labelled ticks (Fig. 7.2), where
-    matplotlib's default labels only the decade, "1"."""
+    """A log axis over about a decade shows several plain labelled ticks (Fig. 7.2).
+
+    Matplotlib's default labels only the decade, "1".
+    """
     fig = Figure(figsize=(6, 3))
     ax = fig.add_subplot()
     ax.semilogy([1, 2, 3], [0.3, 1.0, 2.5])
@@ -367,9 +369,12 @@ def test_the_log_ticks_of_a_short_range_are_readable() -> None:
 
 
 def test_the_style_is_undone_but_nothing_else() -> None:
-    """figure_style restores its own settings only: IPython's inline backend switches the
-    interactive mode on when a session's first figure is made, maybe inside the style, and
-    undoing that would stop every later figure of a notebook from showing."""
+    """figure_style restores its own settings only.
+
+    IPython's inline backend switches the interactive mode on when a session's first figure
+    is made, maybe inside the style, and undoing that would stop every later figure of a
+    notebook from showing.
+    """
     import matplotlib as mpl
 
     before_size, before_interactive = mpl.rcParams["font.size"], mpl.is_interactive()
@@ -413,8 +418,10 @@ def test_the_methods_have_okabe_ito_colours_and_their_own_lines_and_markers() ->
 
 
 def test_fig_11_tells_the_methods_apart_without_colour() -> None:
-    """plot_estimates (Figs. 10 and 11) with all six methods: in both panels every method
-    is drawn with its own dash pattern and marker."""
+    """plot_estimates (Figs. 10 and 11) with all six methods tells them apart without colour.
+
+    In both panels every method is drawn with its own dash pattern and marker.
+    """
     rng = np.random.default_rng(1)
     steps = 30
     estimates = {m: 4.6 + rng.normal(0, 0.1, steps) for m in _SIX}
@@ -446,8 +453,10 @@ def _direct_labels(ax: Axes) -> set[str]:
 
 
 def test_step_errors_with_end_labels_name_each_line_at_its_end() -> None:
-    """The start figure of the recursive filter's chapter: two runs of the filter and the
-    readings, raw and corrected; four styles, each series named at its end."""
+    """The start figure of the recursive filter's chapter names each series at its end.
+
+    It shows two runs of the filter and the readings, raw and corrected, in four styles.
+    """
     rng = np.random.default_rng(3)
     errors = {"filter, x̂_1 = z_1 (paper)": 7 * np.exp(-np.arange(40) / 12) + 0.3,
               "filter, x̂_1 = z_1 + E[w]": 2 * np.exp(-np.arange(40) / 8) + 0.25,
@@ -486,8 +495,10 @@ def test_the_image_bands_differ_in_hatch_and_are_named_beside_them() -> None:
 
 
 def test_the_resonance_kinds_differ_in_line_style_or_marker() -> None:
-    """Detected, missed and spurious resonances and the lattice n c/(2L): each entry of the
-    legend has its own (dash pattern, marker)."""
+    """Each legend entry of the resonances has its own (dash pattern, marker).
+
+    The entries are detected, missed and spurious resonances and the lattice n c/(2L).
+    """
     from dataclasses import replace
 
     _, det, setup = _detection()
@@ -510,8 +521,10 @@ def test_the_resonance_kinds_differ_in_line_style_or_marker() -> None:
 @pytest.mark.parametrize("name", [f"dstoolkit.plots.{info.name}" for info in
                                   __import__("pkgutil").iter_modules(plots.__path__)])
 def test_docstring_examples_run(name: str) -> None:
-    """Every example in the docstrings of dstoolkit.plots runs (Agg) and shows what it
-    says (doctest)."""
+    """Every example in the docstrings of dstoolkit.plots runs (Agg) and shows what it says.
+
+    The examples run as doctests.
+    """
     import doctest
     import importlib
 

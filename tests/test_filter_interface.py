@@ -1,5 +1,7 @@
-"""Every filter through the same lines: the shared options, the public step, run and
-run_batch, the result types and their shapes."""
+"""Every filter through the same lines.
+
+The shared options, the public step, run and run_batch, the result types and their shapes.
+"""
 
 from __future__ import annotations
 
@@ -90,8 +92,10 @@ def test_every_filter_through_the_same_lines(name, case):
 
 @pytest.mark.parametrize("name", list(MAKERS))
 def test_the_step_loop_is_what_run_records(name):
-    """run(record=True) is the public loop: the same estimates, bounds and diagnostics as
-    initialize and step, and one typed record per step."""
+    """run(record=True) is the public loop: it gives what initialize and step give.
+
+    The same estimates, bounds and diagnostics, and one typed record per step.
+    """
     model, Z, U = gauge_case()
     flt = MAKERS[name]()
     recorded = flt.run(model, Z[1], U[1], record=True)
@@ -151,8 +155,10 @@ def test_a_start_per_run_must_match_the_batch():
 
 
 def test_options_are_kept_checked_and_converted():
-    """Whole floats become ints at construction, and the filter keeps its own copies of the
-    boxes and frames it is given."""
+    """Whole floats become ints at construction, and the filter keeps copies of its inputs.
+
+    The copies are its own, of the boxes and frames it is given.
+    """
     flt = ParticleFilter(n_particles=100.0, seed=5.0, stream=2.0)
     assert (flt.n_particles, flt.seed, flt.stream) == (100, 5, 2)
     assert all(type(v) is int for v in (flt.n_particles, flt.seed, flt.stream))
@@ -170,9 +176,12 @@ def test_options_are_kept_checked_and_converted():
 @pytest.mark.parametrize("name", list(MAKERS))
 @pytest.mark.parametrize("broken", ["nan", "complex"])
 def test_a_map_that_returns_nan_or_complex_is_named_with_its_step(name, broken):
-    """A model whose f returns NaN, or complex numbers, above 1.05 is refused by every
-    path (run, run_batch, the public step), naming the map and the step; before, the
-    particle filter returned finite estimates and the others dropped imaginary parts."""
+    """Every path refuses a model whose f returns NaN, or complex numbers, above 1.05.
+
+    The paths are run, run_batch and the public step; the error names the map and the
+    step. Before, the particle filter returned finite estimates and the others dropped
+    imaginary parts.
+    """
     walk = random_walk(0.1, 0.5)
 
     def f(x, u=None):
@@ -196,8 +205,10 @@ def test_a_map_that_returns_nan_or_complex_is_named_with_its_step(name, broken):
 
 
 def test_kalman_refuses_readings_a_noise_free_model_cannot_explain():
-    """Zero-width noises leave S = 0: readings 2.0, 2.1, 2.2 of a constant cannot all be
-    right. Before, the pseudo-inverse gave the gain 0: estimates 2, 2, 2 and NIS 0."""
+    """Zero-width noises leave S = 0: readings 2.0, 2.1, 2.2 of a constant cannot all be right.
+
+    Before, the pseudo-inverse gave the gain 0: estimates 2, 2, 2 and NIS 0.
+    """
     from dstoolkit.errors import InconsistentDataError
 
     model, flt = random_walk(0.0, 0.0), KalmanFilter()
@@ -212,9 +223,11 @@ def test_kalman_refuses_readings_a_noise_free_model_cannot_explain():
 
 
 def test_a_high_dimensional_state_is_refused_before_step_1_allocates():
-    """Seven state components give 4^7 noise focal elements and a prediction of 4^14 boxes
-    (eq. 16): refused by the memory budget before the masses ρ are made, and nothing of it
-    is kept in the Step-1 cache."""
+    """The memory budget refuses seven state components before the masses ρ are made.
+
+    Seven state components give 4^7 noise focal elements and a prediction of 4^14 boxes
+    (eq. 16); nothing of it is kept in the Step-1 cache.
+    """
     import tracemalloc
 
     from dstoolkit.errors import MemoryBudgetError
@@ -236,8 +249,11 @@ def test_a_high_dimensional_state_is_refused_before_step_1_allocates():
 
 
 def test_the_energy_without_theta_is_an_option_of_the_papers_filter():
-    """energy_theta="left_out" changes Step 6's dependence (eqs. A1–A6) only: the estimates
-    move a little, every path agrees, and the paper's definition stays the default."""
+    """energy_theta="left_out" changes Step 6's dependence (eqs. A1–A6) only.
+
+    The estimates move a little, every path agrees, and the paper's definition stays the
+    default.
+    """
     model, Z, U = gauge_case()
     paper = DependentEvidenceFilter(start="mean_corrected")
     left_out = dataclasses.replace(paper, energy_theta="left_out")

@@ -36,7 +36,7 @@ BIN = Path(sys.executable).parent
 
 
 def commands() -> list[str]:
-    """The lines of the page's ``bash`` blocks, in order."""
+    """Return the lines of the page's ``bash`` blocks, in order."""
     blocks = re.findall(r"^```bash\n(.*?)^```", PAGE.read_text("utf-8"), re.MULTILINE | re.DOTALL)
     return [line.strip() for block in blocks for line in block.splitlines() if line.strip()]
 
@@ -61,7 +61,7 @@ def _run(command: str, cwd: Path, env: dict[str, str]) -> None:
 
 
 def _answered(release: Path, source: Path) -> str:
-    """The released notebook with the teacher's answers in its answer cells."""
+    """Return the released notebook with the teacher's answers in its answer cells."""
     nb = json.loads(release.read_text("utf-8"))
     teacher = {c["metadata"]["nbgrader"]["grade_id"]: c["source"]
                for c in json.loads(source.read_text("utf-8"))["cells"]}

@@ -78,7 +78,7 @@ vectors = st.one_of(
 
 
 def outcome(call: Callable[..., Any], *args: Any, **kwargs: Any) -> Any:
-    """The call's result (checked valid), or None when it raised a DstoolkitError."""
+    """Return the call's result (checked valid), or None when it raised a DstoolkitError."""
     try:
         result = call(*args, **kwargs)
     except DstoolkitError as exc:

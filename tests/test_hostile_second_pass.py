@@ -1,5 +1,8 @@
-"""Hostile input, second pass: gauge numbers, ambiguous recordings, the memory budget that
-nothing bypasses, and explorers used from two threads."""
+"""Hostile input, second pass.
+
+Gauge numbers, ambiguous recordings, the memory budget that nothing bypasses, and
+explorers used from two threads.
+"""
 
 from __future__ import annotations
 

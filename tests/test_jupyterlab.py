@@ -42,7 +42,7 @@ FIGURE_S = 60
 
 
 def _free_port() -> int:
-    """An ephemeral port on 127.0.0.1 that is free now."""
+    """Return an ephemeral port on 127.0.0.1 that is free now."""
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
@@ -63,7 +63,7 @@ def _lab_settings(folder: Path) -> None:
 
 @pytest.fixture(scope="module")
 def lab_folder(tmp_path_factory: pytest.TempPathFactory, built_book: BookBuild) -> Path:
-    """A folder with the built chapter notebook and the chapter's exercise sheet."""
+    """Make a folder with the built chapter notebook and the chapter's exercise sheet."""
     folder = tmp_path_factory.mktemp("lab")
     chapter = sorted((built_book.html_dir / "notebooks").glob(f"chapter_*_{CHAPTER}.ipynb"))
     sheet = sorted((ROOT / "notebooks").glob(f"*_{CHAPTER}.ipynb"))
@@ -139,7 +139,7 @@ def _run_all(page, path: Path) -> dict:
 
 
 def _figures(cell) -> list[str]:
-    """The images an explorer's cell shows (their data URLs)."""
+    """Return the images an explorer's cell shows (their data URLs)."""
     return cell.locator("img").evaluate_all("imgs => imgs.map(i => i.src)")
 
 

@@ -53,7 +53,7 @@ GOLDEN = Path(__file__).parent / "data" / "gauge_golden.npz"
 
 
 def picture(fig: Figure) -> list[Any]:
-    """What a figure shows, artist by artist: data, titles, labels, limits, legends."""
+    """Return what a figure shows, artist by artist: data, titles, labels, limits, legends."""
     out: list[Any] = [fig.get_size_inches().tolist()]
     for ax in fig.axes:
         out.append((ax.get_xlim(), ax.get_ylim(), ax.get_xscale(), ax.get_yscale(),
@@ -227,8 +227,10 @@ def pixels(png: bytes) -> np.ndarray:
 def test_a_kept_figure_redraws_only_its_data_and_shows_the_pixels_of_a_whole_draw(
         build: Any, steps: tuple[tuple[str, Any], ...], blitted: int,
         monkeypatch: pytest.MonkeyPatch) -> None:
-    """Changes that move no limit redraw only the animated data and title (blitting): the
-    picture shown is pixel for pixel the figure drawn whole."""
+    """Changes that move no limit redraw only the animated data and title (blitting).
+
+    The picture shown is pixel for pixel the figure drawn whole.
+    """
     from base64 import b64decode
 
     from dstoolkit.teaching import Explorer
@@ -292,9 +294,11 @@ def test_set_limits_leaves_a_figure_clean_when_nothing_changes() -> None:
 @pytest.mark.parametrize("zoom", [None, (2.0, 2.4)])
 def test_a_recording_drawn_through_its_extremes_looks_like_every_sample_drawn(
         zoom: tuple[float, float] | None) -> None:
-    """plot_recording draws its 220,000 samples through their extremes per pixel column:
-    the picture is the one of a line through every sample (no pixel off by more than 48 of
-    255), the line keeps every sample, and a zoomed view draws the waves themselves."""
+    """plot_recording draws its 220,000 samples through their extremes per pixel column.
+
+    The picture is the one of a line through every sample (no pixel off by more than 48 of
+    255), the line keeps every sample, and a zoomed view draws the waves themselves.
+    """
     from matplotlib.lines import Line2D
 
     import dstoolkit.plots._gauge as gauge_plots

@@ -1,5 +1,8 @@
-"""The one latency estimator (dstoolkit.gauge.estimate_latency), on the sweep in a tube and on
-the lab's calibration chirp: the resonance detector and the audio layer use the same one."""
+"""The one latency estimator (dstoolkit.gauge.estimate_latency).
+
+It is tested on the sweep in a tube and on the lab's calibration chirp: the resonance
+detector and the audio layer use the same one.
+"""
 
 from __future__ import annotations
 

@@ -41,7 +41,7 @@ def _sin(x: np.ndarray) -> np.ndarray:
 
 
 def _sin_slope(lo: np.ndarray, hi: np.ndarray):
-    """cos on [lo, hi]: the ends, and ±1 where a multiple of π lies inside."""
+    """Cos on [lo, hi]: the ends, and ±1 where a multiple of π lies inside."""
     a, b = np.cos(lo), np.cos(hi)
     top = np.floor(hi / (2 * np.pi)) * 2 * np.pi >= lo  # a maximum of cos inside
     bottom = np.floor((hi - np.pi) / (2 * np.pi)) * 2 * np.pi + np.pi >= lo
@@ -57,7 +57,7 @@ def _exp_slope(lo: np.ndarray, hi: np.ndarray):
 
 
 def _sampled_hull(f, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """min and max of f over 2001 points of each box (..., 1): an inner estimate."""
+    """Min and max of f over 2001 points of each box (..., 1): an inner estimate."""
     t = np.linspace(0.0, 1.0, 2001)[:, None]
     points = lo[..., None, :] + (hi - lo)[..., None, :] * t  # (..., 2001, 1)
     values = f(points)

@@ -64,8 +64,11 @@ def test_simulated_measurement_gives_back_the_level(level: float, temperature: f
 
 
 def test_latency_correction_keeps_absolute_frequencies_right(recording_26) -> None:
-    """Without the latency correction every resonance would be k τ = 280 × 0.12 = 34 Hz
-    high; with it, z_k sit within a few Hz of n c/(2L) (the detector's own bias)."""
+    """With the latency correction, z_k sit within a few Hz of n c/(2L).
+
+    Without it every resonance would be k τ = 280 × 0.12 = 34 Hz high; the few Hz left are
+    the detector's own bias.
+    """
     analysis = analyze(recording_26)
     f_f = analysis.level.speed_of_sound / (2 * 2.6)
     z = analysis.detection.frequencies
@@ -84,8 +87,11 @@ def test_wav_round_trip_gives_the_same_analysis(tmp_path, recording_26) -> None:
 
 
 def test_foreign_recording_without_metadata(recording_26) -> None:
-    """A WAV from another program: the sweep at its start, nothing known. The latency is
-    then estimated from the sweep, the paper's sweep assumed, and the temperature needed."""
+    """A WAV from another program: the sweep at its start, nothing known.
+
+    The latency is then estimated from the sweep, the paper's sweep assumed, and the
+    temperature needed.
+    """
     meta = recording_26.metadata
     fs = recording_26.samplerate
     start = round((meta.sweep_onset_s - meta.latency_s) * fs)
@@ -218,7 +224,7 @@ class FakeStatus:
 
 
 def fake_sound_card(glitches: list[str]) -> types.ModuleType:
-    """A sounddevice whose one device loops output to input after FAKE_DELAY samples.
+    """Fake a sounddevice whose one device loops output to input after FAKE_DELAY samples.
 
     Call i of playrec suffers ``glitches[i]``: "gap" inserts 1000 samples of silence in
     the middle (an unreported xrun), "flag" reports an output underflow, "deaf" records
@@ -252,8 +258,10 @@ def fake_sound_card(glitches: list[str]) -> types.ModuleType:
 
 
 def use_card(monkeypatch, sd: types.ModuleType) -> types.ModuleType:
-    """Make ``sd`` the sounddevice module, its stream running in this process (the real
-    stream runs in a child process, which would not see the fake)."""
+    """Make ``sd`` the sounddevice module, its stream running in this process.
+
+    The real stream runs in a child process, which would not see the fake.
+    """
     from dstoolkit.audio import _devices
 
     def stream(played, samplerate, latency, device_in, device_out):

@@ -91,8 +91,11 @@ if __name__ == "__main__":
 @pytest.mark.extras  # numba, the extra "speed"
 @pytest.mark.parametrize("name", SETTINGS)
 def test_the_compiled_kernels_give_the_same_numbers_bit_for_bit(name, today):
-    """kernel="numba" (merge of equal boxes and clustering compiled) gives exactly the numpy
-    path's numbers, single runs (2-D, the sort dimension alternating) and a batch alike."""
+    """kernel="numba" gives exactly the numpy path's numbers.
+
+    The compiled kernel merges equal boxes and clusters; single runs (2-D, the sort
+    dimension alternating) and a batch alike.
+    """
     import dataclasses
 
     from dstoolkit.filters import _nassreddine

@@ -61,8 +61,10 @@ BOOK_VALUES = {  # answer cell → the answer printed in the book (variant 0)
 
 
 def _variant_values(d: dict) -> dict[str, str]:
-    """The right answers of the variant, by the chapter's formulas (the test does not trust
-    the generator's answers)."""
+    """Compute the right answers of the variant by the chapter's formulas.
+
+    The test does not trust the generator's answers.
+    """
     k = d["m1_low"] * (d["m2_high"] + d["m2_mid_high"])
     return {"ce-ex-conflict-answer": f"K = {k!r}",
             "ce-ex-low-answer": f"m12_low = {d['m1_low'] * d['m2_theta'] / (1 - k)!r}",
@@ -106,8 +108,11 @@ def _cells(nb: dict) -> dict[str, dict]:
 
 def _submission(release: dict, teacher: dict, answers: dict[str, str],
                 edits: dict[str, str] | None = None) -> dict:
-    """The released notebook with ``answers`` in answer cells (``"teacher"``: the source's
-    own answer) and ``edits`` written over any other cell."""
+    """Return the released notebook with ``answers`` in answer cells.
+
+    ``"teacher"`` stands for the source's own answer; ``edits`` are written over any other
+    cell.
+    """
     nb = json.loads(json.dumps(release))
     cells, source = _cells(nb), _cells(teacher)
     for grade_id, text in {**answers, **(edits or {})}.items():
@@ -179,7 +184,7 @@ def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, dict[str, str]
 
 
 def _grade_by_hand(home: Path, student: str, scores: dict[str, float]) -> None:
-    """What the formgrader does when the instructor types a score for a written part."""
+    """Do what the formgrader does when the instructor types a score for a written part."""
     from nbgrader.api import Gradebook
 
     with Gradebook(f"sqlite:///{home / 'gradebook.db'}") as gb:

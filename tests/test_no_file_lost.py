@@ -1,5 +1,8 @@
-"""No file is lost: outputs never replace inputs or existing files unasked, never collide,
-are checked before any computing, and are written atomically."""
+"""No file is lost.
+
+Outputs never replace inputs or existing files unasked, never collide, are checked before
+any computing, and are written atomically.
+"""
 
 from __future__ import annotations
 

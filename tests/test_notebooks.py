@@ -110,8 +110,10 @@ def test_student_sheet_is_the_one_written_from_its_source(stem: str):
 
 @pytest.mark.parametrize("stem", STEMS)
 def test_no_solution_text_reaches_a_student_sheet(stem: str):
-    """No line of a teacher-only cell is in the student's file (not even in metadata),
-    except the signature and docstring a coding stub shares with its solution."""
+    """No line of a teacher-only cell is in the student's file (not even in metadata).
+
+    The exception is the signature and docstring a coding stub shares with its solution.
+    """
     raw = sheets.sheet_path(stem, NUMBERS[stem], NOTEBOOKS).read_text(encoding="utf-8")
     student = _student(stem)
     stub_lines = {line.strip() for c in student.cells if "answer" in _tags(c)
@@ -149,8 +151,11 @@ def test_every_registered_exercise_is_on_a_sheet():
 
 
 def test_the_exercises_are_many_and_varied():
-    """At least 70 exercises, 15 of them coding; per chapter at least 2 that are coding,
-    proof, prediction or explanation, and a prediction wherever the sheet has an explorer."""
+    """At least 70 exercises, 15 of them coding, and varied kinds in every chapter.
+
+    Per chapter at least 2 that are coding, proof, prediction or explanation, and a
+    prediction wherever the sheet has an explorer.
+    """
     kinds = {stem: [kind for _, kind in SOURCES[stem][2].exercises()] for stem in STEMS}
     assert sum(map(len, kinds.values())) >= MIN_EXERCISES
     assert sum(k.count("coding") for k in kinds.values()) >= MIN_CODING

@@ -1,6 +1,9 @@
-"""Outputs that survive races and interruptions: a file that appears while a command runs
-is kept, outputs that are not regular files are refused even with ``--overwrite``, and a
-failed, interrupted or terminated command leaves nothing it made behind."""
+"""Outputs that survive races and interruptions.
+
+A file that appears while a command runs is kept, outputs that are not regular files are
+refused even with ``--overwrite``, and a failed, interrupted or terminated command leaves
+nothing it made behind.
+"""
 
 from __future__ import annotations
 

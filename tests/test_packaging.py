@@ -47,7 +47,7 @@ CORE_TESTS = (
 
 
 def _floor(requirements: list[str], name: str) -> str:
-    """The lower bound of ``name>=X`` in a dependency list."""
+    """Return the lower bound of ``name>=X`` in a dependency list."""
     for req in requirements:
         if req.replace(" ", "").startswith(f"{name}>="):
             return req.split(">=")[1].split(",")[0].strip()

@@ -29,13 +29,13 @@ def significant_digits(integer: str, fraction: str) -> int:
 
 
 def long_floats(text: str) -> list[str]:
-    """The numbers in ``text`` written with more than MAX_DIGITS significant digits."""
+    """Return the numbers in ``text`` written with more than MAX_DIGITS significant digits."""
     return [m.group(0) for m in FLOAT.finditer(text)
             if significant_digits(m.group(1), m.group(2)) > MAX_DIGITS]
 
 
 def shown_texts(output: nbformat.NotebookNode) -> list[str]:
-    """What a reader sees of one output cell output."""
+    """Return what a reader sees of one output cell output."""
     if output.get("metadata", {}).get("scrapbook"):
         return []  # glued for the prose, not displayed
     if output.output_type == "stream":
@@ -58,8 +58,10 @@ def test_the_counter_counts() -> None:
 
 
 def test_the_printed_results_are_short() -> None:
-    """The results chapters print: dependence, noise bounds, recording conditions and
-    metadata, a run's summary."""
+    """The results chapters print are short.
+
+    They are: dependence, noise bounds, recording conditions and metadata, a run's summary.
+    """
     from dstoolkit.audio import RecordingMetadata
     from dstoolkit.evidence import IntervalEvidence, TriangularBounds, dependence
     from dstoolkit.teaching import GAUGE_CONDITIONS

@@ -1,5 +1,7 @@
-"""The README's Python examples run as written, and the filter example prints what it says:
-the public step loop ends on the estimate that ``run`` gives, and a batch is (runs, T, n)."""
+"""The README's Python examples run as written, and the filter example prints what it says.
+
+The public step loop ends on the estimate that ``run`` gives, and a batch is (runs, T, n).
+"""
 
 from __future__ import annotations
 

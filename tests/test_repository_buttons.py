@@ -100,13 +100,13 @@ def without_address(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def _header(page: str) -> str:
-    """The header of a page: where the buttons are."""
+    """Return the header of a page: where the buttons are."""
     start = page.index('class="article-header-buttons"')
     return page[start:page.index("<article", start)]
 
 
 def _text(page: str) -> str:
-    """The text of an HTML page, tags removed."""
+    """Return the text of an HTML page, tags removed."""
     return re.sub(r"<[^>]+>", "", page)
 
 

@@ -1,5 +1,8 @@
-"""One answer per object: the merged and the unmerged form of one evidence read alike, and
-copies (pickle, copy, deepcopy) keep an evidence, or a noise, valid and read-only."""
+"""One answer per object.
+
+The merged and the unmerged form of one evidence read alike, and copies (pickle, copy,
+deepcopy) keep an evidence, or a noise, valid and read-only.
+"""
 
 from __future__ import annotations
 
@@ -48,7 +51,7 @@ def mass_functions(draw) -> MassFunction:
 
 @st.composite
 def unmerged_mass_functions(draw) -> MassFunction:
-    """A mass function with repeated focal elements: an unmerged Dempster combination."""
+    """Draw a mass function with repeated focal elements: an unmerged Dempster combination."""
     a, b = draw(mass_functions()), draw(mass_functions())
     try:
         return ev.dempster(a, b, merge=False)
@@ -209,8 +212,10 @@ def test_copies_of_noise_bounds_stay_read_only_and_valid(copier):
 
 
 class _Plain:
-    """Pickles as a plain object of ``cls`` with the attributes ``state`` (no
-    constructor): what a crafted, or an old, pickle holds."""
+    """Pickles as a plain object of ``cls`` with the attributes ``state`` (no constructor).
+
+    That is what a crafted, or an old, pickle holds.
+    """
 
     def __init__(self, cls: type, state: dict) -> None:
         self.cls, self.state = cls, state

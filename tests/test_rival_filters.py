@@ -1,5 +1,8 @@
-"""The paper's rivals: Nassreddine's filter and its restart variant, the
-bounded-error filter, the (extended) Kalman filter and the bootstrap particle filter."""
+"""The paper's rivals.
+
+Nassreddine's filter and its restart variant, the bounded-error filter, the (extended)
+Kalman filter and the bootstrap particle filter.
+"""
 
 import dataclasses
 
@@ -291,8 +294,11 @@ def _plain_gauge_model():
 
 @pytest.mark.parametrize("plain", [False, True], ids=["package", "plain"])
 def test_kalman_one_run_equals_its_run_in_a_batch_exactly(plain):
-    """One run (floats) and a batch ((R,) arrays) run the same recursion: the same numbers,
-    with the model's Jacobians (the package's gauge) or central differences (a user's)."""
+    """One run (floats) and a batch ((R,) arrays) run the same recursion: the same numbers.
+
+    So they do with the model's Jacobians (the package's gauge) or central differences (a
+    user's).
+    """
     model = _plain_gauge_model() if plain else gauge_state_space_model()
     seq = simulate_gauge(9.6, runs=4, seed=2)
     batch = KalmanFilter().run_batch(model, seq.readings, seq.inputs)
@@ -305,8 +311,10 @@ def test_kalman_one_run_equals_its_run_in_a_batch_exactly(plain):
 
 @pytest.mark.parametrize("level", [0.6, 9.6])
 def test_kalman_on_a_users_plain_maps_gives_the_package_numbers(level):
-    """Central differences of a user's eqs. 39–40 give the package's analytic slopes' numbers
-    to 1e-9 Hz: the model needs no Jacobians and no float copy of its maps."""
+    """Central differences of a user's eqs. 39–40 give the package's analytic slopes' numbers.
+
+    They agree to 1e-9 Hz: the model needs no Jacobians and no float copy of its maps.
+    """
     seq = simulate_gauge(level, seed=2)
     package = KalmanFilter().run(gauge_state_space_model(), seq.readings, seq.inputs)
     plain = KalmanFilter().run(_plain_gauge_model(), seq.readings, seq.inputs)
@@ -317,8 +325,11 @@ def test_kalman_on_a_users_plain_maps_gives_the_package_numbers(level):
 
 @pytest.mark.parametrize("flt", RIVALS, ids=IDS)
 def test_every_transition_input_is_checked_before_the_run(flt):
-    """A non-positive order n_k at the last transition, or no orders at all, is refused at
-    the door by the gauge's f (eq. 39 divides by n_k), whatever path the filter takes."""
+    """A non-positive order n_k at the last transition, or no orders at all, is refused.
+
+    The gauge's f refuses it at the door (eq. 39 divides by n_k), whatever path the filter
+    takes.
+    """
     model = gauge_state_space_model()
     seq = simulate_gauge(seed=0)
     orders = seq.inputs.astype(float)
@@ -383,8 +394,10 @@ def test_bad_readings_are_reported():
 
 
 def test_nassreddine_keeps_unit_mass_under_heavy_conflict():
-    """Regression: renormalising by 1 − K let rounding losses grow by 1/(1 − K) per step,
-    until the posterior held half its mass and the estimate was pulled towards 0."""
+    """Regression: renormalising by 1 − K let rounding losses grow by 1/(1 − K) per step.
+
+    The posterior then held half its mass and the estimate was pulled towards 0.
+    """
     from dstoolkit.gauge import GAUGE_OBS_NOISE, GAUGE_STATE_NOISE, gauge_state_space_model
     from dstoolkit.studies import scaled_noise, tracking_data
 
@@ -441,9 +454,11 @@ def test_compiled_kernels_raise_the_numpy_errors():
 
 
 def test_particle_draws_kept_for_the_same_runs_give_the_same_numbers():
-    """The pre-drawn numbers of a small batch are kept for the next batch of the same runs
-    and state noise (an explorer moving the observation noise's bounds): the estimates are
-    those of fresh draws, and the kept arrays cannot be changed."""
+    """The pre-drawn numbers of a small batch are kept for the next batch of the same runs.
+
+    Kept for the same runs and state noise (an explorer moving the observation noise's
+    bounds): the estimates are those of fresh draws, and the kept arrays cannot be changed.
+    """
     from dstoolkit.filters import _particle
 
     gauge = simulate_gauge(4.6, 26.5, runs=3, seed=4)
@@ -484,8 +499,10 @@ def test_particle_compiled_resampling_gives_the_same_indices_and_estimates():
 
 @pytest.mark.parametrize("plain", [False, True], ids=["package", "plain"])
 def test_kalman_scalar_recursion_equals_the_matrix_recursion(plain):
-    """For n = m = 1 the term-by-term recursion gives the matrix recursion's numbers (the
-    same operations, grouped differently: equal to rounding)."""
+    """For n = m = 1 the term-by-term recursion gives the matrix recursion's numbers.
+
+    The same operations, grouped differently: equal to rounding.
+    """
     model = _plain_gauge_model() if plain else gauge_state_space_model()
     seq = simulate_gauge(9.6, runs=3, seed=4)
     flt = KalmanFilter()

@@ -38,8 +38,10 @@ def _book_variant_afterwards():
 
 
 def _teacher_answers(stem: str, variant: int) -> tuple[dict, list[tuple[str, str]]]:
-    """Run the setup, code and answer cells of the teacher's edition of ``variant``; return
-    the namespace and the (exercise id, variable) of its check cells."""
+    """Run the setup, code and answer cells of the teacher's edition of ``variant``.
+
+    Return the namespace and the (exercise id, variable) of its check cells.
+    """
     number, title, src, labels = sheets.sheets()[stem]
     notebook = sheets.build(src, number, title, labels, True, variant)
     namespace: dict = {}

@@ -1,5 +1,6 @@
-"""The explorers of the chapters *Estimating the level* and *Beyond the paper*, driven
-through a Jupyter kernel (nbclient).
+"""The explorers of the chapters *Estimating the level* and *Beyond the paper*.
+
+They are driven through a Jupyter kernel (nbclient).
 
 Each explorer is built in a real kernel, a control is changed there, and the numbers it
 prints and the figure it draws must follow:
@@ -62,8 +63,10 @@ def states() -> dict[str, list]:
 
 
 def test_the_figures_are_embedded_as_images(states) -> None:
-    """Both explorers' Output widgets hold a PNG in the stored widget state: the page
-    shows the figure without a kernel (and not as the text repr of a Figure)."""
+    """Both explorers' Output widgets hold a PNG in the stored widget state.
+
+    The page shows the figure without a kernel (and not as the text repr of a Figure).
+    """
     shown = [mimes for mimes in states["shown"] if mimes]
     assert len(shown) == 2, states["shown"]
     assert all("image/png" in mimes for mimes in shown), shown
@@ -74,7 +77,7 @@ PAPER = "paper's filter"
 
 
 def mm(readout: str) -> float:
-    """The mean level error of a readout entry "12.3 mm / 0.0456 Hz"."""
+    """Return the mean level error of a readout entry "12.3 mm / 0.0456 Hz"."""
     level, _, _ = readout.partition(" mm / ")
     return float(level)
 

@@ -1,6 +1,9 @@
-"""The evidence explorers of dstoolkit.teaching: built in a kernel, a control changed in a
-later cell, and the figure and the printed numbers change (through nbclient, as the book's
-build executes them); plus quick in-process checks of what they show."""
+"""The evidence explorers of dstoolkit.teaching.
+
+Built in a kernel, a control changed in a later cell, and the figure and the printed numbers change
+(through nbclient, as the book's build executes them); plus quick in-process checks of what they
+show.
+"""
 
 from __future__ import annotations
 

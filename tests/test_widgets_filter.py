@@ -1,8 +1,10 @@
-"""The filter widgets of dstoolkit.teaching (filter_widget, filter_step_explorer) and the
-extension-principle explorer: built in a kernel, a control changed in a later cell, and
-the printed estimates (the widget's numbers) and the figure change — through nbclient, as
-the book's build executes them; plus in-process checks of their structure and of what
-they compute."""
+"""The filter widgets of dstoolkit.teaching and the extension-principle explorer.
+
+filter_widget, filter_step_explorer and the extension explorer: built in a kernel, a control changed
+in a later cell, and the printed estimates (the widget's numbers) and the figure change — through
+nbclient, as the book's build executes them; plus in-process checks of their structure and of what
+they compute.
+"""
 
 from __future__ import annotations
 

@@ -1,8 +1,10 @@
-"""The explorers' static-site form (dstoolkit.teaching.Explorer with static=True, what
-scripts/build-book.sh builds): every combination of the live controls' positions is
-precomputed into a Stack switched in the browser by jslinks from the sliders; the other
-controls are disabled with a line pointing at the notebook; no state the page can show is
-inconsistent. The browser half is tests/test_explorers_browser.py."""
+"""The explorers' static-site form.
+
+dstoolkit.teaching.Explorer with static=True, what scripts/build-book.sh builds: every combination
+of the live controls' positions is precomputed into a Stack switched in the browser by jslinks from
+the sliders; the other controls are disabled with a line pointing at the notebook; no state the page
+can show is inconsistent. The browser half is tests/test_explorers_browser.py.
+"""
 
 from __future__ import annotations
 
@@ -40,8 +42,10 @@ REQUIRED_LIVE = {
 
 
 def _toy(static: bool, fail_above: float = 99.0) -> Explorer:
-    """Two sliders and a dropdown; the figure is a dot at (a, b); a + b > fail_above is
-    an invalid setting."""
+    """Build a toy explorer: two sliders and a dropdown; the figure is a dot at (a, b).
+
+    a + b > fail_above is an invalid setting.
+    """
     controls = {"a": slider("a", 1.0, 0.0, 4.0, 0.5), "b": slider("b", 0.0, 0.0, 2.0, 1.0),
                 "kind": widgets.Dropdown(options=["x", "y"], value="x")}
 
@@ -181,9 +185,11 @@ def test_wider_labels_get_a_fresh_layout_rather_than_stick_out():
 
 
 def _kept_figure_explorer(moving_limit: bool = False) -> tuple[Explorer, list[int]]:
-    """An explorer whose render keeps one figure: three animated bars follow slider a; with
-    ``moving_limit`` the y limit (not animated) follows it too. Also returns the list that
-    counts the explorer's whole-figure draws."""
+    """Build an explorer whose render keeps one figure.
+
+    Three animated bars follow slider a; with ``moving_limit`` the y limit (not animated)
+    follows it too. Also returns the list that counts the explorer's whole-figure draws.
+    """
     from matplotlib.figure import Figure
 
     kept: dict[str, object] = {}
@@ -282,9 +288,11 @@ def _png_of(ex: Explorer) -> bytes:
 
 
 def test_the_site_keeps_no_picture_outside_its_states():
-    """The kernel's output and readout are not shown on the site: the output is emptied
-    and both are closed, so that the page's widget state holds pictures only in the
-    precomputed states."""
+    """The kernel's output and readout are not shown on the site.
+
+    The output is emptied and both are closed, so that the page's widget state holds pictures
+    only in the precomputed states.
+    """
     ex = _toy(static=True)
     assert ex.output.outputs == () and ex.output.comm is None and ex.readout.comm is None
     assert ex.output not in ex.children and ex.picture is not None  # print keeps its still

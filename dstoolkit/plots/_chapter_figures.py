@@ -1,5 +1,7 @@
-"""Figures of single chapters: the image of a function by two methods, and a sweep's
-envelope against the resonances of steady tones.
+"""Figures of single chapters.
+
+The image of a function by two methods, and a sweep's envelope against the resonances of
+steady tones.
 
 Each series has its own line style, hatch or marker and a label written next to it, so
 that none is told apart by its colour alone.
@@ -38,7 +40,7 @@ def plot_image_methods(
     cases: Mapping[str, tuple[Callable[[np.ndarray], np.ndarray], float, float,
                               Mapping[str, Sequence[float]]]],
 ) -> Figure:
-    """The image of a function of one variable on a box by two methods, one panel a case.
+    """Draw the image of a function of one variable on a box by two methods, one panel a case.
 
     In each panel: the function near the box (thin), on the box (thick), and as hatched
     horizontal bands the image [a, b] that each method gives, each band labelled at the
@@ -106,8 +108,11 @@ def plot_image_methods(
 
 
 def _label_bands(ax: Axes, bands: list[tuple[float, float, str]]) -> None:
-    """Each band's label right of the axes, beside the part of the band no narrower band
-    covers (the middle of the larger free part), moved apart where two would overlap."""
+    """Write each band's label right of the axes, moved apart where two would overlap.
+
+    Each label sits beside the part of its band no narrower band covers (the middle of the
+    larger free part).
+    """
     ax.get_ylim()  # the limits, autoscaled now if they are still pending
     to_axes = ax.transScale + ax.transLimits
     wanted = []
@@ -134,8 +139,10 @@ def plot_sweep_peaks(
     resonances: np.ndarray,
     shift_hz: float,
 ) -> Figure:
-    """Amplitude against frequency for steady tones and for a sweep, with the resonances
-    n c/(2L) and the same shifted by ``shift_hz``, where the sweep's envelope peaks.
+    """Plot amplitude against frequency for steady tones and for a sweep.
+
+    With the resonances n c/(2L) and the same shifted by ``shift_hz``, where the sweep's
+    envelope peaks.
 
     Parameters
     ----------

@@ -71,11 +71,13 @@ SPARE_ARTISTS = 4
 
 
 def _resize(artists: list[A], count: int, make: Callable[[], A], animated: bool) -> list[A]:
-    """The first ``count`` of ``artists`` (drawn on an Axes), shown: missing ones are made
-    by ``make()`` (in order, as a fresh drawing makes them; if ``animated``, so marked and
-    :data:`SPARE_ARTISTS` more), the others hidden, not removed (adding or removing an
-    artist redraws a kept figure whole; hiding an animated one does not). The caller then
-    sets every shown one's data."""
+    """Return the first ``count`` of ``artists`` (drawn on an Axes), shown.
+
+    Missing ones are made by ``make()`` (in order, as a fresh drawing makes them; if
+    ``animated``, so marked and :data:`SPARE_ARTISTS` more), the others hidden, not removed
+    (adding or removing an artist redraws a kept figure whole; hiding an animated one does
+    not). The caller then sets every shown one's data.
+    """
     if len(artists) < count:
         for _ in range(count - len(artists) + (SPARE_ARTISTS if animated else 0)):
             artists.append(make())
@@ -90,9 +92,11 @@ def _resize(artists: list[A], count: int, make: Callable[[], A], animated: bool)
 
 @dataclass
 class FocalIntervalArtists:
-    """What :func:`plot_focal_intervals` draws on ``ax``: one bar per focal element and the
-    masses written on them. Made by ``draw_focal_intervals``, set by
-    ``update_focal_intervals``."""
+    """What :func:`plot_focal_intervals` draws on ``ax``.
+
+    One bar per focal element and the masses written on them. Made by
+    ``draw_focal_intervals``, set by ``update_focal_intervals``.
+    """
 
     ax: Axes
     animated: bool = False
@@ -103,16 +107,20 @@ class FocalIntervalArtists:
 @styled
 def draw_focal_intervals(ax: Axes, *, title: str | None = None, xlabel: str = "x",
                          animated: bool = False) -> FocalIntervalArtists:
-    """The parts of :func:`plot_focal_intervals` that no evidence changes (axis labels, y
-    range, title) on ``ax``; the bars come with ``update_focal_intervals``."""
+    """Draw the parts of :func:`plot_focal_intervals` that no evidence changes on ``ax``.
+
+    Axis labels, y range, title; the bars come with ``update_focal_intervals``.
+    """
     _fixed_parts(ax, xlabel, "cumulated mass", 1.0, title, animated)
     return FocalIntervalArtists(ax, animated)
 
 
 def _fixed_parts(ax: Axes, xlabel: str, ylabel: str, top: float, title: str | None,
                  animated: bool) -> None:
-    """Labels, y range [0, ``top``] and title of a bar panel; its spines animated with
-    its bars."""
+    """Set the labels, y range [0, ``top``] and title of a bar panel.
+
+    Its spines are animated with its bars.
+    """
     ax.set_ylim(0, top)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
@@ -131,8 +139,11 @@ def update_focal_intervals(
     label_masses: bool = True,
     colour: str | None = None,
 ) -> None:
-    """Draw ``ev`` in the bars of ``draw_focal_intervals`` (the parameters as in
-    :func:`plot_focal_intervals`): an explorer's kept figure follows the evidence."""
+    """Draw ``ev`` in the bars of ``draw_focal_intervals``.
+
+    The parameters are as in :func:`plot_focal_intervals`: an explorer's kept figure follows
+    the evidence.
+    """
     _scalar(ev, "plot_focal_intervals")
     ax = artists.ax
     lo, hi, m = ev.lo_1d, ev.hi_1d, ev.mass
@@ -231,16 +242,21 @@ def plot_focal_intervals(
 
 
 def pbox_grid(a: float, b: float) -> np.ndarray:
-    """The points at which :func:`plot_pbox` evaluates a p-box over [a, b]: 801, with a 5 %
-    margin on both sides."""
+    """Return the points at which :func:`plot_pbox` evaluates a p-box over [a, b].
+
+    801 points, with a 5 % margin on both sides.
+    """
     pad = 0.05 * (b - a if b > a else 1.0)
     return np.linspace(a - pad, b + pad, 801)
 
 
 @dataclass
 class PboxArtists:
-    """What :func:`plot_pbox` draws on ``ax`` at the points ``x``: the band between the two
-    cdfs and their step lines. Made by ``draw_pbox``, set by ``update_pbox``."""
+    """What :func:`plot_pbox` draws on ``ax`` at the points ``x``.
+
+    The band between the two cdfs and their step lines. Made by ``draw_pbox``, set by
+    ``update_pbox``.
+    """
 
     ax: Axes
     x: np.ndarray
@@ -252,8 +268,10 @@ class PboxArtists:
 @styled
 def draw_pbox(ax: Axes, x: Any, *, title: str | None = None, label: str = "",
               xlabel: str = "x", animated: bool = False) -> PboxArtists:
-    """The parts of :func:`plot_pbox` at the points ``x`` that no evidence changes (lines,
-    legend, ranges, labels) on ``ax``; the cdfs come with ``update_pbox``."""
+    """Draw the parts of :func:`plot_pbox` at the points ``x`` that no evidence changes.
+
+    Lines, legend, ranges, labels on ``ax``; the cdfs come with ``update_pbox``.
+    """
     x = np.asarray(x, dtype=float)
     zero = np.zeros_like(x)
     prefix = f"{label} " if label else ""
@@ -293,7 +311,7 @@ def plot_pbox(
     label: str = "",
     xlabel: str = "x",
 ) -> Figure:
-    """The p-box of scalar evidence: F_*(x) = Bel((−∞, x]) below, F^*(x) = Pl((−∞, x]) above.
+    """Plot the p-box of scalar evidence: F_*(x) = Bel((−∞, x]) below, F^*(x) = Pl((−∞, x]) above.
 
     Every probability distribution compatible with the evidence has its cdf between the
     two step functions (see :meth:`~dstoolkit.evidence.IntervalEvidence.cdf_bounds`).
@@ -385,9 +403,11 @@ def contour(ev: IntervalEvidence, x: Any) -> np.ndarray:
 
 @dataclass
 class PossibilityArtists:
-    """What :func:`plot_possibility` draws on ``ax`` at the points ``x``: π, the α-cuts
-    (their levels and, dotted, their ends), the α of each cut and the evidence's contour.
-    Made by ``draw_possibility``, set by ``update_possibility``."""
+    """What :func:`plot_possibility` draws on ``ax`` at the points ``x``.
+
+    π, the α-cuts (their levels and, dotted, their ends), the α of each cut and the
+    evidence's contour. Made by ``draw_possibility``, set by ``update_possibility``.
+    """
 
     ax: Axes
     x: np.ndarray
@@ -403,9 +423,11 @@ class PossibilityArtists:
 def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = False,
                      title: str | None = None, xlabel: str = "x",
                      animated: bool = False) -> PossibilityArtists:
-    """The parts of :func:`plot_possibility` over ``xlim`` that no distribution changes
-    (lines, legend, ranges, labels) on ``ax``, with the contour line if ``evidence``; the
-    data come with ``update_possibility``."""
+    """Draw the parts of :func:`plot_possibility` over ``xlim`` that no distribution changes.
+
+    Lines, legend, ranges, labels on ``ax``, with the contour line if ``evidence``; the data
+    come with ``update_possibility``.
+    """
     x = np.linspace(xlim[0], xlim[1], 801)
     zero = np.zeros_like(x)
     (pi,) = ax.plot(x, zero, color="black", lw=1.5, label="π(x)")
@@ -432,8 +454,11 @@ def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = Fa
 @styled
 def update_possibility(artists: PossibilityArtists, lower: float, mode: float, upper: float,
                        p: int = 3, evidence: IntervalEvidence | None = None) -> None:
-    """Draw π(lower, mode, upper) (eq. 22), its ``p`` α-cuts (eq. 24) and the contour of
-    ``evidence`` (if the artists have its line) in the artists of ``draw_possibility``."""
+    """Draw π(lower, mode, upper) (eq. 22) in the artists of ``draw_possibility``.
+
+    Also its ``p`` α-cuts (eq. 24) and the contour of ``evidence`` (if the artists have its
+    line).
+    """
     x, ax = artists.x, artists.ax
     artists.pi.set_ydata(possibility(x, lower, mode, upper))
     lo, hi = alpha_cuts(lower, mode, upper, p)
@@ -469,7 +494,7 @@ def plot_possibility(
     title: str | None = None,
     xlabel: str = "x",
 ) -> Figure:
-    """The triangular possibility π (paper eq. 22) with its p α-cuts (eq. 24) drawn as lines.
+    """Plot the triangular possibility π (paper eq. 22) with its p α-cuts (eq. 24) as lines.
 
     With ``evidence`` given, its contour function Pl({x}) is drawn too: the staircase that
     the evidence puts in place of π. (``draw_possibility`` then
@@ -540,9 +565,11 @@ def _bel_pl_sets(frame: Sequence[Hashable], subsets: Sequence[Any] | None) -> li
 
 @dataclass
 class BelPlArtists:
-    """What :func:`plot_bel_pl` draws on ``ax`` for the subsets ``sets`` of ``frame``: the
-    Bel bars, the Pl − Bel bars on them and the BetP ticks of the ``single`` ones (their
-    indices). Made by ``draw_bel_pl``, set by ``update_bel_pl``."""
+    """What :func:`plot_bel_pl` draws on ``ax`` for the subsets ``sets`` of ``frame``.
+
+    The Bel bars, the Pl − Bel bars on them and the BetP ticks of the ``single`` ones (their
+    indices). Made by ``draw_bel_pl``, set by ``update_bel_pl``.
+    """
 
     ax: Axes
     frame: tuple[Hashable, ...]
@@ -556,8 +583,10 @@ class BelPlArtists:
 @styled
 def draw_bel_pl(ax: Axes, frame: Sequence[Hashable], subsets: Sequence[Any] | None = None, *,
                 title: str | None = None, animated: bool = False) -> BelPlArtists:
-    """The parts of :func:`plot_bel_pl` that no masses on ``frame`` change (bars, ticks,
-    legend, labels) on ``ax``; the heights come with ``update_bel_pl``."""
+    """Draw the parts of :func:`plot_bel_pl` that no masses on ``frame`` change.
+
+    Bars, ticks, legend, labels on ``ax``; the heights come with ``update_bel_pl``.
+    """
     sets = _bel_pl_sets(frame, subsets)
     xs = np.arange(len(sets))
     zero = np.zeros(len(sets))
@@ -653,8 +682,11 @@ def plot_bel_pl(
 
 @dataclass
 class MassArtists:
-    """What :func:`plot_masses` draws on ``ax``: one bar per focal element, its mass written
-    on it. Made by ``draw_masses``, set by ``update_masses``."""
+    """What :func:`plot_masses` draws on ``ax``.
+
+    One bar per focal element, its mass written on it. Made by ``draw_masses``, set by
+    ``update_masses``.
+    """
 
     ax: Axes
     animated: bool = False
@@ -665,9 +697,11 @@ class MassArtists:
 
 @styled
 def _fit_category_labels(ax: Axes, names: Sequence[str]) -> None:
-    """Tilt the category labels of ``ax`` when, set level, they would run into each other:
-    each gets the axes' width over the number of categories, and a label is about 0.6 em
-    wide per character."""
+    """Tilt the category labels of ``ax`` when, set level, they would run into each other.
+
+    Each gets the axes' width over the number of categories, and a label is about 0.6 em
+    wide per character.
+    """
     labels = ax.get_xticklabels()
     if not labels:
         return
@@ -682,16 +716,20 @@ def _fit_category_labels(ax: Axes, names: Sequence[str]) -> None:
 
 
 def draw_masses(ax: Axes, *, title: str | None = None, animated: bool = False) -> MassArtists:
-    """The parts of :func:`plot_masses` that no masses change (labels, y range, title) on
-    ``ax``; the bars come with ``update_masses``."""
+    """Draw the parts of :func:`plot_masses` that no masses change on ``ax``.
+
+    Labels, y range, title; the bars come with ``update_masses``.
+    """
     _fixed_parts(ax, "focal element", "mass", 1.1, title, animated)
     return MassArtists(ax, animated)
 
 
 @styled
 def update_masses(artists: MassArtists, mf: MassFunction, *, title: str | None = None) -> None:
-    """Draw the masses of ``mf`` in the artists of ``draw_masses`` (one bar per focal
-    element, the x range following their number) and ``title`` if given."""
+    """Draw the masses of ``mf`` in the artists of ``draw_masses`` and ``title`` if given.
+
+    One bar per focal element, the x range following their number.
+    """
     if not isinstance(mf, MassFunction):
         raise EvidenceError("plot_masses draws a MassFunction on a finite frame")
     ax = artists.ax
@@ -728,7 +766,8 @@ def update_masses(artists: MassArtists, mf: MassFunction, *, title: str | None =
 def plot_masses(
     mf: MassFunction, ax: Axes | None = None, *, title: str | None = None
 ) -> Figure:
-    """The masses of a finite mass function, one bar per focal element.
+    """Plot the masses of a finite mass function, one bar per focal element.
+
     (``draw_masses`` then ``update_masses``.)
 
     Parameters
@@ -846,8 +885,10 @@ def plot_boxes(
     title: str | None = None,
     labels: Sequence[str] | None = None,
 ) -> Figure:
-    """The focal elements of 2-D interval evidence (a random relation, paper eq. 16) as
-    rectangles shaded by mass, each with its mass (or its ``labels`` entry) at its centre.
+    """Plot the focal elements of 2-D interval evidence as rectangles shaded by mass.
+
+    The evidence is a random relation (paper eq. 16); each rectangle has its mass (or its
+    ``labels`` entry) at its centre.
 
     Parameters
     ----------
@@ -911,7 +952,7 @@ def plot_boxes(
 
 def markdown_table(headers: Sequence[str], rows: Iterable[Sequence[Any]],
                    fmt: str = ".4f") -> Any:
-    """A Markdown table (an IPython ``Markdown`` object); floats formatted with ``fmt``.
+    """Return a Markdown table (an IPython ``Markdown`` object); floats formatted with ``fmt``.
 
     Parameters
     ----------

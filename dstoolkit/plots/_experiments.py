@@ -1,5 +1,8 @@
-"""Figures of the paper's results: Fig. 10 (frequency estimates and errors per step),
-Fig. 11 (level estimates and errors per step) and Table 3 as a picture."""
+"""Figures of the paper's results.
+
+Fig. 10 (frequency estimates and errors per step), Fig. 11 (level estimates and errors per
+step) and Table 3 as a picture.
+"""
 
 from __future__ import annotations
 
@@ -50,15 +53,19 @@ def _style(name: str) -> dict[str, Any]:
 
 
 def line_style(st: Mapping[str, Any]) -> dict[str, Any]:
-    """Keyword arguments of ``Axes.plot`` that draw a method of :data:`STYLE` (or of
-    :data:`EXTRA_STYLES`): colour, line style, and markers spaced along the line."""
+    """Return the keyword arguments of ``Axes.plot`` that draw a method of :data:`STYLE`.
+
+    Or of :data:`EXTRA_STYLES`: colour, line style, and markers spaced along the line.
+    """
     return {"color": st["color"], "ls": st.get("ls", "-"), "marker": st.get("marker", ""),
             "markevery": MARK_EVERY, "ms": 4}
 
 
 def plot_table3(table: Table3) -> Figure:
-    """Mean absolute level error against the level: ours (solid, filled markers) and the
-    paper's (dashed, open markers); each method has its own marker and colour.
+    """Plot the mean absolute level error against the level, ours and the paper's.
+
+    Ours solid with filled markers, the paper's dashed with open markers; each method has
+    its own marker and colour.
 
     Parameters
     ----------
@@ -181,7 +188,7 @@ def plot_estimates(truth: np.ndarray, readings: np.ndarray,
 
 
 def _side_titles(ax: Axes) -> list[Text]:
-    """The left and right titles of ``ax`` (set_title returns them; it sets them too)."""
+    """Return the left and right titles of ``ax`` (set_title returns them; it sets them too)."""
     return [ax.set_title(ax.get_title(loc), loc=loc) for loc in ("left", "right")]
 
 
@@ -189,8 +196,10 @@ def _side_titles(ax: Axes) -> list[Text]:
 def update_estimates(fig: Figure, truth: np.ndarray, readings: np.ndarray,
                      estimates: Mapping[str, np.ndarray], *, quantity: str = "frequency",
                      unit: str = "Hz", note: str = "") -> None:
-    """Draw other values on a figure of :func:`plot_estimates` made for the same methods
-    (``estimates`` with the same names, in the same order): data, limits, labels."""
+    """Draw other values on a figure of :func:`plot_estimates` made for the same methods.
+
+    ``estimates`` with the same names, in the same order: data, limits, labels.
+    """
     ax_a, ax_b = fig.axes[:2]
     true_line, reading_a, *est_a = ax_a.lines
     reading_b, *est_b = ax_b.lines

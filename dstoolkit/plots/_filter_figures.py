@@ -29,9 +29,12 @@ from ._style import BETP_COLOUR, SMALL_PT, column_size, legend_above, root_figur
 
 
 def blank_figure(figsize: tuple[float, float], layout: str, *, pyplot: bool = True) -> Figure:
-    """A new figure ``figsize`` inches large: through pyplot (a notebook shows it when the
-    cell ends), or a bare :class:`~matplotlib.figure.Figure` that pyplot does not know (an
-    explorer keeps it and shows it as a PNG)."""
+    """Make a new figure ``figsize`` inches large.
+
+    Through pyplot (a notebook shows it when the cell ends), or a bare
+    :class:`~matplotlib.figure.Figure` that pyplot does not know (an explorer keeps it and
+    shows it as a PNG).
+    """
     engine: Any = layout  # "constrained" or "none" (no engine, not the rcParams' default)
     if pyplot:
         return plt.figure(figsize=figsize, layout=engine)
@@ -39,7 +42,7 @@ def blank_figure(figsize: tuple[float, float], layout: str, *, pyplot: bool = Tr
 
 
 def _autoscale(*axes: Axes) -> None:
-    """Data limits and autoscaled view limits of ``axes`` from their artists' data now."""
+    """Set data limits and autoscaled view limits of ``axes`` from their artists' data now."""
     for ax in axes:
         ax.relim()
     for ax in axes:
@@ -50,8 +53,10 @@ def _autoscale(*axes: Axes) -> None:
 
 
 class EnclosureFigure:
-    """The figure of :func:`plot_enclosure`, kept: :meth:`update` draws another run of the
-    same filter in place. Attributes: ``figure``, ``ax``.
+    """The figure of :func:`plot_enclosure`, kept.
+
+    :meth:`update` draws another run of the same filter in place. Attributes: ``figure``,
+    ``ax``.
 
     Parameters
     ----------
@@ -107,8 +112,9 @@ class EnclosureFigure:
     @styled
     def update(self, result: Any, truth: Any, readings: Any = None, *,
                title: str | None = None) -> Figure:
-        """Draw ``result`` (its band [lower, upper] per step), the ``truth`` and the
-        ``readings`` (if the figure was built with readings); steps flagged in
+        """Draw ``result`` (its band [lower, upper] per step), the ``truth`` and the ``readings``.
+
+        The readings only if the figure was built with readings; steps flagged in
         ``result.diagnostics["resets"]`` get red vertical lines. Returns the figure.
 
         Parameters
@@ -166,7 +172,7 @@ def plot_enclosure(
     title: str | None = None,
     ylabel: str = "state x_k",
 ) -> Figure:
-    """A filter run's band [lower, upper] per step, the truth and the readings.
+    """Plot a filter run's band [lower, upper] per step, the truth and the readings.
 
     ``result`` is a :class:`~dstoolkit.filters.FilterResult` (its ``lower``/``upper``: boxes of
     a set-membership filter, hulls of evidence, or ±3σ of a Kalman filter). Steps flagged in
@@ -212,8 +218,10 @@ def plot_enclosure(
 
 
 class FilterErrorsFigure:
-    """The figure of :func:`plot_filter_errors`, kept: :meth:`update` draws another run in
-    place. Attributes: ``figure``, ``axes`` (top, bottom).
+    """The figure of :func:`plot_filter_errors`, kept.
+
+    :meth:`update` draws another run in place. Attributes: ``figure``, ``axes`` (top,
+    bottom).
 
     Parameters
     ----------
@@ -276,7 +284,8 @@ class FilterErrorsFigure:
     @styled
     def update(self, result: Any, truth: Any, readings: Any, *,
                title: str | None = None) -> Figure:
-        """Draw the run ``result`` of a scalar filter against ``truth`` and ``readings``;
+        """Draw the run ``result`` of a scalar filter against ``truth`` and ``readings``.
+
         ``title`` goes above the legend, wrapped to the figure's width. Returns the figure.
 
         Parameters
@@ -335,10 +344,11 @@ def plot_filter_errors(
     title: str | None = None,
     unit: str = "Hz",
 ) -> Figure:
-    """A scalar filter run against the truth, as the paper's Fig. 10: top, x̂_k − x_k and
-    the readings' z_k − x_k; bottom, the absolute errors |x̂_k − x_k| and |z_k − x_k| on a
-    log scale. (The hull of the final evidence is not drawn: with the discounts' Θ in it,
-    it is far wider than the readings' spread.)
+    """Plot a scalar filter run against the truth, as the paper's Fig. 10.
+
+    Top, x̂_k − x_k and the readings' z_k − x_k; bottom, the absolute errors |x̂_k − x_k|
+    and |z_k − x_k| on a log scale. (The hull of the final evidence is not drawn: with the
+    discounts' Θ in it, it is far wider than the readings' spread.)
 
     Drawn for speed (the filter widget redraws it on every change, as a kept
     :class:`FilterErrorsFigure`): fixed margins instead of a layout engine, and fixed log
@@ -395,9 +405,11 @@ FILTER_STEP_PANELS: tuple[tuple[str, str], ...] = (
 
 
 class FilterStepFigure:
-    """The figure of :func:`plot_filter_step`, kept: :meth:`update` draws another recorded
-    step in place, if it has the same panels (:meth:`panels_of`: a step that a total
-    conflict stopped has fewer). Attributes: ``figure``, ``axes``, ``panels``.
+    """The figure of :func:`plot_filter_step`, kept.
+
+    :meth:`update` draws another recorded step in place, if it has the same panels
+    (:meth:`panels_of`: a step that a total conflict stopped has fewer). Attributes:
+    ``figure``, ``axes``, ``panels``.
 
     Parameters
     ----------
@@ -434,7 +446,7 @@ class FilterStepFigure:
 
     @staticmethod
     def panels_of(entry: DependentRecord) -> tuple[str, ...]:
-        """The panels a recorded step fills: the keys of ``FILTER_STEP_PANELS`` it holds.
+        """Return the panels a recorded step fills: the keys of ``FILTER_STEP_PANELS`` it holds.
 
         Parameters
         ----------
@@ -481,7 +493,8 @@ class FilterStepFigure:
     @styled
     def update(self, entry: DependentRecord, truth: float | None = None, *,
                half_width: float | None = None) -> Figure:
-        """Draw the recorded step ``entry`` (with the ``truth`` of its state, if given);
+        """Draw the recorded step ``entry`` (with the ``truth`` of its state, if given).
+
         ``half_width`` of the x range: default, 0.75 × the widest cut of the observation
         evidence (its Θ aside). Returns the figure.
 
@@ -556,9 +569,10 @@ def plot_filter_step(
     figsize: tuple[float, float] = (6.4, 10.0),
     unit: str = "Hz",
 ) -> Figure:
-    """Every evidence of one recorded step of the paper's filter (a
-    :class:`~dstoolkit.filters.DependentRecord` of a scalar model), stacked top to bottom
-    as in the flowchart (Fig. 3).
+    """Plot every evidence of one recorded step of the paper's filter, stacked top to bottom.
+
+    The step is a :class:`~dstoolkit.filters.DependentRecord` of a scalar model; the panels
+    are stacked as in the flowchart (Fig. 3).
 
     Each panel draws the focal elements as in :func:`plot_focal_intervals`. The panels
     about x_{k+1} share one x range, centred on the final estimate (red line; black: the

@@ -1,5 +1,7 @@
-"""Pictures of the gauge: the recorded waveform (paper Fig. 6), the resonances (Fig. 7) and
-the gauge explorer's detection (a figure built once and updated).
+"""Pictures of the gauge.
+
+The recorded waveform (paper Fig. 6), the resonances (Fig. 7) and the gauge explorer's
+detection (a figure built once and updated).
 
 Like :mod:`dstoolkit.plots`, each function draws on a given ``Axes`` (or a new
 figure), returns the :class:`~matplotlib.figure.Figure` and never calls ``plt.show()``.
@@ -38,8 +40,9 @@ TRACE_RUN = 16
 
 
 class TraceLine(Line2D):
-    """A line through a long trace of samples at increasing times (a recording) that is
-    drawn through its extremes per pixel column of the view: in each of four runs per
+    """A line through a long trace of samples at increasing times (a recording).
+
+    It is drawn through its extremes per pixel column of the view: in each of four runs per
     pixel, its lowest and highest sample, in time order.
 
     Where the view holds ``TRACE_RUN`` samples or more per quarter pixel, the line through
@@ -86,7 +89,7 @@ def plot_recording(
     frequency_axis: bool = True,
     title: str | None = None,
 ) -> Figure:
-    """The microphone signal over time with its envelope and detected peaks (Fig. 6).
+    """Plot the microphone signal over time with its envelope and detected peaks (Fig. 6).
 
     With ``frequency_axis`` a top axis reads time as the sweep's instantaneous frequency
     f₀ + k (t − τ) (τ from ``detection`` when given, else the simulated latency, else 0).
@@ -238,9 +241,11 @@ def plot_resonances(
 
 
 def gauge_detection_figure(setup: TubeSetup, detection: DetectionResult) -> Figure:
-    """The gauge explorer's picture of one detection in the tube ``setup``: top, the
-    recording's envelope against the sweep's frequency, the model's resonances n c/(2L)
-    (eqs. 29–32) and the detected peaks; bottom, the detection error z_k − n_k f_F.
+    """Draw the gauge explorer's picture of one detection in the tube ``setup``.
+
+    Top, the recording's envelope against the sweep's frequency, the model's resonances
+    n c/(2L) (eqs. 29–32) and the detected peaks; bottom, the detection error
+    z_k − n_k f_F.
 
     Built once and kept: :func:`update_gauge_detection` draws another detection on it. The
     data and the title are animated and the limits snap to round numbers, so that most
@@ -267,9 +272,11 @@ def gauge_detection_figure(setup: TubeSetup, detection: DetectionResult) -> Figu
 
 
 def update_gauge_detection(fig: Figure, setup: TubeSetup, detection: DetectionResult) -> None:
-    """Draw another detection on a :func:`gauge_detection_figure`: new data and title; the
-    envelope's limits where they cross round numbers, the error's where it crosses
-    1, 2, 5 × 10ⁿ Hz."""
+    """Draw another detection on a :func:`gauge_detection_figure`: new data and title.
+
+    The envelope's limits where they cross round numbers, the error's where it crosses
+    1, 2, 5 × 10ⁿ Hz.
+    """
     (ax1, ax2), sweep = fig.axes, detection.sweep
     envelope, peaks = ax1.lines
     (model,) = ax1.collections

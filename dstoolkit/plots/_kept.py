@@ -57,8 +57,10 @@ _LOG_STEPS = (1.0, 2.0, 5.0, 10.0)
 
 def snapped_limits(lo: float, hi: float, *, log: bool = False, margin: float = 0.05,
                    bins: int = 5) -> tuple[float, float]:
-    """Axis limits around data from ``lo`` to ``hi``: out to round numbers, then widened by
-    ``margin`` of that span (of its logarithm on a ``log`` axis), as matplotlib's margins.
+    """Return axis limits around data from ``lo`` to ``hi``, out to round numbers.
+
+    Then widened by ``margin`` of that span (of its logarithm on a ``log`` axis), as
+    matplotlib's margins.
 
     Round numbers are multiples of a step of 1, 2, 2.5 or 5 × 10ⁿ that cuts the span into
     at most ``bins`` (linear), or 1, 2, 5 × 10ⁿ (log, the ticks of ``log_ticks``). The limits
@@ -82,9 +84,12 @@ def snapped_limits(lo: float, hi: float, *, log: bool = False, margin: float = 0
 
 
 def zero_based_limits(lo: float, hi: float, *, margin: float = 0.05) -> tuple[float, float]:
-    """Axis limits from 0 (or −1, 2, 5 × 10ⁿ below it) to 1, 2, 5 × 10ⁿ (or 0), around
-    data from ``lo`` to ``hi``, widened by ``margin`` of that span: for a quantity read from
-    zero (an error), limits that change only when the data cross a factor 2 or 2.5."""
+    """Return axis limits from 0 (or −1, 2, 5 × 10ⁿ below it) to 1, 2, 5 × 10ⁿ (or 0).
+
+    Around data from ``lo`` to ``hi``, widened by ``margin`` of that span: for a quantity
+    read from zero (an error), limits that change only when the data cross a factor 2 or
+    2.5.
+    """
     lo = -_round_log(np.log10(-lo), np.ceil) if lo < 0 else 0.0
     hi = _round_log(np.log10(hi), np.ceil) if hi > 0 else 0.0
     if lo == hi:
@@ -106,8 +111,11 @@ def _round_log(exponent: float, outward: Callable[[float], float]) -> float:
 
 def set_limits(ax: Axes, *, x: tuple[float, float] | None = None,
                y: tuple[float, float] | None = None) -> None:
-    """Set the axes' limits that differ from ``x`` and ``y`` (matplotlib marks a figure stale
-    on any ``set_xlim``, even of the same values, and then it is drawn whole)."""
+    """Set the axes' limits that differ from ``x`` and ``y``.
+
+    Matplotlib marks a figure stale on any ``set_xlim``, even of the same values, and then
+    it is drawn whole.
+    """
     if x is not None and tuple(ax.get_xlim()) != tuple(map(float, x)):
         ax.set_xlim(*x)
     if y is not None and tuple(ax.get_ylim()) != tuple(map(float, y)):
@@ -115,10 +123,13 @@ def set_limits(ax: Axes, *, x: tuple[float, float] | None = None,
 
 
 class InnerTicks(AutoLocator):
-    """Matplotlib's default ticks, less those within ``margin`` (a fraction of the view) of
-    either end. Their labels then never reach past the axes' ends, so that a kept figure
-    whose limits move keeps its layout (a label sticking out of the figure makes
-    :meth:`dstoolkit.teaching.Explorer.png` lay it out afresh, a second whole draw)."""
+    """Return matplotlib's default ticks, less those within ``margin`` of either end.
+
+    ``margin`` is a fraction of the view. Their labels then never reach past the axes' ends,
+    so that a kept figure whose limits move keeps its layout (a label sticking out of the
+    figure makes :meth:`dstoolkit.teaching.Explorer.png` lay it out afresh, a second whole
+    draw).
+    """
 
     def __init__(self, margin: float = 0.04) -> None:
         super().__init__()
@@ -132,11 +143,13 @@ class InnerTicks(AutoLocator):
 
 
 def animate(*artists: Artist | None, spines_of: Axes | None = None) -> None:
-    """Mark ``artists`` (None is skipped) as following the controls: a kept figure whose
-    other artists did not change redraws only them (blitting, see
+    """Mark ``artists`` (None is skipped) as following the controls.
+
+    A kept figure whose other artists did not change redraws only them (blitting, see
     :meth:`dstoolkit.teaching.Explorer.png`), on the picture of the rest as it was last
     drawn, above it, in order of zorder. ``spines_of``: the spines of that axes come along,
-    because a fresh drawing puts them (zorder 2.5) over bars that reach the axes' edge."""
+    because a fresh drawing puts them (zorder 2.5) over bars that reach the axes' edge.
+    """
     spines = spines_of.spines.values() if spines_of is not None else ()
     for artist in (*artists, *spines):
         if artist is not None:

@@ -37,8 +37,10 @@ RULE_STYLE = {"eq43": ("-", "eq. 43"), "fit": ("--", "series fit"), "true": (":"
 
 
 def _style(name: str) -> dict[str, Any]:
-    """A method's colour, line style, marker and label; any other name is drawn black,
-    solid, with a cross."""
+    """Return a method's colour, line style, marker and label.
+
+    Any other name is drawn black, solid, with a cross.
+    """
     return STYLE.get(name, {**EXTRA_STYLES[0], "label": name})
 
 
@@ -110,8 +112,10 @@ def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *
 
 
 def update_step_errors(ax: Axes, errors: Mapping[str, np.ndarray]) -> None:
-    """Draw other errors on axes of :func:`plot_step_errors` drawn for the same methods
-    (the same names in the same order); the limits follow."""
+    """Draw other errors on axes of :func:`plot_step_errors` drawn for the same methods.
+
+    The same names in the same order; the limits follow.
+    """
     if len(ax.lines) != len(errors):
         raise InvalidInputError(f"these axes draw {len(ax.lines)} methods, not "
                                 f"{len(errors)}: draw them anew with plot_step_errors")
@@ -133,7 +137,7 @@ def update_step_errors(ax: Axes, errors: Mapping[str, np.ndarray]) -> None:
 
 def _possibilities(true: BoundedNoise, assumed: BoundedNoise
                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A grid over both noises' supports (and 15 % beyond) and the possibility of each."""
+    """Return a grid over both noises' supports (and 15 % beyond) and the possibility of each."""
     lo = min(true.lower[0], assumed.lower[0])
     hi = max(true.upper[0], assumed.upper[0])
     pad = 0.15 * (hi - lo if hi > lo else 1.0)
@@ -152,9 +156,10 @@ _ASSUMED_LINE: dict[str, Any] = {"color": "C3", "lw": 1.5, "label": "assumed"}
 @styled
 def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | None = None,
                           *, title: str | None = None, xlabel: str = "noise (Hz)") -> Figure:
-    """The possibility distribution of the true noise (filled) and of the noise a filter
-    assumes (line), scalar noises (paper eqs. 22–23). ``update_noise_assumption``
-    draws other noises on the axes.
+    """Plot the possibility distribution of the true noise and of the noise a filter assumes.
+
+    The true noise filled, the assumed one a line; scalar noises (paper eqs. 22–23).
+    ``update_noise_assumption`` draws other noises on the axes.
 
     Parameters
     ----------
@@ -200,8 +205,11 @@ def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | 
 
 @styled
 def update_noise_assumption(ax: Axes, true: BoundedNoise, assumed: BoundedNoise) -> None:
-    """Draw other noises on axes of :func:`plot_noise_assumption`; the x limits follow,
-    unless the curves are animated (kept by an explorer, :func:`noise_bounds_figure`)."""
+    """Draw other noises on axes of :func:`plot_noise_assumption`.
+
+    The x limits follow, unless the curves are animated (kept by an explorer,
+    :func:`noise_bounds_figure`).
+    """
     x, y_true, y_assumed = _possibilities(true, assumed)
     fill: Any = ax.collections[0]  # a FillBetweenPolyCollection (matplotlib 3.10+)
     fill.set_data(x, y_true, 0)
@@ -215,14 +223,17 @@ def noise_bounds_figure(true_v: BoundedNoise, true_w: BoundedNoise, assumed_v: B
                         assumed_w: BoundedNoise, errors: Mapping[str, np.ndarray], *,
                         title: str, v_range: tuple[float, float],
                         w_range: tuple[float, float]) -> Figure:
-    """The noise-bounds explorer's figure: the true and assumed possibility distributions
-    of v and w (:func:`plot_noise_assumption`) beside every method's mean error per step
+    """Draw the noise-bounds explorer's figure.
+
+    The true and assumed possibility distributions of v and w
+    (:func:`plot_noise_assumption`) beside every method's mean error per step
     (:func:`plot_step_errors`, titled ``title``). The explorer's own (11 in wide, in the
-    notebook's style); :func:`update_noise_bounds_figure` draws other assumptions on it.
-    The noises' axes span ``v_range`` and ``w_range`` (the sliders' ranges of the bounds,
-    with matplotlib's margin) whatever the assumption, the errors' axis snaps to round
-    numbers (``snapped_limits``) and the data are animated: most changes redraw only the
-    data (blitting), and the true noise stands still while the assumed one moves."""
+    notebook's style); :func:`update_noise_bounds_figure` draws other assumptions on it. The
+    noises' axes span ``v_range`` and ``w_range`` (the sliders' ranges of the bounds, with
+    matplotlib's margin) whatever the assumption, the errors' axis snaps to round numbers
+    (``snapped_limits``) and the data are animated: most changes redraw only the data
+    (blitting), and the true noise stands still while the assumed one moves.
+    """
     fig = Figure(figsize=(11, 3.8), layout="constrained")
     ax_v, ax_w, ax_e = fig.subplots(1, 3, width_ratios=[1, 1, 2.2])
     plot_noise_assumption(true_v, assumed_v, ax_v, title="state noise v (Hz)")
@@ -240,8 +251,10 @@ def noise_bounds_figure(true_v: BoundedNoise, true_w: BoundedNoise, assumed_v: B
 def update_noise_bounds_figure(fig: Figure, true_v: BoundedNoise, true_w: BoundedNoise,
                                assumed_v: BoundedNoise, assumed_w: BoundedNoise,
                                errors: Mapping[str, np.ndarray]) -> None:
-    """Draw other assumed noises and their errors on a :func:`noise_bounds_figure` (its
-    title stays)."""
+    """Draw other assumed noises and their errors on a :func:`noise_bounds_figure`.
+
+    Its title stays.
+    """
     ax_v, ax_w, ax_e = fig.axes
     update_noise_assumption(ax_v, true_v, assumed_v)
     update_noise_assumption(ax_w, true_w, assumed_w)
@@ -250,9 +263,10 @@ def update_noise_bounds_figure(fig: Figure, true_v: BoundedNoise, true_w: Bounde
 
 @styled
 def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = None) -> Figure:
-    """Mean |x̂ − x| of each method against the factor by which the assumed bounds are
-    scaled about the modes; the bounded-error filter's marker is red where it failed in
-    some runs (the number printed is the fraction of failed runs).
+    """Plot mean |x̂ − x| of each method against the factor scaling the assumed bounds.
+
+    The bounds are scaled about the modes; the bounded-error filter's marker is red where it
+    failed in some runs (the number printed is the fraction of failed runs).
 
     Parameters
     ----------
@@ -304,9 +318,10 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
 
 @styled
 def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
-    """Mean absolute level error against the level, one panel per simulation (stacked):
-    line style = order rule, colour and marker = method; grey diamonds on a thick line:
-    the series fit's own level.
+    """Plot mean absolute level error against the level, one panel per simulation (stacked).
+
+    Line style = order rule, colour and marker = method; grey diamonds on a thick line: the
+    series fit's own level.
 
     Parameters
     ----------
@@ -348,8 +363,10 @@ def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
 
 @styled
 def plot_example(comparison: ExampleComparison, run: int = 0) -> Figure:
-    """The predator–prey example: (a) the populations (P, Q) of one run, truth, census
-    readings and every method's estimate; (b) |x̂_k − x_k| per step (log-populations).
+    """Plot the predator–prey example.
+
+    (a) the populations (P, Q) of one run, truth, census readings and every method's
+    estimate; (b) |x̂_k − x_k| per step (log-populations).
 
     Parameters
     ----------

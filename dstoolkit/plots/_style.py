@@ -118,7 +118,7 @@ def figure_style() -> Iterator[None]:
 
 
 def styled(function: F) -> F:
-    """Decorator: the figure function runs inside :func:`figure_style`."""
+    """Make the decorated figure function run inside :func:`figure_style`."""
 
     @functools.wraps(function)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
@@ -149,14 +149,14 @@ def use_style() -> None:
 
 
 def column_size(width: float, height: float) -> tuple[float, float]:
-    """A figure size no wider than the text column (the height is scaled along)."""
+    """Return a figure size no wider than the text column (the height is scaled along)."""
     if width <= COLUMN_WIDTH_IN:
         return (width, height)
     return (COLUMN_WIDTH_IN, height * COLUMN_WIDTH_IN / width)
 
 
 def root_figure(ax: Axes) -> Figure:
-    """The :class:`~matplotlib.figure.Figure` that holds ``ax``, through any subfigures."""
+    """Return the :class:`~matplotlib.figure.Figure` that holds ``ax``, through any subfigures."""
     fig = ax.figure
     while not isinstance(fig, Figure):  # a SubFigure: its parent's figure
         fig = fig.figure
@@ -164,13 +164,14 @@ def root_figure(ax: Axes) -> Figure:
 
 
 def new_figure(width: float = COLUMN_WIDTH_IN, height: float = 3.0) -> Figure:
-    """A constrained-layout :class:`Figure` of at most the column's width (no pyplot state)."""
+    """Make a constrained-layout :class:`Figure` of at most the column's width (no pyplot state)."""
     return Figure(figsize=column_size(width, height), layout="constrained", dpi=RC["figure.dpi"])
 
 
 def legend_above(ax: Axes, ncols: int | None = None, **kwargs: Any) -> Legend | None:
-    """The legend of ``ax`` in rows above its data area, where it cannot hide data; the
-    axes' titles move up above it. Returns None when nothing is labelled.
+    """Put the legend of ``ax`` in rows above its data area, where it cannot hide data.
+
+    The axes' titles move up above it. Returns None when nothing is labelled.
 
     Parameters
     ----------
@@ -214,8 +215,10 @@ def legend_above(ax: Axes, ncols: int | None = None, **kwargs: Any) -> Legend | 
 
 def spread_positions(positions: list[float], gap: float, low: float = 0.0,
                      high: float = 1.0) -> list[float]:
-    """Positions moved apart until neighbours are at least ``gap`` apart: each is pushed up
-    past the one below it, then, if the highest passes ``high``, the stack is pushed down.
+    """Move positions apart until neighbours are at least ``gap`` apart.
+
+    Each is pushed up past the one below it, then, if the highest passes ``high``, the stack
+    is pushed down.
 
     Parameters
     ----------
@@ -257,8 +260,9 @@ def spread_positions(positions: list[float], gap: float, low: float = 0.0,
 
 def label_line_ends(ax: Axes, lines: list[Line2D] | None = None, *,
                     labels: list[str] | None = None) -> list[Text]:
-    """Direct labels: each line's label written just right of the data area, level with the
-    line's last point, moved apart where two would overlap.
+    """Write direct labels: each line's label just right of the data area.
+
+    Level with the line's last point, moved apart where two would overlap.
 
     A reader matches a series to its name where it ends, without the legend and without
     telling colours apart. Call it once the axes' limits are final.

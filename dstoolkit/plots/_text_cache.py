@@ -53,13 +53,17 @@ def _remember(cache: dict[Any, Any], key: Any, value: Any) -> Any:
 
 
 class TextCachingRenderer(RendererAgg):
-    """Agg's renderer with cached text layouts, glyph bitmaps and line metrics (plain text;
-    mathtext and TeX are drawn as by Agg)."""
+    """Agg's renderer with cached text layouts, glyph bitmaps and line metrics.
+
+    Plain text only; mathtext and TeX are drawn as by Agg.
+    """
 
     def _get_font_height_metrics(self, prop: Any) -> tuple[float | None, ...]:
-        """(ascent, descent, line gap) in pixels of the font of ``prop``, as
-        ``matplotlib.text.Text`` computes them from the font's OS/2 or hhea table (the hook
-        it asks a renderer first); (None, None, None) when the font has neither."""
+        """Return (ascent, descent, line gap) in pixels of the font of ``prop``.
+
+        As ``matplotlib.text.Text`` computes them from the font's OS/2 or hhea table (the
+        hook it asks a renderer first); (None, None, None) when the font has neither.
+        """
         key = (prop, self.dpi)
         cached = _metrics.get(key)
         if cached is None:
@@ -122,8 +126,11 @@ class TextCachingRenderer(RendererAgg):
 
 
 class TextCachingCanvas(FigureCanvasAgg):
-    """:class:`~matplotlib.backends.backend_agg.FigureCanvasAgg` whose renderer caches
-    text (:class:`TextCachingRenderer`), where this matplotlib allows (:data:`SUPPORTED`)."""
+    """:class:`~matplotlib.backends.backend_agg.FigureCanvasAgg` whose renderer caches text.
+
+    The renderer is a :class:`TextCachingRenderer`, where this matplotlib allows
+    (:data:`SUPPORTED`).
+    """
 
     def get_renderer(self) -> RendererAgg:
         renderer = super().get_renderer()
