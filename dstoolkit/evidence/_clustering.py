@@ -43,9 +43,10 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
         Boxes (R, W, d) and masses (R, W), W the largest number of distinct boxes of
         positive mass in a run.
 
-    See Also
-    --------
-    merge_equal_boxes_compiled : the same numbers, compiled (extra ``speed``).
+    Notes
+    -----
+    ``dstoolkit.evidence.boxes.merge_equal_boxes_compiled`` gives the same numbers, compiled (extra
+    ``speed``).
 
     References
     ----------
@@ -247,9 +248,10 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     WorkLimitError
         When the rounds do not reach the cap.
 
-    See Also
-    --------
-    cluster_boxes_compiled : the same numbers, compiled (extra ``speed``).
+    Notes
+    -----
+    ``dstoolkit.evidence.boxes.cluster_boxes_compiled`` gives the same numbers, compiled (extra
+    ``speed``).
 
     Examples
     --------

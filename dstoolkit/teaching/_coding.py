@@ -103,7 +103,7 @@ def _plain(x: Any) -> Any:
     Returns
     -------
     object
-        Its plain form, compared by :func:`same`.
+        Its plain form, compared by ``same``.
     """
     if isinstance(x, Raised | str | bool | np.bool_) or x is None:
         return x

@@ -234,7 +234,7 @@ def once() -> MassFunction:
     Returns
     -------
     MassFunction
-        The source, on the frame :data:`FRAME`.
+        The source, on the frame ``FRAME`` (low, mid, high).
 
     Examples
     --------
