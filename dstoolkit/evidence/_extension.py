@@ -106,10 +106,11 @@ def cartesian_product(
     rows = math.prod(len(e) for e in marginals)
     dims = sum(e.dim for e in marginals)
     # the index grids, the ends, the masses, and as much again to merge equal boxes
-    check_memory(rows * (16.0 * dims + 16.0 * len(marginals) + 16.0) * 2,
-                 f"the Cartesian product of {len(marginals)} marginals ({rows} boxes in "
-                 f"{dims} dimensions)", "use fewer focal elements per marginal (fewer α-cuts, "
-                 "a smaller p) or fewer marginals")
+    check_memory(
+        rows * (16.0 * dims + 16.0 * len(marginals) + 16.0) * 2,
+        f"the Cartesian product of {len(marginals)} marginals ({rows} boxes in {dims} dimensions)",
+        "use fewer focal elements per marginal (fewer α-cuts, a smaller p) or fewer marginals",
+    )
     grids = np.meshgrid(*[np.arange(len(e)) for e in marginals], indexing="ij")
     idx = [g.reshape(-1) for g in grids]
     lo = np.concatenate([e.boxes_lo[i] for e, i in zip(marginals, idx, strict=True)], axis=1)
@@ -149,8 +150,9 @@ def projection(evidence: IntervalEvidence, axes: Sequence[int]) -> IntervalEvide
     [0.1, 0.3, 0.6]
     """
     axes = list(axes)
-    return IntervalEvidence(evidence.boxes_lo[:, axes], evidence.boxes_hi[:, axes],
-                            evidence.mass, merge=True)
+    return IntervalEvidence(
+        evidence.boxes_lo[:, axes], evidence.boxes_hi[:, axes], evidence.mass, merge=True
+    )
 
 
 # -- helpers -------------------------------------------------------------------------------
@@ -182,6 +184,7 @@ def _checked(f: Callable[[np.ndarray], Any]) -> Callable[[np.ndarray], Any]:
     That is complex values (their imaginary part would be dropped) and NaN or ±inf at
     points whose coordinates are finite.
     """
+
     def checked(points: np.ndarray) -> Any:
         raw = f(points)
         try:
@@ -191,7 +194,8 @@ def _checked(f: Callable[[np.ndarray], Any]) -> Callable[[np.ndarray], Any]:
         if values.dtype.kind == "c":
             raise EvidenceError(
                 "f returned complex values; the extension principle needs a real function "
-                "(take the real part or the modulus inside f, as the model means)")
+                "(take the real part or the modulus inside f, as the model means)"
+            )
         if values.dtype.kind not in "biuf":
             return raw
         finite_in = np.all(np.isfinite(points), axis=-1)
@@ -207,7 +211,8 @@ def _checked(f: Callable[[np.ndarray], Any]) -> Callable[[np.ndarray], Any]:
             point = points[tuple(where)]
             raise EvidenceError(
                 f"f returned NaN or an infinite value at the point {point.tolist()}: the image "
-                "of a box would not be a box; check f's domain (or the boxes given)")
+                "of a box would not be a box; check f's domain (or the boxes given)"
+            )
         return raw
 
     return checked
@@ -493,17 +498,20 @@ def image_subdivision(
     if not 0 < tol < 1:
         raise EvidenceError(f"tol is relative to the box width and must lie in (0, 1), got {tol}")
     n, lead = lo.shape[-1], lo.shape[:-1]
-    check_memory(float(k + 1) ** n * max(1, int(np.prod(lead))) * 8 * (2 * n + 2),
-                 f"the subdivision image's grid ({k + 1}^{n} points per box)",
-                 "use fewer subdivisions")
+    check_memory(
+        float(k + 1) ** n * max(1, int(np.prod(lead))) * 8 * (2 * n + 2),
+        f"the subdivision image's grid ({k + 1}^{n} points per box)",
+        "use fewer subdivisions",
+    )
     unit = _unit_grid(k, n)  # (G, n)
     grid = unit.reshape((-1,) + (1,) * len(lead) + (n,))
     width = hi - lo
     values = _evaluate(f, lo + grid * width, 1)  # (G, ..., m)
     c = max(1, int(candidates))
     # candidates: extreme e (0 = min, 1 = max) and rank r → axis E = 2c
-    order = np.concatenate([_candidates(values, k, n, c),
-                            _candidates(-values, k, n, c)])  # (E, ..., m)
+    order = np.concatenate(
+        [_candidates(values, k, n, c), _candidates(-values, k, n, c)]
+    )  # (E, ..., m)
     sign = np.repeat([1.0, -1.0], c).reshape((2 * c, 1) + (1,) * len(lead))
     score = np.moveaxis(np.take_along_axis(values, order, axis=0), -1, 1) * sign  # (E, m, ...)
     order = np.moveaxis(order, -1, 1)  # (E, m, ...)
@@ -530,7 +538,11 @@ def image_subdivision(
 
 
 def image_mean_value(
-    lo: np.ndarray, hi: np.ndarray, f: Callable[[np.ndarray], Any], slope: SlopeBound, *,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    f: Callable[[np.ndarray], Any],
+    slope: SlopeBound,
+    *,
     pieces: int = 8,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Mean-value form: an outer enclosure of f on boxes [lo, hi], never narrower than f(A).
@@ -586,8 +598,11 @@ def image_mean_value(
     if int(pieces) != pieces or pieces < 1:
         raise EvidenceError(f"pieces must be a whole number >= 1, got {pieces!r}")
     k, n = int(pieces), lo.shape[-1]
-    check_memory(float(k) ** n * lo.size * 8 * 8, f"the mean-value form on {k}^{n} sub-boxes "
-                 "per box", "use fewer pieces (subdivisions=) or fewer boxes")
+    check_memory(
+        float(k) ** n * lo.size * 8 * 8,
+        f"the mean-value form on {k}^{n} sub-boxes per box",
+        "use fewer pieces (subdivisions=) or fewer boxes",
+    )
     steps = np.stack(np.meshgrid(*([np.arange(k)] * n), indexing="ij"), -1).reshape(-1, n)
     width = (hi - lo)[..., None, :]
     sub_lo = lo[..., None, :] + width * (steps / k)  # (..., k^n, n)
@@ -601,14 +616,16 @@ def image_mean_value(
     if d_lo.shape != want or d_hi.shape != want:
         raise EvidenceError(
             f"slope(lo, hi) must return two arrays of shape {centre.shape} (scalar f) or "
-            f"{want}, got {d_lo.shape} and {d_hi.shape}")
+            f"{want}, got {d_lo.shape} and {d_hi.shape}"
+        )
     if np.isnan(d_lo).any() or np.isnan(d_hi).any() or np.any(d_lo > d_hi):
-        raise EvidenceError("slope(lo, hi) returned NaN or d_lo > d_hi; it must bound every "
-                            "partial derivative of f on the box from below and above")
+        raise EvidenceError(
+            "slope(lo, hi) returned NaN or d_lo > d_hi; it must bound every "
+            "partial derivative of f on the box from below and above"
+        )
     spread = np.sum(np.maximum(np.abs(d_lo), np.abs(d_hi)) * half[..., None, :], axis=-1)
     slack = 4.0 * np.finfo(float).eps * (np.abs(at_centre) + spread)  # rounding, outward
-    return ((at_centre - spread - slack).min(axis=-2),
-            (at_centre + spread + slack).max(axis=-2))
+    return ((at_centre - spread - slack).min(axis=-2), (at_centre + spread + slack).max(axis=-2))
 
 
 def resolve_method(method: str, signs: np.ndarray | None) -> str:
@@ -639,8 +656,10 @@ def image_boxes(
     """Array kernel behind :func:`image`: ``method`` already resolved, signs parsed."""
     if method == "mean_value":
         if slope is None:
-            raise EvidenceError("method='mean_value' needs slope=: a function (lo, hi) -> "
-                                "(d_lo, d_hi) bounding f's derivatives on a box")
+            raise EvidenceError(
+                "method='mean_value' needs slope=: a function (lo, hi) -> "
+                "(d_lo, d_hi) bounding f's derivatives on a box"
+            )
         return image_mean_value(lo, hi, f, slope, pieces=subdivisions)
     if method == "monotone":
         if signs is None:
@@ -717,8 +736,16 @@ def box_image(
     """
     lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
     signs = state_signs(monotone, lo.shape[-1])
-    return image_boxes(lo, hi, f, resolve_method(method, signs), signs, check=check, tol=tol,
-                       subdivisions=subdivisions)
+    return image_boxes(
+        lo,
+        hi,
+        f,
+        resolve_method(method, signs),
+        signs,
+        check=check,
+        tol=tol,
+        subdivisions=subdivisions,
+    )
 
 
 def image(
@@ -811,17 +838,29 @@ def image(
         if np.any(lo > hi):
             raise EvidenceError("some boxes have lo > hi; swap the ends or check the data")
         if lo.shape[-1] == 0:
-            raise EvidenceError(f"boxes of shape {lo.shape} have no dimension; give (..., n) "
-                                "with n >= 1")
+            raise EvidenceError(
+                f"boxes of shape {lo.shape} have no dimension; give (..., n) with n >= 1"
+            )
     if not callable(f):
         raise EvidenceError(f"f must be a function of the points, got {type(f).__name__}")
     signs = parse_signs(monotone, lo.shape[-1])
     resolved = resolve_method(method, signs)
-    out_lo, out_hi = image_boxes(lo, hi, _checked(f), resolved, signs, check=check, tol=tol,
-                                 subdivisions=subdivisions, slope=slope)
+    out_lo, out_hi = image_boxes(
+        lo,
+        hi,
+        _checked(f),
+        resolved,
+        signs,
+        check=check,
+        tol=tol,
+        subdivisions=subdivisions,
+        slope=slope,
+    )
     if np.isnan(out_lo).any() or np.isnan(out_hi).any():
-        raise EvidenceError("the image has NaN ends (f is not defined on all of a box); "
-                            "check f's domain or the boxes given")
+        raise EvidenceError(
+            "the image has NaN ends (f is not defined on all of a box); "
+            "check f's domain or the boxes given"
+        )
     if isinstance(evidence_or_arrays, IntervalEvidence):
         return IntervalEvidence(out_lo, out_hi, evidence_or_arrays.mass, merge=merge)
     return out_lo, out_hi

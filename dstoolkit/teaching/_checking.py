@@ -85,8 +85,7 @@ class Exercise:
     """Applied to answers and solutions before comparing (e.g. sort rows of evidence)."""
     varies: bool = False
     """True when the solver reads its chapter's variant data (see ``set_variant``)."""
-    _cache: dict[Any, Any] = field(default_factory=dict, init=False, compare=False,
-                                   repr=False)
+    _cache: dict[Any, Any] = field(default_factory=dict, init=False, compare=False, repr=False)
 
     @property
     def solution(self) -> Any:
@@ -128,8 +127,12 @@ class Exercise:
             The verdict, in the current variant.
         """
         if too_big(answer):
-            return Feedback(self.id, False, f"✘ {self.id}: wrong: the answer is "
-                            f"{describe(answer)}, far more than this exercise asks for.")
+            return Feedback(
+                self.id,
+                False,
+                f"✘ {self.id}: wrong: the answer is "
+                f"{describe(answer)}, far more than this exercise asks for.",
+            )
         if self.canonical is not None:
             try:
                 answer = self.canonical(answer)
@@ -143,8 +146,13 @@ class Exercise:
                 return Feedback(self.id, False, f"✘ {self.id}: wrong. {why}", {"mistake": why})
         sol = self._canonical(self.solution)
         if not reason and _nearly(answer, sol, self):
-            off = float(np.max(np.abs(np.asarray(_canonical(answer), float)
-                                      - np.asarray(_canonical(sol), float))))
+            off = float(
+                np.max(
+                    np.abs(
+                        np.asarray(_canonical(answer), float) - np.asarray(_canonical(sol), float)
+                    )
+                )
+            )
             reason = f"close, but off by {off:.2g}; keep more decimals in the intermediate steps"
         reason = f" ({reason})" if reason else ""
         return Feedback(self.id, False, f"✘ {self.id}: wrong{reason}. Hint: {self.hint}")
@@ -199,8 +207,9 @@ class Feedback:
         return self.message
 
     def _repr_html_(self) -> str:
-        colour = ("#1b7f3b" if self.correct else "#5f6368" if self.details.get("pending")
-                  else "#b00020")
+        colour = (
+            "#1b7f3b" if self.correct else "#5f6368" if self.details.get("pending") else "#b00020"
+        )
         body = html.escape(self.message).replace("\n", "<br>")
         return f"<p style='color:{colour};font-family:monospace;white-space:pre-wrap'>{body}</p>"
 
@@ -342,8 +351,9 @@ def solution(exercise_id: str) -> Any:
     """
     value = get(exercise_id).solution
     if isinstance(value, FunctionType):
-        twin = FunctionType(value.__code__, value.__globals__, value.__name__,
-                            value.__defaults__, value.__closure__)
+        twin = FunctionType(
+            value.__code__, value.__globals__, value.__name__, value.__defaults__, value.__closure__
+        )
         twin.__dict__.update(copy.deepcopy(value.__dict__))
         twin.__doc__, twin.__qualname__ = value.__doc__, value.__qualname__
         twin.__module__ = value.__module__
@@ -376,8 +386,9 @@ def mistake(exercise_id: str) -> Any:
     return get(exercise_id).wrong_answer()
 
 
-def check(exercise_id: str, answer: Any, *, time_limit: float | None = None,
-          variant: int | None = None) -> Feedback:
+def check(
+    exercise_id: str, answer: Any, *, time_limit: float | None = None, variant: int | None = None
+) -> Feedback:
     """Compare ``answer`` with the solution of ``exercise_id``: right, or wrong with a hint.
 
     In a notebook, end a cell with ``check("mass.bel", answer)`` to see the verdict. An
@@ -424,9 +435,12 @@ def check(exercise_id: str, answer: Any, *, time_limit: float | None = None,
     """
     ex = get(exercise_id)
     if answer is ... or answer is None:
-        return Feedback(exercise_id, False,
-                        f"{exercise_id}: {NOT_ANSWERED} — replace ... by your answer.",
-                        {"pending": True})
+        return Feedback(
+            exercise_id,
+            False,
+            f"{exercise_id}: {NOT_ANSWERED} — replace ... by your answer.",
+            {"pending": True},
+        )
     with using_variant(variant):
         return ex.verdict(answer, time_limit)
 
@@ -506,7 +520,8 @@ def _nearly(answer: Any, sol: Any, ex: Exercise) -> bool:
     except (TypeError, ValueError):
         return False
     return a.size == s.size and bool(
-        np.all(np.isclose(a.reshape(s.shape), s, atol=20 * ex.atol, rtol=20 * ex.rtol)))
+        np.all(np.isclose(a.reshape(s.shape), s, atol=20 * ex.atol, rtol=20 * ex.rtol))
+    )
 
 
 def _moved(value: Any) -> Any:

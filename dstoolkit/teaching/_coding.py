@@ -108,8 +108,10 @@ def _plain(x: Any) -> Any:
     if isinstance(x, Raised | str | bool | np.bool_) or x is None:
         return x
     if isinstance(x, Mapping):
-        return {(frozenset(k) if isinstance(k, set | frozenset | tuple | list) else k): _plain(v)
-                for k, v in x.items()}
+        return {
+            (frozenset(k) if isinstance(k, set | frozenset | tuple | list) else k): _plain(v)
+            for k, v in x.items()
+        }
     if isinstance(x, np.ndarray):
         return _plain(x.tolist())
     if isinstance(x, Sequence):
@@ -134,15 +136,24 @@ def same(got: Any, expected: Any, atol: float = 1e-9, rtol: float = 1e-6) -> boo
     if isinstance(expected, dict):
         if not isinstance(got, dict):
             return False
-        keys = {k for k, v in {**got, **expected}.items()
-                if not (isinstance(v, float) and abs(v) < atol)}
+        keys = {
+            k
+            for k, v in {**got, **expected}.items()
+            if not (isinstance(v, float) and abs(v) < atol)
+        }
         return all(same(got.get(k, 0.0), expected.get(k, 0.0), atol, rtol) for k in keys)
     if isinstance(expected, list):
-        return (isinstance(got, list) and len(got) == len(expected)
-                and all(same(g, e, atol, rtol) for g, e in zip(got, expected, strict=True)))
+        return (
+            isinstance(got, list)
+            and len(got) == len(expected)
+            and all(same(g, e, atol, rtol) for g, e in zip(got, expected, strict=True))
+        )
     if isinstance(expected, float):
-        return (isinstance(got, float) and not math.isnan(got)
-                and math.isclose(got, expected, abs_tol=atol, rel_tol=rtol))
+        return (
+            isinstance(got, float)
+            and not math.isnan(got)
+            and math.isclose(got, expected, abs_tol=atol, rel_tol=rtol)
+        )
     return got == expected
 
 
@@ -207,8 +218,7 @@ class CodingExercise:
     mistakes: tuple[tuple[Callable[..., Any], str], ...] = ()
     normalise: Callable[[Any], Any] = _plain
     arg_names: tuple[str, ...] = ()
-    _cache: dict[str, Any] = field(default_factory=dict, init=False, compare=False,
-                                   repr=False)
+    _cache: dict[str, Any] = field(default_factory=dict, init=False, compare=False, repr=False)
 
     @property
     def solution(self) -> Callable[..., Any]:
@@ -248,8 +258,10 @@ class CodingExercise:
             Each case with the outcome the learner's function must give.
         """
         if cases is not None:
-            return [(case, _documented(self._normalised(_outcome(self.reference, case.args))))
-                    for case in cases]
+            return [
+                (case, _documented(self._normalised(_outcome(self.reference, case.args))))
+                for case in cases
+            ]
         if "expected" not in self._cache:
             self._cache["expected"] = self.expected(self.cases())
         return self._cache["expected"]
@@ -258,8 +270,12 @@ class CodingExercise:
         names = self.arg_names or tuple(f"arg{i + 1}" for i in range(len(case.args)))
         return ", ".join(f"{n} = {show(a, 160)}" for n, a in zip(names, case.args, strict=True))
 
-    def verdict(self, answer: Any, time_limit: float | None = None,
-                cases: list[tuple[Case, Any]] | None = None) -> Feedback:
+    def verdict(
+        self,
+        answer: Any,
+        time_limit: float | None = None,
+        cases: list[tuple[Case, Any]] | None = None,
+    ) -> Feedback:
         """Run ``answer`` on every case within a time limit; report the first failure.
 
         Parameters
@@ -278,8 +294,12 @@ class CodingExercise:
             Right on all cases, or the first failing case with a diagnosis.
         """
         if not callable(answer):
-            return Feedback(self.id, False, f"✘ {self.id}: give the function itself (its name, "
-                            f"without parentheses), not {type(answer).__name__}.")
+            return Feedback(
+                self.id,
+                False,
+                f"✘ {self.id}: give the function itself (its name, "
+                f"without parentheses), not {type(answer).__name__}.",
+            )
         if _untouched(answer):
             return _pending(self.id)
         cases = self.expected() if cases is None else cases
@@ -292,21 +312,39 @@ class CodingExercise:
                 if isinstance(got, Raised) and issubclass(got.error, NotImplementedError):
                     return _pending(self.id)
                 if too_big(got):
-                    return Feedback(self.id, False, f"✘ {self.id}: wrong on {where}: your "
-                                    f"function returned {describe(got)}, far more than this "
-                                    "case needs.", {"case": number})
+                    return Feedback(
+                        self.id,
+                        False,
+                        f"✘ {self.id}: wrong on {where}: your "
+                        f"function returned {describe(got)}, far more than this "
+                        "case needs.",
+                        {"case": number},
+                    )
                 got = self._normalised(got)
             except _TimeLimitReached:
-                return Feedback(self.id, False, f"✘ {self.id}: stopped after {seconds:g} s on "
-                                f"{where}: does your function end? (check(..., time_limit=60) "
-                                "gives it longer.)", {"case": number, "timeout": True})
+                return Feedback(
+                    self.id,
+                    False,
+                    f"✘ {self.id}: stopped after {seconds:g} s on "
+                    f"{where}: does your function end? (check(..., time_limit=60) "
+                    "gives it longer.)",
+                    {"case": number, "timeout": True},
+                )
             if same(got, want):
                 continue
-            return Feedback(self.id, False, self._diagnosis(case, number, len(cases), want, got),
-                            self._details(case, got, number))
+            return Feedback(
+                self.id,
+                False,
+                self._diagnosis(case, number, len(cases), want, got),
+                self._details(case, got, number),
+            )
         fixed = sum(not c.label.startswith("random") for c, _ in cases)
-        return Feedback(self.id, True, f"✔ {self.id}: right on all {len(cases)} cases "
-                        f"({fixed} chosen, {len(cases) - fixed} random).")
+        return Feedback(
+            self.id,
+            True,
+            f"✔ {self.id}: right on all {len(cases)} cases "
+            f"({fixed} chosen, {len(cases) - fixed} random).",
+        )
 
     def _details(self, case: Case, got: Any, number: int) -> dict[str, Any]:
         why = self._mistake(case, got)
@@ -326,15 +364,19 @@ class CodingExercise:
         be another exercise's answer.
         """
         shown = isinstance(want, Raised) or case.label.startswith("random")
-        head = (f"✘ {self.id}: wrong on case {number} of {total} ({case.label}).\n"
-                f"  input:    {self._inputs(case)}\n"
-                + (f"  expected: {show(want)}\n" if shown else "")
-                + f"  got:      {show(got)}\n")
+        head = (
+            f"✘ {self.id}: wrong on case {number} of {total} ({case.label}).\n"
+            f"  input:    {self._inputs(case)}\n"
+            + (f"  expected: {show(want)}\n" if shown else "")
+            + f"  got:      {show(got)}\n"
+        )
         if got is None:
             return head + "  Your function returned None: did you forget `return`?"
         if isinstance(want, Raised) and not isinstance(got, Raised):
-            return head + (f"  This case must be refused: raise {want.error.__name__} (the "
-                           "docstring says when) instead of returning a result.")
+            return head + (
+                f"  This case must be refused: raise {want.error.__name__} (the "
+                "docstring says when) instead of returning a result."
+            )
         why = self._mistake(case, got)
         if why:
             return head + f"  Mistake: {why}"
@@ -342,14 +384,18 @@ class CodingExercise:
             return head + f"  Your function raised an error; fix it first. Hint: {self.hint}"
         total_mass = _mass_total(got) if _is_masses(want) else None
         if total_mass is not None and abs(total_mass - 1.0) > 1e-6:
-            return head + (f"  Your masses add up to {total_mass:.6g}, not 1. "
-                           f"Hint: {self.hint}")
+            return head + (f"  Your masses add up to {total_mass:.6g}, not 1. Hint: {self.hint}")
         return head + f"  Hint: {self.hint}"
 
 
 def _pending(exercise_id: str) -> Feedback:
-    return Feedback(exercise_id, False, f"{exercise_id}: {NOT_ANSWERED} — write the body "
-                    "of the function (it still raises NotImplementedError).", {"pending": True})
+    return Feedback(
+        exercise_id,
+        False,
+        f"{exercise_id}: {NOT_ANSWERED} — write the body "
+        "of the function (it still raises NotImplementedError).",
+        {"pending": True},
+    )
 
 
 def _untouched(fn: Any) -> bool:
@@ -361,18 +407,26 @@ def _untouched(fn: Any) -> bool:
     node = tree.body[0] if tree.body else None
     if not isinstance(node, ast.FunctionDef):
         return False
-    return all(isinstance(stmt, ast.Pass) or (isinstance(stmt, ast.Expr) and isinstance(
-        stmt.value, ast.Constant) and (isinstance(stmt.value.value, str)
-                                       or stmt.value.value is Ellipsis))
-               for stmt in node.body)
+    return all(
+        isinstance(stmt, ast.Pass)
+        or (
+            isinstance(stmt, ast.Expr)
+            and isinstance(stmt.value, ast.Constant)
+            and (isinstance(stmt.value.value, str) or stmt.value.value is Ellipsis)
+        )
+        for stmt in node.body
+    )
 
 
 def _is_masses(value: Any) -> bool:
     """Return a dict of masses on sets (plain form) that add up to 1."""
-    return (isinstance(value, dict) and bool(value)
-            and all(isinstance(k, frozenset) for k in value)
-            and all(isinstance(v, float) for v in value.values())
-            and abs(sum(value.values()) - 1.0) < 1e-6)
+    return (
+        isinstance(value, dict)
+        and bool(value)
+        and all(isinstance(k, frozenset) for k in value)
+        and all(isinstance(v, float) for v in value.values())
+        and abs(sum(value.values()) - 1.0) < 1e-6
+    )
 
 
 def _mass_total(value: Any) -> float | None:
@@ -439,8 +493,9 @@ def coding_exercise(
     """
     if not mistakes:
         raise InvalidInputError(f"coding exercise {exercise_id!r} needs at least one mistake")
-    item = CodingExercise(exercise_id, reference, plain, cases, hint, mistakes, normalise,
-                          arg_names)
+    item = CodingExercise(
+        exercise_id, reference, plain, cases, hint, mistakes, normalise, arg_names
+    )
     register(item)
     return item
 

@@ -26,8 +26,9 @@ from ._explorer import (
 # -- why bounded noise: a bounded-error filter with wrong bounds --------------------------------
 
 
-def bounded_error_explorer(v_half: float = 0.1, w_half: float = 1.0, steps: int = 60,
-                           seed: int = 7) -> Explorer:
+def bounded_error_explorer(
+    v_half: float = 0.1, w_half: float = 1.0, steps: int = 60, seed: int = 7
+) -> Explorer:
     """Return a bounded-error filter with wrong noise bounds, on one simulated random walk.
 
     The slider scales the bounds the filter assumes: too tight gives empty boxes (the filter
@@ -75,5 +76,9 @@ def bounded_error_explorer(v_half: float = 0.1, w_half: float = 1.0, steps: int 
         return kept(res, f"bounds × {scale:g}").figure, enclosure_summary(res, x)
 
     scale = slider("assumed bounds × true", 1.0, 0.3, 3.0, 0.05)
-    return Explorer({"scale": scale}, render, title="Bounded-error filter with wrong bounds",
-                    live={"scale": positions(scale, 11, 0.5, 3.0)})
+    return Explorer(
+        {"scale": scale},
+        render,
+        title="Bounded-error filter with wrong bounds",
+        live={"scale": positions(scale, 11, 0.5, 3.0)},
+    )

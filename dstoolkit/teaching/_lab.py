@@ -119,8 +119,9 @@ class LabSettings:
     @property
     def virtual_tube(self) -> TubeSetup:
         """The simulated gauge: ``level_m`` of air at the true temperature."""
-        return TubeSetup(level_m=self.level_m,
-                         temperature_c=self.temperature_c - self.thermometer_error_c)
+        return TubeSetup(
+            level_m=self.level_m, temperature_c=self.temperature_c - self.thermometer_error_c
+        )
 
     @property
     def simulated_latency_s(self) -> float:
@@ -181,14 +182,23 @@ def lab_measurement(settings: LabSettings) -> audio.Analysis:
     s = settings
     if s.simulated:
         recording = audio.simulate_measurement(
-            s.virtual_tube, temperature_c=s.temperature_c, sweep=s.sweep,
-            latency_s=s.simulated_latency_s, noise_rms=10.0 ** (s.room_noise_dbfs / 20.0),
-            amplitude=s.volume, seed=s.seed)
+            s.virtual_tube,
+            temperature_c=s.temperature_c,
+            sweep=s.sweep,
+            latency_s=s.simulated_latency_s,
+            noise_rms=10.0 ** (s.room_noise_dbfs / 20.0),
+            amplitude=s.volume,
+            seed=s.seed,
+        )
         return audio.analyze(recording)
     return audio.measure(
-        s.temperature_c, sweep=s.sweep, input_device=s.input_device,
+        s.temperature_c,
+        sweep=s.sweep,
+        input_device=s.input_device,
         output_device=s.output_device,
-        virtual_tube=s.virtual_tube if s.through_virtual_tube else None, amplitude=s.volume)
+        virtual_tube=s.virtual_tube if s.through_virtual_tube else None,
+        amplitude=s.volume,
+    )
 
 
 def lab_numbers(analysis: audio.Analysis) -> dict[str, Any]:
@@ -229,9 +239,14 @@ def lab_numbers(analysis: audio.Analysis) -> dict[str, Any]:
     if analysis.true_level_m is not None and analysis.error_m is not None:
         numbers["true level (m)"] = analysis.true_level_m
         numbers["error (mm)"] = 1e3 * analysis.error_m
-    numbers.update({"resonances": int(det.frequencies.size), "missed": int(det.missed.size),
-                    "latency (ms)": 1e3 * analysis.latency_s,
-                    "c (m/s)": lv.speed_of_sound})
+    numbers.update(
+        {
+            "resonances": int(det.frequencies.size),
+            "missed": int(det.missed.size),
+            "latency (ms)": 1e3 * analysis.latency_s,
+            "c (m/s)": lv.speed_of_sound,
+        }
+    )
     numbers.update({f"{m} (m)": v for m, v in analysis.filter_levels.items()})
     return numbers
 
@@ -284,10 +299,25 @@ def plot_method_levels(analysis: audio.Analysis, ax: Axes | None = None) -> Figu
     lv = analysis.level
     names = ["series fit (spacing)", *(method_label(m) for m in analysis.filter_levels)]
     y = np.arange(len(names))[::-1]
-    ax.errorbar([lv.level_m], [y[0]], xerr=[[2 * lv.uncertainty_m]], fmt="none",
-                ecolor="0.75", elinewidth=6, label="± 2σ")
-    ax.errorbar([lv.level_m], [y[0]], xerr=[[lv.uncertainty_m]], fmt="o", color="black",
-                ecolor="0.35", elinewidth=6, label="level ± 1σ")
+    ax.errorbar(
+        [lv.level_m],
+        [y[0]],
+        xerr=[[2 * lv.uncertainty_m]],
+        fmt="none",
+        ecolor="0.75",
+        elinewidth=6,
+        label="± 2σ",
+    )
+    ax.errorbar(
+        [lv.level_m],
+        [y[0]],
+        xerr=[[lv.uncertainty_m]],
+        fmt="o",
+        color="black",
+        ecolor="0.35",
+        elinewidth=6,
+        label="level ± 1σ",
+    )
     for yi, (m, value) in zip(y[1:], analysis.filter_levels.items(), strict=True):
         st: Any = STYLE.get(m, {"color": "k", "marker": "s"})
         ax.plot([value], [yi], ls="", marker=st["marker"], color=st["color"])
@@ -381,9 +411,11 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
     """
     meta, fs = recording.metadata, recording.samplerate
     if meta.latency_s is None or meta.sweep_onset_s is None:
-        raise InvalidInputError("the recording's metadata do not hold the calibration "
-                                "(latency and sweep onset); record it with "
-                                "dstoolkit.audio.measure")
+        raise InvalidInputError(
+            "the recording's metadata do not hold the calibration "
+            "(latency and sweep onset); record it with "
+            "dstoolkit.audio.measure"
+        )
     chirp_s = audio.calibration_chirp(fs).size / fs
     played = meta.sweep_onset_s - meta.latency_s - audio.CALIBRATION_GAP_S - chirp_s
     c = calibration_correlation(recording)
@@ -393,8 +425,13 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
     top.plot(t, recording.samples, lw=0.3, color=GREY)
     arrive = played + meta.latency_s
     top.axvspan(arrive, arrive + chirp_s, color="C1", alpha=0.3, label="opening chirp")
-    top.axvspan(meta.sweep_onset_s, meta.sweep_onset_s + (meta.sweep_duration_s or 0.0),
-                color="C0", alpha=0.12, label="sweep")
+    top.axvspan(
+        meta.sweep_onset_s,
+        meta.sweep_onset_s + (meta.sweep_duration_s or 0.0),
+        color="C0",
+        alpha=0.12,
+        label="sweep",
+    )
     top.axvline(played, color="black", lw=0.8, ls="--", label="chirp played")
     top.set_xlim(t[0], t[-1])
     top.set_xlabel("time in the recording (s)")
@@ -402,18 +439,27 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
     top.legend(loc="lower right", fontsize="small")
     mid.plot(t[: c.size], c, lw=0.8, color="C1")
     half = c.size // 2
-    for j, name in ((int(np.argmax(c[:half])), "opening chirp"),
-                    (half + int(np.argmax(c[half:])), "closing chirp")):
-        mid.annotate(name, (t[j], c[j]), xytext=(6, -4), textcoords="offset points",
-                     fontsize="small", va="top")
+    for j, name in (
+        (int(np.argmax(c[:half])), "opening chirp"),
+        (half + int(np.argmax(c[half:])), "closing chirp"),
+    ):
+        mid.annotate(
+            name,
+            (t[j], c[j]),
+            xytext=(6, -4),
+            textcoords="offset points",
+            fontsize="small",
+            va="top",
+        )
     mid.set_xlim(t[0], t[-1])
     mid.set_xlabel("where the chirp would start (s)")
     mid.set_ylabel("|matched filter|")
     lag_ms = 1e3 * (t[: c.size] - played)
     near = np.abs(lag_ms - 1e3 * meta.latency_s) <= zoom_ms
     bottom.plot(lag_ms[near], c[near], ".-", ms=2, lw=0.8, color="C1")
-    bottom.axvline(1e3 * meta.latency_s, color="black", lw=1.0,
-                   label=f"τ = {1e3 * meta.latency_s:.2f} ms")
+    bottom.axvline(
+        1e3 * meta.latency_s, color="black", lw=1.0, label=f"τ = {1e3 * meta.latency_s:.2f} ms"
+    )
     bottom.set_xlabel("lag after the chirp was played (ms)")
     bottom.set_ylabel("|matched filter|")
     bottom.legend(loc="upper right", fontsize="small")
@@ -457,8 +503,9 @@ def draw_gauge(ax: Axes | None = None) -> Figure:
     ax.axis("off")
     wall, inner = "#6b6b6b", 0.9  # tube: x in [0, inner], walls drawn as thick lines
     water, surface = "#9ecae1", 1.6
-    ax.add_patch(patches.Rectangle((-1.3, 0.0), inner + 2.6, 2.6, fc=water, ec="#3182bd",
-                                   lw=1.5))  # bucket of liquid
+    ax.add_patch(
+        patches.Rectangle((-1.3, 0.0), inner + 2.6, 2.6, fc=water, ec="#3182bd", lw=1.5)
+    )  # bucket of liquid
     ax.add_patch(patches.Rectangle((0, 0.3), inner, surface - 0.3, fc="#6baed6", ec="none"))
     for x in (0.0, inner):
         ax.plot([x, x], [0.3, 9.6], color=wall, lw=3)
@@ -466,32 +513,56 @@ def draw_gauge(ax: Axes | None = None) -> Figure:
     ax.text(-1.2, 0.35, "bucket of water\n(or a movable plug)", fontsize=8, va="bottom")
     # speaker on the top, microphone through the wall just below it
     ax.add_patch(patches.Rectangle((-0.25, 9.6), inner + 0.5, 0.25, fc="#444", ec="none"))
-    ax.add_patch(patches.Polygon([(0.15, 9.85), (inner - 0.15, 9.85), (inner + 0.15, 10.5),
-                                  (-0.15, 10.5)], fc="#222", ec="none"))
+    ax.add_patch(
+        patches.Polygon(
+            [(0.15, 9.85), (inner - 0.15, 9.85), (inner + 0.15, 10.5), (-0.15, 10.5)],
+            fc="#222",
+            ec="none",
+        )
+    )
     ax.text(-0.3, 10.75, "speaker (faces down)", fontsize=8, ha="left")
     ax.add_patch(patches.Circle((inner + 0.12, 9.3), 0.14, fc="#d62728", ec="black", lw=0.8))
-    ax.text(inner + 0.4, 9.1, "microphone,\nflush with the wall,\n~3 cm below\nthe speaker",
-            fontsize=8, va="top")
-    ax.add_patch(patches.Rectangle((inner + 0.05, 6.0), 0.1, 1.4, fc="#fdae6b", ec="black",
-                                   lw=0.6))
-    ax.text(inner + 0.4, 6.6, "thermometer probe\n(air inside the tube)", fontsize=8,
-            va="center")
+    ax.text(
+        inner + 0.4,
+        9.1,
+        "microphone,\nflush with the wall,\n~3 cm below\nthe speaker",
+        fontsize=8,
+        va="top",
+    )
+    ax.add_patch(patches.Rectangle((inner + 0.05, 6.0), 0.1, 1.4, fc="#fdae6b", ec="black", lw=0.6))
+    ax.text(inner + 0.4, 6.6, "thermometer probe\n(air inside the tube)", fontsize=8, va="center")
     # the level L: from the speaker platform to the surface
-    ax.annotate("", xy=(-0.6, surface), xytext=(-0.6, 9.6),
-                arrowprops={"arrowstyle": "<->", "color": "black", "lw": 1.0})
+    ax.annotate(
+        "",
+        xy=(-0.6, surface),
+        xytext=(-0.6, 9.6),
+        arrowprops={"arrowstyle": "<->", "color": "black", "lw": 1.0},
+    )
     ax.text(-0.8, 0.5 * (9.6 + surface), "L", fontsize=13, ha="right", va="center")
     ax.text(-2.9, 4.2, "PVC tube\nd = 75 mm,\n2–10 m", fontsize=8, va="center")
     # laptop with its sound card, cables taped along the tube
-    ax.add_patch(patches.FancyBboxPatch((5.4, 3.4), 2.9, 1.8, boxstyle="round,pad=0.1",
-                                        fc="#f0f0f0", ec="black"))
+    ax.add_patch(
+        patches.FancyBboxPatch(
+            (5.4, 3.4), 2.9, 1.8, boxstyle="round,pad=0.1", fc="#f0f0f0", ec="black"
+        )
+    )
     ax.text(6.85, 4.55, "laptop", fontsize=9, ha="center", weight="bold")
     ax.text(6.85, 3.8, "headphone out → amplifier\nmic in / USB", fontsize=7, ha="center")
     cable: dict[str, Any] = {"color": "black", "lw": 1.0}
     ax.plot([inner + 0.25, 4.6, 4.6, 5.4], [10.2, 10.2, 4.8, 4.8], **cable)
-    ax.plot([inner + 0.26, 0.6 + inner, 0.6 + inner, 4.3, 4.3, 5.4],
-            [9.3, 9.3, 9.75, 9.75, 4.0, 4.0], ls="--", **cable)
-    ax.text(4.8, 7.6, "speaker cable (—)\nmicrophone cable (- -)\ntied to a post,\n"
-            "away from the mouth", fontsize=7, va="center")
+    ax.plot(
+        [inner + 0.26, 0.6 + inner, 0.6 + inner, 4.3, 4.3, 5.4],
+        [9.3, 9.3, 9.75, 9.75, 4.0, 4.0],
+        ls="--",
+        **cable,
+    )
+    ax.text(
+        4.8,
+        7.6,
+        "speaker cable (—)\nmicrophone cable (- -)\ntied to a post,\naway from the mouth",
+        fontsize=7,
+        va="center",
+    )
     ax.set_title("The lab's gauge: speaker and microphone at the top, level L below")
     return fig
 
@@ -571,8 +642,9 @@ def imitate_audio_failure(kind: Literal["no sounddevice", "no device"]) -> Itera
             sys.modules["sounddevice"] = saved  # type: ignore[assignment]
 
 
-def level_error_from_temperature(level_m: float, temperature_c: float,
-                                 thermometer_error_c: float) -> float:
+def level_error_from_temperature(
+    level_m: float, temperature_c: float, thermometer_error_c: float
+) -> float:
     """Return the level error (m) of a thermometer that reads ``thermometer_error_c`` too high.
 
     L = c/(2 f_F) (eq. 35) scales with c, so δL = L (c(T + δT) − c(T))/c(T).

@@ -78,15 +78,18 @@ def valid_limit(seconds: Any) -> float:
     except (TypeError, ValueError):
         value = float("nan")
     if not value > 0 or value == float("inf"):
-        raise InvalidInputError(f"a time limit must be a number of seconds above 0, not "
-                                f"{seconds!r}; e.g. set_time_limit(20)")
+        raise InvalidInputError(
+            f"a time limit must be a number of seconds above 0, not "
+            f"{seconds!r}; e.g. set_time_limit(20)"
+        )
     return value
 
 
 def _alarm_available() -> bool:
     """Tell whether an interval timer can be used: Unix, the main thread, no one else's alarm."""
     if not hasattr(signal, "setitimer") or threading.current_thread() is not (
-            threading.main_thread()):
+        threading.main_thread()
+    ):
         return False
     if signal.getitimer(signal.ITIMER_REAL)[0] > 0:
         return False

@@ -269,8 +269,13 @@ def filter_step(xhat, z, f, g, g_inv, v_rows, w_rows):
         return merged([(lo, hi, r * m) for lo, hi, m in rows] + [(*hull, 1.0 - r)])
 
     # Step 2: state evidence x̂ + V through f, then the noise v once more (eq. 16)
-    pred = merged([(f(xhat + vl) + ul, f(xhat + vh) + uh, mv * mu)
-                   for vl, vh, mv in v_rows for ul, uh, mu in v_rows])
+    pred = merged(
+        [
+            (f(xhat + vl) + ul, f(xhat + vh) + uh, mv * mu)
+            for vl, vh, mv in v_rows
+            for ul, uh, mu in v_rows
+        ]
+    )
     # Steps 3-4: g of each predicted box, fused with the reading's evidence z + W
     fused, k = [], 0.0
     for lo, hi, m in pred:
@@ -286,8 +291,11 @@ def filter_step(xhat, z, f, g, g_inv, v_rows, w_rows):
     # Step 6: dependence of E1 (mapped back) and E2 (prediction), eqs. A1-A6
     common = {(lo, hi): m for lo, hi, m in pred}
     w_min = min(min(hi - lo for lo, hi, _ in e1), min(hi - lo for lo, hi, _ in pred))
-    joint = sum(min(m, common[(lo, hi)]) * (1.0 if hi == lo else w_min / (hi - lo))
-                for lo, hi, m in e1 if (lo, hi) in common)
+    joint = sum(
+        min(m, common[(lo, hi)]) * (1.0 if hi == lo else w_min / (hi - lo))
+        for lo, hi, m in e1
+        if (lo, hi) in common
+    )
     en1, en2 = energy(e1), energy(pred)
     d = 2.0 * joint / (en1 + en2)
     r12, r21 = (1.0 - d / 2 * en2 / en1, 1.0 - d / 2 * en1 / en2) if d > 0 else (1.0, 1.0)

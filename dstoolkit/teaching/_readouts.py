@@ -77,11 +77,16 @@ def step_numbers(result: FilterResult, step: int, truth: float) -> dict[str, Any
     """
     d, t = result.diagnostics, step - 1
     est = float(result.estimates[t, 0])
-    return {"K (Step 4)": float(d["conflict_step4"][t]),
-            "K (Step 6)": float(d["conflict_step6"][t]), "D": float(d["dependence"][t]),
-            "R12": float(d["r12"][t]), "R21": float(d["r21"][t]),
-            "final focal elements": int(d["n_final"][t]),
-            "x̂ (Hz)": est, "x̂ − x (Hz)": est - float(truth)}
+    return {
+        "K (Step 4)": float(d["conflict_step4"][t]),
+        "K (Step 6)": float(d["conflict_step6"][t]),
+        "D": float(d["dependence"][t]),
+        "R12": float(d["r12"][t]),
+        "R21": float(d["r21"][t]),
+        "final focal elements": int(d["n_final"][t]),
+        "x̂ (Hz)": est,
+        "x̂ − x (Hz)": est - float(truth),
+    }
 
 
 def gauge_reading(setup: TubeSetup, detection: DetectionResult) -> dict[str, Any]:
@@ -137,7 +142,6 @@ def mismatch_numbers(result: Any) -> dict[str, Any]:
     The methods are those of a :class:`~dstoolkit.studies.MismatchResult`; the runs are
     those in which the strict bounded-error filter failed.
     """
-    out: dict[str, Any] = {f"{method_label(m)} (Hz)": v
-                           for m, v in result.mean_errors().items()}
+    out: dict[str, Any] = {f"{method_label(m)} (Hz)": v for m, v in result.mean_errors().items()}
     out["bounded error: inconsistent runs"] = f"{result.inconsistent_runs:.0%}"
     return out
