@@ -67,6 +67,7 @@ def figure(name: str) -> Callable[[Callable[[], Figure]], Callable[[], Figure]]:
     def register(function: Callable[[], Figure]) -> Callable[[], Figure]:
         FIGURES[name] = function
         return function
+
     return register
 
 
@@ -101,8 +102,7 @@ def _pbox() -> Figure:
 
 @figure("plot_possibility")
 def _possibility() -> Figure:
-    return plots.plot_possibility(-10.59, -6.9, -3.21, 3, evidence=NOISE,
-                                  xlabel="noise w (Hz)")
+    return plots.plot_possibility(-10.59, -6.9, -3.21, 3, evidence=NOISE, xlabel="noise w (Hz)")
 
 
 @figure("plot_bel_pl")
@@ -146,16 +146,19 @@ def _filter_errors() -> Figure:
 
 @figure("plot_table3")
 def _table3() -> Figure:
-    table = run_table3(runs=2, methods=("direct", "dependent_evidence"),
-                       cases=((1.3, 27.0), (4.6, 26.5)), progress=False)
+    table = run_table3(
+        runs=2,
+        methods=("direct", "dependent_evidence"),
+        cases=((1.3, 27.0), (4.6, 26.5)),
+        progress=False,
+    )
     return plots.plot_table3(table)
 
 
 @figure("plot_estimates")
 def _estimates() -> Figure:
     readings, truth, result = _filter_run()
-    return plots.plot_estimates(truth, readings,
-                                {"dependent_evidence": result.estimates[:, 0]})
+    return plots.plot_estimates(truth, readings, {"dependent_evidence": result.estimates[:, 0]})
 
 
 @figure("plot_recording")
@@ -173,17 +176,32 @@ def _resonances() -> Figure:
 @figure("plot_step_errors")
 def _step_errors() -> Figure:
     rng = np.random.default_rng(0)
-    return plots.plot_step_errors({"direct": rng.uniform(0.5, 3, (3, 20)),
-                                   "dependent_evidence": rng.uniform(0.05, 1, (3, 20))})
+    return plots.plot_step_errors(
+        {
+            "direct": rng.uniform(0.5, 3, (3, 20)),
+            "dependent_evidence": rng.uniform(0.05, 1, (3, 20)),
+        }
+    )
 
 
-def _image_cases() -> dict[str, tuple[Callable[[np.ndarray], np.ndarray], float, float,
-                                       dict[str, tuple[float, float]]]]:
+def _image_cases() -> dict[
+    str, tuple[Callable[[np.ndarray], np.ndarray], float, float, dict[str, tuple[float, float]]]
+]:
     """Return the chapter's two functions on which the vertex method fails, and both images."""
-    return {"x²": (lambda x: x[..., 0] ** 2, -1.0, 2.0,
-                   {"vertex": (1.0, 4.0), "subdivision": (0.0, 4.0)}),
-            "sin x": (lambda x: np.sin(x[..., 0]), 0.0, 3.0,
-                      {"vertex": (0.0, float(np.sin(3.0))), "subdivision": (0.0, 1.0)})}
+    return {
+        "x²": (
+            lambda x: x[..., 0] ** 2,
+            -1.0,
+            2.0,
+            {"vertex": (1.0, 4.0), "subdivision": (0.0, 4.0)},
+        ),
+        "sin x": (
+            lambda x: np.sin(x[..., 0]),
+            0.0,
+            3.0,
+            {"vertex": (0.0, float(np.sin(3.0))), "subdivision": (0.0, 1.0)},
+        ),
+    }
 
 
 @figure("plot_image_methods")
@@ -208,15 +226,17 @@ def _sweep_peaks() -> Figure:
 
 @figure("plot_noise_assumption")
 def _noise_assumption() -> Figure:
-    return plots.plot_noise_assumption(BoundedNoise(-10.59, -6.9, -3.21),
-                                       BoundedNoise(-8.0, -6.9, -5.0))
+    return plots.plot_noise_assumption(
+        BoundedNoise(-10.59, -6.9, -3.21), BoundedNoise(-8.0, -6.9, -5.0)
+    )
 
 
 @figure("plot_scale_study")
 def _scale_study() -> Figure:
     data = tracking_data(runs=2)
-    return plots.plot_scale_study(bound_scale_study(data, [0.5, 1.0, 2.0],
-                                                    methods=("kalman", "bounded_error")))
+    return plots.plot_scale_study(
+        bound_scale_study(data, [0.5, 1.0, 2.0], methods=("kalman", "bounded_error"))
+    )
 
 
 @figure("plot_order_rule_study")
@@ -242,8 +262,11 @@ def _rendered(name: str) -> Figure:
 
 
 def _texts(fig: Figure) -> list[Text]:
-    return [t for t in fig.findobj(Text)
-            if t.get_visible() and t.get_text().strip() and t.get_figure() is not None]
+    return [
+        t
+        for t in fig.findobj(Text)
+        if t.get_visible() and t.get_text().strip() and t.get_figure() is not None
+    ]
 
 
 def _shows_ticklabels(axis: object) -> bool:
@@ -277,8 +300,12 @@ def _data_points(ax: Axes) -> np.ndarray:
         return np.zeros((0, 2))
     pts = np.concatenate(points)
     area = ax.get_window_extent()
-    inside = ((pts[:, 0] > area.x0 + 1) & (pts[:, 0] < area.x1 - 1)
-              & (pts[:, 1] > area.y0 + 1) & (pts[:, 1] < area.y1 - 1))
+    inside = (
+        (pts[:, 0] > area.x0 + 1)
+        & (pts[:, 0] < area.x1 - 1)
+        & (pts[:, 1] > area.y0 + 1)
+        & (pts[:, 1] < area.y1 - 1)
+    )
     return pts[inside]
 
 
@@ -300,8 +327,13 @@ def test_figure_fits_the_column(rendered: tuple[str, Figure]) -> None:
 
 def test_text_is_at_least_9_pt(rendered: tuple[str, Figure]) -> None:
     name, fig = rendered
-    small = sorted({(round(t.get_fontsize(), 1), t.get_text()[:30]) for t in _texts(fig)
-                    if t.get_fontsize() < MIN_PT - 0.01})
+    small = sorted(
+        {
+            (round(t.get_fontsize(), 1), t.get_text()[:30])
+            for t in _texts(fig)
+            if t.get_fontsize() < MIN_PT - 0.01
+        }
+    )
     assert not small, f"{name}: text below {MIN_PT} pt: {small[:8]}"
 
 
@@ -317,12 +349,18 @@ def test_axes_are_labelled_with_units(rendered: tuple[str, Figure]) -> None:
                 continue
             label = axis.get_label_text().strip()
             if not label:
-                labelled = [o for o in _shares(ax, which)
-                            if (o.xaxis if which == "x" else o.yaxis).get_label_text().strip()]
+                labelled = [
+                    o
+                    for o in _shares(ax, which)
+                    if (o.xaxis if which == "x" else o.yaxis).get_label_text().strip()
+                ]
                 if labelled:
                     continue
-                if which == "x" and all(t.get_text() for t in axis.get_ticklabels()) and \
-                        axis.get_major_formatter().__class__.__name__ == "FixedFormatter":
+                if (
+                    which == "x"
+                    and all(t.get_text() for t in axis.get_ticklabels())
+                    and axis.get_major_formatter().__class__.__name__ == "FixedFormatter"
+                ):
                     continue  # named categories (subsets, focal elements) label themselves
                 problems.append(f"panel {index}: no {which} label")
             elif not (UNIT.search(label) or DIMENSIONLESS.match(label)):
@@ -339,11 +377,17 @@ def test_legends_do_not_hide_data(rendered: tuple[str, Figure]) -> None:
         box = legend.get_window_extent().shrunk(0.98, 0.96)
         for index, ax in enumerate(fig.axes):
             pts = _data_points(ax)
-            covered = ((pts[:, 0] > box.x0) & (pts[:, 0] < box.x1)
-                       & (pts[:, 1] > box.y0) & (pts[:, 1] < box.y1))
+            covered = (
+                (pts[:, 0] > box.x0)
+                & (pts[:, 0] < box.x1)
+                & (pts[:, 1] > box.y0)
+                & (pts[:, 1] < box.y1)
+            )
             if covered.any():
-                problems.append(f"legend {[t.get_text() for t in legend.get_texts()][:3]} "
-                                f"covers {int(covered.sum())} data points of panel {index}")
+                problems.append(
+                    f"legend {[t.get_text() for t in legend.get_texts()][:3]} "
+                    f"covers {int(covered.sum())} data points of panel {index}"
+                )
             for loc in ("left", "center", "right"):
                 title = ax.get_title(loc)
                 texts = [t for t in _texts(fig) if t.get_text() == title] if title else []
@@ -397,9 +441,15 @@ def _line_keys(ax: Axes, labels: set[str]) -> dict[str, tuple[str, str, str]]:
     """For each line of ``ax`` labelled one of ``labels``: (dash pattern, marker, colour)."""
     from matplotlib.colors import to_hex
 
-    return {line.get_label(): (str(line.get_linestyle()) + str(line._dash_pattern),
-                               str(line.get_marker()), to_hex(line.get_color()))
-            for line in ax.lines if line.get_label() in labels}
+    return {
+        line.get_label(): (
+            str(line.get_linestyle()) + str(line._dash_pattern),
+            str(line.get_marker()),
+            to_hex(line.get_color()),
+        )
+        for line in ax.lines
+        if line.get_label() in labels
+    }
 
 
 def _assert_told_apart(keys: dict[str, tuple[str, str, str]], want: int) -> None:
@@ -425,8 +475,9 @@ def test_fig_11_tells_the_methods_apart_without_colour() -> None:
     rng = np.random.default_rng(1)
     steps = 30
     estimates = {m: 4.6 + rng.normal(0, 0.1, steps) for m in _SIX}
-    fig = plots.plot_estimates(4.6, 4.6 + rng.normal(0, 0.3, steps), estimates,
-                               quantity="level", unit="m")
+    fig = plots.plot_estimates(
+        4.6, 4.6 + rng.normal(0, 0.3, steps), estimates, quantity="level", unit="m"
+    )
     labels = {plots.STYLE[m]["label"] for m in _SIX}
     for ax in fig.axes[:2]:
         _assert_told_apart(_line_keys(ax, labels), len(_SIX))
@@ -435,8 +486,10 @@ def test_fig_11_tells_the_methods_apart_without_colour() -> None:
 
 def test_step_errors_tell_methods_and_variants_apart_without_colour() -> None:
     rng = np.random.default_rng(2)
-    errors = {"paper's filter, start z_1": rng.uniform(0.1, 1, (2, 20)),
-              "paper's filter, start z_1 + E[w]": rng.uniform(0.1, 1, (2, 20))}
+    errors = {
+        "paper's filter, start z_1": rng.uniform(0.1, 1, (2, 20)),
+        "paper's filter, start z_1 + E[w]": rng.uniform(0.1, 1, (2, 20)),
+    }
     errors.update({m: rng.uniform(0.1, 1, (2, 20)) for m in _SIX})
     fig = plots.plot_step_errors(errors)
     labels = {plots.STYLE.get(m, {"label": m})["label"] for m in errors}
@@ -448,8 +501,11 @@ def test_step_errors_tell_methods_and_variants_apart_without_colour() -> None:
 
 def _direct_labels(ax: Axes) -> set[str]:
     """Texts written right of the data area of ``ax`` (labels at the series' ends)."""
-    return {t.get_text() for t in ax.texts
-            if t.get_transform() == ax.transAxes and t.get_position()[0] > 1.0}
+    return {
+        t.get_text()
+        for t in ax.texts
+        if t.get_transform() == ax.transAxes and t.get_position()[0] > 1.0
+    }
 
 
 def test_step_errors_with_end_labels_name_each_line_at_its_end() -> None:
@@ -458,18 +514,21 @@ def test_step_errors_with_end_labels_name_each_line_at_its_end() -> None:
     It shows two runs of the filter and the readings, raw and corrected, in four styles.
     """
     rng = np.random.default_rng(3)
-    errors = {"filter, x̂_1 = z_1 (paper)": 7 * np.exp(-np.arange(40) / 12) + 0.3,
-              "filter, x̂_1 = z_1 + E[w]": 2 * np.exp(-np.arange(40) / 8) + 0.25,
-              "|z_k − x_k|": rng.uniform(5, 9, (6, 40)),
-              "|z_k + E[w] − x_k|": rng.uniform(0.5, 2.5, (6, 40))}
+    errors = {
+        "filter, x̂_1 = z_1 (paper)": 7 * np.exp(-np.arange(40) / 12) + 0.3,
+        "filter, x̂_1 = z_1 + E[w]": 2 * np.exp(-np.arange(40) / 8) + 0.25,
+        "|z_k − x_k|": rng.uniform(5, 9, (6, 40)),
+        "|z_k + E[w] − x_k|": rng.uniform(0.5, 2.5, (6, 40)),
+    }
     fig = plots.plot_step_errors(errors, end_labels=True)
     ax = fig.axes[0]
     _assert_told_apart(_line_keys(ax, set(errors)), len(errors))
     assert _direct_labels(ax) == set(errors)
     fig.savefig(io.BytesIO(), format="png")
     boxes = [t.get_window_extent() for t in ax.texts]
-    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:]), (
-        "two end labels overlap")
+    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1 :]), (
+        "two end labels overlap"
+    )
     assert not plots.plot_step_errors(errors).axes[0].texts, "end labels only when asked"
 
 
@@ -489,8 +548,7 @@ def test_the_image_bands_differ_in_hatch_and_are_named_beside_them() -> None:
     for ax in fig.axes:
         hatches = [patch.get_hatch() for patch in ax.patches]
         assert len(hatches) == 2 and len(set(hatches)) == 2 and None not in hatches, hatches
-        assert {text.split(":")[0] for text in _direct_labels(ax)} == {"vertex",
-                                                                      "subdivision"}
+        assert {text.split(":")[0] for text in _direct_labels(ax)} == {"vertex", "subdivision"}
     fig.savefig(io.BytesIO(), format="png")
 
 
@@ -505,9 +563,10 @@ def test_the_resonance_kinds_differ_in_line_style_or_marker() -> None:
     det = replace(det, missed=det.frequencies[:2] + 3.0, spurious=det.frequencies[:2] + 7.0)
     fig = plots.plot_resonances(det, true_frequencies=setup.resonances(PAPER_SWEEP.band)[1])
     legend = fig.axes[0].get_legend()
-    keys = {text.get_text().split(" (")[0]: (str(handle.get_linestyle()),
-                                             str(handle.get_marker()))
-            for text, handle in zip(legend.get_texts(), legend.legend_handles, strict=True)}
+    keys = {
+        text.get_text().split(" (")[0]: (str(handle.get_linestyle()), str(handle.get_marker()))
+        for text, handle in zip(legend.get_texts(), legend.legend_handles, strict=True)
+    }
     assert set(keys) == {"n c/(2L)", "detected z_k", "missed", "spurious"}, keys
     assert len(set(keys.values())) == 4, f"two kinds differ in colour only: {keys}"
     # the two kinds drawn as vertical lines: not both solid, and the spurious stems marked
@@ -518,8 +577,10 @@ def test_the_resonance_kinds_differ_in_line_style_or_marker() -> None:
 # -- the examples of the docstrings ---------------------------------------------------------
 
 
-@pytest.mark.parametrize("name", [f"dstoolkit.plots.{info.name}" for info in
-                                  __import__("pkgutil").iter_modules(plots.__path__)])
+@pytest.mark.parametrize(
+    "name",
+    [f"dstoolkit.plots.{info.name}" for info in __import__("pkgutil").iter_modules(plots.__path__)],
+)
 def test_docstring_examples_run(name: str) -> None:
     """Every example in the docstrings of dstoolkit.plots runs (Agg) and shows what it says.
 

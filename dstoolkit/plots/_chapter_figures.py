@@ -31,14 +31,17 @@ from ._style import (
 )
 
 #: How each method's image is drawn: colour, hatch, the label's name.
-_BANDS = {"subdivision": (OKABE_ITO["bluish green"], "//", "subdivision"),
-          "vertex": (OKABE_ITO["orange"], "\\\\", "vertex")}
+_BANDS = {
+    "subdivision": (OKABE_ITO["bluish green"], "//", "subdivision"),
+    "vertex": (OKABE_ITO["orange"], "\\\\", "vertex"),
+}
 
 
 @styled
 def plot_image_methods(
-    cases: Mapping[str, tuple[Callable[[np.ndarray], np.ndarray], float, float,
-                              Mapping[str, Sequence[float]]]],
+    cases: Mapping[
+        str, tuple[Callable[[np.ndarray], np.ndarray], float, float, Mapping[str, Sequence[float]]]
+    ],
 ) -> Figure:
     """Draw the image of a function of one variable on a box by two methods, one panel a case.
 
@@ -78,14 +81,20 @@ def plot_image_methods(
     """
     if not cases:
         raise InvalidInputError("plot_image_methods needs at least one case")
-    fig, grid = plt.subplots(len(cases), 1, figsize=column_size(6.4, 3.2 * len(cases)),
-                             layout="constrained", squeeze=False)
+    fig, grid = plt.subplots(
+        len(cases),
+        1,
+        figsize=column_size(6.4, 3.2 * len(cases)),
+        layout="constrained",
+        squeeze=False,
+    )
     axes = list(grid[:, 0])
     for ax, (name, (f, lo, hi, images)) in zip(axes, cases.items(), strict=True):
         unknown = set(images) - set(_BANDS)
         if unknown:
-            raise InvalidInputError(f"plot_image_methods draws the methods {sorted(_BANDS)}, "
-                                    f"not {sorted(unknown)}")
+            raise InvalidInputError(
+                f"plot_image_methods draws the methods {sorted(_BANDS)}, not {sorted(unknown)}"
+            )
         x = np.linspace(lo - 1.0, hi + 1.0, 400)
         ax.plot(x, f(x[:, None]), color=OKABE_ITO["black"], lw=1)
         inside = np.linspace(lo, hi, 200)
@@ -94,16 +103,21 @@ def plot_image_methods(
         for method, (colour, hatch, label) in _BANDS.items():
             if method in images:
                 a, b = np.round(np.asarray(images[method], dtype=float), 10) + 0.0
-                ax.axhspan(a, b, facecolor=colour, alpha=0.3, hatch=hatch,
-                           edgecolor=colour, lw=0.8)
+                ax.axhspan(a, b, facecolor=colour, alpha=0.3, hatch=hatch, edgecolor=colour, lw=0.8)
                 bands.append((a, b, f"{label}: [{a:.3g}, {b:.3g}]"))
         ax.set_title(f"f(x) = {name}", loc="left")
         ax.set_xlabel("x (no unit)")
         ax.set_ylabel("f(x) (no unit)")
         _label_bands(ax, bands)
-        ax.annotate(f"f on [{lo:g}, {hi:g}]", xy=(hi, float(f(np.array([[hi]]))[0])),
-                    xytext=(-6, 6), textcoords="offset points", ha="right", va="bottom",
-                    fontsize=SMALL_PT)
+        ax.annotate(
+            f"f on [{lo:g}, {hi:g}]",
+            xy=(hi, float(f(np.array([[hi]]))[0])),
+            xytext=(-6, 6),
+            textcoords="offset points",
+            ha="right",
+            va="bottom",
+            fontsize=SMALL_PT,
+        )
     return fig
 
 
@@ -125,10 +139,19 @@ def _label_bands(ax: Axes, bands: list[tuple[float, float, str]]) -> None:
             y = 0.5 * (a + b)
         wanted.append(float(np.clip(to_axes.transform((0.0, y))[1], 0.0, 1.0)))
     height_pt = ax.get_position().height * root_figure(ax).get_figheight() * 72.0
-    for y, (_, _, text) in zip(spread_positions(wanted, 1.25 * SMALL_PT / height_pt),
-                               bands, strict=True):
-        ax.text(1.02, y, text, transform=ax.transAxes, ha="left", va="center",
-                fontsize=SMALL_PT, color="#222222")
+    for y, (_, _, text) in zip(
+        spread_positions(wanted, 1.25 * SMALL_PT / height_pt), bands, strict=True
+    ):
+        ax.text(
+            1.02,
+            y,
+            text,
+            transform=ax.transAxes,
+            ha="left",
+            va="center",
+            fontsize=SMALL_PT,
+            color="#222222",
+        )
 
 
 @styled
@@ -181,22 +204,42 @@ def plot_sweep_peaks(
     >>> [t.get_text() for t in fig.axes[0].texts]
     ['steady tones, eq. (29)', 'sweep, read as f(u)']
     """
-    frequencies, steady, swept = (np.asarray(v, dtype=float)
-                                  for v in (frequencies, steady, swept))
+    frequencies, steady, swept = (np.asarray(v, dtype=float) for v in (frequencies, steady, swept))
     if not frequencies.shape == steady.shape == swept.shape:
         raise InvalidInputError(
             f"plot_sweep_peaks needs frequencies, steady and swept of one shape, got "
-            f"{frequencies.shape}, {steady.shape} and {swept.shape}")
+            f"{frequencies.shape}, {steady.shape} and {swept.shape}"
+        )
     fig, ax = _axes(None, (6.4, 3.0))
     resonances = np.asarray(resonances, dtype=float)
-    curves = [ax.plot(frequencies, steady, color=OKABE_ITO["black"], ls="-",
-                      label="steady tones, eq. (29)")[0],
-              ax.plot(frequencies, swept, color=OKABE_ITO["blue"], ls="--",
-                      label="sweep, read as f(u)")[0]]
-    ax.vlines(resonances, 0, 1, transform=ax.get_xaxis_transform(),
-              color=OKABE_ITO["bluish green"], lw=1.2, ls=":", label="n c/(2L)")
-    ax.vlines(resonances + shift_hz, 0, 1, transform=ax.get_xaxis_transform(),
-              color=OKABE_ITO["vermillion"], lw=1, ls="-.", label="n c/(2L) + κL/c")
+    curves = [
+        ax.plot(
+            frequencies, steady, color=OKABE_ITO["black"], ls="-", label="steady tones, eq. (29)"
+        )[0],
+        ax.plot(frequencies, swept, color=OKABE_ITO["blue"], ls="--", label="sweep, read as f(u)")[
+            0
+        ],
+    ]
+    ax.vlines(
+        resonances,
+        0,
+        1,
+        transform=ax.get_xaxis_transform(),
+        color=OKABE_ITO["bluish green"],
+        lw=1.2,
+        ls=":",
+        label="n c/(2L)",
+    )
+    ax.vlines(
+        resonances + shift_hz,
+        0,
+        1,
+        transform=ax.get_xaxis_transform(),
+        color=OKABE_ITO["vermillion"],
+        lw=1,
+        ls="-.",
+        label="n c/(2L) + κL/c",
+    )
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel("amplitude / A (no unit)")
     legend_above(ax, ncols=2)

@@ -105,8 +105,9 @@ class FocalIntervalArtists:
 
 
 @styled
-def draw_focal_intervals(ax: Axes, *, title: str | None = None, xlabel: str = "x",
-                         animated: bool = False) -> FocalIntervalArtists:
+def draw_focal_intervals(
+    ax: Axes, *, title: str | None = None, xlabel: str = "x", animated: bool = False
+) -> FocalIntervalArtists:
     """Draw the parts of :func:`plot_focal_intervals` that no evidence changes on ``ax``.
 
     Axis labels, y range, title; the bars come with ``update_focal_intervals``.
@@ -115,8 +116,9 @@ def draw_focal_intervals(ax: Axes, *, title: str | None = None, xlabel: str = "x
     return FocalIntervalArtists(ax, animated)
 
 
-def _fixed_parts(ax: Axes, xlabel: str, ylabel: str, top: float, title: str | None,
-                 animated: bool) -> None:
+def _fixed_parts(
+    ax: Axes, xlabel: str, ylabel: str, top: float, title: str | None, animated: bool
+) -> None:
     """Set the labels, y range [0, ``top``] and title of a bar panel.
 
     Its spines are animated with its bars.
@@ -153,7 +155,8 @@ def update_focal_intervals(
         xlim = (a - pad, b + pad)
     bottoms = np.concatenate([[0.0], np.cumsum(m)[:-1]])
     colours = (
-        [colour] * len(ev) if colour is not None
+        [colour] * len(ev)
+        if colour is not None
         else plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, max(len(ev), 1)))
     )
     left, right = np.maximum(lo, xlim[0]), np.minimum(hi, xlim[1])
@@ -170,11 +173,19 @@ def update_focal_intervals(
     shown = [i for i in range(len(ev)) if label_masses and m[i] > 0.05]
 
     def label() -> Text:
-        return ax.text(0.0, 0.0, "", ha="center", va="center", fontsize=SMALL_PT,
-                       bbox={"boxstyle": "round,pad=0.15", "fc": "white", "alpha": 0.7, "lw": 0})
+        return ax.text(
+            0.0,
+            0.0,
+            "",
+            ha="center",
+            va="center",
+            fontsize=SMALL_PT,
+            bbox={"boxstyle": "round,pad=0.15", "fc": "white", "alpha": 0.7, "lw": 0},
+        )
 
-    for text, i in zip(_resize(artists.labels, len(shown), label, artists.animated), shown,
-                       strict=True):
+    for text, i in zip(
+        _resize(artists.labels, len(shown), label, artists.animated), shown, strict=True
+    ):
         clipped = lo[i] < xlim[0] or hi[i] > xlim[1]
         text.set_position((0.5 * (left[i] + right[i]), bottoms[i] + 0.5 * m[i]))
         text.set_text(f"{m[i]:.4g}" + (f"  [{lo[i]:.4g}, {hi[i]:.4g}]" if clipped else ""))
@@ -266,8 +277,15 @@ class PboxArtists:
 
 
 @styled
-def draw_pbox(ax: Axes, x: Any, *, title: str | None = None, label: str = "",
-              xlabel: str = "x", animated: bool = False) -> PboxArtists:
+def draw_pbox(
+    ax: Axes,
+    x: Any,
+    *,
+    title: str | None = None,
+    label: str = "",
+    xlabel: str = "x",
+    animated: bool = False,
+) -> PboxArtists:
     """Draw the parts of :func:`plot_pbox` at the points ``x`` that no evidence changes.
 
     Lines, legend, ranges, labels on ``ax``; the cdfs come with ``update_pbox``.
@@ -276,8 +294,9 @@ def draw_pbox(ax: Axes, x: Any, *, title: str | None = None, label: str = "",
     zero = np.zeros_like(x)
     prefix = f"{label} " if label else ""
     band = ax.fill_between(x, zero, zero, step="post", color=PL_COLOUR, alpha=0.5)
-    (upper,) = ax.step(x, zero, where="post", color=BEL_COLOUR, ls="--",
-                       label=prefix + "upper cdf  Pl")
+    (upper,) = ax.step(
+        x, zero, where="post", color=BEL_COLOUR, ls="--", label=prefix + "upper cdf  Pl"
+    )
     (lower,) = ax.step(x, zero, where="post", color=BEL_COLOUR, label=prefix + "lower cdf  Bel")
     ax.set_ylim(-0.02, 1.02)
     ax.set_xlim(x[0], x[-1])
@@ -420,9 +439,15 @@ class PossibilityArtists:
 
 
 @styled
-def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = False,
-                     title: str | None = None, xlabel: str = "x",
-                     animated: bool = False) -> PossibilityArtists:
+def draw_possibility(
+    ax: Axes,
+    xlim: tuple[float, float],
+    *,
+    evidence: bool = False,
+    title: str | None = None,
+    xlabel: str = "x",
+    animated: bool = False,
+) -> PossibilityArtists:
     """Draw the parts of :func:`plot_possibility` over ``xlim`` that no distribution changes.
 
     Lines, legend, ranges, labels on ``ax``, with the contour line if ``evidence``; the data
@@ -437,8 +462,9 @@ def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = Fa
     cuts = ax.hlines([], [], [], lw=3)
     line = None
     if evidence:
-        (line,) = ax.step(x, zero, where="mid", color=BETP_COLOUR, lw=1.2,
-                          label="Pl({x}) of the evidence")
+        (line,) = ax.step(
+            x, zero, where="mid", color=BETP_COLOUR, lw=1.2, label="Pl({x}) of the evidence"
+        )
     ax.set_xlim(*xlim)
     ax.set_ylim(-0.02, 1.08)
     ax.set_xlabel(xlabel)
@@ -452,8 +478,14 @@ def draw_possibility(ax: Axes, xlim: tuple[float, float], *, evidence: bool = Fa
 
 
 @styled
-def update_possibility(artists: PossibilityArtists, lower: float, mode: float, upper: float,
-                       p: int = 3, evidence: IntervalEvidence | None = None) -> None:
+def update_possibility(
+    artists: PossibilityArtists,
+    lower: float,
+    mode: float,
+    upper: float,
+    p: int = 3,
+    evidence: IntervalEvidence | None = None,
+) -> None:
     """Draw π(lower, mode, upper) (eq. 22) in the artists of ``draw_possibility``.
 
     Also its ``p`` α-cuts (eq. 24) and the contour of ``evidence`` (if the artists have its
@@ -466,8 +498,9 @@ def update_possibility(artists: PossibilityArtists, lower: float, mode: float, u
     colours = plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, p))
     artists.cuts.set_segments([[(a, y), (b, y)] for a, b, y in zip(lo, hi, alphas, strict=True)])
     artists.cuts.set_color(list(colours))
-    artists.ends.set_segments([[(e, 0.0), (e, y)] for a, b, y in zip(lo, hi, alphas, strict=True)
-                               for e in (a, b)])
+    artists.ends.set_segments(
+        [[(e, 0.0), (e, y)] for a, b, y in zip(lo, hi, alphas, strict=True) for e in (a, b)]
+    )
     artists.ends.set_color(list(np.repeat(colours, 2, axis=0)))
 
     def label() -> Text:
@@ -536,8 +569,7 @@ def plot_possibility(
     if xlim is None:
         half = 0.15 * (upper - lower if upper > lower else 1.0)
         xlim = (lower - half, upper + half)
-    artists = draw_possibility(ax, xlim, evidence=evidence is not None, title=title,
-                               xlabel=xlabel)
+    artists = draw_possibility(ax, xlim, evidence=evidence is not None, title=title, xlabel=xlabel)
     update_possibility(artists, lower, mode, upper, p, evidence)
     return fig
 
@@ -581,8 +613,14 @@ class BelPlArtists:
 
 
 @styled
-def draw_bel_pl(ax: Axes, frame: Sequence[Hashable], subsets: Sequence[Any] | None = None, *,
-                title: str | None = None, animated: bool = False) -> BelPlArtists:
+def draw_bel_pl(
+    ax: Axes,
+    frame: Sequence[Hashable],
+    subsets: Sequence[Any] | None = None,
+    *,
+    title: str | None = None,
+    animated: bool = False,
+) -> BelPlArtists:
     """Draw the parts of :func:`plot_bel_pl` that no masses on ``frame`` change.
 
     Bars, ticks, legend, labels on ``ax``; the heights come with ``update_bel_pl``.
@@ -591,13 +629,22 @@ def draw_bel_pl(ax: Axes, frame: Sequence[Hashable], subsets: Sequence[Any] | No
     xs = np.arange(len(sets))
     zero = np.zeros(len(sets))
     bel = ax.bar(xs, zero, color=BEL_COLOUR, label="Bel", edgecolor="black", linewidth=0.5)
-    gap = ax.bar(xs, zero, bottom=zero, color=PL_COLOUR, label="Pl − Bel", edgecolor="black",
-                 linewidth=0.5)
+    gap = ax.bar(
+        xs, zero, bottom=zero, color=PL_COLOUR, label="Pl − Bel", edgecolor="black", linewidth=0.5
+    )
     single = [i for i, s in enumerate(sets) if len(s) == 1]
     betp = None
     if single:
-        betp = ax.scatter(xs[single], np.zeros(len(single)), marker="_", s=400,
-                          color=BETP_COLOUR, linewidths=2.5, label="BetP", zorder=3)
+        betp = ax.scatter(
+            xs[single],
+            np.zeros(len(single)),
+            marker="_",
+            s=400,
+            color=BETP_COLOUR,
+            linewidths=2.5,
+            label="BetP",
+            zorder=3,
+        )
     ax.set_xticks(xs, [_name(s, frame) for s in sets], rotation=30 if len(sets) > 6 else 0)
     ax.set_ylim(0, 1.05)
     ax.set_xlabel("subset A of the frame")
@@ -736,8 +783,9 @@ def update_masses(artists: MassArtists, mf: MassFunction, *, title: str | None =
     items = mf.as_dict()
 
     def bar() -> Rectangle:
-        patch = Rectangle((0.0, 0.0), 0.8, 0.0, facecolor=BEL_COLOUR, edgecolor="black",
-                          linewidth=0.5)
+        patch = Rectangle(
+            (0.0, 0.0), 0.8, 0.0, facecolor=BEL_COLOUR, edgecolor="black", linewidth=0.5
+        )
         ax.add_patch(patch)
         return patch
 
@@ -763,9 +811,7 @@ def update_masses(artists: MassArtists, mf: MassFunction, *, title: str | None =
 
 
 @styled
-def plot_masses(
-    mf: MassFunction, ax: Axes | None = None, *, title: str | None = None
-) -> Figure:
+def plot_masses(mf: MassFunction, ax: Axes | None = None, *, title: str | None = None) -> Figure:
     """Plot the masses of a finite mass function, one bar per focal element.
 
     (``draw_masses`` then ``update_masses``.)
@@ -855,15 +901,19 @@ def plot_products(
         for j, t in enumerate(fb):
             inter = s & t
             if not inter:
-                ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1, facecolor="0.85",
-                                           hatch="//", edgecolor="0.5"))
+                ax.add_patch(
+                    plt.Rectangle(
+                        (j - 0.5, i - 0.5), 1, 1, facecolor="0.85", hatch="//", edgecolor="0.5"
+                    )
+                )
             label = _name(inter, a.frame) if inter else "∅"
-            ax.text(j, i, f"{label}\n{prod[i, j]:.4g}", ha="center", va="center",
-                    fontsize=SMALL_PT)
-    ax.set_xticks(range(len(fb)), [f"{_name(t, a.frame)}\n{m:.3g}" for t, m in
-                                   zip(fb, b.mass, strict=True)])
-    ax.set_yticks(range(len(fa)), [f"{_name(s, a.frame)}  {m:.3g}" for s, m in
-                                   zip(fa, a.mass, strict=True)])
+            ax.text(j, i, f"{label}\n{prod[i, j]:.4g}", ha="center", va="center", fontsize=SMALL_PT)
+    ax.set_xticks(
+        range(len(fb)), [f"{_name(t, a.frame)}\n{m:.3g}" for t, m in zip(fb, b.mass, strict=True)]
+    )
+    ax.set_yticks(
+        range(len(fa)), [f"{_name(s, a.frame)}  {m:.3g}" for s, m in zip(fa, a.mass, strict=True)]
+    )
     ax.set_xlabel("second source m2")
     ax.set_ylabel("first source m1")
     ax.tick_params(length=0)
@@ -931,12 +981,27 @@ def plot_boxes(
     lo, hi, m = ev.boxes_lo, ev.boxes_hi, ev.mass
     shade = plt.get_cmap("Blues")(0.25 + 0.65 * m / m.max())
     for i in np.argsort(-(hi - lo).prod(axis=1)):  # widest first, so small boxes stay on top
-        ax.add_patch(plt.Rectangle(lo[i], *(hi[i] - lo[i]), facecolor=shade[i], alpha=0.55,
-                                   edgecolor="black", linewidth=1.0))
+        ax.add_patch(
+            plt.Rectangle(
+                lo[i],
+                *(hi[i] - lo[i]),
+                facecolor=shade[i],
+                alpha=0.55,
+                edgecolor="black",
+                linewidth=1.0,
+            )
+        )
         text = f"{m[i]:.3g}" if labels is None else labels[i]
         centre_x, centre_y = 0.5 * (lo[i] + hi[i])
-        ax.text(centre_x, centre_y, text, ha="center", va="center", fontsize=9,
-                bbox={"boxstyle": "round,pad=0.15", "fc": "white", "alpha": 0.8, "lw": 0})
+        ax.text(
+            centre_x,
+            centre_y,
+            text,
+            ha="center",
+            va="center",
+            fontsize=9,
+            bbox={"boxstyle": "round,pad=0.15", "fc": "white", "alpha": 0.8, "lw": 0},
+        )
     pad = 0.05 * (hi.max(axis=0) - lo.min(axis=0))
     ax.set_xlim(*(xlim or (lo[:, 0].min() - pad[0], hi[:, 0].max() + pad[0])))
     ax.set_ylim(*(ylim or (lo[:, 1].min() - pad[1], hi[:, 1].max() + pad[1])))
@@ -950,8 +1015,7 @@ def plot_boxes(
 # -- tables ------------------------------------------------------------------------------
 
 
-def markdown_table(headers: Sequence[str], rows: Iterable[Sequence[Any]],
-                   fmt: str = ".4f") -> Any:
+def markdown_table(headers: Sequence[str], rows: Iterable[Sequence[Any]], fmt: str = ".4f") -> Any:
     """Return a Markdown table (an IPython ``Markdown`` object); floats formatted with ``fmt``.
 
     Parameters
@@ -987,8 +1051,9 @@ def markdown_table(headers: Sequence[str], rows: Iterable[Sequence[Any]],
     return Markdown("\n".join(lines))
 
 
-def interval_table(ev: IntervalEvidence, paper: Sequence[Sequence[float]] | None = None,
-                   fmt: str = ".4f") -> Any:
+def interval_table(
+    ev: IntervalEvidence, paper: Sequence[Sequence[float]] | None = None, fmt: str = ".4f"
+) -> Any:
     """Focal elements and masses of scalar evidence as a Markdown table.
 
     With ``paper`` (rows lo, hi, mass as printed in a paper) a second group of columns
@@ -1028,14 +1093,18 @@ def interval_table(ev: IntervalEvidence, paper: Sequence[Sequence[float]] | None
         return f"[{lo:.4g}, {hi:.4g}]"
 
     if paper is None:
-        return markdown_table(["focal element", "mass"],
-                              [(iv(lo, hi), m) for lo, hi, m in ours], fmt)
+        return markdown_table(
+            ["focal element", "mass"], [(iv(lo, hi), m) for lo, hi, m in ours], fmt
+        )
     printed = np.asarray(paper, dtype=float)
     if printed.shape != ours.shape:
         raise EvidenceError(f"paper rows have shape {printed.shape}, evidence {ours.shape}")
+
     def diff(d: float) -> str:
         return "0" if d == 0 else f"{d:+.1e}"
 
-    rows = [(iv(a, b), m, iv(pa, pb), pm, diff(m - pm))
-            for (a, b, m), (pa, pb, pm) in zip(ours, printed, strict=True)]
+    rows = [
+        (iv(a, b), m, iv(pa, pb), pm, diff(m - pm))
+        for (a, b, m), (pa, pb, pm) in zip(ours, printed, strict=True)
+    ]
     return markdown_table(["computed", "mass", "paper", "mass", "difference"], rows, fmt)

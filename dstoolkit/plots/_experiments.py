@@ -24,18 +24,37 @@ from ._style import OKABE_ITO, log_ticks, new_figure, styled
 #: figure: the methods differ in line style and marker as well as in colour, so they can be
 #: told apart without colour (in grey print, or with a colour-vision deficiency).
 STYLE: dict[str, dict[str, Any]] = {
-    "dependent_evidence": {"color": OKABE_ITO["blue"], "ls": "-", "marker": "o",
-                           "label": "dependent evidence (paper)"},
-    "nassreddine": {"color": OKABE_ITO["orange"], "ls": "--", "marker": "s",
-                    "label": "Nassreddine"},
-    "direct": {"color": OKABE_ITO["bluish green"], "ls": ":", "marker": "^",
-               "label": "direct (eq. 32)"},
-    "kalman": {"color": OKABE_ITO["vermillion"], "ls": "-.", "marker": "v",
-               "label": "Kalman"},
-    "particle": {"color": OKABE_ITO["reddish purple"], "ls": (0, (5, 1)), "marker": "D",
-                 "label": "particle"},
-    "bounded_error": {"color": OKABE_ITO["sky blue"], "ls": (0, (3, 1, 1, 1, 1, 1)),
-                      "marker": "P", "label": "bounded error"},
+    "dependent_evidence": {
+        "color": OKABE_ITO["blue"],
+        "ls": "-",
+        "marker": "o",
+        "label": "dependent evidence (paper)",
+    },
+    "nassreddine": {
+        "color": OKABE_ITO["orange"],
+        "ls": "--",
+        "marker": "s",
+        "label": "Nassreddine",
+    },
+    "direct": {
+        "color": OKABE_ITO["bluish green"],
+        "ls": ":",
+        "marker": "^",
+        "label": "direct (eq. 32)",
+    },
+    "kalman": {"color": OKABE_ITO["vermillion"], "ls": "-.", "marker": "v", "label": "Kalman"},
+    "particle": {
+        "color": OKABE_ITO["reddish purple"],
+        "ls": (0, (5, 1)),
+        "marker": "D",
+        "label": "particle",
+    },
+    "bounded_error": {
+        "color": OKABE_ITO["sky blue"],
+        "ls": (0, (3, 1, 1, 1, 1, 1)),
+        "marker": "P",
+        "label": "bounded error",
+    },
 }
 #: Styles of curves that are not one of STYLE's methods (variants of a method), in order.
 EXTRA_STYLES: tuple[dict[str, Any], ...] = (
@@ -57,8 +76,13 @@ def line_style(st: Mapping[str, Any]) -> dict[str, Any]:
 
     Or of :data:`EXTRA_STYLES`: colour, line style, and markers spaced along the line.
     """
-    return {"color": st["color"], "ls": st.get("ls", "-"), "marker": st.get("marker", ""),
-            "markevery": MARK_EVERY, "ms": 4}
+    return {
+        "color": st["color"],
+        "ls": st.get("ls", "-"),
+        "marker": st.get("marker", ""),
+        "markevery": MARK_EVERY,
+        "ms": 4,
+    }
 
 
 def plot_table3(table: Table3) -> Figure:
@@ -94,27 +118,50 @@ def plot_table3(table: Table3) -> Figure:
     for m in methods:
         rows = [r for r in table.rows if r.method == m]
         st = _style(m)
-        ax.plot([r.level_m for r in rows], [r.mean_abs_error_m for r in rows], ls="-",
-                marker=st["marker"] or "o", color=st["color"], label=f"{st['label']}, ours")
+        ax.plot(
+            [r.level_m for r in rows],
+            [r.mean_abs_error_m for r in rows],
+            ls="-",
+            marker=st["marker"] or "o",
+            color=st["color"],
+            label=f"{st['label']}, ours",
+        )
         paper = [(lv, v[m]) for lv, v in TABLE3_MEAN_ABS_ERROR_M.items() if m in v]
         if paper:
-            ax.plot(*zip(*paper, strict=True), ls="--", marker=st["marker"] or "s",
-                    color=st["color"], alpha=0.6, mfc="none", label=f"{st['label']}, paper")
+            ax.plot(
+                *zip(*paper, strict=True),
+                ls="--",
+                marker=st["marker"] or "s",
+                color=st["color"],
+                alpha=0.6,
+                mfc="none",
+                label=f"{st['label']}, paper",
+            )
     ax.set_yscale("log")
     log_ticks(ax.yaxis)
     ax.set_xlabel("true level L (m)")
     ax.set_ylabel("mean |L̂ − L| (m)")
-    ax.set_title(f"Table 3: {table.simulation}-level simulation, n_k by {table.order_rule}",
-                 pad=4, loc="left")
+    ax.set_title(
+        f"Table 3: {table.simulation}-level simulation, n_k by {table.order_rule}",
+        pad=4,
+        loc="left",
+    )
     ax.grid(True, which="both", alpha=0.3)
     fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncols=2)
     return fig
 
 
 @styled
-def plot_estimates(truth: np.ndarray, readings: np.ndarray,
-                   estimates: Mapping[str, np.ndarray], *, quantity: str = "frequency",
-                   unit: str = "Hz", note: str = "", kept: bool = False) -> Figure:
+def plot_estimates(
+    truth: np.ndarray,
+    readings: np.ndarray,
+    estimates: Mapping[str, np.ndarray],
+    *,
+    quantity: str = "frequency",
+    unit: str = "Hz",
+    note: str = "",
+    kept: bool = False,
+) -> Figure:
     """Fig. 10 / Fig. 11: (a) estimates, truth and readings per step; (b) absolute errors.
 
     ``truth`` and ``readings`` have one value per step (or a scalar truth for a level);
@@ -182,8 +229,7 @@ def plot_estimates(truth: np.ndarray, readings: np.ndarray,
     fig.legend(*ax_a.get_legend_handles_labels(), loc="outside lower center", ncols=3)
     if kept:  # set_title re-places all three titles: none may mark the figure stale
         animate(*ax_a.lines, *ax_b.lines, ax_a.title, *_side_titles(ax_a))
-    update_estimates(fig, truth, readings, estimates, quantity=quantity, unit=unit,
-                     note=note)
+    update_estimates(fig, truth, readings, estimates, quantity=quantity, unit=unit, note=note)
     return fig
 
 
@@ -193,9 +239,16 @@ def _side_titles(ax: Axes) -> list[Text]:
 
 
 @styled
-def update_estimates(fig: Figure, truth: np.ndarray, readings: np.ndarray,
-                     estimates: Mapping[str, np.ndarray], *, quantity: str = "frequency",
-                     unit: str = "Hz", note: str = "") -> None:
+def update_estimates(
+    fig: Figure,
+    truth: np.ndarray,
+    readings: np.ndarray,
+    estimates: Mapping[str, np.ndarray],
+    *,
+    quantity: str = "frequency",
+    unit: str = "Hz",
+    note: str = "",
+) -> None:
     """Draw other values on a figure of :func:`plot_estimates` made for the same methods.
 
     ``estimates`` with the same names, in the same order: data, limits, labels.
@@ -204,11 +257,16 @@ def update_estimates(fig: Figure, truth: np.ndarray, readings: np.ndarray,
     true_line, reading_a, *est_a = ax_a.lines
     reading_b, *est_b = ax_b.lines
     if len(est_a) != len(estimates):
-        raise InvalidInputError(f"this figure draws {len(est_a)} methods, not "
-                                f"{len(estimates)}: make a new one with plot_estimates")
+        raise InvalidInputError(
+            f"this figure draws {len(est_a)} methods, not "
+            f"{len(estimates)}: make a new one with plot_estimates"
+        )
     steps = np.arange(1, np.size(readings) + 1)
-    truth = np.broadcast_to(np.asarray(truth, dtype=float).reshape(-1), steps.shape) \
-        if np.size(truth) in (1, steps.size) else np.asarray(truth)
+    truth = (
+        np.broadcast_to(np.asarray(truth, dtype=float).reshape(-1), steps.shape)
+        if np.size(truth) in (1, steps.size)
+        else np.asarray(truth)
+    )
     moving = bool(np.ptp(truth) > 0)
     ref = truth if moving else np.zeros_like(truth)
     true_line.set_data(steps, truth - ref)
@@ -218,10 +276,15 @@ def update_estimates(fig: Figure, truth: np.ndarray, readings: np.ndarray,
         est = np.asarray(est, dtype=float).reshape(-1)
         line_a.set_data(steps[: est.size], est - ref[: est.size])
         line_b.set_data(steps[: est.size], np.abs(est - truth[: est.size]))
-    title = f"(a) estimated {quantity}" + (", minus the truth" if moving else "") + \
-        (f": {note}" if note else "")
-    for ax, label in ((ax_a, f"{quantity} − true ({unit})" if moving else
-                       f"{quantity} ({unit})"), (ax_b, f"|error| ({unit})")):
+    title = (
+        f"(a) estimated {quantity}"
+        + (", minus the truth" if moving else "")
+        + (f": {note}" if note else "")
+    )
+    for ax, label in (
+        (ax_a, f"{quantity} − true ({unit})" if moving else f"{quantity} ({unit})"),
+        (ax_b, f"|error| ({unit})"),
+    ):
         if ax.get_ylabel() != label:  # an unchanged label would mark the figure stale
             ax.set_ylabel(label)
     if ax_a.get_title(loc="left") != title:
@@ -235,7 +298,10 @@ def update_estimates(fig: Figure, truth: np.ndarray, readings: np.ndarray,
     a = np.concatenate([line.get_ydata() for line in ax_a.lines])
     b = np.concatenate([line.get_ydata() for line in ax_b.lines])
     b = b[b > 0]
-    set_limits(ax_a, x=snapped_limits(1.0, float(steps[-1])),
-               y=snapped_limits(float(np.nanmin(a)), float(np.nanmax(a))))
+    set_limits(
+        ax_a,
+        x=snapped_limits(1.0, float(steps[-1])),
+        y=snapped_limits(float(np.nanmin(a)), float(np.nanmax(a))),
+    )
     if b.size:
         set_limits(ax_b, y=snapped_limits(float(np.nanmin(b)), float(np.nanmax(b)), log=True))

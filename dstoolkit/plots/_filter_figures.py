@@ -91,18 +91,31 @@ class EnclosureFigure:
     """
 
     @styled
-    def __init__(self, result: Any, truth: Any, readings: Any = None, ax: Axes | None = None,
-                 *, component: int = 0, title: str | None = None,
-                 ylabel: str = "state x_k", pyplot: bool = True) -> None:
+    def __init__(
+        self,
+        result: Any,
+        truth: Any,
+        readings: Any = None,
+        ax: Axes | None = None,
+        *,
+        component: int = 0,
+        title: str | None = None,
+        ylabel: str = "state x_k",
+        pyplot: bool = True,
+    ) -> None:
         if ax is None:
             ax = blank_figure(column_size(8.0, 3.0), "constrained", pyplot=pyplot).subplots()
         self.figure, self.ax, self.component = root_figure(ax), ax, component
         empty = np.zeros(0)
-        self._band = ax.fill_between(empty, empty, empty, step="mid", alpha=0.35,
-                                     label=f"{result.method} band")
+        self._band = ax.fill_between(
+            empty, empty, empty, step="mid", alpha=0.35, label=f"{result.method} band"
+        )
         self._truth = ax.plot([], [], "k-", lw=1.2, label="truth")[0]
-        self._readings = (None if readings is None else
-                          ax.plot([], [], ".", ms=3, color="0.5", label="readings")[0])
+        self._readings = (
+            None
+            if readings is None
+            else ax.plot([], [], ".", ms=3, color="0.5", label="readings")[0]
+        )
         self._resets: list[Line2D] = []
         ax.set_xlabel("step k")
         ax.set_ylabel(ylabel)
@@ -110,8 +123,9 @@ class EnclosureFigure:
         legend_above(ax)
 
     @styled
-    def update(self, result: Any, truth: Any, readings: Any = None, *,
-               title: str | None = None) -> Figure:
+    def update(
+        self, result: Any, truth: Any, readings: Any = None, *, title: str | None = None
+    ) -> Figure:
         """Draw ``result`` (its band [lower, upper] per step), the ``truth`` and the ``readings``.
 
         The readings only if the figure was built with readings; steps flagged in
@@ -139,8 +153,9 @@ class EnclosureFigure:
             If readings are given to a figure built without them.
         """
         if readings is not None and self._readings is None:
-            raise EvidenceError("this figure was built without readings: build a new "
-                                "EnclosureFigure to draw them")
+            raise EvidenceError(
+                "this figure was built without readings: build a new EnclosureFigure to draw them"
+            )
         ax, c = self.ax, self.component
         lower = np.asarray(result.lower)[:, c]
         upper = np.asarray(result.upper)[:, c]
@@ -151,11 +166,14 @@ class EnclosureFigure:
             shown = readings is not None
             self._readings.set_visible(shown)
             self._readings.set_data(
-                (k, np.asarray(readings).reshape(lower.size, -1)[:, 0]) if shown else ([], []))
+                (k, np.asarray(readings).reshape(lower.size, -1)[:, 0]) if shown else ([], [])
+            )
         for line in self._resets:
             line.remove()
-        self._resets = [ax.axvline(float(r), color=BETP_COLOUR, lw=1) for r in
-                        np.flatnonzero(result.diagnostics.get("resets", np.zeros(0, bool)))]
+        self._resets = [
+            ax.axvline(float(r), color=BETP_COLOUR, lw=1)
+            for r in np.flatnonzero(result.diagnostics.get("resets", np.zeros(0, bool)))
+        ]
         ax.title.set_text(title or "")  # keeps the pad legend_above gave it
         _autoscale(ax)
         return self.figure
@@ -210,8 +228,9 @@ def plot_enclosure(
     >>> fig.axes[0].get_ylabel()
     'frequency (Hz)'
     """
-    return EnclosureFigure(result, truth, readings, ax, component=component, title=title,
-                           ylabel=ylabel).figure
+    return EnclosureFigure(
+        result, truth, readings, ax, component=component, title=title, ylabel=ylabel
+    ).figure
 
 
 # -- the paper's Fig. 10 -----------------------------------------------------------------------
@@ -254,9 +273,17 @@ class FilterErrorsFigure:
     """
 
     @styled
-    def __init__(self, result: Any, truth: Any, readings: Any,
-                 axes: Sequence[Axes] | None = None, *, title: str | None = None,
-                 unit: str = "Hz", pyplot: bool = True) -> None:
+    def __init__(
+        self,
+        result: Any,
+        truth: Any,
+        readings: Any,
+        axes: Sequence[Axes] | None = None,
+        *,
+        title: str | None = None,
+        unit: str = "Hz",
+        pyplot: bool = True,
+    ) -> None:
         if axes is None:
             fig = blank_figure(column_size(6.4, 4.4), "none", pyplot=pyplot)
             axes = fig.subplots(2, 1, sharex=True)
@@ -266,14 +293,16 @@ class FilterErrorsFigure:
         self._titled = False
         self._deviations = (
             top.plot([], [], ".", ms=3, color="0.55", label="reading z_k − x_k")[0],
-            top.plot([], [], "-", lw=1.4, color=BETP_COLOUR, label="estimate x̂_k − x_k")[0])
+            top.plot([], [], "-", lw=1.4, color=BETP_COLOUR, label="estimate x̂_k − x_k")[0],
+        )
         self._zero = top.axhline(0.0, color="black", lw=0.8)
         top.set_ylabel(f"deviation ({unit})")
         legend_above(top, ncols=2)
         bottom.set_yscale("log")
         self._errors = (
             bottom.plot([], [], ".", ms=3, color="0.55", label="|z_k − x_k|")[0],
-            bottom.plot([], [], "-", lw=1.4, color=BETP_COLOUR, label="|x̂_k − x_k|")[0])
+            bottom.plot([], [], "-", lw=1.4, color=BETP_COLOUR, label="|x̂_k − x_k|")[0],
+        )
         bottom.set_ylabel(f"|error| ({unit})")
         bottom.yaxis.set_major_locator(FixedLocator((10.0 ** np.arange(-4, 4)).tolist()))
         bottom.yaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
@@ -282,8 +311,7 @@ class FilterErrorsFigure:
         self.update(result, truth, readings, title=title)
 
     @styled
-    def update(self, result: Any, truth: Any, readings: Any, *,
-               title: str | None = None) -> Figure:
+    def update(self, result: Any, truth: Any, readings: Any, *, title: str | None = None) -> Figure:
         """Draw the run ``result`` of a scalar filter against ``truth`` and ``readings``.
 
         ``title`` goes above the legend, wrapped to the figure's width. Returns the figure.
@@ -314,8 +342,9 @@ class FilterErrorsFigure:
         for line, values in zip(self._errors, (z, est), strict=True):
             line.set_data(k, np.abs(values) + 1e-6)
         if title or self._titled:  # above the legend, wrapped to the figure's width
-            self.figure.suptitle(title or "", x=0.01, y=0.99, ha="left", va="top",
-                                 fontsize=SMALL_PT, wrap=True)
+            self.figure.suptitle(
+                title or "", x=0.01, y=0.99, ha="left", va="top", fontsize=SMALL_PT, wrap=True
+            )
             self._titled = True
         # The zero line widens the view only when 0 falls outside the data's (as
         # axhline does when it is drawn after the data).
@@ -461,9 +490,16 @@ class FilterStepFigure:
         return tuple(key for key, _ in FILTER_STEP_PANELS if getattr(entry, key) is not None)
 
     @styled
-    def __init__(self, entry: DependentRecord, truth: float | None = None, *,
-                 half_width: float | None = None, figsize: tuple[float, float] = (6.4, 10.0),
-                 unit: str = "Hz", pyplot: bool = True) -> None:
+    def __init__(
+        self,
+        entry: DependentRecord,
+        truth: float | None = None,
+        *,
+        half_width: float | None = None,
+        figsize: tuple[float, float] = (6.4, 10.0),
+        unit: str = "Hz",
+        pyplot: bool = True,
+    ) -> None:
         _check_step(entry)
         self.panels, self.unit = self.panels_of(entry), unit
         fig = blank_figure(column_size(*figsize), "constrained", pyplot=pyplot)
@@ -477,8 +513,12 @@ class FilterStepFigure:
             if key == "state":
                 self._lines.append(None)
                 continue
-            self._lines.append((ax.axvline(0.0, color=BETP_COLOUR, lw=1.2),
-                                ax.axvline(0.0, color="black", lw=1.0, ls="--")))
+            self._lines.append(
+                (
+                    ax.axvline(0.0, color=BETP_COLOUR, lw=1.2),
+                    ax.axvline(0.0, color="black", lw=1.0, ls="--"),
+                )
+            )
             if ax is not self.axes[-1]:
                 # no tick labels and no x label here: nothing to format or to place
                 ax.tick_params(labelbottom=False)
@@ -486,13 +526,13 @@ class FilterStepFigure:
                 ax.xaxis.set_label_coords(0.5, 0.0)
         missing = [name for key, name in FILTER_STEP_PANELS if key not in self.panels]
         if missing:  # no empty panels: the steps a total conflict stopped are named instead
-            fig.suptitle("not reached (total conflict): " + "; ".join(missing),
-                         fontsize=SMALL_PT)
+            fig.suptitle("not reached (total conflict): " + "; ".join(missing), fontsize=SMALL_PT)
         self.update(entry, truth, half_width=half_width)
 
     @styled
-    def update(self, entry: DependentRecord, truth: float | None = None, *,
-               half_width: float | None = None) -> Figure:
+    def update(
+        self, entry: DependentRecord, truth: float | None = None, *, half_width: float | None = None
+    ) -> Figure:
         """Draw the recorded step ``entry`` (with the ``truth`` of its state, if given).
 
         ``half_width`` of the x range: default, 0.75 × the widest cut of the observation
@@ -519,15 +559,18 @@ class FilterStepFigure:
         """
         _check_step(entry)
         if self.panels_of(entry) != self.panels:
-            raise EvidenceError(f"this step fills the panels {self.panels_of(entry)}, the "
-                                f"figure has {self.panels}: build a new FilterStepFigure")
+            raise EvidenceError(
+                f"this step fills the panels {self.panels_of(entry)}, the "
+                f"figure has {self.panels}: build a new FilterStepFigure"
+            )
         est = float(np.ravel(entry.estimate)[0])
         if half_width is None:
             obs = entry.observation
             assert obs is not None, "a step that reached the update has its observation"
             cuts = obs.widths < obs.widths.max()
-            half_width = 0.75 * float((obs.hi_1d[cuts] - obs.lo_1d[cuts]).max() if cuts.any()
-                                      else 1.0)
+            half_width = 0.75 * float(
+                (obs.hi_1d[cuts] - obs.lo_1d[cuts]).max() if cuts.any() else 1.0
+            )
         centre = est if truth is None else 0.5 * (est + float(truth))
         xlim = (centre - half_width, centre + half_width)
         assert entry.state is not None, "a recorded step holds the state it started from"
@@ -537,8 +580,7 @@ class FilterStepFigure:
             ev = getattr(entry, key)
             lim = (xlim[0] - shift, xlim[1] - shift) if key == "state" else xlim
             update_focal_intervals(self._focal[i], ev, xlim=lim, label_masses=len(ev) <= 6)
-            ax.set_xlabel(f"state at step {entry.step - 1} ({self.unit})"
-                          if key == "state" else "")
+            ax.set_xlabel(f"state at step {entry.step - 1} ({self.unit})" if key == "state" else "")
             # y = 1 where matplotlib would put it (nothing is drawn above the panel), so
             # that a draw skips the search for it (a tight box of each panel's y axis)
             ax.set_title(f"{names[key]} — {len(ev)} focal elements", loc="left", y=1.0)
@@ -549,15 +591,18 @@ class FilterStepFigure:
                 true.set_visible(truth is not None)
                 if truth is not None:
                     true.set_xdata([float(truth)] * 2)
-        self.axes[-1].set_xlabel(f"state at step {entry.step} ({self.unit}); red: "
-                                 "estimate, dashed: truth")
+        self.axes[-1].set_xlabel(
+            f"state at step {entry.step} ({self.unit}); red: estimate, dashed: truth"
+        )
         return self.figure
 
 
 def _check_step(entry: DependentRecord) -> None:
     if not isinstance(entry, DependentRecord) or entry.final is None or entry.state is None:
-        raise EvidenceError("plot_filter_step needs a recorded step k >= 2 (run(..., "
-                            "record=True).steps[k - 1]); step 1 is the start value only")
+        raise EvidenceError(
+            "plot_filter_step needs a recorded step k >= 2 (run(..., "
+            "record=True).steps[k - 1]); step 1 is the start value only"
+        )
 
 
 @styled
@@ -616,5 +661,4 @@ def plot_filter_step(
     >>> len(fig.axes) > 2
     True
     """
-    return FilterStepFigure(entry, truth, half_width=half_width, figsize=figsize,
-                            unit=unit).figure
+    return FilterStepFigure(entry, truth, half_width=half_width, figsize=figsize, unit=unit).figure

@@ -69,9 +69,14 @@ class TraceLine(Line2D):
         runs = view[: run * columns].reshape(columns, run)
         low, high = runs.argmin(axis=1), runs.argmax(axis=1)
         start = first + np.arange(columns) * run
-        keep = np.concatenate([[first], (start[:, None] + np.sort(np.column_stack([low, high]),
-                                                                    axis=1)).ravel(),
-                               np.arange(first + run * columns, last), [last - 1]])
+        keep = np.concatenate(
+            [
+                [first],
+                (start[:, None] + np.sort(np.column_stack([low, high]), axis=1)).ravel(),
+                np.arange(first + run * columns, last),
+                [last - 1],
+            ]
+        )
         keep = keep[np.r_[True, np.diff(keep) > 0]]
         self.set_data(t[keep], y[keep])
         try:
@@ -134,11 +139,18 @@ def plot_recording(
     tau = 0.0
     if detection is not None:
         tau = detection.latency_s
-        ax.plot(detection.envelope_times, detection.envelope, color=BEL_COLOUR, lw=1.0,
-                label="envelope")
+        ax.plot(
+            detection.envelope_times, detection.envelope, color=BEL_COLOUR, lw=1.0, label="envelope"
+        )
         ax.plot(detection.envelope_times, -detection.envelope, color=BEL_COLOUR, lw=1.0)
-        ax.plot(detection.peak_times, detection.amplitudes, "v", ms=4,
-                color=BETP_COLOUR, label="resonances")
+        ax.plot(
+            detection.peak_times,
+            detection.amplitudes,
+            "v",
+            ms=4,
+            color=BETP_COLOUR,
+            label="resonances",
+        )
     elif recording.conditions is not None:
         tau = recording.conditions.latency_s
     ax.set_xlabel("time t (s)")
@@ -147,18 +159,29 @@ def plot_recording(
     if frequency_axis:
         sweep = recording.sweep
         top = ax.secondary_xaxis(
-            "top", functions=(lambda x: sweep.frequency_at(np.asarray(x) - tau),
-                              lambda f: sweep.time_at(f) + tau))
+            "top",
+            functions=(
+                lambda x: sweep.frequency_at(np.asarray(x) - tau),
+                lambda f: sweep.time_at(f) + tau,
+            ),
+        )
         top.set_xlabel("instantaneous frequency of the sweep (Hz)")
     if title is None and recording.setup is not None:
-        title = (f"L = {recording.setup.level_m:g} m, T = {recording.setup.temperature_c:g} °C")
+        title = f"L = {recording.setup.level_m:g} m, T = {recording.setup.temperature_c:g} °C"
     if title:
         ax.set_title(title)
     if frequency_axis:  # the top axis holds the frequencies: the legend goes below the label
-        below = offset_copy(ax.transAxes, fig=root_figure(ax), y=-2.6 * FONT_PT - 2 * SMALL_PT,
-                            units="points")
-        ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=below,
-                  ncols=3, frameon=False, borderaxespad=0.0)
+        below = offset_copy(
+            ax.transAxes, fig=root_figure(ax), y=-2.6 * FONT_PT - 2 * SMALL_PT, units="points"
+        )
+        ax.legend(
+            loc="upper center",
+            bbox_to_anchor=(0.5, 0.0),
+            bbox_transform=below,
+            ncols=3,
+            frameon=False,
+            borderaxespad=0.0,
+        )
     else:
         legend_above(ax)
     return fig
@@ -215,29 +238,44 @@ def plot_resonances(
         for f in np.asarray(true_frequencies, dtype=float):
             ax.axvline(f, color=TRUTH_COLOUR, lw=0.8, ls=":")
         ax.plot([], [], color=TRUTH_COLOUR, lw=0.8, ls=":", label="n c/(2L)")
-    markers, stems, base = ax.stem(detection.frequencies, detection.amplitudes,
-                                   linefmt="-", markerfmt="o", basefmt=" ",
-                                   label=f"detected z_k ({detection.frequencies.size})")
+    markers, stems, base = ax.stem(
+        detection.frequencies,
+        detection.amplitudes,
+        linefmt="-",
+        markerfmt="o",
+        basefmt=" ",
+        label=f"detected z_k ({detection.frequencies.size})",
+    )
     stems.set_color(BEL_COLOUR)
     markers.set_color(BEL_COLOUR)
     markers.set_markersize(3)
     if detection.missed.size:
-        ax.plot(detection.missed, np.zeros(detection.missed.size), "x", color=BETP_COLOUR,
-                label=f"missed ({detection.missed.size})")
+        ax.plot(
+            detection.missed,
+            np.zeros(detection.missed.size),
+            "x",
+            color=BETP_COLOUR,
+            label=f"missed ({detection.missed.size})",
+        )
     if detection.spurious.size:
         top = 0.5 * np.max(detection.amplitudes)
         ax.vlines(detection.spurious, 0, top, color=GREY, ls="--")
-        ax.plot(detection.spurious, np.full(detection.spurious.size, top), "s", ms=3.5,
-                color=GREY)
-        ax.plot([], [], color=GREY, ls="--", marker="s", ms=3.5,  # the legend's entry
-                label=f"spurious ({detection.spurious.size})")
+        ax.plot(detection.spurious, np.full(detection.spurious.size, top), "s", ms=3.5, color=GREY)
+        ax.plot(
+            [],
+            [],
+            color=GREY,
+            ls="--",
+            marker="s",
+            ms=3.5,  # the legend's entry
+            label=f"spurious ({detection.spurious.size})",
+        )
     ax.set_xlabel("resonance frequency (Hz)")
     ax.set_ylabel("envelope amplitude (full scale)")
     ax.set_ylim(bottom=0)
     ax.set_title(title or f"f_F = {detection.fundamental_hz:.2f} Hz", loc="left")
     legend_above(ax, ncols=4)
     return fig
-
 
 
 def gauge_detection_figure(setup: TubeSetup, detection: DetectionResult) -> Figure:
@@ -255,8 +293,16 @@ def gauge_detection_figure(setup: TubeSetup, detection: DetectionResult) -> Figu
     fig = Figure(figsize=(9.5, 4.8), layout="constrained")
     ax1, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=[3, 2])
     ax1.plot([], [], lw=0.8, color=BEL_COLOUR, label="envelope")
-    ax1.vlines([], 0, 1, transform=ax1.get_xaxis_transform(), color=TRUTH_COLOUR, lw=0.5,
-               alpha=0.6, label="n c/(2L)")
+    ax1.vlines(
+        [],
+        0,
+        1,
+        transform=ax1.get_xaxis_transform(),
+        color=TRUTH_COLOUR,
+        lw=0.5,
+        alpha=0.6,
+        label="n c/(2L)",
+    )
     ax1.plot([], [], "v", ms=4, color=BETP_COLOUR, label="detected peaks")
     ax1.set_ylabel("envelope (full scale)")
     legend_above(ax1, ncols=3, fontsize=8)
@@ -289,15 +335,19 @@ def update_gauge_detection(fig: Figure, setup: TubeSetup, detection: DetectionRe
     segments[:, 1, 1] = 1.0
     assert isinstance(model, LineCollection), "the model's lines are drawn by vlines"
     model.set_segments(list(segments))
-    peaks.set_data(detection.raw_frequencies - detection.latency_offset_hz,
-                   detection.amplitudes)
-    ax1.title.set_text(f"L = {setup.level_m:.1f} m, T = {setup.temperature_c:.1f} °C, c = "
-                  f"{setup.speed_of_sound:.1f} m/s, f_F = {setup.fundamental_hz:.2f} Hz")
+    peaks.set_data(detection.raw_frequencies - detection.latency_offset_hz, detection.amplitudes)
+    ax1.title.set_text(
+        f"L = {setup.level_m:.1f} m, T = {setup.temperature_c:.1f} °C, c = "
+        f"{setup.speed_of_sound:.1f} m/s, f_F = {setup.fundamental_hz:.2f} Hz"
+    )
     f_f = setup.fundamental_hz
     errors = detection.frequencies - np.rint(detection.frequencies / f_f) * f_f
     ax2.lines[1].set_data(detection.frequencies, errors)
     # the error axis holds the zero line
-    set_limits(ax1, y=snapped_limits(0.0, 1.3 * float(np.max(detection.envelope[keep])),
-                                     margin=0.0))
-    set_limits(ax2, y=zero_based_limits(float(np.min(errors, initial=0.0)),
-                                        float(np.max(errors, initial=0.0))))
+    set_limits(
+        ax1, y=snapped_limits(0.0, 1.3 * float(np.max(detection.envelope[keep])), margin=0.0)
+    )
+    set_limits(
+        ax2,
+        y=zero_based_limits(float(np.min(errors, initial=0.0)), float(np.max(errors, initial=0.0))),
+    )

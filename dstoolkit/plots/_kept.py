@@ -55,8 +55,9 @@ _LINEAR_STEPS = (1.0, 2.0, 2.5, 5.0, 10.0)
 _LOG_STEPS = (1.0, 2.0, 5.0, 10.0)
 
 
-def snapped_limits(lo: float, hi: float, *, log: bool = False, margin: float = 0.05,
-                   bins: int = 5) -> tuple[float, float]:
+def snapped_limits(
+    lo: float, hi: float, *, log: bool = False, margin: float = 0.05, bins: int = 5
+) -> tuple[float, float]:
     """Return axis limits around data from ``lo`` to ``hi``, out to round numbers.
 
     Then widened by ``margin`` of that span (of its logarithm on a ``log`` axis), as
@@ -106,11 +107,12 @@ def _round_log(exponent: float, outward: Callable[[float], float]) -> float:
         value = max(s for s in _LOG_STEPS if s <= within * (1 + 1e-12))
     else:
         value = min(s for s in _LOG_STEPS if s >= within * (1 - 1e-12))
-    return float(np.round(value * 10.0 ** decade, 12 - int(decade)))
+    return float(np.round(value * 10.0**decade, 12 - int(decade)))
 
 
-def set_limits(ax: Axes, *, x: tuple[float, float] | None = None,
-               y: tuple[float, float] | None = None) -> None:
+def set_limits(
+    ax: Axes, *, x: tuple[float, float] | None = None, y: tuple[float, float] | None = None
+) -> None:
     """Set the axes' limits that differ from ``x`` and ``y``.
 
     Matplotlib marks a figure stale on any ``set_xlim``, even of the same values, and then

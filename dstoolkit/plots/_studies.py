@@ -52,9 +52,15 @@ def _figure(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes
 
 
 @styled
-def plot_step_errors(errors: Mapping[str, np.ndarray], ax: Axes | None = None, *,
-                     unit: str = "Hz", title: str | None = None, legend: bool = True,
-                     end_labels: bool = False) -> Figure:
+def plot_step_errors(
+    errors: Mapping[str, np.ndarray],
+    ax: Axes | None = None,
+    *,
+    unit: str = "Hz",
+    title: str | None = None,
+    legend: bool = True,
+    end_labels: bool = False,
+) -> Figure:
     """Mean |x̂_k − x_k| over runs against the step k, one line per method (log scale).
 
     ``errors`` maps a method to absolute errors of shape (runs, K) or (K,); a name that is
@@ -117,8 +123,10 @@ def update_step_errors(ax: Axes, errors: Mapping[str, np.ndarray]) -> None:
     The same names in the same order; the limits follow.
     """
     if len(ax.lines) != len(errors):
-        raise InvalidInputError(f"these axes draw {len(ax.lines)} methods, not "
-                                f"{len(errors)}: draw them anew with plot_step_errors")
+        raise InvalidInputError(
+            f"these axes draw {len(ax.lines)} methods, not "
+            f"{len(errors)}: draw them anew with plot_step_errors"
+        )
     for line, err in zip(ax.lines, errors.values(), strict=True):
         err = np.atleast_2d(np.asarray(err, dtype=float))
         line.set_data(np.arange(1, err.shape[1] + 1), err.mean(axis=0))
@@ -131,20 +139,25 @@ def update_step_errors(ax: Axes, errors: Mapping[str, np.ndarray]) -> None:
     y = np.concatenate([line.get_ydata() for line in ax.lines])
     y = y[np.isfinite(y) & (y > 0)]
     pad = 0.05 * (steps - 1)
-    set_limits(ax, x=(1.0 - pad, steps + pad),
-               y=snapped_limits(float(y.min()), float(y.max()), log=True) if y.size else None)
+    set_limits(
+        ax,
+        x=(1.0 - pad, steps + pad),
+        y=snapped_limits(float(y.min()), float(y.max()), log=True) if y.size else None,
+    )
 
 
-def _possibilities(true: BoundedNoise, assumed: BoundedNoise
-                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _possibilities(
+    true: BoundedNoise, assumed: BoundedNoise
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Return a grid over both noises' supports (and 15 % beyond) and the possibility of each."""
     lo = min(true.lower[0], assumed.lower[0])
     hi = max(true.upper[0], assumed.upper[0])
     pad = 0.15 * (hi - lo if hi > lo else 1.0)
     x = np.linspace(lo - pad, hi + pad, 801)
-    y_true, y_assumed = (np.asarray(possibility(x, noise.lower[0], noise.mode[0],
-                                                noise.upper[0]))
-                         for noise in (true, assumed))
+    y_true, y_assumed = (
+        np.asarray(possibility(x, noise.lower[0], noise.mode[0], noise.upper[0]))
+        for noise in (true, assumed)
+    )
     return x, y_true, y_assumed
 
 
@@ -154,8 +167,14 @@ _ASSUMED_LINE: dict[str, Any] = {"color": "C3", "lw": 1.5, "label": "assumed"}
 
 
 @styled
-def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | None = None,
-                          *, title: str | None = None, xlabel: str = "noise (Hz)") -> Figure:
+def plot_noise_assumption(
+    true: BoundedNoise,
+    assumed: BoundedNoise,
+    ax: Axes | None = None,
+    *,
+    title: str | None = None,
+    xlabel: str = "noise (Hz)",
+) -> Figure:
     """Plot the possibility distribution of the true noise and of the noise a filter assumes.
 
     The true noise filled, the assumed one a line; scalar noises (paper eqs. 22–23).
@@ -219,10 +238,17 @@ def update_noise_assumption(ax: Axes, true: BoundedNoise, assumed: BoundedNoise)
         ax.autoscale_view(scaley=False)
 
 
-def noise_bounds_figure(true_v: BoundedNoise, true_w: BoundedNoise, assumed_v: BoundedNoise,
-                        assumed_w: BoundedNoise, errors: Mapping[str, np.ndarray], *,
-                        title: str, v_range: tuple[float, float],
-                        w_range: tuple[float, float]) -> Figure:
+def noise_bounds_figure(
+    true_v: BoundedNoise,
+    true_w: BoundedNoise,
+    assumed_v: BoundedNoise,
+    assumed_w: BoundedNoise,
+    errors: Mapping[str, np.ndarray],
+    *,
+    title: str,
+    v_range: tuple[float, float],
+    w_range: tuple[float, float],
+) -> Figure:
     """Draw the noise-bounds explorer's figure.
 
     The true and assumed possibility distributions of v and w
@@ -248,9 +274,14 @@ def noise_bounds_figure(true_v: BoundedNoise, true_w: BoundedNoise, assumed_v: B
     return fig
 
 
-def update_noise_bounds_figure(fig: Figure, true_v: BoundedNoise, true_w: BoundedNoise,
-                               assumed_v: BoundedNoise, assumed_w: BoundedNoise,
-                               errors: Mapping[str, np.ndarray]) -> None:
+def update_noise_bounds_figure(
+    fig: Figure,
+    true_v: BoundedNoise,
+    true_w: BoundedNoise,
+    assumed_v: BoundedNoise,
+    assumed_w: BoundedNoise,
+    errors: Mapping[str, np.ndarray],
+) -> None:
     """Draw other assumed noises and their errors on a :func:`noise_bounds_figure`.
 
     Its title stays.
@@ -293,16 +324,28 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
     methods = list(next(iter(study.values())).errors)
     for name in methods:
         st = _style(name)
-        ax.loglog(scales, [study[s].mean_errors()[name] for s in scales], ls=st["ls"],
-                  marker=st["marker"], color=st["color"], label=st["label"])
+        ax.loglog(
+            scales,
+            [study[s].mean_errors()[name] for s in scales],
+            ls=st["ls"],
+            marker=st["marker"],
+            color=st["color"],
+            label=st["label"],
+        )
     if "bounded_error" in methods:
         for s in scales:
             frac = study[s].inconsistent_runs
             if frac > 0:
                 y = study[s].mean_errors()["bounded_error"]
                 ax.plot(s, y, "x", color="red", ms=10, mew=2)
-                ax.annotate(f"{frac:.0%}", (s, y), textcoords="offset points", xytext=(4, 6),
-                            fontsize=SMALL_PT, color="red")
+                ax.annotate(
+                    f"{frac:.0%}",
+                    (s, y),
+                    textcoords="offset points",
+                    xytext=(4, 6),
+                    fontsize=SMALL_PT,
+                    color="red",
+                )
     ax.axvline(1.0, color="black", lw=0.8, ls="--")
     ax.xaxis.set_major_locator(FixedLocator(scales.tolist()))
     ax.xaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
@@ -347,10 +390,24 @@ def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
             ls, rule_label = RULE_STYLE.get(rule, ("-", rule))
             for name, err in by_method.items():
                 st = _style(name)
-                ax.semilogy(study.levels, err, ls=ls, marker=st["marker"], color=st["color"],
-                            ms=4, label=f"{st['label']}, n_k {rule_label}")
-        ax.semilogy(study.levels, study.slope, "D-", color="0.3", ms=4, lw=2,
-                    label="series fit's level c/(2 f_F)")
+                ax.semilogy(
+                    study.levels,
+                    err,
+                    ls=ls,
+                    marker=st["marker"],
+                    color=st["color"],
+                    ms=4,
+                    label=f"{st['label']}, n_k {rule_label}",
+                )
+        ax.semilogy(
+            study.levels,
+            study.slope,
+            "D-",
+            color="0.3",
+            ms=4,
+            lw=2,
+            label="series fit's level c/(2 f_F)",
+        )
         ax.set_title(f"{study.simulation}-level simulation", loc="left")
         ax.set_ylabel("mean |L̂ − L| (m)")
         ax.grid(True, which="both", alpha=0.3)
@@ -399,10 +456,20 @@ def plot_example(comparison: ExampleComparison, run: int = 0) -> Figure:
     ax_a.set_ylabel("predators Q (individuals)")
     ax_a.set_title("(a) one run in the (P, Q) plane", loc="left")
     legend_above(ax_a, ncols=3)
-    plot_step_errors(comparison.step_errors(run), ax_b, unit="log-population",
-                     title="(b) |x̂_k − x_k| per step", legend=False)  # styles as in (a)
+    plot_step_errors(
+        comparison.step_errors(run),
+        ax_b,
+        unit="log-population",
+        title="(b) |x̂_k − x_k| per step",
+        legend=False,
+    )  # styles as in (a)
     return fig
 
 
-__all__ = ["plot_example", "plot_noise_assumption", "plot_order_rule_study",
-           "plot_scale_study", "plot_step_errors"]
+__all__ = [
+    "plot_example",
+    "plot_noise_assumption",
+    "plot_order_rule_study",
+    "plot_scale_study",
+    "plot_step_errors",
+]

@@ -49,9 +49,14 @@ FOCAL_CMAP = "viridis"
 #: that people with any of the common colour-vision deficiencies can tell apart. The
 #: methods of the book are drawn in them, each also with its own line style and marker.
 OKABE_ITO = {
-    "black": "#000000", "orange": "#E69F00", "sky blue": "#56B4E9",
-    "bluish green": "#009E73", "yellow": "#F0E442", "blue": "#0072B2",
-    "vermillion": "#D55E00", "reddish purple": "#CC79A7",
+    "black": "#000000",
+    "orange": "#E69F00",
+    "sky blue": "#56B4E9",
+    "bluish green": "#009E73",
+    "yellow": "#F0E442",
+    "blue": "#0072B2",
+    "vermillion": "#D55E00",
+    "reddish purple": "#CC79A7",
 }
 
 #: The matplotlib settings of the style.
@@ -203,9 +208,17 @@ def legend_above(ax: Axes, ncols: int | None = None, **kwargs: Any) -> Legend | 
     if not handles:
         return None
     ncols = ncols if ncols is not None else min(len(handles), 3)
-    legend = ax.legend(handles, labels, loc="lower left", bbox_to_anchor=(0.0, 1.01),
-                       ncols=ncols, frameon=False, borderaxespad=0.0, handlelength=1.8,
-                       **kwargs)
+    legend = ax.legend(
+        handles,
+        labels,
+        loc="lower left",
+        bbox_to_anchor=(0.0, 1.01),
+        ncols=ncols,
+        frameon=False,
+        borderaxespad=0.0,
+        handlelength=1.8,
+        **kwargs,
+    )
     rows = -(-len(handles) // ncols)
     for loc in ("left", "center", "right"):
         if ax.get_title(loc):
@@ -213,8 +226,9 @@ def legend_above(ax: Axes, ncols: int | None = None, **kwargs: Any) -> Legend | 
     return legend
 
 
-def spread_positions(positions: list[float], gap: float, low: float = 0.0,
-                     high: float = 1.0) -> list[float]:
+def spread_positions(
+    positions: list[float], gap: float, low: float = 0.0, high: float = 1.0
+) -> list[float]:
     """Move positions apart until neighbours are at least ``gap`` apart.
 
     Each is pushed up past the one below it, then, if the highest passes ``high``, the stack
@@ -258,8 +272,9 @@ def spread_positions(positions: list[float], gap: float, low: float = 0.0,
     return result
 
 
-def label_line_ends(ax: Axes, lines: list[Line2D] | None = None, *,
-                    labels: list[str] | None = None) -> list[Text]:
+def label_line_ends(
+    ax: Axes, lines: list[Line2D] | None = None, *, labels: list[str] | None = None
+) -> list[Text]:
     """Write direct labels: each line's label just right of the data area.
 
     Level with the line's last point, moved apart where two would overlap.
@@ -294,8 +309,10 @@ def label_line_ends(ax: Axes, lines: list[Line2D] | None = None, *,
         lines = [line for line in ax.get_lines() if not str(line.get_label()).startswith("_")]
     texts = labels if labels is not None else [str(line.get_label()) for line in lines]
     if len(texts) != len(lines):
-        raise ValueError(f"label_line_ends got {len(lines)} lines and {len(texts)} labels; "
-                         "give one label per line")
+        raise ValueError(
+            f"label_line_ends got {len(lines)} lines and {len(texts)} labels; "
+            "give one label per line"
+        )
     ax.get_xlim(), ax.get_ylim()  # the limits, autoscaled now if they are still pending
     to_axes = ax.transScale + ax.transLimits  # data -> axes fraction, whatever the layout
     ends, kept = [], []
@@ -303,14 +320,25 @@ def label_line_ends(ax: Axes, lines: list[Line2D] | None = None, *,
         x, y = (np.asarray(v, dtype=float) for v in line.get_data())
         finite = np.flatnonzero(np.isfinite(x) & np.isfinite(y))
         if finite.size:
-            ends.append(float(np.clip(to_axes.transform((x[finite[-1]], y[finite[-1]]))[1],
-                                      0.0, 1.0)))
+            ends.append(
+                float(np.clip(to_axes.transform((x[finite[-1]], y[finite[-1]]))[1], 0.0, 1.0))
+            )
             kept.append(text)
     height_pt = ax.get_position().height * root_figure(ax).get_figheight() * 72.0
     positions = spread_positions(ends, 1.25 * SMALL_PT / max(height_pt, 1.0))
-    return [ax.text(1.02, y, text, transform=ax.transAxes, ha="left", va="center",
-                    fontsize=SMALL_PT, color="#222222")
-            for y, text in zip(positions, kept, strict=True)]
+    return [
+        ax.text(
+            1.02,
+            y,
+            text,
+            transform=ax.transAxes,
+            ha="left",
+            va="center",
+            fontsize=SMALL_PT,
+            color="#222222",
+        )
+        for y, text in zip(positions, kept, strict=True)
+    ]
 
 
 def log_ticks(axis: Axis) -> None:

@@ -34,11 +34,12 @@ from matplotlib.ft2font import FT2Font, RenderMode
 MAX_ENTRIES = 20_000
 
 #: Whether this matplotlib draws text the way the cache replays it (3.11's glyph path).
-SUPPORTED = (hasattr(RendererAgg, "_draw_text_glyphs_and_boxes")
-             and hasattr(RendererAgg, "_prepare_font")
-             and all(hasattr(FT2Font, name) for name in ("_layout", "_render_glyph",
-                                                          "_set_transform"))
-             and hasattr(backend_agg, "get_hinting_flag"))
+SUPPORTED = (
+    hasattr(RendererAgg, "_draw_text_glyphs_and_boxes")
+    and hasattr(RendererAgg, "_prepare_font")
+    and all(hasattr(FT2Font, name) for name in ("_layout", "_render_glyph", "_set_transform"))
+    and hasattr(backend_agg, "get_hinting_flag")
+)
 
 _layouts: dict[tuple[Any, ...], tuple[tuple[Any, int, float, float], ...]] = {}
 _glyphs: dict[tuple[Any, ...], tuple[np.ndarray, int, int]] = {}
@@ -70,37 +71,55 @@ class TextCachingRenderer(RendererAgg):
             font = get_font(fontManager._find_fonts_by_props(prop))
             cached = (None, None, None)
             for table_name, gap, ascent, descent in (
-                    ("OS/2", "sTypoLineGap", "sTypoAscender", "sTypoDescender"),
-                    ("hhea", "lineGap", "ascent", "descent")):
+                ("OS/2", "sTypoLineGap", "sTypoAscender", "sTypoDescender"),
+                ("hhea", "lineGap", "ascent", "descent"),
+            ):
                 table: Any = font.get_sfnt_table(table_name)  # type: ignore[call-overload]
                 head: Any = font.get_sfnt_table("head")
                 if table is None or head is None:
                     continue
-                scale = (1 / head["unitsPerEm"]
-                         * prop.get_size_in_points() * self.dpi / 72)
+                scale = 1 / head["unitsPerEm"] * prop.get_size_in_points() * self.dpi / 72
                 cached = (table[ascent] * scale, -table[descent] * scale, table[gap] * scale)
                 break
             _remember(_metrics, (prop.copy(), self.dpi), cached)  # a copy: prop may change
         return cached
 
-    def draw_text(self, gc: Any, x: float, y: float, s: str, prop: Any, angle: float,
-                  ismath: Any = False, mtext: Any = None) -> None:
+    def draw_text(
+        self,
+        gc: Any,
+        x: float,
+        y: float,
+        s: str,
+        prop: Any,
+        angle: float,
+        ismath: Any = False,
+        mtext: Any = None,
+    ) -> None:
         if ismath:
             super().draw_text(gc, x, y, s, prop, angle, ismath, mtext)
             return
         flags = backend_agg.get_hinting_flag()
         features = mtext.get_fontfeatures() if mtext is not None else None
         language = mtext.get_language() if mtext is not None else None
-        key = (s, prop, self.dpi, flags,
-               None if features is None else tuple(features),
-               None if language is None else str(language))
+        key = (
+            s,
+            prop,
+            self.dpi,
+            flags,
+            None if features is None else tuple(features),
+            None if language is None else str(language),
+        )
         items = _layouts.get(key)
         if items is None:
             font = self._prepare_font(prop)
-            items = _remember(_layouts, (s, prop.copy(), *key[2:]), tuple(
-                (item.ft_object, item.glyph_index, item.x, item.y)
-                for item in font._layout(s, flags=flags, features=features,
-                                         language=language)))
+            items = _remember(
+                _layouts,
+                (s, prop.copy(), *key[2:]),
+                tuple(
+                    (item.ft_object, item.glyph_index, item.x, item.y)
+                    for item in font._layout(s, flags=flags, features=features, language=language)
+                ),
+            )
         size = prop.get_size_in_points()
         cos, sin = math.cos(math.radians(angle)), math.sin(math.radians(angle))
         matrix = (0x10000 * np.array([[cos, -sin], [sin, cos]])).round().astype(int)
@@ -117,12 +136,12 @@ class TextCachingRenderer(RendererAgg):
                 bitmap = font._render_glyph(glyph, flags, mode)
                 buffer = np.array(bitmap.buffer)
                 if mode is RenderMode.MONO:
-                    buffer *= 0xff
+                    buffer *= 0xFF
                 cached = _remember(_glyphs, gkey, (buffer, bitmap.left, bitmap.top))
             buffer, left, top = cached
             self._renderer.draw_text_image(
-                buffer, left + (tx >> 6), int(height) - top - (ty >> 6) + buffer.shape[0], 0,
-                gc)
+                buffer, left + (tx >> 6), int(height) - top - (ty >> 6) + buffer.shape[0], 0, gc
+            )
 
 
 class TextCachingCanvas(FigureCanvasAgg):
