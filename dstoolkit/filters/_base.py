@@ -418,17 +418,18 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
     def _own_frames(self) -> None:
         """Check ``theta`` (see :meth:`_frames`) and keep it as nested tuples of floats."""
-        self._frames(self.theta)  # type: ignore[attr-defined]
-        if self.theta is not None:  # type: ignore[attr-defined]
+        theta = self.theta  # type: ignore[attr-defined]
+        self._frames(theta)
+        if theta is not None:
             self._own(
                 "theta",
                 tuple(
                     None
                     if part is None
                     else tuple(map(tuple, np.asarray(part, float).reshape(-1, 2).tolist()))
-                    for part in self.theta
+                    for part in theta
                 ),
-            )  # type: ignore[attr-defined]
+            )
 
     @staticmethod
     def _box(box: Any, name: str = "initial_box") -> tuple[np.ndarray, np.ndarray] | None:
