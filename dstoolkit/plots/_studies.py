@@ -200,7 +200,30 @@ def plot_noise_assumption(true: BoundedNoise, assumed: BoundedNoise, ax: Axes | 
     if title:
         ax.set_title(title, loc="left")
     legend_above(ax, ncols=2)
+    for name in ("true", "assumed"):  # named beside their flanks, moved by update_noise_assumption
+        ax.annotate(name, (0.0, 0.5), xytext=(0.0, 0.0), textcoords="offset points",
+                    va="center", fontsize=SMALL_PT, color="#222222", gid=_PEAK_LABEL_GID)
+    _place_peak_labels(ax, true, assumed)
     return fig
+
+
+#: The gid of the names :func:`plot_noise_assumption` writes at the distributions' peaks.
+_PEAK_LABEL_GID = "peak-label"
+
+
+def _place_peak_labels(ax: Axes, true: BoundedNoise, assumed: BoundedNoise) -> None:
+    """Name the true noise left of its rising flank, the assumed right of its falling one.
+
+    Both at half height, where each distribution's edge is its own.
+    """
+    true_label, assumed_label = (t for t in ax.texts if t.get_gid() == _PEAK_LABEL_GID)
+    places = ((true_label, 0.5 * (true.lower[0] + true.mode[0]), "right", -3.0),
+              (assumed_label, 0.5 * (assumed.mode[0] + assumed.upper[0]), "left", 3.0))
+    for label, x, ha, dx in places:
+        if tuple(label.xy) != (float(x), 0.5):  # an unmoved label leaves a kept figure as is
+            label.xy = (float(x), 0.5)
+        label.set_ha(ha)
+        label.set_position((dx, 0.0))
 
 
 @styled
@@ -217,6 +240,7 @@ def update_noise_assumption(ax: Axes, true: BoundedNoise, assumed: BoundedNoise)
     if not ax.lines[0].get_animated():  # kept by an explorer: its x limits stay
         ax.relim()  # the line spans the fill's x range
         ax.autoscale_view(scaley=False)
+    _place_peak_labels(ax, true, assumed)
 
 
 def noise_bounds_figure(true_v: BoundedNoise, true_w: BoundedNoise, assumed_v: BoundedNoise,
@@ -243,7 +267,8 @@ def noise_bounds_figure(true_v: BoundedNoise, true_w: BoundedNoise, assumed_v: B
         ax.set_xlim(lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo))
     # the data follow the controls and are redrawn alone (blitting) while the limits,
     # snapped to round numbers, stay
-    animate(*(artist for ax in fig.axes for artist in (*ax.lines, *ax.collections)))
+    animate(*(artist for ax in fig.axes for artist in (*ax.lines, *ax.collections,
+                                                        *ax.texts)))
     update_noise_bounds_figure(fig, true_v, true_w, assumed_v, assumed_w, errors)
     return fig
 
@@ -313,6 +338,7 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
     ax.set_ylabel("mean |x̂ − x| (Hz)")
     ax.grid(True, which="both", alpha=0.3)
     legend_above(ax, ncols=3)
+    label_line_ends(ax)
     return fig
 
 
@@ -355,6 +381,7 @@ def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
         ax.set_ylabel("mean |L̂ − L| (m)")
         ax.grid(True, which="both", alpha=0.3)
         log_ticks(ax.yaxis)
+        label_line_ends(ax, short=True)
     axes[-1].set_xlabel("true level L (m)")
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncols=2)
@@ -399,8 +426,10 @@ def plot_example(comparison: ExampleComparison, run: int = 0) -> Figure:
     ax_a.set_ylabel("predators Q (individuals)")
     ax_a.set_title("(a) one run in the (P, Q) plane", loc="left")
     legend_above(ax_a, ncols=3)
+    label_line_ends(ax_a, short=True)
     plot_step_errors(comparison.step_errors(run), ax_b, unit="log-population",
-                     title="(b) |x̂_k − x_k| per step", legend=False)  # styles as in (a)
+                     title="(b) |x̂_k − x_k| per step", legend=False,  # styles as in (a)
+                     end_labels=True)
     return fig
 
 
