@@ -281,15 +281,15 @@ class FilterErrorsFigure:
         legend_above(top, ncols=2)
         bottom.set_yscale("log")
         self._errors = (
-            bottom.plot([], [], ".", ms=3, color="0.55", label="|z_k − x_k|")[0],
-            bottom.plot([], [], "-", lw=1.4, color=BETP_COLOUR, label="|x̂_k − x_k|")[0])
+            bottom.plot([], [], ".", ms=3, color="0.55", label="reading |z_k − x_k|")[0],
+            bottom.plot([], [], "-", lw=1.4, color=BETP_COLOUR, label="estimate |x̂_k − x_k|")[0])
         bottom.set_ylabel(f"|error| ({unit})")
         bottom.yaxis.set_major_locator(FixedLocator((10.0 ** np.arange(-4, 4)).tolist()))
         bottom.yaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
         bottom.yaxis.set_minor_locator(NullLocator())
         bottom.set_xlabel("step k")
         # each series named at its end, in short; update moves the names with the data
-        self._end_labels = tuple(label_line_ends(ax, list(lines), labels=["readings", "estimate"])
+        self._end_labels = tuple(label_line_ends(ax, list(lines), labels=["reading", "estimate"])
                                  for ax, lines in ((top, self._deviations),
                                                    (bottom, self._errors)))
         self.update(result, truth, readings, title=title)

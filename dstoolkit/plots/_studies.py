@@ -381,10 +381,11 @@ def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
         ax.set_ylabel("mean |L̂ − L| (m)")
         ax.grid(True, which="both", alpha=0.3)
         log_ticks(ax.yaxis)
-        label_line_ends(ax, short=True)
     axes[-1].set_xlabel("true level L (m)")
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncols=2)
+    for ax in axes:  # once the layout has its legend: the labels' spacing needs the heights
+        label_line_ends(ax, short=True)
     return fig
 
 
@@ -426,10 +427,10 @@ def plot_example(comparison: ExampleComparison, run: int = 0) -> Figure:
     ax_a.set_ylabel("predators Q (individuals)")
     ax_a.set_title("(a) one run in the (P, Q) plane", loc="left")
     legend_above(ax_a, ncols=3)
-    label_line_ends(ax_a, short=True)
     plot_step_errors(comparison.step_errors(run), ax_b, unit="log-population",
                      title="(b) |x̂_k − x_k| per step", legend=False,  # styles as in (a)
                      end_labels=True)
+    label_line_ends(ax_a, short=True)
     return fig
 
 

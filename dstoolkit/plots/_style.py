@@ -302,6 +302,9 @@ def label_line_ends(ax: Axes, lines: list[Line2D] | None = None, *,
     if len(texts) != len(lines):
         raise ValueError(f"label_line_ends got {len(lines)} lines and {len(texts)} labels; "
                          "give one label per line")
+    engine = root_figure(ax).get_layout_engine()
+    if engine is not None:  # the axes' height after the layout sets the labels' spacing
+        engine.execute(root_figure(ax))
     made = [ax.text(1.02, 0.5, text, transform=ax.transAxes, ha="left", va="center",
                     fontsize=SMALL_PT, color="#222222", gid=END_LABEL_GID) for text in texts]
     place_line_end_labels(ax, lines, made)
@@ -350,7 +353,9 @@ def place_line_end_labels(ax: Axes, lines: Sequence[Line2D], texts: Sequence[Tex
             ends.append(float(np.clip(to_axes.transform((x[finite[-1]], y[finite[-1]]))[1],
                                       0.0, 1.0)))
             shown.append(text)
-    height_pt = ax.get_position().height * root_figure(ax).get_figheight() * 72.0
+    # original=True: the position the layout gave, without apply_aspect (which would mark a
+    # kept figure stale)
+    height_pt = ax.get_position(original=True).height * root_figure(ax).get_figheight() * 72.0
     positions = spread_positions(ends, 1.25 * SMALL_PT / max(height_pt, 1.0))
     for y, text in zip(positions, shown, strict=True):
         if text.get_position()[1] != y:  # an unmoved label leaves a kept figure unchanged
