@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.text import Annotation
 from matplotlib.ticker import FixedLocator, NullLocator, StrMethodFormatter
 
 from dstoolkit.errors import InvalidInputError
@@ -216,14 +217,16 @@ def _place_peak_labels(ax: Axes, true: BoundedNoise, assumed: BoundedNoise) -> N
 
     Both at half height, where each distribution's edge is its own.
     """
-    true_label, assumed_label = (t for t in ax.texts if t.get_gid() == _PEAK_LABEL_GID)
-    places = ((true_label, 0.5 * (true.lower[0] + true.mode[0]), "right", -3.0),
-              (assumed_label, 0.5 * (assumed.mode[0] + assumed.upper[0]), "left", 3.0))
-    for label, x, ha, dx in places:
+    true_label, assumed_label = (t for t in ax.texts
+                                 if isinstance(t, Annotation) and t.get_gid() == _PEAK_LABEL_GID)
+    true_label.set_horizontalalignment("right")  # 3 pt left of the flank
+    true_label.set_position((-3.0, 0.0))
+    assumed_label.set_horizontalalignment("left")  # 3 pt right of it
+    assumed_label.set_position((3.0, 0.0))
+    for label, x in ((true_label, 0.5 * (true.lower[0] + true.mode[0])),
+                     (assumed_label, 0.5 * (assumed.mode[0] + assumed.upper[0]))):
         if tuple(label.xy) != (float(x), 0.5):  # an unmoved label leaves a kept figure as is
             label.xy = (float(x), 0.5)
-        label.set_ha(ha)
-        label.set_position((dx, 0.0))
 
 
 @styled

@@ -357,9 +357,9 @@ def place_line_end_labels(ax: Axes, lines: Sequence[Line2D], texts: Sequence[Tex
     # kept figure stale)
     height_pt = ax.get_position(original=True).height * root_figure(ax).get_figheight() * 72.0
     positions = spread_positions(ends, 1.25 * SMALL_PT / max(height_pt, 1.0))
-    for y, text in zip(positions, shown, strict=True):
-        if text.get_position()[1] != y:  # an unmoved label leaves a kept figure unchanged
-            text.set_y(y)
+    for level, text in zip(positions, shown, strict=True):
+        if text.get_position()[1] != level:  # an unmoved label leaves a kept figure unchanged
+            text.set_y(level)
 
 
 def log_ticks(axis: Axis) -> None:
