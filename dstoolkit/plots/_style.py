@@ -358,6 +358,9 @@ def place_line_end_labels(ax: Axes, lines: Sequence[Line2D], texts: Sequence[Tex
     height_pt = ax.get_position(original=True).height * root_figure(ax).get_figheight() * 72.0
     positions = spread_positions(ends, 1.25 * SMALL_PT / max(height_pt, 1.0))
     for level, text in zip(positions, shown, strict=True):
+        # rounded: a kept figure's labels stand where a fresh figure's do, whatever the order
+        # of the floating-point steps to its limits
+        level = round(float(level), 6)
         if text.get_position()[1] != level:  # an unmoved label leaves a kept figure unchanged
             text.set_y(level)
 
