@@ -37,8 +37,10 @@ def main() -> None:
     state = dict(line.split("=", 1) for line in proc.stdout.splitlines() if "=" in line)
     os.environ.update({k: v for k, v in state.items() if k.startswith("PULSE_")})
     audio.refresh_devices()
-    print(f"{'level m':>8} {'run':>4} {'latency ms':>11} {'error mm':>9} {'sigma mm':>9} "
-          f"{'measure s':>10} {'analyse s':>10} {'tries':>6}")
+    print(
+        f"{'level m':>8} {'run':>4} {'latency ms':>11} {'error mm':>9} {'sigma mm':>9} "
+        f"{'measure s':>10} {'analyse s':>10} {'tries':>6}"
+    )
     errors, latencies, totals = [], [], []
     try:
         for level, temperature in LEVELS:
@@ -46,24 +48,31 @@ def main() -> None:
                 t0 = time.perf_counter()
                 rec = record_measurement(
                     virtual_tube=TubeSetup(level_m=level, temperature_c=temperature),
-                    input_device=args.device, output_device=args.device)
+                    input_device=args.device,
+                    output_device=args.device,
+                )
                 t1 = time.perf_counter()
                 result = analyze(rec)
                 t2 = time.perf_counter()
                 errors.append(result.error_m)
                 latencies.append(result.latency_s)
                 totals.append(t2 - t0)
-                print(f"{level:>8.1f} {run + 1:>4d} {1e3 * result.latency_s:>11.1f} "
-                      f"{1e3 * result.error_m:>+9.1f} {1e3 * result.level.uncertainty_m:>9.1f} "
-                      f"{t2 - t0:>10.2f} {t2 - t1:>10.3f} {rec.metadata.extra['attempt']:>6}")
+                print(
+                    f"{level:>8.1f} {run + 1:>4d} {1e3 * result.latency_s:>11.1f} "
+                    f"{1e3 * result.error_m:>+9.1f} {1e3 * result.level.uncertainty_m:>9.1f} "
+                    f"{t2 - t0:>10.2f} {t2 - t1:>10.3f} {rec.metadata.extra['attempt']:>6}"
+                )
     finally:
         if state.get("DSTOOLKIT_LOOPBACK_STATE") == "started":
-            subprocess.run(["bash", str(SCRIPT), "stop"], capture_output=True,
-                           env={**os.environ, **state})
+            subprocess.run(
+                ["bash", str(SCRIPT), "stop"], capture_output=True, env={**os.environ, **state}
+            )
     e = 1e3 * np.abs(errors)
-    print(f"\n{len(errors)} measurements: |error| mean {e.mean():.1f} mm, max {e.max():.1f} mm; "
-          f"latency {1e3 * min(latencies):.1f}..{1e3 * max(latencies):.1f} ms; "
-          f"one measurement {np.median(totals):.2f} s (median)")
+    print(
+        f"\n{len(errors)} measurements: |error| mean {e.mean():.1f} mm, max {e.max():.1f} mm; "
+        f"latency {1e3 * min(latencies):.1f}..{1e3 * max(latencies):.1f} ms; "
+        f"one measurement {np.median(totals):.2f} s (median)"
+    )
 
 
 if __name__ == "__main__":

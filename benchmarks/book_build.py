@@ -92,8 +92,10 @@ def main() -> None:
     npm = " including npm ci" if args.fresh_npm else ""
     print(f"book build, {len(pages)} pages in _build/html/book")
     cpu = CPU_SECONDS
-    print(f"load average {', '.join(f'{x:.2f}' for x in os.getloadavg())} "
-          "(wall times on a shared machine follow the load; CPU times less so)")
+    print(
+        f"load average {', '.join(f'{x:.2f}' for x in os.getloadavg())} "
+        "(wall times on a shared machine follow the load; CPU times less so)"
+    )
     print(f"  clean build (executes every chapter{npm}): {clean:7.1f} s   CPU {cpu[0]:7.1f} s")
     print(f"  re-render from the execution cache:       {from_cache:7.1f} s   CPU {cpu[1]:7.1f} s")
     print(f"  rebuild with nothing changed:             {unchanged:7.1f} s   CPU {cpu[2]:7.1f} s")

@@ -70,11 +70,20 @@ def weigh(browser: object, base: str, page_name: str, html_dir: Path) -> Weight:
             continue
         data = path.read_bytes()
         sizes[path.relative_to(html_dir).as_posix()] = (
-            len(data), len(gzip.compress(data, compresslevel=6, mtime=0)))
-    largest = sorted(((name, packed) for name, (_, packed) in sizes.items()),
-                     key=lambda item: -item[1])[:3]
-    return Weight(page_name, len(sizes), sum(raw for raw, _ in sizes.values()),
-                  sum(packed for _, packed in sizes.values()), explorer, tuple(largest))
+            len(data),
+            len(gzip.compress(data, compresslevel=6, mtime=0)),
+        )
+    largest = sorted(
+        ((name, packed) for name, (_, packed) in sizes.items()), key=lambda item: -item[1]
+    )[:3]
+    return Weight(
+        page_name,
+        len(sizes),
+        sum(raw for raw, _ in sizes.values()),
+        sum(packed for _, packed in sizes.values()),
+        explorer,
+        tuple(largest),
+    )
 
 
 @contextmanager
@@ -84,9 +93,17 @@ def chromium() -> Iterator[object]:
 
     with sync_playwright() as playwright:
         browser = playwright.chromium.launch(
-            executable_path=CHROMIUM, headless=True,
-            args=["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
-                  "--disable-background-networking", "--disable-component-update"])
+            executable_path=CHROMIUM,
+            headless=True,
+            args=[
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--no-first-run",
+                "--disable-background-networking",
+                "--disable-component-update",
+            ],
+        )
         try:
             yield browser
         finally:
@@ -103,17 +120,21 @@ def main(argv: list[str] | None = None) -> int:
         print(f"no book in {args.html}: run bash scripts/build-book.sh", file=sys.stderr)
         return 2
     pages = args.page or toc_pages()
-    print(f"{'page':<28} {'files':>5} {'raw MB':>7} {'gzip MB':>8} {'budget':>7}  "
-          "explorer  largest (gzipped kB)")
+    print(
+        f"{'page':<28} {'files':>5} {'raw MB':>7} {'gzip MB':>8} {'budget':>7}  "
+        "explorer  largest (gzipped kB)"
+    )
     over = 0
     with served(args.html) as base, chromium() as browser:
         for name in pages:
             w = weigh(browser, base, name, args.html)
             over += w.gzipped > w.budget
             largest = ", ".join(f"{Path(f).name} {b / 1e3:.0f}" for f, b in w.largest)
-            print(f"{name:<28} {w.files:>5} {w.raw / 1e6:>7.2f} {w.gzipped / 1e6:>8.2f} "
-                  f"{w.budget / 1e6:>7.1f}  {'yes' if w.explorer else 'no':<8}  {largest}",
-                  flush=True)
+            print(
+                f"{name:<28} {w.files:>5} {w.raw / 1e6:>7.2f} {w.gzipped / 1e6:>8.2f} "
+                f"{w.budget / 1e6:>7.1f}  {'yes' if w.explorer else 'no':<8}  {largest}",
+                flush=True,
+            )
     print(f"{over} page(s) over budget")
     return 1 if over else 0
 

@@ -57,9 +57,14 @@ BLOCKS: tuple[tuple[str, str], ...] = (
     ("Step 6  compiled kernel (numba)", "_fuse_compiled"),
 )
 #: Modules whose numpy calls are counted: the array path, its kernels, the gauge model.
-MODULES = ("dstoolkit.filters._dependent_arrays", "dstoolkit.evidence._batch_kernels",
-           "dstoolkit.evidence._boxes", "dstoolkit.filters._model",
-           "dstoolkit.gauge._gauge_model", "dstoolkit.gauge._level")
+MODULES = (
+    "dstoolkit.filters._dependent_arrays",
+    "dstoolkit.evidence._batch_kernels",
+    "dstoolkit.evidence._boxes",
+    "dstoolkit.filters._model",
+    "dstoolkit.gauge._gauge_model",
+    "dstoolkit.gauge._level",
+)
 STEP_CLASS = "dstoolkit.filters._dependent_arrays"
 
 
@@ -76,9 +81,11 @@ class _CountingUfunc:
     def __getattr__(self, name: str) -> Any:
         attr = getattr(self._ufunc, name)
         if name in ("reduce", "reduceat", "accumulate", "outer", "at"):
+
             def counted(*args: Any, **kwargs: Any) -> Any:
                 self._counts["calls"] += 1
                 return attr(*args, **kwargs)
+
             return counted
         return attr
 
@@ -94,9 +101,11 @@ class _CountingNumpy:
         if isinstance(attr, np.ufunc):
             return _CountingUfunc(attr, self._counts)
         if callable(attr) and not isinstance(attr, type):
+
             def counted(*args: Any, **kwargs: Any) -> Any:
                 self._counts["calls"] += 1
                 return attr(*args, **kwargs)
+
             return counted
         return attr
 
@@ -116,9 +125,12 @@ def counting_numpy(counts: Counter[str]) -> Iterator[None]:
 
 
 @contextmanager
-def timed_blocks(times: dict[str, list[int]], calls: dict[str, int],
-                 counts: Counter[str], clock: Callable[[], int] = time.perf_counter_ns
-                 ) -> Iterator[None]:
+def timed_blocks(
+    times: dict[str, list[int]],
+    calls: dict[str, int],
+    counts: Counter[str],
+    clock: Callable[[], int] = time.perf_counter_ns,
+) -> Iterator[None]:
     """Wrap each block's method to record its calls.
 
     Each call adds its time (ns of ``clock``) to ``times`` and the numpy calls it made to
@@ -135,6 +147,7 @@ def timed_blocks(times: dict[str, list[int]], calls: dict[str, int],
             finally:
                 times[name].append(clock() - start)
                 calls[name] += counts["calls"] - before
+
         return timed
 
     for name, method in saved.items():
@@ -158,8 +171,9 @@ def numpy_call_floor(repeat: int = 2000) -> float:
     return statistics.median(samples)
 
 
-def profile(flt: DependentEvidenceFilter, repeat: int
-            ) -> tuple[float, float, dict[str, float], dict[str, float], float]:
+def profile(
+    flt: DependentEvidenceFilter, repeat: int
+) -> tuple[float, float, dict[str, float], dict[str, float], float]:
     """Profile a filter's run, untimed and with the block timers.
 
     Return the median run time (s) untimed; with the block timers, the median run time (s)
@@ -193,8 +207,13 @@ def profile(flt: DependentEvidenceFilter, repeat: int
             blocks["rest"] = timed_runs[-1] / steps * 1e6 - sum(blocks.values())
             per_run.append(blocks)
     medians = {name: statistics.median(r[name] for r in per_run) for name in per_run[0]}
-    return (statistics.median(runs), statistics.median(timed_runs), medians,
-            {name: calls[name] / steps for _, name in BLOCKS}, total_calls)
+    return (
+        statistics.median(runs),
+        statistics.median(timed_runs),
+        medians,
+        {name: calls[name] / steps for _, name in BLOCKS},
+        total_calls,
+    )
 
 
 def report(title: str, flt: DependentEvidenceFilter, repeat: int, floor: float) -> float:
@@ -202,20 +221,26 @@ def report(title: str, flt: DependentEvidenceFilter, repeat: int, floor: float) 
     median, timed, block_us, block_calls, total_calls = profile(flt, repeat)
     steps = simulate_gauge(seed=0).orders.size - 1
     per_step = median / steps * 1e6
-    print(f"\n{title}: one run {median * 1e3:.2f} ms (median of {repeat}), "
-          f"{per_step:.1f} µs per step, {total_calls:.0f} numpy calls per step "
-          f"(≥ {total_calls * floor * 1e6:.1f} µs at the floor); with the block timers "
-          f"{timed * 1e3:.2f} ms:")
+    print(
+        f"\n{title}: one run {median * 1e3:.2f} ms (median of {repeat}), "
+        f"{per_step:.1f} µs per step, {total_calls:.0f} numpy calls per step "
+        f"(≥ {total_calls * floor * 1e6:.1f} µs at the floor); with the block timers "
+        f"{timed * 1e3:.2f} ms:"
+    )
     print(f"  {'block':52s} {'µs/step':>8s} {'calls':>6s} {'µs/call':>8s} {'floor':>7s}")
     for label, name in BLOCKS:
         if not block_calls[name] and not block_us[name]:
             continue
         calls = block_calls[name]
-        print(f"  {label:52s} {block_us[name]:8.1f} {calls:6.0f} "
-              f"{block_us[name] / max(calls, 1):8.2f} {calls * floor * 1e6:7.1f}")
+        print(
+            f"  {label:52s} {block_us[name]:8.1f} {calls:6.0f} "
+            f"{block_us[name] / max(calls, 1):8.2f} {calls * floor * 1e6:7.1f}"
+        )
     rest_calls = total_calls - sum(block_calls.values())
-    print(f"  {'rest: loop, views, diagnostics table, timers':52s} {block_us['rest']:8.1f} "
-          f"{rest_calls:6.0f} {'':8s} {rest_calls * floor * 1e6:7.1f}")
+    print(
+        f"  {'rest: loop, views, diagnostics table, timers':52s} {block_us['rest']:8.1f} "
+        f"{rest_calls:6.0f} {'':8s} {rest_calls * floor * 1e6:7.1f}"
+    )
     return per_step
 
 
@@ -249,8 +274,10 @@ def report_batch(filters: dict[str, DependentEvidenceFilter], runs: int) -> None
         values = [blocks[name] for _, blocks in results.values()]
         if any(values):
             print(f"  {label:52s}" + "".join(f" {value:10.2f}" for value in values))
-    print(f"  {'steps per second (CPU)':52s}"
-          + "".join(f" {steps / total:10,.0f}" for total, _ in results.values()))
+    print(
+        f"  {'steps per second (CPU)':52s}"
+        + "".join(f" {steps / total:10,.0f}" for total, _ in results.values())
+    )
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -259,15 +286,23 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--runs", type=int, default=1000, help="runs in the batch (0: none)")
     args = parser.parse_args(argv)
     floor = numpy_call_floor()
-    print(f"numpy {np.__version__}, {os.cpu_count()} CPUs, load average "
-          f"{', '.join(f'{x:.2f}' for x in os.getloadavg())}; floor: one numpy call on a "
-          f"one-element array = {floor * 1e6:.2f} µs")
+    print(
+        f"numpy {np.__version__}, {os.cpu_count()} CPUs, load average "
+        f"{', '.join(f'{x:.2f}' for x in os.getloadavg())}; floor: one numpy call on a "
+        f"one-element array = {floor * 1e6:.2f} µs"
+    )
     numpy_step = report("numpy path", DependentEvidenceFilter(), args.repeat, floor)
     if importlib.util.find_spec("numba") is not None:
-        compiled_step = report("compiled Step 6 (kernel='numba', extra speed)",
-                               DependentEvidenceFilter(kernel="numba"), args.repeat, floor)
-        print(f"\nthe compiled kernel saves {numpy_step - compiled_step:.1f} µs per step "
-              f"({numpy_step / compiled_step:.2f}× faster per run)")
+        compiled_step = report(
+            "compiled Step 6 (kernel='numba', extra speed)",
+            DependentEvidenceFilter(kernel="numba"),
+            args.repeat,
+            floor,
+        )
+        print(
+            f"\nthe compiled kernel saves {numpy_step - compiled_step:.1f} µs per step "
+            f"({numpy_step / compiled_step:.2f}× faster per run)"
+        )
     else:
         print("\n(numba not installed: pip install dstoolkit[speed] to time the compiled kernel)")
     if args.runs:

@@ -75,18 +75,33 @@ def register(name: str, make: Callable[[], Filter[Any, Any]], settings: str) -> 
     REGISTRY[name] = Entry(make, settings)
 
 
-register("dependent_evidence", DependentEvidenceFilter,
-         "paper's filter, p = 3, ε = 0.05, m(D) = min, start z_1")
+register(
+    "dependent_evidence",
+    DependentEvidenceFilter,
+    "paper's filter, p = 3, ε = 0.05, m(D) = min, start z_1",
+)
 if importlib.util.find_spec("numba") is not None:
-    register("dependent_numba", lambda: DependentEvidenceFilter(kernel="numba"),
-             "the same, Step 6 compiled (extra speed: numba)")
-register("nassreddine", NassreddineFilter,
-         "Nassreddine et al. 2010, p = 3, ε = 0.05, ≤ 32 focal elements (clustering)")
+    register(
+        "dependent_numba",
+        lambda: DependentEvidenceFilter(kernel="numba"),
+        "the same, Step 6 compiled (extra speed: numba)",
+    )
+register(
+    "nassreddine",
+    NassreddineFilter,
+    "Nassreddine et al. 2010, p = 3, ε = 0.05, ≤ 32 focal elements (clustering)",
+)
 if importlib.util.find_spec("numba") is not None:
-    register("nassreddine_numba", lambda: NassreddineFilter(kernel="numba"),
-             "the same, merge and clustering compiled (extra speed: numba), same numbers")
-register("nassreddine_restart", lambda: NassreddineFilter(restart=True),
-         "the same, state evidence rebuilt as x̂_k + E_v each step")
+    register(
+        "nassreddine_numba",
+        lambda: NassreddineFilter(kernel="numba"),
+        "the same, merge and clustering compiled (extra speed: numba), same numbers",
+    )
+register(
+    "nassreddine_restart",
+    lambda: NassreddineFilter(restart=True),
+    "the same, state evidence rebuilt as x̂_k + E_v each step",
+)
 register("bounded_error", BoundedErrorFilter, "one box, interval image ∩ reading box")
 register("kalman", KalmanFilter, "(extended) Kalman on the noises' means and variances")
 register("particle", ParticleFilter, "bootstrap, 1000 particles, systematic resampling")
@@ -97,26 +112,38 @@ def user_gauge_model() -> StateSpaceModel:
 
     Plain numpy maps, no Jacobians (finite differences).
     """
+
     def f(x: np.ndarray, u: np.ndarray) -> np.ndarray:
         return x * (u + 1.0) / u
 
-    def g_inverse(lo: np.ndarray, hi: np.ndarray, x_lo: np.ndarray, x_hi: np.ndarray
-                  ) -> tuple[np.ndarray, np.ndarray]:
+    def g_inverse(
+        lo: np.ndarray, hi: np.ndarray, x_lo: np.ndarray, x_hi: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
         return np.maximum(lo, x_lo), np.minimum(hi, x_hi)
 
     package = gauge_state_space_model()
-    return StateSpaceModel(f=f, g=lambda x: x + 0.0, g_inverse=g_inverse,
-                           state_noise=package.state_noise, obs_noise=package.obs_noise,
-                           f_monotone=(1, 1), g_monotone=(1,), name="user's gauge")
+    return StateSpaceModel(
+        f=f,
+        g=lambda x: x + 0.0,
+        g_inverse=g_inverse,
+        state_noise=package.state_noise,
+        obs_noise=package.obs_noise,
+        f_monotone=(1, 1),
+        g_monotone=(1,),
+        name="user's gauge",
+    )
 
 
 #: The two models every filter is timed on.
 MODELS: dict[str, Callable[[], StateSpaceModel]] = {
-    "package": gauge_state_space_model, "user": user_gauge_model}
+    "package": gauge_state_space_model,
+    "user": user_gauge_model,
+}
 
 
-def time_single(flt: Filter[Any, Any], model: StateSpaceModel, z: np.ndarray,
-                u: np.ndarray, repeat: int) -> tuple[float, float, float]:
+def time_single(
+    flt: Filter[Any, Any], model: StateSpaceModel, z: np.ndarray, u: np.ndarray, repeat: int
+) -> tuple[float, float, float]:
     """Time one run: median and best wall time (s), after a warm-up run, and median CPU time.
 
     The CPU time (s) is this process's: on a shared machine the wall time also counts the
@@ -152,8 +179,9 @@ def load_average() -> str:
     return ", ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
-def time_batch(flt: Filter[Any, Any], model: StateSpaceModel, z: np.ndarray,
-               u: np.ndarray, repeat: int = 2) -> tuple[float, float]:
+def time_batch(
+    flt: Filter[Any, Any], model: StateSpaceModel, z: np.ndarray, u: np.ndarray, repeat: int = 2
+) -> tuple[float, float]:
     """Best wall time and best CPU time (s) of one batch run."""
     best, best_cpu = np.inf, np.inf
     for _ in range(repeat):
@@ -168,10 +196,16 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=1000, help="sequences in the batch")
     parser.add_argument("--repeat", type=int, default=30, help="timed single runs")
-    parser.add_argument("--filters", default=",".join(REGISTRY),
-                        help=f"comma-separated names among {', '.join(REGISTRY)}")
-    parser.add_argument("--models", default=",".join(MODELS),
-                        help=f"comma-separated models among {', '.join(MODELS)}")
+    parser.add_argument(
+        "--filters",
+        default=",".join(REGISTRY),
+        help=f"comma-separated names among {', '.join(REGISTRY)}",
+    )
+    parser.add_argument(
+        "--models",
+        default=",".join(MODELS),
+        help=f"comma-separated models among {', '.join(MODELS)}",
+    )
     args = parser.parse_args(argv)
     names = [name for name in args.filters.split(",") if name]
     unknown = sorted(set(names) - set(REGISTRY))
@@ -180,36 +214,49 @@ def main(argv: list[str] | None = None) -> int:
 
     models = [name for name in args.models.split(",") if name]
     if set(models) - set(MODELS):
-        parser.error(f"unknown model(s) {sorted(set(models) - set(MODELS))}; known: "
-                     f"{sorted(MODELS)}")
+        parser.error(
+            f"unknown model(s) {sorted(set(models) - set(MODELS))}; known: {sorted(MODELS)}"
+        )
     one = simulate_gauge(seed=0)
     many = simulate_gauge(runs=args.runs, seed=1)
     steps = one.orders.size - 1
-    print(f"gauge-like sequence: L = {one.level_m} m, T = {one.temperature_c} °C, "
-          f"f_F = {one.fundamental_hz:.2f} Hz, {one.orders.size} resonances "
-          f"(n = {one.orders[0]}..{one.orders[-1]}), {steps} filter steps per run")
+    print(
+        f"gauge-like sequence: L = {one.level_m} m, T = {one.temperature_c} °C, "
+        f"f_F = {one.fundamental_hz:.2f} Hz, {one.orders.size} resonances "
+        f"(n = {one.orders[0]}..{one.orders[-1]}), {steps} filter steps per run"
+    )
     floor = numpy_call_floor(steps)
     print(f"numpy {np.__version__}, {os.cpu_count()} CPUs, load average {load_average()}")
-    print(f"per step = one-run median / {steps} steps; × floor = per step / the time per "
-          f"iteration of an empty {steps}-step loop\nmaking one numpy call on one-element "
-          "arrays (the first row): how many such calls a step costs\n")
-    print(f"{'filter':20s} {'model':8s} {'one run: median':>15s} {'best':>8s} {'CPU':>8s} "
-          f"{'per step':>9s} {'× floor':>7s} {'batch of':>8s} {'time':>7s} {'CPU':>7s} "
-          f"{'steps/s':>10s} {'(CPU)':>10s}  settings")
-    print(f"{'floor':20s} {'':8s} {'':15s} {'':8s} {'':8s} {floor * 1e6:6.2f} µs {1:7.0f}"
-          f"{'':47s}  one numpy call per step, np.add(a, b, out=c)")
+    print(
+        f"per step = one-run median / {steps} steps; × floor = per step / the time per "
+        f"iteration of an empty {steps}-step loop\nmaking one numpy call on one-element "
+        "arrays (the first row): how many such calls a step costs\n"
+    )
+    print(
+        f"{'filter':20s} {'model':8s} {'one run: median':>15s} {'best':>8s} {'CPU':>8s} "
+        f"{'per step':>9s} {'× floor':>7s} {'batch of':>8s} {'time':>7s} {'CPU':>7s} "
+        f"{'steps/s':>10s} {'(CPU)':>10s}  settings"
+    )
+    print(
+        f"{'floor':20s} {'':8s} {'':15s} {'':8s} {'':8s} {floor * 1e6:6.2f} µs {1:7.0f}"
+        f"{'':47s}  one numpy call per step, np.add(a, b, out=c)"
+    )
     for name, model_name in ((n, m) for n in names for m in models):
         entry, model = REGISTRY[name], MODELS[model_name]()
         flt = entry.make()
         median, best, cpu = time_single(flt, model, one.readings, one.inputs, args.repeat)
         batch, batch_cpu = time_batch(flt, model, many.readings, many.inputs)
-        print(f"{name:20s} {model_name:8s} {median * 1e3:12.2f} ms {best * 1e3:5.2f} ms "
-              f"{cpu * 1e3:5.2f} ms "
-              f"{median / steps * 1e6:6.2f} µs {median / steps / floor:7.0f} {args.runs:8d} "
-              f"{batch:5.2f} s {batch_cpu:5.2f} s {args.runs * steps / batch:10,.0f} "
-              f"{args.runs * steps / batch_cpu:10,.0f}  {entry.settings}")
-    print(f"\nload average after: {load_average()}; floor again: "
-          f"{numpy_call_floor(steps) * 1e6:.2f} µs per step")
+        print(
+            f"{name:20s} {model_name:8s} {median * 1e3:12.2f} ms {best * 1e3:5.2f} ms "
+            f"{cpu * 1e3:5.2f} ms "
+            f"{median / steps * 1e6:6.2f} µs {median / steps / floor:7.0f} {args.runs:8d} "
+            f"{batch:5.2f} s {batch_cpu:5.2f} s {args.runs * steps / batch:10,.0f} "
+            f"{args.runs * steps / batch_cpu:10,.0f}  {entry.settings}"
+        )
+    print(
+        f"\nload average after: {load_average()}; floor again: "
+        f"{numpy_call_floor(steps) * 1e6:.2f} µs per step"
+    )
     return 0
 
 

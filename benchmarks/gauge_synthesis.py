@@ -26,8 +26,12 @@ from dstoolkit.gauge import (
 
 CONDITIONS = {
     "noise-free": RecordingConditions(),
-    "noisy": RecordingConditions(speaker_jitter_hz=0.1, microphone_noise_pa=spl_to_pa(40.0),
-                                 background_noise_pa=spl_to_pa(70.0), latency_s=0.02),
+    "noisy": RecordingConditions(
+        speaker_jitter_hz=0.1,
+        microphone_noise_pa=spl_to_pa(40.0),
+        background_noise_pa=spl_to_pa(70.0),
+        latency_s=0.02,
+    ),
 }
 
 
@@ -36,10 +40,14 @@ def median_ms(fn, repeat: int = 7) -> float:
 
 
 def main() -> None:
-    print(f"sweep {PAPER_SWEEP.f_start:g} → {PAPER_SWEEP.f_stop:g} Hz in "
-          f"{PAPER_SWEEP.duration:g} s at {PAPER_SWEEP.sample_rate:g} Hz")
-    print(f"{'level':>6} {'conditions':>11} {'echoes':>6} {'synthesis ms':>13} "
-          f"{'detection ms':>13} {'resonances':>10}")
+    print(
+        f"sweep {PAPER_SWEEP.f_start:g} → {PAPER_SWEEP.f_stop:g} Hz in "
+        f"{PAPER_SWEEP.duration:g} s at {PAPER_SWEEP.sample_rate:g} Hz"
+    )
+    print(
+        f"{'level':>6} {'conditions':>11} {'echoes':>6} {'synthesis ms':>13} "
+        f"{'detection ms':>13} {'resonances':>10}"
+    )
     for level, temp in [(1.3, 27.0), (4.6, 26.5), (9.6, 23.9)]:
         setup = TubeSetup(level, temp)
         for name, cond in CONDITIONS.items():
@@ -47,12 +55,16 @@ def main() -> None:
             t_syn = median_ms(lambda s=setup, c=cond: synthesize_recording(s, PAPER_SWEEP, c))
             t_det = median_ms(lambda r=rec: detect_resonances(r))
             det = detect_resonances(rec)
-            print(f"{level:6.1f} {name:>11} {setup.echo_count(PAPER_SWEEP.f_start):6d} "
-                  f"{t_syn:13.1f} {t_det:13.1f} {det.frequencies.size:10d}")
+            print(
+                f"{level:6.1f} {name:>11} {setup.echo_count(PAPER_SWEEP.f_start):6d} "
+                f"{t_syn:13.1f} {t_det:13.1f} {det.frequencies.size:10d}"
+            )
     start = time.perf_counter()
     w = characterise_observation_noise(seed=0)
-    print(f"observation-noise characterisation, 30 levels: {time.perf_counter() - start:.2f} s"
-          f" ({w.summary()})")
+    print(
+        f"observation-noise characterisation, 30 levels: {time.perf_counter() - start:.2f} s"
+        f" ({w.summary()})"
+    )
 
 
 if __name__ == "__main__":

@@ -41,37 +41,93 @@ TARGET_S = 0.080
 #: changes applied in turn; every one changes the figure.
 CHANGES: dict[str, tuple[tuple[str, object], ...]] = {
     "mass_function_explorer()": (
-        ("low", 0.35), ("high", 0.15), ("mid", 0.05), ("low_mid", 0.25), ("low", 0.3),
-        ("high", 0.05)),
+        ("low", 0.35),
+        ("high", 0.15),
+        ("mid", 0.05),
+        ("low_mid", 0.25),
+        ("low", 0.3),
+        ("high", 0.05),
+    ),
     "conflict_explorer()": (
-        ("epsilon", 0.1), ("x", 0.9), ("rule", "Yager"), ("y", 0.8), ("epsilon", 0.2),
-        ("rule", "Dempster")),
+        ("epsilon", 0.1),
+        ("x", 0.9),
+        ("rule", "Yager"),
+        ("y", 0.8),
+        ("epsilon", 0.2),
+        ("rule", "Dempster"),
+    ),
     "dependent_combination_explorer()": (
-        ("a2", 0.5), ("b2", 0.2), ("mass_rule", "m1"), ("a3", 0.2), ("b3", 0.5),
-        ("mass_rule", "min")),
+        ("a2", 0.5),
+        ("b2", 0.2),
+        ("mass_rule", "m1"),
+        ("a3", 0.2),
+        ("b3", 0.5),
+        ("mass_rule", "min"),
+    ),
     "noise_evidence_explorer()": (
-        ("p", 4), ("epsilon", 0.1), ("upper", 0.4), ("mode", 0.1), ("p", 6), ("lower", -0.4)),
+        ("p", 4),
+        ("epsilon", 0.1),
+        ("upper", 0.4),
+        ("mode", 0.1),
+        ("p", 6),
+        ("lower", -0.4),
+    ),
     "bounded_error_explorer(v_half=0.1, w_half=1.0, steps=60, seed=7)": (
-        ("scale", 0.5), ("scale", 0.8), ("scale", 1.5), ("scale", 2.0), ("scale", 0.6),
-        ("scale", 2.5)),
+        ("scale", 0.5),
+        ("scale", 0.8),
+        ("scale", 1.5),
+        ("scale", 2.0),
+        ("scale", 0.6),
+        ("scale", 2.5),
+    ),
     "extension_explorer()": (
-        ("hi", 2.5), ("function", "x²"), ("lo", -1.0), ("sign", -1), ("hi", 3.5),
-        ("function", "exp(−x)")),
+        ("hi", 2.5),
+        ("function", "x²"),
+        ("lo", -1.0),
+        ("sign", -1),
+        ("hi", 3.5),
+        ("function", "exp(−x)"),
+    ),
     "filter_widget()": (
-        ("epsilon", 0.10), ("w_mode", -6.5), ("w_upper", -3.0), ("v_upper", 0.4), ("p", 4),
-        ("start", "mean_corrected")),
+        ("epsilon", 0.10),
+        ("w_mode", -6.5),
+        ("w_upper", -3.0),
+        ("v_upper", 0.4),
+        ("p", 4),
+        ("start", "mean_corrected"),
+    ),
     "filter_step_explorer()": (
-        ("step", 3), ("step", 4), ("epsilon", 0.1), ("step", 5), ("start", "observation"),
-        ("step", 6)),
+        ("step", 3),
+        ("step", 4),
+        ("epsilon", 0.1),
+        ("step", 5),
+        ("start", "observation"),
+        ("step", 6),
+    ),
     "gauge_explorer()": (
-        ("level", 4.0), ("temperature", 20.0), ("top_reflection", 0.5), ("background", 60.0),
-        ("level", 6.0), ("temperature", 10.0)),
+        ("level", 4.0),
+        ("temperature", 20.0),
+        ("top_reflection", 0.5),
+        ("background", 60.0),
+        ("level", 6.0),
+        ("temperature", 10.0),
+    ),
     "level_estimation_explorer()": (
-        ("level", 4.0), ("temperature", 20.0), ("seed", 1), ("figure", "Fig. 10: frequencies"),
-        ("level", 6.0), ("order_rule", "true")),
+        ("level", 4.0),
+        ("temperature", 20.0),
+        ("seed", 1),
+        ("figure", "Fig. 10: frequencies"),
+        ("level", 6.0),
+        ("order_rule", "true"),
+    ),
     "noise_bounds_explorer()": (
-        ("w_upper", -3.0), ("v_upper", 0.4), ("w_lower", -11.0), ("v_lower", -0.4),
-        ("w_upper", -2.0), ("start", "observation")),
+        ("w_upper", -3.0),
+        ("v_upper", 0.4),
+        ("w_lower", -11.0),
+        ("v_lower", -0.4),
+        ("w_upper", -2.0),
+        ("start", "observation"),
+    ),
 }
 
 KERNEL_CODE = """
@@ -103,8 +159,9 @@ def in_kernel(changes: dict[str, tuple], n: int) -> dict[str, list[float]]:
     """Latencies (s) of ``n`` value changes of every explorer, made inside a kernel."""
     code = KERNEL_CODE.format(changes=changes, n=n)
     nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(code)])
-    NotebookClient(nb, timeout=1800, kernel_name="python3",
-                   resources={"metadata": {"path": str(ROOT)}}).execute()
+    NotebookClient(
+        nb, timeout=1800, kernel_name="python3", resources={"metadata": {"path": str(ROOT)}}
+    ).execute()
     for out in nb.cells[0].outputs:
         if out.get("output_type") == "stream" and "LATENCY " in out.get("text", ""):
             line = next(t for t in out["text"].splitlines() if t.startswith("LATENCY "))
@@ -134,11 +191,16 @@ def in_process(changes: int) -> dict[str, list[float]]:
         values[name] = value if values[name] != value else ex.controls[name].value
         start = time.perf_counter()
         seq, orders, result = filter_case(
-            values["level"], values["temperature"],
+            values["level"],
+            values["temperature"],
             state_noise=(values["v_lower"], values["v_mode"], values["v_upper"]),
             obs_noise=(values["w_lower"], values["w_mode"], values["w_upper"]),
-            p=values["p"], epsilon=values["epsilon"], start=values["start"],
-            mass_rule=values["mass_rule"], orders=values["orders"])
+            p=values["p"],
+            epsilon=values["epsilon"],
+            start=values["start"],
+            mass_rule=values["mass_rule"],
+            orders=values["orders"],
+        )
         run = time.perf_counter()
         if kept is None:
             kept = FilterErrorsFigure(result, seq.truth, seq.readings, title=name, pyplot=False)
@@ -156,8 +218,10 @@ def in_process(changes: int) -> dict[str, list[float]]:
 
 
 def _ms(values: list[float]) -> str:
-    return (f"median {statistics.median(values) * 1e3:7.1f} ms   best "
-            f"{min(values) * 1e3:7.1f} ms   worst {max(values) * 1e3:7.1f} ms")
+    return (
+        f"median {statistics.median(values) * 1e3:7.1f} ms   best "
+        f"{min(values) * 1e3:7.1f} ms   worst {max(values) * 1e3:7.1f} ms"
+    )
 
 
 def _load() -> str:
@@ -167,13 +231,19 @@ def _load() -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--changes", type=int, default=12, help="value changes per explorer")
-    parser.add_argument("--only", nargs="*", default=None,
-                        help="explorer function names to time (default: all)")
+    parser.add_argument(
+        "--only", nargs="*", default=None, help="explorer function names to time (default: all)"
+    )
     args = parser.parse_args(argv)
-    chosen = {call: pairs for call, pairs in CHANGES.items()
-              if not args.only or call.split("(")[0] in args.only}
-    print(f"{len(chosen)} explorers, {args.changes} value changes each; "
-          f"{os.cpu_count()} CPUs, load average {_load()}\n")
+    chosen = {
+        call: pairs
+        for call, pairs in CHANGES.items()
+        if not args.only or call.split("(")[0] in args.only
+    }
+    print(
+        f"{len(chosen)} explorers, {args.changes} value changes each; "
+        f"{os.cpu_count()} CPUs, load average {_load()}\n"
+    )
     print("in the kernel (value change → new figure displayed), target median < 80 ms:")
     for call, times in in_kernel(chosen, args.changes).items():
         verdict = "meets" if statistics.median(times) < TARGET_S else "MISSES"

@@ -31,8 +31,7 @@ def short_number(value: Any) -> str:
             return f"[{inner}]"
         return f"({inner},)" if len(value) == 1 else f"({inner})"
     if isinstance(value, np.ndarray) and value.dtype.kind == "f":
-        with np.printoptions(precision=DIGITS - 1, floatmode="maxprec", threshold=8,
-                             edgeitems=2):
+        with np.printoptions(precision=DIGITS - 1, floatmode="maxprec", threshold=8, edgeitems=2):
             return np.array2string(value, separator=", ")
     return repr(value)
 

@@ -136,25 +136,40 @@ def table3_command(args: argparse.Namespace) -> int:
     except MissingExtraError as exc:
         no_figure = str(exc)
     # before anything is made: a case's readings of every run are held at once
-    check_memory(max(args.runs, 1) * TABLE3_BYTES_PER_RUN,
-                 f"table3 --runs {args.runs} (the readings of every run of a case)",
-                 "use fewer runs")
+    check_memory(
+        max(args.runs, 1) * TABLE3_BYTES_PER_RUN,
+        f"table3 --runs {args.runs} (the readings of every run of a case)",
+        "use fewer runs",
+    )
     outputs: dict[str, str | Path] = {"the CSV (--out)": args.out}
     if plot_table3 is not None:
         outputs["the figure"] = figure_path
     # before any computing: the outputs must be writable and replace nothing unasked
-    check_outputs(outputs, overwrite=args.overwrite,
-                  replaceable=lambda p: p == figure_path and made_by(p, "table3"))
-    table = run_table3(runs=args.runs, seed=args.seed, simulation=args.simulation,
-                       methods=methods, order_rule=args.orders, progress=not args.quiet)
+    check_outputs(
+        outputs,
+        overwrite=args.overwrite,
+        replaceable=lambda p: p == figure_path and made_by(p, "table3"),
+    )
+    table = run_table3(
+        runs=args.runs,
+        seed=args.seed,
+        simulation=args.simulation,
+        methods=methods,
+        order_rule=args.orders,
+        progress=not args.quiet,
+    )
     table.write_csv(csv_path)
     print(table.format())
     if plot_table3 is None:
         print(f"\nwrote {csv_path} (no figure: {no_figure})")
         return 0
     figure = plot_table3(table)
-    atomic_write(figure_path, lambda fh: figure.savefig(
-        fh, format="png", dpi=120, bbox_inches="tight", metadata=figure_tag("table3")))
+    atomic_write(
+        figure_path,
+        lambda fh: figure.savefig(
+            fh, format="png", dpi=120, bbox_inches="tight", metadata=figure_tag("table3")
+        ),
+    )
     print(f"\nwrote {csv_path} and {figure_path}")
     return 0
 
@@ -181,23 +196,29 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="dstoolkit",
         description="Evidence-theory state estimation and the acoustic level gauge "
-                    "(Xu et al., Sensors 2017).",
+        "(Xu et al., Sensors 2017).",
     )
     sub = parser.add_subparsers(dest="command", required=True)
 
     t3 = sub.add_parser("table3", help="reproduce the paper's Table 3 by seeded Monte Carlo")
     t3.add_argument("--runs", type=int, default=100, help="Monte Carlo runs per level")
     t3.add_argument("--seed", type=int, default=0, help="seed of every random draw")
-    t3.add_argument("--simulation", choices=("frequency", "waveform"), default="frequency",
-                    help="noise from the paper's distributions, or from synthesised recordings")
-    t3.add_argument("--orders", choices=("eq43", "fit", "true"), default="eq43",
-                    help="how n_k is obtained: eq. 43 (paper), the series fit, or the truth")
-    t3.add_argument("--methods", default="",
-                    help=f"comma-separated subset of {','.join(METHODS)}")
+    t3.add_argument(
+        "--simulation",
+        choices=("frequency", "waveform"),
+        default="frequency",
+        help="noise from the paper's distributions, or from synthesised recordings",
+    )
+    t3.add_argument(
+        "--orders",
+        choices=("eq43", "fit", "true"),
+        default="eq43",
+        help="how n_k is obtained: eq. 43 (paper), the series fit, or the truth",
+    )
+    t3.add_argument("--methods", default="", help=f"comma-separated subset of {','.join(METHODS)}")
     t3.add_argument("--out", default="table3.csv", help="CSV path; the figure goes beside it")
     t3.add_argument("--quiet", action="store_true", help="no progress bar")
-    t3.add_argument("--overwrite", action="store_true",
-                    help="replace an existing CSV or figure")
+    t3.add_argument("--overwrite", action="store_true", help="replace an existing CSV or figure")
     t3.set_defaults(func=table3_command)
 
     from dstoolkit.audio import (
@@ -296,12 +317,16 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        print("interrupted (Ctrl-C): stopped; the files this command had made were removed",
-              file=sys.stderr)
+        print(
+            "interrupted (Ctrl-C): stopped; the files this command had made were removed",
+            file=sys.stderr,
+        )
         return EXIT_INTERRUPTED
     except _Terminated:
-        print("terminated (SIGTERM): stopped; the files this command had made were removed",
-              file=sys.stderr)
+        print(
+            "terminated (SIGTERM): stopped; the files this command had made were removed",
+            file=sys.stderr,
+        )
         return EXIT_TERMINATED
     finally:
         if handlers is not None:

@@ -216,14 +216,32 @@ _LABELLED_MATH_END = re.compile(r"^(?P<before>.*?)\$\$\s*\((?P<label>[\w:.+-]+)\
 _COMMENT = re.compile(r"^\s*%")
 
 _ADMONITIONS = {
-    "note": "Note", "tip": "Tip", "hint": "Hint", "important": "Important",
-    "warning": "Warning", "caution": "Caution", "attention": "Attention", "danger": "Danger",
-    "error": "Error", "seealso": "See also", "margin": "", "sidebar": "", "topic": "",
-    "epigraph": "", "admonition": "",
+    "note": "Note",
+    "tip": "Tip",
+    "hint": "Hint",
+    "important": "Important",
+    "warning": "Warning",
+    "caution": "Caution",
+    "attention": "Attention",
+    "danger": "Danger",
+    "error": "Error",
+    "seealso": "See also",
+    "margin": "",
+    "sidebar": "",
+    "topic": "",
+    "epigraph": "",
+    "admonition": "",
 }
 #: Directives whose content is not shown in a notebook (solutions above all).
-_DROPPED = {"solution", "solution-start", "solution-end", "toctree", "tableofcontents",
-            "bibliography", "glossary"}
+_DROPPED = {
+    "solution",
+    "solution-start",
+    "solution-end",
+    "toctree",
+    "tableofcontents",
+    "bibliography",
+    "glossary",
+}
 
 
 def _closing(lines: list[str], start: int, fence: str) -> int:
@@ -260,8 +278,9 @@ def _quote(markdown: str) -> str:
     return "\n".join(f"> {line}" if line else ">" for line in markdown.splitlines())
 
 
-def _directive(name: str, argument: str, body: list[str], refs: References, docname: str,
-               warn: Warn) -> str:
+def _directive(
+    name: str, argument: str, body: list[str], refs: References, docname: str, warn: Warn
+) -> str:
     """Return the Markdown that stands for one directive (empty for a solution)."""
     options, content = _options(body)
     if name in _DROPPED:
@@ -293,8 +312,7 @@ def _directive(name: str, argument: str, body: list[str], refs: References, docn
     return _quote(inner)
 
 
-def clean_markdown(text: str, refs: References, docname: str = "",
-                   warn: Warn = _ignore) -> str:
+def clean_markdown(text: str, refs: References, docname: str = "", warn: Warn = _ignore) -> str:
     """Return a chapter's cell's Markdown with every MyST role and directive rewritten.
 
     Solutions are dropped; see the module docstring for the rest.
@@ -317,10 +335,18 @@ def clean_markdown(text: str, refs: References, docname: str = "",
             end = _closing(lines, i, fence["fence"])
             directive = _DIRECTIVE.match(fence["info"])
             if directive:
-                out.append(_directive(directive["name"], directive["argument"],
-                                      lines[i + 1:end], refs, docname, warn))
+                out.append(
+                    _directive(
+                        directive["name"],
+                        directive["argument"],
+                        lines[i + 1 : end],
+                        refs,
+                        docname,
+                        warn,
+                    )
+                )
             else:  # a code block: verbatim
-                out.extend(lines[i:end + 1])
+                out.extend(lines[i : end + 1])
             i = end + 1
             continue
         if _TARGET.match(line) or _COMMENT.match(line):
@@ -348,14 +374,21 @@ def clean_markdown(text: str, refs: References, docname: str = "",
 
 def _glue_names(tree: ast.Module) -> set[str]:
     """Names bound to ``myst_nb.glue`` by ``from myst_nb import glue [as name]``."""
-    return {alias.asname or alias.name for node in ast.walk(tree)
-            if isinstance(node, ast.ImportFrom) and node.module == "myst_nb"
-            for alias in node.names if alias.name == "glue"}
+    return {
+        alias.asname or alias.name
+        for node in ast.walk(tree)
+        if isinstance(node, ast.ImportFrom) and node.module == "myst_nb"
+        for alias in node.names
+        if alias.name == "glue"
+    }
 
 
 def _is_docstring(node: ast.stmt) -> bool:
-    return isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant) \
+    return (
+        isinstance(node, ast.Expr)
+        and isinstance(node.value, ast.Constant)
         and isinstance(node.value.value, str)
+    )
 
 
 class _GlueStatements:
@@ -374,8 +407,12 @@ class _GlueStatements:
         func = node.value.func
         if isinstance(func, ast.Name):
             return func.id in self.names
-        return (isinstance(func, ast.Attribute) and func.attr == "glue"
-                and isinstance(func.value, ast.Name) and func.value.id == "myst_nb")
+        return (
+            isinstance(func, ast.Attribute)
+            and func.attr == "glue"
+            and isinstance(func.value, ast.Name)
+            and func.value.id == "myst_nb"
+        )
 
     def only_glue(self, body: list[ast.stmt]) -> bool:
         statements = [s for s in body if not _is_docstring(s)]
@@ -389,15 +426,20 @@ class _GlueStatements:
         if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
             return node.name in self.names
         if isinstance(node, (ast.For, ast.While, ast.If, ast.With)):
-            return self.only_glue(node.body) and (not getattr(node, "orelse", [])
-                                                  or self.only_glue(node.orelse))
+            return self.only_glue(node.body) and (
+                not getattr(node, "orelse", []) or self.only_glue(node.orelse)
+            )
         return self.calls_glue(node)
 
     def learn_helpers(self, tree: ast.Module) -> bool:
         """Add the functions whose body only calls glue; True if any was new."""
-        new = {node.name for node in tree.body
-               if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))
-               and node.name not in self.names and self.only_glue(node.body)}
+        new = {
+            node.name
+            for node in tree.body
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))
+            and node.name not in self.names
+            and self.only_glue(node.body)
+        }
         self.names |= new
         return bool(new)
 
@@ -407,8 +449,9 @@ def _first_line(node: ast.stmt) -> int:
     return min([node.lineno, *(d.lineno for d in decorators)])
 
 
-def _edits(body: list[ast.stmt], glue: _GlueStatements, keep_one: bool
-           ) -> list[tuple[int, int, str | None]]:
+def _edits(
+    body: list[ast.stmt], glue: _GlueStatements, keep_one: bool
+) -> list[tuple[int, int, str | None]]:
     """Line ranges (1-based, inclusive) to delete from ``body``.
 
     A range with text is replaced by that text (``pass`` where a block would otherwise be
@@ -468,13 +511,14 @@ def strip_glue(sources: list[str]) -> list[str]:
             continue
         lines = source.splitlines()
         for start, end, text in sorted(edits, reverse=True):
-            lines[start - 1:end] = [text] if text is not None else []
+            lines[start - 1 : end] = [text] if text is not None else []
         result = re.sub(r"\n{3,}", "\n\n", "\n".join(lines)).strip("\n")
         new_tree = _parse(result)
         left = {n.id for n in ast.walk(new_tree) if isinstance(n, ast.Name)} & glue.names
         if left:
-            raise ValueError(f"a code cell still uses {sorted(left)} after removing glue:\n"
-                             f"{result}")
+            raise ValueError(
+                f"a code cell still uses {sorted(left)} after removing glue:\n{result}"
+            )
         cleaned.append(result if new_tree.body else "")
     return cleaned
 
@@ -495,20 +539,30 @@ def strip_solution(source: str) -> str:
         return source
     lines = source.splitlines()
     for node in sorted(tree.body, key=lambda n: n.lineno, reverse=True):
-        start = node.decorator_list[0].lineno if getattr(node, "decorator_list", None) else (
-            node.lineno)
-        if isinstance(node, ast.ImportFrom) and node.module == "dstoolkit.teaching" and any(
-                a.name == "solution" for a in node.names):
+        start = (
+            node.decorator_list[0].lineno
+            if getattr(node, "decorator_list", None)
+            else (node.lineno)
+        )
+        if (
+            isinstance(node, ast.ImportFrom)
+            and node.module == "dstoolkit.teaching"
+            and any(a.name == "solution" for a in node.names)
+        ):
             node.names = [a for a in node.names if a.name != "solution"]
             text = ast.unparse(node) if node.names else None
-            lines[start - 1:node.end_lineno] = [text] if text else []
+            lines[start - 1 : node.end_lineno] = [text] if text else []
         elif not isinstance(node, ast.FunctionDef | ast.ClassDef) and any(
-                isinstance(n, ast.Call) and isinstance(n.func, ast.Name)
-                and n.func.id == "solution" for n in ast.walk(node)):
-            lines[start - 1:node.end_lineno] = []
+            isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id == "solution"
+            for n in ast.walk(node)
+        ):
+            lines[start - 1 : node.end_lineno] = []
     result = re.sub(r"\n{3,}", "\n\n", "\n".join(lines)).strip("\n")
-    left = [n for n in ast.walk(_parse(result) or ast.Module(body=[], type_ignores=[]))
-            if isinstance(n, ast.Name) and n.id == "solution"]
+    left = [
+        n
+        for n in ast.walk(_parse(result) or ast.Module(body=[], type_ignores=[]))
+        if isinstance(n, ast.Name) and n.id == "solution"
+    ]
     if left:
         raise ValueError(f"a code cell of a reader's notebook uses solution():\n{result}")
     return result
@@ -528,8 +582,9 @@ def _markdown_cell(source: str) -> dict:
     return {"cell_type": "markdown", "metadata": {}, "source": source}
 
 
-def clean_notebook(cells: list[dict], refs: References, docname: str,
-                   preface: str = "", warn: Warn = _ignore) -> dict:
+def clean_notebook(
+    cells: list[dict], refs: References, docname: str, preface: str = "", warn: Warn = _ignore
+) -> dict:
     """Build a clean nbformat-4 notebook (a JSON-ready dict) from a chapter's cells.
 
     Parameters
@@ -558,8 +613,15 @@ def clean_notebook(cells: list[dict], refs: References, docname: str,
         metadata: dict = {}
         if _FOLDED & set(cell.get("metadata", {}).get("tags", [])):
             metadata["jupyter"] = {"source_hidden": True}
-        out.append({"cell_type": "code", "execution_count": None, "metadata": metadata,
-                    "outputs": [], "source": source})
+        out.append(
+            {
+                "cell_type": "code",
+                "execution_count": None,
+                "metadata": metadata,
+                "outputs": [],
+                "source": source,
+            }
+        )
         figure = cell.get("metadata", {}).get("mystnb", {}).get("figure", {})
         if figure.get("caption"):
             caption = clean_markdown(str(figure["caption"]).strip(), refs, docname, warn)
@@ -569,8 +631,7 @@ def clean_notebook(cells: list[dict], refs: References, docname: str,
         cell["id"] = f"cell-{index:03d}"
     return {
         "cells": out,
-        "metadata": {"kernelspec": dict(KERNELSPEC),
-                     "language_info": {"name": "python"}},
+        "metadata": {"kernelspec": dict(KERNELSPEC), "language_info": {"name": "python"}},
         "nbformat": 4,
         "nbformat_minor": 5,
     }

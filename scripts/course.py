@@ -99,17 +99,71 @@ ACCENTS = {"hat": "\u0302", "bar": "\u0304", "tilde": "\u0303"}
 ACCENT = re.compile(r"\\(hat|bar|tilde)\s*(?:\{([^{}]*)\}|([A-Za-z]))")
 SQRT = re.compile(r"\\sqrt\s*\{([^{}]*)\}")
 SYMBOLS = {
-    "alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "varepsilon": "ε",
-    "epsilon": "ε", "theta": "θ", "kappa": "κ", "lambda": "λ", "mu": "μ", "xi": "ξ",
-    "pi": "π", "rho": "ρ", "sigma": "σ", "tau": "τ", "omega": "ω", "Theta": "Θ",
-    "Delta": "Δ", "Sigma": "Σ", "cdot": "·", "times": "×", "le": "≤", "leq": "≤",
-    "ge": "≥", "geq": "≥", "approx": "≈", "pm": "±", "in": "∈", "ni": "∋", "cap": "∩",
-    "cup": "∪", "oplus": "⊕", "infty": "∞", "to": "→", "dots": "…", "ldots": "…",
-    "lfloor": "⌊", "rfloor": "⌋", "lceil": "⌈", "rceil": "⌉", "neq": "≠", "ne": "≠",
-    "min": "min", "max": "max", "sin": "sin", "cos": "cos", "log": "log", "exp": "exp",
-    "emptyset": "∅", "subseteq": "⊆", "subset": "⊂", "mid": "|", "quad": "  ",
-    "sum": "Σ", "prod": "Π", "bigl": "", "bigr": "", "Bigl": "", "Bigr": "", "left": "",
-    "right": "", "eta": "η", "phi": "φ", "psi": "ψ", "nu": "ν",
+    "alpha": "α",
+    "beta": "β",
+    "gamma": "γ",
+    "delta": "δ",
+    "varepsilon": "ε",
+    "epsilon": "ε",
+    "theta": "θ",
+    "kappa": "κ",
+    "lambda": "λ",
+    "mu": "μ",
+    "xi": "ξ",
+    "pi": "π",
+    "rho": "ρ",
+    "sigma": "σ",
+    "tau": "τ",
+    "omega": "ω",
+    "Theta": "Θ",
+    "Delta": "Δ",
+    "Sigma": "Σ",
+    "cdot": "·",
+    "times": "×",
+    "le": "≤",
+    "leq": "≤",
+    "ge": "≥",
+    "geq": "≥",
+    "approx": "≈",
+    "pm": "±",
+    "in": "∈",
+    "ni": "∋",
+    "cap": "∩",
+    "cup": "∪",
+    "oplus": "⊕",
+    "infty": "∞",
+    "to": "→",
+    "dots": "…",
+    "ldots": "…",
+    "lfloor": "⌊",
+    "rfloor": "⌋",
+    "lceil": "⌈",
+    "rceil": "⌉",
+    "neq": "≠",
+    "ne": "≠",
+    "min": "min",
+    "max": "max",
+    "sin": "sin",
+    "cos": "cos",
+    "log": "log",
+    "exp": "exp",
+    "emptyset": "∅",
+    "subseteq": "⊆",
+    "subset": "⊂",
+    "mid": "|",
+    "quad": "  ",
+    "sum": "Σ",
+    "prod": "Π",
+    "bigl": "",
+    "bigr": "",
+    "Bigl": "",
+    "Bigr": "",
+    "left": "",
+    "right": "",
+    "eta": "η",
+    "phi": "φ",
+    "psi": "ψ",
+    "nu": "ν",
 }
 #: Double-struck letters (\mathbb{E} is an expectation).
 DOUBLE_STRUCK = {"E": "𝔼", "R": "ℝ", "N": "ℕ", "Z": "ℤ", "P": "ℙ", "Q": "ℚ", "C": "ℂ"}
@@ -135,6 +189,7 @@ def plain_maths(text: str) -> str:
     Raises ValueError when a formula uses a command this conversion does not know, so a new
     one in a source is noticed when the course is written.
     """
+
     def convert(match: re.Match[str]) -> str:
         tex = match.group(1) if match.group(1) is not None else match.group(2)
         out = tex
@@ -144,22 +199,33 @@ def plain_maths(text: str) -> str:
         out = ACCENT.sub(lambda m: (m.group(2) or m.group(3)) + ACCENTS[m.group(1)], out)
         out = SQRT.sub(r"√(\1)", out)
         out = re.sub(r"\\([,;:! {}])", lambda m: SPACES[m.group(1)], out)
-        out = re.sub(r"\\([A-Za-z]+)",
-                     lambda m: SYMBOLS.get(m.group(1), m.group(0)), out)
+        out = re.sub(r"\\([A-Za-z]+)", lambda m: SYMBOLS.get(m.group(1), m.group(0)), out)
         out = SCRIPT.sub(_script, out).replace("-", "−")
         if "\\" in out:
-            raise ValueError(f"no plain form for the formula ${tex}$ (add its commands to "
-                             "course.SYMBOLS)")
+            raise ValueError(
+                f"no plain form for the formula ${tex}$ (add its commands to course.SYMBOLS)"
+            )
         out = out.replace("{", "").replace("}", "")
         return out.replace("\u27ee", "{").replace("\u27ef", "}")
 
     return MATH.sub(convert, text)
 
 
-def _meta(grade_id: str, *, grade: bool = False, solution: bool = False,
-          locked: bool = False, points: float | None = None) -> dict:
-    meta: dict[str, Any] = {"grade": grade, "grade_id": grade_id, "locked": locked,
-                            "schema_version": 3, "solution": solution}
+def _meta(
+    grade_id: str,
+    *,
+    grade: bool = False,
+    solution: bool = False,
+    locked: bool = False,
+    points: float | None = None,
+) -> dict:
+    meta: dict[str, Any] = {
+        "grade": grade,
+        "grade_id": grade_id,
+        "locked": locked,
+        "schema_version": 3,
+        "solution": solution,
+    }
     if points is not None:
         meta["points"] = points
     return {"nbgrader": meta}
@@ -177,7 +243,7 @@ def _body_region(exercise_id: str) -> str:
     source = textwrap.dedent(inspect.getsource(plain))
     node = ast.parse(source).body[0]
     lines = source.splitlines()
-    body = "\n".join(lines[node.body[0].end_lineno:])
+    body = "\n".join(lines[node.body[0].end_lineno :])
     before = answer[: answer.rindex(f"def {plain.__name__}(")].rstrip().splitlines()
     imports = [line for line in before if line.startswith("import ")]
     helpers = "\n".join(line for line in before if not line.startswith("import ")).strip()
@@ -186,8 +252,10 @@ def _body_region(exercise_id: str) -> str:
     parts = []
     if helpers:
         names = ", ".join(HELPERS.get(plain.__name__, ()))
-        parts.append(f"# your {names} here, if this notebook has not got them yet\n"
-                     f"### BEGIN SOLUTION\n{helpers}\n### END SOLUTION\n\n")
+        parts.append(
+            f"# your {names} here, if this notebook has not got them yet\n"
+            f"### BEGIN SOLUTION\n{helpers}\n### END SOLUTION\n\n"
+        )
     parts.append(f"{head}\n    ### BEGIN SOLUTION\n{body}\n    ### END SOLUTION")
     return "".join(parts)
 
@@ -200,22 +268,29 @@ def _value_region(stub: str, checks: str, answer: str | None) -> str:
 
 def _test_source(exercise_id: str, variable: str, coding: bool, variant: int = 0) -> str:
     if not coding:
-        return (f"from dstoolkit.teaching import must_pass, must_pass_recomputed\n\n"
-                f'must_pass("{exercise_id}", {variable})\n'
-                f"### BEGIN HIDDEN TESTS\n"
-                f'must_pass_recomputed("{exercise_id}", {variable}, variant={variant})\n'
-                f"### END HIDDEN TESTS")
-    return (f"from dstoolkit.teaching import must_pass, must_pass_alone\n\n"
+        return (
+            f"from dstoolkit.teaching import must_pass, must_pass_recomputed\n\n"
             f'must_pass("{exercise_id}", {variable})\n'
             f"### BEGIN HIDDEN TESTS\n"
-            f'must_pass_alone("{exercise_id}", {variable})\n'
-            f"### END HIDDEN TESTS")
+            f'must_pass_recomputed("{exercise_id}", {variable}, variant={variant})\n'
+            f"### END HIDDEN TESTS"
+        )
+    return (
+        f"from dstoolkit.teaching import must_pass, must_pass_alone\n\n"
+        f'must_pass("{exercise_id}", {variable})\n'
+        f"### BEGIN HIDDEN TESTS\n"
+        f'must_pass_alone("{exercise_id}", {variable})\n'
+        f"### END HIDDEN TESTS"
+    )
 
 
 def _written_cell(label: str, n: int, points: float, solution: str) -> tuple:
     text = solution or "(The teacher's solution is in the instructor sheets.)"
-    return ("markdown", text, _meta(f"{label}-written-{n}", grade=True, solution=True,
-                                    points=points))
+    return (
+        "markdown",
+        text,
+        _meta(f"{label}-written-{n}", grade=True, solution=True, points=points),
+    )
 
 
 def _split_written(text: str) -> tuple[str, int]:
@@ -236,8 +311,9 @@ def _exercise_solutions(src: sheets.Source) -> dict[str, str]:
     return out
 
 
-def course_notebook(src: sheets.Source, number: int, title: str, labels: list[str],
-                    variant: int = 0) -> dict:
+def course_notebook(
+    src: sheets.Source, number: int, title: str, labels: list[str], variant: int = 0
+) -> dict:
     """Build the nbgrader source notebook of one chapter (nbformat 4 JSON).
 
     It holds the numbers of ``variant`` (0: the book's).
@@ -245,18 +321,26 @@ def course_notebook(src: sheets.Source, number: int, title: str, labels: list[st
     from dstoolkit.teaching._variants import using_variant
 
     with using_variant(variant):
-        return _course_notebook(sheets.in_variant(src, variant), number, title, labels,
-                                variant if sheets.varies(src.stem, variant) else 0)
+        return _course_notebook(
+            sheets.in_variant(src, variant),
+            number,
+            title,
+            labels,
+            variant if sheets.varies(src.stem, variant) else 0,
+        )
 
 
-def _course_notebook(src: sheets.Source, number: int, title: str, labels: list[str],
-                     variant: int) -> dict:
+def _course_notebook(
+    src: sheets.Source, number: int, title: str, labels: list[str], variant: int
+) -> dict:
     sheets.unshadowed(src)
     solutions = _exercise_solutions(src)
-    head = (f"# Chapter {number}: {title}, graded exercises\n\n"
-            f"Exercise {number}.k here is Exercise {number}.k of the book. Run the setup "
-            f"cell first; write your answers in the answer cells; the test cells (they have "
-            f"points) check them as the sheet's check cells do.\n\n{src.intro}").strip()
+    head = (
+        f"# Chapter {number}: {title}, graded exercises\n\n"
+        f"Exercise {number}.k here is Exercise {number}.k of the book. Run the setup "
+        f"cell first; write your answers in the answer cells; the test cells (they have "
+        f"points) check them as the sheet's check cells do.\n\n{src.intro}"
+    ).strip()
     raw: list[tuple[str, str, dict]] = [("markdown", head, _meta("intro", locked=True))]
     order, label, kind, written, points_of_written = 0, "", "", 0, WRITTEN_POINTS
     names: dict[str, int] = {}
@@ -278,24 +362,29 @@ def _course_notebook(src: sheets.Source, number: int, title: str, labels: list[s
             order += 1
             written = 0
             text, found = _split_written(block.text)
-            raw.append(("markdown", f"{sheets.exercise_heading(src.stem, number, order, label)}"
-                                    f"\n\n{text}",
-                        _meta(unique(f"{label}-statement"), locked=True)))
+            raw.append(
+                (
+                    "markdown",
+                    f"{sheets.exercise_heading(src.stem, number, order, label)}\n\n{text}",
+                    _meta(unique(f"{label}-statement"), locked=True),
+                )
+            )
             for _ in range(found):
                 written += 1
-                raw.append(_written_cell(label, written, points_of_written,
-                                         solutions.get(label, "")))
+                raw.append(
+                    _written_cell(label, written, points_of_written, solutions.get(label, ""))
+                )
             continue
         if block.kind in ("answer", "solution"):
             continue
         if block.kind == "md":
             text, found = _split_written(block.text)
-            raw.append(("markdown", text, _meta(unique(f"{label or 'text'}-text"),
-                                                locked=True)))
+            raw.append(("markdown", text, _meta(unique(f"{label or 'text'}-text"), locked=True)))
             for _ in range(found):
                 written += 1
-                raw.append(_written_cell(label, written, points_of_written,
-                                         solutions.get(label, "")))
+                raw.append(
+                    _written_cell(label, written, points_of_written, solutions.get(label, ""))
+                )
             continue
         if block.kind == "setup":
             raw.append(("code", block.text, _meta(unique("setup"), locked=True)))
@@ -315,23 +404,40 @@ def _course_notebook(src: sheets.Source, number: int, title: str, labels: list[s
                 raise ValueError(f"{src.stem}: a check cell without check(...): {block.text}")
             exercise_id, variable = found.groups()
             coding = exercise_id.endswith("-code")
-            points = float(block.arg) if block.arg else (
-                CODING_POINTS if coding else VALUE_POINTS)
-            raw.append(("code", _test_source(exercise_id, variable, coding, variant),
-                        _meta(unique(f"{exercise_id.replace('.', '-')}-test"), grade=True,
-                              locked=True, points=points)))
+            points = float(block.arg) if block.arg else (CODING_POINTS if coding else VALUE_POINTS)
+            raw.append(
+                (
+                    "code",
+                    _test_source(exercise_id, variable, coding, variant),
+                    _meta(
+                        unique(f"{exercise_id.replace('.', '-')}-test"),
+                        grade=True,
+                        locked=True,
+                        points=points,
+                    ),
+                )
+            )
             continue
         # code and explorer cells: read-only, as in the sheets
         raw.append(("code", block.text, _meta(unique(f"{label or 'code'}-code"), locked=True)))
     close_exercise()
     if order != len(labels):
-        raise ValueError(f"{src.stem}: the sheet has {order} exercises, the chapter "
-                         f"{len(labels)} ({labels})")
-    cells = [sheets._cell(kind, plain_maths(text) if kind == "markdown" else text, n,
-                          src.stem, meta) for n, (kind, text, meta) in enumerate(raw)]
-    return {"cells": cells, "metadata": {"kernelspec": {
-        "display_name": "Python 3", "language": "python", "name": "python3"},
-        "language_info": {"name": "python"}}, "nbformat": 4, "nbformat_minor": 5}
+        raise ValueError(
+            f"{src.stem}: the sheet has {order} exercises, the chapter {len(labels)} ({labels})"
+        )
+    cells = [
+        sheets._cell(kind, plain_maths(text) if kind == "markdown" else text, n, src.stem, meta)
+        for n, (kind, text, meta) in enumerate(raw)
+    ]
+    return {
+        "cells": cells,
+        "metadata": {
+            "kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"},
+            "language_info": {"name": "python"},
+        },
+        "nbformat": 4,
+        "nbformat_minor": 5,
+    }
 
 
 def assignment_name(stem: str, number: int) -> str:
@@ -339,8 +445,9 @@ def assignment_name(stem: str, number: int) -> str:
     return f"{number:02d}_{stem}"
 
 
-def write_course(folder: Path, root: Path = sheets.ROOT,
-                 chapters: list[str] | None = None, variant: int = 0) -> list[Path]:
+def write_course(
+    folder: Path, root: Path = sheets.ROOT, chapters: list[str] | None = None, variant: int = 0
+) -> list[Path]:
     """Write the nbgrader course to ``folder`` and return the paths written.
 
     The course is the config and one source assignment per chapter (or only for the
@@ -359,7 +466,8 @@ def write_course(folder: Path, root: Path = sheets.ROOT,
         name = assignment_name(stem, number)
         path = folder / "source" / name / f"{name}.ipynb"
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(sheets.dump(course_notebook(src, number, title, labels, variant)),
-                        encoding="utf-8")
+        path.write_text(
+            sheets.dump(course_notebook(src, number, title, labels, variant)), encoding="utf-8"
+        )
         written.append(path)
     return written

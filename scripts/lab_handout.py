@@ -55,20 +55,29 @@ def handout_numbers() -> dict[str, Any]:
     c = float(speed_of_sound(ROOM_C))
     band = tuple(float(f) for f in PAPER_SWEEP.band)
     # the shortest level (to the millimetre) whose resonances in the band are enough
-    shortest = next(mm / 1000 for mm in range(100, 20001)
-                    if resonance_orders(mm / 1000, c, band).size >= need)
-    rows = [(level, float(fundamental_frequency(level, c)),
-             int(resonance_orders(level, c, band).size))
-            for level in sorted({shortest, *TABLE_LEVELS})]
+    shortest = next(
+        mm / 1000 for mm in range(100, 20001) if resonance_orders(mm / 1000, c, band).size >= need
+    )
+    rows = [
+        (level, float(fundamental_frequency(level, c)), int(resonance_orders(level, c, band).size))
+        for level in sorted({shortest, *TABLE_LEVELS})
+    ]
     return {
         "diameter_mm": tube.diameter_m * 1000,
-        "f_lo": band[0], "f_hi": band[1], "rate": float(PAPER_SWEEP.rate),
+        "f_lo": band[0],
+        "f_hi": band[1],
+        "rate": float(PAPER_SWEEP.rate),
         "sweep_s": float(PAPER_SWEEP.duration),
         "chirp_lo": float(chirp["f_start_hz"].default),
         "chirp_hi": float(chirp["f_stop_hz"].default),
-        "chirp_s": float(chirp["duration_s"].default), "gap_s": float(CALIBRATION_GAP_S),
-        "room_c": ROOM_C, "c": c, "cutoff": plane_wave_cutoff(tube.diameter_m, c),
-        "need": int(need), "shortest": shortest, "rows": rows,
+        "chirp_s": float(chirp["duration_s"].default),
+        "gap_s": float(CALIBRATION_GAP_S),
+        "room_c": ROOM_C,
+        "c": c,
+        "cutoff": plane_wave_cutoff(tube.diameter_m, c),
+        "need": int(need),
+        "shortest": shortest,
+        "rows": rows,
         "volume": float(LabSettings().volume),
     }
 
@@ -133,9 +142,12 @@ platform to the surface.
 def handout_tex(n: dict[str, Any]) -> str:
     """Return the handout's LaTeX source, with the numbers ``n`` of :func:`handout_numbers`."""
     reference = "\n".join(
-        rf"{level:.3f} & {f_f:.1f} & {count} \\" for level, f_f, count in n["rows"])
+        rf"{level:.3f} & {f_f:.1f} & {count} \\" for level, f_f, count in n["rows"]
+    )
     blank_rows = "\n".join(r" & & & & & & & \\[7mm] \hline" for _ in range(DATA_ROWS))
-    return PREAMBLE + rf"""
+    return (
+        PREAMBLE
+        + rf"""
 {{\LARGE\bfseries The lab: an acoustic level gauge}}\par
 \vspace{{2pt}}
 Handout for the lab of the book \emph{{Evidence under bounded noise}}. A sweep of sound
@@ -148,11 +160,11 @@ hand in the data sheet with your report.
 \toprule
 part & what to look for \\
 \midrule
-tube & PVC drain pipe, inner diameter {n['diameter_mm']:.0f} mm; the level must be at
-least {n['shortest']:.2f} m so that the sweep meets the {n['need']} resonances the
+tube & PVC drain pipe, inner diameter {n["diameter_mm"]:.0f} mm; the level must be at
+least {n["shortest"]:.2f} m so that the sweep meets the {n["need"]} resonances the
 detector needs (table below) \\
 speaker & small full-range driver or powered USB speaker covering
-{n['f_lo']:.0f}--{n['f_hi']:.0f} Hz (the sweep) and {n['chirp_lo']:.0f}--{n['chirp_hi']:.0f}
+{n["f_lo"]:.0f}--{n["f_hi"]:.0f} Hz (the sweep) and {n["chirp_lo"]:.0f}--{n["chirp_hi"]:.0f}
 Hz (the calibration chirp) \\
 microphone & electret capsule on a USB sound card, or a USB microphone \\
 laptop & Python with \texttt{{dstoolkit[audio]}}; every microphone ``enhancement'' off \\
@@ -162,11 +174,11 @@ also & tape measure, cable ties, tape, foam or putty, ear muffs, towels \\
 \bottomrule
 \end{{tabularx}}
 
-The sweep rises from {n['f_lo']:.0f} Hz to {n['f_hi']:.0f} Hz in {n['sweep_s']:.0f} s
-($\kappa$ = {n['rate']:.0f} Hz/s), between two chirps of {n['chirp_s']:.2f} s separated
-from it by {n['gap_s']:.2f} s gaps. At {n['room_c']:.0f}\,°C the speed of sound is
-$c$ = {n['c']:.1f} m/s, and the {n['diameter_mm']:.0f} mm tube carries plane waves only
-below {n['cutoff']:.0f} Hz. What to expect:
+The sweep rises from {n["f_lo"]:.0f} Hz to {n["f_hi"]:.0f} Hz in {n["sweep_s"]:.0f} s
+($\kappa$ = {n["rate"]:.0f} Hz/s), between two chirps of {n["chirp_s"]:.2f} s separated
+from it by {n["gap_s"]:.2f} s gaps. At {n["room_c"]:.0f}\,°C the speed of sound is
+$c$ = {n["c"]:.1f} m/s, and the {n["diameter_mm"]:.0f} mm tube carries plane waves only
+below {n["cutoff"]:.0f} Hz. What to expect:
 
 \begin{{center}}
 \begin{{tabular}}{{rrr}}
@@ -189,7 +201,7 @@ heights, or lay it down with a sliding plug.
 inside wall; hang the thermometer probe in the air column.
 \item Speaker cable from the headphone output (through the amplifier), microphone cable to
 the sound card; tie both away from the tube's mouth.
-\item Safety: start at volume {n['volume']:g} and raise step by step; ear muffs for
+\item Safety: start at volume {n["volume"]:g} and raise step by step; ear muffs for
 everyone near the tube's mouth; say ``sweep!'' before recording; water only,
 electrics out of splash range.
 \end{{enumerate}}
@@ -239,6 +251,7 @@ A report earns a criterion's points when another group could repeat the step fro
 alone; half when a number or a unit is missing; none when the step is absent.
 \end{{document}}
 """
+    )
 
 
 def build(folder: Path) -> Path:
@@ -254,22 +267,39 @@ def build(folder: Path) -> Path:
     folder.mkdir(parents=True, exist_ok=True)
     tex, pdf = folder / f"{NAME}.tex", folder / f"{NAME}.pdf"
     source = handout_tex(handout_numbers())
-    if pdf.exists() and tex.exists() and tex.read_text(encoding="utf-8") == source \
-            and pdf.stat().st_mtime >= tex.stat().st_mtime:
+    if (
+        pdf.exists()
+        and tex.exists()
+        and tex.read_text(encoding="utf-8") == source
+        and pdf.stat().st_mtime >= tex.stat().st_mtime
+    ):
         return pdf
     missing = [tool for tool in ("latexmk", "xelatex") if shutil.which(tool) is None]
     if missing:
         raise RuntimeError(
             f"the lab handout needs {' and '.join(missing)} (TeX Live). On Debian/Ubuntu: "
             "sudo apt-get install --no-install-recommends texlive-xetex "
-            "texlive-latex-extra texlive-pictures latexmk")
+            "texlive-latex-extra texlive-pictures latexmk"
+        )
     tex.write_text(source, encoding="utf-8")
-    done = subprocess.run(["latexmk", "-xelatex", "-interaction=nonstopmode", "-halt-on-error",
-                           "-quiet", f"{NAME}.tex"], cwd=folder, capture_output=True,
-                          text=True)
+    done = subprocess.run(
+        [
+            "latexmk",
+            "-xelatex",
+            "-interaction=nonstopmode",
+            "-halt-on-error",
+            "-quiet",
+            f"{NAME}.tex",
+        ],
+        cwd=folder,
+        capture_output=True,
+        text=True,
+    )
     if done.returncode != 0 or not pdf.exists():
-        raise RuntimeError(f"LaTeX failed on the lab handout; see {folder / (NAME + '.log')}:"
-                           f"\n{done.stdout[-2000:]}")
+        raise RuntimeError(
+            f"LaTeX failed on the lab handout; see {folder / (NAME + '.log')}:"
+            f"\n{done.stdout[-2000:]}"
+        )
     return pdf
 
 

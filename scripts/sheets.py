@@ -55,8 +55,11 @@ KINDS = ("coding", "proof", "prediction", "explanation", "substitution")
 MARKER = re.compile(r"^%% (setup|exercise|md|code|stub|answer|check|explore|solution)\b ?(.*)$")
 CHECK = re.compile(r'check\("([a-z]+\.[a-z0-9-]+)",\s*(\w+)\)')
 ASSIGN = re.compile(r"^(\w+) = \.\.\.[ \t]*(?:#.*)?$", re.MULTILINE)
-EXERCISE_BLOCK = re.compile(r"^(`{3,}|:{3,})\{exercise\}[ \t]*(?P<caption>[^\n]*)\n"
-                            r":label: (?P<label>[\w-]+)", re.MULTILINE)
+EXERCISE_BLOCK = re.compile(
+    r"^(`{3,}|:{3,})\{exercise\}[ \t]*(?P<caption>[^\n]*)\n"
+    r":label: (?P<label>[\w-]+)",
+    re.MULTILINE,
+)
 #: What a reader sees of an exercise: its kind and a difficulty from 1 to 3, written once, as
 #: the title of the chapter's ``{exercise}`` (the site and the PDF show it after the number),
 #: and repeated from there in the sheets' headings.
@@ -90,8 +93,7 @@ def chapter_numbers(toc_file: Path = ROOT / "_toc.yml") -> dict[str, int]:
 
 def chapter_exercises(chapter: Path) -> list[str]:
     """Return the labels of the chapter's ``{exercise}`` blocks, in order."""
-    return [m.group("label")
-            for m in EXERCISE_BLOCK.finditer(chapter.read_text(encoding="utf-8"))]
+    return [m.group("label") for m in EXERCISE_BLOCK.finditer(chapter.read_text(encoding="utf-8"))]
 
 
 def chapter_captions(chapter: Path) -> dict[str, str]:
@@ -103,9 +105,11 @@ def chapter_captions(chapter: Path) -> dict[str, str]:
     out = {}
     for m in EXERCISE_BLOCK.finditer(chapter.read_text(encoding="utf-8")):
         if not CAPTION.match(m.group("caption")):
-            raise ValueError(f"{chapter.name}: exercise {m.group('label')} has the title "
-                             f"{m.group('caption')!r}; write its kind ({', '.join(SHOWN_KINDS)}) "
-                             f"and difficulty, e.g. {{exercise}} Proof, difficulty 2 of 3")
+            raise ValueError(
+                f"{chapter.name}: exercise {m.group('label')} has the title "
+                f"{m.group('caption')!r}; write its kind ({', '.join(SHOWN_KINDS)}) "
+                f"and difficulty, e.g. {{exercise}} Proof, difficulty 2 of 3"
+            )
         out[m.group("label")] = m.group("caption")
     return out
 
@@ -178,12 +182,17 @@ def with_variant(setup: str, variant: int, stem: str) -> str:
     """
     found = TEACHING_IMPORT.search(setup)
     if found is None:
-        raise ValueError(f"{stem}: the setup cell imports nothing from dstoolkit.teaching; "
-                         "cannot set the variant")
-    setup = setup[:found.end()] + ", set_variant" + setup[found.end():]
+        raise ValueError(
+            f"{stem}: the setup cell imports nothing from dstoolkit.teaching; "
+            "cannot set the variant"
+        )
+    setup = setup[: found.end()] + ", set_variant" + setup[found.end() :]
     lines = setup.splitlines()
-    last = max(node.end_lineno or 0 for node in ast.parse(setup).body
-               if isinstance(node, ast.Import | ast.ImportFrom))
+    last = max(
+        node.end_lineno or 0
+        for node in ast.parse(setup).body
+        if isinstance(node, ast.Import | ast.ImportFrom)
+    )
     call = f"set_variant({variant})  # the checks use this sheet's numbers"
     return "\n".join([*lines[:last], "", call, *lines[last:]])
 
@@ -195,8 +204,10 @@ def in_variant(src: Source, variant: int) -> Source:
     intro says so.
     """
     blocks = []
-    note = ("*(Worked with the book's numbers; this sheet's variant has others. The "
-            "method is the same.)*\n\n")
+    note = (
+        "*(Worked with the book's numbers; this sheet's variant has others. The "
+        "method is the same.)*\n\n"
+    )
     for block in src.blocks:
         text = render(block.text, src.stem, variant)
         if varies(src.stem, variant) and block.kind == "setup":
@@ -206,8 +217,10 @@ def in_variant(src: Source, variant: int) -> Source:
         blocks.append(Block(block.kind, block.arg, text))
     intro = render(src.intro, src.stem, variant)
     if varies(src.stem, variant):
-        intro = (f"**Variant {variant}.** The numbers of this sheet differ from the book's; "
-                 f"its checks know them.\n\n{intro}")
+        intro = (
+            f"**Variant {variant}.** The numbers of this sheet differ from the book's; "
+            f"its checks know them.\n\n{intro}"
+        )
     return Source(src.stem, intro, blocks)
 
 
@@ -250,8 +263,9 @@ def parse(path: Path) -> Source:
         if block.kind == "exercise":
             label, _, kind = block.arg.partition(" ")
             if kind not in KINDS:
-                raise ValueError(f"{path.name}: exercise {label} has kind {kind!r}, not one "
-                                 f"of {KINDS}")
+                raise ValueError(
+                    f"{path.name}: exercise {label} has kind {kind!r}, not one of {KINDS}"
+                )
     return Source(path.stem, "\n".join(intro).strip("\n"), blocks)
 
 
@@ -276,8 +290,11 @@ def _literal(value: Any) -> str:
         return _literal(value.tolist())
     if isinstance(value, tuple | list):
         inner = ", ".join(_literal(v) for v in value)
-        return f"({inner},)" if isinstance(value, tuple) and len(value) == 1 else (
-            f"({inner})" if isinstance(value, tuple) else f"[{inner}]")
+        return (
+            f"({inner},)"
+            if isinstance(value, tuple) and len(value) == 1
+            else (f"({inner})" if isinstance(value, tuple) else f"[{inner}]")
+        )
     raise TypeError(f"no literal for a solution of type {type(value).__name__}")
 
 
@@ -299,11 +316,15 @@ def coding_answer(exercise_id: str) -> str:
     plain = REGISTRY[exercise_id].plain
     module = sys.modules[plain.__module__]
     parts = [getattr(module, name) for name in HELPERS.get(plain.__name__, ())] + [plain]
-    needs = sorted({m for fn in parts for m in ("itertools", "math")
-                    if f"{m}." in inspect.getsource(fn)})
+    needs = sorted(
+        {m for fn in parts for m in ("itertools", "math") if f"{m}." in inspect.getsource(fn)}
+    )
     head = "".join(f"import {m}\n" for m in needs)
-    return head + ("\n\n" if head else "") + "\n\n\n".join(
-        textwrap.dedent(inspect.getsource(fn)).strip() for fn in parts)
+    return (
+        head
+        + ("\n\n" if head else "")
+        + "\n\n\n".join(textwrap.dedent(inspect.getsource(fn)).strip() for fn in parts)
+    )
 
 
 def filled_stub(stub: str, checks: str) -> str:
@@ -351,16 +372,22 @@ def unshadowed(src: Source) -> None:
         if block.kind == "stub":
             clash = stub_names(block) & imported
             if clash:
-                raise ValueError(f"{src.stem}: a stub defines {sorted(clash)}, which the sheet "
-                                 "imports; rename the exercise's function")
+                raise ValueError(
+                    f"{src.stem}: a stub defines {sorted(clash)}, which the sheet "
+                    "imports; rename the exercise's function"
+                )
 
 
 # -- notebooks --------------------------------------------------------------------------------
 
 
 def _cell(kind: str, source: str, index: int, stem: str, meta: dict | None = None) -> dict:
-    cell: dict[str, Any] = {"cell_type": kind, "id": f"{stem.replace('_', '-')[:50]}-{index}",
-                            "metadata": meta or {}, "source": source}
+    cell: dict[str, Any] = {
+        "cell_type": kind,
+        "id": f"{stem.replace('_', '-')[:50]}-{index}",
+        "metadata": meta or {},
+        "source": source,
+    }
     if kind == "code":
         cell.update(execution_count=None, outputs=[])
     return cell
@@ -369,7 +396,7 @@ def _cell(kind: str, source: str, index: int, stem: str, meta: dict | None = Non
 def _checks_of(blocks: list[Block], i: int) -> str:
     """Return the check cells after block ``i``, up to the next exercise."""
     out = []
-    for block in blocks[i + 1:]:
+    for block in blocks[i + 1 :]:
         if block.kind == "exercise":
             break
         if block.kind == "check":
@@ -377,8 +404,9 @@ def _checks_of(blocks: list[Block], i: int) -> str:
     return "\n".join(out)
 
 
-def build(src: Source, number: int, title: str, labels: list[str], teacher: bool,
-          variant: int = 0) -> dict:
+def build(
+    src: Source, number: int, title: str, labels: list[str], teacher: bool, variant: int = 0
+) -> dict:
     """Build the sheet of chapter ``number`` as a notebook (nbformat 4 JSON).
 
     It holds the numbers of ``variant`` (0: the book's).
@@ -391,9 +419,11 @@ def build(src: Source, number: int, title: str, labels: list[str], teacher: bool
 
 def _build(src: Source, number: int, title: str, labels: list[str], teacher: bool) -> dict:
     edition = " (teacher's edition)" if teacher else ""
-    head = (f"# Exercises of Chapter {number}: {title}{edition}\n\n"
-            f"Companion of Chapter {number} of the book (`book/{src.stem}.md`): Exercise "
-            f"{number}.k here is Exercise {number}.k there.\n\n{src.intro}").strip()
+    head = (
+        f"# Exercises of Chapter {number}: {title}{edition}\n\n"
+        f"Companion of Chapter {number} of the book (`book/{src.stem}.md`): Exercise "
+        f"{number}.k here is Exercise {number}.k there.\n\n{src.intro}"
+    ).strip()
     raw: list[tuple[str, str, dict]] = [("markdown", head, {})]
     unshadowed(src)
     order = 0
@@ -402,12 +432,19 @@ def _build(src: Source, number: int, title: str, labels: list[str], teacher: boo
         if block.kind == "exercise":
             label, kind = block.arg.split()[:2]
             if order >= len(labels) or labels[order] != label:
-                raise ValueError(f"{src.stem}: exercise {label} is number {order + 1} in the "
-                                 f"sheet but the chapter's exercises are {labels}")
+                raise ValueError(
+                    f"{src.stem}: exercise {label} is number {order + 1} in the "
+                    f"sheet but the chapter's exercises are {labels}"
+                )
             order += 1
             heading = exercise_heading(src.stem, number, order, label)
-            raw.append(("markdown", f"{heading}\n\n{text}",
-                        {"dstoolkit": {"exercise": label, "kind": kind}}))
+            raw.append(
+                (
+                    "markdown",
+                    f"{heading}\n\n{text}",
+                    {"dstoolkit": {"exercise": label, "kind": kind}},
+                )
+            )
             continue
         if block.kind in ("answer", "solution") and not teacher:
             continue
@@ -432,12 +469,19 @@ def _build(src: Source, number: int, title: str, labels: list[str], teacher: boo
         kind = "markdown" if block.kind == "md" else "code"
         raw.append((kind, text, {"tags": tags} if tags else {}))
     if order != len(labels):
-        raise ValueError(f"{src.stem}: the sheet has {order} exercises, the chapter "
-                         f"{len(labels)} ({labels})")
+        raise ValueError(
+            f"{src.stem}: the sheet has {order} exercises, the chapter {len(labels)} ({labels})"
+        )
     cells = [_cell(kind, text, n, src.stem, meta) for n, (kind, text, meta) in enumerate(raw)]
-    return {"cells": cells, "metadata": {"kernelspec": {
-        "display_name": "Python 3", "language": "python", "name": "python3"},
-        "language_info": {"name": "python"}}, "nbformat": 4, "nbformat_minor": 5}
+    return {
+        "cells": cells,
+        "metadata": {
+            "kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"},
+            "language_info": {"name": "python"},
+        },
+        "nbformat": 4,
+        "nbformat_minor": 5,
+    }
 
 
 def dump(notebook: dict) -> str:
@@ -456,8 +500,12 @@ def sheets(root: Path = ROOT) -> dict[str, tuple[int, str, Source, list[str]]]:
         if path.stem not in numbers:
             raise ValueError(f"{path} has no numbered chapter book/{path.stem}.md in _toc.yml")
         chapter = root / "book" / f"{path.stem}.md"
-        out[path.stem] = (numbers[path.stem], chapter_title(chapter), parse(path),
-                          chapter_exercises(chapter))
+        out[path.stem] = (
+            numbers[path.stem],
+            chapter_title(chapter),
+            parse(path),
+            chapter_exercises(chapter),
+        )
     return out
 
 
@@ -471,8 +519,9 @@ def relink(root: Path, stem: str, name: str) -> None:
             path.write_text(new, encoding="utf-8")
 
 
-def write_variant(variant: int, out: Path, root: Path = ROOT,
-                  teacher: Path | None = None) -> list[Path]:
+def write_variant(
+    variant: int, out: Path, root: Path = ROOT, teacher: Path | None = None
+) -> list[Path]:
     """Write the student sheets of ``variant`` to ``out`` and return the paths.
 
     With ``teacher``, its instructor sheets are written there too.
@@ -487,8 +536,9 @@ def write_variant(variant: int, out: Path, root: Path = ROOT,
                 continue
             folder.mkdir(parents=True, exist_ok=True)
             path = sheet_path(stem, number, folder)
-            path.write_text(dump(build(src, number, title, labels, is_teacher, variant)),
-                            encoding="utf-8")
+            path.write_text(
+                dump(build(src, number, title, labels, is_teacher, variant)), encoding="utf-8"
+            )
             written.append(path)
     return written
 
@@ -525,29 +575,59 @@ def counts(root: Path = ROOT) -> str:
         kinds = [kind for _, kind in src.exercises()]
         for k in KINDS:
             total[k] += kinds.count(k)
-        rows.append(f"{number:>3} {stem:22}" + "".join(f"{kinds.count(k):>13}" for k in KINDS)
-                    + f"{len(kinds):>7}")
-    rows.append(f"{'':>3} {'all':22}" + "".join(f"{total[k]:>13}" for k in KINDS)
-                + f"{sum(total.values()):>7}")
+        rows.append(
+            f"{number:>3} {stem:22}"
+            + "".join(f"{kinds.count(k):>13}" for k in KINDS)
+            + f"{len(kinds):>7}"
+        )
+    rows.append(
+        f"{'':>3} {'all':22}"
+        + "".join(f"{total[k]:>13}" for k in KINDS)
+        + f"{sum(total.values()):>7}"
+    )
     return "\n".join(rows)
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--teacher", type=Path, default=None,
-                        help="also write the instructor sheets (with solutions) to this folder")
-    parser.add_argument("--nbgrader", type=Path, default=None, metavar="DIR",
-                        help="only write an nbgrader course (config and one assignment per "
-                        "chapter) to this folder")
-    parser.add_argument("--chapter", action="append", default=None, metavar="STEM",
-                        help="with --nbgrader: only this chapter (repeatable)")
-    parser.add_argument("--variant", type=int, default=0, metavar="N",
-                        help="the numbers of variant N (0: the book's) for the chapters with "
-                        "variant data; needs --out DIR or --nbgrader DIR")
-    parser.add_argument("--out", type=Path, default=None, metavar="DIR",
-                        help="with --variant: write the student sheets to this folder")
-    parser.add_argument("--counts", action="store_true",
-                        help="only print the exercises per chapter by kind")
+    parser.add_argument(
+        "--teacher",
+        type=Path,
+        default=None,
+        help="also write the instructor sheets (with solutions) to this folder",
+    )
+    parser.add_argument(
+        "--nbgrader",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="only write an nbgrader course (config and one assignment per chapter) to this folder",
+    )
+    parser.add_argument(
+        "--chapter",
+        action="append",
+        default=None,
+        metavar="STEM",
+        help="with --nbgrader: only this chapter (repeatable)",
+    )
+    parser.add_argument(
+        "--variant",
+        type=int,
+        default=0,
+        metavar="N",
+        help="the numbers of variant N (0: the book's) for the chapters with "
+        "variant data; needs --out DIR or --nbgrader DIR",
+    )
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="with --variant: write the student sheets to this folder",
+    )
+    parser.add_argument(
+        "--counts", action="store_true", help="only print the exercises per chapter by kind"
+    )
     args = parser.parse_args(argv)
     if args.counts:
         print(counts(ROOT))
@@ -562,8 +642,9 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if args.variant > 0 or args.out is not None:
         if args.out is None:
-            parser.error("--variant N writes to --out DIR (the sheets under notebooks/ are "
-                         "the book's)")
+            parser.error(
+                "--variant N writes to --out DIR (the sheets under notebooks/ are the book's)"
+            )
         for path in write_variant(args.variant, args.out, ROOT, args.teacher):
             print(path)
         return 0

@@ -98,8 +98,10 @@ def chapters(app: Sphinx) -> dict[str, Chapter]:
         stem = docname.rsplit("/", 1)[-1]
         sheets = sorted(Path(app.srcdir, SHEETS_FOLDER).glob(f"*_{stem}.ipynb"))
         if len(sheets) > 1:
-            logger.warning(f"more than one exercise sheet for {docname}: "
-                           f"{[s.name for s in sheets]}; offering {sheets[0].name}")
+            logger.warning(
+                f"more than one exercise sheet for {docname}: "
+                f"{[s.name for s in sheets]}; offering {sheets[0].name}"
+            )
         found[docname] = Chapter(docname, str(number[0]), sheets[0] if sheets else None)
     return dict(sorted(found.items(), key=lambda item: int(item[1].number)))
 
@@ -131,8 +133,9 @@ def references(app: Sphinx, docname: str) -> References:
     from myst_nb.core.variables import format_plain_text
 
     env, config = app.env, app.config
-    refs = References(format_glue=format_plain_text,
-                      eqref_format=config.math_eqref_format or "({number})")
+    refs = References(
+        format_glue=format_plain_text, eqref_format=config.math_eqref_format or "({number})"
+    )
     for label, (doc, _number) in env.get_domain("math").equations.items():
         found = _numbers(app, doc, make_id(f"equation-{label}"))
         if found:
@@ -174,13 +177,19 @@ def references(app: Sphinx, docname: str) -> References:
 
 def _preface(app: Sphinx, chapter: Chapter) -> str:
     title = app.env.titles[chapter.docname].astext()
-    sheet = (f" Its exercises, with check cells that give feedback, are in the sheet "
-             f"`{chapter.sheet.name}`." if chapter.sheet else "")
-    return (f"*Chapter {chapter.number} of **{app.config.html_title}**, \"{title}\", as a "
-            f"notebook. Run it with `dstoolkit[teaching]` installed (the book's page "
-            f"*Run this book* says how). The numbers in the text were computed when the "
-            f"book was built; the code cells compute them again. Solutions are in the "
-            f"book.{sheet}*")
+    sheet = (
+        f" Its exercises, with check cells that give feedback, are in the sheet "
+        f"`{chapter.sheet.name}`."
+        if chapter.sheet
+        else ""
+    )
+    return (
+        f'*Chapter {chapter.number} of **{app.config.html_title}**, "{title}", as a '
+        f"notebook. Run it with `dstoolkit[teaching]` installed (the book's page "
+        f"*Run this book* says how). The numbers in the text were computed when the "
+        f"book was built; the code cells compute them again. Solutions are in the "
+        f"book.{sheet}*"
+    )
 
 
 def write_notebooks(app: Sphinx, exception: Exception | None) -> None:
@@ -199,8 +208,13 @@ def write_notebooks(app: Sphinx, exception: Exception | None) -> None:
             logger.warning(f"chapter notebook: {message}", location=str(source))
 
         cells = jupytext.read(source, fmt="md:myst").cells
-        notebook = clean_notebook(cells, references(app, chapter.docname), chapter.docname,
-                                  preface=_preface(app, chapter), warn=warn)
+        notebook = clean_notebook(
+            cells,
+            references(app, chapter.docname),
+            chapter.docname,
+            preface=_preface(app, chapter),
+            warn=warn,
+        )
         text = json.dumps(notebook, indent=1, ensure_ascii=False) + "\n"
         (folder / chapter.notebook_name).write_text(text, encoding="utf-8")
         # With launch buttons on, the theme copies the executed chapter (raw MyST and its
@@ -220,8 +234,10 @@ def write_notebooks(app: Sphinx, exception: Exception | None) -> None:
 def _download_link(href: str, text: str) -> str:
     """Return a link that downloads ``href`` (the file's name is its tooltip)."""
     name = html.escape(href.rsplit("/", 1)[-1])
-    return (f'<a class="reference download" download title="{name}" '
-            f'href="{html.escape(href)}">{text}</a>')
+    return (
+        f'<a class="reference download" download title="{name}" '
+        f'href="{html.escape(href)}">{text}</a>'
+    )
 
 
 def _run_page(app: Sphinx) -> str | None:
@@ -232,18 +248,17 @@ def _run_page(app: Sphinx) -> str | None:
 def _chapter_line(app: Sphinx, chapter: Chapter) -> nodes.raw:
     """Return the line under a chapter's title: its notebook, its sheet, how to run them."""
     base = app.builder.get_target_uri(chapter.docname)
-    parts = [_download_link(relative_uri(base, chapter.notebook_path),
-                            "this chapter as a notebook")]
+    parts = [
+        _download_link(relative_uri(base, chapter.notebook_path), "this chapter as a notebook")
+    ]
     if chapter.sheet_path:
-        parts.append(_download_link(relative_uri(base, chapter.sheet_path),
-                                    "its exercise sheet"))
+        parts.append(_download_link(relative_uri(base, chapter.sheet_path), "its exercise sheet"))
     run = _run_page(app)
     how = ""
     if run:
         href = app.builder.get_relative_uri(chapter.docname, run)
         how = f' (<a class="reference internal" href="{href}">how to run them</a>)'
-    text = (f'<p class="run-this-chapter">Run it in JupyterLab: {" · ".join(parts)}'
-            f"{how}.</p>")
+    text = f'<p class="run-this-chapter">Run it in JupyterLab: {" · ".join(parts)}{how}.</p>'
     return nodes.raw("", text, format="html")
 
 
@@ -254,16 +269,23 @@ def _downloads_table(app: Sphinx, docname: str) -> nodes.raw:
     for chapter in chapters(app).values():
         title = html.escape(app.env.titles[chapter.docname].astext())
         page = app.builder.get_relative_uri(docname, chapter.docname)
-        sheet = (_download_link(relative_uri(base, chapter.sheet_path), "sheet (.ipynb)")
-                 if chapter.sheet and chapter.sheet_path else "—")
+        sheet = (
+            _download_link(relative_uri(base, chapter.sheet_path), "sheet (.ipynb)")
+            if chapter.sheet and chapter.sheet_path
+            else "—"
+        )
         rows.append(
             f'<tr><td>{chapter.number}</td><td><a class="reference internal" href="{page}">'
             f"{title}</a></td><td>"
             f"{_download_link(relative_uri(base, chapter.notebook_path), 'notebook (.ipynb)')}"
-            f"</td><td>{sheet}</td></tr>")
-    table = ('<table class="table chapter-downloads"><thead><tr><th>#</th><th>Chapter</th>'
-             "<th>Chapter notebook</th><th>Exercise sheet</th></tr></thead><tbody>"
-             + "".join(rows) + "</tbody></table>")
+            f"</td><td>{sheet}</td></tr>"
+        )
+    table = (
+        '<table class="table chapter-downloads"><thead><tr><th>#</th><th>Chapter</th>'
+        "<th>Chapter notebook</th><th>Exercise sheet</th></tr></thead><tbody>"
+        + "".join(rows)
+        + "</tbody></table>"
+    )
     return nodes.raw("", table, format="html")
 
 
@@ -309,9 +331,11 @@ class RepositoryAddress(SphinxDirective):
     def run(self) -> list[nodes.Node]:
         url = repository_url(self.config)
         if not url:
-            text = ("This copy of the book was published without a repository address: "
-                    "use the folder of the repository you were given (it holds "
-                    "pyproject.toml, book/ and notebooks/).")
+            text = (
+                "This copy of the book was published without a repository address: "
+                "use the folder of the repository you were given (it holds "
+                "pyproject.toml, book/ and notebooks/)."
+            )
             return [nodes.paragraph(text, text)]
         para = nodes.paragraph()
         para += nodes.Text("The code of the book and of dstoolkit is at ")
@@ -368,8 +392,9 @@ def _group(buttons: list[dict], label: str) -> dict | None:
     return next((b for b in buttons if b.get("label") == label), None)
 
 
-def add_header_entries(app: Sphinx, pagename: str, templatename: str, context: dict,
-                       doctree) -> None:
+def add_header_entries(
+    app: Sphinx, pagename: str, templatename: str, context: dict, doctree
+) -> None:
     """Chapter notebook and sheet in the download menu; launch buttons open the sheet."""
     chapter = chapters(app).get(pagename)
     buttons = context.get("header_buttons", [])
@@ -388,14 +413,27 @@ def add_header_entries(app: Sphinx, pagename: str, templatename: str, context: d
     if chapter is None or downloads is None:
         return
     pathto = context["pathto"]
-    entries = [{"type": "link", "url": pathto(chapter.notebook_path, 1), "text": ".ipynb",
-                "icon": "fas fa-book", "tooltip": "This chapter as a notebook, to run in "
-                "JupyterLab (no solutions)", "label": NOTEBOOK_BUTTON}]
+    entries = [
+        {
+            "type": "link",
+            "url": pathto(chapter.notebook_path, 1),
+            "text": ".ipynb",
+            "icon": "fas fa-book",
+            "tooltip": "This chapter as a notebook, to run in JupyterLab (no solutions)",
+            "label": NOTEBOOK_BUTTON,
+        }
+    ]
     if chapter.sheet_path:
-        entries.append({"type": "link", "url": pathto(chapter.sheet_path, 1),
-                        "text": "sheet", "icon": "fas fa-pencil",
-                        "tooltip": "The chapter's exercise sheet (.ipynb)",
-                        "label": SHEET_BUTTON})
+        entries.append(
+            {
+                "type": "link",
+                "url": pathto(chapter.sheet_path, 1),
+                "text": "sheet",
+                "icon": "fas fa-pencil",
+                "tooltip": "The chapter's exercise sheet (.ipynb)",
+                "label": SHEET_BUTTON,
+            }
+        )
     kept = [b for b in downloads["buttons"] if b.get("label") != "download-notebook-button"]
     downloads["buttons"] = entries + kept
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Run every check: ruff over the package, tests and scripts, the import-layer contract, mypy over
-# every layer, then pytest (toolkit, gauge, doctests, packaging, notebooks, book build, and the
+# Run every check: ruff (lint and format) over the package, tests and scripts, the
+# import-layer contract, mypy over every layer, then pytest (toolkit, gauge, doctests, packaging, notebooks, book build, and the
 # built book in headless Chromium). Creates .venv on first use.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -8,6 +8,7 @@ cd "$root"
 source scripts/ensure-env.sh
 echo "==> ruff"
 ruff check dstoolkit tests benchmarks scripts
+ruff format --check dstoolkit tests benchmarks scripts
 echo "==> import layers (.importlinter)"
 lint-imports --no-cache
 echo "==> mypy (every layer; [tool.mypy] in pyproject.toml)"

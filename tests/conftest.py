@@ -181,8 +181,9 @@ def built_book() -> BookBuild:
         for old in build_dir.glob(".book-build-*.json"):  # results of earlier runs
             old.unlink()
         result = _build_book()
-        shared.write_text(json.dumps({"returncode": result.returncode, "log": result.log}),
-                          encoding="utf-8")
+        shared.write_text(
+            json.dumps({"returncode": result.returncode, "log": result.log}), encoding="utf-8"
+        )
         return result
 
 
@@ -225,8 +226,9 @@ CELL_TIMEOUT = 300
 
 def execute_notebook(nb: nbformat.NotebookNode, cwd: Path) -> nbformat.NotebookNode:
     """Execute ``nb`` in place in a python3 kernel started in ``cwd``."""
-    NotebookClient(nb, timeout=CELL_TIMEOUT, kernel_name="python3",
-                   resources={"metadata": {"path": str(cwd)}}).execute()
+    NotebookClient(
+        nb, timeout=CELL_TIMEOUT, kernel_name="python3", resources={"metadata": {"path": str(cwd)}}
+    ).execute()
     return nb
 
 
@@ -253,8 +255,9 @@ def executed_chapter(name: str) -> nbformat.NotebookNode:
     if name not in _CHAPTERS:
         import jupytext
 
-        _CHAPTERS[name] = execute_notebook(jupytext.read(ROOT / "book" / f"{name}.md"),
-                                           ROOT / "book")
+        _CHAPTERS[name] = execute_notebook(
+            jupytext.read(ROOT / "book" / f"{name}.md"), ROOT / "book"
+        )
     return _CHAPTERS[name]
 
 
@@ -292,8 +295,9 @@ class ExplorerRun:
         return sum("image/png" in mimes for mimes in output_widget_mimes(self.notebook))
 
 
-def drive_explorers(changes: dict[str, tuple[str, object]],
-                    extra_cells: tuple[str, ...] = ()) -> ExplorerRun:
+def drive_explorers(
+    changes: dict[str, tuple[str, object]], extra_cells: tuple[str, ...] = ()
+) -> ExplorerRun:
     """Drive each explorer call ``w.<call>`` (key i of ``changes``) in a kernel.
 
     Display it and print its state, then set ``controls[name].value`` and print the state
@@ -302,22 +306,33 @@ def drive_explorers(changes: dict[str, tuple[str, object]],
     """
     cells = [nbformat.v4.new_code_cell(_EXPLORER_SETUP)]
     for i, call in enumerate(changes):
-        cells.append(nbformat.v4.new_code_cell(
-            f"ex{i} = w.{call}\nprint('BEFORE {i}', state(ex{i}))\nex{i}"))
+        cells.append(
+            nbformat.v4.new_code_cell(f"ex{i} = w.{call}\nprint('BEFORE {i}', state(ex{i}))\nex{i}")
+        )
     for i, (control, value) in enumerate(changes.values()):
-        cells.append(nbformat.v4.new_code_cell(
-            f"ex{i}.controls[{control!r}].value = {value!r}\nprint('AFTER {i}', state(ex{i}))"))
+        cells.append(
+            nbformat.v4.new_code_cell(
+                f"ex{i}.controls[{control!r}].value = {value!r}\nprint('AFTER {i}', state(ex{i}))"
+            )
+        )
     cells += [nbformat.v4.new_code_cell(source) for source in extra_cells]
     nb = nbformat.v4.new_notebook(cells=cells)
-    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
-                                 "language": "python"}
-    NotebookClient(nb, timeout=CELL_TIMEOUT, kernel_name="python3",
-                   store_widget_state=True).execute()
+    nb.metadata["kernelspec"] = {
+        "name": "python3",
+        "display_name": "Python 3",
+        "language": "python",
+    }
+    NotebookClient(
+        nb, timeout=CELL_TIMEOUT, kernel_name="python3", store_widget_state=True
+    ).execute()
     printed: dict[str, str] = {}
     for cell in nb.cells:
         # A long line may reach the notebook in several stream messages: join them first.
-        text = "".join(out["text"] for out in cell.get("outputs", [])
-                       if out.get("output_type") == "stream" and out.get("name") == "stdout")
+        text = "".join(
+            out["text"]
+            for out in cell.get("outputs", [])
+            if out.get("output_type") == "stream" and out.get("name") == "stdout"
+        )
         for line in text.splitlines():
             tag, _, rest = line.partition(" ")
             if tag in {"BEFORE", "AFTER"}:
@@ -335,12 +350,20 @@ def printed_json(cells: list[str]) -> tuple[list[dict], nbformat.NotebookNode]:
     and the notebook.
     """
     nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(c) for c in cells])
-    NotebookClient(nb, timeout=CELL_TIMEOUT, kernel_name="python3", store_widget_state=True,
-                   resources={"metadata": {"path": str(ROOT)}}).execute()
+    NotebookClient(
+        nb,
+        timeout=CELL_TIMEOUT,
+        kernel_name="python3",
+        store_widget_state=True,
+        resources={"metadata": {"path": str(ROOT)}},
+    ).execute()
     out = []
     for cell in nb.cells:
-        text = "".join(o.get("text", "") for o in cell.outputs
-                       if o.output_type == "stream" and o.name == "stdout").strip()
+        text = "".join(
+            o.get("text", "")
+            for o in cell.outputs
+            if o.output_type == "stream" and o.name == "stdout"
+        ).strip()
         out.append(json.loads(text.splitlines()[-1]) if text else None)
     return out, nb
 
@@ -351,8 +374,11 @@ def output_widget_mimes(nb: nbformat.NotebookNode) -> list[list[str]]:
     The stored widget state is what the book embeds.
     """
     state = nb.metadata["widgets"]["application/vnd.jupyter.widget-state+json"]["state"]
-    return [[mime for o in model["state"].get("outputs", []) for mime in o.get("data", {})]
-            for model in state.values() if model["model_name"] == "OutputModel"]
+    return [
+        [mime for o in model["state"].get("outputs", []) for mime in o.get("data", {})]
+        for model in state.values()
+        if model["model_name"] == "OutputModel"
+    ]
 
 
 # --------------------------------------------------------------------------------------

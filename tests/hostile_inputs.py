@@ -81,11 +81,16 @@ def _chunk(tag: bytes, payload: bytes, size: int | None = None) -> bytes:
     return tag + struct.pack("<I", size) + payload + b"\0" * (len(payload) % 2)
 
 
-def _fmt(tag: int = 3, channels: int = 1, rate: int = 44100, bits: int = 32,
-         align: int | None = None, extra: bytes = b"") -> bytes:
+def _fmt(
+    tag: int = 3,
+    channels: int = 1,
+    rate: int = 44100,
+    bits: int = 32,
+    align: int | None = None,
+    extra: bytes = b"",
+) -> bytes:
     align = channels * bits // 8 if align is None else align
-    body = struct.pack("<HHIIHH", tag, channels, rate, (rate * max(align, 1)) % 2**32, align,
-                       bits)
+    body = struct.pack("<HHIIHH", tag, channels, rate, (rate * max(align, 1)) % 2**32, align, bits)
     return _chunk(b"fmt ", body + extra)
 
 
@@ -113,8 +118,10 @@ def crafted_recordings(folder: Path) -> list[Crafted]:
     samples, fs, meta = good_recording()
     f32 = samples.astype("<f4").tobytes()
     i16 = np.clip(np.round(samples * 32768), -32768, 32767).astype("<i2").tobytes()
-    i24 = b"".join(int(v).to_bytes(3, "little", signed=True) for v in
-                   np.clip(np.round(samples[:: 1] * 2**23), -2**23, 2**23 - 1).astype(int))
+    i24 = b"".join(
+        int(v).to_bytes(3, "little", signed=True)
+        for v in np.clip(np.round(samples[::1] * 2**23), -(2**23), 2**23 - 1).astype(int)
+    )
 
     def comment(**changes: object) -> bytes:
         return json.dumps({**meta, **changes}).encode()
@@ -125,17 +132,33 @@ def crafted_recordings(folder: Path) -> list[Crafted]:
         ("good float32", good, "level"),
         ("16-bit PCM", _riff(_fmt(1, bits=16), _chunk(b"data", i16), good_info), "level"),
         ("24-bit PCM", _riff(_fmt(1, bits=24), _chunk(b"data", i24), good_info), "level"),
-        ("unknown chunk first", _riff(_chunk(b"junk", b"x" * 301), _fmt(),
-                                      _chunk(b"data", f32), good_info), "level"),
+        (
+            "unknown chunk first",
+            _riff(_chunk(b"junk", b"x" * 301), _fmt(), _chunk(b"data", f32), good_info),
+            "level",
+        ),
         ("metadata before data", _riff(_fmt(), good_info, _chunk(b"data", f32)), "level"),
-        ("odd RIFF size field", _riff(_fmt(), _chunk(b"data", f32), good_info,
-                                      declared=7), "level"),
-        ("stereo, level on channel 0", _riff(
-            _fmt(3, channels=2), _chunk(b"data", np.stack(
-                [samples, np.zeros_like(samples)], 1).astype("<f4").tobytes()), good_info),
-         "level"),
-        ("unknown fields kept in extra", _riff(_fmt(), _chunk(b"data", f32), _info(
-            comment(humidity=40, extra={"a": [1, 2]}))), "level"),
+        (
+            "odd RIFF size field",
+            _riff(_fmt(), _chunk(b"data", f32), good_info, declared=7),
+            "level",
+        ),
+        (
+            "stereo, level on channel 0",
+            _riff(
+                _fmt(3, channels=2),
+                _chunk(
+                    b"data", np.stack([samples, np.zeros_like(samples)], 1).astype("<f4").tobytes()
+                ),
+                good_info,
+            ),
+            "level",
+        ),
+        (
+            "unknown fields kept in extra",
+            _riff(_fmt(), _chunk(b"data", f32), _info(comment(humidity=40, extra={"a": [1, 2]}))),
+            "level",
+        ),
         # truncated and bad chunk sizes
         ("empty file", b"", "error"),
         ("4 bytes", b"RIFF", "error"),
@@ -143,80 +166,177 @@ def crafted_recordings(folder: Path) -> list[Crafted]:
         ("cut inside fmt", good[:30], "error"),
         ("cut after fmt", good[:44], "error"),
         ("cut inside data", good[: len(good) // 2], "error"),
-        ("data size beyond the file", _riff(_fmt(), _chunk(b"data", f32[:4000], 2**31)),
-         "error"),
+        ("data size beyond the file", _riff(_fmt(), _chunk(b"data", f32[:4000], 2**31)), "error"),
         ("data size 0xFFFFFFFF", _riff(_fmt(), b"data" + b"\xff" * 4 + f32[:4000]), "error"),
         ("no data chunk", _riff(_fmt(), good_info), "error"),
         ("no fmt chunk", _riff(_chunk(b"data", f32), good_info), "error"),
-        ("two data chunks", _riff(_fmt(), _chunk(b"data", f32[:400]), _chunk(b"data", f32)),
-         "error"),
-        ("data too short for the sweep", _riff(_fmt(), _chunk(b"data", f32[: 4 * fs]),
-                                               good_info), "error"),
-        ("fmt size 8", _riff(_chunk(b"fmt ", b"\x01\x00\x01\x00abcd"), _chunk(b"data", f32)),
-         "error"),
+        (
+            "two data chunks",
+            _riff(_fmt(), _chunk(b"data", f32[:400]), _chunk(b"data", f32)),
+            "error",
+        ),
+        (
+            "data too short for the sweep",
+            _riff(_fmt(), _chunk(b"data", f32[: 4 * fs]), good_info),
+            "error",
+        ),
+        (
+            "fmt size 8",
+            _riff(_chunk(b"fmt ", b"\x01\x00\x01\x00abcd"), _chunk(b"data", f32)),
+            "error",
+        ),
         ("fmt size 2**31", _riff(b"fmt " + struct.pack("<I", 2**31) + b"\x01" * 16), "error"),
-        ("many empty chunks", _riff(*[_chunk(b"pad ", b"")] * 5000, _fmt(),
-                                    _chunk(b"data", f32)), "error"),
+        (
+            "many empty chunks",
+            _riff(*[_chunk(b"pad ", b"")] * 5000, _fmt(), _chunk(b"data", f32)),
+            "error",
+        ),
         # bad fmt fields
         ("0 channels", _riff(_fmt(channels=0, align=4), _chunk(b"data", f32)), "error"),
         ("65535 channels", _riff(_fmt(channels=65535, align=4), _chunk(b"data", f32)), "error"),
         ("rate 0", _riff(_fmt(rate=0), _chunk(b"data", f32)), "error"),
         ("rate 4e9", _riff(_fmt(rate=4_000_000_000), _chunk(b"data", f32)), "error"),
-        ("rate 8000 says metadata 44100", _riff(_fmt(rate=8000), _chunk(b"data", f32),
-                                                good_info), "error"),
+        (
+            "rate 8000 says metadata 44100",
+            _riff(_fmt(rate=8000), _chunk(b"data", f32), good_info),
+            "error",
+        ),
         ("0 bits", _riff(_fmt(bits=0, align=4), _chunk(b"data", f32)), "error"),
         ("7 bits", _riff(_fmt(1, bits=7, align=1), _chunk(b"data", f32)), "error"),
         ("48-bit float", _riff(_fmt(3, bits=48), _chunk(b"data", f32)), "error"),
         ("block align 0", _riff(_fmt(align=0), _chunk(b"data", f32)), "error"),
         ("ADPCM", _riff(_fmt(2, bits=4, align=1), _chunk(b"data", f32)), "error"),
         ("silence", _riff(_fmt(), _chunk(b"data", bytes(len(f32))), good_info), "error"),
-        ("NaN samples", _riff(_fmt(), _chunk(b"data", np.full(samples.size, np.nan,
-                                                           "<f4").tobytes()), good_info),
-         "error"),
+        (
+            "NaN samples",
+            _riff(
+                _fmt(), _chunk(b"data", np.full(samples.size, np.nan, "<f4").tobytes()), good_info
+            ),
+            "error",
+        ),
         # hostile metadata
-        ("temperature a string", _riff(_fmt(), _chunk(b"data", f32),
-                                       _info(comment(temperature_c="hot"))), "error"),
-        ("temperature 10**400", _riff(_fmt(), _chunk(b"data", f32), _info(
-            comment().replace(b'"temperature_c": 26.0', b'"temperature_c": 1' + b"0" * 400))),
-         "error"),
-        ("temperature NaN literal", _riff(_fmt(), _chunk(b"data", f32), _info(
-            comment().replace(b'"temperature_c": 26.0', b'"temperature_c": NaN'))), "error"),
-        ("temperature 1e6", _riff(_fmt(), _chunk(b"data", f32),
-                                  _info(comment(temperature_c=1e6))), "error"),
-        ("extra a list", _riff(_fmt(), _chunk(b"data", f32), _info(comment(extra=[1, 2]))),
-         "error"),
-        ("source a number", _riff(_fmt(), _chunk(b"data", f32), _info(comment(source=5))),
-         "error"),
-        ("onset +1e308", _riff(_fmt(), _chunk(b"data", f32),
-                               _info(comment(sweep_onset_s=1e308))), "error"),
-        ("onset -1e308", _riff(_fmt(), _chunk(b"data", f32),
-                               _info(comment(sweep_onset_s=-1e308))), "error"),
-        ("latency 1e308", _riff(_fmt(), _chunk(b"data", f32), _info(comment(latency_s=1e308))),
-         "error"),
-        ("sweep 1e308 s", _riff(_fmt(), _chunk(b"data", f32),
-                                _info(comment(sweep_duration_s=1e308))), "error"),
-        ("sweep up to 1e9 Hz", _riff(_fmt(), _chunk(b"data", f32),
-                                     _info(comment(f_stop_hz=1e9))), "error"),
-        ("taper -1", _riff(_fmt(), _chunk(b"data", f32), _info(comment(sweep_taper_s=-1.0))),
-         "error"),
-        ("nested 200000 deep", _riff(_fmt(), _chunk(b"data", f32), _info(
-            b'{"dstoolkit_metadata": 1, "extra": ' + b"[" * 200_000 + b"]" * 200_000 + b"}")),
-         "error"),
-        ("nested 40 deep", _riff(_fmt(), _chunk(b"data", f32), _info(comment(
-            extra=json.loads("[" * 40 + "]" * 40)))), "error"),
-        ("metadata 1 MB", _riff(_fmt(), _chunk(b"data", f32), _info(comment(
-            extra={"pad": "x" * 2**20}))), "error"),
-        ("LIST size 4 GB", _riff(_fmt(), _chunk(b"data", f32), good_info[:4]
-                                 + struct.pack("<I", 2**32 - 2) + good_info[8:]), "error"),
-        ("metadata not UTF-8", _riff(_fmt(), _chunk(b"data", f32), _info(
-            b'{"dstoolkit_metadata": 1, "source": "\xff\xfe\x80", "temperature_c": 26}')),
-         "error"),
-        ("metadata not JSON", _riff(_fmt(), _chunk(b"data", f32),
-                                    _info(b"{dstoolkit_metadata: yes")), "error"),
-        ("metadata a list", _riff(_fmt(), _chunk(b"data", f32),
-                                  _info(b'[{"dstoolkit_metadata": 1}]')), "error"),
-        ("no temperature", _riff(_fmt(), _chunk(b"data", f32),
-                                 _info(comment(temperature_c=None))), "error"),
+        (
+            "temperature a string",
+            _riff(_fmt(), _chunk(b"data", f32), _info(comment(temperature_c="hot"))),
+            "error",
+        ),
+        (
+            "temperature 10**400",
+            _riff(
+                _fmt(),
+                _chunk(b"data", f32),
+                _info(
+                    comment().replace(b'"temperature_c": 26.0', b'"temperature_c": 1' + b"0" * 400)
+                ),
+            ),
+            "error",
+        ),
+        (
+            "temperature NaN literal",
+            _riff(
+                _fmt(),
+                _chunk(b"data", f32),
+                _info(comment().replace(b'"temperature_c": 26.0', b'"temperature_c": NaN')),
+            ),
+            "error",
+        ),
+        (
+            "temperature 1e6",
+            _riff(_fmt(), _chunk(b"data", f32), _info(comment(temperature_c=1e6))),
+            "error",
+        ),
+        (
+            "extra a list",
+            _riff(_fmt(), _chunk(b"data", f32), _info(comment(extra=[1, 2]))),
+            "error",
+        ),
+        ("source a number", _riff(_fmt(), _chunk(b"data", f32), _info(comment(source=5))), "error"),
+        (
+            "onset +1e308",
+            _riff(_fmt(), _chunk(b"data", f32), _info(comment(sweep_onset_s=1e308))),
+            "error",
+        ),
+        (
+            "onset -1e308",
+            _riff(_fmt(), _chunk(b"data", f32), _info(comment(sweep_onset_s=-1e308))),
+            "error",
+        ),
+        (
+            "latency 1e308",
+            _riff(_fmt(), _chunk(b"data", f32), _info(comment(latency_s=1e308))),
+            "error",
+        ),
+        (
+            "sweep 1e308 s",
+            _riff(_fmt(), _chunk(b"data", f32), _info(comment(sweep_duration_s=1e308))),
+            "error",
+        ),
+        (
+            "sweep up to 1e9 Hz",
+            _riff(_fmt(), _chunk(b"data", f32), _info(comment(f_stop_hz=1e9))),
+            "error",
+        ),
+        (
+            "taper -1",
+            _riff(_fmt(), _chunk(b"data", f32), _info(comment(sweep_taper_s=-1.0))),
+            "error",
+        ),
+        (
+            "nested 200000 deep",
+            _riff(
+                _fmt(),
+                _chunk(b"data", f32),
+                _info(
+                    b'{"dstoolkit_metadata": 1, "extra": ' + b"[" * 200_000 + b"]" * 200_000 + b"}"
+                ),
+            ),
+            "error",
+        ),
+        (
+            "nested 40 deep",
+            _riff(
+                _fmt(), _chunk(b"data", f32), _info(comment(extra=json.loads("[" * 40 + "]" * 40)))
+            ),
+            "error",
+        ),
+        (
+            "metadata 1 MB",
+            _riff(_fmt(), _chunk(b"data", f32), _info(comment(extra={"pad": "x" * 2**20}))),
+            "error",
+        ),
+        (
+            "LIST size 4 GB",
+            _riff(
+                _fmt(),
+                _chunk(b"data", f32),
+                good_info[:4] + struct.pack("<I", 2**32 - 2) + good_info[8:],
+            ),
+            "error",
+        ),
+        (
+            "metadata not UTF-8",
+            _riff(
+                _fmt(),
+                _chunk(b"data", f32),
+                _info(b'{"dstoolkit_metadata": 1, "source": "\xff\xfe\x80", "temperature_c": 26}'),
+            ),
+            "error",
+        ),
+        (
+            "metadata not JSON",
+            _riff(_fmt(), _chunk(b"data", f32), _info(b"{dstoolkit_metadata: yes")),
+            "error",
+        ),
+        (
+            "metadata a list",
+            _riff(_fmt(), _chunk(b"data", f32), _info(b'[{"dstoolkit_metadata": 1}]')),
+            "error",
+        ),
+        (
+            "no temperature",
+            _riff(_fmt(), _chunk(b"data", f32), _info(comment(temperature_c=None))),
+            "error",
+        ),
         # not a recording at all
         ("random bytes", np.random.default_rng(0).bytes(100_000), "error"),
         ("an MP3", b"ID3\x03\x00" + bytes(5000), "error"),
@@ -245,8 +365,14 @@ def crafted_recordings(folder: Path) -> list[Crafted]:
 
 
 #: The kinds of :func:`special_output`.
-SPECIAL_OUTPUTS = ("a link to an open file's /proc entry", "a link to a FIFO", "a socket",
-                   "a link to /dev/null", "a FIFO", "a new file in /proc")
+SPECIAL_OUTPUTS = (
+    "a link to an open file's /proc entry",
+    "a link to a FIFO",
+    "a socket",
+    "a link to /dev/null",
+    "a FIFO",
+    "a new file in /proc",
+)
 
 
 def special_output(kind: str, folder: Path) -> tuple[Path, Any]:
@@ -287,8 +413,7 @@ raise SystemExit(main(sys.argv[2:]))
 """
 
 
-def table3_signalled(work: Path, sig: int, wait_s: float = 600.0) -> tuple[int | None, str,
-                                                                            bool]:
+def table3_signalled(work: Path, sig: int, wait_s: float = 600.0) -> tuple[int | None, str, bool]:
     """Run ``table3 --out work/out/t.csv`` in a child process and send ``sig`` to it.
 
     The run is one run of the direct method, and its figure never finishes; ``sig`` is sent
@@ -301,9 +426,26 @@ def table3_signalled(work: Path, sig: int, wait_s: float = 600.0) -> tuple[int |
     ready = work.parent / f".{work.name}.ready"
     env = {**os.environ, "PYTHONPATH": str(Path(dstoolkit.__file__).resolve().parents[1])}
     proc = subprocess.Popen(
-        [sys.executable, "-c", _SLOW_FIGURE, str(ready), "table3", "--out",
-         str(work / "out" / "t.csv"), "--runs", "1", "--methods", "direct", "--quiet"],
-        cwd=work, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        [
+            sys.executable,
+            "-c",
+            _SLOW_FIGURE,
+            str(ready),
+            "table3",
+            "--out",
+            str(work / "out" / "t.csv"),
+            "--runs",
+            "1",
+            "--methods",
+            "direct",
+            "--quiet",
+        ],
+        cwd=work,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     written = False
     try:
         deadline = time.monotonic() + wait_s

@@ -40,7 +40,8 @@ def test_paper_line_is_the_tangent_of_the_ideal_gas_law() -> None:
     # concave: the line lies above, by 0.35 m/s at 26.5 °C and less than 0.5 m/s up to 30 °C
     assert np.all(paper[1:] > ideal[1:]) and np.all(paper - ideal < 0.5)
     assert speed_of_sound_paper(26.5) - speed_of_sound_ideal_gas(26.5) == pytest.approx(
-        0.36, abs=0.01)
+        0.36, abs=0.01
+    )
 
 
 def test_cramer_reference_values() -> None:
@@ -91,7 +92,8 @@ def test_paper_sweep() -> None:
     # the phase's derivative is 2π f(t)
     t, h = 2.345, 1e-6
     assert (s.phase(t + h) - s.phase(t - h)) / (2 * h) == pytest.approx(
-        2 * np.pi * s.frequency_at(t), rel=1e-7)
+        2 * np.pi * s.frequency_at(t), rel=1e-7
+    )
     w = s.waveform()
     assert w.shape == (220500,) and w[0] == 0.0 and np.max(np.abs(w)) <= 1.0
     assert LinearSweep(1000.0, 2500.0).rate == pytest.approx(300.0)

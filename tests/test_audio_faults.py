@@ -35,13 +35,17 @@ SLACK_S = 4.0
 def _loopback_env() -> dict[str, str]:
     if shutil.which("pulseaudio") is None or shutil.which("pactl") is None:
         if REQUIRED:
-            pytest.fail("audio is required here (DSTOOLKIT_REQUIRE_AUDIO=1) but PulseAudio is "
-                        "not installed")
-        pytest.skip("PulseAudio is not installed: apt-get install pulseaudio "
-                    "pulseaudio-utils libasound2-plugins libportaudio2")
+            pytest.fail(
+                "audio is required here (DSTOOLKIT_REQUIRE_AUDIO=1) but PulseAudio is not installed"
+            )
+        pytest.skip(
+            "PulseAudio is not installed: apt-get install pulseaudio "
+            "pulseaudio-utils libasound2-plugins libportaudio2"
+        )
     env = {k: v for k, v in os.environ.items() if not k.startswith(("PULSE_", "DSTOOLKIT_PULSE"))}
-    proc = subprocess.run(["bash", str(SCRIPT), "start"], capture_output=True, text=True,
-                          timeout=60, env=env)
+    proc = subprocess.run(
+        ["bash", str(SCRIPT), "start"], capture_output=True, text=True, timeout=60, env=env
+    )
     if proc.returncode != 0:
         if REQUIRED:
             pytest.fail(f"audio-loopback.sh failed: {proc.stderr}")
@@ -70,23 +74,45 @@ def _wait_for_stream(env: dict[str, str], proc: subprocess.Popen[str]) -> None:
     """Wait until the measurement's stream plays into the loopback's sink."""
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline and proc.poll() is None:
-        inputs = subprocess.run(["pactl", "list", "short", "sink-inputs"], capture_output=True,
-                                text=True, env=env, timeout=10).stdout
+        inputs = subprocess.run(
+            ["pactl", "list", "short", "sink-inputs"],
+            capture_output=True,
+            text=True,
+            env=env,
+            timeout=10,
+        ).stdout
         if inputs.strip():
             return
         time.sleep(0.1)
     pytest.fail("the measurement's stream never reached the sound server")
 
 
-def _measure_with_fault(env: dict[str, str], folder: Path, fault: signal.Signals
-                        ) -> tuple[subprocess.CompletedProcess[str], float]:
+def _measure_with_fault(
+    env: dict[str, str], folder: Path, fault: signal.Signals
+) -> tuple[subprocess.CompletedProcess[str], float]:
     server = int((Path(env["PULSE_RUNTIME_PATH"]) / "pid").read_text())
-    cmd = [sys.executable, "-m", "dstoolkit", "measure", "--temperature", "26",
-           "--virtual-level", "2.6", "--input", "pulse", "--output", "pulse",
-           "--save", str(folder / "rec.wav"), "--figure", str(folder / "fig.png"),
-           "--overwrite"]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            env=env, cwd=folder)
+    cmd = [
+        sys.executable,
+        "-m",
+        "dstoolkit",
+        "measure",
+        "--temperature",
+        "26",
+        "--virtual-level",
+        "2.6",
+        "--input",
+        "pulse",
+        "--output",
+        "pulse",
+        "--save",
+        str(folder / "rec.wav"),
+        "--figure",
+        str(folder / "fig.png"),
+        "--overwrite",
+    ]
+    proc = subprocess.Popen(
+        cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, cwd=folder
+    )
     _wait_for_stream(env, proc)
     start = time.monotonic()  # the stream plays from here
     time.sleep(1.0)  # mid-measurement
@@ -98,7 +124,6 @@ def _measure_with_fault(env: dict[str, str], folder: Path, fault: signal.Signals
             proc.kill()
     elapsed = time.monotonic() - start
     return subprocess.CompletedProcess(cmd, proc.returncode, out, err), elapsed
-
 
 
 @pytest.mark.slow
@@ -132,8 +157,13 @@ def test_a_dead_server_is_named_in_the_error(loopback, tmp_path):
 # -- the loopback script's folder --------------------------------------------------------------
 def _script(*args: str, **env: str) -> subprocess.CompletedProcess[str]:
     base = {k: v for k, v in os.environ.items() if not k.startswith(("PULSE_", "DSTOOLKIT_P"))}
-    return subprocess.run(["bash", str(SCRIPT), *args], capture_output=True, text=True,
-                          timeout=60, env={**base, **env})
+    return subprocess.run(
+        ["bash", str(SCRIPT), *args],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env={**base, **env},
+    )
 
 
 def test_loopback_script_refuses_a_symlinked_folder(tmp_path):

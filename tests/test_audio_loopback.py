@@ -48,10 +48,13 @@ def unavailable(reason: str) -> None:
 def loopback() -> Iterator[dict[str, str]]:
     """Start (or reuse) the PulseAudio loopback and point this process at it."""
     if shutil.which("pulseaudio") is None or shutil.which("pactl") is None:
-        unavailable("PulseAudio is not installed: apt-get install pulseaudio pulseaudio-utils "
-                    "libasound2-plugins libportaudio2")
-    proc = subprocess.run(["bash", str(SCRIPT), "start"], capture_output=True, text=True,
-                          timeout=60)
+        unavailable(
+            "PulseAudio is not installed: apt-get install pulseaudio pulseaudio-utils "
+            "libasound2-plugins libportaudio2"
+        )
+    proc = subprocess.run(
+        ["bash", str(SCRIPT), "start"], capture_output=True, text=True, timeout=60
+    )
     if proc.returncode != 0:
         unavailable(f"scripts/audio-loopback.sh failed ({proc.returncode}): {proc.stderr}")
     state = dict(line.split("=", 1) for line in proc.stdout.splitlines() if "=" in line)
@@ -65,8 +68,10 @@ def loopback() -> Iterator[dict[str, str]]:
         except AudioUnavailableError as exc:
             unavailable(str(exc))
         if DEVICE not in names:
-            unavailable(f"PortAudio does not see the ALSA device {DEVICE!r} (it sees {names}); "
-                        "is libasound2-plugins installed?")
+            unavailable(
+                f"PortAudio does not see the ALSA device {DEVICE!r} (it sees {names}); "
+                "is libasound2-plugins installed?"
+            )
         yield state
     finally:
         for key, value in saved.items():
@@ -75,8 +80,12 @@ def loopback() -> Iterator[dict[str, str]]:
             else:
                 os.environ[key] = value
         if state.get("DSTOOLKIT_LOOPBACK_STATE") == "started":
-            subprocess.run(["bash", str(SCRIPT), "stop"], capture_output=True, timeout=60,
-                           env={**os.environ, **pulse_env})
+            subprocess.run(
+                ["bash", str(SCRIPT), "stop"],
+                capture_output=True,
+                timeout=60,
+                env={**os.environ, **pulse_env},
+            )
         try:
             audio.refresh_devices()
         except AudioUnavailableError:
@@ -100,8 +109,10 @@ def test_played_signal_comes_back_intact_after_a_measured_latency(loopback) -> N
     result = audio.play_record(x, FS, input_device=DEVICE, output_device=DEVICE)
     assert result.recorded.size == result.played.size
     latency = estimate_latency(chirp, result.recorded, FS, offset=result.signal_start)
-    print(f"loopback latency {latency.seconds * 1000:.1f} ms, correlation "
-          f"{latency.correlation:.6f}, stream status {result.status!r}")
+    print(
+        f"loopback latency {latency.seconds * 1000:.1f} ms, correlation "
+        f"{latency.correlation:.6f}, stream status {result.status!r}"
+    )
     assert 0 <= latency.seconds < audio.MIN_PADDING_S
     assert latency.correlation > 0.999
     # the noise, found where the chirp says it must be, is the noise that was played
@@ -124,12 +135,18 @@ def test_virtual_tube_level_through_the_loopback(loopback, tmp_path, level, temp
     within TOLERANCE_M and within 2 stated sigmas.
     """
     path = tmp_path / "rec.wav"
-    analysis = measure(virtual_tube=TubeSetup(level_m=level, temperature_c=temperature),
-                       input_device=DEVICE, output_device=DEVICE, save=path)
-    print(f"\nL = {level} m: measured {analysis.level.level_m:.4f} ± "
-          f"{analysis.level.uncertainty_m:.4f} m, error {1e3 * analysis.error_m:+.1f} mm, "
-          f"latency {1e3 * analysis.latency_s:.1f} ms, "
-          f"try {analysis.recording.metadata.extra['attempt']}")
+    analysis = measure(
+        virtual_tube=TubeSetup(level_m=level, temperature_c=temperature),
+        input_device=DEVICE,
+        output_device=DEVICE,
+        save=path,
+    )
+    print(
+        f"\nL = {level} m: measured {analysis.level.level_m:.4f} ± "
+        f"{analysis.level.uncertainty_m:.4f} m, error {1e3 * analysis.error_m:+.1f} mm, "
+        f"latency {1e3 * analysis.latency_s:.1f} ms, "
+        f"try {analysis.recording.metadata.extra['attempt']}"
+    )
     assert abs(analysis.error_m) <= TOLERANCE_M
     assert abs(analysis.error_m) <= 2 * analysis.level.uncertainty_m
     assert analysis.detection.missed.size == 0
@@ -137,8 +154,9 @@ def test_virtual_tube_level_through_the_loopback(loopback, tmp_path, level, temp
     assert analysis.recording.metadata.extra["calibration_correlation"] > 0.999
     # two independent latency estimates agree: the chirp's and the sweep's own
     sweep = analysis.detection.sweep
-    from_sweep = estimate_latency(sweep.waveform(), analysis.gauge_recording.samples,
-                                  sweep.sample_rate).seconds
+    from_sweep = estimate_latency(
+        sweep.waveform(), analysis.gauge_recording.samples, sweep.sample_rate
+    ).seconds
     assert from_sweep == pytest.approx(analysis.latency_s, abs=5e-4)
     # the saved file analyses to the same level
     again = analyze(path)

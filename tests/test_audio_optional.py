@@ -68,7 +68,11 @@ def test_dstoolkit_works_when_sounddevice_cannot_be_imported(tmp_path, failure, 
     (tmp_path / "sounddevice.py").write_text(failure + "\n")
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tmp_path), str(ROOT)]))
     proc = subprocess.run(
-        [sys.executable, "-c", CHILD], cwd=tmp_path, env=env, capture_output=True, text=True,
+        [sys.executable, "-c", CHILD],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
         timeout=120,
     )
     assert proc.returncode == 0, proc.stderr + proc.stdout

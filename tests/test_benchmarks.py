@@ -67,7 +67,7 @@ def test_the_filter_profile_shows_every_block_of_a_step(capsys):
     for label, name in profile.BLOCKS:
         if name != "_fuse_compiled":
             row = next(line for line in numpy_part.splitlines() if line.strip().startswith(label))
-            us, calls = (float(x) for x in row[len(label) + 2:].split()[:2])
+            us, calls = (float(x) for x in row[len(label) + 2 :].split()[:2])
             assert us > 0 and calls >= 1, row
     total = float(numpy_part.split(" numpy calls per step")[0].rsplit(" ", 1)[1])
     assert 20 < total < 200  # the whole step, model callbacks included

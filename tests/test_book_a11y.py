@@ -49,18 +49,21 @@ TAB_PRESSES = 15
 _WIDGET_VIEW = 'script[type="application/vnd.jupyter.widget-view+json"]'
 
 
-def _open(chromium: object, site: str, toc_page: str, *, dark: bool = False,
-          width: int = 1280) -> tuple[object, object]:
+def _open(
+    chromium: object, site: str, toc_page: str, *, dark: bool = False, width: int = 1280
+) -> tuple[object, object]:
     """Open a new context and page showing ``toc_page``, its maths typeset, its widgets rendered.
 
     The page is in dark mode if ``dark``.
     """
-    context = chromium.new_context(viewport={"width": width, "height": 900},
-                                   color_scheme="dark" if dark else "light")
+    context = chromium.new_context(
+        viewport={"width": width, "height": 900}, color_scheme="dark" if dark else "light"
+    )
     mode = "dark" if dark else "light"
     context.add_init_script(
         f"try {{ localStorage.setItem('mode', '{mode}'); localStorage.setItem('theme', "
-        f"'{mode}'); }} catch (e) {{}}")
+        f"'{mode}'); }} catch (e) {{}}"
+    )
     page = context.new_page()
     page.set_default_timeout(TIMEOUT_MS)
     page.goto(site + toc_page + ".html", wait_until="load")
@@ -78,9 +81,11 @@ def _settle(page: object) -> None:
     }""")
     if page.locator(_WIDGET_VIEW).count():
         page.wait_for_function(_WIDGETS_RENDERED_JS, timeout=TIMEOUT_MS)
-        page.wait_for_function("() => document.querySelectorAll("
-                               "'.widget-slider[data-a11y]').length === document"
-                               ".querySelectorAll('.widget-slider').length")
+        page.wait_for_function(
+            "() => document.querySelectorAll("
+            "'.widget-slider[data-a11y]').length === document"
+            ".querySelectorAll('.widget-slider').length"
+        )
     page.wait_for_timeout(300)
 
 
@@ -90,8 +95,7 @@ def _axe(page: object, *, rules: list[str] | None = None) -> list[dict]:
         browser_unavailable(f"{AXE} missing: run `npm ci` (scripts/build-book.sh does)")
     if not page.evaluate("typeof window.axe !== 'undefined'"):
         page.add_script_tag(path=str(AXE))
-    run_only = {"type": "rule", "values": rules} if rules else {"type": "tag",
-                                                                 "values": AXE_TAGS}
+    run_only = {"type": "rule", "values": rules} if rules else {"type": "tag", "values": AXE_TAGS}
     return page.evaluate(
         """async (runOnly) => {
           const result = await axe.run(document, {runOnly, resultTypes: ['violations']});
@@ -100,7 +104,9 @@ def _axe(page: object, *, rules: list[str] | None = None) -> list[dict]:
             nodes: v.nodes.map(n => ({target: n.target.join(' '),
                                       summary: n.failureSummary,
                                       html: n.html.slice(0, 200)}))}));
-        }""", run_only)
+        }""",
+        run_only,
+    )
 
 
 #: What one visit of a page found, by (page, mode): each page is opened once per colour
@@ -131,6 +137,8 @@ _SCROLLING_JS = """() => Array.from(document.querySelectorAll('.bd-article *')).
     && ['auto', 'scroll'].includes(getComputedStyle(el).overflowX)).map(el => ({
       tag: el.tagName + '.' + el.className, tabindex: el.getAttribute('tabindex'),
       name: el.getAttribute('aria-label') || ''}))"""
+
+
 def _report(chromium: object, site: str, toc_page: str, mode: str) -> dict:
     """Open ``toc_page`` once in ``mode`` and record what the checks read.
 
@@ -144,8 +152,11 @@ def _report(chromium: object, site: str, toc_page: str, mode: str) -> dict:
         try:
             report: dict = {"axe": _axe(page)}
             if mode == "light":
-                report.update(sliders=page.evaluate(_SLIDERS_JS),
-                              live=page.evaluate(_LIVE_JS), images=page.evaluate(_IMAGES_JS))
+                report.update(
+                    sliders=page.evaluate(_SLIDERS_JS),
+                    live=page.evaluate(_LIVE_JS),
+                    images=page.evaluate(_IMAGES_JS),
+                )
                 page.set_viewport_size({"width": 320, "height": 900})
                 page.wait_for_timeout(500)
                 report["widths"] = page.evaluate(_WIDTHS_JS)
@@ -155,8 +166,7 @@ def _report(chromium: object, site: str, toc_page: str, mode: str) -> dict:
                 report["scrolling"] = page.evaluate(_SCROLLING_JS)
                 if toc_page in {"book/recursive_filter", "book/run"}:
                     ARTIFACTS.mkdir(exist_ok=True)
-                    page.screenshot(
-                        path=str(ARTIFACTS / f"{toc_page.replace('/', '-')}-320.png"))
+                    page.screenshot(path=str(ARTIFACTS / f"{toc_page.replace('/', '-')}-320.png"))
         finally:
             context.close()
         _REPORTS[key] = report
@@ -168,10 +178,11 @@ def test_axe_finds_no_violation(chromium: object, site: str, toc_page: str, mode
     violations = _report(chromium, site, toc_page, mode)["axe"]
     AXE_RESULTS.mkdir(parents=True, exist_ok=True)
     stem = f"{toc_page.replace('/', '-')}-{mode}"
-    (AXE_RESULTS / f"{stem}.json").write_text(json.dumps(violations, indent=1),
-                                              encoding="utf-8")
-    summary = [f"{v['id']} ({len(v['nodes'])}): {v['nodes'][0]['target']} "
-               f"{v['nodes'][0]['summary']}" for v in violations]
+    (AXE_RESULTS / f"{stem}.json").write_text(json.dumps(violations, indent=1), encoding="utf-8")
+    summary = [
+        f"{v['id']} ({len(v['nodes'])}): {v['nodes'][0]['target']} {v['nodes'][0]['summary']}"
+        for v in violations
+    ]
     assert not violations, f"{toc_page} ({mode}): " + "\n".join(summary)
 
 
@@ -210,8 +221,7 @@ def _unit(label: str) -> str:
     return found.group(1) if found else ""
 
 
-@pytest.mark.parametrize("page_name", [p for p in toc_pages()
-                                       if (ROOT / f"{p}.md").is_file()])
+@pytest.mark.parametrize("page_name", [p for p in toc_pages() if (ROOT / f"{p}.md").is_file()])
 def test_sliders_say_what_they_show(chromium: object, site: str, page_name: str) -> None:
     report = _report(chromium, site, page_name, "light")
     sliders, live = report["sliders"], report["live"]
@@ -223,16 +233,17 @@ def test_sliders_say_what_they_show(chromium: object, site: str, page_name: str)
         assert s["valuetext"] == want, f"{page_name}: {s['label']!r} says {s['valuetext']!r}"
         if s["disabled"]:
             assert s["ariaDisabled"] == "true" and s["tabindex"] == "-1", (
-                f"{page_name}: disabled {s['label']!r} stays in the Tab order: {s}")
+                f"{page_name}: disabled {s['label']!r} stays in the Tab order: {s}"
+            )
             assert "notebook" in s["described"], (
-                f"{page_name}: disabled {s['label']!r} is not described by the note: {s}")
+                f"{page_name}: disabled {s['label']!r} is not described by the note: {s}"
+            )
         else:
             assert s["ariaDisabled"] != "true" and s["tabindex"] == "0", s
     assert all(live), f"{page_name}: an explorer readout is not in a live region"
 
 
-@pytest.mark.parametrize("page_name", [p for p in toc_pages()
-                                       if (ROOT / f"{p}.md").is_file()])
+@pytest.mark.parametrize("page_name", [p for p in toc_pages() if (ROOT / f"{p}.md").is_file()])
 def test_every_image_has_a_written_alt(chromium: object, site: str, page_name: str) -> None:
     images = _report(chromium, site, page_name, "light")["images"]
     for image in images:
@@ -241,13 +252,14 @@ def test_every_image_has_a_written_alt(chromium: object, site: str, page_name: s
         alt = image["alt"] or ""
         assert len(alt.split()) >= 3, f"{page_name}: image without a written alt {image}"
         assert not re.search(r"\.(png|svg|jpe?g|gif)\b|_images/|_states/", alt), (
-            f"{page_name}: alt is a file name {image}")
+            f"{page_name}: alt is a file name {image}"
+        )
 
 
-@pytest.mark.parametrize("page_name", [p for p in toc_pages()
-                                       if (ROOT / f"{p}.md").is_file()])
-def test_boxes_that_scroll_take_the_keyboard_focus_at_320_px(chromium: object, site: str,
-                                                            page_name: str) -> None:
+@pytest.mark.parametrize("page_name", [p for p in toc_pages() if (ROOT / f"{p}.md").is_file()])
+def test_boxes_that_scroll_take_the_keyboard_focus_at_320_px(
+    chromium: object, site: str, page_name: str
+) -> None:
     """At 320 CSS px, every box that scrolls on its own can be scrolled with the keyboard.
 
     Code, tables, outputs and formulas that scroll inside their own box are each a named
@@ -255,14 +267,17 @@ def test_boxes_that_scroll_take_the_keyboard_focus_at_320_px(chromium: object, s
     """
     report = _report(chromium, site, page_name, "light")
     assert not report["scroll_boxes"], f"{page_name}: {report['scroll_boxes']}"
-    unnamed = [box for box in report["scrolling"]
-               if box["tabindex"] == "0" and not box["name"]
-               and not box["tag"].startswith(("INPUT", "SELECT", "TEXTAREA"))]
+    unnamed = [
+        box
+        for box in report["scrolling"]
+        if box["tabindex"] == "0"
+        and not box["name"]
+        and not box["tag"].startswith(("INPUT", "SELECT", "TEXTAREA"))
+    ]
     assert not unnamed, f"{page_name}: boxes that scroll without a name: {unnamed[:5]}"
 
 
-@pytest.mark.parametrize("page_name", [p for p in toc_pages()
-                                       if (ROOT / f"{p}.md").is_file()])
+@pytest.mark.parametrize("page_name", [p for p in toc_pages() if (ROOT / f"{p}.md").is_file()])
 def test_no_sideways_scroll_at_320_px(chromium: object, site: str, page_name: str) -> None:
     widths = _report(chromium, site, page_name, "light")["widths"]
     assert widths["page"] <= widths["view"], f"{page_name} scrolls sideways at 320 px: {widths}"
@@ -270,8 +285,9 @@ def test_no_sideways_scroll_at_320_px(chromium: object, site: str, page_name: st
 
 def _book_weight() -> object:
     """benchmarks/book_weight.py as a module (it measures what the budget test checks)."""
-    spec = importlib.util.spec_from_file_location("benchmark_book_weight",
-                                                  ROOT / "benchmarks" / "book_weight.py")
+    spec = importlib.util.spec_from_file_location(
+        "benchmark_book_weight", ROOT / "benchmarks" / "book_weight.py"
+    )
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module
@@ -280,15 +296,17 @@ def _book_weight() -> object:
 
 
 @pytest.mark.parametrize("page_name", toc_pages())
-def test_first_load_within_budget(chromium: object, site: str, built_book: object,
-                                  page_name: str) -> None:
+def test_first_load_within_budget(
+    chromium: object, site: str, built_book: object, page_name: str
+) -> None:
     weight = _book_weight().weigh(chromium, site, page_name, built_book.html_dir)
     assert weight.files > 3, f"{page_name}: only {weight.files} files fetched"
     assert weight.budget == (BUDGET if weight.explorer else BUDGET_NO_EXPLORER)
     assert weight.gzipped <= weight.budget, (
         f"{page_name}: {weight.gzipped / 1e6:.2f} MB gzipped first load "
         f"({weight.raw / 1e6:.2f} MB raw) over {weight.budget / 1e6:.1f} MB; "
-        f"largest: {weight.largest}")
+        f"largest: {weight.largest}"
+    )
 
 
 _FOCUSED_JS = """() => { const el = document.activeElement;
@@ -311,7 +329,8 @@ def _start_at_the_top_of_the_article(page: object) -> None:
 
 def _visibly_focused(focused: dict) -> bool:
     return (focused["outline"] != "none" and focused["width"] >= 2) or (
-        focused["shadow"] not in ("none", ""))
+        focused["shadow"] not in ("none", "")
+    )
 
 
 def test_tab_reaches_a_slider_quickly(chromium: object, site: str) -> None:
@@ -336,7 +355,8 @@ def test_tab_reaches_a_slider_quickly(chromium: object, site: str) -> None:
             assert not focused["math"], f"{TAB_PAGE}: press {presses} lands on a formula"
             assert _visibly_focused(focused), f"{TAB_PAGE}: no visible focus on {focused}"
         assert page.evaluate(_FOCUSED_JS)["slider"], (
-            f"{TAB_PAGE}: no slider within {TAB_PRESSES - 1} key presses: {stops}")
+            f"{TAB_PAGE}: no slider within {TAB_PRESSES - 1} key presses: {stops}"
+        )
         assert stops[0]["skip"], stops[0]
     finally:
         context.close()
@@ -381,7 +401,8 @@ def test_without_the_skip_link_tab_follows_the_text(chromium: object, site: str)
             assert _visibly_focused(focused), f"{TAB_PAGE}: no visible focus on {focused}"
             assert stop == str(presses - 1), (
                 f"{TAB_PAGE}: Tab {presses} lands on {focused}, stop {stop}, not on the "
-                f"next link or control of the text ({presses - 1}); order so far {order}")
+                f"next link or control of the text ({presses - 1}); order so far {order}"
+            )
         assert page.evaluate(_FOCUSED_JS)["slider"], f"{TAB_PAGE}: {order}"
         print(f"{TAB_PAGE}: first slider at Tab {expected + 1} without the skip link")
     finally:

@@ -166,8 +166,14 @@ def test_intro_embeds_its_widget(built_book: BookBuild) -> None:
 
 def test_teaching_page_has_plans_map_and_text_version(built_book: BookBuild) -> None:
     page = (built_book.html_dir / "book" / "teaching.html").read_text(encoding="utf-8")
-    for needed in ("6-week graduate module", "12-week course", "Text version of the map",
-                   "tb-fig-prerequisites", "How the lab fits", "homework or class"):
+    for needed in (
+        "6-week graduate module",
+        "12-week course",
+        "Text version of the map",
+        "tb-fig-prerequisites",
+        "How the lab fits",
+        "homework or class",
+    ):
         assert needed in page, needed
     parser = _PageParser()
     parser.feed(page)

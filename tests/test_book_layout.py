@@ -24,20 +24,22 @@ VIEWPORTS = {"1280": (1280, 900), "768": (768, 1000)}
 SHOTS = ARTIFACTS / "layout"
 
 #: Elements that must fit the column (everything a reader sees except code blocks).
-_CHECKED = ", ".join([
-    'mjx-container[display="true"]',
-    "table",
-    "div.pst-scrollable-table-container",
-    "div.cell_output",
-    "div.cell_output div.output",
-    "div.cell_output pre",
-    "div.widget-subarea",
-    "div.jupyter-widgets",
-    "figure",
-    "img",
-    "div.admonition",
-    "p",
-])
+_CHECKED = ", ".join(
+    [
+        'mjx-container[display="true"]',
+        "table",
+        "div.pst-scrollable-table-container",
+        "div.cell_output",
+        "div.cell_output div.output",
+        "div.cell_output pre",
+        "div.widget-subarea",
+        "div.jupyter-widgets",
+        "figure",
+        "img",
+        "div.admonition",
+        "p",
+    ]
+)
 
 _OVERFLOW_JS = """
 (selector) => {
@@ -100,8 +102,11 @@ SCREENSHOTS = [
     ("book/random_sets", "#equation-rs-image", "eq-image"),
     ("book/random_sets", "#equation-rs-monotone", "eq-monotone"),
     ("book/level_gauge", "#equation-lg-beat-phase", "eq-beat-phase"),
-    ("book/estimating_level", "div.cell_output table:has-text('particle') >> nth=0",
-     "table-true-orders"),
+    (
+        "book/estimating_level",
+        "div.cell_output table:has-text('particle') >> nth=0",
+        "table-true-orders",
+    ),
     ("book/notation", "table >> nth=0", "table-notation"),
     ("book/recursive_filter", "#rf-fig-start", "fig-log-axis"),
     ("book/lab", "div.cell_output:has-text('DetectionError') >> nth=0", "lab-error-1"),
@@ -109,40 +114,56 @@ SCREENSHOTS = [
 ]
 
 
-def _open(chromium: object, site: str, page_name: str,  # noqa: F811
-          width: int, height: int) -> object:
+def _open(
+    chromium: object,
+    site: str,  # noqa: F811
+    page_name: str,
+    width: int,
+    height: int,
+) -> object:
     context = chromium.new_context(viewport={"width": width, "height": height})
     page = context.new_page()
     page.set_default_timeout(TIMEOUT_MS)
-    page.route("**/*", lambda route: route.continue_() if "127.0.0.1" in route.request.url
-               else route.abort())
+    page.route(
+        "**/*",
+        lambda route: route.continue_() if "127.0.0.1" in route.request.url else route.abort(),
+    )
     page.goto(site + page_name + ".html", wait_until="load")
     page.evaluate(_MATHJAX_READY_JS)
     if page.locator('script[type="application/vnd.jupyter.widget-view+json"]').count():
         page.wait_for_function(
             "() => document.querySelectorAll('.widget-subarea .jupyter-widgets').length > 0",
-            timeout=TIMEOUT_MS)
+            timeout=TIMEOUT_MS,
+        )
     page.wait_for_load_state("networkidle")
     return page
 
 
 @pytest.mark.parametrize("viewport", list(VIEWPORTS))
-def test_page_fits_its_column(chromium: object, site: str,  # noqa: F811
-                              toc_page: str, viewport: str) -> None:
+def test_page_fits_its_column(
+    chromium: object,
+    site: str,  # noqa: F811
+    toc_page: str,
+    viewport: str,
+) -> None:
     width, height = VIEWPORTS[viewport]
     page = _open(chromium, site, toc_page, width, height)
     try:
         overflow = page.evaluate(_OVERFLOW_JS, _CHECKED)
-        assert not overflow, (
-            f"{toc_page} at {width} px: wider than the column:\n  " + "\n  ".join(overflow)
+        assert not overflow, f"{toc_page} at {width} px: wider than the column:\n  " + "\n  ".join(
+            overflow
         )
     finally:
         page.context.close()
 
 
 @pytest.mark.parametrize("viewport", list(VIEWPORTS))
-def test_widget_readouts_take_two_lines(chromium: object, site: str,  # noqa: F811
-                                        toc_page: str, viewport: str) -> None:
+def test_widget_readouts_take_two_lines(
+    chromium: object,
+    site: str,  # noqa: F811
+    toc_page: str,
+    viewport: str,
+) -> None:
     width, height = VIEWPORTS[viewport]
     page = _open(chromium, site, toc_page, width, height)
     try:
@@ -153,8 +174,11 @@ def test_widget_readouts_take_two_lines(chromium: object, site: str,  # noqa: F8
 
 
 @pytest.mark.parametrize("viewport", list(VIEWPORTS))
-def test_screenshots_of_the_elements_issue_13_found_clipped(
-        chromium: object, site: str, viewport: str) -> None:  # noqa: F811
+def test_screenshots_of_the_elements_once_found_clipped(
+    chromium: object,
+    site: str,  # noqa: F811
+    viewport: str,
+) -> None:
     width, height = VIEWPORTS[viewport]
     SHOTS.mkdir(parents=True, exist_ok=True)
     missing = []

@@ -17,12 +17,14 @@ from conftest import ROOT
 
 DOTTED = re.compile(r"\bdstoolkit(?:\.[A-Za-z_]\w*)+")
 FROM_IMPORT = re.compile(
-    r"^\s*from\s+(dstoolkit(?:\.\w+)*)\s+import\s+(\([^)]*\)|[^\n#]+)", flags=re.M)
+    r"^\s*from\s+(dstoolkit(?:\.\w+)*)\s+import\s+(\([^)]*\)|[^\n#]+)", flags=re.M
+)
 
 
 def sources() -> list[Path]:
     return sorted((ROOT / "book").glob("*.md")) + sorted(
-        (ROOT / "notebooks" / "source").glob("*.md"))
+        (ROOT / "notebooks" / "source").glob("*.md")
+    )
 
 
 def mentioned_names() -> dict[str, list[str]]:
@@ -74,7 +76,8 @@ def test_every_package_name_in_the_book_imports(name: str) -> None:
     assert resolves(name), f"{name} does not import; mentioned at {', '.join(NAMES[name])}"
 
 
-@pytest.mark.parametrize("name", ["dstoolkit.bounded_error_filter",
-                                  "dstoolkit.evidence.no_such_function"])
+@pytest.mark.parametrize(
+    "name", ["dstoolkit.bounded_error_filter", "dstoolkit.evidence.no_such_function"]
+)
 def test_a_missing_name_is_caught(name: str) -> None:
     assert not resolves(name)

@@ -40,8 +40,7 @@ LOG_PROBLEMS = re.compile(
 
 
 def _run(*args: str | Path) -> str:
-    return subprocess.run([str(a) for a in args], check=True, capture_output=True,
-                          text=True).stdout
+    return subprocess.run([str(a) for a in args], check=True, capture_output=True, text=True).stdout
 
 
 @pytest.fixture(scope="module")
@@ -52,8 +51,13 @@ def pdf() -> Path:
         if REQUIRE_PDF:
             pytest.fail(reason + " (DSTOOLKIT_REQUIRE_PDF=1)")
         pytest.skip(reason)
-    result = subprocess.run(["bash", str(ROOT / "scripts" / "build-pdf.sh")], cwd=ROOT,
-                            capture_output=True, text=True, timeout=5400)
+    result = subprocess.run(
+        ["bash", str(ROOT / "scripts" / "build-pdf.sh")],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=5400,
+    )
     ARTIFACTS.mkdir(exist_ok=True)
     (ARTIFACTS / "pdf-build.log").write_text(result.stdout + result.stderr, encoding="utf-8")
     assert result.returncode == 0, (result.stdout + result.stderr)[-3000:]
@@ -89,8 +93,9 @@ def test_every_chapter_is_in_the_pdf(pdf: Path) -> None:
     first_sentence = re.search(r"^# [^\n]+\n\n([^;.]+)", root, flags=re.M)
     assert first_sentence, "the opening sentence of the root page"
     titles["root page"] = first_sentence.group(1)
-    missing = [f"{page}: {title!r}" for page, title in titles.items()
-               if _words(title).strip() not in text]
+    missing = [
+        f"{page}: {title!r}" for page, title in titles.items() if _words(title).strip() not in text
+    ]
     assert not missing, f"chapters missing from the PDF: {missing}"
 
 
@@ -103,14 +108,17 @@ def test_only_the_numbered_parts_have_chapter_numbers(pdf: Path) -> None:
 
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
     titles = _chapter_titles()
-    contents = [" ".join(line.split()) for line in
-                _run("pdftotext", "-layout", "-l", "8", pdf, "-").splitlines()]
+    contents = [
+        " ".join(line.split())
+        for line in _run("pdftotext", "-layout", "-l", "8", pdf, "-").splitlines()
+    ]
     number = 0
     for part in toc["parts"]:
         for chapter in part["chapters"]:
             title = titles[chapter["file"]]
-            line = next((ln for ln in contents
-                         if ln.startswith((f"{number + 1} {title}", title))), None)
+            line = next(
+                (ln for ln in contents if ln.startswith((f"{number + 1} {title}", title))), None
+            )
             assert line is not None, f"{title!r} is not in the table of contents"
             if part.get("numbered"):
                 number += 1
@@ -149,7 +157,8 @@ def test_the_figures_are_in_the_pdf(pdf: Path) -> None:
     assert figures > 30 and explorers > 8, (figures, explorers)
     # every captioned figure and the first figure of every explorer
     assert len(images) >= figures + explorers, (
-        f"{len(images)} images in the PDF for {figures} figures and {explorers} explorers")
+        f"{len(images)} images in the PDF for {figures} figures and {explorers} explorers"
+    )
 
 
 def test_pages_render_and_are_not_blank(pdf: Path) -> None:
@@ -160,8 +169,7 @@ def test_pages_render_and_are_not_blank(pdf: Path) -> None:
 
     for number in sorted({1, 2, pages // 4, pages // 2, 3 * pages // 4, pages}):
         prefix = SHOTS / f"page-{number:03d}"
-        _run("pdftoppm", "-png", "-r", "60", "-f", number, "-l", number, "-singlefile", pdf,
-             prefix)
+        _run("pdftoppm", "-png", "-r", "60", "-f", number, "-l", number, "-singlefile", pdf, prefix)
         image = Image.open(prefix.with_suffix(".png")).convert("L")
         dark = image.point(lambda value: 255 if value < 128 else 0).histogram()[255]
         assert dark > 200, f"page {number} looks blank ({dark} dark pixels)"
@@ -195,8 +203,12 @@ def test_the_outline_holds_every_chapter_and_section(pdf: Path) -> None:
     outline = _outline(pdf)
     expected = {page: _headings(page) for page in toc_pages()[1:]}
     assert sum(len(titles) for titles in expected.values()) > 100, expected
-    missing = [f"{page}: {title!r}" for page, titles in expected.items() for title in titles
-               if not any(title in entry for entry in outline)]
+    missing = [
+        f"{page}: {title!r}"
+        for page, titles in expected.items()
+        for title in titles
+        if not any(title in entry for entry in outline)
+    ]
     assert not missing, f"{len(missing)} headings not in the outline: {missing[:20]}"
 
 

@@ -16,7 +16,8 @@ from conftest import ROOT
 
 EXT = ROOT / "book" / "_ext" / "dstoolkit_a11y.py"
 PNG = base64.b64decode(
-    "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNk+M9QDwADhgGAWjR9awAAAABJRU5ErkJggg==")
+    "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNk+M9QDwADhgGAWjR9awAAAABJRU5ErkJggg=="
+)
 
 
 def _ext() -> object:
@@ -30,9 +31,17 @@ def _ext() -> object:
 
 def _page(tmp_path: Path) -> Path:
     data = base64.b64encode(PNG).decode()
-    state = {"state": {"m1": {"model_name": "HTMLModel", "state": {
-        "value": f"<img class='dstoolkit-figure' src='data:image/png;base64,{data}' "
-                 "alt='Figure for level L (m) = 9.6: estimate (m) 9.6100.'>"}}}}
+    state = {
+        "state": {
+            "m1": {
+                "model_name": "HTMLModel",
+                "state": {
+                    "value": f"<img class='dstoolkit-figure' src='data:image/png;base64,{data}' "
+                    "alt='Figure for level L (m) = 9.6: estimate (m) 9.6100.'>"
+                },
+            }
+        }
+    }
     page = tmp_path / "book" / "chapter.html"
     page.parent.mkdir()
     page.write_text(
@@ -46,7 +55,10 @@ def _page(tmp_path: Path) -> Path:
         '</summary><img alt="A line chart of the errors." src="../_images/f.png" />'
         '<div class="citation" id="id1" role="doc-biblioentry">A book.</div>'
         '<script type="application/vnd.jupyter.widget-state+json">'
-        + json.dumps(state) + "</script></body></html>", encoding="utf-8")
+        + json.dumps(state)
+        + "</script></body></html>",
+        encoding="utf-8",
+    )
     return page
 
 
@@ -78,8 +90,14 @@ def test_font_awesome_keeps_only_the_icons_the_pages_use(tmp_path: Path) -> None
     scripts.mkdir(parents=True)
     import pydata_sphinx_theme
 
-    bundle = (Path(pydata_sphinx_theme.__file__).parent / "theme" / "pydata_sphinx_theme"
-              / "static" / "scripts" / "fontawesome.js")
+    bundle = (
+        Path(pydata_sphinx_theme.__file__).parent
+        / "theme"
+        / "pydata_sphinx_theme"
+        / "static"
+        / "scripts"
+        / "fontawesome.js"
+    )
     (scripts / "fontawesome.js").write_bytes(bundle.read_bytes())
     assert len(ext.fontawesome_icons(bundle.read_text(encoding="utf-8"))) > 1500
     kept = ext.subset_fontawesome(tmp_path / "_static", [page])

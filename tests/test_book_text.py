@@ -44,8 +44,13 @@ def test_the_counter_counts_prose() -> None:
 
 def test_no_internal_document_is_named() -> None:
     found = []
-    for folder, pattern in (("book", "*.md"), ("dstoolkit", "*.py"), ("tests", "*.py"),
-                            ("notebooks", "*.ipynb"), ("scripts", "*.sh")):
+    for folder, pattern in (
+        ("book", "*.md"),
+        ("dstoolkit", "*.py"),
+        ("tests", "*.py"),
+        ("notebooks", "*.ipynb"),
+        ("scripts", "*.sh"),
+    ):
         for path in sorted((ROOT / folder).rglob(pattern)):
             if path.name == "test_book_text.py":
                 continue
@@ -65,9 +70,13 @@ def test_every_cited_work_is_in_the_bibliography() -> None:
     assert {"wu1996", "cramer1993", "xu2017"} <= cited
     missing = sorted(cited - set(entries))
     assert not missing, f"cited but not in references.bib: {missing}"
-    incomplete = [key for key in cited
-                  if not all(re.search(rf"\b{field}\s*=", entries[key])
-                             for field in ("author", "title", "year"))]
+    incomplete = [
+        key
+        for key in cited
+        if not all(
+            re.search(rf"\b{field}\s*=", entries[key]) for field in ("author", "title", "year")
+        )
+    ]
     assert not incomplete, f"entries without author, title or year: {incomplete}"
 
 

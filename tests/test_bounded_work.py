@@ -38,8 +38,14 @@ from dstoolkit.filters import (
 )
 from dstoolkit.gauge import gauge_state_space_model, simulate_gauge
 
-FILTERS = [DependentEvidenceFilter(), NassreddineFilter(), NassreddineFilter(restart=True),
-           BoundedErrorFilter(), KalmanFilter(), ParticleFilter(n_particles=100)]
+FILTERS = [
+    DependentEvidenceFilter(),
+    NassreddineFilter(),
+    NassreddineFilter(restart=True),
+    BoundedErrorFilter(),
+    KalmanFilter(),
+    ParticleFilter(n_particles=100),
+]
 IDS = [f.name for f in FILTERS]
 
 
@@ -57,8 +63,7 @@ def test_every_filter_has_the_interface_with_its_signatures(flt):
     for method in ("initialize", "step", "run", "run_batch"):
         want = list(inspect.signature(getattr(Filter, method)).parameters.values())[1:]
         have = list(inspect.signature(getattr(flt, method)).parameters.values())
-        assert [(p.name, p.default) for p in have] == [(p.name, p.default) for p in want], \
-            method
+        assert [(p.name, p.default) for p in have] == [(p.name, p.default) for p in want], method
     assert type(flt).run is Filter.run and type(flt).run_batch is Filter.run_batch
 
 

@@ -28,8 +28,9 @@ from chapter_notebook import (  # noqa: E402
 )
 
 #: MyST that must not survive the conversion: roles, directive fences, options, targets.
-RAW_MYST = re.compile(r"\{[\w:.+-]+\}`|^\s*[`~:]{3,}\s*\{|^\s*:(label|class|tags):|^\(\S+\)=\s*$",
-                      re.MULTILINE)
+RAW_MYST = re.compile(
+    r"\{[\w:.+-]+\}`|^\s*[`~:]{3,}\s*\{|^\s*:(label|class|tags):|^\(\S+\)=\s*$", re.MULTILINE
+)
 
 
 def directive_phrases(chapter_source: str, directive: str) -> list[str]:
@@ -66,23 +67,32 @@ def _refs(**glue: str) -> References:
 # --------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize(("myst", "markdown"), [
-    ("Bel is {glue:text}`bel:.2f` here.", "Bel is 0.80 here."),
-    ("as {glue:md}`table`", "as | a |\n| - |"),
-    ("by {eq}`mf-bel`", "by (3.2)"),
-    ("{numref}`mf-fig` shows", "Fig. 3.1 shows"),
-    ("{numref}`Figure %s <mf-fig>`", "Figure 3.1"),
-    ("see {doc}`notation`", "see *Notation* (chapter 1)"),
-    ("see {doc}`the symbols <notation>`", "see the symbols (chapter 1)"),
-    ("a {term}`mass function`, {term}`focal elements <focal element>`",
-     "a mass function, focal elements"),
-    ("as {cite:t}`xu2017` do {cite:p}`xu2017,shafer1976`",
-     "as Xu et al. (2017) do (Xu et al., 2017; Shafer, 1976)"),
-    ("{ref}`intro`", "*How to use this book*"),
-    ("sheet {download}`notebooks/03_x.ipynb <../notebooks/03_x.ipynb>`",
-     "sheet `notebooks/03_x.ipynb`"),
-    ("code `{eq}` stays", "code `{eq}` stays"),
-])
+@pytest.mark.parametrize(
+    ("myst", "markdown"),
+    [
+        ("Bel is {glue:text}`bel:.2f` here.", "Bel is 0.80 here."),
+        ("as {glue:md}`table`", "as | a |\n| - |"),
+        ("by {eq}`mf-bel`", "by (3.2)"),
+        ("{numref}`mf-fig` shows", "Fig. 3.1 shows"),
+        ("{numref}`Figure %s <mf-fig>`", "Figure 3.1"),
+        ("see {doc}`notation`", "see *Notation* (chapter 1)"),
+        ("see {doc}`the symbols <notation>`", "see the symbols (chapter 1)"),
+        (
+            "a {term}`mass function`, {term}`focal elements <focal element>`",
+            "a mass function, focal elements",
+        ),
+        (
+            "as {cite:t}`xu2017` do {cite:p}`xu2017,shafer1976`",
+            "as Xu et al. (2017) do (Xu et al., 2017; Shafer, 1976)",
+        ),
+        ("{ref}`intro`", "*How to use this book*"),
+        (
+            "sheet {download}`notebooks/03_x.ipynb <../notebooks/03_x.ipynb>`",
+            "sheet `notebooks/03_x.ipynb`",
+        ),
+        ("code `{eq}` stays", "code `{eq}` stays"),
+    ],
+)
 def test_roles_read_as_in_the_book(myst: str, markdown: str) -> None:
     assert clean_markdown(myst, _refs(bel="0.8"), "book/mass_functions") == markdown
 
@@ -122,14 +132,20 @@ $$
 \\mathrm{Bel}(A) = \\sum_{B \\subseteq A} m(B)
 $$ (mf-bel)"""
     out = clean_markdown(myst, _refs(), "book/mass_functions")
-    assert out == ("> **What you will learn**\n>\n> - belief, with (3.2)\n\n$$\n"
-                   "\\mathrm{Bel}(A) = \\sum_{B \\subseteq A} m(B)\n\\tag{3.2}\n$$")
+    assert out == (
+        "> **What you will learn**\n>\n> - belief, with (3.2)\n\n$$\n"
+        "\\mathrm{Bel}(A) = \\sum_{B \\subseteq A} m(B)\n\\tag{3.2}\n$$"
+    )
 
 
 def test_unknown_syntax_is_reported() -> None:
     said: list[str] = []
-    out = clean_markdown("{mystery}`x` and {eq}`nowhere`\n\n```{tabs}\nInside.\n```",
-                         _refs(), "book/mass_functions", warn=said.append)
+    out = clean_markdown(
+        "{mystery}`x` and {eq}`nowhere`\n\n```{tabs}\nInside.\n```",
+        _refs(),
+        "book/mass_functions",
+        warn=said.append,
+    )
     assert "x and (nowhere)" in out and "> Inside." in out
     assert len(said) == 3 and any("tabs" in s for s in said) and any("mystery" in s for s in said)
 
@@ -146,7 +162,7 @@ def g(name, value):
 
 def twice(x):
     return 2 * x'''
-    numbers = '''total = np.sum([1, 2])
+    numbers = """total = np.sum([1, 2])
 g("total", total)
 for k in range(2):
     g(f"k{k}", k)
@@ -154,7 +170,7 @@ if total > 2:
     g("big", 1)
 else:
     print("small")
-glue("word", "does", display=False)'''
+glue("word", "does", display=False)"""
     only_glue = 'g("a", 1)\ng("b", 2)'
     out = strip_glue([setup, numbers, only_glue])
     assert out[0] == "import numpy as np\n\ndef twice(x):\n    return 2 * x"
@@ -168,18 +184,26 @@ glue("word", "does", display=False)'''
 def test_code_without_glue_is_untouched() -> None:
     sources = ["x = 1\n# a comment\nprint(x)", "def g(a):\n    return a"]
     assert strip_glue(sources) == sources
-    magics = ["%matplotlib inline\nfrom myst_nb import glue\nglue('a', 1)", "%%bash\nls",
-              "# only a comment"]
+    magics = [
+        "%matplotlib inline\nfrom myst_nb import glue\nglue('a', 1)",
+        "%%bash\nls",
+        "# only a comment",
+    ]
     assert strip_glue(magics) == ["%matplotlib inline", "%%bash\nls", "# only a comment"]
 
 
 def test_notebook_folds_hidden_code_and_captions_figures() -> None:
     cells = [
         nbformat.v4.new_markdown_cell("(mf)=\n# Mass functions\n\nSee {eq}`mf-bel`."),
-        nbformat.v4.new_code_cell("from myst_nb import glue\nx = 1\nglue('x', x)",
-                                  metadata={"tags": ["remove-cell"]}),
-        nbformat.v4.new_code_cell("plot(x)", metadata={"mystnb": {"figure": {
-            "name": "mf-fig", "caption": "The masses, {eq}`mf-bel`."}}}),
+        nbformat.v4.new_code_cell(
+            "from myst_nb import glue\nx = 1\nglue('x', x)", metadata={"tags": ["remove-cell"]}
+        ),
+        nbformat.v4.new_code_cell(
+            "plot(x)",
+            metadata={
+                "mystnb": {"figure": {"name": "mf-fig", "caption": "The masses, {eq}`mf-bel`."}}
+            },
+        ),
         nbformat.v4.new_markdown_cell("```{solution} mf-ex\nSecret.\n```"),
     ]
     nb = clean_notebook(cells, _refs(), "book/mass_functions", preface="From the book.")
@@ -205,8 +229,12 @@ def _numbered_chapters() -> list[str]:
     import yaml
 
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
-    return [Path(ch["file"]).stem for part in toc["parts"] if part.get("numbered")
-            for ch in part["chapters"]]
+    return [
+        Path(ch["file"]).stem
+        for part in toc["parts"]
+        if part.get("numbered")
+        for ch in part["chapters"]
+    ]
 
 
 CHAPTERS = _numbered_chapters()
@@ -236,8 +264,7 @@ def test_chapter_notebook_is_clean(built_book: BookBuild, stem: str) -> None:
     exercises = len(re.findall(r"^`{3,}\{exercise\}", source, re.MULTILINE))
     headings = re.findall(rf"\*\*Exercise {number}\.(\d+)\*\*", markdown)
     assert headings == [str(i) for i in range(1, exercises + 1)]
-    missing = [p for p in directive_phrases(source, "exercise")
-               if " ".join(p.split()) not in flat]
+    missing = [p for p in directive_phrases(source, "exercise") if " ".join(p.split()) not in flat]
     assert not missing, f"exercise text missing from {path.name}: {missing[:3]}"
 
     from IPython.core.inputtransformer2 import TransformerManager
@@ -248,13 +275,16 @@ def test_chapter_notebook_is_clean(built_book: BookBuild, stem: str) -> None:
 
 
 def _outside_solutions(source: str) -> str:
-    return re.sub(r"^(`{3,})\{solution\}.*?^\1\s*$", "", source,
-                  flags=re.MULTILINE | re.DOTALL)
+    return re.sub(r"^(`{3,})\{solution\}.*?^\1\s*$", "", source, flags=re.MULTILINE | re.DOTALL)
 
 
 #: Chapters that glue values into their text (outside the solutions).
-GLUING = [stem for stem in CHAPTERS if "{glue:text}" in _outside_solutions(
-    (ROOT / "book" / f"{stem}.md").read_text(encoding="utf-8"))]
+GLUING = [
+    stem
+    for stem in CHAPTERS
+    if "{glue:text}"
+    in _outside_solutions((ROOT / "book" / f"{stem}.md").read_text(encoding="utf-8"))
+]
 
 
 @pytest.mark.slow
@@ -284,8 +314,9 @@ def test_chapter_page_offers_notebook_and_sheet(built_book: BookBuild, stem: str
     path, _ = _site_notebook(built_book, stem)
     page = (built_book.html_dir / "book" / f"{stem}.html").read_text(encoding="utf-8")
     assert _download_link(path.name).search(page), "no link under the title"
-    assert f'href="../notebooks/{path.name}"' in page.split('class="run-this-chapter"')[0], \
+    assert f'href="../notebooks/{path.name}"' in page.split('class="run-this-chapter"')[0], (
         "no entry in the download menu"
+    )
     sheets = sorted((ROOT / "notebooks").glob(f"*_{stem}.ipynb"))
     for sheet in sheets:
         copy = built_book.html_dir / "notebooks" / sheet.name

@@ -101,8 +101,9 @@ def test_a_slow_but_finishing_function_passes_under_a_raised_limit():
     assert not check("mass.bel-pl-code", slow, time_limit=0.05)
 
 
-@pytest.mark.parametrize("result", [np.zeros(10**7), list(range(10**6)),
-                                    {i: 0.0 for i in range(10**6)}])
+@pytest.mark.parametrize(
+    "result", [np.zeros(10**7), list(range(10**6)), {i: 0.0 for i in range(10**6)}]
+)
 def test_huge_results_get_a_fast_short_verdict(result):
     start = time.monotonic()
     feedback = check("mass.bel-pl-code", lambda m, a: result)
@@ -155,8 +156,7 @@ def test_masses_that_do_not_add_up_to_one_are_named():
 
 def test_frozenset_keys_are_the_books_own_notation():
     third = 1 / 3
-    as_sets = {frozenset({"low"}): third, frozenset({"mid"}): third,
-               frozenset({"high"}): third}
+    as_sets = {frozenset({"low"}): third, frozenset({"mid"}): third, frozenset({"high"}): third}
     assert check("mass.vacuous-betp", as_sets)
     assert check("mass.vacuous-betp", {("low",): third, ("mid",): third, ("high",): third})
     assert "keys missing" in check("mass.vacuous-betp", {frozenset({"low"}): 1.0}).message
@@ -189,8 +189,9 @@ def _written(x: float) -> set[str]:
     return out
 
 
-@pytest.mark.parametrize("exercise_id", sorted(k for k, v in REGISTRY.items()
-                                               if isinstance(v, Exercise)))
+@pytest.mark.parametrize(
+    "exercise_id", sorted(k for k, v in REGISTRY.items() if isinstance(v, Exercise))
+)
 def test_no_hint_or_mistake_text_states_the_solution(exercise_id):
     exercise = REGISTRY[exercise_id]
     texts = [exercise.hint, *(why for _, why in exercise.mistakes)]
@@ -201,8 +202,13 @@ def test_no_hint_or_mistake_text_states_the_solution(exercise_id):
 
 
 def _value_answers() -> set[str]:
-    return {form for k, v in REGISTRY.items() if isinstance(v, Exercise)
-            for x in _numbers(v.solution) for form in _written(x)}
+    return {
+        form
+        for k, v in REGISTRY.items()
+        if isinstance(v, Exercise)
+        for x in _numbers(v.solution)
+        for form in _written(x)
+    }
 
 
 @pytest.mark.parametrize("exercise_id", CODING)
@@ -242,8 +248,14 @@ def test_stubs_do_not_shadow_the_sheets_imports():
                 imported |= sheets.imported_names(block.text)
             if block.kind == "stub":
                 assert not sheets.stub_names(block) & imported, stem
-    clash = sheets.Source("x", "", [sheets.Block("setup", "", "from dstoolkit import discount"),
-                                    sheets.Block("stub", "", "discount = ...")])
+    clash = sheets.Source(
+        "x",
+        "",
+        [
+            sheets.Block("setup", "", "from dstoolkit import discount"),
+            sheets.Block("stub", "", "discount = ..."),
+        ],
+    )
     with pytest.raises(ValueError, match="imports"):
         sheets.unshadowed(clash)
 
@@ -310,9 +322,12 @@ def test_no_chapter_notebook_carries_a_solution_call():
             cleaned = strip_solution(source)
             assert "solution" not in cleaned.replace("solutions", ""), (chapter.name, cleaned)
     assert calls > 0  # the book glues solutions: the notebooks leave them out
-    assert strip_solution("from dstoolkit.teaching import solution\nx = solution('mass.bel')"
-                          "\ny = 2") == "y = 2"
+    assert (
+        strip_solution("from dstoolkit.teaching import solution\nx = solution('mass.bel')\ny = 2")
+        == "y = 2"
+    )
     with pytest.raises(ValueError, match="uses solution"):
         strip_solution("def f():\n    return solution('mass.bel')")
     assert strip_solution("from dstoolkit.teaching import check, solution\nprint(1)") == (
-        "from dstoolkit.teaching import check\nprint(1)")
+        "from dstoolkit.teaching import check\nprint(1)"
+    )

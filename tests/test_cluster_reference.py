@@ -58,20 +58,25 @@ def clustered(boxes: list[Box], cap: int) -> tuple[list[Box], float]:
             hulls.append([lo, hi, m, ms, True])
             cost.append(ms - a[3] - b[3])
         last = len(cost) - 1
-        local = [i for i, c in enumerate(cost) if math.isfinite(c)
-                 and (i == 0 or c <= cost[i - 1]) and (i == last or c < cost[i + 1])]
+        local = [
+            i
+            for i, c in enumerate(cost)
+            if math.isfinite(c) and (i == 0 or c <= cost[i - 1]) and (i == last or c < cost[i + 1])
+        ]
         chosen = set(sorted(local, key=lambda i: (cost[i], i))[: len(items) - cap])
         assert chosen, "the reference found no pair to merge"
-        items = [hulls[i] if i in chosen else b for i, b in enumerate(items)
-                 if i - 1 not in chosen]
+        items = [hulls[i] if i in chosen else b for i, b in enumerate(items) if i - 1 not in chosen]
         rnd += 1
     moved = sum(sorted(b[2] for b in items if b[4]))
     return merged_equal([(b[0], b[1], b[2]) for b in items]), moved
 
 
 def run_boxes(bm: Boxes, r: int) -> list[Box]:
-    return [(tuple(bm.lo[r, i].tolist()), tuple(bm.hi[r, i].tolist()), float(bm.mass[r, i]))
-            for i in range(bm.mass.shape[1]) if bm.mass[r, i] > 0]
+    return [
+        (tuple(bm.lo[r, i].tolist()), tuple(bm.hi[r, i].tolist()), float(bm.mass[r, i]))
+        for i in range(bm.mass.shape[1])
+        if bm.mass[r, i] > 0
+    ]
 
 
 def random_boxes(rng: np.random.Generator, runs: int, rows: int, n: int) -> Boxes:
@@ -106,8 +111,11 @@ def test_cluster_boxes_gives_the_rule_s_numbers_exactly(n, kind):
     rng = np.random.default_rng(14 + n)
     compared = merged_runs = 0
     for _ in range(40):
-        runs, rows, cap = int(rng.integers(1, 5)), int(rng.integers(4, 160)), int(
-            rng.integers(2, 13))
+        runs, rows, cap = (
+            int(rng.integers(1, 5)),
+            int(rng.integers(4, 160)),
+            int(rng.integers(2, 13)),
+        )
         bm = random_boxes(rng, runs, rows, n)
         out, moved = cluster_boxes(bm, cap)
         for r in range(runs):
@@ -129,8 +137,10 @@ def test_merge_equal_boxes_adds_masses_in_the_order_given(kind):
         mass = rng.random((3, 300)) * (rng.random((3, 300)) > 0.1)
         out = merge_equal_boxes(lo, hi, mass)
         for r in range(3):
-            rows = [(tuple(lo[r, i].tolist()), tuple(hi[r, i].tolist()), float(mass[r, i]))
-                    for i in range(300)]
+            rows = [
+                (tuple(lo[r, i].tolist()), tuple(hi[r, i].tolist()), float(mass[r, i]))
+                for i in range(300)
+            ]
             assert run_boxes(out, r) == merged_equal(rows)
 
 
@@ -150,15 +160,18 @@ def test_the_compiled_merge_and_cluster_return_the_numpy_arrays_whole():
         mass = rng.random((runs, rows)) * (rng.random((runs, rows)) > 0.3)
         if case % 4 == 0:
             mass[0] = 0.0  # a run without mass
-        for want, got in zip(merge_equal_boxes(lo, hi, mass), compiled_merge(lo, hi, mass),
-                             strict=True):
+        for want, got in zip(
+            merge_equal_boxes(lo, hi, mass), compiled_merge(lo, hi, mass), strict=True
+        ):
             assert want.shape == got.shape
             np.testing.assert_array_equal(want, got)
         mass[:, 0] += 0.01
         bm = merge_equal_boxes(lo, hi, mass / mass.sum(axis=1, keepdims=True))
         cap = int(rng.integers(2, 12))
-        (want_bm, want_moved), (got_bm, got_moved) = (cluster_boxes(bm, cap),
-                                                      compiled_cluster(bm, cap))
+        (want_bm, want_moved), (got_bm, got_moved) = (
+            cluster_boxes(bm, cap),
+            compiled_cluster(bm, cap),
+        )
         for want, got in zip((*want_bm, want_moved), (*got_bm, got_moved), strict=True):
             assert want.shape == got.shape
             np.testing.assert_array_equal(want, got)

@@ -11,9 +11,20 @@ import re
 import pytest
 from conftest import ROOT
 
-CHAPTERS = ["why_bounded_noise", "mass_functions", "combining_evidence",
-            "dependent_evidence", "random_sets", "noise_to_evidence", "recursive_filter",
-            "level_gauge", "simulated_gauge", "estimating_level", "beyond_the_paper", "lab"]
+CHAPTERS = [
+    "why_bounded_noise",
+    "mass_functions",
+    "combining_evidence",
+    "dependent_evidence",
+    "random_sets",
+    "noise_to_evidence",
+    "recursive_filter",
+    "level_gauge",
+    "simulated_gauge",
+    "estimating_level",
+    "beyond_the_paper",
+    "lab",
+]
 
 
 def section(text: str, title: str) -> str:
@@ -37,8 +48,18 @@ def test_chapter_ends_with_key_points_and_further_reading(chapter: str) -> None:
         assert len(annotation.split()) >= 6, f"{chapter}: entry not annotated: {entry[:60]}"
 
 
-@pytest.mark.parametrize("key", ["shafer1976", "smets1994", "denoeux2008", "jaulin2001",
-                                 "sarkka2013", "barshalom2001", "pierce2019"])
+@pytest.mark.parametrize(
+    "key",
+    [
+        "shafer1976",
+        "smets1994",
+        "denoeux2008",
+        "jaulin2001",
+        "sarkka2013",
+        "barshalom2001",
+        "pierce2019",
+    ],
+)
 def test_the_core_reading_is_cited_with_a_doi(key: str) -> None:
     bib = (ROOT / "book" / "references.bib").read_text(encoding="utf-8")
     entry = re.search(rf"@\w+\{{{key},(.*?)\n\}}", bib, flags=re.S)
@@ -48,8 +69,11 @@ def test_the_core_reading_is_cited_with_a_doi(key: str) -> None:
 
 
 def test_no_solution_ends_with_a_bare_final_answer() -> None:
-    found = [f"{path.name}" for path in sorted((ROOT / "book").glob("*.md"))
-             if "The final answer" in path.read_text(encoding="utf-8")]
+    found = [
+        f"{path.name}"
+        for path in sorted((ROOT / "book").glob("*.md"))
+        if "The final answer" in path.read_text(encoding="utf-8")
+    ]
     assert not found, found
 
 

@@ -73,19 +73,25 @@ def test_the_filter_beats_the_readings_on_the_gauge(gauge_runs):
     """Not the paper's Table 3, only bounds a broken filter would miss."""
     raw = np.abs(gauge_runs.readings - gauge_runs.truth).mean()  # biased by −E[w] = 6.9 Hz
     corrected = np.abs(gauge_runs.readings + GAUGE_OBS_NOISE.mean - gauge_runs.truth).mean()
-    paper = FILTER.run_batch(MODEL, gauge_runs.readings,
-                             gauge_runs.inputs).estimates  # eq. 43 orders
+    paper = FILTER.run_batch(
+        MODEL, gauge_runs.readings, gauge_runs.inputs
+    ).estimates  # eq. 43 orders
     assert np.abs(paper - gauge_runs.truth).mean() < 0.5 * raw
     true_orders = np.broadcast_to(gauge_runs.true_inputs, gauge_runs.inputs.shape)
-    best = DependentEvidenceFilter(start="mean_corrected").run_batch(
-        MODEL, gauge_runs.readings, true_orders).estimates
+    best = (
+        DependentEvidenceFilter(start="mean_corrected")
+        .run_batch(MODEL, gauge_runs.readings, true_orders)
+        .estimates
+    )
     assert np.abs(best - gauge_runs.truth).mean() < 0.5 * corrected
 
 
 def test_estimate_lies_within_the_hull_of_its_final_evidence(gauge, gauge_runs):
-    for result in (FILTER.run(MODEL, gauge.readings, gauge.inputs),
-                   FILTER.run(MODEL, gauge.readings, gauge.inputs, record=True),
-                   FILTER.run_batch(MODEL, gauge_runs.readings, gauge_runs.inputs)):
+    for result in (
+        FILTER.run(MODEL, gauge.readings, gauge.inputs),
+        FILTER.run(MODEL, gauge.readings, gauge.inputs, record=True),
+        FILTER.run_batch(MODEL, gauge_runs.readings, gauge_runs.inputs),
+    ):
         assert np.all(result.lower <= result.estimates)
         assert np.all(result.estimates <= result.upper)
         assert np.all(result.upper - result.lower < 60.0)  # bounded by the discounted Θs
@@ -93,11 +99,17 @@ def test_estimate_lies_within_the_hull_of_its_final_evidence(gauge, gauge_runs):
 
 def test_record_keeps_every_step_with_the_papers_sizes(gauge):
     result = FILTER.run(MODEL, gauge.readings[:6], gauge.inputs[:5], record=True)
-    assert len(result.steps) == 6 and result.steps[0].estimate == pytest.approx(
-        gauge.readings[0])
+    assert len(result.steps) == 6 and result.steps[0].estimate == pytest.approx(gauge.readings[0])
     step = result.steps[3]
-    for key in ("state", "prediction", "observation_prediction", "observation", "fused",
-                "mapped_back", "final"):
+    for key in (
+        "state",
+        "prediction",
+        "observation_prediction",
+        "observation",
+        "fused",
+        "mapped_back",
+        "final",
+    ):
         assert isinstance(getattr(step, key), IntervalEvidence), key
         assert getattr(step, key).mass.sum() == pytest.approx(1.0)
     assert step.estimate == pytest.approx(step.final.pignistic_expectation_1d())  # eq. 20
@@ -127,12 +139,12 @@ def test_prediction_is_the_extension_principle_over_the_random_relation(gauge):
     """
     noise = FILTER.noise_evidence(MODEL)
     x_hat, order = gauge.readings[3], gauge.inputs[3]
-    p_lo, p_hi = predict(FILTER._maps(MODEL), noise, x_hat[None],
-                         with_input(MODEL.f, np.array([[order]])))
+    p_lo, p_hi = predict(
+        FILTER._maps(MODEL), noise, x_hat[None], with_input(MODEL.f, np.array([[order]]))
+    )
     ours = IntervalEvidence(p_lo[0], p_hi[0], noise.prediction_mass[0])
     relation = cartesian_product([noise.state.shift(x_hat), noise.state])  # eq. 16
-    literal = image(relation, lambda xv: MODEL.f(xv[..., :1], order) + xv[..., 1:],
-                    monotone=[1, 1])
+    literal = image(relation, lambda xv: MODEL.f(xv[..., :1], order) + xv[..., 1:], monotone=[1, 1])
     np.testing.assert_allclose(ours.to_rows(), literal.to_rows(), rtol=1e-15)
 
 
@@ -141,8 +153,12 @@ def test_batch_equals_single_runs(gauge_runs):
     flt = DependentEvidenceFilter(chunk_size=4)  # two chunks, one partial
     batch = flt.run_batch(MODEL, gauge_runs.readings, gauge_runs.inputs).estimates
     assert batch.shape == (6, gauge_runs.orders.size, 1)
-    single = np.stack([flt.run(MODEL, z, u).estimates
-                       for z, u in zip(gauge_runs.readings, gauge_runs.inputs, strict=True)])
+    single = np.stack(
+        [
+            flt.run(MODEL, z, u).estimates
+            for z, u in zip(gauge_runs.readings, gauge_runs.inputs, strict=True)
+        ]
+    )
     np.testing.assert_array_equal(batch, single)
 
 
@@ -152,16 +168,19 @@ def test_object_path_equals_array_path(gauge):
     record=True merges focal elements and fuses with dstoolkit.evidence; the array path
     does not merge.
     """
-    for flt in (FILTER, DependentEvidenceFilter(mass_rule="m1", start="mean_corrected", p=2,
-                                                theta=PAPER_THETA)):
+    for flt in (
+        FILTER,
+        DependentEvidenceFilter(mass_rule="m1", start="mean_corrected", p=2, theta=PAPER_THETA),
+    ):
         fast = flt.run(MODEL, gauge.readings, gauge.inputs)
         rec = flt.run(MODEL, gauge.readings, gauge.inputs, record=True)
         np.testing.assert_allclose(rec.estimates, fast.estimates, rtol=1e-12)
         np.testing.assert_allclose(rec.lower, fast.lower, rtol=1e-12)
         np.testing.assert_allclose(rec.upper, fast.upper, rtol=1e-12)
         for key in DIAGNOSTICS:
-            np.testing.assert_allclose(rec.diagnostics[key], fast.diagnostics[key], rtol=1e-9,
-                                       atol=1e-12, err_msg=key)
+            np.testing.assert_allclose(
+                rec.diagnostics[key], fast.diagnostics[key], rtol=1e-9, atol=1e-12, err_msg=key
+            )
 
 
 def test_two_dimensional_nonlinear_system():
@@ -247,27 +266,42 @@ def test_total_conflict_can_fall_back_to_the_prediction(gauge):
     assert rec.steps[4].final is prediction
     assert fast.estimates[4, 0] == pytest.approx(prediction.pignistic_expectation_1d(), rel=1e-14)
     np.testing.assert_allclose(fast.estimates, rec.estimates, rtol=1e-12)
-    both = flt.run_batch(MODEL, np.stack([z, gauge.readings[:8]]),
-                         np.stack([u, gauge.inputs[:7]])).estimates
+    both = flt.run_batch(
+        MODEL, np.stack([z, gauge.readings[:8]]), np.stack([u, gauge.inputs[:7]])
+    ).estimates
     np.testing.assert_array_equal(both[0], fast.estimates)
     np.testing.assert_array_equal(both[1], flt.run(MODEL, gauge.readings[:8], u).estimates)
 
 
 def test_wrong_monotone_declaration_is_caught_in_the_filter(gauge):
-    wrong = StateSpaceModel(f=MODEL.f, g=MODEL.g, g_inverse=MODEL.g_inverse,
-                            state_noise=MODEL.state_noise, obs_noise=MODEL.obs_noise,
-                            f_monotone=(-1, 1), g_monotone=(1,))
+    wrong = StateSpaceModel(
+        f=MODEL.f,
+        g=MODEL.g,
+        g_inverse=MODEL.g_inverse,
+        state_noise=MODEL.state_noise,
+        obs_noise=MODEL.obs_noise,
+        f_monotone=(-1, 1),
+        g_monotone=(1,),
+    )
     with pytest.raises(NotMonotoneError, match="declared monotone"):
         FILTER.run(wrong, gauge.readings[:4], gauge.inputs[:3])
 
 
 def _emptying(model: StateSpaceModel) -> StateSpaceModel:
     """Return the model with a g⁻¹ that returns every box empty (lo above hi)."""
+
     def g_inverse(lo, hi, x_lo, x_hi):
         return np.maximum(hi, x_hi) + 1.0, np.minimum(lo, x_lo)
-    return StateSpaceModel(f=model.f, g=model.g, g_inverse=g_inverse,
-                           state_noise=model.state_noise, obs_noise=model.obs_noise,
-                           f_monotone=model.f_monotone, g_monotone=model.g_monotone)
+
+    return StateSpaceModel(
+        f=model.f,
+        g=model.g,
+        g_inverse=g_inverse,
+        state_noise=model.state_noise,
+        obs_noise=model.obs_noise,
+        f_monotone=model.f_monotone,
+        g_monotone=model.g_monotone,
+    )
 
 
 def test_an_empty_box_from_g_inverse_is_refused_on_every_path(gauge):
@@ -278,8 +312,10 @@ def test_an_empty_box_from_g_inverse_is_refused_on_every_path(gauge):
     """
     start = gauge.readings[0] + GAUGE_OBS_NOISE.mode
     lv, _, z_lv = simulate_lotka_volterra(steps=4, runs=2, seed=4)
-    cases = [(_emptying(MODEL), gauge.readings[:4], gauge.inputs[:3], start),
-             (_emptying(lv), z_lv[0], None, [1.0, 1.0])]
+    cases = [
+        (_emptying(MODEL), gauge.readings[:4], gauge.inputs[:3], start),
+        (_emptying(lv), z_lv[0], None, [1.0, 1.0]),
+    ]
     kernels = ["numpy", "numba"] if importlib.util.find_spec("numba") else ["numpy"]
     for model, z, u, x0 in cases:
         batch = np.stack([z, z]), None if u is None else np.stack([u, u])
@@ -293,8 +329,9 @@ def test_an_empty_box_from_g_inverse_is_refused_on_every_path(gauge):
 
 
 def test_bad_models_and_data_are_explained(gauge):
-    no_inverse = StateSpaceModel(f=MODEL.f, g=MODEL.g, state_noise=MODEL.state_noise,
-                                 obs_noise=MODEL.obs_noise)
+    no_inverse = StateSpaceModel(
+        f=MODEL.f, g=MODEL.g, state_noise=MODEL.state_noise, obs_noise=MODEL.obs_noise
+    )
     with pytest.raises(EvidenceError, match="g_inverse"):
         FILTER.run(no_inverse, gauge.readings, gauge.inputs)
     with pytest.raises(EvidenceError, match="order n_k"):
@@ -343,15 +380,20 @@ def test_kernels_equal_the_merged_object_path(a, b, rule):
     try:
         combined = dempster(a2, b2)
     except TotalConflictError:
-        assert not bk.dempster_expectation(bk.discount_onto_hull(ba, ker.r12),
-                                           bk.discount_onto_hull(bb, ker.r21))[2][0]
+        assert not bk.dempster_expectation(
+            bk.discount_onto_hull(ba, ker.r12), bk.discount_onto_hull(bb, ker.r21)
+        )[2][0]
         return
-    for da, db in ((ba, bb), (bk.discount_onto_hull(ba, ker.r12),
-                               bk.discount_onto_hull(bb, ker.r21))):
+    for da, db in (
+        (ba, bb),
+        (bk.discount_onto_hull(ba, ker.r12), bk.discount_onto_hull(bb, ker.r21)),
+    ):
         x, k, ok, (lo, hi) = bk.dempster_expectation(da, db, bounds=True)
         live = (da.mass[0] > 0, db.mass[0] > 0)
-        objects = [IntervalEvidence(e.lo[0][keep], e.hi[0][keep], e.mass[0][keep])
-                   for e, keep in zip((da, db), live, strict=True)]
+        objects = [
+            IntervalEvidence(e.lo[0][keep], e.hi[0][keep], e.mass[0][keep])
+            for e, keep in zip((da, db), live, strict=True)
+        ]
         try:
             both = dempster(*objects)
         except TotalConflictError:
@@ -368,8 +410,10 @@ def test_kernels_on_the_appendix_a_example():
     e1 = IntervalEvidence([-0.30, 0.30, 0.32], [2.60, 1.90, 1.93], [0.3, 0.6, 0.1])
     e2 = IntervalEvidence([0.21, 0.41, 0.30], [3.50, 1.61, 1.90], [0.1, 0.3, 0.6])
     obj = dependence(e1, e2)
-    ker = bk.dependence(Boxes(e1.boxes_lo[None], e1.boxes_hi[None], e1.mass[None]),
-                        Boxes(e2.boxes_lo[None], e2.boxes_hi[None], e2.mass[None]))
+    ker = bk.dependence(
+        Boxes(e1.boxes_lo[None], e1.boxes_hi[None], e1.mass[None]),
+        Boxes(e2.boxes_lo[None], e2.boxes_hi[None], e2.mass[None]),
+    )
     assert ker.joint_energy[0] == pytest.approx(0.45)  # eq. A9
     assert ker.energy2[0] == pytest.approx(0.7865, abs=1e-4)
     assert ker.degree[0] == pytest.approx(obj.degree, rel=1e-14)
@@ -387,15 +431,17 @@ def test_compiled_kernel_does_a_step_as_the_numpy_path(gauge):
     """
     ref = FILTER.run(MODEL, gauge.readings, gauge.inputs)
     for k in range(len(gauge.readings) - 1):
-        z, u = gauge.readings[k:k + 2], gauge.inputs[k:k + 1]
+        z, u = gauge.readings[k : k + 2], gauge.inputs[k : k + 1]
         fast = DependentEvidenceFilter(kernel="numba", start=ref.estimates[k]).run(MODEL, z, u)
         slow = DependentEvidenceFilter(start=ref.estimates[k]).run(MODEL, z, u)
         for name in ("estimates", "lower", "upper"):
-            np.testing.assert_allclose(getattr(fast, name), getattr(slow, name), rtol=1e-13,
-                                       err_msg=name)
+            np.testing.assert_allclose(
+                getattr(fast, name), getattr(slow, name), rtol=1e-13, err_msg=name
+            )
         for key in DIAGNOSTICS:
-            np.testing.assert_allclose(fast.diagnostics[key], slow.diagnostics[key],
-                                       rtol=1e-13, atol=1e-12, err_msg=key)
+            np.testing.assert_allclose(
+                fast.diagnostics[key], slow.diagnostics[key], rtol=1e-13, atol=1e-12, err_msg=key
+            )
 
 
 @pytest.mark.extras  # numba, the extra "speed"
@@ -412,40 +458,56 @@ def test_compiled_kernel_agrees_with_the_numpy_path(gauge):
     model, _, z_lv = simulate_lotka_volterra(steps=25, runs=3, seed=4)
     cases = [
         ({}, MODEL, gauge.readings, gauge.inputs),
-        (dict(mass_rule="m1", start="mean_corrected", p=2, theta=PAPER_THETA), MODEL,
-         gauge.readings, gauge.inputs),
+        (
+            dict(mass_rule="m1", start="mean_corrected", p=2, theta=PAPER_THETA),
+            MODEL,
+            gauge.readings,
+            gauge.inputs,
+        ),
         (dict(p=1), model, z_lv[0], None),
-        (dict(epsilon=0.0, start="mean_corrected", on_conflict="predict"), MODEL,
-         _conflicting(gauge), gauge.inputs[:7]),
+        (
+            dict(epsilon=0.0, start="mean_corrected", on_conflict="predict"),
+            MODEL,
+            _conflicting(gauge),
+            gauge.inputs[:7],
+        ),
     ]
     for options, mdl, z, u in cases:
         fast = DependentEvidenceFilter(kernel="numba", **options).run(mdl, z, u)
         ref = DependentEvidenceFilter(**options).run(mdl, z, u)
         for name in ("estimates", "lower", "upper"):
-            np.testing.assert_allclose(getattr(fast, name), getattr(ref, name), rtol=1e-12,
-                                       atol=1e-12, err_msg=name)
+            np.testing.assert_allclose(
+                getattr(fast, name), getattr(ref, name), rtol=1e-12, atol=1e-12, err_msg=name
+            )
         for key in DIAGNOSTICS:
-            np.testing.assert_allclose(fast.diagnostics[key], ref.diagnostics[key], rtol=1e-7,
-                                       atol=1e-12, err_msg=key)
+            np.testing.assert_allclose(
+                fast.diagnostics[key], ref.diagnostics[key], rtol=1e-7, atol=1e-12, err_msg=key
+            )
 
 
 @pytest.mark.extras  # numba, the extra "speed"
 def test_compiled_kernel_batch_equals_single_runs(gauge_runs):
     flt = DependentEvidenceFilter(kernel="numba", chunk_size=4)
     batch = flt.run_batch(MODEL, gauge_runs.readings, gauge_runs.inputs).estimates
-    single = np.stack([flt.run(MODEL, z, u).estimates
-                       for z, u in zip(gauge_runs.readings, gauge_runs.inputs, strict=True)])
+    single = np.stack(
+        [
+            flt.run(MODEL, z, u).estimates
+            for z, u in zip(gauge_runs.readings, gauge_runs.inputs, strict=True)
+        ]
+    )
     np.testing.assert_array_equal(batch, single)
 
 
 @pytest.mark.extras  # numba, the extra "speed"
 def test_compiled_kernel_refuses_what_the_numpy_path_refuses(gauge):
     with pytest.raises(EvidenceError, match=r"outside \[0, 1\].*mass_rule='min'"):
-        DependentEvidenceFilter(kernel="numba", mass_rule="m2").run(MODEL, gauge.readings,
-                                                                    gauge.inputs)
+        DependentEvidenceFilter(kernel="numba", mass_rule="m2").run(
+            MODEL, gauge.readings, gauge.inputs
+        )
     with pytest.raises(TotalConflictError, match="Step 4 of estimate 5"):
         DependentEvidenceFilter(kernel="numba", epsilon=0.0, start="mean_corrected").run(
-            MODEL, _conflicting(gauge), gauge.inputs[:7])
+            MODEL, _conflicting(gauge), gauge.inputs[:7]
+        )
     with pytest.raises(EvidenceError, match="kernel must be one of"):
         DependentEvidenceFilter(kernel="fortran")
 

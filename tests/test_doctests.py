@@ -41,30 +41,33 @@ def test_docstring_examples(name: str) -> None:
     assert result.failed == 0, f"{result.failed} of {result.attempted} examples failed"
 
 
-@pytest.mark.parametrize("qualname", [
-    "dstoolkit.evidence.dempster",
-    "dstoolkit.evidence.combine_dependent",
-    "dstoolkit.evidence.dependence",
-    "dstoolkit.evidence.energy",
-    "dstoolkit.evidence.triangular_evidence",
-    "dstoolkit.evidence.IntervalEvidence",
-    "dstoolkit.evidence.MassFunction",
-    "dstoolkit.filters.BoundedNoise",
-    "dstoolkit.filters.Filter",
-    "dstoolkit.filters.BatchResult",
-    "dstoolkit.filters.DependentEvidenceFilter",
-    "dstoolkit.filters.NassreddineFilter",
-    "dstoolkit.filters.BoundedErrorFilter",
-    "dstoolkit.filters.KalmanFilter",
-    "dstoolkit.filters.ParticleFilter",
-    "dstoolkit.gauge.speed_of_sound",
-    "dstoolkit.gauge.level_from_resonance",
-    "dstoolkit.gauge.level_from_fundamental",
-    "dstoolkit.gauge.orders_eq43",
-    "dstoolkit.gauge.direct_levels",
-    "dstoolkit.gauge.state_transition",
-    "dstoolkit.gauge.estimate_latency",
-])
+@pytest.mark.parametrize(
+    "qualname",
+    [
+        "dstoolkit.evidence.dempster",
+        "dstoolkit.evidence.combine_dependent",
+        "dstoolkit.evidence.dependence",
+        "dstoolkit.evidence.energy",
+        "dstoolkit.evidence.triangular_evidence",
+        "dstoolkit.evidence.IntervalEvidence",
+        "dstoolkit.evidence.MassFunction",
+        "dstoolkit.filters.BoundedNoise",
+        "dstoolkit.filters.Filter",
+        "dstoolkit.filters.BatchResult",
+        "dstoolkit.filters.DependentEvidenceFilter",
+        "dstoolkit.filters.NassreddineFilter",
+        "dstoolkit.filters.BoundedErrorFilter",
+        "dstoolkit.filters.KalmanFilter",
+        "dstoolkit.filters.ParticleFilter",
+        "dstoolkit.gauge.speed_of_sound",
+        "dstoolkit.gauge.level_from_resonance",
+        "dstoolkit.gauge.level_from_fundamental",
+        "dstoolkit.gauge.orders_eq43",
+        "dstoolkit.gauge.direct_levels",
+        "dstoolkit.gauge.state_transition",
+        "dstoolkit.gauge.estimate_latency",
+    ],
+)
 def test_main_functions_show_an_example(qualname: str) -> None:
     obj = pkgutil.resolve_name(qualname)
     tests = doctest.DocTestFinder(recurse=False).find(obj, qualname)

@@ -52,7 +52,8 @@ def test_with_theta_left_out_discounting_scales_the_energy(seed: int) -> None:
     rate = float(rng.uniform(0, 1))
     discounted = discount(e, rate)
     assert energy(discounted, theta="left_out") == pytest.approx(
-        (1 - rate) * energy(e, theta="left_out"))
+        (1 - rate) * energy(e, theta="left_out")
+    )
 
 
 def test_the_option_reaches_the_combination() -> None:

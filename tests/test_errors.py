@@ -11,8 +11,11 @@ import dstoolkit
 from dstoolkit import errors
 from dstoolkit.errors import DstoolkitError, DstoolkitWarning, MissingExtraError, require_extra
 
-DEFINED = [obj for _, obj in inspect.getmembers(errors, inspect.isclass)
-           if obj.__module__ == errors.__name__]
+DEFINED = [
+    obj
+    for _, obj in inspect.getmembers(errors, inspect.isclass)
+    if obj.__module__ == errors.__name__
+]
 
 
 @pytest.mark.parametrize("cls", DEFINED, ids=lambda c: c.__name__)
@@ -25,8 +28,8 @@ def test_every_error_has_a_package_base_and_a_builtin_one(cls: type) -> None:
         # graded test is an AssertionError, as test runners (nbgrader, pytest) expect
         assert cls is DstoolkitError or any(
             issubclass(cls, b)
-            for b in (ValueError, RuntimeError, ImportError, MemoryError, OSError,
-                      AssertionError))
+            for b in (ValueError, RuntimeError, ImportError, MemoryError, OSError, AssertionError)
+        )
     assert cls.__doc__, f"{cls.__name__} has no docstring"
 
 
@@ -36,10 +39,13 @@ def test_no_exception_class_is_defined_outside_errors() -> None:
         if info.name.endswith("__main__") or info.name == errors.__name__:
             continue  # running it runs the command
         module = __import__(info.name, fromlist=["_"])
-        outside += [f"{info.name}.{name}" for name, obj in inspect.getmembers(module,
-                    inspect.isclass)
-                    if issubclass(obj, BaseException) and obj.__module__ == info.name
-                    and not name.startswith("_")]  # stand-ins for other packages' errors
+        outside += [
+            f"{info.name}.{name}"
+            for name, obj in inspect.getmembers(module, inspect.isclass)
+            if issubclass(obj, BaseException)
+            and obj.__module__ == info.name
+            and not name.startswith("_")
+        ]  # stand-ins for other packages' errors
     assert outside == []
 
 
@@ -62,12 +68,19 @@ def test_a_model_without_g_inverse_gets_a_clear_error_from_every_filter() -> Non
         StateSpaceModel,
     )
 
-    model = StateSpaceModel(f=lambda x, u: x, g=lambda x: x,
-                            state_noise=BoundedNoise.symmetric(0.1),
-                            obs_noise=BoundedNoise.symmetric(0.5))
+    model = StateSpaceModel(
+        f=lambda x, u: x,
+        g=lambda x: x,
+        state_noise=BoundedNoise.symmetric(0.1),
+        obs_noise=BoundedNoise.symmetric(0.5),
+    )
     z = np.array([1.0, 1.1, 0.9])
     box = (np.array([0.0]), np.array([2.0]))
-    for flt in (BoundedErrorFilter(initial_box=box), NassreddineFilter(initial_box=box),
-                KalmanFilter(initial_box=box), DependentEvidenceFilter(start=[1.0])):
+    for flt in (
+        BoundedErrorFilter(initial_box=box),
+        NassreddineFilter(initial_box=box),
+        KalmanFilter(initial_box=box),
+        DependentEvidenceFilter(start=[1.0]),
+    ):
         with pytest.raises(EvidenceError, match="g_inverse"):
             flt.run(model, z)

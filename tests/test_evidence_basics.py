@@ -59,7 +59,13 @@ def test_discount_and_conditioning():
     d = discount(m, 0.1)
     assert d.mass_of("ab") == pytest.approx(0.1)
     assert d.mass_of("a") == pytest.approx(0.54)
-    c = MassFunction({"a": 0.5, "ab": 0.5, }, frame="abc").condition("b")
+    c = MassFunction(
+        {
+            "a": 0.5,
+            "ab": 0.5,
+        },
+        frame="abc",
+    ).condition("b")
     assert c.mass_of("b") == pytest.approx(1.0)
 
 
@@ -138,6 +144,7 @@ def test_triangular_from_samples():
 
 
 # -- clear errors --------------------------------------------------------------------------
+
 
 @pytest.mark.parametrize(
     ("build", "words"),

@@ -24,13 +24,14 @@ GRID = np.linspace(0.0, 1.0, 9)  # interval ends on a grid of 9 points
 @st.composite
 def mass_functions(draw, frame=FRAME):
     n = draw(st.integers(1, 5))
-    masks = draw(st.lists(st.integers(1, 2 ** len(frame) - 1), min_size=n, max_size=n,
-                          unique=True))
+    masks = draw(st.lists(st.integers(1, 2 ** len(frame) - 1), min_size=n, max_size=n, unique=True))
     weights = np.array(draw(st.lists(st.floats(0.05, 1.0), min_size=n, max_size=n)))
     weights /= weights.sum()
     return MassFunction(
-        {frozenset(h for i, h in enumerate(frame) if (m >> i) & 1): w
-         for m, w in zip(masks, weights, strict=True)},
+        {
+            frozenset(h for i, h in enumerate(frame) if (m >> i) & 1): w
+            for m, w in zip(masks, weights, strict=True)
+        },
         frame,
     )
 
@@ -130,10 +131,12 @@ def test_energy_in_unit_interval(a):
 
 
 @settings(max_examples=80, deadline=None)
-@given(st.one_of(
-    st.tuples(mass_functions(), mass_functions()),
-    st.tuples(interval_evidence(), interval_evidence()),
-))
+@given(
+    st.one_of(
+        st.tuples(mass_functions(), mass_functions()),
+        st.tuples(interval_evidence(), interval_evidence()),
+    )
+)
 def test_dependency_coefficients_in_range(pair):
     a, b = pair
     dep = dependence(a, b)
@@ -178,8 +181,7 @@ def test_intervals_on_grid_agree_with_finite_frame(ga, gb):
     for i, j in itertools.combinations_with_replacement(range(0, GRID.size, 2), 2):
         subset = frozenset(range(i, j + 1))
         assert a.belief(GRID[i], GRID[j]) == pytest.approx(fa.belief(subset), abs=1e-12)
-        assert a.plausibility(GRID[i], GRID[j]) == pytest.approx(
-            fa.plausibility(subset), abs=1e-12)
+        assert a.plausibility(GRID[i], GRID[j]) == pytest.approx(fa.plausibility(subset), abs=1e-12)
     ci, cf = safe_dempster(a, b), safe_dempster(fa, fb)
     assert (ci is None) == (cf is None)
     if ci is None:

@@ -30,8 +30,11 @@ def _near_total_conflict(kept: float, split: int, seed: int) -> tuple[IntervalEv
     # A: mass 1 − eps on [0, 1], the rest on small intervals inside [10, 11];
     # B: mass 1 − eps on [20, 21], the rest on [10, 11]: only A's small ones meet B's.
     a_lo = np.concatenate([[0.0], 10.0 + 0.5 * np.arange(split) / split])
-    a = IntervalEvidence(a_lo, a_lo + np.concatenate([[1.0], np.full(split, 0.1)]),
-                         np.concatenate([[1.0 - eps], eps * share]))
+    a = IntervalEvidence(
+        a_lo,
+        a_lo + np.concatenate([[1.0], np.full(split, 0.1)]),
+        np.concatenate([[1.0 - eps], eps * share]),
+    )
     b = IntervalEvidence([20.0, 10.0], [21.0, 11.0], [1.0 - eps, eps])
     return a, b
 
@@ -39,7 +42,7 @@ def _near_total_conflict(kept: float, split: int, seed: int) -> tuple[IntervalEv
 @settings(max_examples=80, deadline=None, derandomize=True)
 @given(exponent=st.floats(1.0, 15.0), split=st.integers(1, 6), seed=st.integers(0, 100))
 def test_dempster_masses_sum_to_one_as_conflict_nears_one(exponent, split, seed):
-    kept = 10.0 ** -exponent  # 1 − K from 0.1 down to 1e-15
+    kept = 10.0**-exponent  # 1 − K from 0.1 down to 1e-15
     a, b = _near_total_conflict(kept, split, seed)
     assert 1.0 - conflict(a, b) < 2 * kept + 1e-15
     for merge in (True, False):
@@ -62,7 +65,7 @@ def test_dempster_at_one_minus_k_of_1e_15_on_a_finite_frame():
 @settings(max_examples=40, deadline=None, derandomize=True)
 @given(exponent=st.floats(1.0, 12.0), seed=st.integers(0, 100))
 def test_combine_dependent_masses_sum_to_one(exponent, seed):
-    a, b = _near_total_conflict(10.0 ** -exponent, 3, seed)
+    a, b = _near_total_conflict(10.0**-exponent, 3, seed)
     fused = combine_dependent(a, b)
     assert abs(float(np.sum(fused.mass)) - 1.0) <= 1e-12
     IntervalEvidence(fused.boxes_lo, fused.boxes_hi, fused.mass)

@@ -46,8 +46,12 @@ def test_simulation_follows_the_model_within_the_noise_bounds():
 
 
 @settings(max_examples=60, deadline=None)
-@given(a=st.floats(-1.0, 4.0), width=st.floats(0.0, 3.0), p_lo=st.floats(-3.0, 1.0),
-       p_width=st.floats(0.0, 4.0))
+@given(
+    a=st.floats(-1.0, 4.0),
+    width=st.floats(0.0, 3.0),
+    p_lo=st.floats(-3.0, 1.0),
+    p_width=st.floats(0.0, 4.0),
+)
 def test_g_inverse_is_the_exact_preimage_within_the_prior(a, width, p_lo, p_width):
     lo, hi = np.array([a, a + 0.5]), np.array([a + width, a + 0.5 + width])
     x_lo, x_hi = np.full(2, p_lo), np.full(2, p_lo + p_width)
@@ -69,8 +73,9 @@ def test_g_inverse_of_non_positive_readings():
 
     One wholly below 0 is impossible (empty).
     """
-    lo, hi = MODEL.g_inverse(np.array([-1.0, -2.0]), np.array([2.0, -0.5]),
-                             np.array([-5.0, -5.0]), np.array([5.0, 5.0]))
+    lo, hi = MODEL.g_inverse(
+        np.array([-1.0, -2.0]), np.array([2.0, -0.5]), np.array([-5.0, -5.0]), np.array([5.0, 5.0])
+    )
     assert lo[0] == -5.0 and hi[0] == pytest.approx(np.log(2.0))
     assert lo[1] > hi[1]
 
@@ -97,8 +102,7 @@ def test_jacobians_match_central_differences():
     x = np.array([[0.2, -0.4], [1.1, 0.7]])
     h = 1e-6
     for fn, jac in ((MODEL.f, MODEL.jacobian_f), (MODEL.g, MODEL.jacobian_g)):
-        numeric = np.stack([(fn(x + h * e) - fn(x - h * e)) / (2 * h) for e in np.eye(2)],
-                           axis=-1)
+        numeric = np.stack([(fn(x + h * e) - fn(x - h * e)) / (2 * h) for e in np.eye(2)], axis=-1)
         np.testing.assert_allclose(jac(x), numeric, rtol=1e-7)
 
 

@@ -11,8 +11,18 @@ import importlib
 
 import pytest
 
-MODULES = ("_checking", "_coding", "_grading", "_limits", "_variants", "_ex_evidence",
-           "_ex_gauge", "_ex_filter", "_ex_coding", "_plain_solutions")
+MODULES = (
+    "_checking",
+    "_coding",
+    "_grading",
+    "_limits",
+    "_variants",
+    "_ex_evidence",
+    "_ex_gauge",
+    "_ex_filter",
+    "_ex_coding",
+    "_plain_solutions",
+)
 
 
 @pytest.mark.parametrize("name", MODULES)

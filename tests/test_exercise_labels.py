@@ -22,8 +22,9 @@ import sheets  # noqa: E402
 
 NUMBERS = sheets.chapter_numbers(ROOT / "_toc.yml")
 THEORY = ("mass_functions", "combining_evidence", "dependent_evidence", "random_sets")
-SOLUTION = re.compile(r"^(`{3,})\{solution\} ([\w-]+)\n(?::class: dropdown\n)?(.*?)^\1$",
-                      re.MULTILINE | re.DOTALL)
+SOLUTION = re.compile(
+    r"^(`{3,})\{solution\} ([\w-]+)\n(?::class: dropdown\n)?(.*?)^\1$", re.MULTILINE | re.DOTALL
+)
 MATHS = re.compile(r"\$\$.*?\$\$|\$[^$]*\$", re.DOTALL)
 
 
@@ -48,8 +49,9 @@ def test_a_missing_caption_is_an_error(tmp_path) -> None:
     page.write_text("```{exercise}\n:label: x-ex-a\n\nDo it.\n```\n", encoding="utf-8")
     with pytest.raises(ValueError, match="x-ex-a"):
         sheets.chapter_captions(page)
-    page.write_text("```{exercise} Proof, difficulty 4 of 3\n:label: x-ex-a\n\nDo.\n```\n",
-                    encoding="utf-8")
+    page.write_text(
+        "```{exercise} Proof, difficulty 4 of 3\n:label: x-ex-a\n\nDo.\n```\n", encoding="utf-8"
+    )
     with pytest.raises(ValueError, match="difficulty"):
         sheets.chapter_captions(page)
 
@@ -77,11 +79,15 @@ def test_the_shown_kind_agrees_with_the_sheet(stem: str) -> None:
 def test_the_sheet_headings_show_the_caption(stem: str) -> None:
     number, title, src, labels = sheets.sheets(ROOT)[stem]
     nb = sheets.build(src, number, title, labels, False)
-    heads = [c["source"] if isinstance(c["source"], str) else "".join(c["source"])
-             for c in nb["cells"] if c["metadata"].get("dstoolkit", {}).get("exercise")]
+    heads = [
+        c["source"] if isinstance(c["source"], str) else "".join(c["source"])
+        for c in nb["cells"]
+        if c["metadata"].get("dstoolkit", {}).get("exercise")
+    ]
     shown = captions(stem)
     assert [h.splitlines()[0] for h in heads] == [
-        f"## Exercise {number}.{k} ({shown[label]})" for k, label in enumerate(labels, 1)]
+        f"## Exercise {number}.{k} ({shown[label]})" for k, label in enumerate(labels, 1)
+    ]
 
 
 @pytest.mark.parametrize("stem", sorted(NUMBERS))

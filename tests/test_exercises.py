@@ -83,8 +83,7 @@ def test_listed_mistakes_get_their_own_hint(exercise_id: str, index: int):
     assert why in feedback.message
 
 
-@pytest.mark.parametrize("exercise_id", [k for k in IDS
-                                         if isinstance(solution(k), float)])
+@pytest.mark.parametrize("exercise_id", [k for k in IDS if isinstance(solution(k), float)])
 def test_numeric_tolerance(exercise_id: str):
     ex = REGISTRY[exercise_id]
     value = solution(exercise_id)
@@ -150,8 +149,9 @@ def test_plain_solution_passes_every_case(exercise_id: str):
     assert "right on all" in feedback.message
 
 
-@pytest.mark.parametrize(("exercise_id", "index"),
-                         [(k, i) for k in CODING for i in range(len(REGISTRY[k].mistakes))])
+@pytest.mark.parametrize(
+    ("exercise_id", "index"), [(k, i) for k in CODING for i in range(len(REGISTRY[k].mistakes))]
+)
 def test_each_wrong_implementation_is_named(exercise_id: str, index: int):
     wrong, why = REGISTRY[exercise_id].mistakes[index]
     feedback = check(exercise_id, wrong)
@@ -199,17 +199,25 @@ def test_the_required_edge_cases_are_there():
     assert "degenerate interval" in labels["dependent.energy-code"]
     assert "total conflict" in labels["filter.step-code"]
     assert "degenerate box" in labels["random.vertex-code"]
-    for required in ("combine.dempster-code", "dependent.energy-code",
-                     "dependent.coefficients-code", "dependent.combine-code",
-                     "random.vertex-code", "noise.triangular-code", "filter.step-code"):
+    for required in (
+        "combine.dempster-code",
+        "dependent.energy-code",
+        "dependent.coefficients-code",
+        "dependent.combine-code",
+        "random.vertex-code",
+        "noise.triangular-code",
+        "filter.step-code",
+    ):
         assert required in CODING
 
 
 def test_an_expected_error_is_matched_by_type():
     """Total conflict: raising ValueError is right, returning something is wrong."""
+
     def returns_empty(m1, m2):
-        return solution("combine.dempster-code")(m1, m2) if any(
-            b & c for b in m1 for c in m2) else {}
+        return (
+            solution("combine.dempster-code")(m1, m2) if any(b & c for b in m1 for c in m2) else {}
+        )
 
     feedback = check("combine.dempster-code", returns_empty)
     assert not feedback and "(total conflict)" in feedback.message

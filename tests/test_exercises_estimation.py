@@ -22,26 +22,31 @@ from conftest import executed_chapter, glued
 from dstoolkit.teaching import exercises, solution
 
 ROOT = Path(__file__).resolve().parents[1]
-IDS = {"estimating.": ["estimating.bias", "estimating.eq43-code", "estimating.first-level",
-                       "estimating.improvement", "estimating.improvement-choice",
-                       "estimating.outlier-orders"],
-       "beyond.": ["beyond.failures", "beyond.failures-choice", "beyond.kalman-sigma",
-                   "beyond.offset-ratio", "beyond.products", "beyond.sigma-code",
-                   "beyond.start-error"]}
+IDS = {
+    "estimating.": [
+        "estimating.bias",
+        "estimating.eq43-code",
+        "estimating.first-level",
+        "estimating.improvement",
+        "estimating.improvement-choice",
+        "estimating.outlier-orders",
+    ],
+    "beyond.": [
+        "beyond.failures",
+        "beyond.failures-choice",
+        "beyond.kalman-sigma",
+        "beyond.offset-ratio",
+        "beyond.products",
+        "beyond.sigma-code",
+        "beyond.start-error",
+    ],
+}
 ALL_IDS = IDS["estimating."] + IDS["beyond."]
-
-
 
 
 @pytest.mark.parametrize("prefix", list(IDS))
 def test_the_exercises_are_registered(prefix: str) -> None:
     assert exercises(prefix) == IDS[prefix]
-
-
-
-
-
-
 
 
 def test_solutions_agree_with_the_papers_numbers() -> None:
@@ -56,26 +61,12 @@ def test_solutions_agree_with_the_papers_numbers() -> None:
     assert solution("estimating.improvement") > 1.5
     assert solution("beyond.start-error") == pytest.approx(6.9, abs=1e-9)
     assert solution("beyond.kalman-sigma") == pytest.approx(np.sqrt(1.5) * 1.23, rel=1e-3)
-    assert solution("beyond.products") == 4 ** 10
+    assert solution("beyond.products") == 4**10
     assert 0.0 < solution("beyond.failures") < 1.0
     assert solution("beyond.offset-ratio") > 0.5  # the fit's n_1 comes out one too high
 
 
-
-
-
-
-
-
-
-
-
-
 # -- the chapters: they execute, and the claims their prose makes hold for their numbers --
-
-
-
-
 
 
 @pytest.fixture(scope="module")
@@ -104,8 +95,9 @@ def test_estimating_level_prose_matches_its_numbers(estimating) -> None:
     for m, paper in (("direct", "el_paper46_direct"), ("dependent_evidence", "el_paper46_dep")):
         assert 1 / 3 < g[f"el_wl_{m}"] / g[paper] < 3, m  # "the size of the paper's numbers"
     # 1.: the wrong-order fraction and every method's error grow to ~1 m at 9.6 m
-    wrong = [g[f"el_wrong_{k}"] for k in ("13", "21", "26", "36", "46", "56", "66", "76",
-                                          "86", "96")]
+    wrong = [
+        g[f"el_wrong_{k}"] for k in ("13", "21", "26", "36", "46", "56", "66", "76", "86", "96")
+    ]
     assert wrong == sorted(wrong) and wrong[-1] > 0.9 and wrong[0] < 0.1
     assert g["el_freq96_min"] > 0.5 > g["el_paper_96_direct"]
     # 2.: waveform level: the paper's magnitudes (within a factor 3), our direct smaller
@@ -152,11 +144,17 @@ def test_beyond_the_paper_prose_matches_its_numbers(beyond) -> None:
     for m in ("kalman", "particle"):
         for e in ("dependent_evidence", "nassreddine"):
             assert g[f"bp_t3_46_{m}"] < g[f"bp_t3_46_{e}"], (m, e)
-    assert g["bp_ms_kalman"] < min(g[f"bp_ms_{m}"] for m in ("particle", "dependent_evidence",
-                                                              "nassreddine"))
+    assert g["bp_ms_kalman"] < min(
+        g[f"bp_ms_{m}"] for m in ("particle", "dependent_evidence", "nassreddine")
+    )
     # the 2-D example: (p+1)^(5n) products; p = 3 far slower per step than p = 2
-    assert g["bp_products_3"] == 4 ** 10 and g["bp_products_gauge"] == 4 ** 5
+    assert g["bp_products_3"] == 4**10 and g["bp_products_gauge"] == 4**5
     assert g["bp_step_s_p3"] > 10 * g["bp_step_ms_p2"] / 1e3
     assert g["bp_lv_best"] in ("Kalman", "particle")
-    assert max(g[f"bp_lv_rms_{m}"] for m in ("dependent_evidence", "nassreddine",
-                                              "bounded_error", "kalman", "particle")) < 0.1
+    assert (
+        max(
+            g[f"bp_lv_rms_{m}"]
+            for m in ("dependent_evidence", "nassreddine", "bounded_error", "kalman", "particle")
+        )
+        < 0.1
+    )

@@ -22,29 +22,38 @@ from conftest import executed_chapter, glued
 from dstoolkit.teaching import exercises, solution
 
 ROOT = Path(__file__).resolve().parents[1]
-RANDOM_IDS = ["random.evaluations", "random.expectation", "random.merge", "random.monotone",
-              "random.product", "random.product-code", "random.square", "random.vertex-code"]
-FILTER_IDS = ["filter.conflict-start", "filter.counts", "filter.hand-dependence",
-              "filter.hand-estimate", "filter.hand-final", "filter.hand-fused",
-              "filter.hand-mapped", "filter.hand-noise", "filter.hand-observation-prediction",
-              "filter.hand-prediction", "filter.mass-rule", "filter.mean-corrected",
-              "filter.prediction", "filter.step-code"]
+RANDOM_IDS = [
+    "random.evaluations",
+    "random.expectation",
+    "random.merge",
+    "random.monotone",
+    "random.product",
+    "random.product-code",
+    "random.square",
+    "random.vertex-code",
+]
+FILTER_IDS = [
+    "filter.conflict-start",
+    "filter.counts",
+    "filter.hand-dependence",
+    "filter.hand-estimate",
+    "filter.hand-final",
+    "filter.hand-fused",
+    "filter.hand-mapped",
+    "filter.hand-noise",
+    "filter.hand-observation-prediction",
+    "filter.hand-prediction",
+    "filter.mass-rule",
+    "filter.mean-corrected",
+    "filter.prediction",
+    "filter.step-code",
+]
 IDS = RANDOM_IDS + FILTER_IDS
-
-
 
 
 def test_the_exercises_are_registered() -> None:
     assert exercises("random.") == RANDOM_IDS
     assert exercises("filter.") == FILTER_IDS
-
-
-
-
-
-
-
-
 
 
 def test_solutions_agree_with_the_chapters_and_the_paper() -> None:
@@ -58,28 +67,14 @@ def test_solutions_agree_with_the_chapters_and_the_paper() -> None:
     lo, hi = solution("filter.prediction")
     assert (lo, hi) == pytest.approx((999.9 * 56 / 55 - 0.1, 1000.1 * 56 / 55 + 0.1))
     assert solution("filter.mean-corrected") == pytest.approx(1023.3 - 6.9)
-    assert solution("filter.conflict-start") == pytest.approx(0.9 ** 3)
+    assert solution("filter.conflict-start") == pytest.approx(0.9**3)
     assert solution("filter.mass-rule") == "m2"
 
 
 # -- the sheets ---------------------------------------------------------------------------
 
 
-
-
-
-
-
-
-
-
-
-
 # -- the chapters -------------------------------------------------------------------------
-
-
-
-
 
 
 @pytest.mark.slow

@@ -20,23 +20,20 @@ from dstoolkit.teaching import exercises, solution
 ROOT = Path(__file__).resolve().parents[1]
 
 SHEET = next((ROOT / "notebooks").glob("*_level_gauge.ipynb"))
-GAUGE_IDS = ["gauge.count", "gauge.eq43", "gauge.fundamental", "gauge.offset", "gauge.speed",
-             "gauge.thermometer", "gauge.tolerance"]
+GAUGE_IDS = [
+    "gauge.count",
+    "gauge.eq43",
+    "gauge.fundamental",
+    "gauge.offset",
+    "gauge.speed",
+    "gauge.thermometer",
+    "gauge.tolerance",
+]
 CHECK = re.compile(r'check\("(gauge\.[a-z0-9-]+)"')
-
-
 
 
 def test_the_gauge_exercises_are_registered() -> None:
     assert set(GAUGE_IDS) <= set(exercises("gauge."))
-
-
-
-
-
-
-
-
 
 
 def test_solutions_agree_with_the_papers_numbers() -> None:
@@ -51,19 +48,7 @@ def test_solutions_agree_with_the_papers_numbers() -> None:
     assert solution("gauge.thermometer") == pytest.approx(9.6 * 0.606 / 345.7834, rel=1e-6)
 
 
-
-
-
-
-
-
-
-
-
-
 # -- the chapter: it executes, and the claims its prose makes hold for the numbers it glues --
-
-
 
 
 @pytest.fixture(scope="module")

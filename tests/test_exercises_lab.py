@@ -32,21 +32,18 @@ from dstoolkit.teaching import (
 
 ROOT = Path(__file__).resolve().parents[1]
 SHEET = next((ROOT / "notebooks").glob("*_lab.ipynb"))
-LAB_IDS = ["lab.cutoff", "lab.latency-offset", "lab.shortest-tube",
-           "lab.thermometer-tolerance", "lab.uncertainty"]
+LAB_IDS = [
+    "lab.cutoff",
+    "lab.latency-offset",
+    "lab.shortest-tube",
+    "lab.thermometer-tolerance",
+    "lab.uncertainty",
+]
 CHECK = re.compile(r'check\("(lab\.[a-z0-9-]+)"')
-
-
 
 
 def test_the_lab_exercises_are_registered() -> None:
     assert exercises("lab.") == LAB_IDS
-
-
-
-
-
-
 
 
 def test_every_lab_exercise_lists_a_common_mistake() -> None:
@@ -61,7 +58,8 @@ def test_solutions_agree_with_hand_computation() -> None:
     assert solution("lab.shortest-tube") == pytest.approx(c20 / (2 * 1400 / 5), rel=1e-12)
     assert solution("lab.cutoff") == pytest.approx(1.8412 * c20 / (math.pi * 0.040), rel=1e-12)
     assert solution("lab.thermometer-tolerance") == pytest.approx(
-        0.005 * c20 / (0.606 * 3.0), rel=1e-9)
+        0.005 * c20 / (0.606 * 3.0), rel=1e-9
+    )
     assert solution("lab.uncertainty") == pytest.approx(math.sqrt(0.4**2 + 1.5**2 + 2.2**2))
 
 
@@ -78,11 +76,8 @@ def _check_messages(nb: nbformat.NotebookNode) -> dict[str, str]:
         ids = CHECK.findall(cell.source) if cell.cell_type == "code" else []
         if ids:
             (eid,) = ids
-            out[eid] = "".join(str(o.get("data", {}).get("text/plain", ""))
-                               for o in cell.outputs)
+            out[eid] = "".join(str(o.get("data", {}).get("text/plain", "")) for o in cell.outputs)
     return out
-
-
 
 
 def test_the_sheet_states_the_exercises_data() -> None:
@@ -103,18 +98,15 @@ def test_the_sheet_runs_as_stored_and_plays_nothing() -> None:
     messages = _check_messages(nb)
     assert all("not answered yet" in m for m in messages.values()), messages
     station = [c for c in nb.cells if "lab_widget(" in c.source]
-    assert station and any("application/vnd.jupyter.widget-view+json" in o.get("data", {})
-                           for o in station[0].outputs)
+    assert station and any(
+        "application/vnd.jupyter.widget-view+json" in o.get("data", {}) for o in station[0].outputs
+    )
     printed = "".join(o.get("text", "") for c in nb.cells for o in c.get("outputs", []))
     assert "MEASURE is False: nothing played" in printed
     assert "level L = 3.2" in printed  # the virtual 3.2 m recording, analysed
 
 
-
-
 # -- the chapter ------------------------------------------------------------------------------
-
-
 
 
 @pytest.fixture(scope="module")
@@ -123,8 +115,12 @@ def chapter() -> nbformat.NotebookNode:
 
 
 def _printed(nb: nbformat.NotebookNode) -> str:
-    return "".join(o.get("text", "") for c in nb.cells for o in c.get("outputs", [])
-                   if o.get("output_type") == "stream")
+    return "".join(
+        o.get("text", "")
+        for c in nb.cells
+        for o in c.get("outputs", [])
+        if o.get("output_type") == "stream"
+    )
 
 
 @pytest.mark.slow
@@ -137,8 +133,7 @@ def test_the_chapter_prose_matches_its_numbers(chapter: nbformat.NotebookNode) -
     assert g["lab_ktau"] > 0.5 * g["lab_c_room"] / (2 * 2.5)
     assert g["lab_lag_off"] == 0  # the chirp is found exactly where the simulation put it
     # without the latency: the series fit unharmed, its offset term and the filters are not
-    assert abs(g["lab_unc_fit_err_mm"]) < 1 and g["lab_unc_offset_mm"] > 5 * g[
-        "lab_good_offset_mm"]
+    assert abs(g["lab_unc_fit_err_mm"]) < 1 and g["lab_unc_offset_mm"] > 5 * g["lab_good_offset_mm"]
     assert g["lab_unc_de_err_mm"] > 20
     # the level ± uncertainty: the parts add in quadrature, the truth is inside 2σ
     parts = np.array([g["lab_u_fit_mm"], g["lab_u_off_mm"], g["lab_u_temp_mm"]])
@@ -158,9 +153,17 @@ def test_the_chapter_prose_matches_its_numbers(chapter: nbformat.NotebookNode) -
 @pytest.mark.slow
 def test_the_chapter_prints_every_message_it_promises(chapter: nbformat.NotebookNode) -> None:
     printed = _printed(chapter)
-    for message in ("importing sounddevice failed", "no input device for the default",
-                    "silence:", "clipping:", "the recording is too short for the sweep",
-                    "no tube echo", "resonance(s) missed", "too few resonances",
-                    "figure saved to rec.png", "--virtual-level"):
+    for message in (
+        "importing sounddevice failed",
+        "no input device for the default",
+        "silence:",
+        "clipping:",
+        "the recording is too short for the sweep",
+        "no tube echo",
+        "resonance(s) missed",
+        "too few resonances",
+        "figure saved to rec.png",
+        "--virtual-level",
+    ):
         assert message in printed, message
     assert "Traceback" not in printed

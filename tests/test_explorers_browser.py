@@ -25,14 +25,18 @@ SHOTS = ARTIFACTS / "explorers"
 #: An explorer cell calls one of these (dstoolkit.teaching) in a chapter, or links a
 #: control to precomputed states itself (the intro's discount slider).
 _EXPLORER_CALL = re.compile(
-    r"^\s*((\w+_explorer|filter_widget|lab_widget)\(|widgets\.jslink\()", re.M)
+    r"^\s*((\w+_explorer|filter_widget|lab_widget)\(|widgets\.jslink\()", re.M
+)
 
 
 def explorer_pages() -> list[str]:
     """Return the pages of _toc.yml whose source has an explorer cell."""
-    return [page for page in toc_pages()
-            if (ROOT / f"{page}.md").is_file()
-            and _EXPLORER_CALL.search((ROOT / f"{page}.md").read_text(encoding="utf-8"))]
+    return [
+        page
+        for page in toc_pages()
+        if (ROOT / f"{page}.md").is_file()
+        and _EXPLORER_CALL.search((ROOT / f"{page}.md").read_text(encoding="utf-8"))
+    ]
 
 
 # Marks the rendered root of every embedded widget view with data-explorer="i".
@@ -90,8 +94,7 @@ def _slider_moves(page: object, area: object, slider: object) -> tuple[bool, boo
 
 
 @pytest.mark.parametrize("page_name", explorer_pages())
-def test_explorers_answer_on_the_static_site(chromium: object, site: str,
-                                             page_name: str) -> None:
+def test_explorers_answer_on_the_static_site(chromium: object, site: str, page_name: str) -> None:
     context = chromium.new_context(viewport={"width": 1280, "height": 900})
     page = context.new_page()
     page.set_default_timeout(TIMEOUT_MS)
@@ -107,10 +110,16 @@ def test_explorers_answer_on_the_static_site(chromium: object, site: str,
         for i in explorers:
             area = page.locator(f'[data-explorer="{i}"]')
             sliders = area.locator(".widget-slider")
-            enabled = [sliders.nth(j) for j in range(sliders.count())
-                       if not sliders.nth(j).locator(".noUi-target[disabled]").count()]
-            disabled = [sliders.nth(j) for j in range(sliders.count())
-                        if sliders.nth(j).locator(".noUi-target[disabled]").count()]
+            enabled = [
+                sliders.nth(j)
+                for j in range(sliders.count())
+                if not sliders.nth(j).locator(".noUi-target[disabled]").count()
+            ]
+            disabled = [
+                sliders.nth(j)
+                for j in range(sliders.count())
+                if sliders.nth(j).locator(".noUi-target[disabled]").count()
+            ]
             assert enabled, f"{page_name}: explorer {i} has no live slider"
             area.scroll_into_view_if_needed()
             area.screenshot(path=str(SHOTS / f"{stem}-{i}-before.png"))
@@ -133,15 +142,20 @@ def test_explorers_answer_on_the_static_site(chromium: object, site: str,
                     continue
                 options = select.locator("option").all_inner_texts()
                 before = _shown(area)
-                other = next(o for o in options if o != select.evaluate(
-                    "s => s.options[s.selectedIndex].text"))
+                other = next(
+                    o
+                    for o in options
+                    if o != select.evaluate("s => s.options[s.selectedIndex].text")
+                )
                 select.select_option(label=other)
                 assert _wait_for_change(page, area, before), (
-                    f"{page_name}: choosing {other!r} changed no figure or readout")
+                    f"{page_name}: choosing {other!r} changed no figure or readout"
+                )
         assert live_sliders, f"{page_name}: no live slider"
         assert not problems.console_errors, f"{page_name}: console {problems.console_errors}"
         assert not problems.failed_requests, f"{page_name}: failed {problems.failed_requests}"
         assert not problems.external_requests, (
-            f"{page_name}: requests leaving 127.0.0.1: {problems.external_requests}")
+            f"{page_name}: requests leaving 127.0.0.1: {problems.external_requests}"
+        )
     finally:
         context.close()

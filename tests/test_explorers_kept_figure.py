@@ -30,24 +30,49 @@ matplotlib.use("Agg")
 #: they can), and through a method that refuses.
 PATHS = {
     "mass_function_explorer": (
-        [("mid", 0.2), ("low", 0.0), ("low_mid", 0.0), ("high", 0.0), ("mid", 0.0),
-         ("low", 0.5), ("low_mid", 0.3)],
-        {"low": 0.5, "mid": 0.0, "high": 0.0, "low_mid": 0.3}),
+        [
+            ("mid", 0.2),
+            ("low", 0.0),
+            ("low_mid", 0.0),
+            ("high", 0.0),
+            ("mid", 0.0),
+            ("low", 0.5),
+            ("low_mid", 0.3),
+        ],
+        {"low": 0.5, "mid": 0.0, "high": 0.0, "low_mid": 0.3},
+    ),
     "conflict_explorer": (
         [("epsilon", 0.2), ("rule", "Yager"), ("y", 0.7), ("x", 1.0), ("epsilon", 0.0)],
-        {"x": 1.0, "y": 0.7, "epsilon": 0.0, "rule": "Yager"}),
+        {"x": 1.0, "y": 0.7, "epsilon": 0.0, "rule": "Yager"},
+    ),
     "dependent_combination_explorer": (
-        [("a2", 0.0), ("mass_rule", "m1"), ("b2", 0.0), ("a3", 0.4), ("b2", 0.15),
-         ("a2", 0.45)],
-        {"a2": 0.45, "a3": 0.4, "b2": 0.15, "b3": 0.6, "mass_rule": "m1"}),
+        [("a2", 0.0), ("mass_rule", "m1"), ("b2", 0.0), ("a3", 0.4), ("b2", 0.15), ("a2", 0.45)],
+        {"a2": 0.45, "a3": 0.4, "b2": 0.15, "b3": 0.6, "mass_rule": "m1"},
+    ),
     "noise_evidence_explorer": (
-        [("p", 9), ("upper", 0.45), ("mode", 0.1), ("p", 2), ("epsilon", 0.2), ("p", 5),
-         ("upper", 0.3)],
-        {"mode": 0.1, "p": 5, "epsilon": 0.2}),
+        [
+            ("p", 9),
+            ("upper", 0.45),
+            ("mode", 0.1),
+            ("p", 2),
+            ("epsilon", 0.2),
+            ("p", 5),
+            ("upper", 0.3),
+        ],
+        {"mode": 0.1, "p": 5, "epsilon": 0.2},
+    ),
     "extension_explorer": (
-        [("function", "x²"), ("lo", -1.0), ("sign", -1), ("function", "exp(−x)"),
-         ("hi", 3.5), ("function", "x³ − 3x"), ("sign", 1)],
-        {"function": "x³ − 3x", "lo": -1.0, "hi": 3.5, "sign": 1}),
+        [
+            ("function", "x²"),
+            ("lo", -1.0),
+            ("sign", -1),
+            ("function", "exp(−x)"),
+            ("hi", 3.5),
+            ("function", "x³ − 3x"),
+            ("sign", 1),
+        ],
+        {"function": "x³ − 3x", "lo": -1.0, "hi": 3.5, "sign": 1},
+    ),
 }
 
 #: explorer → a valid change, then one that makes the setting invalid, and words of the
@@ -65,17 +90,35 @@ def _data(artist: object) -> tuple:
     """Return what an artist shows: its geometry in data coordinates, colours, text, visibility."""
     if isinstance(artist, Line2D):
         x, y = artist.get_data()
-        return ("line", np.asarray(x, float), np.asarray(y, float), artist.get_color(),
-                artist.get_linewidth(), artist.get_linestyle())
+        return (
+            "line",
+            np.asarray(x, float),
+            np.asarray(y, float),
+            artist.get_color(),
+            artist.get_linewidth(),
+            artist.get_linestyle(),
+        )
     if isinstance(artist, Text):
-        return ("text", artist.get_text(), tuple(np.asarray(artist.get_position(), float)),
-                artist.get_fontsize(), artist.get_color())
+        return (
+            "text",
+            artist.get_text(),
+            tuple(np.asarray(artist.get_position(), float)),
+            artist.get_fontsize(),
+            artist.get_color(),
+        )
     if isinstance(artist, LineCollection):
-        return ("lines", [np.asarray(s) for s in artist.get_segments()],
-                np.asarray(artist.get_color()))
+        return (
+            "lines",
+            [np.asarray(s) for s in artist.get_segments()],
+            np.asarray(artist.get_color()),
+        )
     if isinstance(artist, Collection):
-        return ("collection", [p.vertices for p in artist.get_paths()],
-                np.asarray(artist.get_offsets()), np.asarray(artist.get_facecolor()))
+        return (
+            "collection",
+            [p.vertices for p in artist.get_paths()],
+            np.asarray(artist.get_offsets()),
+            np.asarray(artist.get_facecolor()),
+        )
     if isinstance(artist, Patch):
         corners = artist.get_patch_transform().transform(artist.get_path().vertices)
         return ("patch", corners, tuple(artist.get_facecolor()), tuple(artist.get_edgecolor()))
@@ -88,20 +131,34 @@ def signature(fig: Figure) -> list:
     """Every axes' titles, ranges, ticks, labels and visible artists (by kind, in order)."""
     out = []
     for ax in fig.axes:
-        shown = [a for a in ax.get_children()
-                 if a.get_visible() and a not in (ax.patch, ax.xaxis, ax.yaxis, ax.title,
-                                                  ax._left_title, ax._right_title,
-                                                  *ax.spines.values())]
+        shown = [
+            a
+            for a in ax.get_children()
+            if a.get_visible()
+            and a
+            not in (
+                ax.patch,
+                ax.xaxis,
+                ax.yaxis,
+                ax.title,
+                ax._left_title,
+                ax._right_title,
+                *ax.spines.values(),
+            )
+        ]
         kinds = sorted({type(a).__name__ for a in shown})
-        out.append({
-            "titles": [ax.get_title(loc) for loc in ("left", "center", "right")],
-            "limits": (ax.get_xlim(), ax.get_ylim()),
-            "labels": (ax.get_xlabel(), ax.get_ylabel()),
-            "ticks": [(list(axis.get_ticklocs()),
-                       [t.get_text() for t in axis.get_ticklabels()])
-                      for axis in (ax.xaxis, ax.yaxis)],
-            **{kind: [_data(a) for a in shown if type(a).__name__ == kind] for kind in kinds},
-        })
+        out.append(
+            {
+                "titles": [ax.get_title(loc) for loc in ("left", "center", "right")],
+                "limits": (ax.get_xlim(), ax.get_ylim()),
+                "labels": (ax.get_xlabel(), ax.get_ylabel()),
+                "ticks": [
+                    (list(axis.get_ticklocs()), [t.get_text() for t in axis.get_ticklabels()])
+                    for axis in (ax.xaxis, ax.yaxis)
+                ],
+                **{kind: [_data(a) for a in shown if type(a).__name__ == kind] for kind in kinds},
+            }
+        )
     return out
 
 

@@ -34,27 +34,51 @@ def _state(fig: Figure) -> dict:
     visible text and the legends. (Not the ticks: they follow the limits and the size of the
     axes, which the layout sets.)
     """
-    out: dict = {"suptitle": fig._suptitle.get_text() if fig._suptitle else "",
-                 "size": tuple(fig.get_size_inches()), "axes": []}
+    out: dict = {
+        "suptitle": fig._suptitle.get_text() if fig._suptitle else "",
+        "size": tuple(fig.get_size_inches()),
+        "axes": [],
+    }
     for ax in fig.axes:
-        out["axes"].append({
-            "limits": (ax.get_xlim(), ax.get_ylim()),
-            "scales": (ax.get_xscale(), ax.get_yscale()),
-            "titles": tuple(ax.get_title(loc) for loc in ("left", "center", "right")),
-            "labels": (ax.get_xlabel(), ax.get_ylabel()),
-            "lines": [(line.get_xydata().tolist(), line.get_color(), line.get_linestyle(),
-                       line.get_marker(), line.get_linewidth())
-                      for line in _visible(ax.lines)],
-            "collections": [([p.vertices.tolist() for p in c.get_paths()],
-                             c.get_facecolor().tolist(), c.get_edgecolor().tolist())
-                            for c in _visible(ax.collections) if isinstance(c, Collection)],
-            "patches": [(p.get_x(), p.get_y(), p.get_width(), p.get_height())
-                        for p in _visible(ax.patches)],
-            "texts": [(t.get_text(), tuple(t.get_position()), t.get_fontsize())
-                      for t in _visible(ax.texts) if t.get_text()],
-            "legend": ([t.get_text() for t in ax.get_legend().get_texts()]
-                       if ax.get_legend() else None),
-        })
+        out["axes"].append(
+            {
+                "limits": (ax.get_xlim(), ax.get_ylim()),
+                "scales": (ax.get_xscale(), ax.get_yscale()),
+                "titles": tuple(ax.get_title(loc) for loc in ("left", "center", "right")),
+                "labels": (ax.get_xlabel(), ax.get_ylabel()),
+                "lines": [
+                    (
+                        line.get_xydata().tolist(),
+                        line.get_color(),
+                        line.get_linestyle(),
+                        line.get_marker(),
+                        line.get_linewidth(),
+                    )
+                    for line in _visible(ax.lines)
+                ],
+                "collections": [
+                    (
+                        [p.vertices.tolist() for p in c.get_paths()],
+                        c.get_facecolor().tolist(),
+                        c.get_edgecolor().tolist(),
+                    )
+                    for c in _visible(ax.collections)
+                    if isinstance(c, Collection)
+                ],
+                "patches": [
+                    (p.get_x(), p.get_y(), p.get_width(), p.get_height())
+                    for p in _visible(ax.patches)
+                ],
+                "texts": [
+                    (t.get_text(), tuple(t.get_position()), t.get_fontsize())
+                    for t in _visible(ax.texts)
+                    if t.get_text()
+                ],
+                "legend": (
+                    [t.get_text() for t in ax.get_legend().get_texts()] if ax.get_legend() else None
+                ),
+            }
+        )
     return out
 
 
@@ -74,8 +98,15 @@ def assert_same_picture(kept: Figure, fresh: Figure) -> None:
 # -- the filter widget (the paper's Fig. 10 of one run) ----------------------------------------
 
 #: Changes that visit other runs, another number of resonances (level 3 m: 26) and back.
-WIDGET_CHANGES = (("epsilon", 0.1), ("level", 3.0), ("w_mode", -6.5), ("p", 5),
-                  ("start", "mean_corrected"), ("orders", "eq43"), ("level", 9.6))
+WIDGET_CHANGES = (
+    ("epsilon", 0.1),
+    ("level", 3.0),
+    ("w_mode", -6.5),
+    ("p", 5),
+    ("start", "mean_corrected"),
+    ("orders", "eq43"),
+    ("level", 9.6),
+)
 
 
 def test_the_filter_widget_keeps_one_figure_that_matches_a_fresh_one_after_each_change():
@@ -109,20 +140,29 @@ def test_an_invalid_setting_keeps_the_last_figure_and_says_so():
 def test_a_kept_filter_errors_figure_redraws_runs_of_other_lengths():
     seq, _, long_run = studies.filter_case(9.6, 23.9)
     short_seq, _, short_run = studies.filter_case(1.6, 23.9)
-    kept = plots.FilterErrorsFigure(long_run, seq.truth, seq.readings, title="long",
-                                    pyplot=False)
+    kept = plots.FilterErrorsFigure(long_run, seq.truth, seq.readings, title="long", pyplot=False)
     kept.update(short_run, short_seq.truth, short_seq.readings, title="short")
-    assert_same_picture(kept.figure, plots.plot_filter_errors(
-        short_run, short_seq.truth, short_seq.readings, title="short"))
+    assert_same_picture(
+        kept.figure,
+        plots.plot_filter_errors(short_run, short_seq.truth, short_seq.readings, title="short"),
+    )
     assert kept.axes[0].get_xlim()[1] < 20  # 14 resonances at 1.6 m, not 83
 
 
 # -- the step explorer (every evidence of one step, Fig. 3) -----------------------------------
 
 #: Steps and settings, with a total conflict (ε = 0: two panels fewer) and back.
-STEP_CHANGES = (("step", 5), ("epsilon", 0.1), ("start", "observation"), ("step", 20),
-                ("epsilon", 0.0), ("step", 2), ("epsilon", 0.5), ("step", 11),
-                ("epsilon", 0.05))  # Θ (m = ε) labelled at ε > 0.05 only: a label goes
+STEP_CHANGES = (
+    ("step", 5),
+    ("epsilon", 0.1),
+    ("start", "observation"),
+    ("step", 20),
+    ("epsilon", 0.0),
+    ("step", 2),
+    ("epsilon", 0.5),
+    ("step", 11),
+    ("epsilon", 0.05),
+)  # Θ (m = ε) labelled at ε > 0.05 only: a label goes
 
 
 @pytest.mark.slow
@@ -133,9 +173,9 @@ def test_the_step_explorer_redraws_in_place_and_matches_a_fresh_figure():
         ex.controls[name].value = value
         v = ex.values()
         assert kept.setdefault(len(ex.figure.axes), ex.figure) is ex.figure, (
-            "a new figure for panels already drawn")
-        fresh = w.filter_step_explorer(step=v["step"], start=v["start"],
-                                       epsilon=v["epsilon"])
+            "a new figure for panels already drawn"
+        )
+        fresh = w.filter_step_explorer(step=v["step"], start=v["start"], epsilon=v["epsilon"])
         assert fresh.numbers == pytest.approx(ex.numbers, nan_ok=True)
         assert_same_picture(ex.figure, fresh.figure)
     assert set(kept) == {7, 5}, "the total conflict (ε = 0) fills two panels fewer"
@@ -175,14 +215,14 @@ def test_the_bounded_error_explorer_keeps_its_figure_and_its_legend():
         ex.controls["scale"].value = scale
         assert ex.figure is kept
         res = BoundedErrorFilter(on_inconsistent="reset").run(
-            random_walk(0.1 * scale, 1.0 * scale), z)
+            random_walk(0.1 * scale, 1.0 * scale), z
+        )
         fresh = plots.plot_enclosure(res, x, z, title=f"bounds × {scale:g}")
         fresh.axes[0].legend(fontsize=8, loc="upper left")
         assert_same_picture(kept, fresh)
         assert len(kept.axes[0].lines) - 2 == int(np.sum(res.diagnostics["resets"]))
         # the title stays as high above the panel as legend_above put it
-        pad_pt = [f.axes[0].titleOffsetTrans.get_matrix()[1, 2] * 72 / f.dpi
-                  for f in (kept, fresh)]
+        pad_pt = [f.axes[0].titleOffsetTrans.get_matrix()[1, 2] * 72 / f.dpi for f in (kept, fresh)]
         assert pad_pt[0] == pytest.approx(pad_pt[1]) and pad_pt[0] > 20
 
 

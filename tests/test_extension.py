@@ -54,8 +54,9 @@ def test_cartesian_product_refuses_bad_input():
 def test_vertices_enumerate_every_corner():
     v = vertices(np.array([0.0, 10.0, 100.0]), np.array([1.0, 11.0, 101.0]))
     assert v.shape == (8, 3)
-    assert {tuple(row) for row in v} == {(a, b, c) for a in (0, 1) for b in (10, 11)
-                                         for c in (100, 101)}
+    assert {tuple(row) for row in v} == {
+        (a, b, c) for a in (0, 1) for b in (10, 11) for c in (100, 101)
+    }
 
 
 # -- agreement where every method applies -------------------------------------------------------
@@ -78,8 +79,10 @@ def test_monotone_vertex_and_subdivision_agree_on_monotone_functions(data, n):
 
     with warnings.catch_warnings():
         warnings.simplefilter("error", VertexMethodWarning)  # no false alarm
-        results = [image((lo[None], hi[None]), f, method, monotone=signs)
-                   for method in ("monotone", "vertex", "subdivision")]
+        results = [
+            image((lo[None], hi[None]), f, method, monotone=signs)
+            for method in ("monotone", "vertex", "subdivision")
+        ]
     for out_lo, out_hi in results[1:]:
         np.testing.assert_allclose(out_lo, results[0][0], rtol=1e-12, atol=1e-12)
         np.testing.assert_allclose(out_hi, results[0][1], rtol=1e-12, atol=1e-12)

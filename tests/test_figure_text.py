@@ -46,20 +46,35 @@ def text_problems(fig: Figure) -> list[str]:
     canvas = fig.bbox
     problems = []
     # tick labels count only for the ticks drawn (those in the view limits)
-    all_ticks = {id(label) for ax in fig.axes for axis in (ax.xaxis, ax.yaxis)
-                 for tick in (*axis.majorTicks, *axis.minorTicks)
-                 for label in (tick.label1, tick.label2)}
-    drawn_ticks = [label for ax in fig.axes if ax.get_visible()
-                   for axis in (ax.xaxis, ax.yaxis) for label in _drawn_tick_labels(axis)]
+    all_ticks = {
+        id(label)
+        for ax in fig.axes
+        for axis in (ax.xaxis, ax.yaxis)
+        for tick in (*axis.majorTicks, *axis.minorTicks)
+        for label in (tick.label1, tick.label2)
+    }
+    drawn_ticks = [
+        label
+        for ax in fig.axes
+        if ax.get_visible()
+        for axis in (ax.xaxis, ax.yaxis)
+        for label in _drawn_tick_labels(axis)
+    ]
     texts = [t for t in fig.findobj(Text) if id(t) not in all_ticks] + drawn_ticks
     for text in texts:
         if not _shown(text):
             continue
         box = text.get_window_extent(renderer)
-        if (box.x0 < canvas.x0 - SLACK or box.y0 < canvas.y0 - SLACK
-                or box.x1 > canvas.x1 + SLACK or box.y1 > canvas.y1 + SLACK):
-            problems.append(f"{text.get_text()!r} at {np.round(box.extents, 1)} leaves the "
-                            f"canvas {np.round(canvas.extents, 1)}")
+        if (
+            box.x0 < canvas.x0 - SLACK
+            or box.y0 < canvas.y0 - SLACK
+            or box.x1 > canvas.x1 + SLACK
+            or box.y1 > canvas.y1 + SLACK
+        ):
+            problems.append(
+                f"{text.get_text()!r} at {np.round(box.extents, 1)} leaves the "
+                f"canvas {np.round(canvas.extents, 1)}"
+            )
     for ax in fig.axes:
         if not ax.get_visible():
             continue
@@ -69,8 +84,7 @@ def text_problems(fig: Figure) -> list[str]:
             pairs = itertools.combinations(zip(labels, boxes, strict=True), 2)
             for (a, box_a), (b, box_b) in pairs:
                 if _overlap(box_a, box_b) and _glyphs_collide(a, box_a, b, box_b, fig.dpi):
-                    problems.append(f"tick labels {a.get_text()!r} and {b.get_text()!r} "
-                                    "overlap")
+                    problems.append(f"tick labels {a.get_text()!r} and {b.get_text()!r} overlap")
     return problems
 
 
@@ -82,9 +96,15 @@ def _drawn_tick_labels(axis) -> list[Text]:
     if not axis.axes.axison or not axis.get_visible():
         return []
     ticks = axis._update_ticks()  # the ticks Axis.draw draws
-    return [label for tick in ticks for label, on in ((tick.label1, tick.label1.get_visible()),
-                                                      (tick.label2, tick.label2.get_visible()))
-            if on]
+    return [
+        label
+        for tick in ticks
+        for label, on in (
+            (tick.label1, tick.label1.get_visible()),
+            (tick.label2, tick.label2.get_visible()),
+        )
+        if on
+    ]
 
 
 def _glyphs_collide(a: Text, box_a: Bbox, b: Text, box_b: Bbox, dpi: float) -> bool:
@@ -103,8 +123,7 @@ def _glyphs_collide(a: Text, box_a: Bbox, b: Text, box_b: Bbox, dpi: float) -> b
 
 
 def _overlap(a: Bbox, b: Bbox) -> bool:
-    return (min(a.x1, b.x1) - max(a.x0, b.x0) > SLACK
-            and min(a.y1, b.y1) - max(a.y0, b.y0) > SLACK)
+    return min(a.x1, b.x1) - max(a.x0, b.x0) > SLACK and min(a.y1, b.y1) - max(a.y0, b.y0) > SLACK
 
 
 # -- the checker catches what it must ------------------------------------------------------
@@ -149,8 +168,9 @@ def explorer_states(name: str) -> Iterator[tuple[str, Figure]]:
     names = list(explorer.live)
     start = tuple(explorer.controls[n].value for n in names)
     yield f"{name} as built (start state)", explorer.figure
-    combos = sorted(itertools.product(*(explorer.live[n] for n in names)),
-                    key=lambda combo: combo == start)
+    combos = sorted(
+        itertools.product(*(explorer.live[n] for n in names)), key=lambda combo: combo == start
+    )
     for combo in combos:
         explorer.refresh(**dict(zip(names, combo, strict=True)))
         figure = getattr(explorer, "figure", None)
@@ -158,9 +178,15 @@ def explorer_states(name: str) -> Iterator[tuple[str, Figure]]:
             yield f"{name}{dict(zip(names, combo, strict=True))}", figure
 
 
-EXPLORERS = ["mass_function_explorer", "conflict_explorer",
-             "dependent_combination_explorer", "noise_evidence_explorer",
-             "extension_explorer", "filter_step_explorer", "bounded_error_explorer"]
+EXPLORERS = [
+    "mass_function_explorer",
+    "conflict_explorer",
+    "dependent_combination_explorer",
+    "noise_evidence_explorer",
+    "extension_explorer",
+    "filter_step_explorer",
+    "bounded_error_explorer",
+]
 
 
 @pytest.mark.slow
@@ -201,6 +227,7 @@ def test_estimates_figure_reads_right() -> None:
 
     steps = np.arange(1, 41)
     truth = 1000.0 + 37.8 * steps
-    fig = plot_estimates(truth, truth + 3.0, {"dependent_evidence": truth + 0.5,
-                                              "nassreddine": truth - 0.4})
+    fig = plot_estimates(
+        truth, truth + 3.0, {"dependent_evidence": truth + 0.5, "nassreddine": truth - 0.4}
+    )
     assert text_problems(fig) == []

@@ -43,7 +43,8 @@ TARGET = Path(__file__).resolve().parent / "data" / "filter_golden.npz"
 FILTERS: dict[str, Callable[[], Any]] = {
     "dependent_p3": lambda: DependentEvidenceFilter(p=3, on_conflict="predict"),
     "dependent_p2_paper_theta": lambda: DependentEvidenceFilter(
-        p=2, theta=PAPER_THETA, mass_rule="m1", on_conflict="predict"),
+        p=2, theta=PAPER_THETA, mass_rule="m1", on_conflict="predict"
+    ),
     "kalman": KalmanFilter,
     "nassreddine": lambda: NassreddineFilter(on_conflict="reset"),
     "nassreddine_restart": lambda: NassreddineFilter(restart=True, on_conflict="reset"),
@@ -108,8 +109,9 @@ def test_the_compiled_kernel_gives_the_stored_estimates(name):
     model = gauge_state_space_model()
     for case, seq, orders in cases():
         result = flt.run(model, seq.readings, orders)
-        np.testing.assert_allclose(result.estimates, STORED[f"{name}/{case}/estimates"],
-                                   rtol=0, atol=1e-9, err_msg=case)
+        np.testing.assert_allclose(
+            result.estimates, STORED[f"{name}/{case}/estimates"], rtol=0, atol=1e-9, err_msg=case
+        )
 
 
 def main(argv: list[str] | None = None) -> int:

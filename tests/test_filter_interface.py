@@ -58,8 +58,9 @@ def lotka_case():
     return model, z, None
 
 
-@pytest.mark.parametrize("case", [gauge_case, walk_case, lotka_case],
-                         ids=["gauge", "random_walk", "lotka_volterra"])
+@pytest.mark.parametrize(
+    "case", [gauge_case, walk_case, lotka_case], ids=["gauge", "random_walk", "lotka_volterra"]
+)
 @pytest.mark.parametrize("name", list(MAKERS))
 def test_every_filter_through_the_same_lines(name, case):
     model, Z, U = case()
@@ -105,10 +106,13 @@ def test_the_step_loop_is_what_run_records(name):
     tol = TOLERANCE.get(name, 0.0)
     np.testing.assert_allclose(recorded.estimates, fast.estimates, rtol=tol, atol=0)
     for key in flt.DIAGNOSTICS:
-        np.testing.assert_allclose(np.asarray(recorded.diagnostics[key], dtype=float),
-                                   np.asarray(fast.diagnostics[key], dtype=float),
-                                   rtol=max(tol, 1e-9) if tol else 0, atol=1e-12 if tol else 0,
-                                   err_msg=key)
+        np.testing.assert_allclose(
+            np.asarray(recorded.diagnostics[key], dtype=float),
+            np.asarray(fast.diagnostics[key], dtype=float),
+            rtol=max(tol, 1e-9) if tol else 0,
+            atol=1e-12 if tol else 0,
+            err_msg=key,
+        )
 
 
 @pytest.mark.parametrize("name", list(MAKERS))
@@ -235,9 +239,12 @@ def test_a_high_dimensional_state_is_refused_before_step_1_allocates():
 
     half = [0.1] * 7
     model = StateSpaceModel(
-        f=lambda x, u=None: x, g=lambda x: x,
+        f=lambda x, u=None: x,
+        g=lambda x: x,
         g_inverse=lambda lo, hi, a, b: (np.maximum(lo, a), np.minimum(hi, b)),
-        state_noise=BoundedNoise.symmetric(half), obs_noise=BoundedNoise.symmetric(half))
+        state_noise=BoundedNoise.symmetric(half),
+        obs_noise=BoundedNoise.symmetric(half),
+    )
     tracemalloc.start()
     try:
         with pytest.raises(MemoryBudgetError, match=r"16384 × 16384 boxes, eq\. 16"):
@@ -265,7 +272,8 @@ def test_the_energy_without_theta_is_an_option_of_the_papers_filter():
     np.testing.assert_array_equal(b.estimates[1], left_out.run(model, Z[1], U[1]).estimates)
     rec = left_out.run(model, Z[0], U[0], record=True)
     np.testing.assert_array_equal(rec.estimates, b.estimates[0])
-    assert not np.allclose(rec.diagnostics["r12"][1:],
-                           paper.run(model, Z[0], U[0]).diagnostics["r12"][1:])
+    assert not np.allclose(
+        rec.diagnostics["r12"][1:], paper.run(model, Z[0], U[0]).diagnostics["r12"][1:]
+    )
     with pytest.raises(EvidenceError, match="energy_theta"):
         DependentEvidenceFilter(energy_theta="none")

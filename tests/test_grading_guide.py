@@ -50,21 +50,31 @@ def test_the_page_is_in_the_back_matter_and_says_the_limits():
 
     assert f"after {DEFAULT_TIME_LIMIT:g} seconds" in text
     steps = [c.split()[1] for c in commands() if c.startswith("nbgrader ")]
-    assert steps == ["generate_assignment", "release_assignment", "collect", "autograde",
-                     "generate_feedback", "release_feedback", "export"]
+    assert steps == [
+        "generate_assignment",
+        "release_assignment",
+        "collect",
+        "autograde",
+        "generate_feedback",
+        "release_feedback",
+        "export",
+    ]
 
 
 def _run(command: str, cwd: Path, env: dict[str, str]) -> None:
-    done = subprocess.run(["bash", "-c", command], cwd=cwd, env=env, capture_output=True,
-                          text=True, timeout=1800)
+    done = subprocess.run(
+        ["bash", "-c", command], cwd=cwd, env=env, capture_output=True, text=True, timeout=1800
+    )
     assert done.returncode == 0, f"{command}\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}"
 
 
 def _answered(release: Path, source: Path) -> str:
     """Return the released notebook with the teacher's answers in its answer cells."""
     nb = json.loads(release.read_text("utf-8"))
-    teacher = {c["metadata"]["nbgrader"]["grade_id"]: c["source"]
-               for c in json.loads(source.read_text("utf-8"))["cells"]}
+    teacher = {
+        c["metadata"]["nbgrader"]["grade_id"]: c["source"]
+        for c in json.loads(source.read_text("utf-8"))["cells"]
+    }
     for cell in nb["cells"]:
         meta = cell["metadata"].get("nbgrader", {})
         if meta.get("solution") and cell["cell_type"] == "code":
@@ -103,16 +113,26 @@ def test_every_command_of_the_page_runs(tmp_path: Path):
         if words[:2] == ["nbgrader", "collect"]:
             student = tmp_path / "student"
             student.mkdir()
-            _run(f"nbgrader fetch_assignment {NAME} --course dstoolkit "
-                 f'--Exchange.root="{exchange}"', student, env)
-            _run(f"nbgrader submit {NAME} --course dstoolkit "
-                 f'--Exchange.root="{exchange}"', student, env)
+            _run(
+                f'nbgrader fetch_assignment {NAME} --course dstoolkit --Exchange.root="{exchange}"',
+                student,
+                env,
+            )
+            _run(
+                f'nbgrader submit {NAME} --course dstoolkit --Exchange.root="{exchange}"',
+                student,
+                env,
+            )
         if words[0] == "install":
             downloads = home / "Downloads"
             downloads.mkdir()
-            (downloads / "alice.ipynb").write_text(_answered(
-                folder / "release" / NAME / f"{NAME}.ipynb",
-                folder / "source" / NAME / f"{NAME}.ipynb"), encoding="utf-8")
+            (downloads / "alice.ipynb").write_text(
+                _answered(
+                    folder / "release" / NAME / f"{NAME}.ipynb",
+                    folder / "source" / NAME / f"{NAME}.ipynb",
+                ),
+                encoding="utf-8",
+            )
         _run(command, cwd, env)
         ran.append(line)
     assert ran == commands()

@@ -54,20 +54,21 @@ from dstoolkit.gauge import (
     speed_of_sound,
 )
 
-SETTINGS = settings(max_examples=60, deadline=None, derandomize=True,
-                    suppress_health_check=[HealthCheck.too_slow])
+SETTINGS = settings(
+    max_examples=60, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow]
+)
 
 # -- hostile values -----------------------------------------------------------------------
 numbers = st.one_of(
     st.floats(-10, 10),
-    st.sampled_from([0.0, -0.0, 1.0, -1.0, 0.5, math.nan, math.inf, -math.inf, 1e308,
-                     -1e308, 5e-324, 1e-300]),
+    st.sampled_from(
+        [0.0, -0.0, 1.0, -1.0, 0.5, math.nan, math.inf, -math.inf, 1e308, -1e308, 5e-324, 1e-300]
+    ),
     st.integers(-5, 5),
 )
 junk = st.one_of(
     numbers,
-    st.sampled_from(["x", "", "1.0", b"\x00", None, 1j, [1, [2, 3]], {"a": 1}, object(),
-                     True]),
+    st.sampled_from(["x", "", "1.0", b"\x00", None, 1j, [1, [2, 3]], {"a": 1}, object(), True]),
     st.lists(numbers, max_size=4),
 )
 vectors = st.one_of(
@@ -100,10 +101,12 @@ def intervals(draw: Any) -> IntervalEvidence:
 
 @st.composite
 def mass_functions(draw: Any) -> MassFunction:
-    keys = draw(st.lists(st.sampled_from(["a", "b", "ab", "bc", "abc"]), min_size=1,
-                         max_size=4, unique=True))
-    mass = np.array(draw(st.lists(st.floats(0.01, 1), min_size=len(keys),
-                                  max_size=len(keys))))
+    keys = draw(
+        st.lists(
+            st.sampled_from(["a", "b", "ab", "bc", "abc"]), min_size=1, max_size=4, unique=True
+        )
+    )
+    mass = np.array(draw(st.lists(st.floats(0.01, 1), min_size=len(keys), max_size=len(keys))))
     return MassFunction(dict(zip(keys, mass / mass.sum(), strict=True)), "abc")
 
 
@@ -116,9 +119,14 @@ def test_interval_evidence_constructor(lo, hi, mass):
 
 
 @SETTINGS
-@given(st.dictionaries(st.one_of(st.sampled_from(["a", "ab", "", "abc", "z"]),
-                                 st.tuples(st.sampled_from("ab"))), junk, max_size=4),
-       st.one_of(st.none(), st.sampled_from(["abc", [[1], 2], (), "a"])))
+@given(
+    st.dictionaries(
+        st.one_of(st.sampled_from(["a", "ab", "", "abc", "z"]), st.tuples(st.sampled_from("ab"))),
+        junk,
+        max_size=4,
+    ),
+    st.one_of(st.none(), st.sampled_from(["abc", [[1], 2], (), "a"])),
+)
 def test_mass_function_constructor(masses, frame):
     outcome(MassFunction, masses, frame)
 
@@ -169,14 +177,19 @@ def test_possibility_and_noise_evidence(lower, mode, upper, p, epsilon, theta):
 WALK = random_walk(0.1, 0.5)
 GAUGE = gauge_state_space_model()
 GAUGE_SEQ = simulate_gauge(level_m=4.6, temperature_c=26.5, runs=2, seed=3)
-FILTERS = [DependentEvidenceFilter(p=2), NassreddineFilter(p=2, max_focal=8),
-           BoundedErrorFilter(on_inconsistent="reset"), KalmanFilter(),
-           ParticleFilter(n_particles=50)]
+FILTERS = [
+    DependentEvidenceFilter(p=2),
+    NassreddineFilter(p=2, max_focal=8),
+    BoundedErrorFilter(on_inconsistent="reset"),
+    KalmanFilter(),
+    ParticleFilter(n_particles=50),
+]
 
 
 @pytest.mark.parametrize("flt", FILTERS, ids=[f.name for f in FILTERS])
-@settings(max_examples=25, deadline=None, derandomize=True,
-          suppress_health_check=[HealthCheck.too_slow])
+@settings(
+    max_examples=25, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow]
+)
 @given(z=vectors, u=vectors, hostile_step=st.integers(0, 12), value=numbers)
 def test_filters_take_hostile_readings_and_inputs(flt, z, u, hostile_step, value):
     outcome(flt.run, WALK, z)
@@ -197,14 +210,16 @@ def test_filters_take_hostile_readings_and_inputs(flt, z, u, hostile_step, value
 @SETTINGS
 @given(junk, junk, junk, vectors)
 def test_filter_options(a, b, c, box):
-    for make in (lambda: DependentEvidenceFilter(p=a, epsilon=b),
-                 lambda: DependentEvidenceFilter(start=box, on_conflict=c),
-                 lambda: DependentEvidenceFilter(theta=(box, None), chunk_size=a),
-                 lambda: NassreddineFilter(max_focal=a, epsilon=b, initial_box=(box, box)),
-                 lambda: NassreddineFilter(theta=(box, None), on_conflict=c),
-                 lambda: BoundedErrorFilter(on_inconsistent=c, initial_box=(a, b)),
-                 lambda: KalmanFilter(initial_box=(box, a)),
-                 lambda: ParticleFilter(n_particles=a, seed=b, initial_box=box)):
+    for make in (
+        lambda: DependentEvidenceFilter(p=a, epsilon=b),
+        lambda: DependentEvidenceFilter(start=box, on_conflict=c),
+        lambda: DependentEvidenceFilter(theta=(box, None), chunk_size=a),
+        lambda: NassreddineFilter(max_focal=a, epsilon=b, initial_box=(box, box)),
+        lambda: NassreddineFilter(theta=(box, None), on_conflict=c),
+        lambda: BoundedErrorFilter(on_inconsistent=c, initial_box=(a, b)),
+        lambda: KalmanFilter(initial_box=(box, a)),
+        lambda: ParticleFilter(n_particles=a, seed=b, initial_box=box),
+    ):
         flt = outcome(make)
         if flt is not None:
             outcome(flt.run, WALK, [0.0, 0.1, 0.2])

@@ -71,15 +71,18 @@ def test_every_crafted_recording_gives_a_one_line_error_or_the_level(corpus):
                 _, peak = tracemalloc.get_traced_memory()
                 tracemalloc.stop()
             if case.expect == "level" and (
-                    result is None or abs(result.level.level_m - TRUE_LEVEL_M) > LEVEL_TOLERANCE_M):
+                result is None or abs(result.level.level_m - TRUE_LEVEL_M) > LEVEL_TOLERANCE_M
+            ):
                 failures.append(f"{case.name}: expected the level {TRUE_LEVEL_M} m, got {outcome}")
             if case.expect == "error" and result is not None:
                 failures.append(f"{case.name}: expected an error, got {outcome}")
             if elapsed > TIME_LIMIT_S:
                 failures.append(f"{case.name}: took {elapsed:.1f} s")
             if peak > max(4 * size, ANALYSIS_ALLOWANCE_BYTES):
-                failures.append(f"{case.name}: peak memory {peak / 2**20:.0f} MiB for a file "
-                                f"of {size / 2**20:.1f} MiB")
+                failures.append(
+                    f"{case.name}: peak memory {peak / 2**20:.0f} MiB for a file "
+                    f"of {size / 2**20:.1f} MiB"
+                )
     finally:
         signal.signal(signal.SIGALRM, previous)
     assert not failures, "\n".join(failures)

@@ -50,28 +50,47 @@ from dstoolkit.gauge import (
 
 
 # -- gauge and numbers -------------------------------------------------------------------
-@pytest.mark.parametrize("make", [
-    lambda: LinearSweep(sample_rate=math.nan, duration=math.inf),
-    lambda: LinearSweep(duration=math.nan),
-    lambda: LinearSweep(taper=math.nan),
-    lambda: LinearSweep(f_start="1000"),
-    lambda: ev.triangular_from_samples([0.1, -0.2, 0.3], k=-3),
-    lambda: ev.triangular_from_samples([0.1, -0.2, 0.3], k=math.nan),
-    lambda: ev.triangular_from_samples([0.1, -0.2, 0.3], k="3"),
-    lambda: ev.triangular_from_samples([1e308, -1e308, 1e308]),
-    lambda: simulate_gauge(runs=0),
-    lambda: simulate_gauge(runs=2.5),
-    lambda: simulate_gauge(runs="3"),
-    lambda: TubeSetup(level_m="2"),
-    lambda: TubeSetup(level_m=2.0, temperature_c="20"),
-    lambda: TubeSetup(level_m=2.0, diameter_m=math.nan),
-    lambda: IntervalEvidence(np.zeros((2, 0)), np.zeros((2, 0)), [0.5, 0.5]),
-    lambda: level_from_fundamental(1e308, 1e-308),
-    lambda: level_from_fundamental(1e-300, 1e300),
-], ids=["sweep nan/inf", "sweep duration nan", "sweep taper nan", "sweep string",
-        "k = -3", "k = nan", "k string", "samples 1e308", "runs 0", "runs 2.5", "runs string",
-        "level string", "temperature string", "diameter nan", "(2, 0) boxes",
-        "level overflows", "level underflows"])
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda: LinearSweep(sample_rate=math.nan, duration=math.inf),
+        lambda: LinearSweep(duration=math.nan),
+        lambda: LinearSweep(taper=math.nan),
+        lambda: LinearSweep(f_start="1000"),
+        lambda: ev.triangular_from_samples([0.1, -0.2, 0.3], k=-3),
+        lambda: ev.triangular_from_samples([0.1, -0.2, 0.3], k=math.nan),
+        lambda: ev.triangular_from_samples([0.1, -0.2, 0.3], k="3"),
+        lambda: ev.triangular_from_samples([1e308, -1e308, 1e308]),
+        lambda: simulate_gauge(runs=0),
+        lambda: simulate_gauge(runs=2.5),
+        lambda: simulate_gauge(runs="3"),
+        lambda: TubeSetup(level_m="2"),
+        lambda: TubeSetup(level_m=2.0, temperature_c="20"),
+        lambda: TubeSetup(level_m=2.0, diameter_m=math.nan),
+        lambda: IntervalEvidence(np.zeros((2, 0)), np.zeros((2, 0)), [0.5, 0.5]),
+        lambda: level_from_fundamental(1e308, 1e-308),
+        lambda: level_from_fundamental(1e-300, 1e300),
+    ],
+    ids=[
+        "sweep nan/inf",
+        "sweep duration nan",
+        "sweep taper nan",
+        "sweep string",
+        "k = -3",
+        "k = nan",
+        "k string",
+        "samples 1e308",
+        "runs 0",
+        "runs 2.5",
+        "runs string",
+        "level string",
+        "temperature string",
+        "diameter nan",
+        "(2, 0) boxes",
+        "level overflows",
+        "level underflows",
+    ],
+)
 def test_numbers_that_never_should_have_passed_are_refused(make):
     with pytest.raises(DstoolkitError) as info:
         make()
@@ -91,9 +110,11 @@ def test_triangular_bounds_keep_lower_below_upper():
     assert b.lower < b.mode < b.upper
 
 
-@pytest.mark.parametrize("f", [lambda x: np.sqrt(x - 5.0), lambda x: x + 1e-3j,
-                               lambda x: np.where(x > 1.5, np.inf, x)],
-                         ids=["NaN", "complex", "inf"])
+@pytest.mark.parametrize(
+    "f",
+    [lambda x: np.sqrt(x - 5.0), lambda x: x + 1e-3j, lambda x: np.where(x > 1.5, np.inf, x)],
+    ids=["NaN", "complex", "inf"],
+)
 def test_image_refuses_what_is_no_image(f):
     lo, hi = np.array([[0.0], [1.0]]), np.array([[1.0], [2.0]])
     with pytest.raises(EvidenceError, match="f returned"):
@@ -131,9 +152,11 @@ def test_an_ambiguous_recording_is_refused(tmp_path, recording):
     hot = meta.replace('"temperature_c": 26.0', '"temperature_c": 40.0')
     twice = meta.replace('"temperature_c": 26.0', '"temperature_c": 26.0, "temperature_c": 40.0')
     assert hot != meta != twice
-    cases = {"a key given twice": [_info((b"ICMT", twice))],
-             "two LIST/INFO chunks": [_info((b"ICMT", meta)), _info((b"ICMT", hot))],
-             "two comments in one chunk": [_info((b"ICMT", meta), (b"ICMT", hot))]}
+    cases = {
+        "a key given twice": [_info((b"ICMT", twice))],
+        "two LIST/INFO chunks": [_info((b"ICMT", meta)), _info((b"ICMT", hot))],
+        "two comments in one chunk": [_info((b"ICMT", meta), (b"ICMT", hot))],
+    }
     for name, chunks in cases.items():
         path = tmp_path / "r.wav"
         path.write_bytes(_wav(recording.samples, recording.samplerate, *chunks))
@@ -146,20 +169,24 @@ def test_an_ambiguous_recording_is_refused(tmp_path, recording):
     assert load_recording(path).metadata.temperature_c == 40.0  # one chunk: fine
 
 
-@pytest.mark.parametrize(("change", "match"), [
-    (lambda x, r, m: (np.append(x, 1e39), r, m), "32-bit float"),
-    (lambda x, r, m: (x + 0.5j, r, m), "complex"),
-    (lambda x, r, m: (x.astype(object), r, m), "real numbers"),
-    (lambda x, r, m: (x, 500, m), "1 kHz to 1 MHz"),
-    (lambda x, r, m: (x, math.nan, m), "1 kHz to 1 MHz"),
-    (lambda x, r, m: (x, "44100", m), "1 kHz to 1 MHz"),
-    (lambda x, r, m: (x, r, RecordingMetadata(extra={"note": "x" * 70_000})), "more than"),
-    (lambda x, r, m: (x, r, RecordingMetadata(extra={"deep": _nested(40)})), "nested"),
-], ids=["1e39", "complex", "objects", "500 Hz", "nan Hz", "string rate", "64 KiB", "nested"])
-def test_save_recording_refuses_what_load_recording_would_refuse(tmp_path, recording, change,
-                                                                 match):
-    samples, rate, metadata = change(recording.samples, recording.samplerate,
-                                     recording.metadata)
+@pytest.mark.parametrize(
+    ("change", "match"),
+    [
+        (lambda x, r, m: (np.append(x, 1e39), r, m), "32-bit float"),
+        (lambda x, r, m: (x + 0.5j, r, m), "complex"),
+        (lambda x, r, m: (x.astype(object), r, m), "real numbers"),
+        (lambda x, r, m: (x, 500, m), "1 kHz to 1 MHz"),
+        (lambda x, r, m: (x, math.nan, m), "1 kHz to 1 MHz"),
+        (lambda x, r, m: (x, "44100", m), "1 kHz to 1 MHz"),
+        (lambda x, r, m: (x, r, RecordingMetadata(extra={"note": "x" * 70_000})), "more than"),
+        (lambda x, r, m: (x, r, RecordingMetadata(extra={"deep": _nested(40)})), "nested"),
+    ],
+    ids=["1e39", "complex", "objects", "500 Hz", "nan Hz", "string rate", "64 KiB", "nested"],
+)
+def test_save_recording_refuses_what_load_recording_would_refuse(
+    tmp_path, recording, change, match
+):
+    samples, rate, metadata = change(recording.samples, recording.samplerate, recording.metadata)
     with pytest.raises(RecordingFileError, match=match):
         save_recording(tmp_path / "r.wav", samples, rate, metadata)
     assert list(tmp_path.iterdir()) == []
@@ -179,13 +206,18 @@ def budget():
     set_memory_budget(None)
 
 
-@pytest.mark.parametrize("work", [
-    lambda: ev.cartesian_product([IntervalEvidence(np.arange(12.0), np.arange(12.0) + 0.5,
-                                                   np.full(12, 1 / 12))] * 6),
-    lambda: fit_resonance_series(1000.0 + 18.0 * np.arange(400_000)),
-    lambda: simulate_gauge(runs=10**9),
-    lambda: synthesize_recording(TubeSetup(level_m=2.0), LinearSweep(duration=1e6)),
-], ids=["cartesian product", "series fit", "simulated runs", "synthesis"])
+@pytest.mark.parametrize(
+    "work",
+    [
+        lambda: ev.cartesian_product(
+            [IntervalEvidence(np.arange(12.0), np.arange(12.0) + 0.5, np.full(12, 1 / 12))] * 6
+        ),
+        lambda: fit_resonance_series(1000.0 + 18.0 * np.arange(400_000)),
+        lambda: simulate_gauge(runs=10**9),
+        lambda: synthesize_recording(TubeSetup(level_m=2.0), LinearSweep(duration=1e6)),
+    ],
+    ids=["cartesian product", "series fit", "simulated runs", "synthesis"],
+)
 def test_growing_work_is_refused_before_it_allocates(work):
     tracemalloc.start()
     try:
@@ -206,27 +238,52 @@ def test_the_budget_applies_to_small_budgets_too(budget):
 
 
 def test_table3_runs_beyond_the_budget_is_one_clear_error(tmp_path, capsys):
-    status = cli.main(["table3", "--runs", str(10**9), "--out", str(tmp_path / "n" / "t.csv"),
-                       "--quiet"])
+    status = cli.main(
+        ["table3", "--runs", str(10**9), "--out", str(tmp_path / "n" / "t.csv"), "--quiet"]
+    )
     err = capsys.readouterr().err
     assert status == 2 and err.startswith("error: table3 --runs") and "budget" in err
     assert list(tmp_path.iterdir()) == []
 
 
 @settings(max_examples=40, deadline=None)
-@given(st.one_of(
-    st.sampled_from(["inf", "-inf", "nan", "1e400", "0", "-1", "12", "1e30", "lots", "G",
-                     "1.5.2M", "∞", "2**30", " "]),
-    st.floats(allow_nan=True, allow_infinity=True).filter(
-        lambda v: not 2**20 <= v <= 2**50).map(repr)))
+@given(
+    st.one_of(
+        st.sampled_from(
+            [
+                "inf",
+                "-inf",
+                "nan",
+                "1e400",
+                "0",
+                "-1",
+                "12",
+                "1e30",
+                "lots",
+                "G",
+                "1.5.2M",
+                "∞",
+                "2**30",
+                " ",
+            ]
+        ),
+        st.floats(allow_nan=True, allow_infinity=True)
+        .filter(lambda v: not 2**20 <= v <= 2**50)
+        .map(repr),
+    )
+)
 def test_a_budget_from_the_environment_is_validated(text):
-    with mock.patch.dict(os.environ, {"DSTOOLKIT_MEMORY_BUDGET": text}), \
-            pytest.raises(InvalidInputError, match="DSTOOLKIT_MEMORY_BUDGET"):
+    with (
+        mock.patch.dict(os.environ, {"DSTOOLKIT_MEMORY_BUDGET": text}),
+        pytest.raises(InvalidInputError, match="DSTOOLKIT_MEMORY_BUDGET"),
+    ):
         memory_budget()
 
 
-@pytest.mark.parametrize(("text", "nbytes"), [("512M", 2**29), ("2G", 2**31), ("1.5GiB",
-                                               3 * 2**29), ("1048576", 2**20), ("4 MB", 2**22)])
+@pytest.mark.parametrize(
+    ("text", "nbytes"),
+    [("512M", 2**29), ("2G", 2**31), ("1.5GiB", 3 * 2**29), ("1048576", 2**20), ("4 MB", 2**22)],
+)
 def test_a_valid_budget_from_the_environment(monkeypatch, text, nbytes):
     monkeypatch.setenv("DSTOOLKIT_MEMORY_BUDGET", text)
     assert memory_budget() == nbytes
@@ -264,9 +321,14 @@ def test_an_explorer_renders_one_refresh_at_a_time():
     assert busy["most"] == 1
 
 
-@pytest.mark.parametrize("error", [MemoryBudgetError("too big for the budget"),
-                                   InvalidInputError("not a setting"),
-                                   EvidenceError("total conflict")])
+@pytest.mark.parametrize(
+    "error",
+    [
+        MemoryBudgetError("too big for the budget"),
+        InvalidInputError("not a setting"),
+        EvidenceError("total conflict"),
+    ],
+)
 def test_explorer_refresh_shows_every_package_error(error):
     widgets = pytest.importorskip("ipywidgets")
     from dstoolkit.teaching import Explorer

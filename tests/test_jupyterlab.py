@@ -53,7 +53,9 @@ def _lab_settings(folder: Path) -> None:
     settings = {
         "@jupyterlab/notebook-extension/tracker.jupyterlab-settings": {"windowingMode": "none"},
         "@jupyterlab/apputils-extension/notification.jupyterlab-settings": {
-            "fetchNews": "false", "checkForUpdates": False},
+            "fetchNews": "false",
+            "checkForUpdates": False,
+        },
     }
     for name, value in settings.items():
         path = folder / name
@@ -75,26 +77,43 @@ def lab_folder(tmp_path_factory: pytest.TempPathFactory, built_book: BookBuild) 
 
 
 @pytest.fixture(scope="module")
-def jupyterlab(lab_folder: Path, tmp_path_factory: pytest.TempPathFactory,
-               chromium: object) -> Iterator[str]:
+def jupyterlab(
+    lab_folder: Path, tmp_path_factory: pytest.TempPathFactory, chromium: object
+) -> Iterator[str]:
     """``jupyter lab`` on 127.0.0.1 serving ``lab_folder``; yields its URL with the token."""
     home = tmp_path_factory.mktemp("lab-home")
     _lab_settings(home / "settings")
-    env = {**os.environ, "JUPYTER_CONFIG_DIR": str(home / "config"),
-           "JUPYTER_RUNTIME_DIR": str(home / "runtime"),
-           "JUPYTERLAB_SETTINGS_DIR": str(home / "settings"),
-           "JUPYTERLAB_WORKSPACES_DIR": str(home / "workspaces"),
-           "JUPYTER_PLATFORM_DIRS": "1"}
+    env = {
+        **os.environ,
+        "JUPYTER_CONFIG_DIR": str(home / "config"),
+        "JUPYTER_RUNTIME_DIR": str(home / "runtime"),
+        "JUPYTERLAB_SETTINGS_DIR": str(home / "settings"),
+        "JUPYTERLAB_WORKSPACES_DIR": str(home / "workspaces"),
+        "JUPYTER_PLATFORM_DIRS": "1",
+    }
     port, token = _free_port(), secrets.token_hex(16)
     SHOTS.mkdir(parents=True, exist_ok=True)
     log = (SHOTS / "jupyterlab.log").open("w", encoding="utf-8")
     server = subprocess.Popen(
-        [sys.executable, "-m", "jupyterlab", "--no-browser", "--ServerApp.ip=127.0.0.1",
-         f"--ServerApp.port={port}", "--ServerApp.port_retries=0",
-         f"--IdentityProvider.token={token}", f"--ServerApp.root_dir={lab_folder}",
-         "--allow-root", "--LabApp.news_url=None",
-         "--LabApp.check_for_updates_class=jupyterlab.NeverCheckForUpdate"],
-        cwd=lab_folder, env=env, stdout=log, stderr=subprocess.STDOUT)
+        [
+            sys.executable,
+            "-m",
+            "jupyterlab",
+            "--no-browser",
+            "--ServerApp.ip=127.0.0.1",
+            f"--ServerApp.port={port}",
+            "--ServerApp.port_retries=0",
+            f"--IdentityProvider.token={token}",
+            f"--ServerApp.root_dir={lab_folder}",
+            "--allow-root",
+            "--LabApp.news_url=None",
+            "--LabApp.check_for_updates_class=jupyterlab.NeverCheckForUpdate",
+        ],
+        cwd=lab_folder,
+        env=env,
+        stdout=log,
+        stderr=subprocess.STDOUT,
+    )
     url = f"http://127.0.0.1:{port}"
     try:
         deadline = time.monotonic() + STARTUP_S
@@ -130,8 +149,12 @@ def _run_all(page, path: Path) -> dict:
         page.wait_for_timeout(1000)
         nb = json.loads(path.read_text(encoding="utf-8"))
         code = [cell for cell in nb["cells"] if cell["cell_type"] == "code"]
-        errors = [f"{o['ename']}: {o['evalue']}" for cell in code
-                  for o in cell.get("outputs", []) if o["output_type"] == "error"]
+        errors = [
+            f"{o['ename']}: {o['evalue']}"
+            for cell in code
+            for o in cell.get("outputs", [])
+            if o["output_type"] == "error"
+        ]
         assert not errors, f"{path.name} raised when run: {errors}"
         if all(cell["execution_count"] for cell in code):
             return nb
@@ -144,8 +167,9 @@ def _figures(cell) -> list[str]:
 
 
 @pytest.mark.parametrize("kind", ["chapter", "sheet"])
-def test_notebook_runs_in_jupyterlab(chromium: object, jupyterlab: str, lab_folder: Path,
-                                     kind: str) -> None:
+def test_notebook_runs_in_jupyterlab(
+    chromium: object, jupyterlab: str, lab_folder: Path, kind: str
+) -> None:
     pattern = f"chapter_*_{CHAPTER}.ipynb" if kind == "chapter" else f"[0-9]*_{CHAPTER}.ipynb"
     path = next(lab_folder.glob(pattern))
     source = (ROOT / "book" / f"{CHAPTER}.md").read_text(encoding="utf-8")
@@ -156,7 +180,8 @@ def test_notebook_runs_in_jupyterlab(chromium: object, jupyterlab: str, lab_fold
         page.locator(".jp-Notebook .jp-Cell").first.wait_for(timeout=STARTUP_S * 1000)
         # The kernel has started when the status bar names it and says it is idle.
         page.get_by_text(re.compile(r"\(ipykernel\) \| Idle")).first.wait_for(
-            timeout=STARTUP_S * 1000)
+            timeout=STARTUP_S * 1000
+        )
         _run_all(page, path)
 
         notebook = page.locator(".jp-NotebookPanel:not(.lm-mod-hidden) .jp-Notebook")
@@ -167,8 +192,9 @@ def test_notebook_runs_in_jupyterlab(chromium: object, jupyterlab: str, lab_fold
         assert not shown, f"{path.name} shows solutions: {shown[:3]}"
         if kind == "chapter":
             exercises = directive_phrases(source, "exercise")
-            assert exercises and all(" ".join(p.split()) in text for p in exercises), \
+            assert exercises and all(" ".join(p.split()) in text for p in exercises), (
                 "the chapter notebook lost the text of an exercise"
+            )
             assert "Exercise" in text
 
         cell = notebook.locator(".jp-CodeCell", has=page.locator(".jp-OutputArea [role='slider']"))
@@ -183,8 +209,11 @@ def test_notebook_runs_in_jupyterlab(chromium: object, jupyterlab: str, lab_fold
         page.keyboard.press("ArrowRight")
         page.wait_for_function(
             "([cell, before]) => [...cell.querySelectorAll('img')].map(i => i.src).join()"
-            " !== before.join()", arg=[cell.element_handle(), before], polling=500,
-            timeout=FIGURE_S * 1000)
+            " !== before.join()",
+            arg=[cell.element_handle(), before],
+            polling=500,
+            timeout=FIGURE_S * 1000,
+        )
         assert slider.get_attribute("aria-valuenow") != value
         page.screenshot(path=str(SHOTS / f"{kind}-after.png"))
         page.set_viewport_size({"width": 768, "height": 900})

@@ -56,15 +56,34 @@ def picture(fig: Figure) -> list[Any]:
     """Return what a figure shows, artist by artist: data, titles, labels, limits, legends."""
     out: list[Any] = [fig.get_size_inches().tolist()]
     for ax in fig.axes:
-        out.append((ax.get_xlim(), ax.get_ylim(), ax.get_xscale(), ax.get_yscale(),
-                    [ax.get_title(loc) for loc in ("left", "center", "right")],
-                    ax.get_xlabel(), ax.get_ylabel()))
-        out += [(line.get_label(), np.asarray(line.get_xdata(), float).tolist(),
-                 np.asarray(line.get_ydata(), float).tolist()) for line in ax.lines]
+        out.append(
+            (
+                ax.get_xlim(),
+                ax.get_ylim(),
+                ax.get_xscale(),
+                ax.get_yscale(),
+                [ax.get_title(loc) for loc in ("left", "center", "right")],
+                ax.get_xlabel(),
+                ax.get_ylabel(),
+            )
+        )
+        out += [
+            (
+                line.get_label(),
+                np.asarray(line.get_xdata(), float).tolist(),
+                np.asarray(line.get_ydata(), float).tolist(),
+            )
+            for line in ax.lines
+        ]
         out += [[path.vertices.tolist() for path in c.get_paths()] for c in ax.collections]
-        out += [[a.get_animated() for a in (*ax.lines, *ax.collections)],
-                [(t.get_text(), t.get_fontsize(), t.get_animated())  # titles, texts
-                 for t in ax.get_children() if isinstance(t, Text)]]
+        out += [
+            [a.get_animated() for a in (*ax.lines, *ax.collections)],
+            [
+                (t.get_text(), t.get_fontsize(), t.get_animated())  # titles, texts
+                for t in ax.get_children()
+                if isinstance(t, Text)
+            ],
+        ]
         legend = ax.get_legend()
         out.append([t.get_text() for t in legend.get_texts()] if legend else None)
     out.append([[t.get_text() for t in legend.get_texts()] for legend in fig.legends])
@@ -81,8 +100,14 @@ def change(ex: Any, *steps: tuple[str, Any]) -> None:
 def test_the_gauge_explorer_after_changes_shows_what_a_fresh_one_shows() -> None:
     ex = gauge_explorer()
     kept = ex.figure
-    change(ex, ("level", 4.0), ("temperature", 20.0), ("top_reflection", 0.5),
-           ("background", 60.0), ("level", 6.3))
+    change(
+        ex,
+        ("level", 4.0),
+        ("temperature", 20.0),
+        ("top_reflection", 0.5),
+        ("background", 60.0),
+        ("level", 6.3),
+    )
     assert ex.figure is kept
     fresh = gauge_explorer(6.3, 20.0, 0.5, 60.0)
     assert fresh.figure is not kept
@@ -103,8 +128,7 @@ def test_an_invalid_gauge_setting_warns_and_keeps_the_last_figure() -> None:
 
 
 @pytest.mark.slow
-def test_the_level_explorer_keeps_one_figure_per_kind_and_shows_what_a_fresh_one_shows(
-) -> None:
+def test_the_level_explorer_keeps_one_figure_per_kind_and_shows_what_a_fresh_one_shows() -> None:
     ex = level_estimation_explorer()
     levels = ex.figure
     change(ex, ("level", 4.0), ("figure", "Fig. 10: frequencies"), ("seed", 3))
@@ -116,8 +140,7 @@ def test_the_level_explorer_keeps_one_figure_per_kind_and_shows_what_a_fresh_one
     assert picture(levels) == picture(fresh.figure)
     change(ex, ("figure", "Fig. 10: frequencies"))
     assert ex.figure is frequencies
-    fresh = level_estimation_explorer(6.0, 26.5, "frequency", "true",
-                                      "Fig. 10: frequencies", 3)
+    fresh = level_estimation_explorer(6.0, 26.5, "frequency", "true", "Fig. 10: frequencies", 3)
     assert picture(frequencies) == picture(fresh.figure)
     assert ex.numbers == fresh.numbers
 
@@ -127,8 +150,14 @@ def test_the_noise_bounds_explorer_after_changes_shows_what_a_fresh_figure_shows
 
     ex = noise_bounds_explorer(runs=4)
     kept = ex.figure
-    change(ex, ("w_upper", -3.0), ("v_upper", 0.4), ("w_lower", -11.0), ("start", "observation"),
-           ("w_upper", -2.0))
+    change(
+        ex,
+        ("w_upper", -3.0),
+        ("v_upper", 0.4),
+        ("w_lower", -11.0),
+        ("start", "observation"),
+        ("w_upper", -2.0),
+    )
     shown, before = ex.output.outputs, picture(kept)
     ex.controls["v_mode"].value = -0.5  # below v lower: no such noise
     assert "error" in ex.numbers and "⚠" in ex.readout.value
@@ -140,17 +169,25 @@ def test_the_noise_bounds_explorer_after_changes_shows_what_a_fresh_figure_shows
     assumed_v = BoundedNoise(v["v_lower"], v["v_mode"], v["v_upper"])
     assumed_w = BoundedNoise(v["w_lower"], v["w_mode"], v["w_upper"])
     result = noise_mismatch(data, assumed_v, assumed_w, start="observation")
-    fresh = noise_bounds_figure(data.state_noise, data.obs_noise, assumed_v, assumed_w,
-                                result.errors, title="L = 4.6 m, 4 runs, true orders",
-                                v_range=(-1.0, 1.0), w_range=(-20.0, 5.0))
+    fresh = noise_bounds_figure(
+        data.state_noise,
+        data.obs_noise,
+        assumed_v,
+        assumed_w,
+        result.errors,
+        title="L = 4.6 m, 4 runs, true orders",
+        v_range=(-1.0, 1.0),
+        w_range=(-20.0, 5.0),
+    )
     assert picture(kept) == picture(fresh)
 
 
 @pytest.mark.parametrize("scale", [0.3, 0.8, 1.0])
 def test_strict_failures_from_the_batch_equal_strict_runs_one_by_one(scale: float) -> None:
     data = tracking_data(runs=12)
-    model = gauge_state_space_model(scaled_noise(data.state_noise, scale),
-                                    scaled_noise(data.obs_noise, scale))
+    model = gauge_state_space_model(
+        scaled_noise(data.state_noise, scale), scaled_noise(data.obs_noise, scale)
+    )
     failed, first = 0, ""
     for z, u in zip(data.readings, data.orders, strict=True):
         try:
@@ -162,8 +199,9 @@ def test_strict_failures_from_the_batch_equal_strict_runs_one_by_one(scale: floa
 
 def test_the_batch_result_of_the_bounded_error_filter_equals_single_runs() -> None:
     data = tracking_data(runs=20)
-    model = gauge_state_space_model(scaled_noise(data.state_noise, 0.8),
-                                    scaled_noise(data.obs_noise, 0.8))
+    model = gauge_state_space_model(
+        scaled_noise(data.state_noise, 0.8), scaled_noise(data.obs_noise, 0.8)
+    )
     flt = BoundedErrorFilter(on_inconsistent="reset")
     batch = flt.run_batch(model, data.readings, inputs=data.orders)
     assert 0 < np.any(batch.diagnostics["resets"], axis=1).sum() < 20  # some runs restart
@@ -177,10 +215,16 @@ def test_the_batch_result_of_the_bounded_error_filter_equals_single_runs() -> No
 #: The recordings stored in tests/data/gauge_golden.npz (by the synthesis before its speed-up).
 GOLDEN_CASES = {
     0: (TubeSetup(4.6, 26.5), GAUGE_CONDITIONS, 0),
-    1: (TubeSetup(1.6, 5.0, top_reflection=0.9),
-        replace(GAUGE_CONDITIONS, background_noise_pa=spl_to_pa(90.0)), 1),
-    4: (TubeSetup(6.0, 10.0, top_reflection=0.5),
-        replace(GAUGE_CONDITIONS, background_noise_pa=spl_to_pa(60.0)), 0),
+    1: (
+        TubeSetup(1.6, 5.0, top_reflection=0.9),
+        replace(GAUGE_CONDITIONS, background_noise_pa=spl_to_pa(90.0)),
+        1,
+    ),
+    4: (
+        TubeSetup(6.0, 10.0, top_reflection=0.5),
+        replace(GAUGE_CONDITIONS, background_noise_pa=spl_to_pa(60.0)),
+        0,
+    ),
 }
 
 
@@ -193,22 +237,27 @@ def test_the_gauge_synthesis_and_detection_give_the_stored_numbers(case: int) ->
         np.testing.assert_array_equal(rec.samples[::101], golden[f"samples{case}"])
     det = detect_resonances(rec)
     assert det.latency_s == golden[f"latency{case}"]
-    np.testing.assert_allclose(det.frequencies, golden[f"frequencies{case}"], rtol=0,
-                               atol=1e-9)
+    np.testing.assert_allclose(det.frequencies, golden[f"frequencies{case}"], rtol=0, atol=1e-9)
     np.testing.assert_allclose(det.envelope[::7], golden[f"envelope{case}"], rtol=1e-12)
 
 
 def test_a_generator_seed_and_an_integer_seed_draw_the_same_noise() -> None:
     setup, conditions = TubeSetup(3.0, 20.0), typical_conditions()
     by_int = synthesize_recording(setup, PAPER_SWEEP, conditions, seed=5)
-    by_generator = synthesize_recording(setup, PAPER_SWEEP, conditions,
-                                        seed=np.random.default_rng(5))
+    by_generator = synthesize_recording(
+        setup, PAPER_SWEEP, conditions, seed=np.random.default_rng(5)
+    )
     np.testing.assert_array_equal(by_int.samples, by_generator.samples)
     quiet = synthesize_recording(setup, PAPER_SWEEP, RecordingConditions(), seed=5)
     assert not np.array_equal(quiet.samples, by_int.samples)
     np.testing.assert_allclose(
-        virtual_tube_signal(TubeSetup(3.0, 20.0), PAPER_SWEEP, conditions=conditions, seed=2)
-        [::101], np.load(GOLDEN)["virtual_tube"], rtol=0, atol=1e-15)
+        virtual_tube_signal(TubeSetup(3.0, 20.0), PAPER_SWEEP, conditions=conditions, seed=2)[
+            ::101
+        ],
+        np.load(GOLDEN)["virtual_tube"],
+        rtol=0,
+        atol=1e-15,
+    )
 
 
 def pixels(png: bytes) -> np.ndarray:
@@ -219,14 +268,17 @@ def pixels(png: bytes) -> np.ndarray:
     return imread(BytesIO(png))
 
 
-@pytest.mark.parametrize(("build", "steps", "blitted"), [
-    (gauge_explorer, (("temperature", 20.0), ("background", 60.0)), 2),
-    (level_estimation_explorer, (("temperature", 20.0), ("temperature", 26.0)), 1),
-    (noise_bounds_explorer, (("w_upper", -3.0), ("v_upper", 0.4), ("w_lower", -11.0)), 3),
-])
+@pytest.mark.parametrize(
+    ("build", "steps", "blitted"),
+    [
+        (gauge_explorer, (("temperature", 20.0), ("background", 60.0)), 2),
+        (level_estimation_explorer, (("temperature", 20.0), ("temperature", 26.0)), 1),
+        (noise_bounds_explorer, (("w_upper", -3.0), ("v_upper", 0.4), ("w_lower", -11.0)), 3),
+    ],
+)
 def test_a_kept_figure_redraws_only_its_data_and_shows_the_pixels_of_a_whole_draw(
-        build: Any, steps: tuple[tuple[str, Any], ...], blitted: int,
-        monkeypatch: pytest.MonkeyPatch) -> None:
+    build: Any, steps: tuple[tuple[str, Any], ...], blitted: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """Changes that move no limit redraw only the animated data and title (blitting).
 
     The picture shown is pixel for pixel the figure drawn whole.
@@ -238,8 +290,7 @@ def test_a_kept_figure_redraws_only_its_data_and_shows_the_pixels_of_a_whole_dra
     ex = build()
     draws: list[Figure] = []
     whole = Explorer._draw
-    monkeypatch.setattr(Explorer, "_draw", lambda self, fig: (draws.append(fig),
-                                                              whole(self, fig)))
+    monkeypatch.setattr(Explorer, "_draw", lambda self, fig: (draws.append(fig), whole(self, fig)))
     change(ex, *steps)
     assert len(steps) - len(draws) >= blitted
     shown = pixels(b64decode(ex.output.outputs[-1]["data"]["image/png"]))
@@ -249,18 +300,21 @@ def test_a_kept_figure_redraws_only_its_data_and_shows_the_pixels_of_a_whole_dra
     assert len(draws) == before + 1
 
 
-@pytest.mark.parametrize(("data", "kwargs", "limits"), [
-    ((0.0, 0.273), {"margin": 0.0}, (0.0, 0.3)),
-    ((0.0, 0.43), {"margin": 0.0}, (0.0, 0.5)),
-    ((4.1, 5.3), {"margin": 0.0}, (4.0, 5.5)),
-    ((0.0, 2.6), {}, (-0.15, 3.15)),
-    ((1.0, 39.0), {}, (-2.0, 42.0)),
-    ((0.18, 1.4), {"log": True, "margin": 0.0}, (0.1, 2.0)),
-    ((0.0005, 0.7), {"log": True, "margin": 0.0}, (0.0005, 1.0)),
-])
-def test_snapped_limits_reach_out_to_round_numbers(data: tuple[float, float],
-                                                   kwargs: dict[str, Any],
-                                                   limits: tuple[float, float]) -> None:
+@pytest.mark.parametrize(
+    ("data", "kwargs", "limits"),
+    [
+        ((0.0, 0.273), {"margin": 0.0}, (0.0, 0.3)),
+        ((0.0, 0.43), {"margin": 0.0}, (0.0, 0.5)),
+        ((4.1, 5.3), {"margin": 0.0}, (4.0, 5.5)),
+        ((0.0, 2.6), {}, (-0.15, 3.15)),
+        ((1.0, 39.0), {}, (-2.0, 42.0)),
+        ((0.18, 1.4), {"log": True, "margin": 0.0}, (0.1, 2.0)),
+        ((0.0005, 0.7), {"log": True, "margin": 0.0}, (0.0005, 1.0)),
+    ],
+)
+def test_snapped_limits_reach_out_to_round_numbers(
+    data: tuple[float, float], kwargs: dict[str, Any], limits: tuple[float, float]
+) -> None:
     from dstoolkit.plots._kept import snapped_limits
 
     np.testing.assert_allclose(snapped_limits(*data, **kwargs), limits, rtol=1e-12)
@@ -293,7 +347,8 @@ def test_set_limits_leaves_a_figure_clean_when_nothing_changes() -> None:
 
 @pytest.mark.parametrize("zoom", [None, (2.0, 2.4)])
 def test_a_recording_drawn_through_its_extremes_looks_like_every_sample_drawn(
-        zoom: tuple[float, float] | None) -> None:
+    zoom: tuple[float, float] | None,
+) -> None:
     """plot_recording draws its 220,000 samples through their extremes per pixel column.
 
     The picture is the one of a line through every sample (no pixel off by more than 48 of
@@ -320,8 +375,7 @@ def test_a_recording_drawn_through_its_extremes_looks_like_every_sample_drawn(
         trace = fig.axes[0].lines[0]
         sizes: list[int] = []
 
-        def spy(x: Any, y: Any, sizes: list[int] = sizes, set_data: Any = trace.set_data
-                ) -> None:
+        def spy(x: Any, y: Any, sizes: list[int] = sizes, set_data: Any = trace.set_data) -> None:
             sizes.append(len(x))
             set_data(x, y)
 

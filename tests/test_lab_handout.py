@@ -49,8 +49,12 @@ def test_the_source_has_the_four_parts_and_the_numbers() -> None:
     for part in PARTS:
         assert re.search(rf"\\section\*\{{\d\. {part}\}}", tex), part
     assert "tikzpicture" in tex
-    for shown in (f"{n['diameter_mm']:.0f} mm", f"{n['f_lo']:.0f}--{n['f_hi']:.0f} Hz",
-                  f"{n['cutoff']:.0f} Hz", f"{n['shortest']:.2f} m"):
+    for shown in (
+        f"{n['diameter_mm']:.0f} mm",
+        f"{n['f_lo']:.0f}--{n['f_hi']:.0f} Hz",
+        f"{n['cutoff']:.0f} Hz",
+        f"{n['shortest']:.2f} m",
+    ):
         assert shown in tex, shown
     changed = lab_handout.handout_tex({**n, "cutoff": 1234.0})
     assert "1234 Hz" in changed and "1234 Hz" not in tex
@@ -72,8 +76,9 @@ def handout_text(built_book: BookBuild) -> str:
         pytest.skip(reason)
     assert built_book.returncode == 0, built_book.tail()
     assert PDF.exists(), f"no {PDF} after the book's build"
-    return subprocess.run(["pdftotext", "-layout", str(PDF), "-"], check=True,
-                          capture_output=True, text=True).stdout
+    return subprocess.run(
+        ["pdftotext", "-layout", str(PDF), "-"], check=True, capture_output=True, text=True
+    ).stdout
 
 
 @pytest.mark.slow

@@ -77,15 +77,17 @@ def _record(**values: float) -> str:
 
 @pytest.fixture(scope="module")
 def states() -> list[dict]:
-    return printed_json([
-        BUILD,
-        _record(level=7.0),
-        _record(thermometer_error=2.0),
-        _record(thermometer_error=0.0, temperature=11.0),
-        _record(room_noise=-10.0),
-        _record(room_noise=-60.0, level=0.5),
-        _record(level=4.0, temperature=21.0),
-    ])[0]
+    return printed_json(
+        [
+            BUILD,
+            _record(level=7.0),
+            _record(thermometer_error=2.0),
+            _record(thermometer_error=0.0, temperature=11.0),
+            _record(room_noise=-10.0),
+            _record(room_noise=-60.0, level=0.5),
+            _record(level=4.0, temperature=21.0),
+        ]
+    )[0]
 
 
 @pytest.mark.slow
@@ -105,8 +107,7 @@ def test_first_state_is_a_virtual_measurement(states: list[dict]) -> None:
 
 
 @pytest.mark.slow
-def test_moving_the_virtual_level_and_recording_moves_the_printed_level(
-        states: list[dict]) -> None:
+def test_moving_the_virtual_level_and_recording_moves_the_printed_level(states: list[dict]) -> None:
     before, after = states[0], states[1]
     assert "error" not in after, after
     assert abs(after["level (m)"] - 7.0) < 0.01 and after["true level (m)"] == 7.0
@@ -119,7 +120,8 @@ def test_moving_the_virtual_level_and_recording_moves_the_printed_level(
 
 @pytest.mark.slow
 def test_a_thermometer_that_reads_high_lengthens_the_level_by_l_dc_over_c(
-        states: list[dict]) -> None:
+    states: list[dict],
+) -> None:
     right, high = states[1], states[2]
     expected = level_error_from_temperature(7.0, 21.0 - 2.0, 2.0)  # air 19 °C, read 21 °C
     assert abs((high["level (m)"] - right["level (m)"]) - expected) < 0.002, (right, high)
@@ -147,8 +149,10 @@ def test_bad_settings_print_the_toolkits_message(states: list[dict]) -> None:
 
 
 def _devices(kind=None):
-    both = [audio.AudioDevice(3, "USB microphone", "ALSA", 1, 0, 48000.0, True, False),
-            audio.AudioDevice(5, "Speakers", "ALSA", 0, 2, 48000.0, False, True)]
+    both = [
+        audio.AudioDevice(3, "USB microphone", "ALSA", 1, 0, 48000.0, True, False),
+        audio.AudioDevice(5, "Speakers", "ALSA", 0, 2, 48000.0, False, True),
+    ]
     if kind == "input":
         return both[:1]
     if kind == "output":
@@ -232,11 +236,15 @@ def test_without_audio_only_the_virtual_tube_is_offered() -> None:
 
 def test_imitated_failures_raise_the_real_messages_and_restore_sounddevice() -> None:
     before = sys.modules.get("sounddevice")
-    with imitate_audio_failure("no sounddevice"), pytest.raises(AudioUnavailableError,
-                                                                match="pip install"):
+    with (
+        imitate_audio_failure("no sounddevice"),
+        pytest.raises(AudioUnavailableError, match="pip install"),
+    ):
         audio.list_devices()
-    with imitate_audio_failure("no device"), pytest.raises(audio.NoAudioDeviceError,
-                                                           match="no input device"):
+    with (
+        imitate_audio_failure("no device"),
+        pytest.raises(audio.NoAudioDeviceError, match="no input device"),
+    ):
         audio.choose_device(None, "input")
     assert sys.modules.get("sounddevice") is before
     with pytest.raises(ValueError, match="kind must be"), imitate_audio_failure("loud"):
@@ -249,8 +257,7 @@ def test_lab_measurement_with_a_thermometer_error() -> None:
     assert abs(right.error_m) < 0.01
     expected = level_error_from_temperature(3.0, 18.0, 3.0)
     assert abs((high.level.level_m - right.level.level_m) - expected) < 1e-3
-    assert right.latency_s == pytest.approx(LabSettings(seed=4).simulated_latency_s,
-                                            abs=1 / 44100)
+    assert right.latency_s == pytest.approx(LabSettings(seed=4).simulated_latency_s, abs=1 / 44100)
     assert LabSettings(seed=4).simulated_latency_s != LabSettings(seed=5).simulated_latency_s
 
 
@@ -263,6 +270,5 @@ def test_calibration_figure_needs_the_calibration_metadata() -> None:
         plot_calibration(bare)
     # the matched filter peaks where the opening chirp starts: after the lead-in and τ
     c = lab.calibration_correlation(rec)
-    assert int(np.argmax(c[: c.size // 2])) == round((audio.MIN_PADDING_S + 0.08)
-                                                     * rec.samplerate)
+    assert int(np.argmax(c[: c.size // 2])) == round((audio.MIN_PADDING_S + 0.08) * rec.samplerate)
     assert c.max() == 1.0

@@ -59,8 +59,9 @@ def test_min_significance_rejects_a_recording_without_the_sweep() -> None:
 
 
 def test_detector_uses_the_estimator_on_the_sweep() -> None:
-    rec = synthesize_recording(TubeSetup(1.3, 27.0), PAPER_SWEEP,
-                               RecordingConditions(latency_s=0.0123), seed=3)
+    rec = synthesize_recording(
+        TubeSetup(1.3, 27.0), PAPER_SWEEP, RecordingConditions(latency_s=0.0123), seed=3
+    )
     detection = detect_resonances(rec)
     direct = estimate_latency(PAPER_SWEEP.waveform(), rec.samples, PAPER_SWEEP.sample_rate)
     assert detection.latency_s == direct.seconds

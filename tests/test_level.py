@@ -85,8 +85,7 @@ def test_series_fit_beats_eq43_on_a_long_noisy_tube() -> None:
     z = f + rng.normal(0.0, 1.4, size=(50, f.size))
     eq43 = np.array([np.mean(np.abs(direct_levels(zi, C_9_6) - 9.6)) for zi in z])
     fixed = np.array([abs(fit_resonance_series(zi).level(C_9_6) - 9.6) for zi in z])
-    free = np.array([abs(fit_resonance_series(zi, offset_hz=None).level(C_9_6) - 9.6)
-                     for zi in z])
+    free = np.array([abs(fit_resonance_series(zi, offset_hz=None).level(C_9_6) - 9.6) for zi in z])
     wrong_orders = np.mean([np.mean(orders_eq43(zi) != n[:-1]) for zi in z])
     assert wrong_orders > 0.5  # eq. 43 is wrong more often than right here
     assert eq43.mean() > 0.3  # tens of centimetres

@@ -25,6 +25,7 @@ def _interval_square(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.nda
 
 def _polynomial(coeffs: np.ndarray):
     """p(x) = Σ c_i x^i with the slope bound from |p'| ≤ Σ i |c_i| max(|lo|, |hi|)^(i−1)."""
+
     def f(x: np.ndarray) -> np.ndarray:
         return np.polynomial.polynomial.polyval(x[..., 0], coeffs)
 
@@ -82,8 +83,12 @@ def test_never_narrower_than_the_image_on_sampled_functions(seed: int, pieces: i
 
 def test_a_linear_function_is_enclosed_exactly_up_to_rounding() -> None:
     lo, hi = np.array([[-1.3], [0.0]]), np.array([[2.9], [0.0]])  # a point box too
-    a, b = image((lo, hi), lambda x: 2.0 * x[..., 0] + 1.0, method="mean_value",
-                 slope=lambda lo, hi: (np.full_like(lo, 2.0), np.full_like(hi, 2.0)))
+    a, b = image(
+        (lo, hi),
+        lambda x: 2.0 * x[..., 0] + 1.0,
+        method="mean_value",
+        slope=lambda lo, hi: (np.full_like(lo, 2.0), np.full_like(hi, 2.0)),
+    )
     np.testing.assert_allclose(a[:, 0], [-1.6, 1.0], rtol=1e-12)
     np.testing.assert_allclose(b[:, 0], [6.8, 1.0], rtol=1e-12)
     assert np.all(a[:, 0] <= [-1.6, 1.0]) and np.all(b[:, 0] >= [6.8, 1.0])
@@ -91,14 +96,25 @@ def test_a_linear_function_is_enclosed_exactly_up_to_rounding() -> None:
 
 def test_two_variables_two_outputs() -> None:
     """f(x, y) = (x², x y) on random boxes: slopes ∂/∂x = (2x, y), ∂/∂y = (0, x)."""
+
     def f(p: np.ndarray) -> np.ndarray:
         return np.stack([p[..., 0] ** 2, p[..., 0] * p[..., 1]], axis=-1)
 
     def slope(lo: np.ndarray, hi: np.ndarray):
-        d_lo = np.stack([np.stack([2 * lo[..., 0], np.zeros_like(lo[..., 0])], -1),
-                         np.stack([lo[..., 1], lo[..., 0]], -1)], -2)
-        d_hi = np.stack([np.stack([2 * hi[..., 0], np.zeros_like(hi[..., 0])], -1),
-                         np.stack([hi[..., 1], hi[..., 0]], -1)], -2)
+        d_lo = np.stack(
+            [
+                np.stack([2 * lo[..., 0], np.zeros_like(lo[..., 0])], -1),
+                np.stack([lo[..., 1], lo[..., 0]], -1),
+            ],
+            -2,
+        )
+        d_hi = np.stack(
+            [
+                np.stack([2 * hi[..., 0], np.zeros_like(hi[..., 0])], -1),
+                np.stack([hi[..., 1], hi[..., 0]], -1),
+            ],
+            -2,
+        )
         return d_lo, d_hi
 
     rng = np.random.default_rng(3)
@@ -119,8 +135,15 @@ def test_the_excess_width_shrinks_like_the_square_of_the_width() -> None:
     f, slope = _sin, _sin_slope
     lo, hi = np.array([0.0]), np.array([3.0])
     true = 1.0 - 0.0  # sin on [0, 3]: [0, 1]
-    excess = [float(np.diff(np.ravel(image((lo, hi), f, method="mean_value", slope=slope,
-                                            subdivisions=k)))[0]) - true for k in (16, 32, 64)]
+    excess = [
+        float(
+            np.diff(np.ravel(image((lo, hi), f, method="mean_value", slope=slope, subdivisions=k)))[
+                0
+            ]
+        )
+        - true
+        for k in (16, 32, 64)
+    ]
     assert all(e > 0 for e in excess)
     ratios = [excess[0] / excess[1], excess[1] / excess[2]]
     assert all(r > 3.0 for r in ratios), ratios  # linear would halve it, quadratic quarter
@@ -128,8 +151,9 @@ def test_the_excess_width_shrinks_like_the_square_of_the_width() -> None:
 
 def test_evidence_keeps_its_masses() -> None:
     ev = IntervalEvidence(np.array([[-1.0], [1.0]]), np.array([[0.5], [2.0]]), [0.4, 0.6])
-    out = image(ev, lambda x: x[..., 0] ** 2, method="mean_value",
-                slope=lambda lo, hi: (2 * lo, 2 * hi))
+    out = image(
+        ev, lambda x: x[..., 0] ** 2, method="mean_value", slope=lambda lo, hi: (2 * lo, 2 * hi)
+    )
     assert isinstance(out, IntervalEvidence)
     np.testing.assert_allclose(np.sort(out.mass), [0.4, 0.6])
     assert np.all(out.boxes_lo[:, 0] <= [0.0, 1.0]) and np.all(out.boxes_hi[:, 0] >= [1.0, 4.0])
@@ -143,8 +167,8 @@ def test_a_missing_or_bad_slope_bound_is_refused() -> None:
     with pytest.raises(EvidenceError, match="d_lo > d_hi"):
         image(box, square, method="mean_value", slope=lambda lo, hi: (2 * hi, 2 * lo - 1))
     with pytest.raises(EvidenceError, match="must return two arrays of shape"):
-        image(box, square, method="mean_value",
-              slope=lambda lo, hi: (np.zeros(3), np.ones(3)))
+        image(box, square, method="mean_value", slope=lambda lo, hi: (np.zeros(3), np.ones(3)))
     with pytest.raises(EvidenceError, match="pieces must be"):
-        image(box, square, method="mean_value", slope=lambda lo, hi: (2 * lo, 2 * hi),
-              subdivisions=0)
+        image(
+            box, square, method="mean_value", slope=lambda lo, hi: (2 * lo, 2 * hi), subdivisions=0
+        )

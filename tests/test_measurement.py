@@ -45,8 +45,9 @@ def recording_26() -> WavRecording:
 
 @pytest.mark.parametrize(("level", "temperature"), [(1.3, 27.0), (5.6, 26.5), (9.6, 23.9)])
 def test_simulated_measurement_gives_back_the_level(level: float, temperature: float) -> None:
-    rec = simulate_measurement(TubeSetup(level_m=level, temperature_c=temperature),
-                               latency_s=0.2, noise_rms=1e-3, seed=3)
+    rec = simulate_measurement(
+        TubeSetup(level_m=level, temperature_c=temperature), latency_s=0.2, noise_rms=1e-3, seed=3
+    )
     analysis = analyze(rec)
     assert analysis.true_level_m == level
     assert abs(analysis.error_m) <= TOLERANCE_M
@@ -57,8 +58,13 @@ def test_simulated_measurement_gives_back_the_level(level: float, temperature: f
     # every filter of Table 3 runs on the recording's readings (latency corrected, the
     # sweep-rate offset left in as the paper's w expects; fully corrected readings would put
     # the filters 40-50 mm off at 9.6 m)
-    assert set(analysis.filter_levels) == {"dependent_evidence", "nassreddine", "direct",
-                                           "kalman", "particle"}
+    assert set(analysis.filter_levels) == {
+        "dependent_evidence",
+        "nassreddine",
+        "direct",
+        "kalman",
+        "particle",
+    }
     for method in ("dependent_evidence", "nassreddine", "kalman", "particle"):
         assert abs(analysis.filter_levels[method] - level) < 0.02, method
 
@@ -116,8 +122,9 @@ def test_missed_resonances_are_reported_and_the_level_still_estimated(recording_
         x[np.abs(t - first.detection.peak_times[k]) < 0.5 * spacing_s] *= 0.3
     analysis = analyze(WavRecording(x, fs, meta))
     assert analysis.detection.missed.size == 2
-    np.testing.assert_allclose(analysis.detection.missed,
-                               first.detection.frequencies[[5, 12]], atol=2.0)
+    np.testing.assert_allclose(
+        analysis.detection.missed, first.detection.frequencies[[5, 12]], atol=2.0
+    )
     assert "2 resonance(s) missed" in analysis.summary()
     assert all(np.isfinite(v) for v in analysis.filter_levels.values())
     assert abs(analysis.error_m) <= TOLERANCE_M
@@ -204,8 +211,13 @@ def test_wav_file_keeps_what_analyze_needs(tmp_path, recording_26) -> None:
     path = tmp_path / "r.wav"
     save_recording(path, recording_26.samples, recording_26.samplerate, recording_26.metadata)
     meta = load_recording(path).metadata
-    assert (meta.temperature_c, meta.f_start_hz, meta.f_stop_hz, meta.sweep_duration_s,
-            meta.level_m) == (26.5, 1000.0, 2400.0, 5.0, 2.6)
+    assert (
+        meta.temperature_c,
+        meta.f_start_hz,
+        meta.f_stop_hz,
+        meta.sweep_duration_s,
+        meta.level_m,
+    ) == (26.5, 1000.0, 2400.0, 5.0, 2.6)
     assert meta.latency_s == pytest.approx(0.12, abs=1 / 44100)
 
 
@@ -233,8 +245,14 @@ def fake_sound_card(glitches: list[str]) -> types.ModuleType:
     sd = types.ModuleType("sounddevice")
     sd.PortAudioError = type("PortAudioError", (Exception,), {})
     sd.default = types.SimpleNamespace(device=[0, 0])
-    info = {"index": 0, "name": "fake loop", "hostapi": 0, "max_input_channels": 2,
-            "max_output_channels": 2, "default_samplerate": 44100.0}
+    info = {
+        "index": 0,
+        "name": "fake loop",
+        "hostapi": 0,
+        "max_input_channels": 2,
+        "max_output_channels": 2,
+        "default_samplerate": 44100.0,
+    }
     sd.query_devices = lambda device=None, kind=None: [info] if kind is None else info
     sd.query_hostapis = lambda: [{"name": "Fake"}]
     sd.calls = []
@@ -265,8 +283,15 @@ def use_card(monkeypatch, sd: types.ModuleType) -> types.ModuleType:
     from dstoolkit.audio import _devices
 
     def stream(played, samplerate, latency, device_in, device_out):
-        recorded = sd.playrec(played, samplerate, channels=1, dtype="float32",
-                              latency=latency, device=(device_in, device_out), blocking=True)
+        recorded = sd.playrec(
+            played,
+            samplerate,
+            channels=1,
+            dtype="float32",
+            latency=latency,
+            device=(device_in, device_out),
+            blocking=True,
+        )
         flags = sd.get_status()
         return recorded[:, 0], str(flags), bool(flags.output_underflow)
 

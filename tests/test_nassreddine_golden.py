@@ -49,7 +49,8 @@ def computed() -> dict[str, np.ndarray]:
             out[f"{name}/lotka_volterra_{r}/upper"] = result.upper
             out[f"{name}/lotka_volterra_{r}/merged_mass"] = result.diagnostics["merged_mass"]
         out[f"{name}/gauge_batch/estimates"] = flt.run_batch(
-            gauge_state_space_model(), gauge.readings, gauge.inputs).estimates
+            gauge_state_space_model(), gauge.readings, gauge.inputs
+        ).estimates
     return out
 
 
@@ -106,11 +107,14 @@ def test_the_compiled_kernels_give_the_same_numbers_bit_for_bit(name, today):
     for r in range(lv_z.shape[0]):
         result = flt.run(lv_model, lv_z[r])
         for field in ("estimates", "lower", "upper"):
-            np.testing.assert_array_equal(getattr(result, field),
-                                          today[f"{name}/lotka_volterra_{r}/{field}"])
-        np.testing.assert_array_equal(result.diagnostics["merged_mass"],
-                                      today[f"{name}/lotka_volterra_{r}/merged_mass"])
+            np.testing.assert_array_equal(
+                getattr(result, field), today[f"{name}/lotka_volterra_{r}/{field}"]
+            )
+        np.testing.assert_array_equal(
+            result.diagnostics["merged_mass"], today[f"{name}/lotka_volterra_{r}/merged_mass"]
+        )
     gauge = simulate_gauge(4.6, 26.5, runs=5, seed=2)
     np.testing.assert_array_equal(
         flt.run_batch(gauge_state_space_model(), gauge.readings, gauge.inputs).estimates,
-        today[f"{name}/gauge_batch/estimates"])
+        today[f"{name}/gauge_batch/estimates"],
+    )

@@ -66,48 +66,53 @@ def _variant_values(d: dict) -> dict[str, str]:
     The test does not trust the generator's answers.
     """
     k = d["m1_low"] * (d["m2_high"] + d["m2_mid_high"])
-    return {"ce-ex-conflict-answer": f"K = {k!r}",
-            "ce-ex-low-answer": f"m12_low = {d['m1_low'] * d['m2_theta'] / (1 - k)!r}",
-            "ce-ex-zadeh-answer": f"K_zadeh = {1 - d['zadeh_x_rest'] * d['zadeh_y_rest']!r}",
-            "ce-ex-zadeh-answer-2": "tumour = 1.0",
-            "ce-ex-twice-answer": f"twice = {1 - d['once_theta'] ** 2!r}"}
+    return {
+        "ce-ex-conflict-answer": f"K = {k!r}",
+        "ce-ex-low-answer": f"m12_low = {d['m1_low'] * d['m2_theta'] / (1 - k)!r}",
+        "ce-ex-zadeh-answer": f"K_zadeh = {1 - d['zadeh_x_rest'] * d['zadeh_y_rest']!r}",
+        "ce-ex-zadeh-answer-2": "tumour = 1.0",
+        "ce-ex-twice-answer": f"twice = {1 - d['once_theta'] ** 2!r}",
+    }
 
 
 VALUES = _variant_values(data("combine", VARIANT))
 BACK_TO_THE_BOOK = "from dstoolkit.teaching import set_variant\nset_variant(0)\n"
-WRAP_DEMPSTER = '''def dempster_rule(m1, m2):
+WRAP_DEMPSTER = """def dempster_rule(m1, m2):
     from dstoolkit import MassFunction, dempster
     frame = frozenset().union(*m1, *m2)
     both = dempster(MassFunction(m1, frame=frame), MassFunction(m2, frame=frame))
     return {frozenset(k): v for k, v in both.as_dict().items()}
-'''
-WRAP_DISCOUNT = '''def discount_rule(m, rate, frame):
+"""
+WRAP_DISCOUNT = """def discount_rule(m, rate, frame):
     return {frozenset(k): v for k, v in
             discount(MassFunction(m, frame=frame), rate).as_dict().items()}
-'''
-LOOPING_DEMPSTER = '''def dempster_rule(m1, m2):
+"""
+LOOPING_DEMPSTER = """def dempster_rule(m1, m2):
     while True:
         pass
-'''
-WRONG_DISCOUNT = '''def discount_rule(m, rate, frame):
+"""
+WRONG_DISCOUNT = """def discount_rule(m, rate, frame):
     return {**m, frozenset(frame): m.get(frozenset(frame), 0.0) + rate}
-'''
+"""
 
 
 def _nbgrader(course_dir: Path, *args: str) -> subprocess.CompletedProcess:
-    done = subprocess.run([str(NBGRADER), *args], cwd=course_dir, capture_output=True,
-                          text=True, timeout=1800)
+    done = subprocess.run(
+        [str(NBGRADER), *args], cwd=course_dir, capture_output=True, text=True, timeout=1800
+    )
     assert done.returncode == 0, f"nbgrader {' '.join(args)}:\n{done.stdout}\n{done.stderr}"
     return done
 
 
 def _cells(nb: dict) -> dict[str, dict]:
-    return {c["metadata"]["nbgrader"]["grade_id"]: c for c in nb["cells"]
-            if "nbgrader" in c["metadata"]}
+    return {
+        c["metadata"]["nbgrader"]["grade_id"]: c for c in nb["cells"] if "nbgrader" in c["metadata"]
+    }
 
 
-def _submission(release: dict, teacher: dict, answers: dict[str, str],
-                edits: dict[str, str] | None = None) -> dict:
+def _submission(
+    release: dict, teacher: dict, answers: dict[str, str], edits: dict[str, str] | None = None
+) -> dict:
     """Return the released notebook with ``answers`` in answer cells.
 
     ``"teacher"`` stands for the source's own answer; ``edits`` are written over any other
@@ -116,8 +121,7 @@ def _submission(release: dict, teacher: dict, answers: dict[str, str],
     nb = json.loads(json.dumps(release))
     cells, source = _cells(nb), _cells(teacher)
     for grade_id, text in {**answers, **(edits or {})}.items():
-        cells[grade_id]["source"] = (source[grade_id]["source"] if text == "teacher"
-                                     else text)
+        cells[grade_id]["source"] = source[grade_id]["source"] if text == "teacher" else text
     return nb
 
 
@@ -125,60 +129,109 @@ def _submission(release: dict, teacher: dict, answers: dict[str, str],
 def graded(tmp_path_factory: pytest.TempPathFactory) -> dict[str, dict[str, str]]:
     """{student: their row of the exported CSV} after the whole pipeline."""
     if not NBGRADER.exists():
-        pytest.fail(f"nbgrader is not installed in {NBGRADER.parent}: install the teach "
-                    "extra (bash scripts/ensure-env.sh does)")
+        pytest.fail(
+            f"nbgrader is not installed in {NBGRADER.parent}: install the teach "
+            "extra (bash scripts/ensure-env.sh does)"
+        )
     home = tmp_path_factory.mktemp("course")
     written = course.write_course(home, ROOT, [STEM], VARIANT)
-    assert [p.name for p in written] == ["nbgrader_config.py", "mathjax.html.j2",
-                                         f"{NAME}.ipynb"]
+    assert [p.name for p in written] == ["nbgrader_config.py", "mathjax.html.j2", f"{NAME}.ipynb"]
     _nbgrader(home, "generate_assignment", NAME, "--create")
     release = json.loads((home / "release" / NAME / f"{NAME}.ipynb").read_text("utf-8"))
     teacher = json.loads((home / "source" / NAME / f"{NAME}.ipynb").read_text("utf-8"))
-    all_right = {gid: "teacher" for gid, c in _cells(teacher).items()
-                 if c["metadata"]["nbgrader"]["solution"]
-                 and c["cell_type"] == "code"}
+    all_right = {
+        gid: "teacher"
+        for gid, c in _cells(teacher).items()
+        if c["metadata"]["nbgrader"]["solution"] and c["cell_type"] == "code"
+    }
     right_values = dict(VALUES)
     submissions = {
         "blank": _submission(release, teacher, {}),
-        "all_right": _submission(release, teacher, {
-            **all_right, "ce-ex-twice-written-1": "0.75; each copy halves m(Θ).",
-            "ce-ex-predict-written-1": "It falls to near 0; the conflict K tells."}),
-        "partly_right": _submission(release, teacher, {
-            "ce-ex-conflict-answer": VALUES["ce-ex-conflict-answer"],
-            "ce-ex-low-answer": "m12_low = 0.3",
-            "ce-ex-code-dempster-answer": "teacher",
-            "ce-ex-code-discount-answer": WRONG_DISCOUNT}),
-        "crashes": _submission(release, teacher, {
-            **all_right, "ce-ex-conflict-answer": "K = 0.54 +",
-            "ce-ex-low-answer": "m12_low = 1 / 0"}),
-        "endless_loop": _submission(release, teacher, {
-            **all_right, "ce-ex-conflict-answer": "while True:\n    pass\nK = 0.54",
-            "ce-ex-code-dempster-answer": LOOPING_DEMPSTER}),
-        "cheater": _submission(release, teacher, {
-            "ce-ex-conflict-answer": 'K = 0\ncheck = lambda *a, **k: print("✔")\n'
-                                     "must_pass = lambda *a, **k: None"},
-            edits={"combine-low-test": "pass",
-                   "combine-dempster-code-test": 'print("✔ all right")'}),
-        "wraps_dstoolkit": _submission(release, teacher, {
-            **right_values, "ce-ex-code-dempster-answer": WRAP_DEMPSTER,
-            "ce-ex-code-discount-answer": WRAP_DISCOUNT}),
-        "copies_the_book": _submission(release, teacher, {
-            **all_right, **BOOK_VALUES,
-            "ce-ex-conflict-answer": BACK_TO_THE_BOOK + BOOK_VALUES["ce-ex-conflict-answer"]}),
+        "all_right": _submission(
+            release,
+            teacher,
+            {
+                **all_right,
+                "ce-ex-twice-written-1": "0.75; each copy halves m(Θ).",
+                "ce-ex-predict-written-1": "It falls to near 0; the conflict K tells.",
+            },
+        ),
+        "partly_right": _submission(
+            release,
+            teacher,
+            {
+                "ce-ex-conflict-answer": VALUES["ce-ex-conflict-answer"],
+                "ce-ex-low-answer": "m12_low = 0.3",
+                "ce-ex-code-dempster-answer": "teacher",
+                "ce-ex-code-discount-answer": WRONG_DISCOUNT,
+            },
+        ),
+        "crashes": _submission(
+            release,
+            teacher,
+            {
+                **all_right,
+                "ce-ex-conflict-answer": "K = 0.54 +",
+                "ce-ex-low-answer": "m12_low = 1 / 0",
+            },
+        ),
+        "endless_loop": _submission(
+            release,
+            teacher,
+            {
+                **all_right,
+                "ce-ex-conflict-answer": "while True:\n    pass\nK = 0.54",
+                "ce-ex-code-dempster-answer": LOOPING_DEMPSTER,
+            },
+        ),
+        "cheater": _submission(
+            release,
+            teacher,
+            {
+                "ce-ex-conflict-answer": 'K = 0\ncheck = lambda *a, **k: print("✔")\n'
+                "must_pass = lambda *a, **k: None"
+            },
+            edits={
+                "combine-low-test": "pass",
+                "combine-dempster-code-test": 'print("✔ all right")',
+            },
+        ),
+        "wraps_dstoolkit": _submission(
+            release,
+            teacher,
+            {
+                **right_values,
+                "ce-ex-code-dempster-answer": WRAP_DEMPSTER,
+                "ce-ex-code-discount-answer": WRAP_DISCOUNT,
+            },
+        ),
+        "copies_the_book": _submission(
+            release,
+            teacher,
+            {
+                **all_right,
+                **BOOK_VALUES,
+                "ce-ex-conflict-answer": BACK_TO_THE_BOOK + BOOK_VALUES["ce-ex-conflict-answer"],
+            },
+        ),
     }
     for student, nb in submissions.items():
         folder = home / "submitted" / student / NAME
         folder.mkdir(parents=True)
         (folder / f"{NAME}.ipynb").write_text(json.dumps(nb, indent=1), encoding="utf-8")
     _nbgrader(home, "autograde", NAME, "--create", f"--Execute.timeout={CELL_TIMEOUT}")
-    _grade_by_hand(home, "all_right", {"ce-ex-twice-written-1": 2.0,
-                                       "ce-ex-predict-written-1": 1.5})
+    _grade_by_hand(
+        home, "all_right", {"ce-ex-twice-written-1": 2.0, "ce-ex-predict-written-1": 1.5}
+    )
     _nbgrader(home, "generate_feedback", NAME)
     _nbgrader(home, "export", "--to", "grades.csv")
     with (home / "grades.csv").open(encoding="utf-8") as f:
         rows = {row["student_id"]: row for row in csv.DictReader(f)}
-    written = sum(c["metadata"]["nbgrader"]["points"] for c in teacher["cells"]
-                  if c["cell_type"] == "markdown" and c["metadata"]["nbgrader"]["grade"])
+    written = sum(
+        c["metadata"]["nbgrader"]["points"]
+        for c in teacher["cells"]
+        if c["cell_type"] == "markdown" and c["metadata"]["nbgrader"]["grade"]
+    )
     rows["_home"] = {"path": str(home), "written": str(written)}
     return rows
 
@@ -234,7 +287,8 @@ def test_feedback_pages_show_the_checks_verdicts(graded: dict[str, dict[str, str
 
 
 def test_a_failing_verdict_appears_once_and_the_maths_reads_without_mathjax(
-        graded: dict[str, dict[str, str]]):
+    graded: dict[str, dict[str, str]],
+):
     home = Path(graded["_home"]["path"])
     page = (home / "feedback" / "partly_right" / NAME / f"{NAME}.html").read_text("utf-8")
     assert page.count("✘ combine.low: wrong") == 1
@@ -258,8 +312,11 @@ def test_course_config_and_metadata(tmp_path: Path):
         assert all(m["schema_version"] == 3 for m in meta)
         ids = [m["grade_id"] for m in meta]
         assert len(ids) == len(set(ids)), stem
-        tests = [c for c in nb["cells"] if c["metadata"]["nbgrader"]["grade"]
-                 and c["cell_type"] == "code"]
+        tests = [
+            c
+            for c in nb["cells"]
+            if c["metadata"]["nbgrader"]["grade"] and c["cell_type"] == "code"
+        ]
         checks = [b for b in src.blocks if b.kind == "check"]
         assert len(tests) == len(checks) and numbers[stem] == number
         for cell in tests:
@@ -271,12 +328,18 @@ def test_course_config_and_metadata(tmp_path: Path):
             if cell["cell_type"] == "markdown":
                 assert not course.MATH.search(cell["source"]), (stem, cell["source"])
                 assert "\\" not in cell["source"], (stem, cell["source"])
-        answers = [c for c in nb["cells"] if c["metadata"]["nbgrader"]["solution"]
-                   and c["cell_type"] == "code"]
+        answers = [
+            c
+            for c in nb["cells"]
+            if c["metadata"]["nbgrader"]["solution"] and c["cell_type"] == "code"
+        ]
         assert len(answers) == sum(b.kind == "stub" for b in src.blocks)
         assert all("### BEGIN SOLUTION" in c["source"] for c in answers)
         kinds = [k for _, k in src.exercises()]
-        written = [c for c in nb["cells"] if c["cell_type"] == "markdown"
-                   and c["metadata"]["nbgrader"]["grade"]]
+        written = [
+            c
+            for c in nb["cells"]
+            if c["cell_type"] == "markdown" and c["metadata"]["nbgrader"]["grade"]
+        ]
         assert len(written) >= sum(k in course.WRITTEN_KINDS for k in kinds), stem
         assert all(c["metadata"]["nbgrader"]["points"] > 0 for c in written)

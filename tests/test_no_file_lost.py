@@ -38,6 +38,7 @@ def _run(argv: list[str], capsys) -> tuple[int, str, str]:
 
 def _no_computing(monkeypatch):
     """Make every computation fail loudly: the command must stop before it."""
+
     def boom(*args, **kwargs):
         raise AssertionError("computing started before the outputs were checked")
 
@@ -57,8 +58,9 @@ def test_analyze_never_writes_its_figure_over_the_recording(tmp_path, recording,
     assert "victim.png.png" in out
 
 
-def test_analyze_refuses_an_explicit_figure_that_is_its_input(tmp_path, recording, capsys,
-                                                              monkeypatch):
+def test_analyze_refuses_an_explicit_figure_that_is_its_input(
+    tmp_path, recording, capsys, monkeypatch
+):
     victim = tmp_path / "victim.wav"
     original = _save(victim, recording)
     _no_computing(monkeypatch)
@@ -67,8 +69,9 @@ def test_analyze_refuses_an_explicit_figure_that_is_its_input(tmp_path, recordin
     assert victim.read_bytes() == original
 
 
-def test_analyze_keeps_an_existing_figure_unless_overwrite(tmp_path, recording, capsys,
-                                                           monkeypatch):
+def test_analyze_keeps_an_existing_figure_unless_overwrite(
+    tmp_path, recording, capsys, monkeypatch
+):
     rec = tmp_path / "keep.wav"
     _save(rec, recording)
     mine = tmp_path / "keep.png"
@@ -113,8 +116,9 @@ def test_table3_keeps_an_existing_csv_unless_overwrite(tmp_path, capsys, monkeyp
 
 def test_table3_out_png_writes_both_files(tmp_path, capsys):
     out = tmp_path / "t.png"
-    status, stdout, err = _run(["table3", "--out", str(out), "--runs", "1", "--methods",
-                                "direct", "--quiet"], capsys)
+    status, stdout, err = _run(
+        ["table3", "--out", str(out), "--runs", "1", "--methods", "direct", "--quiet"], capsys
+    )
     assert status == 0, err
     assert out.read_text().startswith("level_m,")
     assert made_by(tmp_path / "t.figure.png", "table3")
@@ -125,19 +129,31 @@ def test_table3_out_png_writes_both_files(tmp_path, capsys):
 def test_measure_refuses_one_file_for_recording_and_figure(tmp_path, capsys, monkeypatch):
     _no_computing(monkeypatch)
     same = tmp_path / "same.png"
-    status, _, err = _run(["measure", "--temperature", "20", "--save", str(same), "--figure",
-                           str(same)], capsys)
+    status, _, err = _run(
+        ["measure", "--temperature", "20", "--save", str(same), "--figure", str(same)], capsys
+    )
     assert status == 1 and "would both be written" in err
     assert not same.exists()
 
 
-def test_measure_keeps_an_existing_recording_unless_overwrite(tmp_path, recording, capsys,
-                                                              monkeypatch):
+def test_measure_keeps_an_existing_recording_unless_overwrite(
+    tmp_path, recording, capsys, monkeypatch
+):
     existing = tmp_path / "existing.wav"
     original = _save(existing, recording)
     _no_computing(monkeypatch)
-    status, _, err = _run(["measure", "--temperature", "20", "--save", str(existing),
-                           "--figure", str(tmp_path / "f.png")], capsys)
+    status, _, err = _run(
+        [
+            "measure",
+            "--temperature",
+            "20",
+            "--save",
+            str(existing),
+            "--figure",
+            str(tmp_path / "f.png"),
+        ],
+        capsys,
+    )
     assert status == 1 and "exists" in err and "--overwrite" in err
     assert existing.read_bytes() == original
     with pytest.raises(OutputExistsError):

@@ -61,7 +61,8 @@ def test_observation_noise_sign_and_offsets() -> None:
         expected = -(k * level / c + k * cond.latency_s)
         assert abs(w.mean() - expected) < 3.0
     assert paper_like.mode < -3.0
-    corrected = characterise_observation_noise(levels, 25.0, cond, seed=3,
-                                               correct_sweep_rate=True, correct_latency=True)
+    corrected = characterise_observation_noise(
+        levels, 25.0, cond, seed=3, correct_sweep_rate=True, correct_latency=True
+    )
     assert abs(corrected.mode) < 3.0 and corrected.sigma < 2.0
     assert corrected.samples.size == paper_like.samples.size

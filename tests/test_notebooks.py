@@ -44,8 +44,7 @@ def _student(stem: str) -> nbformat.NotebookNode:
 
 def _teacher(stem: str) -> nbformat.NotebookNode:
     number, title, src, labels = SOURCES[stem]
-    return nbformat.reads(json.dumps(sheets.build(src, number, title, labels, True)),
-                          as_version=4)
+    return nbformat.reads(json.dumps(sheets.build(src, number, title, labels, True)), as_version=4)
 
 
 def _tags(cell: nbformat.NotebookNode) -> list[str]:
@@ -78,7 +77,8 @@ def test_sheet_numbers_follow_the_chapter(stem: str):
     heads = [c for c in nb.cells if c.metadata.get("dstoolkit", {}).get("exercise")]
     assert [c.metadata["dstoolkit"]["exercise"] for c in heads] == labels
     assert [c.source.splitlines()[0].partition(" (")[0] for c in heads] == [
-        f"## Exercise {number}.{k}" for k in range(1, len(labels) + 1)]
+        f"## Exercise {number}.{k}" for k in range(1, len(labels) + 1)
+    ]
 
 
 def test_the_chapters_link_to_the_sheets_that_exist():
@@ -105,7 +105,8 @@ def test_student_sheet_is_the_one_written_from_its_source(stem: str):
     number, title, src, labels = SOURCES[stem]
     stored = sheets.sheet_path(stem, number, NOTEBOOKS).read_text(encoding="utf-8")
     assert stored == sheets.dump(sheets.build(src, number, title, labels, False)), (
-        "run: .venv/bin/python scripts/sheets.py")
+        "run: .venv/bin/python scripts/sheets.py"
+    )
 
 
 @pytest.mark.parametrize("stem", STEMS)
@@ -116,8 +117,12 @@ def test_no_solution_text_reaches_a_student_sheet(stem: str):
     """
     raw = sheets.sheet_path(stem, NUMBERS[stem], NOTEBOOKS).read_text(encoding="utf-8")
     student = _student(stem)
-    stub_lines = {line.strip() for c in student.cells if "answer" in _tags(c)
-                  for line in c.source.splitlines()}
+    stub_lines = {
+        line.strip()
+        for c in student.cells
+        if "answer" in _tags(c)
+        for line in c.source.splitlines()
+    }
     hidden = [c for c in _teacher(stem).cells if "solution" in _tags(c)]
     assert hidden, "the teacher's edition has no solution"
     text = json.dumps(json.loads(raw), ensure_ascii=False)  # every string of the file
@@ -145,8 +150,7 @@ def test_sheet_is_stored_without_outputs_and_short_cells(stem: str):
 
 
 def test_every_registered_exercise_is_on_a_sheet():
-    used = {_check_id(c) for stem in STEMS for c in _student(stem).cells
-            if "check" in _tags(c)}
+    used = {_check_id(c) for stem in STEMS for c in _student(stem).cells if "check" in _tags(c)}
     assert set(REGISTRY) - used == set()
 
 
@@ -163,7 +167,8 @@ def test_the_exercises_are_many_and_varied():
         assert sum(k != "substitution" for k in found) >= 2, stem
         chapter = (ROOT / "book" / f"{stem}.md").read_text(encoding="utf-8")
         if any("explorer" in _tags(c) for c in _student(stem).cells) or re.search(
-                r"_explorer\(|lab_widget\(|filter_widget\(", chapter):
+            r"_explorer\(|lab_widget\(|filter_widget\(", chapter
+        ):
             assert "prediction" in found, f"{stem}: an explorer but no prediction exercise"
     coding_ids = {k for k, v in REGISTRY.items() if isinstance(v, CodingExercise)}
     assert len(coding_ids) >= MIN_CODING
@@ -177,8 +182,11 @@ def _results(nb: nbformat.NotebookNode) -> dict[str, str]:
     out = {}
     for cell in nb.cells:
         if "check" in _tags(cell):
-            shown = [o.get("data", {}).get("text/plain", "") for o in cell.outputs
-                     if o.get("output_type") == "execute_result"]
+            shown = [
+                o.get("data", {}).get("text/plain", "")
+                for o in cell.outputs
+                if o.get("output_type") == "execute_result"
+            ]
             out[_check_id(cell)] = "".join(shown)
     return out
 
@@ -198,8 +206,7 @@ def test_sheet_as_shipped_says_not_answered_yet(stem: str):
     for eid, shown in results.items():
         assert f"{eid}: not answered yet" in shown, (eid, shown)
     if any("explorer" in _tags(c) for c in nb.cells):
-        widgets = [o for c in nb.cells for o in c.get("outputs", [])
-                   if WIDGET in o.get("data", {})]
+        widgets = [o for c in nb.cells for o in c.get("outputs", []) if WIDGET in o.get("data", {})]
         assert widgets, "the sheet's explorer displayed no widget"
 
 
@@ -220,9 +227,9 @@ def test_wrong_answers_are_caught_and_named(stem: str):
     for cell in nb.cells:
         if "check" in _tags(cell):
             eid, var = sheets.CHECK.findall(cell.source)[0]
-            cell.source = ("from dstoolkit.teaching import mistake\n"
-                           + cell.source.replace(f'check("{eid}", {var})',
-                                                 f'check("{eid}", mistake("{eid}"))'))
+            cell.source = "from dstoolkit.teaching import mistake\n" + cell.source.replace(
+                f'check("{eid}", {var})', f'check("{eid}", mistake("{eid}"))'
+            )
     results = _results(execute_notebook(nb, NOTEBOOKS))
     assert results
     for eid, shown in results.items():

@@ -34,8 +34,7 @@ def _files(folder: Path) -> list[str]:
 
 # -- a file that appears while the command runs ------------------------------------------
 @pytest.mark.parametrize("which", ["t.csv", "t.png"])
-def test_a_file_created_at_out_while_table3_runs_survives(tmp_path, capsys, monkeypatch,
-                                                          which):
+def test_a_file_created_at_out_while_table3_runs_survives(tmp_path, capsys, monkeypatch, which):
     real = cli.run_table3
     target = tmp_path / which
 
@@ -103,8 +102,7 @@ def test_outputs_that_are_not_regular_files_are_refused_even_with_overwrite(tmp_
 
 
 @pytest.mark.parametrize("kind", SPECIAL[:3])
-def test_analyze_overwrite_never_writes_over_a_special_file(tmp_path, recording, capsys,
-                                                            kind):
+def test_analyze_overwrite_never_writes_over_a_special_file(tmp_path, recording, capsys, kind):
     wav = tmp_path / "r.wav"
     save_recording(wav, recording.samples, recording.samplerate, recording.metadata)
     link, keep = special_output(kind, tmp_path)
@@ -151,8 +149,10 @@ def test_the_signal_handlers_are_given_back(tmp_path, capsys):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize(("sig", "status", "word"), [(signal.SIGINT, 130, "interrupted"),
-                                                     (signal.SIGTERM, 143, "terminated")])
+@pytest.mark.parametrize(
+    ("sig", "status", "word"),
+    [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],
+)
 def test_a_signal_halfway_leaves_no_traceback_and_no_file(tmp_path, sig, status, word):
     """table3 in a child process, stopped once its CSV is written (its figure being drawn)."""
     work = tmp_path / "work"

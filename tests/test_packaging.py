@@ -56,8 +56,9 @@ def _floor(requirements: list[str], name: str) -> str:
 
 def _run(cmd: list[str], cwd: Path, timeout: float) -> subprocess.CompletedProcess[str]:
     env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
-    proc = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True,
-                          timeout=timeout, check=False)
+    proc = subprocess.run(
+        cmd, cwd=cwd, env=env, capture_output=True, text=True, timeout=timeout, check=False
+    )
     assert proc.returncode == 0, f"{' '.join(cmd)} failed:\n{proc.stdout}\n{proc.stderr}"
     return proc
 
@@ -78,24 +79,47 @@ def test_core_alone_on_the_oldest_numpy_and_scipy(tmp_path: Path) -> None:
     src.mkdir()
     for name in ("pyproject.toml", "README.md", "LICENSE"):
         shutil.copy(ROOT / name, src / name)
-    shutil.copytree(ROOT / "dstoolkit", src / "dstoolkit",
-                    ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copytree(
+        ROOT / "dstoolkit", src / "dstoolkit", ignore=shutil.ignore_patterns("__pycache__")
+    )
     env_dir = tmp_path / "core-env"
     venv.EnvBuilder(with_pip=True).create(env_dir)
     py = str(env_dir / "bin" / "python")
     # the exact floors (X.Y.0), installed together with the package: pip refuses them if
     # pyproject.toml asked for more
-    _run([py, "-m", "pip", "install", "--quiet", "--disable-pip-version-check", str(src),
-          f"numpy=={numpy_floor}.0", f"scipy=={scipy_floor}.0", "pytest", "hypothesis"],
-         tmp_path, timeout=1200)
-    probe = _run([py, "-c", textwrap.dedent("""
+    _run(
+        [
+            py,
+            "-m",
+            "pip",
+            "install",
+            "--quiet",
+            "--disable-pip-version-check",
+            str(src),
+            f"numpy=={numpy_floor}.0",
+            f"scipy=={scipy_floor}.0",
+            "pytest",
+            "hypothesis",
+        ],
+        tmp_path,
+        timeout=1200,
+    )
+    probe = _run(
+        [
+            py,
+            "-c",
+            textwrap.dedent("""
         import importlib.util, pathlib, numpy, scipy, dstoolkit
         assert (pathlib.Path(dstoolkit.__file__).parent / "py.typed").is_file()  # PEP 561
         print(numpy.__version__, scipy.__version__, dstoolkit.__version__, dstoolkit.__file__)
         print(*[m for m in ('matplotlib', 'ipywidgets', 'IPython', 'tqdm', 'sounddevice',
                             'numba')
                 if importlib.util.find_spec(m)])
-    """)], tmp_path, timeout=120).stdout.splitlines()
+    """),
+        ],
+        tmp_path,
+        timeout=120,
+    ).stdout.splitlines()
     versions = probe[0].split()
     assert versions[:2] == [f"{numpy_floor}.0", f"{scipy_floor}.0"]
     assert versions[2] != "0+unknown" and str(env_dir) in versions[3]  # the installed copy
@@ -109,9 +133,24 @@ def test_core_alone_on_the_oldest_numpy_and_scipy(tmp_path: Path) -> None:
         shutil.copy(ROOT / "tests" / name, run / "tests" / name)
     report = tmp_path / "core.xml"
     proc = subprocess.run(
-        [py, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--noconftest", "-m",
-         "not extras", f"--junitxml={report}", "tests"],
-        cwd=run, capture_output=True, text=True, timeout=2400, check=False,
+        [
+            py,
+            "-m",
+            "pytest",
+            "-q",
+            "-p",
+            "no:cacheprovider",
+            "--noconftest",
+            "-m",
+            "not extras",
+            f"--junitxml={report}",
+            "tests",
+        ],
+        cwd=run,
+        capture_output=True,
+        text=True,
+        timeout=2400,
+        check=False,
     )
     assert proc.returncode == 0, proc.stdout[-6000:] + proc.stderr[-2000:]
     suite = ET.parse(report).getroot().find("testsuite")
@@ -122,8 +161,21 @@ def test_core_alone_on_the_oldest_numpy_and_scipy(tmp_path: Path) -> None:
 
     # the console script works without extras; only the figure is left out, with the reason
     out = tmp_path / "t3" / "table3.csv"
-    t3 = _run([str(env_dir / "bin" / "dstoolkit"), "table3", "--runs", "1", "--methods",
-               "direct", "--quiet", "--out", str(out)], tmp_path, timeout=600)
+    t3 = _run(
+        [
+            str(env_dir / "bin" / "dstoolkit"),
+            "table3",
+            "--runs",
+            "1",
+            "--methods",
+            "direct",
+            "--quiet",
+            "--out",
+            str(out),
+        ],
+        tmp_path,
+        timeout=600,
+    )
     assert out.stat().st_size > 0 and not out.with_suffix(".png").exists()
     assert "no figure" in t3.stdout and "dstoolkit[plots]" in t3.stdout
 
@@ -146,8 +198,14 @@ BLOCKER = textwrap.dedent("""
 
 def _without(missing: str, code: str) -> subprocess.CompletedProcess[str]:
     script = BLOCKER + textwrap.dedent(code)
-    return subprocess.run([sys.executable, "-c", script, missing], capture_output=True,
-                          text=True, timeout=300, check=False, cwd=ROOT)
+    return subprocess.run(
+        [sys.executable, "-c", script, missing],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+        cwd=ROOT,
+    )
 
 
 @pytest.mark.slow
@@ -159,9 +217,10 @@ def _without(missing: str, code: str) -> subprocess.CompletedProcess[str]:
         ("matplotlib", "dstoolkit.teaching", "teaching"),
     ],
 )
-def test_a_layer_without_its_extra_names_the_extra(missing: str, module: str,
-                                                   extra: str) -> None:
-    proc = _without(missing, f"""
+def test_a_layer_without_its_extra_names_the_extra(missing: str, module: str, extra: str) -> None:
+    proc = _without(
+        missing,
+        f"""
         import importlib
         from dstoolkit.errors import DstoolkitError, MissingExtraError
         import dstoolkit, dstoolkit.studies  # the core works without the extra
@@ -172,7 +231,8 @@ def test_a_layer_without_its_extra_names_the_extra(missing: str, module: str,
             print(exc)
         else:
             raise SystemExit("no MissingExtraError")
-    """)
+    """,
+    )
     assert proc.returncode == 0, proc.stderr
     assert f"pip install 'dstoolkit[{extra}]'" in proc.stdout
     assert repr(missing) in proc.stdout  # it says which package is missing
@@ -180,10 +240,13 @@ def test_a_layer_without_its_extra_names_the_extra(missing: str, module: str,
 
 @pytest.mark.slow
 def test_audio_without_sounddevice_still_imports() -> None:
-    proc = _without("sounddevice", """
+    proc = _without(
+        "sounddevice",
+        """
         from dstoolkit.audio import audio_available
         assert audio_available() is False
-    """)
+    """,
+    )
     assert proc.returncode == 0, proc.stderr
 
 
@@ -195,7 +258,13 @@ def test_import_dstoolkit_imports_no_optional_dependency() -> None:
         import dstoolkit.studies, dstoolkit.errors
         print(*[m for m in {OPTIONAL!r} if m in sys.modules])
     """)
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          timeout=300, check=False, cwd=ROOT)
+    proc = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+        cwd=ROOT,
+    )
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "", f"import dstoolkit imported {proc.stdout.strip()}"

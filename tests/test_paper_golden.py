@@ -20,8 +20,7 @@ PAPER_EN1 = 0.8655  # the paper reused the two-element value; computed exactly i
 
 def test_table1_state_noise_evidence():
     ev = triangular_evidence(-0.3, 0.0, 0.3, p=3, epsilon=0.05, theta=(-10, 10))
-    expected = [[-0.1, 0.1, 0.3167], [-0.2, 0.2, 0.3167], [-0.3, 0.3, 0.3167],
-                [-10, 10, 0.05]]
+    expected = [[-0.1, 0.1, 0.3167], [-0.2, 0.2, 0.3167], [-0.3, 0.3, 0.3167], [-10, 10, 0.05]]
     np.testing.assert_allclose(ev.to_rows(), expected, atol=5e-5)
 
 
@@ -29,7 +28,8 @@ def test_table2_observation_noise_evidence():
     ev = triangular_evidence(-10.59, -6.9, -3.21, p=3, epsilon=0.05)
     cuts = ev.to_rows()[:3]
     np.testing.assert_allclose(
-        cuts, [[-8.13, -5.67, 0.3167], [-9.36, -4.44, 0.3167], [-10.59, -3.21, 0.3167]],
+        cuts,
+        [[-8.13, -5.67, 0.3167], [-9.36, -4.44, 0.3167], [-10.59, -3.21, 0.3167]],
         atol=5e-5,
     )
     # Θ = c ± 100σ gives [−129.9, 116.1]; the paper prints [−129.7, 115.7] (rounded in the paper).
@@ -68,11 +68,16 @@ def test_appendix_dependence_computed_exactly():
 def test_appendix_nine_combined_focal_elements():
     combined = combine_dependent(E1, E2, energy1=PAPER_EN1, merge=False)
     paper = [
-        [0.21, 2.60, 0.1749], [0.41, 1.61, 0.0994], [0.30, 1.90, 0.1988],
-        [0.30, 1.90, 0.1669], [0.41, 1.61, 0.0948],
+        [0.21, 2.60, 0.1749],
+        [0.41, 1.61, 0.0994],
+        [0.30, 1.90, 0.1988],
+        [0.30, 1.90, 0.1669],
+        [0.41, 1.61, 0.0948],
         # The paper prints 0.1890 for A6 and its masses sum to 0.9988: computed, A6 = 0.1896.
         [0.30, 1.90, 0.1890],
-        [0.32, 1.93, 0.0278], [0.41, 1.61, 0.0157], [0.32, 1.90, 0.0315],
+        [0.32, 1.93, 0.0278],
+        [0.41, 1.61, 0.0157],
+        [0.32, 1.90, 0.0315],
     ]
     rows = combined.to_rows()
     assert rows.shape == (9, 3)

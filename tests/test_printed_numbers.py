@@ -30,8 +30,11 @@ def significant_digits(integer: str, fraction: str) -> int:
 
 def long_floats(text: str) -> list[str]:
     """Return the numbers in ``text`` written with more than MAX_DIGITS significant digits."""
-    return [m.group(0) for m in FLOAT.finditer(text)
-            if significant_digits(m.group(1), m.group(2)) > MAX_DIGITS]
+    return [
+        m.group(0)
+        for m in FLOAT.finditer(text)
+        if significant_digits(m.group(1), m.group(2)) > MAX_DIGITS
+    ]
 
 
 def shown_texts(output: nbformat.NotebookNode) -> list[str]:
@@ -45,13 +48,15 @@ def shown_texts(output: nbformat.NotebookNode) -> list[str]:
     data = output.get("data", {})
     if WIDGET_VIEW in data:
         return []
-    return [data[kind] if isinstance(data[kind], str) else "".join(data[kind])
-            for kind in SHOWN if kind in data][:1]
+    return [
+        data[kind] if isinstance(data[kind], str) else "".join(data[kind])
+        for kind in SHOWN
+        if kind in data
+    ][:1]
 
 
 def test_the_counter_counts() -> None:
-    assert long_floats("joint_energy=0.44999999999999996, degree=0.75") == [
-        "0.44999999999999996"]
+    assert long_floats("joint_energy=0.44999999999999996, degree=0.75") == ["0.44999999999999996"]
     assert long_floats("TriangularBounds(lower=-10.901339920443462") == ["-10.901339920443462"]
     assert long_floats("0.4500 1.234e-05 2026.12.1 v1.19.6 3.14159") == []
     assert long_floats("1234.5678 0.000012345678") == ["1234.5678", "0.000012345678"]
@@ -68,11 +73,12 @@ def test_the_printed_results_are_short() -> None:
 
     e1 = IntervalEvidence.from_pairs([[-0.3, 2.6, 0.3], [0.3, 1.9, 0.7]])
     e2 = IntervalEvidence.from_pairs([[0.41, 1.61, 0.3], [0.3, 1.9, 0.7]])
-    shown = [repr(dependence(e1, e2)),
-             repr(TriangularBounds(-10.901339920443462, -6.732151115173963, -2.5629623)),
-             repr(GAUGE_CONDITIONS),
-             repr(RecordingMetadata(latency_s=0.13700680272108842,
-                                    extra={"lag": 0.13700680272108842}))]
+    shown = [
+        repr(dependence(e1, e2)),
+        repr(TriangularBounds(-10.901339920443462, -6.732151115173963, -2.5629623)),
+        repr(GAUGE_CONDITIONS),
+        repr(RecordingMetadata(latency_s=0.13700680272108842, extra={"lag": 0.13700680272108842})),
+    ]
     for text in shown:
         assert not long_floats(text), text
     assert "TriangularBounds(lower=-10.9, mode=-6.732, upper=-2.563)" in shown[1]
@@ -92,6 +98,8 @@ def test_no_chapter_prints_float_noise(built_book: BookBuild) -> None:
                     found = long_floats(text)
                     if found:
                         source = cell.source.strip().splitlines()
-                        problems.append(f"{page}, cell {index} ({source[-1][:50] if source else ''}"
-                                        f"): {found[:4]}")
+                        problems.append(
+                            f"{page}, cell {index} ({source[-1][:50] if source else ''}"
+                            f"): {found[:4]}"
+                        )
     assert not problems, "floats with more than 6 significant digits:\n  " + "\n  ".join(problems)

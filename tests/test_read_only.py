@@ -58,7 +58,13 @@ def test_noise_bounds_and_module_constants_are_read_only() -> None:
     noise = BoundedNoise(given, [0.0, 0.0], [1.0, 2.0])
     given[0] = 9.0
     assert noise.lower.tolist() == [-1.0, -2.0]
-    for array in (noise.lower, noise.mode, noise.upper, GAUGE_OBS_NOISE.lower,
-                  LOTKA_VOLTERRA_X0, PAPER_CALIBRATION_LEVELS):
+    for array in (
+        noise.lower,
+        noise.mode,
+        noise.upper,
+        GAUGE_OBS_NOISE.lower,
+        LOTKA_VOLTERRA_X0,
+        PAPER_CALIBRATION_LEVELS,
+    ):
         with pytest.raises(ValueError, match="read-only"):
             array[0] = 0.0

@@ -57,10 +57,14 @@ Use {eq}`tiny-eq`.
 The secret answer of the tiny chapter.
 ````
 """
-TOC = {"format": "jb-book", "root": "book/intro",
-       "parts": [{"caption": "Chapters", "numbered": True,
-                  "chapters": [{"file": "book/tiny"}]},
-                 {"caption": "Back matter", "chapters": [{"file": "book/run"}]}]}
+TOC = {
+    "format": "jb-book",
+    "root": "book/intro",
+    "parts": [
+        {"caption": "Chapters", "numbered": True, "chapters": [{"file": "book/tiny"}]},
+        {"caption": "Back matter", "chapters": [{"file": "book/run"}]},
+    ],
+}
 
 
 def _build(folder: Path, address: str) -> Path:
@@ -70,7 +74,8 @@ def _build(folder: Path, address: str) -> Path:
     # One print: with launch buttons the theme needs the executed notebook.
     config["execute"]["execute_notebooks"] = "force"
     config["sphinx"]["local_extensions"] = {
-        name: str(ROOT / path) for name, path in config["sphinx"]["local_extensions"].items()}
+        name: str(ROOT / path) for name, path in config["sphinx"]["local_extensions"].items()
+    }
     (folder / "_config.yml").write_text(yaml.safe_dump(config), encoding="utf-8")
     (folder / "_toc.yml").write_text(yaml.safe_dump(TOC), encoding="utf-8")
     shutil.copytree(ROOT / "book" / "_static", folder / "book" / "_static")
@@ -83,8 +88,12 @@ def _build(folder: Path, address: str) -> Path:
     (folder / "notebooks" / "01_tiny.ipynb").write_text(json.dumps(sheet))
     (folder / "_build" / "_vendor").mkdir(parents=True)
     jupyter_book = Path(sys.executable).parent / "jupyter-book"
-    result = subprocess.run([str(jupyter_book), "build", str(folder), "-W", "-n",
-                             "--keep-going"], capture_output=True, text=True, timeout=900)
+    result = subprocess.run(
+        [str(jupyter_book), "build", str(folder), "-W", "-n", "--keep-going"],
+        capture_output=True,
+        text=True,
+        timeout=900,
+    )
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     return folder / "_build" / "html"
 
@@ -102,7 +111,7 @@ def without_address(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def _header(page: str) -> str:
     """Return the header of a page: where the buttons are."""
     start = page.index('class="article-header-buttons"')
-    return page[start:page.index("<article", start)]
+    return page[start : page.index("<article", start)]
 
 
 def _text(page: str) -> str:
@@ -112,8 +121,9 @@ def _text(page: str) -> str:
 
 def test_address_shows_repository_and_launch_buttons(with_address: Path) -> None:
     header = _header((with_address / "book" / "tiny.html").read_text(encoding="utf-8"))
-    assert re.search(rf'href="{ADDRESS}"[^>]*class="btn btn-sm btn-source-repository-button',
-                     header, re.DOTALL), "no repository button"
+    assert re.search(
+        rf'href="{ADDRESS}"[^>]*class="btn btn-sm btn-source-repository-button', header, re.DOTALL
+    ), "no repository button"
     binder = "https://mybinder.org/v2/gh/example-org/dstoolkit/main?urlpath=lab/tree/"
     assert f'href="{binder}notebooks/01_tiny.ipynb"' in header, "no Binder button to the sheet"
     run = _text((with_address / "book" / "run.html").read_text(encoding="utf-8"))

@@ -24,8 +24,11 @@ from dstoolkit.filters import BoundedNoise
 #: A few intervals, so that drawn evidence repeats some of them.
 POOL = [(0.0, 1.0), (0.0, 2.0), (0.5, 1.5), (1.0, 3.0), (-1.0, 0.5), (2.0, 2.0)]
 FRAME = ("a", "b", "c")
-COPIERS = {"pickle": lambda o: pickle.loads(pickle.dumps(o)), "copy": copy.copy,
-           "deepcopy": copy.deepcopy}
+COPIERS = {
+    "pickle": lambda o: pickle.loads(pickle.dumps(o)),
+    "copy": copy.copy,
+    "deepcopy": copy.deepcopy,
+}
 
 
 def _weights(draw, n: int) -> np.ndarray:
@@ -45,8 +48,13 @@ def unmerged_intervals(draw) -> IntervalEvidence:
 def mass_functions(draw) -> MassFunction:
     subsets = draw(st.lists(st.integers(1, 7), min_size=1, max_size=4, unique=True))
     masses = _weights(draw, len(subsets))
-    return MassFunction({frozenset(h for i, h in enumerate(FRAME) if s >> i & 1): m
-                         for s, m in zip(subsets, masses, strict=True)}, FRAME)
+    return MassFunction(
+        {
+            frozenset(h for i, h in enumerate(FRAME) if s >> i & 1): m
+            for s, m in zip(subsets, masses, strict=True)
+        },
+        FRAME,
+    )
 
 
 @st.composite
@@ -66,8 +74,9 @@ def _table(e) -> dict:
         for f, m in zip(e.focal_elements, e.mass.tolist(), strict=True):
             out[f] = out.get(f, 0.0) + m
     else:
-        for lo, hi, m in zip(e.boxes_lo.tolist(), e.boxes_hi.tolist(), e.mass.tolist(),
-                             strict=True):
+        for lo, hi, m in zip(
+            e.boxes_lo.tolist(), e.boxes_hi.tolist(), e.mass.tolist(), strict=True
+        ):
             out[(tuple(lo), tuple(hi))] = out.get((tuple(lo), tuple(hi)), 0.0) + m
     return out
 
@@ -87,8 +96,9 @@ def _close(a, b) -> None:
         for x, y in zip(a, b, strict=True):
             _close(x, y)
     elif isinstance(a, tuple | list | np.ndarray):
-        np.testing.assert_allclose(np.asarray(a, float), np.asarray(b, float), rtol=1e-9,
-                                   atol=1e-12)
+        np.testing.assert_allclose(
+            np.asarray(a, float), np.asarray(b, float), rtol=1e-9, atol=1e-12
+        )
     elif isinstance(a, str):
         assert a == b
     else:
@@ -97,6 +107,7 @@ def _close(a, b) -> None:
 
 def _readers(other):
     """Every public function that reads one evidence (with ``other`` as a partner)."""
+
     def safe(fn):
         def call(e):
             try:
@@ -105,10 +116,13 @@ def _readers(other):
                 return "total conflict"
             except EvidenceError as exc:
                 return f"refused: {exc}"
+
         return call
 
     return {
-        "repr": repr, "energy": ev.energy, "len of merged": lambda e: len(e.merged()),
+        "repr": repr,
+        "energy": ev.energy,
+        "len of merged": lambda e: len(e.merged()),
         "dependence with itself": lambda e: ev.dependence(e, e),
         "dependence": safe(lambda e: ev.dependence(e, other)),
         "dependence, m1": safe(lambda e: ev.dependence(e, other, mass_rule="m1")),
@@ -130,12 +144,14 @@ def test_every_reader_of_interval_evidence_ignores_the_merging(e, other):
     merged = e.merged()
     assert len(set(map(tuple, merged.to_rows()[:, :2].tolist()))) == len(merged)
     _close(_table(e), _table(merged))
-    readers = {**_readers(other),
-               "belief": lambda x: x.belief(0.0, 1.5),
-               "plausibility": lambda x: x.plausibility(0.5, 1.0),
-               "cdf_bounds": lambda x: x.cdf_bounds(np.linspace(-2, 4, 13)),
-               "pignistic_expectation": lambda x: x.pignistic_expectation(),
-               "hull": lambda x: x.hull()}
+    readers = {
+        **_readers(other),
+        "belief": lambda x: x.belief(0.0, 1.5),
+        "plausibility": lambda x: x.plausibility(0.5, 1.0),
+        "cdf_bounds": lambda x: x.cdf_bounds(np.linspace(-2, 4, 13)),
+        "pignistic_expectation": lambda x: x.pignistic_expectation(),
+        "hull": lambda x: x.hull(),
+    }
     for name, read in readers.items():
         try:
             _close(read(e), read(merged))
@@ -149,14 +165,16 @@ def test_every_reader_of_a_mass_function_ignores_the_merging(m, other):
     merged = m.merged()
     assert sum(m.as_dict().values()) == pytest.approx(1.0)
     _close(m.as_dict(), _table(m))
-    readers = {**_readers(other),
-               "as_dict": lambda x: x.as_dict(),
-               "mass_of": lambda x: [x.mass_of(s) for s in ("a", "ab", "abc", "bc")],
-               "belief": lambda x: [x.belief(s) for s in ("a", "ab", "bc")],
-               "plausibility": lambda x: [x.plausibility(s) for s in ("a", "c")],
-               "commonality": lambda x: [x.commonality(s) for s in ("a", "ab")],
-               "pignistic": lambda x: x.pignistic(),
-               "condition": lambda x: x.condition("ab") if x.plausibility("ab") > 0 else 0.0}
+    readers = {
+        **_readers(other),
+        "as_dict": lambda x: x.as_dict(),
+        "mass_of": lambda x: [x.mass_of(s) for s in ("a", "ab", "abc", "bc")],
+        "belief": lambda x: [x.belief(s) for s in ("a", "ab", "bc")],
+        "plausibility": lambda x: [x.plausibility(s) for s in ("a", "c")],
+        "commonality": lambda x: [x.commonality(s) for s in ("a", "ab")],
+        "pignistic": lambda x: x.pignistic(),
+        "condition": lambda x: x.condition("ab") if x.plausibility("ab") > 0 else 0.0,
+    }
     for name, read in readers.items():
         try:
             _close(read(m), read(merged))
@@ -177,8 +195,7 @@ def test_the_issue_cases_one_answer():
 
 def test_tuple_hypotheses_of_the_frame_are_hypotheses():
     m = MassFunction({(0, 1): 0.5, 0: 0.3, frozenset({0, 1}): 0.2}, frame=[0, 1, (0, 1)])
-    assert m.as_dict() == {frozenset({(0, 1)}): 0.5, frozenset({0}): 0.3,
-                           frozenset({0, 1}): 0.2}
+    assert m.as_dict() == {frozenset({(0, 1)}): 0.5, frozenset({0}): 0.3, frozenset({0, 1}): 0.2}
     assert m.belief((0, 1)) == 0.5 and m.belief([0, 1]) == pytest.approx(0.5)
     # without that hypothesis in the frame, a tuple is still the set of its members
     assert MassFunction({(0, 1): 1.0}).as_dict() == {frozenset({0, 1}): 1.0}
@@ -186,13 +203,18 @@ def test_tuple_hypotheses_of_the_frame_are_hypotheses():
 
 # -- copies --------------------------------------------------------------------------------
 @settings(max_examples=15, deadline=None)
-@given(st.one_of(unmerged_intervals(), unmerged_intervals().map(lambda e: e.merged()),
-                 unmerged_mass_functions(), mass_functions()))
+@given(
+    st.one_of(
+        unmerged_intervals(),
+        unmerged_intervals().map(lambda e: e.merged()),
+        unmerged_mass_functions(),
+        mass_functions(),
+    )
+)
 def test_copies_of_evidence_stay_read_only_and_equal(e):
     for name, copier in COPIERS.items():
         c = copier(e)
-        arrays = [c.mass] + ([c.lo, c.hi, c.boxes_lo] if isinstance(c, IntervalEvidence)
-                             else [])
+        arrays = [c.mass] + ([c.lo, c.hi, c.boxes_lo] if isinstance(c, IntervalEvidence) else [])
         for arr in arrays:
             with pytest.raises(ValueError, match="read-only"):
                 arr[0] = 5.0
@@ -224,27 +246,55 @@ class _Plain:
         return (copyreg._reconstructor, (self.cls, object, None), self.state)
 
 
-@pytest.mark.parametrize(("cls", "state", "match"), [
-    (BoundedNoise, {"lower": np.array([1.0]), "mode": np.array([0.0]),
-                    "upper": np.array([-1.0])}, "lower <= mode <= upper"),
-    (IntervalEvidence, {"_focal": np.array([[0.0, 1.0], [1.0, 2.0]]),
-                        "_mass": np.array([0.7, 0.7])}, "sum to 1.4"),
-    (IntervalEvidence, {"_focal": np.array([[2.0, 1.0]]), "_mass": np.array([1.0])},
-     "lo > hi"),
-    (MassFunction, {"frame": ("a", "b"), "_focal": np.array([1, 3], dtype=np.uint64),
-                    "_mass": np.array([0.7, 0.7])}, "sum to 1.4"),
-    (MassFunction, {"frame": ("a", "b"), "_focal": np.array([8], dtype=np.uint64),
-                    "_mass": np.array([1.0])}, "bit masks"),
-    (MassFunction, {"_mass": np.array([1.0])}, "cannot unpickle"),
-])
+@pytest.mark.parametrize(
+    ("cls", "state", "match"),
+    [
+        (
+            BoundedNoise,
+            {"lower": np.array([1.0]), "mode": np.array([0.0]), "upper": np.array([-1.0])},
+            "lower <= mode <= upper",
+        ),
+        (
+            IntervalEvidence,
+            {"_focal": np.array([[0.0, 1.0], [1.0, 2.0]]), "_mass": np.array([0.7, 0.7])},
+            "sum to 1.4",
+        ),
+        (IntervalEvidence, {"_focal": np.array([[2.0, 1.0]]), "_mass": np.array([1.0])}, "lo > hi"),
+        (
+            MassFunction,
+            {
+                "frame": ("a", "b"),
+                "_focal": np.array([1, 3], dtype=np.uint64),
+                "_mass": np.array([0.7, 0.7]),
+            },
+            "sum to 1.4",
+        ),
+        (
+            MassFunction,
+            {
+                "frame": ("a", "b"),
+                "_focal": np.array([8], dtype=np.uint64),
+                "_mass": np.array([1.0]),
+            },
+            "bit masks",
+        ),
+        (MassFunction, {"_mass": np.array([1.0])}, "cannot unpickle"),
+    ],
+)
 def test_a_crafted_pickle_is_checked_like_a_constructor_call(cls, state, match):
     with pytest.raises(EvidenceError, match=match):
         pickle.loads(pickle.dumps(_Plain(cls, state)))
 
 
 def test_a_plain_pickle_of_valid_attributes_loads_read_only():
-    e = pickle.loads(pickle.dumps(_Plain(IntervalEvidence, {
-        "_focal": np.array([[0.0, 1.0], [0.0, 1.0]]), "_mass": np.array([0.25, 0.75])})))
+    e = pickle.loads(
+        pickle.dumps(
+            _Plain(
+                IntervalEvidence,
+                {"_focal": np.array([[0.0, 1.0], [0.0, 1.0]]), "_mass": np.array([0.25, 0.75])},
+            )
+        )
+    )
     assert repr(e) == "IntervalEvidence([0, 1]: 1)"
     with pytest.raises(ValueError, match="read-only"):
         e.mass[0] = 1.0

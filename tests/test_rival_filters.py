@@ -40,13 +40,18 @@ IDS = ["nassreddine", "nassreddine_restart", "bounded_error", "kalman", "particl
 
 def _random_walk(half_width_v: float, half_width_w: float) -> StateSpaceModel:
     """x_{k+1} = x_k + v, g(x) = x: the simplest model with a known answer."""
+
     def g_inverse(lo, hi, x_lo, x_hi):
         return np.maximum(lo, x_lo), np.minimum(hi, x_hi)
 
     return StateSpaceModel(
-        f=lambda x, u=None: np.asarray(x, dtype=float), g=lambda x: np.asarray(x, dtype=float),
-        g_inverse=g_inverse, state_noise=BoundedNoise.symmetric(half_width_v),
-        obs_noise=BoundedNoise.symmetric(half_width_w), f_monotone=(1, 1), g_monotone=(1,),
+        f=lambda x, u=None: np.asarray(x, dtype=float),
+        g=lambda x: np.asarray(x, dtype=float),
+        g_inverse=g_inverse,
+        state_noise=BoundedNoise.symmetric(half_width_v),
+        obs_noise=BoundedNoise.symmetric(half_width_w),
+        f_monotone=(1, 1),
+        g_monotone=(1,),
         name="random walk",
     )
 
@@ -73,8 +78,9 @@ def test_nearly_noise_free_lotka_volterra_gives_the_truth_back(flt):
     """Noise-free data, bounds of ±1e-7: the nonlinear 2-D truth comes back within 1e-5."""
     tiny = BoundedNoise.symmetric([1e-7, 1e-7])
     model = lotka_volterra(state_noise=tiny, obs_noise=tiny)
-    silent = lotka_volterra(state_noise=BoundedNoise.symmetric([0.0, 0.0]),
-                            obs_noise=BoundedNoise.symmetric([0.0, 0.0]))
+    silent = lotka_volterra(
+        state_noise=BoundedNoise.symmetric([0.0, 0.0]), obs_noise=BoundedNoise.symmetric([0.0, 0.0])
+    )
     _, x, z = simulate_lotka_volterra(30, model=silent, seed=0)
     result = flt.run(model, z)
     np.testing.assert_allclose(result.estimates, x, atol=1e-5)
@@ -98,8 +104,11 @@ def test_batch_equals_single_runs(flt, lv_data):
     assert batch.shape == (3, 40, 2)
     for r in range(3):
         # run r of a particle batch draws from stream r, as a single run with stream=r
-        single = (dataclasses.replace(flt, stream=r).run(model, z[r])
-                  if isinstance(flt, ParticleFilter) else flt.run(model, z[r]))
+        single = (
+            dataclasses.replace(flt, stream=r).run(model, z[r])
+            if isinstance(flt, ParticleFilter)
+            else flt.run(model, z[r])
+        )
         np.testing.assert_array_equal(batch[r], single.estimates)
 
 
@@ -114,8 +123,11 @@ def test_batch_equals_single_runs_with_inputs(flt):
         np.testing.assert_array_equal(batch[r], single.estimates)
 
 
-@pytest.mark.parametrize("flt", [ParticleFilter(n_particles=200, seed=9),
-                                 NassreddineFilter(max_focal=8)], ids=["particle", "nassreddine"])
+@pytest.mark.parametrize(
+    "flt",
+    [ParticleFilter(n_particles=200, seed=9), NassreddineFilter(max_focal=8)],
+    ids=["particle", "nassreddine"],
+)
 def test_batch_rows_do_not_depend_on_chunking(flt, monkeypatch, lv_data):
     import dstoolkit.filters._nassreddine as nf_module
     import dstoolkit.filters._particle as pf_module
@@ -145,16 +157,19 @@ def test_bounded_error_reports_too_tight_bounds_with_the_step():
     z = np.array([0.0, 0.3, 2.5, 2.6])  # step 2 jumps further than the bounds allow
     with pytest.raises(InconsistentDataError, match=r"step 2\b.*too tight"):
         BoundedErrorFilter().run(model, z)
-    with pytest.raises(InconsistentDataError,
-                       match=r"step 2 \(reading z\[2\], counting from 0\) of run 1\b"):
+    with pytest.raises(
+        InconsistentDataError, match=r"step 2 \(reading z\[2\], counting from 0\) of run 1\b"
+    ):
         BoundedErrorFilter().run_batch(model, np.stack([z * 0, z])[..., None])
 
 
 def test_bounded_error_detects_tight_bounds_on_simulated_data():
     """Data drawn with the real noise, filtered with bounds ten times too tight."""
     model, _, z = simulate_lotka_volterra(60, seed=3)
-    tight = lotka_volterra(state_noise=BoundedNoise.symmetric([0.003, 0.003]),
-                           obs_noise=BoundedNoise([-0.008] * 2, [-0.002] * 2, [0.004] * 2))
+    tight = lotka_volterra(
+        state_noise=BoundedNoise.symmetric([0.003, 0.003]),
+        obs_noise=BoundedNoise([-0.008] * 2, [-0.002] * 2, [0.004] * 2),
+    )
     with pytest.raises(InconsistentDataError, match="probably too tight"):
         BoundedErrorFilter().run(tight, z)
     BoundedErrorFilter().run(model, z)  # the right bounds: no error
@@ -195,8 +210,10 @@ def test_nassreddine_diagnostics_stay_in_range(lv_data):
     assert np.all((merged >= 0) & (merged <= 1 + 1e-12)) and merged.max() > 0
     for step in result.steps:
         assert step.posterior.mass.sum() == pytest.approx(1.0)
-    assert all(getattr(result.steps[1], key) is not None
-               for key in ("state", "prediction", "observation", "posterior", "estimate"))
+    assert all(
+        getattr(result.steps[1], key) is not None
+        for key in ("state", "prediction", "observation", "posterior", "estimate")
+    )
     assert len(result.steps[1].state) <= 16
 
 
@@ -211,8 +228,12 @@ def test_nassreddine_total_conflict_raises_or_resets(kernel):
     assert result.estimates[2, 0] == pytest.approx(2.5)
     batch = np.stack([z, z + 0.05, np.array([0.0, 0.3, 0.4, 0.5])])[..., None]
     # one run in conflict, one not: the same numbers
-    both = [NassreddineFilter(epsilon=0.0, on_conflict="reset", kernel=k).run_batch(
-        model, batch).estimates for k in ("numpy", kernel)]
+    both = [
+        NassreddineFilter(epsilon=0.0, on_conflict="reset", kernel=k)
+        .run_batch(model, batch)
+        .estimates
+        for k in ("numpy", kernel)
+    ]
     np.testing.assert_array_equal(*both)
 
 
@@ -222,8 +243,12 @@ def test_merge_equal_boxes_adds_masses_per_run():
     mass = np.array([[0.25, 0.25, 0.5, 0.0], [0.1, 0.2, 0.3, 0.4]])
     out = merge_equal_boxes(lo, hi, mass)
     assert out.mass.shape == (2, 2)
-    got = {(r, float(a)): float(m) for r in range(2)
-           for a, m in zip(out.lo[r, :, 0], out.mass[r], strict=True) if m > 0}
+    got = {
+        (r, float(a)): float(m)
+        for r in range(2)
+        for a, m in zip(out.lo[r, :, 0], out.mass[r], strict=True)
+        if m > 0
+    }
     assert got == pytest.approx({(0, 0.0): 0.75, (0, 1.0): 0.25, (1, 5.0): 0.6, (1, 6.0): 0.4})
 
 
@@ -240,8 +265,10 @@ def test_cluster_boxes_is_an_outer_approximation_within_the_cap():
     assert np.all((merged > 0) & (merged <= 1 + 1e-12))
     for r in range(2):  # every original box lies in some output box
         keep = out.mass[r] > 0
-        inside = ((bm.lo[r][:, None] >= out.lo[r][keep][None])
-                  & (bm.hi[r][:, None] <= out.hi[r][keep][None])).all(-1)
+        inside = (
+            (bm.lo[r][:, None] >= out.lo[r][keep][None])
+            & (bm.hi[r][:, None] <= out.hi[r][keep][None])
+        ).all(-1)
         assert inside.any(axis=1).all()
         # belief never grows: each output box's mass covers the boxes it contains
         contained = inside.T @ bm.mass[r]
@@ -275,9 +302,11 @@ def test_kalman_on_a_linear_model_matches_the_textbook_recursion():
 def test_kalman_uses_the_noise_means_with_the_sign_convention():
     """g(x) = z + w: with E[w] = −0.2 the reading is 0.2 high on average."""
     model = StateSpaceModel(
-        f=lambda x, u=None: x, g=lambda x: x,
+        f=lambda x, u=None: x,
+        g=lambda x: x,
         g_inverse=lambda lo, hi, a, b: (np.maximum(lo, a), np.minimum(hi, b)),
-        state_noise=BoundedNoise.symmetric(1e-6), obs_noise=BoundedNoise(-0.4, -0.2, 0.0),
+        state_noise=BoundedNoise.symmetric(1e-6),
+        obs_noise=BoundedNoise(-0.4, -0.2, 0.0),
     )
     result = KalmanFilter().run(model, np.full(200, 5.2))
     assert result.estimates[-1, 0] == pytest.approx(5.0, abs=1e-3)
@@ -287,9 +316,12 @@ def _plain_gauge_model():
     """Eqs. 39–40 as a user writes them: plain numpy maps, no Jacobians."""
     package = gauge_state_space_model()
     return StateSpaceModel(
-        f=lambda x, u: x * (u + 1.0) / u, g=lambda x: x + 0.0,
+        f=lambda x, u: x * (u + 1.0) / u,
+        g=lambda x: x + 0.0,
         g_inverse=lambda lo, hi, a, b: (np.maximum(lo, a), np.minimum(hi, b)),
-        state_noise=package.state_noise, obs_noise=package.obs_noise)
+        state_noise=package.state_noise,
+        obs_noise=package.obs_noise,
+    )
 
 
 @pytest.mark.parametrize("plain", [False, True], ids=["package", "plain"])
@@ -319,8 +351,7 @@ def test_kalman_on_a_users_plain_maps_gives_the_package_numbers(level):
     package = KalmanFilter().run(gauge_state_space_model(), seq.readings, seq.inputs)
     plain = KalmanFilter().run(_plain_gauge_model(), seq.readings, seq.inputs)
     for name in ("estimates", "lower", "upper"):
-        np.testing.assert_allclose(getattr(plain, name), getattr(package, name), rtol=0,
-                                   atol=1e-9)
+        np.testing.assert_allclose(getattr(plain, name), getattr(package, name), rtol=0, atol=1e-9)
 
 
 @pytest.mark.parametrize("flt", RIVALS, ids=IDS)
@@ -343,10 +374,12 @@ def test_every_transition_input_is_checked_before_the_run(flt):
 def test_finite_difference_jacobian_matches_the_model_jacobian():
     model = lotka_volterra()
     x = np.array([[0.3, -0.2], [1.0, 0.5]])
-    np.testing.assert_allclose(finite_difference_jacobian(lambda y: model.f(y), x),
-                               model.jacobian_f(x), rtol=1e-8)
-    np.testing.assert_allclose(finite_difference_jacobian(model.g, x), model.jacobian_g(x),
-                               rtol=1e-8)
+    np.testing.assert_allclose(
+        finite_difference_jacobian(lambda y: model.f(y), x), model.jacobian_f(x), rtol=1e-8
+    )
+    np.testing.assert_allclose(
+        finite_difference_jacobian(model.g, x), model.jacobian_g(x), rtol=1e-8
+    )
 
 
 def test_systematic_resampling_counts_and_zero_weights():
@@ -370,8 +403,7 @@ def test_particle_degeneracy_reinitialises_from_the_reading():
     model = _random_walk(0.1, 0.5)
     z = np.array([0.0, 0.3, 2.5, 2.6])  # no particle can reach the reading at step 2
     result = ParticleFilter(n_particles=200, seed=0).run(model, z)
-    np.testing.assert_array_equal(result.diagnostics["reinitialised"],
-                                  [False, False, True, False])
+    np.testing.assert_array_equal(result.diagnostics["reinitialised"], [False, False, True, False])
     assert 2.0 <= result.lower[2, 0] and result.upper[2, 0] <= 3.0
     assert result.estimates[2, 0] == pytest.approx(2.5, abs=0.1)
 
@@ -402,13 +434,16 @@ def test_nassreddine_keeps_unit_mass_under_heavy_conflict():
     from dstoolkit.studies import scaled_noise, tracking_data
 
     data = tracking_data(runs=3, seed=0)
-    model = gauge_state_space_model(scaled_noise(GAUGE_STATE_NOISE, 0.25),
-                                    scaled_noise(GAUGE_OBS_NOISE, 0.25))
+    model = gauge_state_space_model(
+        scaled_noise(GAUGE_STATE_NOISE, 0.25), scaled_noise(GAUGE_OBS_NOISE, 0.25)
+    )
     run = NassreddineFilter(on_conflict="reset").run(
-        model, data.readings[2][:, None], inputs=data.orders[2], record=True)
+        model, data.readings[2][:, None], inputs=data.orders[2], record=True
+    )
     for k, step in enumerate(run.steps):
         assert run.estimates[k, 0] == pytest.approx(
-            step.posterior.pignistic_expectation_1d(), rel=1e-9)
+            step.posterior.pignistic_expectation_1d(), rel=1e-9
+        )
     assert np.all(run.lower[:, 0] <= run.estimates[:, 0] + 1e-9)
     assert np.all(run.estimates[:, 0] <= run.upper[:, 0] + 1e-9)
 
@@ -427,8 +462,9 @@ def test_nassreddine_auto_kernel_falls_back_to_numpy_without_numba(monkeypatch):
     from dstoolkit.filters import _nassreddine
 
     real = importlib.util.find_spec
-    monkeypatch.setattr(importlib.util, "find_spec",
-                        lambda name, *a: None if name == "numba" else real(name, *a))
+    monkeypatch.setattr(
+        importlib.util, "find_spec", lambda name, *a: None if name == "numba" else real(name, *a)
+    )
     combine, cluster = NassreddineFilter(kernel="auto")._kernels()
     assert combine is _nassreddine.contracted_posterior
     assert cluster is cluster_boxes
@@ -443,12 +479,17 @@ def test_compiled_kernels_raise_the_numpy_errors():
     bm = Boxes(lo, hi, np.array([[0.3, 0.3, 0.4]]))
     with pytest.raises(EvidenceError, match="bounded boxes"):
         cluster_boxes_compiled(bm, 2, 100)
-    wide = Boxes(np.arange(40.0)[None, :, None], np.arange(40.0)[None, :, None] + 0.5,
-                 np.full((1, 40), 1 / 40))
+    wide = Boxes(
+        np.arange(40.0)[None, :, None],
+        np.arange(40.0)[None, :, None] + 0.5,
+        np.full((1, 40), 1 / 40),
+    )
     with pytest.raises(WorkLimitError, match="did not reach"):
         cluster_boxes_compiled(wide, 2, 1)
-    (capped, moved), (want, want_moved) = (cluster_boxes_compiled(wide, 2, 100),
-                                           cluster_boxes(wide, 2))
+    (capped, moved), (want, want_moved) = (
+        cluster_boxes_compiled(wide, 2, 100),
+        cluster_boxes(wide, 2),
+    )
     np.testing.assert_array_equal(capped.mass, want.mass)
     assert moved[0] == want_moved[0] > 0
 
@@ -463,16 +504,18 @@ def test_particle_draws_kept_for_the_same_runs_give_the_same_numbers():
 
     gauge = simulate_gauge(4.6, 26.5, runs=3, seed=4)
     flt = ParticleFilter(n_particles=200, seed=5)
-    models = [gauge_state_space_model(obs_noise=BoundedNoise(-10.59, -6.9, upper))
-              for upper in (-3.21, -2.0)]
+    models = [
+        gauge_state_space_model(obs_noise=BoundedNoise(-10.59, -6.9, upper))
+        for upper in (-3.21, -2.0)
+    ]
     _particle._kept_draws.cache_clear()
     kept = [flt.run_batch(m, gauge.readings, gauge.inputs).estimates for m in models]
     assert _particle._kept_draws.cache_info().hits == 1
     for model, estimates in zip(models, kept, strict=True):
         _particle._kept_draws.cache_clear()
-        np.testing.assert_array_equal(estimates,
-                                      flt.run_batch(model, gauge.readings,
-                                                    gauge.inputs).estimates)
+        np.testing.assert_array_equal(
+            estimates, flt.run_batch(model, gauge.readings, gauge.inputs).estimates
+        )
     arrays = _particle._kept_draws(5, (0, 1, 2), ((-0.3,), (0.0,), (0.3,)), 4, 10)
     assert not any(a.flags.writeable for a in arrays)
 
@@ -486,15 +529,17 @@ def test_particle_compiled_resampling_gives_the_same_indices_and_estimates():
         w[:, 0] += 1e-9
         w /= w.sum(axis=1, keepdims=True)
         offsets = rng.random(runs) * (case % 5 != 0)  # some offsets 0
-        np.testing.assert_array_equal(systematic_resample(w, offsets, compiled=True),
-                                      systematic_resample(w, offsets))
+        np.testing.assert_array_equal(
+            systematic_resample(w, offsets, compiled=True), systematic_resample(w, offsets)
+        )
     gauge = simulate_gauge(4.6, 26.5, runs=4, seed=3)
     model = gauge_state_space_model()
     np.testing.assert_array_equal(
-        ParticleFilter(n_particles=300, kernel="numba").run_batch(model, gauge.readings,
-                                                                  gauge.inputs).estimates,
-        ParticleFilter(n_particles=300).run_batch(model, gauge.readings,
-                                                  gauge.inputs).estimates)
+        ParticleFilter(n_particles=300, kernel="numba")
+        .run_batch(model, gauge.readings, gauge.inputs)
+        .estimates,
+        ParticleFilter(n_particles=300).run_batch(model, gauge.readings, gauge.inputs).estimates,
+    )
 
 
 @pytest.mark.parametrize("plain", [False, True], ids=["package", "plain"])

@@ -16,9 +16,25 @@ from dstoolkit.studies import CSV_COLUMNS, METHODS, TABLE3_CASES, run_table3
 def test_table3_command_writes_csv_figure_and_table(tmp_path, simulation, runs):
     out = tmp_path / f"{simulation}.csv"
     proc = subprocess.run(
-        [sys.executable, "-m", "dstoolkit", "table3", "--runs", str(runs), "--seed", "3",
-         "--simulation", simulation, "--out", str(out), "--quiet"],
-        capture_output=True, text=True, timeout=600, check=False,
+        [
+            sys.executable,
+            "-m",
+            "dstoolkit",
+            "table3",
+            "--runs",
+            str(runs),
+            "--seed",
+            "3",
+            "--simulation",
+            simulation,
+            "--out",
+            str(out),
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
     )
     assert proc.returncode == 0, proc.stderr
     with out.open() as fh:
@@ -37,8 +53,14 @@ def test_table3_command_writes_csv_figure_and_table(tmp_path, simulation, runs):
 
 
 def test_table3_is_reproducible_and_filters_beat_direct_with_true_orders():
-    kw = dict(runs=20, seed=5, cases=[(4.6, 26.5)], methods=("dependent_evidence", "direct"),
-              order_rule="true", progress=False)
+    kw = dict(
+        runs=20,
+        seed=5,
+        cases=[(4.6, 26.5)],
+        methods=("dependent_evidence", "direct"),
+        order_rule="true",
+        progress=False,
+    )
     a, b = run_table3(**kw), run_table3(**kw)
     assert [r.mean_abs_error_m for r in a.rows] == [r.mean_abs_error_m for r in b.rows]
     # The readings are biased (mode of w −6.9 Hz) and noisy; the filter, which knows the
@@ -51,5 +73,8 @@ def test_table3_rejects_bad_arguments():
         run_table3(runs=1, methods=("magic",), progress=False)
     with pytest.raises(ValueError, match="simulation"):
         run_table3(runs=1, simulation="spice", progress=False)
-    assert np.isfinite(run_table3(runs=1, cases=[(1.3, 27.0)], methods=("direct",),
-                                  progress=False).rows[0].mean_abs_error_m)
+    assert np.isfinite(
+        run_table3(runs=1, cases=[(1.3, 27.0)], methods=("direct",), progress=False)
+        .rows[0]
+        .mean_abs_error_m
+    )

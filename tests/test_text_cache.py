@@ -81,10 +81,13 @@ def test_the_cache_stays_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
     assert cache[11] == 11
 
 
-@pytest.mark.parametrize("make, changes", [
-    (filter_step_explorer, [("step", 3), ("epsilon", 0.1), ("step", 6)]),
-    (gauge_explorer, [("level", 6.0), ("top_reflection", 0.5)]),
-])
+@pytest.mark.parametrize(
+    "make, changes",
+    [
+        (filter_step_explorer, [("step", 3), ("epsilon", 0.1), ("step", 6)]),
+        (gauge_explorer, [("level", 6.0), ("top_reflection", 0.5)]),
+    ],
+)
 def test_explorer_pictures_are_agg_pictures(make, changes) -> None:
     """What an explorer shows is what plain Agg draws for the same figure.
 

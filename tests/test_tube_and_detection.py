@@ -72,8 +72,9 @@ def test_synthesis_is_seeded_and_has_the_right_length() -> None:
 
 
 @pytest.mark.parametrize(("level", "temp"), LEVELS)
-def test_single_echo_resonances_match_n_c_over_2l_after_correction(level: float,
-                                                                   temp: float) -> None:
+def test_single_echo_resonances_match_n_c_over_2l_after_correction(
+    level: float, temp: float
+) -> None:
     setup = TubeSetup(level, temp, top_reflection=0.0)
     rec = synthesize_recording(setup, conditions=QUIET)
     det = detect_resonances(rec)
@@ -93,8 +94,9 @@ def test_single_echo_resonances_match_n_c_over_2l_after_correction(level: float,
 
 
 @pytest.mark.parametrize(("level", "temp"), LEVELS)
-def test_noisy_detection_matches_the_model_within_predicted_precision(level: float,
-                                                                      temp: float) -> None:
+def test_noisy_detection_matches_the_model_within_predicted_precision(
+    level: float, temp: float
+) -> None:
     setup = TubeSetup(level, temp)  # default R_t = 0.3: several echoes
     model = model_peak_frequencies(setup, PAPER_SWEEP)
     for seed in range(2):
@@ -130,7 +132,7 @@ def test_missed_resonance_is_reported() -> None:
     full = detect_resonances(rec)
     t10 = full.peak_times[10]
     x = rec.samples.copy()
-    x[int((t10 - 0.06) * 44100): int((t10 + 0.06) * 44100)] = 0.0  # an audio dropout
+    x[int((t10 - 0.06) * 44100) : int((t10 + 0.06) * 44100)] = 0.0  # an audio dropout
     det = detect_resonances(replace(rec, samples=x))
     assert not det.complete
     assert det.missed.size == 1 and det.missed[0] == pytest.approx(full.frequencies[10], abs=1.0)
@@ -148,8 +150,9 @@ def test_spurious_peak_is_reported() -> None:
     burst = 0.15 * np.exp(-0.5 * ((t - mid) / 0.008) ** 2) * np.cos(PAPER_SWEEP.phase(t))
     det = detect_resonances(replace(rec, samples=rec.samples + burst))
     assert det.spurious.size == 1
-    assert det.spurious[0] == pytest.approx(0.5 * (full.frequencies[20] + full.frequencies[21]),
-                                            abs=0.1 * full.fundamental_hz)
+    assert det.spurious[0] == pytest.approx(
+        0.5 * (full.frequencies[20] + full.frequencies[21]), abs=0.1 * full.fundamental_hz
+    )
     assert np.allclose(det.frequencies, full.frequencies, atol=0.2) and det.complete
 
 
@@ -194,8 +197,9 @@ def test_latency_estimate_with_a_stronger_echo() -> None:
     found = estimate_latency(PAPER_SWEEP.waveform(), rec.samples, PAPER_SWEEP.sample_rate)
     assert found.seconds == pytest.approx(0.25, abs=3e-5)
     # the largest peak is the echo, 2L/c after the direct wave: taking it would be wrong
-    strongest = estimate_latency(PAPER_SWEEP.waveform(), rec.samples, PAPER_SWEEP.sample_rate,
-                                 first_arrival=None)
+    strongest = estimate_latency(
+        PAPER_SWEEP.waveform(), rec.samples, PAPER_SWEEP.sample_rate, first_arrival=None
+    )
     assert strongest.seconds > 0.25 + 0.005
 
 

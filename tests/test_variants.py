@@ -27,8 +27,15 @@ import sheets  # noqa: E402
 VARIANTS = (1, 2)
 #: Value exercises of Chapters 2–7 whose answer is the same in every variant: choices, a
 #: uniform distribution, and the paper's own worked example of Appendix A.
-NOT_VARYING = {"mass.vacuous-betp", "combine.zadeh", "dependent.a2", "dependent.en1-exact",
-               "dependent.a6", "dependent.theta-merges", "filter.mass-rule"}
+NOT_VARYING = {
+    "mass.vacuous-betp",
+    "combine.zadeh",
+    "dependent.a2",
+    "dependent.en1-exact",
+    "dependent.a6",
+    "dependent.theta-merges",
+    "filter.mass-rule",
+}
 
 
 @pytest.fixture(autouse=True)
@@ -69,9 +76,13 @@ def test_the_data_differ_between_variants_and_from_the_book(stem: str):
     setups = {}
     for variant in (0, *VARIANTS):
         notebook = sheets.build(src, number, title, labels, False, variant)
-        statements = [c["source"] for c in notebook["cells"]
-                      if c["metadata"].get("dstoolkit") or "set_variant" in c["source"]
-                      or c is notebook["cells"][1]]
+        statements = [
+            c["source"]
+            for c in notebook["cells"]
+            if c["metadata"].get("dstoolkit")
+            or "set_variant" in c["source"]
+            or c is notebook["cells"][1]
+        ]
         setups[variant] = "\n".join(statements)
         assert "{{" not in "".join(c["source"] for c in notebook["cells"])
     assert len(set(setups.values())) == 3
@@ -100,8 +111,9 @@ def test_each_variants_answers_pass_its_checks_and_fail_the_others(stem: str):
 
 def test_the_set_of_exercises_that_do_not_vary_is_small_and_named():
     prefixes = set(SHEET_CHAPTER.values())
-    values = [k for k, v in REGISTRY.items()
-              if k.split(".")[0] in prefixes and not k.endswith("-code")]
+    values = [
+        k for k, v in REGISTRY.items() if k.split(".")[0] in prefixes and not k.endswith("-code")
+    ]
     fixed = {k for k in values if not REGISTRY[k].varies}
     assert fixed == NOT_VARYING
     assert len(values) - len(fixed) >= 30
@@ -110,8 +122,9 @@ def test_the_set_of_exercises_that_do_not_vary_is_small_and_named():
 def test_the_book_sheets_are_variant_zero():
     for stem, (number, title, src, labels) in sheets.sheets().items():
         path = sheets.sheet_path(stem, number, ROOT / "notebooks")
-        assert sheets.dump(sheets.build(src, number, title, labels, False, 0)) == \
-            path.read_text(encoding="utf-8"), stem
+        assert sheets.dump(sheets.build(src, number, title, labels, False, 0)) == path.read_text(
+            encoding="utf-8"
+        ), stem
 
 
 def test_the_hidden_test_recomputes_from_the_variants_data(capsys):

@@ -46,18 +46,22 @@ def state(ex):
 
 @pytest.fixture(scope="module")
 def states() -> dict[str, list]:
-    level, noise = "ex = level_estimation_explorer()\nprint(state(ex))", \
-        "nb = noise_bounds_explorer()\nprint(state(nb))"
-    got, nb = printed_json([
-        SETUP,
-        level,
-        'ex.controls["level"].value = 9.6\nex.controls["temperature"].value = 23.9\n'
-        "print(state(ex))",
-        'ex.controls["order_rule"].value = "true"\nprint(state(ex))',
-        noise,
-        'nb.controls["w_lower"].value = -7.8225\nnb.controls["w_upper"].value = -5.9775\n'
-        "print(state(nb))",
-    ])
+    level, noise = (
+        "ex = level_estimation_explorer()\nprint(state(ex))",
+        "nb = noise_bounds_explorer()\nprint(state(nb))",
+    )
+    got, nb = printed_json(
+        [
+            SETUP,
+            level,
+            'ex.controls["level"].value = 9.6\nex.controls["temperature"].value = 23.9\n'
+            "print(state(ex))",
+            'ex.controls["order_rule"].value = "true"\nprint(state(ex))',
+            noise,
+            'nb.controls["w_lower"].value = -7.8225\nnb.controls["w_upper"].value = -5.9775\n'
+            "print(state(nb))",
+        ]
+    )
     got = got[1:]  # SETUP prints nothing
     return {"level": got[:3], "noise": got[3:], "shown": output_widget_mimes(nb)}
 

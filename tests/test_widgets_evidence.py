@@ -28,11 +28,13 @@ CHANGES = {
     "bounded_error_explorer": ("scale", 0.5),
 }
 
+
 @pytest.fixture(scope="module")
 def executed() -> ExplorerRun:
     return drive_explorers(
         {f"{name}()": change for name, change in CHANGES.items()},
-        ("ex0.controls['mid'].value = 0.9\nprint('INVALID', json.dumps(ex0.numbers))",))
+        ("ex0.controls['mid'].value = 0.9\nprint('INVALID', json.dumps(ex0.numbers))",),
+    )
 
 
 @pytest.mark.slow
@@ -66,7 +68,8 @@ def test_dependent_explorer_starts_at_the_papers_example():
     assert ex.numbers["D"] == pytest.approx(dep.degree)
     assert ex.numbers["R12"] == pytest.approx(dep.r12)
     assert ex.numbers["E[dependent]"] == pytest.approx(
-        combine_dependent(e1, e2).pignistic_expectation_1d())
+        combine_dependent(e1, e2).pignistic_expectation_1d()
+    )
     assert ex.numbers["E[Dempster]"] == pytest.approx(dempster(e1, e2).pignistic_expectation_1d())
 
 
@@ -91,9 +94,13 @@ def test_noise_explorer_reproduces_table_1_and_rejects_a_bad_mode():
 
 @pytest.mark.slow
 def test_every_slider_redraws_on_release_only():
-    for make in (w.mass_function_explorer, w.conflict_explorer,
-                 w.dependent_combination_explorer, w.noise_evidence_explorer,
-                 w.bounded_error_explorer):
+    for make in (
+        w.mass_function_explorer,
+        w.conflict_explorer,
+        w.dependent_combination_explorer,
+        w.noise_evidence_explorer,
+        w.bounded_error_explorer,
+    ):
         for control in make().controls.values():
             if hasattr(control, "continuous_update"):
                 assert control.continuous_update is False, (make.__name__, control.description)

@@ -31,10 +31,12 @@ CHANGES = {
     "extension_explorer()": ("hi", 1.5),
 }
 
+
 @pytest.fixture(scope="module")
 def executed() -> ExplorerRun:
-    return drive_explorers(CHANGES, (
-        "ex0.controls['mass_rule'].value = 'm2'\nprint('M2', json.dumps(ex0.numbers))",))
+    return drive_explorers(
+        CHANGES, ("ex0.controls['mass_rule'].value = 'm2'\nprint('M2', json.dumps(ex0.numbers))",)
+    )
 
 
 @pytest.mark.slow
@@ -69,8 +71,21 @@ def test_first_figures_are_embedded_in_the_widget_state(executed):
 
 # -- in-process checks of structure and content ------------------------------------------------
 
-FILTER_CONTROLS = {"v_lower", "v_mode", "v_upper", "w_lower", "w_mode", "w_upper", "p",
-                   "epsilon", "level", "temperature", "start", "orders", "mass_rule"}
+FILTER_CONTROLS = {
+    "v_lower",
+    "v_mode",
+    "v_upper",
+    "w_lower",
+    "w_mode",
+    "w_upper",
+    "p",
+    "epsilon",
+    "level",
+    "temperature",
+    "start",
+    "orders",
+    "mass_rule",
+}
 
 
 def test_filter_widget_structure_controls_and_output():
@@ -91,7 +106,8 @@ def test_filter_widget_prints_what_the_filter_computes():
     assert ex.numbers == pytest.approx(expected)
     x = seq.truth[:, 0]
     assert ex.numbers["mean |x̂ − x| (Hz)"] == pytest.approx(
-        np.mean(np.abs(result.estimates[:, 0] - x)))
+        np.mean(np.abs(result.estimates[:, 0] - x))
+    )
     assert ex.numbers["mean |x̂ − x| (Hz)"] < ex.numbers["mean |z − x| (Hz)"]
     assert ex.numbers["total-conflict steps"] == 0
 
@@ -118,8 +134,10 @@ def test_the_mean_corrected_start_converges_sooner():
     _, _, paper = studies.filter_case(start="observation")
     _, _, corrected = studies.filter_case(start="mean_corrected")
     seq = studies.gauge_case()
-    first = {name: filters.converged_at(r.estimates - seq.truth)
-             for name, r in (("paper", paper), ("corrected", corrected))}
+    first = {
+        name: filters.converged_at(r.estimates - seq.truth)
+        for name, r in (("paper", paper), ("corrected", corrected))
+    }
     assert first["corrected"] < first["paper"]
     assert abs(paper.estimates[0, 0] - seq.truth[0, 0]) > 3.0  # off by about −E[w]
 
@@ -133,7 +151,7 @@ def test_converged_at():
 
 def test_step_explorer_shows_the_papers_first_update_in_conflict():
     ex = w.filter_step_explorer(start="observation", step=2)
-    assert ex.numbers["K (Step 4)"] == pytest.approx(0.95 ** 3)
+    assert ex.numbers["K (Step 4)"] == pytest.approx(0.95**3)
     assert 0.0 <= ex.numbers["D"] and 0.0 < ex.numbers["R12"] <= 1.0
     assert len(ex.figure.axes) == 7
 
@@ -168,7 +186,8 @@ def test_compare_image_methods_counts_and_flags():
     # checks included: 2 vertices + 3 interior samples; 2 corners + the centre
     assert out["vertex"]["evaluations"] == 5 and out["monotone"]["evaluations"] == 3
     assert "mean_value" not in out  # it needs a slope bound
-    outer = w.compare_image_methods(lambda x: x[..., 0] ** 2, -1.0, 2.0, 1,
-                                    slope=lambda lo, hi: (2 * lo, 2 * hi), pieces=1)
+    outer = w.compare_image_methods(
+        lambda x: x[..., 0] ** 2, -1.0, 2.0, 1, slope=lambda lo, hi: (2 * lo, 2 * hi), pieces=1
+    )
     assert outer["mean_value"]["image"] == pytest.approx((-5.75, 6.25))  # f(c) ± 4 · 1.5
     assert outer["mean_value"]["evaluations"] == 1

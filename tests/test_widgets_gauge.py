@@ -40,12 +40,14 @@ print(state())
 
 @pytest.fixture(scope="module")
 def states() -> list[dict]:
-    return printed_json([
-        BUILD,
-        'ex.controls["level"].value = 9.6\nex.controls["temperature"].value = 23.9\n'
-        "print(state())",
-        'ex.controls["background"].value = 100.0\nprint(state())',
-    ])[0]
+    return printed_json(
+        [
+            BUILD,
+            'ex.controls["level"].value = 9.6\nex.controls["temperature"].value = 23.9\n'
+            "print(state())",
+            'ex.controls["background"].value = 100.0\nprint(state())',
+        ]
+    )[0]
 
 
 def test_first_state_is_the_papers_fig6_case(states: list[dict]) -> None:
@@ -57,8 +59,7 @@ def test_first_state_is_the_papers_fig6_case(states: list[dict]) -> None:
     assert first["continuous_update"] == [False, False, False, False]
 
 
-def test_moving_the_level_slider_changes_the_estimate_and_the_figure(
-        states: list[dict]) -> None:
+def test_moving_the_level_slider_changes_the_estimate_and_the_figure(states: list[dict]) -> None:
     before, after = states[0], states[1]
     assert "error" not in after, after
     moved = after["series-fit L (m)"] - before["series-fit L (m)"]

@@ -24,10 +24,19 @@ from dstoolkit.teaching import Explorer, positions, slider
 matplotlib.use("Agg")
 
 #: Every explorer factory of the chapters (the lab's station is tested in test_lab_widget).
-EXPLORERS = (w.mass_function_explorer, w.conflict_explorer, w.dependent_combination_explorer,
-             w.noise_evidence_explorer, w.bounded_error_explorer, w.extension_explorer,
-             w.filter_widget, w.filter_step_explorer, w.gauge_explorer,
-             w.level_estimation_explorer, w.noise_bounds_explorer)
+EXPLORERS = (
+    w.mass_function_explorer,
+    w.conflict_explorer,
+    w.dependent_combination_explorer,
+    w.noise_evidence_explorer,
+    w.bounded_error_explorer,
+    w.extension_explorer,
+    w.filter_widget,
+    w.filter_step_explorer,
+    w.gauge_explorer,
+    w.level_estimation_explorer,
+    w.noise_bounds_explorer,
+)
 #: The controls live on the site of the explorers of noise bounds, level, temperature, p and
 #: ε (the others: see test_every_explorer_is_live_on_the_site).
 REQUIRED_LIVE = {
@@ -46,8 +55,11 @@ def _toy(static: bool, fail_above: float = 99.0) -> Explorer:
 
     a + b > fail_above is an invalid setting.
     """
-    controls = {"a": slider("a", 1.0, 0.0, 4.0, 0.5), "b": slider("b", 0.0, 0.0, 2.0, 1.0),
-                "kind": widgets.Dropdown(options=["x", "y"], value="x")}
+    controls = {
+        "a": slider("a", 1.0, 0.0, 4.0, 0.5),
+        "b": slider("b", 0.0, 0.0, 2.0, 1.0),
+        "kind": widgets.Dropdown(options=["x", "y"], value="x"),
+    }
 
     def render(a: float, b: float, kind: str):
         if a + b > fail_above:
@@ -77,11 +89,11 @@ def test_two_live_controls_give_a_stack_of_stacks_linked_to_the_sliders():
     a, b = ex.controls["a"], ex.controls["b"]
     assert isinstance(a, widgets.SelectionSlider) and isinstance(b, widgets.SelectionSlider)
     assert len(a.options) == 9 and len(b.options) == 3
-    assert len(outer.children) == 9 and all(len(inner.children) == 3
-                                            for inner in outer.children)
+    assert len(outer.children) == 9 and all(len(inner.children) == 3 for inner in outer.children)
     # the page opens on the kernel's first state
     assert outer.selected_index == a.index == list(ex.live["a"]).index(1.0)
     assert a.value == 1.0 and b.value == 0.0
+
     def linked(box: widgets.Stack) -> tuple:
         (source, trait), (target, target_trait) = box.links[0].source, box.links[0].target
         return source, trait, target, target_trait
@@ -99,8 +111,9 @@ def test_two_live_controls_give_a_stack_of_stacks_linked_to_the_sliders():
             assert picture.value.count("<img ") == 1
             assert "src='data:image/png;base64," in picture.value
             alt = html.unescape(re.search(r"alt='([^']*)'", picture.value).group(1))
-            assert alt == (f"Figure for a = {av[0]}, b = {bv[0]}: "
-                           f"a + b {av[1] + bv[1]:.4f}, kind x.")
+            assert alt == (
+                f"Figure for a = {av[0]}, b = {bv[0]}: a + b {av[1] + bv[1]:.4f}, kind x."
+            )
             assert ex.states[(av[1], bv[1])]["a + b"] == pytest.approx(av[1] + bv[1])
     assert "dstoolkit-states" in outer._dom_classes
 
@@ -109,8 +122,13 @@ def test_the_other_controls_are_disabled_with_a_line_to_the_run_page():
     ex = _toy(static=True)
     assert ex.controls["kind"].disabled
     notes = [c.value for c in ex.children if isinstance(c, widgets.HTML)]
-    assert any("notebook" in n and "href='run.html'" in n and "dstoolkit-site-note" in n
-               and "disabled" in n for n in notes)
+    assert any(
+        "notebook" in n
+        and "href='run.html'" in n
+        and "dstoolkit-site-note" in n
+        and "disabled" in n
+        for n in notes
+    )
     assert not any(getattr(ex.controls[n], "disabled", False) for n in ("a", "b"))
 
 
@@ -168,13 +186,14 @@ def test_no_mass_function_state_adds_up_to_more_than_one_without_a_warning(monke
         else:
             assert numbers["m(Θ)"] == pytest.approx(1 - total)
             assert sum(numbers[f"BetP({h})"] for h in ("low", "mid", "high")) == (
-                pytest.approx(1.0))
+                pytest.approx(1.0)
+            )
 
 
 def test_wider_labels_get_a_fresh_layout_rather_than_stick_out():
     def render(k: float):
         fig, ax = plt.subplots(figsize=(3, 2), layout="constrained")
-        ax.plot([0, 1], [0, -(10.0 ** k)])
+        ax.plot([0, 1], [0, -(10.0**k)])
         ax.ticklabel_format(useOffset=False, style="plain")
         return fig, {"k": k}
 
@@ -246,7 +265,7 @@ def test_a_kept_figure_is_laid_out_afresh_whenever_labels_would_stick_out():
     ax.ticklabel_format(useOffset=False, style="plain")
 
     def render(k: float):
-        line.set_ydata([0, -(10.0 ** k)])
+        line.set_ydata([0, -(10.0**k)])
         ax.relim()
         ax.autoscale_view()
         return fig, {"k": k}

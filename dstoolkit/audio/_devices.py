@@ -253,8 +253,9 @@ def list_devices(kind: Literal["input", "output"] | None = None) -> list[AudioDe
         infos = sd.query_devices()
         hostapis = sd.query_hostapis()
     except sd.PortAudioError as exc:
-        raise NoAudioDeviceError(f"PortAudio could not list devices: {exc}. "
-                                 f"{NO_DEVICE_HINT}") from exc
+        raise NoAudioDeviceError(
+            f"PortAudio could not list devices: {exc}. {NO_DEVICE_HINT}"
+        ) from exc
     default_in, default_out = sd.default.device
     devices = [
         AudioDevice(
@@ -546,11 +547,11 @@ def play_record(
     sig = as_signal(x, "signal")
     peak = float(np.max(np.abs(sig)))
     if peak > 1.0:
-        raise InvalidInputError(
-            f"the signal peaks at {peak:.3g} > 1 and would clip: scale it down")
+        raise InvalidInputError(f"the signal peaks at {peak:.3g} > 1 and would clip: scale it down")
     if samplerate <= 0 or int(samplerate) != samplerate:
         raise InvalidInputError(
-            f"samplerate must be a positive whole number of Hz, got {samplerate}")
+            f"samplerate must be a positive whole number of Hz, got {samplerate}"
+        )
     if lead_in_s < MIN_PADDING_S or tail_s < MIN_PADDING_S:
         raise InvalidInputError(
             f"lead_in_s ({lead_in_s}) and tail_s ({tail_s}) must be at least {MIN_PADDING_S} s "
@@ -564,8 +565,7 @@ def play_record(
         [np.zeros(lead), sig, np.zeros(int(round(tail_s * samplerate)))]
     ).astype(np.float32)
     del sd  # the stream itself runs in a child process (see _stream)
-    recorded, status, dropped = _stream(played, int(samplerate), latency, device_in,
-                                        device_out)
+    recorded, status, dropped = _stream(played, int(samplerate), latency, device_in, device_out)
     if dropped:
         warnings.warn(
             f"the audio stream dropped samples ({status}): the recording has gaps. "
@@ -606,8 +606,11 @@ def sound_server_problem() -> str | None:
     if not server:
         for base in (os.environ.get("PULSE_RUNTIME_PATH"), os.environ.get("XDG_RUNTIME_DIR")):
             if base:
-                native = Path(base) / "native" if base == os.environ.get(
-                    "PULSE_RUNTIME_PATH") else Path(base) / "pulse" / "native"
+                native = (
+                    Path(base) / "native"
+                    if base == os.environ.get("PULSE_RUNTIME_PATH")
+                    else Path(base) / "pulse" / "native"
+                )
                 if native.exists():
                     paths.append(str(native))
     for path in paths:
@@ -616,8 +619,7 @@ def sound_server_problem() -> str | None:
             try:
                 sock.connect(path)
             except (FileNotFoundError, ConnectionRefusedError) as exc:
-                return (f"the PulseAudio sound server at unix:{path} is not running "
-                        f"({exc.strerror})")
+                return f"the PulseAudio sound server at unix:{path} is not running ({exc.strerror})"
             except OSError:
                 continue
     return None
@@ -668,8 +670,9 @@ def check_sound_server() -> None:
         )
 
 
-def _stream(played: np.ndarray, samplerate: int, latency: float | str, device_in: int,
-            device_out: int) -> tuple[np.ndarray, str, bool]:
+def _stream(
+    played: np.ndarray, samplerate: int, latency: float | str, device_in: int, device_out: int
+) -> tuple[np.ndarray, str, bool]:
     """Play and record in a child process (``_stream_child.py``) under a deadline.
 
     Returns the recording (float32, as long as ``played``), PortAudio's status and whether
@@ -682,15 +685,21 @@ def _stream(played: np.ndarray, samplerate: int, latency: float | str, device_in
     expected = played.size / samplerate
     child = Path(__file__).with_name("_stream_child.py")
     with tempfile.TemporaryFile() as log:
-        proc = subprocess.Popen([sys.executable, str(child)], stdin=subprocess.PIPE,
-                                stdout=subprocess.PIPE, stderr=log)
+        proc = subprocess.Popen(
+            [sys.executable, str(child)], stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=log
+        )
         assert proc.stdin is not None and proc.stdout is not None
         try:
-            header = {"samplerate": samplerate, "latency": latency,
-                      "device": [device_in, device_out], "frames": int(played.size)}
+            header = {
+                "samplerate": samplerate,
+                "latency": latency,
+                "device": [device_in, device_out],
+                "frames": int(played.size),
+            }
             try:
-                proc.stdin.write(json.dumps(header).encode() + b"\n"
-                                 + played.astype(np.float32).tobytes())
+                proc.stdin.write(
+                    json.dumps(header).encode() + b"\n" + played.astype(np.float32).tobytes()
+                )
                 proc.stdin.close()
             except BrokenPipeError:
                 pass  # the child died at once: reported below
@@ -702,8 +711,11 @@ def _stream(played: np.ndarray, samplerate: int, latency: float | str, device_in
                 end = time.monotonic() + expected + STREAM_GRACE_S
                 first = reader.line(end)
                 if first is None:
-                    _stalled(proc, f"no samples came back for {STREAM_GRACE_S:g} s past the "
-                                   f"stream's expected length of {expected:.1f} s")
+                    _stalled(
+                        proc,
+                        f"no samples came back for {STREAM_GRACE_S:g} s past the "
+                        f"stream's expected length of {expected:.1f} s",
+                    )
             elif first is None and reader.open:
                 _stalled(proc, "the stream did not start")
             if not first:
@@ -840,10 +852,10 @@ def measure_latency(
     dstoolkit.errors.InvalidInputError: samplerate (0) and duration_s (0.25) must be positive
     """
     chirp = calibration_chirp(samplerate)
-    result = play_record(chirp, samplerate, input_device=input_device,
-                         output_device=output_device, latency=latency)
-    estimate = estimate_latency(chirp, result.recorded, samplerate,
-                                offset=result.signal_start)
+    result = play_record(
+        chirp, samplerate, input_device=input_device, output_device=output_device, latency=latency
+    )
+    estimate = estimate_latency(chirp, result.recorded, samplerate, offset=result.signal_start)
     check_calibration(estimate, min_correlation)
     return estimate
 

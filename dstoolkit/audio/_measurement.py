@@ -159,16 +159,20 @@ def estimate_level(
     if not math.isfinite(temperature_c) or not -50.0 <= temperature_c <= 100.0:
         raise InvalidInputError(f"temperature_c = {temperature_c} °C is not an air temperature")
     if not temperature_uncertainty_c >= 0:
-        raise InvalidInputError(f"temperature_uncertainty_c must be >= 0, got "
-                         f"{temperature_uncertainty_c}")
+        raise InvalidInputError(
+            f"temperature_uncertainty_c must be >= 0, got {temperature_uncertainty_c}"
+        )
     z, steps = detection.frequencies, detection.steps
     c = float(speed_of_sound(temperature_c, speed_model))
     fit = fit_resonance_series(z, steps, offset_hz=None)
     level = fit.level(c)
     s = steps.astype(float)
     dof = max(z.size - 2, 1)
-    slope_se = fit.residual_rms_hz * math.sqrt(z.size / dof) / math.sqrt(
-        float(np.sum((s - s.mean()) ** 2)))
+    slope_se = (
+        fit.residual_rms_hz
+        * math.sqrt(z.size / dof)
+        / math.sqrt(float(np.sum((s - s.mean()) ** 2)))
+    )
     fit_u = level * slope_se / fit.fundamental_hz
     offset_u = 0.5 * abs(fit_resonance_series(z, steps, offset_hz=0.0).level(c) - level)
     dc = float(speed_of_sound(temperature_c + temperature_uncertainty_c, speed_model)) - c
@@ -257,9 +261,13 @@ def filter_levels(
             f"the filters need at least 3 consecutive resonances; the longest run has "
             f"{longest.size}"
         )
-    z = (detection.raw_frequencies - detection.latency_offset_hz * detection.corrected[1])
-    case = CaseReadings(level_m=math.nan, temperature_c=math.nan,
-                        speed_of_sound=speed_of_sound, readings=z[longest][None, :])
+    z = detection.raw_frequencies - detection.latency_offset_hz * detection.corrected[1]
+    case = CaseReadings(
+        level_m=math.nan,
+        temperature_c=math.nan,
+        speed_of_sound=speed_of_sound,
+        readings=z[longest][None, :],
+    )
     orders = estimate_orders(case, "eq43")
     filters = paper_filters(seed)
     return {m: float(np.mean(estimate_levels(m, case, orders, filters))) for m in methods}
@@ -347,8 +355,10 @@ class Analysis:
         if error is not None:
             lines.append(f"true level {self.true_level_m:g} m: error {1e3 * error:+.1f} mm")
         if self.filter_levels:
-            lines.append("by method (eq. 32 per step, orders by eq. 43, averaged): " + ", ".join(
-                f"{m} {lv_m:.4f} m" for m, lv_m in self.filter_levels.items()))
+            lines.append(
+                "by method (eq. 32 per step, orders by eq. 43, averaged): "
+                + ", ".join(f"{m} {lv_m:.4f} m" for m, lv_m in self.filter_levels.items())
+            )
         lines.extend(self.notes)
         return "\n".join(lines)
 
@@ -387,8 +397,13 @@ def sweep_from_metadata(metadata: RecordingMetadata, samplerate: float) -> Linea
     if m.f_start_hz is None or m.f_stop_hz is None or m.sweep_duration_s is None:
         return None
     taper = PAPER_SWEEP.taper if m.sweep_taper_s is None else m.sweep_taper_s
-    return LinearSweep(f_start=m.f_start_hz, f_stop=m.f_stop_hz, duration=m.sweep_duration_s,
-                       sample_rate=float(samplerate), taper=taper)
+    return LinearSweep(
+        f_start=m.f_start_hz,
+        f_stop=m.f_stop_hz,
+        duration=m.sweep_duration_s,
+        sample_rate=float(samplerate),
+        taper=taper,
+    )
 
 
 #: Seconds of a recording read after the end of its sweep (the closing chirp and tail);
@@ -414,8 +429,11 @@ def _load_for_analysis(path: str | os.PathLike[str]) -> WavRecording:
     stop_s = end if 0 < end < math.inf else None
     frames = min(layout.frames, (stop_s or math.inf) * layout.samplerate)
     # the detection works on a few float64 copies of the samples it is given
-    check_memory(frames * 8 * 24, f"analysing {frames / layout.samplerate:.1f} s of "
-                 f"{os.fspath(path)!r}", "cut the recording to the measurement")
+    check_memory(
+        frames * 8 * 24,
+        f"analysing {frames / layout.samplerate:.1f} s of {os.fspath(path)!r}",
+        "cut the recording to the measurement",
+    )
     return load_recording(path, stop_s=stop_s)
 
 
@@ -502,11 +520,15 @@ def analyze(
         sweep = sweep_from_metadata(meta, rec.samplerate)
         if sweep is None:
             sweep = LinearSweep(sample_rate=float(rec.samplerate))
-            notes.append("note: the recording does not describe its sweep; assumed the "
-                         "paper's 1000 -> 2400 Hz in 5 s")
+            notes.append(
+                "note: the recording does not describe its sweep; assumed the "
+                "paper's 1000 -> 2400 Hz in 5 s"
+            )
     if sweep.sample_rate != rec.samplerate:
-        raise InvalidInputError(f"the sweep's sample rate {sweep.sample_rate} Hz differs from the "
-                         f"recording's {rec.samplerate} Hz")
+        raise InvalidInputError(
+            f"the sweep's sample rate {sweep.sample_rate} Hz differs from the "
+            f"recording's {rec.samplerate} Hz"
+        )
     fs = rec.samplerate
     if meta.sweep_onset_s is not None and meta.latency_s is not None:
         latency: float | None = meta.latency_s
@@ -537,14 +559,24 @@ def analyze(
             + ", ".join(f"{f:.0f}" for f in detection.missed)
             + " Hz; the level uses the others"
         )
-    level = estimate_level(detection, float(temperature_c),
-                           temperature_uncertainty_c=temperature_uncertainty_c,
-                           speed_model=speed_model)
+    level = estimate_level(
+        detection,
+        float(temperature_c),
+        temperature_uncertainty_c=temperature_uncertainty_c,
+        speed_model=speed_model,
+    )
     by_method = filter_levels(detection, level.speed_of_sound, methods) if methods else {}
-    return Analysis(recording=rec, gauge_recording=gauge_rec, detection=detection,
-                    level=level, temperature_c=float(temperature_c),
-                    latency_s=detection.latency_s, true_level_m=meta.level_m,
-                    filter_levels=by_method, notes=tuple(notes))
+    return Analysis(
+        recording=rec,
+        gauge_recording=gauge_rec,
+        detection=detection,
+        level=level,
+        temperature_c=float(temperature_c),
+        latency_s=detection.latency_s,
+        true_level_m=meta.level_m,
+        filter_levels=by_method,
+        notes=tuple(notes),
+    )
 
 
 # -- measuring -------------------------------------------------------------------------------
@@ -565,8 +597,12 @@ def _programme(sweep: LinearSweep, drive: np.ndarray) -> _Programme:
     chirp = audio.calibration_chirp(fs)
     gap = np.zeros(int(round(CALIBRATION_GAP_S * fs)))
     sweep_offset = chirp.size + gap.size
-    return _Programme(np.concatenate([chirp, gap, drive, gap, chirp]), chirp, sweep_offset,
-                      sweep_offset + drive.size + gap.size)
+    return _Programme(
+        np.concatenate([chirp, gap, drive, gap, chirp]),
+        chirp,
+        sweep_offset,
+        sweep_offset + drive.size + gap.size,
+    )
 
 
 def _drive(sweep: LinearSweep, virtual_tube: TubeSetup | None, amplitude: float) -> np.ndarray:
@@ -577,16 +613,20 @@ def _drive(sweep: LinearSweep, virtual_tube: TubeSetup | None, amplitude: float)
     return amplitude * sweep.waveform()
 
 
-def _calibrate(recorded: np.ndarray, fs: int, lead: int, programme: _Programme
-               ) -> tuple[audio.LatencyEstimate, audio.LatencyEstimate]:
+def _calibrate(
+    recorded: np.ndarray, fs: int, lead: int, programme: _Programme
+) -> tuple[audio.LatencyEstimate, audio.LatencyEstimate]:
     """Latency at the opening and at the closing chirp.
 
     Raises DetectionError when a chirp is missing, AudioDropoutError when they disagree
     by more than MAX_LATENCY_DRIFT_S (samples were lost or inserted in between).
     """
-    found = [audio.estimate_latency(programme.chirp, recorded, fs, offset=lead + offset,
-                                    max_latency_s=audio.MIN_PADDING_S)
-             for offset in (0, programme.closing_offset)]
+    found = [
+        audio.estimate_latency(
+            programme.chirp, recorded, fs, offset=lead + offset, max_latency_s=audio.MIN_PADDING_S
+        )
+        for offset in (0, programme.closing_offset)
+    ]
     for estimate in found:
         audio.check_calibration(estimate)
     opening, closing = found
@@ -600,28 +640,43 @@ def _calibrate(recorded: np.ndarray, fs: int, lead: int, programme: _Programme
 
 
 def _recording(
-    recorded: np.ndarray, fs: int, lead: int, programme: _Programme, sweep: LinearSweep,
-    temperature_c: float, virtual_tube: TubeSetup | None, source: str,
+    recorded: np.ndarray,
+    fs: int,
+    lead: int,
+    programme: _Programme,
+    sweep: LinearSweep,
+    temperature_c: float,
+    virtual_tube: TubeSetup | None,
+    source: str,
     extra: dict[str, object],
 ) -> WavRecording:
     opening, closing = _calibrate(recorded, fs, lead, programme)
     onset = (lead + programme.sweep_offset + opening.lag) / fs
     metadata = RecordingMetadata(
-        temperature_c=temperature_c, f_start_hz=sweep.f_start, f_stop_hz=sweep.f_stop,
-        sweep_duration_s=sweep.duration, sweep_taper_s=sweep.taper, sweep_onset_s=onset,
+        temperature_c=temperature_c,
+        f_start_hz=sweep.f_start,
+        f_stop_hz=sweep.f_stop,
+        sweep_duration_s=sweep.duration,
+        sweep_taper_s=sweep.taper,
+        sweep_onset_s=onset,
         latency_s=opening.seconds,
         level_m=None if virtual_tube is None else virtual_tube.level_m,
         source=source,
-        extra={"calibration_correlation": round(opening.correlation, 6),
-               "latency_at_end_s": closing.seconds, **extra},
+        extra={
+            "calibration_correlation": round(opening.correlation, 6),
+            "latency_at_end_s": closing.seconds,
+            **extra,
+        },
     )
     return WavRecording(samples=recorded, samplerate=fs, metadata=metadata)
 
 
 def _samplerate(sweep: LinearSweep) -> int:
     if sweep.sample_rate != int(sweep.sample_rate):
-        raise InvalidInputError(f"the sweep's sample rate must be a whole number of Hz for audio, "
-                         f"got {sweep.sample_rate}")
+        raise InvalidInputError(
+            f"the sweep's sample rate must be a whole number of Hz for audio, "
+            f"got {sweep.sample_rate}"
+        )
     return int(sweep.sample_rate)
 
 
@@ -719,20 +774,36 @@ def record_measurement(
     for attempt in range(1, attempts + 1):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", audio.AudioDropoutWarning)
-            result = audio.play_record(programme.signal, fs, input_device=input_device,
-                                       output_device=output_device, latency=latency)
+            result = audio.play_record(
+                programme.signal,
+                fs,
+                input_device=input_device,
+                output_device=output_device,
+                latency=latency,
+            )
         names = {d.index: d.name for d in audio.list_devices()}
-        source = (f"{'virtual tube via ' if virtual_tube is not None else ''}"
-                  f"{names.get(result.output_device, result.output_device)} -> "
-                  f"{names.get(result.input_device, result.input_device)}")
+        source = (
+            f"{'virtual tube via ' if virtual_tube is not None else ''}"
+            f"{names.get(result.output_device, result.output_device)} -> "
+            f"{names.get(result.input_device, result.input_device)}"
+        )
         try:
             if result.dropped_samples:
                 raise AudioDropoutError(f"PortAudio reported {result.status}")
             recording = _recording(
-                result.recorded, fs, result.signal_start, programme, sweep,
-                float(temperature_c), virtual_tube, source,
-                {"latency_setting": result.latency_setting, "stream_status": result.status,
-                 "attempt": attempt},
+                result.recorded,
+                fs,
+                result.signal_start,
+                programme,
+                sweep,
+                float(temperature_c),
+                virtual_tube,
+                source,
+                {
+                    "latency_setting": result.latency_setting,
+                    "stream_status": result.status,
+                    "attempt": attempt,
+                },
             )
         except AudioDropoutError as exc:
             problems.append(f"attempt {attempt}: {exc}")
@@ -741,8 +812,7 @@ def record_measurement(
             audio.check_sound_server()  # a dead server is not a wiring problem
             raise
         if save is not None:
-            save_recording(save, recording.samples, fs, recording.metadata,
-                           overwrite=overwrite)
+            save_recording(save, recording.samples, fs, recording.metadata, overwrite=overwrite)
         return recording
     raise AudioDropoutError(
         "the audio stream dropped samples in every attempt (" + "; ".join(problems) + "). "
@@ -821,8 +891,14 @@ def measure(
     4.0
     """
     recording = record_measurement(
-        temperature_c, sweep=sweep, input_device=input_device, output_device=output_device,
-        virtual_tube=virtual_tube, amplitude=amplitude, latency=latency, save=save,
+        temperature_c,
+        sweep=sweep,
+        input_device=input_device,
+        output_device=output_device,
+        virtual_tube=virtual_tube,
+        amplitude=amplitude,
+        latency=latency,
+        save=save,
         overwrite=overwrite,
     )
     return analyze(recording, temperature_uncertainty_c=temperature_uncertainty_c)
@@ -886,7 +962,8 @@ def simulate_measurement(
     """
     if not 0 <= latency_s < audio.MIN_PADDING_S:
         raise InvalidInputError(
-            f"latency_s must be in [0, {audio.MIN_PADDING_S}) s, got {latency_s}")
+            f"latency_s must be in [0, {audio.MIN_PADDING_S}) s, got {latency_s}"
+        )
     fs = _samplerate(sweep)
     programme = _programme(sweep, _drive(sweep, virtual_tube, amplitude))
     lead = tail = int(round(audio.MIN_PADDING_S * fs))
@@ -894,12 +971,18 @@ def simulate_measurement(
     delay = int(round(latency_s * fs))
     recorded = np.concatenate([np.zeros(delay), played[: played.size - delay]])
     if noise_rms > 0:
-        recorded = recorded + noise_rms * np.random.default_rng(seed).standard_normal(
-            recorded.size)
-    return _recording(recorded, fs, lead, programme, sweep,
-                      virtual_tube.temperature_c if temperature_c is None else temperature_c,
-                      virtual_tube, "virtual tube, simulated audio (no device)",
-                      {"simulated_latency_s": latency_s})
+        recorded = recorded + noise_rms * np.random.default_rng(seed).standard_normal(recorded.size)
+    return _recording(
+        recorded,
+        fs,
+        lead,
+        programme,
+        sweep,
+        virtual_tube.temperature_c if temperature_c is None else temperature_c,
+        virtual_tube,
+        "virtual tube, simulated audio (no device)",
+        {"simulated_latency_s": latency_s},
+    )
 
 
 # -- command line ----------------------------------------------------------------------------
@@ -933,22 +1016,44 @@ def add_measure_arguments(parser: argparse.ArgumentParser) -> None:
     >>> args.temperature, args.virtual_level, args.figure
     (20.0, 9.6, 'measurement.png')
     """
-    parser.add_argument("--temperature", type=float, required=True, metavar="T",
-                        help="air temperature in the tube, °C")
+    parser.add_argument(
+        "--temperature",
+        type=float,
+        required=True,
+        metavar="T",
+        help="air temperature in the tube, °C",
+    )
     parser.add_argument("--input", metavar="DEV", help="input device index or name")
     parser.add_argument("--output", metavar="DEV", help="output device index or name")
     parser.add_argument("--save", metavar="REC.wav", help="save the recording (WAV + metadata)")
-    parser.add_argument("--figure", default="measurement.png", metavar="PATH",
-                        help="where to save the figure (default: %(default)s)")
-    parser.add_argument("--virtual-level", type=float, metavar="L",
-                        help="play through a virtual tube of level L m instead of the bare "
-                             "sweep (with a loopback: scripts/audio-loopback.sh)")
-    parser.add_argument("--latency", type=float, default=audio.DEFAULT_LATENCY_S,
-                        metavar="S", help="PortAudio latency setting, s (default %(default)s)")
-    parser.add_argument("--list-devices", action="store_true",
-                        help="list the sound devices and exit")
-    parser.add_argument("--overwrite", action="store_true",
-                        help="replace existing files (the recording, the figure)")
+    parser.add_argument(
+        "--figure",
+        default="measurement.png",
+        metavar="PATH",
+        help="where to save the figure (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--virtual-level",
+        type=float,
+        metavar="L",
+        help="play through a virtual tube of level L m instead of the bare "
+        "sweep (with a loopback: scripts/audio-loopback.sh)",
+    )
+    parser.add_argument(
+        "--latency",
+        type=float,
+        default=audio.DEFAULT_LATENCY_S,
+        metavar="S",
+        help="PortAudio latency setting, s (default %(default)s)",
+    )
+    parser.add_argument(
+        "--list-devices", action="store_true", help="list the sound devices and exit"
+    )
+    parser.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace existing files (the recording, the figure)",
+    )
 
 
 def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
@@ -975,19 +1080,24 @@ def add_analyze_arguments(parser: argparse.ArgumentParser) -> None:
     ('rec.wav', 18.5, None)
     """
     parser.add_argument("recording", metavar="REC.wav", help="a recording (WAV)")
-    parser.add_argument("--temperature", type=float, metavar="T",
-                        help="air temperature, °C (default: the recording's metadata)")
-    parser.add_argument("--figure", metavar="PATH",
-                        help="where to save the figure (default: REC.png)")
-    parser.add_argument("--overwrite", action="store_true",
-                        help="replace an existing figure")
+    parser.add_argument(
+        "--temperature",
+        type=float,
+        metavar="T",
+        help="air temperature, °C (default: the recording's metadata)",
+    )
+    parser.add_argument(
+        "--figure", metavar="PATH", help="where to save the figure (default: REC.png)"
+    )
+    parser.add_argument("--overwrite", action="store_true", help="replace an existing figure")
 
 
 def _report(analysis: Analysis, figure: Path, command: str) -> None:
     print(analysis.summary())
     fig = analysis.figure()
-    atomic_write(figure, lambda fh: fig.savefig(fh, format="png", dpi=120,
-                                                metadata=figure_tag(command)))
+    atomic_write(
+        figure, lambda fh: fig.savefig(fh, format="png", dpi=120, metadata=figure_tag(command))
+    )
     print(f"figure saved to {figure}")
 
 
@@ -1046,14 +1156,23 @@ def measure_command(args: argparse.Namespace) -> int:
         outputs = {"the figure (--figure)": args.figure}
         if args.save:
             outputs = {"the recording (--save)": args.save, **outputs}
-        paths = check_outputs(outputs, overwrite=args.overwrite,
-                              replaceable=_figure_check("measure"))
-        setup = (None if args.virtual_level is None
-                 else TubeSetup(level_m=args.virtual_level, temperature_c=args.temperature))
-        analysis = measure(args.temperature, input_device=_device(args.input),
-                           output_device=_device(args.output), virtual_tube=setup,
-                           latency=args.latency, save=args.save,
-                           overwrite=True)
+        paths = check_outputs(
+            outputs, overwrite=args.overwrite, replaceable=_figure_check("measure")
+        )
+        setup = (
+            None
+            if args.virtual_level is None
+            else TubeSetup(level_m=args.virtual_level, temperature_c=args.temperature)
+        )
+        analysis = measure(
+            args.temperature,
+            input_device=_device(args.input),
+            output_device=_device(args.output),
+            virtual_tube=setup,
+            latency=args.latency,
+            save=args.save,
+            overwrite=True,
+        )
         if args.save:
             print(f"recording saved to {args.save}")
         _report(analysis, paths["the figure (--figure)"], "measure")
@@ -1114,8 +1233,12 @@ def analyze_command(args: argparse.Namespace) -> int:
     """
     try:
         figure = args.figure or analysis_figure_path(args.recording)
-        paths = check_outputs({"the figure": figure}, inputs=[args.recording],
-                              overwrite=args.overwrite, replaceable=_figure_check("analyze"))
+        paths = check_outputs(
+            {"the figure": figure},
+            inputs=[args.recording],
+            overwrite=args.overwrite,
+            replaceable=_figure_check("analyze"),
+        )
         analysis = analyze(args.recording, temperature_c=args.temperature)
         _report(analysis, paths["the figure"], "analyze")
     except (DstoolkitError, OSError) as exc:

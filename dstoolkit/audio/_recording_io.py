@@ -121,8 +121,11 @@ class RecordingMetadata:
             value = getattr(self, name)
             if value is not None and value <= 0:
                 raise RecordingFileError(f"{name} must be positive, got {value}")
-        if (self.f_start_hz is not None and self.f_stop_hz is not None
-                and self.f_start_hz >= self.f_stop_hz):
+        if (
+            self.f_start_hz is not None
+            and self.f_stop_hz is not None
+            and self.f_start_hz >= self.f_stop_hz
+        ):
             raise RecordingFileError(
                 f"the sweep band must rise: f_start_hz {self.f_start_hz} >= f_stop_hz "
                 f"{self.f_stop_hz}"
@@ -172,12 +175,15 @@ class RecordingMetadata:
             twice, or fields of the wrong type.
         """
         if len(text) > MAX_METADATA_BYTES:
-            raise RecordingFileError(f"the metadata holds {len(text)} characters, more than "
-                                     f"{MAX_METADATA_BYTES}")
+            raise RecordingFileError(
+                f"the metadata holds {len(text)} characters, more than {MAX_METADATA_BYTES}"
+            )
         depth = _json_depth(text)
         if depth > MAX_METADATA_DEPTH:
-            raise RecordingFileError(f"the metadata is nested {depth} levels deep, more than "
-                                     f"{MAX_METADATA_DEPTH}; it is not dstoolkit metadata")
+            raise RecordingFileError(
+                f"the metadata is nested {depth} levels deep, more than "
+                f"{MAX_METADATA_DEPTH}; it is not dstoolkit metadata"
+            )
         try:
             payload = json.loads(text, object_pairs_hook=_unique_keys)
         except (json.JSONDecodeError, RecursionError, ValueError) as exc:
@@ -188,8 +194,9 @@ class RecordingMetadata:
         unknown = set(payload) - known - {"dstoolkit_metadata"}
         extra = payload.get("extra") or {}
         if not isinstance(extra, dict):
-            raise RecordingFileError(f"the metadata's extra must be an object, got "
-                                     f"{type(extra).__name__}")
+            raise RecordingFileError(
+                f"the metadata's extra must be an object, got {type(extra).__name__}"
+            )
         extra = dict(extra)
         extra.update({k: payload[k] for k in unknown})  # fields of a newer version
         return cls(**{k: v for k, v in payload.items() if k in known - {"extra"}}, extra=extra)
@@ -204,8 +211,10 @@ def _unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for key, value in pairs:
         if key in out:
-            raise RecordingFileError(f"the metadata gives the key {key!r} twice, so it is "
-                                     "ambiguous; keep one value and save the recording again")
+            raise RecordingFileError(
+                f"the metadata gives the key {key!r} twice, so it is "
+                "ambiguous; keep one value and save the recording again"
+            )
         out[key] = value
     return out
 
@@ -341,7 +350,8 @@ def save_recording(
     if given.dtype.kind not in "biuf":
         raise RecordingFileError(
             f"samples must be real numbers, got an array of {given.dtype} (complex samples "
-            "would lose their imaginary part); give the real signal")
+            "would lose their imaginary part); give the real signal"
+        )
     x = given.astype(float)
     if x.ndim == 2 and x.shape[1] == 1:
         x = x[:, 0]
@@ -353,12 +363,19 @@ def save_recording(
     if sample_format == "float32" and float(np.max(np.abs(x))) > limit:
         raise RecordingFileError(
             f"samples reach {float(np.max(np.abs(x))):.3g}, beyond what a 32-bit float WAV "
-            f"holds ({limit:.3g}); scale them to full scale ±1")
-    if (isinstance(samplerate, bool) or not isinstance(samplerate, int | float | np.number)
-            or not math.isfinite(samplerate) or int(samplerate) != samplerate
-            or not 1000 <= samplerate <= 1_000_000):
-        raise RecordingFileError(f"samplerate must be a whole number of Hz from 1 kHz to 1 MHz "
-                                 f"(what load_recording reads), got {samplerate!r}")
+            f"holds ({limit:.3g}); scale them to full scale ±1"
+        )
+    if (
+        isinstance(samplerate, bool)
+        or not isinstance(samplerate, int | float | np.number)
+        or not math.isfinite(samplerate)
+        or int(samplerate) != samplerate
+        or not 1000 <= samplerate <= 1_000_000
+    ):
+        raise RecordingFileError(
+            f"samplerate must be a whole number of Hz from 1 kHz to 1 MHz "
+            f"(what load_recording reads), got {samplerate!r}"
+        )
     metadata = RecordingMetadata() if metadata is None else metadata
     if not isinstance(metadata, RecordingMetadata):
         raise RecordingFileError(
@@ -399,7 +416,8 @@ def _readable(riff: bytes, path: str | os.PathLike[str]) -> None:
     if len(riff) > MAX_RECORDING_BYTES:
         raise RecordingFileError(
             f"the recording would take {len(riff) / 2**20:.0f} MiB, more than the "
-            f"{MAX_RECORDING_BYTES // 2**20} MiB load_recording reads; save a shorter one")
+            f"{MAX_RECORDING_BYTES // 2**20} MiB load_recording reads; save a shorter one"
+        )
     try:
         read_metadata(read_layout(io.BytesIO(riff), len(riff), path).info)
     except RecordingFileError as exc:
@@ -464,8 +482,9 @@ def _bad(path: str | os.PathLike[str], why: str) -> RecordingFileError:
     return RecordingFileError(f"cannot read the WAV file {os.fspath(path)!r}: {why}")
 
 
-def _parse_fmt(body: bytes, path: str | os.PathLike[str], endian: str) -> tuple[str, int, int,
-                                                                                 int, int]:
+def _parse_fmt(
+    body: bytes, path: str | os.PathLike[str], endian: str
+) -> tuple[str, int, int, int, int]:
     if len(body) < 16:
         raise _bad(path, f"its fmt chunk has {len(body)} bytes, fewer than 16 (truncated)")
     tag, channels, rate, _, align, bits = struct.unpack(endian + "HHIIHH", body[:16])
@@ -480,11 +499,17 @@ def _parse_fmt(body: bytes, path: str | os.PathLike[str], endian: str) -> tuple[
         raise _bad(path, f"its fmt chunk says a sample rate of {rate} Hz (need 1 kHz to 1 MHz)")
     allowed = (8, 16, 24, 32) if encoding == "PCM" else (32, 64)
     if bits not in allowed:
-        raise _bad(path, f"{bits}-bit {encoding} samples are not supported (only "
-                         f"{', '.join(map(str, allowed))} bits)")
+        raise _bad(
+            path,
+            f"{bits}-bit {encoding} samples are not supported (only "
+            f"{', '.join(map(str, allowed))} bits)",
+        )
     if align != channels * bits // 8:
-        raise _bad(path, f"its fmt chunk's block size {align} does not match {channels} "
-                         f"channel(s) of {bits} bits")
+        raise _bad(
+            path,
+            f"its fmt chunk's block size {align} does not match {channels} "
+            f"channel(s) of {bits} bits",
+        )
     return encoding, channels, rate, bits, align
 
 
@@ -497,8 +522,11 @@ def _parse_info(body: bytes, path: str | os.PathLike[str]) -> dict[bytes, str]:
         stag, ssize = body[sub : sub + 4], struct.unpack("<I", body[sub + 4 : sub + 8])[0]
         text = body[sub + 8 : sub + 8 + ssize].rstrip(b"\0")
         if stag in info:
-            raise _bad(path, f"its metadata gives the field {stag.decode('latin-1')!r} twice, "
-                             "so it is ambiguous; keep one and save the recording again")
+            raise _bad(
+                path,
+                f"its metadata gives the field {stag.decode('latin-1')!r} twice, "
+                "so it is ambiguous; keep one and save the recording again",
+            )
         info[stag] = text.decode("utf-8", errors="replace")
         sub += 8 + ssize + ssize % 2
     return info
@@ -532,8 +560,11 @@ def read_layout(fh: Any, size: int, path: str | os.PathLike[str]) -> WavLayout:
             if data is not None:
                 raise _bad(path, "it has two data chunks")
             if chunk > size - body_at:
-                raise _bad(path, f"its data chunk claims {chunk} bytes but only "
-                                 f"{size - body_at} follow (the file is truncated)")
+                raise _bad(
+                    path,
+                    f"its data chunk claims {chunk} bytes but only "
+                    f"{size - body_at} follow (the file is truncated)",
+                )
             data = (body_at, chunk)
         elif tag == b"fmt ":
             if chunk > 1024 or chunk > size - body_at:
@@ -541,13 +572,19 @@ def read_layout(fh: Any, size: int, path: str | os.PathLike[str]) -> WavLayout:
             fmt = _parse_fmt(fh.read(chunk), path, endian)
         elif tag == b"LIST":
             if chunk > MAX_METADATA_BYTES:
-                raise _bad(path, f"its LIST (metadata) chunk holds {chunk} bytes, more than "
-                                 f"the {MAX_METADATA_BYTES} a recording's metadata may have")
+                raise _bad(
+                    path,
+                    f"its LIST (metadata) chunk holds {chunk} bytes, more than "
+                    f"the {MAX_METADATA_BYTES} a recording's metadata may have",
+                )
             body = fh.read(min(chunk, size - body_at))
             if body[:4] == b"INFO":
                 if seen_info:
-                    raise _bad(path, "it has two LIST/INFO (metadata) chunks, so its metadata "
-                                     "is ambiguous; keep one and save the recording again")
+                    raise _bad(
+                        path,
+                        "it has two LIST/INFO (metadata) chunks, so its metadata "
+                        "is ambiguous; keep one and save the recording again",
+                    )
                 seen_info = True
                 info.update(_parse_info(body, path))
         pos = body_at + chunk + chunk % 2
@@ -558,12 +595,12 @@ def read_layout(fh: Any, size: int, path: str | os.PathLike[str]) -> WavLayout:
     if data is None:
         raise _bad(path, "it has no data chunk (truncated)")
     encoding, channels, rate, bits, align = fmt
-    return WavLayout(encoding, channels, rate, bits, align, data[0], data[1] // align,
-                     endian == ">", info)
+    return WavLayout(
+        encoding, channels, rate, bits, align, data[0], data[1] // align, endian == ">", info
+    )
 
 
-def read_samples(fh: Any, layout: WavLayout, channel: int, stop: int | None = None
-                 ) -> np.ndarray:
+def read_samples(fh: Any, layout: WavLayout, channel: int, stop: int | None = None) -> np.ndarray:
     """Read frames [0, stop) of one channel as float64 at full scale ±1.
 
     PCM is scaled, unsigned 8-bit centred; memory: the raw frames plus 8 bytes per sample.
@@ -604,8 +641,9 @@ def open_recording(path: str | os.PathLike[str]) -> tuple[Any, WavLayout]:
         raise
 
 
-def load_recording(path: str | os.PathLike[str], *, channel: int = 0,
-                   stop_s: float | None = None) -> WavRecording:
+def load_recording(
+    path: str | os.PathLike[str], *, channel: int = 0, stop_s: float | None = None
+) -> WavRecording:
     """Read a WAV file written by :func:`save_recording`, or any other WAV file.
 
     Samples come back as float64 at full scale ±1 (16/24/32-bit PCM are scaled, unsigned
@@ -664,15 +702,17 @@ def load_recording(path: str | os.PathLike[str], *, channel: int = 0,
         if not 0 <= channel < layout.channels:
             raise RecordingFileError(
                 f"{os.fspath(path)!r} has {layout.channels} channels; channel {channel} does "
-                "not exist" if layout.channels > 1 else
-                f"{os.fspath(path)!r} is mono; channel {channel} does not exist"
+                "not exist"
+                if layout.channels > 1
+                else f"{os.fspath(path)!r} is mono; channel {channel} does not exist"
             )
         metadata = read_metadata(layout.info)
         stop = None
         if stop_s is not None:
             if not (isinstance(stop_s, int | float) and stop_s > 0 and math.isfinite(stop_s)):
-                raise RecordingFileError(f"stop_s must be a positive number of seconds, got "
-                                         f"{stop_s!r}")
+                raise RecordingFileError(
+                    f"stop_s must be a positive number of seconds, got {stop_s!r}"
+                )
             wanted = stop_s * layout.samplerate
             stop = layout.frames if wanted >= layout.frames else math.ceil(wanted)
         samples = read_samples(fh, layout, channel, stop)

@@ -32,9 +32,15 @@ def main() -> int:
 
         out.write(b"ready\n")
         out.flush()
-        recorded = sd.playrec(played, header["samplerate"], channels=1, dtype="float32",
-                              latency=header["latency"], device=tuple(header["device"]),
-                              blocking=False)
+        recorded = sd.playrec(
+            played,
+            header["samplerate"],
+            channels=1,
+            dtype="float32",
+            latency=header["latency"],
+            device=tuple(header["device"]),
+            blocking=False,
+        )
         out.write(b"started\n")
         out.flush()
         stream = sd.get_stream()
@@ -43,13 +49,15 @@ def main() -> int:
         sd.wait()
         flags = sd.get_status()
     except Exception as exc:  # reported to the parent, which raises the package's error
-        out.write(json.dumps({"error": type(exc).__name__, "message": str(exc)}).encode()
-                  + b"\n")
+        out.write(json.dumps({"error": type(exc).__name__, "message": str(exc)}).encode() + b"\n")
         out.flush()
         return 1
     data = np.ascontiguousarray(recorded[:, 0], dtype=np.float32)
-    result = {"status": str(flags), "frames": int(data.size),
-              "dropped": bool(flags.input_overflow or flags.output_underflow)}
+    result = {
+        "status": str(flags),
+        "frames": int(data.size),
+        "dropped": bool(flags.input_overflow or flags.output_underflow),
+    }
     out.write(json.dumps(result).encode() + b"\n")
     out.write(data.tobytes())
     out.flush()

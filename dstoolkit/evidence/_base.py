@@ -165,8 +165,9 @@ class Evidence(ABC):
         focal.flags.writeable = False
         mass.flags.writeable = False
         self._focal, self._mass = focal, mass
-        self._merged_cache: tuple[np.ndarray, np.ndarray] | None = None if not merge else (
-            focal, mass)
+        self._merged_cache: tuple[np.ndarray, np.ndarray] | None = (
+            None if not merge else (focal, mass)
+        )
 
     def _merged(self) -> tuple[np.ndarray, np.ndarray]:
         """Return the focal elements and masses with equal focal elements merged (eq. 14).
@@ -225,15 +226,19 @@ class Evidence(ABC):
         evidence.
         """
         if not isinstance(state, dict):
-            raise EvidenceError(f"cannot unpickle a {type(self).__name__} from "
-                                f"{type(state).__name__}; pickle it with dstoolkit")
+            raise EvidenceError(
+                f"cannot unpickle a {type(self).__name__} from "
+                f"{type(state).__name__}; pickle it with dstoolkit"
+            )
         try:
             rebuilt = self._from_attributes(state)
         except (KeyError, TypeError, ValueError, IndexError) as exc:
             if isinstance(exc, EvidenceError):
                 raise
-            raise EvidenceError(f"cannot unpickle a {type(self).__name__}: its attributes are "
-                                f"not those of one ({exc}); pickle it with dstoolkit") from None
+            raise EvidenceError(
+                f"cannot unpickle a {type(self).__name__}: its attributes are "
+                f"not those of one ({exc}); pickle it with dstoolkit"
+            ) from None
         self.__dict__.update(rebuilt.__dict__)
 
     @property
@@ -265,8 +270,7 @@ def merge_equal(focal: np.ndarray, mass: np.ndarray) -> tuple[np.ndarray, np.nda
     run of a batch keeps one shape; its compiled twin is the one fast kernel of eq. 14.
     """
     rows = focal.reshape(len(focal), -1)
-    order = np.lexsort(rows.T[::-1]) if rows.shape[1] > 1 else np.argsort(rows[:, 0],
-                                                                           kind="stable")
+    order = np.lexsort(rows.T[::-1]) if rows.shape[1] > 1 else np.argsort(rows[:, 0], kind="stable")
     ranked = rows[order]
     starts = np.ones(len(ranked), dtype=bool)
     starts[1:] = np.any(ranked[1:] != ranked[:-1], axis=1)

@@ -128,9 +128,16 @@ class DependenceKernel:
     (u + ε)/(w + ε), ε = :data:`TINY` (a point counts 1 when u = 0, an unbounded box 0).
     """
 
-    def __init__(self, cols: np.ndarray, masses: np.ndarray, n1: int, mass_rule: MassRule,
-                 out: np.ndarray, theta_mass: np.ndarray, live: np.ndarray | None = None
-                 ) -> None:
+    def __init__(
+        self,
+        cols: np.ndarray,
+        masses: np.ndarray,
+        n1: int,
+        mass_rule: MassRule,
+        out: np.ndarray,
+        theta_mass: np.ndarray,
+        live: np.ndarray | None = None,
+    ) -> None:
         runs, _, d, n = cols.shape
         n2 = n - n1
         self.d, self.n1, self.rule, self.live = d, n1, mass_rule, live
@@ -212,8 +219,7 @@ class DependenceKernel:
         return valid
 
 
-def dependence_figures(u1: Any, u2: Any, u12: Any, s1: Any, s2: Any, s12: Any
-                       ) -> tuple[Any, ...]:
+def dependence_figures(u1: Any, u2: Any, u12: Any, s1: Any, s2: Any, s12: Any) -> tuple[Any, ...]:
     """Compute En'(E1), En'(E2), En'(E1, E2), D, R12, R21, 1 − R12, 1 − R21 (eqs. A1, A3–A6).
 
     From the smallest live widths of E1, E2 and both (u1, u2, u12) and the sums
@@ -228,8 +234,9 @@ def dependence_figures(u1: Any, u2: Any, u12: Any, s1: Any, s2: Any, s12: Any
     return en1, en2, joint, half + half, 1.0 - t12, 1.0 - t21, t12, t21
 
 
-def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool = True
-               ) -> BatchDependence:
+def dependence(
+    a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool = True
+) -> BatchDependence:
     """Compute the energies, energy of the intersection, D, R12, R21 of E1 = a, E2 = b per run.
 
     Def. 5, eqs. A1, A3–A6; equal to :func:`dstoolkit.dependence` on the merged evidence
@@ -243,8 +250,10 @@ def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool =
         raise EvidenceError(f"mass_rule must be one of {MASS_RULES}, got {mass_rule!r}")
     runs = max(a.lo.shape[0], b.lo.shape[0])
     na, nb = a.lo.shape[1], b.lo.shape[1]
-    cols = np.concatenate([np.broadcast_to(columns(e), (runs, 2, e.lo.shape[2], n))
-                           for e, n in ((a, na), (b, nb))], axis=3)
+    cols = np.concatenate(
+        [np.broadcast_to(columns(e), (runs, 2, e.lo.shape[2], n)) for e, n in ((a, na), (b, nb))],
+        axis=3,
+    )
     masses = np.zeros((runs, 2, na + nb))
     masses[:, 0, :na], masses[:, 1, na:] = a.mass, b.mass
     out, theta_mass = np.empty((6, runs)), np.empty((runs, 2))
@@ -255,8 +264,7 @@ def dependence(a: Boxes, b: Boxes, mass_rule: MassRule = "min", *, check: bool =
     return BatchDependence(*out)
 
 
-def coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray,
-                       mass_rule: str) -> None:
+def coefficient_error(r12: np.ndarray, r21: np.ndarray, degree: np.ndarray, mass_rule: str) -> None:
     for name, r in (("R12", r12), ("R21", r21)):
         bad = ~((r >= 0.0) & (r <= 1.0))
         if bad.any():
@@ -310,9 +318,11 @@ def discount_onto_hull(e: Boxes, reliability: np.ndarray) -> Boxes:
         )
     h_lo, h_hi = hull(e)
     rel = rel[:, None]
-    return Boxes(np.concatenate([e.lo, h_lo[:, None]], axis=1),
-                 np.concatenate([e.hi, h_hi[:, None]], axis=1),
-                 np.concatenate([e.mass * rel, 1.0 - rel], axis=1))
+    return Boxes(
+        np.concatenate([e.lo, h_lo[:, None]], axis=1),
+        np.concatenate([e.hi, h_hi[:, None]], axis=1),
+        np.concatenate([e.mass * rel, 1.0 - rel], axis=1),
+    )
 
 
 class ProductWork(NamedTuple):
@@ -360,8 +370,12 @@ class ProductWork(NamedTuple):
         ProductWork
             The buffers (uninitialised).
         """
-        return cls(np.empty((2, runs, d, nb, na)), np.empty((1 + d, runs, nb, na)),
-                   np.empty((runs, 1 + d, nb, 1)), np.empty((runs, 1 + d, 1, 1)))
+        return cls(
+            np.empty((2, runs, d, nb, na)),
+            np.empty((1 + d, runs, nb, na)),
+            np.empty((runs, 1 + d, nb, 1)),
+            np.empty((runs, 1 + d, 1, 1)),
+        )
 
 
 class ProductKernel:
@@ -379,9 +393,15 @@ class ProductKernel:
     positive mass that holds every other, so it is the hull (:meth:`hull`).
     """
 
-    def __init__(self, a: np.ndarray, b: np.ndarray, a_mass: np.ndarray, b_mass: np.ndarray,
-                 work: ProductWork | None = None, theta: tuple[int, int] | None = None
-                 ) -> None:
+    def __init__(
+        self,
+        a: np.ndarray,
+        b: np.ndarray,
+        a_mass: np.ndarray,
+        b_mass: np.ndarray,
+        work: ProductWork | None = None,
+        theta: tuple[int, int] | None = None,
+    ) -> None:
         runs = max(a.shape[0], b.shape[0], a_mass.shape[0], b_mass.shape[0])
         d, na, nb = a.shape[2], a.shape[3], b.shape[3]
         self.work = work if work is not None else ProductWork.allocate(runs, d, na, nb)
@@ -396,9 +416,16 @@ class ProductKernel:
         self.ends_1d = (self.lo[:, 0], self.hi[:, 0])  # d = 1
         self.nonempty_rows = self.nonempty[:, None]
         i, j = (-1, -1) if theta is None else theta
-        self.theta = None if theta is None else (
-            a_mass[:, i], b_mass[:, j], self.nonempty[:, j, i],
-            ends[:, :, :, j, i].transpose(1, 0, 2))  # Θ's masses, Θ1 ∩ Θ2 meets, its ends
+        self.theta = (
+            None
+            if theta is None
+            else (
+                a_mass[:, i],
+                b_mass[:, j],
+                self.nonempty[:, j, i],
+                ends[:, :, :, j, i].transpose(1, 0, 2),
+            )
+        )  # Θ's masses, Θ1 ∩ Θ2 meets, its ends
         self.kept, self.total = sums[:, 0, 0, 0], sums[:, 1:, 0, 0]
 
     def combine(self, est: np.ndarray) -> np.ndarray | None:
@@ -439,13 +466,16 @@ class ProductKernel:
         mass = self.b_mass[:, :, None] * self.a_mass[:, None, :]  # (R, N_b, N_a)
         live = ((mass > 0.0) & (self.nonempty > 0.0))[:, None]
         np.minimum.reduce(ends[0], axis=(-2, -1), where=live, initial=np.inf, out=out[:, 0])
-        np.maximum.reduce(ends[1], axis=(-2, -1), where=live, initial=-np.inf,
-                          out=out[:, 1])
+        np.maximum.reduce(ends[1], axis=(-2, -1), where=live, initial=-np.inf, out=out[:, 1])
         return out
 
 
 def dempster_expectation(
-    a: Boxes, b: Boxes, bounds: bool = False, *, work: ProductWork | None = None,
+    a: Boxes,
+    b: Boxes,
+    bounds: bool = False,
+    *,
+    work: ProductWork | None = None,
     theta_last: bool = False,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[np.ndarray, np.ndarray] | None]:
     """Compute the pignistic expectation (eq. 20) of Dempster's combination (eq. 1) of a and b.

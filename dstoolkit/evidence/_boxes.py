@@ -59,8 +59,9 @@ def row_sum(values: np.ndarray) -> np.ndarray:
     return np.cumsum(values, axis=1)[:, -1]
 
 
-def hull(e: Boxes, out: tuple[np.ndarray, np.ndarray] | None = None
-         ) -> tuple[np.ndarray, np.ndarray]:
+def hull(
+    e: Boxes, out: tuple[np.ndarray, np.ndarray] | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Return the smallest box holding every focal element of positive mass (Θ of eqs. A7–A8).
 
     Parameters
@@ -88,8 +89,10 @@ def hull(e: Boxes, out: tuple[np.ndarray, np.ndarray] | None = None
     lo, hi = (None, None) if out is None else out
     if live.all():
         return np.minimum.reduce(e.lo, axis=1, out=lo), np.maximum.reduce(e.hi, axis=1, out=hi)
-    return (np.minimum.reduce(np.where(live[..., None], e.lo, np.inf), axis=1, out=lo),
-            np.maximum.reduce(np.where(live[..., None], e.hi, -np.inf), axis=1, out=hi))
+    return (
+        np.minimum.reduce(np.where(live[..., None], e.lo, np.inf), axis=1, out=lo),
+        np.maximum.reduce(np.where(live[..., None], e.hi, -np.inf), axis=1, out=hi),
+    )
 
 
 def pignistic_expectation(e: Boxes) -> np.ndarray:

@@ -43,9 +43,10 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
         Boxes (R, W, d) and masses (R, W), W the largest number of distinct boxes of
         positive mass in a run.
 
-    See Also
-    --------
-    merge_equal_boxes_compiled : the same numbers, compiled (extra ``speed``).
+    Notes
+    -----
+    ``dstoolkit.evidence.boxes.merge_equal_boxes_compiled`` gives the same numbers, compiled (extra
+    ``speed``).
 
     References
     ----------
@@ -63,8 +64,11 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
     """
     runs, rows, n = lo.shape
     valid = mass > 0
-    keys = (*(hi[..., j] for j in range(n - 1, -1, -1)),
-            *(lo[..., j] for j in range(n - 1, -1, -1)), ~valid)
+    keys = (
+        *(hi[..., j] for j in range(n - 1, -1, -1)),
+        *(lo[..., j] for j in range(n - 1, -1, -1)),
+        ~valid,
+    )
     order = np.lexsort(keys, axis=-1)
     order += (np.arange(runs) * rows)[:, None]  # index into the flattened rows
     lo, hi = np.take(lo.reshape(-1, n), order, axis=0), np.take(hi.reshape(-1, n), order, axis=0)
@@ -77,8 +81,11 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
             start[:, 1:] |= side[:, 1:, j] != side[:, :-1, j]
     group = np.cumsum(start, axis=1)
     group -= 1
-    summed = np.bincount((group + (np.arange(runs) * rows)[:, None]).ravel(),
-                         weights=weight.ravel(), minlength=runs * rows).reshape(runs, rows)
+    summed = np.bincount(
+        (group + (np.arange(runs) * rows)[:, None]).ravel(),
+        weights=weight.ravel(),
+        minlength=runs * rows,
+    ).reshape(runs, rows)
     width = max(1, int(np.count_nonzero(summed > 0, axis=1).max()))
     heads = np.flatnonzero(start & valid)  # the first row of each group with mass
     dest = np.take(group, heads) + heads // rows * width
@@ -114,8 +121,9 @@ class _Rows:
         self.unit = slice(3 * n + 4, 4 * n + 4)
         self.count = 4 * n + 4
 
-    def table(self, bm: Boxes, unit: np.ndarray, count: np.ndarray
-              ) -> tuple[np.ndarray, np.ndarray]:
+    def table(
+        self, bm: Boxes, unit: np.ndarray, count: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Tabulate the boxes with mass of every run, in round 0's order, and the run of each.
 
         Round 0's order is by centre along dimension 0, stable: ties keep the order of
@@ -186,8 +194,9 @@ def _local_minima(cost: np.ndarray) -> np.ndarray:
     return local
 
 
-def _cheapest(local: np.ndarray, cost: np.ndarray, run: np.ndarray, allowed: np.ndarray
-              ) -> np.ndarray:
+def _cheapest(
+    local: np.ndarray, cost: np.ndarray, run: np.ndarray, allowed: np.ndarray
+) -> np.ndarray:
     """Choose the pairs to merge, as indices: each run's ``allowed`` cheapest local minima.
 
     Ties: leftmost first; ``run`` is the run of each pair. Ranking is skipped when every run
@@ -247,9 +256,10 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     WorkLimitError
         When the rounds do not reach the cap.
 
-    See Also
-    --------
-    cluster_boxes_compiled : the same numbers, compiled (extra ``speed``).
+    Notes
+    -----
+    ``dstoolkit.evidence.boxes.cluster_boxes_compiled`` gives the same numbers, compiled (extra
+    ``speed``).
 
     Examples
     --------
@@ -290,8 +300,9 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
         pair = rows.pair_hulls(table)
         cost = pair[rows.ms] - table[rows.ms, :-1] - table[rows.ms, 1:]
         cost[run[1:] != run[:-1]] = np.inf  # no pair across two runs
-        picked = _cheapest(_local_minima(cost), cost, run[:-1],
-                           np.where(active, count - max_focal, 0))
+        picked = _cheapest(
+            _local_minima(cost), cost, run[:-1], np.where(active, count - max_focal, 0)
+        )
         if not len(picked):
             raise no_pair()
         rows.merge_pairs(table, pair, picked)
@@ -311,8 +322,11 @@ def bounded_count(bm: Boxes) -> np.ndarray:
     (clustering needs sizes).
     """
     live = bm.mass > 0
-    if not (np.all(np.isfinite(bm.mass)) and np.all(np.isfinite(bm.lo) | ~live[..., None])
-            and np.all(np.isfinite(bm.hi) | ~live[..., None])):
+    if not (
+        np.all(np.isfinite(bm.mass))
+        and np.all(np.isfinite(bm.lo) | ~live[..., None])
+        and np.all(np.isfinite(bm.hi) | ~live[..., None])
+    ):
         raise EvidenceError(
             "cluster_boxes needs bounded boxes with finite masses; got NaN or infinite values "
             "(check the filter's inputs and noise bounds)"
@@ -340,12 +354,16 @@ def merged_mass(mass: np.ndarray, merged: np.ndarray) -> np.ndarray:
 def too_many_rounds(max_focal: int, rounds: int, remain: int | None = None) -> WorkLimitError:
     """Return the error of a clustering that did not reach ``max_focal`` in ``rounds`` rounds."""
     left = "" if remain is None else f" ({remain} remain)"
-    return WorkLimitError(f"clustering the focal elements did not reach max_focal = "
-                          f"{max_focal} in {rounds} rounds{left}; raise max_focal")
+    return WorkLimitError(
+        f"clustering the focal elements did not reach max_focal = "
+        f"{max_focal} in {rounds} rounds{left}; raise max_focal"
+    )
 
 
 def no_pair() -> WorkLimitError:
     """Return the error of a clustering round that finds no pair to merge."""
-    return WorkLimitError("clustering the focal elements found no pair to merge (their sizes "
-                          "are not finite numbers); check the model's f and g for NaN or "
-                          "infinite images")
+    return WorkLimitError(
+        "clustering the focal elements found no pair to merge (their sizes "
+        "are not finite numbers); check the model's f and g for NaN or "
+        "infinite images"
+    )

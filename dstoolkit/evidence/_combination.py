@@ -46,9 +46,11 @@ def _products(a: Evidence, b: Evidence) -> tuple[np.ndarray, np.ndarray, np.ndar
     _check_evidence(b, "the second evidence")
     a._check_compatible(b)
     row = a._focal.itemsize * (a._focal[0].size if a._focal.ndim > 1 else 1)
-    check_memory(len(a) * len(b) * (4 * row + 24),
-                 f"combining {len(a)} by {len(b)} focal elements ({len(a) * len(b)} products)",
-                 "merge or coarsen the focal elements first (fewer α-cuts, a smaller p)")
+    check_memory(
+        len(a) * len(b) * (4 * row + 24),
+        f"combining {len(a)} by {len(b)} focal elements ({len(a) * len(b)} products)",
+        "merge or coarsen the focal elements first (fewer α-cuts, a smaller p)",
+    )
     focal, nonempty = a._intersect(b)
     mass = np.multiply.outer(a._mass, b._mass).reshape(-1)
     return focal, mass, nonempty
@@ -56,8 +58,9 @@ def _products(a: Evidence, b: Evidence) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 def _check_evidence(e: object, name: str) -> None:
     if not isinstance(e, Evidence):
-        raise EvidenceError(f"{name} must be a MassFunction or IntervalEvidence, got "
-                            f"{type(e).__name__}")
+        raise EvidenceError(
+            f"{name} must be a MassFunction or IntervalEvidence, got {type(e).__name__}"
+        )
 
 
 def conflict(a: Evidence, b: Evidence) -> float:
@@ -249,8 +252,9 @@ def _common(a: Evidence, b: Evidence) -> tuple[np.ndarray, np.ndarray]:
     return ia, ib
 
 
-def joint_energy(a: Evidence, b: Evidence, *, mass_rule: MassRule = "min",
-                 theta: ThetaRule = "paper") -> float:
+def joint_energy(
+    a: Evidence, b: Evidence, *, mass_rule: MassRule = "min", theta: ThetaRule = "paper"
+) -> float:
     """Energy of the intersection En(E1, E2) = Σ_{D ∈ F1 ∩ F2} m(D)·u/|D| (eqs. 3, A3, A9).
 
     The sum runs over the focal elements common to both, each counted once with its whole
@@ -418,10 +422,16 @@ def dependence(
     >>> round(dep.r12, 4), round(dep.r21, 4)
     (0.7522, 0.7003)
     """
-    en1 = energy(a, theta=theta) if energy1 is None else real_number(
-        energy1, "energy1", low=0.0, high=1.0, error=EvidenceError)
-    en2 = energy(b, theta=theta) if energy2 is None else real_number(
-        energy2, "energy2", low=0.0, high=1.0, error=EvidenceError)
+    en1 = (
+        energy(a, theta=theta)
+        if energy1 is None
+        else real_number(energy1, "energy1", low=0.0, high=1.0, error=EvidenceError)
+    )
+    en2 = (
+        energy(b, theta=theta)
+        if energy2 is None
+        else real_number(energy2, "energy2", low=0.0, high=1.0, error=EvidenceError)
+    )
     joint = joint_energy(a, b, mass_rule=mass_rule, theta=theta)
     if joint > 0 and min(en1, en2) <= 0:
         raise EvidenceError(
@@ -486,8 +496,9 @@ def discount(e: E, rate: float, theta: np.ndarray | None = None) -> E:
     try:
         rate = real_number(rate, "rate", low=0.0, high=1.0, error=EvidenceError)
     except EvidenceError as exc:
-        raise EvidenceError(f"discount {exc}; a reliability R corresponds to rate = 1 − R"
-                            ) from None
+        raise EvidenceError(
+            f"discount {exc}; a reliability R corresponds to rate = 1 − R"
+        ) from None
     theta_row = e._theta() if theta is None else e._check_theta(theta)
     focal = np.concatenate([e._focal, theta_row.reshape(1, *e._focal.shape[1:])])
     mass = np.append((1.0 - rate) * e._mass, rate)
@@ -495,8 +506,13 @@ def discount(e: E, rate: float, theta: np.ndarray | None = None) -> E:
 
 
 def decorrelate(
-    a: E, b: E, *, mass_rule: MassRule = "min", energy1: float | None = None,
-    energy2: float | None = None, theta: ThetaRule = "paper",
+    a: E,
+    b: E,
+    *,
+    mass_rule: MassRule = "min",
+    energy1: float | None = None,
+    energy2: float | None = None,
+    theta: ThetaRule = "paper",
 ) -> tuple[E, E, Dependence]:
     """Discount E1 by R12 and E2 by R21 so they can be combined as if independent.
 
@@ -535,8 +551,7 @@ def decorrelate(
     >>> round(dep.r12, 4), round(float(e1.mass.sum()), 4)
     (0.7522, 1.0)
     """
-    dep = dependence(a, b, mass_rule=mass_rule, energy1=energy1, energy2=energy2,
-                     theta=theta)
+    dep = dependence(a, b, mass_rule=mass_rule, energy1=energy1, energy2=energy2, theta=theta)
     for name, r in (("R12", dep.r12), ("R21", dep.r21)):
         if not 0.0 <= r <= 1.0:
             raise EvidenceError(
@@ -548,8 +563,14 @@ def decorrelate(
 
 
 def combine_dependent(
-    a: E, b: E, *, mass_rule: MassRule = "min", energy1: float | None = None,
-    energy2: float | None = None, merge: bool = True, theta: ThetaRule = "paper",
+    a: E,
+    b: E,
+    *,
+    mass_rule: MassRule = "min",
+    energy1: float | None = None,
+    energy2: float | None = None,
+    merge: bool = True,
+    theta: ThetaRule = "paper",
 ) -> E:
     """Combine dependent evidence (§2.2, eqs. 9–10; App. A, eqs. A7–A8).
 
@@ -595,8 +616,9 @@ def combine_dependent(
     >>> len(combined), round(combined.pignistic_expectation_1d(), 4)
     (5, 1.1355)
     """
-    a2, b2, _ = decorrelate(a, b, mass_rule=mass_rule, energy1=energy1, energy2=energy2,
-                            theta=theta)
+    a2, b2, _ = decorrelate(
+        a, b, mass_rule=mass_rule, energy1=energy1, energy2=energy2, theta=theta
+    )
     return dempster(a2, b2, merge=merge)
 
 

@@ -35,8 +35,9 @@ def _row_less(key: np.ndarray, a: int, b: int) -> bool:  # pragma: no cover - nu
     return False
 
 
-def _stable_order(key: np.ndarray, order: np.ndarray, work: np.ndarray
-                  ) -> None:  # pragma: no cover - numba
+def _stable_order(
+    key: np.ndarray, order: np.ndarray, work: np.ndarray
+) -> None:  # pragma: no cover - numba
     """Set ``order`` to the rows of ``key`` sorted lexicographically, stable, as ``np.lexsort``.
 
     Equal keys keep their order: insertion sort of blocks of 16 rows, then merges of
@@ -85,8 +86,14 @@ def _stable_order(key: np.ndarray, order: np.ndarray, work: np.ndarray
             order[i] = src[i]
 
 
-def _merge(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, out_lo: np.ndarray,
-           out_hi: np.ndarray, out_mass: np.ndarray) -> int:  # pragma: no cover - numba
+def _merge(
+    lo: np.ndarray,
+    hi: np.ndarray,
+    mass: np.ndarray,
+    out_lo: np.ndarray,
+    out_hi: np.ndarray,
+    out_mass: np.ndarray,
+) -> int:  # pragma: no cover - numba
     """Merge equal boxes per run (eq. 14) as ``merge_equal_boxes``.
 
     Rows are sorted by (no mass, lo, hi), stable; equal rows' masses added in that order;
@@ -96,8 +103,11 @@ def _merge(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, out_lo: np.ndarray,
     """
     runs, rows, n = lo.shape
     key = np.empty((rows, 2 * n))
-    rows_of, order, work = (np.empty(rows, np.int64), np.empty(rows, np.int64),
-                            np.empty(rows, np.int64))
+    rows_of, order, work = (
+        np.empty(rows, np.int64),
+        np.empty(rows, np.int64),
+        np.empty(rows, np.int64),
+    )
     counts = np.zeros(runs, np.int64)
     for r in range(runs):
         m = 0
@@ -142,8 +152,9 @@ def _merge(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, out_lo: np.ndarray,
     return width
 
 
-def _size(lo: np.ndarray, hi: np.ndarray, i: int, unit: np.ndarray, r: int
-          ) -> float:  # pragma: no cover - numba
+def _size(
+    lo: np.ndarray, hi: np.ndarray, i: int, unit: np.ndarray, r: int
+) -> float:  # pragma: no cover - numba
     """Compute |A| of box i: the sum of its widths, each divided by run r's unit width.
 
     As ``_sizes`` does.
@@ -154,9 +165,18 @@ def _size(lo: np.ndarray, hi: np.ndarray, i: int, unit: np.ndarray, r: int
     return total
 
 
-def _cluster(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, unit: np.ndarray,
-             cap: int, max_rounds: int, out_lo: np.ndarray, out_hi: np.ndarray,
-             out_mass: np.ndarray, out_merged: np.ndarray) -> int:  # pragma: no cover
+def _cluster(
+    lo: np.ndarray,
+    hi: np.ndarray,
+    mass: np.ndarray,
+    unit: np.ndarray,
+    cap: int,
+    max_rounds: int,
+    out_lo: np.ndarray,
+    out_hi: np.ndarray,
+    out_mass: np.ndarray,
+    out_merged: np.ndarray,
+) -> int:  # pragma: no cover
     """Cluster boxes by Denœux's method as ``cluster_boxes``, run by run.
 
     Each round sorts the boxes by centre along dimension round % n (stable; skipped when
@@ -213,8 +233,11 @@ def _cluster(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, unit: np.ndarray,
             found = 0
             for i in range(k - 1):
                 c = cost[i]
-                if (np.isfinite(c) and (i == 0 or c <= cost[i - 1])
-                        and (i == k - 2 or c < cost[i + 1])):
+                if (
+                    np.isfinite(c)
+                    and (i == 0 or c <= cost[i - 1])
+                    and (i == k - 2 or c < cost[i + 1])
+                ):
                     local[found] = i
                     found += 1
             if found == 0:
@@ -280,8 +303,9 @@ def merge_equal_boxes_compiled(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray)
     return Boxes(out_lo[:, :width], out_hi[:, :width], out_mass[:, :width])
 
 
-def cluster_boxes_compiled(bm: Boxes, max_focal: int, max_rounds: int | None = None
-                           ) -> tuple[Boxes, np.ndarray]:
+def cluster_boxes_compiled(
+    bm: Boxes, max_focal: int, max_rounds: int | None = None
+) -> tuple[Boxes, np.ndarray]:
     """Run :func:`~dstoolkit.evidence.boxes.cluster_boxes`, compiled.
 
     The same numbers and errors (``max_rounds``: its limit of rounds, default
@@ -294,11 +318,18 @@ def cluster_boxes_compiled(bm: Boxes, max_focal: int, max_rounds: int | None = N
         return merge_equal_boxes_compiled(bm.lo, bm.hi, bm.mass), np.zeros(runs)
     lo, hi = np.empty((runs, max_focal, n)), np.empty((runs, max_focal, n))
     mass, merged = np.empty((runs, max_focal)), np.empty((runs, max_focal), dtype=bool)
-    code = _compiled()[1](np.ascontiguousarray(bm.lo, dtype=float),
-                          np.ascontiguousarray(bm.hi, dtype=float),
-                          np.ascontiguousarray(bm.mass, dtype=float),
-                          np.ascontiguousarray(clustering.unit_widths(bm)), max_focal, rounds,
-                          lo, hi, mass, merged)
+    code = _compiled()[1](
+        np.ascontiguousarray(bm.lo, dtype=float),
+        np.ascontiguousarray(bm.hi, dtype=float),
+        np.ascontiguousarray(bm.mass, dtype=float),
+        np.ascontiguousarray(clustering.unit_widths(bm)),
+        max_focal,
+        rounds,
+        lo,
+        hi,
+        mass,
+        merged,
+    )
     if code == TOO_MANY_ROUNDS:
         raise clustering.too_many_rounds(max_focal, rounds)
     if code == NO_PAIR:

@@ -48,13 +48,15 @@ def appendix_pair() -> tuple[IntervalEvidence, IntervalEvidence]:
     >>> e1.mass.tolist()
     [0.3, 0.6, 0.1]
     """
-    return (IntervalEvidence.from_pairs(APPENDIX_E1, merge=False),
-            IntervalEvidence.from_pairs(APPENDIX_E2, merge=False))
+    return (
+        IntervalEvidence.from_pairs(APPENDIX_E1, merge=False),
+        IntervalEvidence.from_pairs(APPENDIX_E2, merge=False),
+    )
 
 
-def appendix_evidence(m1: tuple[float, float] = (0.6, 0.1),
-                      m2: tuple[float, float] = (0.3, 0.6)) -> tuple[IntervalEvidence,
-                                                                      IntervalEvidence]:
+def appendix_evidence(
+    m1: tuple[float, float] = (0.6, 0.1), m2: tuple[float, float] = (0.3, 0.6)
+) -> tuple[IntervalEvidence, IntervalEvidence]:
     """Build E1 and E2 of the paper's Appendix A with chosen masses.
 
     The masses of their 2nd and 3rd focal elements are given; what is left goes to the

@@ -78,14 +78,13 @@ class MassFunction(Evidence):
         try:
             distinct = len(set(self.frame))
         except TypeError as exc:
-            raise EvidenceError(f"hypotheses of the frame must be hashable (numbers, strings, "
-                                f"tuples): {exc}") from exc
+            raise EvidenceError(
+                f"hypotheses of the frame must be hashable (numbers, strings, tuples): {exc}"
+            ) from exc
         if distinct != len(self.frame):
             raise EvidenceError(f"the frame {self.frame!r} lists a hypothesis twice")
         if not 0 < len(self.frame) <= MAX_FRAME:
-            raise EvidenceError(
-                f"a frame needs 1 to {MAX_FRAME} hypotheses, got {len(self.frame)}"
-            )
+            raise EvidenceError(f"a frame needs 1 to {MAX_FRAME} hypotheses, got {len(self.frame)}")
         self._index = {h: i for i, h in enumerate(self.frame)}
         focal = np.array([self._mask_of(k) for k in keys], dtype=np.uint64)
         mass = validate_masses(list(masses.values()))
@@ -118,8 +117,10 @@ class MassFunction(Evidence):
             try:
                 known = h in self._index
             except TypeError as exc:
-                raise EvidenceError(f"hypothesis {h!r} of focal element {key!r} is not "
-                                    f"hashable: {exc}; use numbers, strings or tuples") from exc
+                raise EvidenceError(
+                    f"hypothesis {h!r} of focal element {key!r} is not "
+                    f"hashable: {exc}; use numbers, strings or tuples"
+                ) from exc
             if not known:
                 raise EvidenceError(
                     f"hypothesis {h!r} of focal element {key!r} is not in the frame "
@@ -149,14 +150,16 @@ class MassFunction(Evidence):
         frame, masks, masses, merge = state
         probe = cls({frozenset(frame): 1.0}, frame)  # checks the frame
         focal = np.array(masks, dtype=object)
-        if focal.ndim != 1 or not all(isinstance(f, int) and 0 < f <= probe._full
-                                      for f in masks):
-            raise EvidenceError(f"focal elements {masks!r} are not bit masks of non-empty "
-                                f"subsets of the frame {probe.frame!r}")
+        if focal.ndim != 1 or not all(isinstance(f, int) and 0 < f <= probe._full for f in masks):
+            raise EvidenceError(
+                f"focal elements {masks!r} are not bit masks of non-empty "
+                f"subsets of the frame {probe.frame!r}"
+            )
         if len(masks) != len(validate_masses(masses)):
             raise EvidenceError(f"{len(masses)} masses for {len(masks)} focal elements")
-        return probe._with(np.array(masks, dtype=np.uint64), validate_masses(masses),
-                           merge=bool(merge))
+        return probe._with(
+            np.array(masks, dtype=np.uint64), validate_masses(masses), merge=bool(merge)
+        )
 
     @classmethod
     def vacuous(cls, frame: Iterable[Hashable]) -> MassFunction:
@@ -360,8 +363,7 @@ class MassFunction(Evidence):
         """
         from ._combination import dempster
 
-        return dempster(self, MassFunction({self._decode(self._query(subset)[0]): 1.0},
-                                           self.frame))
+        return dempster(self, MassFunction({self._decode(self._query(subset)[0]): 1.0}, self.frame))
 
     def __repr__(self) -> str:
         def name(s: frozenset) -> str:

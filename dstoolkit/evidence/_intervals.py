@@ -93,8 +93,10 @@ class IntervalEvidence(Evidence):
             )
         bad = np.flatnonzero((lo_arr > hi_arr).any(axis=1))
         if np.any(lo_arr == np.inf) or np.any(hi_arr == -np.inf):
-            raise EvidenceError("a lower end is +inf or an upper end is -inf: such an interval "
-                                "holds no number; use -inf for lo and +inf for hi")
+            raise EvidenceError(
+                "a lower end is +inf or an upper end is -inf: such an interval "
+                "holds no number; use -inf for lo and +inf for hi"
+            )
         _check_widths(lo_arr, hi_arr)
         if bad.size:
             i = int(bad[0])
@@ -230,8 +232,10 @@ class IntervalEvidence(Evidence):
 
     def _scalar_column(self, ends: np.ndarray, name: str) -> np.ndarray:
         if self.dim != 1:
-            raise EvidenceError(f"{name}_1d is for scalar evidence (d = 1); this evidence has "
-                                f"{self.dim}-dimensional boxes: use {name}, shape (n, d)")
+            raise EvidenceError(
+                f"{name}_1d is for scalar evidence (d = 1); this evidence has "
+                f"{self.dim}-dimensional boxes: use {name}, shape (n, d)"
+            )
         return ends[:, 0]
 
     @property
@@ -322,11 +326,14 @@ class IntervalEvidence(Evidence):
         row = real_array(theta, "theta", allow_inf=True, error=EvidenceError).reshape(-1)
         d = self.dim
         if row.size != 2 * d:
-            raise EvidenceError(f"theta must be [lo..., hi...] with {2 * d} numbers for "
-                                f"{d}-dimensional boxes, got {row.size}")
+            raise EvidenceError(
+                f"theta must be [lo..., hi...] with {2 * d} numbers for "
+                f"{d}-dimensional boxes, got {row.size}"
+            )
         if np.any(row[:d] > row[d:]):
-            raise EvidenceError(f"theta {row.tolist()} is not a box: need lo <= hi in every "
-                                "dimension")
+            raise EvidenceError(
+                f"theta {row.tolist()} is not a box: need lo <= hi in every dimension"
+            )
         _check_widths(row[None, :d], row[None, d:])
         return row[None, :]
 
@@ -450,9 +457,11 @@ class IntervalEvidence(Evidence):
         1.5
         """
         if self.dim != 1:
-            raise EvidenceError(f"pignistic_expectation_1d is for scalar evidence (d = 1); "
-                                f"this evidence has {self.dim}-dimensional boxes: use "
-                                "pignistic_expectation(), shape (d,)")
+            raise EvidenceError(
+                f"pignistic_expectation_1d is for scalar evidence (d = 1); "
+                f"this evidence has {self.dim}-dimensional boxes: use "
+                "pignistic_expectation(), shape (d,)"
+            )
         return float(self.pignistic_expectation()[0])
 
     def shift(self, offset: Any) -> IntervalEvidence:
@@ -474,8 +483,9 @@ class IntervalEvidence(Evidence):
         moved = self._focal + np.concatenate([off, off])
         _check_widths(moved[:, : self.dim], moved[:, self.dim :])
         if not np.array_equal(np.isinf(moved), np.isinf(self._focal)):
-            raise EvidenceError(f"shifting by {off.tolist()} overflows the interval ends; "
-                                "rescale the variable")
+            raise EvidenceError(
+                f"shifting by {off.tolist()} overflows the interval ends; rescale the variable"
+            )
         return self._with(moved, self._mass, merge=False)
 
     def to_rows(self) -> np.ndarray:
@@ -497,9 +507,10 @@ class IntervalEvidence(Evidence):
         focal, mass = self._merged()  # equal focal elements shown once, masses added
         n, d = len(mass), self.dim
         if d == 1:
-            body = ", ".join(f"[{a:.4g}, {b:.4g}]: {m:.4g}"
-                             for a, b, m in zip(focal[:8, 0], focal[:8, 1], mass[:8],
-                                                strict=True))
+            body = ", ".join(
+                f"[{a:.4g}, {b:.4g}]: {m:.4g}"
+                for a, b, m in zip(focal[:8, 0], focal[:8, 1], mass[:8], strict=True)
+            )
         else:
             body = f"{n} boxes in {d} dimensions"
         more = f", … ({n} focal elements)" if d == 1 and n > 8 else ""

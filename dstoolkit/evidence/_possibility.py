@@ -51,17 +51,22 @@ class TriangularBounds(NamedTuple):
 
 def _check_triangle(lower: Any, mode: Any, upper: Any) -> tuple[float, float, float]:
     """Return the triangle's ends and mode as floats: finite, ordered, with a finite 100σ frame."""
-    lower, mode, upper = (real_number(v, name, error=EvidenceError) for v, name in
-                          ((lower, "lower"), (mode, "mode"), (upper, "upper")))
+    lower, mode, upper = (
+        real_number(v, name, error=EvidenceError)
+        for v, name in ((lower, "lower"), (mode, "mode"), (upper, "upper"))
+    )
     if not lower <= mode <= upper:
         raise EvidenceError(
             f"need lower <= mode <= upper, got lower={lower}, mode={mode}, upper={upper}; "
             "check the order of the arguments"
         )
     if not math.isfinite(100.0 * (upper - lower)) or not math.isfinite(
-            abs(mode) + 100.0 * (upper - lower)):
-        raise EvidenceError(f"the triangle [{lower:g}, {upper:g}] is too wide to compute "
-                            "with (its frame overflows); rescale the variable")
+        abs(mode) + 100.0 * (upper - lower)
+    ):
+        raise EvidenceError(
+            f"the triangle [{lower:g}, {upper:g}] is too wide to compute "
+            "with (its frame overflows); rescale the variable"
+        )
     return lower, mode, upper
 
 
@@ -108,9 +113,7 @@ def possibility(x: Any, lower: float, mode: float, upper: float) -> np.ndarray:
     return np.clip(np.where((x < lower) | (x > upper), 0.0, pi), 0.0, 1.0)
 
 
-def alpha_cuts(
-    lower: float, mode: float, upper: float, p: int
-) -> tuple[np.ndarray, np.ndarray]:
+def alpha_cuts(lower: float, mode: float, upper: float, p: int) -> tuple[np.ndarray, np.ndarray]:
     """Compute the α-cuts [a + α(c − a), b − α(b − c)] at α_i = i/p, i = 0..p−1 (eqs. 23–24).
 
     Returned innermost first, as in the paper's Tables 1–2.
@@ -226,8 +229,9 @@ def triangular_evidence(
     """
     lower, mode, upper = _check_triangle(lower, mode, upper)
     lo, hi = alpha_cuts(lower, mode, upper, p)
-    epsilon = real_number(epsilon, "epsilon", low=0.0, high=1.0, high_open=True,
-                          error=EvidenceError)
+    epsilon = real_number(
+        epsilon, "epsilon", low=0.0, high=1.0, high_open=True, error=EvidenceError
+    )
     cuts = IntervalEvidence(lo, hi, np.full(lo.size, 1.0 / lo.size), merge=False)
     if epsilon == 0.0:
         return cuts
@@ -239,9 +243,7 @@ def triangular_evidence(
             raise EvidenceError(f"theta must be one pair (lo, hi), got {theta!r}")
         t_lo, t_hi = float(pair[0]), float(pair[1])
     if not (t_lo <= lower and upper <= t_hi):
-        raise EvidenceError(
-            f"Θ = [{t_lo}, {t_hi}] must contain the support [{lower}, {upper}]"
-        )
+        raise EvidenceError(f"Θ = [{t_lo}, {t_hi}] must contain the support [{lower}, {upper}]")
     return discount(cuts, epsilon, theta=np.array([t_lo, t_hi]))
 
 
@@ -280,6 +282,8 @@ def triangular_from_samples(samples: Any, k: float = 3.0) -> TriangularBounds:
         mean, sigma = float(x.mean()), float(x.std(ddof=1))
         lower, upper = mean - k * sigma, mean + k * sigma
     if not (math.isfinite(mean) and math.isfinite(lower) and math.isfinite(upper)):
-        raise EvidenceError("the error samples are too large to compute with (their mean or "
-                            "spread overflows); rescale them")
+        raise EvidenceError(
+            "the error samples are too large to compute with (their mean or "
+            "spread overflows); rescale them"
+        )
     return TriangularBounds(lower, mean, upper)

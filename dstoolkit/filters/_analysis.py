@@ -38,9 +38,11 @@ def enclosure_summary(result: Any, truth: Any) -> dict[str, Any]:
     resets = np.flatnonzero(result.diagnostics.get("resets", np.zeros(0, bool)))
     x = np.asarray(truth).reshape(result.lower.shape)
     inside = np.all((result.lower <= x) & (x <= result.upper), axis=-1)
-    return {"first empty box": int(resets[0]) if resets.size else "never",
-            "truth inside (fraction of steps)": float(inside.mean()),
-            "mean width": float(np.mean(result.upper - result.lower))}
+    return {
+        "first empty box": int(resets[0]) if resets.size else "never",
+        "truth inside (fraction of steps)": float(inside.mean()),
+        "mean width": float(np.mean(result.upper - result.lower)),
+    }
 
 
 def converged_at(errors: Any, threshold: float = 1.0) -> int | None:

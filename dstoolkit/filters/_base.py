@@ -177,8 +177,9 @@ class Filter(ABC, Generic[StateT, RecordT]):
         """
 
     @abstractmethod
-    def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
-                runs: np.ndarray) -> Block:
+    def _engine(
+        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, runs: np.ndarray
+    ) -> Block:
         """Run the recursion on a block of runs, Z (R, T, m), U (R, T − 1, q) or None.
 
         ``runs`` are the runs' indices in the batch (their random streams, if any).
@@ -211,8 +212,9 @@ class Filter(ABC, Generic[StateT, RecordT]):
     _budget_advice: ClassVar[str] = "filter fewer steps at once"
 
     # -- what the base writes once ------------------------------------------------------------
-    def run(self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
-            ) -> FilterResult:
+    def run(
+        self, model: StateSpaceModel, z: Any, inputs: Any = None, record: bool = False
+    ) -> FilterResult:
         """Filter one sequence of readings.
 
         Parameters
@@ -250,8 +252,13 @@ class Filter(ABC, Generic[StateT, RecordT]):
         self._chunks(1, self._bytes_per_run(model, zz.shape[1]))
         block = self._engine(model, zz, uu, np.zeros(1, dtype=np.intp))
         self._finite(block.estimates)
-        return FilterResult(self.name, block.estimates[0], block.lower[0], block.upper[0],
-                            {key: value[0] for key, value in block.diagnostics.items()})
+        return FilterResult(
+            self.name,
+            block.estimates[0],
+            block.lower[0],
+            block.upper[0],
+            {key: value[0] for key, value in block.diagnostics.items()},
+        )
 
     def run_batch(self, model: StateSpaceModel, Z: Any, inputs: Any = None) -> BatchResult:
         """Filter many independent sequences at once, vectorised over runs.
@@ -283,22 +290,31 @@ class Filter(ABC, Generic[StateT, RecordT]):
         runs, n_steps = zz.shape[:2]
         self._check_runs(runs)
         ids = np.arange(runs)
-        blocks = [self._engine(model, zz[sel], None if uu is None else uu[sel], ids[sel])
-                  for sel in self._chunks(runs, self._bytes_per_run(model, n_steps),
-                                          self._chunk_cap(model, n_steps))]
+        blocks = [
+            self._engine(model, zz[sel], None if uu is None else uu[sel], ids[sel])
+            for sel in self._chunks(
+                runs, self._bytes_per_run(model, n_steps), self._chunk_cap(model, n_steps)
+            )
+        ]
         est = self._finite(np.concatenate([b.estimates for b in blocks]))
         return BatchResult(
-            self.name, est, np.concatenate([b.lower for b in blocks]),
+            self.name,
+            est,
+            np.concatenate([b.lower for b in blocks]),
             np.concatenate([b.upper for b in blocks]),
-            {key: np.concatenate([b.diagnostics[key] for b in blocks])
-             for key in blocks[0].diagnostics})
+            {
+                key: np.concatenate([b.diagnostics[key] for b in blocks])
+                for key in blocks[0].diagnostics
+            },
+        )
 
     def _guarded(self, model: StateSpaceModel) -> StateSpaceModel:
         """Return the model whose maps refuse NaN and complex results, naming the step."""
         return guarded(model, self._title)
 
-    def _run_steps(self, model: StateSpaceModel, z: np.ndarray, u: np.ndarray | None
-                   ) -> FilterResult:
+    def _run_steps(
+        self, model: StateSpaceModel, z: np.ndarray, u: np.ndarray | None
+    ) -> FilterResult:
         """``run(record=True)``: the public :meth:`initialize` and :meth:`step` in a loop."""
         state = self.initialize(model, z[0])
         states, records = [state], [self._start_record(state)]
@@ -307,17 +323,26 @@ class Filter(ABC, Generic[StateT, RecordT]):
             states.append(state)
             records.append(rec)
         est = self._finite(np.stack([s.estimate for s in states])[None])[0]
-        diagnostics = {key: np.array([getattr(r, key) for r in records])
-                       for key in (*self.DIAGNOSTICS, *self.RECORDED)}
-        return FilterResult(self.name, est, np.stack([s.lower for s in states]),
-                            np.stack([s.upper for s in states]), diagnostics, tuple(records))
+        diagnostics = {
+            key: np.array([getattr(r, key) for r in records])
+            for key in (*self.DIAGNOSTICS, *self.RECORDED)
+        }
+        return FilterResult(
+            self.name,
+            est,
+            np.stack([s.lower for s in states]),
+            np.stack([s.upper for s in states]),
+            diagnostics,
+            tuple(records),
+        )
 
     #: Keys that ``run(..., record=True)`` adds to the diagnostics from the records.
     RECORDED: ClassVar[tuple[str, ...]] = ()
 
     @staticmethod
-    def _one(model: StateSpaceModel, z: Any, u: Any = None, *, transition: bool = True
-             ) -> tuple[np.ndarray, np.ndarray | None]:
+    def _one(
+        model: StateSpaceModel, z: Any, u: Any = None, *, transition: bool = True
+    ) -> tuple[np.ndarray, np.ndarray | None]:
         """Check one reading z and the input u of the transition into it as :meth:`run` does.
 
         ``transition=False``: the first reading, which has none. They are checked as a
@@ -325,15 +350,20 @@ class Filter(ABC, Generic[StateT, RecordT]):
         """
         _checked_model(model)
         try:
-            zz = np.broadcast_to(real_array(z, "z", ndim=(0, 1), error=EvidenceError),
-                                 (2, model.obs_dim))
+            zz = np.broadcast_to(
+                real_array(z, "z", ndim=(0, 1), error=EvidenceError), (2, model.obs_dim)
+            )
         except ValueError:
-            raise EvidenceError(f"a reading must have {model.obs_dim} component(s), got "
-                                f"shape {np.shape(z)}") from None
+            raise EvidenceError(
+                f"a reading must have {model.obs_dim} component(s), got shape {np.shape(z)}"
+            ) from None
         if not transition:
             return single_readings(model, zz[:1])[0][:, 0], None
-        uu = None if u is None else np.atleast_1d(real_array(u, "u", ndim=(0, 1),
-                                                             error=EvidenceError))[None]
+        uu = (
+            None
+            if u is None
+            else np.atleast_1d(real_array(u, "u", ndim=(0, 1), error=EvidenceError))[None]
+        )
         zz_, uu_ = single_readings(model, zz, uu)
         return zz_[:, 1], None if uu_ is None else uu_[:, 0]
 
@@ -347,7 +377,8 @@ class Filter(ABC, Generic[StateT, RecordT]):
         if not isinstance(value, str) or value not in allowed:
             raise EvidenceError(
                 f"{name} must be one of {', '.join(repr(a) for a in allowed)}"
-                + (f" or {other}" if other else "") + f", got {value!r}"
+                + (f" or {other}" if other else "")
+                + f", got {value!r}"
             )
 
     @classmethod
@@ -361,8 +392,9 @@ class Filter(ABC, Generic[StateT, RecordT]):
         cls._policy(kernel, ("numpy", "numba", "auto"), "kernel")
         if kernel == "numba":
             require_extra("numba", "speed", f"kernel='numba' of {purpose}")
-        return kernel == "numba" or (kernel == "auto"
-                                     and importlib.util.find_spec("numba") is not None)
+        return kernel == "numba" or (
+            kernel == "auto" and importlib.util.find_spec("numba") is not None
+        )
 
     def _own(self, name: str, value: Any) -> None:
         """Keep ``value`` as the option ``name`` (the frozen dataclass's field).
@@ -374,8 +406,9 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
     def _whole(self, name: str, low: int = 0, high: int | None = None) -> None:
         """Check the integer option ``name`` (whole floats accepted) and keep it as an int."""
-        self._own(name, whole_number(getattr(self, name), name, low=low, high=high,
-                                     error=EvidenceError))
+        self._own(
+            name, whole_number(getattr(self, name), name, low=low, high=high, error=EvidenceError)
+        )
 
     def _own_box(self, name: str = "initial_box") -> None:
         """Check the box option ``name`` and keep it as a pair of tuples of floats."""
@@ -387,10 +420,15 @@ class Filter(ABC, Generic[StateT, RecordT]):
         """Check ``theta`` (see :meth:`_frames`) and keep it as nested tuples of floats."""
         self._frames(self.theta)  # type: ignore[attr-defined]
         if self.theta is not None:  # type: ignore[attr-defined]
-            self._own("theta", tuple(
-                None if part is None else tuple(map(tuple, np.asarray(part, float)
-                                                    .reshape(-1, 2).tolist()))
-                for part in self.theta))  # type: ignore[attr-defined]
+            self._own(
+                "theta",
+                tuple(
+                    None
+                    if part is None
+                    else tuple(map(tuple, np.asarray(part, float).reshape(-1, 2).tolist()))
+                    for part in self.theta
+                ),
+            )  # type: ignore[attr-defined]
 
     @staticmethod
     def _box(box: Any, name: str = "initial_box") -> tuple[np.ndarray, np.ndarray] | None:
@@ -401,16 +439,21 @@ class Filter(ABC, Generic[StateT, RecordT]):
             lo_raw, hi_raw = box
         except (TypeError, ValueError):
             raise EvidenceError(f"{name} must be a pair (lo, hi), got {box!r}") from None
-        lo = np.atleast_1d(real_array(lo_raw, f"{name}[0]", allow_inf=True, ndim=(0, 1),
-                                        error=EvidenceError))
-        hi = np.atleast_1d(real_array(hi_raw, f"{name}[1]", allow_inf=True, ndim=(0, 1),
-                                        error=EvidenceError))
+        lo = np.atleast_1d(
+            real_array(lo_raw, f"{name}[0]", allow_inf=True, ndim=(0, 1), error=EvidenceError)
+        )
+        hi = np.atleast_1d(
+            real_array(hi_raw, f"{name}[1]", allow_inf=True, ndim=(0, 1), error=EvidenceError)
+        )
         if lo.shape != hi.shape:
-            raise EvidenceError(f"{name}: lo and hi must have the same length, got "
-                                    f"{lo.size} and {hi.size}")
+            raise EvidenceError(
+                f"{name}: lo and hi must have the same length, got {lo.size} and {hi.size}"
+            )
         if np.any(lo > hi):
-            raise EvidenceError(f"{name} = ({lo.tolist()}, {hi.tolist()}) is empty: need "
-                                    "lo <= hi in every component")
+            raise EvidenceError(
+                f"{name} = ({lo.tolist()}, {hi.tolist()}) is empty: need "
+                "lo <= hi in every component"
+            )
         return lo, hi
 
     @staticmethod
@@ -420,8 +463,9 @@ class Filter(ABC, Generic[StateT, RecordT]):
             return
         arr = real_array(theta, name, ndim=(1, 2), error=EvidenceError)
         if arr.shape[-1] != 2:
-            raise EvidenceError(f"{name} must be one (lo, hi) pair per component, got "
-                                    f"shape {arr.shape}")
+            raise EvidenceError(
+                f"{name} must be one (lo, hi) pair per component, got shape {arr.shape}"
+            )
         if np.any(arr[..., 0] >= arr[..., 1]):
             raise EvidenceError(f"{name} = {arr.tolist()}: each frame needs lo < hi")
 
@@ -433,8 +477,10 @@ class Filter(ABC, Generic[StateT, RecordT]):
         try:
             theta_v, theta_w = theta
         except (TypeError, ValueError):
-            raise EvidenceError("theta must be a pair (theta_v, theta_w), each None or one "
-                                f"(lo, hi) pair per component; got {theta!r}") from None
+            raise EvidenceError(
+                "theta must be a pair (theta_v, theta_w), each None or one "
+                f"(lo, hi) pair per component; got {theta!r}"
+            ) from None
         cls._frame(theta_v, "theta_v")
         cls._frame(theta_w, "theta_w")
 
@@ -442,22 +488,21 @@ class Filter(ABC, Generic[StateT, RecordT]):
     def _cuts(p: Any, epsilon: Any) -> None:
         """Check the noise evidence's number of α-cuts p and discount ε (eqs. 24–26)."""
         whole_number(p, "p (number of α-cuts)", low=1, high=1000, error=EvidenceError)
-        real_number(epsilon, "epsilon", low=0.0, high=1.0, high_open=True,
-                    error=EvidenceError)
+        real_number(epsilon, "epsilon", low=0.0, high=1.0, high_open=True, error=EvidenceError)
 
     @staticmethod
-    def _check_box_dim(box: tuple[np.ndarray, np.ndarray] | None, model: StateSpaceModel,
-                       name: str = "initial_box") -> None:
+    def _check_box_dim(
+        box: tuple[np.ndarray, np.ndarray] | None, model: StateSpaceModel, name: str = "initial_box"
+    ) -> None:
         if box is not None and box[0].size not in (1, model.state_dim):
-            raise EvidenceError(f"{name} has {box[0].size} components; the model's state "
-                                    f"has {model.state_dim}")
+            raise EvidenceError(
+                f"{name} has {box[0].size} components; the model's state has {model.state_dim}"
+            )
 
     # -- batching and results ------------------------------------------------------------------
-    def _chunks(self, runs: int, bytes_per_run: float, cap: int | None = None
-                ) -> list[slice]:
+    def _chunks(self, runs: int, bytes_per_run: float, cap: int | None = None) -> list[slice]:
         """Slices of the runs, each fitting the memory budget (and at most ``cap`` runs)."""
-        size = rows_per_chunk(bytes_per_run, runs, f"the {self._title} filter",
-                              self._budget_advice)
+        size = rows_per_chunk(bytes_per_run, runs, f"the {self._title} filter", self._budget_advice)
         if cap is not None:
             size = max(1, min(size, cap))
         return [slice(i, min(runs, i + size)) for i in range(0, runs, size)]

@@ -162,8 +162,9 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
         lo, hi = self._reading_box(model, z, 0)
         return BoundedErrorState(model, 1, 0.5 * (lo[0] + hi[0]), lo[0], hi[0])
 
-    def step(self, state: BoundedErrorState, z: Any, u: Any = None
-             ) -> tuple[BoundedErrorState, BoundedErrorRecord]:
+    def step(
+        self, state: BoundedErrorState, z: Any, u: Any = None
+    ) -> tuple[BoundedErrorState, BoundedErrorRecord]:
         """Predict the box through f, intersect with g⁻¹(z + W).
 
         Parameters
@@ -192,17 +193,24 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
         at_step(model, state.k)
         out = self._advance(model, state.lower[None], state.upper[None], zz, uu, state.k)
         p_lo, p_hi, r_lo, r_hi, lo, hi, reset = out
-        record = BoundedErrorRecord(state.k + 1, (p_lo[0], p_hi[0]), (r_lo[0], r_hi[0]),
-                                    (lo[0], hi[0]), bool(reset[0]))
-        return BoundedErrorState(model, state.k + 1, 0.5 * (lo[0] + hi[0]), lo[0],
-                                 hi[0]), record
+        record = BoundedErrorRecord(
+            state.k + 1, (p_lo[0], p_hi[0]), (r_lo[0], r_hi[0]), (lo[0], hi[0]), bool(reset[0])
+        )
+        return BoundedErrorState(model, state.k + 1, 0.5 * (lo[0] + hi[0]), lo[0], hi[0]), record
 
     def _start_record(self, state: BoundedErrorState) -> BoundedErrorRecord:
         return BoundedErrorRecord(1, None, None, (state.lower, state.upper), False)
 
     # -- the recursion, vectorised over runs -----------------------------------------------------
-    def _advance(self, model: StateSpaceModel, lo: np.ndarray, hi: np.ndarray, z: np.ndarray,
-                 u: np.ndarray | None, k: int) -> tuple[np.ndarray, ...]:
+    def _advance(
+        self,
+        model: StateSpaceModel,
+        lo: np.ndarray,
+        hi: np.ndarray,
+        z: np.ndarray,
+        u: np.ndarray | None,
+        k: int,
+    ) -> tuple[np.ndarray, ...]:
         """Step k → k + 1 for R runs: boxes (R, n), readings z (R, m), inputs (R, q).
 
         Returns the predicted box, the reading's box within it, the final box and the
@@ -211,8 +219,9 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
         f_lo, f_hi = box_image(with_input(model.f, u), lo, hi, model.f_monotone)
         p_lo = f_lo + model.state_noise.lower
         p_hi = f_hi + model.state_noise.upper
-        r_lo, r_hi = model.inverse()(z + model.obs_noise.lower, z + model.obs_noise.upper,
-                                     p_lo, p_hi)
+        r_lo, r_hi = model.inverse()(
+            z + model.obs_noise.lower, z + model.obs_noise.upper, p_lo, p_hi
+        )
         r_lo, r_hi = np.broadcast_to(r_lo, p_lo.shape), np.broadcast_to(r_hi, p_hi.shape)
         empty = np.any(r_lo > r_hi, axis=-1)
         lo, hi = r_lo, r_hi
@@ -225,8 +234,9 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
             lo[empty], hi[empty] = n_lo, n_hi
         return p_lo, p_hi, r_lo, r_hi, lo, hi, empty
 
-    def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
-                runs: np.ndarray) -> Block:
+    def _engine(
+        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, runs: np.ndarray
+    ) -> Block:
         n_runs, n_steps, _ = Z.shape
         n = model.state_dim
         los, his = np.empty((n_runs, n_steps, n)), np.empty((n_runs, n_steps, n))
@@ -236,13 +246,15 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
         for k in range(1, n_steps):
             at_step(model, k)
             *_, lo, hi, resets[:, k] = self._advance(
-                model, lo, hi, Z[:, k], None if U is None else U[:, k - 1], k)
+                model, lo, hi, Z[:, k], None if U is None else U[:, k - 1], k
+            )
             los[:, k], his[:, k] = lo, hi
         return Block(0.5 * (los + his), los, his, {"resets": resets})
 
     # -- internals -------------------------------------------------------------------------
-    def _reading_box(self, model: StateSpaceModel, z: np.ndarray, k: int
-                     ) -> tuple[np.ndarray, np.ndarray]:
+    def _reading_box(
+        self, model: StateSpaceModel, z: np.ndarray, k: int
+    ) -> tuple[np.ndarray, np.ndarray]:
         lo, hi = first_reading_box(model, z, self.initial_box)
         empty = np.any(lo > hi, axis=-1)
         if np.any(empty):
@@ -259,10 +271,12 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
         return lo, hi
 
     @staticmethod
-    def _message(model: StateSpaceModel, z: np.ndarray, k: int, r: int,
-                 p_lo: np.ndarray, p_hi: np.ndarray) -> str:
-        where = (f"step {k} (reading z[{k}], counting from 0)"
-                 + (f" of run {r}" if z.shape[0] > 1 else ""))
+    def _message(
+        model: StateSpaceModel, z: np.ndarray, k: int, r: int, p_lo: np.ndarray, p_hi: np.ndarray
+    ) -> str:
+        where = f"step {k} (reading z[{k}], counting from 0)" + (
+            f" of run {r}" if z.shape[0] > 1 else ""
+        )
 
         def num(x: np.ndarray) -> str:  # 6 significant digits: 1923.84 Hz, not 1923.84244
             return np.array2string(np.asarray(x), formatter={"float_kind": "{:.6g}".format})

@@ -40,9 +40,18 @@ from dstoolkit.evidence.boxes import TINY, merge_equal_boxes_compiled
 RULE_CODES: dict[str, int] = {rule: code for code, rule in enumerate(MASS_RULES)}
 
 
-def _fuse(cols: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, rule: int,
-          est: np.ndarray, diag: np.ndarray, ok: np.ndarray, lower: np.ndarray,
-          upper: np.ndarray) -> None:  # pragma: no cover - compiled by numba
+def _fuse(
+    cols: np.ndarray,
+    back_mass: np.ndarray,
+    rho: np.ndarray,
+    n1: int,
+    rule: int,
+    est: np.ndarray,
+    diag: np.ndarray,
+    ok: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+) -> None:  # pragma: no cover - compiled by numba
     """See :func:`fuse_dependent`; plain loops for numba."""
     runs, _, d, _ = cols.shape
     np_ = rho.shape[0]
@@ -58,8 +67,10 @@ def _fuse(cols: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, rul
             for i in range(n1):
                 same = True
                 for c in range(d):
-                    if (cols[r, 0, c, 1 + i] != cols[r, 0, c, 1 + e2 + j]
-                            or cols[r, 1, c, 1 + i] != cols[r, 1, c, 1 + e2 + j]):
+                    if (
+                        cols[r, 0, c, 1 + i] != cols[r, 0, c, 1 + e2 + j]
+                        or cols[r, 1, c, 1 + i] != cols[r, 1, c, 1 + e2 + j]
+                    ):
                         same = False
                         break
                 if same:
@@ -68,8 +79,10 @@ def _fuse(cols: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int, rul
             for k in range(np_):
                 same = True
                 for c in range(d):
-                    if (cols[r, 0, c, 1 + e2 + k] != cols[r, 0, c, 1 + e2 + j]
-                            or cols[r, 1, c, 1 + e2 + k] != cols[r, 1, c, 1 + e2 + j]):
+                    if (
+                        cols[r, 0, c, 1 + e2 + k] != cols[r, 0, c, 1 + e2 + j]
+                        or cols[r, 1, c, 1 + e2 + k] != cols[r, 1, c, 1 + e2 + j]
+                    ):
                         same = False
                         break
                 if same:
@@ -182,9 +195,16 @@ def _compiled() -> Callable[..., None]:
     return kernel
 
 
-def fuse_dependent(cols: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1: int,
-                   mass_rule: str, est: np.ndarray, diag: np.ndarray, bounds: Any
-                   ) -> np.ndarray:
+def fuse_dependent(
+    cols: np.ndarray,
+    back_mass: np.ndarray,
+    rho: np.ndarray,
+    n1: int,
+    mass_rule: str,
+    est: np.ndarray,
+    diag: np.ndarray,
+    bounds: Any,
+) -> np.ndarray:
     """Step 6 of the paper's filter for every run, compiled (extra ``speed``).
 
     ``cols`` (R, ≥ 2, d, N) holds the columns of the array path (lo, hi, ... on axis 1):
@@ -195,14 +215,30 @@ def fuse_dependent(cols: np.ndarray, back_mass: np.ndarray, rho: np.ndarray, n1:
     """
     runs = cols.shape[0]
     ok = np.empty(runs, dtype=bool)
-    _compiled()(cols, np.ascontiguousarray(back_mass), np.ascontiguousarray(rho), n1,
-                RULE_CODES[mass_rule], est, diag, ok, bounds[:, 0], bounds[:, 1])
+    _compiled()(
+        cols,
+        np.ascontiguousarray(back_mass),
+        np.ascontiguousarray(rho),
+        n1,
+        RULE_CODES[mass_rule],
+        est,
+        diag,
+        ok,
+        bounds[:, 0],
+        bounds[:, 1],
+    )
     return ok
 
 
-def _contract(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, tolerance: float,
-              kept_mass: np.ndarray, conflict: np.ndarray, dead: np.ndarray
-              ) -> None:  # pragma: no cover - numba
+def _contract(
+    lo: np.ndarray,
+    hi: np.ndarray,
+    mass: np.ndarray,
+    tolerance: float,
+    kept_mass: np.ndarray,
+    conflict: np.ndarray,
+    dead: np.ndarray,
+) -> None:  # pragma: no cover - numba
     """Do what ``contracted_posterior`` does before its merge.
 
     K (sequential sums, as ``row_sum``), the runs in total conflict, the masses renormalised
@@ -236,8 +272,9 @@ def _compiled_contract() -> Callable[..., None]:
     return kernel
 
 
-def contracted_posterior_compiled(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray
-                                  ) -> tuple[Boxes, np.ndarray, np.ndarray]:
+def contracted_posterior_compiled(
+    lo: np.ndarray, hi: np.ndarray, mass: np.ndarray
+) -> tuple[Boxes, np.ndarray, np.ndarray]:
     """Run :func:`~dstoolkit.filters._nassreddine.contracted_posterior`, compiled.
 
     The same numbers.

@@ -85,8 +85,15 @@ DIAGNOSTICS: dict[str, str] = {
 }
 #: Focal-element counts per step that ``run(..., record=True)`` adds to the diagnostics.
 COUNTS: tuple[str, ...] = (
-    "n_state", "n_prediction", "n_observation_prediction", "n_observation", "n_fused",
-    "n_mapped_back", "n_final", "n_products_step4", "n_products_step6",
+    "n_state",
+    "n_prediction",
+    "n_observation_prediction",
+    "n_observation",
+    "n_fused",
+    "n_mapped_back",
+    "n_final",
+    "n_products_step4",
+    "n_products_step6",
 )
 
 
@@ -318,11 +325,9 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         self._policy(self.on_conflict, ("raise", "predict"), "on_conflict")
         self._policy(self.image_method, IMAGE_METHODS, "image_method")
         if isinstance(self.start, str):
-            self._policy(self.start, ("observation", "mean_corrected"), "start",
-                         "a state vector")
+            self._policy(self.start, ("observation", "mean_corrected"), "start", "a state vector")
         else:
-            start = np.array(real_array(self.start, "start", ndim=(0, 1, 2),
-                                        error=EvidenceError))
+            start = np.array(real_array(self.start, "start", ndim=(0, 1, 2), error=EvidenceError))
             start.flags.writeable = False  # a copy: later edits of the caller's array
             object.__setattr__(self, "start", start)  # change nothing here
         self._cuts(self.p, self.epsilon)
@@ -340,8 +345,9 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         """Memory of one run's Step 6 buffers (the largest arrays), bytes."""
         noise = self.noise_evidence(model)
         n_pred = noise.prediction_mass.shape[1]
-        return StepArrays.bytes_per_run(noise.v.lo.shape[-1], n_pred,
-                                        n_pred * noise.w.mass.shape[1])
+        return StepArrays.bytes_per_run(
+            noise.v.lo.shape[-1], n_pred, n_pred * noise.w.mass.shape[1]
+        )
 
     def _chunk_cap(self, model: StateSpaceModel, n_steps: int) -> int | None:
         return int(self.chunk_size)
@@ -381,8 +387,13 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
             )
         f_signs = state_signs(model.f_monotone, model.state_dim)
         g_signs = parse_signs(model.g_monotone, model.state_dim)
-        return ModelMaps(model, resolve_method(self.image_method, f_signs), f_signs,
-                         resolve_method(self.image_method, g_signs), g_signs)
+        return ModelMaps(
+            model,
+            resolve_method(self.image_method, f_signs),
+            f_signs,
+            resolve_method(self.image_method, g_signs),
+            g_signs,
+        )
 
     # -- the public step: Steps 2-6 on IntervalEvidence objects ------------------------------
     def initialize(self, model: StateSpaceModel, z1: Any) -> DependentState:
@@ -410,8 +421,9 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         x = self._start(model, z)[0]
         return DependentState(model, 1, x, x, x, self.noise_evidence(model))
 
-    def step(self, state: DependentState, z: Any, u: Any = None
-             ) -> tuple[DependentState, DependentRecord]:
+    def step(
+        self, state: DependentState, z: Any, u: Any = None
+    ) -> tuple[DependentState, DependentRecord]:
         """Run Steps 2–6 from x̂_k with the reading z_{k+1}.
 
         Runs the reference path on :class:`~dstoolkit.evidence.IntervalEvidence` (equal
@@ -450,30 +462,57 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         pz_lo, pz_hi = observe(maps, pred.boxes_lo[None], pred.boxes_hi[None])
         obs_pred = IntervalEvidence(pz_lo[0], pz_hi[0], pred.mass, merge=False)
         obs = noise.observation.shift(zz[0])
-        entry.update(state=noise.state.shift(x), prediction=pred, observation=obs,
-                     observation_prediction=IntervalEvidence(pz_lo[0], pz_hi[0], pred.mass),
-                     n_products_step4=float(len(obs_pred) * len(obs)),
-                     conflict_step4=conflict(obs_pred, obs))
+        entry.update(
+            state=noise.state.shift(x),
+            prediction=pred,
+            observation=obs,
+            observation_prediction=IntervalEvidence(pz_lo[0], pz_hi[0], pred.mass),
+            n_products_step4=float(len(obs_pred) * len(obs)),
+            conflict_step4=conflict(obs_pred, obs),
+        )
         final = self._fuse_objects(maps, pred, obs_pred, obs, t, entry)
         entry["fallback"] = 0.0 if final is not None else 1.0
         final = pred if final is None else final
         est = np.atleast_1d(np.asarray(final.pignistic_expectation(), dtype=float))
         lower, upper = final.hull()
         entry.update(final=final, estimate=est)
-        for key, name in zip(COUNTS[:7], ("state", "prediction", "observation_prediction",
-                                           "observation", "fused", "mapped_back", "final"),
-                             strict=True):
+        for key, name in zip(
+            COUNTS[:7],
+            (
+                "state",
+                "prediction",
+                "observation_prediction",
+                "observation",
+                "fused",
+                "mapped_back",
+                "final",
+            ),
+            strict=True,
+        ):
             entry[key] = float(len(entry[name])) if entry.get(name) is not None else np.nan
         record = DependentRecord(**entry)
-        return DependentState(model, t + 1, est, np.asarray(lower, dtype=float).reshape(-1),
-                              np.asarray(upper, dtype=float).reshape(-1), noise, final), record
+        return DependentState(
+            model,
+            t + 1,
+            est,
+            np.asarray(lower, dtype=float).reshape(-1),
+            np.asarray(upper, dtype=float).reshape(-1),
+            noise,
+            final,
+        ), record
 
     def _start_record(self, state: DependentState) -> DependentRecord:
         return DependentRecord(1, state.estimate)
 
-    def _fuse_objects(self, maps: ModelMaps, pred: IntervalEvidence,
-                      obs_pred: IntervalEvidence, obs: IntervalEvidence, t: int,
-                      entry: dict[str, Any]) -> IntervalEvidence | None:
+    def _fuse_objects(
+        self,
+        maps: ModelMaps,
+        pred: IntervalEvidence,
+        obs_pred: IntervalEvidence,
+        obs: IntervalEvidence,
+        t: int,
+        entry: dict[str, Any],
+    ) -> IntervalEvidence | None:
         """Run Steps 4–6 with dstoolkit.evidence; None when total conflict falls back."""
         try:
             fused = dempster(obs_pred, obs, merge=False)
@@ -484,27 +523,38 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         _, nonempty = obs_pred._intersect(obs)
         live = nonempty & (np.multiply.outer(obs_pred.mass, obs.mass).reshape(-1) > 0)
         origin = np.flatnonzero(live) // len(obs)
-        back = map_back(maps, Boxes(fused.boxes_lo[None], fused.boxes_hi[None],
-                                    fused.mass[None]),
-                        pred.boxes_lo[origin][None], pred.boxes_hi[origin][None], t + 1)
+        back = map_back(
+            maps,
+            Boxes(fused.boxes_lo[None], fused.boxes_hi[None], fused.mass[None]),
+            pred.boxes_lo[origin][None],
+            pred.boxes_hi[origin][None],
+            t + 1,
+        )
         mapped = IntervalEvidence(back.lo[0], back.hi[0], back.mass[0])  # eq. 14 merges
-        entry.update(fused=IntervalEvidence(fused.boxes_lo, fused.boxes_hi, fused.mass),
-                     mapped_back=mapped)
-        a2, b2, dep = decorrelate(mapped, pred, mass_rule=self.mass_rule,
-                                  theta=self.energy_theta)
-        entry.update(dependence_terms=dep, energy_mapped_back=dep.energy1,
-                     energy_prediction=dep.energy2, joint_energy=dep.joint_energy,
-                     dependence=dep.degree, r12=dep.r12, r21=dep.r21,
-                     n_products_step6=float(len(mapped) * len(pred)),
-                     conflict_step6=conflict(a2, b2))
+        entry.update(
+            fused=IntervalEvidence(fused.boxes_lo, fused.boxes_hi, fused.mass), mapped_back=mapped
+        )
+        a2, b2, dep = decorrelate(mapped, pred, mass_rule=self.mass_rule, theta=self.energy_theta)
+        entry.update(
+            dependence_terms=dep,
+            energy_mapped_back=dep.energy1,
+            energy_prediction=dep.energy2,
+            joint_energy=dep.joint_energy,
+            dependence=dep.degree,
+            r12=dep.r12,
+            r21=dep.r21,
+            n_products_step6=float(len(mapped) * len(pred)),
+            conflict_step6=conflict(a2, b2),
+        )
         try:
             return dempster(a2, b2)
         except TotalConflictError:
             self._check_conflict(np.zeros(1, bool), t, 6)
             return None
 
-    def _engine_by_steps(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
-                         runs: np.ndarray) -> Block:
+    def _engine_by_steps(
+        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, runs: np.ndarray
+    ) -> Block:
         """Run the recursion of R runs by the reference :meth:`step`, run after run.
 
         This serves the options the vectorised kernels do not implement.
@@ -525,25 +575,32 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
                     diag[key][r, k] = getattr(record, key)
         return Block(est, lower, upper, diag)
 
-    def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
-                runs: np.ndarray) -> Block:
+    def _engine(
+        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, runs: np.ndarray
+    ) -> Block:
         if self.energy_theta != "paper":
             return self._engine_by_steps(model, Z, U, runs)
-        est, lower, upper, diag = self._run_arrays(self._maps(model), self.noise_evidence(model),
-                                                   Z, U, runs)
+        est, lower, upper, diag = self._run_arrays(
+            self._maps(model), self.noise_evidence(model), Z, U, runs
+        )
         assert lower is not None and upper is not None  # bounds=True returns them
         return Block(est, lower, upper, diag)
 
     def _check_runs(self, runs: int) -> None:
         """Check that a start per run, (R, n), has one row for each run of the batch."""
-        if not isinstance(self.start, str) and np.ndim(self.start) == 2 \
-                and np.shape(self.start)[0] != runs:
+        if (
+            not isinstance(self.start, str)
+            and np.ndim(self.start) == 2
+            and np.shape(self.start)[0] != runs
+        ):
             raise EvidenceError(
                 f"start gives x̂_1 for {np.shape(self.start)[0]} runs, but the batch has "
-                f"{runs}; give one row per run, or one state vector for all")
+                f"{runs}; give one row per run, or one state vector for all"
+            )
 
-    def _start(self, model: StateSpaceModel, z1: np.ndarray,
-               runs: np.ndarray | None = None) -> np.ndarray:
+    def _start(
+        self, model: StateSpaceModel, z1: np.ndarray, runs: np.ndarray | None = None
+    ) -> np.ndarray:
         """Return x̂_1 for every run, (R, n).
 
         ``runs`` are the runs' indices in the batch (None for a single run), which pick
@@ -558,7 +615,8 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
                 raise EvidenceError(
                     f"start must be a state vector of length {n}"
                     + ("" if runs is None else f" or one per run, ({len(runs)}, {n})")
-                    + f", got shape {x0.shape}")
+                    + f", got shape {x0.shape}"
+                )
             return np.broadcast_to(x0.reshape(n), (z1.shape[0], n)).copy()
         runs_here = z1.shape[0]
         reading = z1 + (model.obs_noise.mean if self.start == "mean_corrected" else 0.0)
@@ -576,8 +634,13 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
     # -- the array path -------------------------------------------------------------------
     def _run_arrays(
-        self, maps: ModelMaps, noise: NoiseEvidence, z: np.ndarray, inputs: np.ndarray | None,
-        run_ids: np.ndarray | None = None, bounds: bool = True,
+        self,
+        maps: ModelMaps,
+        noise: NoiseEvidence,
+        z: np.ndarray,
+        inputs: np.ndarray | None,
+        run_ids: np.ndarray | None = None,
+        bounds: bool = True,
     ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None, dict[str, np.ndarray]]:
         """Run Steps 2–6 for R runs at once (no merging).
 
@@ -616,8 +679,9 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         return est, lower, upper, dict(zip(DIAGNOSTICS, diagnostics, strict=True))
 
     @staticmethod
-    def _fall_back(ok: np.ndarray, t: int, pred: Boxes, est: np.ndarray,
-                   hulls: np.ndarray | None) -> None:
+    def _fall_back(
+        ok: np.ndarray, t: int, pred: Boxes, est: np.ndarray, hulls: np.ndarray | None
+    ) -> None:
         """on_conflict="predict": the prediction is the final evidence of failed runs."""
         bad = ~ok
         est[bad, t] = bk.pignistic_expectation(pred)[bad]
@@ -630,12 +694,14 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
             run = int(np.flatnonzero(~ok)[0])
             raise TotalConflictError(
                 f"total conflict (K = 1) in Step {step} of estimate {t + 1} (run {run}): "
-                + ("the observation contradicts the prediction entirely" if step == 4 else
-                   "the mapped-back evidence contradicts the prediction entirely")
+                + (
+                    "the observation contradicts the prediction entirely"
+                    if step == 4
+                    else "the mapped-back evidence contradicts the prediction entirely"
+                )
                 + "; widen the noise bounds, raise epsilon, or use on_conflict='predict' to "
                 "keep the prediction at such steps"
             )
-
 
 
 class _Step1:
@@ -647,9 +713,23 @@ class _Step1:
         self.theta_v = _theta(theta_v, model.state_dim)
         self.theta_w = _theta(theta_w, model.obs_dim)
         self.p, self.epsilon = int(flt.p), float(flt.epsilon)
-        self.key = (self.p, self.epsilon, *(None if a is None else a.tobytes() for a in (
-            self.state.lower, self.state.mode, self.state.upper, self.obs.lower,
-            self.obs.mode, self.obs.upper, self.theta_v, self.theta_w)))
+        self.key = (
+            self.p,
+            self.epsilon,
+            *(
+                None if a is None else a.tobytes()
+                for a in (
+                    self.state.lower,
+                    self.state.mode,
+                    self.state.upper,
+                    self.obs.lower,
+                    self.obs.mode,
+                    self.obs.upper,
+                    self.theta_v,
+                    self.theta_w,
+                )
+            ),
+        )
 
     def __hash__(self) -> int:
         return hash(self.key)
@@ -663,9 +743,11 @@ def _noise_evidence(step1: _Step1) -> NoiseEvidence:
     ev = step1.state.evidence(step1.p, step1.epsilon, step1.theta_v)
     ew = step1.obs.evidence(step1.p, step1.epsilon, step1.theta_w)
     n_v = len(ev)
-    check_memory(8.0 * n_v * n_v * (2 * ev.boxes_lo.shape[-1] + 1),
-                 f"the paper's filter's prediction E_(k+1|k) ({n_v} × {n_v} boxes, eq. 16)",
-                 "use fewer α-cuts p, or a model with fewer state components")
+    check_memory(
+        8.0 * n_v * n_v * (2 * ev.boxes_lo.shape[-1] + 1),
+        f"the paper's filter's prediction E_(k+1|k) ({n_v} × {n_v} boxes, eq. 16)",
+        "use fewer α-cuts p, or a model with fewer state components",
+    )
     v = Boxes(ev.boxes_lo[None], ev.boxes_hi[None], ev.mass[None])
     w = Boxes(ew.boxes_lo[None], ew.boxes_hi[None], ew.mass[None])
     rho = np.multiply.outer(ev.mass, ev.mass).reshape(1, -1)
@@ -683,13 +765,20 @@ def _theta(theta: Any, dim: int) -> np.ndarray | None:
     return arr.reshape(dim, 2)
 
 
-def run_dependent_filter(model: StateSpaceModel, z: Any, inputs: Any = None, *,
-                         record: bool = False, **options: Any) -> FilterResult:
+def run_dependent_filter(
+    model: StateSpaceModel, z: Any, inputs: Any = None, *, record: bool = False, **options: Any
+) -> FilterResult:
     """Shorthand for ``DependentEvidenceFilter(**options).run(model, z, inputs, record)``."""
     return DependentEvidenceFilter(**options).run(model, z, inputs, record)
 
 
 __all__: list[str] = [
-    "COUNTS", "DIAGNOSTICS", "DependentEvidenceFilter", "NoiseEvidence", "map_back",
-    "observe", "predict", "run_dependent_filter",
+    "COUNTS",
+    "DIAGNOSTICS",
+    "DependentEvidenceFilter",
+    "NoiseEvidence",
+    "map_back",
+    "observe",
+    "predict",
+    "run_dependent_filter",
 ]

@@ -79,8 +79,9 @@ def _pairs(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 
 
 # -- Steps 2, 3, 5 on arrays (the object path calls them; StepArrays for other models) -----
-def predict(maps: ModelMaps, noise: NoiseEvidence, xhat: np.ndarray,
-            f_u: Callable[[np.ndarray], np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+def predict(
+    maps: ModelMaps, noise: NoiseEvidence, xhat: np.ndarray, f_u: Callable[[np.ndarray], np.ndarray]
+) -> tuple[np.ndarray, np.ndarray]:
     """Step 2: boxes of F(x, v) = f(x, u) + v over (x̂ + V_i) × V_j, row i·N_v + j.
 
     F is separable in v, so F(X × V) = f(X) + V exactly: f (``f_u`` = x ↦ f(x, u)) is
@@ -115,8 +116,9 @@ def snap_to_prior(back: np.ndarray, prior: np.ndarray, live: np.ndarray | None) 
     np.copyto(back, prior, where=near)
 
 
-def empty_box_error(back: np.ndarray, lo: np.ndarray, hi: np.ndarray, step: int
-                    ) -> EvidenceError | None:
+def empty_box_error(
+    back: np.ndarray, lo: np.ndarray, hi: np.ndarray, step: int
+) -> EvidenceError | None:
     """Return the error for a mapped-back box (..., n, 2) that came out empty, or None."""
     empty = back[..., 0] > back[..., 1]
     if not empty.any():
@@ -130,8 +132,9 @@ def empty_box_error(back: np.ndarray, lo: np.ndarray, hi: np.ndarray, step: int
     )
 
 
-def map_back(maps: ModelMaps, fused: Boxes, prior_lo: np.ndarray, prior_hi: np.ndarray,
-             step: int) -> Boxes:
+def map_back(
+    maps: ModelMaps, fused: Boxes, prior_lo: np.ndarray, prior_hi: np.ndarray, step: int
+) -> Boxes:
     """Step 5: map each fused box back by g⁻¹ within its predicted box.
 
     Placeholders (mass 0) take the predicted box so that every box stays finite.
@@ -208,8 +211,9 @@ class StepArrays:
     evidence into ``bounds`` (R, T, 2, n); see the module notes for the layout.
     """
 
-    def __init__(self, flt: DependentEvidenceFilter, maps: ModelMaps, noise: NoiseEvidence,
-                 z: np.ndarray) -> None:
+    def __init__(
+        self, flt: DependentEvidenceFilter, maps: ModelMaps, noise: NoiseEvidence, z: np.ndarray
+    ) -> None:
         model = maps.model
         runs, steps, m = z.shape
         n = model.state_dim
@@ -239,8 +243,9 @@ class StepArrays:
         w = np.array([noise.w.lo[0], noise.w.hi[0]])[:, :, None]  # (2, Nw, 1, m)
         self.zw = z.transpose(1, 0, 2)[:, None, :, None, None] + w[:, None]  # (T, 2, R, Nw, 1, m)
 
-        def image(signs: np.ndarray | None, method: str, what: str, boxes: int, dim: int
-                  ) -> _MonotoneImage | None:
+        def image(
+            signs: np.ndarray | None, method: str, what: str, boxes: int, dim: int
+        ) -> _MonotoneImage | None:
             if method != "monotone" or signs is None or signs.ndim != 1:
                 return None
             return _MonotoneImage(signs, what, np.empty((runs, steps, 3, boxes, dim)))
@@ -249,8 +254,9 @@ class StepArrays:
         self.g_image = image(maps.g_signs, maps.g_method, "g", np_, m)
         if self.f_image is not None:  # x̂ + V's end points and centre, without x̂
             inc = self.f_image.signs > 0
-            self.f_offsets = np.array([np.where(inc, v_lo, v_hi), np.where(inc, v_hi, v_lo),
-                                       0.5 * (v_lo + v_hi)])  # (3, Nv, n)
+            self.f_offsets = np.array(
+                [np.where(inc, v_lo, v_hi), np.where(inc, v_hi, v_lo), 0.5 * (v_lo + v_hi)]
+            )  # (3, Nv, n)
             self.f_points = np.empty((runs, 3, nv, n))
         if self.g_image is not None and not self.g_image.increasing:
             self.g_points = np.empty((runs, 3, np_, n))
@@ -263,7 +269,7 @@ class StepArrays:
         runs, n, nv, nw, np_, n1 = self.runs, self.n, self.nv, self.nw, self.np, self.n1
         na, size = n1 + 1, n1 + np_ + 2
         self.boxes = boxes = np.zeros((runs, 3, n, size))
-        e1, e2 = boxes[:, :2, :, 1:na], boxes[:, :2, :, na:na + np_]
+        e1, e2 = boxes[:, :2, :, 1:na], boxes[:, :2, :, na : na + np_]
         self.e1, self.e1_grid = e1, _view(e1, runs, 2, n, nw, np_)  # column 1 + l·Np + i
         self.e1_lo, self.e1_hi = e1[:, 0].transpose(0, 2, 1), e1[:, 1].transpose(0, 2, 1)
         self.e1_grid_lo = self.e1_grid[:, 0].transpose(0, 2, 3, 1)  # (R, Nw, Np, n)
@@ -272,12 +278,15 @@ class StepArrays:
         self.e2_lo, self.e2_hi = e2[:, 0].transpose(0, 2, 1), e2[:, 1].transpose(0, 2, 1)
         self.e2_by_origin = e2[:, :, :, None]  # (R, 2, n, 1, Np): the prior of E1's boxes
         self.e2_pairs = _view(e2, runs, 2, n, nv, nv).transpose(0, 1, 3, 2, 4)
-        self.e2_points = boxes[:, :, :, na:na + np_].transpose(0, 1, 3, 2)  # (R, 3, Np, n)
-        self.centre = boxes[:, 2, :, na:na + np_]
+        self.e2_points = boxes[:, :, :, na : na + np_].transpose(0, 1, 3, 2)  # (R, 3, Np, n)
+        self.centre = boxes[:, 2, :, na : na + np_]
         self.theta1, self.theta2 = boxes[:, :2, :, 0], boxes[:, :2, :, size - 1]
-        self.hull_views = ((e1[:, 0], e1[:, 1]), (e2[:, 0], e2[:, 1]),
-                           (self.theta1[:, 0], self.theta1[:, 1]),
-                           (self.theta2[:, 0], self.theta2[:, 1]))
+        self.hull_views = (
+            (e1[:, 0], e1[:, 1]),
+            (e2[:, 0], e2[:, 1]),
+            (self.theta1[:, 0], self.theta1[:, 1]),
+            (self.theta2[:, 0], self.theta2[:, 1]),
+        )
 
     def _step_buffers(self) -> None:
         """Buffers of Steps 4 and 5, and the masses of Step 6."""
@@ -288,12 +297,17 @@ class StepArrays:
         self.fused_1d = (self.fused_lo[..., 0], self.fused_hi[..., 0])  # m = 1
         self.nonempty4 = np.empty((runs, nw, np_), dtype=bool)
         self.nonempty_rows = _view(self.nonempty4, runs, n1)
-        self.live = (_view(self.nonempty4, runs, n1) if self.rho_w_positive
-                     else np.empty((runs, n1), dtype=bool))
+        self.live = (
+            _view(self.nonempty4, runs, n1)
+            if self.rho_w_positive
+            else np.empty((runs, n1), dtype=bool)
+        )
         self.live_grid = _view(self.live, runs, 1, 1, nw, np_)
         # the predicted box of each of E1's boxes (R, Nw, Np, n), read-only views of E2
-        self.prior = (np.broadcast_to(self.e2_lo[:, None], (runs, nw, np_, n)),
-                      np.broadcast_to(self.e2_hi[:, None], (runs, nw, np_, n)))
+        self.prior = (
+            np.broadcast_to(self.e2_lo[:, None], (runs, nw, np_, n)),
+            np.broadcast_to(self.e2_hi[:, None], (runs, nw, np_, n)),
+        )
         self.snap_signs = np.array([-SNAP_RTOL, SNAP_RTOL])[:, None, None]
         self.magnitude = np.empty((2, runs, n, np_))  # −lo, hi of E2 times SNAP_RTOL
         self.magnitude_out = self.magnitude.transpose(1, 0, 2, 3)
@@ -306,7 +320,7 @@ class StepArrays:
         self.masses[:, 1, n1:] = self.rho
         self.back_mass = self.masses[:, 0, :n1]
         self.ab_mass = np.empty((runs, size))
-        self.e1_mass, self.e2_mass = self.ab_mass[:, 1:na], self.ab_mass[:, na:na + np_]
+        self.e1_mass, self.e2_mass = self.ab_mass[:, 1:na], self.ab_mass[:, na : na + np_]
         self.diag = np.full((8, runs), np.nan)
         """1 − k4, 1 − k6, En'(E1), En'(E2), En'(E1, E2), D, R12, R21 of the last step (the
         masses kept by Dempster's rule in Steps 4 and 6 rather than K), (8, R)."""
@@ -319,15 +333,26 @@ class StepArrays:
         boxes, n1, np_ = self.boxes, self.n1, self.np
         na, size = n1 + 1, boxes.shape[-1]
         self.dependence = DependenceKernel(
-            boxes[:, :2, :, 1:size - 1], self.masses, n1, self.flt.mass_rule, self.diag[2:],
-            self.ab_mass[:, ::size - 1], self.live)
+            boxes[:, :2, :, 1 : size - 1],
+            self.masses,
+            n1,
+            self.flt.mass_rule,
+            self.diag[2:],
+            self.ab_mass[:, :: size - 1],
+            self.live,
+        )
         # an empty box of E1 has a negative width: for n = 1 the smallest live one (placeholders
         # are predicted boxes), else any width of any box
-        self.e1_least_width = (self.dependence.units[:, 0] if self.n == 1
-                               else self.dependence.width[..., :n1])
-        self.products = ProductKernel(boxes[:, :2, :, :na], boxes[:, :2, :, na:],
-                                      self.ab_mass[:, :na], self.ab_mass[:, na:],
-                                      theta=(0, np_))
+        self.e1_least_width = (
+            self.dependence.units[:, 0] if self.n == 1 else self.dependence.width[..., :n1]
+        )
+        self.products = ProductKernel(
+            boxes[:, :2, :, :na],
+            boxes[:, :2, :, na:],
+            self.ab_mass[:, :na],
+            self.ab_mass[:, na:],
+            theta=(0, np_),
+        )
 
     @staticmethod
     def bytes_per_run(n: int, n_pred: int, n_back: int) -> float:
@@ -347,8 +372,12 @@ class StepArrays:
             values = fi.keep(t, np.asarray(self.f(self.f_points, u), dtype=float))
             np.add(values[:, :2, :, :, None], self.v, out=self.e2_pairs)
         else:
-            lo, hi = predict(self.maps, self.noise, xhat[:, 0, 0],
-                             with_input(self.f, None if u is None else u[:, 0, 0]))
+            lo, hi = predict(
+                self.maps,
+                self.noise,
+                xhat[:, 0, 0],
+                with_input(self.f, None if u is None else u[:, 0, 0]),
+            )
             np.copyto(self.e2_lo, lo)
             np.copyto(self.e2_hi, hi)
         if self.g_image is not None and self.g_image.increasing:
@@ -361,8 +390,9 @@ class StepArrays:
         if gi is None:
             lo, hi = observe(self.maps, self.e2_lo, self.e2_hi)
             return lo[:, None], hi[:, None]
-        points = (self.e2_points if gi.increasing
-                  else gi.points(self.e2_lo, self.e2_hi, self.g_points))
+        points = (
+            self.e2_points if gi.increasing else gi.points(self.e2_lo, self.e2_hi, self.g_points)
+        )
         values = gi.keep(t, np.asarray(self.g(points), dtype=float))
         return values[:, 0, None], values[:, 1, None]
 
@@ -377,8 +407,9 @@ class StepArrays:
         return Boxes(self.e2_lo, self.e2_hi, self.rho[None])
 
     # -- one step ----------------------------------------------------------------------------
-    def step(self, t: int, est: np.ndarray, u: np.ndarray | None,
-             bounds: np.ndarray | None) -> tuple[np.ndarray | None, np.ndarray | None]:
+    def step(
+        self, t: int, est: np.ndarray, u: np.ndarray | None, bounds: np.ndarray | None
+    ) -> tuple[np.ndarray | None, np.ndarray | None]:
         """Run Steps 2–6 of estimate t + 1 from x̂ = est[:, t − 1].
 
         Writes est[:, t], with ``bounds`` the hull of the final evidence into bounds[:, t],
@@ -394,8 +425,7 @@ class StepArrays:
         with np.errstate(invalid="ignore", divide="ignore"):
             return ok4, self._fuse_dependent(t, est, bounds)
 
-    def _fuse_observation(self, t: int, pz_lo: np.ndarray, pz_hi: np.ndarray
-                          ) -> np.ndarray | None:
+    def _fuse_observation(self, t: int, pz_lo: np.ndarray, pz_hi: np.ndarray) -> np.ndarray | None:
         """Step 4: Dempster's rule of g(E_{k+1|k}) and z + W (eq. 1), products l·N_p + i.
 
         E1's masses and k4 go into :attr:`diag`. Returns None, or the mask of the runs whose
@@ -445,8 +475,9 @@ class StepArrays:
         np.greater_equal(self.near, self.live_grid, out=self.near)  # near, or not live
         np.copyto(self.e1_grid, self.e2_by_origin, where=self.near)
 
-    def _fuse_dependent(self, t: int, est: np.ndarray, bounds: np.ndarray | None
-                        ) -> np.ndarray | None:
+    def _fuse_dependent(
+        self, t: int, est: np.ndarray, bounds: np.ndarray | None
+    ) -> np.ndarray | None:
         """Run Steps 5 and 6 into est[:, t].
 
         Returns None or the mask of the runs whose combination exists.
@@ -498,14 +529,23 @@ class StepArrays:
             products.hull(bounds)
         return ok
 
-    def _fuse_compiled(self, t: int, est: np.ndarray, bounds: np.ndarray | None
-                       ) -> np.ndarray | None:
+    def _fuse_compiled(
+        self, t: int, est: np.ndarray, bounds: np.ndarray | None
+    ) -> np.ndarray | None:
         """Step 6 by the compiled kernel (``kernel="numba"``, extra ``speed``)."""
         if np.less(self.e1[:, 1], self.e1[:, 0]).any():
             self._empty_box(t)
         kernel_diag, hull = self.kernel_out
-        ok = fuse_dependent(self.boxes, self.back_mass, self.rho, self.n1, self.flt.mass_rule,
-                            est[:, t], kernel_diag, hull)
+        ok = fuse_dependent(
+            self.boxes,
+            self.back_mass,
+            self.rho,
+            self.n1,
+            self.flt.mass_rule,
+            est[:, t],
+            kernel_diag,
+            hull,
+        )
         self.diag[1:] = kernel_diag.T
         if self.diag[6:8].min() < 0.0:
             self._coefficients_error(t)

@@ -52,8 +52,7 @@ from ._model import (
 FD_STEP = 6e-6
 
 
-def finite_difference_jacobian(fn: Callable[[np.ndarray], np.ndarray], x: np.ndarray
-                               ) -> np.ndarray:
+def finite_difference_jacobian(fn: Callable[[np.ndarray], np.ndarray], x: np.ndarray) -> np.ndarray:
     """Central-difference Jacobian of a vectorised map: x (..., n) → (..., m, n).
 
     ``fn`` must accept arrays with one extra axis before the last, (..., n, n), and act
@@ -150,16 +149,14 @@ class _MapsAndSlopes:
     def _column(self, x: Any) -> np.ndarray:
         return np.array([[x]]) if self.runs == 1 else x[:, None]
 
-    def _central(self, fn: Callable[..., Any], name: str, x: Any, *u: Any
-                 ) -> tuple[Any, Any]:
+    def _central(self, fn: Callable[..., Any], name: str, x: Any, *u: Any) -> tuple[Any, Any]:
         if self.runs == 1:
             step = FD_STEP * max(1.0, abs(x))
-            value, plus, minus = self._values(
-                fn, name, np.array([[x], [x + step], [x - step]]), *u)
+            value, plus, minus = self._values(fn, name, np.array([[x], [x + step], [x - step]]), *u)
         else:
             step = FD_STEP * np.maximum(1.0, np.abs(x))
             out = self._values(fn, name, np.concatenate([x, x + step, x - step])[:, None], *u)
-            value, plus, minus = out[:self.runs], out[self.runs:-self.runs], out[-self.runs:]
+            value, plus, minus = out[: self.runs], out[self.runs : -self.runs], out[-self.runs :]
         return value, (plus - minus) / (2.0 * step)
 
     def _values(self, fn: Callable[..., Any], name: str, x: np.ndarray, *u: Any) -> Any:
@@ -196,9 +193,18 @@ class _MapsAndSlopes:
 
 
 def _scalar_recursion(
-    maps: _MapsAndSlopes, x: Any, cov: Any, readings: Any, inputs: Any,
-    q: float, r: float, v_mean: float, w_mean: float, terms: list[tuple[Any, ...]] | None = None,
-    at: Callable[[int], None] | None = None, first: int = 1,
+    maps: _MapsAndSlopes,
+    x: Any,
+    cov: Any,
+    readings: Any,
+    inputs: Any,
+    q: float,
+    r: float,
+    v_mean: float,
+    w_mean: float,
+    terms: list[tuple[Any, ...]] | None = None,
+    at: Callable[[int], None] | None = None,
+    first: int = 1,
 ) -> tuple[list[Any], list[Any], list[Any]]:
     """Run the module docstring's recursion for n = m = 1 from the start (x̂_1, P_1).
 
@@ -329,8 +335,8 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
     name: ClassVar[str] = "kalman"
     DIAGNOSTICS: ClassVar[dict[str, str]] = {
         "nis": "normalised innovation squared, the innovation ν weighted by S⁻¹ on both "
-               "sides (about m on average when the noise statistics are right; NaN at the "
-               "first step)",
+        "sides (about m on average when the noise statistics are right; NaN at the "
+        "first step)",
     }
 
     def __post_init__(self) -> None:
@@ -370,8 +376,7 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
         x, cov = self._start(model, z)
         return _state(model, 1, x[0], cov[0])
 
-    def step(self, state: KalmanState, z: Any, u: Any = None
-             ) -> tuple[KalmanState, KalmanRecord]:
+    def step(self, state: KalmanState, z: Any, u: Any = None) -> tuple[KalmanState, KalmanRecord]:
         """Predict with f, update with the reading.
 
         Parameters
@@ -403,32 +408,58 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
             terms: list[tuple[Any, ...]] = []
             maps = _MapsAndSlopes(model, 1)
             rows = maps.rows(None if uu is None else uu[:, None], 1)
-            out = _scalar_recursion(maps, state.estimate.item(), state.covariance.item(),
-                                    [float(zz[0, 0])], rows,
-                                    *_scalar_noise(model), terms=terms, first=state.k)
+            out = _scalar_recursion(
+                maps,
+                state.estimate.item(),
+                state.covariance.item(),
+                [float(zz[0, 0])],
+                rows,
+                *_scalar_noise(model),
+                terms=terms,
+                first=state.k,
+            )
             x_pred, cov_pred, innovation, s_cov, gain = terms[0]
             new_x = np.array([[out[0][0]]])
             new_cov = np.array([[[out[1][0]]]])
             nis = float(out[2][0])
-            record = KalmanRecord(state.k + 1, np.reshape(x_pred, 1),
-                                  np.reshape(cov_pred, (1, 1)), np.reshape(innovation, 1),
-                                  np.reshape(s_cov, (1, 1)), np.reshape(gain, (1, 1)),
-                                  new_x[0], new_cov[0], nis)
+            record = KalmanRecord(
+                state.k + 1,
+                np.reshape(x_pred, 1),
+                np.reshape(cov_pred, (1, 1)),
+                np.reshape(innovation, 1),
+                np.reshape(s_cov, (1, 1)),
+                np.reshape(gain, (1, 1)),
+                new_x[0],
+                new_cov[0],
+                nis,
+            )
         else:
             x_pred, cov_pred, innovation, s_cov, gain, new_x, new_cov, nis_a = _advance(
-                model, x, cov, zz, uu, state.k)
+                model, x, cov, zz, uu, state.k
+            )
             nis = float(nis_a[0])
-            record = KalmanRecord(state.k + 1, x_pred[0], cov_pred[0], innovation[0], s_cov[0],
-                                  gain[0], new_x[0], new_cov[0], nis)
+            record = KalmanRecord(
+                state.k + 1,
+                x_pred[0],
+                cov_pred[0],
+                innovation[0],
+                s_cov[0],
+                gain[0],
+                new_x[0],
+                new_cov[0],
+                nis,
+            )
         return _state(model, state.k + 1, new_x[0], new_cov[0]), record
 
     def _start_record(self, state: KalmanState) -> KalmanRecord:
-        return KalmanRecord(1, None, None, None, None, None, state.estimate, state.covariance,
-                            float("nan"))
+        return KalmanRecord(
+            1, None, None, None, None, None, state.estimate, state.covariance, float("nan")
+        )
 
     # -- the recursion, vectorised over runs ------------------------------------------------
-    def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
-                runs: np.ndarray) -> Block:
+    def _engine(
+        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, runs: np.ndarray
+    ) -> Block:
         if _scalar(model):
             x, cov, nis = self._filter_scalar(model, Z, U)
         else:
@@ -477,13 +508,20 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
             start, readings = (x0.item(), cov0.item()), Z[0, 1:, 0].tolist()
         else:
             start, readings = (x0[:, 0], cov0[:, 0, 0]), list(Z[:, 1:, 0].T)
-        out = _scalar_recursion(maps, *start, readings, maps.rows(U, n_steps - 1),
-                                *_scalar_noise(model), at=lambda k: at_step(model, k))
+        out = _scalar_recursion(
+            maps,
+            *start,
+            readings,
+            maps.rows(U, n_steps - 1),
+            *_scalar_noise(model),
+            at=lambda k: at_step(model, k),
+        )
         xs[:, 1:, 0], covs[:, 1:, 0, 0], nis[:, 1:] = (np.array(o).T for o in out)
         return xs, covs, nis
 
-    def _filter(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _filter(
+        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Estimates (R, T, n), covariances (R, T, n, n) and NIS (R, T) of R runs."""
         runs, n_steps, _ = Z.shape
         n = model.state_dim
@@ -511,8 +549,12 @@ def _scalar(model: StateSpaceModel) -> bool:
 
 def _scalar_noise(model: StateSpaceModel) -> tuple[float, float, float, float]:
     """Q = Var[v], R = Var[w], E[v] and E[w] of a scalar model, as floats."""
-    return (float(model.state_noise.variance[0]), float(model.obs_noise.variance[0]),
-            float(model.state_noise.mean[0]), float(model.obs_noise.mean[0]))
+    return (
+        float(model.state_noise.variance[0]),
+        float(model.obs_noise.variance[0]),
+        float(model.state_noise.mean[0]),
+        float(model.obs_noise.mean[0]),
+    )
 
 
 def _state(model: StateSpaceModel, k: int, x: np.ndarray, cov: np.ndarray) -> KalmanState:
@@ -531,13 +573,21 @@ def _refuse_contradiction(singular: np.ndarray, surprised: np.ndarray, k: int) -
         run = int(np.flatnonzero(bad)[0])
         raise InconsistentDataError(
             f"the Kalman filter's reading at step {k} (counting from 0)"
-            + (f" of run {run}" if bad.size > 1 else "") + " differs from its prediction, "
+            + (f" of run {run}" if bad.size > 1 else "")
+            + " differs from its prediction, "
             "but the model leaves no room for a difference (innovation covariance S = 0: "
-            "zero-width noises v and w); give the noises a width, or check the readings")
+            "zero-width noises v and w); give the noises a width, or check the readings"
+        )
 
 
-def _advance(model: StateSpaceModel, x: np.ndarray, cov: np.ndarray, z: np.ndarray,
-             u: np.ndarray | None, k: int) -> tuple[np.ndarray, ...]:
+def _advance(
+    model: StateSpaceModel,
+    x: np.ndarray,
+    cov: np.ndarray,
+    z: np.ndarray,
+    u: np.ndarray | None,
+    k: int,
+) -> tuple[np.ndarray, ...]:
     """Advance step k − 1 → k (counting from 0) of the module docstring's recursion for R runs.
 
     x (R, n), P (R, n, n), z (R, m), u (R, q) or None. Returns x⁻, P⁻, the innovation, S,
@@ -546,22 +596,30 @@ def _advance(model: StateSpaceModel, x: np.ndarray, cov: np.ndarray, z: np.ndarr
     q_cov = np.diag(model.state_noise.variance)
     r_cov = np.diag(model.obs_noise.variance)
     f_u = with_input(model.f, u)
-    jac_f = (model.jacobian_f(x, u) if model.jacobian_f is not None
-             else finite_difference_jacobian(f_u, x))
+    jac_f = (
+        model.jacobian_f(x, u)
+        if model.jacobian_f is not None
+        else finite_difference_jacobian(f_u, x)
+    )
     x_pred = f_u(x) + model.state_noise.mean
     cov_pred = jac_f @ cov @ np.swapaxes(jac_f, -1, -2) + q_cov
-    jac_g = (model.jacobian_g(x_pred) if model.jacobian_g is not None
-             else finite_difference_jacobian(model.g, x_pred))
+    jac_g = (
+        model.jacobian_g(x_pred)
+        if model.jacobian_g is not None
+        else finite_difference_jacobian(model.g, x_pred)
+    )
     innovation = z - (model.g(x_pred) - model.obs_noise.mean)
     ph = cov_pred @ np.swapaxes(jac_g, -1, -2)
     s_cov = jac_g @ ph + r_cov
-    _refuse_contradiction(~np.any(s_cov != 0.0, axis=(-2, -1)),
-                          np.any(innovation != 0.0, axis=-1), k)
+    _refuse_contradiction(
+        ~np.any(s_cov != 0.0, axis=(-2, -1)), np.any(innovation != 0.0, axis=-1), k
+    )
     s_inv = _inverse(s_cov)
     gain = ph @ s_inv
     x_new = x_pred + (gain @ innovation[..., None])[..., 0]
     joseph = np.eye(x.shape[-1]) - gain @ jac_g
-    cov_new = (joseph @ cov_pred @ np.swapaxes(joseph, -1, -2)
-               + gain @ r_cov @ np.swapaxes(gain, -1, -2))
+    cov_new = joseph @ cov_pred @ np.swapaxes(joseph, -1, -2) + gain @ r_cov @ np.swapaxes(
+        gain, -1, -2
+    )
     nis = np.einsum("ri,rij,rj->r", innovation, s_inv, innovation)
     return x_pred, cov_pred, innovation, s_cov, gain, x_new, cov_new, nis

@@ -24,8 +24,9 @@ from dstoolkit.utils.checks import real_array
 ArrayFn = Callable[..., np.ndarray]
 #: ``g_inverse(lo, hi, x_lo, x_hi) -> (lo, hi)``: the states in [x_lo, x_hi] whose image meets
 #: the observation box [lo, hi] (see :class:`StateSpaceModel`).
-BoxInverse = Callable[[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
-                      tuple[np.ndarray, np.ndarray]]
+BoxInverse = Callable[
+    [np.ndarray, np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]
+]
 
 
 @dataclass(frozen=True, init=False)
@@ -64,9 +65,10 @@ class BoundedNoise:
     upper: np.ndarray
 
     def __init__(self, lower: ArrayLike, mode: ArrayLike, upper: ArrayLike) -> None:
-        lo, c, hi = (np.atleast_1d(np.array(real_array(a, name, finite=False,
-                                                       error=EvidenceError)))
-                     for a, name in ((lower, "lower"), (mode, "mode"), (upper, "upper")))
+        lo, c, hi = (
+            np.atleast_1d(np.array(real_array(a, name, finite=False, error=EvidenceError)))
+            for a, name in ((lower, "lower"), (mode, "mode"), (upper, "upper"))
+        )
         if not (lo.shape == c.shape == hi.shape) or lo.ndim != 1:
             raise EvidenceError("lower, mode and upper must be scalars or equal-length vectors")
         if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(np.isfinite(c))):
@@ -74,8 +76,10 @@ class BoundedNoise:
         with np.errstate(over="ignore"):
             wide = ~np.isfinite(hi - lo)
         if wide.any():
-            raise EvidenceError(f"noise bounds {lo.tolist()}, {hi.tolist()} are too far apart "
-                                "to compute with (their width overflows); rescale the variable")
+            raise EvidenceError(
+                f"noise bounds {lo.tolist()}, {hi.tolist()} are too far apart "
+                "to compute with (their width overflows); rescale the variable"
+            )
         if np.any(lo > c) or np.any(c > hi):
             raise EvidenceError(
                 f"need lower <= mode <= upper for every component, got lower={lo.tolist()}, "
@@ -89,12 +93,15 @@ class BoundedNoise:
         """Equal bounds and modes, component by component."""
         if not isinstance(other, BoundedNoise):
             return NotImplemented
-        return all(np.array_equal(getattr(self, name), getattr(other, name))
-                   for name in ("lower", "mode", "upper"))
+        return all(
+            np.array_equal(getattr(self, name), getattr(other, name))
+            for name in ("lower", "mode", "upper")
+        )
 
     def __hash__(self) -> int:
-        return hash(tuple(tuple(getattr(self, name).tolist())
-                          for name in ("lower", "mode", "upper")))
+        return hash(
+            tuple(tuple(getattr(self, name).tolist()) for name in ("lower", "mode", "upper"))
+        )
 
     def __reduce__(self) -> tuple[Any, ...]:
         """Rebuild the noise through the constructor in pickle, copy and deepcopy.
@@ -111,8 +118,9 @@ class BoundedNoise:
         try:
             lower, mode, upper = state["lower"], state["mode"], state["upper"]
         except (KeyError, TypeError, IndexError):
-            raise EvidenceError("cannot unpickle a BoundedNoise from this state; pickle it "
-                                "with dstoolkit") from None
+            raise EvidenceError(
+                "cannot unpickle a BoundedNoise from this state; pickle it with dstoolkit"
+            ) from None
         BoundedNoise.__init__(self, lower, mode, upper)
 
     @classmethod
@@ -167,8 +175,9 @@ class BoundedNoise:
         degenerate = self.upper == self.lower
         hi = np.where(degenerate, self.lower + 1.0, self.upper)
         if self.dim == 1:  # scalar bounds take numpy's fast loop; the same draws
-            draws = rng.triangular(float(self.lower[0]), float(self.mode[0]), float(hi[0]),
-                                   size=shape)
+            draws = rng.triangular(
+                float(self.lower[0]), float(self.mode[0]), float(hi[0]), size=shape
+            )
         else:
             draws = rng.triangular(self.lower, self.mode, hi, size=shape)
         return np.where(degenerate, self.lower, draws) if degenerate.any() else draws
@@ -196,9 +205,7 @@ class BoundedNoise:
         dens = np.where((x < a) | (x > b), 0.0, dens)
         return np.prod(dens, axis=-1)
 
-    def evidence(
-        self, p: int = 3, epsilon: float = 0.05, theta: Any = None
-    ) -> IntervalEvidence:
+    def evidence(self, p: int = 3, epsilon: float = 0.05, theta: Any = None) -> IntervalEvidence:
         """Evidence of the noise vector (eqs. 24–26 per component, product masses eq. 16).
 
         Parameters
@@ -218,8 +225,14 @@ class BoundedNoise:
             product for dim > 1.
         """
         parts = [
-            triangular_evidence(self.lower[i], self.mode[i], self.upper[i], p, epsilon,
-                                None if theta is None else tuple(np.asarray(theta)[i]))
+            triangular_evidence(
+                self.lower[i],
+                self.mode[i],
+                self.upper[i],
+                p,
+                epsilon,
+                None if theta is None else tuple(np.asarray(theta)[i]),
+            )
             for i in range(self.dim)
         ]
         if self.dim == 1:
@@ -437,8 +450,13 @@ class BatchResult:
 
     def __getitem__(self, run: int) -> FilterResult:
         """Run ``run`` of the batch as a :class:`FilterResult` (without records)."""
-        return FilterResult(self.method, self.estimates[run], self.lower[run], self.upper[run],
-                            {key: value[run] for key, value in self.diagnostics.items()})
+        return FilterResult(
+            self.method,
+            self.estimates[run],
+            self.lower[run],
+            self.upper[run],
+            {key: value[run] for key, value in self.diagnostics.items()},
+        )
 
 
 class _MapGuard:
@@ -461,9 +479,15 @@ class _MapGuard:
 
     def check(self, value: Any, name: str) -> None:
         arr = np.asarray(value)
-        what = ("complex numbers" if arr.dtype.kind == "c" else
-                "values that are not numbers" if arr.dtype.kind not in "biuf" else
-                "NaN" if np.isnan(arr).any() else "")
+        what = (
+            "complex numbers"
+            if arr.dtype.kind == "c"
+            else "values that are not numbers"
+            if arr.dtype.kind not in "biuf"
+            else "NaN"
+            if np.isnan(arr).any()
+            else ""
+        )
         if what:
             raise EvidenceError(
                 f"the model's {name} returned {what} while the {self.title} filter was at step "
@@ -482,9 +506,11 @@ def guarded(model: StateSpaceModel, title: str) -> StateSpaceModel:
         return model
     guard = _MapGuard(title)
     return dataclasses.replace(
-        model, f=guard.wrap(model.f, "f"), g=guard.wrap(model.g, "g"),
-        g_inverse=None if model.g_inverse is None else guard.wrap(model.g_inverse,
-                                                                  "g_inverse"))
+        model,
+        f=guard.wrap(model.f, "f"),
+        g=guard.wrap(model.g, "g"),
+        g_inverse=None if model.g_inverse is None else guard.wrap(model.g_inverse, "g_inverse"),
+    )
 
 
 def unchecked(fn: Callable[..., Any]) -> tuple[Callable[..., Any], _MapGuard | None]:
@@ -553,8 +579,7 @@ def batch_readings(
     return z, u
 
 
-def _probe_inputs(model: StateSpaceModel, u: np.ndarray | None, shape: tuple[int, ...]
-                  ) -> None:
+def _probe_inputs(model: StateSpaceModel, u: np.ndarray | None, shape: tuple[int, ...]) -> None:
     """Evaluate f once on the inputs of every transition, u (runs, transitions, q) or None.
 
     ``shape`` = (runs, transitions). An input of the wrong shape or value, or a missing one,
@@ -569,8 +594,11 @@ def _probe_inputs(model: StateSpaceModel, u: np.ndarray | None, shape: tuple[int
     except EvidenceError:
         raise
     except (ValueError, TypeError, IndexError) as exc:
-        given = ("without inputs" if u is None
-                 else f"on inputs of shape {u.shape} (runs, transitions, q)")
+        given = (
+            "without inputs"
+            if u is None
+            else f"on inputs of shape {u.shape} (runs, transitions, q)"
+        )
         raise EvidenceError(
             f"the model's f(x, u) fails {given}: {type(exc).__name__}: {exc}; give one input "
             "row per transition of the length f expects"
@@ -592,8 +620,7 @@ def single_readings(
             f"readings must have shape (steps, {model.obs_dim}), got {z.shape}; "
             "a batch of sequences goes to run_batch()"
         )
-    u = None if inputs is None else real_array(inputs, "inputs", finite=False,
-                                                  error=EvidenceError)
+    u = None if inputs is None else real_array(inputs, "inputs", finite=False, error=EvidenceError)
     if u is not None and u.ndim == 1:
         u = u[:, None]
     return batch_readings(model, z[None], None if u is None else u[None])

@@ -95,15 +95,15 @@ ConflictPolicy = Literal["raise", "reset"]
 CHUNK_BYTES = 96 * 2**20
 
 
-
 def noise_boxes(noise: BoundedNoise, p: int, epsilon: float, theta: Any) -> Boxes:
     """Build the evidence of a bounded noise (eqs. 24–26) as a one-run :class:`Boxes`."""
     ev = noise.evidence(p=p, epsilon=epsilon, theta=theta)
     return Boxes(ev.boxes_lo[None], ev.boxes_hi[None], np.asarray(ev.mass)[None])
 
 
-def contracted_posterior(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray
-                         ) -> tuple[Boxes, np.ndarray, np.ndarray]:
+def contracted_posterior(
+    lo: np.ndarray, hi: np.ndarray, mass: np.ndarray
+) -> tuple[Boxes, np.ndarray, np.ndarray]:
     """Apply Dempster's rule (eq. 1) to the contractions (R, N, n) of step 3 and their masses.
 
     The empty ones (lo > hi somewhere) are the conflict K, the rest are renormalised by the
@@ -126,9 +126,11 @@ def _pad(bm: Boxes, width: int) -> Boxes:
     extra = width - bm.mass.shape[1]
     if extra <= 0:
         return bm
-    return Boxes(np.concatenate([bm.lo, np.repeat(bm.lo[:, :1], extra, axis=1)], axis=1),
-                   np.concatenate([bm.hi, np.repeat(bm.hi[:, :1], extra, axis=1)], axis=1),
-                   np.concatenate([bm.mass, np.zeros((bm.mass.shape[0], extra))], axis=1))
+    return Boxes(
+        np.concatenate([bm.lo, np.repeat(bm.lo[:, :1], extra, axis=1)], axis=1),
+        np.concatenate([bm.hi, np.repeat(bm.hi[:, :1], extra, axis=1)], axis=1),
+        np.concatenate([bm.mass, np.zeros((bm.mass.shape[0], extra))], axis=1),
+    )
 
 
 def _replace_runs(bm: Boxes, runs: np.ndarray, new: Boxes) -> Boxes:
@@ -313,9 +315,8 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
     def _bytes_per_run(self, model: StateSpaceModel, n_steps: int = 0) -> float:
         """Memory of one run's contraction arrays (the largest), bytes."""
         n_v = self.p + 1 if self.epsilon > 0 else self.p
-        n_state = (n_v ** model.state_dim if self.restart
-                   else max(self.max_focal, n_v ** model.obs_dim))
-        rows = n_state * n_v ** model.state_dim * n_v ** model.obs_dim  # contractions per run
+        n_state = n_v**model.state_dim if self.restart else max(self.max_focal, n_v**model.obs_dim)
+        rows = n_state * n_v**model.state_dim * n_v**model.obs_dim  # contractions per run
         return float(rows * 8 * (6 * model.state_dim + 4))
 
     def _chunk_cap(self, model: StateSpaceModel, n_steps: int) -> int | None:
@@ -324,8 +325,10 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
     def _noise(self, model: StateSpaceModel) -> tuple[Boxes, Boxes]:
         """Build the evidence of v and w (eqs. 24–26) as one-run boxes."""
         theta_v, theta_w = (None, None) if self.theta is None else self.theta
-        return (noise_boxes(model.state_noise, self.p, self.epsilon, theta_v),
-                noise_boxes(model.obs_noise, self.p, self.epsilon, theta_w))
+        return (
+            noise_boxes(model.state_noise, self.p, self.epsilon, theta_v),
+            noise_boxes(model.obs_noise, self.p, self.epsilon, theta_w),
+        )
 
     # -- the public step -----------------------------------------------------------------------
     def initialize(self, model: StateSpaceModel, z1: Any) -> NassreddineState:
@@ -355,8 +358,9 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         observation = IntervalEvidence(z[0] + w.lo[0], z[0] + w.hi[0], w.mass[0])
         return self._state(model, 1, posterior, self._settle(posterior), observation)
 
-    def step(self, state: NassreddineState, z: Any, u: Any = None
-             ) -> tuple[NassreddineState, NassreddineRecord]:
+    def step(
+        self, state: NassreddineState, z: Any, u: Any = None
+    ) -> tuple[NassreddineState, NassreddineRecord]:
         """Predict through f, contract with g⁻¹(z + E_w), cluster.
 
         Parameters
@@ -384,41 +388,83 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)
         v, w = self._noise(model)
-        start = (self._restarted(state.estimate[None], v) if state.carried is None
-                 else state.carried)
+        start = self._restarted(state.estimate[None], v) if state.carried is None else state.carried
         posterior, conflict, reset, (p_lo, p_hi, p_mass, y_lo, y_hi) = self._correct(
-            model, start, v, w, zz, uu, state.k)
+            model, start, v, w, zz, uu, state.k
+        )
         settled = self._settle(posterior)
-        new = self._state(model, state.k + 1, posterior, settled,
-                          IntervalEvidence(y_lo[0], y_hi[0], w.mass[0]))
+        new = self._state(
+            model, state.k + 1, posterior, settled, IntervalEvidence(y_lo[0], y_hi[0], w.mass[0])
+        )
         record = NassreddineRecord(
-            state.k + 1, IntervalEvidence.from_boxes(start),
+            state.k + 1,
+            IntervalEvidence.from_boxes(start),
             IntervalEvidence.from_boxes(merge_equal_boxes(p_lo, p_hi, p_mass)),
-            new.observation, IntervalEvidence.from_boxes(posterior), new.estimate,
-            float(conflict[0]), new.focal_elements, new.merged_mass, bool(reset[0]))
+            new.observation,
+            IntervalEvidence.from_boxes(posterior),
+            new.estimate,
+            float(conflict[0]),
+            new.focal_elements,
+            new.merged_mass,
+            bool(reset[0]),
+        )
         return new, record
 
     def _start_record(self, state: NassreddineState) -> NassreddineRecord:
         return NassreddineRecord(
-            1, None, None, state.observation, IntervalEvidence.from_boxes(state.posterior),
-            state.estimate, float("nan"), state.focal_elements, state.merged_mass, False)
+            1,
+            None,
+            None,
+            state.observation,
+            IntervalEvidence.from_boxes(state.posterior),
+            state.estimate,
+            float("nan"),
+            state.focal_elements,
+            state.merged_mass,
+            False,
+        )
 
     @staticmethod
-    def _state(model: StateSpaceModel, k: int, posterior: Boxes, settled: tuple[Any, ...],
-               observation: IntervalEvidence) -> NassreddineState:
+    def _state(
+        model: StateSpaceModel,
+        k: int,
+        posterior: Boxes,
+        settled: tuple[Any, ...],
+        observation: IntervalEvidence,
+    ) -> NassreddineState:
         est, lo, hi, focal, carried, moved = settled
-        return NassreddineState(model, k, est[0], lo[0], hi[0], posterior, carried,
-                                observation, int(focal[0]), float(moved[0]))
+        return NassreddineState(
+            model,
+            k,
+            est[0],
+            lo[0],
+            hi[0],
+            posterior,
+            carried,
+            observation,
+            int(focal[0]),
+            float(moved[0]),
+        )
 
     # -- the recursion, vectorised over runs --------------------------------------------------
     def _restarted(self, est: np.ndarray, v: Boxes) -> Boxes:
         """x̂_k + E_v for R runs (the restart variant's state evidence)."""
-        return Boxes(est[:, None] + v.lo, est[:, None] + v.hi,
-                     np.broadcast_to(v.mass, (est.shape[0], v.mass.shape[1])))
+        return Boxes(
+            est[:, None] + v.lo,
+            est[:, None] + v.hi,
+            np.broadcast_to(v.mass, (est.shape[0], v.mass.shape[1])),
+        )
 
-    def _correct(self, model: StateSpaceModel, state: Boxes, v: Boxes, w: Boxes,
-                 z: np.ndarray, u: np.ndarray | None, k: int
-                 ) -> tuple[Boxes, np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
+    def _correct(
+        self,
+        model: StateSpaceModel,
+        state: Boxes,
+        v: Boxes,
+        w: Boxes,
+        z: np.ndarray,
+        u: np.ndarray | None,
+        k: int,
+    ) -> tuple[Boxes, np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
         """Correct step k → k + 1 for R runs up to the posterior.
 
         Predict, contract with the reading z (R, m). Returns the posterior, K (R,), the runs
@@ -428,8 +474,9 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         combine, _ = self._kernels()
         p_lo, p_hi, p_mass = self._predict(model, state, v, u)
         y_lo, y_hi = z[:, None] + w.lo, z[:, None] + w.hi
-        c_lo, c_hi = model.inverse()(y_lo[:, None], y_hi[:, None],
-                                     p_lo[:, :, None], p_hi[:, :, None])
+        c_lo, c_hi = model.inverse()(
+            y_lo[:, None], y_hi[:, None], p_lo[:, :, None], p_hi[:, :, None]
+        )
         shape = (runs, p_mass.shape[1], w.mass.shape[1], n)
         c_lo = np.broadcast_to(c_lo, shape).reshape(runs, -1, n)
         c_hi = np.broadcast_to(c_hi, shape).reshape(runs, -1, n)
@@ -455,15 +502,18 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         carried, moved = cluster(posterior, self.max_focal)
         return est, lo, hi, focal, carried, moved
 
-    def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
-                runs: np.ndarray) -> Block:
+    def _engine(
+        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, runs: np.ndarray
+    ) -> Block:
         n_runs, n_steps, _ = Z.shape
         v, w = self._noise(model)
         est, lo, hi = (np.empty((n_runs, n_steps, model.state_dim)) for _ in range(3))
-        diag = {"conflict": np.full((n_runs, n_steps), np.nan),
-                "focal_elements": np.zeros((n_runs, n_steps), dtype=int),
-                "merged_mass": np.zeros((n_runs, n_steps)),
-                "resets": np.zeros((n_runs, n_steps), dtype=bool)}
+        diag = {
+            "conflict": np.full((n_runs, n_steps), np.nan),
+            "focal_elements": np.zeros((n_runs, n_steps), dtype=int),
+            "merged_mass": np.zeros((n_runs, n_steps)),
+            "resets": np.zeros((n_runs, n_steps), dtype=bool),
+        }
         posterior = self._from_reading(model, Z[:, 0], w, 0)
         carried: Boxes | None = None
         for k in range(n_steps):
@@ -471,24 +521,31 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
             if k > 0:
                 start = self._restarted(est[:, k - 1], v) if carried is None else carried
                 posterior, diag["conflict"][:, k], diag["resets"][:, k], _ = self._correct(
-                    model, start, v, w, Z[:, k], step_input(U, k), k)
-            (est[:, k], lo[:, k], hi[:, k], diag["focal_elements"][:, k], carried,
-             diag["merged_mass"][:, k]) = self._settle(posterior)
+                    model, start, v, w, Z[:, k], step_input(U, k), k
+                )
+            (
+                est[:, k],
+                lo[:, k],
+                hi[:, k],
+                diag["focal_elements"][:, k],
+                carried,
+                diag["merged_mass"][:, k],
+            ) = self._settle(posterior)
         return Block(est, lo, hi, diag)
 
     def _prior(self, model: StateSpaceModel, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         if self.initial_box is not None:
             shape = z.shape[:-1] + (model.state_dim,)
-            return (np.broadcast_to(np.asarray(self.initial_box[0], float), shape),
-                    np.broadcast_to(np.asarray(self.initial_box[1], float), shape))
+            return (
+                np.broadcast_to(np.asarray(self.initial_box[0], float), shape),
+                np.broadcast_to(np.asarray(self.initial_box[1], float), shape),
+            )
         return first_reading_box(model, z)
 
-    def _from_reading(self, model: StateSpaceModel, z: np.ndarray, w: Boxes, k: int
-                      ) -> Boxes:
+    def _from_reading(self, model: StateSpaceModel, z: np.ndarray, w: Boxes, k: int) -> Boxes:
         """g⁻¹(z + W_l) ∩ X_0 for every focal element W_l: the evidence of one reading."""
         p_lo, p_hi = self._prior(model, z)
-        lo, hi = model.inverse()(z[:, None] + w.lo, z[:, None] + w.hi,
-                                 p_lo[:, None], p_hi[:, None])
+        lo, hi = model.inverse()(z[:, None] + w.lo, z[:, None] + w.hi, p_lo[:, None], p_hi[:, None])
         shape = (z.shape[0], w.mass.shape[1], model.state_dim)
         lo, hi = np.broadcast_to(lo, shape), np.broadcast_to(hi, shape)
         mass = np.where(np.any(lo > hi, axis=-1), 0.0, np.broadcast_to(w.mass, shape[:2]))
@@ -502,8 +559,9 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
             )
         return merge_equal_boxes(lo, hi, mass / total)
 
-    def _predict(self, model: StateSpaceModel, state: Boxes, v: Boxes,
-                 u: np.ndarray | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _predict(
+        self, model: StateSpaceModel, state: Boxes, v: Boxes, u: np.ndarray | None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         f_lo, f_hi = box_image(with_input(model.f, u), state.lo, state.hi, model.f_monotone)
         runs, n = f_lo.shape[0], f_lo.shape[-1]
         p_lo = (f_lo[:, :, None] + v.lo[:, None]).reshape(runs, -1, n)
@@ -511,12 +569,20 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         p_mass = (state.mass[:, :, None] * v.mass[:, None]).reshape(runs, -1)
         return p_lo, p_hi, p_mass
 
-    def _total_conflict(self, model: StateSpaceModel, z: np.ndarray, k: int,
-                        dead: np.ndarray, w: Boxes, posterior: Boxes) -> Boxes:
+    def _total_conflict(
+        self,
+        model: StateSpaceModel,
+        z: np.ndarray,
+        k: int,
+        dead: np.ndarray,
+        w: Boxes,
+        posterior: Boxes,
+    ) -> Boxes:
         if self.on_conflict == "raise":
             r = int(np.flatnonzero(dead)[0])
-            where = (f"step {k} (reading z[{k}], counting from 0)"
-                     + (f" of run {r}" if z.shape[0] > 1 else ""))
+            where = f"step {k} (reading z[{k}], counting from 0)" + (
+                f" of run {r}" if z.shape[0] > 1 else ""
+            )
             raise TotalConflictError(
                 f"total conflict at {where}: no predicted box contains a state whose "
                 f"observation agrees with the reading z = {np.array2string(z[r])} "

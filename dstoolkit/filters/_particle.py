@@ -62,8 +62,9 @@ KEPT_DRAWS_BYTES = 16 * 2**20
 _QUANTUM = 2.0**40
 
 
-def systematic_resample(weights: np.ndarray, offsets: np.ndarray, *, compiled: bool = False
-                        ) -> np.ndarray:
+def systematic_resample(
+    weights: np.ndarray, offsets: np.ndarray, *, compiled: bool = False
+) -> np.ndarray:
     """Choose indices by systematic resampling, one row per run.
 
     Parameters
@@ -118,8 +119,9 @@ def _stream(seed: int, *key: int) -> np.random.Generator:
     return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=key))
 
 
-def _draws(seed: int, run_ids: Any, state_noise: BoundedNoise, n_steps: int, big_n: int
-           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _draws(
+    seed: int, run_ids: Any, state_noise: BoundedNoise, n_steps: int, big_n: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Pre-draw every run's numbers from its own streams.
 
     The start's uniforms (runs, N, n), the state noise (runs, steps − 1, N, n) and the
@@ -146,9 +148,13 @@ def _copied(rng: np.random.Generator) -> np.random.Generator:
 
 
 @functools.lru_cache(maxsize=2)
-def _kept_draws(seed: int, run_ids: tuple[int, ...],
-                noise: tuple[tuple[float, ...], ...], n_steps: int, big_n: int
-                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _kept_draws(
+    seed: int,
+    run_ids: tuple[int, ...],
+    noise: tuple[tuple[float, ...], ...],
+    n_steps: int,
+    big_n: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Return :func:`_draws`, kept (read-only) for the next batch of the same runs.
 
     Kept for the same state noise: an explorer that re-filters them under other bounds of
@@ -317,11 +323,19 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
         rng = _stream(int(self.seed), int(self.stream))
         uniforms = rng.random((int(self.n_particles), model.state_dim))[None]
         particles, weights = self._draw_in_reading_box(model, z, uniforms, 0)
-        return self._state(model, 1, particles[0], _normalised(weights)[0], rng,
-                           _stream(int(self.seed), int(self.stream), 0), int(self.stream))
+        return self._state(
+            model,
+            1,
+            particles[0],
+            _normalised(weights)[0],
+            rng,
+            _stream(int(self.seed), int(self.stream), 0),
+            int(self.stream),
+        )
 
-    def step(self, state: ParticleState, z: Any, u: Any = None
-             ) -> tuple[ParticleState, ParticleRecord]:
+    def step(
+        self, state: ParticleState, z: Any, u: Any = None
+    ) -> tuple[ParticleState, ParticleRecord]:
         """Resample, propagate through f with drawn state noise, weigh by the reading.
 
         Parameters
@@ -351,10 +365,17 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
         rng, offset_rng = _copied(state.rng), _copied(state.offset_rng)
         noise = model.state_noise.sample(rng, (1, int(self.n_particles)))
         particles, w, reinit = self._advance(
-            model, state.particles[None], state.weights[None], offset_rng.random(1), noise,
-            zz, uu, np.array([state.run]), state.k)
-        new = self._state(model, state.k + 1, particles[0], w[0], rng, offset_rng,
-                          state.run)
+            model,
+            state.particles[None],
+            state.weights[None],
+            offset_rng.random(1),
+            noise,
+            zz,
+            uu,
+            np.array([state.run]),
+            state.k,
+        )
+        new = self._state(model, state.k + 1, particles[0], w[0], rng, offset_rng, state.run)
         return new, self._record(new, bool(reinit[0]))
 
     def _start_record(self, state: ParticleState) -> ParticleRecord:
@@ -363,22 +384,39 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
     @staticmethod
     def _record(state: ParticleState, reinitialised: bool) -> ParticleRecord:
         w = state.weights
-        return ParticleRecord(state.k, state.particles, w, float(1.0 / np.sum(w * w)),
-                              reinitialised, state.estimate)
+        return ParticleRecord(
+            state.k, state.particles, w, float(1.0 / np.sum(w * w)), reinitialised, state.estimate
+        )
 
     @staticmethod
-    def _state(model: StateSpaceModel, k: int, particles: np.ndarray, w: np.ndarray,
-               rng: np.random.Generator, offset_rng: np.random.Generator, run: int
-               ) -> ParticleState:
+    def _state(
+        model: StateSpaceModel,
+        k: int,
+        particles: np.ndarray,
+        w: np.ndarray,
+        rng: np.random.Generator,
+        offset_rng: np.random.Generator,
+        run: int,
+    ) -> ParticleState:
         est = np.einsum("rp,rpi->ri", w[None], particles[None])[0]
         alive = (w > 0)[:, None]
-        return ParticleState(model, k, est, np.where(alive, particles, np.inf).min(axis=0),
-                             np.where(alive, particles, -np.inf).max(axis=0), particles, w,
-                             rng, offset_rng, run)
+        return ParticleState(
+            model,
+            k,
+            est,
+            np.where(alive, particles, np.inf).min(axis=0),
+            np.where(alive, particles, -np.inf).max(axis=0),
+            particles,
+            w,
+            rng,
+            offset_rng,
+            run,
+        )
 
     # -- internals ---------------------------------------------------------------------------
-    def _reading_box(self, model: StateSpaceModel, z: np.ndarray, step: int
-                     ) -> tuple[np.ndarray, np.ndarray]:
+    def _reading_box(
+        self, model: StateSpaceModel, z: np.ndarray, step: int
+    ) -> tuple[np.ndarray, np.ndarray]:
         lo, hi = first_reading_box(model, z, self.initial_box)
         if np.any(lo > hi) or not np.all(np.isfinite(lo) & np.isfinite(hi)):
             raise EvidenceError(
@@ -388,8 +426,7 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
             )
         return lo, hi
 
-    def _weigh(self, model: StateSpaceModel, particles: np.ndarray, z: np.ndarray
-               ) -> np.ndarray:
+    def _weigh(self, model: StateSpaceModel, particles: np.ndarray, z: np.ndarray) -> np.ndarray:
         return model.obs_noise.pdf(model.g(particles) - z[:, None, :])
 
     def _draw_in_reading_box(
@@ -399,9 +436,18 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
         particles = lo[:, None, :] + uniforms * (hi - lo)[:, None, :]
         return particles, self._weigh(model, particles, z)
 
-    def _advance(self, model: StateSpaceModel, particles: np.ndarray, w: np.ndarray,
-                 offsets: np.ndarray, noise: np.ndarray, z: np.ndarray, u: np.ndarray | None,
-                 run_ids: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _advance(
+        self,
+        model: StateSpaceModel,
+        particles: np.ndarray,
+        w: np.ndarray,
+        offsets: np.ndarray,
+        noise: np.ndarray,
+        z: np.ndarray,
+        u: np.ndarray | None,
+        run_ids: np.ndarray,
+        k: int,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Advance step k → k + 1 (k counting from 1) for R runs.
 
         Clouds (R, N, n) with weights (R, N), the step's offsets (R,) and state noise
@@ -422,18 +468,21 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
             particles[i], weights[i] = p_new[0], w_new[0]
         return particles, _normalised(weights), dead
 
-    def _engine(self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None,
-                runs: np.ndarray) -> Block:
+    def _engine(
+        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, runs: np.ndarray
+    ) -> Block:
         n_runs, n_steps, _ = Z.shape
         n, big_n = model.state_dim, int(self.n_particles)
         runs = runs + int(self.stream)
-        noise_key = tuple(tuple(a.tolist()) for a in (model.state_noise.lower,
-                                                      model.state_noise.mode,
-                                                      model.state_noise.upper))
+        noise_key = tuple(
+            tuple(a.tolist())
+            for a in (model.state_noise.lower, model.state_noise.mode, model.state_noise.upper)
+        )
         start_u, noise, offsets = (
             _kept_draws(int(self.seed), tuple(runs.tolist()), noise_key, n_steps, big_n)
             if self._bytes_per_run(model, n_steps) * n_runs <= KEPT_DRAWS_BYTES
-            else _draws(int(self.seed), runs, model.state_noise, n_steps, big_n))
+            else _draws(int(self.seed), runs, model.state_noise, n_steps, big_n)
+        )
         est = np.empty((n_runs, n_steps, n))
         lo, hi = np.empty_like(est), np.empty_like(est)
         ess = np.empty((n_runs, n_steps))
@@ -444,8 +493,16 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
             at_step(model, k)
             if k > 0:
                 particles, w, reinit[:, k] = self._advance(
-                    model, particles, w, offsets[:, k - 1], noise[:, k - 1], Z[:, k],
-                    step_input(U, k), runs, k)
+                    model,
+                    particles,
+                    w,
+                    offsets[:, k - 1],
+                    noise[:, k - 1],
+                    Z[:, k],
+                    step_input(U, k),
+                    runs,
+                    k,
+                )
             est[:, k] = np.einsum("rp,rpi->ri", w, particles)
             alive = (w > 0)[..., None]
             lo[:, k] = np.where(alive, particles, np.inf).min(axis=1)

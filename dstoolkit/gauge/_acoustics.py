@@ -29,10 +29,26 @@ SpeedModel = Literal["paper", "ideal_gas", "cramer"]
 #: Band the filter works in (paper §4.1); the paper's experiment swept 1000 → 2400 Hz.
 DEFAULT_BAND: tuple[float, float] = (1000.0, 2500.0)
 
-_CRAMER = np.array([
-    331.5024, 0.603055, -0.000528, 51.471935, 0.1495874, -0.000782, -1.82e-7, 3.73e-8,
-    -2.93e-10, -85.20931, -0.228525, 5.91e-5, -2.835149, -2.15e-13, 29.179762, 0.000486,
-])
+_CRAMER = np.array(
+    [
+        331.5024,
+        0.603055,
+        -0.000528,
+        51.471935,
+        0.1495874,
+        -0.000782,
+        -1.82e-7,
+        3.73e-8,
+        -2.93e-10,
+        -85.20931,
+        -0.228525,
+        5.91e-5,
+        -2.835149,
+        -2.15e-13,
+        29.179762,
+        0.000486,
+    ]
+)
 
 
 def speed_of_sound_paper(temperature_c: Any) -> np.ndarray | float:
@@ -74,8 +90,9 @@ def speed_of_sound_paper(temperature_c: Any) -> np.ndarray | float:
 def _temperature(value: Any) -> np.ndarray:
     t = real_array(value, "temperature_c")
     if np.any(t <= -273.15):
-        raise InvalidInputError(f"temperature_c must be above absolute zero (-273.15 °C), got "
-                                f"{t.min():g}")
+        raise InvalidInputError(
+            f"temperature_c must be above absolute zero (-273.15 °C), got {t.min():g}"
+        )
     return t
 
 
@@ -212,11 +229,16 @@ def speed_of_sound_cramer(
     xc = np.asarray(co2_fraction, dtype=float)
     a = _CRAMER
     return (
-        a[0] + a[1] * t + a[2] * t**2
+        a[0]
+        + a[1] * t
+        + a[2] * t**2
         + (a[3] + a[4] * t + a[5] * t**2) * xw
         + (a[6] + a[7] * t + a[8] * t**2) * p
         + (a[9] + a[10] * t + a[11] * t**2) * xc
-        + a[12] * xw**2 + a[13] * p**2 + a[14] * xc**2 + a[15] * xw * p * xc
+        + a[12] * xw**2
+        + a[13] * p**2
+        + a[14] * xc**2
+        + a[15] * xw * p * xc
     )
 
 
@@ -270,8 +292,9 @@ def speed_of_sound(
         return speed_of_sound_ideal_gas(temperature_c)
     if model == "cramer":
         return speed_of_sound_cramer(temperature_c, **kwargs)
-    raise InvalidInputError(f"unknown speed-of-sound model {model!r}; use 'paper', 'ideal_gas' or "
-                     "'cramer'")
+    raise InvalidInputError(
+        f"unknown speed-of-sound model {model!r}; use 'paper', 'ideal_gas' or 'cramer'"
+    )
 
 
 def _check_positive(name: str, value: Any) -> np.ndarray:

@@ -39,7 +39,8 @@ GAUGE_STATE_NOISE = BoundedNoise(-0.3, 0.0, 0.3)
 GAUGE_OBS_NOISE = BoundedNoise(-10.59, -6.9, -3.21)
 #: Θ of E_v and E_w as printed in Tables 1–2; mode ± 100σ gives [−129.9, 116.1] for w.
 PAPER_THETA: tuple[tuple[tuple[float, float]], tuple[tuple[float, float]]] = (
-    ((-10.0, 10.0),), ((-129.7, 115.7),)
+    ((-10.0, 10.0),),
+    ((-129.7, 115.7),),
 )
 
 
@@ -76,8 +77,9 @@ def _jacobian_g(x: np.ndarray) -> np.ndarray:
     return np.ones(np.shape(x) + (1,))
 
 
-def _g_inverse(lo: np.ndarray, hi: np.ndarray, x_lo: np.ndarray, x_hi: np.ndarray
-               ) -> tuple[np.ndarray, np.ndarray]:
+def _g_inverse(
+    lo: np.ndarray, hi: np.ndarray, x_lo: np.ndarray, x_hi: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """States in [x_lo, x_hi] whose reading lies in [lo, hi]: g is the identity."""
     pre_lo, pre_hi = observation_inverse(lo, hi)
     return np.maximum(pre_lo, x_lo), np.minimum(pre_hi, x_hi)
@@ -136,9 +138,16 @@ def gauge_state_space_model(
         if noise.dim != 1:
             raise EvidenceError(f"the gauge state is scalar: {name} must be 1-D, got {noise.dim}")
     return StateSpaceModel(
-        f=_f, g=observation, g_inverse=_g_inverse, state_noise=state_noise,
-        obs_noise=obs_noise, f_monotone=(1, 1), g_monotone=(1,), jacobian_f=_jacobian_f,
-        jacobian_g=_jacobian_g, name="gauge",
+        f=_f,
+        g=observation,
+        g_inverse=_g_inverse,
+        state_noise=state_noise,
+        obs_noise=obs_noise,
+        f_monotone=(1, 1),
+        g_monotone=(1,),
+        jacobian_f=_jacobian_f,
+        jacobian_g=_jacobian_g,
+        name="gauge",
         description="resonance frequency x_k (Hz) of an acoustic level gauge, eqs. 39–40",
     )
 
@@ -304,13 +313,21 @@ def simulate_gauge(
     if runs is not None:
         runs = whole_number(runs, "runs", low=1)
         # the readings, the noise draws (three arrays) and the orders, 8 bytes each
-        check_memory(runs * orders.size * 8.0 * 6, f"simulating {runs} runs of "
-                     f"{orders.size} readings", "simulate fewer runs")
+        check_memory(
+            runs * orders.size * 8.0 * 6,
+            f"simulating {runs} runs of {orders.size} readings",
+            "simulate fewer runs",
+        )
     rng = np.random.default_rng(seed)
     size = (orders.size,) if runs is None else (runs, orders.size)
     readings = freqs[:, None] - obs_noise.sample(rng, size)
     return GaugeSequence(
-        level_m=float(level_m), temperature_c=float(temperature_c), speed_of_sound=c,
-        fundamental_hz=float(fundamental_frequency(level_m, c)), orders=orders,
-        truth=freqs[:, None], readings=readings, inputs=orders_from_readings(readings),
+        level_m=float(level_m),
+        temperature_c=float(temperature_c),
+        speed_of_sound=c,
+        fundamental_hz=float(fundamental_frequency(level_m, c)),
+        orders=orders,
+        truth=freqs[:, None],
+        readings=readings,
+        inputs=orders_from_readings(readings),
     )

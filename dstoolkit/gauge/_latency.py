@@ -249,5 +249,9 @@ def estimate_latency(
     window = rec[j : j + ref.size]
     norm = np.sqrt(ref_energy * _energy(window))
     correlation = float(c[j] / norm) if norm > 0 else 0.0
-    return LatencyEstimate(lag=int(lags[j]), samplerate=float(samplerate),
-                           correlation=correlation, significance=significance)
+    return LatencyEstimate(
+        lag=int(lags[j]),
+        samplerate=float(samplerate),
+        correlation=correlation,
+        significance=significance,
+    )

@@ -140,9 +140,11 @@ def _finite_level(level: np.ndarray) -> np.ndarray:
     Such inputs lie far outside any tube's: the computed number would not be the level.
     """
     if not np.all(np.isfinite(level)) or np.any(level <= 0):
-        raise InvalidInputError("the level overflows or underflows: the frequencies and the "
-                                "speed of sound are far outside any tube's; give them in Hz "
-                                "and m/s")
+        raise InvalidInputError(
+            "the level overflows or underflows: the frequencies and the "
+            "speed of sound are far outside any tube's; give them in Hz "
+            "and m/s"
+        )
     return level
 
 
@@ -539,10 +541,14 @@ def fit_resonance_series(
         n1 = max(1, int(np.rint(intercept / slope)))
         b = float(intercept - slope * n1)
         resid = z - (slope * (n1 + s) + b)
-        return ResonanceSeriesFit(n1, float(slope), b, float(np.sqrt(np.mean(resid**2))),
-                                  (n1 + s).astype(int), True)
-    top = (3 * z[0] / slope + 10 if max_first_order is None
-           else whole_number(max_first_order, "max_first_order", low=1))
+        return ResonanceSeriesFit(
+            n1, float(slope), b, float(np.sqrt(np.mean(resid**2))), (n1 + s).astype(int), True
+        )
+    top = (
+        3 * z[0] / slope + 10
+        if max_first_order is None
+        else whole_number(max_first_order, "max_first_order", low=1)
+    )
     if not top <= MAX_FIRST_ORDER:
         raise InvalidInputError(
             f"the first resonance would be of order up to {top:.3g}, more than "
@@ -550,8 +556,11 @@ def fit_resonance_series(
         )
     top = int(top)
     # the orders, the residuals and their squares: (top, K) floats each
-    check_memory(max(top, 1) * z.size * 8.0 * 4, f"fitting {z.size} frequencies with up to "
-                 f"{top} first orders", "give fewer frequencies, or max_first_order")
+    check_memory(
+        max(top, 1) * z.size * 8.0 * 4,
+        f"fitting {z.size} frequencies with up to {top} first orders",
+        "give fewer frequencies, or max_first_order",
+    )
     firsts = np.arange(1, max(top, 1) + 1)[:, None]  # candidate first orders n_1
     m = firsts + s[None, :]
     y = z - offset_hz
@@ -559,10 +568,14 @@ def fit_resonance_series(
     sse = np.sum((y[None, :] - f_f[:, None] * m) ** 2, axis=1)
     if not np.all(np.isfinite(f_f)):
         raise InvalidInputError(
-            "the resonance frequencies are too large to fit (the sums overflow); give them "
-            "in Hz"
+            "the resonance frequencies are too large to fit (the sums overflow); give them in Hz"
         )
     best = int(np.argmin(sse))
-    return ResonanceSeriesFit(int(firsts[best, 0]), float(f_f[best]), float(offset_hz),
-                              float(np.sqrt(sse[best] / z.size)), (firsts[best, 0] + s).astype(int),
-                              False)
+    return ResonanceSeriesFit(
+        int(firsts[best, 0]),
+        float(f_f[best]),
+        float(offset_hz),
+        float(np.sqrt(sse[best] / z.size)),
+        (firsts[best, 0] + s).astype(int),
+        False,
+    )

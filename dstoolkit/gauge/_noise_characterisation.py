@@ -81,8 +81,9 @@ class NoiseCharacterisation:
     details: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
 
     @classmethod
-    def from_samples(cls, name: str, samples: Any, k: float = 3.0,
-                     details: dict[str, np.ndarray] | None = None) -> NoiseCharacterisation:
+    def from_samples(
+        cls, name: str, samples: Any, k: float = 3.0, details: dict[str, np.ndarray] | None = None
+    ) -> NoiseCharacterisation:
         """Fit a triangle to error samples: the mode at their mean, the bounds at mean ± ``k`` σ.
 
         Parameters
@@ -158,8 +159,9 @@ class NoiseCharacterisation:
         """
         return possibility(x, *self.bounds)
 
-    def evidence(self, p: int = 3, epsilon: float = 0.05,
-                 theta: tuple[float, float] | None = None) -> IntervalEvidence:
+    def evidence(
+        self, p: int = 3, epsilon: float = 0.05, theta: tuple[float, float] | None = None
+    ) -> IntervalEvidence:
         """Build the evidence of Tables 1–2: p α-cuts of mass (1 − ε)/p, and ε on Θ.
 
         Parameters
@@ -195,8 +197,10 @@ class NoiseCharacterisation:
         str
             The line, in Hz.
         """
-        return (f"{self.name}: {self.samples.size} samples, σ = {self.sigma:.3f} Hz, "
-                f"mode = {self.mode:.3f} Hz, bounds [{self.lower:.3f}, {self.upper:.3f}] Hz")
+        return (
+            f"{self.name}: {self.samples.size} samples, σ = {self.sigma:.3f} Hz, "
+            f"mode = {self.mode:.3f} Hz, bounds [{self.lower:.3f}, {self.upper:.3f}] Hz"
+        )
 
 
 def characterise_state_noise(
@@ -259,10 +263,12 @@ def characterise_state_noise(
     rng = np.random.default_rng(seed)
     freqs = np.linspace(sweep.f_start, sweep.f_stop, points)
     t = sweep.time_at(freqs)
-    errors = np.stack([np.interp(t, *speaker_frequency_error(sweep, cond, rng))
-                       for _ in range(runs)])
+    errors = np.stack(
+        [np.interp(t, *speaker_frequency_error(sweep, cond, rng)) for _ in range(runs)]
+    )
     return NoiseCharacterisation.from_samples(
-        "state noise v (speaker)", errors.ravel(),
+        "state noise v (speaker)",
+        errors.ravel(),
         details={"frequency_hz": np.tile(freqs, runs), "run": np.repeat(np.arange(runs), points)},
     )
 
@@ -340,14 +346,17 @@ def characterise_observation_noise(
     levels = np.atleast_1d(np.asarray(levels_m, dtype=float))
     temps = np.broadcast_to(np.asarray(temperature_c, dtype=float), levels.shape)
     rng = np.random.default_rng(seed)
-    cols: dict[str, list[np.ndarray]] = {k: [] for k in
-                                        ("level_m", "order", "true_hz", "detected_hz")}
-    for level, temp in zip(np.repeat(levels, runs_per_level), np.repeat(temps, runs_per_level),
-                           strict=True):
+    cols: dict[str, list[np.ndarray]] = {
+        k: [] for k in ("level_m", "order", "true_hz", "detected_hz")
+    }
+    for level, temp in zip(
+        np.repeat(levels, runs_per_level), np.repeat(temps, runs_per_level), strict=True
+    ):
         setup = TubeSetup(float(level), float(temp), **(tube or {}))
         rec = synthesize_recording(setup, sweep, cond, seed=rng)
-        det = detect_resonances(rec, correct_sweep_rate=correct_sweep_rate,
-                                correct_latency=correct_latency)
+        det = detect_resonances(
+            rec, correct_sweep_rate=correct_sweep_rate, correct_latency=correct_latency
+        )
         f_f = setup.fundamental_hz
         predicted_offset = sweep.rate * (0.5 / f_f + cond.latency_s)
         n = np.rint((det.raw_frequencies - predicted_offset) / f_f)
@@ -358,4 +367,6 @@ def characterise_observation_noise(
     details = {k: np.concatenate(v) for k, v in cols.items()}
     return NoiseCharacterisation.from_samples(
         "observation noise w (microphone and detector)",
-        details["true_hz"] - details["detected_hz"], details=details)
+        details["true_hz"] - details["detected_hz"],
+        details=details,
+    )

@@ -114,8 +114,10 @@ class DetectionResult:
     @property
     def offset_hz(self) -> float:
         """Total offset subtracted from ``raw_frequencies``, Hz."""
-        return (self.sweep_rate_offset_hz * self.corrected[0]
-                + self.latency_offset_hz * self.corrected[1])
+        return (
+            self.sweep_rate_offset_hz * self.corrected[0]
+            + self.latency_offset_hz * self.corrected[1]
+        )
 
     def summary(self) -> str:
         """One line: the number of resonances, f_F, the offsets, τ, the missed and spurious peaks.
@@ -125,10 +127,12 @@ class DetectionResult:
         str
             The line.
         """
-        return (f"{self.frequencies.size} resonances, f_F = {self.fundamental_hz:.3f} Hz, "
-                f"offsets k/(2f_F) = {self.sweep_rate_offset_hz:.3f} Hz, "
-                f"kτ = {self.latency_offset_hz:.3f} Hz (τ = {1e3 * self.latency_s:.2f} ms), "
-                f"{self.missed.size} missed, {self.spurious.size} spurious")
+        return (
+            f"{self.frequencies.size} resonances, f_F = {self.fundamental_hz:.3f} Hz, "
+            f"offsets k/(2f_F) = {self.sweep_rate_offset_hz:.3f} Hz, "
+            f"kτ = {self.latency_offset_hz:.3f} Hz (τ = {1e3 * self.latency_s:.2f} ms), "
+            f"{self.missed.size} missed, {self.spurious.size} spurious"
+        )
 
 
 def sweep_rate_offset(rate_hz_per_s: float, fundamental_hz: Any) -> np.ndarray | float:
@@ -224,8 +228,9 @@ def parabolic_peak(y: np.ndarray, i: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return i + d, b - 0.25 * (a - c) * d
 
 
-def fitted_peak(y: np.ndarray, i: np.ndarray, half_width: int, iterations: int = 2
-                ) -> tuple[np.ndarray, np.ndarray]:
+def fitted_peak(
+    y: np.ndarray, i: np.ndarray, half_width: int, iterations: int = 2
+) -> tuple[np.ndarray, np.ndarray]:
     """Sub-sample peaks from a parabola fitted by least squares within ±``half_width`` samples.
 
     With ``half_width`` = 1 this is the 3-point :func:`parabolic_peak`; a wider window averages
@@ -266,8 +271,9 @@ def fitted_peak(y: np.ndarray, i: np.ndarray, half_width: int, iterations: int =
     return pos, height
 
 
-def _prominent_peaks(env: np.ndarray, distance: int, expected: int, rel_prominence: float,
-                     inside: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _prominent_peaks(
+    env: np.ndarray, distance: int, expected: int, rel_prominence: float, inside: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Prominent local maxima of ``env``: indices and prominences.
 
     The maxima lie at least ``distance`` samples apart and ``inside`` (a mask), and their
@@ -284,8 +290,9 @@ def _prominent_peaks(env: np.ndarray, distance: int, expected: int, rel_prominen
     return cand[sel], prom[sel]
 
 
-def _check_levels(x: np.ndarray, silence_dbfs: float, clip_level: float,
-                  max_clipped_fraction: float) -> None:
+def _check_levels(
+    x: np.ndarray, silence_dbfs: float, clip_level: float, max_clipped_fraction: float
+) -> None:
     if x.ndim != 1 or x.size == 0:
         raise DetectionError(f"expected a 1-D recording, got shape {x.shape}")
     if not np.all(np.isfinite(x)):
@@ -331,8 +338,11 @@ def _sweep_waveform(sweep: LinearSweep) -> np.ndarray:
 
 
 def envelope(
-    samples: np.ndarray, sweep: LinearSweep, latency_s: float = 0.0,
-    bandwidth_hz: float = 200.0, envelope_rate_hz: float = 1000.0,
+    samples: np.ndarray,
+    sweep: LinearSweep,
+    latency_s: float = 0.0,
+    bandwidth_hz: float = 200.0,
+    envelope_rate_hz: float = 1000.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Envelope of a recording of the sweep, tracking the sweep's frequency.
 
@@ -387,8 +397,9 @@ def envelope(
     return np.arange(0, samples.size, step) / fs, env
 
 
-def _spacing_from_envelope(freqs: np.ndarray, env: np.ndarray, fF_range: tuple[float, float],
-                           min_line: float) -> tuple[float, float]:
+def _spacing_from_envelope(
+    freqs: np.ndarray, env: np.ndarray, fF_range: tuple[float, float], min_line: float
+) -> tuple[float, float]:
     """Spacing f_F of the envelope's periodic pattern, and the pattern's strength.
 
     The spacing is the strongest line of the pattern; its strength is relative to the
@@ -419,8 +430,9 @@ def _spacing_from_envelope(freqs: np.ndarray, env: np.ndarray, fF_range: tuple[f
     return 1.0 / (pos[0] * (q[1] - q[0])), strength
 
 
-def _lattice(freqs: np.ndarray, weights: np.ndarray, f_f: float, tol: float
-             ) -> tuple[np.ndarray, np.ndarray, float, float]:
+def _lattice(
+    freqs: np.ndarray, weights: np.ndarray, f_f: float, tol: float
+) -> tuple[np.ndarray, np.ndarray, float, float]:
     """Orders j and a mask of peaks that sit on the lattice f_F j + b; refined f_F and b."""
     phase = np.angle(np.sum(weights * np.exp(2j * np.pi * freqs / f_f)))
     b = phase / (2.0 * np.pi) * f_f
@@ -542,8 +554,9 @@ def detect_resonances(
     _check_levels(x, silence_dbfs, clip_level, max_clipped_fraction)
     k = sweep.rate
     if latency_s is None:  # the sweep itself is the reference; τ ≤ 1 s
-        tau = estimate_latency(_sweep_waveform(sweep), x, sweep.sample_rate, max_latency_s=1.0,
-                               min_significance=8.0).seconds
+        tau = estimate_latency(
+            _sweep_waveform(sweep), x, sweep.sample_rate, max_latency_s=1.0, min_significance=8.0
+        ).seconds
     else:
         tau = float(latency_s)
 
@@ -570,8 +583,9 @@ def detect_resonances(
     idx = np.nonzero(valid)[0]
     step_hz = k * (t_env[1] - t_env[0])
     expected = max(1, int((f_nom[idx[-1]] - f_nom[idx[0]]) / f_f0))
-    cand, prom = _prominent_peaks(env, max(1, int(0.35 * f_f0 / step_hz)), expected,
-                                  rel_prominence, valid)
+    cand, prom = _prominent_peaks(
+        env, max(1, int(0.35 * f_f0 / step_hz)), expected, rel_prominence, valid
+    )
     if cand.size < min_resonances:
         raise DetectionError(
             f"too few resonances: found {cand.size}, need at least {min_resonances}; the "
@@ -596,17 +610,30 @@ def detect_resonances(
     missing = np.setdiff1d(np.arange(jj.min(), jj.max() + 1), jj)
     missed = np.polyval(np.polyfit(jj, z, 1), missing) if missing.size else np.empty(0)
     return DetectionResult(
-        frequencies=z, steps=jj - jj.min(), amplitudes=amp[on], raw_frequencies=raw[on],
-        peak_times=t_peak[on], fundamental_hz=f_f, sweep_rate_offset_hz=sweep_off,
-        latency_offset_hz=lat_off, latency_s=tau, missed=missed, spurious=raw[~on] - offset,
-        envelope_times=t_env, envelope=env, sweep=sweep,
+        frequencies=z,
+        steps=jj - jj.min(),
+        amplitudes=amp[on],
+        raw_frequencies=raw[on],
+        peak_times=t_peak[on],
+        fundamental_hz=f_f,
+        sweep_rate_offset_hz=sweep_off,
+        latency_offset_hz=lat_off,
+        latency_s=tau,
+        missed=missed,
+        spurious=raw[~on] - offset,
+        envelope_times=t_env,
+        envelope=env,
+        sweep=sweep,
         corrected=(correct_sweep_rate, correct_latency),
     )
 
 
 def model_peak_frequencies(
-    setup: TubeSetup, sweep: LinearSweep, peak_window: float = 0.125,
-    resolution_hz: float = 0.05, echo_floor: float = 1e-4,
+    setup: TubeSetup,
+    sweep: LinearSweep,
+    peak_window: float = 0.125,
+    resolution_hz: float = 0.05,
+    echo_floor: float = 1e-4,
 ) -> np.ndarray:
     """Resonances of the noise-free model, found as :func:`detect_resonances` finds them.
 
@@ -662,8 +689,7 @@ def model_peak_frequencies(
     expected = int((sweep.f_stop - sweep.f_start) / f_f) + 1
     half = peak_window * f_f / sweep.rate + sweep.taper
     inside = (u >= setup.round_trip_s + half) & (u <= sweep.duration - half)
-    idx, _ = _prominent_peaks(env, max(1, int(0.35 * f_f / resolution_hz)), expected, 0.3,
-                              inside)
+    idx, _ = _prominent_peaks(env, max(1, int(0.35 * f_f / resolution_hz)), expected, 0.3, inside)
     pos, _ = fitted_peak(env, idx, int(peak_window * f_f / resolution_hz))
     t = pos * (u[1] - u[0])
     keep = (t >= setup.round_trip_s + half) & (t <= sweep.duration - half)
@@ -671,8 +697,13 @@ def model_peak_frequencies(
 
 
 def detection_precision_hz(
-    setup: TubeSetup, conditions: RecordingConditions, sweep: LinearSweep, frequency_hz: Any,
-    bandwidth_hz: float = 200.0, peak_window: float = 0.125, include_speaker: bool = True,
+    setup: TubeSetup,
+    conditions: RecordingConditions,
+    sweep: LinearSweep,
+    frequency_hz: Any,
+    bandwidth_hz: float = 200.0,
+    peak_window: float = 0.125,
+    include_speaker: bool = True,
 ) -> np.ndarray:
     """Predicted standard deviation of a detected resonance at ``frequency_hz``.
 

@@ -78,8 +78,7 @@ class LinearSweep:
             )
         if self.duration <= 0 or not 0 <= 2 * self.taper <= self.duration:
             raise InvalidInputError(
-                f"need duration > 0 and 0 <= taper <= duration/2, got {self.duration}, "
-                f"{self.taper}"
+                f"need duration > 0 and 0 <= taper <= duration/2, got {self.duration}, {self.taper}"
             )
 
     @property

@@ -73,7 +73,10 @@ def spl_to_pa(spl_db: float) -> float:
 
 
 def wall_attenuation(
-    frequency_hz: Any, diameter_m: float, temperature_c: float, pressure_pa: float = 101325.0,
+    frequency_hz: Any,
+    diameter_m: float,
+    temperature_c: float,
+    pressure_pa: float = 101325.0,
     out: np.ndarray | None = None,
 ) -> np.ndarray:
     """Kirchhoff's visco-thermal attenuation of a plane wave in a rigid tube.
@@ -195,13 +198,21 @@ class TubeSetup:
     relative_humidity: float = 0.5
 
     def __post_init__(self) -> None:
-        for name in ("level_m", "temperature_c", "diameter_m", "surface_reflection",
-                     "top_reflection", "wall_loss_factor", "extra_attenuation_np_per_m",
-                     "relative_humidity"):
+        for name in (
+            "level_m",
+            "temperature_c",
+            "diameter_m",
+            "surface_reflection",
+            "top_reflection",
+            "wall_loss_factor",
+            "extra_attenuation_np_per_m",
+            "relative_humidity",
+        ):
             real_number(getattr(self, name), name)  # a finite real number, not a string
         if not (np.isfinite(self.level_m) and self.level_m > 0):
             raise InvalidInputError(
-                f"level_m must be a positive distance in metres, got {self.level_m}")
+                f"level_m must be a positive distance in metres, got {self.level_m}"
+            )
         if not self.diameter_m > 0:
             raise InvalidInputError(f"diameter_m must be positive, got {self.diameter_m}")
         for name in ("surface_reflection", "top_reflection"):
@@ -276,8 +287,7 @@ class TubeSetup:
         alpha += self.extra_attenuation_np_per_m
         return alpha
 
-    def echo_gain(self, m: int, frequency_hz: Any, out: np.ndarray | None = None
-                  ) -> np.ndarray:
+    def echo_gain(self, m: int, frequency_hz: Any, out: np.ndarray | None = None) -> np.ndarray:
         """a_m(f) = (1 + R_t) R_s^m R_t^(m−1) e^(−2mLα(f)), the gain of echo m at the microphone.
 
         Parameters
@@ -332,8 +342,7 @@ class TubeSetup:
         rs, rt = self.surface_reflection, self.top_reflection
         loss = float(np.exp(-2.0 * self.level_m * self.attenuation(f_min)))
         with np.errstate(divide="ignore"):
-            log_gain = (np.log1p(rt) + m * np.log(rs * loss + 1e-300)
-                        + (m - 1) * np.log(rt + 1e-300))
+            log_gain = np.log1p(rt) + m * np.log(rs * loss + 1e-300) + (m - 1) * np.log(rt + 1e-300)
         above = np.nonzero(log_gain > np.log(floor))[0]
         return int(above[-1] + 1) if above.size else 0
 
@@ -400,8 +409,14 @@ class RecordingConditions:
         return short_repr(self)
 
     def __post_init__(self) -> None:
-        for name in ("speaker_jitter_hz", "microphone_noise_pa", "background_noise_pa",
-                     "latency_s", "tail_s", "source_pressure_pa"):
+        for name in (
+            "speaker_jitter_hz",
+            "microphone_noise_pa",
+            "background_noise_pa",
+            "latency_s",
+            "tail_s",
+            "source_pressure_pa",
+        ):
             if not getattr(self, name) >= 0:
                 raise InvalidInputError(f"{name} must be >= 0, got {getattr(self, name)}")
         if not self.full_scale_pa > 0 or not self.speaker_jitter_bandwidth_hz > 0:
@@ -447,8 +462,12 @@ def typical_conditions(**changes: Any) -> RecordingConditions:
     >>> typical_conditions(latency_s=0.0).latency_s
     0.0
     """
-    base = {"speaker_jitter_hz": 0.1, "microphone_noise_pa": spl_to_pa(30.0),
-            "background_noise_pa": spl_to_pa(50.0), "latency_s": 0.01}
+    base = {
+        "speaker_jitter_hz": 0.1,
+        "microphone_noise_pa": spl_to_pa(30.0),
+        "background_noise_pa": spl_to_pa(50.0),
+        "latency_s": 0.01,
+    }
     return RecordingConditions(**{**base, **changes})
 
 
@@ -517,8 +536,9 @@ class Recording:
         return np.interp(t, self.speaker_error_times, self.speaker_error_hz)
 
 
-def model_envelope(setup: TubeSetup, sweep: LinearSweep, emission_time_s: Any,
-                   echo_floor: float = 1e-4) -> np.ndarray:
+def model_envelope(
+    setup: TubeSetup, sweep: LinearSweep, emission_time_s: Any, echo_floor: float = 1e-4
+) -> np.ndarray:
     """Compute the noise-free envelope of the microphone's pressure over the source's.
 
     |Σ_m a_m gate(u − mΔ) e^(−iθ_m(u))| with θ_m(u) = φ(u) − φ(u − mΔ): every echo of the
@@ -563,13 +583,15 @@ def model_envelope(setup: TubeSetup, sweep: LinearSweep, emission_time_s: Any,
     total = np.zeros(u.shape, complex)
     for m in range(setup.echo_count(sweep.f_start, echo_floor) + 1):
         e = u - m * delta
-        total += (setup.echo_gain(m, sweep.frequency_at(e)) * sweep.gate(e)
-                  * np.exp(-1j * (sweep.phase(u) - sweep.phase(e))))
+        total += (
+            setup.echo_gain(m, sweep.frequency_at(e))
+            * sweep.gate(e)
+            * np.exp(-1j * (sweep.phase(u) - sweep.phase(e)))
+        )
     return np.abs(total)
 
 
-def _shaped_draw(rng: np.random.Generator, n: int, shape: np.ndarray
-                 ) -> tuple[np.ndarray, float]:
+def _shaped_draw(rng: np.random.Generator, n: int, shape: np.ndarray) -> tuple[np.ndarray, float]:
     """One draw of Gaussian noise of amplitude spectrum ``shape``, and its process's RMS.
 
     ``shape`` is on rfftfreq(n). The RMS of the *process* the draw comes from is the root
@@ -581,8 +603,9 @@ def _shaped_draw(rng: np.random.Generator, n: int, shape: np.ndarray
     return x, float(np.sqrt(np.sum(impulse**2)))
 
 
-def _shaped_noise(rng: np.random.Generator, n: int, dt: float, shape: np.ndarray,
-                  rms: float) -> np.ndarray:
+def _shaped_noise(
+    rng: np.random.Generator, n: int, dt: float, shape: np.ndarray, rms: float
+) -> np.ndarray:
     """Stationary Gaussian noise whose amplitude spectrum is ``shape`` (on rfftfreq(n, dt)).
 
     It is scaled so that the *process* has RMS ``rms`` (not each draw: draws vary as they
@@ -597,8 +620,9 @@ def _gaussian_shape(n: int, dt: float, bandwidth_hz: float) -> np.ndarray:
     return np.exp(-0.5 * (np.fft.rfftfreq(n, dt) / bandwidth_hz) ** 2)
 
 
-def _gaussian_process(rng: np.random.Generator, n: int, dt: float, sigma: float,
-                      bandwidth_hz: float) -> np.ndarray:
+def _gaussian_process(
+    rng: np.random.Generator, n: int, dt: float, sigma: float, bandwidth_hz: float
+) -> np.ndarray:
     """Zero-mean Gaussian series of RMS ``sigma``, Gaussian spectrum of ``bandwidth_hz``."""
     return _shaped_noise(rng, n, dt, _gaussian_shape(n, dt, bandwidth_hz), sigma)
 
@@ -633,8 +657,9 @@ def speaker_frequency_error(
     t, dt = _jitter_grid(sweep, conditions.speaker_jitter_bandwidth_hz)
     if conditions.speaker_jitter_hz <= 0:
         return t, np.zeros(t.size)
-    return t, _gaussian_process(rng, t.size, dt, conditions.speaker_jitter_hz,
-                                conditions.speaker_jitter_bandwidth_hz)
+    return t, _gaussian_process(
+        rng, t.size, dt, conditions.speaker_jitter_hz, conditions.speaker_jitter_bandwidth_hz
+    )
 
 
 def _pink_shape(n: int, fs: float) -> np.ndarray:
@@ -659,29 +684,51 @@ class _Draws(NamedTuple):
     background: tuple[np.ndarray, float] | None
 
 
-def _draw(rng: np.random.Generator, sweep: LinearSweep, n: int, jitter_bandwidth_hz: float,
-          jitter: bool, microphone: bool, background: bool) -> _Draws:
+def _draw(
+    rng: np.random.Generator,
+    sweep: LinearSweep,
+    n: int,
+    jitter_bandwidth_hz: float,
+    jitter: bool,
+    microphone: bool,
+    background: bool,
+) -> _Draws:
     """Draw the noises of a recording of ``n`` samples, in the generator's order."""
     t_j, dt = _jitter_grid(sweep, jitter_bandwidth_hz)
-    shaped = (_shaped_draw(rng, t_j.size, _gaussian_shape(t_j.size, dt, jitter_bandwidth_hz))
-              if jitter else None)
+    shaped = (
+        _shaped_draw(rng, t_j.size, _gaussian_shape(t_j.size, dt, jitter_bandwidth_hz))
+        if jitter
+        else None
+    )
     white = rng.standard_normal(n) if microphone else None
     pink = _shaped_draw(rng, n, _pink_shape(n, sweep.sample_rate)) if background else None
     return _Draws(t_j, shaped, white, pink)
 
 
 @functools.lru_cache(maxsize=4)
-def _seeded_draws(seed: int, sweep: LinearSweep, n: int, jitter_bandwidth_hz: float,
-                  jitter: bool, microphone: bool, background: bool) -> _Draws:
+def _seeded_draws(
+    seed: int,
+    sweep: LinearSweep,
+    n: int,
+    jitter_bandwidth_hz: float,
+    jitter: bool,
+    microphone: bool,
+    background: bool,
+) -> _Draws:
     """:func:`_draw` with a fresh generator of an integer ``seed``, kept.
 
     Kept for the next recording with the same seed (an explorer moving the level redraws
     the same noise). The arrays are read-only.
     """
-    draws = _draw(np.random.default_rng(seed), sweep, n, jitter_bandwidth_hz, jitter,
-                  microphone, background)
-    for array in (draws.jitter_times, draws.microphone, *(draws.jitter or ()),
-                  *(draws.background or ())):
+    draws = _draw(
+        np.random.default_rng(seed), sweep, n, jitter_bandwidth_hz, jitter, microphone, background
+    )
+    for array in (
+        draws.jitter_times,
+        draws.microphone,
+        *(draws.jitter or ()),
+        *(draws.background or ()),
+    ):
         if isinstance(array, np.ndarray):
             array.flags.writeable = False
     return draws
@@ -710,18 +757,27 @@ def _jitter_phase(draws: _Draws, jitter_hz: float) -> tuple[np.ndarray, np.ndarr
     if draws.jitter is None:
         return np.zeros(t_j.size), None
     df = draws.jitter[0] * (jitter_hz / draws.jitter[1])
-    return df, 2.0 * np.pi * np.concatenate(([0.0], np.cumsum(0.5 * (df[1:] + df[:-1])
-                                                             * np.diff(t_j))))
+    return df, 2.0 * np.pi * np.concatenate(
+        ([0.0], np.cumsum(0.5 * (df[1:] + df[:-1]) * np.diff(t_j)))
+    )
 
 
 def _echo_span(u: np.ndarray, delay_s: float, duration_s: float) -> tuple[int, int]:
     """Find the samples (``lo:hi`` of the times ``u``) that an echo ``delay_s`` late covers."""
-    return (int(np.searchsorted(u, delay_s)),
-            int(np.searchsorted(u, delay_s + duration_s, side="right")))
+    return (
+        int(np.searchsorted(u, delay_s)),
+        int(np.searchsorted(u, delay_s + duration_s, side="right")),
+    )
 
 
-def _echo_wave(sweep: LinearSweep, e: np.ndarray, gain: np.ndarray, t_j: np.ndarray,
-               psi_j: np.ndarray | None, out: np.ndarray | None = None) -> np.ndarray:
+def _echo_wave(
+    sweep: LinearSweep,
+    e: np.ndarray,
+    gain: np.ndarray,
+    t_j: np.ndarray,
+    psi_j: np.ndarray | None,
+    out: np.ndarray | None = None,
+) -> np.ndarray:
     """One echo at the times ``e`` since it left the speaker: gain × gate × cos(φ + ψ).
 
     The arithmetic is in place (``gain`` is overwritten) and into ``out`` when given.
@@ -736,8 +792,14 @@ def _echo_wave(sweep: LinearSweep, e: np.ndarray, gain: np.ndarray, t_j: np.ndar
 
 
 @functools.lru_cache(maxsize=2)
-def _seeded_direct_wave(seed: int, sweep: LinearSweep, n: int, latency_s: float,
-                        jitter_hz: float, kinds: tuple[float, bool, bool, bool]) -> np.ndarray:
+def _seeded_direct_wave(
+    seed: int,
+    sweep: LinearSweep,
+    n: int,
+    latency_s: float,
+    jitter_hz: float,
+    kinds: tuple[float, bool, bool, bool],
+) -> np.ndarray:
     """Compute the direct wave (m = 0, a_0 = 1) of a recording with an integer seed, kept.
 
     It is the same in every tube, so it is kept (read-only) for the next recording with
@@ -747,8 +809,9 @@ def _seeded_direct_wave(seed: int, sweep: LinearSweep, n: int, latency_s: float,
     draws = _seeded_draws(seed, sweep, n, *kinds)
     lo, hi = _echo_span(u, 0.0, sweep.duration)
     e = u[lo:hi] - 0.0  # as the echoes' e = u − mΔ, m = 0
-    wave = _echo_wave(sweep, e, np.ones_like(e), draws.jitter_times,
-                      _jitter_phase(draws, jitter_hz)[1])
+    wave = _echo_wave(
+        sweep, e, np.ones_like(e), draws.jitter_times, _jitter_phase(draws, jitter_hz)[1]
+    )
     wave.flags.writeable = False
     return wave
 
@@ -811,15 +874,23 @@ def synthesize_recording(
     fs = sweep.sample_rate
     n = int(round((sweep.duration + cond.latency_s + cond.tail_s) * fs))
     # the pressure, three work arrays, the time axis, the noises' draws and the samples
-    check_memory(n * 8.0 * 12, f"synthesising a recording of {n} samples",
-                 "shorten the sweep or lower its sample rate")
-    kinds = (cond.speaker_jitter_bandwidth_hz, cond.speaker_jitter_hz > 0,
-             cond.microphone_noise_pa > 0, cond.background_noise_pa > 0)
+    check_memory(
+        n * 8.0 * 12,
+        f"synthesising a recording of {n} samples",
+        "shorten the sweep or lower its sample rate",
+    )
+    kinds = (
+        cond.speaker_jitter_bandwidth_hz,
+        cond.speaker_jitter_hz > 0,
+        cond.microphone_noise_pa > 0,
+        cond.background_noise_pa > 0,
+    )
     if isinstance(seed, int | np.integer):
         draws = _seeded_draws(int(seed), sweep, n, *kinds)
         # the noises' levels do not move the sound: a change of them only adds other noise
-        sound = _seeded_sound(setup, sweep, int(seed), echo_floor, n, kinds,
-                              _sound_conditions(cond))
+        sound = _seeded_sound(
+            setup, sweep, int(seed), echo_floor, n, kinds, _sound_conditions(cond)
+        )
     else:
         draws = _draw(np.random.default_rng(seed), sweep, n, *kinds)
         sound = _sound(setup, sweep, draws, echo_floor, n, cond)
@@ -835,8 +906,14 @@ def synthesize_recording(
     if cond.bits is not None:
         q = 2.0 ** (cond.bits - 1)
         samples = np.clip(np.round(samples * q), -q, q - 1) / q
-    return Recording(samples=samples, sweep=sweep, setup=setup, conditions=cond,
-                     speaker_error_times=draws.jitter_times.copy(), speaker_error_hz=df)
+    return Recording(
+        samples=samples,
+        sweep=sweep,
+        setup=setup,
+        conditions=cond,
+        speaker_error_times=draws.jitter_times.copy(),
+        speaker_error_hz=df,
+    )
 
 
 def _sound_conditions(cond: RecordingConditions) -> RecordingConditions:
@@ -845,23 +922,42 @@ def _sound_conditions(cond: RecordingConditions) -> RecordingConditions:
 
 
 @functools.lru_cache(maxsize=2)
-def _seeded_sound(setup: TubeSetup, sweep: LinearSweep, seed: int, echo_floor: float, n: int,
-                  kinds: tuple[float, bool, bool, bool], cond: RecordingConditions
-                  ) -> np.ndarray:
+def _seeded_sound(
+    setup: TubeSetup,
+    sweep: LinearSweep,
+    seed: int,
+    echo_floor: float,
+    n: int,
+    kinds: tuple[float, bool, bool, bool],
+    cond: RecordingConditions,
+) -> np.ndarray:
     """:func:`_sound` of a recording with an integer seed, kept (read-only).
 
     Kept for the next recording that differs only in the noises' levels (``cond``:
     :func:`_sound_conditions`).
     """
-    sound = _sound(setup, sweep, _seeded_draws(seed, sweep, n, *kinds), echo_floor, n, cond,
-                   direct=_seeded_direct_wave(seed, sweep, n, cond.latency_s,
-                                              cond.speaker_jitter_hz, kinds))
+    sound = _sound(
+        setup,
+        sweep,
+        _seeded_draws(seed, sweep, n, *kinds),
+        echo_floor,
+        n,
+        cond,
+        direct=_seeded_direct_wave(seed, sweep, n, cond.latency_s, cond.speaker_jitter_hz, kinds),
+    )
     sound.flags.writeable = False
     return sound
 
 
-def _sound(setup: TubeSetup, sweep: LinearSweep, draws: _Draws, echo_floor: float, n: int,
-           cond: RecordingConditions, direct: np.ndarray | None = None) -> np.ndarray:
+def _sound(
+    setup: TubeSetup,
+    sweep: LinearSweep,
+    draws: _Draws,
+    echo_floor: float,
+    n: int,
+    cond: RecordingConditions,
+    direct: np.ndarray | None = None,
+) -> np.ndarray:
     """Compute the pressure of the sweep and its echoes at the microphone, without noise.
 
     P0 [s(u) + Σ_m a_m(f(u − mΔ)) s(u − mΔ)] (eqs. 27–29); ``direct``: the wave m = 0 if

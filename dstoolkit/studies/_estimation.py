@@ -70,8 +70,13 @@ from ._paper_results import TABLE3_CASES, TABLE3_MEAN_ABS_ERROR_M
 #: The methods of the paper's Figs. 10–11 (the readings are drawn too).
 FIG10_METHODS: tuple[str, ...] = ("dependent_evidence", "nassreddine")
 #: Every filter of the toolkit, by the names the plots know.
-ALL_FILTERS: tuple[str, ...] = ("dependent_evidence", "nassreddine", "bounded_error",
-                                "kalman", "particle")
+ALL_FILTERS: tuple[str, ...] = (
+    "dependent_evidence",
+    "nassreddine",
+    "bounded_error",
+    "kalman",
+    "particle",
+)
 
 
 # -- one run: the paper's Figs. 10 and 11 ------------------------------------------------------
@@ -143,8 +148,7 @@ class GaugeRun:
         ----------
         Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), eq. (32), Fig. 11.
         """
-        out = {"direct": level_from_resonance(self.readings[:-1], self.orders,
-                                              self.speed_of_sound)}
+        out = {"direct": level_from_resonance(self.readings[:-1], self.orders, self.speed_of_sound)}
         for name, x in self.estimates.items():
             out[name] = level_from_resonance(x[:-1], self.orders, self.speed_of_sound)
         return out
@@ -173,10 +177,13 @@ class GaugeRun:
         dict of str to float
             Label (with its unit) to value.
         """
-        freq = {f"{m}: mean |x̂ − f| (Hz)": float(e.mean())
-                for m, e in self.frequency_errors().items()}
-        lev = {f"{m}: mean |L̂ − L| (m)": float(np.mean(np.abs(v - self.level_m)))
-               for m, v in self.levels().items()}
+        freq = {
+            f"{m}: mean |x̂ − f| (Hz)": float(e.mean()) for m, e in self.frequency_errors().items()
+        }
+        lev = {
+            f"{m}: mean |L̂ − L| (m)": float(np.mean(np.abs(v - self.level_m)))
+            for m, v in self.levels().items()
+        }
         return ShortFloatDict({**freq, **lev, "wrong orders": self.wrong_orders})
 
 
@@ -194,14 +201,18 @@ def _with_true_orders(case: CaseReadings) -> CaseReadings:
     offset = PAPER_SWEEP.rate * (case.level_m / case.speed_of_sound + latency)
     f_f = case.speed_of_sound / (2.0 * case.level_m)
     orders = np.rint((case.readings - offset) / f_f).astype(int)
-    return CaseReadings(case.level_m, case.temperature_c, case.speed_of_sound, case.readings,
-                        orders)
+    return CaseReadings(
+        case.level_m, case.temperature_c, case.speed_of_sound, case.readings, orders
+    )
 
 
-def filter_states(method: str, case: CaseReadings, orders: np.ndarray,
-                  filters: Mapping[str, Filter[Any, Any]],
-                  model: StateSpaceModel | None = None
-                  ) -> np.ndarray:
+def filter_states(
+    method: str,
+    case: CaseReadings,
+    orders: np.ndarray,
+    filters: Mapping[str, Filter[Any, Any]],
+    model: StateSpaceModel | None = None,
+) -> np.ndarray:
     """x̂_k of every run by one of ``filters`` on the gauge model.
 
     Parameters
@@ -223,13 +234,19 @@ def filter_states(method: str, case: CaseReadings, orders: np.ndarray,
         x̂_k, Hz.
     """
     model = gauge_state_space_model() if model is None else model
-    return filters[method].run_batch(model, case.readings[..., None],
-                                     inputs=orders).estimates[..., 0]
+    return (
+        filters[method].run_batch(model, case.readings[..., None], inputs=orders).estimates[..., 0]
+    )
 
 
-def gauge_run(level_m: float = 4.6, temperature_c: float = 26.5,
-              simulation: Simulation = "frequency", order_rule: OrderRule = "eq43",
-              seed: int = 0, methods: Sequence[str] = FIG10_METHODS) -> GaugeRun:
+def gauge_run(
+    level_m: float = 4.6,
+    temperature_c: float = 26.5,
+    simulation: Simulation = "frequency",
+    order_rule: OrderRule = "eq43",
+    seed: int = 0,
+    methods: Sequence[str] = FIG10_METHODS,
+) -> GaugeRun:
     """One sweep at ``level_m`` filtered by ``methods`` (the paper's Figs. 10–11).
 
     The filters have the paper's settings (:func:`paper_filters`). The true orders are known
@@ -279,8 +296,7 @@ def gauge_run(level_m: float = 4.6, temperature_c: float = 26.5,
     if simulation == "frequency":
         (case,) = frequency_readings(level_m, temperature_c, 1, seed)
     elif simulation == "waveform":
-        (case,) = (_with_true_orders(b) for b in
-                   waveform_readings(level_m, temperature_c, 1, seed))
+        (case,) = (_with_true_orders(b) for b in waveform_readings(level_m, temperature_c, 1, seed))
     else:
         raise InvalidInputError(f"simulation must be 'frequency' or 'waveform', got {simulation!r}")
     orders = estimate_orders(case, order_rule)
@@ -291,16 +307,22 @@ def gauge_run(level_m: float = 4.6, temperature_c: float = 26.5,
     estimates = {m: filter_states(m, case, orders, filters)[0] for m in methods}
     true_orders = np.asarray(case.true_orders)[0]
     return GaugeRun(
-        level_m=float(level_m), temperature_c=float(temperature_c), simulation=simulation,
-        order_rule=order_rule, speed_of_sound=case.speed_of_sound,
+        level_m=float(level_m),
+        temperature_c=float(temperature_c),
+        simulation=simulation,
+        order_rule=order_rule,
+        speed_of_sound=case.speed_of_sound,
         truth=true_orders * case.speed_of_sound / (2.0 * level_m),
-        readings=case.readings[0], true_orders=true_orders, orders=orders[0],
+        readings=case.readings[0],
+        true_orders=true_orders,
+        orders=orders[0],
         estimates=estimates,
     )
 
 
-def table3_rows(table: Table3, methods: Sequence[str] = ("dependent_evidence", "nassreddine",
-                                                            "direct")) -> list[list[Any]]:
+def table3_rows(
+    table: Table3, methods: Sequence[str] = ("dependent_evidence", "nassreddine", "direct")
+) -> list[list[Any]]:
     """Rows ``[L, T, ours, paper, ours, paper, ...]`` of Table 3 for ``methods``.
 
     Parameters
@@ -349,8 +371,9 @@ def table3_rows(table: Table3, methods: Sequence[str] = ("dependent_evidence", "
 # -- the filters with assumed noises -----------------------------------------------------------
 
 
-def all_filters(seed: int = 0, *, p: int = 3, start: str = "observation",
-                n_particles: int = 500) -> dict[str, Any]:
+def all_filters(
+    seed: int = 0, *, p: int = 3, start: str = "observation", n_particles: int = 500
+) -> dict[str, Any]:
     """Every filter of the toolkit with the paper's settings and the rivals' defaults.
 
     The evidential filters use p cuts, ε = 0.05 and Θ = mode ± 100σ of the noise the model
@@ -389,8 +412,9 @@ def all_filters(seed: int = 0, *, p: int = 3, start: str = "observation",
     True
     """
     return {
-        "dependent_evidence": DependentEvidenceFilter(p=p, epsilon=0.05, start=start,
-                                                      on_conflict="predict"),
+        "dependent_evidence": DependentEvidenceFilter(
+            p=p, epsilon=0.05, start=start, on_conflict="predict"
+        ),
         # kernel="auto": compiled where numba is installed, the same numbers, faster
         "nassreddine": NassreddineFilter(p=p, epsilon=0.05, on_conflict="reset", kernel="auto"),
         "bounded_error": BoundedErrorFilter(on_inconsistent="reset"),
@@ -434,9 +458,14 @@ class TrackingData:
     obs_noise: BoundedNoise
 
 
-def tracking_data(level_m: float = 4.6, temperature_c: float = 26.5, runs: int = 20,
-                  seed: int = 0, state_noise: BoundedNoise = GAUGE_STATE_NOISE,
-                  obs_noise: BoundedNoise = GAUGE_OBS_NOISE) -> TrackingData:
+def tracking_data(
+    level_m: float = 4.6,
+    temperature_c: float = 26.5,
+    runs: int = 20,
+    seed: int = 0,
+    state_noise: BoundedNoise = GAUGE_STATE_NOISE,
+    obs_noise: BoundedNoise = GAUGE_OBS_NOISE,
+) -> TrackingData:
     """Simulate the gauge's eqs. (39)–(40) from the first resonance of the band.
 
     x_{k+1} = x_k (n_k + 1)/n_k + v_k, z_k = x_k − w_k, with the true orders (the estimator
@@ -480,10 +509,16 @@ def tracking_data(level_m: float = 4.6, temperature_c: float = 26.5, runs: int =
     c = float(speed_of_sound(temperature_c))
     n, f = resonance_frequencies(level_m, c)
     model = gauge_state_space_model(state_noise, obs_noise)
-    x, z = model.simulate([f[0]], n.size, np.random.default_rng(seed), inputs=n[:-1],
-                          runs=runs)
-    return TrackingData(float(level_m), float(temperature_c), x[..., 0], z[..., 0],
-                        np.broadcast_to(n[:-1], (runs, n.size - 1)), state_noise, obs_noise)
+    x, z = model.simulate([f[0]], n.size, np.random.default_rng(seed), inputs=n[:-1], runs=runs)
+    return TrackingData(
+        float(level_m),
+        float(temperature_c),
+        x[..., 0],
+        z[..., 0],
+        np.broadcast_to(n[:-1], (runs, n.size - 1)),
+        state_noise,
+        obs_noise,
+    )
 
 
 @dataclass(frozen=True)
@@ -532,8 +567,9 @@ class MismatchResult:
         return {m: float(e.max()) for m, e in self.errors.items()}
 
 
-def bounded_error_failures(model: StateSpaceModel, data: TrackingData,
-                           resets: np.ndarray | None = None) -> tuple[float, str]:
+def bounded_error_failures(
+    model: StateSpaceModel, data: TrackingData, resets: np.ndarray | None = None
+) -> tuple[float, str]:
     """How often the strict bounded-error filter finds the data inconsistent with the bounds.
 
     A strict run fails exactly where the filter that restarts from the reading first restarts
@@ -579,22 +615,31 @@ def bounded_error_failures(model: StateSpaceModel, data: TrackingData,
     (1.0, True)
     """
     if resets is None:
-        resets = BoundedErrorFilter(on_inconsistent="reset").run_batch(
-            model, data.readings, inputs=data.orders).diagnostics["resets"]
+        resets = (
+            BoundedErrorFilter(on_inconsistent="reset")
+            .run_batch(model, data.readings, inputs=data.orders)
+            .diagnostics["resets"]
+        )
     failed = np.flatnonzero(np.any(resets, axis=1))
     message = ""
     if failed.size:
         try:
             BoundedErrorFilter(on_inconsistent="raise").run(
-                model, data.readings[failed[0]], inputs=data.orders[failed[0]])
+                model, data.readings[failed[0]], inputs=data.orders[failed[0]]
+            )
         except InconsistentDataError as exc:
             message = str(exc)
     return failed.size / data.readings.shape[0], message
 
 
-def noise_mismatch(data: TrackingData, state_noise: BoundedNoise, obs_noise: BoundedNoise,
-                   methods: Sequence[str] = ALL_FILTERS, seed: int = 0,
-                   start: str = "observation") -> MismatchResult:
+def noise_mismatch(
+    data: TrackingData,
+    state_noise: BoundedNoise,
+    obs_noise: BoundedNoise,
+    methods: Sequence[str] = ALL_FILTERS,
+    seed: int = 0,
+    start: str = "observation",
+) -> MismatchResult:
     """Filter ``data`` (made with the true noises) by methods that assume other noises.
 
     Parameters
@@ -647,8 +692,9 @@ def noise_mismatch(data: TrackingData, state_noise: BoundedNoise, obs_noise: Bou
             resets = result.diagnostics["resets"]
         seconds[m] = time.perf_counter() - began
         errors[m] = np.abs(x - data.truth)
-    failed, message = (bounded_error_failures(model, data, resets) if "bounded_error" in methods
-                       else (0.0, ""))
+    failed, message = (
+        bounded_error_failures(model, data, resets) if "bounded_error" in methods else (0.0, "")
+    )
     return MismatchResult(errors, seconds, failed, message)
 
 
@@ -683,13 +729,18 @@ def scaled_noise(noise: BoundedNoise, scale: float, mode_shift: float = 0.0) -> 
     (-1.0, 1.0, 5.0)
     """
     c = noise.mode + mode_shift
-    return BoundedNoise(c - scale * (noise.mode - noise.lower), c,
-                        c + scale * (noise.upper - noise.mode))
+    return BoundedNoise(
+        c - scale * (noise.mode - noise.lower), c, c + scale * (noise.upper - noise.mode)
+    )
 
 
-def bound_scale_study(data: TrackingData, scales: Sequence[float],
-                      methods: Sequence[str] = ALL_FILTERS, seed: int = 0,
-                      start: str = "observation") -> dict[float, MismatchResult]:
+def bound_scale_study(
+    data: TrackingData,
+    scales: Sequence[float],
+    methods: Sequence[str] = ALL_FILTERS,
+    seed: int = 0,
+    start: str = "observation",
+) -> dict[float, MismatchResult]:
     """:func:`noise_mismatch` with both noises' bounds scaled about their modes.
 
     Parameters
@@ -725,16 +776,25 @@ def bound_scale_study(data: TrackingData, scales: Sequence[float],
     >>> sorted(study)
     [1.0, 2.0]
     """
-    return {float(s): noise_mismatch(data, scaled_noise(data.state_noise, s),
-                                     scaled_noise(data.obs_noise, s), methods, seed, start)
-            for s in scales}
+    return {
+        float(s): noise_mismatch(
+            data,
+            scaled_noise(data.state_noise, s),
+            scaled_noise(data.obs_noise, s),
+            methods,
+            seed,
+            start,
+        )
+        for s in scales
+    }
 
 
 # -- the start value -------------------------------------------------------------------------
 
 
-def start_study(data: TrackingData, starts: Sequence[str] = ("observation", "mean_corrected")
-                ) -> dict[str, np.ndarray]:
+def start_study(
+    data: TrackingData, starts: Sequence[str] = ("observation", "mean_corrected")
+) -> dict[str, np.ndarray]:
     """|x̂_k − x_k| of the paper's filter started from z_1 (the paper) and from z_1 + E[w].
 
     The model assumes the data's true noises.
@@ -767,9 +827,15 @@ def start_study(data: TrackingData, starts: Sequence[str] = ("observation", "mea
     (['mean_corrected', 'observation'], (2, 40))
     """
     model = gauge_state_space_model(data.state_noise, data.obs_noise)
-    return {s: np.abs(DependentEvidenceFilter(start=s, on_conflict="predict")
-                      .run_batch(model, data.readings, inputs=data.orders).estimates[..., 0]
-                      - data.truth) for s in starts}
+    return {
+        s: np.abs(
+            DependentEvidenceFilter(start=s, on_conflict="predict")
+            .run_batch(model, data.readings, inputs=data.orders)
+            .estimates[..., 0]
+            - data.truth
+        )
+        for s in starts
+    }
 
 
 # -- the estimator of n_k ----------------------------------------------------------------------
@@ -806,10 +872,14 @@ class OrderRuleStudy:
     slope: np.ndarray
 
 
-def order_rule_study(simulation: Simulation = "frequency", runs: int = 30, seed: int = 0,
-                     rules: Sequence[OrderRule] = ("eq43", "fit", "true"),
-                     methods: Sequence[str] = ("direct", "dependent_evidence"),
-                     cases: Sequence[tuple[float, float]] = TABLE3_CASES) -> OrderRuleStudy:
+def order_rule_study(
+    simulation: Simulation = "frequency",
+    runs: int = 30,
+    seed: int = 0,
+    rules: Sequence[OrderRule] = ("eq43", "fit", "true"),
+    methods: Sequence[str] = ("direct", "dependent_evidence"),
+    cases: Sequence[tuple[float, float]] = TABLE3_CASES,
+) -> OrderRuleStudy:
     """Level errors of ``methods`` with n_k from each rule, on the same readings.
 
     The readings are Table 3's (the same seeds). In the waveform simulation the true orders
@@ -853,7 +923,8 @@ def order_rule_study(simulation: Simulation = "frequency", runs: int = 30, seed:
     filters = paper_filters(seed)
     seeds = np.random.SeedSequence(seed).generate_state(len(cases))
     errors: dict[str, dict[str, np.ndarray]] = {
-        r: {m: np.empty(len(cases)) for m in methods} for r in rules}
+        r: {m: np.empty(len(cases)) for m in methods} for r in rules
+    }
     wrong: dict[str, np.ndarray] = {r: np.empty(len(cases)) for r in rules}
     slope = np.empty(len(cases))
     for i, ((level, temp), s) in enumerate(zip(cases, seeds, strict=True)):
@@ -861,23 +932,43 @@ def order_rule_study(simulation: Simulation = "frequency", runs: int = 30, seed:
             batches = frequency_readings(level, temp, runs, int(s))
         else:
             batches = [_with_true_orders(b) for b in waveform_readings(level, temp, runs, int(s))]
-        slope[i] = np.mean([abs(fit_resonance_series(row, offset_hz=None).level(
-            b.speed_of_sound) - level) for b in batches for row in b.readings])
+        slope[i] = np.mean(
+            [
+                abs(fit_resonance_series(row, offset_hz=None).level(b.speed_of_sound) - level)
+                for b in batches
+                for row in b.readings
+            ]
+        )
         for r in rules:
             orders = [estimate_orders(b, r) for b in batches]
-            wrong[r][i] = np.mean(np.concatenate([
-                (n != np.asarray(b.true_orders)[:, :-1]).ravel()
-                for b, n in zip(batches, orders, strict=True)]))
+            wrong[r][i] = np.mean(
+                np.concatenate(
+                    [
+                        (n != np.asarray(b.true_orders)[:, :-1]).ravel()
+                        for b, n in zip(batches, orders, strict=True)
+                    ]
+                )
+            )
             for m in methods:
-                errors[r][m][i] = np.mean(np.concatenate([
-                    np.mean(np.abs(estimate_levels(m, b, n, filters) - level), axis=1)
-                    for b, n in zip(batches, orders, strict=True)]))
+                errors[r][m][i] = np.mean(
+                    np.concatenate(
+                        [
+                            np.mean(np.abs(estimate_levels(m, b, n, filters) - level), axis=1)
+                            for b, n in zip(batches, orders, strict=True)
+                        ]
+                    )
+                )
     return OrderRuleStudy(simulation, np.array([c[0] for c in cases]), errors, wrong, slope)
 
 
-def table3_readings(level_m: float, temperature_c: float, runs: int, seed: int = 0,
-                    simulation: Simulation = "frequency",
-                    cases: Sequence[tuple[float, float]] = TABLE3_CASES) -> list[CaseReadings]:
+def table3_readings(
+    level_m: float,
+    temperature_c: float,
+    runs: int,
+    seed: int = 0,
+    simulation: Simulation = "frequency",
+    cases: Sequence[tuple[float, float]] = TABLE3_CASES,
+) -> list[CaseReadings]:
     """Draw the readings :func:`run_table3` draws for one case, with the true orders.
 
     The same ``runs``, ``seed`` and ``cases`` give the same readings (the case's seed is its
@@ -929,13 +1020,16 @@ def table3_readings(level_m: float, temperature_c: float, runs: int, seed: int =
     case_seed = int(np.random.SeedSequence(seed).generate_state(len(cases))[levels.index(level_m)])
     if simulation == "frequency":
         return frequency_readings(level_m, temperature_c, runs, case_seed)
-    return [_with_true_orders(b) for b in waveform_readings(level_m, temperature_c, runs,
-                                                            case_seed)]
+    return [
+        _with_true_orders(b) for b in waveform_readings(level_m, temperature_c, runs, case_seed)
+    ]
 
 
-def filter_level_errors(filters: Mapping[str, Filter[Any, Any]],
-                        batches: Sequence[CaseReadings],
-                        order_rule: OrderRule = "true") -> dict[str, float]:
+def filter_level_errors(
+    filters: Mapping[str, Filter[Any, Any]],
+    batches: Sequence[CaseReadings],
+    order_rule: OrderRule = "true",
+) -> dict[str, float]:
     """Table 3's figure for every filter of ``filters`` (any settings) on the same readings.
 
     Parameters
@@ -969,9 +1063,19 @@ def filter_level_errors(filters: Mapping[str, Filter[Any, Any]],
     ['kalman']
     """
     orders = [estimate_orders(b, order_rule) for b in batches]
-    return {name: float(np.mean(np.concatenate([
-        np.mean(np.abs(estimate_levels(name, b, n, filters) - b.level_m), axis=1)
-        for b, n in zip(batches, orders, strict=True)]))) for name in filters}
+    return {
+        name: float(
+            np.mean(
+                np.concatenate(
+                    [
+                        np.mean(np.abs(estimate_levels(name, b, n, filters) - b.level_m), axis=1)
+                        for b, n in zip(batches, orders, strict=True)
+                    ]
+                )
+            )
+        )
+        for name in filters
+    }
 
 
 # -- the two-dimensional example ---------------------------------------------------------------
@@ -1013,8 +1117,10 @@ class ExampleComparison:
         dict of str to float
             Method to the RMS error.
         """
-        return {m: float(np.sqrt(np.mean(np.sum((x - self.truth) ** 2, axis=-1))))
-                for m, x in self.estimates.items()}
+        return {
+            m: float(np.sqrt(np.mean(np.sum((x - self.truth) ** 2, axis=-1))))
+            for m, x in self.estimates.items()
+        }
 
     def step_errors(self, run: int = 0) -> dict[str, np.ndarray]:
         """|x̂_k − x_k| (Euclidean) per step of one run.
@@ -1029,12 +1135,14 @@ class ExampleComparison:
         dict of str to numpy.ndarray
             Method to the errors, shape (T,).
         """
-        return {m: np.linalg.norm(x[run] - self.truth[run], axis=-1)
-                for m, x in self.estimates.items()}
+        return {
+            m: np.linalg.norm(x[run] - self.truth[run], axis=-1) for m, x in self.estimates.items()
+        }
 
 
-def example_comparison(steps: int = 60, runs: int = 4, seed: int = 0, p: int = 2,
-                       methods: Sequence[str] = ALL_FILTERS) -> ExampleComparison:
+def example_comparison(
+    steps: int = 60, runs: int = 4, seed: int = 0, p: int = 2, methods: Sequence[str] = ALL_FILTERS
+) -> ExampleComparison:
     """Run every filter on :func:`~dstoolkit.filters.simulate_lotka_volterra`.
 
     The paper's filter fuses (p + 1)^10 products per step on a two-dimensional state
@@ -1084,9 +1192,25 @@ def example_comparison(steps: int = 60, runs: int = 4, seed: int = 0, p: int = 2
 
 
 __all__ = [
-    "ALL_FILTERS", "FIG10_METHODS", "ExampleComparison", "GaugeRun", "MismatchResult",
-    "OrderRuleStudy", "TrackingData", "all_filters", "bound_scale_study",
-    "bounded_error_failures", "example_comparison", "filter_level_errors", "filter_states",
-    "gauge_run", "noise_mismatch", "order_rule_study", "scaled_noise", "start_study",
-    "table3_readings", "table3_rows", "tracking_data",
+    "ALL_FILTERS",
+    "FIG10_METHODS",
+    "ExampleComparison",
+    "GaugeRun",
+    "MismatchResult",
+    "OrderRuleStudy",
+    "TrackingData",
+    "all_filters",
+    "bound_scale_study",
+    "bounded_error_failures",
+    "example_comparison",
+    "filter_level_errors",
+    "filter_states",
+    "gauge_run",
+    "noise_mismatch",
+    "order_rule_study",
+    "scaled_noise",
+    "start_study",
+    "table3_readings",
+    "table3_rows",
+    "tracking_data",
 ]

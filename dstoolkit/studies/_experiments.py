@@ -60,8 +60,7 @@ OrderRule = Literal["eq43", "fit", "true"]
 #: The methods of Table 3, in its order.
 METHODS: tuple[str, ...] = ("dependent_evidence", "nassreddine", "direct", "kalman", "particle")
 #: The columns of the CSV file that :meth:`Table3.write_csv` writes.
-CSV_COLUMNS = ("level_m", "temperature_c", "method", "mean_abs_error_m", "runs",
-               "seconds_per_run")
+CSV_COLUMNS = ("level_m", "temperature_c", "method", "mean_abs_error_m", "runs", "seconds_per_run")
 
 
 def paper_filters(seed: int = 0) -> dict[str, Filter[Any, Any]]:
@@ -98,12 +97,12 @@ def paper_filters(seed: int = 0) -> dict[str, Filter[Any, Any]]:
     """
     theta_v, theta_w = PAPER_THETA
     return {
-        "dependent_evidence": DependentEvidenceFilter(p=3, epsilon=0.05,
-                                                      theta=(theta_v, theta_w),
-                                                      on_conflict="predict"),
-        "nassreddine": NassreddineFilter(p=3, epsilon=0.05, theta=(theta_v, theta_w),
-                                         on_conflict="reset",
-                                         kernel="auto"),  # numba if installed: same numbers
+        "dependent_evidence": DependentEvidenceFilter(
+            p=3, epsilon=0.05, theta=(theta_v, theta_w), on_conflict="predict"
+        ),
+        "nassreddine": NassreddineFilter(
+            p=3, epsilon=0.05, theta=(theta_v, theta_w), on_conflict="reset", kernel="auto"
+        ),  # numba if installed: same numbers
         "kalman": KalmanFilter(),
         "particle": ParticleFilter(n_particles=500, seed=seed, kernel="auto"),
     }
@@ -144,8 +143,13 @@ class CaseReadings:
     """True n_k of each reading (runs, steps) when known."""
 
 
-def frequency_readings(level_m: float, temperature_c: float, runs: int, seed: int,
-                       band: tuple[float, float] = DEFAULT_BAND) -> list[CaseReadings]:
+def frequency_readings(
+    level_m: float,
+    temperature_c: float,
+    runs: int,
+    seed: int,
+    band: tuple[float, float] = DEFAULT_BAND,
+) -> list[CaseReadings]:
     """Draw readings with the paper's triangular w (the frequency-level simulation).
 
     Parameters
@@ -168,13 +172,17 @@ def frequency_readings(level_m: float, temperature_c: float, runs: int, seed: in
     """
     seq = simulate_gauge(level_m, temperature_c, band, runs=runs, seed=seed)
     orders = np.broadcast_to(seq.orders, (runs, seq.orders.size))
-    return [CaseReadings(level_m, temperature_c, seq.speed_of_sound, seq.readings[..., 0],
-                         orders)]
+    return [CaseReadings(level_m, temperature_c, seq.speed_of_sound, seq.readings[..., 0], orders)]
 
 
-def waveform_readings(level_m: float, temperature_c: float, runs: int, seed: int,
-                      conditions: RecordingConditions | None = None,
-                      progress: Callable[[int], Any] | None = None) -> list[CaseReadings]:
+def waveform_readings(
+    level_m: float,
+    temperature_c: float,
+    runs: int,
+    seed: int,
+    conditions: RecordingConditions | None = None,
+    progress: Callable[[int], Any] | None = None,
+) -> list[CaseReadings]:
     """Detect readings in synthesised recordings (the waveform-level simulation).
 
     Detection misses a resonance now and then, so runs are grouped by their number of
@@ -212,8 +220,10 @@ def waveform_readings(level_m: float, temperature_c: float, runs: int, seed: int
         if progress is not None:
             progress(1)
     c = float(speed_of_sound(temperature_c))
-    return [CaseReadings(level_m, temperature_c, c, np.stack(group))
-            for _, group in sorted(by_length.items())]
+    return [
+        CaseReadings(level_m, temperature_c, c, np.stack(group))
+        for _, group in sorted(by_length.items())
+    ]
 
 
 def estimate_orders(case: CaseReadings, rule: OrderRule = "eq43") -> np.ndarray:
@@ -264,8 +274,9 @@ def estimate_orders(case: CaseReadings, rule: OrderRule = "eq43") -> np.ndarray:
     raise InvalidInputError(f"order rule must be 'eq43', 'fit' or 'true', got {rule!r}")
 
 
-def estimate_levels(method: str, case: CaseReadings, orders: np.ndarray,
-                    filters: Mapping[str, Filter[Any, Any]]) -> np.ndarray:
+def estimate_levels(
+    method: str, case: CaseReadings, orders: np.ndarray, filters: Mapping[str, Filter[Any, Any]]
+) -> np.ndarray:
     """Estimate the level of every step, L̂_k = n_k c/(2 x̂_k), by one method.
 
     Parameters
@@ -452,14 +463,22 @@ class Table3:
         str
             A header line, the column names and one line per row.
         """
-        head = (f"{'L (m)':>6} {'T (°C)':>6} {'method':<20} {'ours (m)':>10} {'paper (m)':>10}"
-                f" {'s/run':>9}")
-        lines = [f"Table 3, {self.simulation}-level simulation, orders by {self.order_rule}, "
-                 f"seed {self.seed}", head, "-" * len(head)]
+        head = (
+            f"{'L (m)':>6} {'T (°C)':>6} {'method':<20} {'ours (m)':>10} {'paper (m)':>10}"
+            f" {'s/run':>9}"
+        )
+        lines = [
+            f"Table 3, {self.simulation}-level simulation, orders by {self.order_rule}, "
+            f"seed {self.seed}",
+            head,
+            "-" * len(head),
+        ]
         for r in self.rows:
             paper = f"{r.paper_m:>10.4f}" if r.paper_m is not None else f"{'—':>10}"
-            lines.append(f"{r.level_m:>6.1f} {r.temperature_c:>6.1f} {r.method:<20} "
-                         f"{r.mean_abs_error_m:>10.4f} {paper} {r.seconds_per_run:>9.2e}")
+            lines.append(
+                f"{r.level_m:>6.1f} {r.temperature_c:>6.1f} {r.method:<20} "
+                f"{r.mean_abs_error_m:>10.4f} {paper} {r.seconds_per_run:>9.2e}"
+            )
         return "\n".join(lines)
 
 
@@ -537,28 +556,40 @@ def run_table3(
     filters = paper_filters(seed)
     seeds = np.random.SeedSequence(seed).generate_state(len(cases))
     total = len(cases) * (len(methods) + (runs if simulation == "waveform" else 0))
-    bar = _progress_bar(total=total, desc=f"Table 3 ({simulation})", disable=not progress,
-                        unit="step")
+    bar = _progress_bar(
+        total=total, desc=f"Table 3 ({simulation})", disable=not progress, unit="step"
+    )
     rows, per_run = [], {}
     for (level, temp), case_seed in zip(cases, seeds, strict=True):
         if simulation == "frequency":
             batches = frequency_readings(level, temp, runs, int(case_seed))
         else:
-            batches = waveform_readings(level, temp, runs, int(case_seed), conditions,
-                                        progress=bar.update)
+            batches = waveform_readings(
+                level, temp, runs, int(case_seed), conditions, progress=bar.update
+            )
         orders = [estimate_orders(b, order_rule) for b in batches]
         for method in methods:
             bar.set_postfix_str(f"L={level} m {method}")
             start = time.perf_counter()
-            errors = np.concatenate([
-                np.mean(np.abs(estimate_levels(method, b, n, filters) - level), axis=1)
-                for b, n in zip(batches, orders, strict=True)
-            ])
+            errors = np.concatenate(
+                [
+                    np.mean(np.abs(estimate_levels(method, b, n, filters) - level), axis=1)
+                    for b, n in zip(batches, orders, strict=True)
+                ]
+            )
             elapsed = time.perf_counter() - start
             per_run[(level, method)] = errors
-            rows.append(Table3Row(level, temp, method, float(errors.mean()), int(errors.size),
-                                  elapsed / errors.size,
-                                  TABLE3_MEAN_ABS_ERROR_M.get(level, {}).get(method)))
+            rows.append(
+                Table3Row(
+                    level,
+                    temp,
+                    method,
+                    float(errors.mean()),
+                    int(errors.size),
+                    elapsed / errors.size,
+                    TABLE3_MEAN_ABS_ERROR_M.get(level, {}).get(method),
+                )
+            )
             bar.update(1)
     bar.close()
     return Table3(rows, simulation, seed, order_rule, per_run)

@@ -145,11 +145,13 @@ def filter_case(
 
     seq = gauge_case(level_m, temperature_c, seed)
     if orders not in ORDER_SOURCES.values():
-        raise EvidenceError(f"orders must be one of {tuple(ORDER_SOURCES.values())}, "
-                            f"got {orders!r}")
+        raise EvidenceError(
+            f"orders must be one of {tuple(ORDER_SOURCES.values())}, got {orders!r}"
+        )
     n = seq.true_inputs if orders == "true" else seq.inputs
     model = gauge_state_space_model(BoundedNoise(*state_noise), BoundedNoise(*obs_noise))
-    flt = DependentEvidenceFilter(mass_rule=mass_rule, start=start, p=int(p),
-                                  epsilon=float(epsilon), on_conflict="predict")
+    flt = DependentEvidenceFilter(
+        mass_rule=mass_rule, start=start, p=int(p), epsilon=float(epsilon), on_conflict="predict"
+    )
     z = seq.readings if first is None else seq.readings[:first]
     return seq, n, flt.run(model, z, n[: len(z) - 1], record=record)

@@ -8,8 +8,16 @@ from __future__ import annotations
 
 #: Table 3 cases: (level in m, temperature in °C).
 TABLE3_CASES: tuple[tuple[float, float], ...] = (
-    (1.3, 27.0), (2.1, 26.5), (2.6, 26.5), (3.6, 26.5), (4.6, 26.5),
-    (5.6, 26.5), (6.6, 26.5), (7.6, 26.5), (8.6, 23.9), (9.6, 23.9),
+    (1.3, 27.0),
+    (2.1, 26.5),
+    (2.6, 26.5),
+    (3.6, 26.5),
+    (4.6, 26.5),
+    (5.6, 26.5),
+    (6.6, 26.5),
+    (7.6, 26.5),
+    (8.6, 23.9),
+    (9.6, 23.9),
 )
 
 #: Table 3, mean absolute level error (m) per level: the paper's method, Nassreddine's
@@ -39,5 +47,10 @@ STATE_NOISE_HZ = {"sigma": 0.1, "lower": -0.3, "mode": 0.0, "upper": 0.3}
 OBSERVATION_NOISE_HZ = {"sigma": 1.23, "lower": -10.59, "mode": -6.9, "upper": -3.21}
 
 #: The experiment's sweep: 1000 → 2400 Hz in 5 s at 44.1 kHz, PVC tube of 75 mm.
-SWEEP = {"f_start_hz": 1000.0, "f_stop_hz": 2400.0, "duration_s": 5.0,
-         "sample_rate_hz": 44100, "tube_diameter_m": 0.075}
+SWEEP = {
+    "f_start_hz": 1000.0,
+    "f_stop_hz": 2400.0,
+    "duration_s": 5.0,
+    "sample_rate_hz": 44100,
+    "tube_diameter_m": 0.075,
+}

@@ -1,5 +1,6 @@
-"""The teaching layer (needs the ``teaching`` extra): the explorers (widgets), the
-exercise check cells and the lab helpers.
+"""The teaching layer (needs the ``teaching`` extra).
+
+The explorers (widgets), the exercise check cells and the lab helpers.
 
 The explorers' framework (:class:`Explorer`, its controls, its static-site form) is
 ``_explorer``; each chapter's explorers are in ``_explorers_<chapter>`` (the lab's

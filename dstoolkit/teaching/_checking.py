@@ -85,8 +85,7 @@ class Exercise:
     """Applied to answers and solutions before comparing (e.g. sort rows of evidence)."""
     varies: bool = False
     """True when the solver reads its chapter's variant data (see ``set_variant``)."""
-    _cache: dict[Any, Any] = field(default_factory=dict, init=False, compare=False,
-                                   repr=False)
+    _cache: dict[Any, Any] = field(default_factory=dict, init=False, compare=False, repr=False)
 
     @property
     def solution(self) -> Any:
@@ -97,7 +96,7 @@ class Exercise:
         return self._cache[key]
 
     def solution_in(self, variant: int) -> Any:
-        """The solution computed from the data of ``variant`` (kept as :attr:`solution`).
+        """Return the solution computed from the data of ``variant`` (kept as :attr:`solution`).
 
         Parameters
         ----------
@@ -128,8 +127,12 @@ class Exercise:
             The verdict, in the current variant.
         """
         if too_big(answer):
-            return Feedback(self.id, False, f"✘ {self.id}: wrong: the answer is "
-                            f"{describe(answer)}, far more than this exercise asks for.")
+            return Feedback(
+                self.id,
+                False,
+                f"✘ {self.id}: wrong: the answer is "
+                f"{describe(answer)}, far more than this exercise asks for.",
+            )
         if self.canonical is not None:
             try:
                 answer = self.canonical(answer)
@@ -143,8 +146,13 @@ class Exercise:
                 return Feedback(self.id, False, f"✘ {self.id}: wrong. {why}", {"mistake": why})
         sol = self._canonical(self.solution)
         if not reason and _nearly(answer, sol, self):
-            off = float(np.max(np.abs(np.asarray(_canonical(answer), float)
-                                      - np.asarray(_canonical(sol), float))))
+            off = float(
+                np.max(
+                    np.abs(
+                        np.asarray(_canonical(answer), float) - np.asarray(_canonical(sol), float)
+                    )
+                )
+            )
             reason = f"close, but off by {off:.2g}; keep more decimals in the intermediate steps"
         reason = f" ({reason})" if reason else ""
         return Feedback(self.id, False, f"✘ {self.id}: wrong{reason}. Hint: {self.hint}")
@@ -153,7 +161,7 @@ class Exercise:
         return value if self.canonical is None else self.canonical(value)
 
     def wrong_answer(self) -> Any:
-        """A plausible wrong answer: the first listed mistake, else the solution moved.
+        """Return a plausible wrong answer: the first listed mistake, else the solution moved.
 
         Returns
         -------
@@ -199,8 +207,9 @@ class Feedback:
         return self.message
 
     def _repr_html_(self) -> str:
-        colour = ("#1b7f3b" if self.correct else "#5f6368" if self.details.get("pending")
-                  else "#b00020")
+        colour = (
+            "#1b7f3b" if self.correct else "#5f6368" if self.details.get("pending") else "#b00020"
+        )
         body = html.escape(self.message).replace("\n", "<br>")
         return f"<p style='color:{colour};font-family:monospace;white-space:pre-wrap'>{body}</p>"
 
@@ -280,7 +289,7 @@ def exercise(
 
 
 def exercises(prefix: str = "") -> list[str]:
-    """The ids of the registered exercises, those starting with ``prefix`` only.
+    """Return the ids of the registered exercises, those starting with ``prefix`` only.
 
     Parameters
     ----------
@@ -302,7 +311,7 @@ def exercises(prefix: str = "") -> list[str]:
 
 
 def get(exercise_id: str) -> Any:
-    """The registered exercise ``exercise_id`` (a KeyError lists its chapter's ids)."""
+    """Return the registered exercise ``exercise_id`` (a KeyError lists its chapter's ids)."""
     try:
         return REGISTRY[exercise_id]
     except KeyError:
@@ -313,9 +322,10 @@ def get(exercise_id: str) -> Any:
 
 
 def solution(exercise_id: str) -> Any:
-    """The solution of an exercise (for teachers and tests): a value computed with
-    dstoolkit from the current variant's data, or for a coding exercise the plain
-    reference function.
+    """Return the solution of an exercise (for teachers and tests).
+
+    A value computed with dstoolkit from the current variant's data, or for a coding exercise the
+    plain reference function.
 
     Parameters
     ----------
@@ -341,8 +351,9 @@ def solution(exercise_id: str) -> Any:
     """
     value = get(exercise_id).solution
     if isinstance(value, FunctionType):
-        twin = FunctionType(value.__code__, value.__globals__, value.__name__,
-                            value.__defaults__, value.__closure__)
+        twin = FunctionType(
+            value.__code__, value.__globals__, value.__name__, value.__defaults__, value.__closure__
+        )
         twin.__dict__.update(copy.deepcopy(value.__dict__))
         twin.__doc__, twin.__qualname__ = value.__doc__, value.__qualname__
         twin.__module__ = value.__module__
@@ -351,8 +362,10 @@ def solution(exercise_id: str) -> Any:
 
 
 def mistake(exercise_id: str) -> Any:
-    """A plausible wrong answer to an exercise (its first listed mistake, or for a coding
-    exercise its first wrong implementation); the tests feed it to the check cells.
+    """Return a plausible wrong answer to an exercise; the tests feed it to the check cells.
+
+    It is the exercise's first listed mistake, or for a coding exercise its first wrong
+    implementation.
 
     Parameters
     ----------
@@ -373,8 +386,9 @@ def mistake(exercise_id: str) -> Any:
     return get(exercise_id).wrong_answer()
 
 
-def check(exercise_id: str, answer: Any, *, time_limit: float | None = None,
-          variant: int | None = None) -> Feedback:
+def check(
+    exercise_id: str, answer: Any, *, time_limit: float | None = None, variant: int | None = None
+) -> Feedback:
     """Compare ``answer`` with the solution of ``exercise_id``: right, or wrong with a hint.
 
     In a notebook, end a cell with ``check("mass.bel", answer)`` to see the verdict. An
@@ -421,9 +435,12 @@ def check(exercise_id: str, answer: Any, *, time_limit: float | None = None,
     """
     ex = get(exercise_id)
     if answer is ... or answer is None:
-        return Feedback(exercise_id, False,
-                        f"{exercise_id}: {NOT_ANSWERED} — replace ... by your answer.",
-                        {"pending": True})
+        return Feedback(
+            exercise_id,
+            False,
+            f"{exercise_id}: {NOT_ANSWERED} — replace ... by your answer.",
+            {"pending": True},
+        )
     with using_variant(variant):
         return ex.verdict(answer, time_limit)
 
@@ -469,7 +486,10 @@ def _compare(answer: Any, sol: Any, ex: Exercise) -> tuple[bool, str]:
 
 
 def _key(k: Any) -> Any:
-    """A dict key as a set: ``"low"``, ``("low",)`` and ``frozenset({"low"})`` are one key."""
+    """Return a dict key as a set.
+
+    ``"low"``, ``("low",)`` and ``frozenset({"low"})`` are one key.
+    """
     if isinstance(k, set | frozenset | tuple | list):
         return frozenset(k)
     if isinstance(k, str):
@@ -500,11 +520,12 @@ def _nearly(answer: Any, sol: Any, ex: Exercise) -> bool:
     except (TypeError, ValueError):
         return False
     return a.size == s.size and bool(
-        np.all(np.isclose(a.reshape(s.shape), s, atol=20 * ex.atol, rtol=20 * ex.rtol)))
+        np.all(np.isclose(a.reshape(s.shape), s, atol=20 * ex.atol, rtol=20 * ex.rtol))
+    )
 
 
 def _moved(value: Any) -> Any:
-    """An answer that is clearly not ``value`` (same type and shape)."""
+    """Return an answer that is clearly not ``value`` (same type and shape)."""
     value = _canonical(value)
     if isinstance(value, bool | np.bool_):
         return not value

@@ -73,8 +73,10 @@ class Raised:
 
 
 def _outcome(fn: Callable[..., Any], args: tuple, end: float | None = None) -> Any:
-    """``fn`` on a copy of ``args`` (stopped at ``end``, monotonic time, if given); an
-    exception it raises becomes a :class:`Raised`."""
+    """``fn`` on a copy of ``args`` (stopped at ``end``, monotonic time, if given).
+
+    An exception it raises becomes a :class:`Raised`.
+    """
     try:
         if end is None:
             return fn(*copy.deepcopy(args))
@@ -84,7 +86,7 @@ def _outcome(fn: Callable[..., Any], args: tuple, end: float | None = None) -> A
 
 
 def _documented(outcome: Any) -> Any:
-    """dstoolkit's own errors as the built-in error the exercises ask for (ValueError)."""
+    """Report dstoolkit's own errors as the built-in error the exercises ask for (ValueError)."""
     if isinstance(outcome, Raised) and issubclass(outcome.error, ValueError):
         return Raised(ValueError, "as the docstring asks")
     return outcome
@@ -101,13 +103,15 @@ def _plain(x: Any) -> Any:
     Returns
     -------
     object
-        Its plain form, compared by :func:`same`.
+        Its plain form, compared by ``same``.
     """
     if isinstance(x, Raised | str | bool | np.bool_) or x is None:
         return x
     if isinstance(x, Mapping):
-        return {(frozenset(k) if isinstance(k, set | frozenset | tuple | list) else k): _plain(v)
-                for k, v in x.items()}
+        return {
+            (frozenset(k) if isinstance(k, set | frozenset | tuple | list) else k): _plain(v)
+            for k, v in x.items()
+        }
     if isinstance(x, np.ndarray):
         return _plain(x.tolist())
     if isinstance(x, Sequence):
@@ -119,8 +123,11 @@ def _plain(x: Any) -> Any:
 
 
 def same(got: Any, expected: Any, atol: float = 1e-9, rtol: float = 1e-6) -> bool:
-    """Equal as plain data: numbers within tolerance, dicts without zero-mass entries,
-    an expected exception matched by the same type or a subclass."""
+    """Equal as plain data.
+
+    Numbers within tolerance, dicts without zero-mass entries, an expected exception matched by the
+    same type or a subclass.
+    """
     got, expected = _plain(got), _plain(expected)
     if isinstance(expected, Raised):
         return isinstance(got, Raised) and issubclass(got.error, expected.error)
@@ -129,20 +136,29 @@ def same(got: Any, expected: Any, atol: float = 1e-9, rtol: float = 1e-6) -> boo
     if isinstance(expected, dict):
         if not isinstance(got, dict):
             return False
-        keys = {k for k, v in {**got, **expected}.items()
-                if not (isinstance(v, float) and abs(v) < atol)}
+        keys = {
+            k
+            for k, v in {**got, **expected}.items()
+            if not (isinstance(v, float) and abs(v) < atol)
+        }
         return all(same(got.get(k, 0.0), expected.get(k, 0.0), atol, rtol) for k in keys)
     if isinstance(expected, list):
-        return (isinstance(got, list) and len(got) == len(expected)
-                and all(same(g, e, atol, rtol) for g, e in zip(got, expected, strict=True)))
+        return (
+            isinstance(got, list)
+            and len(got) == len(expected)
+            and all(same(g, e, atol, rtol) for g, e in zip(got, expected, strict=True))
+        )
     if isinstance(expected, float):
-        return (isinstance(got, float) and not math.isnan(got)
-                and math.isclose(got, expected, abs_tol=atol, rel_tol=rtol))
+        return (
+            isinstance(got, float)
+            and not math.isnan(got)
+            and math.isclose(got, expected, abs_tol=atol, rel_tol=rtol)
+        )
     return got == expected
 
 
 def show(x: Any, limit: int = 300) -> str:
-    """A short, readable form of a value (sets as {a, b}, floats to 6 digits)."""
+    """Return a short, readable form of a value (sets as {a, b}, floats to 6 digits)."""
     x = _plain(x)
     if isinstance(x, float):
         text = f"{x:.6g}"
@@ -202,8 +218,7 @@ class CodingExercise:
     mistakes: tuple[tuple[Callable[..., Any], str], ...] = ()
     normalise: Callable[[Any], Any] = _plain
     arg_names: tuple[str, ...] = ()
-    _cache: dict[str, Any] = field(default_factory=dict, init=False, compare=False,
-                                   repr=False)
+    _cache: dict[str, Any] = field(default_factory=dict, init=False, compare=False, repr=False)
 
     @property
     def solution(self) -> Callable[..., Any]:
@@ -211,7 +226,7 @@ class CodingExercise:
         return self.plain
 
     def wrong_answer(self) -> Callable[..., Any]:
-        """The first registered wrong implementation.
+        """Return the first registered wrong implementation.
 
         Returns
         -------
@@ -243,8 +258,10 @@ class CodingExercise:
             Each case with the outcome the learner's function must give.
         """
         if cases is not None:
-            return [(case, _documented(self._normalised(_outcome(self.reference, case.args))))
-                    for case in cases]
+            return [
+                (case, _documented(self._normalised(_outcome(self.reference, case.args))))
+                for case in cases
+            ]
         if "expected" not in self._cache:
             self._cache["expected"] = self.expected(self.cases())
         return self._cache["expected"]
@@ -253,8 +270,12 @@ class CodingExercise:
         names = self.arg_names or tuple(f"arg{i + 1}" for i in range(len(case.args)))
         return ", ".join(f"{n} = {show(a, 160)}" for n, a in zip(names, case.args, strict=True))
 
-    def verdict(self, answer: Any, time_limit: float | None = None,
-                cases: list[tuple[Case, Any]] | None = None) -> Feedback:
+    def verdict(
+        self,
+        answer: Any,
+        time_limit: float | None = None,
+        cases: list[tuple[Case, Any]] | None = None,
+    ) -> Feedback:
         """Run ``answer`` on every case within a time limit; report the first failure.
 
         Parameters
@@ -273,8 +294,12 @@ class CodingExercise:
             Right on all cases, or the first failing case with a diagnosis.
         """
         if not callable(answer):
-            return Feedback(self.id, False, f"✘ {self.id}: give the function itself (its name, "
-                            f"without parentheses), not {type(answer).__name__}.")
+            return Feedback(
+                self.id,
+                False,
+                f"✘ {self.id}: give the function itself (its name, "
+                f"without parentheses), not {type(answer).__name__}.",
+            )
         if _untouched(answer):
             return _pending(self.id)
         cases = self.expected() if cases is None else cases
@@ -287,46 +312,71 @@ class CodingExercise:
                 if isinstance(got, Raised) and issubclass(got.error, NotImplementedError):
                     return _pending(self.id)
                 if too_big(got):
-                    return Feedback(self.id, False, f"✘ {self.id}: wrong on {where}: your "
-                                    f"function returned {describe(got)}, far more than this "
-                                    "case needs.", {"case": number})
+                    return Feedback(
+                        self.id,
+                        False,
+                        f"✘ {self.id}: wrong on {where}: your "
+                        f"function returned {describe(got)}, far more than this "
+                        "case needs.",
+                        {"case": number},
+                    )
                 got = self._normalised(got)
             except _TimeLimitReached:
-                return Feedback(self.id, False, f"✘ {self.id}: stopped after {seconds:g} s on "
-                                f"{where}: does your function end? (check(..., time_limit=60) "
-                                "gives it longer.)", {"case": number, "timeout": True})
+                return Feedback(
+                    self.id,
+                    False,
+                    f"✘ {self.id}: stopped after {seconds:g} s on "
+                    f"{where}: does your function end? (check(..., time_limit=60) "
+                    "gives it longer.)",
+                    {"case": number, "timeout": True},
+                )
             if same(got, want):
                 continue
-            return Feedback(self.id, False, self._diagnosis(case, number, len(cases), want, got),
-                            self._details(case, got, number))
+            return Feedback(
+                self.id,
+                False,
+                self._diagnosis(case, number, len(cases), want, got),
+                self._details(case, got, number),
+            )
         fixed = sum(not c.label.startswith("random") for c, _ in cases)
-        return Feedback(self.id, True, f"✔ {self.id}: right on all {len(cases)} cases "
-                        f"({fixed} chosen, {len(cases) - fixed} random).")
+        return Feedback(
+            self.id,
+            True,
+            f"✔ {self.id}: right on all {len(cases)} cases "
+            f"({fixed} chosen, {len(cases) - fixed} random).",
+        )
 
     def _details(self, case: Case, got: Any, number: int) -> dict[str, Any]:
         why = self._mistake(case, got)
         return {"case": number, **({"mistake": why} if why else {})}
 
     def _mistake(self, case: Case, got: Any) -> str:
-        """The explanation of the registered mistake whose outcome ``got`` is, or ''."""
+        """Return the explanation of the registered mistake whose outcome ``got`` is, or ''."""
         for wrong, why in self.mistakes:
             if same(got, self._normalised(_outcome(wrong, case.args))):
                 return why
         return ""
 
     def _diagnosis(self, case: Case, number: int, total: int, want: Any, got: Any) -> str:
-        """What a learner sees for a failing case. The expected outcome is shown only for a
-        random case or an expected error: a chosen case may be another exercise's answer."""
+        """Return what a learner sees for a failing case.
+
+        The expected outcome is shown only for a random case or an expected error: a chosen case may
+        be another exercise's answer.
+        """
         shown = isinstance(want, Raised) or case.label.startswith("random")
-        head = (f"✘ {self.id}: wrong on case {number} of {total} ({case.label}).\n"
-                f"  input:    {self._inputs(case)}\n"
-                + (f"  expected: {show(want)}\n" if shown else "")
-                + f"  got:      {show(got)}\n")
+        head = (
+            f"✘ {self.id}: wrong on case {number} of {total} ({case.label}).\n"
+            f"  input:    {self._inputs(case)}\n"
+            + (f"  expected: {show(want)}\n" if shown else "")
+            + f"  got:      {show(got)}\n"
+        )
         if got is None:
             return head + "  Your function returned None: did you forget `return`?"
         if isinstance(want, Raised) and not isinstance(got, Raised):
-            return head + (f"  This case must be refused: raise {want.error.__name__} (the "
-                           "docstring says when) instead of returning a result.")
+            return head + (
+                f"  This case must be refused: raise {want.error.__name__} (the "
+                "docstring says when) instead of returning a result."
+            )
         why = self._mistake(case, got)
         if why:
             return head + f"  Mistake: {why}"
@@ -334,18 +384,22 @@ class CodingExercise:
             return head + f"  Your function raised an error; fix it first. Hint: {self.hint}"
         total_mass = _mass_total(got) if _is_masses(want) else None
         if total_mass is not None and abs(total_mass - 1.0) > 1e-6:
-            return head + (f"  Your masses add up to {total_mass:.6g}, not 1. "
-                           f"Hint: {self.hint}")
+            return head + (f"  Your masses add up to {total_mass:.6g}, not 1. Hint: {self.hint}")
         return head + f"  Hint: {self.hint}"
 
 
 def _pending(exercise_id: str) -> Feedback:
-    return Feedback(exercise_id, False, f"{exercise_id}: {NOT_ANSWERED} — write the body "
-                    "of the function (it still raises NotImplementedError).", {"pending": True})
+    return Feedback(
+        exercise_id,
+        False,
+        f"{exercise_id}: {NOT_ANSWERED} — write the body "
+        "of the function (it still raises NotImplementedError).",
+        {"pending": True},
+    )
 
 
 def _untouched(fn: Any) -> bool:
-    """True for a function whose body is only its docstring (and ``...`` or ``pass``)."""
+    """Return True for a function whose body is only its docstring (and ``...`` or ``pass``)."""
     try:
         tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
     except (OSError, TypeError, SyntaxError, IndentationError):
@@ -353,18 +407,26 @@ def _untouched(fn: Any) -> bool:
     node = tree.body[0] if tree.body else None
     if not isinstance(node, ast.FunctionDef):
         return False
-    return all(isinstance(stmt, ast.Pass) or (isinstance(stmt, ast.Expr) and isinstance(
-        stmt.value, ast.Constant) and (isinstance(stmt.value.value, str)
-                                       or stmt.value.value is Ellipsis))
-               for stmt in node.body)
+    return all(
+        isinstance(stmt, ast.Pass)
+        or (
+            isinstance(stmt, ast.Expr)
+            and isinstance(stmt.value, ast.Constant)
+            and (isinstance(stmt.value.value, str) or stmt.value.value is Ellipsis)
+        )
+        for stmt in node.body
+    )
 
 
 def _is_masses(value: Any) -> bool:
-    """A dict of masses on sets (plain form) that add up to 1."""
-    return (isinstance(value, dict) and bool(value)
-            and all(isinstance(k, frozenset) for k in value)
-            and all(isinstance(v, float) for v in value.values())
-            and abs(sum(value.values()) - 1.0) < 1e-6)
+    """Return a dict of masses on sets (plain form) that add up to 1."""
+    return (
+        isinstance(value, dict)
+        and bool(value)
+        and all(isinstance(k, frozenset) for k in value)
+        and all(isinstance(v, float) for v in value.values())
+        and abs(sum(value.values()) - 1.0) < 1e-6
+    )
 
 
 def _mass_total(value: Any) -> float | None:
@@ -431,8 +493,9 @@ def coding_exercise(
     """
     if not mistakes:
         raise InvalidInputError(f"coding exercise {exercise_id!r} needs at least one mistake")
-    item = CodingExercise(exercise_id, reference, plain, cases, hint, mistakes, normalise,
-                          arg_names)
+    item = CodingExercise(
+        exercise_id, reference, plain, cases, hint, mistakes, normalise, arg_names
+    )
     register(item)
     return item
 
@@ -441,16 +504,20 @@ _SHIFT = [0]
 
 
 def seeded(seed: int) -> np.random.Generator:
-    """The random generator of a coding exercise's random cases (fixed seed: the same cases
-    on every run, so a failing case can be looked at again; hidden tests shift it, see
-    :func:`seed_shift`)."""
+    """Return the random generator of a coding exercise's random cases.
+
+    Its seed is fixed: the same cases on every run, so a failing case can be looked at again;
+    hidden tests shift it, see :func:`seed_shift`.
+    """
     return np.random.default_rng(seed + _SHIFT[0])
 
 
 @contextmanager
 def seed_shift(shift: int) -> Iterator[None]:
-    """Inside the ``with`` block :func:`seeded` draws from ``seed + shift``: other random
-    cases, the same kinds."""
+    """Inside the ``with`` block :func:`seeded` draws from ``seed + shift``.
+
+    Other random cases, the same kinds.
+    """
     before = _SHIFT[0]
     _SHIFT[0] = shift
     try:

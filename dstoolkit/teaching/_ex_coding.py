@@ -40,7 +40,7 @@ LEVEL = ("low", "mid", "high")
 
 
 def fs(*items: Any) -> frozenset:
-    """A focal element: ``fs("low", "mid")``."""
+    """Return a focal element: ``fs("low", "mid")``."""
     return frozenset(items)
 
 
@@ -53,8 +53,11 @@ E2_DEPENDENT = {fs("low"): 0.4, fs("mid"): 0.4, frozenset(LEVEL): 0.2}
 
 def random_mass(rng: np.random.Generator, frame: frozenset = ABC) -> dict[frozenset, float]:
     """2–4 random non-empty focal elements of ``frame`` with random masses."""
-    subsets = [frozenset(c) for r in range(1, len(frame) + 1)
-               for c in itertools.combinations(sorted(frame), r)]
+    subsets = [
+        frozenset(c)
+        for r in range(1, len(frame) + 1)
+        for c in itertools.combinations(sorted(frame), r)
+    ]
     picks = rng.choice(len(subsets), size=int(rng.integers(2, 5)), replace=False)
     masses = np.round(rng.dirichlet(np.ones(picks.size)), 6)
     masses[-1] = 1.0 - masses[:-1].sum()
@@ -90,10 +93,12 @@ def sorted_rows(rows: Any) -> list[list[float]]:
 
 def _bel_pl_cases() -> list[Case]:
     rng = seeded(31)
-    cases = [Case("running example, A = {low, mid}", (RUNNING, {"low", "mid"})),
-             Case("running example, A = {mid}", (RUNNING, {"mid"})),
-             Case("A = Θ", (RUNNING, set(LEVEL))),
-             Case("vacuous source", ({frozenset(LEVEL): 1.0}, {"high"}))]
+    cases = [
+        Case("running example, A = {low, mid}", (RUNNING, {"low", "mid"})),
+        Case("running example, A = {mid}", (RUNNING, {"mid"})),
+        Case("A = Θ", (RUNNING, set(LEVEL))),
+        Case("vacuous source", ({frozenset(LEVEL): 1.0}, {"high"})),
+    ]
     for i in range(6):
         m = random_mass(rng)
         a = {h for h in sorted(ABC) if rng.random() < 0.5} or {"a"}
@@ -103,29 +108,36 @@ def _bel_pl_cases() -> list[Case]:
 
 coding_exercise(
     "mass.bel-pl-code",
-    reference=lambda m, a: (_mf(m, frozenset().union(*m, a)).belief(tuple(sorted(a))),
-                            _mf(m, frozenset().union(*m, a)).plausibility(tuple(sorted(a)))),
+    reference=lambda m, a: (
+        _mf(m, frozenset().union(*m, a)).belief(tuple(sorted(a))),
+        _mf(m, frozenset().union(*m, a)).plausibility(tuple(sorted(a))),
+    ),
     plain=plain.bel_pl,
     cases=_bel_pl_cases,
     arg_names=("m", "a"),
     hint="Bel adds the masses of the focal elements inside A (B ⊆ A); Pl those that meet A "
     "(B ∩ A ≠ ∅).",
     mistakes=(
-        (lambda m, a: tuple(reversed(plain.bel_pl(m, a))),
-         "Bel and Pl are swapped: Bel(A) ≤ Pl(A) always."),
-        (lambda m, a: (plain.bel_pl(m, a)[0], sum(v for b, v in m.items() if b >= set(a))),
-         "Your Pl counts only the focal elements that contain A (that is the commonality "
-         "Q(A)); Pl counts every focal element that meets A."),
+        (
+            lambda m, a: tuple(reversed(plain.bel_pl(m, a))),
+            "Bel and Pl are swapped: Bel(A) ≤ Pl(A) always.",
+        ),
+        (
+            lambda m, a: (plain.bel_pl(m, a)[0], sum(v for b, v in m.items() if b >= set(a))),
+            "Your Pl counts only the focal elements that contain A (that is the commonality "
+            "Q(A)); Pl counts every focal element that meets A.",
+        ),
     ),
 )
 
 
 def _betp_cases() -> list[Case]:
     rng = seeded(32)
-    return ([Case("running example", (RUNNING,)),
-             Case("vacuous source", ({frozenset(LEVEL): 1.0},)),
-             Case("Bayesian source", ({fs("a"): 0.2, fs("b"): 0.8},))]
-            + [Case(f"random {i + 1}", (random_mass(rng),)) for i in range(6)])
+    return [
+        Case("running example", (RUNNING,)),
+        Case("vacuous source", ({frozenset(LEVEL): 1.0},)),
+        Case("Bayesian source", ({fs("a"): 0.2, fs("b"): 0.8},)),
+    ] + [Case(f"random {i + 1}", (random_mass(rng),)) for i in range(6)]
 
 
 coding_exercise(
@@ -135,10 +147,13 @@ coding_exercise(
     cases=_betp_cases,
     arg_names=("m",),
     hint="Each focal element gives m(A)/|A| to each of its |A| members (eq. 3.4).",
-    mistakes=((lambda m: {h: sum(v for b, v in m.items() if h in b)
-                          for h in frozenset().union(*m)},
-               "You gave each member the whole mass m(A): that is Pl({x}), and the "
-               "probabilities add up to more than 1. Divide by |A|."),),
+    mistakes=(
+        (
+            lambda m: {h: sum(v for b, v in m.items() if h in b) for h in frozenset().union(*m)},
+            "You gave each member the whole mass m(A): that is Pl({x}), and the "
+            "probabilities add up to more than 1. Divide by |A|.",
+        ),
+    ),
 )
 
 # -- combining evidence -----------------------------------------------------------------------
@@ -148,11 +163,13 @@ def _dempster_cases() -> list[Case]:
     rng = seeded(41)
     z1 = {fs("meningitis"): 0.99, fs("tumour"): 0.01}
     z2 = {fs("concussion"): 0.99, fs("tumour"): 0.01}
-    cases = [Case("the two sensors", (SENSOR1, SENSOR2)),
-             Case("Zadeh's doctors", (z1, z2)),
-             Case("vacuous source", (RUNNING, {frozenset(LEVEL): 1.0})),
-             Case("a source with itself", (RUNNING, RUNNING)),
-             Case("total conflict", ({fs("a"): 1.0}, {fs("b"): 1.0}))]
+    cases = [
+        Case("the two sensors", (SENSOR1, SENSOR2)),
+        Case("Zadeh's doctors", (z1, z2)),
+        Case("vacuous source", (RUNNING, {frozenset(LEVEL): 1.0})),
+        Case("a source with itself", (RUNNING, RUNNING)),
+        Case("total conflict", ({fs("a"): 1.0}, {fs("b"): 1.0})),
+    ]
     for i in range(6):
         m1, m2 = random_mass(rng), random_mass(rng)
         if not any(b & c for b in m1 for c in m2):
@@ -178,18 +195,25 @@ def _yager(m1: dict, m2: dict) -> dict:
 
 coding_exercise(
     "combine.dempster-code",
-    reference=lambda m1, m2: _as_dict(dempster(_mf(m1, frozenset().union(*m1, *m2)),
-                                               _mf(m2, frozenset().union(*m1, *m2)))),
+    reference=lambda m1, m2: _as_dict(
+        dempster(_mf(m1, frozenset().union(*m1, *m2)), _mf(m2, frozenset().union(*m1, *m2)))
+    ),
     plain=plain.dempster_rule,
     cases=_dempster_cases,
     arg_names=("m1", "m2"),
     hint="Multiply every pair of masses, put the product on the intersection, add up the "
     "products whose intersection is empty (K), and divide the others by 1 − K (eq. 1).",
     mistakes=(
-        (_unnormalised, "You did not renormalise: divide every mass by 1 − K, so that the "
-         "masses add up to 1 again."),
-        (_yager, "You gave the conflict K to Θ: that is Yager's rule. Dempster's rule "
-         "drops it and divides by 1 − K."),
+        (
+            _unnormalised,
+            "You did not renormalise: divide every mass by 1 − K, so that the "
+            "masses add up to 1 again.",
+        ),
+        (
+            _yager,
+            "You gave the conflict K to Θ: that is Yager's rule. Dempster's rule "
+            "drops it and divides by 1 − K.",
+        ),
     ),
 )
 
@@ -197,12 +221,15 @@ coding_exercise(
 def _discount_cases() -> list[Case]:
     rng = seeded(42)
     frame = set(LEVEL)
-    return ([Case("running example, rate 0.1", (RUNNING, 0.1, frame)),
-             Case("rate 0 (fully reliable)", (SENSOR2, 0.0, frame)),
-             Case("rate 1 (vacuous source)", (SENSOR1, 1.0, frame)),
-             Case("no mass on Θ yet", ({fs("low"): 1.0}, 0.25, frame))]
-            + [Case(f"random {i + 1}", (random_mass(rng), round(float(rng.random()), 3),
-                                         set(ABC))) for i in range(5)])
+    return [
+        Case("running example, rate 0.1", (RUNNING, 0.1, frame)),
+        Case("rate 0 (fully reliable)", (SENSOR2, 0.0, frame)),
+        Case("rate 1 (vacuous source)", (SENSOR1, 1.0, frame)),
+        Case("no mass on Θ yet", ({fs("low"): 1.0}, 0.25, frame)),
+    ] + [
+        Case(f"random {i + 1}", (random_mass(rng), round(float(rng.random()), 3), set(ABC)))
+        for i in range(5)
+    ]
 
 
 coding_exercise(
@@ -213,11 +240,15 @@ coding_exercise(
     arg_names=("m", "rate", "frame"),
     hint="m'(A) = (1 − rate)·m(A) for every A, and m'(Θ) = (1 − rate)·m(Θ) + rate (eqs. 9–10).",
     mistakes=(
-        (lambda m, rate, frame: {**m, frozenset(frame): m.get(frozenset(frame), 0.0) + rate},
-         "You added the rate to Θ without scaling the other masses by 1 − rate: the masses "
-         "now add up to 1 + rate."),
-        (lambda m, rate, frame: plain.discount_rule(m, 1.0 - rate, frame),
-         "You multiplied by the rate instead of 1 − rate: a rate is what is taken away."),
+        (
+            lambda m, rate, frame: {**m, frozenset(frame): m.get(frozenset(frame), 0.0) + rate},
+            "You added the rate to Θ without scaling the other masses by 1 − rate: the masses "
+            "now add up to 1 + rate.",
+        ),
+        (
+            lambda m, rate, frame: plain.discount_rule(m, 1.0 - rate, frame),
+            "You multiplied by the rate instead of 1 − rate: a rate is what is taken away.",
+        ),
     ),
 )
 
@@ -226,17 +257,22 @@ coding_exercise(
 
 def _interval_energy_cases() -> list[Case]:
     rng = seeded(51)
-    cases = [Case("Appendix A, (A2)", ([(0.3, 1.9, 0.6), (0.3, 1.93, 0.3), (0.32, 1.93, 0.1)],)),
-             Case("one interval", ([(0.0, 2.0, 1.0)],)),
-             Case("degenerate interval (a point)", ([(1.0, 1.0, 0.5), (0.0, 2.0, 0.5)],)),
-             Case("Table 1 evidence", (_rows(triangular_evidence(-0.3, 0.0, 0.3,
-                                                                  theta=(-10, 10))),))]
+    cases = [
+        Case("Appendix A, (A2)", ([(0.3, 1.9, 0.6), (0.3, 1.93, 0.3), (0.32, 1.93, 0.1)],)),
+        Case("one interval", ([(0.0, 2.0, 1.0)],)),
+        Case("degenerate interval (a point)", ([(1.0, 1.0, 0.5), (0.0, 2.0, 0.5)],)),
+        Case("Table 1 evidence", (_rows(triangular_evidence(-0.3, 0.0, 0.3, theta=(-10, 10))),)),
+    ]
     for i in range(5):
         lo = rng.uniform(-1, 0, 3)
         hi = lo + rng.uniform(0.1, 2, 3)
         m = rng.dirichlet(np.ones(3))
-        cases.append(Case(f"random {i + 1}", ([(float(a), float(b), float(c))
-                                               for a, b, c in zip(lo, hi, m, strict=True)],)))
+        cases.append(
+            Case(
+                f"random {i + 1}",
+                ([(float(a), float(b), float(c)) for a, b, c in zip(lo, hi, m, strict=True)],),
+            )
+        )
     return cases
 
 
@@ -249,13 +285,21 @@ coding_exercise(
     hint="Eq. A1: Σ m(A_i)·w_min/w(A_i), w_min the smallest width of the evidence; a point "
     "(width 0) counts with weight 1.",
     mistakes=(
-        (lambda rows: sum(m / (hi - lo) if hi > lo else m for lo, hi, m in rows),
-         "You divided by the width alone: eq. A1 multiplies by w_min, so that the narrowest "
-         "element counts 1 and the energy stays in [0, 1]."),
-        (lambda rows: plain.interval_energy(rows) - rows[-1][2] * min(
-            hi - lo for lo, hi, _ in rows) / (rows[-1][1] - rows[-1][0] or 1.0),
-         "You left out the last (widest) element as if it were Θ of a finite frame: on "
-         "intervals every focal element counts in En′ (eq. A1)."),
+        (
+            lambda rows: sum(m / (hi - lo) if hi > lo else m for lo, hi, m in rows),
+            "You divided by the width alone: eq. A1 multiplies by w_min, so that the narrowest "
+            "element counts 1 and the energy stays in [0, 1].",
+        ),
+        (
+            lambda rows: (
+                plain.interval_energy(rows)
+                - rows[-1][2]
+                * min(hi - lo for lo, hi, _ in rows)
+                / (rows[-1][1] - rows[-1][0] or 1.0)
+            ),
+            "You left out the last (widest) element as if it were Θ of a finite frame: on "
+            "intervals every focal element counts in En′ (eq. A1).",
+        ),
     ),
 )
 
@@ -263,11 +307,19 @@ coding_exercise(
 def _pairs_cases() -> list[Case]:
     rng = seeded(52)
     frame = set(LEVEL)
-    cases = [Case("the chapter's E1 and E2", (RUNNING, E2_DEPENDENT, frame)),
-             Case("a source with itself", (RUNNING, RUNNING, frame)),
-             Case("nothing shared", ({fs("low"): 0.5, frozenset(LEVEL): 0.5},
-                                     {fs("high"): 0.5, frozenset(LEVEL): 0.5}, frame)),
-             Case("vacuous source", (RUNNING, {frozenset(LEVEL): 1.0}, frame))]
+    cases = [
+        Case("the chapter's E1 and E2", (RUNNING, E2_DEPENDENT, frame)),
+        Case("a source with itself", (RUNNING, RUNNING, frame)),
+        Case(
+            "nothing shared",
+            (
+                {fs("low"): 0.5, frozenset(LEVEL): 0.5},
+                {fs("high"): 0.5, frozenset(LEVEL): 0.5},
+                frame,
+            ),
+        ),
+        Case("vacuous source", (RUNNING, {frozenset(LEVEL): 1.0}, frame)),
+    ]
     for i in range(5):
         cases.append(Case(f"random {i + 1}", (random_mass(rng), random_mass(rng), set(ABC))))
     return cases
@@ -287,14 +339,19 @@ coding_exercise(
     hint="En(E) leaves Θ out (eq. 2); the joint energy sums min(m1(A), m2(A))/|A| over the "
     "common focal elements A ≠ Θ (eq. 3); R12 = 1 − (D/2)·En(E2)/En(E1).",
     mistakes=(
-        (lambda m1, m2, frame: (lambda d, r12, r21: (d, r21, r12))(
-            *plain.dependency(m1, m2, frame)),
-         "R12 and R21 are swapped: R12 = 1 − (D/2)·En(E2)/En(E1) discounts E1 by how much "
-         "of it E2 already says."),
-        (lambda m1, m2, frame: plain.dependency(
-            {k: v for k, v in m1.items()}, {k: v for k, v in m2.items()},
-            frozenset(["?"])),
-         "You counted Θ in the energies: its mass says nothing, so eq. 2 leaves it out."),
+        (
+            lambda m1, m2, frame: (lambda d, r12, r21: (d, r21, r12))(
+                *plain.dependency(m1, m2, frame)
+            ),
+            "R12 and R21 are swapped: R12 = 1 − (D/2)·En(E2)/En(E1) discounts E1 by how much "
+            "of it E2 already says.",
+        ),
+        (
+            lambda m1, m2, frame: plain.dependency(
+                {k: v for k, v in m1.items()}, {k: v for k, v in m2.items()}, frozenset(["?"])
+            ),
+            "You counted Θ in the energies: its mass says nothing, so eq. 2 leaves it out.",
+        ),
     ),
 )
 
@@ -307,20 +364,28 @@ coding_exercise(
     "dependent.combine-code",
     reference=_combine_dependent_reference,
     plain=plain.dependent_rule,
-    cases=lambda: [*_pairs_cases(), Case("total conflict, nothing shared",
-                                         ({fs("low"): 1.0}, {fs("high"): 1.0}, set(LEVEL)))],
+    cases=lambda: [
+        *_pairs_cases(),
+        Case("total conflict, nothing shared", ({fs("low"): 1.0}, {fs("high"): 1.0}, set(LEVEL))),
+    ],
     arg_names=("m1", "m2", "frame"),
     hint="Get D, R12, R21 (your dependency), discount E1 at rate 1 − R12 and E2 at rate "
     "1 − R21 (your discount), then combine with your dempster_rule.",
     mistakes=(
-        (lambda m1, m2, frame: plain.dempster_rule(m1, m2),
-         "You combined without decorrelating: Dempster's rule alone counts what both "
-         "sources share twice."),
-        (lambda m1, m2, frame: (lambda d, r12, r21: plain.dempster_rule(
-            plain.discount_rule(m1, r12, frame), plain.discount_rule(m2, r21, frame)))(
-            *plain.dependency(m1, m2, frame)),
-         "You discounted at rate R instead of 1 − R: R is the part of the evidence that is "
-         "kept (eq. 9)."),
+        (
+            lambda m1, m2, frame: plain.dempster_rule(m1, m2),
+            "You combined without decorrelating: Dempster's rule alone counts what both "
+            "sources share twice.",
+        ),
+        (
+            lambda m1, m2, frame: (
+                lambda d, r12, r21: plain.dempster_rule(
+                    plain.discount_rule(m1, r12, frame), plain.discount_rule(m2, r21, frame)
+                )
+            )(*plain.dependency(m1, m2, frame)),
+            "You discounted at rate R instead of 1 − R: R is the part of the evidence that is "
+            "kept (eq. 9).",
+        ),
     ),
 )
 
@@ -329,23 +394,36 @@ coding_exercise(
 
 def _triangular_cases() -> list[Case]:
     rng = seeded(61)
-    cases = [Case("Table 1 (p = 3, ε = 0.05)", (-0.3, 0.0, 0.3, 3, 0.05)),
-             Case("Table 2", (-10.59, -6.9, -3.21, 3, 0.05)),
-             Case("one cut (p = 1)", (-1.0, 0.0, 2.0, 1, 0.1)),
-             Case("no discount (ε = 0)", (-1.0, 0.5, 1.0, 4, 0.0)),
-             Case("one-sided noise (mode = lower)", (0.0, 0.0, 1.0, 2, 0.05))]
+    cases = [
+        Case("Table 1 (p = 3, ε = 0.05)", (-0.3, 0.0, 0.3, 3, 0.05)),
+        Case("Table 2", (-10.59, -6.9, -3.21, 3, 0.05)),
+        Case("one cut (p = 1)", (-1.0, 0.0, 2.0, 1, 0.1)),
+        Case("no discount (ε = 0)", (-1.0, 0.5, 1.0, 4, 0.0)),
+        Case("one-sided noise (mode = lower)", (0.0, 0.0, 1.0, 2, 0.05)),
+    ]
     for i in range(4):
         a, c, b = np.sort(rng.uniform(-5, 5, 3))
-        cases.append(Case(f"random {i + 1}", (float(a), float(c), float(b),
-                                              int(rng.integers(1, 6)),
-                                              round(float(rng.uniform(0, 0.3)), 3))))
+        cases.append(
+            Case(
+                f"random {i + 1}",
+                (
+                    float(a),
+                    float(c),
+                    float(b),
+                    int(rng.integers(1, 6)),
+                    round(float(rng.uniform(0, 0.3)), 3),
+                ),
+            )
+        )
     return cases
 
 
 def _cuts_from_one(a: float, c: float, b: float, p: int, epsilon: float) -> list:
     rows = plain.triangular_rows(a, c, b, p, epsilon)
-    shifted = [(a + (i + 1) / p * (c - a), b - (i + 1) / p * (b - c), (1 - epsilon) / p)
-               for i in reversed(range(p))]
+    shifted = [
+        (a + (i + 1) / p * (c - a), b - (i + 1) / p * (b - c), (1 - epsilon) / p)
+        for i in reversed(range(p))
+    ]
     return shifted + rows[p:]
 
 
@@ -359,12 +437,18 @@ coding_exercise(
     hint="α runs over 0, 1/p, …, (p − 1)/p (eq. 23): α = 0 is the whole support, and the "
     "mode alone (α = 1) is not a cut. Each cut has (1 − ε)/p; Θ = c ± 100σ, σ = (b − a)/6.",
     mistakes=(
-        (_cuts_from_one, "Your cuts run α = 1/p … 1: the last one is the mode alone and the "
-         "support [a, b] is missing. Take α = 0, 1/p, …, (p − 1)/p."),
-        (lambda a, c, b, p, epsilon: [(lo, hi, 1.0 / p if i < p else m) for i, (lo, hi, m)
-                                      in enumerate(plain.triangular_rows(a, c, b, p,
-                                                                         epsilon))],
-         "Each cut gets (1 − ε)/p, not 1/p: Θ takes ε, and the masses must add up to 1."),
+        (
+            _cuts_from_one,
+            "Your cuts run α = 1/p … 1: the last one is the mode alone and the "
+            "support [a, b] is missing. Take α = 0, 1/p, …, (p − 1)/p.",
+        ),
+        (
+            lambda a, c, b, p, epsilon: [
+                (lo, hi, 1.0 / p if i < p else m)
+                for i, (lo, hi, m) in enumerate(plain.triangular_rows(a, c, b, p, epsilon))
+            ],
+            "Each cut gets (1 − ε)/p, not 1/p: Θ takes ε, and the masses must add up to 1.",
+        ),
     ),
 )
 
@@ -372,14 +456,18 @@ coding_exercise(
 def _cdf_cases() -> list[Case]:
     rng = seeded(62)
     table1 = _rows(triangular_evidence(-0.3, 0.0, 0.3, theta=(-10, 10)))
-    cases = [Case("Table 1 at x = 0.15", (table1, 0.15)),
-             Case("x on an end point", (table1, 0.1)),
-             Case("x left of everything", (table1, -20.0)),
-             Case("degenerate interval", ([(0.5, 0.5, 0.4), (0.0, 1.0, 0.6)], 0.5))]
+    cases = [
+        Case("Table 1 at x = 0.15", (table1, 0.15)),
+        Case("x on an end point", (table1, 0.1)),
+        Case("x left of everything", (table1, -20.0)),
+        Case("degenerate interval", ([(0.5, 0.5, 0.4), (0.0, 1.0, 0.6)], 0.5)),
+    ]
     for i in range(5):
         lo = rng.uniform(-1, 0, 3)
-        rows = [(float(a), float(a + w), float(m)) for a, w, m
-                in zip(lo, rng.uniform(0, 1, 3), rng.dirichlet(np.ones(3)), strict=True)]
+        rows = [
+            (float(a), float(a + w), float(m))
+            for a, w, m in zip(lo, rng.uniform(0, 1, 3), rng.dirichlet(np.ones(3)), strict=True)
+        ]
         cases.append(Case(f"random {i + 1}", (rows, float(rng.uniform(-1, 1)))))
     return cases
 
@@ -398,13 +486,19 @@ coding_exercise(
     hint="Bel((−∞, x]) needs the whole interval at or left of x (hi ≤ x); Pl((−∞, x]) needs "
     "only a part of it there (lo ≤ x). End points count.",
     mistakes=(
-        (lambda rows, x: tuple(reversed(plain.cdf_bounds(rows, x))),
-         "Lower and upper are swapped: the lower bound Bel counts the intervals entirely "
-         "left of x."),
-        (lambda rows, x: (sum(m for lo, hi, m in rows if hi < x),
-                          sum(m for lo, hi, m in rows if lo < x)),
-         "You used strict inequalities: (−∞, x] contains x, so an interval ending at x is "
-         "inside it."),
+        (
+            lambda rows, x: tuple(reversed(plain.cdf_bounds(rows, x))),
+            "Lower and upper are swapped: the lower bound Bel counts the intervals entirely "
+            "left of x.",
+        ),
+        (
+            lambda rows, x: (
+                sum(m for lo, hi, m in rows if hi < x),
+                sum(m for lo, hi, m in rows if lo < x),
+            ),
+            "You used strict inequalities: (−∞, x] contains x, so an interval ending at x is "
+            "inside it.",
+        ),
     ),
 )
 
@@ -437,24 +531,32 @@ def _vectorised(f: Any) -> Any:
 
 def _vertex_cases() -> list[Case]:
     rng = seeded(71)
-    cases = [Case("monotone, 3-D", (tilted, [0.0, 1.0, 2.0], [1.0, 2.0, 4.0])),
-             Case("difference", (difference, [0.0, 0.0], [1.0, 2.0])),
-             Case("a saddle", (saddle, [-1.0, -2.0], [2.0, 1.0])),
-             Case("x² across 0 (vertex misses the minimum)", (square, [-1.0], [2.0])),
-             Case("degenerate box (a point)", (tilted, [1.0, 1.0, 1.0], [1.0, 1.0, 1.0]))]
+    cases = [
+        Case("monotone, 3-D", (tilted, [0.0, 1.0, 2.0], [1.0, 2.0, 4.0])),
+        Case("difference", (difference, [0.0, 0.0], [1.0, 2.0])),
+        Case("a saddle", (saddle, [-1.0, -2.0], [2.0, 1.0])),
+        Case("x² across 0 (vertex misses the minimum)", (square, [-1.0], [2.0])),
+        Case("degenerate box (a point)", (tilted, [1.0, 1.0, 1.0], [1.0, 1.0, 1.0])),
+    ]
     for i, f in enumerate((saddle, difference, tilted)):
         n = 3 if f is tilted else 2
         lo = rng.uniform(-2, 1, n)
-        cases.append(Case(f"random {i + 1}", (f, [float(v) for v in lo],
-                                              [float(v) for v in lo + rng.uniform(0, 2, n)])))
+        cases.append(
+            Case(
+                f"random {i + 1}",
+                (f, [float(v) for v in lo], [float(v) for v in lo + rng.uniform(0, 2, n)]),
+            )
+        )
     return cases
 
 
 def _vertex_reference(f: Any, lo: list, hi: list) -> tuple[float, float]:
     with warnings.catch_warnings():  # the vertex method's warning is the point of case 4
         warnings.simplefilter("ignore")
-        a, b = cast(tuple[np.ndarray, np.ndarray],
-                    image((np.array(lo), np.array(hi)), _vectorised(f), method="vertex"))
+        a, b = cast(
+            tuple[np.ndarray, np.ndarray],
+            image((np.array(lo), np.array(hi)), _vectorised(f), method="vertex"),
+        )
     return float(a[0]), float(b[0])
 
 
@@ -467,9 +569,11 @@ coding_exercise(
     hint="A box in n dimensions has 2^n corners: every choice of lo or hi per coordinate "
     "(itertools.product). Evaluate f at each and take the smallest and largest value.",
     mistakes=(
-        (lambda f, lo, hi: tuple(sorted((f(list(lo)), f(list(hi))))),
-         "You evaluated f at two corners only, all-lower and all-upper: that is enough when "
-         "f increases in every coordinate, not when it decreases in one (Prop. 2)."),
+        (
+            lambda f, lo, hi: tuple(sorted((f(list(lo)), f(list(hi))))),
+            "You evaluated f at two corners only, all-lower and all-upper: that is enough when "
+            "f increases in every coordinate, not when it decreases in one (Prop. 2).",
+        ),
     ),
 )
 
@@ -478,29 +582,41 @@ def _product_cases() -> list[Case]:
     rng = seeded(72)
     x1 = [(0.0, 1.0, 0.6), (1.5, 3.0, 0.4)]
     x2 = [(0.0, 2.0, 0.7), (1.0, 4.0, 0.3)]
-    cases = [Case("the chapter's marginals", (x1, x2)),
-             Case("vacuous second marginal", (x1, [(-5.0, 5.0, 1.0)])),
-             Case("degenerate interval", ([(1.0, 1.0, 1.0)], x2))]
+    cases = [
+        Case("the chapter's marginals", (x1, x2)),
+        Case("vacuous second marginal", (x1, [(-5.0, 5.0, 1.0)])),
+        Case("degenerate interval", ([(1.0, 1.0, 1.0)], x2)),
+    ]
     for i in range(4):
-        rows = [[(float(a), float(a + 1), float(m)) for a, m in
-                 zip(rng.uniform(-2, 2, k), rng.dirichlet(np.ones(k)), strict=True)]
-                for k in (2, 3)]
+        rows = [
+            [
+                (float(a), float(a + 1), float(m))
+                for a, m in zip(rng.uniform(-2, 2, k), rng.dirichlet(np.ones(k)), strict=True)
+            ]
+            for k in (2, 3)
+        ]
         cases.append(Case(f"random {i + 1}", tuple(rows)))
     return cases
 
 
 def _product_reference(x1: list, x2: list) -> dict:
-    rel = cartesian_product([IntervalEvidence.from_pairs(x1, merge=False),
-                             IntervalEvidence.from_pairs(x2, merge=False)], merge=False)
-    return {((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1]))): float(m)
-            for lo, hi, m in zip(rel.boxes_lo, rel.boxes_hi, rel.mass, strict=True)}
+    rel = cartesian_product(
+        [
+            IntervalEvidence.from_pairs(x1, merge=False),
+            IntervalEvidence.from_pairs(x2, merge=False),
+        ],
+        merge=False,
+    )
+    return {
+        ((float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1]))): float(m)
+        for lo, hi, m in zip(rel.boxes_lo, rel.boxes_hi, rel.mass, strict=True)
+    }
 
 
 def _boxes(d: Any) -> dict:
     if not isinstance(d, dict):
         raise TypeError("return a dict {((lo1, hi1), (lo2, hi2)): mass}")
-    return {tuple(tuple(float(v) for v in side) for side in box): float(m)
-            for box, m in d.items()}
+    return {tuple(tuple(float(v) for v in side) for side in box): float(m) for box, m in d.items()}
 
 
 coding_exercise(
@@ -512,10 +628,13 @@ coding_exercise(
     arg_names=("x1", "x2"),
     hint="Every pair (C1, C2) of focal elements gives one box C1 × C2; independence makes "
     "its mass the product m1(C1)·m2(C2) (eq. 16).",
-    mistakes=((lambda x1, x2: {((a, b), (c, d)): (m + n) / 2 for a, b, m in x1
-                               for c, d, n in x2},
-               "You averaged the masses: for independent marginals the mass of a box is the "
-               "product m1(C1)·m2(C2), and the masses then add up to 1."),),
+    mistakes=(
+        (
+            lambda x1, x2: {((a, b), (c, d)): (m + n) / 2 for a, b, m in x1 for c, d, n in x2},
+            "You averaged the masses: for independent marginals the mass of a box is the "
+            "product m1(C1)·m2(C2), and the masses then add up to 1.",
+        ),
+    ),
 )
 
 # -- why bounded noise ------------------------------------------------------------------------
@@ -529,15 +648,21 @@ def _bounded_reference(box: Any, v: Any, w: Any, z: float) -> tuple[float, float
 
 def _bounded_cases() -> list[Case]:
     rng = seeded(81)
-    cases = [Case("the chapter's step", ((1.2, 2.0), (-0.3, 0.3), (-0.5, 0.5), 2.6)),
-             Case("bounds too tight: empty", ((1.2, 2.0), (-0.3, 0.3), (-0.2, 0.2), 2.6)),
-             Case("asymmetric w", ((0.0, 1.0), (-0.1, 0.1), (-0.5, 0.1), 0.8)),
-             Case("touching: a single point", ((0.0, 1.0), (0.0, 0.0), (0.0, 1.0), 1.0)),
-             Case("degenerate box", ((1.0, 1.0), (0.0, 0.0), (-1.0, 1.0), 1.5))]
+    cases = [
+        Case("the chapter's step", ((1.2, 2.0), (-0.3, 0.3), (-0.5, 0.5), 2.6)),
+        Case("bounds too tight: empty", ((1.2, 2.0), (-0.3, 0.3), (-0.2, 0.2), 2.6)),
+        Case("asymmetric w", ((0.0, 1.0), (-0.1, 0.1), (-0.5, 0.1), 0.8)),
+        Case("touching: a single point", ((0.0, 1.0), (0.0, 0.0), (0.0, 1.0), 1.0)),
+        Case("degenerate box", ((1.0, 1.0), (0.0, 0.0), (-1.0, 1.0), 1.5)),
+    ]
     for i in range(4):
         a = float(rng.uniform(-1, 1))
-        cases.append(Case(f"random {i + 1}", ((a, a + 1.0), (-0.2, 0.2), (-0.5, 0.3),
-                                              round(float(rng.uniform(-1, 2.5)), 3))))
+        cases.append(
+            Case(
+                f"random {i + 1}",
+                ((a, a + 1.0), (-0.2, 0.2), (-0.5, 0.3), round(float(rng.uniform(-1, 2.5)), 3)),
+            )
+        )
     return cases
 
 
@@ -550,12 +675,16 @@ coding_exercise(
     hint="x = z + w puts x in [z + w_lo, z + w_hi]; intersect that with the predicted "
     "[lo + v_lo, hi + v_hi], and raise ValueError when nothing is left.",
     mistakes=(
-        (lambda box, v, w, z: (min(box[0] + v[0], z + w[0]), max(box[1] + v[1], z + w[1])),
-         "You took the hull (union) of the prediction and the reading; the state must be "
-         "in both, so intersect."),
-        (lambda box, v, w, z: plain.bounded_step(box, (0.0, 0.0), w, z),
-         "You forgot the prediction: the state moves by v before the reading, so widen the "
-         "box by v first."),
+        (
+            lambda box, v, w, z: (min(box[0] + v[0], z + w[0]), max(box[1] + v[1], z + w[1])),
+            "You took the hull (union) of the prediction and the reading; the state must be "
+            "in both, so intersect.",
+        ),
+        (
+            lambda box, v, w, z: plain.bounded_step(box, (0.0, 0.0), w, z),
+            "You forgot the prediction: the state moves by v before the reading, so widen the "
+            "box by v first.",
+        ),
     ),
 )
 
@@ -564,34 +693,46 @@ coding_exercise(
 
 def _orders_cases() -> list[Case]:
     rng = seeded(91)
-    cases = [Case("9.6 m at 23.9 °C", (9.6, 23.9, (1000.0, 2500.0))),
-             Case("1.3 m at 27 °C", (1.3, 27.0, (1000.0, 2500.0))),
-             Case("a band narrower than f_F: no order", (0.5, 20.0, (1000.0, 1100.0))),
-             Case("band edge on a resonance", (343.42 / 200.0, 20.0, (1000.0, 1800.0)))]
+    cases = [
+        Case("9.6 m at 23.9 °C", (9.6, 23.9, (1000.0, 2500.0))),
+        Case("1.3 m at 27 °C", (1.3, 27.0, (1000.0, 2500.0))),
+        Case("a band narrower than f_F: no order", (0.5, 20.0, (1000.0, 1100.0))),
+        Case("band edge on a resonance", (343.42 / 200.0, 20.0, (1000.0, 1800.0))),
+    ]
     for i in range(4):
-        cases.append(Case(f"random {i + 1}", (round(float(rng.uniform(0.5, 10)), 3),
-                                              round(float(rng.uniform(0, 35)), 1),
-                                              (1000.0, 2400.0))))
+        cases.append(
+            Case(
+                f"random {i + 1}",
+                (
+                    round(float(rng.uniform(0.5, 10)), 3),
+                    round(float(rng.uniform(0, 35)), 1),
+                    (1000.0, 2400.0),
+                ),
+            )
+        )
     return cases
 
 
 coding_exercise(
     "gauge.orders-code",
-    reference=lambda length, temperature, band: [int(n) for n in resonance_orders(
-        length, float(speed_of_sound(temperature)), band)],
+    reference=lambda length, temperature, band: [
+        int(n) for n in resonance_orders(length, float(speed_of_sound(temperature)), band)
+    ],
     plain=plain.orders_in_band,
     cases=_orders_cases,
     arg_names=("length", "temperature", "band"),
     hint="f_F = c/(2L) with c = 331.3 + 0.606 T; the orders run from ⌈f_lo/f_F⌉ to "
     "⌊f_hi/f_F⌋, both ends included.",
     mistakes=(
-        (lambda length, temperature, band: plain.orders_in_band(length / 2, temperature,
-                                                                  band),
-         "Your f_F is c/L: the sound goes down the tube and back, so f_F = c/(2L)."),
-        (lambda length, temperature, band: plain.orders_in_band(length, temperature,
-                                                                  band)[1:-1],
-         "You left out the orders at the ends of the band: a resonance exactly on f_lo or "
-         "f_hi is in the band."),
+        (
+            lambda length, temperature, band: plain.orders_in_band(length / 2, temperature, band),
+            "Your f_F is c/L: the sound goes down the tube and back, so f_F = c/(2L).",
+        ),
+        (
+            lambda length, temperature, band: plain.orders_in_band(length, temperature, band)[1:-1],
+            "You left out the orders at the ends of the band: a resonance exactly on f_lo or "
+            "f_hi is in the band.",
+        ),
     ),
 )
 
@@ -599,11 +740,16 @@ coding_exercise(
 def _eq43_cases() -> list[Case]:
     rng = seeded(92)
     c = float(speed_of_sound(23.9))
-    cases = [Case("9.6 m: z1 = 57 f_F + 0.2, z2 = 58 f_F − 0.2",
-                  (57 * c / 19.2 + 0.2, 58 * c / 19.2 - 0.2, 23.9)),
-             Case("exact readings, 1.3 m at 27 °C", (9 * float(speed_of_sound(27.0)) / 2.6,
-                                                     10 * float(speed_of_sound(27.0)) / 2.6,
-                                                     27.0))]
+    cases = [
+        Case(
+            "9.6 m: z1 = 57 f_F + 0.2, z2 = 58 f_F − 0.2",
+            (57 * c / 19.2 + 0.2, 58 * c / 19.2 - 0.2, 23.9),
+        ),
+        Case(
+            "exact readings, 1.3 m at 27 °C",
+            (9 * float(speed_of_sound(27.0)) / 2.6, 10 * float(speed_of_sound(27.0)) / 2.6, 27.0),
+        ),
+    ]
     for i in range(4):
         length, n = float(rng.uniform(1, 10)), int(rng.integers(5, 60))
         f_f = c / (2 * length)
@@ -625,12 +771,18 @@ coding_exercise(
     hint="Neighbouring resonances are f_F apart, so z1/(z2 − z1) ≈ n1 (eq. 43); round it, "
     "then L = n1·c/(2 z1) (eq. 32).",
     mistakes=(
-        (lambda z1, z2, temperature: (lambda n, length: (n, 2 * length))(
-            *plain.level_from_two_readings(z1, z2, temperature)),
-         "Your level is twice too long: eq. 32 divides by 2 z1 (down and back)."),
-        (lambda z1, z2, temperature: plain.level_from_two_readings(z2, z2 + (z2 - z1),
-                                                                   temperature),
-         "You found the order of z2, not of z1: z2/(z2 − z1) is n1 + 1."),
+        (
+            lambda z1, z2, temperature: (lambda n, length: (n, 2 * length))(
+                *plain.level_from_two_readings(z1, z2, temperature)
+            ),
+            "Your level is twice too long: eq. 32 divides by 2 z1 (down and back).",
+        ),
+        (
+            lambda z1, z2, temperature: plain.level_from_two_readings(
+                z2, z2 + (z2 - z1), temperature
+            ),
+            "You found the order of z2, not of z1: z2/(z2 − z1) is n1 + 1.",
+        ),
     ),
 )
 
@@ -639,9 +791,11 @@ coding_exercise(
 
 def _sigma_cases() -> list[Case]:
     rng = seeded(101)
-    cases = [Case("the paper's w", (-10.59, -6.9, -3.21)),
-             Case("symmetric", (-0.3, 0.0, 0.3)),
-             Case("one-sided (mode = lower)", (0.0, 0.0, 1.0))]
+    cases = [
+        Case("the paper's w", (-10.59, -6.9, -3.21)),
+        Case("symmetric", (-0.3, 0.0, 0.3)),
+        Case("one-sided (mode = lower)", (0.0, 0.0, 1.0)),
+    ]
     for i in range(4):
         a, c, b = np.sort(rng.uniform(-3, 3, 3))
         cases.append(Case(f"random {i + 1}", (float(a), float(c), float(b))))
@@ -656,11 +810,15 @@ coding_exercise(
     arg_names=("a", "c", "b"),
     hint="Var = (a² + b² + c² − ab − ac − bc)/18 for the triangle; σ is its square root.",
     mistakes=(
-        (lambda a, c, b: (b - a) / 6.0,
-         "(b − a)/6 is the σ of the measured errors from which the bounds were made (±3σ); "
-         "the triangle on those bounds has a smaller σ."),
-        (lambda a, c, b: plain.triangle_sigma(a, c, b) ** 2,
-         "That is the variance; σ is its square root."),
+        (
+            lambda a, c, b: (b - a) / 6.0,
+            "(b − a)/6 is the σ of the measured errors from which the bounds were made (±3σ); "
+            "the triangle on those bounds has a smaller σ.",
+        ),
+        (
+            lambda a, c, b: plain.triangle_sigma(a, c, b) ** 2,
+            "That is the variance; σ is its square root.",
+        ),
     ),
 )
 
@@ -692,69 +850,107 @@ def shrink(x: Any) -> Any:
     return 0.5 * x + 1.0
 
 
-def noise_rows(a: float, c: float, b: float, p: int, epsilon: float,
-               theta: tuple[float, float] | None = None) -> list[tuple[float, float, float]]:
+def noise_rows(
+    a: float, c: float, b: float, p: int, epsilon: float, theta: tuple[float, float] | None = None
+) -> list[tuple[float, float, float]]:
     """E_v or E_w of Step 1 as rows (lo, hi, mass), computed with dstoolkit."""
     return _rows(triangular_evidence(a, c, b, p, epsilon, theta))
 
 
 #: The hand example of the chapter: x̂_k, z_{k+1}, f, g and p = 1 noise evidence.
-HAND_STEP = (HAND_XHAT, HAND_Z, same_value, same_value, same_value,
-             noise_rows(-0.5, 0.0, 0.5, 1, HAND_EPSILON, (-2.0, 2.0)),
-             noise_rows(-0.5, 0.0, 0.5, 1, HAND_EPSILON, (-2.0, 2.0)))
+HAND_STEP = (
+    HAND_XHAT,
+    HAND_Z,
+    same_value,
+    same_value,
+    same_value,
+    noise_rows(-0.5, 0.0, 0.5, 1, HAND_EPSILON, (-2.0, 2.0)),
+    noise_rows(-0.5, 0.0, 0.5, 1, HAND_EPSILON, (-2.0, 2.0)),
+)
 
 
 def _filter_cases() -> list[Case]:
-    """Numbers exact in binary (multiples of 1/8, p = 1, 2 or 4): boxes that are equal on
-    paper are equal in floating point, so the common focal elements of Step 6 are found."""
+    """Numbers exact in binary (multiples of 1/8, p = 1, 2 or 4).
+
+    Boxes that are equal on paper are equal in floating point, so the common focal elements of Step
+    6 are found.
+    """
     rng = seeded(111)
     v4 = noise_rows(-0.5, 0.0, 0.5, 4, 0.05, (-8.0, 8.0))
     w4 = noise_rows(-1.0, -0.5, 0.0, 4, 0.05, (-16.0, 16.0))
     v2, w2 = noise_rows(-0.5, 0, 0.5, 2, 0.0), noise_rows(-0.25, 0, 0.25, 2, 0.0)
-    cases = [Case("the chapter's hand example (p = 1)", HAND_STEP),
-             Case("p = 4, random walk", (2.0, 2.375, same_value, same_value, same_value,
-                                         v4, w4)),
-             Case("drift, g = 2x", (1.0, 3.5, drift, double, half, v4, w4)),
-             Case("ε = 0, consistent reading", (0.0, 0.125, same_value, same_value,
-                                                same_value, v2, w2)),
-             Case("total conflict (ε = 0, reading far off)",
-                  (0.0, 5.0, same_value, same_value, same_value, v2, w2))]
+    cases = [
+        Case("the chapter's hand example (p = 1)", HAND_STEP),
+        Case("p = 4, random walk", (2.0, 2.375, same_value, same_value, same_value, v4, w4)),
+        Case("drift, g = 2x", (1.0, 3.5, drift, double, half, v4, w4)),
+        Case("ε = 0, consistent reading", (0.0, 0.125, same_value, same_value, same_value, v2, w2)),
+        Case(
+            "total conflict (ε = 0, reading far off)",
+            (0.0, 5.0, same_value, same_value, same_value, v2, w2),
+        ),
+    ]
     for i in range(3):
         x = float(rng.integers(-16, 16)) / 8
         z = float(shrink(x)) + float(rng.integers(-8, 8)) / 8
-        cases.append(Case(f"random {i + 1}", (x, z, shrink, same_value, same_value,
-                                              noise_rows(-0.5, 0.0, 0.5, 2, 0.1, (-8, 8)),
-                                              noise_rows(-0.5, 0.0, 0.5, 4, 0.05, (-8, 8)))))
+        cases.append(
+            Case(
+                f"random {i + 1}",
+                (
+                    x,
+                    z,
+                    shrink,
+                    same_value,
+                    same_value,
+                    noise_rows(-0.5, 0.0, 0.5, 2, 0.1, (-8, 8)),
+                    noise_rows(-0.5, 0.0, 0.5, 4, 0.05, (-8, 8)),
+                ),
+            )
+        )
     return cases
 
 
-def filter_record(xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list,
-                  w_rows: list) -> Any:
-    """Every evidence of one step of dstoolkit's filter from x̂ with reading z: the
-    :class:`~dstoolkit.filters.DependentRecord` of step 2, by the public
-    ``initialize``/``step`` with the noise evidence of the rows."""
+def filter_record(
+    xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list, w_rows: list
+) -> Any:
+    """Every evidence of one step of dstoolkit's filter from x̂ with reading z.
+
+    The :class:`~dstoolkit.filters.DependentRecord` of step 2, by the public ``initialize``/``step``
+    with the noise evidence of the rows.
+    """
     import dataclasses
 
     from dstoolkit.evidence import Boxes
     from dstoolkit.filters import DependentEvidenceFilter, NoiseEvidence, StateSpaceModel
 
     model = StateSpaceModel(
-        f=lambda x, u: f(x), g=g, state_noise=BoundedNoise(-1.0, 0.0, 1.0),
-        obs_noise=BoundedNoise(-1.0, 0.0, 1.0), f_monotone=(1, 1), g_monotone=(1,),
-        g_inverse=lambda lo, hi, x_lo, x_hi: (np.maximum(x_lo, g_inv(lo)),
-                                              np.minimum(x_hi, g_inv(hi))))
+        f=lambda x, u: f(x),
+        g=g,
+        state_noise=BoundedNoise(-1.0, 0.0, 1.0),
+        obs_noise=BoundedNoise(-1.0, 0.0, 1.0),
+        f_monotone=(1, 1),
+        g_monotone=(1,),
+        g_inverse=lambda lo, hi, x_lo, x_hi: (
+            np.maximum(x_lo, g_inv(lo)),
+            np.minimum(x_hi, g_inv(hi)),
+        ),
+    )
     ev = IntervalEvidence.from_pairs(v_rows, merge=False)
     ew = IntervalEvidence.from_pairs(w_rows, merge=False)
-    noise = NoiseEvidence(ev, ew, Boxes(ev.boxes_lo[None], ev.boxes_hi[None], ev.mass[None]),
-                          Boxes(ew.boxes_lo[None], ew.boxes_hi[None], ew.mass[None]),
-                          np.multiply.outer(ev.mass, ev.mass).reshape(1, -1))
+    noise = NoiseEvidence(
+        ev,
+        ew,
+        Boxes(ev.boxes_lo[None], ev.boxes_hi[None], ev.mass[None]),
+        Boxes(ew.boxes_lo[None], ew.boxes_hi[None], ew.mass[None]),
+        np.multiply.outer(ev.mass, ev.mass).reshape(1, -1),
+    )
     flt = DependentEvidenceFilter(start=[xhat])
     state = dataclasses.replace(flt.initialize(model, z), noise=noise)
     return flt.step(state, z)[1]
 
 
-def _filter_reference(xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list,
-                      w_rows: list) -> tuple[list, float]:
+def _filter_reference(
+    xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list, w_rows: list
+) -> tuple[list, float]:
     step = filter_record(xhat, z, f, g, g_inv, v_rows, w_rows)
     return _rows(step.final), float(step.estimate[0])
 
@@ -764,9 +960,10 @@ def _filter_outcome(result: Any) -> list:
     return [sorted_rows(rows), float(estimate)]
 
 
-def _plain_dempster_step6(xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list,
-                          w_rows: list) -> tuple[list, float]:
-    """The step with plain Dempster in Step 6 (no decorrelation): the classic mistake."""
+def _plain_dempster_step6(
+    xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list, w_rows: list
+) -> tuple[list, float]:
+    """Return the step with plain Dempster in Step 6 (no decorrelation): the classic mistake."""
     pred: dict = {}
     for vl, vh, mv in v_rows:
         for ul, uh, mu in v_rows:
@@ -809,13 +1006,18 @@ coding_exercise(
     "Step 4 meets g(P) with z + W_j (eq. 1); Step 5 maps back within P; Step 6 discounts the "
     "mapped-back evidence and the prediction by R12, R21 (Θ = hull of each) and combines.",
     mistakes=(
-        (lambda xhat, z, f, g, g_inv, v_rows, w_rows: plain.filter_step(
-            xhat, z, lambda x: f(xhat), g, g_inv, v_rows, w_rows),
-         "Your prediction adds the noise once, f(x̂) + V; the paper's Step 2 maps the state "
-         "evidence x̂ + V through f and then adds V again (the noise enters twice)."),
-        (_plain_dempster_step6,
-         "Step 6 needs the decorrelation: the mapped-back evidence and the prediction share "
-         "focal elements, so discount each by its dependency coefficient before Dempster's "
-         "rule (eqs. A7–A8)."),
+        (
+            lambda xhat, z, f, g, g_inv, v_rows, w_rows: plain.filter_step(
+                xhat, z, lambda x: f(xhat), g, g_inv, v_rows, w_rows
+            ),
+            "Your prediction adds the noise once, f(x̂) + V; the paper's Step 2 maps the state "
+            "evidence x̂ + V through f and then adds V again (the noise enters twice).",
+        ),
+        (
+            _plain_dempster_step6,
+            "Step 6 needs the decorrelation: the mapped-back evidence and the prediction share "
+            "focal elements, so discount each by its dependency coefficient before Dempster's "
+            "rule (eqs. A7–A8).",
+        ),
     ),
 )

@@ -1,5 +1,7 @@
-"""Checked exercises of the gauge chapters: the level gauge, the lab, estimating the
-level, beyond the paper."""
+"""Checked exercises of the gauge chapters.
+
+The level gauge, the lab, estimating the level, beyond the paper.
+"""
 
 from __future__ import annotations
 
@@ -46,7 +48,7 @@ def _fundamental(case: tuple[float, float]) -> float:
 
 
 def eq43_readings() -> np.ndarray:
-    """The two readings of the eq. 43 exercise.
+    """Return the two readings of the eq. 43 exercise.
 
     Returns
     -------
@@ -62,69 +64,112 @@ def eq43_readings() -> np.ndarray:
     return np.array(EQ43_ORDERS) * _fundamental(LONG_CASE) + np.array(EQ43_ERRORS)
 
 
-@exercise("gauge.speed", hint="The paper's law: c = 331.3 + 0.606 T, T in °C.",
-          mistakes=((lambda: 331.3, "That is c at 0 °C; add 0.606 m/s per °C."),))
+@exercise(
+    "gauge.speed",
+    hint="The paper's law: c = 331.3 + 0.606 T, T in °C.",
+    mistakes=((lambda: 331.3, "That is c at 0 °C; add 0.606 m/s per °C."),),
+)
 def _() -> float:
     return _c(GAUGE_CASE)
 
 
-@exercise("gauge.fundamental", hint="f_F = c/(2L), c at 23.9 °C by the paper's law.",
-          mistakes=((lambda: _c(LONG_CASE) / LONG_CASE[0],
-                     "That is c/L: the echo travels down and back, 2L."),))
+@exercise(
+    "gauge.fundamental",
+    hint="f_F = c/(2L), c at 23.9 °C by the paper's law.",
+    mistakes=(
+        (lambda: _c(LONG_CASE) / LONG_CASE[0], "That is c/L: the echo travels down and back, 2L."),
+    ),
+)
 def _() -> float:
     return _fundamental(LONG_CASE)
 
 
-@exercise("gauge.count", atol=0.0, rtol=0.0,
-          hint="Count the whole numbers n with 1000 ≤ n f_F ≤ 2500: from ⌈1000/f_F⌉ to "
-          "⌊2500/f_F⌋.",
-          mistakes=((lambda: 82, "That is the paper's count (n = 56..137, with f_F rounded to "
-                     "18 Hz); check whether 138 f_F is still below 2500 Hz."),))
+@exercise(
+    "gauge.count",
+    atol=0.0,
+    rtol=0.0,
+    hint="Count the whole numbers n with 1000 ≤ n f_F ≤ 2500: from ⌈1000/f_F⌉ to ⌊2500/f_F⌋.",
+    mistakes=(
+        (
+            lambda: 82,
+            "That is the paper's count (n = 56..137, with f_F rounded to "
+            "18 Hz); check whether 138 f_F is still below 2500 Hz.",
+        ),
+    ),
+)
 def _() -> int:
     return int(resonance_orders(LONG_CASE[0], _c(LONG_CASE), GAUGE_BAND).size)
 
 
-@exercise("gauge.offset", atol=5e-3,
-          hint="The envelope peaks k L/c above n c/(2L); the latency adds k τ.",
-          mistakes=((lambda: SWEEP_RATE * 2 * GAUGE_CASE[0] / _c(GAUGE_CASE)
-                     + SWEEP_RATE * GAUGE_LATENCY,
-                     "You used k·2L/c: the peak sits where the *mean* frequency of wave and "
-                     "echo is n c/(2L), half a delay back: k L/c."),
-                    (lambda: float(sweep_rate_offset(SWEEP_RATE, _fundamental(GAUGE_CASE))),
-                     "That is the sweep's offset k L/c alone; the latency adds k τ.")))
+@exercise(
+    "gauge.offset",
+    atol=5e-3,
+    hint="The envelope peaks k L/c above n c/(2L); the latency adds k τ.",
+    mistakes=(
+        (
+            lambda: SWEEP_RATE * 2 * GAUGE_CASE[0] / _c(GAUGE_CASE) + SWEEP_RATE * GAUGE_LATENCY,
+            "You used k·2L/c: the peak sits where the *mean* frequency of wave and "
+            "echo is n c/(2L), half a delay back: k L/c.",
+        ),
+        (
+            lambda: float(sweep_rate_offset(SWEEP_RATE, _fundamental(GAUGE_CASE))),
+            "That is the sweep's offset k L/c alone; the latency adds k τ.",
+        ),
+    ),
+)
 def _() -> float:
-    return (float(sweep_rate_offset(SWEEP_RATE, _fundamental(GAUGE_CASE)))
-            + latency_offset(SWEEP_RATE, GAUGE_LATENCY))
+    return float(sweep_rate_offset(SWEEP_RATE, _fundamental(GAUGE_CASE))) + latency_offset(
+        SWEEP_RATE, GAUGE_LATENCY
+    )
 
 
-@exercise("gauge.eq43", atol=5e-3,
-          hint="n_1 = round(z_1/(z_2 − z_1)) (eq. 43), then L = n_1 c/(2 z_1) (eq. 32). "
-          "Answer (n_1, L).",
-          mistakes=((lambda: (EQ43_ORDERS[0], LONG_CASE[0]),
-                     "That is the true order and level; eq. 43 only sees the two readings: "
-                     "compute z_1/(z_2 − z_1)."),))
+@exercise(
+    "gauge.eq43",
+    atol=5e-3,
+    hint="n_1 = round(z_1/(z_2 − z_1)) (eq. 43), then L = n_1 c/(2 z_1) (eq. 32). Answer (n_1, L).",
+    mistakes=(
+        (
+            lambda: (EQ43_ORDERS[0], LONG_CASE[0]),
+            "That is the true order and level; eq. 43 only sees the two readings: "
+            "compute z_1/(z_2 − z_1).",
+        ),
+    ),
+)
 def _() -> tuple[int, float]:
     z = eq43_readings()
     n = int(orders_eq43(z)[0])
     return n, float(level_from_resonance(z[0], n, _c(LONG_CASE)))
 
 
-@exercise("gauge.tolerance", atol=2e-3,
-          hint="n = z/(f_F + δ) ≈ (z/f_F)(1 − δ/f_F) rounds to the right order while "
-          "(z/f_F)·|δ|/f_F < 1/2.",
-          mistakes=((lambda: 0.5 * _fundamental(LONG_CASE),
-                     "f_F/2 is how far one reading may wander before it is matched to the "
-                     "wrong resonance; eq. 43 divides by a difference, which must be far "
-                     "more precise."),))
+@exercise(
+    "gauge.tolerance",
+    atol=2e-3,
+    hint="n = z/(f_F + δ) ≈ (z/f_F)(1 − δ/f_F) rounds to the right order while "
+    "(z/f_F)·|δ|/f_F < 1/2.",
+    mistakes=(
+        (
+            lambda: 0.5 * _fundamental(LONG_CASE),
+            "f_F/2 is how far one reading may wander before it is matched to the "
+            "wrong resonance; eq. 43 divides by a difference, which must be far "
+            "more precise.",
+        ),
+    ),
+)
 def _() -> float:
     return _fundamental(LONG_CASE) ** 2 / (2.0 * EQ43_TOLERANCE_AT)
 
 
-@exercise("gauge.thermometer", atol=2e-4,
-          hint="L = c/(2 f_F): a relative error of c is the same relative error of L.",
-          mistakes=((lambda: -LONG_CASE[0] * 0.606 * THERMOMETER_ERROR / _c(LONG_CASE),
-                     "Check the sign: a thermometer that reads high makes c, and so L, "
-                     "too large."),))
+@exercise(
+    "gauge.thermometer",
+    atol=2e-4,
+    hint="L = c/(2 f_F): a relative error of c is the same relative error of L.",
+    mistakes=(
+        (
+            lambda: -LONG_CASE[0] * 0.606 * THERMOMETER_ERROR / _c(LONG_CASE),
+            "Check the sign: a thermometer that reads high makes c, and so L, too large.",
+        ),
+    ),
+)
 def _() -> float:
     c_read = float(speed_of_sound(LONG_CASE[1] + THERMOMETER_ERROR))
     return LONG_CASE[0] * (c_read - _c(LONG_CASE)) / _c(LONG_CASE)
@@ -150,53 +195,92 @@ def _lab_c() -> float:
     return float(speed_of_sound(LAB_TEMPERATURE))
 
 
-@exercise("lab.latency-offset", atol=5e-3,
-          hint="τ = lag / f_s (in ms: × 1000); every reading moves by k τ with k = 280 Hz/s "
-          "and τ in seconds. Answer (τ in ms, k τ in Hz).",
-          mistakes=((lambda: (LAB_LAG_SAMPLES / LAB_SAMPLERATE,
-                              SWEEP_RATE * LAB_LAG_SAMPLES / LAB_SAMPLERATE),
-                     "Give τ in milliseconds (the offset k τ is right)."),))
+@exercise(
+    "lab.latency-offset",
+    atol=5e-3,
+    hint="τ = lag / f_s (in ms: × 1000); every reading moves by k τ with k = 280 Hz/s "
+    "and τ in seconds. Answer (τ in ms, k τ in Hz).",
+    mistakes=(
+        (
+            lambda: (
+                LAB_LAG_SAMPLES / LAB_SAMPLERATE,
+                SWEEP_RATE * LAB_LAG_SAMPLES / LAB_SAMPLERATE,
+            ),
+            "Give τ in milliseconds (the offset k τ is right).",
+        ),
+    ),
+)
 def _() -> tuple[float, float]:
     tau = LAB_LAG_SAMPLES / LAB_SAMPLERATE
     return 1e3 * tau, latency_offset(SWEEP_RATE, tau)
 
 
-@exercise("lab.shortest-tube",
-          hint="Five spacings fit in the band when 5 f_F ≤ f_stop − f_start; then L = c/(2 f_F).",
-          mistakes=((lambda: LAB_MIN_RESONANCES * _lab_c() / (LAB_BAND[1] - LAB_BAND[0]),
-                     "That is c/f_F: the sound goes down and back, L = c/(2 f_F)."),))
+@exercise(
+    "lab.shortest-tube",
+    hint="Five spacings fit in the band when 5 f_F ≤ f_stop − f_start; then L = c/(2 f_F).",
+    mistakes=(
+        (
+            lambda: LAB_MIN_RESONANCES * _lab_c() / (LAB_BAND[1] - LAB_BAND[0]),
+            "That is c/f_F: the sound goes down and back, L = c/(2 f_F).",
+        ),
+    ),
+)
 def _() -> float:
     f_f = (LAB_BAND[1] - LAB_BAND[0]) / LAB_MIN_RESONANCES
     return _lab_c() / (2.0 * f_f)
 
 
-@exercise("lab.cutoff", hint="The first cross mode of a round tube starts at 1.8412 c/(π d).",
-          mistakes=((lambda: 1.8412 * _lab_c() / (np.pi * 2 * LAB_CUTOFF_DIAMETER),
-                     "1.8412 c/(π d) takes the diameter d, not twice it."),
-                    (lambda: 1.8412 * _lab_c() / (np.pi * 0.075),
-                     "That is the cutoff of the paper's 75 mm tube; this pipe is narrower.")))
+@exercise(
+    "lab.cutoff",
+    hint="The first cross mode of a round tube starts at 1.8412 c/(π d).",
+    mistakes=(
+        (
+            lambda: 1.8412 * _lab_c() / (np.pi * 2 * LAB_CUTOFF_DIAMETER),
+            "1.8412 c/(π d) takes the diameter d, not twice it.",
+        ),
+        (
+            lambda: 1.8412 * _lab_c() / (np.pi * 0.075),
+            "That is the cutoff of the paper's 75 mm tube; this pipe is narrower.",
+        ),
+    ),
+)
 def _() -> float:
     from dstoolkit.gauge import plane_wave_cutoff
 
     return plane_wave_cutoff(LAB_CUTOFF_DIAMETER, _lab_c())
 
 
-@exercise("lab.thermometer-tolerance",
-          hint="δL = L · 0.606 δT / c (c = 331.3 + 0.606 T): solve for δT.",
-          mistakes=((lambda: LAB_TOLERANCE_CASE[1] * _lab_c() / LAB_TOLERANCE_CASE[0],
-                     "c changes by 0.606 m/s per °C, not by 1: divide by 0.606 too."),))
+@exercise(
+    "lab.thermometer-tolerance",
+    hint="δL = L · 0.606 δT / c (c = 331.3 + 0.606 T): solve for δT.",
+    mistakes=(
+        (
+            lambda: LAB_TOLERANCE_CASE[1] * _lab_c() / LAB_TOLERANCE_CASE[0],
+            "c changes by 0.606 m/s per °C, not by 1: divide by 0.606 too.",
+        ),
+    ),
+)
 def _() -> float:
     level, tolerance = LAB_TOLERANCE_CASE
     c_per_degree = float(speed_of_sound(LAB_TEMPERATURE + 1.0)) - _lab_c()
     return tolerance * _lab_c() / (c_per_degree * level)
 
 
-@exercise("lab.uncertainty", hint="Independent parts of an uncertainty add in quadrature: "
-          "the square root of the sum of their squares.",
-          mistakes=((lambda: float(sum(LAB_UNCERTAINTIES_MM)),
-                     "That is their plain sum: independent parts add in quadrature."),
-                    (lambda: float(max(LAB_UNCERTAINTIES_MM)),
-                     "That is only the largest part; the others add to it, in quadrature.")))
+@exercise(
+    "lab.uncertainty",
+    hint="Independent parts of an uncertainty add in quadrature: "
+    "the square root of the sum of their squares.",
+    mistakes=(
+        (
+            lambda: float(sum(LAB_UNCERTAINTIES_MM)),
+            "That is their plain sum: independent parts add in quadrature.",
+        ),
+        (
+            lambda: float(max(LAB_UNCERTAINTIES_MM)),
+            "That is only the largest part; the others add to it, in quadrature.",
+        ),
+    ),
+)
 def _() -> float:
     return float(np.sqrt(np.sum(np.square(LAB_UNCERTAINTIES_MM))))
 
@@ -218,28 +302,45 @@ def _level_of_reading(z: float, n: int, case: tuple[float, float]) -> float:
     return float(level_from_resonance(z, n, _c(case)))
 
 
-@exercise("estimating.first-level", atol=5e-4,
-          hint="Eq. 32: L = n c/(2 z) with c = 331.3 + 0.606 T at 26.5 °C.",
-          mistakes=((lambda: 2 * _level_of_reading(PAPER_Z1, PAPER_N1, FIG10_CASE),
-                     "The echo travels down and back: divide by 2 z, not z."),))
+@exercise(
+    "estimating.first-level",
+    atol=5e-4,
+    hint="Eq. 32: L = n c/(2 z) with c = 331.3 + 0.606 T at 26.5 °C.",
+    mistakes=(
+        (
+            lambda: 2 * _level_of_reading(PAPER_Z1, PAPER_N1, FIG10_CASE),
+            "The echo travels down and back: divide by 2 z, not z.",
+        ),
+    ),
+)
 def _() -> float:
     return _level_of_reading(PAPER_Z1, PAPER_N1, FIG10_CASE)
 
 
-@exercise("estimating.bias", atol=2e-4,
-          hint="The 27th resonance is at 27 c/(2L); the reading is 6.9 Hz above it. Put the "
-          "reading and the true order into eq. 32 and subtract 4.6 m.",
-          mistakes=((lambda: -float(_bias_error()),
-                     "Check the sign: a reading that is too high gives a level that is too "
-                     "short."),))
+@exercise(
+    "estimating.bias",
+    atol=2e-4,
+    hint="The 27th resonance is at 27 c/(2L); the reading is 6.9 Hz above it. Put the "
+    "reading and the true order into eq. 32 and subtract 4.6 m.",
+    mistakes=(
+        (
+            lambda: -float(_bias_error()),
+            "Check the sign: a reading that is too high gives a level that is too short.",
+        ),
+    ),
+)
 def _bias_error() -> float:
     f = PAPER_N1 * _fundamental(FIG10_CASE)
     return _level_of_reading(f + READING_BIAS, PAPER_N1, FIG10_CASE) - FIG10_CASE[0]
 
 
-@exercise("estimating.outlier-orders", rtol=1e-2, atol=0.0,
-          hint="A unit error of n_k costs L/n_k in eq. 32. Average L/n over the orders of "
-          "the resonances in [1000, 2500] Hz at 1.3 m and 27 °C, and divide 0.238 m by it.")
+@exercise(
+    "estimating.outlier-orders",
+    rtol=1e-2,
+    atol=0.0,
+    hint="A unit error of n_k costs L/n_k in eq. 32. Average L/n over the orders of "
+    "the resonances in [1000, 2500] Hz at 1.3 m and 27 °C, and divide 0.238 m by it.",
+)
 def _() -> float:
     case = (1.3, 27.0)
     orders = resonance_orders(case[0], _c(case), GAUGE_BAND)
@@ -247,24 +348,39 @@ def _() -> float:
 
 
 def improvement_table() -> Any:
-    """The Table 3 row of the improvement exercise: 4.6 m, true orders, the paper's filter
-    and direct measurement, IMPROVEMENT_RUNS runs from seed IMPROVEMENT_SEED."""
+    """Return the Table 3 row of the improvement exercise.
+
+    4.6 m, true orders, the paper's filter and direct measurement, IMPROVEMENT_RUNS runs from seed
+    IMPROVEMENT_SEED.
+    """
     from dstoolkit.studies import run_table3
 
-    return run_table3(runs=IMPROVEMENT_RUNS, seed=IMPROVEMENT_SEED, cases=[FIG10_CASE],
-                      methods=("dependent_evidence", "direct"), order_rule="true",
-                      progress=False)
+    return run_table3(
+        runs=IMPROVEMENT_RUNS,
+        seed=IMPROVEMENT_SEED,
+        cases=[FIG10_CASE],
+        methods=("dependent_evidence", "direct"),
+        order_rule="true",
+        progress=False,
+    )
 
 
-@exercise("estimating.improvement", rtol=1e-6, atol=0.0,
-          hint="Divide the direct measurement's mean level error by the paper's filter's, "
-          "both from table.error(4.6, method).",
-          mistakes=((lambda: 1.0 / float(_improvement()),
-                     "That is the inverse: direct ÷ paper's filter is larger than 1."),))
+@exercise(
+    "estimating.improvement",
+    rtol=1e-6,
+    atol=0.0,
+    hint="Divide the direct measurement's mean level error by the paper's filter's, "
+    "both from table.error(4.6, method).",
+    mistakes=(
+        (
+            lambda: 1.0 / float(_improvement()),
+            "That is the inverse: direct ÷ paper's filter is larger than 1.",
+        ),
+    ),
+)
 def _improvement() -> float:
     table = improvement_table()
-    return table.error(FIG10_CASE[0], "direct") / table.error(FIG10_CASE[0],
-                                                              "dependent_evidence")
+    return table.error(FIG10_CASE[0], "direct") / table.error(FIG10_CASE[0], "dependent_evidence")
 
 
 # -- beyond the paper (book/beyond_the_paper.md, notebooks/10_beyond_the_paper.ipynb) -----------
@@ -274,26 +390,41 @@ FAILURE_SCALE, FAILURE_RUNS, FAILURE_SEED = 0.75, 20, 0
 
 
 def _paper_w() -> Any:
-    """The paper's observation noise w (Table 2) as the filters take it."""
+    """Return the paper's observation noise w (Table 2) as the filters take it."""
     from dstoolkit.gauge import GAUGE_OBS_NOISE
 
     return GAUGE_OBS_NOISE
 
 
-@exercise("beyond.start-error", atol=1e-3,
-          hint="z_1 = x_1 − w_1, so x̂_1 − x_1 = −w_1; take its expectation. The mean of a "
-          "triangular density is (a + b + c)/3.",
-          mistakes=((lambda: float(_paper_w().mean[0]),
-                     "Check the sign: z = x − w, and w is negative, so the reading is high."),))
+@exercise(
+    "beyond.start-error",
+    atol=1e-3,
+    hint="z_1 = x_1 − w_1, so x̂_1 − x_1 = −w_1; take its expectation. The mean of a "
+    "triangular density is (a + b + c)/3.",
+    mistakes=(
+        (
+            lambda: float(_paper_w().mean[0]),
+            "Check the sign: z = x − w, and w is negative, so the reading is high.",
+        ),
+    ),
+)
 def _() -> float:
     return -float(_paper_w().mean[0])
 
 
-@exercise("beyond.kalman-sigma", atol=1e-3,
-          hint="Var = (a² + b² + c² − ab − ac − bc)/18 for the triangle with support [a, b] "
-          "and mode c; take its square root.",
-          mistakes=((lambda: 1.23, "That is the σ of the measured errors from which the paper "
-                     "made the bounds (±3σ); the triangle on those bounds has another σ."),))
+@exercise(
+    "beyond.kalman-sigma",
+    atol=1e-3,
+    hint="Var = (a² + b² + c² − ab − ac − bc)/18 for the triangle with support [a, b] "
+    "and mode c; take its square root.",
+    mistakes=(
+        (
+            lambda: 1.23,
+            "That is the σ of the measured errors from which the paper "
+            "made the bounds (±3σ); the triangle on those bounds has another σ.",
+        ),
+    ),
+)
 def _() -> float:
     return float(np.sqrt(_paper_w().variance[0]))
 
@@ -306,38 +437,59 @@ def _example_sizes(p: int) -> tuple[int, int]:
     return len(noise.state), len(noise.observation)
 
 
-@exercise("beyond.products", atol=0.0, rtol=0.0,
-          hint="Count per step: state boxes |E_v|, predicted boxes |E_v|·|E_v|, Step 4 "
-          "products predicted × |E_w|, Step 6 products (Step 4's) × (predicted).",
-          mistakes=((lambda: 1024, "That is the count for a scalar state (4 × 4 × 4 × 16): "
-                     "in two dimensions every evidence has 4 × 4 = 16 boxes."),))
+@exercise(
+    "beyond.products",
+    atol=0.0,
+    rtol=0.0,
+    hint="Count per step: state boxes |E_v|, predicted boxes |E_v|·|E_v|, Step 4 "
+    "products predicted × |E_w|, Step 6 products (Step 4's) × (predicted).",
+    mistakes=(
+        (
+            lambda: 1024,
+            "That is the count for a scalar state (4 × 4 × 4 × 16): "
+            "in two dimensions every evidence has 4 × 4 = 16 boxes.",
+        ),
+    ),
+)
 def _() -> int:
     n_v, n_w = _example_sizes(3)
     predicted = n_v * n_v
     return predicted * n_w * predicted
 
 
-@exercise("beyond.failures", atol=1e-9,
-          hint="Build the model with the scaled bounds (scaled_noise), run "
-          "BoundedErrorFilter(on_inconsistent='raise') on each run, count the runs that raise "
-          "InconsistentDataError and divide by the number of runs.")
+@exercise(
+    "beyond.failures",
+    atol=1e-9,
+    hint="Build the model with the scaled bounds (scaled_noise), run "
+    "BoundedErrorFilter(on_inconsistent='raise') on each run, count the runs that raise "
+    "InconsistentDataError and divide by the number of runs.",
+)
 def _() -> float:
     from dstoolkit.gauge import gauge_state_space_model
     from dstoolkit.studies import bounded_error_failures, scaled_noise, tracking_data
 
     data = tracking_data(*FIG10_CASE, runs=FAILURE_RUNS, seed=FAILURE_SEED)
-    model = gauge_state_space_model(scaled_noise(data.state_noise, FAILURE_SCALE),
-                                    scaled_noise(data.obs_noise, FAILURE_SCALE))
+    model = gauge_state_space_model(
+        scaled_noise(data.state_noise, FAILURE_SCALE), scaled_noise(data.obs_noise, FAILURE_SCALE)
+    )
     return bounded_error_failures(model, data)[0]
 
 
-@exercise("beyond.offset-ratio", atol=2e-3,
-          hint="b = kL/c + kτ with k = 280 Hz/s and τ = 10 ms; f_F = c/(2L). Divide.",
-          mistakes=((lambda: SWEEP_RATE * LONG_CASE[0] / _c(LONG_CASE) / _fundamental(LONG_CASE),
-                     "You left out the latency's k τ."),))
+@exercise(
+    "beyond.offset-ratio",
+    atol=2e-3,
+    hint="b = kL/c + kτ with k = 280 Hz/s and τ = 10 ms; f_F = c/(2L). Divide.",
+    mistakes=(
+        (
+            lambda: SWEEP_RATE * LONG_CASE[0] / _c(LONG_CASE) / _fundamental(LONG_CASE),
+            "You left out the latency's k τ.",
+        ),
+    ),
+)
 def _() -> float:
-    b = (float(sweep_rate_offset(SWEEP_RATE, _fundamental(LONG_CASE)))
-         + latency_offset(SWEEP_RATE, GAUGE_LATENCY))
+    b = float(sweep_rate_offset(SWEEP_RATE, _fundamental(LONG_CASE))) + latency_offset(
+        SWEEP_RATE, GAUGE_LATENCY
+    )
     return b / _fundamental(LONG_CASE)
 
 
@@ -345,13 +497,24 @@ def _() -> float:
 IMPROVEMENT_CHOICES = (1, 2, 5, 10)
 
 
-@exercise("estimating.improvement-choice", atol=0.0, rtol=0.0,
-          hint="The filter averages the reading with the prediction; how much can that gain "
-          "over one reading, when the orders are right?",
-          mistakes=((lambda: 1, "A ratio of 1 is what eq. 43's wrong orders leave; with the "
-                     "true orders the filter's averaging shows."),
-                    (lambda: 10, "Too optimistic: compare the two mean errors in the "
-                     "explorer with the true orders.")))
+@exercise(
+    "estimating.improvement-choice",
+    atol=0.0,
+    rtol=0.0,
+    hint="The filter averages the reading with the prediction; how much can that gain "
+    "over one reading, when the orders are right?",
+    mistakes=(
+        (
+            lambda: 1,
+            "A ratio of 1 is what eq. 43's wrong orders leave; with the "
+            "true orders the filter's averaging shows.",
+        ),
+        (
+            lambda: 10,
+            "Too optimistic: compare the two mean errors in the explorer with the true orders.",
+        ),
+    ),
+)
 def _() -> int:
     ratio = float(_improvement())
     return min(IMPROVEMENT_CHOICES, key=lambda c: abs(np.log(c / ratio)))
@@ -370,14 +533,24 @@ def _failure_share(fraction: float) -> str:
     return FAILURE_CHOICES[1] if fraction < 0.5 else FAILURE_CHOICES[2]
 
 
-@exercise("beyond.failures-choice",
-          hint=f"Answer one of {FAILURE_CHOICES}. A run fails when at some step the reading "
-          "and the prediction, with the narrowed bounds, no longer meet.",
-          mistakes=((lambda: "none", "Narrower bounds than the true ones can exclude the truth: "
-                     "when the reading's and the prediction's boxes both miss it, they may "
-                     "miss each other too."),
-                    (lambda: "all", "Not every run: the scaled bounds still hold at most steps, "
-                     "and a run fails only if one step's boxes miss each other.")))
+@exercise(
+    "beyond.failures-choice",
+    hint=f"Answer one of {FAILURE_CHOICES}. A run fails when at some step the reading "
+    "and the prediction, with the narrowed bounds, no longer meet.",
+    mistakes=(
+        (
+            lambda: "none",
+            "Narrower bounds than the true ones can exclude the truth: "
+            "when the reading's and the prediction's boxes both miss it, they may "
+            "miss each other too.",
+        ),
+        (
+            lambda: "all",
+            "Not every run: the scaled bounds still hold at most steps, "
+            "and a run fails only if one step's boxes miss each other.",
+        ),
+    ),
+)
 def _() -> str:
     return _failure_share(float(REGISTRY["beyond.failures"].solution))
 
@@ -386,12 +559,19 @@ def _() -> str:
 SPACING_LEVELS = (1.6, 9.6)
 
 
-@exercise("gauge.spacing-ratio", atol=1e-4,
-          hint="f_F = c/(2L) at a fixed temperature: the spacing goes as 1/L. Answer "
-          "f_F(9.6 m)/f_F(1.6 m).",
-          mistakes=((lambda: SPACING_LEVELS[1] / SPACING_LEVELS[0],
-                     "That is the ratio of the levels; a longer tube has its resonances "
-                     "closer together, so f_F shrinks."),))
+@exercise(
+    "gauge.spacing-ratio",
+    atol=1e-4,
+    hint="f_F = c/(2L) at a fixed temperature: the spacing goes as 1/L. Answer "
+    "f_F(9.6 m)/f_F(1.6 m).",
+    mistakes=(
+        (
+            lambda: SPACING_LEVELS[1] / SPACING_LEVELS[0],
+            "That is the ratio of the levels; a longer tube has its resonances "
+            "closer together, so f_F shrinks.",
+        ),
+    ),
+)
 def _() -> float:
     t = GAUGE_CASE[1]
     return _fundamental((SPACING_LEVELS[1], t)) / _fundamental((SPACING_LEVELS[0], t))

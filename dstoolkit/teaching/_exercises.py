@@ -1,7 +1,9 @@
-"""Every exercise of the book and its sheets, registered on import: the checked answers
-(:mod:`._ex_evidence`, :mod:`._ex_filter`, :mod:`._ex_gauge`) and the coding exercises
-(:mod:`._ex_coding`, reference implementations in :mod:`._plain_solutions`). The checker itself is
-:mod:`._checking` (answers) and :mod:`._coding` (functions)."""
+"""Every exercise of the book and its sheets, registered on import.
+
+The checked answers (:mod:`._ex_evidence`, :mod:`._ex_filter`, :mod:`._ex_gauge`) and the coding
+exercises (:mod:`._ex_coding`, reference implementations in :mod:`._plain_solutions`). The checker
+itself is :mod:`._checking` (answers) and :mod:`._coding` (functions).
+"""
 
 from __future__ import annotations
 

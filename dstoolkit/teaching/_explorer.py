@@ -115,7 +115,7 @@ def slider(
     *,
     readout_format: str = ".3f",
 ) -> widgets.FloatSlider:
-    """A float slider that redraws on release (``continuous_update=False``).
+    """Return a float slider that redraws on release (``continuous_update=False``).
 
     Parameters
     ----------
@@ -146,14 +146,20 @@ def slider(
     (9.6, False)
     """
     return widgets.FloatSlider(
-        value=value, min=lo, max=hi, step=step, description=description,
-        continuous_update=False, readout_format=readout_format,
-        style={"description_width": "initial"}, layout=widgets.Layout(width="320px"),
+        value=value,
+        min=lo,
+        max=hi,
+        step=step,
+        description=description,
+        continuous_update=False,
+        readout_format=readout_format,
+        style={"description_width": "initial"},
+        layout=widgets.Layout(width="320px"),
     )
 
 
 def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSlider:
-    """An integer slider that redraws on release.
+    """Return an integer slider that redraws on release.
 
     Parameters
     ----------
@@ -175,15 +181,21 @@ def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSli
     12
     """
     return widgets.IntSlider(
-        value=value, min=lo, max=hi, step=1, description=description,
-        continuous_update=False, style={"description_width": "initial"},
+        value=value,
+        min=lo,
+        max=hi,
+        step=1,
+        description=description,
+        continuous_update=False,
+        style={"description_width": "initial"},
         layout=widgets.Layout(width="320px"),
     )
 
 
-def positions(control: widgets.ValueWidget, count: int = 9, lo: float | None = None,
-              hi: float | None = None) -> tuple[Any, ...]:
-    """The positions a live control takes on the static site.
+def positions(
+    control: widgets.ValueWidget, count: int = 9, lo: float | None = None, hi: float | None = None
+) -> tuple[Any, ...]:
+    """Return the positions a live control takes on the static site.
 
     Parameters
     ----------
@@ -228,24 +240,26 @@ def _format(value: Any) -> str:
 
 
 def readout_html(numbers: Mapping[str, Any]) -> str:
-    """The numbers as a one-row HTML table (floats to 4 decimals)."""
+    """Return the numbers as a one-row HTML table (floats to 4 decimals)."""
     head = "".join(f"<th style='padding:0 8px'>{html.escape(k)}</th>" for k in numbers)
     body = "".join(f"<td style='padding:0 8px'>{_format(v)}</td>" for v in numbers.values())
     return f"<table><tr>{head}</tr><tr>{body}</tr></table>"
 
 
 def warning_html(message: str, note: str = "") -> str:
-    """A readout that says why a setting is invalid (and ``note``, in italics)."""
-    return (f"<p style='color:#b00020'>⚠ {html.escape(message)}"
-            f"<i>{html.escape(note)}</i></p>")
+    """Return a readout that says why a setting is invalid (and ``note``, in italics)."""
+    return f"<p style='color:#b00020'>⚠ {html.escape(message)}<i>{html.escape(note)}</i></p>"
 
 
 def _sticks_out(fig: Figure) -> bool:
-    """Whether anything drawn on ``fig`` reaches its edges (a tick label pushed out by a
-    fixed layout, cut off by the edge): a pixel of the outermost ring of the drawn canvas
-    that is not the figure's background. Layout engines keep a margin of a few pixels, so
-    that ring is blank in a figure laid out by them. Reading the drawn pixels costs a
-    fraction of a millisecond, where ``fig.get_tightbbox`` lays out every text again."""
+    """Tell whether anything drawn on ``fig`` reaches its edges.
+
+    Something reaching an edge (a tick label pushed out by a fixed layout, cut off by the edge)
+    is a pixel of the outermost ring of the drawn canvas that is not the figure's background.
+    Layout engines keep a margin of a few pixels, so that ring is blank in a figure laid out by
+    them. Reading the drawn pixels costs a fraction of a millisecond, where ``fig.get_tightbbox``
+    lays out every text again.
+    """
     rgba = np.asarray(_agg(fig).buffer_rgba())
     background = np.round(np.asarray(to_rgba(fig.get_facecolor())) * 255).astype(np.uint8)
     ring = np.concatenate([rgba[0], rgba[-1], rgba[:, 0], rgba[:, -1]])
@@ -253,33 +267,37 @@ def _sticks_out(fig: Figure) -> bool:
 
 
 def _agg(fig: Figure) -> FigureCanvasAgg:
-    """``fig``'s canvas, an Agg one (a ``TextCachingCanvas`` once :meth:`Explorer.png`
-    drew it)."""
+    """Return ``fig``'s Agg canvas (a ``TextCachingCanvas`` once :meth:`Explorer.png` drew it)."""
     return cast(FigureCanvasAgg, fig.canvas)
 
 
 def encode_png(rgba: np.ndarray, compress_level: int = 1) -> bytes:
-    """An RGBA image (a drawn canvas) as a PNG of 256 colours: a third to a quarter of the
-    bytes of full colour, no visible difference on a plot, and a palette image compresses
-    fast. ``compress_level`` 1 (the kernel: fast) to 9 (the static site: small)."""
+    """Return an RGBA image (a drawn canvas) as a PNG of 256 colours.
+
+    A third to a quarter of the bytes of full colour, no visible difference on a plot, and a palette
+    image compresses fast. ``compress_level`` 1 (the kernel: fast) to 9 (the static site: small).
+    """
     from PIL import Image as PILImage
 
-    image = PILImage.fromarray(rgba).convert("RGB").quantize(
-        256, method=PILImage.Quantize.FASTOCTREE)
+    image = (
+        PILImage.fromarray(rgba).convert("RGB").quantize(256, method=PILImage.Quantize.FASTOCTREE)
+    )
     buffer = io.BytesIO()
     image.save(buffer, format="png", compress_level=compress_level)
     return buffer.getvalue()
 
 
 def png_output(png: bytes) -> dict[str, Any]:
-    """A PNG as an ``Output`` widget's display_data output (what the site embeds)."""
-    return {"output_type": "display_data", "metadata": {},
-            "data": {"image/png": base64.b64encode(png).decode("ascii"),
-                     "text/plain": "<Figure>"}}
+    """Return a PNG as an ``Output`` widget's display_data output (what the site embeds)."""
+    return {
+        "output_type": "display_data",
+        "metadata": {},
+        "data": {"image/png": base64.b64encode(png).decode("ascii"), "text/plain": "<Figure>"},
+    }
 
 
 class Explorer(widgets.VBox):
-    """Controls, a readout of numbers and a figure that follows the controls.
+    r"""Controls, a readout of numbers and a figure that follows the controls.
 
     Parameters
     ----------
@@ -361,8 +379,13 @@ class Explorer(widgets.VBox):
     redraws_on_change: bool = True
 
     def __init__(
-        self, controls: Mapping[str, widgets.ValueWidget], render: Render, *, title: str = "",
-        live: Mapping[str, Sequence[Any]] | None = None, static: bool | None = None,
+        self,
+        controls: Mapping[str, widgets.ValueWidget],
+        render: Render,
+        *,
+        title: str = "",
+        live: Mapping[str, Sequence[Any]] | None = None,
+        static: bool | None = None,
         rows: Sequence[widgets.Widget | Sequence[widgets.Widget]] | None = None,
         draw: bool = True,
     ) -> None:
@@ -375,8 +398,9 @@ class Explorer(widgets.VBox):
         self.live = {name: tuple(values) for name, values in (live or {}).items()}
         unknown = set(self.live) - set(self.controls)
         if unknown or len(self.live) > 2:
-            raise InvalidInputError(f"live controls must be one or two of "
-                                    f"{list(self.controls)}, got {list(self.live)}")
+            raise InvalidInputError(
+                f"live controls must be one or two of {list(self.controls)}, got {list(self.live)}"
+            )
         self.static = static_site() if static is None else static
         self.figure: Figure | None = None
         self.figures: list[Figure] = []
@@ -391,8 +415,11 @@ class Explorer(widgets.VBox):
         self._background: Any = None
         self._animated: list[Any] = []
         self._head = [widgets.HTML(f"<b>{html.escape(title)}</b>")] if title else []
-        self._rows = None if rows is None else [
-            row if isinstance(row, widgets.Widget) else self._row(row) for row in rows]
+        self._rows = (
+            None
+            if rows is None
+            else [row if isinstance(row, widgets.Widget) else self._row(row) for row in rows]
+        )
         if self.static:
             self._build_static()
         else:
@@ -409,7 +436,7 @@ class Explorer(widgets.VBox):
         return widgets.HBox(list(children), layout=widgets.Layout(flex_flow="row wrap"))
 
     def values(self) -> dict[str, Any]:
-        """The controls' current values, by name.
+        """Return the controls' current values, by name.
 
         Returns
         -------
@@ -438,7 +465,7 @@ class Explorer(widgets.VBox):
             self._refresh(overrides)
 
     def readout_for(self, numbers: Mapping[str, Any]) -> str:
-        """The readout's HTML for the numbers of a valid render.
+        """Return the readout's HTML for the numbers of a valid render.
 
         Parameters
         ----------
@@ -452,9 +479,8 @@ class Explorer(widgets.VBox):
         """
         return readout_html(numbers)
 
-    def figure_alts(self, settings: Mapping[str, str],
-                    numbers: Mapping[str, Any]) -> list[str]:
-        """The text alternatives of a precomputed state's pictures, one per figure.
+    def figure_alts(self, settings: Mapping[str, str], numbers: Mapping[str, Any]) -> list[str]:
+        """Return the text alternatives of a precomputed state's pictures, one per figure.
 
         Parameters
         ----------
@@ -479,8 +505,11 @@ class Explorer(widgets.VBox):
             # stays (unless the explorer says otherwise), and the warning says which
             # setting it shows.
             keep = self.keeps_last_figure and not self.static
-            kept = " (the figure below shows the last valid setting)" if (
-                keep and self.output.outputs) else ""
+            kept = (
+                " (the figure below shows the last valid setting)"
+                if (keep and self.output.outputs)
+                else ""
+            )
             self.readout.value = warning_html(str(exc), kept)
             if not keep:
                 self.output.outputs = ()
@@ -531,22 +560,27 @@ class Explorer(widgets.VBox):
             self._draw(fig)
             # the animated artists are looked up at each whole draw (adding an artist makes
             # the figure stale)
-            animated = sorted(fig.findobj(lambda artist: artist.get_animated()),
-                              key=lambda artist: artist.get_zorder())
+            animated = sorted(
+                fig.findobj(lambda artist: artist.get_animated()),
+                key=lambda artist: artist.get_zorder(),
+            )
             self._kept = fig if animated else None
             self._background = _agg(fig).copy_from_bbox(fig.bbox) if animated else None
             self._animated = animated
         for artist in animated:
             fig.draw_artist(artist)
-        return encode_png(np.asarray(_agg(fig).buffer_rgba()),
-                          compress_level=6 if self.static else 1)
+        return encode_png(
+            np.asarray(_agg(fig).buffer_rgba()), compress_level=6 if self.static else 1
+        )
 
     def _draw(self, fig: Figure) -> None:
-        """Draw all of ``fig`` but its animated artists. The first figure of a shape (size,
-        number of axes) is laid out by its layout engine; later ones, and later draws of a
-        kept figure, reuse those axes positions (no layout pass, and axes that stay put when
-        a control moves), unless something (wider tick labels) would then stick out of the
-        figure: that one is laid out afresh."""
+        """Draw all of ``fig`` but its animated artists.
+
+        The first figure of a shape (size, number of axes) is laid out by its layout engine; later
+        ones, and later draws of a kept figure, reuse those axes positions (no layout pass, and axes
+        that stay put when a control moves), unless something (wider tick labels) would then stick
+        out of the figure: that one is laid out afresh.
+        """
         engine = self._engines.get(fig) or fig.get_layout_engine()
         key = (*np.round(fig.get_size_inches(), 3), len(fig.axes))
         layout = self._layouts.get(key) if engine is not None else None
@@ -569,9 +603,11 @@ class Explorer(widgets.VBox):
     # -- the static site -------------------------------------------------------------------
 
     def _build_static(self) -> None:
-        """Render every combination of the live controls' positions into a stack of states
-        (:func:`state_stack`) that the site's sliders switch in the browser. The kernel's
-        readout and output are left empty and closed: only the states carry pictures."""
+        """Render every combination of the live controls' positions into a stack of states.
+
+        The site's sliders switch the states (:func:`state_stack`) in the browser. The kernel's
+        readout and output are left empty and closed: only the states carry pictures.
+        """
         names = list(self.live)
         start = tuple(self.controls[name].value for name in names)
         leaves: dict[tuple[Any, ...], widgets.Widget] = {}
@@ -580,22 +616,27 @@ class Explorer(widgets.VBox):
         for combo in sorted(combos, key=lambda combo: combo == start):
             self.refresh(**dict(zip(names, combo, strict=True)))
             self.states[combo] = dict(self.numbers)
-            settings = {self.controls[name].description: shown_value(self.controls[name], v)
-                        for name, v in zip(names, combo, strict=True)}
-            leaves[combo] = state_leaf(self.readout, self.output,
-                                       self.figure_alts(settings, self.numbers))
+            settings = {
+                self.controls[name].description: shown_value(self.controls[name], v)
+                for name, v in zip(names, combo, strict=True)
+            }
+            leaves[combo] = state_leaf(
+                self.readout, self.output, self.figure_alts(settings, self.numbers)
+            )
         fixed = [c for name, c in self.controls.items() if name not in self.live]
         stack, site = state_stack(self.controls, self.live, leaves)
         by_id = {id(self.controls[name]): site[name] for name in names}
         self.controls.update(site)
-        body = ([self._row(site.values()), self._row(fixed)] if self._rows is None
-                else [_site_form(row, by_id) for row in self._rows])
+        body = (
+            [self._row(site.values()), self._row(fixed)]
+            if self._rows is None
+            else [_site_form(row, by_id) for row in self._rows]
+        )
         shown = {id(c) for c in site.values()}
         for widget in [*fixed, *_widgets_in(body)]:  # controls and buttons alike
             if id(widget) not in shown and hasattr(widget, "disabled"):
                 widget.disabled = True
-        self.children = (*self._head, *body, site_note(list(site.values()), bool(fixed)),
-                         stack)
+        self.children = (*self._head, *body, site_note(list(site.values()), bool(fixed)), stack)
         # the kernel's readout and output are not shown on the site: empty, and closed so
         # that the page's widget state holds no copy of a picture
         self.output.outputs = ()
@@ -625,8 +666,7 @@ def _widgets_in(body: Sequence[widgets.Widget]) -> list[widgets.Widget]:
 def shown_value(control: widgets.ValueWidget, value: Any) -> str:
     """``value`` as ``control`` shows it: a dropdown's option label, a slider's readout."""
     if isinstance(control, widgets.Dropdown):
-        for label, option in zip(control._options_labels, control._options_values,
-                                 strict=True):
+        for label, option in zip(control._options_labels, control._options_values, strict=True):
             if option == value:
                 return str(label)
         return str(value)
@@ -643,9 +683,10 @@ def _plain(value: Any) -> str:
     return str(value)
 
 
-def figure_alt(settings: Mapping[str, str], numbers: Mapping[str, Any],
-               what: str = "Figure") -> str:
-    """The text alternative of a precomputed figure, made from its numbers.
+def figure_alt(
+    settings: Mapping[str, str], numbers: Mapping[str, Any], what: str = "Figure"
+) -> str:
+    """Return the text alternative of a precomputed figure, made from its numbers.
 
     Parameters
     ----------
@@ -668,25 +709,32 @@ def figure_alt(settings: Mapping[str, str], numbers: Mapping[str, Any],
 
 
 def image_html(png: bytes, alt: str) -> str:
-    """A PNG as an ``<img>`` with its text alternative, the picture inlined as a data URL
-    (the book's build moves it into a file beside the page, loaded when the state shows)."""
+    """Return a PNG as an ``<img>`` with its text alternative, inlined as a data URL.
+
+    The book's build moves the picture into a file beside the page, loaded when the state shows.
+    """
     data = base64.b64encode(png).decode("ascii")
-    return (f"<img class='dstoolkit-figure' src='data:image/png;base64,{data}' "
-            f"alt='{html.escape(alt, quote=True)}' style='max-width:100%;height:auto'>")
+    return (
+        f"<img class='dstoolkit-figure' src='data:image/png;base64,{data}' "
+        f"alt='{html.escape(alt, quote=True)}' style='max-width:100%;height:auto'>"
+    )
 
 
-def state_leaf(readout: widgets.HTML, output: widgets.Output,
-               alt: str | Sequence[str] = "Figure") -> widgets.VBox:
-    """A copy of what a readout and an output show now: one precomputed state.
+def state_leaf(
+    readout: widgets.HTML, output: widgets.Output, alt: str | Sequence[str] = "Figure"
+) -> widgets.VBox:
+    """Return a copy of what a readout and an output show now: one precomputed state.
 
     The output's pictures become ``<img>`` elements with the text alternatives ``alt``
     (one for every picture, or one for all), in an ``HTML`` widget after the readout.
     """
     alts = [alt] if isinstance(alt, str) else list(alt)
-    pictures = [base64.b64decode(o["data"]["image/png"]) for o in output.outputs
-                if "image/png" in o.get("data", {})]
-    images = "".join(image_html(png, alts[min(i, len(alts) - 1)])
-                     for i, png in enumerate(pictures))
+    pictures = [
+        base64.b64decode(o["data"]["image/png"])
+        for o in output.outputs
+        if "image/png" in o.get("data", {})
+    ]
+    images = "".join(image_html(png, alts[min(i, len(alts) - 1)]) for i, png in enumerate(pictures))
     children: list[widgets.Widget] = [widgets.HTML(readout.value)]
     if images:
         children.append(widgets.HTML(images))
@@ -694,31 +742,46 @@ def state_leaf(readout: widgets.HTML, output: widgets.Output,
 
 
 def site_control(control: widgets.ValueWidget, options: Sequence[Any]) -> widgets.ValueWidget:
-    """A control as it is live on the static site: a ``Dropdown`` itself (all its options
-    precomputed), a slider as a ``SelectionSlider`` over ``options`` that follows the drag."""
+    """Return a control as it is live on the static site.
+
+    A ``Dropdown`` itself (all its options precomputed), a slider as a ``SelectionSlider`` over
+    ``options`` that follows the drag.
+    """
     if isinstance(control, widgets.Dropdown):
         if tuple(control._options_values) != tuple(options):
-            raise InvalidInputError(f"a live dropdown precomputes all its options "
-                                    f"({control.description!r}): pass positions(dropdown)")
+            raise InvalidInputError(
+                f"a live dropdown precomputes all its options "
+                f"({control.description!r}): pass positions(dropdown)"
+            )
         return control
     if control.value not in options:
-        raise InvalidInputError(f"the positions of {control.description!r} must include its "
-                                f"value {control.value}: the page opens on it")
+        raise InvalidInputError(
+            f"the positions of {control.description!r} must include its "
+            f"value {control.value}: the page opens on it"
+        )
     fmt = "d" if isinstance(control, widgets.IntSlider) else control.readout_format
     return widgets.SelectionSlider(
-        options=[(format(v, fmt), v) for v in options], value=control.value,
-        description=control.description, continuous_update=True,
+        options=[(format(v, fmt), v) for v in options],
+        value=control.value,
+        description=control.description,
+        continuous_update=True,
         style={"description_width": control.style.description_width or "initial"},
-        layout=widgets.Layout(width=control.layout.width or "320px"))
+        layout=widgets.Layout(width=control.layout.width or "320px"),
+    )
 
 
-def state_stack(controls: Mapping[str, widgets.ValueWidget], live: Mapping[str, Sequence[Any]],
-                leaves: Mapping[tuple[Any, ...], widgets.Widget],
-                ) -> tuple[widgets.Stack, dict[str, widgets.ValueWidget]]:
-    """The precomputed states ``leaves`` (keyed by the live controls' values, in the order
-    of ``live``) in a ``Stack`` whose ``selected_index`` is ``jslink``-ed to the first live
+def state_stack(
+    controls: Mapping[str, widgets.ValueWidget],
+    live: Mapping[str, Sequence[Any]],
+    leaves: Mapping[tuple[Any, ...], widgets.Widget],
+) -> tuple[widgets.Stack, dict[str, widgets.ValueWidget]]:
+    """Put the precomputed states in a ``Stack`` linked to the live controls.
+
+    The states ``leaves`` (keyed by the live controls' values, in the order of ``live``) go
+    in a ``Stack`` whose ``selected_index`` is ``jslink``-ed to the first live
     control's ``index``; with two live controls, a ``Stack`` of ``Stack``s, every inner one
-    linked to the second control. Returns the stack and the site's controls by name."""
+    linked to the second control. Returns the stack and the site's controls by name.
+    """
     names = list(live)
     site = {name: site_control(controls[name], live[name]) for name in names}
 
@@ -727,8 +790,10 @@ def state_stack(controls: Mapping[str, widgets.ValueWidget], live: Mapping[str, 
             return leaves[prefix]
         name = names[depth]
         options = tuple(live[name])
-        box = widgets.Stack([stack((*prefix, v), depth + 1) for v in options],
-                            selected_index=options.index(controls[name].value))
+        box = widgets.Stack(
+            [stack((*prefix, v), depth + 1) for v in options],
+            selected_index=options.index(controls[name].value),
+        )
         box.add_class("dstoolkit-states")  # a live region in the book (explorers-a11y.js)
         box.links = [widgets.jslink((site[name], "index"), (box, "selected_index"))]
         return box
@@ -737,12 +802,22 @@ def state_stack(controls: Mapping[str, widgets.ValueWidget], live: Mapping[str, 
 
 
 def site_note(live: Sequence[widgets.ValueWidget], some_disabled: bool) -> widgets.HTML:
-    """The line under an explorer's controls on the static site: which controls answer on
-    this page, and where the others work."""
+    """Return the line under an explorer's controls on the static site.
+
+    Which controls answer on this page, and where the others work.
+    """
     names = " and ".join(html.escape(c.description) for c in live)
-    rest = ("the other controls are disabled here and work when this chapter runs as a "
-            "notebook" if some_disabled else "in a notebook every value is possible")
-    head = (f"On this page {names} {'answer' if len(live) > 1 else 'answers'}; {rest}"
-            if live else "These controls work when this chapter runs as a notebook")
-    return widgets.HTML(f"<p class='dstoolkit-site-note' style='font-size:0.9em;margin:0'>"
-                        f"<i>{head}: see <a href='{RUN_PAGE}'>Run this book</a>.</i></p>")
+    rest = (
+        "the other controls are disabled here and work when this chapter runs as a notebook"
+        if some_disabled
+        else "in a notebook every value is possible"
+    )
+    head = (
+        f"On this page {names} {'answer' if len(live) > 1 else 'answers'}; {rest}"
+        if live
+        else "These controls work when this chapter runs as a notebook"
+    )
+    return widgets.HTML(
+        f"<p class='dstoolkit-site-note' style='font-size:0.9em;margin:0'>"
+        f"<i>{head}: see <a href='{RUN_PAGE}'>Run this book</a>.</i></p>"
+    )

@@ -1,5 +1,7 @@
-"""The explorer of the chapter beyond the paper (book/beyond_the_paper.md): every filter under
-wrong noise bounds."""
+"""The explorer of the chapter beyond the paper (book/beyond_the_paper.md).
+
+Every filter under wrong noise bounds.
+"""
 
 from __future__ import annotations
 
@@ -24,8 +26,13 @@ from ._readouts import mismatch_numbers
 # -- beyond the paper: every filter under wrong noise bounds ------------------------------------
 
 
-def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, runs: int = 20,
-                          seed: int = 0, start: str = "mean_corrected") -> Explorer:
+def noise_bounds_explorer(
+    level_m: float = 4.6,
+    temperature_c: float = 26.5,
+    runs: int = 20,
+    seed: int = 0,
+    start: str = "mean_corrected",
+) -> Explorer:
     """Every filter on the same simulated gauge runs, each with the noise bounds you assume.
 
     The sliders set the lower, mode and upper of v and of w that every filter assumes: the
@@ -71,8 +78,10 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
     from dstoolkit.studies import ALL_FILTERS, noise_mismatch, tracking_data
 
     # the start value moves only the paper's filter: the others are kept per noise bounds
-    paper, others = ("dependent_evidence",), tuple(m for m in ALL_FILTERS
-                                                   if m != "dependent_evidence")
+    paper, others = (
+        ("dependent_evidence",),
+        tuple(m for m in ALL_FILTERS if m != "dependent_evidence"),
+    )
 
     data = tracking_data(level_m, temperature_c, runs=runs, seed=seed)
     v, w = data.state_noise, data.obs_noise
@@ -80,43 +89,62 @@ def noise_bounds_explorer(level_m: float = 4.6, temperature_c: float = 26.5, run
         "v_lower": slider("v lower", float(v.lower[0]), -1.0, 0.0, 0.01, readout_format=".2f"),
         "v_mode": slider("v mode", float(v.mode[0]), -0.5, 0.5, 0.01, readout_format=".2f"),
         "v_upper": slider("v upper", float(v.upper[0]), 0.0, 1.0, 0.01, readout_format=".2f"),
-        "w_lower": slider("w lower", float(w.lower[0]), -20.0, -4.0, 0.01,
-                          readout_format=".2f"),
+        "w_lower": slider("w lower", float(w.lower[0]), -20.0, -4.0, 0.01, readout_format=".2f"),
         "w_mode": slider("w mode", float(w.mode[0]), -12.0, -2.0, 0.01, readout_format=".2f"),
         "w_upper": slider("w upper", float(w.upper[0]), -8.0, 5.0, 0.01, readout_format=".2f"),
-        "start": widgets.Dropdown(options=[("z_1 (paper)", "observation"),
-                                           ("z_1 + E[w]", "mean_corrected")], value=start,
-                                  description="start"),
+        "start": widgets.Dropdown(
+            options=[("z_1 (paper)", "observation"), ("z_1 + E[w]", "mean_corrected")],
+            value=start,
+            description="start",
+        ),
     }
 
     title = f"L = {level_m:.1f} m, {runs} runs, true orders"
-    ranges = {name: (controls[name].min, controls[name].max) for name in controls
-              if name != "start"}
-    kept = KeptFigure(functools.partial(
-        noise_bounds_figure, title=title,
-        v_range=(ranges["v_lower"][0], ranges["v_upper"][1]),
-        w_range=(ranges["w_lower"][0], ranges["w_upper"][1])),
-                      update_noise_bounds_figure)
+    ranges = {
+        name: (controls[name].min, controls[name].max) for name in controls if name != "start"
+    }
+    kept = KeptFigure(
+        functools.partial(
+            noise_bounds_figure,
+            title=title,
+            v_range=(ranges["v_lower"][0], ranges["v_upper"][1]),
+            w_range=(ranges["w_lower"][0], ranges["w_upper"][1]),
+        ),
+        update_noise_bounds_figure,
+    )
 
     @functools.lru_cache(maxsize=4)
     def rivals(v_bounds: tuple[float, ...], w_bounds: tuple[float, ...]) -> Any:
-        return noise_mismatch(data, BoundedNoise(*v_bounds), BoundedNoise(*w_bounds),
-                              methods=others, seed=seed)
+        return noise_mismatch(
+            data, BoundedNoise(*v_bounds), BoundedNoise(*w_bounds), methods=others, seed=seed
+        )
 
-    def render(v_lower: float, v_mode: float, v_upper: float, w_lower: float, w_mode: float,
-               w_upper: float, start: str):
+    def render(
+        v_lower: float,
+        v_mode: float,
+        v_upper: float,
+        w_lower: float,
+        w_mode: float,
+        w_upper: float,
+        start: str,
+    ):
         assumed_v = BoundedNoise(v_lower, v_mode, v_upper)
         assumed_w = BoundedNoise(w_lower, w_mode, w_upper)
         rest = rivals((v_lower, v_mode, v_upper), (w_lower, w_mode, w_upper))
-        ours = noise_mismatch(data, assumed_v, assumed_w, methods=paper, seed=seed,
-                              start=start)
+        ours = noise_mismatch(data, assumed_v, assumed_w, methods=paper, seed=seed, start=start)
         errors, seconds = ours.errors | rest.errors, ours.seconds | rest.seconds
-        result = replace(rest, errors={m: errors[m] for m in ALL_FILTERS},
-                         seconds={m: seconds[m] for m in ALL_FILTERS})
+        result = replace(
+            rest,
+            errors={m: errors[m] for m in ALL_FILTERS},
+            seconds={m: seconds[m] for m in ALL_FILTERS},
+        )
         fig = kept(v, w, assumed_v, assumed_w, result.errors)
         return fig, mismatch_numbers(result)
 
-    live = {"w_upper": positions(controls["w_upper"], 8, -6.21, 4.29),
-            "v_upper": positions(controls["v_upper"], 1, 0.9, 0.9)}
-    return Explorer(controls, render, title="Every filter with the noise bounds you assume",
-                    live=live)
+    live = {
+        "w_upper": positions(controls["w_upper"], 8, -6.21, 4.29),
+        "v_upper": positions(controls["v_upper"], 1, 0.9, 0.9),
+    }
+    return Explorer(
+        controls, render, title="Every filter with the noise bounds you assume", live=live
+    )

@@ -1,5 +1,7 @@
-"""The explorer of the chapter on why bounded noise (book/why_bounded_noise.md): a bounded-
-error filter with wrong bounds."""
+"""The explorer of the chapter on why bounded noise (book/why_bounded_noise.md).
+
+A bounded-error filter with wrong bounds.
+"""
 
 from __future__ import annotations
 
@@ -24,9 +26,10 @@ from ._explorer import (
 # -- why bounded noise: a bounded-error filter with wrong bounds --------------------------------
 
 
-def bounded_error_explorer(v_half: float = 0.1, w_half: float = 1.0, steps: int = 60,
-                           seed: int = 7) -> Explorer:
-    """A bounded-error filter with wrong noise bounds, on one simulated random walk.
+def bounded_error_explorer(
+    v_half: float = 0.1, w_half: float = 1.0, steps: int = 60, seed: int = 7
+) -> Explorer:
+    """Return a bounded-error filter with wrong noise bounds, on one simulated random walk.
 
     The slider scales the bounds the filter assumes: too tight gives empty boxes (the filter
     resets) or boxes that miss the truth; too wide gives wide boxes.
@@ -73,5 +76,9 @@ def bounded_error_explorer(v_half: float = 0.1, w_half: float = 1.0, steps: int 
         return kept(res, f"bounds × {scale:g}").figure, enclosure_summary(res, x)
 
     scale = slider("assumed bounds × true", 1.0, 0.3, 3.0, 0.05)
-    return Explorer({"scale": scale}, render, title="Bounded-error filter with wrong bounds",
-                    live={"scale": positions(scale, 11, 0.5, 3.0)})
+    return Explorer(
+        {"scale": scale},
+        render,
+        title="Bounded-error filter with wrong bounds",
+        live={"scale": positions(scale, 11, 0.5, 3.0)},
+    )

@@ -1,5 +1,7 @@
-"""The explorer of the chapter on combining evidence (book/combining_evidence.md): Zadeh's two
-doctors."""
+"""The explorer of the chapter on combining evidence (book/combining_evidence.md).
+
+Zadeh's two doctors.
+"""
 
 from __future__ import annotations
 
@@ -31,8 +33,9 @@ from ._explorer import (
 # -- conflict: Zadeh's example -------------------------------------------------------------
 
 
-def conflict_explorer(x: float = 0.99, y: float = 0.99, epsilon: float = 0.0,
-                      rule: str = "Dempster") -> Explorer:
+def conflict_explorer(
+    x: float = 0.99, y: float = 0.99, epsilon: float = 0.0, rule: str = "Dempster"
+) -> Explorer:
     """Zadeh's example: two nearly certain doctors who disagree, combined.
 
     The doctors' masses, an optional discount ε and the rule (Dempster's or Yager's) give
@@ -72,17 +75,18 @@ def conflict_explorer(x: float = 0.99, y: float = 0.99, epsilon: float = 0.0,
         "x": slider("doctor 1: m(meningitis)", x, 0.0, 1.0, 0.01, readout_format=".2f"),
         "y": slider("doctor 2: m(concussion)", y, 0.0, 1.0, 0.01, readout_format=".2f"),
         "epsilon": slider("discount ε", epsilon, 0.0, 0.5, 0.01, readout_format=".2f"),
-        "rule": widgets.Dropdown(options=["Dempster", "Yager"], value=rule,
-                                 description="rule"),
+        "rule": widgets.Dropdown(options=["Dempster", "Yager"], value=rule, description="rule"),
     }
 
     @functools.cache
     def drawn() -> tuple[Figure, list[MassArtists]]:
-        """The figure, made by the first render and updated by the others."""
+        """Return the figure, made by the first render and updated by the others."""
         fig = Figure(figsize=(10, 2.8), layout="constrained")
         axes = fig.subplots(1, 3, sharey=True)
-        panels = [draw_masses(ax, title=name, animated=True) for ax, name in
-                  zip(axes, ("doctor 1", "doctor 2", "combined"), strict=True)]
+        panels = [
+            draw_masses(ax, title=name, animated=True)
+            for ax, name in zip(axes, ("doctor 1", "doctor 2", "combined"), strict=True)
+        ]
         animate(axes[2].title, spines_of=axes[2])  # the rule's name
         return fig, panels
 
@@ -94,8 +98,11 @@ def conflict_explorer(x: float = 0.99, y: float = 0.99, epsilon: float = 0.0,
         update_masses(panels[0], m1)
         update_masses(panels[1], m2)
         update_masses(panels[2], combined, title=f"{rule}'s rule")
-        return fig, {"conflict K": k, **{f"m({h})": combined.mass_of(h) for h in ZADEH_FRAME},
-                     "m(Θ)": combined.mass_of(ZADEH_FRAME)}
+        return fig, {
+            "conflict K": k,
+            **{f"m({h})": combined.mass_of(h) for h in ZADEH_FRAME},
+            "m(Θ)": combined.mass_of(ZADEH_FRAME),
+        }
 
     live = {"epsilon": positions(controls["epsilon"], 11), "rule": positions(controls["rule"])}
     return Explorer(controls, render, title="Zadeh's two doctors", live=live)

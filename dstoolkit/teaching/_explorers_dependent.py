@@ -1,5 +1,7 @@
-"""The explorer of the chapter on dependent evidence (book/dependent_evidence.md): the paper's
-Appendix A."""
+"""The explorer of the chapter on dependent evidence (book/dependent_evidence.md).
+
+The paper's Appendix A.
+"""
 
 from __future__ import annotations
 
@@ -32,9 +34,10 @@ from ._explorer import (
 # -- dependent evidence: the paper's Appendix A -----------------------------------------------
 
 
-def dependent_combination_explorer(a2: float = 0.6, a3: float = 0.1, b2: float = 0.3,
-                                   b3: float = 0.6, mass_rule: MassRule = "min") -> Explorer:
-    """The paper's Appendix A, live: two dependent pieces of evidence and their combination.
+def dependent_combination_explorer(
+    a2: float = 0.6, a3: float = 0.1, b2: float = 0.3, b3: float = 0.6, mass_rule: MassRule = "min"
+) -> Explorer:
+    """Return the paper's Appendix A, live: two dependent pieces of evidence and their combination.
 
     Vary the masses of E1 and E2: their energies, the degree of dependence D, the
     dependency coefficients R12, R21 and the combined evidence, beside plain Dempster that
@@ -75,21 +78,27 @@ def dependent_combination_explorer(a2: float = 0.6, a3: float = 0.1, b2: float =
         "a3": slider("m1([0.32, 1.93])", a3, 0.0, 1.0, 0.05, readout_format=".2f"),
         "b2": slider("m2([0.41, 1.61])", b2, 0.0, 1.0, 0.05, readout_format=".2f"),
         "b3": slider("m2([0.30, 1.90])", b3, 0.0, 1.0, 0.05, readout_format=".2f"),
-        "mass_rule": widgets.Dropdown(options=["min", "m1", "m2"], value=mass_rule,
-                                      description="m(D) rule"),
+        "mass_rule": widgets.Dropdown(
+            options=["min", "m1", "m2"], value=mass_rule, description="m(D) rule"
+        ),
     }
-    names = ("E1", "E2", "dependent combination (A7–A8, then eq. 1)",
-             "Dempster as if independent")
+    names = ("E1", "E2", "dependent combination (A7–A8, then eq. 1)", "Dempster as if independent")
 
     @functools.cache
     def drawn() -> tuple[Figure, list[tuple[FocalIntervalArtists, Any]]]:
-        """The figure, made by the first render and updated by the others: per panel, the
-        bars and the red line at the pignistic expectation."""
+        """Return the figure, made by the first render and updated by the others.
+
+        Per panel, the bars and the red line at the pignistic expectation.
+        """
         fig = Figure(figsize=(10, 4.6), layout="constrained")
         axes = fig.subplots(2, 2, sharex=True)
-        panels = [(draw_focal_intervals(ax, title=name, animated=True),
-                   ax.axvline(0.0, color="#d62728", lw=1.2))
-                  for ax, name in zip(axes.flat, names, strict=True)]
+        panels = [
+            (
+                draw_focal_intervals(ax, title=name, animated=True),
+                ax.axvline(0.0, color="#d62728", lw=1.2),
+            )
+            for ax, name in zip(axes.flat, names, strict=True)
+        ]
         for bars, line in panels:
             animate(line, spines_of=bars.ax)
         return fig, panels
@@ -103,11 +112,16 @@ def dependent_combination_explorer(a2: float = 0.6, a3: float = 0.1, b2: float =
         for (bars, line), ev in zip(panels, (e1, e2, both, naive), strict=True):
             update_focal_intervals(bars, ev, xlim=(-0.4, 3.6))
             line.set_xdata([ev.pignistic_expectation_1d()] * 2)
-        return fig, {"En'(E1)": dep.energy1, "En'(E2)": dep.energy2,
-                     "En'(E1,E2)": dep.joint_energy, "D": dep.degree, "R12": dep.r12,
-                     "R21": dep.r21, "E[dependent]": both.pignistic_expectation_1d(),
-                     "E[Dempster]": naive.pignistic_expectation_1d()}
+        return fig, {
+            "En'(E1)": dep.energy1,
+            "En'(E2)": dep.energy2,
+            "En'(E1,E2)": dep.joint_energy,
+            "D": dep.degree,
+            "R12": dep.r12,
+            "R21": dep.r21,
+            "E[dependent]": both.pignistic_expectation_1d(),
+            "E[Dempster]": naive.pignistic_expectation_1d(),
+        }
 
     live = {"a2": positions(controls["a2"], 9, 0.0, 0.8)}
-    return Explorer(controls, render, title="Dependent evidence: the paper's Appendix A",
-                    live=live)
+    return Explorer(controls, render, title="Dependent evidence: the paper's Appendix A", live=live)

@@ -31,9 +31,20 @@ from ._readouts import filter_summary, step_numbers
 
 
 def render_filter(
-    v_lower: float, v_mode: float, v_upper: float, w_lower: float, w_mode: float,
-    w_upper: float, p: int, epsilon: float, level: float, temperature: float, start: str,
-    orders: str, mass_rule: MassRule, seed: int = 0,
+    v_lower: float,
+    v_mode: float,
+    v_upper: float,
+    w_lower: float,
+    w_mode: float,
+    w_upper: float,
+    p: int,
+    epsilon: float,
+    level: float,
+    temperature: float,
+    start: str,
+    orders: str,
+    mass_rule: MassRule,
+    seed: int = 0,
     kept: KeptFigure[FilterErrorsFigure] | None = None,
 ) -> tuple[Figure, dict[str, Any]]:
     """One run of the paper's filter on a simulated gauge: its figure and its numbers.
@@ -92,24 +103,39 @@ def render_filter(
     True
     """
     seq, n, result = filter_case(
-        level, temperature, state_noise=(v_lower, v_mode, v_upper),
-        obs_noise=(w_lower, w_mode, w_upper), p=p, epsilon=epsilon, start=start,
-        mass_rule=mass_rule, orders=orders, seed=seed)
+        level,
+        temperature,
+        state_noise=(v_lower, v_mode, v_upper),
+        obs_noise=(w_lower, w_mode, w_upper),
+        p=p,
+        epsilon=epsilon,
+        start=start,
+        mass_rule=mass_rule,
+        orders=orders,
+        seed=seed,
+    )
     run = (result, seq.truth, seq.readings)
-    title = (f"L = {level:.1f} m, T = {temperature:.1f} °C (f_F = {seq.fundamental_hz:.2f} "
-             f"Hz, {seq.truth.shape[0]} resonances), p = {p}, ε = {epsilon:.2f}, "
-             f"start: {start}")
-    fig = (plot_filter_errors(*run, title=title) if kept is None
-           else kept(*run, title=title).figure)
+    title = (
+        f"L = {level:.1f} m, T = {temperature:.1f} °C (f_F = {seq.fundamental_hz:.2f} "
+        f"Hz, {seq.truth.shape[0]} resonances), p = {p}, ε = {epsilon:.2f}, "
+        f"start: {start}"
+    )
+    fig = plot_filter_errors(*run, title=title) if kept is None else kept(*run, title=title).figure
     return fig, filter_summary(seq, n, result)
 
 
-def filter_widget(level_m: float = 9.6, temperature_c: float = 23.9, *, p: int = 3,
-                  epsilon: float = 0.05, start: str = "observation",
-                  state_noise: tuple[float, float, float] = (-0.3, 0.0, 0.3),
-                  obs_noise: tuple[float, float, float] = (-10.59, -6.9, -3.21),
-                  seed: int = 0) -> Explorer:
-    """The paper's filter on a simulated gauge, live.
+def filter_widget(
+    level_m: float = 9.6,
+    temperature_c: float = 23.9,
+    *,
+    p: int = 3,
+    epsilon: float = 0.05,
+    start: str = "observation",
+    state_noise: tuple[float, float, float] = (-0.3, 0.0, 0.3),
+    obs_noise: tuple[float, float, float] = (-10.59, -6.9, -3.21),
+    seed: int = 0,
+) -> Explorer:
+    """Return the paper's filter on a simulated gauge, live.
 
     Every redraw is one filter run of about 83 steps and its figure
     (:func:`render_filter`); sliders redraw on release.
@@ -164,32 +190,47 @@ def filter_widget(level_m: float = 9.6, temperature_c: float = 23.9, *, p: int =
         "p": int_slider("cuts p", p, 1, 8),
         "epsilon": slider("discount ε", epsilon, 0.0, 0.5, 0.01, readout_format=".2f"),
         "level": slider("level L (m)", level_m, 1.0, 10.6, 0.1, readout_format=".1f"),
-        "temperature": slider("temperature T (°C)", temperature_c, 0.0, 40.0, 0.1,
-                              readout_format=".1f"),
-        "start": widgets.Dropdown(options=[("z_1 (paper)", "observation"),
-                                           ("z_1 + E[w]", "mean_corrected")], value=start,
-                                  description="start"),
-        "orders": widgets.Dropdown(options=list(ORDER_SOURCES.items()), value="true",
-                                   description="orders"),
-        "mass_rule": widgets.Dropdown(options=["min", "m1", "m2"], value="min",
-                                      description="m(D) rule"),
+        "temperature": slider(
+            "temperature T (°C)", temperature_c, 0.0, 40.0, 0.1, readout_format=".1f"
+        ),
+        "start": widgets.Dropdown(
+            options=[("z_1 (paper)", "observation"), ("z_1 + E[w]", "mean_corrected")],
+            value=start,
+            description="start",
+        ),
+        "orders": widgets.Dropdown(
+            options=list(ORDER_SOURCES.items()), value="true", description="orders"
+        ),
+        "mass_rule": widgets.Dropdown(
+            options=["min", "m1", "m2"], value="min", description="m(D) rule"
+        ),
     }
 
-    kept = KeptFigure(functools.partial(FilterErrorsFigure, pyplot=False),
-                      FilterErrorsFigure.update)
+    kept = KeptFigure(
+        functools.partial(FilterErrorsFigure, pyplot=False), FilterErrorsFigure.update
+    )
 
     def render(**values: Any) -> tuple[Figure, dict[str, Any]]:
         return render_filter(**values, seed=seed, kept=kept)
 
-    live = {"level": positions(controls["level"], 9, 1.6, 9.6),
-            "epsilon": positions(controls["epsilon"], 3, 0.0, 0.5)}
-    return Explorer(controls, render, title="The dependent-evidence filter on a simulated gauge",
-                    live=live)
+    live = {
+        "level": positions(controls["level"], 9, 1.6, 9.6),
+        "epsilon": positions(controls["epsilon"], 3, 0.0, 0.5),
+    }
+    return Explorer(
+        controls, render, title="The dependent-evidence filter on a simulated gauge", live=live
+    )
 
 
-def filter_step_explorer(level_m: float = 9.6, temperature_c: float = 23.9, step: int = 2,
-                         start: str = "mean_corrected", epsilon: float = 0.05,
-                         steps: int = 20, seed: int = 0) -> Explorer:
+def filter_step_explorer(
+    level_m: float = 9.6,
+    temperature_c: float = 23.9,
+    step: int = 2,
+    start: str = "mean_corrected",
+    epsilon: float = 0.05,
+    steps: int = 20,
+    seed: int = 0,
+) -> Explorer:
     """Every evidence of one step of the paper's filter, with its diagnostics.
 
     On the first ``steps`` readings of a simulated gauge (true orders): pick the step, the
@@ -235,9 +276,11 @@ def filter_step_explorer(level_m: float = 9.6, temperature_c: float = 23.9, step
     """
     controls = {
         "step": int_slider("step k + 1", step, 2, steps),
-        "start": widgets.Dropdown(options=[("z_1 (paper)", "observation"),
-                                           ("z_1 + E[w]", "mean_corrected")], value=start,
-                                  description="start"),
+        "start": widgets.Dropdown(
+            options=[("z_1 (paper)", "observation"), ("z_1 + E[w]", "mean_corrected")],
+            value=start,
+            description="start",
+        ),
         "epsilon": slider("discount ε", epsilon, 0.0, 0.5, 0.01, readout_format=".2f"),
     }
 
@@ -245,11 +288,20 @@ def filter_step_explorer(level_m: float = 9.6, temperature_c: float = 23.9, step
 
     @functools.lru_cache(maxsize=8)  # moving the step re-draws, it does not re-filter
     def run(start: str, epsilon: float) -> Any:
-        return filter_case(level_m, temperature_c, start=start, epsilon=epsilon, seed=seed,
-                           record=True, first=steps)[2]
+        return filter_case(
+            level_m,
+            temperature_c,
+            start=start,
+            epsilon=epsilon,
+            seed=seed,
+            record=True,
+            first=steps,
+        )[2]
 
-    kept = KeptFigure(functools.partial(FilterStepFigure, figsize=(9.0, 9.0), pyplot=False),
-                      FilterStepFigure.update)
+    kept = KeptFigure(
+        functools.partial(FilterStepFigure, figsize=(9.0, 9.0), pyplot=False),
+        FilterStepFigure.update,
+    )
 
     def render(step: int, start: str, epsilon: float):
         result = run(start, epsilon)

@@ -30,14 +30,22 @@ from ._readouts import gauge_reading
 #: Recording conditions of the gauge chapter and its explorer: the paper's speaker jitter
 #: (σ_v = 0.1 Hz), a quiet microphone (30 dB SPL), 10 ms of audio latency; the background
 #: noise is the explorer's slider.
-GAUGE_CONDITIONS = RecordingConditions(speaker_jitter_hz=0.1, microphone_noise_pa=spl_to_pa(30.0),
-                                       background_noise_pa=spl_to_pa(50.0), latency_s=0.01)
+GAUGE_CONDITIONS = RecordingConditions(
+    speaker_jitter_hz=0.1,
+    microphone_noise_pa=spl_to_pa(30.0),
+    background_noise_pa=spl_to_pa(50.0),
+    latency_s=0.01,
+)
 
 
-def gauge_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
-                   top_reflection: float = 0.3, background_db: float = 50.0,
-                   seed: int = 0) -> Explorer:
-    """A simulated acoustic level gauge: a recording, its resonances and the level.
+def gauge_explorer(
+    level_m: float = 4.6,
+    temperature_c: float = 26.5,
+    top_reflection: float = 0.3,
+    background_db: float = 50.0,
+    seed: int = 0,
+) -> Explorer:
+    """Return a simulated acoustic level gauge: a recording, its resonances and the level.
 
     Level, temperature, the top's reflection R_t and the background noise give the
     recording's envelope and its detected resonances beside the model n c/(2L), the
@@ -81,12 +89,15 @@ def gauge_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
     """
     controls = {
         "level": slider("level L (m)", level_m, 1.0, 10.6, 0.1, readout_format=".1f"),
-        "temperature": slider("temperature T (°C)", temperature_c, 0.0, 30.0, 0.5,
-                              readout_format=".1f"),
-        "top_reflection": slider("top reflection R_t", top_reflection, 0.0, 0.9, 0.05,
-                                 readout_format=".2f"),
-        "background": slider("background noise (dB SPL)", background_db, 30.0, 100.0, 5.0,
-                             readout_format=".0f"),
+        "temperature": slider(
+            "temperature T (°C)", temperature_c, 0.0, 30.0, 0.5, readout_format=".1f"
+        ),
+        "top_reflection": slider(
+            "top reflection R_t", top_reflection, 0.0, 0.9, 0.05, readout_format=".2f"
+        ),
+        "background": slider(
+            "background noise (dB SPL)", background_db, 30.0, 100.0, 5.0, readout_format=".0f"
+        ),
     }
 
     figure = KeptFigure(gauge_detection_figure, update_gauge_detection)
@@ -98,6 +109,8 @@ def gauge_explorer(level_m: float = 4.6, temperature_c: float = 26.5,
         numbers = gauge_reading(setup, det)  # before the figure changes: it may raise
         return figure(setup, det), numbers
 
-    live = {"level": positions(controls["level"], 9, 1.6, 9.6),
-            "temperature": positions(controls["temperature"], 1, 5.0, 5.0)}
+    live = {
+        "level": positions(controls["level"], 9, 1.6, 9.6),
+        "temperature": positions(controls["temperature"], 1, 5.0, 5.0),
+    }
     return Explorer(controls, render, title="A simulated acoustic level gauge", live=live)

@@ -102,29 +102,44 @@ class LabWidget(Explorer):
     keeps_last_figure = False  # a failed record shows its message and no stale figure
     redraws_on_change = False  # only a click of Record measures
 
-    def __init__(self, settings: LabSettings | None = None, *, devices: bool | None = None,
-                 record_now: bool = True, static: bool | None = None) -> None:
+    def __init__(
+        self,
+        settings: LabSettings | None = None,
+        *,
+        devices: bool | None = None,
+        record_now: bool = True,
+        static: bool | None = None,
+    ) -> None:
         s = LabSettings() if settings is None else settings
         c = _lab_controls(s, devices)
         self._sweep = s.sweep
         self.analysis: Analysis | None = None
         self.method_figure: Figure | None = None
         self.measurements = 0
-        self.button = widgets.Button(description="● Record", button_style="danger",
-                                     tooltip="play the sweep and record it")
-        self.devices_button = widgets.Button(description="↻ devices",
-                                             tooltip="look for sound devices again")
+        self.button = widgets.Button(
+            description="● Record", button_style="danger", tooltip="play the sweep and record it"
+        )
+        self.devices_button = widgets.Button(
+            description="↻ devices", tooltip="look for sound devices again"
+        )
         rows = [
-            [c["input"], c["output"]], [self.devices_button],
+            [c["input"], c["output"]],
+            [self.devices_button],
             [c["temperature"], c["volume"]],
             widgets.HTML("<i>the virtual tube (without a device, or through a loopback):</i>"),
             [c["level"], c["thermometer_error"]],
             [c["room_noise"], c["through_virtual_tube"]],
             [self.button],
         ]
-        super().__init__(c, self._measure, title="The lab: measure a level",
-                         live={"level": positions(c["level"], LAB_LIVE_LEVELS, 1.0, 11.5)},
-                         static=static, rows=rows, draw=record_now)
+        super().__init__(
+            c,
+            self._measure,
+            title="The lab: measure a level",
+            live={"level": positions(c["level"], LAB_LIVE_LEVELS, 1.0, 11.5)},
+            static=static,
+            rows=rows,
+            draw=record_now,
+        )
         self.button.on_click(self.record)
         self.devices_button.on_click(self.refresh_devices)
         for name in ("input", "output", "through_virtual_tube"):
@@ -133,7 +148,7 @@ class LabWidget(Explorer):
             self._sync()
 
     def settings(self, values: Mapping[str, Any] | None = None) -> LabSettings:
-        """The controls as :class:`~dstoolkit.teaching.LabSettings`.
+        """Return the controls as :class:`~dstoolkit.teaching.LabSettings`.
 
         Parameters
         ----------
@@ -147,15 +162,21 @@ class LabWidget(Explorer):
             state of the static site: each is a first record).
         """
         v = self.values() if values is None else values
-        return LabSettings(temperature_c=v["temperature"], level_m=v["level"],
-                           thermometer_error_c=v["thermometer_error"],
-                           room_noise_dbfs=v["room_noise"], volume=v["volume"],
-                           input_device=v["input"], output_device=v["output"],
-                           through_virtual_tube=v["through_virtual_tube"],
-                           seed=0 if self.static else self.measurements, sweep=self._sweep)
+        return LabSettings(
+            temperature_c=v["temperature"],
+            level_m=v["level"],
+            thermometer_error_c=v["thermometer_error"],
+            room_noise_dbfs=v["room_noise"],
+            volume=v["volume"],
+            input_device=v["input"],
+            output_device=v["output"],
+            through_virtual_tube=v["through_virtual_tube"],
+            seed=0 if self.static else self.measurements,
+            sweep=self._sweep,
+        )
 
     def _measure(self, **values: Any) -> tuple[list[Figure], dict[str, Any]]:
-        """The explorer's render: one record with ``values``, its two figures and numbers."""
+        """Return the explorer's render: one record with ``values``, its two figures and numbers."""
         self.analysis = None
         try:
             analysis = lab_measurement(self.settings(values))
@@ -165,8 +186,10 @@ class LabWidget(Explorer):
         return [analysis.figure(), self.method_figure], lab_numbers(analysis)
 
     def readout_for(self, numbers: Mapping[str, Any]) -> str:
-        """The record's readout: the level ± 1σ, the numbers, the level by each filter,
-        the analysis' notes and its full report.
+        """Return the record's readout.
+
+        The level ± 1σ, the numbers, the level by each filter, the analysis' notes and its full
+        report.
 
         Parameters
         ----------
@@ -182,21 +205,32 @@ class LabWidget(Explorer):
         if analysis is None:  # pragma: no cover - a valid render always leaves one
             return super().readout_for(numbers)
         lv = analysis.level
-        head = (f"<p><b>L = {lv.level_m:.4f} m ± {lv.uncertainty_m:.4f} m</b> (1σ), "
-                f"{html.escape(analysis.recording.metadata.source or '')}</p>")
+        head = (
+            f"<p><b>L = {lv.level_m:.4f} m ± {lv.uncertainty_m:.4f} m</b> (1σ), "
+            f"{html.escape(analysis.recording.metadata.source or '')}</p>"
+        )
         notes = "".join(f"<p style='color:#b36b00'>{html.escape(n)}</p>" for n in analysis.notes)
-        report = (f"<details><summary>full report</summary><pre>"
-                  f"{html.escape(analysis.summary())}</pre></details>")
+        report = (
+            f"<details><summary>full report</summary><pre>"
+            f"{html.escape(analysis.summary())}</pre></details>"
+        )
         by_method = {method_label(m): v for m, v in analysis.filter_levels.items()}
-        main = {k: v for k, v in numbers.items()
-                if k.removesuffix(" (m)") not in analysis.filter_levels}
-        return (head + readout_html(main) + "<p>level by each filter (m):</p>"
-                + readout_html(by_method) + notes + report)
+        main = {
+            k: v for k, v in numbers.items() if k.removesuffix(" (m)") not in analysis.filter_levels
+        }
+        return (
+            head
+            + readout_html(main)
+            + "<p>level by each filter (m):</p>"
+            + readout_html(by_method)
+            + notes
+            + report
+        )
 
-    def figure_alts(self, settings: Mapping[str, str],
-                    numbers: Mapping[str, Any]) -> list[str]:
-        """The text alternatives of a state's two pictures: the recording with all the
-        numbers, the level by each method with the levels.
+    def figure_alts(self, settings: Mapping[str, str], numbers: Mapping[str, Any]) -> list[str]:
+        """Return the text alternatives of a state's two pictures.
+
+        The recording with all the numbers, the level by each method with the levels.
 
         Parameters
         ----------
@@ -210,9 +244,14 @@ class LabWidget(Explorer):
         list[str]
             Two texts, in the order of the pictures.
         """
-        return [figure_alt(settings, numbers, "Recording and its resonances"),
-                figure_alt(settings, {m: v for m, v in numbers.items() if m.endswith("(m)")},
-                           "Level by each method")]
+        return [
+            figure_alt(settings, numbers, "Recording and its resonances"),
+            figure_alt(
+                settings,
+                {m: v for m, v in numbers.items() if m.endswith("(m)")},
+                "Level by each method",
+            ),
+        ]
 
     def _sync(self) -> None:
         """Grey out the controls the chosen devices do not use."""
@@ -252,8 +291,11 @@ class LabWidget(Explorer):
         _button : ipywidgets.Button, optional
             The button clicked (ignored).
         """
-        where = ("simulated on the virtual tube (no device)" if self.settings().simulated
-                 else "playing and recording, about 7 s")
+        where = (
+            "simulated on the virtual tube (no device)"
+            if self.settings().simulated
+            else "playing and recording, about 7 s"
+        )
         self.button.disabled, self.button.description = True, "recording…"
         self.readout.value = f"<p>recording: {html.escape(where)}…</p>"
         try:
@@ -263,28 +305,38 @@ class LabWidget(Explorer):
 
 
 def _lab_controls(s: LabSettings, devices: bool | None) -> dict[str, widgets.ValueWidget]:
-    """The station's controls at the settings ``s``, labels aligned (the device pickers
-    list PortAudio's devices unless ``devices`` is False)."""
+    """Return the station's controls at the settings ``s``, labels aligned.
+
+    The device pickers list PortAudio's devices unless ``devices`` is False.
+    """
     virtual = [(VIRTUAL_LABEL, VIRTUAL)]
     controls: dict[str, widgets.ValueWidget] = {
         "input": widgets.Dropdown(
             options=device_options("input") if devices is not False else virtual,
-            value=VIRTUAL, description="microphone (input)"),
+            value=VIRTUAL,
+            description="microphone (input)",
+        ),
         "output": widgets.Dropdown(
             options=device_options("output") if devices is not False else virtual,
-            value=VIRTUAL, description="speaker (output)"),
-        "temperature": slider("thermometer T (°C)", s.temperature_c, -10.0, 40.0, 0.1,
-                              readout_format=".1f"),
-        "volume": slider("volume (full scale)", s.volume, 0.05, 1.0, 0.05,
-                         readout_format=".2f"),
+            value=VIRTUAL,
+            description="speaker (output)",
+        ),
+        "temperature": slider(
+            "thermometer T (°C)", s.temperature_c, -10.0, 40.0, 0.1, readout_format=".1f"
+        ),
+        "volume": slider("volume (full scale)", s.volume, 0.05, 1.0, 0.05, readout_format=".2f"),
         "level": slider("level L (m)", s.level_m, 0.5, 12.0, 0.05, readout_format=".2f"),
-        "thermometer_error": slider("thermometer error (°C)", s.thermometer_error_c,
-                                    -5.0, 5.0, 0.1, readout_format=".1f"),
-        "room_noise": slider("room noise (dBFS)", s.room_noise_dbfs, -80.0, -10.0, 1.0,
-                             readout_format=".0f"),
+        "thermometer_error": slider(
+            "thermometer error (°C)", s.thermometer_error_c, -5.0, 5.0, 0.1, readout_format=".1f"
+        ),
+        "room_noise": slider(
+            "room noise (dBFS)", s.room_noise_dbfs, -80.0, -10.0, 1.0, readout_format=".0f"
+        ),
         "through_virtual_tube": widgets.Checkbox(
-            value=s.through_virtual_tube, indent=False,
-            description="with devices: play the virtual tube (loopback, no real tube)"),
+            value=s.through_virtual_tube,
+            indent=False,
+            description="with devices: play the virtual tube (loopback, no real tube)",
+        ),
     }
     for control in controls.values():  # aligned labels, sliders with room to move
         control.style.description_width = "190px"
@@ -294,9 +346,14 @@ def _lab_controls(s: LabSettings, devices: bool | None) -> dict[str, widgets.Val
     return controls
 
 
-def lab_widget(temperature_c: float = 21.0, level_m: float = 2.5, *,
-               devices: bool | None = None, record_now: bool = True) -> LabWidget:
-    """The lab's measuring station with the lab chapter's start values.
+def lab_widget(
+    temperature_c: float = 21.0,
+    level_m: float = 2.5,
+    *,
+    devices: bool | None = None,
+    record_now: bool = True,
+) -> LabWidget:
+    """Return the lab's measuring station with the lab chapter's start values.
 
     Parameters
     ----------
@@ -326,5 +383,8 @@ def lab_widget(temperature_c: float = 21.0, level_m: float = 2.5, *,
     >>> abs(station.numbers["level (m)"] - 3.0) < 0.01
     True
     """
-    return LabWidget(LabSettings(temperature_c=temperature_c, level_m=level_m),
-                     devices=devices, record_now=record_now)
+    return LabWidget(
+        LabSettings(temperature_c=temperature_c, level_m=level_m),
+        devices=devices,
+        record_now=record_now,
+    )

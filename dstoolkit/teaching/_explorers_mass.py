@@ -32,8 +32,9 @@ from ._explorer import (
 LEVEL_FRAME = ("low", "mid", "high")
 
 
-def mass_function_explorer(low: float = 0.4, mid: float = 0.0, high: float = 0.1,
-                           low_mid: float = 0.3) -> Explorer:
+def mass_function_explorer(
+    low: float = 0.4, mid: float = 0.0, high: float = 0.1, low_mid: float = 0.3
+) -> Explorer:
     """Masses on {low}, {mid}, {high} and {low, mid}; the rest goes to Θ (ignorance).
 
     Shows Bel and Pl of every subset of Θ = {low, mid, high} and BetP of the singletons.
@@ -74,32 +75,37 @@ def mass_function_explorer(low: float = 0.4, mid: float = 0.0, high: float = 0.1
 
     @functools.cache
     def drawn() -> tuple[Figure, MassArtists, BelPlArtists]:
-        """The figure, made by the first render and updated by the others."""
+        """Return the figure, made by the first render and updated by the others."""
         fig = Figure(figsize=(9.5, 3.0), layout="constrained")
         ax1, ax2 = fig.subplots(1, 2, width_ratios=[1, 2.2])
-        return (fig, draw_masses(ax1, title="masses", animated=True),
-                draw_bel_pl(ax2, LEVEL_FRAME, title="belief, plausibility, pignistic",
-                            animated=True))
+        return (
+            fig,
+            draw_masses(ax1, title="masses", animated=True),
+            draw_bel_pl(ax2, LEVEL_FRAME, title="belief, plausibility, pignistic", animated=True),
+        )
 
     def render(low: float, mid: float, high: float, low_mid: float):
         given = {"low": low, "mid": mid, "high": high, ("low", "mid"): low_mid}
         rest = 1.0 - sum(given.values())
         if rest < -1e-9:
             raise EvidenceError(
-                f"the masses add up to {1 - rest:.2f} > 1; lower a slider (what is left "
-                "goes to Θ)"
+                f"the masses add up to {1 - rest:.2f} > 1; lower a slider (what is left goes to Θ)"
             )
         mf = MassFunction({**given, LEVEL_FRAME: max(rest, 0.0)}, LEVEL_FRAME)
         fig, masses, bel_pl = drawn()
         update_masses(masses, mf)
         update_bel_pl(bel_pl, mf)
         betp = mf.pignistic()
-        return fig, {"m(Θ)": max(rest, 0.0), **{f"BetP({h})": betp[h] for h in LEVEL_FRAME},
-                     "Pl({low}) − Bel({low})": mf.plausibility("low") - mf.belief("low")}
+        return fig, {
+            "m(Θ)": max(rest, 0.0),
+            **{f"BetP({h})": betp[h] for h in LEVEL_FRAME},
+            "Pl({low}) − Bel({low})": mf.plausibility("low") - mf.belief("low"),
+        }
 
     # On the site: m({low}) up to what the other start values leave, m({high}) in four
     # steps (a total over 1 shows the warning, as in a kernel).
-    live = {"low": positions(controls["low"], 8, 0.0, 0.7),
-            "high": positions(controls["high"], 4, 0.0, 0.3)}
-    return Explorer(controls, render, title="A mass function on Θ = {low, mid, high}",
-                    live=live)
+    live = {
+        "low": positions(controls["low"], 8, 0.0, 0.7),
+        "high": positions(controls["high"], 4, 0.0, 0.3),
+    }
+    return Explorer(controls, render, title="A mass function on Θ = {low, mid, high}", live=live)

@@ -35,7 +35,10 @@ from ._explorer import (
 
 
 def noise_evidence_explorer(
-    lower: float = -0.3, mode: float = 0.0, upper: float = 0.3, p: int = 3,
+    lower: float = -0.3,
+    mode: float = 0.0,
+    upper: float = 0.3,
+    p: int = 3,
     epsilon: float = 0.05,
 ) -> Explorer:
     """From a bounded noise to evidence: α-cuts of a triangular possibility distribution.
@@ -86,13 +89,15 @@ def noise_evidence_explorer(
 
     @functools.cache
     def drawn() -> tuple[Figure, PossibilityArtists, FocalIntervalArtists, PboxArtists]:
-        """The figure, made by the first render and updated by the others."""
+        """Return the figure, made by the first render and updated by the others."""
         fig = Figure(figsize=(12, 3.0), layout="constrained")
         ax1, ax2, ax3 = fig.subplots(1, 3)
-        return (fig, draw_possibility(ax1, view, evidence=True, title="π and its α-cuts",
-                                      animated=True),
-                draw_focal_intervals(ax2, title="focal elements", animated=True),
-                draw_pbox(ax3, pbox_grid(*view), title="p-box", animated=True))
+        return (
+            fig,
+            draw_possibility(ax1, view, evidence=True, title="π and its α-cuts", animated=True),
+            draw_focal_intervals(ax2, title="focal elements", animated=True),
+            draw_pbox(ax3, pbox_grid(*view), title="p-box", animated=True),
+        )
 
     def render(lower: float, mode: float, upper: float, p: int, epsilon: float):
         ev = triangular_evidence(lower, mode, upper, p=p, epsilon=epsilon)
@@ -101,10 +106,15 @@ def noise_evidence_explorer(
         update_focal_intervals(bars, ev, xlim=view, label_masses=p <= 6)
         update_pbox(pbox, ev)
         t_lo, t_hi = default_theta(lower, mode, upper)
-        return fig, {"mass per cut": (1.0 - epsilon) / p, "m(Θ)": epsilon,
-                     "Θ": f"[{t_lo:.4g}, {t_hi:.4g}]",
-                     "pignistic expectation": ev.pignistic_expectation_1d()}
+        return fig, {
+            "mass per cut": (1.0 - epsilon) / p,
+            "m(Θ)": epsilon,
+            "Θ": f"[{t_lo:.4g}, {t_hi:.4g}]",
+            "pignistic expectation": ev.pignistic_expectation_1d(),
+        }
 
-    live = {"p": positions(controls["p"], 8, 1, 8),
-            "epsilon": positions(controls["epsilon"], 2, 0.0, 0.5)}
+    live = {
+        "p": positions(controls["p"], 8, 1, 8),
+        "epsilon": positions(controls["epsilon"], 2, 0.0, 0.5),
+    }
     return Explorer(controls, render, title="From a bounded noise to evidence", live=live)

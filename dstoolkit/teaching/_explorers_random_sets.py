@@ -1,5 +1,8 @@
-"""The explorer of the chapter on random sets (book/random_sets.md): the image of an interval
-by four methods (vertex, monotone, subdivision, and the mean-value form's outer enclosure)."""
+"""The explorer of the chapter on random sets (book/random_sets.md).
+
+The image of an interval by four methods (vertex, monotone, subdivision, and the mean-value form's
+outer enclosure).
+"""
 
 from __future__ import annotations
 
@@ -38,13 +41,13 @@ EXTENSION_FUNCTIONS: dict[str, Callable[[np.ndarray], np.ndarray]] = {
 
 
 def _square(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The interval {x² : x in [lo, hi]}."""
+    """Return the interval {x² : x in [lo, hi]}."""
     a, b = lo**2, hi**2
     return np.where((lo <= 0) & (hi >= 0), 0.0, np.minimum(a, b)), np.maximum(a, b)
 
 
 def _cos(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The interval {cos x : x in [lo, hi]}: the ends, and ±1 where cos peaks inside."""
+    """Return the interval {cos x : x in [lo, hi]}: the ends, and ±1 where cos peaks inside."""
     a, b = np.cos(lo), np.cos(hi)
     top = np.floor(hi / (2 * np.pi)) * 2 * np.pi >= lo
     bottom = np.floor((hi - np.pi) / (2 * np.pi)) * 2 * np.pi + np.pi >= lo
@@ -58,8 +61,7 @@ def _cubic_slope(lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray
 
 #: The slopes of :data:`EXTENSION_FUNCTIONS` on a box [lo, hi] (..., 1): exact interval
 #: derivatives, what the mean-value form needs.
-EXTENSION_SLOPES: dict[str, Callable[[np.ndarray, np.ndarray],
-                                     tuple[np.ndarray, np.ndarray]]] = {
+EXTENSION_SLOPES: dict[str, Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]] = {
     "x²": lambda lo, hi: (2.0 * lo, 2.0 * hi),
     "sin x": _cos,
     "x³ − 3x": _cubic_slope,
@@ -74,22 +76,36 @@ IMAGE_METHOD_NAMES: tuple[str, ...] = ("vertex", "monotone", "subdivision", "mea
 #: the readout's key), its line style and its marker (colour is only a third cue).
 METHOD_LOOK: dict[str, dict[str, str]] = {
     "vertex": {"label": "vertex", "ls": "-", "marker": "o", "color": OKABE_ITO["orange"]},
-    "monotone": {"label": "monotone", "ls": "--", "marker": "s",
-                 "color": OKABE_ITO["reddish purple"]},
-    "subdivision": {"label": "subdivision", "ls": ":", "marker": "^",
-                    "color": OKABE_ITO["bluish green"]},
-    "mean_value": {"label": "mean-value", "ls": "-.", "marker": "D",
-                   "color": OKABE_ITO["blue"]},
+    "monotone": {
+        "label": "monotone",
+        "ls": "--",
+        "marker": "s",
+        "color": OKABE_ITO["reddish purple"],
+    },
+    "subdivision": {
+        "label": "subdivision",
+        "ls": ":",
+        "marker": "^",
+        "color": OKABE_ITO["bluish green"],
+    },
+    "mean_value": {"label": "mean-value", "ls": "-.", "marker": "D", "color": OKABE_ITO["blue"]},
 }
 #: Sub-boxes of the mean-value form in the explorer.
 MEAN_VALUE_PIECES = 8
 
 
 def compare_image_methods(
-    f: Callable[[np.ndarray], np.ndarray], lo: Any, hi: Any, signs: Any = 1,
-    slope: SlopeBound | None = None, *, pieces: int = MEAN_VALUE_PIECES,
+    f: Callable[[np.ndarray], np.ndarray],
+    lo: Any,
+    hi: Any,
+    signs: Any = 1,
+    slope: SlopeBound | None = None,
+    *,
+    pieces: int = MEAN_VALUE_PIECES,
 ) -> dict[str, dict[str, Any]]:
-    """The image of one box [lo, hi] through f by every method of :func:`~dstoolkit.evidence.image`.
+    """Return the image of one box [lo, hi] through f by every method.
+
+    The methods are those of :func:`~dstoolkit.evidence.image`.
 
     The vertex method (Prop. 1), the monotone shortcut with the declared ``signs``
     (Prop. 2) and subdivision (the fallback) are inner approximations; the mean-value
@@ -156,10 +172,17 @@ def compare_image_methods(
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
-                i_lo, i_hi = cast(tuple[np.ndarray, np.ndarray], image(
-                    (lo_a, hi_a), counted, method=cast(ImageMethod, method),
-                    monotone=signs_a, slope=slope,
-                    subdivisions=pieces if method == "mean_value" else 8))
+                i_lo, i_hi = cast(
+                    tuple[np.ndarray, np.ndarray],
+                    image(
+                        (lo_a, hi_a),
+                        counted,
+                        method=cast(ImageMethod, method),
+                        monotone=signs_a,
+                        slope=slope,
+                        subdivisions=pieces if method == "mean_value" else 8,
+                    ),
+                )
                 entry["image"] = (float(np.ravel(i_lo)[0]), float(np.ravel(i_hi)[0]))
             except NotMonotoneError as exc:
                 entry["message"] = f"NotMonotoneError: {exc}"
@@ -171,16 +194,20 @@ def compare_image_methods(
 
 
 def _extension_extent(ax: Any, bars: Any) -> tuple[float, ...]:
-    """What the autoscaled ranges of :func:`extension_explorer`'s figure follow: the data
-    x extent of f's panel ``ax`` and the y extent of both panels (they share y)."""
+    """Return what the autoscaled ranges of :func:`extension_explorer`'s figure follow.
+
+    The data x extent of f's panel ``ax`` and the y extent of both panels (they share y).
+    """
     ys = [v for a in (ax, bars) for v in a.dataLim.intervaly if np.isfinite(v)]
     return (*ax.dataLim.intervalx, min(ys, default=np.nan), max(ys, default=np.nan))
 
 
 def _shown_image(a: float, b: float, outer: bool) -> str:
-    """An image as the readout prints it: 4 significant digits of its ends to 10 decimals
-    (1e-19 from the zoom shows as 0). An outer enclosure is rounded outward, so that the
-    printed interval still contains the image."""
+    """Return an image as the readout prints it.
+
+    4 significant digits of its ends to 10 decimals (1e-19 from the zoom shows as 0). An outer
+    enclosure is rounded outward, so that the printed interval still contains the image.
+    """
     a, b = (float(v) for v in np.round([a, b], 10) + 0.0)
     if outer:
         a = a if float(f"{a:.4g}") <= a else _down(a)
@@ -201,9 +228,10 @@ def _up(x: float) -> float:
     return -_down(-x)
 
 
-def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0,
-                       sign: int = 1) -> Explorer:
-    """The image of an interval through a function of one variable by four methods.
+def extension_explorer(
+    function: str = "sin x", lo: float = 0.0, hi: float = 3.0, sign: int = 1
+) -> Explorer:
+    """Return the image of an interval through a function of one variable by four methods.
 
     The vertex method (Prop. 1, eq. 17), the monotone shortcut with a declared sign
     (Prop. 2, eqs. 18–19) and subdivision give values f takes (inner approximations):
@@ -246,23 +274,29 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
     ('[0, 4]', 'NotMonotoneError', '[-0.08985, 4.036]')
     """
     controls = {
-        "function": widgets.Dropdown(options=list(EXTENSION_FUNCTIONS), value=function,
-                                     description="f(x)"),
+        "function": widgets.Dropdown(
+            options=list(EXTENSION_FUNCTIONS), value=function, description="f(x)"
+        ),
         "lo": slider("box lower end", lo, -4.0, 4.0, 0.1, readout_format=".1f"),
         "hi": slider("box upper end", hi, -4.0, 4.0, 0.1, readout_format=".1f"),
-        "sign": widgets.Dropdown(options=[("increasing (+1)", 1), ("decreasing (−1)", -1)],
-                                 value=sign, description="declared",
-                                 style={"description_width": "initial"}),
+        "sign": widgets.Dropdown(
+            options=[("increasing (+1)", 1), ("decreasing (−1)", -1)],
+            value=sign,
+            description="declared",
+            style={"description_width": "initial"},
+        ),
     }
     x = np.linspace(-4.0, 4.0, 801)
     labels = [METHOD_LOOK[m]["label"] for m in IMAGE_METHOD_NAMES]
 
     @functools.cache
     def drawn() -> dict[str, Any]:
-        """The figure, made by the first render and updated by the others: f, f on the
-        box, the box and the mean-value enclosure as a hatched band; per method its image
-        as a bar (own line style and end markers, its name below), a ⚠ (shown when it
-        warns) and the word "refused" (shown when it refuses)."""
+        """Return the figure, made by the first render and updated by the others.
+
+        f, f on the box, the box and the mean-value enclosure as a hatched band; per method its
+        image as a bar (own line style and end markers, its name below), a ⚠ (shown when it warns)
+        and the word "refused" (shown when it refuses).
+        """
         # fixed margins, not a layout engine: the y tick labels change with the function
         # ("−0.75" is wider than "0.0"), and a layout made for the first ones cut the others
         # not the style's engine either (the stubs of matplotlib leave "none" out)
@@ -273,36 +307,71 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
         (on_box,) = ax.plot(x, x, color=OKABE_ITO["sky blue"], lw=3.5, label="f on the box")
         box = ax.axvspan(0.0, 1.0, color=OKABE_ITO["sky blue"], alpha=0.15)
         look = METHOD_LOOK["mean_value"]
-        enclosure = ax.axhspan(0.0, 1.0, facecolor="none", edgecolor=look["color"],
-                               hatch="///", lw=1.0, ls=look["ls"],
-                               label="mean-value enclosure")
+        enclosure = ax.axhspan(
+            0.0,
+            1.0,
+            facecolor="none",
+            edgecolor=look["color"],
+            hatch="///",
+            lw=1.0,
+            ls=look["ls"],
+            label="mean-value enclosure",
+        )
         ax.set_xlabel("x")
         # the legend below the panel: inside it, the hatched band (drawn over the still
         # picture) would cover it
-        ax.legend(handles=[on_box, enclosure], fontsize=8, loc="upper left", ncol=2,
-                  bbox_to_anchor=(0.0, -0.17), frameon=False)
+        ax.legend(
+            handles=[on_box, enclosure],
+            fontsize=8,
+            loc="upper left",
+            ncol=2,
+            bbox_to_anchor=(0.0, -0.17),
+            frameon=False,
+        )
         methods = {}
         for i, method in enumerate(IMAGE_METHOD_NAMES):
             look = METHOD_LOOK[method]
             methods[method] = {
-                "refused": bars.text(i, 0.5, "refused:\nNot-\nMonotone-\nError", ha="center",
-                                     va="center", fontsize=8, color="#b00020",
-                                     transform=bars.get_xaxis_transform()),
-                "bar": bars.plot([i, i], [0.0, 1.0], lw=3, ls=look["ls"],
-                                 marker=look["marker"], ms=7, color=look["color"],
-                                 clip_on=method != "mean_value")[0],
-                "warning": bars.text(i, 0.0, "⚠", ha="center", va="bottom", color="#b00020",
-                                     fontsize=12),
+                "refused": bars.text(
+                    i,
+                    0.5,
+                    "refused:\nNot-\nMonotone-\nError",
+                    ha="center",
+                    va="center",
+                    fontsize=8,
+                    color="#b00020",
+                    transform=bars.get_xaxis_transform(),
+                ),
+                "bar": bars.plot(
+                    [i, i],
+                    [0.0, 1.0],
+                    lw=3,
+                    ls=look["ls"],
+                    marker=look["marker"],
+                    ms=7,
+                    color=look["color"],
+                    clip_on=method != "mean_value",
+                )[0],
+                "warning": bars.text(
+                    i, 0.0, "⚠", ha="center", va="bottom", color="#b00020", fontsize=12
+                ),
             }
-        bars.set_xticks(range(len(labels)), [lab.replace("-", "-\n") for lab in labels],
-                        fontsize=8)
+        bars.set_xticks(range(len(labels)), [lab.replace("-", "-\n") for lab in labels], fontsize=8)
         bars.set_xlim(-0.6, len(labels) - 0.4)
         bars.set_title("image f([lo, hi])")
         ax.set_title(f"f(x) = {function} on [{lo:g}, {hi:g}]")  # its font; its text follows
         animate(curve, on_box, box, enclosure, ax.title, spines_of=ax)
         animate(*(a for m in methods.values() for a in m.values()), spines_of=bars)
-        return {"fig": fig, "ax": ax, "bars": bars, "curve": curve, "on_box": on_box,
-                "box": box, "enclosure": enclosure, "methods": methods}
+        return {
+            "fig": fig,
+            "ax": ax,
+            "bars": bars,
+            "curve": curve,
+            "on_box": on_box,
+            "box": box,
+            "enclosure": enclosure,
+            "methods": methods,
+        }
 
     def render(function: str, lo: float, hi: float, sign: int):
         if lo > hi:
@@ -334,8 +403,9 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
             warn = "warning" in entry["message"].lower()
             shown["warning"].set_visible(warn)
             shown["warning"].set_y(b)
-            numbers[label] = (_shown_image(a, b, method == "mean_value")
-                              + (" ⚠ too narrow?" if warn else ""))
+            numbers[label] = _shown_image(a, b, method == "mean_value") + (
+                " ⚠ too narrow?" if warn else ""
+            )
         # The ranges follow f on the whole x range, as when drawn anew: autoscaled from the
         # curve alone (setting them, even unchanged, would redraw the whole figure). The
         # images lie within f's range, up to the autoscale's margin; the mean-value
@@ -353,11 +423,16 @@ def extension_explorer(function: str = "sin x", lo: float = 0.0, hi: float = 3.0
             artist.set_visible(visible)
         if _extension_extent(d["ax"], d["bars"]) != extent:
             d["ax"].autoscale_view()
-        numbers.update({f"{METHOD_LOOK[m]['label']} evaluations": result[m]["evaluations"]
-                        for m in IMAGE_METHOD_NAMES})
+        numbers.update(
+            {
+                f"{METHOD_LOOK[m]['label']} evaluations": result[m]["evaluations"]
+                for m in IMAGE_METHOD_NAMES
+            }
+        )
         return d["fig"], numbers
 
-    live = {"hi": positions(controls["hi"], 8, 0.5, 4.0),
-            "function": positions(controls["function"])}
-    return Explorer(controls, render, title="The image of an interval: four methods",
-                    live=live)
+    live = {
+        "hi": positions(controls["hi"], 8, 0.5, 4.0),
+        "function": positions(controls["function"]),
+    }
+    return Explorer(controls, render, title="The image of an interval: four methods", live=live)

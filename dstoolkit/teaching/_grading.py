@@ -94,8 +94,9 @@ linecache.cache["<test>"] = (len(_RAISE_SOURCE), None, [_RAISE_SOURCE], "<test>"
 
 
 def must_pass_recomputed(exercise_id: str, answer: Any, *, variant: int) -> None:
-    """Check a value answer against its solution computed afresh from the data of
-    ``variant``; raise unless it is right.
+    """Check a value answer against its solution computed afresh from the data of ``variant``.
+
+    Raise unless it is right.
 
     The hidden test of a value answer in a course: it does not read the kept solution nor
     the variant the notebook chose (:func:`~dstoolkit.teaching.set_variant`), so an answer
@@ -130,8 +131,9 @@ def must_pass_recomputed(exercise_id: str, answer: Any, *, variant: int) -> None
     """
     exercise = get(exercise_id)
     if not isinstance(exercise, Exercise):
-        raise InvalidInputError(f"{exercise_id!r} is a coding exercise; its hidden tests are "
-                                "must_pass_alone's")
+        raise InvalidInputError(
+            f"{exercise_id!r} is a coding exercise; its hidden tests are must_pass_alone's"
+        )
     if answer is ... or answer is None:
         feedback = check(exercise_id, answer)
     else:
@@ -139,14 +141,20 @@ def must_pass_recomputed(exercise_id: str, answer: Any, *, variant: int) -> None
         with using_variant(variant):
             feedback = fresh.verdict(answer)
     __tracebackhide__ = True  # noqa: F841 - IPython shows the verdict, not this frame
-    _report(feedback.message.replace("✔ ", "✔ hidden test of ", 1).replace(
-        "✘ ", "✘ hidden test of ", 1), feedback.correct)
+    _report(
+        feedback.message.replace("✔ ", "✔ hidden test of ", 1).replace(
+            "✘ ", "✘ hidden test of ", 1
+        ),
+        feedback.correct,
+    )
 
 
-def must_pass_alone(exercise_id: str, answer: Callable[..., Any], *,
-                    time_limit: float | None = None) -> None:
-    """Run a coding answer on hidden cases where dstoolkit cannot be reached; raise unless
-    it is right on all of them.
+def must_pass_alone(
+    exercise_id: str, answer: Callable[..., Any], *, time_limit: float | None = None
+) -> None:
+    """Run a coding answer on hidden cases where dstoolkit cannot be reached.
+
+    Raise unless it is right on all of them.
 
     The hidden cases are the exercise's random cases drawn from other seeds (its chosen
     cases when it has no random ones). While the answer runs, dstoolkit cannot be
@@ -181,19 +189,23 @@ def must_pass_alone(exercise_id: str, answer: Callable[..., Any], *,
     """
     exercise = get(exercise_id)
     if not isinstance(exercise, CodingExercise):
-        raise InvalidInputError(f"{exercise_id!r} is not a coding exercise; hidden tests with "
-                                "dstoolkit out of reach are for coding exercises")
+        raise InvalidInputError(
+            f"{exercise_id!r} is not a coding exercise; hidden tests with "
+            "dstoolkit out of reach are for coding exercises"
+        )
     cases = hidden_cases(exercise)
     target = alone(answer) if isinstance(answer, FunctionType) else answer
     with library_hidden():
         feedback = exercise.verdict(target, time_limit, cases)
     __tracebackhide__ = True  # noqa: F841 - IPython shows the verdict, not this frame
-    _report(feedback.message.replace("✔ ", "✔ hidden tests of ").replace(
-        "✘ ", "✘ hidden tests of "), feedback.correct)
+    _report(
+        feedback.message.replace("✔ ", "✔ hidden tests of ").replace("✘ ", "✘ hidden tests of "),
+        feedback.correct,
+    )
 
 
 def hidden_cases(exercise: CodingExercise) -> list[tuple[Case, Any]]:
-    """The hidden cases of a coding exercise with the reference's outcomes (kept)."""
+    """Return the hidden cases of a coding exercise with the reference's outcomes (kept)."""
     if "hidden" not in exercise._cache:
         with seed_shift(HIDDEN_SEED_SHIFT):
             cases = exercise.cases()
@@ -236,14 +248,17 @@ def _from_dstoolkit(value: Any) -> bool:
 
 
 def alone(fn: FunctionType) -> FunctionType:
-    """A copy of ``fn`` whose global names and closure variables (and those of the
-    functions of its notebook it calls) that refer to dstoolkit objects are replaced by
-    objects that raise on use."""
+    """Return a copy of ``fn`` whose references to dstoolkit objects raise on use.
+
+    The global names and closure variables of ``fn`` (and those of the functions of its
+    notebook it calls) that refer to dstoolkit objects are replaced by objects that raise on use.
+    """
     source = fn.__globals__
     names: dict[str, Any] = {}
     for key, value in source.items():
-        names[key] = _Unreachable(key) if (
-            _from_dstoolkit(value) and not key.startswith("__")) else value
+        names[key] = (
+            _Unreachable(key) if (_from_dstoolkit(value) and not key.startswith("__")) else value
+        )
     for key, value in source.items():
         if isinstance(value, FunctionType) and value.__globals__ is source:
             names[key] = _rebound(value, names)
@@ -251,7 +266,7 @@ def alone(fn: FunctionType) -> FunctionType:
 
 
 def _cell(name: str, cell: CellType) -> CellType:
-    """A closure cell, with a dstoolkit object replaced by one that raises on use."""
+    """Return a closure cell, with a dstoolkit object replaced by one that raises on use."""
     try:
         value = cell.cell_contents
     except ValueError:  # an empty cell
@@ -260,9 +275,14 @@ def _cell(name: str, cell: CellType) -> CellType:
 
 
 def _rebound(fn: FunctionType, names: dict[str, Any]) -> FunctionType:
-    closure = None if fn.__closure__ is None else tuple(
-        _cell(name, cell) for name, cell in zip(fn.__code__.co_freevars, fn.__closure__,
-                                                 strict=True))
+    closure = (
+        None
+        if fn.__closure__ is None
+        else tuple(
+            _cell(name, cell)
+            for name, cell in zip(fn.__code__.co_freevars, fn.__closure__, strict=True)
+        )
+    )
     twin = FunctionType(fn.__code__, names, fn.__name__, fn.__defaults__, closure)
     twin.__kwdefaults__ = fn.__kwdefaults__
     twin.__qualname__ = fn.__qualname__
@@ -281,8 +301,11 @@ class _Refuse(MetaPathFinder):
 @contextmanager
 def library_hidden() -> Iterator[None]:
     """Inside the ``with`` block ``import dstoolkit`` (and any submodule) fails."""
-    kept = {name: module for name, module in sys.modules.items()
-            if name == "dstoolkit" or name.startswith("dstoolkit.")}
+    kept = {
+        name: module
+        for name, module in sys.modules.items()
+        if name == "dstoolkit" or name.startswith("dstoolkit.")
+    }
     finder = _Refuse()
     for name in kept:
         del sys.modules[name]

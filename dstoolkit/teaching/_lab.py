@@ -58,7 +58,7 @@ def device_options(kind: Literal["input", "output"]) -> list[tuple[str, Any]]:
 class LabSettings:
     """What the lab's controls say.
 
-    Attributes
+    Parameters
     ----------
     temperature_c
         The thermometer's reading, °C: the analysis takes c from it (c = 331.3 + 0.606 T).
@@ -83,6 +83,21 @@ class LabSettings:
         Seed of the simulated recording's noise and latency.
     sweep
         The sweep (default the paper's, 1000 → 2400 Hz in 5 s).
+
+    See Also
+    --------
+    lab_measurement : the measurement these settings describe.
+    dstoolkit.audio.simulate_measurement : the virtual tube's recording.
+
+    References
+    ----------
+    The paper's law of the speed of sound, c = 331.3 + 0.606 T (m/s, T in °C).
+
+    Examples
+    --------
+    >>> s = LabSettings(level_m=3.0, thermometer_error_c=1.5)
+    >>> s.simulated, s.virtual_tube.temperature_c
+    (True, 19.5)
     """
 
     temperature_c: float = 21.0
@@ -104,13 +119,16 @@ class LabSettings:
     @property
     def virtual_tube(self) -> TubeSetup:
         """The simulated gauge: ``level_m`` of air at the true temperature."""
-        return TubeSetup(level_m=self.level_m,
-                         temperature_c=self.temperature_c - self.thermometer_error_c)
+        return TubeSetup(
+            level_m=self.level_m, temperature_c=self.temperature_c - self.thermometer_error_c
+        )
 
     @property
     def simulated_latency_s(self) -> float:
-        """The audio latency of the simulated sound card: 50–200 ms, a new one per seed, as
-        a real stream has (the calibration chirp finds it)."""
+        """The audio latency of the simulated sound card.
+
+        50–200 ms, a new one per seed, as a real stream has (the calibration chirp finds it).
+        """
         return float(0.05 + 0.15 * np.random.default_rng(self.seed).random())
 
 
@@ -121,6 +139,17 @@ def lab_measurement(settings: LabSettings) -> audio.Analysis:
     all), then :func:`~dstoolkit.audio.analyze`. With devices:
     :func:`dstoolkit.audio.measure` plays and records through them (about 7 s).
 
+    Parameters
+    ----------
+    settings
+        The lab's controls: level (m), temperature (°C), devices, sweep, seed.
+
+    Returns
+    -------
+    dstoolkit.audio.Analysis
+        The recording, its resonances, the level ± uncertainty (m) and the level by every
+        filter; with the virtual tube also the true level and the error.
+
     Raises
     ------
     AudioUnavailableError
@@ -129,31 +158,95 @@ def lab_measurement(settings: LabSettings) -> audio.Analysis:
         A bad recording: silent, clipped, too short, no tube echo, too few resonances.
     ValueError
         Bad settings.
+
+    See Also
+    --------
+    lab_numbers : the numbers the lab widget prints for the analysis.
+    dstoolkit.audio.analyze : the analysis of a recording.
+
+    References
+    ----------
+    The level is the paper's eq. 35, L = c/(2 f_F), from the spacing of the resonances; each
+    filter follows eq. 32 per step with the orders of eq. 43.
+
+    Examples
+    --------
+    The virtual tube with a short sweep (no sound card is touched):
+
+    >>> from dstoolkit.gauge import LinearSweep
+    >>> short = LinearSweep(1000.0, 1600.0, duration=2.0)
+    >>> analysis = lab_measurement(LabSettings(level_m=9.6, sweep=short))
+    >>> round(analysis.level.level_m, 2)
+    9.6
     """
     s = settings
     if s.simulated:
         recording = audio.simulate_measurement(
-            s.virtual_tube, temperature_c=s.temperature_c, sweep=s.sweep,
-            latency_s=s.simulated_latency_s, noise_rms=10.0 ** (s.room_noise_dbfs / 20.0),
-            amplitude=s.volume, seed=s.seed)
+            s.virtual_tube,
+            temperature_c=s.temperature_c,
+            sweep=s.sweep,
+            latency_s=s.simulated_latency_s,
+            noise_rms=10.0 ** (s.room_noise_dbfs / 20.0),
+            amplitude=s.volume,
+            seed=s.seed,
+        )
         return audio.analyze(recording)
     return audio.measure(
-        s.temperature_c, sweep=s.sweep, input_device=s.input_device,
+        s.temperature_c,
+        sweep=s.sweep,
+        input_device=s.input_device,
         output_device=s.output_device,
-        virtual_tube=s.virtual_tube if s.through_virtual_tube else None, amplitude=s.volume)
+        virtual_tube=s.virtual_tube if s.through_virtual_tube else None,
+        amplitude=s.volume,
+    )
 
 
 def lab_numbers(analysis: audio.Analysis) -> dict[str, Any]:
-    """The numbers the lab widget prints for one analysis: the level and its uncertainty,
-    the truth when known, the resonances, the latency and the level by every filter."""
+    """Return the numbers the lab widget prints for one analysis.
+
+    The level and its uncertainty, the truth when known, the resonances, the latency and the level
+    by every filter.
+
+    Parameters
+    ----------
+    analysis
+        An analysis from :func:`lab_measurement` or :func:`dstoolkit.audio.analyze`.
+
+    Returns
+    -------
+    dict
+        Label (with its unit: m, mm, ms, m/s) → value: ``"level (m)"``, ``"± 1σ (m)"``,
+        ``"true level (m)"`` and ``"error (mm)"`` when the truth is known, ``"resonances"``,
+        ``"missed"``, ``"latency (ms)"``, ``"c (m/s)"`` and ``"<filter> (m)"`` per filter.
+
+    See Also
+    --------
+    lab_measurement : the measurement these numbers describe.
+
+    Examples
+    --------
+    >>> from dstoolkit.audio import analyze, simulate_measurement
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> rec = simulate_measurement(TubeSetup(level_m=9.6, temperature_c=20.0))
+    >>> numbers = lab_numbers(analyze(rec, methods=("direct",)))
+    >>> numbers["true level (m)"], numbers["resonances"], round(numbers["c (m/s)"], 2)
+    (9.6, 77, 343.42)
+    >>> list(numbers)[-1]
+    'direct (m)'
+    """
     lv, det = analysis.level, analysis.detection
     numbers: dict[str, Any] = {"level (m)": lv.level_m, "± 1σ (m)": lv.uncertainty_m}
     if analysis.true_level_m is not None and analysis.error_m is not None:
         numbers["true level (m)"] = analysis.true_level_m
         numbers["error (mm)"] = 1e3 * analysis.error_m
-    numbers.update({"resonances": int(det.frequencies.size), "missed": int(det.missed.size),
-                    "latency (ms)": 1e3 * analysis.latency_s,
-                    "c (m/s)": lv.speed_of_sound})
+    numbers.update(
+        {
+            "resonances": int(det.frequencies.size),
+            "missed": int(det.missed.size),
+            "latency (ms)": 1e3 * analysis.latency_s,
+            "c (m/s)": lv.speed_of_sound,
+        }
+    )
     numbers.update({f"{m} (m)": v for m, v in analysis.filter_levels.items()})
     return numbers
 
@@ -162,8 +255,43 @@ def lab_numbers(analysis: audio.Analysis) -> dict[str, Any]:
 
 
 def plot_method_levels(analysis: audio.Analysis, ax: Axes | None = None) -> Figure:
-    """The level by the series fit (with its 1σ and 2σ uncertainty) and by every filter
-    (eq. 32 per step with the orders of eq. 43, averaged), beside the true level if known."""
+    """Plot the level by the series fit and by every filter, beside the true level if known.
+
+    The series fit is shown with its 1σ and 2σ uncertainty; each filter's level is eq. 32 per
+    step with the orders of eq. 43, averaged.
+
+    Parameters
+    ----------
+    analysis
+        An analysis from :func:`lab_measurement` or :func:`dstoolkit.audio.analyze`.
+    ax
+        Axes to draw on; None draws on a new figure (8 × 2.6 in).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure of ``ax`` (or the new one): one row per method, level L in m.
+
+    See Also
+    --------
+    lab_numbers : the same levels as numbers.
+
+    References
+    ----------
+    The paper's eqs. 32 and 43 (the level from one resonance and its order) and eq. 35
+    (the level from the spacing of the resonances).
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from dstoolkit.audio import analyze, simulate_measurement
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> rec = simulate_measurement(TubeSetup(level_m=9.6, temperature_c=20.0))
+    >>> fig = plot_method_levels(analyze(rec, methods=("direct",)))
+    >>> [t.get_text() for t in fig.axes[0].get_yticklabels()][0]
+    'series fit (spacing)'
+    """
     if ax is None:
         fig = Figure(figsize=(8.0, 2.6), layout="constrained")
         ax = fig.add_subplot()
@@ -171,10 +299,25 @@ def plot_method_levels(analysis: audio.Analysis, ax: Axes | None = None) -> Figu
     lv = analysis.level
     names = ["series fit (spacing)", *(method_label(m) for m in analysis.filter_levels)]
     y = np.arange(len(names))[::-1]
-    ax.errorbar([lv.level_m], [y[0]], xerr=[[2 * lv.uncertainty_m]], fmt="none",
-                ecolor="0.75", elinewidth=6, label="± 2σ")
-    ax.errorbar([lv.level_m], [y[0]], xerr=[[lv.uncertainty_m]], fmt="o", color="black",
-                ecolor="0.35", elinewidth=6, label="level ± 1σ")
+    ax.errorbar(
+        [lv.level_m],
+        [y[0]],
+        xerr=[[2 * lv.uncertainty_m]],
+        fmt="none",
+        ecolor="0.75",
+        elinewidth=6,
+        label="± 2σ",
+    )
+    ax.errorbar(
+        [lv.level_m],
+        [y[0]],
+        xerr=[[lv.uncertainty_m]],
+        fmt="o",
+        color="black",
+        ecolor="0.35",
+        elinewidth=6,
+        label="level ± 1σ",
+    )
     for yi, (m, value) in zip(y[1:], analysis.filter_levels.items(), strict=True):
         st: Any = STYLE.get(m, {"color": "k", "marker": "s"})
         ax.plot([value], [yi], ls="", marker=st["marker"], color=st["color"])
@@ -189,25 +332,90 @@ def plot_method_levels(analysis: audio.Analysis, ax: Axes | None = None) -> Figu
 
 
 def calibration_correlation(recording: WavRecording) -> np.ndarray:
-    """|c[j]| = |Σ_i recording[j + i] chirp[i]| normalised to its maximum: the matched
-    filter of :func:`dstoolkit.gauge.estimate_latency` over the whole recording (index j is
-    where a chirp would start)."""
+    """|c[j]| = |Σ_i recording[j + i] chirp[i]| normalised to its maximum.
+
+    The matched filter of :func:`dstoolkit.gauge.estimate_latency` over the whole recording (index j
+    is where a chirp would start).
+
+    Parameters
+    ----------
+    recording
+        A recording with the calibration chirps, from :func:`~dstoolkit.audio.measure` or
+        :func:`~dstoolkit.audio.simulate_measurement`.
+
+    Returns
+    -------
+    numpy.ndarray
+        |c[j]| / max |c|, shape (samples − chirp samples + 1,), dimensionless in [0, 1].
+
+    See Also
+    --------
+    plot_calibration : the picture of this correlation.
+
+    Examples
+    --------
+    The opening chirp is found one latency after it was played:
+
+    >>> import numpy as np
+    >>> from dstoolkit.audio import simulate_measurement
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> rec = simulate_measurement(TubeSetup(level_m=9.6, temperature_c=20.0))
+    >>> c = calibration_correlation(rec)
+    >>> float(c.max()), c.ndim
+    (1.0, 1)
+    """
     chirp = audio.calibration_chirp(recording.samplerate)
     c = np.abs(signal.correlate(recording.samples, chirp, mode="valid", method="fft"))
     return c / max(float(c.max()), 1e-300)
 
 
 def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure:
-    """How the latency is found: the recording with its two chirps and the sweep (top), the
-    chirp's matched filter over the recording (middle) and around the opening chirp, in ms
-    after it was played (bottom). Needs a recording made by
-    :func:`~dstoolkit.audio.measure` or :func:`~dstoolkit.audio.simulate_measurement`
-    (its metadata say when the chirp was played)."""
+    """How the latency is found.
+
+    The recording with its two chirps and the sweep (top), the chirp's matched filter over the
+    recording (middle) and around the opening chirp, in ms after it was played (bottom). Needs a
+    recording made by :func:`~dstoolkit.audio.measure` or
+    :func:`~dstoolkit.audio.simulate_measurement` (its metadata say when the chirp was played).
+
+    Parameters
+    ----------
+    recording
+        A recording whose metadata hold the latency and the sweep's onset (s).
+    zoom_ms
+        Half width of the bottom panel around the latency, ms.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Three panels (8 × 6.6 in): recording, matched filter, zoom on the latency.
+
+    Raises
+    ------
+    InvalidInputError
+        The recording's metadata do not hold the calibration.
+
+    See Also
+    --------
+    calibration_correlation : the matched filter drawn in the middle and bottom panels.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from dstoolkit.audio import simulate_measurement
+    >>> from dstoolkit.gauge import TubeSetup
+    >>> rec = simulate_measurement(TubeSetup(level_m=9.6, temperature_c=20.0))
+    >>> fig = plot_calibration(rec, zoom_ms=2.0)
+    >>> len(fig.axes), fig.axes[2].get_legend().get_texts()[0].get_text()
+    (3, 'τ = 100.00 ms')
+    """
     meta, fs = recording.metadata, recording.samplerate
     if meta.latency_s is None or meta.sweep_onset_s is None:
-        raise InvalidInputError("the recording's metadata do not hold the calibration "
-                                "(latency and sweep onset); record it with "
-                                "dstoolkit.audio.measure")
+        raise InvalidInputError(
+            "the recording's metadata do not hold the calibration "
+            "(latency and sweep onset); record it with "
+            "dstoolkit.audio.measure"
+        )
     chirp_s = audio.calibration_chirp(fs).size / fs
     played = meta.sweep_onset_s - meta.latency_s - audio.CALIBRATION_GAP_S - chirp_s
     c = calibration_correlation(recording)
@@ -217,8 +425,13 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
     top.plot(t, recording.samples, lw=0.3, color=GREY)
     arrive = played + meta.latency_s
     top.axvspan(arrive, arrive + chirp_s, color="C1", alpha=0.3, label="opening chirp")
-    top.axvspan(meta.sweep_onset_s, meta.sweep_onset_s + (meta.sweep_duration_s or 0.0),
-                color="C0", alpha=0.12, label="sweep")
+    top.axvspan(
+        meta.sweep_onset_s,
+        meta.sweep_onset_s + (meta.sweep_duration_s or 0.0),
+        color="C0",
+        alpha=0.12,
+        label="sweep",
+    )
     top.axvline(played, color="black", lw=0.8, ls="--", label="chirp played")
     top.set_xlim(t[0], t[-1])
     top.set_xlabel("time in the recording (s)")
@@ -226,18 +439,27 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
     top.legend(loc="lower right", fontsize="small")
     mid.plot(t[: c.size], c, lw=0.8, color="C1")
     half = c.size // 2
-    for j, name in ((int(np.argmax(c[:half])), "opening chirp"),
-                    (half + int(np.argmax(c[half:])), "closing chirp")):
-        mid.annotate(name, (t[j], c[j]), xytext=(6, -4), textcoords="offset points",
-                     fontsize="small", va="top")
+    for j, name in (
+        (int(np.argmax(c[:half])), "opening chirp"),
+        (half + int(np.argmax(c[half:])), "closing chirp"),
+    ):
+        mid.annotate(
+            name,
+            (t[j], c[j]),
+            xytext=(6, -4),
+            textcoords="offset points",
+            fontsize="small",
+            va="top",
+        )
     mid.set_xlim(t[0], t[-1])
     mid.set_xlabel("where the chirp would start (s)")
     mid.set_ylabel("|matched filter|")
     lag_ms = 1e3 * (t[: c.size] - played)
     near = np.abs(lag_ms - 1e3 * meta.latency_s) <= zoom_ms
     bottom.plot(lag_ms[near], c[near], ".-", ms=2, lw=0.8, color="C1")
-    bottom.axvline(1e3 * meta.latency_s, color="black", lw=1.0,
-                   label=f"τ = {1e3 * meta.latency_s:.2f} ms")
+    bottom.axvline(
+        1e3 * meta.latency_s, color="black", lw=1.0, label=f"τ = {1e3 * meta.latency_s:.2f} ms"
+    )
     bottom.set_xlabel("lag after the chirp was played (ms)")
     bottom.set_ylabel("|matched filter|")
     bottom.legend(loc="upper right", fontsize="small")
@@ -245,8 +467,32 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
 
 
 def draw_gauge(ax: Axes | None = None) -> Figure:
-    """A wiring diagram of the lab's gauge: tube, liquid, speaker and microphone at the top,
-    thermometer, the cables to the laptop's sound card, and the level L."""
+    """Return a wiring diagram of the lab's gauge.
+
+    Tube, liquid, speaker and microphone at the top, thermometer, the cables to the laptop's sound
+    card, and the level L.
+
+    Parameters
+    ----------
+    ax
+        Axes to draw on; None draws on a new figure (8 × 6 in).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure of ``ax`` (or the new one).
+
+    See Also
+    --------
+    lab_measurement : a measurement with this gauge (or its virtual tube).
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> draw_gauge().axes[0].get_title()
+    "The lab's gauge: speaker and microphone at the top, level L below"
+    """
     if ax is None:
         fig = Figure(figsize=(8.0, 6.0), layout="constrained")
         ax = fig.add_subplot()
@@ -257,8 +503,9 @@ def draw_gauge(ax: Axes | None = None) -> Figure:
     ax.axis("off")
     wall, inner = "#6b6b6b", 0.9  # tube: x in [0, inner], walls drawn as thick lines
     water, surface = "#9ecae1", 1.6
-    ax.add_patch(patches.Rectangle((-1.3, 0.0), inner + 2.6, 2.6, fc=water, ec="#3182bd",
-                                   lw=1.5))  # bucket of liquid
+    ax.add_patch(
+        patches.Rectangle((-1.3, 0.0), inner + 2.6, 2.6, fc=water, ec="#3182bd", lw=1.5)
+    )  # bucket of liquid
     ax.add_patch(patches.Rectangle((0, 0.3), inner, surface - 0.3, fc="#6baed6", ec="none"))
     for x in (0.0, inner):
         ax.plot([x, x], [0.3, 9.6], color=wall, lw=3)
@@ -266,32 +513,56 @@ def draw_gauge(ax: Axes | None = None) -> Figure:
     ax.text(-1.2, 0.35, "bucket of water\n(or a movable plug)", fontsize=8, va="bottom")
     # speaker on the top, microphone through the wall just below it
     ax.add_patch(patches.Rectangle((-0.25, 9.6), inner + 0.5, 0.25, fc="#444", ec="none"))
-    ax.add_patch(patches.Polygon([(0.15, 9.85), (inner - 0.15, 9.85), (inner + 0.15, 10.5),
-                                  (-0.15, 10.5)], fc="#222", ec="none"))
+    ax.add_patch(
+        patches.Polygon(
+            [(0.15, 9.85), (inner - 0.15, 9.85), (inner + 0.15, 10.5), (-0.15, 10.5)],
+            fc="#222",
+            ec="none",
+        )
+    )
     ax.text(-0.3, 10.75, "speaker (faces down)", fontsize=8, ha="left")
     ax.add_patch(patches.Circle((inner + 0.12, 9.3), 0.14, fc="#d62728", ec="black", lw=0.8))
-    ax.text(inner + 0.4, 9.1, "microphone,\nflush with the wall,\n~3 cm below\nthe speaker",
-            fontsize=8, va="top")
-    ax.add_patch(patches.Rectangle((inner + 0.05, 6.0), 0.1, 1.4, fc="#fdae6b", ec="black",
-                                   lw=0.6))
-    ax.text(inner + 0.4, 6.6, "thermometer probe\n(air inside the tube)", fontsize=8,
-            va="center")
+    ax.text(
+        inner + 0.4,
+        9.1,
+        "microphone,\nflush with the wall,\n~3 cm below\nthe speaker",
+        fontsize=8,
+        va="top",
+    )
+    ax.add_patch(patches.Rectangle((inner + 0.05, 6.0), 0.1, 1.4, fc="#fdae6b", ec="black", lw=0.6))
+    ax.text(inner + 0.4, 6.6, "thermometer probe\n(air inside the tube)", fontsize=8, va="center")
     # the level L: from the speaker platform to the surface
-    ax.annotate("", xy=(-0.6, surface), xytext=(-0.6, 9.6),
-                arrowprops={"arrowstyle": "<->", "color": "black", "lw": 1.0})
+    ax.annotate(
+        "",
+        xy=(-0.6, surface),
+        xytext=(-0.6, 9.6),
+        arrowprops={"arrowstyle": "<->", "color": "black", "lw": 1.0},
+    )
     ax.text(-0.8, 0.5 * (9.6 + surface), "L", fontsize=13, ha="right", va="center")
     ax.text(-2.9, 4.2, "PVC tube\nd = 75 mm,\n2–10 m", fontsize=8, va="center")
     # laptop with its sound card, cables taped along the tube
-    ax.add_patch(patches.FancyBboxPatch((5.4, 3.4), 2.9, 1.8, boxstyle="round,pad=0.1",
-                                        fc="#f0f0f0", ec="black"))
+    ax.add_patch(
+        patches.FancyBboxPatch(
+            (5.4, 3.4), 2.9, 1.8, boxstyle="round,pad=0.1", fc="#f0f0f0", ec="black"
+        )
+    )
     ax.text(6.85, 4.55, "laptop", fontsize=9, ha="center", weight="bold")
     ax.text(6.85, 3.8, "headphone out → amplifier\nmic in / USB", fontsize=7, ha="center")
     cable: dict[str, Any] = {"color": "black", "lw": 1.0}
     ax.plot([inner + 0.25, 4.6, 4.6, 5.4], [10.2, 10.2, 4.8, 4.8], **cable)
-    ax.plot([inner + 0.26, 0.6 + inner, 0.6 + inner, 4.3, 4.3, 5.4],
-            [9.3, 9.3, 9.75, 9.75, 4.0, 4.0], ls="--", **cable)
-    ax.text(4.8, 7.6, "speaker cable (—)\nmicrophone cable (- -)\ntied to a post,\n"
-            "away from the mouth", fontsize=7, va="center")
+    ax.plot(
+        [inner + 0.26, 0.6 + inner, 0.6 + inner, 4.3, 4.3, 5.4],
+        [9.3, 9.3, 9.75, 9.75, 4.0, 4.0],
+        ls="--",
+        **cable,
+    )
+    ax.text(
+        4.8,
+        7.6,
+        "speaker cable (—)\nmicrophone cable (- -)\ntied to a post,\naway from the mouth",
+        fontsize=7,
+        va="center",
+    )
     ax.set_title("The lab's gauge: speaker and microphone at the top, level L below")
     return fig
 
@@ -304,7 +575,7 @@ class _PortAudioError(Exception):
 
 
 def _sounddevice_without_devices() -> types.ModuleType:
-    """A stand-in for sounddevice on a machine where PortAudio finds no device."""
+    """Return a stand-in for sounddevice on a machine where PortAudio finds no device."""
     sd = types.ModuleType("sounddevice")
     sd.PortAudioError = _PortAudioError  # type: ignore[attr-defined]
     sd.default = types.SimpleNamespace(device=[-1, -1])  # type: ignore[attr-defined]
@@ -321,9 +592,38 @@ def _sounddevice_without_devices() -> types.ModuleType:
 
 @contextmanager
 def imitate_audio_failure(kind: Literal["no sounddevice", "no device"]) -> Iterator[None]:
-    """Inside the block, ``import sounddevice`` fails ("no sounddevice": as without the
+    """Make the sound card fail inside the block, as on a machine without one.
+
+    Inside the block, ``import sounddevice`` fails ("no sounddevice": as without the
     package) or PortAudio sees no device ("no device": as on a machine without a sound
-    card). Nothing is played or recorded; the real module is restored afterwards."""
+    card). Nothing is played or recorded; the real module is restored afterwards.
+
+    Parameters
+    ----------
+    kind
+        ``"no sounddevice"`` or ``"no device"``.
+
+    Yields
+    ------
+    None
+        Inside the block, the failure holds.
+
+    Raises
+    ------
+    InvalidInputError
+        ``kind`` is neither of the two.
+
+    See Also
+    --------
+    dstoolkit.audio.audio_available : what the block makes False.
+
+    Examples
+    --------
+    >>> from dstoolkit.audio import audio_available
+    >>> with imitate_audio_failure("no device"):
+    ...     audio_available()
+    False
+    """
     if kind == "no sounddevice":
         stand_in: types.ModuleType | None = None  # None in sys.modules: import raises
     elif kind == "no device":
@@ -342,10 +642,42 @@ def imitate_audio_failure(kind: Literal["no sounddevice", "no device"]) -> Itera
             sys.modules["sounddevice"] = saved  # type: ignore[assignment]
 
 
-def level_error_from_temperature(level_m: float, temperature_c: float,
-                                 thermometer_error_c: float) -> float:
-    """The level error (m) of a thermometer that reads ``thermometer_error_c`` too high:
-    L = c/(2 f_F) (eq. 35) scales with c, so δL = L (c(T + δT) − c(T))/c(T)."""
+def level_error_from_temperature(
+    level_m: float, temperature_c: float, thermometer_error_c: float
+) -> float:
+    """Return the level error (m) of a thermometer that reads ``thermometer_error_c`` too high.
+
+    L = c/(2 f_F) (eq. 35) scales with c, so δL = L (c(T + δT) − c(T))/c(T).
+
+    Parameters
+    ----------
+    level_m
+        The true level L, m.
+    temperature_c
+        The air's true temperature T, °C.
+    thermometer_error_c
+        How much the thermometer reads too high, δT in °C (negative: too low).
+
+    Returns
+    -------
+    float
+        δL, m: positive when the level is overestimated.
+
+    See Also
+    --------
+    LabSettings : ``thermometer_error_c`` sets this error on the virtual tube.
+
+    References
+    ----------
+    The paper's eq. 35 (L = c/(2 f_F)) and its law c = 331.3 + 0.606 T.
+
+    Examples
+    --------
+    A thermometer 1 °C too high over 2.5 m of air at 21 °C:
+
+    >>> round(1e3 * level_error_from_temperature(2.5, 21.0, 1.0), 1)
+    4.4
+    """
     c_true = float(speed_of_sound(temperature_c))
     c_read = float(speed_of_sound(temperature_c + thermometer_error_c))
     return level_m * (c_read - c_true) / c_true

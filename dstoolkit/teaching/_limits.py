@@ -67,7 +67,7 @@ def set_time_limit(seconds: float) -> float:
 
 
 def time_limit() -> float:
-    """The time limit of a check, in seconds (see :func:`set_time_limit`)."""
+    """Return the time limit of a check, in seconds (see :func:`set_time_limit`)."""
     return _settings["time_limit"]
 
 
@@ -78,15 +78,18 @@ def valid_limit(seconds: Any) -> float:
     except (TypeError, ValueError):
         value = float("nan")
     if not value > 0 or value == float("inf"):
-        raise InvalidInputError(f"a time limit must be a number of seconds above 0, not "
-                                f"{seconds!r}; e.g. set_time_limit(20)")
+        raise InvalidInputError(
+            f"a time limit must be a number of seconds above 0, not "
+            f"{seconds!r}; e.g. set_time_limit(20)"
+        )
     return value
 
 
 def _alarm_available() -> bool:
-    """An interval timer can be used: Unix, the main thread, and no one else's alarm."""
+    """Tell whether an interval timer can be used: Unix, the main thread, no one else's alarm."""
     if not hasattr(signal, "setitimer") or threading.current_thread() is not (
-            threading.main_thread()):
+        threading.main_thread()
+    ):
         return False
     if signal.getitimer(signal.ITIMER_REAL)[0] > 0:
         return False
@@ -94,15 +97,16 @@ def _alarm_available() -> bool:
 
 
 def _ring(signum: int, frame: Any) -> None:
-    """The timer's handler: stop the learner's code, never this module's clean-up."""
+    """Handle the timer's signal: stop the learner's code, never this module's clean-up."""
     if frame is not None and frame.f_code.co_filename == __file__:
         return
     raise _TimeLimitReached
 
 
 def run_limited(fn: Callable[..., Any], args: tuple, end: float) -> Any:
-    """``fn(*args)``, stopped with :class:`_TimeLimitReached` at ``end`` (a
-    :func:`time.monotonic` value).
+    """Run ``fn(*args)`` and stop it with :class:`_TimeLimitReached` at ``end``.
+
+    ``end`` is a :func:`time.monotonic` value.
 
     The trace function is set only for the frames ``fn`` opens: this function's own frame
     is not traced, so its clean-up always runs.
@@ -162,7 +166,7 @@ def count_items(value: Any, limit: int = BIG) -> int:
 
 
 def describe(value: Any) -> str:
-    """A short description of a value: its type and size, never its contents."""
+    """Return a short description of a value: its type and size, never its contents."""
     if value is None:
         return "None"
     shape = getattr(value, "shape", None)
@@ -178,7 +182,7 @@ def describe(value: Any) -> str:
 
 
 def too_big(value: Any) -> bool:
-    """True when ``value`` holds more than :data:`BIG` numbers or items."""
+    """Return True when ``value`` holds more than :data:`BIG` numbers or items."""
     try:
         return count_items(value) > BIG
     except Exception:  # noqa: BLE001 - an odd object whose len() or size fails

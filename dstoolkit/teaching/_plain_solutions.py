@@ -28,9 +28,10 @@ def bel_pl(m, a):
 
 
 def pignistic(m):
-    """The pignistic probability BetP: each focal element shares its mass
-    equally among its members. m: dict {frozenset: mass}. Returns
-    {hypothesis: probability}.
+    """Return the pignistic probability BetP.
+
+    Each focal element shares its mass equally among its members. m: dict
+    {frozenset: mass}. Returns {hypothesis: probability}.
     """
     betp: dict = {}
     for focal, mass in m.items():
@@ -40,8 +41,9 @@ def pignistic(m):
 
 
 def dempster_rule(m1, m2):
-    """Dempster's rule m1 ⊕ m2 (eq. 1): products on intersections,
-    renormalised by 1 − K.
+    """Dempster's rule m1 ⊕ m2 (eq. 1).
+
+    Products on intersections, renormalised by 1 − K.
 
     m1, m2: dicts {frozenset: mass}. Returns the combined dict (no empty set
     in it). Raises ValueError when the sources are in total conflict (K =
@@ -61,9 +63,10 @@ def dempster_rule(m1, m2):
 
 
 def discount_rule(m, rate, frame):
-    """Discount m at ``rate`` (eqs. 9–10): every mass times (1 − rate), and
-    ``rate`` more on the whole frame Θ. m: dict {frozenset: mass}; frame:
-    the set Θ. Returns a dict.
+    """Discount m at ``rate`` (eqs. 9–10).
+
+    Every mass times (1 − rate), and ``rate`` more on the whole frame Θ. m:
+    dict {frozenset: mass}; frame: the set Θ. Returns a dict.
     """
     theta = frozenset(frame)
     out = {focal: (1.0 - rate) * mass for focal, mass in m.items()}
@@ -72,8 +75,7 @@ def discount_rule(m, rate, frame):
 
 
 def dependency(m1, m2, frame):
-    """Degree of dependence D and dependency coefficients R12, R21 (eqs.
-    2–8).
+    """Degree of dependence D and dependency coefficients R12, R21 (eqs. 2–8).
 
     En(E) = Σ m(A)/|A| over the focal elements A ≠ Θ (eq. 2); the energy of
     the intersection sums min(m1(A), m2(A))/|A| over the focal elements A ≠
@@ -95,9 +97,10 @@ def dependency(m1, m2, frame):
 
 
 def dependent_rule(m1, m2, frame):
-    """Combination of dependent evidence (§2.2): discount E1 at rate 1 − R12
-    and E2 at rate 1 − R21 (decorrelation, eqs. 9–10), then Dempster's rule
-    (eq. 1).
+    """Combine dependent evidence (§2.2).
+
+    Discount E1 at rate 1 − R12 and E2 at rate 1 − R21 (decorrelation,
+    eqs. 9–10), then apply Dempster's rule (eq. 1).
 
     m1, m2: dicts {frozenset: mass}; frame: Θ. Returns the combined dict;
     raises ValueError under total conflict. Uses dependency, discount_rule and
@@ -108,8 +111,9 @@ def dependent_rule(m1, m2, frame):
 
 
 def interval_energy(rows):
-    """The energy En′ of interval evidence (eq. A1): Σ m(A_i) · w_min /
-    w(A_i).
+    """Return the energy En′ of interval evidence (eq. A1).
+
+    Σ m(A_i) · w_min / w(A_i).
 
     rows: list of (lo, hi, mass). w(A) = hi − lo is the width, w_min the
     smallest width among the rows. A row of width 0 counts with weight 1 (a
@@ -124,8 +128,9 @@ def interval_energy(rows):
 
 
 def triangular_rows(a, c, b, p, epsilon):
-    """Evidence of a noise with triangular possibility on [a, b], mode c
-    (eqs. 22–26).
+    """Evidence of a noise with triangular possibility (eqs. 22–26).
+
+    The possibility is triangular on [a, b] with mode c.
 
     The p α-cuts at α = 0, 1/p, …, (p − 1)/p are [a + α(c − a), b − α(b −
     c)], each with mass (1 − ε)/p; if ε > 0, Θ = [c − 100σ, c + 100σ] with σ
@@ -143,7 +148,9 @@ def triangular_rows(a, c, b, p, epsilon):
 
 
 def cdf_bounds(rows, x):
-    """The p-box at x: (Bel((−∞, x]), Pl((−∞, x])) of interval evidence.
+    """Return the p-box of interval evidence at x.
+
+    That is (Bel((−∞, x]), Pl((−∞, x])).
 
     rows: list of (lo, hi, mass). Bel counts the rows entirely at or left of
     x (hi ≤ x), Pl the rows that reach x or further left (lo ≤ x).
@@ -154,17 +161,21 @@ def cdf_bounds(rows, x):
 
 
 def vertex_image(f, lo, hi):
-    """The vertex method (Prop. 1): the image of the box [lo, hi] through f
-    as (min, max) of f over the 2^n corners. lo, hi: sequences of n numbers;
-    f takes a list of n numbers and returns a number.
+    """Return the image of a box by the vertex method (Prop. 1).
+
+    The image of the box [lo, hi] through f is (min, max) of f over the 2^n
+    corners. lo, hi: sequences of n numbers; f takes a list of n numbers and
+    returns a number.
     """
     values = [f(list(corner)) for corner in itertools.product(*zip(lo, hi, strict=True))]
     return min(values), max(values)
 
 
 def product_relation(x1, x2):
-    """The random relation of two independent marginals (eq. 16): every pair
-    of focal elements gives the box C1 × C2 with mass m1(C1)·m2(C2).
+    """Return the random relation of two independent marginals (eq. 16).
+
+    Every pair of focal elements gives the box C1 × C2 with mass
+    m1(C1)·m2(C2).
 
     x1, x2: lists of (lo, hi, mass). Returns a dict {((lo1, hi1), (lo2,
     hi2)): mass}.
@@ -173,8 +184,9 @@ def product_relation(x1, x2):
 
 
 def bounded_step(box, v, w, z):
-    """One step of the bounded-error filter for x_{k+1} = x_k + v and g(x) =
-    x = z + w.
+    """One step of the bounded-error filter.
+
+    The model is x_{k+1} = x_k + v and g(x) = x = z + w.
 
     box, v, w: (lo, hi) pairs. Predict [box + v], intersect with what the
     reading allows, [z + w_lo, z + w_hi]. Returns (lo, hi); raises
@@ -188,9 +200,10 @@ def bounded_step(box, v, w, z):
 
 
 def orders_in_band(length, temperature, band):
-    """The orders n of the resonances n·c/(2L) that lie in ``band`` = (f_lo,
-    f_hi), ends included, with c = 331.3 + 0.606·T (the paper's law).
-    Returns a list of ints.
+    """Return the orders n of the resonances n·c/(2L) that lie in ``band``.
+
+    ``band`` = (f_lo, f_hi), ends included, with c = 331.3 + 0.606·T (the
+    paper's law). Returns a list of ints.
     """
     c = 331.3 + 0.606 * temperature
     f_f = c / (2.0 * length)
@@ -198,24 +211,29 @@ def orders_in_band(length, temperature, band):
 
 
 def level_from_two_readings(z1, z2, temperature):
-    """The order of z1 by eq. 43, n1 = round(z1/(z2 − z1)), and the level L
-    = n1·c/(2 z1) (eq. 32) with c = 331.3 + 0.606·T. Returns (n1, L).
+    """Return the order of z1 (eq. 43) and the level L (eq. 32).
+
+    n1 = round(z1/(z2 − z1)) and L = n1·c/(2 z1) with c = 331.3 + 0.606·T.
+    Returns (n1, L).
     """
     n1 = round(z1 / (z2 - z1))
     return n1, n1 * (331.3 + 0.606 * temperature) / (2.0 * z1)
 
 
 def triangle_sigma(a, c, b):
-    """The standard deviation of the triangular density on [a, b] with mode
-    c: the square root of (a² + b² + c² − ab − ac − bc)/18.
+    """Return the standard deviation of the triangular density.
+
+    The density is on [a, b] with mode c; its standard deviation is the
+    square root of (a² + b² + c² − ab − ac − bc)/18.
     """
     return math.sqrt((a * a + b * b + c * c - a * b - a * c - b * c) / 18.0)
 
 
 def filter_step(xhat, z, f, g, g_inv, v_rows, w_rows):
-    """One step of the paper's filter (Steps 2–6) for a scalar model with f
-    and g increasing: x_{k+1} = f(x_k) + v_k and g(x_k) = z_k + w_k (eq.
-    21).
+    """One step of the paper's filter (Steps 2–6) for a scalar model.
+
+    The model is x_{k+1} = f(x_k) + v_k and g(x_k) = z_k + w_k (eq. 21),
+    with f and g increasing.
 
     xhat: the estimate x̂_k; z: the next reading z_{k+1}; f, g, g_inv:
     functions of one number (g_inv the inverse of g); v_rows, w_rows: E_v
@@ -251,8 +269,13 @@ def filter_step(xhat, z, f, g, g_inv, v_rows, w_rows):
         return merged([(lo, hi, r * m) for lo, hi, m in rows] + [(*hull, 1.0 - r)])
 
     # Step 2: state evidence x̂ + V through f, then the noise v once more (eq. 16)
-    pred = merged([(f(xhat + vl) + ul, f(xhat + vh) + uh, mv * mu)
-                   for vl, vh, mv in v_rows for ul, uh, mu in v_rows])
+    pred = merged(
+        [
+            (f(xhat + vl) + ul, f(xhat + vh) + uh, mv * mu)
+            for vl, vh, mv in v_rows
+            for ul, uh, mu in v_rows
+        ]
+    )
     # Steps 3-4: g of each predicted box, fused with the reading's evidence z + W
     fused, k = [], 0.0
     for lo, hi, m in pred:
@@ -268,8 +291,11 @@ def filter_step(xhat, z, f, g, g_inv, v_rows, w_rows):
     # Step 6: dependence of E1 (mapped back) and E2 (prediction), eqs. A1-A6
     common = {(lo, hi): m for lo, hi, m in pred}
     w_min = min(min(hi - lo for lo, hi, _ in e1), min(hi - lo for lo, hi, _ in pred))
-    joint = sum(min(m, common[(lo, hi)]) * (1.0 if hi == lo else w_min / (hi - lo))
-                for lo, hi, m in e1 if (lo, hi) in common)
+    joint = sum(
+        min(m, common[(lo, hi)]) * (1.0 if hi == lo else w_min / (hi - lo))
+        for lo, hi, m in e1
+        if (lo, hi) in common
+    )
     en1, en2 = energy(e1), energy(pred)
     d = 2.0 * joint / (en1 + en2)
     r12, r21 = (1.0 - d / 2 * en2 / en1, 1.0 - d / 2 * en1 / en2) if d > 0 else (1.0, 1.0)

@@ -13,10 +13,12 @@ from typing import Any
 
 
 def first_figure_png(widget: Any) -> bytes | None:
-    """PNG of the figure an explorer shows: the one it shows (its ``picture`` attribute),
-    else its ``figure`` saved at 96 dpi, or None. Reusing the shown picture leaves a kept
-    figure untouched (saving at another resolution would make it draw itself whole on the
-    next change)."""
+    """PNG of the figure an explorer shows.
+
+    The one it shows (its ``picture`` attribute), else its ``figure`` saved at 96 dpi, or None.
+    Reusing the shown picture leaves a kept figure untouched (saving at another resolution would
+    make it draw itself whole on the next change).
+    """
     picture = getattr(widget, "picture", None)
     if picture is not None:
         return bytes(picture)
@@ -29,8 +31,10 @@ def first_figure_png(widget: Any) -> bytes | None:
 
 
 def register_print_figures(*widget_types: type) -> None:
-    """Give ``widget_types`` an ``image/png`` representation in the running IPython shell
-    (nothing happens outside IPython)."""
+    """Give ``widget_types`` an ``image/png`` representation in the running IPython shell.
+
+    Nothing happens outside IPython.
+    """
     try:
         from IPython import get_ipython
     except ImportError:  # pragma: no cover - IPython comes with the teaching extra

@@ -31,9 +31,14 @@ Data = dict[str, Any]
 BOOK: dict[str, Data] = {}
 
 #: Which chapter's data each sheet (source stem) shows.
-SHEET_CHAPTER = {"mass_functions": "mass", "combining_evidence": "combine",
-                 "dependent_evidence": "dependent", "random_sets": "random",
-                 "noise_to_evidence": "noise", "recursive_filter": "filter"}
+SHEET_CHAPTER = {
+    "mass_functions": "mass",
+    "combining_evidence": "combine",
+    "dependent_evidence": "dependent",
+    "random_sets": "random",
+    "noise_to_evidence": "noise",
+    "recursive_filter": "filter",
+}
 
 #: Draws tried before giving up (a draw is refused when an answer equals the book's).
 ATTEMPTS = 200
@@ -45,13 +50,18 @@ _drawn: dict[tuple[str, int], Data] = {}
 
 
 def _pick(rng: np.random.Generator, lo: float, hi: float, step: float) -> float:
-    """A number of the grid lo, lo + step, …, hi, rounded to the grid's decimals."""
+    """Return a number of the grid lo, lo + step, …, hi, rounded to the grid's decimals."""
     count = int(round((hi - lo) / step)) + 1
     return round(lo + step * int(rng.integers(count)), 6)
 
 
-def _masses(rng: np.random.Generator, first: tuple[float, float], second: tuple[float, float],
-            least: float = 0.1, step: float = 0.05) -> tuple[float, float, float]:
+def _masses(
+    rng: np.random.Generator,
+    first: tuple[float, float],
+    second: tuple[float, float],
+    least: float = 0.1,
+    step: float = 0.05,
+) -> tuple[float, float, float]:
     """Three masses a, b, 1 − a − b on a grid, the last at least ``least``."""
     while True:
         a, b = _pick(rng, *first, step), _pick(rng, *second, step)
@@ -70,10 +80,19 @@ def _combine(rng: np.random.Generator) -> Data:
     high, mid_high, theta = _masses(rng, (0.3, 0.7), (0.1, 0.3), least=0.05)
     x, y = _pick(rng, 0.9, 0.98, 0.01), _pick(rng, 0.9, 0.98, 0.01)
     q = _pick(rng, 0.2, 0.8, 0.1)
-    return {"m1_low": m1, "m1_theta": round(1 - m1, 6), "m2_high": high,
-            "m2_mid_high": mid_high, "m2_theta": theta, "zadeh_x": x,
-            "zadeh_x_rest": round(1 - x, 6), "zadeh_y": y, "zadeh_y_rest": round(1 - y, 6),
-            "once_low": q, "once_theta": round(1 - q, 6)}
+    return {
+        "m1_low": m1,
+        "m1_theta": round(1 - m1, 6),
+        "m2_high": high,
+        "m2_mid_high": mid_high,
+        "m2_theta": theta,
+        "zadeh_x": x,
+        "zadeh_x_rest": round(1 - x, 6),
+        "zadeh_y": y,
+        "zadeh_y_rest": round(1 - y, 6),
+        "once_low": q,
+        "once_theta": round(1 - q, 6),
+    }
 
 
 def _dependent(rng: np.random.Generator) -> Data:
@@ -81,8 +100,13 @@ def _dependent(rng: np.random.Generator) -> Data:
         e1 = _masses(rng, (0.3, 0.6), (0.1, 0.4))
         e2 = _masses(rng, (0.1, 0.5), (0.1, 0.5))
         if e2[0] < e1[0]:  # the shared {low}: min(m1, m2) is E2's, as in the book
-            return dict(zip(("e1_low", "e1_low_mid", "e1_theta", "e2_low", "e2_mid",
-                             "e2_theta"), (*e1, *e2), strict=True))
+            return dict(
+                zip(
+                    ("e1_low", "e1_low_mid", "e1_theta", "e2_low", "e2_mid", "e2_theta"),
+                    (*e1, *e2),
+                    strict=True,
+                )
+            )
 
 
 def _random(rng: np.random.Generator) -> Data:
@@ -90,55 +114,82 @@ def _random(rng: np.random.Generator) -> Data:
     lo = tuple(int(v) for v in rng.integers(-2, 3, size=3))
     hi = tuple(int(a + w) for a, w in zip(lo, rng.integers(1, 4, size=3), strict=True))
     fold = _masses(rng, (0.1, 0.4), (0.1, 0.4))
-    return {"x1_a": x1, "x1_b": round(1 - x1, 6), "x2_a": x2, "x2_b": round(1 - x2, 6),
-            "mono_lo": lo, "mono_hi": hi, "square_lo": -_pick(rng, 0.5, 3.0, 0.1),
-            "square_hi": _pick(rng, 0.5, 4.0, 0.1), "fold_a": fold[0], "fold_b": fold[1],
-            "fold_c": fold[2], "boxes": int(rng.choice([9, 12, 20, 25, 27, 36])),
-            "dim": int(rng.integers(2, 5))}
+    return {
+        "x1_a": x1,
+        "x1_b": round(1 - x1, 6),
+        "x2_a": x2,
+        "x2_b": round(1 - x2, 6),
+        "mono_lo": lo,
+        "mono_hi": hi,
+        "square_lo": -_pick(rng, 0.5, 3.0, 0.1),
+        "square_hi": _pick(rng, 0.5, 4.0, 0.1),
+        "fold_a": fold[0],
+        "fold_b": fold[1],
+        "fold_c": fold[2],
+        "boxes": int(rng.choice([9, 12, 20, 25, 27, 36])),
+        "dim": int(rng.integers(2, 5)),
+    }
 
 
 def _noise(rng: np.random.Generator) -> Data:
     s = _pick(rng, 0.2, 1.2, 0.1)
     mode, half = _pick(rng, -9.0, -3.0, 0.1), _pick(rng, 2.0, 5.0, 0.01)
-    return {"state": (-s, 0.0, s), "obs": (round(mode - half, 6), mode, round(mode + half, 6)),
-            "p": int(rng.integers(2, 13)), "epsilon": _pick(rng, 0.0, 0.3, 0.01),
-            "pbox_x": _pick(rng, 0.05, 1.0, 0.05), "pbox_p": int(rng.integers(2, 9)),
-            "pbox_epsilon": _pick(rng, 0.0, 0.3, 0.01), "state_note": "", "obs_note": ""}
+    return {
+        "state": (-s, 0.0, s),
+        "obs": (round(mode - half, 6), mode, round(mode + half, 6)),
+        "p": int(rng.integers(2, 13)),
+        "epsilon": _pick(rng, 0.0, 0.3, 0.01),
+        "pbox_x": _pick(rng, 0.05, 1.0, 0.05),
+        "pbox_p": int(rng.integers(2, 9)),
+        "pbox_epsilon": _pick(rng, 0.0, 0.3, 0.01),
+        "state_note": "",
+        "obs_note": "",
+    }
 
 
 def _filter(rng: np.random.Generator) -> Data:
     xhat = _pick(rng, -1.0, 3.0, 0.5)
-    return {"hand_xhat": int(xhat) if float(xhat).is_integer() else xhat,
-            "hand_z": round(xhat + _pick(rng, -0.9, 0.9, 0.1), 6),
-            "hand_epsilon": _pick(rng, 0.05, 0.45, 0.01),
-            "count_cuts": int(rng.choice([p for p in range(2, 21) if p != 5])),
-            "predict_xhat": int(_pick(rng, 900, 1500, 10)),
-            "predict_order": int(rng.integers(40, 81)), "z1": _pick(rng, 990.0, 1100.0, 0.1),
-            "conflict_epsilon": _pick(rng, 0.12, 0.4, 0.01)}
+    return {
+        "hand_xhat": int(xhat) if float(xhat).is_integer() else xhat,
+        "hand_z": round(xhat + _pick(rng, -0.9, 0.9, 0.1), 6),
+        "hand_epsilon": _pick(rng, 0.05, 0.45, 0.01),
+        "count_cuts": int(rng.choice([p for p in range(2, 21) if p != 5])),
+        "predict_xhat": int(_pick(rng, 900, 1500, 10)),
+        "predict_order": int(rng.integers(40, 81)),
+        "z1": _pick(rng, 990.0, 1100.0, 0.1),
+        "conflict_epsilon": _pick(rng, 0.12, 0.4, 0.01),
+    }
 
 
 DRAW: dict[str, Callable[[np.random.Generator], Data]] = {
-    "mass": _mass, "combine": _combine, "dependent": _dependent, "random": _random,
-    "noise": _noise, "filter": _filter}
+    "mass": _mass,
+    "combine": _combine,
+    "dependent": _dependent,
+    "random": _random,
+    "noise": _noise,
+    "filter": _filter,
+}
 
 
 def book_data(chapter: str, values: Data) -> None:
-    """Register the book's data of ``chapter`` (variant 0); its variants are drawn by
-    ``DRAW[chapter]`` with the same keys."""
+    """Register the book's data of ``chapter`` (variant 0).
+
+    Its variants are drawn by ``DRAW[chapter]`` with the same keys.
+    """
     BOOK[chapter] = values
 
 
 def valid_variant(variant: Any) -> int:
     """``variant`` as an int ≥ 0, or :class:`~dstoolkit.errors.InvalidInputError`."""
     if isinstance(variant, bool) or not isinstance(variant, int | np.integer) or variant < 0:
-        raise InvalidInputError(f"a variant is a whole number ≥ 0 (0 is the book's data), "
-                                f"not {variant!r}")
+        raise InvalidInputError(
+            f"a variant is a whole number ≥ 0 (0 is the book's data), not {variant!r}"
+        )
     return int(variant)
 
 
 def set_variant(variant: int) -> int:
-    """Make the checks use the data of ``variant`` (the setup cell of a variant's sheet
-    calls it).
+    """Make the checks use the data of ``variant`` (the setup cell of a variant's sheet calls it).
 
     Parameters
     ----------
@@ -176,7 +227,7 @@ def set_variant(variant: int) -> int:
 
 
 def current_variant() -> int:
-    """The variant the checks use now (see :func:`set_variant`)."""
+    """Return the variant the checks use now (see :func:`set_variant`)."""
     return _state["variant"]
 
 
@@ -194,11 +245,14 @@ def using_variant(variant: int | None) -> Iterator[int]:
 
 
 def data(chapter: str, variant: int | None = None) -> Data:
-    """The data of ``chapter`` (an exercise-id prefix such as ``"mass"``) in ``variant``
-    (by default the current one). Variant 0 is the book's."""
+    """Return the data of ``chapter`` in ``variant`` (by default the current one).
+
+    ``chapter`` is an exercise-id prefix such as ``"mass"``. Variant 0 is the book's.
+    """
     if chapter not in BOOK:
-        raise InvalidInputError(f"no variant data for {chapter!r}; chapters with variants: "
-                                f"{sorted(BOOK)}")
+        raise InvalidInputError(
+            f"no variant data for {chapter!r}; chapters with variants: {sorted(BOOK)}"
+        )
     variant = current_variant() if variant is None else valid_variant(variant)
     if variant == 0:
         return BOOK[chapter]
@@ -213,26 +267,36 @@ def _draw(chapter: str, variant: int) -> Data:
 
     rng = np.random.default_rng([variant, zlib.crc32(chapter.encode())])
     # reverse order of ids: the filter's slowest solver (conflict-start) is tried last
-    varying = [ex for ex_id, ex in sorted(REGISTRY.items(), reverse=True)
-               if ex_id.split(".")[0] == chapter and getattr(ex, "varies", False)]
-    others = [[ex.solution_in(v) for v in (0, *range(max(1, variant - WINDOW), variant))]
-              for ex in varying]
+    varying = [
+        ex
+        for ex_id, ex in sorted(REGISTRY.items(), reverse=True)
+        if ex_id.split(".")[0] == chapter and getattr(ex, "varies", False)
+    ]
+    others = [
+        [ex.solution_in(v) for v in (0, *range(max(1, variant - WINDOW), variant))]
+        for ex in varying
+    ]
     key = (chapter, variant)
     for _ in range(ATTEMPTS):
         candidate = DRAW[chapter](rng)
         _drawn[key] = candidate
         try:
             with using_variant(variant):
-                if all(answers_differ(ex, ex.solve(), sol) for ex, sols in
-                       zip(varying, others, strict=True) for sol in sols):
+                if all(
+                    answers_differ(ex, ex.solve(), sol)
+                    for ex, sols in zip(varying, others, strict=True)
+                    for sol in sols
+                ):
                     return candidate
         finally:
             del _drawn[key]
-    raise RuntimeError(f"no data for variant {variant} of {chapter!r} whose answers all "
-                       f"differ from the book's and the {WINDOW} variants before in "
-                       f"{ATTEMPTS} draws")
+    raise RuntimeError(
+        f"no data for variant {variant} of {chapter!r} whose answers all "
+        f"differ from the book's and the {WINDOW} variants before in "
+        f"{ATTEMPTS} draws"
+    )
 
 
 def chapter_of_sheet(stem: str) -> str | None:
-    """The chapter (exercise-id prefix) whose data the sheet ``stem`` shows, if it varies."""
+    """Return the chapter (exercise-id prefix) whose data the sheet ``stem`` shows, if it varies."""
     return SHEET_CHAPTER.get(stem)

@@ -114,8 +114,11 @@ def set_memory_budget(nbytes: int | None) -> None:
     >>> set_memory_budget(None)
     """
     global _budget
-    if nbytes is not None and (isinstance(nbytes, bool) or not isinstance(nbytes, int)
-                               or not 2**20 <= nbytes <= MAX_MEMORY_BUDGET):
+    if nbytes is not None and (
+        isinstance(nbytes, bool)
+        or not isinstance(nbytes, int)
+        or not 2**20 <= nbytes <= MAX_MEMORY_BUDGET
+    ):
         raise InvalidInputError(
             f"the memory budget must be a whole number of bytes, at least 1 MiB and at most "
             f"1 PiB, got "
@@ -193,8 +196,9 @@ def check_memory(nbytes: float, what: str, advice: str) -> None:
         )
 
 
-def rows_per_chunk(bytes_per_row: float, rows: int, what: str, advice: str,
-                   share: float = 0.25) -> int:
+def rows_per_chunk(
+    bytes_per_row: float, rows: int, what: str, advice: str, share: float = 0.25
+) -> int:
     """Return how many rows (runs of a batch) to process at once within the budget.
 
     Parameters

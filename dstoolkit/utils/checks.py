@@ -19,9 +19,15 @@ from dstoolkit.errors import DetectionError, InvalidInputError
 __all__ = ["as_signal", "real_array", "real_number", "whole_number"]
 
 
-def real_array(value: Any, name: str, *, finite: bool = True, allow_inf: bool = False,
-               ndim: tuple[int, ...] | None = None, error: type[InvalidInputError]
-               = InvalidInputError) -> np.ndarray:
+def real_array(
+    value: Any,
+    name: str,
+    *,
+    finite: bool = True,
+    allow_inf: bool = False,
+    ndim: tuple[int, ...] | None = None,
+    error: type[InvalidInputError] = InvalidInputError,
+) -> np.ndarray:
     """Return ``value`` as a float array of real numbers, or refuse it by name.
 
     Parameters
@@ -69,11 +75,18 @@ def real_array(value: Any, name: str, *, finite: bool = True, allow_inf: bool = 
     try:
         raw = np.asarray(value)
     except (ValueError, TypeError) as exc:  # ragged nesting
-        raise error(f"{name} must be a regular array of numbers (equal-length rows): "
-                    f"{exc}") from exc
+        raise error(
+            f"{name} must be a regular array of numbers (equal-length rows): {exc}"
+        ) from exc
     if raw.dtype.kind not in "biuf":
-        kind = {"c": "complex numbers", "U": "strings", "S": "bytes", "O": "objects",
-                "M": "dates", "m": "time spans"}.get(raw.dtype.kind, str(raw.dtype))
+        kind = {
+            "c": "complex numbers",
+            "U": "strings",
+            "S": "bytes",
+            "O": "objects",
+            "M": "dates",
+            "m": "time spans",
+        }.get(raw.dtype.kind, str(raw.dtype))
         if raw.dtype.kind == "O":
             try:
                 raw = raw.astype(float)
@@ -83,8 +96,9 @@ def real_array(value: Any, name: str, *, finite: bool = True, allow_inf: bool = 
             raise error(f"{name} must be real numbers, got {kind}")
     arr = raw.astype(float, copy=False)
     if ndim is not None and arr.ndim not in ndim:
-        raise error(f"{name} must have {' or '.join(map(str, ndim))} dimension(s), got shape "
-                    f"{arr.shape}")
+        raise error(
+            f"{name} must have {' or '.join(map(str, ndim))} dimension(s), got shape {arr.shape}"
+        )
     if finite:
         bad = np.isnan(arr) if allow_inf else ~np.isfinite(arr)
         if bad.any():
@@ -97,9 +111,16 @@ def real_array(value: Any, name: str, *, finite: bool = True, allow_inf: bool = 
     return arr
 
 
-def real_number(value: Any, name: str, *, low: float | None = None, high: float | None = None,
-                low_open: bool = False, high_open: bool = False,
-                error: type[InvalidInputError] = InvalidInputError) -> float:
+def real_number(
+    value: Any,
+    name: str,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    high_open: bool = False,
+    error: type[InvalidInputError] = InvalidInputError,
+) -> float:
     """Return ``value`` as a finite float within ``[low, high]``, or refuse it by name.
 
     Parameters
@@ -140,8 +161,11 @@ def real_number(value: Any, name: str, *, low: float | None = None, high: float 
     ...
     dstoolkit.errors.InvalidInputError: alpha must lie in [0.0, 1.0], got 1.5
     """
-    if isinstance(value, bool) or not isinstance(value, numbers.Real | np.number) or \
-            isinstance(value, complex | np.complexfloating):
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, numbers.Real | np.number)
+        or isinstance(value, complex | np.complexfloating)
+    ):
         raise error(f"{name} must be a real number, got {value!r}")
     x = float(value)
     if not math.isfinite(x):
@@ -151,13 +175,21 @@ def real_number(value: Any, name: str, *, low: float | None = None, high: float 
     if too_low or too_high:
         left = "(" if low_open else "["
         right = ")" if high_open else "]"
-        raise error(f"{name} must lie in {left}{'-inf' if low is None else low}, "
-                    f"{'inf' if high is None else high}{right}, got {x}")
+        raise error(
+            f"{name} must lie in {left}{'-inf' if low is None else low}, "
+            f"{'inf' if high is None else high}{right}, got {x}"
+        )
     return x
 
 
-def whole_number(value: Any, name: str, *, low: int = 0, high: int | None = None,
-                 error: type[InvalidInputError] = InvalidInputError) -> int:
+def whole_number(
+    value: Any,
+    name: str,
+    *,
+    low: int = 0,
+    high: int | None = None,
+    error: type[InvalidInputError] = InvalidInputError,
+) -> int:
     """Return ``value`` as an int within ``[low, high]``, or refuse it by name.
 
     Parameters
@@ -198,16 +230,20 @@ def whole_number(value: Any, name: str, *, low: int = 0, high: int | None = None
     ...
     dstoolkit.errors.InvalidInputError: runs must be a whole number, got 2.5
     """
-    if isinstance(value, bool) or not isinstance(value, numbers.Real | np.number) or \
-            isinstance(value, complex | np.complexfloating):
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, numbers.Real | np.number)
+        or isinstance(value, complex | np.complexfloating)
+    ):
         raise error(f"{name} must be a whole number, got {value!r}")
     x = float(value)
     if not math.isfinite(x) or not x.is_integer():
         raise error(f"{name} must be a whole number, got {value!r}")
     n = int(x)
     if n < low or (high is not None and n > high):
-        raise error(f"{name} must be a whole number in [{low}, {'∞' if high is None else high}]"
-                    f", got {n}")
+        raise error(
+            f"{name} must be a whole number in [{low}, {'∞' if high is None else high}], got {n}"
+        )
     return n
 
 

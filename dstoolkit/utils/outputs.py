@@ -139,8 +139,9 @@ class _Run:
         self.folders.clear()
 
 
-_run: contextvars.ContextVar[_Run | None] = contextvars.ContextVar("dstoolkit_output_run",
-                                                                   default=None)
+_run: contextvars.ContextVar[_Run | None] = contextvars.ContextVar(
+    "dstoolkit_output_run", default=None
+)
 
 
 @contextlib.contextmanager
@@ -237,21 +238,25 @@ def refuse_special(path: Path, what: str) -> None:
     """
     system = _system_path(path)
     if system is not None:
-        raise OutputPathError(f"{what}: {path} is not a regular file or a new path: it is in "
-                              f"{system}, where files are devices or kernel state; give a "
-                              "file name elsewhere")
+        raise OutputPathError(
+            f"{what}: {path} is not a regular file or a new path: it is in "
+            f"{system}, where files are devices or kernel state; give a "
+            "file name elsewhere"
+        )
     try:
         info = os.stat(path)
     except FileNotFoundError:
         return
     except OSError as exc:
-        raise OutputPathError(f"{what}: cannot use {path}: {exc.strerror or exc}; choose "
-                              "another place") from None
+        raise OutputPathError(
+            f"{what}: cannot use {path}: {exc.strerror or exc}; choose another place"
+        ) from None
     if stat.S_ISDIR(info.st_mode):
         raise OutputPathError(f"{what}: {path} is a folder; give a file name")
     if not stat.S_ISREG(info.st_mode):
-        raise OutputPathError(f"{what}: {path} is not a regular file (a device, a pipe or a "
-                              "socket); give a file name")
+        raise OutputPathError(
+            f"{what}: {path} is not a regular file (a device, a pipe or a socket); give a file name"
+        )
 
 
 def _make_folder(folder: Path) -> None:
@@ -275,8 +280,9 @@ def _writable_folder(path: Path) -> None:
         os.close(fd)
         os.unlink(probe)
     except OSError as exc:
-        raise OutputPathError(f"cannot write {path}: {exc.strerror or exc}; choose another "
-                              "place") from None
+        raise OutputPathError(
+            f"cannot write {path}: {exc.strerror or exc}; choose another place"
+        ) from None
 
 
 def check_outputs(
@@ -335,22 +341,26 @@ def check_outputs(
             raise OutputPathError(f"{what}: {str(raw)!r} is a folder, not a file name")
         key = path.resolve()
         if key in seen:
-            raise OutputPathError(f"{what} and {seen[key]} would both be written to {path}; "
-                                  "give them different names")
+            raise OutputPathError(
+                f"{what} and {seen[key]} would both be written to {path}; give them different names"
+            )
         seen[key] = what
         for source in in_paths:
             same = key == source.resolve()
             with contextlib.suppress(OSError):
                 same = same or (path.exists() and os.path.samefile(path, source))
             if same:
-                raise OutputPathError(f"{what} would overwrite the input {source}; choose "
-                                      "another output name")
+                raise OutputPathError(
+                    f"{what} would overwrite the input {source}; choose another output name"
+                )
         refuse_special(path, what)
         replace: tuple[int, int] | None = None
         if path.is_symlink() or path.exists():
             if not overwrite and not (replaceable is not None and replaceable(path)):
-                raise OutputExistsError(f"{what}: {path} exists; pass --overwrite "
-                                        "(overwrite=True) to replace it, or choose another name")
+                raise OutputExistsError(
+                    f"{what}: {path} exists; pass --overwrite "
+                    "(overwrite=True) to replace it, or choose another name"
+                )
             with contextlib.suppress(OSError):
                 info = os.lstat(path)
                 replace = (info.st_dev, info.st_ino)
@@ -435,7 +445,8 @@ def _place_checked(tmp: str, target: Path, replace: tuple[int, int] | None) -> N
     """
     appeared = OutputExistsError(
         f"{target} appeared or changed while this command ran; it was kept. Run again "
-        "with another output name (or --overwrite to replace it)")
+        "with another output name (or --overwrite to replace it)"
+    )
     try:
         info = os.lstat(target)
     except FileNotFoundError:
@@ -451,8 +462,13 @@ def _place_checked(tmp: str, target: Path, replace: tuple[int, int] | None) -> N
     except FileExistsError:
         raise appeared from None
     except OSError as exc:
-        if exc.errno not in (errno.EPERM, errno.EOPNOTSUPP, errno.EXDEV, errno.EMLINK,
-                             errno.ENOSYS):
+        if exc.errno not in (
+            errno.EPERM,
+            errno.EOPNOTSUPP,
+            errno.EXDEV,
+            errno.EMLINK,
+            errno.ENOSYS,
+        ):
             raise
         # no hard links here (some network or FAT file systems): rename into the name
         # that was still free a moment ago
