@@ -597,3 +597,78 @@ def test_docstring_examples_run(name: str) -> None:
     finally:
         plt.close("all")
     assert result.failed == 0, f"{result.failed} of {result.attempted} examples failed"
+
+
+#: The figures that name each series beside its data (direct labels), besides any legend.
+_DIRECTLY_LABELLED = (
+    "plot_estimates",
+    "plot_table3",
+    "plot_filter_errors",
+    "plot_scale_study",
+    "plot_order_rule_study",
+    "plot_example",
+    "plot_noise_assumption",
+)
+
+
+def _series(ax: Axes) -> list[tuple[str, np.ndarray]]:
+    """Each labelled line or filled area of ``ax``: its label and its points (display)."""
+    found = []
+    for line in ax.get_lines():
+        xy = np.asarray(line.get_xydata(), dtype=float)
+        xy = xy[np.isfinite(xy).all(axis=1)]
+        if not str(line.get_label()).startswith("_") and xy.size:
+            found.append((str(line.get_label()), line.get_transform().transform(xy)))
+    for coll in ax.collections:
+        if not str(coll.get_label()).startswith("_") and coll.get_paths():
+            xy = np.concatenate([p.vertices for p in coll.get_paths()])
+            found.append((str(coll.get_label()), coll.get_transform().transform(xy)))
+    return found
+
+
+def _matches(text: str, label: str) -> bool:
+    """Whether ``text`` names ``label``.
+
+    The same, without its parenthesised notes, or its first words (a short name:
+    "estimate" for "estimate x̂_k − x_k").
+    """
+    return (
+        text == label or text == re.sub(r"\s+\([^)]*\)", "", label) or label.startswith(text + " ")
+    )
+
+
+def _beside(box: object, points: np.ndarray, area: object, spread: float) -> bool:
+    """Whether a label's box is beside its series (display coordinates).
+
+    Right of the data area level with the series' last point (within ``spread`` px), or
+    within 30 px of one of its points.
+    """
+    at_end = box.x0 >= area.x1 and abs(0.5 * (box.y0 + box.y1) - points[-1, 1]) <= spread
+    dx = np.maximum(0.0, np.maximum(box.x0 - points[:, 0], points[:, 0] - box.x1))
+    dy = np.maximum(0.0, np.maximum(box.y0 - points[:, 1], points[:, 1] - box.y1))
+    return bool(at_end or np.hypot(dx, dy).min() <= 30.0)
+
+
+@pytest.mark.parametrize("name", _DIRECTLY_LABELLED)
+def test_each_series_is_named_beside_its_data(name: str) -> None:
+    """Every series of these figures has a visible text of its name near its data.
+
+    Either right of the data area, level with the series' last point (within the spread
+    the labels need to stay apart), or within 30 px of one of its points; no two overlap.
+    """
+    fig = FIGURES[name]()
+    fig.savefig(io.BytesIO(), format="png")  # lays the texts out
+    for ax in fig.axes:
+        series = _series(ax)
+        texts = [t for t in ax.texts if t.get_visible() and t.get_text().strip()]
+        for label, points in series:
+            boxes = [t.get_window_extent() for t in texts if _matches(t.get_text(), label)]
+            assert boxes, f"{name}: no direct label for {label!r}"
+            spread = len(series) * max(b.height for b in boxes)
+            assert any(_beside(b, points, ax.get_window_extent(), spread) for b in boxes), (
+                f"{name}: the label {label!r} is far from its data"
+            )
+        direct = [t.get_window_extent() for t in texts]
+        assert not any(a.overlaps(b) for i, a in enumerate(direct) for b in direct[i + 1 :]), (
+            f"{name}: two labels overlap"
+        )

@@ -18,7 +18,15 @@ from dstoolkit.errors import InvalidInputError
 from dstoolkit.studies import TABLE3_MEAN_ABS_ERROR_M, Table3
 
 from ._kept import animate, set_limits, snapped_limits
-from ._style import OKABE_ITO, log_ticks, new_figure, styled
+from ._style import (
+    END_LABEL_GID,
+    OKABE_ITO,
+    label_line_ends,
+    log_ticks,
+    new_figure,
+    place_line_end_labels,
+    styled,
+)
 
 #: Colour (Okabe–Ito), line style, marker and label of each method of Table 3 in every
 #: figure: the methods differ in line style and marker as well as in colour, so they can be
@@ -148,6 +156,7 @@ def plot_table3(table: Table3) -> Figure:
     )
     ax.grid(True, which="both", alpha=0.3)
     fig.legend(*ax.get_legend_handles_labels(), loc="outside lower center", ncols=2)
+    label_line_ends(ax, short=True)
     return fig
 
 
@@ -227,8 +236,10 @@ def plot_estimates(
     for ax in (ax_a, ax_b):
         ax.grid(True, alpha=0.3)
     fig.legend(*ax_a.get_legend_handles_labels(), loc="outside lower center", ncols=3)
+    for ax in (ax_a, ax_b):  # each series named at its end; update_estimates moves them
+        label_line_ends(ax, short=True)
     if kept:  # set_title re-places all three titles: none may mark the figure stale
-        animate(*ax_a.lines, *ax_b.lines, ax_a.title, *_side_titles(ax_a))
+        animate(*ax_a.lines, *ax_b.lines, *ax_a.texts, *ax_b.texts, ax_a.title, *_side_titles(ax_a))
     update_estimates(fig, truth, readings, estimates, quantity=quantity, unit=unit, note=note)
     return fig
 
@@ -294,6 +305,7 @@ def update_estimates(
         for ax in (ax_a, ax_b):
             ax.relim()
             ax.autoscale_view()
+        _place_end_labels(ax_a, ax_b)
         return
     a = np.concatenate([line.get_ydata() for line in ax_a.lines])
     b = np.concatenate([line.get_ydata() for line in ax_b.lines])
@@ -305,3 +317,12 @@ def update_estimates(
     )
     if b.size:
         set_limits(ax_b, y=snapped_limits(float(np.nanmin(b)), float(np.nanmax(b)), log=True))
+    _place_end_labels(ax_a, ax_b)
+
+
+def _place_end_labels(*axes: Axes) -> None:
+    """Move each axes' end labels level with the new ends of their lines."""
+    for ax in axes:
+        texts = [t for t in ax.texts if t.get_gid() == END_LABEL_GID]
+        lines = [line for line in ax.lines if not str(line.get_label()).startswith("_")]
+        place_line_end_labels(ax, lines, texts)

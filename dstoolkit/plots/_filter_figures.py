@@ -25,7 +25,16 @@ from dstoolkit.filters import DependentRecord
 
 from ._evidence import FocalIntervalArtists, draw_focal_intervals, update_focal_intervals
 from ._kept import InnerTicks
-from ._style import BETP_COLOUR, SMALL_PT, column_size, legend_above, root_figure, styled
+from ._style import (
+    BETP_COLOUR,
+    SMALL_PT,
+    column_size,
+    label_line_ends,
+    legend_above,
+    place_line_end_labels,
+    root_figure,
+    styled,
+)
 
 
 def blank_figure(figsize: tuple[float, float], layout: str, *, pyplot: bool = True) -> Figure:
@@ -287,7 +296,7 @@ class FilterErrorsFigure:
         if axes is None:
             fig = blank_figure(column_size(6.4, 4.4), "none", pyplot=pyplot)
             axes = fig.subplots(2, 1, sharex=True)
-            fig.subplots_adjust(left=0.12, right=0.98, top=0.8, bottom=0.11, hspace=0.12)
+            fig.subplots_adjust(left=0.12, right=0.84, top=0.8, bottom=0.11, hspace=0.12)
         top, bottom = axes
         self.figure, self.axes = root_figure(top), (top, bottom)
         self._titled = False
@@ -300,14 +309,19 @@ class FilterErrorsFigure:
         legend_above(top, ncols=2)
         bottom.set_yscale("log")
         self._errors = (
-            bottom.plot([], [], ".", ms=3, color="0.55", label="|z_k − x_k|")[0],
-            bottom.plot([], [], "-", lw=1.4, color=BETP_COLOUR, label="|x̂_k − x_k|")[0],
+            bottom.plot([], [], ".", ms=3, color="0.55", label="reading |z_k − x_k|")[0],
+            bottom.plot([], [], "-", lw=1.4, color=BETP_COLOUR, label="estimate |x̂_k − x_k|")[0],
         )
         bottom.set_ylabel(f"|error| ({unit})")
         bottom.yaxis.set_major_locator(FixedLocator((10.0 ** np.arange(-4, 4)).tolist()))
         bottom.yaxis.set_major_formatter(StrMethodFormatter("{x:g}"))
         bottom.yaxis.set_minor_locator(NullLocator())
         bottom.set_xlabel("step k")
+        # each series named at its end, in short; update moves the names with the data
+        self._end_labels = tuple(
+            label_line_ends(ax, list(lines), labels=["reading", "estimate"])
+            for ax, lines in ((top, self._deviations), (bottom, self._errors))
+        )
         self.update(result, truth, readings, title=title)
 
     @styled
@@ -360,6 +374,10 @@ class FilterErrorsFigure:
             _autoscale(top)
         positive = np.abs(est)[np.abs(est) > 0]
         bottom.set_ylim(bottom=max(1e-3, 0.5 * float(positive.min())) if positive.size else 1e-3)
+        for ax, lines, texts in zip(
+            self.axes, (self._deviations, self._errors), self._end_labels, strict=True
+        ):
+            place_line_end_labels(ax, lines, texts)
         return self.figure
 
 

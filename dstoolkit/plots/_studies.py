@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.text import Annotation
 from matplotlib.ticker import FixedLocator, NullLocator, StrMethodFormatter
 
 from dstoolkit.errors import InvalidInputError
@@ -219,7 +220,43 @@ def plot_noise_assumption(
     if title:
         ax.set_title(title, loc="left")
     legend_above(ax, ncols=2)
+    for name in ("true", "assumed"):  # named beside their flanks, moved by update_noise_assumption
+        ax.annotate(
+            name,
+            (0.0, 0.5),
+            xytext=(0.0, 0.0),
+            textcoords="offset points",
+            va="center",
+            fontsize=SMALL_PT,
+            color="#222222",
+            gid=_PEAK_LABEL_GID,
+        )
+    _place_peak_labels(ax, true, assumed)
     return fig
+
+
+#: The gid of the names :func:`plot_noise_assumption` writes at the distributions' peaks.
+_PEAK_LABEL_GID = "peak-label"
+
+
+def _place_peak_labels(ax: Axes, true: BoundedNoise, assumed: BoundedNoise) -> None:
+    """Name the true noise left of its rising flank, the assumed right of its falling one.
+
+    Both at half height, where each distribution's edge is its own.
+    """
+    true_label, assumed_label = (
+        t for t in ax.texts if isinstance(t, Annotation) and t.get_gid() == _PEAK_LABEL_GID
+    )
+    true_label.set_horizontalalignment("right")  # 3 pt left of the flank
+    true_label.set_position((-3.0, 0.0))
+    assumed_label.set_horizontalalignment("left")  # 3 pt right of it
+    assumed_label.set_position((3.0, 0.0))
+    for label, x in (
+        (true_label, 0.5 * (true.lower[0] + true.mode[0])),
+        (assumed_label, 0.5 * (assumed.mode[0] + assumed.upper[0])),
+    ):
+        if tuple(label.xy) != (float(x), 0.5):  # an unmoved label leaves a kept figure as is
+            label.xy = (float(x), 0.5)
 
 
 @styled
@@ -236,6 +273,7 @@ def update_noise_assumption(ax: Axes, true: BoundedNoise, assumed: BoundedNoise)
     if not ax.lines[0].get_animated():  # kept by an explorer: its x limits stay
         ax.relim()  # the line spans the fill's x range
         ax.autoscale_view(scaley=False)
+    _place_peak_labels(ax, true, assumed)
 
 
 def noise_bounds_figure(
@@ -269,7 +307,7 @@ def noise_bounds_figure(
         ax.set_xlim(lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo))
     # the data follow the controls and are redrawn alone (blitting) while the limits,
     # snapped to round numbers, stay
-    animate(*(artist for ax in fig.axes for artist in (*ax.lines, *ax.collections)))
+    animate(*(artist for ax in fig.axes for artist in (*ax.lines, *ax.collections, *ax.texts)))
     update_noise_bounds_figure(fig, true_v, true_w, assumed_v, assumed_w, errors)
     return fig
 
@@ -356,6 +394,7 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
     ax.set_ylabel("mean |x̂ − x| (Hz)")
     ax.grid(True, which="both", alpha=0.3)
     legend_above(ax, ncols=3)
+    label_line_ends(ax)
     return fig
 
 
@@ -415,6 +454,8 @@ def plot_order_rule_study(studies: Sequence[OrderRuleStudy]) -> Figure:
     axes[-1].set_xlabel("true level L (m)")
     handles, labels = axes[0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncols=2)
+    for ax in axes:  # once the layout has its legend: the labels' spacing needs the heights
+        label_line_ends(ax, short=True)
     return fig
 
 
@@ -461,8 +502,10 @@ def plot_example(comparison: ExampleComparison, run: int = 0) -> Figure:
         ax_b,
         unit="log-population",
         title="(b) |x̂_k − x_k| per step",
-        legend=False,
-    )  # styles as in (a)
+        legend=False,  # styles as in (a)
+        end_labels=True,
+    )
+    label_line_ends(ax_a, short=True)
     return fig
 
 

@@ -16,7 +16,8 @@ The rules, checked for every figure function by ``tests/test_figures.py``:
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable, Iterator
+import re
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any, TypeVar
 
@@ -273,7 +274,11 @@ def spread_positions(
 
 
 def label_line_ends(
-    ax: Axes, lines: list[Line2D] | None = None, *, labels: list[str] | None = None
+    ax: Axes,
+    lines: list[Line2D] | None = None,
+    *,
+    labels: list[str] | None = None,
+    short: bool = False,
 ) -> list[Text]:
     """Write direct labels: each line's label just right of the data area.
 
@@ -290,6 +295,9 @@ def label_line_ends(
         The lines to label; by default every line of ``ax`` with a label (not ``_...``).
     labels : list of str, optional
         Their texts (one per line); by default each line's label.
+    short : bool, optional
+        Whether parenthesised notes, such as "(eq. 32)", are left out of the texts (a
+        legend can keep the full names).
 
     Returns
     -------
@@ -308,37 +316,87 @@ def label_line_ends(
     if lines is None:
         lines = [line for line in ax.get_lines() if not str(line.get_label()).startswith("_")]
     texts = labels if labels is not None else [str(line.get_label()) for line in lines]
+    if short:
+        texts = [re.sub(r"\s+\([^)]*\)", "", text) for text in texts]
     if len(texts) != len(lines):
         raise ValueError(
             f"label_line_ends got {len(lines)} lines and {len(texts)} labels; "
             "give one label per line"
         )
-    ax.get_xlim(), ax.get_ylim()  # the limits, autoscaled now if they are still pending
-    to_axes = ax.transScale + ax.transLimits  # data -> axes fraction, whatever the layout
-    ends, kept = [], []
-    for line, text in zip(lines, texts, strict=True):
-        x, y = (np.asarray(v, dtype=float) for v in line.get_data())
-        finite = np.flatnonzero(np.isfinite(x) & np.isfinite(y))
-        if finite.size:
-            ends.append(
-                float(np.clip(to_axes.transform((x[finite[-1]], y[finite[-1]]))[1], 0.0, 1.0))
-            )
-            kept.append(text)
-    height_pt = ax.get_position().height * root_figure(ax).get_figheight() * 72.0
-    positions = spread_positions(ends, 1.25 * SMALL_PT / max(height_pt, 1.0))
-    return [
+    engine = root_figure(ax).get_layout_engine()
+    if engine is not None:  # the axes' height after the layout sets the labels' spacing
+        engine.execute(root_figure(ax))
+    made = [
         ax.text(
             1.02,
-            y,
+            0.5,
             text,
             transform=ax.transAxes,
             ha="left",
             va="center",
             fontsize=SMALL_PT,
             color="#222222",
+            gid=END_LABEL_GID,
         )
-        for y, text in zip(positions, kept, strict=True)
+        for text in texts
     ]
+    place_line_end_labels(ax, lines, made)
+    return made
+
+
+#: The gid of the texts :func:`label_line_ends` writes, which tests and updates look for.
+END_LABEL_GID = "line-end-label"
+
+
+def place_line_end_labels(ax: Axes, lines: Sequence[Line2D], texts: Sequence[Text]) -> None:
+    """Move the labels of :func:`label_line_ends` level with their lines' last points again.
+
+    Call it when the lines got new data, once the axes' limits are final; a line with no
+    finite point hides its label.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes of the lines.
+    lines : sequence of matplotlib.lines.Line2D
+        The labelled lines.
+    texts : sequence of matplotlib.text.Text
+        Their labels, in the same order.
+
+    Examples
+    --------
+    >>> fig = new_figure(4.0, 2.5)
+    >>> ax = fig.subplots()
+    >>> line, = ax.plot([0, 1], [0, 1], label="rising")
+    >>> texts = label_line_ends(ax)
+    >>> line.set_data([], [])
+    >>> place_line_end_labels(ax, [line], texts)
+    >>> texts[0].get_visible()
+    False
+    """
+    ax.get_xlim(), ax.get_ylim()  # the limits, autoscaled now if they are still pending
+    to_axes = ax.transScale + ax.transLimits  # data -> axes fraction, whatever the layout
+    ends, shown = [], []
+    for line, text in zip(lines, texts, strict=True):
+        x, y = (np.asarray(v, dtype=float).reshape(-1) for v in line.get_data())
+        finite = np.flatnonzero(np.isfinite(x) & np.isfinite(y))
+        if text.get_visible() != bool(finite.size):
+            text.set_visible(bool(finite.size))
+        if finite.size:
+            ends.append(
+                float(np.clip(to_axes.transform((x[finite[-1]], y[finite[-1]]))[1], 0.0, 1.0))
+            )
+            shown.append(text)
+    # original=True: the position the layout gave, without apply_aspect (which would mark a
+    # kept figure stale)
+    height_pt = ax.get_position(original=True).height * root_figure(ax).get_figheight() * 72.0
+    positions = spread_positions(ends, 1.25 * SMALL_PT / max(height_pt, 1.0))
+    for level, text in zip(positions, shown, strict=True):
+        # rounded: a kept figure's labels stand where a fresh figure's do, whatever the order
+        # of the floating-point steps to its limits
+        level = round(float(level), 6)
+        if text.get_position()[1] != level:  # an unmoved label leaves a kept figure unchanged
+            text.set_y(level)
 
 
 def log_ticks(axis: Axis) -> None:
