@@ -475,7 +475,7 @@ def image_subdivision(
     See Also
     --------
     image : the extension principle on evidence, which picks a method.
-    image_vertex : the vertex method (Prop. 1), exact for f without interior extrema.
+    box_image : one box by any method, the vertex method (Prop. 1) among them.
 
     References
     ----------
