@@ -164,14 +164,20 @@ def test_plot_filter_step_refuses_the_start():
 
 def test_extension_explorer_shows_the_vertex_method_failing_on_sin():
     ex = w.extension_explorer(function="sin x", lo=0.0, hi=3.0)
-    assert ex.numbers["vertex"].startswith("[0, 0.1411]") and "⚠" in ex.numbers["vertex"]
+
+    def image(method: str) -> str:  # the readout is "[a, b]", maybe with a warning
+        return ex.numbers[method].split(" ⚠")[0]
+
+    assert image("vertex") == "[0, 0.1411]" and "⚠" in ex.numbers["vertex"]
     assert ex.numbers["monotone"] == "NotMonotoneError"
-    assert ex.numbers["subdivision"] == "[0, 1]"
-    lo, hi = (float(v) for v in ex.numbers["mean-value"].strip("[]").split(", "))
+    assert image("subdivision") == "[0, 1]"
+    calls = [int(n) for n in ex.numbers["f calls"].split(" / ")]
+    assert len(calls) == 4 and calls[1] > 0 and calls[2] > calls[0]  # subdivision costs most
+    lo, hi = (float(v) for v in image("mean-value").strip("[]").split(", "))
     assert lo <= 0.0 and hi >= 1.0 and hi - lo < 1.2  # outer, and not by much
     ex.controls["function"].value = "2x + 1"
-    assert ex.numbers["vertex"] == ex.numbers["monotone"] == ex.numbers["subdivision"] == "[1, 7]"
-    assert ex.numbers["mean-value"] == "[1, 7]"  # exact on a linear function
+    assert image("vertex") == image("monotone") == image("subdivision") == "[1, 7]"
+    assert image("mean-value") == "[1, 7]"  # exact on a linear function
     ex.controls["lo"].value = 3.5
     assert "lo > hi" in ex.numbers["error"]
 

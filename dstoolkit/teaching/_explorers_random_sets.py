@@ -255,8 +255,8 @@ def extension_explorer(
     Explorer
         Controls ``function``, ``lo``, ``hi``, ``sign``; on the static site ``hi`` and
         ``function`` answer. Readout: each method's image (``"NotMonotoneError"`` when the
-        shortcut refuses, "⚠ too narrow?" when the vertex check warns) and its
-        evaluations of f.
+        shortcut refuses, "⚠ too narrow?" when the vertex check warns) and, under
+        "f calls", how often each method evaluated f, in the same order.
 
     See Also
     --------
@@ -423,12 +423,9 @@ def extension_explorer(
             artist.set_visible(visible)
         if _extension_extent(d["ax"], d["bars"]) != extent:
             d["ax"].autoscale_view()
-        numbers.update(
-            {
-                f"{METHOD_LOOK[m]['label']} evaluations": result[m]["evaluations"]
-                for m in IMAGE_METHOD_NAMES
-            }
-        )
+        # how often each method evaluated f, in the order of the columns (one column, so that
+        # the readout keeps to two lines)
+        numbers["f calls"] = " / ".join(str(result[m]["evaluations"]) for m in IMAGE_METHOD_NAMES)
         return d["fig"], numbers
 
     live = {

@@ -30,7 +30,7 @@ def bel_pl(m, a):
 def pignistic(m):
     """Return the pignistic probability BetP.
 
-    Each focal element shares its mass equally among its members. m: dict
+    BetP gives each member of a focal element an equal share of its mass. m: dict
     {frozenset: mass}. Returns {hypothesis: probability}.
     """
     betp: dict = {}
