@@ -182,7 +182,7 @@ class Feedback:
     correct : bool
         Whether the answer is right.
     message : str
-        What the learner reads: ``✔ …: right.``, or ``✘ …`` with a hint.
+        What the learner reads: "✔ …: right.", or "✘ …" with a hint.
     details : dict
         Machine-readable extras: ``"mistake"`` (the named mistake's text), ``"case"`` (a
         coding exercise's failing case), ``"pending"`` (not answered yet), ``"timeout"``.
