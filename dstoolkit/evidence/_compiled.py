@@ -86,6 +86,50 @@ def _stable_order(
             order[i] = src[i]
 
 
+def _group_equal(
+    key: np.ndarray, table: np.ndarray, tbits: int, group_of: np.ndarray, first: np.ndarray
+) -> int:  # pragma: no cover - numba
+    """Give the distinct rows of ``key`` numbers in order of first appearance; count them.
+
+    ``group_of[k]`` is row k's group, ``first[g]`` the first row of group g. Rows are equal
+    when every column compares equal (0.0 and −0.0 alike, as the sort's comparisons have
+    them; no NaN). An open-addressing hash table of the columns' bits, ``table``
+    (2**tbits slots, at least twice the rows), finds each row's group in one probe or a
+    few, so only the distinct rows need sorting.
+    """
+    size = table.shape[0]
+    shift = np.uint64(64 - tbits)
+    for t in range(size):
+        table[t] = -1
+    bits = np.empty(1)
+    as_int = bits.view(np.uint64)
+    groups = 0
+    for k in range(key.shape[0]):
+        h = np.uint64(0)
+        for j in range(key.shape[1]):
+            bits[0] = key[k, j] + 0.0  # −0.0 + 0.0 = 0.0: equal rows, equal bits
+            h = (h ^ as_int[0]) * np.uint64(0x9E3779B97F4A7C15)
+        t = np.int64(h >> shift)
+        while True:
+            g = table[t]
+            if g < 0:  # a new box
+                table[t] = groups
+                first[groups] = k
+                group_of[k] = groups
+                groups += 1
+                break
+            same = True
+            for j in range(key.shape[1]):
+                if key[first[g], j] != key[k, j]:
+                    same = False
+                    break
+            if same:
+                group_of[k] = g
+                break
+            t = np.int64((t + 1) & (size - 1))
+    return groups
+
+
 def _merge(
     lo: np.ndarray,
     hi: np.ndarray,
@@ -100,6 +144,11 @@ def _merge(
     padding copies the first row. Returns the width (the most boxes with mass in a run, at
     least 1). Only the rows with mass are sorted (the others come last and are dropped), all
     of them in a run without mass (its first row in that order is the padding).
+
+    A run whose rows with mass hold no NaN is merged first and sorted after: equal rows are
+    grouped by :func:`_group_equal` (each group's box is its first row, its masses added in
+    the order the rows came in, which is the order a stable sort keeps them in), then only
+    the distinct boxes are sorted. The same boxes, masses and order as sorting every row.
     """
     runs, rows, n = lo.shape
     key = np.empty((rows, 2 * n))
@@ -108,6 +157,12 @@ def _merge(
         np.empty(rows, np.int64),
         np.empty(rows, np.int64),
     )
+    tbits = 1
+    while 2**tbits < 2 * rows:
+        tbits += 1
+    table = np.empty(2**tbits, np.int64)
+    group_of, first = np.empty(rows, np.int64), np.empty(rows, np.int64)
+    group_key, group_mass = np.empty((rows, 2 * n)), np.empty(rows)
     counts = np.zeros(runs, np.int64)
     for r in range(runs):
         m = 0
@@ -120,10 +175,30 @@ def _merge(
             for i in range(rows):
                 rows_of[i] = i
             m = rows
+        finite = not dead
         for k in range(m):
             i = rows_of[k]
             for j in range(n):
                 key[k, j], key[k, n + j] = lo[r, i, j], hi[r, i, j]
+                if np.isnan(lo[r, i, j]) or np.isnan(hi[r, i, j]):
+                    finite = False
+        if finite:  # group equal rows, then sort the distinct ones
+            groups = _group_equal(key[:m], table, tbits, group_of, first)
+            for g in range(groups):
+                group_mass[g] = 0.0
+                for j in range(2 * n):
+                    group_key[g, j] = key[first[g], j]
+            for k in range(m):
+                group_mass[group_of[k]] += mass[r, rows_of[k]]
+            _stable_order(group_key[:groups], order[:groups], work[:groups])
+            for t in range(groups):
+                g = order[t]
+                i = rows_of[first[g]]
+                for j in range(n):
+                    out_lo[r, t, j], out_hi[r, t, j] = lo[r, i, j], hi[r, i, j]
+                out_mass[r, t] = group_mass[g]
+            counts[r] = groups
+            continue
         _stable_order(key[:m], order[:m], work[:m])
         groups = 0
         for k in range(m):
@@ -288,7 +363,7 @@ def _compiled() -> tuple[Callable[..., int], Callable[..., int]]:
 
     jit = numba.njit(cache=True, nogil=True)
     names = globals()
-    for name in ("_row_less", "_stable_order", "_size"):
+    for name in ("_row_less", "_stable_order", "_group_equal", "_size"):
         names[name] = jit(names[name])
     return jit(_merge), jit(_cluster)
 
