@@ -327,11 +327,16 @@ def bounded_count(bm: Boxes) -> np.ndarray:
         and np.all(np.isfinite(bm.lo) | ~live[..., None])
         and np.all(np.isfinite(bm.hi) | ~live[..., None])
     ):
-        raise EvidenceError(
-            "cluster_boxes needs bounded boxes with finite masses; got NaN or infinite values "
-            "(check the filter's inputs and noise bounds)"
-        )
+        raise unbounded_boxes()
     return live.sum(axis=1)
+
+
+def unbounded_boxes() -> EvidenceError:
+    """Return the error of a clustering given NaN or infinite masses, or unbounded boxes."""
+    return EvidenceError(
+        "cluster_boxes needs bounded boxes with finite masses; got NaN or infinite values "
+        "(check the filter's inputs and noise bounds)"
+    )
 
 
 def unit_widths(bm: Boxes) -> np.ndarray:

@@ -21,8 +21,9 @@ from dstoolkit.errors import require_extra
 from . import _clustering as clustering
 from ._boxes import Boxes
 
-#: The codes the clustering kernel returns.
-FITS, TOO_MANY_ROUNDS, NO_PAIR = 0, 1, 2
+#: The codes the clustering kernel returns: clustered; too many rounds; no pair to merge;
+#: NaN or infinite masses, or unbounded boxes with mass; every run within the cap already.
+FITS, TOO_MANY_ROUNDS, NO_PAIR, NOT_BOUNDED, ALL_FIT = 0, 1, 2, 3, 4
 
 
 def _row_less(key: np.ndarray, a: int, b: int) -> bool:  # pragma: no cover - numba
@@ -240,27 +241,93 @@ def _size(
     return total
 
 
+def _bounded_count(
+    lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, count: np.ndarray
+) -> bool:  # pragma: no cover - numba
+    """Count each run's boxes with mass, as ``bounded_count``; False where it would refuse.
+
+    It refuses NaN or infinite masses and boxes with mass with a NaN or infinite bound.
+    """
+    runs, rows, n = lo.shape
+    for r in range(runs):
+        count[r] = 0
+        for i in range(rows):
+            if not np.isfinite(mass[r, i]):
+                return False
+            if mass[r, i] > 0:
+                count[r] += 1
+                for j in range(n):
+                    if not (np.isfinite(lo[r, i, j]) and np.isfinite(hi[r, i, j])):
+                        return False
+    return True
+
+
+def _unit_widths(
+    lo: np.ndarray, hi: np.ndarray, mass: np.ndarray, unit: np.ndarray
+) -> None:  # pragma: no cover - numba
+    """Set ``unit`` to each run's mass-weighted mean widths, as ``unit_widths``.
+
+    The same operations in the same order: m·(hi − lo) and m summed row after row (as
+    ``row_sum``), their ratio, 1 where it is not > 0.
+    """
+    runs, rows, n = lo.shape
+    for r in range(runs):
+        total = mass[r, 0]
+        for i in range(1, rows):
+            total += mass[r, i]
+        for j in range(n):
+            moment = mass[r, 0] * (hi[r, 0, j] - lo[r, 0, j])
+            for i in range(1, rows):
+                moment += mass[r, i] * (hi[r, i, j] - lo[r, i, j])
+            width = moment / total
+            unit[r, j] = width if width > 0 else 1.0
+
+
+def _moved_mass(
+    mass: np.ndarray, merged: np.ndarray, moved: np.ndarray
+) -> None:  # pragma: no cover
+    """Set ``moved`` to the mass of the merged boxes per run, as ``merged_mass``.
+
+    The masses of the merged boxes (0 for the others) sorted, then added smallest first.
+    """
+    for r in range(mass.shape[0]):
+        values = np.sort(np.where(merged[r], mass[r], 0.0))
+        total = values[0]
+        for i in range(1, values.shape[0]):
+            total += values[i]
+        moved[r] = total
+
+
 def _cluster(
     lo: np.ndarray,
     hi: np.ndarray,
     mass: np.ndarray,
-    unit: np.ndarray,
     cap: int,
     max_rounds: int,
     out_lo: np.ndarray,
     out_hi: np.ndarray,
     out_mass: np.ndarray,
-    out_merged: np.ndarray,
+    out_moved: np.ndarray,
 ) -> int:  # pragma: no cover
     """Cluster boxes by Denœux's method as ``cluster_boxes``, run by run.
 
-    Each round sorts the boxes by centre along dimension round % n (stable; skipped when
-    they are in order already, as a stable sort would leave them), merges the neighbour
-    pairs whose Δ is a local minimum, cheapest first (ties: leftmost), never below ``cap``.
-    Writes each run's boxes in their final order (zero-mass padding after) and whether each
-    was merged.
+    First the checks and units of ``cluster_boxes`` (:func:`_bounded_count`,
+    :func:`_unit_widths`; ``ALL_FIT`` when no run exceeds ``cap``). Each round sorts the
+    boxes by centre along dimension round % n (stable; skipped when they are in order
+    already, as a stable sort would leave them), merges the neighbour pairs whose Δ is a
+    local minimum, cheapest first (ties: leftmost), never below ``cap``. Writes each run's
+    boxes in their final order (zero-mass padding after) and the mass the merges moved
+    (:func:`_moved_mass`).
     """
     runs, rows, n = lo.shape
+    count = np.empty(runs, np.int64)
+    if not _bounded_count(lo, hi, mass, count):
+        return NOT_BOUNDED
+    if count.max() <= cap:
+        return ALL_FIT
+    unit = np.empty((runs, n))
+    _unit_widths(lo, hi, mass, unit)
+    out_merged = np.zeros(out_mass.shape, np.bool_)
     b_lo, b_hi = np.empty((rows, n)), np.empty((rows, n))
     b_m, b_ms, b_merged = np.empty(rows), np.empty(rows), np.zeros(rows, np.bool_)
     t_lo, t_hi = np.empty((rows, n)), np.empty((rows, n))
@@ -348,6 +415,7 @@ def _cluster(
                 out_hi[r, i, j] = b_hi[i, j] if inside else 0.0
             out_mass[r, i] = b_m[i] if inside else 0.0
             out_merged[r, i] = b_merged[i] if inside else False
+    _moved_mass(out_mass, out_merged, out_moved)
     return FITS
 
 
@@ -363,7 +431,15 @@ def _compiled() -> tuple[Callable[..., int], Callable[..., int]]:
 
     jit = numba.njit(cache=True, nogil=True)
     names = globals()
-    for name in ("_row_less", "_stable_order", "_group_equal", "_size"):
+    for name in (
+        "_row_less",
+        "_stable_order",
+        "_group_equal",
+        "_size",
+        "_bounded_count",
+        "_unit_widths",
+        "_moved_mass",
+    ):
         names[name] = jit(names[name])
     return jit(_merge), jit(_cluster)
 
@@ -387,26 +463,26 @@ def cluster_boxes_compiled(
     ``MAX_CLUSTER_ROUNDS``).
     """
     rounds = clustering.MAX_CLUSTER_ROUNDS if max_rounds is None else max_rounds
-    count = clustering.bounded_count(bm)
     runs, _, n = bm.lo.shape
-    if int(count.max()) <= max_focal:
-        return merge_equal_boxes_compiled(bm.lo, bm.hi, bm.mass), np.zeros(runs)
     lo, hi = np.empty((runs, max_focal, n)), np.empty((runs, max_focal, n))
-    mass, merged = np.empty((runs, max_focal)), np.empty((runs, max_focal), dtype=bool)
+    mass, moved = np.empty((runs, max_focal)), np.empty(runs)
     code = _compiled()[1](
         np.ascontiguousarray(bm.lo, dtype=float),
         np.ascontiguousarray(bm.hi, dtype=float),
         np.ascontiguousarray(bm.mass, dtype=float),
-        np.ascontiguousarray(clustering.unit_widths(bm)),
         max_focal,
         rounds,
         lo,
         hi,
         mass,
-        merged,
+        moved,
     )
+    if code == NOT_BOUNDED:
+        raise clustering.unbounded_boxes()
+    if code == ALL_FIT:
+        return merge_equal_boxes_compiled(bm.lo, bm.hi, bm.mass), np.zeros(runs)
     if code == TOO_MANY_ROUNDS:
         raise clustering.too_many_rounds(max_focal, rounds)
     if code == NO_PAIR:
         raise clustering.no_pair()
-    return merge_equal_boxes_compiled(lo, hi, mass), clustering.merged_mass(mass, merged)
+    return merge_equal_boxes_compiled(lo, hi, mass), moved
