@@ -122,6 +122,12 @@ def contracted_posterior(
     return merge_equal_boxes(lo, hi, mass), conflict, dead
 
 
+def posterior_summary(posterior: Boxes) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Return the focal elements (R,), the pignistic expectation (eq. 20) and hull (R, n)."""
+    lo, hi = hull(posterior)
+    return (posterior.mass > 0).sum(axis=1), pignistic_expectation(posterior), lo, hi
+
+
 def _pad(bm: Boxes, width: int) -> Boxes:
     extra = width - bm.mass.shape[1]
     if extra <= 0:
@@ -299,15 +305,19 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         self._own_frames()
         self._compiled(self.kernel, "Nassreddine's filter")
 
-    def _kernels(self) -> tuple[Any, Any]:
-        """Return the correction (:func:`contracted_posterior`) and the clustering of ``kernel``."""
+    def _kernels(self) -> tuple[Any, Any, Any]:
+        """Return the correction, the posterior's summary and the clustering of ``kernel``.
+
+        The correction is :func:`contracted_posterior`, the summary
+        :func:`posterior_summary` (or their compiled twins, the same numbers).
+        """
         if self._compiled(self.kernel, "Nassreddine's filter"):
             from dstoolkit.evidence.boxes import cluster_boxes_compiled
 
-            from ._compiled import contracted_posterior_compiled
+            from ._compiled import contracted_posterior_compiled, posterior_summary_compiled
 
-            return contracted_posterior_compiled, cluster_boxes_compiled
-        return contracted_posterior, cluster_boxes
+            return contracted_posterior_compiled, posterior_summary_compiled, cluster_boxes_compiled
+        return contracted_posterior, posterior_summary, cluster_boxes
 
     def _check_model(self, model: StateSpaceModel) -> None:
         self._check_box_dim(self._box(self.initial_box), model)
@@ -471,7 +481,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         reset by total conflict, and the prediction and observation boxes (for the records).
         """
         runs, n = z.shape[0], model.state_dim
-        combine, _ = self._kernels()
+        combine = self._kernels()[0]
         p_lo, p_hi, p_mass = self._predict(model, state, v, u)
         y_lo, y_hi = z[:, None] + w.lo, z[:, None] + w.hi
         c_lo, c_hi = model.inverse()(
@@ -493,10 +503,8 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         Estimate, hull, focal elements, the evidence carried to the next step (clustered;
         None for the restart variant) and the mass the clustering moved.
         """
-        _, cluster = self._kernels()
-        focal = (posterior.mass > 0).sum(axis=1)
-        est = pignistic_expectation(posterior)
-        lo, hi = hull(posterior)
+        _, summary, cluster = self._kernels()
+        focal, est, lo, hi = summary(posterior)
         if self.restart:
             return est, lo, hi, focal, None, np.zeros(est.shape[0])
         carried, moved = cluster(posterior, self.max_focal)
