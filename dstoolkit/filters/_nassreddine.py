@@ -305,19 +305,23 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         self._own_frames()
         self._compiled(self.kernel, "Nassreddine's filter")
 
-    def _kernels(self) -> tuple[Any, Any, Any]:
-        """Return the correction, the posterior's summary and the clustering of ``kernel``.
-
-        The correction is :func:`contracted_posterior`, the summary
-        :func:`posterior_summary` (or their compiled twins, the same numbers).
-        """
+    def _kernels(self) -> tuple[Any, Any]:
+        """Return the correction (:func:`contracted_posterior`) and the clustering of ``kernel``."""
         if self._compiled(self.kernel, "Nassreddine's filter"):
             from dstoolkit.evidence.boxes import cluster_boxes_compiled
 
-            from ._compiled import contracted_posterior_compiled, posterior_summary_compiled
+            from ._compiled import contracted_posterior_compiled
 
-            return contracted_posterior_compiled, posterior_summary_compiled, cluster_boxes_compiled
-        return contracted_posterior, posterior_summary, cluster_boxes
+            return contracted_posterior_compiled, cluster_boxes_compiled
+        return contracted_posterior, cluster_boxes
+
+    def _summary(self) -> Any:
+        """Return :func:`posterior_summary` of ``kernel`` (compiled: the same numbers)."""
+        if self._compiled(self.kernel, "Nassreddine's filter"):
+            from ._compiled import posterior_summary_compiled
+
+            return posterior_summary_compiled
+        return posterior_summary
 
     def _check_model(self, model: StateSpaceModel) -> None:
         self._check_box_dim(self._box(self.initial_box), model)
@@ -481,7 +485,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         reset by total conflict, and the prediction and observation boxes (for the records).
         """
         runs, n = z.shape[0], model.state_dim
-        combine = self._kernels()[0]
+        combine, _ = self._kernels()
         p_lo, p_hi, p_mass = self._predict(model, state, v, u)
         y_lo, y_hi = z[:, None] + w.lo, z[:, None] + w.hi
         c_lo, c_hi = model.inverse()(
@@ -503,8 +507,8 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         Estimate, hull, focal elements, the evidence carried to the next step (clustered;
         None for the restart variant) and the mass the clustering moved.
         """
-        _, summary, cluster = self._kernels()
-        focal, est, lo, hi = summary(posterior)
+        _, cluster = self._kernels()
+        focal, est, lo, hi = self._summary()(posterior)
         if self.restart:
             return est, lo, hi, focal, None, np.zeros(est.shape[0])
         carried, moved = cluster(posterior, self.max_focal)
