@@ -315,7 +315,9 @@ def _cluster(
     :func:`_unit_widths`; ``ALL_FIT`` when no run exceeds ``cap``). Each round sorts the
     boxes by centre along dimension round % n (stable; skipped when they are in order
     already, as a stable sort would leave them), merges the neighbour pairs whose Δ is a
-    local minimum, cheapest first (ties: leftmost), never below ``cap``. Writes each run's
+    local minimum, cheapest first (ties: leftmost), never below ``cap``; a pair of boxes
+    that were neighbours in the last round and did not change keeps its hull and Δ (the
+    same numbers), only the pairs next to a new hull are computed again. Writes each run's
     boxes in their final order (zero-mass padding after) and the mass the merges moved
     (:func:`_moved_mass`).
     """
@@ -335,7 +337,7 @@ def _cluster(
     p_lo, p_hi = np.empty((rows, n)), np.empty((rows, n))
     p_m, p_ms, cost = np.empty(rows), np.empty(rows), np.empty(rows)
     key, local = np.empty(rows), np.empty(rows, np.int64)
-    chosen = np.zeros(rows, np.bool_)
+    chosen, fresh = np.zeros(rows, np.bool_), np.ones(rows, np.bool_)
     for r in range(runs):
         k = 0
         for i in range(rows):
@@ -347,6 +349,7 @@ def _cluster(
                 b_merged[k] = False
                 k += 1
         rnd = 0
+        every = True  # every pair's hull to be computed (a new run, or boxes reordered)
         while k > cap:
             if rnd == max_rounds:
                 return TOO_MANY_ROUNDS
@@ -365,13 +368,17 @@ def _cluster(
                     t_m[i], t_ms[i], t_merged[i] = b_m[o], b_ms[o], b_merged[o]
                 b_lo, t_lo, b_hi, t_hi = t_lo, b_lo, t_hi, b_hi
                 b_m, t_m, b_ms, t_ms, b_merged, t_merged = t_m, b_m, t_ms, b_ms, t_merged, b_merged
+                every = True
             for i in range(k - 1):  # each neighbour pair's hull and its Δ
+                if not (every or fresh[i] or fresh[i + 1]):
+                    continue  # two boxes that were neighbours last round: the same pair
                 for j in range(n):
                     p_lo[i, j] = min(b_lo[i, j], b_lo[i + 1, j])
                     p_hi[i, j] = max(b_hi[i, j], b_hi[i + 1, j])
                 p_m[i] = b_m[i] + b_m[i + 1]
                 p_ms[i] = p_m[i] * _size(p_lo, p_hi, i, unit, r)
                 cost[i] = p_ms[i] - b_ms[i] - b_ms[i + 1]
+            every = False
             found = 0
             for i in range(k - 1):
                 c = cost[i]
@@ -398,12 +405,18 @@ def _cluster(
                     for j in range(n):
                         b_lo[kept, j], b_hi[kept, j] = p_lo[i, j], p_hi[i, j]
                     b_m[kept], b_ms[kept], b_merged[kept] = p_m[i], p_ms[i], True
+                    fresh[kept] = True
                     i += 2
                 else:
                     if kept != i:
                         for j in range(n):
                             b_lo[kept, j], b_hi[kept, j] = b_lo[i, j], b_hi[i, j]
                         b_m[kept], b_ms[kept], b_merged[kept] = b_m[i], b_ms[i], b_merged[i]
+                        # its pair with the next box, kept if that box is unchanged too
+                        for j in range(n):
+                            p_lo[kept, j], p_hi[kept, j] = p_lo[i, j], p_hi[i, j]
+                        p_m[kept], p_ms[kept], cost[kept] = p_m[i], p_ms[i], cost[i]
+                    fresh[kept] = False
                     i += 1
                 kept += 1
             k = kept
