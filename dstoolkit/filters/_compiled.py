@@ -15,10 +15,11 @@
 - Nassreddine's filter, the correction (:func:`contracted_posterior_compiled`): the
   conflict and renormalisation of the contracted boxes, then the compiled merge of
   :mod:`dstoolkit.evidence.boxes`; bit for bit the numpy numbers.
-- The particle filter: :func:`resample_search` is the search of
+- The particle filter: :func:`resample_compiled` is
   :func:`~dstoolkit.filters.systematic_resample`, one pass per run (the positions and the
   cumulative weights are both in order, so each position's particle follows the last
-  one's; ``np.searchsorted`` searches each position afresh).
+  one's; ``np.searchsorted`` searches each position afresh), with the quantised cumulative
+  weights and positions computed as the search reaches them.
 
 Nothing requires them: a filter uses them only with ``kernel="numba"`` (or ``"auto"``
 where it gives the same numbers).
@@ -354,15 +355,31 @@ def posterior_summary_compiled(
     return focal, est, low, high
 
 
-def _search(cum: np.ndarray, pos: np.ndarray, idx: np.ndarray) -> None:  # pragma: no cover
-    """``idx[r] = np.searchsorted(cum[r], pos[r], side="right")`` for ascending ``pos[r]``."""
-    runs, n = pos.shape
+def _search(
+    weights: np.ndarray, offsets: np.ndarray, quantum: float, idx: np.ndarray
+) -> None:  # pragma: no cover - numba
+    """Systematic resampling's indices, as ``systematic_resample``'s numpy path, run by run.
+
+    The same quantised numbers: cumulative weights added in order (as ``np.cumsum``),
+    floor(c·quantum), the last set to quantum; positions floor((offset + i)/N·quantum).
+    ``idx[r, i]`` is the number of cumulative weights ≤ position i (``np.searchsorted``,
+    side right), at most N − 1. Positions and cumulative weights both ascend, so each
+    position's search starts where the last one stopped, and each cumulative weight is
+    computed when the search reaches it.
+    """
+    runs, n = weights.shape
     for r in range(runs):
+        total = weights[r, 0]
+        cum = quantum if n == 1 else np.floor(total * quantum)
         j = 0
         for i in range(n):
-            while j < cum.shape[1] and cum[r, j] <= pos[r, i]:
+            pos = np.floor((offsets[r] + i) / n * quantum)
+            while j < n and cum <= pos:
                 j += 1
-            idx[r, i] = j
+                if j < n:
+                    total += weights[r, j]
+                    cum = quantum if j == n - 1 else np.floor(total * quantum)
+            idx[r, i] = min(j, n - 1)
 
 
 @functools.cache
@@ -374,9 +391,13 @@ def _compiled_search() -> Callable[..., None]:
     return kernel
 
 
-def resample_search(cum: np.ndarray, pos: np.ndarray, idx: np.ndarray) -> None:
-    """Set ``idx[r] := np.searchsorted(cum[r], pos[r], side="right")`` for every run r.
+def resample_compiled(weights: np.ndarray, offsets: np.ndarray, quantum: float) -> np.ndarray:
+    """Return the indices of :func:`~dstoolkit.filters.systematic_resample`, compiled.
 
-    The positions ``pos[r]`` are in ascending order (systematic resampling's); compiled.
+    The same indices (runs, N) from the weights (runs, N) and offsets (runs,), in one pass
+    per run.
     """
-    _compiled_search()(np.ascontiguousarray(cum), np.ascontiguousarray(pos), idx)
+    weights = np.ascontiguousarray(weights, dtype=float)
+    idx = np.empty(weights.shape, dtype=np.intp)
+    _compiled_search()(weights, np.ascontiguousarray(offsets, dtype=float), quantum, idx)
+    return idx

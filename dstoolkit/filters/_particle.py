@@ -90,18 +90,17 @@ def systematic_resample(
     >>> systematic_resample(np.array([[0.1, 0.2, 0.7]]), np.array([0.5]))
     array([[1, 2, 2]])
     """
+    if compiled:  # the same indices in one pass per row (extra speed)
+        from ._compiled import resample_compiled
+
+        return resample_compiled(weights, offsets, _QUANTUM)
     runs, n = weights.shape
     cum = np.floor(np.cumsum(weights, axis=1) * _QUANTUM)
     cum[:, -1] = _QUANTUM
     pos = np.floor((offsets[:, None] + np.arange(n)) / n * _QUANTUM)
     idx = np.empty((runs, n), dtype=np.intp)
-    if compiled:  # the same indices in one pass per row (extra speed)
-        from ._compiled import resample_search
-
-        resample_search(cum, pos, idx)
-    else:
-        for r in range(runs):  # one search per row: shorter, and faster than one on all rows
-            idx[r] = np.searchsorted(cum[r], pos[r], side="right")
+    for r in range(runs):  # one search per row: shorter, and faster than one on all rows
+        idx[r] = np.searchsorted(cum[r], pos[r], side="right")
     return np.minimum(idx, n - 1, out=idx)
 
 
