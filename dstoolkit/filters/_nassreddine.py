@@ -478,14 +478,16 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         z: np.ndarray,
         u: np.ndarray | None,
         k: int,
+        kernels: tuple[Any, Any] | None = None,
     ) -> tuple[Boxes, np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
         """Correct step k → k + 1 for R runs up to the posterior.
 
         Predict, contract with the reading z (R, m). Returns the posterior, K (R,), the runs
         reset by total conflict, and the prediction and observation boxes (for the records).
+        ``kernels`` is what :meth:`_kernels` returns, if the caller has it already.
         """
         runs, n = z.shape[0], model.state_dim
-        combine, _ = self._kernels()
+        combine, _ = self._kernels() if kernels is None else kernels
         p_lo, p_hi, p_mass = self._predict(model, state, v, u)
         y_lo, y_hi = z[:, None] + w.lo, z[:, None] + w.hi
         c_lo, c_hi = model.inverse()(
@@ -501,14 +503,17 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
             posterior = self._total_conflict(model, z, k, dead, w, posterior)
         return posterior, conflict, dead, (p_lo, p_hi, p_mass, y_lo, y_hi)
 
-    def _settle(self, posterior: Boxes) -> tuple[Any, ...]:
+    def _settle(
+        self, posterior: Boxes, kernels: tuple[Any, Any, Any] | None = None
+    ) -> tuple[Any, ...]:
         """Settle what follows the posterior of R runs.
 
         Estimate, hull, focal elements, the evidence carried to the next step (clustered;
-        None for the restart variant) and the mass the clustering moved.
+        None for the restart variant) and the mass the clustering moved. ``kernels`` is
+        what :meth:`_kernels` and :meth:`_summary` return, if the caller has them already.
         """
-        _, cluster = self._kernels()
-        focal, est, lo, hi = self._summary()(posterior)
+        _, cluster, summary = (*self._kernels(), self._summary()) if kernels is None else kernels
+        focal, est, lo, hi = summary(posterior)
         if self.restart:
             return est, lo, hi, focal, None, np.zeros(est.shape[0])
         carried, moved = cluster(posterior, self.max_focal)
@@ -526,6 +531,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
             "merged_mass": np.zeros((n_runs, n_steps)),
             "resets": np.zeros((n_runs, n_steps), dtype=bool),
         }
+        kernels = (*self._kernels(), self._summary())  # looked up once for every step
         posterior = self._from_reading(model, Z[:, 0], w, 0)
         carried: Boxes | None = None
         for k in range(n_steps):
@@ -533,7 +539,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
             if k > 0:
                 start = self._restarted(est[:, k - 1], v) if carried is None else carried
                 posterior, diag["conflict"][:, k], diag["resets"][:, k], _ = self._correct(
-                    model, start, v, w, Z[:, k], step_input(U, k), k
+                    model, start, v, w, Z[:, k], step_input(U, k), k, kernels[:2]
                 )
             (
                 est[:, k],
@@ -542,7 +548,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
                 diag["focal_elements"][:, k],
                 carried,
                 diag["merged_mass"][:, k],
-            ) = self._settle(posterior)
+            ) = self._settle(posterior, kernels)
         return Block(est, lo, hi, diag)
 
     def _prior(self, model: StateSpaceModel, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
