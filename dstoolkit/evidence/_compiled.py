@@ -100,8 +100,7 @@ def _group_equal(
     """
     size = table.shape[0]
     shift = np.uint64(64 - tbits)
-    for t in range(size):
-        table[t] = -1
+    table[:] = -1
     bits = np.empty(1)
     as_int = bits.view(np.uint64)
     groups = 0
