@@ -497,12 +497,12 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
 
     def _start(self, model: StateSpaceModel, z1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         lo, hi = first_reading_box(model, z1, self.initial_box)
-        if np.any(lo > hi):
+        if (lo > hi).any():
             raise EvidenceError(
                 "the first reading is inconsistent with initial_box under the observation "
                 "noise bounds; widen initial_box or check the first reading"
             )
-        if not np.all(np.isfinite(lo) & np.isfinite(hi)):
+        if not (np.isfinite(lo) & np.isfinite(hi)).all():
             raise EvidenceError(
                 "the first reading does not bound every state component (g is not "
                 "invertible there); give the filter an initial_box"
@@ -510,7 +510,7 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
         mean_z = z1 + model.obs_noise.mean
         p_lo, p_hi = model.inverse()(mean_z, mean_z, lo, hi)
         point = 0.5 * (p_lo + p_hi)
-        usable = np.all(np.isfinite(point) & (p_lo <= p_hi), axis=-1, keepdims=True)
+        usable = (np.isfinite(point) & (p_lo <= p_hi)).all(axis=-1, keepdims=True)
         x = np.where(usable, point, 0.5 * (lo + hi))
         cov = np.eye(model.state_dim) * ((hi - lo) ** 2 / 12.0)[:, None, :]
         return x, cov

@@ -10,6 +10,7 @@ the evidence about g(x_k) is z_k + W. Every filter in dstoolkit takes a
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -22,6 +23,14 @@ from dstoolkit.evidence import IntervalEvidence, triangular_evidence
 from dstoolkit.utils.checks import real_array
 
 ArrayFn = Callable[..., np.ndarray]
+
+
+def _read_only(values: np.ndarray) -> np.ndarray:
+    """Return ``values`` made read-only (a noise's moments, shared by every caller)."""
+    values.flags.writeable = False
+    return values
+
+
 #: ``g_inverse(lo, hi, x_lo, x_hi) -> (lo, hi)``: the states in [x_lo, x_hi] whose image meets
 #: the observation box [lo, hi] (see :class:`StateSpaceModel`).
 BoxInverse = Callable[
@@ -145,16 +154,19 @@ class BoundedNoise:
         """Number of components."""
         return int(self.lower.size)
 
-    @property
+    @functools.cached_property
     def mean(self) -> np.ndarray:
-        """Mean of the triangular density, (a + b + c)/3."""
-        return (self.lower + self.mode + self.upper) / 3.0
+        """Mean of the triangular density, (a + b + c)/3 (read-only, computed once)."""
+        return _read_only((self.lower + self.mode + self.upper) / 3.0)
 
-    @property
+    @functools.cached_property
     def variance(self) -> np.ndarray:
-        """Variance of the triangular density, (a² + b² + c² − ab − ac − bc)/18."""
+        """Variance of the triangular density, (a² + b² + c² − ab − ac − bc)/18.
+
+        Read-only, computed once.
+        """
         a, c, b = self.lower, self.mode, self.upper
-        return (a * a + b * b + c * c - a * b - a * c - b * c) / 18.0
+        return _read_only((a * a + b * b + c * c - a * b - a * c - b * c) / 18.0)
 
     def sample(self, rng: np.random.Generator, size: tuple[int, ...] = ()) -> np.ndarray:
         """Draws from the triangular densities.
@@ -590,7 +602,8 @@ def _probe_inputs(model: StateSpaceModel, u: np.ndarray | None, shape: tuple[int
     try:
         with np.errstate(all="ignore"):
             out = np.asarray(model.f(x, u))
-        np.broadcast_to(out, x.shape)
+        if out.shape != x.shape:
+            np.broadcast_to(out, x.shape)  # raises when f's result does not fit the states
     except EvidenceError:
         raise
     except (ValueError, TypeError, IndexError) as exc:
@@ -675,4 +688,11 @@ def first_reading_box(
         p_hi = np.broadcast_to(np.asarray(prior[1], dtype=float), shape)
     noise = model.obs_noise
     lo, hi = g_inverse(z + noise.lower, z + noise.upper, p_lo, p_hi)
-    return np.broadcast_to(lo, shape).astype(float), np.broadcast_to(hi, shape).astype(float)
+    return _float_copy(lo, shape), _float_copy(hi, shape)
+
+
+def _float_copy(side: Any, shape: tuple[int, ...]) -> np.ndarray:
+    """Return a new float array of ``shape`` holding ``side`` (broadcast to it if needed)."""
+    if type(side) is np.ndarray and side.shape == shape:
+        return side.astype(float)  # what broadcasting to its own shape and copying gives
+    return np.broadcast_to(side, shape).astype(float)
