@@ -23,19 +23,17 @@ from dstoolkit.evidence import IntervalEvidence, triangular_evidence
 from dstoolkit.utils.checks import real_array
 
 ArrayFn = Callable[..., np.ndarray]
+#: ``g_inverse(lo, hi, x_lo, x_hi) -> (lo, hi)``: the states in [x_lo, x_hi] whose image meets
+#: the observation box [lo, hi] (see :class:`StateSpaceModel`).
+BoxInverse = Callable[
+    [np.ndarray, np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]
+]
 
 
 def _read_only(values: np.ndarray) -> np.ndarray:
     """Return ``values`` made read-only (a noise's moments, shared by every caller)."""
     values.flags.writeable = False
     return values
-
-
-#: ``g_inverse(lo, hi, x_lo, x_hi) -> (lo, hi)``: the states in [x_lo, x_hi] whose image meets
-#: the observation box [lo, hi] (see :class:`StateSpaceModel`).
-BoxInverse = Callable[
-    [np.ndarray, np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]
-]
 
 
 @dataclass(frozen=True, init=False)

@@ -77,8 +77,8 @@ def _one_each(x: Any, u: Any) -> tuple[float, float] | None:
     more axes than x, the shapes the filters pass for one run. Eq. 39's arithmetic then runs
     on the two floats: the same IEEE operations in the same order as on the arrays, so the
     same numbers, without three numpy calls on one element; the result is an array of x's
-    shape, the shape x and n broadcast to. Anything else (None for a float) takes the array
-    path and its checks.
+    shape, the shape x and n broadcast to. Anything else gives None: the array path, with
+    its checks.
     """
     if (
         type(x) is np.ndarray is type(u)
