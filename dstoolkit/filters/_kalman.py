@@ -105,7 +105,8 @@ class _MapsAndSlopes:
     """f and ∂f/∂x, g and ∂g/∂x of a model with one state and one reading (n = m = 1).
 
     On one run's state as a Python float or a batch's states as an (R,) array:
-    ``predict(x, u)`` gives f(x, u) and ∂f/∂x at x, ``observe(x)`` gives g(x) and ∂g/∂x.
+    ``predict(x, u)`` gives f(x, u) and ∂f/∂x at x, ``observe(x, None)`` gives g(x) and
+    ∂g/∂x.
 
     Each value and its slope come from the model's own array maps: the map and its
     Jacobian when the model has one, otherwise the map once on the three points x,
@@ -123,8 +124,13 @@ class _MapsAndSlopes:
         g, _ = unchecked(model.g)
         self.jacobian_f = model.jacobian_f
         self.step = 0  # the step being filtered (counting from 0), for the guard's message
+        jacobian_g = model.jacobian_g
         self.predict = self._evaluator(f, model.jacobian_f, "f")
-        self.observe = self._evaluator(g, model.jacobian_g, "g")
+        # g takes no input; it gets f's signature (x, u), u unused, so that one evaluator
+        # serves both with a fixed number of arguments (a call with *u costs more)
+        self.observe = self._evaluator(
+            lambda x, _: g(x), None if jacobian_g is None else lambda x, _: jacobian_g(x), "g"
+        )
 
     def rows(self, inputs: np.ndarray | None, transitions: int) -> list[Any]:
         """Return each transition's inputs in the form :meth:`predict` takes.
@@ -141,18 +147,18 @@ class _MapsAndSlopes:
     def _evaluator(
         self, fn: Callable[..., Any], jacobian: Callable[..., Any] | None, name: str
     ) -> Callable[..., tuple[Any, Any]]:
-        """Return ``(x, *u) ↦ (fn(x, *u), ∂fn/∂x at x)`` for this number of runs."""
+        """Return ``(x, u) ↦ (fn(x, u), ∂fn/∂x at x)`` for this number of runs."""
         if self.runs != 1:
             if jacobian is None:
-                return lambda x, *u: self._central_batch(fn, name, x, *u)
-            return lambda x, *u: self._analytic_batch(fn, jacobian, name, x, *u)
+                return lambda x, u: self._central_batch(fn, name, x, u)
+            return lambda x, u: self._analytic_batch(fn, jacobian, name, x, u)
         if jacobian is None:
             points = np.empty((3, 1))
 
-            def central(x: float, *u: Any) -> tuple[float, float]:
+            def central(x: float, u: Any) -> tuple[float, float]:
                 step = FD_STEP * max(1.0, abs(x))
                 points[0, 0], points[1, 0], points[2, 0] = x, x + step, x - step
-                out = fn(points, *u)
+                out = fn(points, u)
                 if type(out) is not np.ndarray or out.dtype is not _FLOAT64 or out.shape != (3, 1):
                     out = self._conform(out, name, (3, 1))
                 (value,), (plus,), (minus,) = out.tolist()
@@ -163,15 +169,15 @@ class _MapsAndSlopes:
             return central
         point = np.empty((1, 1))
 
-        def analytic(x: float, *u: Any) -> tuple[float, float]:
+        def analytic(x: float, u: Any) -> tuple[float, float]:
             point[0, 0] = x
-            out = fn(point, *u)
+            out = fn(point, u)
             if type(out) is not np.ndarray or out.dtype is not _FLOAT64 or out.shape != (1, 1):
                 out = self._conform(out, name, (1, 1))
             value = out.item()
             if value != value:  # NaN
                 self._refuse(out, name)
-            slope = jacobian(point, *u)
+            slope = jacobian(point, u)
             if type(slope) is not np.ndarray or slope.dtype is not _FLOAT64:
                 slope = np.asarray(slope, dtype=float)
             return value, slope.item()
@@ -179,18 +185,18 @@ class _MapsAndSlopes:
         return analytic
 
     def _analytic_batch(
-        self, fn: Callable[..., Any], jacobian: Callable[..., Any], name: str, x: Any, *u: Any
+        self, fn: Callable[..., Any], jacobian: Callable[..., Any], name: str, x: Any, u: Any
     ) -> tuple[Any, Any]:
         column = x[:, None]
-        slopes = jacobian(column, *u)
+        slopes = jacobian(column, u)
         if type(slopes) is not np.ndarray or slopes.dtype is not _FLOAT64:
             slopes = np.asarray(slopes, dtype=float)
-        return self._values(fn(column, *u), name, column.shape), slopes.reshape(self.runs)
+        return self._values(fn(column, u), name, column.shape), slopes.reshape(self.runs)
 
-    def _central_batch(self, fn: Callable[..., Any], name: str, x: Any, *u: Any) -> tuple[Any, Any]:
+    def _central_batch(self, fn: Callable[..., Any], name: str, x: Any, u: Any) -> tuple[Any, Any]:
         step = FD_STEP * np.maximum(1.0, np.abs(x))
         points = np.concatenate([x, x + step, x - step])[:, None]
-        out = self._values(fn(points, *u), name, points.shape)
+        out = self._values(fn(points, u), name, points.shape)
         value, plus, minus = out[: self.runs], out[self.runs : -self.runs], out[-self.runs :]
         return value, (plus - minus) / (2.0 * step)
 
@@ -251,7 +257,7 @@ def _scalar_recursion(
         fx, slope = maps.predict(x, u)
         x_pred = fx + v_mean
         cov_pred = slope * cov * slope + q
-        gx, h = maps.observe(x_pred)
+        gx, h = maps.observe(x_pred, None)
         innovation = z - (gx - w_mean)
         ph = cov_pred * h
         s = h * ph + r
