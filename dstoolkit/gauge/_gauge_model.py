@@ -94,7 +94,8 @@ def _one_each(x: Any, u: Any) -> tuple[float, float] | None:
 def _f(x: np.ndarray, u: Any = None) -> np.ndarray:
     pair = _one_each(x, u)
     if pair is not None:
-        return np.array(next_resonance(*pair), ndmin=x.ndim)
+        state, order = pair
+        return np.array(next_resonance(state, order), ndmin=x.ndim)
     return state_transition(x, _orders(u))
 
 
