@@ -559,7 +559,7 @@ def batch_readings(
         )
     if z.shape[0] == 0 or z.shape[1] == 0:
         raise EvidenceError(f"no readings (shape {z.shape}): give at least one run of one step")
-    if not np.all(np.isfinite(z)):
+    if not np.isfinite(z).all():
         bad = np.argwhere(~np.isfinite(z))[0]
         raise EvidenceError(
             f"reading at run {bad[0]}, step {bad[1]} is not a finite number; remove or "
@@ -578,7 +578,7 @@ def batch_readings(
             f"transitions >= steps − 1 = {z.shape[1] - 1}, got {u.shape}"
         )
     u = u[:, : max(z.shape[1] - 1, 0)]
-    if not np.all(np.isfinite(u)):
+    if not np.isfinite(u).all():
         bad = np.argwhere(~np.isfinite(u))[0]
         raise EvidenceError(
             f"input at run {bad[0]}, transition {bad[1]} is not a finite number; give every "
