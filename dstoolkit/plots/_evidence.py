@@ -17,6 +17,7 @@ by Jupyter and by the book), optionally beside the values a paper prints.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Hashable, Iterable, Sequence
 from dataclasses import dataclass, field
 from itertools import combinations
@@ -95,6 +96,17 @@ def _resize(artists: list[A], count: int, make: Callable[[], A], animated: bool)
 # -- interval evidence -------------------------------------------------------------------
 
 
+@functools.lru_cache(maxsize=64)
+def focal_colours(n: int) -> np.ndarray:
+    """Return the colours of ``n`` focal elements (or α-cuts): RGBA rows over the colour map.
+
+    Kept per ``n`` (read-only): an explorer colours the same number of bars again and again.
+    """
+    colours = plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, n))
+    colours.flags.writeable = False
+    return colours
+
+
 @dataclass
 class FocalIntervalArtists:
     """What :func:`plot_focal_intervals` draws on ``ax``.
@@ -164,27 +176,14 @@ def update_focal_intervals(
         pad = 0.05 * (b - a if b > a else 1.0)
         xlim = (a - pad, b + pad)
     bottoms = np.concatenate([[0.0], np.cumsum(m)[:-1]])
-    colours = (
-        [colour] * len(ev)
-        if colour is not None
-        else plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, max(len(ev), 1)))
-    )
+    colours = [colour] * len(ev) if colour is not None else focal_colours(max(len(ev), 1))
     left, right = np.maximum(lo, xlim[0]), np.minimum(hi, xlim[1])
     tops = bottoms + m
     # bar i: the rectangle [left_i, right_i] × [bottom_i, top_i], corners counter-clockwise
-    artists.bars.set_verts(
-        list(
-            np.stack(
-                [
-                    np.column_stack([left, bottoms]),
-                    np.column_stack([right, bottoms]),
-                    np.column_stack([right, tops]),
-                    np.column_stack([left, tops]),
-                ],
-                axis=1,
-            )
-        )
-    )
+    corners = np.empty((len(ev), 4, 2))
+    corners[:, (0, 3), 0], corners[:, (1, 2), 0] = left[:, None], right[:, None]
+    corners[:, :2, 1], corners[:, 2:, 1] = bottoms[:, None], tops[:, None]
+    artists.bars.set_verts(cast(Any, corners))  # an (n, 4, 2) array: matplotlib's fast path
     artists.bars.set_facecolor(cast(Any, colours))
     shown = [i for i in range(len(ev)) if label_masses and m[i] > 0.05]
 
@@ -511,7 +510,7 @@ def update_possibility(
     artists.pi.set_ydata(possibility(x, lower, mode, upper))
     lo, hi = alpha_cuts(lower, mode, upper, p)
     alphas = np.arange(p)[::-1] / p
-    colours = plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, p))
+    colours = focal_colours(p)
     artists.cuts.set_segments([[(a, y), (b, y)] for a, b, y in zip(lo, hi, alphas, strict=True)])
     artists.cuts.set_color(list(colours))
     artists.ends.set_segments(
