@@ -30,6 +30,7 @@ one call on three points), so a model written by a user runs as fast as the pack
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -198,7 +199,8 @@ class _MapsAndSlopes:
         points = np.concatenate([x, x + step, x - step])[:, None]
         out = self._values(fn(points, u), name, points.shape)
         value, plus, minus = out[: self.runs], out[self.runs : -self.runs], out[-self.runs :]
-        return value, (plus - minus) / (2.0 * step)
+        with np.errstate(invalid="ignore"):  # inf − inf: NaN, refused by the recursion
+            return value, (plus - minus) / (2.0 * step)
 
     def _conform(self, out: Any, name: str, shape: tuple[int, ...]) -> np.ndarray:
         """Check a map's result that is not a float array of the states' shape, and give it that."""
@@ -255,9 +257,13 @@ def _scalar_recursion(
     for k, (z, u) in enumerate(zip(readings, inputs, strict=True), start=first):
         maps.step = k
         fx, slope = maps.predict(x, u)
+        if not _finite(fx, slope, one):
+            _refuse_infinite("f", fx, slope, x, k)
         x_pred = fx + v_mean
         cov_pred = slope * cov * slope + q
         gx, h = maps.observe(x_pred, None)
+        if not _finite(gx, h, one):
+            _refuse_infinite("g", gx, h, x_pred, k)
         innovation = z - (gx - w_mean)
         ph = cov_pred * h
         s = h * ph + r
@@ -593,6 +599,36 @@ def _scalar_noise(model: StateSpaceModel) -> tuple[float, float, float, float]:
 def _state(model: StateSpaceModel, k: int, x: np.ndarray, cov: np.ndarray) -> KalmanState:
     sigma = np.sqrt(np.diagonal(cov))
     return KalmanState(model, k, x, x - 3 * sigma, x + 3 * sigma, cov)
+
+
+def _finite(value: Any, slope: Any, one: bool) -> bool:
+    """Tell whether a map's value and slope (floats of one run, or arrays of a batch) are finite."""
+    if one:
+        return math.isfinite(value) and math.isfinite(slope)
+    return bool(np.isfinite(value).all() and np.isfinite(slope).all())
+
+
+def _refuse_infinite(name: str, value: Any, slope: Any, x: Any, k: int) -> None:
+    """Raise for a map that gave ±inf (or a slope that is not finite) where the filter needs it.
+
+    Eq. 21 linearises f and g at the estimate: an infinite value or slope there would turn
+    every later estimate into NaN.
+    """
+    bad = np.flatnonzero(~(np.isfinite(value) & np.isfinite(slope)))
+    run = int(bad[0]) if bad.size else 0
+    batch = np.ndim(value) > 0
+
+    def pick(a: Any) -> float:
+        return float(np.ravel(a)[run])
+
+    raise EvidenceError(
+        f"the model's {name} gave {pick(value):.6g} with the slope {pick(slope):.6g} at the "
+        f"state {pick(x):.6g}, at step {k} (counting from 0)"
+        + (f" of run {run}" if batch else "")
+        + f"; the Kalman filter linearises {name} there (eq. 21) and needs a finite value and "
+        f"slope: check {name} near that state, or use a filter of bounded boxes "
+        "(BoundedErrorFilter, DependentEvidenceFilter)"
+    )
 
 
 def _refuse_contradiction(singular: np.ndarray, surprised: np.ndarray, k: int) -> None:
