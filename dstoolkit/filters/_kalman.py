@@ -179,8 +179,8 @@ class _MapsAndSlopes:
             if value != value:  # NaN
                 self._refuse(out, name)
             slope = jacobian(point, u)
-            if type(slope) is not np.ndarray or slope.dtype is not _FLOAT64:
-                slope = np.asarray(slope, dtype=float)
+            if type(slope) is not np.ndarray or slope.dtype is not _FLOAT64 or slope.size != 1:
+                slope = _slopes(slope, name, 1)
             return value, slope.item()
 
         return analytic
@@ -191,7 +191,9 @@ class _MapsAndSlopes:
         column = x[:, None]
         slopes = jacobian(column, u)
         if type(slopes) is not np.ndarray or slopes.dtype is not _FLOAT64:
-            slopes = np.asarray(slopes, dtype=float)
+            slopes = _slopes(slopes, name, self.runs)
+        if slopes.size != self.runs:
+            _slopes(slopes, name, self.runs)
         return self._values(fn(column, u), name, column.shape), slopes.reshape(self.runs)
 
     def _central_batch(self, fn: Callable[..., Any], name: str, x: Any, u: Any) -> tuple[Any, Any]:
@@ -599,6 +601,25 @@ def _scalar_noise(model: StateSpaceModel) -> tuple[float, float, float, float]:
 def _state(model: StateSpaceModel, k: int, x: np.ndarray, cov: np.ndarray) -> KalmanState:
     sigma = np.sqrt(np.diagonal(cov))
     return KalmanState(model, k, x, x - 3 * sigma, x + 3 * sigma, cov)
+
+
+def _slopes(slopes: Any, name: str, runs: int) -> np.ndarray:
+    """Return a Jacobian's result as a float array of ``runs`` slopes, or say what is wrong.
+
+    For n = 1 the Jacobian of ``name`` at a (runs, 1) column of states is one slope per run.
+    """
+    try:
+        out = np.asarray(slopes, dtype=float)
+    except (TypeError, ValueError):
+        out = None
+    if out is None or out.size != runs:
+        shown = "not numbers" if out is None else f"shape {out.shape}"
+        raise EvidenceError(
+            f"the model's jacobian_{name} gave {shown} for {runs} state(s) of one dimension; "
+            f"it must return one real slope ∂{name}/∂x per state, shape ({runs}, 1, 1) or "
+            f"({runs},)"
+        )
+    return out
 
 
 def _finite(value: Any, slope: Any, one: bool) -> bool:
