@@ -560,3 +560,51 @@ def test_kalman_scalar_recursion_equals_the_matrix_recursion(plain):
     np.testing.assert_allclose(x1, x2, rtol=1e-12)
     np.testing.assert_allclose(p1, p2, rtol=1e-9)
     np.testing.assert_allclose(nis1[:, 1:], nis2[:, 1:], rtol=1e-8)
+
+
+@pytest.mark.parametrize("infinite", ["f", "g"])
+def test_kalman_names_a_map_that_turns_infinite_where_it_linearises(infinite: str) -> None:
+    """An infinite value of f or g at the estimate is refused by name, not as a later NaN."""
+
+    def f(x, u=None):
+        return np.full_like(x, np.inf) if infinite == "f" else x
+
+    def g(x, u=None):
+        return np.full_like(x, np.inf) if infinite == "g" else 2.0 * x
+
+    model = StateSpaceModel(
+        f,
+        g,
+        BoundedNoise(-0.1, 0.0, 0.1),
+        BoundedNoise(-1.0, 0.0, 1.0),
+        g_inverse=lambda lo, hi, x_lo, x_hi: (lo / 2.0, hi / 2.0),
+    )
+    readings = np.linspace(2.0, 3.0, 6)[:, None]
+    for call in (
+        lambda: KalmanFilter().run(model, readings),
+        lambda: KalmanFilter().run_batch(model, np.stack([readings, readings])),
+    ):
+        with pytest.raises(EvidenceError, match=f"the model's {infinite} gave inf"):
+            call()
+
+
+@pytest.mark.parametrize(
+    "jacobian",
+    [lambda x, u=None: [[1.0]], lambda x, u=None: "one", lambda x, u=None: [1.0, 1.0, 1.0]],
+)
+def test_kalman_names_a_jacobian_of_the_wrong_shape(jacobian) -> None:
+    """A Jacobian with too few, too many or no numbers is refused by the package's error."""
+    model = StateSpaceModel(
+        lambda x, u=None: x,
+        lambda x, u=None: 2.0 * x,
+        BoundedNoise(-0.1, 0.0, 0.1),
+        BoundedNoise(-1.0, 0.0, 1.0),
+        g_inverse=lambda lo, hi, x_lo, x_hi: (lo / 2.0, hi / 2.0),
+        jacobian_f=jacobian,
+    )
+    readings = np.linspace(2.0, 3.0, 6)[:, None]
+    with pytest.raises(EvidenceError, match="jacobian_f gave"):
+        KalmanFilter().run_batch(model, np.stack([readings, readings]))
+    if jacobian(None) != [[1.0]]:  # one slope is right for one run
+        with pytest.raises(EvidenceError, match="jacobian_f gave"):
+            KalmanFilter().run(model, readings)

@@ -17,7 +17,11 @@ from matplotlib.figure import Figure  # noqa: E402
 
 from dstoolkit.plots import _text_cache  # noqa: E402
 from dstoolkit.plots._text_cache import TextCachingCanvas, TextCachingRenderer  # noqa: E402
-from dstoolkit.teaching import filter_step_explorer, gauge_explorer  # noqa: E402
+from dstoolkit.teaching import (  # noqa: E402
+    filter_step_explorer,
+    gauge_explorer,
+    mass_function_explorer,
+)
 
 
 def pixels(fig: Figure, canvas: type[FigureCanvasAgg]) -> np.ndarray:
@@ -86,6 +90,7 @@ def test_the_cache_stays_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
     [
         (filter_step_explorer, [("step", 3), ("epsilon", 0.1), ("step", 6)]),
         (gauge_explorer, [("level", 6.0), ("top_reflection", 0.5)]),
+        (mass_function_explorer, [("low", 0.35), ("high", 0.15)]),  # blitted: animated bars
     ],
 )
 def test_explorer_pictures_are_agg_pictures(make, changes) -> None:
@@ -99,3 +104,19 @@ def test_explorer_pictures_are_agg_pictures(make, changes) -> None:
         shown = np.asarray(ex.figure.canvas.buffer_rgba()).copy()
         assert isinstance(ex.figure.canvas, TextCachingCanvas)
         np.testing.assert_array_equal(shown, pixels(ex.figure, FigureCanvasAgg))
+
+
+def test_mathtext_glyphs_come_from_the_cache() -> None:
+    """A mathtext string drawn again takes its glyphs from the cache, not from FreeType."""
+    fig = Figure(figsize=(2.0, 1.0), dpi=100)
+    fig.text(0.1, 0.4, r"$\hat{x}_{k+1|k} = g^{-1}(\sqrt{z})$")
+    TextCachingCanvas(fig)
+    if not _text_cache.SUPPORTED:  # another matplotlib: drawn as by Agg, nothing cached
+        assert type(fig.canvas.get_renderer()) is RendererAgg
+        return
+    _text_cache._glyphs.clear()
+    fig.canvas.draw()
+    glyphs = dict(_text_cache._glyphs)
+    assert len(glyphs) >= 8  # x, k, 1, g, z, the radical, ... each at its offset
+    fig.canvas.draw()
+    assert _text_cache._glyphs == glyphs  # drawn again: nothing new rendered

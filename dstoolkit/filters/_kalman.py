@@ -30,6 +30,7 @@ one call on three points), so a model written by a user runs as fast as the pack
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -50,6 +51,8 @@ from ._model import (
 
 #: Relative step of the central finite differences (≈ cube root of machine epsilon).
 FD_STEP = 6e-6
+#: The dtype of float arrays (a singleton for native float64, so ``is`` can test it).
+_FLOAT64 = np.dtype(np.float64)
 
 
 def finite_difference_jacobian(fn: Callable[[np.ndarray], np.ndarray], x: np.ndarray) -> np.ndarray:
@@ -94,31 +97,41 @@ def _inverse(s_cov: np.ndarray) -> np.ndarray:
         return np.linalg.pinv(s_cov)
 
 
-def _reciprocal(s: Any) -> Any:
-    """1/s of a float or an array, 0 where s = 0 (the pseudo-inverse of a 1 × 1 matrix)."""
-    if isinstance(s, float):
-        return 1.0 / s if s != 0.0 else 0.0
+def _reciprocal(s: np.ndarray) -> np.ndarray:
+    """1/s of an array, 0 where s = 0 (the pseudo-inverse of a 1 × 1 matrix)."""
     return np.divide(1.0, s, out=np.zeros_like(s), where=s != 0.0)
 
 
 class _MapsAndSlopes:
     """f and ∂f/∂x, g and ∂g/∂x of a model with one state and one reading (n = m = 1).
 
-    On one run's state as a Python float or a batch's states as an (R,) array.
+    On one run's state as a Python float or a batch's states as an (R,) array:
+    ``predict(x, u)`` gives f(x, u) and ∂f/∂x at x, ``observe(x, None)`` gives g(x) and
+    ∂g/∂x.
 
     Each value and its slope come from the model's own array maps: the map and its
     Jacobian when the model has one, otherwise the map once on the three points x,
     x + h and x − h (the central difference of :func:`finite_difference_jacobian`, the
     same arithmetic). The results are checked here as the guard would check them (NaN,
     complex, non-numbers), on the floats, so that one run costs two or four small numpy
-    calls a step and nothing else: no float copy of the maps in the model.
+    calls a step and nothing else: no float copy of the maps in the model. One run hands
+    the maps its state in one (1, 1) or (3, 1) array made once and refilled at each call
+    (its values are read before the next call), not a new array a call.
     """
 
     def __init__(self, model: StateSpaceModel, runs: int) -> None:
         self.runs = runs
-        self.f, self.guard = unchecked(model.f)
-        self.g, _ = unchecked(model.g)
-        self.jacobian_f, self.jacobian_g = model.jacobian_f, model.jacobian_g
+        f, self.guard = unchecked(model.f)
+        g, _ = unchecked(model.g)
+        self.jacobian_f = model.jacobian_f
+        self.step = 0  # the step being filtered (counting from 0), for the guard's message
+        jacobian_g = model.jacobian_g
+        self.predict = self._evaluator(f, model.jacobian_f, "f")
+        # g takes no input; it gets f's signature (x, u), u unused, so that one evaluator
+        # serves both with a fixed number of arguments (a call with *u costs more)
+        self.observe = self._evaluator(
+            lambda x, _: g(x), None if jacobian_g is None else lambda x, _: jacobian_g(x), "g"
+        )
 
     def rows(self, inputs: np.ndarray | None, transitions: int) -> list[Any]:
         """Return each transition's inputs in the form :meth:`predict` takes.
@@ -132,64 +145,90 @@ class _MapsAndSlopes:
             inputs = np.concatenate([inputs, inputs, inputs])
         return list(np.swapaxes(inputs, 0, 1))
 
-    def predict(self, x: Any, u: Any) -> tuple[Any, Any]:
-        """f(x, u) and ∂f/∂x at x."""
-        if self.jacobian_f is None:
-            return self._central(self.f, "f", x, u)
-        column = self._column(x)
-        return self._values(self.f, "f", column, u), self._slope(self.jacobian_f(column, u))
+    def _evaluator(
+        self, fn: Callable[..., Any], jacobian: Callable[..., Any] | None, name: str
+    ) -> Callable[..., tuple[Any, Any]]:
+        """Return ``(x, u) ↦ (fn(x, u), ∂fn/∂x at x)`` for this number of runs."""
+        if self.runs != 1:
+            if jacobian is None:
+                return lambda x, u: self._central_batch(fn, name, x, u)
+            return lambda x, u: self._analytic_batch(fn, jacobian, name, x, u)
+        if jacobian is None:
+            points = np.empty((3, 1))
 
-    def observe(self, x: Any) -> tuple[Any, Any]:
-        """g(x) and ∂g/∂x at x."""
-        if self.jacobian_g is None:
-            return self._central(self.g, "g", x)
-        column = self._column(x)
-        return self._values(self.g, "g", column), self._slope(self.jacobian_g(column))
+            def central(x: float, u: Any) -> tuple[float, float]:
+                step = FD_STEP * max(1.0, abs(x))
+                points[0, 0], points[1, 0], points[2, 0] = x, x + step, x - step
+                out = fn(points, u)
+                if type(out) is not np.ndarray or out.dtype is not _FLOAT64 or out.shape != (3, 1):
+                    out = self._conform(out, name, (3, 1))
+                (value,), (plus,), (minus,) = out.tolist()
+                if value != value or plus != plus or minus != minus:  # NaN
+                    self._refuse(out, name)
+                return value, (plus - minus) / (2.0 * step)
 
-    def _column(self, x: Any) -> np.ndarray:
-        return np.array([[x]]) if self.runs == 1 else x[:, None]
+            return central
+        point = np.empty((1, 1))
 
-    def _central(self, fn: Callable[..., Any], name: str, x: Any, *u: Any) -> tuple[Any, Any]:
-        if self.runs == 1:
-            step = FD_STEP * max(1.0, abs(x))
-            value, plus, minus = self._values(fn, name, np.array([[x], [x + step], [x - step]]), *u)
-        else:
-            step = FD_STEP * np.maximum(1.0, np.abs(x))
-            out = self._values(fn, name, np.concatenate([x, x + step, x - step])[:, None], *u)
-            value, plus, minus = out[: self.runs], out[self.runs : -self.runs], out[-self.runs :]
-        return value, (plus - minus) / (2.0 * step)
+        def analytic(x: float, u: Any) -> tuple[float, float]:
+            point[0, 0] = x
+            out = fn(point, u)
+            if type(out) is not np.ndarray or out.dtype is not _FLOAT64 or out.shape != (1, 1):
+                out = self._conform(out, name, (1, 1))
+            value = out.item()
+            if value != value:  # NaN
+                self._refuse(out, name)
+            slope = jacobian(point, u)
+            if type(slope) is not np.ndarray or slope.dtype is not _FLOAT64 or slope.size != 1:
+                slope = _slopes(slope, name, 1)
+            return value, slope.item()
 
-    def _values(self, fn: Callable[..., Any], name: str, x: np.ndarray, *u: Any) -> Any:
-        """Evaluate fn(x, *u) for states x (k, 1) as k floats (a list for one run, else an array).
+        return analytic
+
+    def _analytic_batch(
+        self, fn: Callable[..., Any], jacobian: Callable[..., Any], name: str, x: Any, u: Any
+    ) -> tuple[Any, Any]:
+        column = x[:, None]
+        slopes = jacobian(column, u)
+        if type(slopes) is not np.ndarray or slopes.dtype is not _FLOAT64:
+            slopes = _slopes(slopes, name, self.runs)
+        if slopes.size != self.runs:
+            _slopes(slopes, name, self.runs)
+        return self._values(fn(column, u), name, column.shape), slopes.reshape(self.runs)
+
+    def _central_batch(self, fn: Callable[..., Any], name: str, x: Any, u: Any) -> tuple[Any, Any]:
+        step = FD_STEP * np.maximum(1.0, np.abs(x))
+        points = np.concatenate([x, x + step, x - step])[:, None]
+        out = self._values(fn(points, u), name, points.shape)
+        value, plus, minus = out[: self.runs], out[self.runs : -self.runs], out[-self.runs :]
+        with np.errstate(invalid="ignore"):  # inf − inf: NaN, refused by the recursion
+            return value, (plus - minus) / (2.0 * step)
+
+    def _conform(self, out: Any, name: str, shape: tuple[int, ...]) -> np.ndarray:
+        """Check a map's result that is not a float array of the states' shape, and give it that."""
+        self._refuse(out, name)
+        return np.broadcast_to(np.asarray(out, dtype=float), shape)
+
+    def _values(self, out: Any, name: str, shape: tuple[int, ...]) -> np.ndarray:
+        """Check a batch's map results (k, 1) and return them flat, (k,).
 
         Checked: real numbers, NaN nowhere (±inf allowed).
         """
-        out = fn(x, *u)
-        if type(out) is not np.ndarray or out.dtype != np.float64 or out.shape != x.shape:
-            if self.guard is not None:
-                self.guard.check(out, name)
-            out = np.broadcast_to(np.asarray(out, dtype=float), x.shape)
-        if self.runs == 1:
-            if out.size == 1:
-                value = out.item()
-                if value != value and self.guard is not None:  # NaN
-                    self.guard.check(out, name)
-                return value
-            values = out.ravel().tolist()
-            total = sum(values)
-            if total != total and self.guard is not None:  # NaN somewhere, or inf − inf
-                self.guard.check(out, name)
-            return values
+        if type(out) is not np.ndarray or out.dtype is not _FLOAT64 or out.shape != shape:
+            out = self._conform(out, name, shape)
         flat = out.ravel()
         if self.guard is not None and np.isnan(flat).any():
-            self.guard.check(out, name)
+            self._refuse(out, name)
         return flat
 
-    def _slope(self, jacobian: Any) -> Any:
-        """Return a Jacobian (R, 1, 1) as a float (one run) or an (R,) array."""
-        if type(jacobian) is not np.ndarray or jacobian.dtype != np.float64:
-            jacobian = np.asarray(jacobian, dtype=float)
-        return jacobian.item() if self.runs == 1 else jacobian.reshape(self.runs)
+    def _refuse(self, out: Any, name: str) -> None:
+        """Raise the guard's error if ``out`` holds NaN, complex or non-numbers, naming the step.
+
+        Nothing without a guard (a model that is not guarded).
+        """
+        if self.guard is not None:
+            self.guard.step = self.step
+            self.guard.check(out, name)
 
 
 def _scalar_recursion(
@@ -203,7 +242,6 @@ def _scalar_recursion(
     v_mean: float,
     w_mean: float,
     terms: list[tuple[Any, ...]] | None = None,
-    at: Callable[[int], None] | None = None,
     first: int = 1,
 ) -> tuple[list[Any], list[Any], list[Any]]:
     """Run the module docstring's recursion for n = m = 1 from the start (x̂_1, P_1).
@@ -211,26 +249,30 @@ def _scalar_recursion(
     Eq. 21: F = ∂f/∂x, H = ∂g/∂x, Q = Var[v], R = Var[w]; on floats or (R,) arrays alike:
     estimates, variances and NIS of steps 2..T, one entry per (reading, input) pair
     (inputs as :meth:`_MapsAndSlopes.rows` gives them). ``terms`` collects each step's x⁻,
-    P⁻, innovation, S and gain (for the step records); ``at(k)`` is told each step k
-    (counting from 0; the first is ``first``) before it is computed.
+    P⁻, innovation, S and gain (for the step records). Steps count from 0; the first is
+    ``first`` (the maps are told it, to name it if a map returns NaN).
     """
     out_x: list[Any] = []
     out_cov: list[Any] = []
     out_nis: list[Any] = []
     one = maps.runs == 1
     for k, (z, u) in enumerate(zip(readings, inputs, strict=True), start=first):
-        if at is not None:
-            at(k)
+        maps.step = k
         fx, slope = maps.predict(x, u)
+        if not _finite(fx, slope, one):
+            _refuse_infinite("f", fx, slope, x, k)
         x_pred = fx + v_mean
         cov_pred = slope * cov * slope + q
-        gx, h = maps.observe(x_pred)
+        gx, h = maps.observe(x_pred, None)
+        if not _finite(gx, h, one):
+            _refuse_infinite("g", gx, h, x_pred, k)
         innovation = z - (gx - w_mean)
         ph = cov_pred * h
         s = h * ph + r
         if not one or s == 0.0:
             _refuse_contradiction(np.asarray(s == 0.0), np.asarray(innovation != 0.0), k)
-        s_inv = _reciprocal(s)
+        # 1/S, 0 where S = 0 (the pseudo-inverse of a 1 × 1 matrix)
+        s_inv = (1.0 / s if s != 0.0 else 0.0) if one else _reciprocal(s)
         gain = ph * s_inv
         x = x_pred + gain * innovation
         joseph = 1.0 - gain * h
@@ -469,12 +511,12 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
 
     def _start(self, model: StateSpaceModel, z1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         lo, hi = first_reading_box(model, z1, self.initial_box)
-        if np.any(lo > hi):
+        if (lo > hi).any():
             raise EvidenceError(
                 "the first reading is inconsistent with initial_box under the observation "
                 "noise bounds; widen initial_box or check the first reading"
             )
-        if not np.all(np.isfinite(lo) & np.isfinite(hi)):
+        if not (np.isfinite(lo) & np.isfinite(hi)).all():
             raise EvidenceError(
                 "the first reading does not bound every state component (g is not "
                 "invertible there); give the filter an initial_box"
@@ -482,7 +524,7 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
         mean_z = z1 + model.obs_noise.mean
         p_lo, p_hi = model.inverse()(mean_z, mean_z, lo, hi)
         point = 0.5 * (p_lo + p_hi)
-        usable = np.all(np.isfinite(point) & (p_lo <= p_hi), axis=-1, keepdims=True)
+        usable = (np.isfinite(point) & (p_lo <= p_hi)).all(axis=-1, keepdims=True)
         x = np.where(usable, point, 0.5 * (lo + hi))
         cov = np.eye(model.state_dim) * ((hi - lo) ** 2 / 12.0)[:, None, :]
         return x, cov
@@ -514,7 +556,6 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
             readings,
             maps.rows(U, n_steps - 1),
             *_scalar_noise(model),
-            at=lambda k: at_step(model, k),
         )
         xs[:, 1:, 0], covs[:, 1:, 0, 0], nis[:, 1:] = (np.array(o).T for o in out)
         return xs, covs, nis
@@ -560,6 +601,55 @@ def _scalar_noise(model: StateSpaceModel) -> tuple[float, float, float, float]:
 def _state(model: StateSpaceModel, k: int, x: np.ndarray, cov: np.ndarray) -> KalmanState:
     sigma = np.sqrt(np.diagonal(cov))
     return KalmanState(model, k, x, x - 3 * sigma, x + 3 * sigma, cov)
+
+
+def _slopes(slopes: Any, name: str, runs: int) -> np.ndarray:
+    """Return a Jacobian's result as a float array of ``runs`` slopes, or say what is wrong.
+
+    For n = 1 the Jacobian of ``name`` at a (runs, 1) column of states is one slope per run.
+    """
+    try:
+        out = np.asarray(slopes, dtype=float)
+    except (TypeError, ValueError):
+        out = None
+    if out is None or out.size != runs:
+        shown = "not numbers" if out is None else f"shape {out.shape}"
+        raise EvidenceError(
+            f"the model's jacobian_{name} gave {shown} for {runs} state(s) of one dimension; "
+            f"it must return one real slope ∂{name}/∂x per state, shape ({runs}, 1, 1) or "
+            f"({runs},)"
+        )
+    return out
+
+
+def _finite(value: Any, slope: Any, one: bool) -> bool:
+    """Tell whether a map's value and slope (floats of one run, or arrays of a batch) are finite."""
+    if one:
+        return math.isfinite(value) and math.isfinite(slope)
+    return bool(np.isfinite(value).all() and np.isfinite(slope).all())
+
+
+def _refuse_infinite(name: str, value: Any, slope: Any, x: Any, k: int) -> None:
+    """Raise for a map that gave ±inf (or a slope that is not finite) where the filter needs it.
+
+    Eq. 21 linearises f and g at the estimate: an infinite value or slope there would turn
+    every later estimate into NaN.
+    """
+    bad = np.flatnonzero(~(np.isfinite(value) & np.isfinite(slope)))
+    run = int(bad[0]) if bad.size else 0
+    batch = np.ndim(value) > 0
+
+    def pick(a: Any) -> float:
+        return float(np.ravel(a)[run])
+
+    raise EvidenceError(
+        f"the model's {name} gave {pick(value):.6g} with the slope {pick(slope):.6g} at the "
+        f"state {pick(x):.6g}, at step {k} (counting from 0)"
+        + (f" of run {run}" if batch else "")
+        + f"; the Kalman filter linearises {name} there (eq. 21) and needs a finite value and "
+        f"slope: check {name} near that state, or use a filter of bounded boxes "
+        "(BoundedErrorFilter, DependentEvidenceFilter)"
+    )
 
 
 def _refuse_contradiction(singular: np.ndarray, surprised: np.ndarray, k: int) -> None:

@@ -10,6 +10,7 @@ the evidence about g(x_k) is z_k + W. Every filter in dstoolkit takes a
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -27,6 +28,12 @@ ArrayFn = Callable[..., np.ndarray]
 BoxInverse = Callable[
     [np.ndarray, np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]
 ]
+
+
+def _read_only(values: np.ndarray) -> np.ndarray:
+    """Return ``values`` made read-only (a noise's moments, shared by every caller)."""
+    values.flags.writeable = False
+    return values
 
 
 @dataclass(frozen=True, init=False)
@@ -145,16 +152,19 @@ class BoundedNoise:
         """Number of components."""
         return int(self.lower.size)
 
-    @property
+    @functools.cached_property
     def mean(self) -> np.ndarray:
-        """Mean of the triangular density, (a + b + c)/3."""
-        return (self.lower + self.mode + self.upper) / 3.0
+        """Mean of the triangular density, (a + b + c)/3 (read-only, computed once)."""
+        return _read_only((self.lower + self.mode + self.upper) / 3.0)
 
-    @property
+    @functools.cached_property
     def variance(self) -> np.ndarray:
-        """Variance of the triangular density, (a² + b² + c² − ab − ac − bc)/18."""
+        """Variance of the triangular density, (a² + b² + c² − ab − ac − bc)/18.
+
+        Read-only, computed once.
+        """
         a, c, b = self.lower, self.mode, self.upper
-        return (a * a + b * b + c * c - a * b - a * c - b * c) / 18.0
+        return _read_only((a * a + b * b + c * c - a * b - a * c - b * c) / 18.0)
 
     def sample(self, rng: np.random.Generator, size: tuple[int, ...] = ()) -> np.ndarray:
         """Draws from the triangular densities.
@@ -549,7 +559,7 @@ def batch_readings(
         )
     if z.shape[0] == 0 or z.shape[1] == 0:
         raise EvidenceError(f"no readings (shape {z.shape}): give at least one run of one step")
-    if not np.all(np.isfinite(z)):
+    if not np.isfinite(z).all():
         bad = np.argwhere(~np.isfinite(z))[0]
         raise EvidenceError(
             f"reading at run {bad[0]}, step {bad[1]} is not a finite number; remove or "
@@ -568,7 +578,7 @@ def batch_readings(
             f"transitions >= steps − 1 = {z.shape[1] - 1}, got {u.shape}"
         )
     u = u[:, : max(z.shape[1] - 1, 0)]
-    if not np.all(np.isfinite(u)):
+    if not np.isfinite(u).all():
         bad = np.argwhere(~np.isfinite(u))[0]
         raise EvidenceError(
             f"input at run {bad[0]}, transition {bad[1]} is not a finite number; give every "
@@ -590,7 +600,8 @@ def _probe_inputs(model: StateSpaceModel, u: np.ndarray | None, shape: tuple[int
     try:
         with np.errstate(all="ignore"):
             out = np.asarray(model.f(x, u))
-        np.broadcast_to(out, x.shape)
+        if out.shape != x.shape:
+            np.broadcast_to(out, x.shape)  # raises when f's result does not fit the states
     except EvidenceError:
         raise
     except (ValueError, TypeError, IndexError) as exc:
@@ -675,4 +686,11 @@ def first_reading_box(
         p_hi = np.broadcast_to(np.asarray(prior[1], dtype=float), shape)
     noise = model.obs_noise
     lo, hi = g_inverse(z + noise.lower, z + noise.upper, p_lo, p_hi)
-    return np.broadcast_to(lo, shape).astype(float), np.broadcast_to(hi, shape).astype(float)
+    return _float_copy(lo, shape), _float_copy(hi, shape)
+
+
+def _float_copy(side: Any, shape: tuple[int, ...]) -> np.ndarray:
+    """Return a new float array of ``shape`` holding ``side`` (broadcast to it if needed)."""
+    if type(side) is np.ndarray and side.shape == shape:
+        return side.astype(float)  # what broadcasting to its own shape and copying gives
+    return np.broadcast_to(side, shape).astype(float)

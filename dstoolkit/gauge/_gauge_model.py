@@ -14,6 +14,7 @@ from :mod:`dstoolkit.gauge`, eqs. 32/39/40/43 from :mod:`dstoolkit.gauge`.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -26,9 +27,11 @@ from dstoolkit.utils.checks import real_array, whole_number
 
 from ._acoustics import DEFAULT_BAND, fundamental_frequency, resonance_frequencies, speed_of_sound
 from ._level import (
+    next_resonance,
     observation,
     observation_inverse,
     orders_eq43,
+    resonance_ratio,
     state_transition,
     state_transition_derivative,
 )
@@ -37,6 +40,8 @@ from ._level import (
 GAUGE_STATE_NOISE = BoundedNoise(-0.3, 0.0, 0.3)
 #: Observation noise w (Hz): σ 1.23, mode −6.9, bounds mode ± 3σ (§4.3, Fig. 9, Table 2).
 GAUGE_OBS_NOISE = BoundedNoise(-10.59, -6.9, -3.21)
+#: The dtype of the arrays the filters pass to the maps (a singleton for native float64).
+_FLOAT64 = np.dtype(np.float64)
 #: Θ of E_v and E_w as printed in Tables 1–2; mode ± 100σ gives [−129.9, 116.1] for w.
 PAPER_THETA: tuple[tuple[tuple[float, float]], tuple[tuple[float, float]]] = (
     ((-10.0, 10.0),),
@@ -65,15 +70,45 @@ def _orders(u: Any) -> np.ndarray:
     return orders
 
 
+def _one_each(x: Any, u: Any) -> tuple[float, float] | None:
+    """Return x and the order n as floats when both are one float64 number, else None.
+
+    That is: x an array of size 1 (not 0-d) and u one valid order (positive, finite) with no
+    more axes than x, the shapes the filters pass for one run. Eq. 39's arithmetic then runs
+    on the two floats: the same IEEE operations in the same order as on the arrays, so the
+    same numbers, without three numpy calls on one element; the result is an array of x's
+    shape, the shape x and n broadcast to. Anything else gives None: the array path, with
+    its checks.
+    """
+    if (
+        type(x) is np.ndarray is type(u)
+        and x.size == 1 == u.size
+        and 0 < x.ndim >= u.ndim
+        and x.dtype is _FLOAT64 is u.dtype
+        and 0.0 < (n := u.item()) < math.inf
+    ):
+        return x.item(), n
+    return None
+
+
 def _f(x: np.ndarray, u: Any = None) -> np.ndarray:
+    pair = _one_each(x, u)
+    if pair is not None:
+        state, order = pair
+        return np.array(next_resonance(state, order), ndmin=x.ndim)
     return state_transition(x, _orders(u))
 
 
 def _jacobian_f(x: np.ndarray, u: Any = None) -> np.ndarray:
+    pair = _one_each(x, u)
+    if pair is not None:
+        return np.array(resonance_ratio(pair[1]), ndmin=x.ndim + 1)
     return state_transition_derivative(x, _orders(u))[..., None]
 
 
 def _jacobian_g(x: np.ndarray) -> np.ndarray:
+    if type(x) is np.ndarray and x.size == 1:  # one state: a one-element array, made at once
+        return np.array(1.0, ndmin=x.ndim + 1)
     return np.ones(np.shape(x) + (1,))
 
 

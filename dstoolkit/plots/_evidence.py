@@ -17,16 +17,22 @@ by Jupyter and by the book), optionally beside the values a paper prints.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Hashable, Iterable, Sequence
 from dataclasses import dataclass, field
 from itertools import combinations
-from typing import Any, TypeVar
+from typing import Any, TypeVar, cast
 
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.artist import Artist
 from matplotlib.axes import Axes
-from matplotlib.collections import FillBetweenPolyCollection, LineCollection, PathCollection
+from matplotlib.collections import (
+    FillBetweenPolyCollection,
+    LineCollection,
+    PathCollection,
+    PolyCollection,
+)
 from matplotlib.container import BarContainer
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
@@ -90,17 +96,29 @@ def _resize(artists: list[A], count: int, make: Callable[[], A], animated: bool)
 # -- interval evidence -------------------------------------------------------------------
 
 
+@functools.lru_cache(maxsize=64)
+def focal_colours(n: int) -> np.ndarray:
+    """Return the colours of ``n`` focal elements (or α-cuts): RGBA rows over the colour map.
+
+    Kept per ``n`` (read-only): an explorer colours the same number of bars again and again.
+    """
+    colours = plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, n))
+    colours.flags.writeable = False
+    return colours
+
+
 @dataclass
 class FocalIntervalArtists:
     """What :func:`plot_focal_intervals` draws on ``ax``.
 
-    One bar per focal element and the masses written on them. Made by
+    The bars of the focal elements, one polygon each in one collection (drawn in one
+    call, however many focal elements there are), and the masses written on them. Made by
     ``draw_focal_intervals``, set by ``update_focal_intervals``.
     """
 
     ax: Axes
+    bars: PolyCollection
     animated: bool = False
-    bars: list[Rectangle] = field(default_factory=list)
     labels: list[Text] = field(default_factory=list)
 
 
@@ -110,10 +128,14 @@ def draw_focal_intervals(
 ) -> FocalIntervalArtists:
     """Draw the parts of :func:`plot_focal_intervals` that no evidence changes on ``ax``.
 
-    Axis labels, y range, title; the bars come with ``update_focal_intervals``.
+    Axis labels, y range, title, and the (empty) collection of bars; the bars' shapes and
+    colours come with ``update_focal_intervals``.
     """
     _fixed_parts(ax, xlabel, "cumulated mass", 1.0, title, animated)
-    return FocalIntervalArtists(ax, animated)
+    bars = PolyCollection([], edgecolors="black", linewidths=0.6)
+    ax.add_collection(bars, autolim=False)
+    bars.set_animated(animated)
+    return FocalIntervalArtists(ax, bars, animated)
 
 
 def _fixed_parts(
@@ -154,22 +176,15 @@ def update_focal_intervals(
         pad = 0.05 * (b - a if b > a else 1.0)
         xlim = (a - pad, b + pad)
     bottoms = np.concatenate([[0.0], np.cumsum(m)[:-1]])
-    colours = (
-        [colour] * len(ev)
-        if colour is not None
-        else plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, max(len(ev), 1)))
-    )
+    colours = [colour] * len(ev) if colour is not None else focal_colours(max(len(ev), 1))
     left, right = np.maximum(lo, xlim[0]), np.minimum(hi, xlim[1])
-
-    def bar() -> Rectangle:
-        patch = Rectangle((0.0, 0.0), 0.0, 0.0, edgecolor="black", linewidth=0.6)
-        ax.add_patch(patch)
-        return patch
-
-    bars = _resize(artists.bars, len(ev), bar, artists.animated)
-    for i, rect in enumerate(bars):
-        rect.set_bounds(left[i], bottoms[i], right[i] - left[i], m[i])
-        rect.set_facecolor(colours[i])
+    tops = bottoms + m
+    # bar i: the rectangle [left_i, right_i] × [bottom_i, top_i], corners counter-clockwise
+    corners = np.empty((len(ev), 4, 2))
+    corners[:, (0, 3), 0], corners[:, (1, 2), 0] = left[:, None], right[:, None]
+    corners[:, :2, 1], corners[:, 2:, 1] = bottoms[:, None], tops[:, None]
+    artists.bars.set_verts(cast(Any, corners))  # an (n, 4, 2) array: matplotlib's fast path
+    artists.bars.set_facecolor(cast(Any, colours))
     shown = [i for i in range(len(ev)) if label_masses and m[i] > 0.05]
 
     def label() -> Text:
@@ -495,7 +510,7 @@ def update_possibility(
     artists.pi.set_ydata(possibility(x, lower, mode, upper))
     lo, hi = alpha_cuts(lower, mode, upper, p)
     alphas = np.arange(p)[::-1] / p
-    colours = plt.get_cmap(FOCAL_CMAP)(np.linspace(0.15, 0.85, p))
+    colours = focal_colours(p)
     artists.cuts.set_segments([[(a, y), (b, y)] for a, b, y in zip(lo, hi, alphas, strict=True)])
     artists.cuts.set_color(list(colours))
     artists.ends.set_segments(

@@ -6,7 +6,8 @@ With matplotlib ≥ 3.11, Agg lays out each string with libraqm and renders it g
 glyph through FreeType, every time: two thirds of a redraw of the filter-step explorer.
 :class:`TextCachingCanvas` keeps both results:
 
-- the layout of a string (its glyphs and their positions) per string, font, size and dpi;
+- the layout of a string (its glyphs and their positions) per string, font, size and dpi
+  (a mathtext string's layout is kept by matplotlib's mathtext parser);
 - the bitmap of a glyph per font, size, glyph, angle and sub-pixel position (1/64 px, as
   Agg places it), so that a glyph drawn again at another whole-pixel position is the same
   bitmap moved;
@@ -56,7 +57,7 @@ def _remember(cache: dict[Any, Any], key: Any, value: Any) -> Any:
 class TextCachingRenderer(RendererAgg):
     """Agg's renderer with cached text layouts, glyph bitmaps and line metrics.
 
-    Plain text only; mathtext and TeX are drawn as by Agg.
+    Plain text and mathtext (its rules as Agg draws them); TeX is drawn as by Agg.
     """
 
     def _get_font_height_metrics(self, prop: Any) -> tuple[float | None, ...]:
@@ -95,9 +96,23 @@ class TextCachingRenderer(RendererAgg):
         ismath: Any = False,
         mtext: Any = None,
     ) -> None:
-        if ismath:
+        if ismath == "TeX":  # drawn as by Agg
             super().draw_text(gc, x, y, s, prop, angle, ismath, mtext)
-            return
+        elif ismath:
+            # mathtext: matplotlib's parser keeps the parse (the glyphs at their sizes, and
+            # the rules); the glyphs come from the cache, the rules are drawn as Agg does
+            parse = self.mathtext_parser.parse(s, self.dpi, prop, antialiased=gc.get_antialiased())
+            glyphs = [(font, size, glyph, dx, dy) for font, size, _, glyph, dx, dy in parse.glyphs]
+            self._draw_glyphs(gc, x, y, angle, glyphs)
+            if parse.rects:
+                self._draw_text_glyphs_and_boxes(gc, x, y, angle, (), parse.rects)
+        else:
+            self._draw_glyphs(gc, x, y, angle, self._plain_glyphs(s, prop, mtext))
+
+    def _plain_glyphs(
+        self, s: str, prop: Any, mtext: Any
+    ) -> list[tuple[Any, float, Any, float, float]]:
+        """Return the glyphs of plain text ``s``: (font, size, glyph, x, y), laid out once."""
         flags = backend_agg.get_hinting_flag()
         features = mtext.get_fontfeatures() if mtext is not None else None
         language = mtext.get_language() if mtext is not None else None
@@ -121,11 +136,27 @@ class TextCachingRenderer(RendererAgg):
                 ),
             )
         size = prop.get_size_in_points()
+        return [(font, size, glyph, dx, dy) for font, glyph, dx, dy in items]
+
+    def _draw_glyphs(
+        self,
+        gc: Any,
+        x: float,
+        y: float,
+        angle: float,
+        glyphs: list[tuple[Any, float, Any, float, float]],
+    ) -> None:
+        """Draw ``glyphs`` (font, size, glyph, x, y from the text's origin, y upwards).
+
+        As ``RendererAgg._draw_text_glyphs_and_boxes`` does, each glyph's bitmap from the
+        cache where it was rendered before at the same sub-pixel offset.
+        """
+        flags = backend_agg.get_hinting_flag()
         cos, sin = math.cos(math.radians(angle)), math.sin(math.radians(angle))
         matrix = (0x10000 * np.array([[cos, -sin], [sin, cos]])).round().astype(int)
         mode = RenderMode.NORMAL if gc.get_antialiased() else RenderMode.MONO
         height = self.height
-        for font, glyph, dx, dy in items:  # as RendererAgg._draw_text_glyphs_and_boxes
+        for font, size, glyph, dx, dy in glyphs:
             tx = round(0x40 * (x + dx * cos - dy * sin))
             ty = round(0x40 * (height - y + dx * sin + dy * cos))
             gkey = (font, size, self.dpi, glyph, angle, flags, mode, tx & 63, ty & 63)

@@ -60,6 +60,8 @@ from typing import Any, cast
 import ipywidgets as widgets
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.artist import Artist
+from matplotlib.axis import Axis as MplAxis
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.colors import to_rgba
 from matplotlib.figure import Figure
@@ -70,6 +72,7 @@ from dstoolkit.errors import (
 )
 from dstoolkit.plots.artists import (
     TextCachingCanvas,
+    remember_ticks,
 )
 
 Render = Callable[..., tuple[Figure | Sequence[Figure] | None, Mapping[str, Any]]]
@@ -264,6 +267,19 @@ def _sticks_out(fig: Figure) -> bool:
     background = np.round(np.asarray(to_rgba(fig.get_facecolor())) * 255).astype(np.uint8)
     ring = np.concatenate([rgba[0], rgba[-1], rgba[:, 0], rgba[:, -1]])
     return bool((ring != background).any())
+
+
+def _animated_artists(artist: Artist) -> list[Artist]:
+    """Return the animated artists in ``artist`` and below it, ``artist`` first if animated.
+
+    An axis (``XAxis``, ``YAxis``) counts as one artist: its ticks are not searched (there
+    are hundreds of them, and the explorers animate an axis whole, if at all).
+    """
+    found = [artist] if artist.get_animated() else []
+    if not isinstance(artist, MplAxis):
+        for child in artist.get_children():
+            found += _animated_artists(child)
+    return found
 
 
 def _agg(fig: Figure) -> FigureCanvasAgg:
@@ -560,10 +576,7 @@ class Explorer(widgets.VBox):
             self._draw(fig)
             # the animated artists are looked up at each whole draw (adding an artist makes
             # the figure stale)
-            animated = sorted(
-                fig.findobj(lambda artist: artist.get_animated()),
-                key=lambda artist: artist.get_zorder(),
-            )
+            animated = sorted(_animated_artists(fig), key=lambda artist: artist.get_zorder())
             self._kept = fig if animated else None
             self._background = _agg(fig).copy_from_bbox(fig.bbox) if animated else None
             self._animated = animated
@@ -590,6 +603,7 @@ class Explorer(widgets.VBox):
             for ax, box in zip(fig.axes, layout, strict=True):
                 if ax.get_position().bounds != box.bounds:
                     ax.set_position(box)
+        remember_ticks(fig)  # the axes whose view stays keep their ticks
         fig.canvas.draw()
         if layout is not None and _sticks_out(fig):
             fig.set_layout_engine(engine)
