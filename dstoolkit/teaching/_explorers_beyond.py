@@ -6,7 +6,6 @@ Every filter under wrong noise bounds.
 from __future__ import annotations
 
 import functools
-from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import replace
 from typing import Any
 
@@ -25,10 +24,6 @@ from ._explorer import (
 from ._readouts import mismatch_numbers
 
 # -- beyond the paper: every filter under wrong noise bounds ------------------------------------
-
-#: The worker thread that runs Nassreddine's filter beside the other filters. Its compiled
-#: kernels let go of the GIL, so on a second core it shortens a change's wait.
-_BESIDE = ThreadPoolExecutor(max_workers=1, thread_name_prefix="noise-bounds")
 
 
 def noise_bounds_explorer(
@@ -82,10 +77,11 @@ def noise_bounds_explorer(
     from dstoolkit.plots.artists import noise_bounds_figure, update_noise_bounds_figure
     from dstoolkit.studies import ALL_FILTERS, noise_mismatch, tracking_data
 
-    # the start value moves only the paper's filter: the others are kept per noise bounds;
-    # Nassreddine's filter, the slowest, runs in a worker thread while this one runs the rest
-    paper, slow = ("dependent_evidence",), ("nassreddine",)
-    quick = tuple(m for m in ALL_FILTERS if m not in paper + slow)
+    # the start value moves only the paper's filter: the others are kept per noise bounds
+    paper, others = (
+        ("dependent_evidence",),
+        tuple(m for m in ALL_FILTERS if m != "dependent_evidence"),
+    )
 
     data = tracking_data(level_m, temperature_c, runs=runs, seed=seed)
     v, w = data.state_noise, data.obs_noise
@@ -118,20 +114,9 @@ def noise_bounds_explorer(
     )
 
     @functools.lru_cache(maxsize=4)
-    def slow_rival(v_bounds: tuple[float, ...], w_bounds: tuple[float, ...]) -> Future[Any]:
-        return _BESIDE.submit(
-            noise_mismatch,
-            data,
-            BoundedNoise(*v_bounds),
-            BoundedNoise(*w_bounds),
-            methods=slow,
-            seed=seed,
-        )
-
-    @functools.lru_cache(maxsize=4)
-    def quick_rivals(v_bounds: tuple[float, ...], w_bounds: tuple[float, ...]) -> Any:
+    def rivals(v_bounds: tuple[float, ...], w_bounds: tuple[float, ...]) -> Any:
         return noise_mismatch(
-            data, BoundedNoise(*v_bounds), BoundedNoise(*w_bounds), methods=quick, seed=seed
+            data, BoundedNoise(*v_bounds), BoundedNoise(*w_bounds), methods=others, seed=seed
         )
 
     def render(
@@ -145,17 +130,9 @@ def noise_bounds_explorer(
     ):
         assumed_v = BoundedNoise(v_lower, v_mode, v_upper)
         assumed_w = BoundedNoise(w_lower, w_mode, w_upper)
-        bounds = (v_lower, v_mode, v_upper), (w_lower, w_mode, w_upper)
-        beside = slow_rival(*bounds)  # started first: it runs while this thread works
-        try:
-            rest = quick_rivals(*bounds)
-            ours = noise_mismatch(data, assumed_v, assumed_w, methods=paper, seed=seed, start=start)
-        except Exception:
-            beside.result()  # its error first, as when the filters ran one after the other
-            raise
-        slowest = beside.result()
-        errors = ours.errors | slowest.errors | rest.errors
-        seconds = ours.seconds | slowest.seconds | rest.seconds
+        rest = rivals((v_lower, v_mode, v_upper), (w_lower, w_mode, w_upper))
+        ours = noise_mismatch(data, assumed_v, assumed_w, methods=paper, seed=seed, start=start)
+        errors, seconds = ours.errors | rest.errors, ours.seconds | rest.seconds
         result = replace(
             rest,
             errors={m: errors[m] for m in ALL_FILTERS},
