@@ -11,6 +11,7 @@ import numpy as np
 
 matplotlib.use("Agg")
 
+from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.ticker import AutoLocator, LogLocator, MaxNLocator, ScalarFormatter  # noqa: E402
 
@@ -27,14 +28,23 @@ def labels(fig: Figure) -> list[list[str]]:
     ]
 
 
+def pixels(fig: Figure) -> np.ndarray:
+    """Return the picture of ``fig`` as its last draw left it."""
+    return np.asarray(fig.canvas.buffer_rgba()).copy()
+
+
 def twin_figures() -> tuple[Figure, Figure]:
     """Make two equal figures, each with a linear and a log axes."""
     figs = []
     for _ in range(2):
         fig = Figure(figsize=(5.0, 4.0), dpi=100)
+        FigureCanvasAgg(fig)
         lin, log = fig.subplots(2, 1)
         lin.plot([0.0, 1.0], [1000.0, 1001.0])
+        lin.set_xlabel("x (Hz)")
+        lin.set_ylabel("y (Hz)")
         log.semilogy([1.0, 2.0, 3.0], [0.001, 0.5, 2.0])
+        log.set_ylabel("|error| (m)")
         figs.append(fig)
     return figs[0], figs[1]
 
@@ -53,12 +63,17 @@ def test_remembered_ticks_follow_every_change_as_matplotlib_does() -> None:
         lambda f: f.set_size_inches(3.0, 6.0),  # another size: other tick spacing
         lambda f: f.axes[0].tick_params(labelsize=20),  # larger labels: fewer ticks
         lambda f: f.axes[0].set_xlim(0.2, 0.7),  # the same view again
+        lambda f: f.axes[1].set_ylim(1e-6, 1e6),  # wider tick labels: the label moves out
+        lambda f: f.axes[0].tick_params(axis="y", labelrotation=30),
     ]
     for change in changes:
         change(kept)
         change(fresh)
         assert labels(kept) == labels(fresh)
+        np.testing.assert_array_equal(pixels(kept), pixels(fresh))
         for a, b in zip(kept.axes, fresh.axes, strict=True):
+            assert a.yaxis.label.get_position() == b.yaxis.label.get_position()
+            assert a.xaxis.label.get_position() == b.xaxis.label.get_position()
             np.testing.assert_array_equal(a.get_yticks(), b.get_yticks())
             assert a.yaxis.get_offset_text().get_text() == b.yaxis.get_offset_text().get_text()
 

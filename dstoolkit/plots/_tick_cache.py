@@ -9,6 +9,11 @@ default locators of a figure's axes (``MaxNLocator`` and its subclasses such as
 on has changed: the view interval, the axes' size in pixels, the tick labels' size and, on a
 log axis, the smallest positive datum. Their ``ScalarFormatter`` returns its last labels
 again for the same ticks and view. Other locators and formatters are left as they are.
+
+While an axis draws itself, matplotlib works out its ticks three times (to draw them, to
+place the axis label beside their labels, and for the spine's extent) and its tick labels'
+boxes twice; nothing changes them in between, so the axis remembers them for the rest of
+that draw.
 """
 
 from __future__ import annotations
@@ -17,6 +22,7 @@ from typing import Any
 
 import matplotlib as mpl
 import numpy as np
+from matplotlib.axis import Axis, XAxis, YAxis
 from matplotlib.figure import Figure
 from matplotlib.ticker import Formatter, Locator, LogLocator, MaxNLocator, ScalarFormatter
 
@@ -76,15 +82,72 @@ def _remembering_formatter(cls: Any) -> type:
     return type(cls.__name__, (cls,), {"format_ticks": format_ticks, "__doc__": cls.__doc__})
 
 
-def _remember(obj: Locator | Formatter | None) -> None:
+def _remembering_axis(cls: Any) -> type:
+    """Return the subclass of axis class ``cls`` that computes its ticks once per draw.
+
+    Within one ``draw`` of the axis, ``_update_ticks`` (called by the draw, by the label's
+    placement and by the spine's extent) returns the ticks of its first call, and
+    ``_get_ticklabel_bboxes`` the boxes of its first call for those ticks: the draw
+    changes neither in between. Outside a draw both compute as matplotlib does.
+    """
+    parent_draw, parent_ticks, parent_boxes = (
+        cls.draw,
+        cls._update_ticks,
+        cls._get_ticklabel_bboxes,
+    )
+
+    def draw(self: Any, renderer: Any) -> None:
+        self._drawing = {}
+        try:
+            parent_draw(self, renderer)
+        finally:
+            self._drawing = None
+
+    # as matplotlib's own draw: it rasterizes when asked (matplotlib wraps a draw without
+    # this mark in one that stops rasterizing)
+    draw._supports_rasterization = True  # type: ignore[attr-defined]
+
+    def _update_ticks(self: Any) -> list[Any]:
+        drawing = self.__dict__.get("_drawing")
+        if drawing is None:
+            return parent_ticks(self)
+        if "ticks" not in drawing:
+            drawing["ticks"] = parent_ticks(self)
+        return list(drawing["ticks"])
+
+    def _get_ticklabel_bboxes(self: Any, ticks: list[Any], renderer: Any) -> Any:
+        drawing = self.__dict__.get("_drawing")
+        if drawing is None or ticks != drawing.get("ticks"):
+            return parent_boxes(self, ticks, renderer)
+        if "boxes" not in drawing:
+            drawing["boxes"] = parent_boxes(self, ticks, renderer)
+        first, second = drawing["boxes"]
+        return list(first), list(second)
+
+    return type(
+        cls.__name__,
+        (cls,),
+        {
+            "draw": draw,
+            "_update_ticks": _update_ticks,
+            "_get_ticklabel_bboxes": _get_ticklabel_bboxes,
+            "__doc__": cls.__doc__,
+        },
+    )
+
+
+def _remember(obj: Locator | Formatter | Axis | None) -> None:
     """Make ``obj`` an instance of its remembering subclass, if it has one, in place."""
     cls = type(obj)
     if obj is None or cls in _subclasses.values():
         return
+    make: Any
     if isinstance(obj, _REMEMBERED_LOCATORS):
         make = _remembering_locator
     elif isinstance(obj, ScalarFormatter):
         make = _remembering_formatter
+    elif isinstance(obj, XAxis | YAxis):
+        make = _remembering_axis
     else:
         return
     sub = _subclasses.get(cls)
@@ -95,20 +158,21 @@ def _remember(obj: Locator | Formatter | None) -> None:
 
 
 def remember_ticks(figure: Figure) -> None:
-    """Make the default tick locators and formatters of ``figure``'s axes remember.
+    """Make the axes, tick locators and formatters of ``figure`` remember what they computed.
 
-    A locator of ``MaxNLocator`` (or a subclass) or ``LogLocator``, and a
-    ``ScalarFormatter``, become instances of their remembering subclasses, in place:
-    ``isinstance`` tests still hold, and the ticks and labels are the same, computed again
-    only when what they depend on changed (the axis's view, size or tick labels' size, or,
-    on a log axis, the smallest positive datum; for labels, the ticks and the view). Calling
-    it again is harmless; a locator or formatter set later is made to remember at the next
-    call.
+    A locator of ``MaxNLocator`` (or a subclass) or ``LogLocator``, a ``ScalarFormatter``
+    and an ``XAxis`` or ``YAxis`` become instances of their remembering subclasses, in
+    place: ``isinstance`` tests still hold, and the ticks and labels are the same, computed
+    again only when what they depend on changed (the axis's view, size or tick labels' size,
+    or, on a log axis, the smallest positive datum; for labels, the ticks and the view; an
+    axis's ticks, at each of its draws). Calling it again is harmless; a locator or
+    formatter set later is made to remember at the next call.
 
     Parameters
     ----------
     figure : matplotlib.figure.Figure
-        The figure whose axes' major and minor locators and formatters are made to remember.
+        The figure whose axes, and their major and minor locators and formatters, are made
+        to remember.
 
     Examples
     --------
@@ -123,6 +187,7 @@ def remember_ticks(figure: Figure) -> None:
     """
     for ax in figure.axes:
         for axis in ax._axis_map.values():
+            _remember(axis)
             for level in (axis.major, axis.minor):
                 _remember(level.locator)
                 _remember(level.formatter)
