@@ -465,7 +465,7 @@ def test_nassreddine_auto_kernel_falls_back_to_numpy_without_numba(monkeypatch):
     monkeypatch.setattr(
         importlib.util, "find_spec", lambda name, *a: None if name == "numba" else real(name, *a)
     )
-    combine, cluster = NassreddineFilter(kernel="auto")._kernels()
+    combine, cluster, _ = NassreddineFilter(kernel="auto")._kernels()
     assert combine is _nassreddine.contracted_posterior
     assert cluster is cluster_boxes
 

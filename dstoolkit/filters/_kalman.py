@@ -190,10 +190,12 @@ class _MapsAndSlopes:
     ) -> tuple[Any, Any]:
         column = x[:, None]
         slopes = jacobian(column, u)
-        if type(slopes) is not np.ndarray or slopes.dtype is not _FLOAT64:
+        if (
+            type(slopes) is not np.ndarray
+            or slopes.dtype is not _FLOAT64
+            or slopes.size != self.runs
+        ):
             slopes = _slopes(slopes, name, self.runs)
-        if slopes.size != self.runs:
-            _slopes(slopes, name, self.runs)
         return self._values(fn(column, u), name, column.shape), slopes.reshape(self.runs)
 
     def _central_batch(self, fn: Callable[..., Any], name: str, x: Any, u: Any) -> tuple[Any, Any]:

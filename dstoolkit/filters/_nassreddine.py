@@ -305,23 +305,19 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         self._own_frames()
         self._compiled(self.kernel, "Nassreddine's filter")
 
-    def _kernels(self) -> tuple[Any, Any]:
-        """Return the correction (:func:`contracted_posterior`) and the clustering of ``kernel``."""
+    def _kernels(self) -> tuple[Any, Any, Any]:
+        """Return the correction, the clustering and the posterior's summary of ``kernel``.
+
+        :func:`contracted_posterior`, :func:`~dstoolkit.evidence.cluster_boxes` and
+        :func:`posterior_summary`, or their compiled twins (the same numbers).
+        """
         if self._compiled(self.kernel, "Nassreddine's filter"):
             from dstoolkit.evidence.boxes import cluster_boxes_compiled
 
-            from ._compiled import contracted_posterior_compiled
+            from ._compiled import contracted_posterior_compiled, posterior_summary_compiled
 
-            return contracted_posterior_compiled, cluster_boxes_compiled
-        return contracted_posterior, cluster_boxes
-
-    def _summary(self) -> Any:
-        """Return :func:`posterior_summary` of ``kernel`` (compiled: the same numbers)."""
-        if self._compiled(self.kernel, "Nassreddine's filter"):
-            from ._compiled import posterior_summary_compiled
-
-            return posterior_summary_compiled
-        return posterior_summary
+            return contracted_posterior_compiled, cluster_boxes_compiled, posterior_summary_compiled
+        return contracted_posterior, cluster_boxes, posterior_summary
 
     def _check_model(self, model: StateSpaceModel) -> None:
         self._check_box_dim(self._box(self.initial_box), model)
@@ -478,7 +474,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         z: np.ndarray,
         u: np.ndarray | None,
         k: int,
-        kernels: tuple[Any, Any] | None = None,
+        kernels: tuple[Any, Any, Any] | None = None,
     ) -> tuple[Boxes, np.ndarray, np.ndarray, tuple[np.ndarray, ...]]:
         """Correct step k → k + 1 for R runs up to the posterior.
 
@@ -487,7 +483,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         ``kernels`` is what :meth:`_kernels` returns, if the caller has it already.
         """
         runs, n = z.shape[0], model.state_dim
-        combine, _ = self._kernels() if kernels is None else kernels
+        combine, _, _ = self._kernels() if kernels is None else kernels
         p_lo, p_hi, p_mass = self._predict(model, state, v, u)
         y_lo, y_hi = z[:, None] + w.lo, z[:, None] + w.hi
         c_lo, c_hi = model.inverse()(
@@ -510,9 +506,9 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
 
         Estimate, hull, focal elements, the evidence carried to the next step (clustered;
         None for the restart variant) and the mass the clustering moved. ``kernels`` is
-        what :meth:`_kernels` and :meth:`_summary` return, if the caller has them already.
+        what :meth:`_kernels` returns, if the caller has it already.
         """
-        _, cluster, summary = (*self._kernels(), self._summary()) if kernels is None else kernels
+        _, cluster, summary = self._kernels() if kernels is None else kernels
         focal, est, lo, hi = summary(posterior)
         if self.restart:
             return est, lo, hi, focal, None, np.zeros(est.shape[0])
@@ -531,7 +527,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
             "merged_mass": np.zeros((n_runs, n_steps)),
             "resets": np.zeros((n_runs, n_steps), dtype=bool),
         }
-        kernels = (*self._kernels(), self._summary())  # looked up once for every step
+        kernels = self._kernels()  # looked up once for every step
         posterior = self._from_reading(model, Z[:, 0], w, 0)
         carried: Boxes | None = None
         for k in range(n_steps):
@@ -539,7 +535,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
             if k > 0:
                 start = self._restarted(est[:, k - 1], v) if carried is None else carried
                 posterior, diag["conflict"][:, k], diag["resets"][:, k], _ = self._correct(
-                    model, start, v, w, Z[:, k], step_input(U, k), k, kernels[:2]
+                    model, start, v, w, Z[:, k], step_input(U, k), k, kernels
                 )
             (
                 est[:, k],

@@ -80,15 +80,14 @@ def _one_each(x: Any, u: Any) -> tuple[float, float] | None:
     shape, the shape x and n broadcast to. Anything else gives None: the array path, with
     its checks.
     """
-    if (
-        type(x) is np.ndarray is type(u)
-        and x.size == 1 == u.size
-        and 0 < x.ndim >= u.ndim
-        and x.dtype is _FLOAT64 is u.dtype
-        and 0.0 < (n := u.item()) < math.inf
-    ):
-        return x.item(), n
-    return None
+    if not (type(x) is np.ndarray and type(u) is np.ndarray):
+        return None
+    if x.size != 1 or u.size != 1 or x.ndim == 0 or u.ndim > x.ndim:
+        return None
+    if x.dtype is not _FLOAT64 or u.dtype is not _FLOAT64:
+        return None
+    n = u.item()
+    return (x.item(), n) if 0.0 < n < math.inf else None
 
 
 def _f(x: np.ndarray, u: Any = None) -> np.ndarray:

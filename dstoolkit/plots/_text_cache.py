@@ -3,7 +3,7 @@
 An explorer redraws its figure on every change of a control, and most of what it draws
 again is text (titles, axis labels, tick labels), much of it the same as the last time.
 With matplotlib ≥ 3.11, Agg lays out each string with libraqm and renders it glyph by
-glyph through FreeType, every time: two thirds of a redraw of the filter-step explorer.
+glyph through FreeType, every time: much of the cost of a redraw.
 :class:`TextCachingCanvas` keeps both results:
 
 - the layout of a string (its glyphs and their positions) per string, font, size and dpi
