@@ -19,17 +19,49 @@ import numpy as np
 import pytest
 
 from dstoolkit.evidence import Boxes
-from dstoolkit.evidence.boxes import cluster_boxes, merge_equal_boxes
+from dstoolkit.evidence.boxes import TIE_RTOL, cluster_boxes, merge_equal_boxes
 
 Box = tuple[tuple[float, ...], tuple[float, ...], float]
 
 
+def tie_chains(values: list[float], scales: list[float]) -> list[list[int]]:
+    """Split into the tie rule's classes: sorted exactly, neighbours within TIE_RTOL chained."""
+    chains: list[list[int]] = []
+    for i in sorted(range(len(values)), key=lambda i: values[i]):
+        prev = chains[-1][-1] if chains else None
+        if prev is not None and values[i] - values[prev] <= TIE_RTOL * max(scales[i], scales[prev]):
+            chains[-1].append(i)
+        else:
+            chains.append([i])
+    return chains
+
+
+def tie_sorted(values: list[float], scales: list[float]) -> list[int]:
+    """Positions sorted by tie class, then by position."""
+    return [i for chain in tie_chains(values, scales) for i in sorted(chain)]
+
+
+def snapped(boxes: list[Box]) -> list[Box]:
+    """Bounds that tie along a dimension become the smallest (lo) or largest (hi) of them."""
+    boxes = [b for b in boxes if b[2] > 0]
+    lo = [list(b[0]) for b in boxes]
+    hi = [list(b[1]) for b in boxes]
+    for d in range(len(lo[0]) if lo else 0):
+        scales = [abs(a[d]) + abs(b[d]) for a, b in zip(lo, hi, strict=True)]
+        for side, pick in ((lo, min), (hi, max)):
+            values = [row[d] for row in side]
+            for chain in tie_chains(values, scales):
+                value = pick(values[i] for i in chain)
+                for i in chain:
+                    side[i][d] = value
+    return [(tuple(a), tuple(b), m) for a, b, (_, _, m) in zip(lo, hi, boxes, strict=True)]
+
+
 def merged_equal(boxes: list[Box]) -> list[Box]:
-    """Eq. 14: masses of equal boxes added in the order given, boxes in (lo, hi) order."""
+    """Eq. 14 after snapping: masses of equal boxes added in the order given, (lo, hi) order."""
     total: dict[tuple[tuple[float, ...], tuple[float, ...]], float] = {}
-    for lo, hi, m in boxes:
-        if m > 0:
-            total[(lo, hi)] = total.get((lo, hi), 0.0) + m
+    for lo, hi, m in snapped(boxes):
+        total[(lo, hi)] = total.get((lo, hi), 0.0) + m
     return [(lo, hi, m) for (lo, hi), m in sorted(total.items())]
 
 
@@ -43,12 +75,18 @@ def clustered(boxes: list[Box], cap: int) -> tuple[list[Box], float]:
     def size(lo: tuple[float, ...], hi: tuple[float, ...]) -> float:
         return sum((hi[d] - lo[d]) / unit[d] for d in range(n))
 
+    def clearly_less(a: float, b: float, scale_a: float, scale_b: float) -> bool:
+        return b - a > TIE_RTOL * max(scale_a, scale_b)
+
     # [lo, hi, mass, mass·size, merged]
     items = [[lo, hi, m, m * size(lo, hi), False] for lo, hi, m in boxes]
     rnd = 0
     while len(items) > cap:
         d = rnd % n
-        items.sort(key=lambda b: b[0][d] + b[1][d])  # stable
+        if rnd == 0 or n > 1:  # by centre; ties keep their order
+            centre = [b[0][d] + b[1][d] for b in items]
+            scale = [abs(b[0][d]) + abs(b[1][d]) for b in items]
+            items = [items[i] for i in tie_sorted(centre, scale)]
         hulls, cost = [], []
         for a, b in zip(items, items[1:], strict=False):
             lo = tuple(min(x, y) for x, y in zip(a[0], b[0], strict=True))
@@ -58,12 +96,16 @@ def clustered(boxes: list[Box], cap: int) -> tuple[list[Box], float]:
             hulls.append([lo, hi, m, ms, True])
             cost.append(ms - a[3] - b[3])
         last = len(cost) - 1
+        ms = [h[3] for h in hulls]
         local = [
             i
             for i, c in enumerate(cost)
-            if math.isfinite(c) and (i == 0 or c <= cost[i - 1]) and (i == last or c < cost[i + 1])
+            if math.isfinite(c)
+            and (i == 0 or not clearly_less(cost[i - 1], c, ms[i - 1], ms[i]))
+            and (i == last or clearly_less(c, cost[i + 1], ms[i], ms[i + 1]))
         ]
-        chosen = set(sorted(local, key=lambda i: (cost[i], i))[: len(items) - cap])
+        ranked = [local[j] for j in tie_sorted([cost[i] for i in local], [ms[i] for i in local])]
+        chosen = set(ranked[: len(items) - cap])
         assert chosen, "the reference found no pair to merge"
         items = [hulls[i] if i in chosen else b for i, b in enumerate(items) if i - 1 not in chosen]
         rnd += 1

@@ -16,6 +16,7 @@ import numpy as np
 from dstoolkit.errors import EvidenceError, WorkLimitError
 
 from ._boxes import Boxes, row_sum
+from ._ties import clearly_less, snap_bounds, tie_order
 
 #: Clustering rounds after which :func:`cluster_boxes` gives up (each round halves at most
 #: the excess, so a few dozen suffice for any real posterior).
@@ -28,7 +29,10 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
     Input rows with mass 0 are dropped. The result is compacted and canonical: run r's
     distinct boxes fill its first slots in lexicographic order of (lo, hi), whatever order
     they came in; the remaining slots are zero-mass padding (with the run's first box).
-    The masses of equal boxes are added in the order the boxes came in.
+    The masses of equal boxes are added in the order the boxes came in. Bounds that tie
+    (within :data:`~dstoolkit.evidence.boxes.TIE_RTOL`) are first snapped outwards to one
+    value (:func:`~dstoolkit.evidence.boxes.snap_bounds`), so boxes equal in exact
+    arithmetic merge whatever the CPU's rounding.
 
     Parameters
     ----------
@@ -63,6 +67,7 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
     array([[0.5, 0.5]])
     """
     runs, rows, n = lo.shape
+    lo, hi = snap_bounds(lo, hi, mass)
     valid = mass > 0
     keys = (
         *(hi[..., j] for j in range(n - 1, -1, -1)),
@@ -126,15 +131,15 @@ class _Rows:
     ) -> tuple[np.ndarray, np.ndarray]:
         """Tabulate the boxes with mass of every run, in round 0's order, and the run of each.
 
-        Round 0's order is by centre along dimension 0, stable: ties keep the order of
-        ``bm``.
+        Round 0's order is by centre along dimension 0 (:meth:`by_centre`): ties keep the
+        order of ``bm``.
         """
         runs, width, n = bm.lo.shape
-        key = np.where(bm.mass > 0, bm.lo[..., 0] + bm.hi[..., 0], np.inf)  # with mass first
-        order = np.argsort(key, axis=1, kind="stable")
-        order += (np.arange(runs) * width)[:, None]
-        first = order[np.arange(width) < count[:, None]]  # run after run
-        run = np.repeat(np.arange(runs), count)
+        live = np.flatnonzero(bm.mass > 0)  # the boxes with mass, run after run
+        run = live // width
+        first = live[
+            self.by_centre(bm.lo.reshape(-1, n)[live].T, bm.hi.reshape(-1, n)[live].T, 0, run)
+        ]
         table = np.empty((self.count, len(first)))
         table[self.lo] = np.take(bm.lo.reshape(-1, n), first, axis=0).T
         table[self.hi] = np.take(bm.hi.reshape(-1, n), first, axis=0).T
@@ -145,6 +150,15 @@ class _Rows:
         table[self.merged] = 0.0
         np.add(table[self.lo], table[self.hi], out=table[self.centre : self.mass])
         return table, run
+
+    @staticmethod
+    def by_centre(lo: np.ndarray, hi: np.ndarray, d: int, run: np.ndarray) -> np.ndarray:
+        """Order boxes given as rows (n, N) by their centre along dimension d, run by run.
+
+        The key is lo + hi; centres within the tie tolerance of each other (relative to
+        |lo| + |hi|) keep their order (:func:`~dstoolkit.evidence._ties.tie_order`).
+        """
+        return tie_order(lo[d] + hi[d], np.abs(lo[d]) + np.abs(hi[d]), run)
 
     def sizes(self, lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
         """Compute |A| of boxes given as rows (n, N).
@@ -183,30 +197,38 @@ class _Rows:
         table[self.box, picked] = hulls
 
 
-def _local_minima(cost: np.ndarray) -> np.ndarray:
-    """Pairs whose finite Δ is ≤ the left neighbour's and < the right neighbour's.
+def _local_minima(cost: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """Pairs whose finite Δ is not clearly above the left neighbour's, clearly below the right's.
 
-    Two such pairs are never neighbours, so their merges do not overlap.
+    "Clearly" is beyond the tie tolerance (:func:`~dstoolkit.evidence._ties.clearly_less`,
+    relative to the pairs' ``scale``). Two such pairs are never neighbours, so their merges
+    do not overlap.
     """
     local = np.isfinite(cost)
-    local[1:] &= cost[1:] <= cost[:-1]
-    local[:-1] &= cost[:-1] < cost[1:]
+    rises = clearly_less(cost[:-1], cost[1:], scale[:-1], scale[1:])  # pair i below i + 1
+    local[1:] &= ~rises
+    local[:-1] &= rises
     return local
 
 
 def _cheapest(
-    local: np.ndarray, cost: np.ndarray, run: np.ndarray, allowed: np.ndarray
+    local: np.ndarray,
+    cost: np.ndarray,
+    scale: np.ndarray,
+    run: np.ndarray,
+    allowed: np.ndarray,
 ) -> np.ndarray:
     """Choose the pairs to merge, as indices: each run's ``allowed`` cheapest local minima.
 
-    Ties: leftmost first; ``run`` is the run of each pair. Ranking is skipped when every run
-    may take all its local minima.
+    Ties: Δ within the tie tolerance of each other count as equal, and equal Δ go
+    leftmost first (:func:`~dstoolkit.evidence._ties.tie_order`); ``run`` is the run of
+    each pair. Ranking is skipped when every run may take all its local minima.
     """
     at = np.flatnonzero(local)
     per_run = np.bincount(run[at], minlength=len(allowed))
     if np.all(per_run <= allowed):
         return at
-    at = at[np.lexsort((cost[at], run[at]))]  # by run, then by Δ (stable: leftmost first)
+    at = at[tie_order(cost[at], scale[at], run[at])]  # by run, then by Δ, ties leftmost
     ranked = run[at]
     first = np.cumsum(per_run) - per_run  # where each run's local minima begin in that order
     return at[np.arange(len(at)) - first[ranked] < allowed[ranked]]
@@ -225,14 +247,18 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     pairs whose Δ is a local minimum along that order, cheapest first, never going below
     ``max_focal``; rounds repeat until every run fits.
 
-    Two shortcuts give the same merges with less work. In one dimension the boxes stay in
-    order after round 0: a hull's centre lies between its pair's (it is lo + hi of one box,
-    or lo_A + hi_B with lo_A ≤ lo_B and hi_B ≥ hi_A, which lies between lo_A + hi_A and
-    lo_B + hi_B, rounding included), so the next round only drops the boxes merged away.
-    A run that fits leaves the rounds: later sorts would only reorder its boxes, and the
-    closing merge of equal boxes (eq. 14) puts them in canonical order (equal boxes share
-    every centre, so no stable sort changes their order among themselves, nor the order in
-    which their masses are added).
+    Choices do not hang on the last bits of a float (another CPU rounds differently):
+    centres and Δ within :data:`~dstoolkit.evidence.boxes.TIE_RTOL` of each other tie
+    (relative to |lo| + |hi| of the boxes, and to the hull's mass·size), and ties go to a
+    fixed order — the boxes' order so far, leftmost pair first. A pair is a local minimum
+    when its Δ is not clearly above its left neighbour's and clearly below its right
+    neighbour's. In 1-D the boxes are sorted in round 0 only, in n-D at every round.
+
+    In one dimension sorting once is enough: a hull's centre lies between its pair's (it
+    is lo + hi of one box, or lo_A + hi_B with lo_A ≤ lo_B and hi_B ≥ hi_A, which lies
+    between lo_A + hi_A and lo_B + hi_B, rounding included), so the boxes stay in order up
+    to ties. A run that fits leaves the rounds: later sorts would only reorder its boxes,
+    and the closing merge of equal boxes (eq. 14) puts them in canonical order.
 
     Parameters
     ----------
@@ -295,13 +321,18 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
         if rnd == MAX_CLUSTER_ROUNDS:
             raise too_many_rounds(max_focal, MAX_CLUSTER_ROUNDS, int(count[active].max()))
         if n > 1 and rnd > 0:  # by centre along dimension rnd % n, within each run
-            order = np.lexsort((table[rows.centre + rnd % n], run))
+            order = rows.by_centre(table[rows.lo], table[rows.hi], rnd % n, run)
             table = np.take(table, order, axis=1)
         pair = rows.pair_hulls(table)
         cost = pair[rows.ms] - table[rows.ms, :-1] - table[rows.ms, 1:]
         cost[run[1:] != run[:-1]] = np.inf  # no pair across two runs
+        scale = pair[rows.ms]  # Δ's largest term: its rounding error grows with it
         picked = _cheapest(
-            _local_minima(cost), cost, run[:-1], np.where(active, count - max_focal, 0)
+            _local_minima(cost, scale),
+            cost,
+            scale,
+            run[:-1],
+            np.where(active, count - max_focal, 0),
         )
         if not len(picked):
             raise no_pair()

@@ -20,6 +20,7 @@ from dstoolkit.errors import require_extra
 
 from . import _clustering as clustering
 from ._boxes import Boxes
+from ._ties import clearly_less, snap_bounds, tie_classes
 
 #: The codes the clustering kernel returns: clustered; too many rounds; no pair to merge;
 #: NaN or infinite masses, or unbounded boxes with mass; every run within the cap already.
@@ -312,9 +313,11 @@ def _cluster(
 
     First the checks and units of ``cluster_boxes`` (:func:`_bounded_count`,
     :func:`_unit_widths`; ``ALL_FIT`` when no run exceeds ``cap``). Each round sorts the
-    boxes by centre along dimension round % n (stable; skipped when they are in order
-    already, as a stable sort would leave them), merges the neighbour pairs whose Δ is a
-    local minimum, cheapest first (ties: leftmost), never below ``cap``; a pair of boxes
+    boxes by centre along dimension round % n (only round 0 in 1-D; centres that tie keep
+    their order, :func:`~dstoolkit.evidence._ties.tie_order`; nothing is moved when the
+    order stays), merges the neighbour pairs whose Δ is a local minimum (compared up to
+    ties, :func:`~dstoolkit.evidence._ties.clearly_less`), cheapest first (ties: leftmost),
+    never below ``cap``; a pair of boxes
     that were neighbours in the last round and did not change keeps its hull and Δ (the
     same numbers), only the pairs next to a new hull are computed again. Writes each run's
     boxes in their final order (zero-mass padding after) and the mass the merges moved
@@ -335,7 +338,8 @@ def _cluster(
     t_m, t_ms, t_merged = np.empty(rows), np.empty(rows), np.zeros(rows, np.bool_)
     p_lo, p_hi = np.empty((rows, n)), np.empty((rows, n))
     p_m, p_ms, cost = np.empty(rows), np.empty(rows), np.empty(rows)
-    key, local = np.empty(rows), np.empty(rows, np.int64)
+    key, scale, local = np.empty(rows), np.empty(rows), np.empty(rows, np.int64)
+    same_run = np.zeros(rows, np.int64)  # tie_order's group: one run at a time
     chosen, fresh = np.zeros(rows, np.bool_), np.ones(rows, np.bool_)
     for r in range(runs):
         k = 0
@@ -353,13 +357,16 @@ def _cluster(
             if rnd == max_rounds:
                 return TOO_MANY_ROUNDS
             d = rnd % n
-            ordered = True
-            for i in range(k):
-                key[i] = b_lo[i, d] + b_hi[i, d]
-                if i > 0 and key[i] < key[i - 1]:
-                    ordered = False
-            if not ordered:  # by centre, stable
-                order = np.argsort(key[:k], kind="mergesort")
+            ordered = rnd > 0 and n == 1  # in 1-D the boxes stay in round 0's order
+            if not ordered:  # by centre, ties keeping their order, as by_centre
+                for i in range(k):
+                    key[i] = b_lo[i, d] + b_hi[i, d]
+                    scale[i] = abs(b_lo[i, d]) + abs(b_hi[i, d])
+                order = np.argsort(tie_classes(key[:k], scale[:k], same_run[:k]), kind="mergesort")
+                ordered = True  # the order they have already: the pairs' hulls stay
+                for i in range(k):
+                    ordered = ordered and order[i] == i
+            if not ordered:
                 for i in range(k):
                     o = order[i]
                     for j in range(n):
@@ -379,12 +386,12 @@ def _cluster(
                 cost[i] = p_ms[i] - b_ms[i] - b_ms[i + 1]
             every = False
             found = 0
-            for i in range(k - 1):
+            for i in range(k - 1):  # not clearly above the left, clearly below the right
                 c = cost[i]
                 if (
                     np.isfinite(c)
-                    and (i == 0 or c <= cost[i - 1])
-                    and (i == k - 2 or c < cost[i + 1])
+                    and (i == 0 or not clearly_less(cost[i - 1], c, p_ms[i - 1], p_ms[i]))
+                    and (i == k - 2 or clearly_less(c, cost[i + 1], p_ms[i], p_ms[i + 1]))
                 ):
                     local[found] = i
                     found += 1
@@ -395,7 +402,10 @@ def _cluster(
                 for i in range(found):
                     chosen[local[i]] = True
             else:  # the cheapest, ties leftmost
-                ranked = np.argsort(cost[local[:found]], kind="mergesort")
+                at = local[:found]
+                ranked = np.argsort(
+                    tie_classes(cost[at], p_ms[at], same_run[:found]), kind="mergesort"
+                )
                 for i in range(k - cap):
                     chosen[local[ranked[i]]] = True
             kept = i = 0
@@ -451,6 +461,8 @@ def _compiled() -> tuple[Callable[..., int], Callable[..., int]]:
         "_bounded_count",
         "_unit_widths",
         "_moved_mass",
+        "clearly_less",
+        "tie_classes",
     ):
         names[name] = jit(names[name])
     return jit(_merge), jit(_cluster)
@@ -459,8 +471,8 @@ def _compiled() -> tuple[Callable[..., int], Callable[..., int]]:
 def merge_equal_boxes_compiled(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes:
     """:func:`~dstoolkit.evidence.boxes.merge_equal_boxes`, compiled: the same numbers."""
     merge = _compiled()[0]
-    lo, hi = np.ascontiguousarray(lo, dtype=float), np.ascontiguousarray(hi, dtype=float)
     mass = np.ascontiguousarray(mass, dtype=float)
+    lo, hi = snap_bounds(lo, hi, mass)  # as merge_equal_boxes: tied bounds made equal
     out_lo, out_hi, out_mass = np.empty_like(lo), np.empty_like(hi), np.empty_like(mass)
     width = merge(lo, hi, mass, out_lo, out_hi, out_mass)
     return Boxes(out_lo[:, :width], out_hi[:, :width], out_mass[:, :width])

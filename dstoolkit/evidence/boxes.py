@@ -16,6 +16,10 @@ vectorised filter of their own can be too. The evidence objects
 - Merging and capping: :func:`merge_equal_boxes` (eq. 14) and :func:`cluster_boxes`
   (Denœux's outer approximation), with compiled twins (extra ``speed``) that give the
   same numbers, :func:`merge_equal_boxes_compiled` and :func:`cluster_boxes_compiled`.
+  Their choices between computed values follow one tie rule, so that they do not hang on
+  the last bits of a float: values within :data:`TIE_RTOL` of each other tie and keep
+  their order (:func:`tie_classes`, :func:`tie_order`), and bounds that tie are snapped
+  outwards to one value before equal boxes merge (:func:`snap_bounds`).
 - Images of boxes (extension principle, eqs. 13–19, Props. 1–2): :func:`image_boxes`,
   :func:`parse_signs`, :func:`state_signs`, :func:`resolve_method`, and the relative
   tolerance :data:`CHECK_RTOL` of the monotonicity checks.
@@ -51,10 +55,12 @@ from ._clustering import (
 )
 from ._compiled import cluster_boxes_compiled, merge_equal_boxes_compiled
 from ._extension import CHECK_RTOL, image_boxes, parse_signs, resolve_method, state_signs
+from ._ties import TIE_RTOL, snap_bounds, tie_classes, tie_order
 
 __all__ = [
     "CHECK_RTOL",
     "MAX_CLUSTER_ROUNDS",
+    "TIE_RTOL",
     "TINY",
     "BatchDependence",
     "Boxes",
@@ -82,7 +88,10 @@ __all__ = [
     "resolve_method",
     "row_sum",
     "sizes",
+    "snap_bounds",
     "state_signs",
+    "tie_classes",
+    "tie_order",
     "too_many_rounds",
     "unit_widths",
 ]
