@@ -17,6 +17,7 @@ import math
 
 import numpy as np
 import pytest
+from golden_inputs import nudged
 
 from dstoolkit.evidence import Boxes
 from dstoolkit.evidence.boxes import TIE_RTOL, cluster_boxes, merge_equal_boxes
@@ -47,7 +48,8 @@ def snapped(boxes: list[Box]) -> list[Box]:
     lo = [list(b[0]) for b in boxes]
     hi = [list(b[1]) for b in boxes]
     for d in range(len(lo[0]) if lo else 0):
-        scales = [abs(a[d]) + abs(b[d]) for a, b in zip(lo, hi, strict=True)]
+        reach = max(abs(a[d]) + abs(b[d]) for a, b in zip(lo, hi, strict=True))
+        scales = [reach] * len(lo)  # the run's largest |lo| + |hi|
         for side, pick in ((lo, min), (hi, max)):
             values = [row[d] for row in side]
             for chain in tie_chains(values, scales):
@@ -78,6 +80,11 @@ def clustered(boxes: list[Box], cap: int) -> tuple[list[Box], float]:
     def clearly_less(a: float, b: float, scale_a: float, scale_b: float) -> bool:
         return b - a > TIE_RTOL * max(scale_a, scale_b)
 
+    reach = [max(abs(lo[d]) + abs(hi[d]) for lo, hi, _ in boxes) for d in range(n)]
+    floor = 0.0
+    for _, _, m in boxes:  # the run's mass, summed in order
+        floor += m
+
     # [lo, hi, mass, mass·size, merged]
     items = [[lo, hi, m, m * size(lo, hi), False] for lo, hi, m in boxes]
     rnd = 0
@@ -85,8 +92,7 @@ def clustered(boxes: list[Box], cap: int) -> tuple[list[Box], float]:
         d = rnd % n
         if rnd == 0 or n > 1:  # by centre; ties keep their order
             centre = [b[0][d] + b[1][d] for b in items]
-            scale = [abs(b[0][d]) + abs(b[1][d]) for b in items]
-            items = [items[i] for i in tie_sorted(centre, scale)]
+            items = [items[i] for i in tie_sorted(centre, [reach[d]] * len(items))]
         hulls, cost = [], []
         for a, b in zip(items, items[1:], strict=False):
             lo = tuple(min(x, y) for x, y in zip(a[0], b[0], strict=True))
@@ -96,7 +102,7 @@ def clustered(boxes: list[Box], cap: int) -> tuple[list[Box], float]:
             hulls.append([lo, hi, m, ms, True])
             cost.append(ms - a[3] - b[3])
         last = len(cost) - 1
-        ms = [h[3] for h in hulls]
+        ms = [max(h[3], floor) for h in hulls]  # the scale of ties between Δ
         local = [
             i
             for i, c in enumerate(cost)
@@ -217,3 +223,28 @@ def test_the_compiled_merge_and_cluster_return_the_numpy_arrays_whole():
         for want, got in zip((*want_bm, want_moved), (*got_bm, got_moved), strict=True):
             assert want.shape == got.shape
             np.testing.assert_array_equal(want, got)
+
+
+@pytest.mark.parametrize("kind", KERNELS)
+@pytest.mark.parametrize("n", [1, 2])
+def test_bounds_moved_by_a_few_ulps_give_the_same_clusters(n, kind):
+    """Boxes on a grid (exact ties everywhere) moved by ±4 ulp cluster as before.
+
+    Another CPU's rounding moves the boxes a filter computes by a few ulps; without the tie
+    rule (``TIE_RTOL = 0``) the merges then follow the last bits and the capped boxes move
+    by whole grid steps. With it, they move by a few ulps: 1e-12 (absolute, on
+    coordinates of order 1–10) is a thousand times that and far below a grid step.
+    """
+    merge_equal_boxes, cluster_boxes = kernels(kind)
+    rng = np.random.default_rng(40 + n)
+    for trial in range(30):
+        runs, rows, cap = int(rng.integers(1, 4)), int(rng.integers(20, 120)), 5
+        bm = random_boxes(rng, runs, rows, n)
+        moved = Boxes(nudged(bm.lo, trial), nudged(bm.hi, trial + 100), bm.mass)
+        want, want_moved = cluster_boxes(bm, cap)
+        got, got_moved = cluster_boxes(merge_equal_boxes(moved.lo, moved.hi, moved.mass), cap)
+        assert got.mass.shape == want.mass.shape
+        np.testing.assert_allclose(got.lo, want.lo, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(got.hi, want.hi, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(got.mass, want.mass, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(got_moved, want_moved, rtol=0, atol=1e-12)

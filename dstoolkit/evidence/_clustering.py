@@ -16,7 +16,7 @@ import numpy as np
 from dstoolkit.errors import EvidenceError, WorkLimitError
 
 from ._boxes import Boxes, row_sum
-from ._ties import clearly_less, snap_bounds, tie_order
+from ._ties import clearly_less, reach, snap_bounds, tie_order
 
 #: Clustering rounds after which :func:`cluster_boxes` gives up (each round halves at most
 #: the excess, so a few dozen suffice for any real posterior).
@@ -127,7 +127,7 @@ class _Rows:
         self.count = 4 * n + 4
 
     def table(
-        self, bm: Boxes, unit: np.ndarray, count: np.ndarray
+        self, bm: Boxes, unit: np.ndarray, scale: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
         """Tabulate the boxes with mass of every run, in round 0's order, and the run of each.
 
@@ -138,7 +138,9 @@ class _Rows:
         live = np.flatnonzero(bm.mass > 0)  # the boxes with mass, run after run
         run = live // width
         first = live[
-            self.by_centre(bm.lo.reshape(-1, n)[live].T, bm.hi.reshape(-1, n)[live].T, 0, run)
+            self.by_centre(
+                bm.lo.reshape(-1, n)[live].T, bm.hi.reshape(-1, n)[live].T, 0, run, scale
+            )
         ]
         table = np.empty((self.count, len(first)))
         table[self.lo] = np.take(bm.lo.reshape(-1, n), first, axis=0).T
@@ -152,13 +154,16 @@ class _Rows:
         return table, run
 
     @staticmethod
-    def by_centre(lo: np.ndarray, hi: np.ndarray, d: int, run: np.ndarray) -> np.ndarray:
+    def by_centre(
+        lo: np.ndarray, hi: np.ndarray, d: int, run: np.ndarray, scale: np.ndarray
+    ) -> np.ndarray:
         """Order boxes given as rows (n, N) by their centre along dimension d, run by run.
 
-        The key is lo + hi; centres within the tie tolerance of each other (relative to
-        |lo| + |hi|) keep their order (:func:`~dstoolkit.evidence._ties.tie_order`).
+        The key is lo + hi; centres within the tie tolerance of each other (relative to the
+        run's ``scale`` (R, n), :func:`~dstoolkit.evidence._ties.reach`) keep their order
+        (:func:`~dstoolkit.evidence._ties.tie_order`).
         """
-        return tie_order(lo[d] + hi[d], np.abs(lo[d]) + np.abs(hi[d]), run)
+        return tie_order(lo[d] + hi[d], scale[run, d], run)
 
     def sizes(self, lo: np.ndarray, hi: np.ndarray, unit: np.ndarray) -> np.ndarray:
         """Compute |A| of boxes given as rows (n, N).
@@ -249,7 +254,8 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
 
     Choices do not hang on the last bits of a float (another CPU rounds differently):
     centres and Δ within :data:`~dstoolkit.evidence.boxes.TIE_RTOL` of each other tie
-    (relative to |lo| + |hi| of the boxes, and to the hull's mass·size), and ties go to a
+    (relative to the run's largest |lo| + |hi|, and to the larger of the hull's mass·size
+    and the run's mass times one unit size), and ties go to a
     fixed order — the boxes' order so far, leftmost pair first. A pair is a local minimum
     when its Δ is not clearly above its left neighbour's and clearly below its right
     neighbour's. In 1-D the boxes are sorted in round 0 only, in n-D at every round.
@@ -302,8 +308,10 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     if int(count.max()) <= max_focal:
         return merge_equal_boxes(bm.lo, bm.hi, bm.mass), np.zeros(runs)
     unit = unit_widths(bm)[:, None, :]
+    scale = reach(bm.lo, bm.hi, bm.mass)  # of ties between centres
+    floor = row_sum(bm.mass)  # of ties between Δ: one unit size of the run's mass
     rows = _Rows(n)
-    table, run = rows.table(bm, unit, count)
+    table, run = rows.table(bm, unit, scale)
     done = np.zeros((rows.count, runs, max_focal))  # each run's boxes once it fits
     active = np.ones(runs, dtype=bool)  # the runs still in the rounds
     for rnd in range(MAX_CLUSTER_ROUNDS + 1):
@@ -321,16 +329,17 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
         if rnd == MAX_CLUSTER_ROUNDS:
             raise too_many_rounds(max_focal, MAX_CLUSTER_ROUNDS, int(count[active].max()))
         if n > 1 and rnd > 0:  # by centre along dimension rnd % n, within each run
-            order = rows.by_centre(table[rows.lo], table[rows.hi], rnd % n, run)
+            order = rows.by_centre(table[rows.lo], table[rows.hi], rnd % n, run, scale)
             table = np.take(table, order, axis=1)
         pair = rows.pair_hulls(table)
         cost = pair[rows.ms] - table[rows.ms, :-1] - table[rows.ms, 1:]
         cost[run[1:] != run[:-1]] = np.inf  # no pair across two runs
-        scale = pair[rows.ms]  # Δ's largest term: its rounding error grows with it
+        # Δ's largest term (its rounding error grows with it), at least one unit of size
+        cost_scale = np.maximum(pair[rows.ms], floor[run[:-1]])
         picked = _cheapest(
-            _local_minima(cost, scale),
+            _local_minima(cost, cost_scale),
             cost,
-            scale,
+            cost_scale,
             run[:-1],
             np.where(active, count - max_focal, 0),
         )

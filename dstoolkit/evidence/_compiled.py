@@ -341,10 +341,17 @@ def _cluster(
     key, scale, local = np.empty(rows), np.empty(rows), np.empty(rows, np.int64)
     same_run = np.zeros(rows, np.int64)  # tie_order's group: one run at a time
     chosen, fresh = np.zeros(rows, np.bool_), np.ones(rows, np.bool_)
+    reach = np.zeros(n)  # the run's largest |lo| + |hi| per dimension, as _ties.reach
     for r in range(runs):
+        floor = mass[r, 0]  # the run's mass, summed in order as row_sum
+        for i in range(1, rows):
+            floor += mass[r, i]
+        reach[:] = 0.0
         k = 0
         for i in range(rows):
             if mass[r, i] > 0:
+                for j in range(n):
+                    reach[j] = max(reach[j], abs(lo[r, i, j]) + abs(hi[r, i, j]))
                 for j in range(n):
                     b_lo[k, j], b_hi[k, j] = lo[r, i, j], hi[r, i, j]
                 b_m[k] = mass[r, i]
@@ -361,7 +368,7 @@ def _cluster(
             if not ordered:  # by centre, ties keeping their order, as by_centre
                 for i in range(k):
                     key[i] = b_lo[i, d] + b_hi[i, d]
-                    scale[i] = abs(b_lo[i, d]) + abs(b_hi[i, d])
+                    scale[i] = reach[d]
                 order = np.argsort(tie_classes(key[:k], scale[:k], same_run[:k]), kind="mergesort")
                 ordered = True  # the order they have already: the pairs' hulls stay
                 for i in range(k):
@@ -384,14 +391,16 @@ def _cluster(
                 p_m[i] = b_m[i] + b_m[i + 1]
                 p_ms[i] = p_m[i] * _size(p_lo, p_hi, i, unit, r)
                 cost[i] = p_ms[i] - b_ms[i] - b_ms[i + 1]
+            for i in range(k - 1):  # the scale of ties between Δ, as in cluster_boxes
+                scale[i] = max(p_ms[i], floor)
             every = False
             found = 0
             for i in range(k - 1):  # not clearly above the left, clearly below the right
                 c = cost[i]
                 if (
                     np.isfinite(c)
-                    and (i == 0 or not clearly_less(cost[i - 1], c, p_ms[i - 1], p_ms[i]))
-                    and (i == k - 2 or clearly_less(c, cost[i + 1], p_ms[i], p_ms[i + 1]))
+                    and (i == 0 or not clearly_less(cost[i - 1], c, scale[i - 1], scale[i]))
+                    and (i == k - 2 or clearly_less(c, cost[i + 1], scale[i], scale[i + 1]))
                 ):
                     local[found] = i
                     found += 1
@@ -404,7 +413,7 @@ def _cluster(
             else:  # the cheapest, ties leftmost
                 at = local[:found]
                 ranked = np.argsort(
-                    tie_classes(cost[at], p_ms[at], same_run[:found]), kind="mergesort"
+                    tie_classes(cost[at], scale[at], same_run[:found]), kind="mergesort"
                 )
                 for i in range(k - cap):
                     chosen[local[ranked[i]]] = True

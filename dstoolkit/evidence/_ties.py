@@ -30,7 +30,7 @@ def snap_bounds(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> tuple[np.nd
     """Snap the bounds of each run's boxes that tie to one value, outwards.
 
     Within a run, the lower bounds along one dimension that tie (:func:`tie_classes`,
-    relative to |lo| + |hi| of the boxes) all become the smallest of them, the upper bounds
+    relative to the run's :func:`reach`) all become the smallest of them, the upper bounds
     the largest. Boxes equal in exact arithmetic but computed along different paths (their
     bounds a few ulps apart) then become equal bit for bit, so merging equal boxes (eq. 14)
     merges them on every CPU; every box only grows, so the mass function stays an outer
@@ -59,9 +59,10 @@ def snap_bounds(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> tuple[np.nd
     lo, hi = np.array(lo, dtype=float), np.array(hi, dtype=float)
     live = np.flatnonzero(mass > 0)
     run = live // mass.shape[1]
+    scales = reach(lo, hi, mass)
     flat_lo, flat_hi = lo.reshape(-1, lo.shape[-1]), hi.reshape(-1, hi.shape[-1])
     for j in range(lo.shape[-1]):
-        scale = np.abs(flat_lo[live, j]) + np.abs(flat_hi[live, j])
+        scale = scales[run, j]
         for side, extreme, start in ((flat_lo, np.minimum, np.inf), (flat_hi, np.maximum, -np.inf)):
             value = side[live, j]
             tie_class = tie_classes(value, scale, run)
@@ -69,6 +70,31 @@ def snap_bounds(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> tuple[np.nd
             extreme.at(snapped, tie_class, value)
             side[live, j] = snapped[tie_class]
     return lo, hi
+
+
+def reach(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> np.ndarray:
+    """Return each run's largest |lo| + |hi| per dimension over its boxes of positive mass.
+
+    The scale of ties between coordinates: rounding moves a bound by ulps of the largest
+    magnitudes it was computed from, and a run's hulls never reach beyond its boxes, so
+    this holds for every round of the clustering. Unbounded boxes are left out (they tie
+    with nothing).
+
+    Parameters
+    ----------
+    lo, hi : ndarray, shape (R, N, n)
+        The boxes of each run.
+    mass : ndarray, shape (R, N)
+        Their masses.
+
+    Returns
+    -------
+    ndarray, shape (R, n)
+        The scale of each run and dimension (0 for a run without mass).
+    """
+    size = np.abs(lo) + np.abs(hi)
+    size = np.where((mass > 0)[..., None] & np.isfinite(size), size, 0.0)
+    return size.max(axis=1, initial=0.0)
 
 
 def clearly_less(
