@@ -27,3 +27,12 @@ def nudged(x: np.ndarray, seed: int, ulps: int = ULPS) -> np.ndarray:
         out = np.where(steps >= s, np.nextafter(out, np.inf), out)
         out = np.where(steps <= -s, np.nextafter(out, -np.inf), out)
     return out
+
+
+def shifted(x: float, ulps: int) -> float:
+    """Move ``x`` by exactly ``ulps`` units in the last place (up if positive, else down)."""
+    toward = np.inf if ulps > 0 else -np.inf
+    out = np.float64(x)
+    for _ in range(abs(ulps)):
+        out = np.nextafter(out, toward)
+    return float(out)

@@ -17,6 +17,7 @@ from typing import Any
 import matplotlib
 import numpy as np
 import pytest
+from golden_inputs import ULPS, nudged, shifted
 
 matplotlib.use("Agg")
 
@@ -228,17 +229,51 @@ GOLDEN_CASES = {
 }
 
 
-@pytest.mark.parametrize("case", sorted(GOLDEN_CASES))
-def test_the_gauge_synthesis_and_detection_give_the_stored_numbers(case: int) -> None:
+#: One step of the recordings' 16-bit samples (full scale ±1).
+STEP_16 = 2.0**-15
+
+
+def assert_like_stored_recording(case: int, setup: TubeSetup) -> None:
+    """Synthesis and detection of a stored case give its stored numbers, within tolerances.
+
+    Samples: another CPU's ``sin``/``exp`` may put an analogue value on the other side of a
+    16-bit step; so at most one step, in at most 0.1 % of the stored samples. Detection:
+    when the samples agree exactly (this CPU and every one seen so far), the resonances
+    agree to 1e-9 Hz and the envelope to 1e-12 (relative: scipy's FFT may round its sums
+    differently); one step flipped in 0.1 % of the samples moves the resonances by up to
+    2.3e-5 Hz (measured on these cases), so then they must agree to 1e-4 Hz.
+    """
     golden = np.load(GOLDEN)
-    setup, conditions, seed = GOLDEN_CASES[case]
+    _, conditions, seed = GOLDEN_CASES[case]
     for _ in range(2):  # the second recording reuses the kept noise draws
         rec = synthesize_recording(setup, PAPER_SWEEP, conditions, seed=seed)
-        np.testing.assert_array_equal(rec.samples[::101], golden[f"samples{case}"])
+        stored = golden[f"samples{case}"]
+        moved = np.abs(rec.samples[::101] - stored)
+        assert moved.max() <= STEP_16 and np.count_nonzero(moved) <= stored.size // 1000
     det = detect_resonances(rec)
     assert det.latency_s == golden[f"latency{case}"]
-    np.testing.assert_allclose(det.frequencies, golden[f"frequencies{case}"], rtol=0, atol=1e-9)
-    np.testing.assert_allclose(det.envelope[::7], golden[f"envelope{case}"], rtol=1e-12)
+    exact = not moved.any()
+    np.testing.assert_allclose(
+        det.frequencies, golden[f"frequencies{case}"], rtol=0, atol=1e-9 if exact else 1e-4
+    )
+    np.testing.assert_allclose(
+        det.envelope[::7], golden[f"envelope{case}"], rtol=1e-12 if exact else 1e-5
+    )
+
+
+@pytest.mark.parametrize("case", sorted(GOLDEN_CASES))
+def test_the_gauge_synthesis_and_detection_give_the_stored_numbers(case: int) -> None:
+    assert_like_stored_recording(case, GOLDEN_CASES[case][0])
+
+
+@pytest.mark.parametrize("case", sorted(GOLDEN_CASES))
+def test_a_level_and_temperature_moved_by_a_few_ulps_give_the_stored_numbers(case: int) -> None:
+    """The tube's level and temperature moved by ±4 ulp (another CPU's rounding upstream)."""
+    setup = GOLDEN_CASES[case][0]
+    level, temperature = shifted(setup.level_m, ULPS), shifted(setup.temperature_c, -ULPS)
+    assert_like_stored_recording(
+        case, replace(setup, level_m=float(level), temperature_c=float(temperature))
+    )
 
 
 def test_a_generator_seed_and_an_integer_seed_draw_the_same_noise() -> None:
@@ -250,13 +285,28 @@ def test_a_generator_seed_and_an_integer_seed_draw_the_same_noise() -> None:
     np.testing.assert_array_equal(by_int.samples, by_generator.samples)
     quiet = synthesize_recording(setup, PAPER_SWEEP, RecordingConditions(), seed=5)
     assert not np.array_equal(quiet.samples, by_int.samples)
+
+
+#: Tolerance of the virtual tube's signal (amplitude 0.5) against the stored one: the level
+#: and temperature moved by ±4 ulp move it by 1.6e-13 (measured; the test below), and
+#: another CPU's ``sin``/``exp`` by a few ulps per echo; 1e-11 leaves a margin of 60 and is
+#: far below a 16-bit step (3e-5).
+VIRTUAL_TUBE_ATOL = 1e-11
+
+
+@pytest.mark.parametrize("seed", [None, 0, 1])
+def test_the_virtual_tube_gives_the_stored_signal(seed: int | None) -> None:
+    """The stored virtual-tube signal; with seed, from a level and temperature moved ±4 ulp."""
+    level, temperature = 3.0, 20.0
+    if seed is not None:
+        level, temperature = (float(v) for v in nudged(np.array([level, temperature]), seed))
     np.testing.assert_allclose(
-        virtual_tube_signal(TubeSetup(3.0, 20.0), PAPER_SWEEP, conditions=conditions, seed=2)[
-            ::101
-        ],
+        virtual_tube_signal(
+            TubeSetup(level, temperature), PAPER_SWEEP, conditions=typical_conditions(), seed=2
+        )[::101],
         np.load(GOLDEN)["virtual_tube"],
         rtol=0,
-        atol=1e-15,
+        atol=VIRTUAL_TUBE_ATOL,
     )
 
 
