@@ -15,6 +15,7 @@ from __future__ import annotations
 import os
 import shutil
 import subprocess
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -72,6 +73,7 @@ def loopback() -> Iterator[dict[str, str]]:
                 f"PortAudio does not see the ALSA device {DEVICE!r} (it sees {names}); "
                 "is libasound2-plugins installed?"
             )
+        wait_until_the_monitor_hears()
         yield state
     finally:
         for key, value in saved.items():
@@ -90,6 +92,21 @@ def loopback() -> Iterator[dict[str, str]]:
             audio.refresh_devices()
         except AudioUnavailableError:
             pass
+
+
+def wait_until_the_monitor_hears(tries: int = 10) -> None:
+    """Play short bursts of noise until the sink's monitor records them (or fail, saying so).
+
+    A freshly loaded null sink on a busy machine may deliver silence for its first streams;
+    no measurement starts before the loopback has carried a signal once.
+    """
+    burst = 0.2 * np.random.default_rng(0).uniform(-1, 1, FS // 5)
+    for _ in range(tries):
+        result = audio.play_record(burst, FS, input_device=DEVICE, output_device=DEVICE)
+        if np.abs(result.recorded).max() > 0.05:
+            return
+        time.sleep(0.5)
+    unavailable(f"the loopback's monitor recorded silence in {tries} tries of a noise burst")
 
 
 def test_loopback_routes_output_to_input(loopback) -> None:

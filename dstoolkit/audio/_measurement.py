@@ -697,7 +697,9 @@ def record_measurement(
 
     A recording in which the stream dropped samples (PortAudio reports an xrun, or the two
     chirps give different latencies) is discarded and the measurement repeated, up to
-    ``attempts`` times in all.
+    ``attempts`` times in all. A silent recording (all zeros) is tried once more within
+    those attempts: a busy sound server may deliver one silent take while it starts a
+    stream; a second silent take raises :class:`DetectionError` with the reason.
 
     Parameters
     ----------
@@ -735,7 +737,8 @@ def record_measurement(
     AudioUnavailableError
         No sounddevice/PortAudio, or no device (the message says what to do).
     DetectionError
-        A calibration chirp is not in the recording: the input does not hear the output.
+        A calibration chirp is not in the recording: the input does not hear the output
+        (or two takes were silent).
     AudioDropoutError
         Samples were dropped in every attempt.
     InvalidInputError
@@ -771,6 +774,7 @@ def record_measurement(
     fs = _samplerate(sweep)
     programme = _programme(sweep, _drive(sweep, virtual_tube, amplitude))
     problems: list[str] = []
+    silent_takes = 0
     for attempt in range(1, attempts + 1):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", audio.AudioDropoutWarning)
@@ -810,7 +814,13 @@ def record_measurement(
             continue
         except DetectionError:
             audio.check_sound_server()  # a dead server is not a wiring problem
-            raise
+            if np.any(result.recorded) or attempt == attempts or silent_takes:
+                raise
+            # One silent take is tried again: a sound server under load may deliver silence
+            # for a take while it (re)starts a stream; a second silent take is the wiring.
+            silent_takes += 1
+            problems.append(f"attempt {attempt}: the recording was silent")
+            continue
         if save is not None:
             save_recording(save, recording.samples, fs, recording.metadata, overwrite=overwrite)
         return recording
