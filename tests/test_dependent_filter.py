@@ -58,7 +58,8 @@ def test_noise_free_readings_give_the_truth_back():
     orders = simulate_gauge().true_inputs
     truth, z = model.simulate([1008.5], orders.size + 1, np.random.default_rng(0), orders)
     for result in (FILTER.run(model, z, orders), FILTER.run(model, z, orders, record=True)):
-        np.testing.assert_allclose(result.estimates, truth, rtol=1e-15)
+        # the truth up to the rounding of a few operations per step (other CPUs: other ulps)
+        np.testing.assert_allclose(result.estimates, truth, rtol=1e-12)
         np.testing.assert_allclose(result.upper - result.lower, 0.0, atol=1e-12)
 
 
@@ -145,7 +146,8 @@ def test_prediction_is_the_extension_principle_over_the_random_relation(gauge):
     ours = IntervalEvidence(p_lo[0], p_hi[0], noise.prediction_mass[0])
     relation = cartesian_product([noise.state.shift(x_hat), noise.state])  # eq. 16
     literal = image(relation, lambda xv: MODEL.f(xv[..., :1], order) + xv[..., 1:], monotone=[1, 1])
-    np.testing.assert_allclose(ours.to_rows(), literal.to_rows(), rtol=1e-15)
+    # two code paths (batched boxes vs the extension principle): equal up to rounding
+    np.testing.assert_allclose(ours.to_rows(), literal.to_rows(), rtol=1e-12)
 
 
 # -- the two implementations agree -------------------------------------------------------------
