@@ -17,6 +17,7 @@ import shutil
 import subprocess
 import time
 from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -74,7 +75,8 @@ def loopback() -> Iterator[dict[str, str]]:
                 "is libasound2-plugins installed?"
             )
         wait_until_the_monitor_hears()
-        yield state
+        with audio_priority():
+            yield state
     finally:
         for key, value in saved.items():
             if value is None:
@@ -92,6 +94,26 @@ def loopback() -> Iterator[dict[str, str]]:
             audio.refresh_devices()
         except AudioUnavailableError:
             pass
+
+
+@contextmanager
+def audio_priority() -> Iterator[None]:
+    """Run this thread (and the stream threads it starts) ahead of CPU-bound work, if allowed.
+
+    PortAudio's stream threads inherit the nice value of the thread that opens the stream;
+    on a busy CI machine (other workers, other jobs) a stream at the ordinary priority
+    underruns. Where raising the priority is not allowed (not root) nothing changes. The
+    old value is restored afterwards (lowering a priority is always allowed).
+    """
+    before = os.getpriority(os.PRIO_PROCESS, 0)
+    try:
+        os.setpriority(os.PRIO_PROCESS, 0, -10)
+    except PermissionError:
+        pass
+    try:
+        yield
+    finally:
+        os.setpriority(os.PRIO_PROCESS, 0, before)
 
 
 def wait_until_the_monitor_hears(tries: int = 10) -> None:
