@@ -104,16 +104,16 @@ def _() -> int:
 @exercise(
     "gauge.offset",
     atol=5e-3,
-    hint="The envelope peaks k L/c above n c/(2L); the latency adds k τ.",
+    hint="The envelope peaks κ L/c above n c/(2L); the latency adds κ τ.",
     mistakes=(
         (
             lambda: SWEEP_RATE * 2 * GAUGE_CASE[0] / _c(GAUGE_CASE) + SWEEP_RATE * GAUGE_LATENCY,
             "You used k·2L/c: the peak sits where the *mean* frequency of wave and "
-            "echo is n c/(2L), half a delay back: k L/c.",
+            "echo is n c/(2L), half a delay back: κ L/c.",
         ),
         (
             lambda: float(sweep_rate_offset(SWEEP_RATE, _fundamental(GAUGE_CASE))),
-            "That is the sweep's offset k L/c alone; the latency adds k τ.",
+            "That is the sweep's offset κ L/c alone; the latency adds κ τ.",
         ),
     ),
 )
@@ -198,15 +198,15 @@ def _lab_c() -> float:
 @exercise(
     "lab.latency-offset",
     atol=5e-3,
-    hint="τ = lag / f_s (in ms: × 1000); every reading moves by k τ with k = 280 Hz/s "
-    "and τ in seconds. Answer (τ in ms, k τ in Hz).",
+    hint="τ = lag / f_s (in ms: × 1000); every reading moves by κ τ with κ = 280 Hz/s "
+    "and τ in seconds. Answer (τ in ms, κ τ in Hz).",
     mistakes=(
         (
             lambda: (
                 LAB_LAG_SAMPLES / LAB_SAMPLERATE,
                 SWEEP_RATE * LAB_LAG_SAMPLES / LAB_SAMPLERATE,
             ),
-            "Give τ in milliseconds (the offset k τ is right).",
+            "Give τ in milliseconds (the offset κ τ is right).",
         ),
     ),
 )
@@ -478,11 +478,11 @@ def _() -> float:
 @exercise(
     "beyond.offset-ratio",
     atol=2e-3,
-    hint="b = kL/c + kτ with k = 280 Hz/s and τ = 10 ms; f_F = c/(2L). Divide.",
+    hint="b = κL/c + κτ with κ = 280 Hz/s and τ = 10 ms; f_F = c/(2L). Divide.",
     mistakes=(
         (
             lambda: SWEEP_RATE * LONG_CASE[0] / _c(LONG_CASE) / _fundamental(LONG_CASE),
-            "You left out the latency's k τ.",
+            "You left out the latency's κ τ.",
         ),
     ),
 )
