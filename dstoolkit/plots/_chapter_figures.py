@@ -45,9 +45,10 @@ def plot_image_methods(
 ) -> Figure:
     """Draw the image of a function of one variable on a box by two methods, one panel a case.
 
-    In each panel: the function near the box (thin), on the box (thick), and as hatched
-    horizontal bands the image [a, b] that each method gives, each band labelled at the
-    right edge with its method and interval.
+    In each panel: the function near the box (thin), on the box (thick; the title names the
+    box, so that no label lies over the bands or the curve), and as hatched horizontal bands
+    the image [a, b] that each method gives, each band labelled at the right edge with its
+    method and interval.
 
     Parameters
     ----------
@@ -76,8 +77,8 @@ def plot_image_methods(
     >>> square = lambda x: x[..., 0] ** 2
     >>> fig = plot_image_methods({"x²": (square, -1.0, 2.0,
     ...                           {"vertex": (1.0, 4.0), "subdivision": (0.0, 4.0)})})
-    >>> [t.get_text() for t in fig.axes[0].texts]
-    ['subdivision: [0, 4]', 'vertex: [1, 4]', 'f on [-1, 2]']
+    >>> [t.get_text() for t in fig.axes[0].texts], fig.axes[0].get_title(loc="left")
+    (['subdivision: [0, 4]', 'vertex: [1, 4]'], 'f(x) = x², thick on the box [-1, 2]')
     """
     if not cases:
         raise InvalidInputError("plot_image_methods needs at least one case")
@@ -105,19 +106,10 @@ def plot_image_methods(
                 a, b = np.round(np.asarray(images[method], dtype=float), 10) + 0.0
                 ax.axhspan(a, b, facecolor=colour, alpha=0.3, hatch=hatch, edgecolor=colour, lw=0.8)
                 bands.append((a, b, f"{label}: [{a:.3g}, {b:.3g}]"))
-        ax.set_title(f"f(x) = {name}", loc="left")
+        ax.set_title(f"f(x) = {name}, thick on the box [{lo:g}, {hi:g}]", loc="left")
         ax.set_xlabel("x (no unit)")
         ax.set_ylabel("f(x) (no unit)")
         _label_bands(ax, bands)
-        ax.annotate(
-            f"f on [{lo:g}, {hi:g}]",
-            xy=(hi, float(f(np.array([[hi]]))[0])),
-            xytext=(-6, 6),
-            textcoords="offset points",
-            ha="right",
-            va="bottom",
-            fontsize=SMALL_PT,
-        )
     return fig
 
 
