@@ -234,7 +234,15 @@ class NassreddineRecord:
 
 @dataclass(frozen=True)
 class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
-    """Belief-function interval filter of Nassreddine et al. (2010); see the module docstring.
+    """Belief-function interval filter of Nassreddine et al. (2010), the paper's rival.
+
+    The state is a mass function on boxes. Each step predicts every box through f with
+    every focal element of E_v (interval analysis, eqs. 13–16), contracts every predicted
+    box with g⁻¹(z + W_l) for every focal element W_l of E_w (Dempster's rule, eq. 1, the
+    empty parts being the conflict), takes the pignistic expectation (eq. 20), and caps
+    the posterior at ``max_focal`` boxes by hierarchical clustering (hulls, an outer
+    approximation). The book derives it in its chapter "Beyond the paper", section
+    "Nassreddine's filter derived" (:ref:`bp-nassreddine`).
 
     Parameters
     ----------

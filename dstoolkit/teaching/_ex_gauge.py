@@ -457,6 +457,47 @@ def _() -> int:
     return predicted * n_w * predicted
 
 
+#: Nassreddine's correction by hand: the prediction's and the reading's evidence (g the
+#: identity), as rows (lo, hi, mass).
+NASSREDDINE_PREDICTION = ((0.0, 2.0, 0.6), (1.0, 4.0, 0.4))
+NASSREDDINE_READING = ((1.5, 2.5, 0.7), (3.0, 5.0, 0.3))
+
+
+def _nassreddine_correction(renormalise: bool = True) -> tuple[float, float]:
+    """(K, x̂) of the correction of NASSREDDINE_PREDICTION by NASSREDDINE_READING.
+
+    Without ``renormalise``, x̂ is the expectation of the kept products left unscaled.
+    """
+    from dstoolkit.evidence import IntervalEvidence, conflict, dempster
+
+    def evidence(rows: tuple[tuple[float, float, float], ...]) -> IntervalEvidence:
+        lo, hi, mass = zip(*rows, strict=True)
+        return IntervalEvidence(list(lo), list(hi), list(mass))
+
+    pred, reading = evidence(NASSREDDINE_PREDICTION), evidence(NASSREDDINE_READING)
+    k = conflict(pred, reading)
+    estimate = float(dempster(pred, reading).pignistic_expectation()[0])
+    return float(k), estimate if renormalise else estimate * (1.0 - float(k))
+
+
+@exercise(
+    "beyond.nassreddine-correction",
+    atol=5e-4,
+    hint="Intersect every predicted interval with every interval of the reading; a product "
+    "has the mass m_i · m_j. The empty ones make up K; divide the others by 1 − K, then take "
+    "Σ m (lo + hi)/2 (eq. 20). Answer (K, x̂).",
+    mistakes=(
+        (
+            lambda: _nassreddine_correction(renormalise=False),
+            "The kept masses add up to 1 − K, not 1: divide them by 1 − K before the "
+            "expectation (Dempster's rule, eq. 1).",
+        ),
+    ),
+)
+def _() -> tuple[float, float]:
+    return _nassreddine_correction()
+
+
 @exercise(
     "beyond.failures",
     atol=1e-9,
