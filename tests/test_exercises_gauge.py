@@ -79,7 +79,9 @@ def test_the_chapter_prose_matches_its_numbers(chapter_numbers: dict[str, float]
     assert g["lg_diffsd_96"] > 0.5 * g["lg_tol_96"] and g["lg_wrong_96"] > 0.1
     assert g["lg_diffsd_46"] < 0.5 * g["lg_tol_46"] and g["lg_wrong_46"] < 0.05
     assert g["lg_fit_46_mm"] < 5 and g["lg_fit_96_mm"] < 5 < g["lg_mae_96_mm"]
-    assert g["lg_tri_mae"] > g["lg_paper_direct96"]
+    # "far worse than the paper's own direct-measurement error", "far better than the paper's"
+    assert g["lg_tri_mae"] > 3 * g["lg_paper_direct96"]
+    assert g["lg_w_within"] < 0.5 * g["lg_paper_sigma_w"]
     # "w is mostly a level-dependent bias"
     assert g["lg_w_between"] > 5 * g["lg_w_within"]
     assert g["lg_w_13"] > g["lg_w_mode"] > g["lg_w_106"]
