@@ -28,9 +28,9 @@ boxes, while more than ``max_focal`` remain, pairs of similar boxes are replaced
 hull carrying both masses, the pairs chosen by Denœux's criterion (Int. J. Uncertainty,
 Fuzziness and Knowledge-Based Systems 9(4), 2001: smallest increase of mass × size).
 Every box lies inside the box that receives its mass, so the capped mass function is an
-outer approximation: less committed, never more confident than the exact one. The mass carried by merged boxes is
-``diagnostics["merged_mass"]``. The estimate and the hull of each step are taken from the
-posterior *before* the cap.
+outer approximation: less committed, never more confident than the exact one. The mass
+carried by merged boxes is ``diagnostics["merged_mass"]``. The estimate and the hull of
+each step are taken from the posterior *before* the cap.
 
 A simpler rule was tried and rejected: keep the N − 1 heaviest boxes and give the rest
 to their hull (Lowrance's summarization). The hull is as wide as the widest light box,
