@@ -6,7 +6,8 @@ Every number on the handout comes from ``dstoolkit``: the tube's diameter from
 :class:`dstoolkit.gauge.TubeSetup`, the sweep from :data:`dstoolkit.gauge.PAPER_SWEEP`, the
 calibration chirp from :func:`dstoolkit.audio.calibration_chirp`, the speed of sound, the
 spacing of the resonances and the plane-wave cutoff from the gauge's acoustics, and the
-shortest usable level from the detector's :func:`dstoolkit.gauge.detect_resonances`. The
+shortest usable level from the detector's :func:`dstoolkit.gauge.detect_resonances` (the
+level from which the band spans as many spacings as the detector needs resonances). The
 wiring diagram is drawn in TikZ, and XeLaTeX (through latexmk) typesets it; nothing is
 downloaded.
 
@@ -19,6 +20,7 @@ changed.
 from __future__ import annotations
 
 import inspect
+import math
 import shutil
 import subprocess
 import sys
@@ -29,8 +31,9 @@ ROOT = Path(__file__).resolve().parents[1]
 NAME = "lab-handout"
 #: The air temperature the handout's reference table assumes, °C (a room).
 ROOM_C = 20.0
-#: Levels of the reference table, m (the 75 mm tube; the shortest usable one is added).
-TABLE_LEVELS = (1.0, 2.5, 5.0, 9.6)
+#: Levels of the reference table, m (the 75 mm tube; the shortest usable one is added, and
+#: 0.5 m shows a level too short for the band).
+TABLE_LEVELS = (0.5, 1.0, 2.5, 5.0, 9.6)
 #: Blank rows of the data sheet.
 DATA_ROWS = 10
 
@@ -51,13 +54,13 @@ def handout_numbers() -> dict[str, Any]:
 
     chirp = inspect.signature(calibration_chirp).parameters
     need = inspect.signature(detect_resonances).parameters["min_resonances"].default
-    tube = TubeSetup(level_m=TABLE_LEVELS[0], temperature_c=ROOM_C)
+    tube = TubeSetup(level_m=1.0, temperature_c=ROOM_C)
     c = float(speed_of_sound(ROOM_C))
     band = tuple(float(f) for f in PAPER_SWEEP.band)
-    # the shortest level (to the millimetre) whose resonances in the band are enough
-    shortest = next(
-        mm / 1000 for mm in range(100, 20001) if resonance_orders(mm / 1000, c, band).size >= need
-    )
+    # the shortest level (rounded up to the millimetre) whose spacing f_F = c/(2L) fits
+    # `need` times in the band: from there on the sweep holds enough resonances wherever
+    # they fall (a shorter level may hold enough by luck, and the next one too few)
+    shortest = math.ceil(1000 * need * c / (2 * (band[1] - band[0]))) / 1000
     rows = [
         (level, float(fundamental_frequency(level, c)), int(resonance_orders(level, c, band).size))
         for level in sorted({shortest, *TABLE_LEVELS})
@@ -152,7 +155,8 @@ def handout_tex(n: dict[str, Any]) -> str:
 \vspace{{2pt}}
 Handout for the lab of the book \emph{{Evidence under bounded noise}}. A sweep of sound
 travels down a tube and back from the liquid's surface; the resonances of the air column
-sit $f_F = c/(2L)$ apart, and their spacing gives the level $L$. Work in groups of three;
+sit $f_F = c/(2L)$ apart, and their spacing gives the level $L$. Work in groups of four
+(operator, safety and sound, level keeper, analyst; rotate the roles after every level);
 hand in the data sheet with your report.
 
 \section*{{1. Parts list}}
@@ -161,8 +165,8 @@ hand in the data sheet with your report.
 part & what to look for \\
 \midrule
 tube & PVC drain pipe, inner diameter {n["diameter_mm"]:.0f} mm; the level must be at
-least {n["shortest"]:.2f} m so that the sweep meets the {n["need"]} resonances the
-detector needs (table below) \\
+least {n["shortest"]:.3f} m, so that the sweep spans {n["need"]} spacings and holds the
+{n["need"]} resonances the detector needs wherever they fall (table below) \\
 speaker & small full-range driver or powered USB speaker covering
 {n["f_lo"]:.0f}--{n["f_hi"]:.0f} Hz (the sweep) and {n["chirp_lo"]:.0f}--{n["chirp_hi"]:.0f}
 Hz (the calibration chirp) \\

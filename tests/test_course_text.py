@@ -1,13 +1,14 @@
 """What a course needs from every chapter.
 
-A recap, annotated reading, solutions that end with their reasoning, and the instructors'
-page in the table of contents.
+A recap, annotated reading, solutions that end with their reasoning, the instructors'
+page in the table of contents, and a 6-week plan whose sessions hold its class hours.
 """
 
 from __future__ import annotations
 
 import re
 
+import jupytext
 import pytest
 from conftest import ROOT
 
@@ -81,3 +82,36 @@ def test_the_teaching_page_is_in_the_back_matter() -> None:
     toc = (ROOT / "_toc.yml").read_text(encoding="utf-8")
     back = toc.split("caption: Back matter", 1)[1]
     assert "file: book/teaching" in back
+
+
+def _teaching_plan() -> dict:
+    """CHAPTERS and SIX_WEEKS of the teaching page, from its own code cells."""
+    notebook = jupytext.read(ROOT / "book" / "teaching.md")
+    found: dict = {}
+    for cell in notebook.cells:
+        if cell.cell_type != "code":
+            continue
+        for name in ("CHAPTERS", "SIX_WEEKS"):
+            block = re.search(rf"^{name} = [\[{{].*?^[\]}}]$", cell.source, flags=re.M | re.S)
+            if block:
+                exec(block.group(0), found)  # a literal: chapter hours, the weekly plan
+    return found
+
+
+def test_the_six_week_plan_fits_its_sessions() -> None:
+    plan = _teaching_plan()
+    hours = [sum(plan["CHAPTERS"][k][2] for k in ks) for ks, _ in plan["SIX_WEEKS"]]
+    text = (ROOT / "book" / "teaching.md").read_text(encoding="utf-8")
+    prose = section(text, "A 6-week graduate module")
+    words = {"one": 1, "two": 2, "three": 3, "four": 4}
+    fixed = re.search(r"\b(one|two|three|four) sessions a week of 90 minutes", prose, re.I)
+    if fixed:  # a fixed number of sessions a week must hold the longest week
+        assert max(hours) <= 1.5 * words[fixed.group(1).lower()], (fixed.group(0), hours)
+    # otherwise the table gives each week's sessions, computed from the same hours
+    assert "sessions of 90 min" in prose and "math.ceil(h / SESSION_H)" in prose
+    assert sorted(k for ks, _ in plan["SIX_WEEKS"] for k in ks) == sorted(plan["CHAPTERS"])
+
+
+def test_the_plan_reader_finds_the_plan() -> None:
+    plan = _teaching_plan()
+    assert len(plan["CHAPTERS"]) == 12 and len(plan["SIX_WEEKS"]) == 6

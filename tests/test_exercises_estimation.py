@@ -35,6 +35,7 @@ IDS = {
         "beyond.failures",
         "beyond.failures-choice",
         "beyond.kalman-sigma",
+        "beyond.nassreddine-correction",
         "beyond.offset-ratio",
         "beyond.products",
         "beyond.sigma-code",
@@ -146,6 +147,21 @@ def test_beyond_the_paper_prose_matches_its_numbers(beyond) -> None:
             assert g[f"bp_t3_46_{m}"] < g[f"bp_t3_46_{e}"], (m, e)
     assert g["bp_ms_kalman"] < min(
         g[f"bp_ms_{m}"] for m in ("particle", "dependent_evidence", "nassreddine")
+    )
+    # the Kalman filter's cost and accuracy are said as glued ratios
+    assert g["bp_kalman_cheaper"] == pytest.approx(
+        g["bp_ms_dependent_evidence"] / g["bp_ms_kalman"], rel=1e-12
+    )
+    assert g["bp_kalman_cheaper"] > 1 and g["bp_kalman_better_96"] > 1
+    # Nassreddine's filter: one step grows its evidence, the cap cuts it back; it beats
+    # the paper's filter as the paper starts it but not with the corrected start
+    assert g["bp_nas_pred"] > g["bp_nas_start"] and g["bp_nas_post"] > g["bp_nas_cap"]
+    assert 0 < g["bp_nas_k"] < 1 and 0 < g["bp_nas_merged"] <= 1
+    assert g["bp_nv_paper_mean"] < g["bp_nv_nas"] < g["bp_nv_paper"]
+    assert g["bp_nv_nas_cap128"] < g["bp_nv_nas"] < g["bp_nv_nas_cap8"]
+    # the solution's hand arithmetic (default rel 1e-6: the glue is the same sums in floats)
+    assert g["bp_ex_nas_k"] == pytest.approx(0.18) and g["bp_ex_nas_est"] == pytest.approx(
+        1.715 / 0.82
     )
     # the 2-D example: (p+1)^(5n) products; p = 3 far slower per step than p = 2
     assert g["bp_products_3"] == 4**10 and g["bp_products_gauge"] == 4**5

@@ -231,3 +231,100 @@ def test_estimates_figure_reads_right() -> None:
         truth, truth + 3.0, {"dependent_evidence": truth + 0.5, "nassreddine": truth - 0.4}
     )
     assert text_problems(fig) == []
+
+
+# -- labels inside the axes clear of the marks ---------------------------------------------
+
+
+def texts_over_marks(fig: Figure) -> list[str]:
+    """Texts inside an axes (``ax.texts``) that lie over a line or a filled patch of it.
+
+    Lines are sampled every pixel along their drawn path; a patch counts by its extent
+    clipped to the axes (a band across the axes is a patch).
+    """
+    renderer = _renderer(fig)
+    problems = []
+    for ax in fig.axes:
+        texts = [t for t in ax.texts if _shown(t)]
+        if not texts:
+            continue
+        points = []
+        for line in ax.get_lines():
+            if not line.get_visible() or len(line.get_xdata()) < 1:
+                continue
+            xy = line.get_transform().transform(np.column_stack(line.get_data()))
+            xy = xy[np.all(np.isfinite(xy), axis=1)]
+            for a, b in itertools.pairwise(xy):
+                steps = max(2, int(np.hypot(*(b - a))))
+                points.append(a + np.linspace(0, 1, steps)[:, None] * (b - a))
+            points.append(xy)
+        sampled = np.concatenate(points) if points else np.empty((0, 2))
+        patches = [
+            Bbox.intersection(p.get_window_extent(renderer), ax.bbox)
+            for p in ax.patches
+            if p.get_visible() and p.get_fill()
+        ]
+        for text in texts:
+            box = text.get_window_extent(renderer)
+            inside = (
+                (sampled[:, 0] > box.x0)
+                & (sampled[:, 0] < box.x1)
+                & (sampled[:, 1] > box.y0)
+                & (sampled[:, 1] < box.y1)
+            )
+            if inside.any():
+                problems.append(f"{text.get_text()!r} lies over a line")
+            if any(p is not None and _overlap(box, p) for p in patches):
+                problems.append(f"{text.get_text()!r} lies over a filled band")
+    return problems
+
+
+def test_a_label_over_a_line_is_caught() -> None:
+    fig = Figure(figsize=(4, 3))
+    ax = fig.subplots()
+    ax.plot([0, 1], [0, 1])
+    ax.text(0.5, 0.5, "98 %", ha="center", va="center")
+    assert texts_over_marks(fig) == ["'98 %' lies over a line"]
+    ax.texts[0].set_position((0.9, 0.1))
+    assert texts_over_marks(fig) == []
+
+
+def test_image_methods_labels_clear_the_bands_and_curves() -> None:
+    from dstoolkit.plots import plot_image_methods
+    from dstoolkit.teaching import compare_image_methods
+
+    cases = {
+        "x²": (lambda x: x[..., 0] ** 2, -1.0, 2.0),
+        "sin x": (lambda x: np.sin(x[..., 0]), 0.0, 3.0),
+    }
+    images = {
+        name: {
+            m: compare_image_methods(f, lo, hi, +1)[m]["image"] for m in ("subdivision", "vertex")
+        }
+        for name, (f, lo, hi) in cases.items()
+    }
+    fig = plot_image_methods({n: (f, lo, hi, images[n]) for n, (f, lo, hi) in cases.items()})
+    assert texts_over_marks(fig) == [] and text_problems(fig) == []
+    # the box is named (in the title), and each band by its method at the right
+    titles = [ax.get_title(loc="left") for ax in fig.axes]
+    assert titles == [
+        "f(x) = x², thick on the box [-1, 2]",
+        "f(x) = sin x, thick on the box [0, 3]",
+    ]
+
+
+def test_scale_study_writes_the_failures_clear_of_the_lines() -> None:
+    from dstoolkit.plots import plot_scale_study
+    from dstoolkit.studies import bound_scale_study, tracking_data
+
+    study = bound_scale_study(
+        tracking_data(runs=4), [0.3, 1.0, 2.0], methods=("kalman", "bounded_error", "particle")
+    )
+    assert study[0.3].inconsistent_runs > 0  # a scale whose failures are written
+    fig = plot_scale_study(study)
+    assert texts_over_marks(fig) == [] and text_problems(fig) == []
+    ax = fig.axes[0]
+    _renderer(fig)
+    labels = [t.get_text() for t in _drawn_tick_labels(ax.xaxis)]
+    assert labels[0] == f"0.3\n{study[0.3].inconsistent_runs:.0%} failed", labels
+    assert labels[1:] == ["1", "2"]

@@ -250,6 +250,17 @@ def _example() -> Figure:
     return plots.plot_example(example_comparison(steps=15, runs=1))
 
 
+@figure("plot_nassreddine_step")
+def _nassreddine_step() -> Figure:
+    from dstoolkit.filters import NassreddineFilter, random_walk
+
+    filt = NassreddineFilter(p=2, max_focal=4, theta=((-3.0, 3.0), (-4.0, 4.0)))
+    state = filt.initialize(random_walk(0.5, 1.0), 0.2)
+    state, record = filt.step(state, 0.6)
+    carried = IntervalEvidence.from_boxes(state.carried)
+    return plots.plot_nassreddine_step(record, carried, xlim=(-2.5, 2.5), truth=0.4)
+
+
 # -- checks ---------------------------------------------------------------------------------
 
 

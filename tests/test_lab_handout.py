@@ -13,16 +13,19 @@ skip, except when DSTOOLKIT_REQUIRE_PDF=1 (CI), where they fail.
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import shutil
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 from conftest import ROOT, BookBuild
 
 from dstoolkit.gauge import PAPER_SWEEP, TubeSetup, plane_wave_cutoff, resonance_orders
+from dstoolkit.teaching import solution
 
 sys.path.insert(0, str(ROOT / "scripts"))
 import lab_handout  # noqa: E402
@@ -39,8 +42,24 @@ def test_the_numbers_come_from_the_package() -> None:
     assert n["rate"] == pytest.approx(PAPER_SWEEP.rate)
     assert n["cutoff"] == pytest.approx(plane_wave_cutoff(n["diameter_mm"] / 1000, n["c"]))
     band = tuple(PAPER_SWEEP.band)
-    assert resonance_orders(n["shortest"], n["c"], band).size >= n["need"]
-    assert resonance_orders(n["shortest"] - 0.001, n["c"], band).size < n["need"]
+    # from the shortest level up, every level (to the millimetre, up to 12 m) holds enough
+    longer = np.arange(round(n["shortest"] * 1000), 12001) / 1000
+    assert min(resonance_orders(level, n["c"], band).size for level in longer) >= n["need"]
+    # and it is the level of the lab chapter's exercise, rounded up to the millimetre
+    assert n["shortest"] == math.ceil(1000 * solution("lab.shortest-tube")) / 1000
+    # 0.5 m is in the table with too few resonances, as in the lab chapter
+    assert [count for level, _, count in n["rows"] if level == 0.5][0] < n["need"]
+
+
+def test_groups_are_of_four_with_the_chapters_roles() -> None:
+    tex = lab_handout.handout_tex(lab_handout.handout_numbers())
+    assert "groups of four" in tex and "groups of three" not in tex
+    lab = (ROOT / "book" / "lab.md").read_text(encoding="utf-8")
+    assert "A gauge serves a group of four" in lab
+    roles = re.findall(r"^- \*\*([a-z ]+)\*\*", lab, flags=re.M)
+    assert len(roles) == 4, roles
+    for role in roles:
+        assert role in tex, role
 
 
 def test_the_source_has_the_four_parts_and_the_numbers() -> None:
@@ -53,7 +72,7 @@ def test_the_source_has_the_four_parts_and_the_numbers() -> None:
         f"{n['diameter_mm']:.0f} mm",
         f"{n['f_lo']:.0f}--{n['f_hi']:.0f} Hz",
         f"{n['cutoff']:.0f} Hz",
-        f"{n['shortest']:.2f} m",
+        f"{n['shortest']:.3f} m",
     ):
         assert shown in tex, shown
     changed = lab_handout.handout_tex({**n, "cutoff": 1234.0})

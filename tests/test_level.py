@@ -68,7 +68,7 @@ def test_series_fit_with_a_missed_resonance() -> None:
 def test_free_offset_fit_ignores_a_common_offset_that_the_fixed_fit_absorbs() -> None:
     n, f = resonance_frequencies(4.6, float(speed_of_sound(26.5)))
     c = float(speed_of_sound(26.5))
-    shifted = f + 5.0  # an uncorrected k L/c + k τ
+    shifted = f + 5.0  # an uncorrected κ L/c + κ τ
     free = fit_resonance_series(shifted, offset_hz=None)
     assert free.first_order == n[0] and free.offset_hz == pytest.approx(5.0)
     assert free.level(c) == pytest.approx(4.6, abs=1e-9)

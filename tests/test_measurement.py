@@ -72,7 +72,7 @@ def test_simulated_measurement_gives_back_the_level(level: float, temperature: f
 def test_latency_correction_keeps_absolute_frequencies_right(recording_26) -> None:
     """With the latency correction, z_k sit within a few Hz of n c/(2L).
 
-    Without it every resonance would be k τ = 280 × 0.12 = 34 Hz high; the few Hz left are
+    Without it every resonance would be κ τ = 280 × 0.12 = 34 Hz high; the few Hz left are
     the detector's own bias.
     """
     analysis = analyze(recording_26)

@@ -51,7 +51,7 @@ def test_observation_noise_sign_and_offsets() -> None:
     paper_like = characterise_observation_noise(levels, 25.0, cond, seed=3)
     d = paper_like.details
     # w = true − detected (paper eq. 40): the uncorrected reading is high, so w < 0, by about
-    # k L/c + k τ (1.0 to 7.8 Hz plus 2.8 Hz) give or take the multi-echo shift (< 3 Hz)
+    # κ L/c + κ τ (1.0 to 7.8 Hz plus 2.8 Hz) give or take the multi-echo shift (< 3 Hz)
     assert np.allclose(paper_like.samples, d["true_hz"] - d["detected_hz"])
     k = PAPER_SWEEP.rate
     for level in levels:

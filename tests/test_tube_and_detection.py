@@ -6,12 +6,12 @@ Tolerances, and why:
   n c/(2L). The envelope is sampled every k/1002 Hz = 0.28 Hz and the peak is a parabola
   fitted over ±f_F/8, where |1 + a e^(iθ)| is parabolic to within 1 % (error < 0.01 Hz); the
   latency is found to 0.03 ms (k × 0.03 ms = 0.01 Hz); f_F to 0.01 Hz, which moves the
-  correction k/(2 f_F) by k δf_F/(2 f_F²) < 0.01 Hz at 1.3 m.
+  correction κ/(2 f_F) by k δf_F/(2 f_F²) < 0.01 Hz at 1.3 m.
 * With noise: within 0.05 Hz + 6 σ of the noise-free model's peaks, σ from
   :func:`detection_precision_hz` (the parabola's vertex error for the envelope noise in
   the detector's 200 Hz band, plus the speaker's frequency error one for one); that
   prediction agrees with the measured scatter to about 15 %.
-* Later echoes (R_t > 0) move the peaks away from n f_F + k/(2 f_F) by a systematic
+* Later echoes (R_t > 0) move the peaks away from n f_F + κ/(2 f_F) by a systematic
   amount the first-order correction does not remove: with the default R_t = 0.3 the model
   gives +1.4, +2.3 and −0.6 Hz at 1.3, 4.6 and 9.6 m; we bound it by 3 Hz.
 * Level: the slope of the series (b free) is blind to a common offset, so only noise and
@@ -82,7 +82,7 @@ def test_single_echo_resonances_match_n_c_over_2l_after_correction(
     n = _orders(det.frequencies, setup)
     assert np.max(np.abs(det.frequencies - n * f_f)) < 0.1
     assert det.complete and det.spurious.size == 0
-    # the uncorrected reading f0 + k t is high by k L/c + k τ (paper §4.1)
+    # the uncorrected reading f0 + κ t is high by κ L/c + κ τ (paper §4.1)
     k = PAPER_SWEEP.rate
     expected_offset = k * level / setup.speed_of_sound + k * QUIET.latency_s
     assert np.max(np.abs(det.raw_frequencies - n * f_f - expected_offset)) < 0.1

@@ -182,6 +182,23 @@ def test_extension_explorer_shows_the_vertex_method_failing_on_sin():
     assert "lo > hi" in ex.numbers["error"]
 
 
+def test_extension_explorer_images_have_their_own_range():
+    # x² on [0, 0.5]: the images are [0, 0.25] while f runs to 16 on [−4, 4]; on f's range
+    # the four bars would be dots
+    ex = w.extension_explorer(function="x²", lo=-1.0, hi=2.0)
+    ex.controls["lo"].value = 0.0
+    ex.controls["hi"].value = 0.5
+    f_panel, bars = ex.figure.axes
+    low, high = bars.get_ylim()
+    shown = [line for line in bars.get_lines() if line.get_visible()]
+    assert len(shown) == 4
+    for line in shown:
+        a, b = sorted(line.get_ydata())
+        assert low <= a and b <= high  # every bar inside the panel
+        assert b - a >= 0.5 * (high - low)  # and at least half of its height
+    assert f_panel.get_ylim()[1] > 10 * high  # f's panel keeps f's own range
+
+
 def test_compare_image_methods_counts_and_flags():
     out = w.compare_image_methods(lambda x: x[..., 0] ** 2, -1.0, 2.0, 1)
     assert out["vertex"]["image"] == (1.0, 4.0)

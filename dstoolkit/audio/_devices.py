@@ -9,7 +9,7 @@ dstoolkit`` and every simulation work without it, and an audio call then raises
 
 Latency. Between the first sample handed to the output and its arrival in the input lies
 the audio path's delay τ (buffers of PortAudio, ALSA, the sound server and the sound card).
-For a linear sweep of rate k Hz/s it shifts every detected resonance by k τ (paper §4.3),
+For a linear sweep of rate κ Hz/s it shifts every detected resonance by κ τ (paper §4.3),
 so it must be measured and corrected: :func:`dstoolkit.gauge.estimate_latency` finds τ by
 cross-correlating a known reference (the :func:`calibration_chirp`) with the recording (a
 pure array function of the gauge layer, which also uses it on the sweep itself). The delay

@@ -107,7 +107,7 @@ class LevelEstimate:
 
     - ``fit_uncertainty_m``: the least-squares standard error of the slope;
     - ``offset_uncertainty_m``: half the difference from the fit with b = 0, which
-      trusts the detector's offset corrections (k/(2 f_F) and kτ) instead. Where they
+      trusts the detector's offset corrections (κ/(2 f_F) and κτ) instead. Where they
       disagree the offsets were not removed as modelled (a wrong latency, a second
       reflector, the echoes' pull): this systematic term says so;
     - ``temperature_uncertainty_m``: L σ_c/c from the thermometer's uncertainty
@@ -235,7 +235,7 @@ def filter_levels(
     Each method gives a level per step, L̂_k = n_k c/(2 x̂_k) (eq. 32, orders by eq. 43),
     averaged here (:func:`dstoolkit.studies.estimate_levels`, the paper's noise
     evidence of Tables 1–2). The readings are the detector's with the latency corrected but
-    the sweep-rate offset k/(2 f_F) left in: that is how the paper's detector read them and
+    the sweep-rate offset κ/(2 f_F) left in: that is how the paper's detector read them and
     how its observation noise w (mode −6.9 Hz) was characterised. Eq. 39 links neighbouring
     resonances, so over a missed one it does not hold: the methods run on the longest run of
     consecutive resonances.

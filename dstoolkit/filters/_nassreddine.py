@@ -25,12 +25,12 @@ Focal-element cap (hierarchical clustering)
 The posterior of step 3 has up to N·|E_v|·|E_w| boxes, so a cap is needed before it is
 propagated. Policy (:func:`~dstoolkit.evidence.boxes.cluster_boxes`): after merging equal
 boxes, while more than ``max_focal`` remain, pairs of similar boxes are replaced by their
-hull carrying both masses, the pairs chosen by Denœux's criterion (Int. J. Approx.
-Reasoning 2001: smallest increase of mass × size). Every box lies inside the box that
-receives its mass, so the capped mass function is an outer approximation: less committed,
-never more confident than the exact one. The mass carried by merged boxes is
-``diagnostics["merged_mass"]``. The estimate and the hull of each step are taken from the
-posterior *before* the cap.
+hull carrying both masses, the pairs chosen by Denœux's criterion (Int. J. Uncertainty,
+Fuzziness and Knowledge-Based Systems 9(4), 2001: smallest increase of mass × size).
+Every box lies inside the box that receives its mass, so the capped mass function is an
+outer approximation: less committed, never more confident than the exact one. The mass
+carried by merged boxes is ``diagnostics["merged_mass"]``. The estimate and the hull of
+each step are taken from the posterior *before* the cap.
 
 A simpler rule was tried and rejected: keep the N − 1 heaviest boxes and give the rest
 to their hull (Lowrance's summarization). The hull is as wide as the widest light box,
@@ -234,7 +234,15 @@ class NassreddineRecord:
 
 @dataclass(frozen=True)
 class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
-    """Belief-function interval filter of Nassreddine et al. (2010); see the module docstring.
+    """Belief-function interval filter of Nassreddine et al. (2010), the paper's rival.
+
+    The state is a mass function on boxes. Each step predicts every box through f with
+    every focal element of E_v (interval analysis, eqs. 13–16), contracts every predicted
+    box with g⁻¹(z + W_l) for every focal element W_l of E_w (Dempster's rule, eq. 1, the
+    empty parts being the conflict), takes the pignistic expectation (eq. 20), and caps
+    the posterior at ``max_focal`` boxes by hierarchical clustering (hulls, an outer
+    approximation). The book derives it in its chapter "Beyond the paper", section
+    "Nassreddine's filter derived" (:ref:`bp-nassreddine`).
 
     Parameters
     ----------

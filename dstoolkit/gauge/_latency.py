@@ -1,8 +1,8 @@
 """The audio latency τ: where a known signal sits in a recording (paper §4.3).
 
 Between the first sample handed to the sound card and its arrival at the microphone lies
-the delay τ of the audio path. For a linear sweep of rate k Hz/s it moves every detected
-resonance by k τ, so it is measured and corrected, by one estimator used everywhere: the
+the delay τ of the audio path. For a linear sweep of rate κ Hz/s it moves every detected
+resonance by κ τ, so it is measured and corrected, by one estimator used everywhere: the
 resonance detector finds τ from the sweep itself, the lab's measurement from a short
 calibration chirp played in the same stream (:mod:`dstoolkit.audio`).
 
@@ -177,7 +177,7 @@ def estimate_latency(
     See Also
     --------
     detect_resonances : Finds the latency of a recorded sweep with this estimator.
-    latency_offset : How far a latency moves the detected resonances, k τ.
+    latency_offset : How far a latency moves the detected resonances, κ τ.
 
     References
     ----------

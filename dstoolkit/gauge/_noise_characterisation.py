@@ -10,7 +10,7 @@ levels from 1.3 to 10.6 m and took the errors against the true values; σ_w = 1.
 mode −6.9 Hz, bounds [−10.59, −3.21]. Here: synthesised recordings at those levels, detected
 with :func:`dstoolkit.gauge.detect_resonances`, and w = true − detected, the sign of
 paper eq. 40 (g(x) = z + w: a reading that is too high gives w < 0). Without the offset
-corrections the detector reads k/(2 f_F) + k τ high, as the paper's did.
+corrections the detector reads κ/(2 f_F) + κ τ high, as the paper's did.
 
 Both become triangles (mode = mean, bounds = mean ± 3σ) and evidence (eqs. 22–26) by
 :func:`dstoolkit.evidence.triangular_evidence`.
@@ -288,7 +288,7 @@ def characterise_observation_noise(
 
     Recordings are synthesised at each level, their resonances detected by
     :func:`detect_resonances`, and each detected resonance matched to the order n of the model
-    (n f_F + k/(2 f_F) + k τ is the first-order prediction of where it appears; later echoes
+    (n f_F + κ/(2 f_F) + κ τ is the first-order prediction of where it appears; later echoes
     move it by less than f_F/2, so the match is unambiguous).
 
     Parameters
@@ -339,7 +339,7 @@ def characterise_observation_noise(
     --------
     >>> from dstoolkit.gauge import characterise_observation_noise
     >>> w = characterise_observation_noise([2.0, 4.0], seed=0)
-    >>> bool(w.mode < 0)  # a detector that reads f_0 + k t reads high
+    >>> bool(w.mode < 0)  # a detector that reads f_0 + κ t reads high
     True
     """
     cond = conditions if conditions is not None else typical_conditions()

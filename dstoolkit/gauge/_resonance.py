@@ -5,19 +5,19 @@ with the sweep); take the envelope; read time as instantaneous frequency; find t
 with sub-sample precision; place them on the lattice of spacing f_F to find missed and
 spurious ones; remove the two offsets below.
 
-Offsets (paper §4.1). With the speaker's phase φ(u) = 2π(f₀u + ku²/2) and the surface echo
+Offsets (paper §4.1). With the speaker's phase φ(u) = 2π(f₀u + κu²/2) and the surface echo
 Δ = 2L/c later, the microphone hears cos φ(u) + a cos φ(u − Δ), whose envelope is
-|1 + a e^(−iθ)| with θ(u) = φ(u) − φ(u − Δ) = 2πΔ (f(u) − kΔ/2). It peaks at θ = 2πn, where
+|1 + a e^(−iθ)| with θ(u) = φ(u) − φ(u − Δ) = 2πΔ (f(u) − κΔ/2). It peaks at θ = 2πn, where
 the instantaneous frequency is
 
-    f(u) = n/Δ + kΔ/2 = n c/(2L) + k L/c.
+    f(u) = n/Δ + κΔ/2 = n c/(2L) + κ L/c.
 
 The recording starts τ before the sweep (audio latency), so recording time t = u + τ read
-as f₀ + k t is a further k τ high. Both offsets are common to every resonance: the spacing
-f_F is unchanged, and since kL/c = k/(2 f_F) the first is known from the spacing alone.
-With k = 280 Hz/s it is 1.0 Hz at 1.3 m and 7.8 Hz at 9.6 m; 10 ms of latency adds 2.8 Hz.
-Later echoes (m ≥ 2, :mod:`dstoolkit.gauge`) carry θ_m = m θ − π k Δ² m(m − 1): their own
-peaks sit at m k L/c, and they pull the envelope's peak by a systematic amount this
+as f₀ + κ t is a further κ τ high. Both offsets are common to every resonance: the spacing
+f_F is unchanged, and since κL/c = κ/(2 f_F) the first is known from the spacing alone.
+With κ = 280 Hz/s it is 1.0 Hz at 1.3 m and 7.8 Hz at 9.6 m; 10 ms of latency adds 2.8 Hz.
+Later echoes (m ≥ 2, :mod:`dstoolkit.gauge`) carry θ_m = m θ − π κ Δ² m(m − 1): their own
+peaks sit at m κ L/c, and they pull the envelope's peak by a systematic amount this
 first-order correction leaves (with R_t = 0.3: +1.4, +2.3, −0.6 Hz at 1.3, 4.6, 9.6 m;
 :func:`model_peak_frequencies` computes it). Tolerances: tests/test_tube_and_detection.py.
 """
@@ -56,15 +56,15 @@ class DetectionResult:
     amplitudes : numpy.ndarray, shape (K,)
         The envelope at each peak, full-scale units.
     raw_frequencies : numpy.ndarray, shape (K,)
-        f_0 + k t at the peak times, Hz, before any correction.
+        f_0 + κ t at the peak times, Hz, before any correction.
     peak_times : numpy.ndarray, shape (K,)
         Recording times of the peaks, s.
     fundamental_hz : float
         The spacing f_F of the resonances, Hz.
     sweep_rate_offset_hz : float
-        k/(2 f_F), Hz: how far above n f_F the envelope of a sweep peaks.
+        κ/(2 f_F), Hz: how far above n f_F the envelope of a sweep peaks.
     latency_offset_hz : float
-        k τ, Hz: how far the latency moves the readings.
+        κ τ, Hz: how far the latency moves the readings.
     latency_s : float
         The latency τ, s.
     missed : numpy.ndarray, shape (M,)
@@ -129,19 +129,19 @@ class DetectionResult:
         """
         return (
             f"{self.frequencies.size} resonances, f_F = {self.fundamental_hz:.3f} Hz, "
-            f"offsets k/(2f_F) = {self.sweep_rate_offset_hz:.3f} Hz, "
-            f"kτ = {self.latency_offset_hz:.3f} Hz (τ = {1e3 * self.latency_s:.2f} ms), "
+            f"offsets κ/(2f_F) = {self.sweep_rate_offset_hz:.3f} Hz, "
+            f"κτ = {self.latency_offset_hz:.3f} Hz (τ = {1e3 * self.latency_s:.2f} ms), "
             f"{self.missed.size} missed, {self.spurious.size} spurious"
         )
 
 
 def sweep_rate_offset(rate_hz_per_s: float, fundamental_hz: Any) -> np.ndarray | float:
-    """Compute the sweep-rate offset k L/c = k/(2 f_F): how far above n f_F the envelope peaks.
+    """Compute the sweep-rate offset κ L/c = κ/(2 f_F): how far above n f_F the envelope peaks.
 
     Parameters
     ----------
     rate_hz_per_s : float
-        The sweep rate k, Hz/s.
+        The sweep rate κ, Hz/s.
     fundamental_hz : float or array_like, any shape
         The spacing f_F of the resonances, Hz.
 
@@ -170,12 +170,12 @@ def sweep_rate_offset(rate_hz_per_s: float, fundamental_hz: Any) -> np.ndarray |
 
 
 def latency_offset(rate_hz_per_s: float, latency_s: float) -> float:
-    """Compute the latency offset k τ: how far τ moves frequencies read as f_0 + k t.
+    """Compute the latency offset κ τ: how far τ moves frequencies read as f_0 + κ t.
 
     Parameters
     ----------
     rate_hz_per_s : float
-        The sweep rate k, Hz/s.
+        The sweep rate κ, Hz/s.
     latency_s : float
         The latency τ, s.
 
@@ -347,7 +347,7 @@ def envelope(
     """Envelope of a recording of the sweep, tracking the sweep's frequency.
 
     The recording is multiplied by e^(−iφ(t − τ)) (the sweep moves to 0 Hz, the echoes to
-    beats at m k Δ Hz), low-passed at ``bandwidth_hz`` (zero-phase Butterworth, order 4) and
+    beats at m κ Δ Hz), low-passed at ``bandwidth_hz`` (zero-phase Butterworth, order 4) and
     its magnitude doubled: the Hilbert envelope restricted to a band that follows the sweep,
     which rejects noise outside ±``bandwidth_hz`` of the instantaneous frequency.
 
@@ -478,7 +478,7 @@ def detect_resonances(
     The chain: check the recording (silence, clipping); find the latency τ by matched
     filtering with the sweep; take the envelope; read time as instantaneous frequency; find the
     peaks with sub-sample precision; place them on the lattice of spacing f_F to find missed and
-    spurious ones; remove the offsets k/(2 f_F) and k τ.
+    spurious ones; remove the offsets κ/(2 f_F) and κ τ.
 
     Parameters
     ----------
@@ -489,8 +489,8 @@ def detect_resonances(
     latency_s : float, optional
         τ, s, if known; None (default) estimates it (:func:`estimate_latency`).
     correct_sweep_rate, correct_latency : bool, optional
-        Subtract k/(2 f_F) and k τ (default True). False for both mimics a detector that reads
-        f_0 + k t, as the paper's (its w has mode −6.9 Hz).
+        Subtract κ/(2 f_F) and κ τ (default True). False for both mimics a detector that reads
+        f_0 + κ t, as the paper's (its w has mode −6.9 Hz).
     level_range_m : tuple of float, optional
         Levels considered possible, m; bounds the spacing search (default 0.5–15).
     bandwidth_hz : float, optional
@@ -593,7 +593,7 @@ def detect_resonances(
         )
     pos, amp = fitted_peak(env, cand, int(peak_window * f_f0 / step_hz))
     t_peak = np.interp(pos, np.arange(env.size), t_env)
-    raw = sweep.frequency_at(t_peak)  # f₀ + k t, the uncorrected reading
+    raw = sweep.frequency_at(t_peak)  # f₀ + κ t, the uncorrected reading
 
     j, on, f_f, _ = _lattice(raw, prom, f_f0, lattice_tolerance)
     sweep_off = float(sweep_rate_offset(k, f_f))
@@ -639,7 +639,7 @@ def model_peak_frequencies(
 
     The peaks of :func:`model_envelope`, read as the sweep's frequency f(u), Hz (no latency,
     no correction). Only peaks with the first echo present and away from the sweep's ends are
-    returned. With one echo (R_t = 0) they sit at n f_F + k/(2 f_F); each later echo m adds
+    returned. With one echo (R_t = 0) they sit at n f_F + κ/(2 f_F); each later echo m adds
     k π Δ² m(m − 1) of phase and moves them by up to a few Hz.
 
     Parameters
@@ -670,7 +670,7 @@ def model_peak_frequencies(
 
     Examples
     --------
-    With one echo the peaks sit k/(2 f_F) above the resonances n f_F:
+    With one echo the peaks sit κ/(2 f_F) above the resonances n f_F:
 
     >>> import numpy as np
     >>> from dstoolkit.gauge import (LinearSweep, TubeSetup, model_peak_frequencies,

@@ -1,8 +1,8 @@
 """The linear frequency sweep that drives the speaker (paper §4.3).
 
-f(t) = f_start + k t with rate k = (f_stop − f_start)/duration, phase
-φ(t) = 2π (f_start t + k t²/2). The paper swept 1000 → 2400 Hz in 5 s at 44.1 kHz
-(k = 280 Hz/s); the filter's band (paper §4.1) is 1000–2500 Hz. Both are parameters.
+f(t) = f_start + κ t with rate κ = (f_stop − f_start)/duration, phase
+φ(t) = 2π (f_start t + κ t²/2). The paper swept 1000 → 2400 Hz in 5 s at 44.1 kHz
+(κ = 280 Hz/s); the filter's band (paper §4.1) is 1000–2500 Hz. Both are parameters.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from dstoolkit.utils.checks import real_number
 
 @dataclass(frozen=True)
 class LinearSweep:
-    """An upward linear sweep f(t) = f_start + k t, the signal that drives the speaker.
+    """An upward linear sweep f(t) = f_start + κ t, the signal that drives the speaker.
 
     Parameters
     ----------
@@ -83,7 +83,7 @@ class LinearSweep:
 
     @property
     def rate(self) -> float:
-        """The sweep rate k = (f_stop − f_start)/duration, Hz per second."""
+        """The sweep rate κ = (f_stop − f_start)/duration, Hz per second."""
         return (self.f_stop - self.f_start) / self.duration
 
     @property
@@ -112,7 +112,7 @@ class LinearSweep:
         return np.arange(self.n_samples if n is None else n) / self.sample_rate
 
     def frequency_at(self, t: Any, out: np.ndarray | None = None) -> np.ndarray:
-        """Instantaneous frequency f(t) = f_start + k t (not clipped to the band).
+        """Instantaneous frequency f(t) = f_start + κ t (not clipped to the band).
 
         Parameters
         ----------
@@ -135,7 +135,7 @@ class LinearSweep:
         return f
 
     def time_at(self, f: Any) -> np.ndarray:
-        """Time at which the sweep reaches frequency f, t = (f − f_start)/k.
+        """Time at which the sweep reaches frequency f, t = (f − f_start)/κ.
 
         Parameters
         ----------
@@ -154,7 +154,7 @@ class LinearSweep:
         return (np.asarray(f, dtype=float) - self.f_start) / self.rate
 
     def phase(self, t: Any, out: np.ndarray | None = None) -> np.ndarray:
-        """Phase φ(t) = 2π (f_start t + k t²/2) of the sweep.
+        """Phase φ(t) = 2π (f_start t + κ t²/2) of the sweep.
 
         Parameters
         ----------

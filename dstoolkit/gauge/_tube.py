@@ -14,7 +14,7 @@ cutoff (2.7 kHz for d = 75 mm) the 1-D model holds.
 
 Each echo is the analytic sweep evaluated at the delayed time (an exact fractional delay);
 its loss is taken at the instantaneous frequency it carries, which is exact to first order
-because the sweep changes frequency slowly (k Δ² ≪ 1 cycle per echo period). The
+because the sweep changes frequency slowly (κ Δ² ≪ 1 cycle per echo period). The
 synthesis works in place on a few reused arrays, and the noise draws of an integer seed
 are kept for the next recording with that seed (``benchmarks/gauge_synthesis.py`` times
 it).

@@ -13,7 +13,11 @@ from dstoolkit.errors import require_extra
 
 require_extra("matplotlib", "plots", "dstoolkit.plots")
 
-from ._chapter_figures import plot_image_methods, plot_sweep_peaks  # noqa: E402
+from ._chapter_figures import (  # noqa: E402
+    plot_image_methods,
+    plot_nassreddine_step,
+    plot_sweep_peaks,
+)
 from ._evidence import (  # noqa: E402
     contour,
     interval_table,
@@ -91,6 +95,7 @@ __all__ = [
     "plot_focal_intervals",
     "plot_image_methods",
     "plot_masses",
+    "plot_nassreddine_step",
     "plot_noise_assumption",
     "plot_order_rule_study",
     "plot_pbox",

@@ -1,7 +1,7 @@
 """Figures of single chapters.
 
-The image of a function by two methods, and a sweep's envelope against the resonances of
-steady tones.
+The image of a function by two methods, a sweep's envelope against the resonances of
+steady tones, and one step of Nassreddine's filter.
 
 Each series has its own line style, hatch or marker and a label written next to it, so
 that none is told apart by its colour alone.
@@ -17,9 +17,12 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from dstoolkit.errors import InvalidInputError
+from dstoolkit.evidence import IntervalEvidence
+from dstoolkit.filters import NassreddineRecord
 
-from ._evidence import _axes
+from ._evidence import _axes, plot_focal_intervals
 from ._style import (
+    BETP_COLOUR,
     OKABE_ITO,
     SMALL_PT,
     column_size,
@@ -45,9 +48,10 @@ def plot_image_methods(
 ) -> Figure:
     """Draw the image of a function of one variable on a box by two methods, one panel a case.
 
-    In each panel: the function near the box (thin), on the box (thick), and as hatched
-    horizontal bands the image [a, b] that each method gives, each band labelled at the
-    right edge with its method and interval.
+    In each panel: the function near the box (thin), on the box (thick; the title names the
+    box, so that no label lies over the bands or the curve), and as hatched horizontal bands
+    the image [a, b] that each method gives, each band labelled at the right edge with its
+    method and interval.
 
     Parameters
     ----------
@@ -76,8 +80,8 @@ def plot_image_methods(
     >>> square = lambda x: x[..., 0] ** 2
     >>> fig = plot_image_methods({"x²": (square, -1.0, 2.0,
     ...                           {"vertex": (1.0, 4.0), "subdivision": (0.0, 4.0)})})
-    >>> [t.get_text() for t in fig.axes[0].texts]
-    ['subdivision: [0, 4]', 'vertex: [1, 4]', 'f on [-1, 2]']
+    >>> [t.get_text() for t in fig.axes[0].texts], fig.axes[0].get_title(loc="left")
+    (['subdivision: [0, 4]', 'vertex: [1, 4]'], 'f(x) = x², thick on the box [-1, 2]')
     """
     if not cases:
         raise InvalidInputError("plot_image_methods needs at least one case")
@@ -105,19 +109,10 @@ def plot_image_methods(
                 a, b = np.round(np.asarray(images[method], dtype=float), 10) + 0.0
                 ax.axhspan(a, b, facecolor=colour, alpha=0.3, hatch=hatch, edgecolor=colour, lw=0.8)
                 bands.append((a, b, f"{label}: [{a:.3g}, {b:.3g}]"))
-        ax.set_title(f"f(x) = {name}", loc="left")
+        ax.set_title(f"f(x) = {name}, thick on the box [{lo:g}, {hi:g}]", loc="left")
         ax.set_xlabel("x (no unit)")
         ax.set_ylabel("f(x) (no unit)")
         _label_bands(ax, bands)
-        ax.annotate(
-            f"f on [{lo:g}, {hi:g}]",
-            xy=(hi, float(f(np.array([[hi]]))[0])),
-            xytext=(-6, 6),
-            textcoords="offset points",
-            ha="right",
-            va="bottom",
-            fontsize=SMALL_PT,
-        )
     return fig
 
 
@@ -244,4 +239,98 @@ def plot_sweep_peaks(
     ax.set_ylabel("amplitude / A (no unit)")
     legend_above(ax, ncols=2)
     label_line_ends(ax, curves)
+    return fig
+
+
+@styled
+def plot_nassreddine_step(
+    record: NassreddineRecord,
+    carried: IntervalEvidence,
+    *,
+    xlim: tuple[float, float],
+    truth: float | None = None,
+    xlabel: str = "state x (no unit)",
+) -> Figure:
+    """Draw one step of Nassreddine's filter on a scalar model, one panel a stage.
+
+    Top to bottom: the mass function on intervals the step starts from, its prediction
+    f(X) + E_v, the evidence of the reading (in the state's space: ``g`` is the identity,
+    or the reading is mapped back through g⁻¹), the contractions renormalised (Dempster's
+    rule, eq. 1) with their conflict K, and what the clustering cap carries to the next
+    step. Each panel stacks the focal elements as in :func:`plot_focal_intervals` over one
+    x range (bars that run off it are wider, built on Θ); a vertical line marks the
+    pignistic expectation of the posterior (eq. 20) and a dashed one the ``truth``.
+
+    Parameters
+    ----------
+    record : dstoolkit.filters.NassreddineRecord
+        One step of a scalar model, from :meth:`dstoolkit.filters.NassreddineFilter.step`.
+    carried : dstoolkit.evidence.IntervalEvidence
+        The posterior after the cap (the state that step returned, its ``carried``).
+    xlim : tuple of float
+        The x range of every panel; wider focal elements (those built on Θ) are clipped.
+    truth : float, optional
+        The true state of that step.
+    xlabel : str, optional
+        The state and its unit, e.g. ``"frequency (Hz)"``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Five panels, stacked.
+
+    Raises
+    ------
+    InvalidInputError
+        If ``record`` is the first step (it has no prediction) or not of a scalar model.
+
+    References
+    ----------
+    The paper's §1 on Nassreddine's method; Dempster's rule (eq. 1), the pignistic
+    expectation (eq. 20).
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import IntervalEvidence
+    >>> from dstoolkit.filters import NassreddineFilter, random_walk
+    >>> filt = NassreddineFilter(p=2, max_focal=4)
+    >>> model = random_walk(0.5, 1.0)
+    >>> state, record = filt.step(filt.initialize(model, 0.2), 0.5)
+    >>> carried = IntervalEvidence.from_boxes(state.carried)
+    >>> fig = plot_nassreddine_step(record, carried, xlim=(-2.0, 2.5))
+    >>> len(fig.axes)
+    5
+    """
+    if record.state is None or record.prediction is None:
+        raise InvalidInputError(
+            "plot_nassreddine_step needs a step after the first (the first has no "
+            "prediction): pass a record returned by NassreddineFilter.step"
+        )
+    if record.posterior.dim != 1:
+        raise InvalidInputError("plot_nassreddine_step draws a scalar model's step only")
+    panels = (
+        (record.state, f"start: the state's evidence ({len(record.state)} intervals)"),
+        (record.prediction, f"prediction f(X) + E_v ({len(record.prediction)})"),
+        (record.observation, f"the reading's evidence z + E_w ({len(record.observation)})"),
+        (
+            record.posterior,
+            f"contractions, renormalised ({len(record.posterior)}; K = {record.conflict:.3f})",
+        ),
+        (carried, f"after the cap: {len(carried)} intervals carried to the next step"),
+    )
+    fig, grid = plt.subplots(
+        len(panels), 1, figsize=column_size(6.4, 9.6), sharex=True, layout="constrained"
+    )
+    estimate = float(record.estimate[0])
+    for ax, (ev, title) in zip(grid, panels, strict=True):
+        # no mass written on the bars: the thin ones would stack their labels
+        plot_focal_intervals(ev, ax, xlim=xlim, label_masses=False, xlabel=xlabel)
+        ax.set_title(title, loc="left", fontsize=SMALL_PT + 1)
+        if ax is not grid[-1]:
+            ax.set_xlabel("")
+    for ax in grid[3:]:
+        ax.axvline(estimate, color=BETP_COLOUR, lw=1.5, label="estimate x̂ (eq. 20)")
+        if truth is not None:
+            ax.axvline(truth, color="black", ls="--", lw=1.2, label="truth")
+    legend_above(grid[3], ncols=2)
     return fig

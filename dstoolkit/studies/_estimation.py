@@ -193,7 +193,7 @@ def _with_true_orders(case: CaseReadings) -> CaseReadings:
     Table 3's waveform simulation keeps only z.
 
     The detector leaves the sweep-rate and latency offsets in (as the paper's), so a
-    reading of order n sits near n f_F + kL/c + kτ; the simulation knows both offsets and
+    reading of order n sits near n f_F + κL/c + κτ; the simulation knows both offsets and
     gives each reading the order of the nearest n f_F once they are removed (the echo shift
     left over is a few hertz, below f_F/2 at every Table 3 level).
     """

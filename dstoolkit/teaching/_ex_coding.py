@@ -402,14 +402,14 @@ def _triangular_cases() -> list[Case]:
         Case("one-sided noise (mode = lower)", (0.0, 0.0, 1.0, 2, 0.05)),
     ]
     for i in range(4):
-        a, c, b = np.sort(rng.uniform(-5, 5, 3))
+        lo, mode, hi = np.sort(rng.uniform(-5, 5, 3))
         cases.append(
             Case(
                 f"random {i + 1}",
                 (
-                    float(a),
-                    float(c),
-                    float(b),
+                    float(lo),
+                    float(mode),
+                    float(hi),
                     int(rng.integers(1, 6)),
                     round(float(rng.uniform(0, 0.3)), 3),
                 ),
@@ -418,10 +418,10 @@ def _triangular_cases() -> list[Case]:
     return cases
 
 
-def _cuts_from_one(a: float, c: float, b: float, p: int, epsilon: float) -> list:
-    rows = plain.triangular_rows(a, c, b, p, epsilon)
+def _cuts_from_one(lo: float, mode: float, hi: float, p: int, epsilon: float) -> list:
+    rows = plain.triangular_rows(lo, mode, hi, p, epsilon)
     shifted = [
-        (a + (i + 1) / p * (c - a), b - (i + 1) / p * (b - c), (1 - epsilon) / p)
+        (lo + (i + 1) / p * (mode - lo), hi - (i + 1) / p * (hi - mode), (1 - epsilon) / p)
         for i in reversed(range(p))
     ]
     return shifted + rows[p:]
@@ -429,23 +429,24 @@ def _cuts_from_one(a: float, c: float, b: float, p: int, epsilon: float) -> list
 
 coding_exercise(
     "noise.triangular-code",
-    reference=lambda a, c, b, p, epsilon: _rows(triangular_evidence(a, c, b, p, epsilon)),
+    reference=lambda lo, mode, hi, p, epsilon: _rows(triangular_evidence(lo, mode, hi, p, epsilon)),
     plain=plain.triangular_rows,
     cases=_triangular_cases,
     normalise=sorted_rows,
-    arg_names=("a", "c", "b", "p", "epsilon"),
+    arg_names=("lower", "mode", "upper", "p", "epsilon"),
     hint="α runs over 0, 1/p, …, (p − 1)/p (eq. 23): α = 0 is the whole support, and the "
-    "mode alone (α = 1) is not a cut. Each cut has (1 − ε)/p; Θ = c ± 100σ, σ = (b − a)/6.",
+    "mode alone (α = 1) is not a cut. Each cut has (1 − ε)/p; Θ = mode ± 100σ, "
+    "σ = (upper − lower)/6.",
     mistakes=(
         (
             _cuts_from_one,
             "Your cuts run α = 1/p … 1: the last one is the mode alone and the "
-            "support [a, b] is missing. Take α = 0, 1/p, …, (p − 1)/p.",
+            "support [lower, upper] is missing. Take α = 0, 1/p, …, (p − 1)/p.",
         ),
         (
-            lambda a, c, b, p, epsilon: [
+            lambda lo, mode, hi, p, epsilon: [
                 (lo, hi, 1.0 / p if i < p else m)
-                for i, (lo, hi, m) in enumerate(plain.triangular_rows(a, c, b, p, epsilon))
+                for i, (lo, hi, m) in enumerate(plain.triangular_rows(lo, mode, hi, p, epsilon))
             ],
             "Each cut gets (1 − ε)/p, not 1/p: Θ takes ε, and the masses must add up to 1.",
         ),
@@ -797,26 +798,27 @@ def _sigma_cases() -> list[Case]:
         Case("one-sided (mode = lower)", (0.0, 0.0, 1.0)),
     ]
     for i in range(4):
-        a, c, b = np.sort(rng.uniform(-3, 3, 3))
-        cases.append(Case(f"random {i + 1}", (float(a), float(c), float(b))))
+        lo, mode, hi = np.sort(rng.uniform(-3, 3, 3))
+        cases.append(Case(f"random {i + 1}", (float(lo), float(mode), float(hi))))
     return cases
 
 
 coding_exercise(
     "beyond.sigma-code",
-    reference=lambda a, c, b: float(np.sqrt(BoundedNoise(a, c, b).variance[0])),
+    reference=lambda lo, mode, hi: float(np.sqrt(BoundedNoise(lo, mode, hi).variance[0])),
     plain=plain.triangle_sigma,
     cases=_sigma_cases,
-    arg_names=("a", "c", "b"),
-    hint="Var = (a² + b² + c² − ab − ac − bc)/18 for the triangle; σ is its square root.",
+    arg_names=("lower", "mode", "upper"),
+    hint="Var = (a² + b² + m² − ab − am − bm)/18 for the triangle on [a, b] with mode m; "
+    "σ is its square root.",
     mistakes=(
         (
-            lambda a, c, b: (b - a) / 6.0,
-            "(b − a)/6 is the σ of the measured errors from which the bounds were made (±3σ); "
-            "the triangle on those bounds has a smaller σ.",
+            lambda lo, mode, hi: (hi - lo) / 6.0,
+            "(upper − lower)/6 is the σ of the measured errors from which the bounds were made "
+            "(±3σ); the triangle on those bounds has a smaller σ.",
         ),
         (
-            lambda a, c, b: plain.triangle_sigma(a, c, b) ** 2,
+            lambda lo, mode, hi: plain.triangle_sigma(lo, mode, hi) ** 2,
             "That is the variance; σ is its square root.",
         ),
     ),
@@ -851,10 +853,15 @@ def shrink(x: Any) -> Any:
 
 
 def noise_rows(
-    a: float, c: float, b: float, p: int, epsilon: float, theta: tuple[float, float] | None = None
+    lower: float,
+    mode: float,
+    upper: float,
+    p: int,
+    epsilon: float,
+    theta: tuple[float, float] | None = None,
 ) -> list[tuple[float, float, float]]:
     """E_v or E_w of Step 1 as rows (lo, hi, mass), computed with dstoolkit."""
-    return _rows(triangular_evidence(a, c, b, p, epsilon, theta))
+    return _rows(triangular_evidence(lower, mode, upper, p, epsilon, theta))
 
 
 #: The hand example of the chapter: x̂_k, z_{k+1}, f, g and p = 1 noise evidence.

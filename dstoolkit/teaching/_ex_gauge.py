@@ -104,16 +104,16 @@ def _() -> int:
 @exercise(
     "gauge.offset",
     atol=5e-3,
-    hint="The envelope peaks k L/c above n c/(2L); the latency adds k τ.",
+    hint="The envelope peaks κ L/c above n c/(2L); the latency adds κ τ.",
     mistakes=(
         (
             lambda: SWEEP_RATE * 2 * GAUGE_CASE[0] / _c(GAUGE_CASE) + SWEEP_RATE * GAUGE_LATENCY,
             "You used k·2L/c: the peak sits where the *mean* frequency of wave and "
-            "echo is n c/(2L), half a delay back: k L/c.",
+            "echo is n c/(2L), half a delay back: κ L/c.",
         ),
         (
             lambda: float(sweep_rate_offset(SWEEP_RATE, _fundamental(GAUGE_CASE))),
-            "That is the sweep's offset k L/c alone; the latency adds k τ.",
+            "That is the sweep's offset κ L/c alone; the latency adds κ τ.",
         ),
     ),
 )
@@ -198,15 +198,15 @@ def _lab_c() -> float:
 @exercise(
     "lab.latency-offset",
     atol=5e-3,
-    hint="τ = lag / f_s (in ms: × 1000); every reading moves by k τ with k = 280 Hz/s "
-    "and τ in seconds. Answer (τ in ms, k τ in Hz).",
+    hint="τ = lag / f_s (in ms: × 1000); every reading moves by κ τ with κ = 280 Hz/s "
+    "and τ in seconds. Answer (τ in ms, κ τ in Hz).",
     mistakes=(
         (
             lambda: (
                 LAB_LAG_SAMPLES / LAB_SAMPLERATE,
                 SWEEP_RATE * LAB_LAG_SAMPLES / LAB_SAMPLERATE,
             ),
-            "Give τ in milliseconds (the offset k τ is right).",
+            "Give τ in milliseconds (the offset κ τ is right).",
         ),
     ),
 )
@@ -457,6 +457,47 @@ def _() -> int:
     return predicted * n_w * predicted
 
 
+#: Nassreddine's correction by hand: the prediction's and the reading's evidence (g the
+#: identity), as rows (lo, hi, mass).
+NASSREDDINE_PREDICTION = ((0.0, 2.0, 0.6), (1.0, 4.0, 0.4))
+NASSREDDINE_READING = ((1.5, 2.5, 0.7), (3.0, 5.0, 0.3))
+
+
+def _nassreddine_correction(renormalise: bool = True) -> tuple[float, float]:
+    """(K, x̂) of the correction of NASSREDDINE_PREDICTION by NASSREDDINE_READING.
+
+    Without ``renormalise``, x̂ is the expectation of the kept products left unscaled.
+    """
+    from dstoolkit.evidence import IntervalEvidence, conflict, dempster
+
+    def evidence(rows: tuple[tuple[float, float, float], ...]) -> IntervalEvidence:
+        lo, hi, mass = zip(*rows, strict=True)
+        return IntervalEvidence(list(lo), list(hi), list(mass))
+
+    pred, reading = evidence(NASSREDDINE_PREDICTION), evidence(NASSREDDINE_READING)
+    k = conflict(pred, reading)
+    estimate = float(dempster(pred, reading).pignistic_expectation()[0])
+    return float(k), estimate if renormalise else estimate * (1.0 - float(k))
+
+
+@exercise(
+    "beyond.nassreddine-correction",
+    atol=5e-4,
+    hint="Intersect every predicted interval with every interval of the reading; a product "
+    "has the mass m_i · m_j. The empty ones make up K; divide the others by 1 − K, then take "
+    "Σ m (lo + hi)/2 (eq. 20). Answer (K, x̂).",
+    mistakes=(
+        (
+            lambda: _nassreddine_correction(renormalise=False),
+            "The kept masses add up to 1 − K, not 1: divide them by 1 − K before the "
+            "expectation (Dempster's rule, eq. 1).",
+        ),
+    ),
+)
+def _() -> tuple[float, float]:
+    return _nassreddine_correction()
+
+
 @exercise(
     "beyond.failures",
     atol=1e-9,
@@ -478,11 +519,11 @@ def _() -> float:
 @exercise(
     "beyond.offset-ratio",
     atol=2e-3,
-    hint="b = kL/c + kτ with k = 280 Hz/s and τ = 10 ms; f_F = c/(2L). Divide.",
+    hint="b = κL/c + κτ with κ = 280 Hz/s and τ = 10 ms; f_F = c/(2L). Divide.",
     mistakes=(
         (
             lambda: SWEEP_RATE * LONG_CASE[0] / _c(LONG_CASE) / _fundamental(LONG_CASE),
-            "You left out the latency's k τ.",
+            "You left out the latency's κ τ.",
         ),
     ),
 )

@@ -58,7 +58,9 @@ def mass_function_explorer(
 
     References
     ----------
-    The paper's Def. 2 (mass functions) and eqs. 2–3 (belief and plausibility).
+    The paper's Def. 2 (mass functions). Belief and plausibility are not among the paper's
+    equations (its eqs. 2–3 are the evidence energies); they are Shafer's (1976), whose
+    theory the paper's §2 builds on.
 
     Examples
     --------

@@ -193,13 +193,28 @@ def compare_image_methods(
     return out
 
 
-def _extension_extent(ax: Any, bars: Any) -> tuple[float, ...]:
-    """Return what the autoscaled ranges of :func:`extension_explorer`'s figure follow.
+def _extension_extent(ax: Any) -> tuple[float, ...]:
+    """Return what the autoscaled ranges of f's panel of :func:`extension_explorer` follow.
 
-    The data x extent of f's panel ``ax`` and the y extent of both panels (they share y).
+    The data x and y extents of the panel ``ax`` (f on the whole x range).
     """
-    ys = [v for a in (ax, bars) for v in a.dataLim.intervaly if np.isfinite(v)]
-    return (*ax.dataLim.intervalx, min(ys, default=np.nan), max(ys, default=np.nan))
+    return (*ax.dataLim.intervalx, *ax.dataLim.intervaly)
+
+
+def _image_range(images: list[tuple[float, float]]) -> tuple[float, float]:
+    """Return the y-range of the images' panel: every image, with a margin.
+
+    The images of a small box are small: on f's own range they would shrink to dots, so
+    the panel has a range of its own, the hull of the images widened by a tenth of its
+    width below and a fifth above (room for the ⚠ on the top bar), or, for a hull of one
+    point, by a width of its own.
+    """
+    low = min(a for a, _ in images)
+    high = max(b for _, b in images)
+    span = high - low
+    if not span > 1e-12 * max(1.0, abs(low), abs(high)):
+        span = max(0.1 * abs(high), 0.1)
+    return float(low - 0.1 * span), float(high + 0.2 * span)
 
 
 def _shown_image(a: float, b: float, outer: bool) -> str:
@@ -237,8 +252,9 @@ def extension_explorer(
     (Prop. 2, eqs. 18–19) and subdivision give values f takes (inner approximations):
     which ones are right, which warn, which refuse. The mean-value form gives an outer
     enclosure from f's slope on the box, never narrower than the image. The figure shows
-    f, the box and the mean-value enclosure (a hatched band), and each method's image as a
-    bar with its own line style, end marker and label.
+    f, the box and the mean-value enclosure (a hatched band) and, in a second panel with a
+    y-range of its own (so that the images of a small box do not shrink to dots), each
+    method's image as a bar with its own line style, end marker and label.
 
     Parameters
     ----------
@@ -301,8 +317,11 @@ def extension_explorer(
         # ("−0.75" is wider than "0.0"), and a layout made for the first ones cut the others
         # not the style's engine either (the stubs of matplotlib leave "none" out)
         fig = Figure(figsize=(9.5, 3.9), layout="none")  # type: ignore[arg-type]
-        fig.subplots_adjust(left=0.075, right=0.99, bottom=0.25, top=0.91, wspace=0.06)
-        ax, bars = fig.subplots(1, 2, sharey=True, width_ratios=[2.6, 1.7])
+        fig.subplots_adjust(left=0.075, right=0.93, bottom=0.25, top=0.91, wspace=0.06)
+        # the images' panel has its y-range of its own (the images of a small box are small),
+        # its tick labels on its right
+        ax, bars = fig.subplots(1, 2, width_ratios=[2.6, 1.7])
+        bars.yaxis.tick_right()
         (curve,) = ax.plot(x, x, color="black", lw=1.2)
         (on_box,) = ax.plot(x, x, color=OKABE_ITO["sky blue"], lw=3.5, label="f on the box")
         box = ax.axvspan(0.0, 1.0, color=OKABE_ITO["sky blue"], alpha=0.15)
@@ -358,7 +377,7 @@ def extension_explorer(
             }
         bars.set_xticks(range(len(labels)), [lab.replace("-", "-\n") for lab in labels], fontsize=8)
         bars.set_xlim(-0.6, len(labels) - 0.4)
-        bars.set_title("image f([lo, hi])")
+        bars.set_title("image f([lo, hi]), own y-range", fontsize=10)
         ax.set_title(f"f(x) = {function} on [{lo:g}, {hi:g}]")  # its font; its text follows
         animate(curve, on_box, box, enclosure, ax.title, spines_of=ax)
         animate(*(a for m in methods.values() for a in m.values()), spines_of=bars)
@@ -386,6 +405,7 @@ def extension_explorer(
         d["box"].set_width(hi - lo)
         d["ax"].title.set_text(f"f(x) = {function} on [{lo:g}, {hi:g}]")
         numbers: dict[str, Any] = {}
+        images = [result[m]["image"] for m in d["methods"] if result[m]["image"] is not None]
         for method, shown in d["methods"].items():
             entry, label = result[method], METHOD_LOOK[method]["label"]
             refused = entry["image"] is None
@@ -406,23 +426,25 @@ def extension_explorer(
             numbers[label] = _shown_image(a, b, method == "mean_value") + (
                 " ⚠ too narrow?" if warn else ""
             )
-        # The ranges follow f on the whole x range, as when drawn anew: autoscaled from the
-        # curve alone (setting them, even unchanged, would redraw the whole figure). The
-        # images lie within f's range, up to the autoscale's margin; the mean-value
-        # enclosure reaches a little beyond it, so its bar is not clipped. Following the
-        # images too would move the ranges, and redraw everything, on nearly every change.
+        # f's panel follows f on the whole x range, as when drawn anew: autoscaled from the
+        # curve alone (setting its ranges, even unchanged, would redraw the whole figure).
         # (Animated artists hidden for the relim leave the figure unchanged.)
-        moving = (d["on_box"], d["enclosure"], *(m["bar"] for m in d["methods"].values()))
-        extent = _extension_extent(d["ax"], d["bars"])
+        moving = (d["on_box"], d["enclosure"])
+        extent = _extension_extent(d["ax"])
         shown = [artist.get_visible() for artist in moving]
         for artist in moving:
             artist.set_visible(False)
-        for ax in (d["ax"], d["bars"]):
-            ax.relim(visible_only=True)
+        d["ax"].relim(visible_only=True)
         for artist, visible in zip(moving, shown, strict=True):
             artist.set_visible(visible)
-        if _extension_extent(d["ax"], d["bars"]) != extent:
+        if _extension_extent(d["ax"]) != extent:
             d["ax"].autoscale_view()
+        # the images' panel follows the images (set only when it changes: a new range
+        # redraws the whole figure)
+        if images:
+            wanted = _image_range(images)
+            if not np.allclose(d["bars"].get_ylim(), wanted, rtol=0, atol=1e-12):
+                d["bars"].set_ylim(*wanted)
         # how often each method evaluated f, in the order of the columns (one column, so that
         # the readout keeps to two lines)
         numbers["f calls"] = " / ".join(str(result[m]["evaluations"]) for m in IMAGE_METHOD_NAMES)

@@ -127,23 +127,24 @@ def interval_energy(rows):
     return total
 
 
-def triangular_rows(a, c, b, p, epsilon):
+def triangular_rows(lower, mode, upper, p, epsilon):
     """Evidence of a noise with triangular possibility (eqs. 22–26).
 
-    The possibility is triangular on [a, b] with mode c.
+    The possibility is triangular on [lower, upper] with its peak at mode.
 
-    The p α-cuts at α = 0, 1/p, …, (p − 1)/p are [a + α(c − a), b − α(b −
-    c)], each with mass (1 − ε)/p; if ε > 0, Θ = [c − 100σ, c + 100σ] with σ
-    = (b − a)/6 gets mass ε. Returns rows (lo, hi, mass), innermost cut
-    first, Θ last.
+    The p α-cuts at α = 0, 1/p, …, (p − 1)/p are [lower + α(mode − lower),
+    upper − α(upper − mode)], each with mass (1 − ε)/p; if ε > 0, Θ = [mode
+    − 100σ, mode + 100σ] with σ = (upper − lower)/6 gets mass ε. Returns
+    rows (lo, hi, mass), innermost cut first, Θ last.
     """
     rows = []
     for i in reversed(range(p)):
         alpha = i / p
-        rows.append((a + alpha * (c - a), b - alpha * (b - c), (1.0 - epsilon) / p))
+        lo = lower + alpha * (mode - lower)
+        rows.append((lo, upper - alpha * (upper - mode), (1.0 - epsilon) / p))
     if epsilon > 0:
-        sigma = (b - a) / 6.0
-        rows.append((c - 100 * sigma, c + 100 * sigma, epsilon))
+        sigma = (upper - lower) / 6.0
+        rows.append((mode - 100 * sigma, mode + 100 * sigma, epsilon))
     return rows
 
 
@@ -220,13 +221,15 @@ def level_from_two_readings(z1, z2, temperature):
     return n1, n1 * (331.3 + 0.606 * temperature) / (2.0 * z1)
 
 
-def triangle_sigma(a, c, b):
+def triangle_sigma(lower, mode, upper):
     """Return the standard deviation of the triangular density.
 
-    The density is on [a, b] with mode c; its standard deviation is the
-    square root of (a² + b² + c² − ab − ac − bc)/18.
+    The density is on [lower, upper] with its peak at mode; writing a, b, m
+    for the three, its standard deviation is the square root of
+    (a² + b² + m² − ab − am − bm)/18.
     """
-    return math.sqrt((a * a + b * b + c * c - a * b - a * c - b * c) / 18.0)
+    a, b, m = lower, upper, mode
+    return math.sqrt((a * a + b * b + m * m - a * b - a * m - b * m) / 18.0)
 
 
 def filter_step(xhat, z, f, g, g_inv, v_rows, w_rows):
