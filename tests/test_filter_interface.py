@@ -116,16 +116,28 @@ def test_the_step_loop_is_what_run_records(name):
 
 
 @pytest.mark.parametrize("name", list(MAKERS))
-def test_every_filter_takes_the_same_kernel_values(name):
+def test_kernel_numba_only_where_a_compiled_kernel_exists(name):
+    """ "numpy" and "auto" everywhere; "numba" where the filter has compiled kernels."""
     have_numba = importlib.util.find_spec("numba") is not None
-    for kernel in KERNELS:
-        if kernel == "numba" and not have_numba:
-            with pytest.raises(Exception, match="speed"):
-                MAKERS[name](kernel=kernel)
-            continue
+    flt = MAKERS[name]()
+    for kernel in ("numpy", "auto"):
         MAKERS[name](kernel=kernel)
+    if not flt.COMPILED_KERNEL:
+        with pytest.raises(EvidenceError, match="has no compiled kernel; use kernel='numpy'"):
+            MAKERS[name](kernel="numba")
+    elif have_numba:
+        MAKERS[name](kernel="numba")
+    else:
+        with pytest.raises(Exception, match="speed"):
+            MAKERS[name](kernel="numba")
     with pytest.raises(EvidenceError, match="kernel must be one of 'numpy', 'numba', 'auto'"):
         MAKERS[name](kernel="fortran")
+
+
+def test_the_filters_with_compiled_kernels():
+    compiled = {name for name in MAKERS if MAKERS[name]().COMPILED_KERNEL}
+    assert compiled == {"dependent_evidence", "nassreddine", "nassreddine_restart", "particle"}
+    assert set(KERNELS) == {"numpy", "numba", "auto"}
 
 
 def test_the_noise_frames_have_one_name():

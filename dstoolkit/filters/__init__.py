@@ -1,6 +1,7 @@
 """State-space models, the filters and example systems.
 
-The paper's dependent-evidence filter (Steps 1-6, eqs. 30-31), Nassreddine's filter, a
+The paper's dependent-evidence filter (§3.2, Steps 1–6, on eq. 21's model: eqs. 22–26,
+eqs. 13–16, eq. 20, eqs. A1–A8), Nassreddine's filter, a
 bounded-error (set-membership) filter, the extended Kalman filter and a bootstrap particle
 filter, and example systems.
 """

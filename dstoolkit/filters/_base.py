@@ -73,17 +73,17 @@ class FilterState:
 
     Parameters
     ----------
-    model
-        *StateSpaceModel*. The model the filter runs on.
-    k
-        *int*. The step whose estimate this is (1 for the first reading).
-    estimate
-        *ndarray, shape (n,)*. x̂_k.
-    lower
-        *ndarray, shape (n,)*. Bounds of step k's final belief (see
+    model : StateSpaceModel
+        The model the filter runs on.
+    k : int
+        The step whose estimate this is (1 for the first reading).
+    estimate : ndarray, shape (n,)
+        x̂_k.
+    lower : ndarray, shape (n,)
+        Bounds of step k's final belief (see
         :class:`~dstoolkit.filters.FilterResult`).
-    upper
-        *ndarray, shape (n,)*. Bounds of step k's final belief (see
+    upper : ndarray, shape (n,)
+        Bounds of step k's final belief (see
         :class:`~dstoolkit.filters.FilterResult`).
     """
 
@@ -135,6 +135,9 @@ class Filter(ABC, Generic[StateT, RecordT]):
     name: ClassVar[str]
     #: Per-step diagnostics of a run (the keys of ``FilterResult.diagnostics``), explained.
     DIAGNOSTICS: ClassVar[dict[str, str]] = {}
+    #: Whether the filter has compiled kernels (extra ``speed``): only then does it accept
+    #: ``kernel="numba"``.
+    COMPILED_KERNEL: ClassVar[bool] = False
 
     # -- what each filter writes -------------------------------------------------------------
     @abstractmethod
@@ -143,10 +146,10 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
         Parameters
         ----------
-        model
-            *StateSpaceModel*. The model of eq. 21.
-        z1
-            *array_like, shape (m,) or scalar when m = 1*. The first reading.
+        model : StateSpaceModel
+            The model of eq. 21.
+        z1 : array_like, shape (m,) or scalar when m = 1
+            The first reading.
 
         Returns
         -------
@@ -162,10 +165,10 @@ class Filter(ABC, Generic[StateT, RecordT]):
         ----------
         state
             What :meth:`initialize` or the previous :meth:`step` returned.
-        z
-            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
-        u
-            *array_like, shape (q,), optional*. The input of f(x, u) on the
+        z : array_like, shape (m,) or scalar when m = 1
+            The reading z_{k+1}.
+        u : array_like, shape (q,), optional
+            The input of f(x, u) on the
             transition k → k + 1 (the gauge's order n_k).
 
         Returns
@@ -219,15 +222,15 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
         Parameters
         ----------
-        model
-            *StateSpaceModel*. The model of eq. 21.
-        z
-            *array_like, shape (T, m), or (T,) when m = 1*. The readings z_1 … z_T.
-        inputs
-            *array_like, shape (T − 1, q), optional*. ``inputs[k - 1]`` drives f(x,
+        model : StateSpaceModel
+            The model of eq. 21.
+        z : array_like, shape (T, m), or (T,) when m = 1
+            The readings z_1 … z_T.
+        inputs : array_like, shape (T − 1, q), optional
+            ``inputs[k - 1]`` drives f(x,
             u) from step k − 1 to step k.
-        record
-            *bool, optional*. Keep the typed record of every step in
+        record : bool, optional
+            Keep the typed record of every step in
             ``result.steps`` (runs the public
             :meth:`step` loop).
 
@@ -265,12 +268,12 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
         Parameters
         ----------
-        model
-            *StateSpaceModel*. The model of eq. 21.
-        Z
-            *array_like, shape (R, T, m), or (R, T) when m = 1*. R sequences of T readings.
-        inputs
-            *array_like, shape (R, T − 1, q), optional*. One input sequence per run.
+        model : StateSpaceModel
+            The model of eq. 21.
+        Z : array_like, shape (R, T, m), or (R, T) when m = 1
+            R sequences of T readings.
+        inputs : array_like, shape (R, T − 1, q), optional
+            One input sequence per run.
 
         Returns
         -------
@@ -387,13 +390,20 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
         ``kernel`` is ``"numpy"``, ``"numba"`` or ``"auto"`` (numba when it is installed);
         the compiled kernels give the numpy path's numbers bit for bit. Refuses another
-        value, or ``"numba"`` without numba.
+        value, ``"numba"`` for a filter without compiled kernels (``COMPILED_KERNEL``), or
+        ``"numba"`` without numba. ``"auto"`` runs numpy where nothing is compiled.
         """
         cls._policy(kernel, ("numpy", "numba", "auto"), "kernel")
+        if kernel == "numba" and not cls.COMPILED_KERNEL:
+            raise EvidenceError(
+                f"kernel='numba': {purpose} has no compiled kernel; use kernel='numpy' "
+                "(or 'auto', which compiles only where a filter has compiled kernels)"
+            )
         if kernel == "numba":
             require_extra("numba", "speed", f"kernel='numba' of {purpose}")
-        return kernel == "numba" or (
-            kernel == "auto" and importlib.util.find_spec("numba") is not None
+        return cls.COMPILED_KERNEL and (
+            kernel == "numba"
+            or (kernel == "auto" and importlib.util.find_spec("numba") is not None)
         )
 
     def _own(self, name: str, value: Any) -> None:
