@@ -8,6 +8,8 @@ from __future__ import annotations
 import contextlib
 import io
 import re
+import sys
+import types
 from pathlib import Path
 
 import pytest
@@ -18,8 +20,10 @@ BLOCKS = re.findall(r"```python\n(.*?)```", README.read_text(encoding="utf-8"), 
 
 def _run(code: str) -> str:
     out = io.StringIO()
+    module = types.ModuleType("__readme__")  # a module, as a user's script is (dataclasses)
+    sys.modules[module.__name__] = module
     with contextlib.redirect_stdout(out):
-        exec(compile(code, str(README), "exec"), {"__name__": "__readme__"})
+        exec(compile(code, str(README), "exec", dont_inherit=True), module.__dict__)
     return out.getvalue()
 
 
@@ -31,6 +35,16 @@ def test_the_readme_has_its_examples() -> None:
 @pytest.mark.parametrize("index", range(len(BLOCKS)))
 def test_readme_example_runs(index: int) -> None:
     assert _run(BLOCKS[index]).strip()
+
+
+def test_a_filter_of_initialize_and_step_runs_and_batches() -> None:
+    """The README's alpha–beta filter: at most 40 lines, one run and a batch of two."""
+    block = next(b for b in BLOCKS if "class AlphaBetaFilter" in b)
+    assert len(block.strip().splitlines()) <= 40
+    assert "_engine" not in block
+    run, shape = _run(block).strip().splitlines()
+    assert shape == "(2, 4, 1)"
+    assert run == "[1.    1.1   1.01  1.054]"  # x̂ = x_pred + 0.5 r on 1.0, 1.2, 0.9, 1.1
 
 
 def test_the_step_loop_ends_where_run_ends() -> None:
