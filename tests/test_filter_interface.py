@@ -20,6 +20,7 @@ from dstoolkit.filters import (
     KERNELS,
     BatchResult,
     BoundedErrorFilter,
+    ComparisonSettings,
     DependentEvidenceFilter,
     Filter,
     FilterResult,
@@ -29,6 +30,7 @@ from dstoolkit.filters import (
     ParticleFilter,
     lotka_volterra,
     random_walk,
+    registered_filters,
 )
 from dstoolkit.gauge import gauge_state_space_model, simulate_gauge
 
@@ -160,6 +162,20 @@ def test_kernel_numba_only_where_a_compiled_kernel_exists(name):
             MAKERS[name](kernel="numba")
     with pytest.raises(EvidenceError, match="kernel must be one of 'numpy', 'numba', 'auto'"):
         MAKERS[name](kernel="fortran")
+
+
+def test_every_registered_filter_goes_through_these_lines():
+    """The registry's filters are those MAKERS runs (with options that keep the tests short).
+
+    A filter registered without a maker here fails: add it to MAKERS.
+    """
+    registered = {entry.name: entry for entry in registered_filters()}
+    assert set(registered) <= set(MAKERS)
+    settings = ComparisonSettings()
+    for name, entry in registered.items():
+        made = entry.make(settings)
+        assert isinstance(made, Filter) and made.name == name
+        assert type(made) is type(MAKERS[name]())
 
 
 def test_the_filters_with_compiled_kernels():

@@ -64,6 +64,13 @@ from ._particle import (
     ParticleState,
     systematic_resample,
 )
+from ._registry import (
+    ComparisonSettings,
+    FilterEntry,
+    register_filter,
+    registered_filters,
+    unregister_filter,
+)
 
 __all__ = [
     "BatchResult",
@@ -71,12 +78,14 @@ __all__ = [
     "BoundedErrorRecord",
     "BoundedErrorState",
     "BoundedNoise",
+    "ComparisonSettings",
     "COUNTS",
     "DIAGNOSTICS",
     "DependentEvidenceFilter",
     "DependentRecord",
     "DependentState",
     "Filter",
+    "FilterEntry",
     "FilterState",
     "KERNELS",
     "FilterResult",
@@ -98,7 +107,10 @@ __all__ = [
     "finite_difference_jacobian",
     "lotka_volterra",
     "random_walk",
+    "register_filter",
+    "registered_filters",
     "simulate_lotka_volterra",
     "systematic_resample",
+    "unregister_filter",
     "with_input",
 ]
