@@ -48,12 +48,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from dstoolkit.filters import (
     BoundedErrorFilter,  # noqa: E402
+    ComparisonSettings,  # noqa: E402
     DependentEvidenceFilter,  # noqa: E402
     Filter,  # noqa: E402
     KalmanFilter,  # noqa: E402
     NassreddineFilter,  # noqa: E402
     ParticleFilter,  # noqa: E402
     StateSpaceModel,  # noqa: E402
+    registered_filters,  # noqa: E402
 )
 from dstoolkit.gauge import gauge_state_space_model, simulate_gauge  # noqa: E402
 
@@ -105,6 +107,14 @@ register(
 register("bounded_error", BoundedErrorFilter, "one box, interval image ∩ reading box")
 register("kalman", KalmanFilter, "(extended) Kalman on the noises' means and variances")
 register("particle", ParticleFilter, "bootstrap, 1000 particles, systematic resampling")
+# every other filter of the comparisons (dstoolkit.filters.registered_filters), as they run it
+for _entry in registered_filters():
+    if _entry.name not in REGISTRY:
+        register(
+            _entry.name,
+            lambda entry=_entry: entry.make(ComparisonSettings()),
+            f"{_entry.label}, with the comparisons' settings",
+        )
 
 
 def user_gauge_model() -> StateSpaceModel:

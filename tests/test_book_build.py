@@ -8,6 +8,7 @@ widget embedded in the page.
 from __future__ import annotations
 
 import json
+import re
 from html.parser import HTMLParser
 from pathlib import Path
 
@@ -184,3 +185,26 @@ def test_teaching_page_has_plans_map_and_text_version(built_book: BookBuild) -> 
 def test_chapter_one_draws_the_loop(built_book: BookBuild) -> None:
     page = (built_book.html_dir / "book" / "why_bounded_noise.html").read_text(encoding="utf-8")
     assert "wb-fig-loop" in page and "dependent combination" in page
+
+
+def test_the_markup_that_fails_wcag_is_written_right(built_book: BookBuild) -> None:
+    """The templates and visitors of book/ give the markup axe accepts, on every page.
+
+    The search button is named by its visible text, the colour-mode icons are decoration,
+    myst-nb's toggles and the bibliography's entries carry no wrong name or role, figures
+    load lazily and the copy and toggle buttons' scripts are deferred.
+    """
+    pages = [p for p in built_book.html_dir.rglob("*.html") if "_static" not in p.parts]
+    text = "\n".join(p.read_text(encoding="utf-8") for p in pages)
+    assert "search-button-field" in text and 'data-mode="light" aria-hidden="true"' in text
+    assert '<button class="btn search-button-field search-button__button pst-js-only" ' in text
+    assert not re.search(r'search-button-field[^>]*aria-label="Search"', text)
+    assert 'title="Light"' not in text
+    assert 'aria-label="Toggle hidden content"' not in text and "<summary>" in text
+    assert 'role="doc-biblioentry"' not in text and 'class="citation" id=' in text
+    assert 'role="listitem"' in text
+    assert re.search(r'<img [^>]*loading="lazy"', text)
+    assert not re.search(r'<img (?![^>]*loading="lazy")[^>]*src="[^"]*_images/', text)
+    assert re.search(r'<script defer src="[^"]*copybutton\.js', text)
+    search = (built_book.html_dir / "search.html").read_text(encoding="utf-8")
+    assert re.search(r'<script defer src="[^"]*searchtools\.js', search)

@@ -45,15 +45,8 @@ def _page(tmp_path: Path) -> Path:
     page = tmp_path / "book" / "chapter.html"
     page.parent.mkdir()
     page.write_text(
-        '<html><head><script src="../_static/searchtools.js"></script></head><body>'
-        '<button class="btn search-button-field search-button__button pst-js-only" '
-        'title="Search" aria-label="Search" data-bs-placement="bottom">'
-        '<i class="fa-solid fa-magnifying-glass"></i><span>Search</span></button>'
-        '<i class="theme-switch fa-solid fa-sun fa-lg" data-mode="light" title="Light"></i>'
-        '<summary aria-label="Toggle hidden content"><p>Show code cell source</p>'
-        '<svg xmlns="http://www.w3.org/2000/svg" class="tb-icon toggle-chevron-right"></svg>'
-        '</summary><img alt="A line chart of the errors." src="../_images/f.png" />'
-        '<div class="citation" id="id1" role="doc-biblioentry">A book.</div>'
+        '<html><head></head><body><img alt="A line chart." src="../_images/f.png" />'
+        '<i class="fa-solid fa-magnifying-glass"></i><i class="fa-solid fa-sun fa-lg"></i>'
         '<script type="application/vnd.jupyter.widget-state+json">'
         + json.dumps(state)
         + "</script></body></html>",
@@ -62,7 +55,7 @@ def _page(tmp_path: Path) -> Path:
     return page
 
 
-def test_pictures_leave_the_page_and_the_markup_is_mended(tmp_path: Path) -> None:
+def test_pictures_leave_the_page(tmp_path: Path) -> None:
     ext = _ext()
     page = _page(tmp_path)
     assert ext.rewrite(page)
@@ -72,13 +65,7 @@ def test_pictures_leave_the_page_and_the_markup_is_mended(tmp_path: Path) -> Non
     assert len(files) == 1 and files[0].read_bytes() == PNG
     assert f"src='{ext.STATES_DIR}/{files[0].name}'" in text
     assert "alt='Figure for level L (m) = 9.6: estimate (m) 9.6100.'" in text
-    assert 'aria-label="Search"' not in text and 'title="Light"' not in text
-    assert 'data-mode="light" aria-hidden="true"' in text
-    assert 'aria-label="Toggle hidden content"' not in text
-    assert 'role="doc-biblioentry"' not in text and 'role="listitem"' in text
-    assert '<script defer src="../_static/searchtools.js">' in text
-    assert '<svg aria-hidden="true" xmlns=' in text
-    assert '<img loading="lazy" alt="A line chart of the errors."' in text
+    assert '<img alt="A line chart." src="../_images/f.png" />' in text  # the rest as it was
     assert "<img class='dstoolkit-figure' src=" in text  # the state's JSON is untouched
     assert not ext.rewrite(page), "a second run must change nothing"
 

@@ -18,8 +18,10 @@ from __future__ import annotations
 import dataclasses
 import importlib
 import inspect
+import re
 import sys
 import typing
+from pathlib import Path
 
 import pytest
 from numpydoc.validate import validate
@@ -93,6 +95,24 @@ def test_the_check_covers_the_api() -> None:
 def test_numpydoc_docstring(qualname: str, exported: bool) -> None:
     found = problems(qualname, exported)
     assert not found, f"{qualname}: " + "; ".join(found)
+
+
+#: A parameter written ``name`` then ``*type*. description``: numpydoc's form is ``name : type``.
+OLD_STYLE = re.compile(r"^( +)[*\w][\w, *]*\n\1    \*[^*\n]+\*\.(?: |$)", re.M)
+#: Modules being edited on another branch at the same time: they keep the old form until
+#: that change lands (the test below then fails, and they leave this set).
+PENDING = {"evidence/_clustering.py"}
+
+
+def test_one_parameter_style_in_every_module() -> None:
+    root = Path(__file__).resolve().parents[1] / "dstoolkit"
+    old = {
+        path.relative_to(root).as_posix()
+        for path in root.rglob("*.py")
+        if OLD_STYLE.search(path.read_text(encoding="utf-8"))
+    }
+    assert old == PENDING
+    assert OLD_STYLE.search("    lo, hi\n        *ndarray*. The ends.\n")  # the scan finds it
 
 
 if __name__ == "__main__":

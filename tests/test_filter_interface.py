@@ -7,6 +7,10 @@ from __future__ import annotations
 
 import dataclasses
 import importlib.util
+import re
+import sys
+import types
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,6 +20,7 @@ from dstoolkit.filters import (
     KERNELS,
     BatchResult,
     BoundedErrorFilter,
+    ComparisonSettings,
     DependentEvidenceFilter,
     Filter,
     FilterResult,
@@ -25,8 +30,25 @@ from dstoolkit.filters import (
     ParticleFilter,
     lotka_volterra,
     random_walk,
+    registered_filters,
 )
 from dstoolkit.gauge import gauge_state_space_model, simulate_gauge
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+
+
+def readme_filter() -> type[Filter]:
+    """Return the README's alpha–beta filter: only ``initialize`` and ``step`` (no _engine)."""
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(encoding="utf-8"), re.S)
+    code = next(b for b in blocks if "class AlphaBetaFilter" in b)
+    code = code[: code.index("model, z = ")]  # the classes, not the example's prints
+    module = types.ModuleType("readme_alpha_beta")  # a module, as a user's file would be
+    sys.modules[module.__name__] = module
+    exec(compile(code, str(README), "exec", dont_inherit=True), module.__dict__)
+    return module.AlphaBetaFilter
+
+
+AlphaBetaFilter = readme_filter()
 
 MAKERS = {
     "dependent_evidence": lambda **kw: DependentEvidenceFilter(p=2, **kw),
@@ -35,7 +57,11 @@ MAKERS = {
     "bounded_error": lambda **kw: BoundedErrorFilter(on_inconsistent="reset", **kw),
     "kalman": lambda **kw: KalmanFilter(**kw),
     "particle": lambda **kw: ParticleFilter(n_particles=200, seed=3, **kw),
+    # a filter that writes only initialize and step: Filter runs, records and batches it
+    "alpha_beta": lambda kernel="numpy": AlphaBetaFilter(),
 }
+#: The package's filters (they take ``kernel=``).
+BUILT_IN = [name for name in MAKERS if name != "alpha_beta"]
 #: The paper's filter steps on IntervalEvidence objects (equal focal elements merged,
 #: eq. 14), its vectorised run on arrays: the same numbers up to the order of additions.
 TOLERANCE = {"dependent_evidence": 1e-12}
@@ -102,7 +128,11 @@ def test_the_step_loop_is_what_run_records(name):
     recorded = flt.run(model, Z[1], U[1], record=True)
     fast = flt.run(model, Z[1], U[1])
     assert recorded.steps is not None and len(recorded.steps) == Z.shape[1]
-    assert len({type(r) for r in recorded.steps}) == 1
+    assert len({type(r) for r in recorded.steps[1:]}) == 1
+    # the start's record: the filter's own, or None where it writes none (the README's)
+    assert type(recorded.steps[0]) is type(recorded.steps[1]) or (
+        recorded.steps[0] is None and name == "alpha_beta"
+    )
     tol = TOLERANCE.get(name, 0.0)
     np.testing.assert_allclose(recorded.estimates, fast.estimates, rtol=tol, atol=0)
     for key in flt.DIAGNOSTICS:
@@ -115,17 +145,43 @@ def test_the_step_loop_is_what_run_records(name):
         )
 
 
-@pytest.mark.parametrize("name", list(MAKERS))
-def test_every_filter_takes_the_same_kernel_values(name):
+@pytest.mark.parametrize("name", BUILT_IN)
+def test_kernel_numba_only_where_a_compiled_kernel_exists(name):
+    """Every filter takes "numpy" and "auto"; "numba" only with compiled kernels."""
     have_numba = importlib.util.find_spec("numba") is not None
-    for kernel in KERNELS:
-        if kernel == "numba" and not have_numba:
-            with pytest.raises(Exception, match="speed"):
-                MAKERS[name](kernel=kernel)
-            continue
+    flt = MAKERS[name]()
+    for kernel in ("numpy", "auto"):
         MAKERS[name](kernel=kernel)
+    if not flt.COMPILED_KERNEL:
+        with pytest.raises(EvidenceError, match="has no compiled kernel; use kernel='numpy'"):
+            MAKERS[name](kernel="numba")
+    elif have_numba:
+        MAKERS[name](kernel="numba")
+    else:
+        with pytest.raises(Exception, match="speed"):
+            MAKERS[name](kernel="numba")
     with pytest.raises(EvidenceError, match="kernel must be one of 'numpy', 'numba', 'auto'"):
         MAKERS[name](kernel="fortran")
+
+
+def test_every_registered_filter_goes_through_these_lines():
+    """The registry's filters are those MAKERS runs (with options that keep the tests short).
+
+    A filter registered without a maker here fails: add it to MAKERS.
+    """
+    registered = {entry.name: entry for entry in registered_filters()}
+    assert set(registered) <= set(MAKERS)
+    settings = ComparisonSettings()
+    for name, entry in registered.items():
+        made = entry.make(settings)
+        assert isinstance(made, Filter) and made.name == name
+        assert type(made) is type(MAKERS[name]())
+
+
+def test_the_filters_with_compiled_kernels():
+    compiled = {name for name in BUILT_IN if MAKERS[name]().COMPILED_KERNEL}
+    assert compiled == {"dependent_evidence", "nassreddine", "nassreddine_restart", "particle"}
+    assert set(KERNELS) == {"numpy", "numba", "auto"}
 
 
 def test_the_noise_frames_have_one_name():
@@ -202,6 +258,8 @@ def test_a_map_that_returns_nan_or_complex_is_named_with_its_step(name, broken):
         flt.run(model, z)
     with pytest.raises(EvidenceError, match=pattern):
         flt.run_batch(model, np.stack([z, z]))
+    if name == "alpha_beta":
+        return  # the README's step calls the model it is given: run and run_batch guard it
     state = flt.initialize(model, z[0])
     with pytest.raises(EvidenceError, match=pattern):
         for reading in z[1:]:
@@ -277,3 +335,40 @@ def test_the_energy_without_theta_is_an_option_of_the_papers_filter():
     )
     with pytest.raises(EvidenceError, match="energy_theta"):
         DependentEvidenceFilter(energy_theta="none")
+
+
+@pytest.mark.parametrize("name", BUILT_IN)
+def test_each_fast_path_gives_what_the_step_loop_gives(name):
+    """A filter's vectorised _engine is a fast path of the base's step loop: the same numbers.
+
+    The particle filter's runs of a batch draw from their own streams, and its public step
+    from run 0's: one run is compared.
+    """
+    model, Z, U = gauge_case()
+    flt = MAKERS[name]()
+    runs = 1 if name == "particle" else Z.shape[0]
+    guarded = flt._guarded(model)
+    Z, U = Z[:runs], U[:runs, :, None]  # (R, T, m) and (R, T - 1, q), as run passes them
+    fast = flt._engine(guarded, Z, U, np.arange(runs))
+    loop = flt.step_loop(guarded, Z, U)
+    assert type(flt)._engine is not Filter._engine  # a fast path of its own
+    tol = TOLERANCE.get(name, 0.0)
+    for got, want in zip(loop[:3], fast[:3], strict=True):
+        np.testing.assert_allclose(got, want, rtol=tol, atol=0)
+    assert set(loop.diagnostics) == set(fast.diagnostics) == set(flt.DIAGNOSTICS)
+
+
+def test_a_filter_with_only_initialize_and_step_needs_nothing_else():
+    """The README's filter defines neither _engine nor _bytes_per_run: the base runs it."""
+    for hook in ("_engine", "_bytes_per_run", "_start_record"):
+        assert hook not in vars(AlphaBetaFilter)
+    model, Z, _ = walk_case()
+    flt = AlphaBetaFilter()
+    batch = flt.run_batch(model, Z)
+    for r in range(Z.shape[0]):
+        state = flt.initialize(model, Z[r, 0])
+        for k in range(1, Z.shape[1]):
+            state, record = flt.step(state, Z[r, k])
+        np.testing.assert_array_equal(state.estimate, batch.estimates[r, -1])
+        assert batch.diagnostics["residual"][r, -1] == record.residual
+    assert np.isnan(batch.diagnostics["residual"][:, 0]).all()  # no start record: NaN

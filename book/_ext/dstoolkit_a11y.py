@@ -1,21 +1,22 @@
-"""Sphinx extension: the written HTML pages made lighter and accessible, after the build.
+"""Sphinx extension: the written HTML pages made lighter and accessible.
 
-When the HTML builder has written every page (``build-finished``), each page of the book is
-rewritten in place (the rewrite is idempotent, so pages Sphinx did not write again are left
-as they are):
-
-* **Explorer pictures leave the page.** Every PNG that an explorer's precomputed state
-  carries as a ``data:`` URL (``dstoolkit.teaching``'s ``image_html``) in the page's widget
-  state is written to ``_states/<hash>.png`` in the page's folder, and the state refers to
-  that file. The widget manager draws only the state a control selects, so a picture is
-  fetched when it is shown, with its ``alt``.
+* **Explorer pictures leave the page.** When the HTML builder has written every page
+  (``build-finished``), every PNG that an explorer's precomputed state carries as a
+  ``data:`` URL (``dstoolkit.teaching``'s ``image_html``) in the page's widget state is
+  written to ``_states/<hash>.png`` in the page's folder, and the state refers to that
+  file (idempotent: pages Sphinx did not write again are left as they are). The widget
+  manager draws only the state a control selects, so a picture is fetched when it is
+  shown, with its ``alt``.
 * **Icons from a subset of Font Awesome.** The theme loads all of Font Awesome as a script
   (1.5 MB) to draw a dozen icons. ``_static/scripts/fontawesome.js`` is replaced by a
   script that holds only the icons the pages name (found in the written pages) and draws
   them the same way: each ``<i class="fa-solid fa-...">`` becomes an inline ``<svg>``.
-* **Markup of the theme and of the toolchain** that fails WCAG 2.1, scripts that need not
-  block the first paint, and figures loaded only when they come near the screen (see
-  :data:`FIXES`).
+* **Markup that fails WCAG 2.1 AA, written right in the first place**, through Sphinx's
+  public extension points: myst-nb's toggles of hidden code and the bibliography's entries
+  get visitors of their own (:func:`visit_hidden_cell`, :func:`visit_citation`), and
+  every figure is fetched when it comes near the screen (:class:`LazyImages`). The theme's
+  own markup is mended by small template overrides in ``book/_templates`` (the search
+  button, the colour-mode button, the deferred scripts).
 """
 
 from __future__ import annotations
@@ -26,8 +27,14 @@ import re
 from base64 import b64decode
 from pathlib import Path
 
+from html import escape
+
+from docutils import nodes
+from myst_nb.sphinx_ import HideCodeCellNode, depart_HideCellInput
 from sphinx.application import Sphinx
+from sphinx.transforms.post_transforms import SphinxPostTransform
 from sphinx.util import logging
+from sphinx.util.docutils import SphinxTranslator
 
 logger = logging.getLogger(__name__)
 
@@ -36,38 +43,6 @@ STATES_DIR = "_states"
 _STATE_SCRIPT = re.compile(
     r'(<script type="application/vnd\.jupyter\.widget-state\+json">)(.*?)(</script>)', re.S)
 _DATA_PNG = re.compile(r"data:image/png;base64,([A-Za-z0-9+/=]+)")
-
-#: (pattern, replacement) applied to every page, in order: markup of the theme and of the
-#: toolchain that fails WCAG 2.1 AA.
-FIXES: list[tuple[re.Pattern[str], str]] = [
-    # The search field's button shows "Search Ctrl+K" but is named "Search" (2.5.3 Label in
-    # Name): its visible text names it.
-    (re.compile(r'(<button class="btn search-button-field[^"]*"[^>]*?) aria-label="Search"'),
-     r"\1"),
-    # The colour-mode button holds three icons titled Light, Dark and System Settings, and
-    # is named "Color mode": the icons are decoration, the button's name says what it does.
-    (re.compile(r'(<i class="theme-switch [^"]*" data-mode="[a-z]+")\s+title="[^"]*"'),
-     r'\1 aria-hidden="true"'),
-    # myst-nb's toggles of hidden code show "Show code cell source" but are named "Toggle
-    # hidden content": the visible text names them.
-    (re.compile(r'<summary aria-label="Toggle hidden content">'), "<summary>"),
-    # sphinxcontrib-bibtex marks each reference with the deprecated DPUB role
-    # doc-biblioentry inside a role="list": a list's items are listitems.
-    (re.compile(r'(<div class="citation"[^>]*?) role="doc-biblioentry"'),
-     r'\1 role="listitem"'),
-    # sphinx-togglebutton's chevrons are drawn next to the toggle's text: decoration.
-    (re.compile(r'<svg (?![^>]*aria-hidden)([^>]*class="tb-icon)'),
-     r'<svg aria-hidden="true" \1'),
-    # The figures of the chapters are fetched when they come near the screen, not with
-    # the page (Sphinx writes every image as <img alt="..." src="...">).
-    (re.compile(r'<img alt="'), '<img loading="lazy" alt="'),
-    # Scripts that nothing needs before the page is shown (search, copy and toggle buttons,
-    # tabs) are deferred: they run, in order, once the page is parsed.
-    (re.compile(r'<script ((?:[a-z-]+="[^"]*" )*)src="([^"]*/)?(searchtools|language_data|'
-                r'searchindex|clipboard\.min|copybutton|togglebutton|design-tabs)\.js'),
-     r'<script defer \1src="\2\3.js'),
-]
-
 
 def externalise_pictures(page: Path, text: str) -> str:
     """Move the ``data:`` PNGs of ``text``'s widget state into files beside ``page``."""
@@ -195,11 +170,9 @@ def subset_fontawesome(static: Path, pages: list[Path]) -> int:
 
 
 def rewrite(page: Path) -> bool:
-    """Rewrite one page; True if it changed."""
+    """Move one page's explorer pictures into files; True if it changed."""
     text = page.read_text(encoding="utf-8")
     new = externalise_pictures(page, text)
-    for pattern, replacement in FIXES:
-        new = pattern.sub(replacement, new)
     if new != text:
         page.write_text(new, encoding="utf-8")
         return True
@@ -218,9 +191,63 @@ def build_finished(app: Sphinx, exception: Exception | None) -> None:
                 "subset kept" if icons < 0 else f"{icons} icons kept")
 
 
+def visit_hidden_cell(self: SphinxTranslator, node: HideCodeCellNode) -> None:
+    """Open myst-nb's toggle of hidden code, as myst-nb does, named by its visible text.
+
+    myst-nb names the toggle "Toggle hidden content" while it shows "Show code cell
+    source" (WCAG 2.5.3 Label in Name): here the ``<summary>`` has no ``aria-label``.
+    """
+    classes = " ".join(node["classes"])
+    self.body.append(f'<details class="admonition hide {classes}">\n<summary>\n')
+    self.body.append(f'<p class="collapsed admonition-title">{escape(node["prompt_show"])}</p>\n')
+    self.body.append(f'<p class="expanded admonition-title">{escape(node["prompt_hide"])}</p>\n')
+    self.body.append("</summary>\n")
+
+
+def visit_citation(self: SphinxTranslator, node: nodes.citation) -> None:
+    """Open a bibliography entry as docutils does, as a ``listitem`` of its ``role="list"``.
+
+    docutils marks each entry with the deprecated DPUB role ``doc-biblioentry`` inside a
+    ``role="list"``, whose items must be list items.
+    """
+    if not isinstance(node.previous_sibling(), type(node)):
+        self.body.append('<div role="list" class="citation-list">\n')
+    self.body.append(self.starttag(node, "div", classes=[node.tagname], role="listitem"))
+
+
+def depart_citation(self: SphinxTranslator, node: nodes.citation) -> None:
+    """Close a bibliography entry (and the list after its last one), as docutils does."""
+    self.body.append("</div>\n")
+    if not isinstance(node.next_node(descend=False, siblings=True), type(node)):
+        self.body.append("</div>\n")
+
+
+class LazyImages(SphinxPostTransform):
+    """Fetch every figure when it comes near the screen, not with the page.
+
+    docutils writes ``loading="lazy"`` for an image node whose ``loading`` is ``"lazy"``
+    (the ``:loading:`` option of the image directive), which this sets on every image.
+    """
+
+    default_priority = 800
+    formats = ("html",)
+
+    def run(self, **kwargs: object) -> None:
+        """Mark every image of the document to load lazily."""
+        for image in self.document.findall(nodes.image):
+            image.setdefault("loading", "lazy")
+
+
 def setup(app: Sphinx) -> dict[str, object]:
-    """Register the post-build rewrite (and, for the PDF, the figures' alternate texts)."""
+    """Register the visitors, the lazy images and the post-build step.
+
+    The PDF's figures get their alternate texts from ``dstoolkit_pdf``.
+    """
     app.setup_extension("dstoolkit_pdf")
+    app.setup_extension("myst_nb")  # its visitors are registered first, then replaced
+    app.add_node(HideCodeCellNode, override=True, html=(visit_hidden_cell, depart_HideCellInput))
+    app.add_node(nodes.citation, override=True, html=(visit_citation, depart_citation))
+    app.add_post_transform(LazyImages)
     # boxes that scroll sideways take the keyboard focus (book/_static/scroll-boxes.js)
     app.add_js_file("scroll-boxes.js", loading_method="defer")
     app.connect("build-finished", build_finished)

@@ -26,10 +26,10 @@ def validate_masses(mass: Any, *, what: str = "masses") -> np.ndarray:
 
     Parameters
     ----------
-    mass
-        *array_like, shape (n,)*. The masses.
-    what
-        *str*. What to call them in a message.
+    mass : array_like, shape (n,)
+        The masses.
+    what : str
+        What to call them in a message.
 
     Returns
     -------

@@ -57,8 +57,8 @@ def sizes(e: Boxes) -> np.ndarray:
 
     Parameters
     ----------
-    e
-        *Boxes*. Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
+    e : Boxes
+        Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
 
     Returns
     -------
@@ -281,10 +281,10 @@ def discount_onto_hull(e: Boxes, reliability: np.ndarray) -> Boxes:
 
     Parameters
     ----------
-    e
-        *Boxes*. Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
-    reliability
-        *ndarray, shape (R,)*. R of each run, in [0, 1].
+    e : Boxes
+        Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
+    reliability : ndarray, shape (R,)
+        R of each run, in [0, 1].
 
     Returns
     -------
@@ -335,14 +335,14 @@ class ProductWork(NamedTuple):
 
     Parameters
     ----------
-    ends
-        *ndarray, shape (2, R, d, N_b, N_a)*. The ends of the intersections.
-    stack
-        *ndarray, shape (1 + d, R, N_b, N_a)*. Non-emptiness and twice the centres.
-    partial
-        *ndarray, shape (R, 1 + d, N_b, 1)*. Sums over A.
-    sums
-        *ndarray, shape (R, 1 + d, 1, 1)*. Sums over A and B.
+    ends : ndarray, shape (2, R, d, N_b, N_a)
+        The ends of the intersections.
+    stack : ndarray, shape (1 + d, R, N_b, N_a)
+        Non-emptiness and twice the centres.
+    partial : ndarray, shape (R, 1 + d, N_b, 1)
+        Sums over A.
+    sums : ndarray, shape (R, 1 + d, 1, 1)
+        Sums over A and B.
 
     Examples
     --------
@@ -362,8 +362,8 @@ class ProductWork(NamedTuple):
 
         Parameters
         ----------
-        runs, d, na, nb
-            *int*. R, d, N_a and N_b.
+        runs, d, na, nb : int
+            R, d, N_a and N_b.
 
         Returns
         -------
@@ -487,14 +487,14 @@ def dempster_expectation(
 
     Parameters
     ----------
-    a, b
-        *Boxes*. Boxes (R, N_a, d), (R, N_b, d) and their masses.
-    bounds
-        *bool*. Also return the hull of the combination.
-    work
-        *ProductWork, optional*. Buffers to reuse.
-    theta_last
-        *bool*. The last focal element of each holds all the others.
+    a, b : Boxes
+        Boxes (R, N_a, d), (R, N_b, d) and their masses.
+    bounds : bool
+        Also return the hull of the combination.
+    work : ProductWork, optional
+        Buffers to reuse.
+    theta_last : bool
+        The last focal element of each holds all the others.
 
     Returns
     -------

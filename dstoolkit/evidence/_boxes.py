@@ -25,10 +25,10 @@ class Boxes(NamedTuple):
 
     Parameters
     ----------
-    lo, hi
-        *ndarray, shape (R, N, d)*. The ends of the boxes (the variable's unit).
-    mass
-        *ndarray, shape (R, N)*. Their masses, each row summing to 1 (a row (1, N)
+    lo, hi : ndarray, shape (R, N, d)
+        The ends of the boxes (the variable's unit).
+    mass : ndarray, shape (R, N)
+        Their masses, each row summing to 1 (a row (1, N)
         broadcasts over the runs).
 
     See Also
@@ -66,10 +66,10 @@ def hull(
 
     Parameters
     ----------
-    e
-        *Boxes*. Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
-    out
-        *tuple of ndarray, shape (R, d), optional*. Where to write the result.
+    e : Boxes
+        Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
+    out : tuple of ndarray, shape (R, d), optional
+        Where to write the result.
 
     Returns
     -------
@@ -100,8 +100,8 @@ def pignistic_expectation(e: Boxes) -> np.ndarray:
 
     Parameters
     ----------
-    e
-        *Boxes*. Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
+    e : Boxes
+        Boxes (R, N, d) and masses (R, N); mass-0 entries are ignored.
 
     Returns
     -------

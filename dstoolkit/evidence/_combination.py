@@ -68,8 +68,8 @@ def conflict(a: Evidence, b: Evidence) -> float:
 
     Parameters
     ----------
-    a, b
-        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+    a, b : MassFunction or IntervalEvidence
+        E1 and E2, on the same frame (mass functions)
         or of the same dimension d (interval evidence, boxes (n, d)).
 
     Returns
@@ -111,11 +111,11 @@ def dempster(a: E, b: E, *, merge: bool = True) -> E:
 
     Parameters
     ----------
-    a, b
-        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+    a, b : MassFunction or IntervalEvidence
+        E1 and E2, on the same frame (mass functions)
         or of the same dimension d (interval evidence, boxes (n, d)).
-    merge
-        *bool*. Merge equal focal elements (default, eq. 14). With ``merge=False`` the
+    merge : bool
+        Merge equal focal elements (default, eq. 14). With ``merge=False`` the
         non-empty products are kept in order (row i·n2 + j is A_i ∩ B_j), as in the
         paper's worked example.
 
@@ -197,10 +197,10 @@ def energy(e: Evidence, *, theta: ThetaRule = "paper") -> float:
 
     Parameters
     ----------
-    e
-        *MassFunction or IntervalEvidence*. The evidence E.
-    theta
-        *{"paper", "left_out"}*. ``"paper"`` (default): the paper's definitions. Eq. 2
+    e : MassFunction or IntervalEvidence
+        The evidence E.
+    theta : {"paper", "left_out"}
+        ``"paper"`` (default): the paper's definitions. Eq. 2
         leaves Θ out, so the vacuous mass function has energy 0; eq. A1 counts every bounded
         focal element, the hull (Θ of interval evidence) included, so the vacuous interval
         evidence {Θ: 1} has energy 1. ``"left_out"``: Θ (the frame, or the hull of the focal
@@ -266,13 +266,13 @@ def joint_energy(
 
     Parameters
     ----------
-    a, b
-        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+    a, b : MassFunction or IntervalEvidence
+        E1 and E2, on the same frame (mass functions)
         or of the same dimension d (interval evidence, boxes (n, d)).
-    mass_rule
-        *{"min", "m1", "m2"}*. The mass m(D) of a common focal element.
-    theta
-        *{"paper", "left_out"}*. The energy's definition, as in :func:`energy`.
+    mass_rule : {"min", "m1", "m2"}
+        The mass m(D) of a common focal element.
+    theta : {"paper", "left_out"}
+        The energy's definition, as in :func:`energy`.
 
     Returns
     -------
@@ -322,14 +322,14 @@ class Dependence:
 
     Parameters
     ----------
-    energy1, energy2
-        *float*. En(E1) and En(E2) (eq. 2 / A1).
-    joint_energy
-        *float*. En(E1, E2) (eq. 3 / A3).
-    degree
-        *float*. D (Def. 5, eq. A4).
-    r12, r21
-        *float*. The dependency coefficients (eqs. 7–8, A5–A6).
+    energy1, energy2 : float
+        En(E1) and En(E2) (eq. 2 / A1).
+    joint_energy : float
+        En(E1, E2) (eq. 3 / A3).
+    degree : float
+        D (Def. 5, eq. A4).
+    r12, r21 : float
+        The dependency coefficients (eqs. 7–8, A5–A6).
 
     See Also
     --------
@@ -380,15 +380,15 @@ def dependence(
 
     Parameters
     ----------
-    a, b
-        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+    a, b : MassFunction or IntervalEvidence
+        E1 and E2, on the same frame (mass functions)
         or of the same dimension d (interval evidence, boxes (n, d)).
-    mass_rule
-        *{"min", "m1", "m2"}*. The mass m(D) of a common focal element (eq. A3).
-    energy1, energy2
-        *float in [0, 1], optional*. En(E1) and En(E2) to use instead of computing them.
-    theta
-        *{"paper", "left_out"}*. The energy's definition, as in :func:`energy`.
+    mass_rule : {"min", "m1", "m2"}
+        The mass m(D) of a common focal element (eq. A3).
+    energy1, energy2 : float in [0, 1], optional
+        En(E1) and En(E2) to use instead of computing them.
+    theta : {"paper", "left_out"}
+        The energy's definition, as in :func:`energy`.
 
     Returns
     -------
@@ -460,12 +460,12 @@ def discount(e: E, rate: float, theta: np.ndarray | None = None) -> E:
 
     Parameters
     ----------
-    e
-        *MassFunction or IntervalEvidence*. The evidence to discount.
-    rate
-        *float in [0, 1]*. The discount rate 1 − R, R the reliability of the source.
-    theta
-        *ndarray, optional*. Θ as one focal-element row: a boolean mask over the frame,
+    e : MassFunction or IntervalEvidence
+        The evidence to discount.
+    rate : float in [0, 1]
+        The discount rate 1 − R, R the reliability of the source.
+    theta : ndarray, optional
+        Θ as one focal-element row: a boolean mask over the frame,
         or ``[lo..., hi...]`` (2d numbers) for interval evidence.
 
     Returns
@@ -518,8 +518,8 @@ def decorrelate(
 
     Parameters
     ----------
-    a, b
-        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+    a, b : MassFunction or IntervalEvidence
+        E1 and E2, on the same frame (mass functions)
         or of the same dimension d (interval evidence, boxes (n, d)).
     mass_rule, energy1, energy2, theta
         As in :func:`dependence`.
@@ -579,13 +579,13 @@ def combine_dependent(
 
     Parameters
     ----------
-    a, b
-        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+    a, b : MassFunction or IntervalEvidence
+        E1 and E2, on the same frame (mass functions)
         or of the same dimension d (interval evidence, boxes (n, d)).
     mass_rule, energy1, energy2, theta
         As in :func:`dependence`.
-    merge
-        *bool*. Merge equal focal elements of the result (eq. 14), as in :func:`dempster`.
+    merge : bool
+        Merge equal focal elements of the result (eq. 14), as in :func:`dempster`.
 
     Returns
     -------
@@ -630,8 +630,8 @@ def yager(a: E, b: E) -> E:
 
     Parameters
     ----------
-    a, b
-        *MassFunction or IntervalEvidence*. E1 and E2, on the same frame (mass functions)
+    a, b : MassFunction or IntervalEvidence
+        E1 and E2, on the same frame (mass functions)
         or of the same dimension d (interval evidence, boxes (n, d)).
 
     Returns

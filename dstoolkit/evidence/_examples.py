@@ -64,8 +64,8 @@ def appendix_evidence(
 
     Parameters
     ----------
-    m1, m2
-        *tuple of float*. The masses of the 2nd and 3rd focal elements of E1 and of E2,
+    m1, m2 : tuple of float
+        The masses of the 2nd and 3rd focal elements of E1 and of E2,
         each pair summing to at most 1.
 
     Returns
@@ -116,10 +116,10 @@ def zadeh_sources(x: float, y: float, epsilon: float = 0.0) -> tuple[MassFunctio
 
     Parameters
     ----------
-    x, y
-        *float in [0, 1]*. The two doctors' confidence in their diagnoses.
-    epsilon
-        *float in [0, 1]*. The discount rate.
+    x, y : float in [0, 1]
+        The two doctors' confidence in their diagnoses.
+    epsilon : float in [0, 1]
+        The discount rate.
 
     Returns
     -------

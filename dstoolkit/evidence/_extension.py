@@ -66,10 +66,10 @@ def cartesian_product(
 
     Parameters
     ----------
-    marginals
-        *sequence of IntervalEvidence*. The independent marginals, d_i dimensions each.
-    merge
-        *bool*. Merge equal boxes (eq. 14).
+    marginals : sequence of IntervalEvidence
+        The independent marginals, d_i dimensions each.
+    merge : bool
+        Merge equal boxes (eq. 14).
 
     Returns
     -------
@@ -124,10 +124,10 @@ def projection(evidence: IntervalEvidence, axes: Sequence[int]) -> IntervalEvide
 
     Parameters
     ----------
-    evidence
-        *IntervalEvidence*. Boxes in d dimensions.
-    axes
-        *sequence of int*. The dimensions to keep, in order.
+    evidence : IntervalEvidence
+        Boxes in d dimensions.
+    axes : sequence of int
+        The dimensions to keep, in order.
 
     Returns
     -------
@@ -260,8 +260,8 @@ def vertices(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
 
     Parameters
     ----------
-    lo, hi
-        *ndarray, shape (..., n)*. The boxes' ends.
+    lo, hi : ndarray, shape (..., n)
+        The boxes' ends.
 
     Returns
     -------

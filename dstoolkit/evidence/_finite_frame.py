@@ -34,8 +34,8 @@ class MassFunction(Evidence):
     frame
         The frame Θ (any hashable hypotheses, order kept). Default: the union of the focal
         elements, in order of appearance.
-    merge
-        *bool*. Merge equal focal elements, adding their masses (eq. 14). Default True.
+    merge : bool
+        Merge equal focal elements, adding their masses (eq. 14). Default True.
 
     Raises
     ------
@@ -167,8 +167,8 @@ class MassFunction(Evidence):
 
         Parameters
         ----------
-        frame
-            *iterable of hashable*. Θ, the hypotheses.
+        frame : iterable of hashable
+            Θ, the hypotheses.
 
         Returns
         -------
@@ -184,8 +184,8 @@ class MassFunction(Evidence):
 
         Parameters
         ----------
-        probabilities
-            *mapping of hypothesis to float*. P(θ) for each θ, summing to 1; the frame is
+        probabilities : mapping of hypothesis to float
+            P(θ) for each θ, summing to 1; the frame is
             their keys.
 
         Returns
@@ -273,8 +273,8 @@ class MassFunction(Evidence):
 
         Parameters
         ----------
-        subset
-            *iterable of hypotheses, or a single hypothesis*. A, a subset of the frame.
+        subset : iterable of hypotheses, or a single hypothesis
+            A, a subset of the frame.
 
         Returns
         -------
@@ -289,8 +289,8 @@ class MassFunction(Evidence):
 
         Parameters
         ----------
-        subset
-            *iterable of hypotheses, or a single hypothesis*. A, a subset of the frame.
+        subset : iterable of hypotheses, or a single hypothesis
+            A, a subset of the frame.
 
         Returns
         -------
@@ -304,8 +304,8 @@ class MassFunction(Evidence):
 
         Parameters
         ----------
-        subset
-            *iterable of hypotheses, or a single hypothesis*. A, a subset of the frame.
+        subset : iterable of hypotheses, or a single hypothesis
+            A, a subset of the frame.
 
         Returns
         -------
@@ -319,8 +319,8 @@ class MassFunction(Evidence):
 
         Parameters
         ----------
-        subset
-            *iterable of hypotheses, or a single hypothesis*. A, a subset of the frame.
+        subset : iterable of hypotheses, or a single hypothesis
+            A, a subset of the frame.
 
         Returns
         -------
@@ -348,8 +348,8 @@ class MassFunction(Evidence):
 
         Parameters
         ----------
-        subset
-            *iterable of hypotheses, or a single hypothesis*. A, a subset of the frame.
+        subset : iterable of hypotheses, or a single hypothesis
+            A, a subset of the frame.
 
         Returns
         -------

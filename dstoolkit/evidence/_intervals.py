@@ -135,10 +135,10 @@ class IntervalEvidence(Evidence):
 
         Parameters
         ----------
-        pairs
-            *array_like, shape (n, 3)*. Rows (lo, hi, mass).
-        merge
-            *bool*. Merge equal focal elements (eq. 14).
+        pairs : array_like, shape (n, 3)
+            Rows (lo, hi, mass).
+        merge : bool
+            Merge equal focal elements (eq. 14).
 
         Returns
         -------
@@ -156,8 +156,8 @@ class IntervalEvidence(Evidence):
 
         Parameters
         ----------
-        lo, hi
-            *float or array_like, shape (d,)*. The box [lo, hi] (the variable's unit).
+        lo, hi : float or array_like, shape (d,)
+            The box [lo, hi] (the variable's unit).
 
         Returns
         -------
@@ -172,8 +172,8 @@ class IntervalEvidence(Evidence):
 
         Parameters
         ----------
-        value
-            *float or array_like, shape (d,)*. x.
+        value : float or array_like, shape (d,)
+            x.
 
         Returns
         -------
@@ -261,10 +261,10 @@ class IntervalEvidence(Evidence):
 
         Parameters
         ----------
-        boxes
-            *Boxes*. Boxes (R, N, d) and masses (R, N).
-        run
-            *int*. The run to take.
+        boxes : Boxes
+            Boxes (R, N, d) and masses (R, N).
+        run : int
+            The run to take.
 
         Returns
         -------
@@ -360,8 +360,8 @@ class IntervalEvidence(Evidence):
 
         Parameters
         ----------
-        lo, hi
-            *float or array_like, shape (d,)*. The box [lo, hi] (the variable's unit).
+        lo, hi : float or array_like, shape (d,)
+            The box [lo, hi] (the variable's unit).
 
         Returns
         -------
@@ -375,8 +375,8 @@ class IntervalEvidence(Evidence):
 
         Parameters
         ----------
-        lo, hi
-            *float or array_like, shape (d,)*. The box [lo, hi] (the variable's unit).
+        lo, hi : float or array_like, shape (d,)
+            The box [lo, hi] (the variable's unit).
 
         Returns
         -------
@@ -390,8 +390,8 @@ class IntervalEvidence(Evidence):
 
         Parameters
         ----------
-        x
-            *array_like*. Where to evaluate (the variable's unit).
+        x : array_like
+            Where to evaluate (the variable's unit).
 
         Returns
         -------
@@ -469,8 +469,8 @@ class IntervalEvidence(Evidence):
 
         Parameters
         ----------
-        offset
-            *float or array_like, shape (d,)*. The offset (the variable's unit).
+        offset : float or array_like, shape (d,)
+            The offset (the variable's unit).
 
         Returns
         -------

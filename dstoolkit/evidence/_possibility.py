@@ -26,8 +26,8 @@ class TriangularBounds(NamedTuple):
 
     Parameters
     ----------
-    lower, mode, upper
-        *float*. Support [lower, upper] and mode of the triangle (the noise's unit),
+    lower, mode, upper : float
+        Support [lower, upper] and mode of the triangle (the noise's unit),
         lower <= mode <= upper.
 
     Examples
@@ -75,10 +75,10 @@ def possibility(x: Any, lower: float, mode: float, upper: float) -> np.ndarray:
 
     Parameters
     ----------
-    x
-        *array_like*. Where to evaluate (the noise's unit).
-    lower, mode, upper
-        *float*. Support [lower, upper] and mode of the triangle (the noise's unit),
+    x : array_like
+        Where to evaluate (the noise's unit).
+    lower, mode, upper : float
+        Support [lower, upper] and mode of the triangle (the noise's unit),
         lower <= mode <= upper.
 
     Returns
@@ -120,11 +120,11 @@ def alpha_cuts(lower: float, mode: float, upper: float, p: int) -> tuple[np.ndar
 
     Parameters
     ----------
-    lower, mode, upper
-        *float*. Support [lower, upper] and mode of the triangle (the noise's unit),
+    lower, mode, upper : float
+        Support [lower, upper] and mode of the triangle (the noise's unit),
         lower <= mode <= upper.
-    p
-        *int*. The number of cuts, p >= 1.
+    p : int
+        The number of cuts, p >= 1.
 
     Returns
     -------
@@ -161,8 +161,8 @@ def default_theta(lower: float, mode: float, upper: float) -> tuple[float, float
 
     Parameters
     ----------
-    lower, mode, upper
-        *float*. Support [lower, upper] and mode of the triangle (the noise's unit),
+    lower, mode, upper : float
+        Support [lower, upper] and mode of the triangle (the noise's unit),
         lower <= mode <= upper.
 
     Returns
@@ -252,10 +252,10 @@ def triangular_from_samples(samples: Any, k: float = 3.0) -> TriangularBounds:
 
     Parameters
     ----------
-    samples
-        *array_like, shape (N,)*. Measured errors (the noise's unit), N >= 2.
-    k
-        *float*. How many standard deviations the bounds lie away, finite, >= 0.
+    samples : array_like, shape (N,)
+        Measured errors (the noise's unit), N >= 2.
+    k : float
+        How many standard deviations the bounds lie away, finite, >= 0.
 
     Returns
     -------

@@ -1,6 +1,7 @@
 """State-space models, the filters and example systems.
 
-The paper's dependent-evidence filter (Steps 1-6, eqs. 30-31), Nassreddine's filter, a
+The paper's dependent-evidence filter (§3.2, Steps 1–6, on eq. 21's model: eqs. 22–26,
+eqs. 13–16, eq. 20, eqs. A1–A8), Nassreddine's filter, a
 bounded-error (set-membership) filter, the extended Kalman filter and a bootstrap particle
 filter, and example systems.
 """
@@ -63,6 +64,13 @@ from ._particle import (
     ParticleState,
     systematic_resample,
 )
+from ._registry import (
+    ComparisonSettings,
+    FilterEntry,
+    register_filter,
+    registered_filters,
+    unregister_filter,
+)
 
 __all__ = [
     "BatchResult",
@@ -70,12 +78,14 @@ __all__ = [
     "BoundedErrorRecord",
     "BoundedErrorState",
     "BoundedNoise",
+    "ComparisonSettings",
     "COUNTS",
     "DIAGNOSTICS",
     "DependentEvidenceFilter",
     "DependentRecord",
     "DependentState",
     "Filter",
+    "FilterEntry",
     "FilterState",
     "KERNELS",
     "FilterResult",
@@ -97,7 +107,10 @@ __all__ = [
     "finite_difference_jacobian",
     "lotka_volterra",
     "random_walk",
+    "register_filter",
+    "registered_filters",
     "simulate_lotka_volterra",
     "systematic_resample",
+    "unregister_filter",
     "with_input",
 ]

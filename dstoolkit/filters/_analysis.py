@@ -12,11 +12,11 @@ def enclosure_summary(result: Any, truth: Any) -> dict[str, Any]:
 
     Parameters
     ----------
-    result
-        *FilterResult*. One run; its ``lower``/``upper`` (T, n), and ``diagnostics
+    result : FilterResult
+        One run; its ``lower``/``upper`` (T, n), and ``diagnostics
         ["resets"]`` when the filter has it (the bounded-error filter).
-    truth
-        *array_like, shape (T, n) or (T,)*. The true states.
+    truth : array_like, shape (T, n) or (T,)
+        The true states.
 
     Returns
     -------
@@ -50,10 +50,10 @@ def converged_at(errors: Any, threshold: float = 1.0) -> int | None:
 
     Parameters
     ----------
-    errors
-        *array_like, shape (T,)*. The estimation errors of steps 1..T (the state's unit).
-    threshold
-        *float*. The bound, in the errors' unit.
+    errors : array_like, shape (T,)
+        The estimation errors of steps 1..T (the state's unit).
+    threshold : float
+        The bound, in the errors' unit.
 
     Returns
     -------

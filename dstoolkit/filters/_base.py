@@ -5,13 +5,17 @@ Every filter in dstoolkit (:class:`~dstoolkit.filters.DependentEvidenceFilter`,
 :class:`~dstoolkit.filters.KalmanFilter`, :class:`~dstoolkit.filters.ParticleFilter`)
 derives from :class:`Filter`. A filter writes only its own parts:
 
-- a typed state (a frozen dataclass holding what step k passes to step k + 1) and a typed
-  record of a step (a frozen dataclass: the step's evidence, boxes, particles...);
+- a typed state (a frozen dataclass deriving from :class:`FilterState`, holding what step
+  k passes to step k + 1) and a typed record of a step (a frozen dataclass: the step's
+  evidence, boxes, particles...);
 - :meth:`Filter.initialize` (x̂_1 from the first reading z_1) and :meth:`Filter.step`
-  (one recursion k → k + 1 of eq. 21's model): the public single step, for learners and for
-  new code, which ``run(..., record=True)`` uses too;
-- ``_engine``: the same recursion vectorised over a block of runs, which :meth:`Filter.run`
-  and :meth:`Filter.run_batch` use; it gives the numbers of the step loop (tested).
+  (one recursion k → k + 1 of eq. 21's model): the public single step.
+
+That is enough: :meth:`Filter.run`, ``run(..., record=True)`` and :meth:`Filter.run_batch`
+loop over the runs and the steps (:meth:`Filter.step_loop`), in blocks of runs that fit the
+memory budget. A filter may add a fast path, ``_engine``: the same recursion vectorised
+over a block of runs (with ``_bytes_per_run``, its memory per run); ``run`` and
+``run_batch`` then use it, and it gives the numbers of the step loop (tested).
 
 :class:`Filter` writes the rest once: the checks of the model, readings and inputs at the
 door; the option checks shared by all filters (``kernel``, boxes, frames Θ, α-cuts); the
@@ -39,6 +43,7 @@ from ._model import (
     BatchResult,
     FilterResult,
     StateSpaceModel,
+    at_step,
     batch_readings,
     guarded,
     single_readings,
@@ -73,17 +78,17 @@ class FilterState:
 
     Parameters
     ----------
-    model
-        *StateSpaceModel*. The model the filter runs on.
-    k
-        *int*. The step whose estimate this is (1 for the first reading).
-    estimate
-        *ndarray, shape (n,)*. x̂_k.
-    lower
-        *ndarray, shape (n,)*. Bounds of step k's final belief (see
+    model : StateSpaceModel
+        The model the filter runs on.
+    k : int
+        The step whose estimate this is (1 for the first reading).
+    estimate : ndarray, shape (n,)
+        x̂_k.
+    lower : ndarray, shape (n,)
+        Bounds of step k's final belief (see
         :class:`~dstoolkit.filters.FilterResult`).
-    upper
-        *ndarray, shape (n,)*. Bounds of step k's final belief (see
+    upper : ndarray, shape (n,)
+        Bounds of step k's final belief (see
         :class:`~dstoolkit.filters.FilterResult`).
     """
 
@@ -135,6 +140,9 @@ class Filter(ABC, Generic[StateT, RecordT]):
     name: ClassVar[str]
     #: Per-step diagnostics of a run (the keys of ``FilterResult.diagnostics``), explained.
     DIAGNOSTICS: ClassVar[dict[str, str]] = {}
+    #: Whether the filter has compiled kernels (extra ``speed``): only then does it accept
+    #: ``kernel="numba"``.
+    COMPILED_KERNEL: ClassVar[bool] = False
 
     # -- what each filter writes -------------------------------------------------------------
     @abstractmethod
@@ -143,10 +151,10 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
         Parameters
         ----------
-        model
-            *StateSpaceModel*. The model of eq. 21.
-        z1
-            *array_like, shape (m,) or scalar when m = 1*. The first reading.
+        model : StateSpaceModel
+            The model of eq. 21.
+        z1 : array_like, shape (m,) or scalar when m = 1
+            The first reading.
 
         Returns
         -------
@@ -162,10 +170,10 @@ class Filter(ABC, Generic[StateT, RecordT]):
         ----------
         state
             What :meth:`initialize` or the previous :meth:`step` returned.
-        z
-            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
-        u
-            *array_like, shape (q,), optional*. The input of f(x, u) on the
+        z : array_like, shape (m,) or scalar when m = 1
+            The reading z_{k+1}.
+        u : array_like, shape (q,), optional
+            The input of f(x, u) on the
             transition k → k + 1 (the gauge's order n_k).
 
         Returns
@@ -176,22 +184,31 @@ class Filter(ABC, Generic[StateT, RecordT]):
             The filter's typed record of the step (its ``Record`` class).
         """
 
-    @abstractmethod
+    # -- optional: a fast path, and the record of the start ------------------------------------
     def _engine(
         self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, runs: np.ndarray
     ) -> Block:
         """Run the recursion on a block of runs, Z (R, T, m), U (R, T − 1, q) or None.
 
-        ``runs`` are the runs' indices in the batch (their random streams, if any).
+        ``runs`` are the runs' indices in the batch (their random streams, if any). By
+        default the public step loop (:meth:`step_loop`); a filter may override it with a
+        vectorised fast path that gives the same numbers.
         """
+        return self.step_loop(model, Z, U)
 
-    @abstractmethod
     def _bytes_per_run(self, model: StateSpaceModel, n_steps: int) -> float:
-        """Memory of one run's working arrays in :meth:`_engine`, bytes."""
+        """Memory of one run's working arrays in :meth:`_engine`, bytes.
 
-    @abstractmethod
-    def _start_record(self, state: StateT) -> RecordT:
-        """Return the record of the first step (the start: what :meth:`initialize` found)."""
+        By default what the step loop keeps of a run: its estimates, bounds and diagnostics.
+        """
+        return 8.0 * n_steps * (3 * model.state_dim + len(self.DIAGNOSTICS) + 1)
+
+    def _start_record(self, state: StateT) -> RecordT | None:
+        """Return the record of the first step (what :meth:`initialize` found); default None.
+
+        Without one, the diagnostics of the first step are empty: NaN, False or 0.
+        """
+        return None
 
     def _check_model(self, model: StateSpaceModel) -> None:
         """Refuse a model this filter cannot use (e.g. without g⁻¹); default: accept."""
@@ -219,15 +236,15 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
         Parameters
         ----------
-        model
-            *StateSpaceModel*. The model of eq. 21.
-        z
-            *array_like, shape (T, m), or (T,) when m = 1*. The readings z_1 … z_T.
-        inputs
-            *array_like, shape (T − 1, q), optional*. ``inputs[k - 1]`` drives f(x,
+        model : StateSpaceModel
+            The model of eq. 21.
+        z : array_like, shape (T, m), or (T,) when m = 1
+            The readings z_1 … z_T.
+        inputs : array_like, shape (T − 1, q), optional
+            ``inputs[k - 1]`` drives f(x,
             u) from step k − 1 to step k.
-        record
-            *bool, optional*. Keep the typed record of every step in
+        record : bool, optional
+            Keep the typed record of every step in
             ``result.steps`` (runs the public
             :meth:`step` loop).
 
@@ -265,12 +282,12 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
         Parameters
         ----------
-        model
-            *StateSpaceModel*. The model of eq. 21.
-        Z
-            *array_like, shape (R, T, m), or (R, T) when m = 1*. R sequences of T readings.
-        inputs
-            *array_like, shape (R, T − 1, q), optional*. One input sequence per run.
+        model : StateSpaceModel
+            The model of eq. 21.
+        Z : array_like, shape (R, T, m), or (R, T) when m = 1
+            R sequences of T readings.
+        inputs : array_like, shape (R, T − 1, q), optional
+            One input sequence per run.
 
         Returns
         -------
@@ -316,24 +333,76 @@ class Filter(ABC, Generic[StateT, RecordT]):
         self, model: StateSpaceModel, z: np.ndarray, u: np.ndarray | None
     ) -> FilterResult:
         """``run(record=True)``: the public :meth:`initialize` and :meth:`step` in a loop."""
-        state = self.initialize(model, z[0])
-        states, records = [state], [self._start_record(state)]
-        for k in range(1, z.shape[0]):
-            state, rec = self.step(state, z[k], None if u is None else u[k - 1])
-            states.append(state)
-            records.append(rec)
+        states, records = self._steps(model, z, u)
         est = self._finite(np.stack([s.estimate for s in states])[None])[0]
-        diagnostics = {
-            key: np.array([getattr(r, key) for r in records])
-            for key in (*self.DIAGNOSTICS, *self.RECORDED)
-        }
         return FilterResult(
             self.name,
             est,
             np.stack([s.lower for s in states]),
             np.stack([s.upper for s in states]),
-            diagnostics,
+            self._diagnostics(records, (*self.DIAGNOSTICS, *self.RECORDED)),
             tuple(records),
+        )
+
+    def _steps(
+        self, model: StateSpaceModel, z: np.ndarray, u: np.ndarray | None
+    ) -> tuple[list[StateT], list[Any]]:
+        """Return the states and records of :meth:`initialize` then :meth:`step` over ``z``."""
+        state = self.initialize(model, z[0])
+        states, records = [state], [self._start_record(state)]
+        for k in range(1, z.shape[0]):
+            at_step(model, k)  # a map's NaN is reported with its step
+            state, rec = self.step(state, z[k], None if u is None else u[k - 1])
+            states.append(state)
+            records.append(rec)
+        return states, records
+
+    @staticmethod
+    def _diagnostics(records: Sequence[Any], keys: Sequence[str]) -> dict[str, np.ndarray]:
+        """Return each key's values over the records; a missing start record gives NaN/False/0."""
+        out = {}
+        for key in keys:
+            if records[0] is not None:
+                out[key] = np.array([getattr(r, key) for r in records])
+            else:
+                later = np.array([getattr(r, key) for r in records[1:]])
+                out[key] = np.concatenate([np.array([_empty(later.dtype)]), later])
+        return out
+
+    def step_loop(
+        self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None = None
+    ) -> Block:
+        """Run :meth:`initialize` and :meth:`step` over every run of a block, one after another.
+
+        This is what :meth:`run` and :meth:`run_batch` use when the filter has no vectorised
+        ``_engine``, and what a fast path is tested against.
+
+        Parameters
+        ----------
+        model : StateSpaceModel
+            The model of eq. 21 (checked, as :meth:`run` passes it).
+        Z : ndarray, shape (R, T, m)
+            The readings of R runs.
+        U : ndarray, shape (R, T − 1, q), optional
+            Their inputs.
+
+        Returns
+        -------
+        Block
+            Estimates and bounds (R, T, n) and the diagnostics of ``DIAGNOSTICS`` (R, T).
+        """
+        est, lower, upper, diagnostics = [], [], [], []
+        for r in range(Z.shape[0]):
+            states, records = self._steps(model, Z[r], None if U is None else U[r])
+            est.append(np.stack([s.estimate for s in states]))
+            lower.append(np.stack([s.lower for s in states]))
+            upper.append(np.stack([s.upper for s in states]))
+            diagnostics.append(self._diagnostics(records, tuple(self.DIAGNOSTICS)))
+        return Block(
+            np.stack(est),
+            np.stack(lower),
+            np.stack(upper),
+            {key: np.stack([d[key] for d in diagnostics]) for key in self.DIAGNOSTICS},
         )
 
     #: Keys that ``run(..., record=True)`` adds to the diagnostics from the records.
@@ -387,13 +456,20 @@ class Filter(ABC, Generic[StateT, RecordT]):
 
         ``kernel`` is ``"numpy"``, ``"numba"`` or ``"auto"`` (numba when it is installed);
         the compiled kernels give the numpy path's numbers bit for bit. Refuses another
-        value, or ``"numba"`` without numba.
+        value, ``"numba"`` for a filter without compiled kernels (``COMPILED_KERNEL``), or
+        ``"numba"`` without numba. ``"auto"`` runs numpy where nothing is compiled.
         """
         cls._policy(kernel, ("numpy", "numba", "auto"), "kernel")
+        if kernel == "numba" and not cls.COMPILED_KERNEL:
+            raise EvidenceError(
+                f"kernel='numba': {purpose} has no compiled kernel; use kernel='numpy' "
+                "(or 'auto', which compiles only where a filter has compiled kernels)"
+            )
         if kernel == "numba":
             require_extra("numba", "speed", f"kernel='numba' of {purpose}")
-        return kernel == "numba" or (
-            kernel == "auto" and importlib.util.find_spec("numba") is not None
+        return cls.COMPILED_KERNEL and (
+            kernel == "numba"
+            or (kernel == "auto" and importlib.util.find_spec("numba") is not None)
         )
 
     def _own(self, name: str, value: Any) -> None:
@@ -521,6 +597,13 @@ class Filter(ABC, Generic[StateT, RecordT]):
                 "defined"
             )
         return values
+
+
+def _empty(dtype: np.dtype) -> Any:
+    """Return the value of a diagnostic at a step that has none: NaN, False or 0 by type."""
+    if dtype.kind == "b":
+        return False
+    return 0 if dtype.kind in "iu" else np.nan
 
 
 def _checked_model(model: Any) -> StateSpaceModel:

@@ -48,14 +48,14 @@ class BoundedErrorState(FilterState):
 
     Parameters
     ----------
-    model
-        *StateSpaceModel*. The model the filter runs on.
-    k
-        *int*. The step whose estimate this is (1 for the first reading).
-    estimate
-        *ndarray, shape (n,)*. x̂_k.
-    lower, upper
-        *ndarray, shape (n,)*. The box X_k = [lower, upper].
+    model : StateSpaceModel
+        The model the filter runs on.
+    k : int
+        The step whose estimate this is (1 for the first reading).
+    estimate : ndarray, shape (n,)
+        x̂_k.
+    lower, upper : ndarray, shape (n,)
+        The box X_k = [lower, upper].
     """
 
 
@@ -65,18 +65,18 @@ class BoundedErrorRecord:
 
     Parameters
     ----------
-    step
-        *int*. k, counting the first reading as 1.
-    prediction
-        *tuple of ndarray, or None*. The predicted box X⁻_k = f(X_{k−1}, u) + [v_lo,
+    step : int
+        k, counting the first reading as 1.
+    prediction : tuple of ndarray, or None
+        The predicted box X⁻_k = f(X_{k−1}, u) + [v_lo,
         v_hi] as (lo, hi); None at the start.
-    reading
-        *tuple of ndarray, or None*. X⁻_k ∩ g⁻¹(z_k + W) before any reset (empty where
+    reading : tuple of ndarray, or None
+        X⁻_k ∩ g⁻¹(z_k + W) before any reset (empty where
         lo > hi); None at the start.
-    box
-        *tuple of ndarray*. The final box X_k as (lo, hi).
-    resets
-        *bool*. Whether the box was rebuilt from the reading alone (``on_inconsistent="reset"``).
+    box : tuple of ndarray
+        The final box X_k as (lo, hi).
+    resets : bool
+        Whether the box was rebuilt from the reading alone (``on_inconsistent="reset"``).
     """
 
     step: int
@@ -92,18 +92,17 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
 
     Parameters
     ----------
-    on_inconsistent
-        *{"raise", "reset"}*. ``"raise"``: raise
+    on_inconsistent : {"raise", "reset"}
+        ``"raise"``: raise
         :class:`~dstoolkit.errors.InconsistentDataError` when the box
         becomes empty; ``"reset"``: restart from the current reading and flag the step.
-    initial_box
-        *tuple of array_like, optional*. A box ``(lo, hi)`` known to hold the state at
+    initial_box : tuple of array_like, optional
+        A box ``(lo, hi)`` known to hold the state at
         the first step (needed when g is not
         invertible); it also bounds the restart boxes.
-    kernel
-        *{"numpy", "numba", "auto"}*. Accepted for a common interface; the box recursion
-        has no compiled kernel, so every
-        value runs numpy (``"numba"`` still needs the extra ``speed``).
+    kernel : {"numpy", "auto"}
+        The box recursion has no compiled kernel: both run numpy, and
+        ``"numba"`` is refused.
 
     See Also
     --------
@@ -142,10 +141,10 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
 
         Parameters
         ----------
-        model
-            *StateSpaceModel*. The model of eq. 21.
-        z1
-            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+        model : StateSpaceModel
+            The model of eq. 21.
+        z1 : array_like, shape (m,) or scalar when m = 1
+            The first reading z_1.
 
         Returns
         -------
@@ -169,12 +168,12 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
 
         Parameters
         ----------
-        state
-            *BoundedErrorState*. What :meth:`initialize` or the previous :meth:`step` returned.
-        z
-            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
-        u
-            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+        state : BoundedErrorState
+            What :meth:`initialize` or the previous :meth:`step` returned.
+        z : array_like, shape (m,) or scalar when m = 1
+            The reading z_{k+1}.
+        u : array_like, shape (q,), optional
+            The input of f(x, u) on the transition
             k → k + 1 (the gauge's order n_k).
 
         Returns

@@ -103,14 +103,14 @@ class NoiseEvidence:
 
     Parameters
     ----------
-    state
-        *IntervalEvidence*. E_v, the evidence of the state noise v.
-    observation
-        *IntervalEvidence*. E_w, the evidence of the observation noise w.
-    v, w
-        *Boxes*. The same as one-run arrays, boxes (1, N, n) and (1, N, m).
-    prediction_mass
-        *ndarray, shape (1, N_v²)*. The masses of the predicted boxes,
+    state : IntervalEvidence
+        E_v, the evidence of the state noise v.
+    observation : IntervalEvidence
+        E_w, the evidence of the observation noise w.
+    v, w : Boxes
+        The same as one-run arrays, boxes (1, N, n) and (1, N, m).
+    prediction_mass : ndarray, shape (1, N_v²)
+        The masses of the predicted boxes,
         ρ_ij = m_v(i)·m_v(j) (eq. 16).
     """
 
@@ -144,18 +144,18 @@ class DependentState(FilterState):
 
     Parameters
     ----------
-    model
-        *StateSpaceModel*. The model the filter runs on.
-    k
-        *int*. The step whose estimate this is (1 for the first reading).
-    estimate
-        *ndarray, shape (n,)*. x̂_k.
-    lower, upper
-        *ndarray, shape (n,)*. The hull of step k's final evidence (x̂_1 at the start).
-    noise
-        *NoiseEvidence*. Step 1's evidence of v and w (eqs. 24–26).
-    final
-        *IntervalEvidence or None*. Step k's final evidence; None at the start.
+    model : StateSpaceModel
+        The model the filter runs on.
+    k : int
+        The step whose estimate this is (1 for the first reading).
+    estimate : ndarray, shape (n,)
+        x̂_k.
+    lower, upper : ndarray, shape (n,)
+        The hull of step k's final evidence (x̂_1 at the start).
+    noise : NoiseEvidence
+        Step 1's evidence of v and w (eqs. 24–26).
+    final : IntervalEvidence or None
+        Step k's final evidence; None at the start.
     """
 
     noise: NoiseEvidence
@@ -172,43 +172,43 @@ class DependentRecord:
 
     Parameters
     ----------
-    step
-        *int*. k + 1, counting the first reading as 1.
-    estimate
-        *ndarray, shape (n,)*. x̂_{k+1}, the pignistic expectation of ``final`` (eq. 20).
-    state
-        *IntervalEvidence or None*. x̂_k + E_v (Step 2); None at the start.
-    prediction
-        *IntervalEvidence or None*. E_{k+1|k}, the image of (x̂_k + V) × V (Step 2).
-    observation_prediction
-        *IntervalEvidence or None*. g(E_{k+1|k}) (Step 3).
-    observation
-        *IntervalEvidence or None*. z_{k+1} + E_w (Step 4).
-    fused
-        *IntervalEvidence or None*. Step 4's fusion by Dempster's rule; None where total
+    step : int
+        k + 1, counting the first reading as 1.
+    estimate : ndarray, shape (n,)
+        x̂_{k+1}, the pignistic expectation of ``final`` (eq. 20).
+    state : IntervalEvidence or None
+        x̂_k + E_v (Step 2); None at the start.
+    prediction : IntervalEvidence or None
+        E_{k+1|k}, the image of (x̂_k + V) × V (Step 2).
+    observation_prediction : IntervalEvidence or None
+        g(E_{k+1|k}) (Step 3).
+    observation : IntervalEvidence or None
+        z_{k+1} + E_w (Step 4).
+    fused : IntervalEvidence or None
+        Step 4's fusion by Dempster's rule; None where total
         conflict made the prediction final.
-    mapped_back
-        *IntervalEvidence or None*. Step 5's evidence mapped back through g⁻¹ (E1).
-    final
-        *IntervalEvidence or None*. Step 6's dependent combination (or the prediction
+    mapped_back : IntervalEvidence or None
+        Step 5's evidence mapped back through g⁻¹ (E1).
+    final : IntervalEvidence or None
+        Step 6's dependent combination (or the prediction
         after total conflict).
-    dependence_terms
-        *Dependence or None*. En′(E1), En′(E2), En′(E1, E2), D, R12 and R21 of Step 6
+    dependence_terms : Dependence or None
+        En′(E1), En′(E2), En′(E1, E2), D, R12 and R21 of Step 6
         (eqs. A1–A6).
-    conflict_step4, conflict_step6
-        *float*. K of Dempster's rule in Steps 4 and 6 (eq. 1).
-    energy_mapped_back, energy_prediction, joint_energy
-        *float*. En′(E1), En′(E2) and En′(E1, E2) (eqs. A1, A3).
-    dependence, r12, r21
-        *float*. D, R12 and R21 (eqs. A4–A6).
-    fallback
-        *float*. 1 where total conflict made the prediction final, else 0.
-    n_state, n_prediction, n_observation_prediction, n_observation
-        *float*. The focal elements of Steps 2–4's evidence (:data:`COUNTS`).
-    n_fused, n_mapped_back, n_final
-        *float*. The focal elements of Steps 4–6's results.
-    n_products_step4, n_products_step6
-        *float*. The products Dempster's rule forms in Steps 4 and 6.
+    conflict_step4, conflict_step6 : float
+        K of Dempster's rule in Steps 4 and 6 (eq. 1).
+    energy_mapped_back, energy_prediction, joint_energy : float
+        En′(E1), En′(E2) and En′(E1, E2) (eqs. A1, A3).
+    dependence, r12, r21 : float
+        D, R12 and R21 (eqs. A4–A6).
+    fallback : float
+        1 where total conflict made the prediction final, else 0.
+    n_state, n_prediction, n_observation_prediction, n_observation : float
+        The focal elements of Steps 2–4's evidence (:data:`COUNTS`).
+    n_fused, n_mapped_back, n_final : float
+        The focal elements of Steps 4–6's results.
+    n_products_step4, n_products_step6 : float
+        The products Dempster's rule forms in Steps 4 and 6.
     """
 
     step: int
@@ -247,36 +247,36 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
     Parameters
     ----------
-    mass_rule
-        *{"min", "m1", "m2"}*. m(D) in the energy of the intersection (eq. A3, which
+    mass_rule : {"min", "m1", "m2"}
+        m(D) in the energy of the intersection (eq. A3, which
         leaves it open).
-    start
-        *{"observation", "mean_corrected"} or array_like, shape (n,) or (R, n)*. x̂_1:
+    start : {"observation", "mean_corrected"} or array_like, shape (n,) or (R, n)
+        x̂_1:
         g⁻¹(z_1) as the paper, g⁻¹(z_1 + E[w]), or a state vector (one per run).
-    p
-        *int*. Step 1's number of α-cuts (eqs. 24–25).
-    epsilon
-        *float*. Step 1's discount rate ε (eq. 26).
-    theta
-        *tuple, optional*. Step 1's frames Θ as ``(theta_v, theta_w)``, each None (mode
+    p : int
+        Step 1's number of α-cuts (eqs. 24–25).
+    epsilon : float
+        Step 1's discount rate ε (eq. 26).
+    theta : tuple, optional
+        Step 1's frames Θ as ``(theta_v, theta_w)``, each None (mode
         ± 100σ) or one
         (lo, hi) pair per component.
-    on_conflict
-        *{"raise", "predict"}*. Total conflict in Step 4 or 6: raise
+    on_conflict : {"raise", "predict"}
+        Total conflict in Step 4 or 6: raise
         :class:`~dstoolkit.errors.TotalConflictError`
         (default), or take the prediction as the step's final evidence (``fallback`` = 1).
-    image_method
-        *{"auto", "vertex", "monotone", "subdivision"}*. How images are computed (see
+    image_method : {"auto", "vertex", "monotone", "subdivision"}
+        How images are computed (see
         :func:`dstoolkit.evidence.image`): ``"auto"`` is
         monotone where the model declares every sign, else vertex (Prop. 1).
-    chunk_size
-        *int*. Runs per vectorised block in :meth:`Filter.run_batch` (memory ∝ chunk × N1 × N2).
-    kernel
-        *{"numpy", "numba", "auto"}*. Step 6 of the vectorised path: numpy, or a
+    chunk_size : int
+        Runs per vectorised block in :meth:`Filter.run_batch` (memory ∝ chunk × N1 × N2).
+    kernel : {"numpy", "numba", "auto"}
+        Step 6 of the vectorised path: numpy, or a
         compiled kernel (extra ``speed``; the
         same numbers to rounding); ``"auto"`` takes numba when it is installed.
-    energy_theta
-        *{"paper", "left_out"}*. The energy En′ of Step 6's dependence (eqs. A1–A6):
+    energy_theta : {"paper", "left_out"}
+        The energy En′ of Step 6's dependence (eqs. A1–A6):
         ``"paper"`` counts every focal element, the frame Θ included, as the paper defines
         it; ``"left_out"`` leaves Θ out, as on finite frames (see
         :func:`dstoolkit.evidence.energy`). With ``"left_out"`` every path runs the
@@ -316,6 +316,7 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
     energy_theta: ThetaRule = "paper"
 
     name: ClassVar[str] = "dependent_evidence"
+    COMPILED_KERNEL: ClassVar[bool] = True
     DIAGNOSTICS: ClassVar[dict[str, str]] = DIAGNOSTICS
     RECORDED: ClassVar[tuple[str, ...]] = COUNTS
     _budget_advice: ClassVar[str] = "use fewer α-cuts p"
@@ -361,8 +362,8 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
         Parameters
         ----------
-        model
-            *StateSpaceModel*. The model whose bounded noises v and w are turned into
+        model : StateSpaceModel
+            The model whose bounded noises v and w are turned into
             evidence with the filter's ``p``, ``epsilon`` and ``theta``.
 
         Returns
@@ -401,10 +402,10 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
         Parameters
         ----------
-        model
-            *StateSpaceModel*. The model of eq. 21.
-        z1
-            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+        model : StateSpaceModel
+            The model of eq. 21.
+        z1 : array_like, shape (m,) or scalar when m = 1
+            The first reading z_1.
 
         Returns
         -------
@@ -431,12 +432,12 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
         Parameters
         ----------
-        state
-            *DependentState*. What :meth:`initialize` or the previous :meth:`step` returned.
-        z
-            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
-        u
-            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+        state : DependentState
+            What :meth:`initialize` or the previous :meth:`step` returned.
+        z : array_like, shape (m,) or scalar when m = 1
+            The reading z_{k+1}.
+        u : array_like, shape (q,), optional
+            The input of f(x, u) on the transition
             k → k + 1 (the gauge's order n_k).
 
         Returns

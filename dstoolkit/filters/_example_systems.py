@@ -206,8 +206,8 @@ def random_walk(v_half: float, w_half: float) -> StateSpaceModel:
 
     Parameters
     ----------
-    v_half, w_half
-        *float*. Half-widths of the symmetric triangular noises, |v| <= v_half and
+    v_half, w_half : float
+        Half-widths of the symmetric triangular noises, |v| <= v_half and
         |w| <= w_half (the state's unit).
 
     Returns

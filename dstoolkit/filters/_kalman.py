@@ -63,10 +63,10 @@ def finite_difference_jacobian(fn: Callable[[np.ndarray], np.ndarray], x: np.nda
 
     Parameters
     ----------
-    fn
-        *callable*. The map, (..., n) → (..., m), vectorised over leading axes.
-    x
-        *ndarray, shape (..., n)*. Where to differentiate.
+    fn : callable
+        The map, (..., n) → (..., m), vectorised over leading axes.
+    x : ndarray, shape (..., n)
+        Where to differentiate.
 
     Returns
     -------
@@ -295,16 +295,16 @@ class KalmanState(FilterState):
 
     Parameters
     ----------
-    model
-        *StateSpaceModel*. The model the filter runs on.
-    k
-        *int*. The step whose estimate this is (1 for the first reading).
-    estimate
-        *ndarray, shape (n,)*. x̂_k.
-    lower, upper
-        *ndarray, shape (n,)*. The band x̂_k ± 3σ.
-    covariance
-        *ndarray, shape (n, n)*. P_k.
+    model : StateSpaceModel
+        The model the filter runs on.
+    k : int
+        The step whose estimate this is (1 for the first reading).
+    estimate : ndarray, shape (n,)
+        x̂_k.
+    lower, upper : ndarray, shape (n,)
+        The band x̂_k ± 3σ.
+    covariance : ndarray, shape (n, n)
+        P_k.
     """
 
     covariance: np.ndarray
@@ -316,24 +316,24 @@ class KalmanRecord:
 
     Parameters
     ----------
-    step
-        *int*. k, counting the first reading as 1.
-    prediction
-        *ndarray or None*. x⁻ (n,) and P⁻ (n, n); None at the start.
-    prediction_covariance
-        *ndarray or None*. x⁻ (n,) and P⁻ (n, n); None at the start.
-    innovation
-        *ndarray or None*. z − ẑ (m,) and S (m, m); None at the start.
-    innovation_covariance
-        *ndarray or None*. z − ẑ (m,) and S (m, m); None at the start.
-    gain
-        *ndarray or None*. K (n, m); None at the start.
-    estimate
-        *ndarray*. x̂_k (n,) and P_k (n, n).
-    covariance
-        *ndarray*. x̂_k (n,) and P_k (n, n).
-    nis
-        *float*. The normalised innovation squared νᵀ S⁻¹ ν (NaN at the start).
+    step : int
+        k, counting the first reading as 1.
+    prediction : ndarray or None
+        x⁻ (n,) and P⁻ (n, n); None at the start.
+    prediction_covariance : ndarray or None
+        x⁻ (n,) and P⁻ (n, n); None at the start.
+    innovation : ndarray or None
+        z − ẑ (m,) and S (m, m); None at the start.
+    innovation_covariance : ndarray or None
+        z − ẑ (m,) and S (m, m); None at the start.
+    gain : ndarray or None
+        K (n, m); None at the start.
+    estimate : ndarray
+        x̂_k (n,) and P_k (n, n).
+    covariance : ndarray
+        x̂_k (n,) and P_k (n, n).
+    nis : float
+        The normalised innovation squared νᵀ S⁻¹ ν (NaN at the start).
     """
 
     step: int
@@ -353,14 +353,13 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
 
     Parameters
     ----------
-    initial_box
-        *tuple of array_like, optional*. A box ``(lo, hi)`` known to hold x_1;
+    initial_box : tuple of array_like, optional
+        A box ``(lo, hi)`` known to hold x_1;
         intersected with the states consistent with
         the first reading (needed when g is not invertible).
-    kernel
-        *{"numpy", "numba", "auto"}*. Accepted for a common interface; the Kalman
-        recursion has no compiled kernel, so
-        every value runs numpy (``"numba"`` still needs the extra ``speed``).
+    kernel : {"numpy", "auto"}
+        The Kalman recursion has no compiled kernel: both run numpy, and
+        ``"numba"`` is refused.
 
     See Also
     --------
@@ -400,10 +399,10 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
 
         Parameters
         ----------
-        model
-            *StateSpaceModel*. The model of eq. 21.
-        z1
-            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+        model : StateSpaceModel
+            The model of eq. 21.
+        z1 : array_like, shape (m,) or scalar when m = 1
+            The first reading z_1.
 
         Returns
         -------
@@ -425,12 +424,12 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
 
         Parameters
         ----------
-        state
-            *KalmanState*. What :meth:`initialize` or the previous :meth:`step` returned.
-        z
-            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
-        u
-            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+        state : KalmanState
+            What :meth:`initialize` or the previous :meth:`step` returned.
+        z : array_like, shape (m,) or scalar when m = 1
+            The reading z_{k+1}.
+        u : array_like, shape (q,), optional
+            The input of f(x, u) on the transition
             k → k + 1 (the gauge's order n_k).
 
         Returns

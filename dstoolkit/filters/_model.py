@@ -47,8 +47,8 @@ class BoundedNoise:
 
     Parameters
     ----------
-    lower, mode, upper
-        *float or array_like, shape (d,)*. Support and mode of each component (the
+    lower, mode, upper : float or array_like, shape (d,)
+        Support and mode of each component (the
         variable's unit), lower <= mode <= upper.
 
     Raises
@@ -136,8 +136,8 @@ class BoundedNoise:
 
         Parameters
         ----------
-        half_width
-            *float or array_like, shape (d,)*. h, one per component.
+        half_width : float or array_like, shape (d,)
+            h, one per component.
 
         Returns
         -------
@@ -171,10 +171,10 @@ class BoundedNoise:
 
         Parameters
         ----------
-        rng
-            *numpy.random.Generator*. The source.
-        size
-            *tuple of int*. The leading shape.
+        rng : numpy.random.Generator
+            The source.
+        size : tuple of int
+            The leading shape.
 
         Returns
         -------
@@ -197,8 +197,8 @@ class BoundedNoise:
 
         Parameters
         ----------
-        x
-            *array_like, shape (..., dim)*. Where to evaluate.
+        x : array_like, shape (..., dim)
+            Where to evaluate.
 
         Returns
         -------
@@ -220,12 +220,12 @@ class BoundedNoise:
 
         Parameters
         ----------
-        p
-            *int*. The number of α-cuts.
-        epsilon
-            *float*. The mass of Θ.
-        theta
-            *array_like, shape (dim, 2), optional*. One (lo, hi) pair per component,
+        p : int
+            The number of α-cuts.
+        epsilon : float
+            The mass of Θ.
+        theta : array_like, shape (dim, 2), optional
+            One (lo, hi) pair per component,
             default mode ± 100σ.
 
         Returns
@@ -286,10 +286,10 @@ class StateSpaceModel:
     jacobian_g
         Optional Jacobians for the (extended) Kalman filter, ``(x, u) -> (n, n)`` and
         ``x -> (m, n)``; finite differences are used when absent.
-    name
-        *str*. A short name for messages and tables.
-    description
-        *str*. What the state is, in words (not compared).
+    name : str
+        A short name for messages and tables.
+    description : str
+        What the state is, in words (not compared).
     """
 
     f: ArrayFn
@@ -346,16 +346,16 @@ class StateSpaceModel:
 
         Parameters
         ----------
-        x0
-            *array_like, shape (n,)*. The first state x_1.
-        steps
-            *int*. T, the number of states and readings.
-        rng
-            *numpy.random.Generator*. The source of the noises.
-        inputs
-            *array_like, shape (T − 1, q), optional*. u_k of each transition.
-        runs
-            *int, optional*. Draw this many independent runs at once.
+        x0 : array_like, shape (n,)
+            The first state x_1.
+        steps : int
+            T, the number of states and readings.
+        rng : numpy.random.Generator
+            The source of the noises.
+        inputs : array_like, shape (T − 1, q), optional
+            u_k of each transition.
+        runs : int, optional
+            Draw this many independent runs at once.
 
         Returns
         -------
@@ -383,28 +383,28 @@ class FilterResult:
 
     Parameters
     ----------
-    method
-        *str*. The filter's :attr:`Filter.name`, e.g. ``"dependent_evidence"``.
-    estimates
-        *ndarray, shape (T, n)*. The point estimate x̂_k of every step (for the paper's
+    method : str
+        The filter's :attr:`Filter.name`, e.g. ``"dependent_evidence"``.
+    estimates : ndarray, shape (T, n)
+        The point estimate x̂_k of every step (for the paper's
         filter, the pignistic
         expectation of eq. 20).
-    lower
-        *ndarray, shape (T, n)*. Bounds of each step's final belief: the hull of the
+    lower : ndarray, shape (T, n)
+        Bounds of each step's final belief: the hull of the
         final evidence for the
         evidential filters, the box of the bounded-error filter, ±3σ for Kalman, the hull of
         the living particles for the particle filter.
-    upper
-        *ndarray, shape (T, n)*. Bounds of each step's final belief: the hull of the
+    upper : ndarray, shape (T, n)
+        Bounds of each step's final belief: the hull of the
         final evidence for the
         evidential filters, the box of the bounded-error filter, ±3σ for Kalman, the hull of
         the living particles for the particle filter.
-    diagnostics
-        *dict of str to ndarray, shape (T,)*. Per-step numbers, each filter's own keys
+    diagnostics : dict of str to ndarray, shape (T,)
+        Per-step numbers, each filter's own keys
         (its ``DIAGNOSTICS``); NaN where a key has
         no value at a step (e.g. a conflict at the first step).
-    steps
-        *tuple of records, or None*. With ``record=True``, the typed record of every
+    steps : tuple of records, or None
+        With ``record=True``, the typed record of every
         step (the filter's ``Record``
         class), the same records :meth:`Filter.step` returns; ``steps[0]`` is the start.
     """
@@ -423,16 +423,16 @@ class BatchResult:
 
     Parameters
     ----------
-    method
-        *str*. The filter's :attr:`Filter.name`.
-    estimates
-        *ndarray, shape (R, T, n)*. As in :class:`FilterResult`, with a leading run axis.
-    lower
-        *ndarray, shape (R, T, n)*. As in :class:`FilterResult`, with a leading run axis.
-    upper
-        *ndarray, shape (R, T, n)*. As in :class:`FilterResult`, with a leading run axis.
-    diagnostics
-        *dict of str to ndarray, shape (R, T)*. As in :class:`FilterResult`, with a
+    method : str
+        The filter's :attr:`Filter.name`.
+    estimates : ndarray, shape (R, T, n)
+        As in :class:`FilterResult`, with a leading run axis.
+    lower : ndarray, shape (R, T, n)
+        As in :class:`FilterResult`, with a leading run axis.
+    upper : ndarray, shape (R, T, n)
+        As in :class:`FilterResult`, with a leading run axis.
+    diagnostics : dict of str to ndarray, shape (R, T)
+        As in :class:`FilterResult`, with a
         leading run axis.
 
     Examples
@@ -647,10 +647,10 @@ def with_input(f: ArrayFn, u: np.ndarray | None) -> Callable[[np.ndarray], np.nd
 
     Parameters
     ----------
-    f
-        *callable*. The model's ``f(x, u)``.
-    u
-        *ndarray, shape (runs, q), or None*. One input row per run; it is reshaped to
+    f : callable
+        The model's ``f(x, u)``.
+    u : ndarray, shape (runs, q), or None
+        One input row per run; it is reshaped to
         (runs, 1, …, 1, q) so that it broadcasts against x whatever axes lie between.
 
     Returns

@@ -160,25 +160,25 @@ class NassreddineState(FilterState):
 
     Parameters
     ----------
-    model
-        *StateSpaceModel*. The model the filter runs on.
-    k
-        *int*. The step whose estimate this is (1 for the first reading).
-    estimate
-        *ndarray, shape (n,)*. x̂_k.
-    lower, upper
-        *ndarray, shape (n,)*. The hull of the posterior.
-    posterior
-        *Boxes*. The posterior of step k before the cap (one run).
-    carried
-        *Boxes or None*. What step k + 1 starts from: the posterior after the cap, or
+    model : StateSpaceModel
+        The model the filter runs on.
+    k : int
+        The step whose estimate this is (1 for the first reading).
+    estimate : ndarray, shape (n,)
+        x̂_k.
+    lower, upper : ndarray, shape (n,)
+        The hull of the posterior.
+    posterior : Boxes
+        The posterior of step k before the cap (one run).
+    carried : Boxes or None
+        What step k + 1 starts from: the posterior after the cap, or
         None for the restart variant.
-    observation
-        *IntervalEvidence*. z_k + E_w.
-    focal_elements
-        *int*. The posterior's focal elements before the cap.
-    merged_mass
-        *float*. The mass the cap moved.
+    observation : IntervalEvidence
+        z_k + E_w.
+    focal_elements : int
+        The posterior's focal elements before the cap.
+    merged_mass : float
+        The mass the cap moved.
     """
 
     posterior: Boxes
@@ -194,30 +194,30 @@ class NassreddineRecord:
 
     Parameters
     ----------
-    step
-        *int*. k, counting the first reading as 1.
-    state
-        *IntervalEvidence or None*. The evidence the step starts from and its prediction
+    step : int
+        k, counting the first reading as 1.
+    state : IntervalEvidence or None
+        The evidence the step starts from and its prediction
         through f plus E_v; None at
         the start.
-    prediction
-        *IntervalEvidence or None*. The evidence the step starts from and its prediction
+    prediction : IntervalEvidence or None
+        The evidence the step starts from and its prediction
         through f plus E_v; None at
         the start.
-    observation
-        *IntervalEvidence*. z_k + E_w, in observation space.
-    posterior
-        *IntervalEvidence*. The posterior before the clustering cap.
-    estimate
-        *ndarray, shape (n,)*. Its pignistic expectation.
-    conflict
-        *float*. K of the correction (NaN at the start).
-    focal_elements
-        *int*. Focal elements of the posterior before the cap.
-    merged_mass
-        *float*. Mass moved by the clustering cap.
-    resets
-        *bool*. Whether total conflict restarted the filter from the reading.
+    observation : IntervalEvidence
+        z_k + E_w, in observation space.
+    posterior : IntervalEvidence
+        The posterior before the clustering cap.
+    estimate : ndarray, shape (n,)
+        Its pignistic expectation.
+    conflict : float
+        K of the correction (NaN at the start).
+    focal_elements : int
+        Focal elements of the posterior before the cap.
+    merged_mass : float
+        Mass moved by the clustering cap.
+    resets : bool
+        Whether total conflict restarted the filter from the reading.
     """
 
     step: int
@@ -246,35 +246,35 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
 
     Parameters
     ----------
-    p
-        *int*. Number of α-cuts of both noise evidences (eqs. 24–26).
-    epsilon
-        *float*. Discount rate ε of both noise evidences (eq. 26).
-    max_focal
-        *int*. Cap on the focal elements carried to the next step (clustering policy).
-    restart
-        *bool*. Rebuild the state evidence from the estimate each step (x̂_k + E_v), like the
+    p : int
+        Number of α-cuts of both noise evidences (eqs. 24–26).
+    epsilon : float
+        Discount rate ε of both noise evidences (eq. 26).
+    max_focal : int
+        Cap on the focal elements carried to the next step (clustering policy).
+    restart : bool
+        Rebuild the state evidence from the estimate each step (x̂_k + E_v), like the
         paper's filter, instead of propagating the posterior.
-    on_conflict
-        *{"raise", "reset"}*. What total conflict (K = 1, every contraction empty) does.
-    initial_box
-        *tuple of array_like, optional*. A box ``(lo, hi)`` holding the first state;
+    on_conflict : {"raise", "reset"}
+        What total conflict (K = 1, every contraction empty) does.
+    initial_box : tuple of array_like, optional
+        A box ``(lo, hi)`` holding the first state;
         default the states consistent with the
         first reading under the noise bounds.
-    theta
-        *tuple, optional*. Frames Θ of the noise evidences as ``(theta_v, theta_w)``,
+    theta : tuple, optional
+        Frames Θ of the noise evidences as ``(theta_v, theta_w)``,
         each None (mode ± 100σ)
         or one (lo, hi) pair per component, as in :class:`DependentEvidenceFilter`.
-    kernel
-        *{"numpy", "numba", "auto"}*. The merge of equal boxes (eq. 14) and the
+    kernel : {"numpy", "numba", "auto"}
+        The merge of equal boxes (eq. 14) and the
         clustering: ``"numpy"`` (default);
         ``"numba"``, compiled kernels (extra ``speed``) that give the same numbers bit for
         bit; ``"auto"``, numba when it is installed.
 
     See Also
     --------
-    DependentEvidenceFilter
-        *the paper's filter, which restarts from x̂_k and fuses the*. mapped-back
+    DependentEvidenceFilter : the paper's filter, which restarts from x̂_k and fuses the
+        mapped-back
         evidence with the prediction as dependent evidence.
 
     Examples
@@ -295,6 +295,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
     kernel: KernelChoice = "numpy"
 
     name: ClassVar[str] = "nassreddine"
+    COMPILED_KERNEL: ClassVar[bool] = True
     DIAGNOSTICS: ClassVar[dict[str, str]] = {
         "conflict": "K of the correction (NaN at the first step)",
         "focal_elements": "focal elements of the posterior before the clustering cap",
@@ -354,10 +355,10 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
 
         Parameters
         ----------
-        model
-            *StateSpaceModel*. The model of eq. 21.
-        z1
-            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+        model : StateSpaceModel
+            The model of eq. 21.
+        z1 : array_like, shape (m,) or scalar when m = 1
+            The first reading z_1.
 
         Returns
         -------
@@ -383,12 +384,12 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
 
         Parameters
         ----------
-        state
-            *NassreddineState*. What :meth:`initialize` or the previous :meth:`step` returned.
-        z
-            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
-        u
-            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+        state : NassreddineState
+            What :meth:`initialize` or the previous :meth:`step` returned.
+        z : array_like, shape (m,) or scalar when m = 1
+            The reading z_{k+1}.
+        u : array_like, shape (q,), optional
+            The input of f(x, u) on the transition
             k → k + 1 (the gauge's order n_k).
 
         Returns

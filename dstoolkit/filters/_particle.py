@@ -177,22 +177,22 @@ class ParticleState(FilterState):
 
     Parameters
     ----------
-    model
-        *StateSpaceModel*. The model the filter runs on.
-    k
-        *int*. The step whose estimate this is (1 for the first reading).
-    estimate
-        *ndarray, shape (n,)*. x̂_k.
-    lower, upper
-        *ndarray, shape (n,)*. The hull of the particles with weight.
-    particles
-        *ndarray, shape (N, n)*. The cloud after the reading.
-    weights
-        *ndarray, shape (N,)*. Their weights, summing to 1.
-    rng, offset_rng
-        *numpy.random.Generator*. The run's streams: state noise, resampling offsets.
-    run
-        *int*. The run's index (its streams).
+    model : StateSpaceModel
+        The model the filter runs on.
+    k : int
+        The step whose estimate this is (1 for the first reading).
+    estimate : ndarray, shape (n,)
+        x̂_k.
+    lower, upper : ndarray, shape (n,)
+        The hull of the particles with weight.
+    particles : ndarray, shape (N, n)
+        The cloud after the reading.
+    weights : ndarray, shape (N,)
+        Their weights, summing to 1.
+    rng, offset_rng : numpy.random.Generator
+        The run's streams: state noise, resampling offsets.
+    run : int
+        The run's index (its streams).
     """
 
     particles: np.ndarray
@@ -208,18 +208,18 @@ class ParticleRecord:
 
     Parameters
     ----------
-    step
-        *int*. k, counting the first reading as 1.
-    particles
-        *ndarray, shape (N, n)*. The cloud after propagation (before the next resampling).
-    weights
-        *ndarray, shape (N,)*. Their normalised weights p_w(g(x) − z).
-    ess
-        *float*. The effective sample size 1/Σw².
-    reinitialised
-        *bool*. Whether every weight was 0 and the cloud was drawn again from the reading.
-    estimate
-        *ndarray, shape (n,)*. The weighted mean.
+    step : int
+        k, counting the first reading as 1.
+    particles : ndarray, shape (N, n)
+        The cloud after propagation (before the next resampling).
+    weights : ndarray, shape (N,)
+        Their normalised weights p_w(g(x) − z).
+    ess : float
+        The effective sample size 1/Σw².
+    reinitialised : bool
+        Whether every weight was 0 and the cloud was drawn again from the reading.
+    estimate : ndarray, shape (n,)
+        The weighted mean.
     """
 
     step: int
@@ -236,20 +236,20 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
 
     Parameters
     ----------
-    n_particles
-        *int*. Particles per run.
-    seed
-        *int*. Seed of the random streams (one per run).
-    stream
-        *int*. Index of the first run's random stream: :meth:`Filter.run` and :meth:`initialize` use
+    n_particles : int
+        Particles per run.
+    seed : int
+        Seed of the random streams (one per run).
+    stream : int
+        Index of the first run's random stream: :meth:`Filter.run` and :meth:`initialize` use
         stream ``stream``, run r of :meth:`Filter.run_batch` stream ``stream + r`` (so
         ``replace(flt, stream=r).run(Z[r])`` repeats run r of a batch).
-    initial_box
-        *tuple of array_like, optional*. A box ``(lo, hi)`` known to hold the state;
+    initial_box : tuple of array_like, optional
+        A box ``(lo, hi)`` known to hold the state;
         needed when g is not invertible, since
         the start and re-initialisations draw in the reading's box.
-    kernel
-        *{"numpy", "numba", "auto"}*. The resampling's search: ``"numpy"`` (default),
+    kernel : {"numpy", "numba", "auto"}
+        The resampling's search: ``"numpy"`` (default),
         ``"numba"`` (compiled, extra
         ``speed``; the same indices), ``"auto"`` (numba when it is installed).
 
@@ -271,6 +271,7 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
     initial_box: tuple[Any, Any] | None = None
     kernel: KernelChoice = "numpy"
     name: ClassVar[str] = "particle"
+    COMPILED_KERNEL: ClassVar[bool] = True
     DIAGNOSTICS: ClassVar[dict[str, str]] = {
         "ess": "effective sample size 1/Σw² of the weights after the reading",
         "reinitialised": "True where every weight was 0 and the cloud was redrawn",
@@ -302,10 +303,10 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
 
         Parameters
         ----------
-        model
-            *StateSpaceModel*. The model of eq. 21.
-        z1
-            *array_like, shape (m,) or scalar when m = 1*. The first reading z_1.
+        model : StateSpaceModel
+            The model of eq. 21.
+        z1 : array_like, shape (m,) or scalar when m = 1
+            The first reading z_1.
 
         Returns
         -------
@@ -339,12 +340,12 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
 
         Parameters
         ----------
-        state
-            *ParticleState*. What :meth:`initialize` or the previous :meth:`step` returned.
-        z
-            *array_like, shape (m,) or scalar when m = 1*. The reading z_{k+1}.
-        u
-            *array_like, shape (q,), optional*. The input of f(x, u) on the transition
+        state : ParticleState
+            What :meth:`initialize` or the previous :meth:`step` returned.
+        z : array_like, shape (m,) or scalar when m = 1
+            The reading z_{k+1}.
+        u : array_like, shape (q,), optional
+            The input of f(x, u) on the transition
             k → k + 1 (the gauge's order n_k).
 
         Returns

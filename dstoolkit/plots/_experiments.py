@@ -6,7 +6,7 @@ step) and Table 3 as a picture.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from typing import Any
 
 import numpy as np
@@ -15,6 +15,7 @@ from matplotlib.figure import Figure
 from matplotlib.text import Text
 
 from dstoolkit.errors import InvalidInputError
+from dstoolkit.filters import registered_filters
 from dstoolkit.studies import TABLE3_MEAN_ABS_ERROR_M, Table3
 
 from ._kept import animate, set_limits, snapped_limits
@@ -28,42 +29,49 @@ from ._style import (
     styled,
 )
 
-#: Colour (Okabe–Ito), line style, marker and label of each method of Table 3 in every
-#: figure: the methods differ in line style and marker as well as in colour, so they can be
-#: told apart without colour (in grey print, or with a colour-vision deficiency).
-STYLE: dict[str, dict[str, Any]] = {
-    "dependent_evidence": {
-        "color": OKABE_ITO["blue"],
-        "ls": "-",
-        "marker": "o",
-        "label": "dependent evidence (paper)",
-    },
-    "nassreddine": {
-        "color": OKABE_ITO["orange"],
-        "ls": "--",
-        "marker": "s",
-        "label": "Nassreddine",
-    },
-    "direct": {
-        "color": OKABE_ITO["bluish green"],
-        "ls": ":",
-        "marker": "^",
-        "label": "direct (eq. 32)",
-    },
-    "kalman": {"color": OKABE_ITO["vermillion"], "ls": "-.", "marker": "v", "label": "Kalman"},
-    "particle": {
-        "color": OKABE_ITO["reddish purple"],
-        "ls": (0, (5, 1)),
-        "marker": "D",
-        "label": "particle",
-    },
-    "bounded_error": {
-        "color": OKABE_ITO["sky blue"],
-        "ls": (0, (3, 1, 1, 1, 1, 1)),
-        "marker": "P",
-        "label": "bounded error",
-    },
+#: The style of the readings' direct estimate (eq. 32), which is not a filter.
+DIRECT_STYLE: dict[str, Any] = {
+    "color": OKABE_ITO["bluish green"],
+    "ls": ":",
+    "marker": "^",
+    "label": "direct (eq. 32)",
 }
+
+
+class _Styles(Mapping[str, dict[str, Any]]):
+    """Each method's colour, line style, marker and label, read from the filters' registry.
+
+    The registered filters (:func:`dstoolkit.filters.registered_filters`, read at each
+    look-up, so a filter registered later is styled too), and ``"direct"``.
+    """
+
+    def _all(self) -> dict[str, dict[str, Any]]:
+        styles = {
+            entry.name: {
+                "color": OKABE_ITO.get(entry.colour, entry.colour),
+                "ls": entry.line_style,
+                "marker": entry.marker,
+                "label": entry.label,
+            }
+            for entry in registered_filters()
+        }
+        return {**styles, "direct": dict(DIRECT_STYLE)}
+
+    def __getitem__(self, name: str) -> dict[str, Any]:
+        return self._all()[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._all())
+
+    def __len__(self) -> int:
+        return len(self._all())
+
+
+#: Colour (Okabe–Ito), line style, marker and label of each method in every figure: the
+#: methods differ in line style and marker as well as in colour, so they can be told apart
+#: without colour (in grey print, or with a colour-vision deficiency). The filters' come
+#: from their registry (:func:`dstoolkit.filters.register_filter`).
+STYLE: Mapping[str, dict[str, Any]] = _Styles()
 #: Styles of curves that are not one of STYLE's methods (variants of a method), in order.
 EXTRA_STYLES: tuple[dict[str, Any], ...] = (
     {"color": OKABE_ITO["black"], "ls": (0, (1, 1)), "marker": "x"},

@@ -3,9 +3,7 @@
 A ``draw_…`` function makes a figure's artists once and returns them in a small artists
 object; the matching ``update_…`` moves those artists to new data without making a new
 figure, which is what keeps an explorer's answer to a slider under its latency budget.
-:class:`KeptFigure` and :func:`animate` hold such a figure for its whole life, and
-:class:`TextCachingCanvas` renders it while caching the text it drew, and
-:func:`remember_ticks` keeps its axes' ticks while their views stay.
+:class:`KeptFigure` and :func:`animate` hold such a figure for its whole life.
 
 Users who only want a picture call the ``plot_…`` functions of :mod:`dstoolkit.plots`.
 """
@@ -34,8 +32,6 @@ from ._experiments import update_estimates
 from ._gauge import gauge_detection_figure, update_gauge_detection
 from ._kept import KeptFigure, animate
 from ._studies import noise_bounds_figure, update_noise_bounds_figure
-from ._text_cache import TextCachingCanvas
-from ._tick_cache import remember_ticks
 
 __all__ = [
     "BelPlArtists",
@@ -44,7 +40,6 @@ __all__ = [
     "MassArtists",
     "PboxArtists",
     "PossibilityArtists",
-    "TextCachingCanvas",
     "animate",
     "draw_bel_pl",
     "draw_focal_intervals",
@@ -54,7 +49,6 @@ __all__ = [
     "gauge_detection_figure",
     "noise_bounds_figure",
     "pbox_grid",
-    "remember_ticks",
     "update_bel_pl",
     "update_estimates",
     "update_focal_intervals",

@@ -34,12 +34,11 @@ from dstoolkit.errors import InconsistentDataError, InvalidInputError
 from dstoolkit.filters import (
     BoundedErrorFilter,
     BoundedNoise,
+    ComparisonSettings,
     DependentEvidenceFilter,
     Filter,
-    KalmanFilter,
-    NassreddineFilter,
-    ParticleFilter,
     StateSpaceModel,
+    registered_filters,
     simulate_lotka_volterra,
 )
 from dstoolkit.gauge import (
@@ -69,14 +68,14 @@ from ._paper_results import TABLE3_CASES, TABLE3_MEAN_ABS_ERROR_M
 
 #: The methods of the paper's Figs. 10–11 (the readings are drawn too).
 FIG10_METHODS: tuple[str, ...] = ("dependent_evidence", "nassreddine")
-#: Every filter of the toolkit, by the names the plots know.
-ALL_FILTERS: tuple[str, ...] = (
-    "dependent_evidence",
-    "nassreddine",
-    "bounded_error",
-    "kalman",
-    "particle",
-)
+#: The toolkit's own filters, by the names the plots know (the first entries of
+#: :func:`dstoolkit.filters.registered_filters`; the comparisons run every registered one).
+ALL_FILTERS: tuple[str, ...] = tuple(entry.name for entry in registered_filters())
+
+
+def _methods(methods: Sequence[str] | None) -> Sequence[str]:
+    """Return ``methods``, or the names of every registered filter when None."""
+    return [entry.name for entry in registered_filters()] if methods is None else methods
 
 
 # -- one run: the paper's Figs. 10 and 11 ------------------------------------------------------
@@ -374,7 +373,7 @@ def table3_rows(
 def all_filters(
     seed: int = 0, *, p: int = 3, start: str = "observation", n_particles: int = 500
 ) -> dict[str, Any]:
-    """Every filter of the toolkit with the paper's settings and the rivals' defaults.
+    """Every registered filter with the paper's settings and the rivals' defaults.
 
     The evidential filters use p cuts, ε = 0.05 and Θ = mode ± 100σ of the noise the model
     assumes, and fall back instead of raising on total conflict, as in Table 3; the
@@ -395,7 +394,8 @@ def all_filters(
     Returns
     -------
     dict of str to dstoolkit.filters.Filter
-        The filters by the names of :data:`ALL_FILTERS`.
+        The filters of :func:`dstoolkit.filters.registered_filters`, by their names
+        (:data:`ALL_FILTERS` first).
 
     See Also
     --------
@@ -411,16 +411,8 @@ def all_filters(
     >>> tuple(all_filters()) == ALL_FILTERS
     True
     """
-    return {
-        "dependent_evidence": DependentEvidenceFilter(
-            p=p, epsilon=0.05, start=start, on_conflict="predict"
-        ),
-        # kernel="auto": compiled where numba is installed, the same numbers, faster
-        "nassreddine": NassreddineFilter(p=p, epsilon=0.05, on_conflict="reset", kernel="auto"),
-        "bounded_error": BoundedErrorFilter(on_inconsistent="reset"),
-        "kalman": KalmanFilter(),
-        "particle": ParticleFilter(n_particles=n_particles, seed=seed, kernel="auto"),
-    }
+    settings = ComparisonSettings(seed=seed, p=p, start=start, n_particles=n_particles)
+    return {entry.name: entry.make(settings) for entry in registered_filters()}
 
 
 @dataclass(frozen=True)
@@ -636,7 +628,7 @@ def noise_mismatch(
     data: TrackingData,
     state_noise: BoundedNoise,
     obs_noise: BoundedNoise,
-    methods: Sequence[str] = ALL_FILTERS,
+    methods: Sequence[str] | None = None,
     seed: int = 0,
     start: str = "observation",
 ) -> MismatchResult:
@@ -651,7 +643,7 @@ def noise_mismatch(
     obs_noise : dstoolkit.filters.BoundedNoise
         The w the methods assume, Hz.
     methods : sequence of str, optional
-        Names of :func:`all_filters` (default all).
+        Names of :func:`all_filters` (default: every registered filter).
     seed : int, optional
         Seed of the particle filter.
     start : str, optional
@@ -683,6 +675,7 @@ def noise_mismatch(
     """
     model = gauge_state_space_model(state_noise, obs_noise)
     filters = all_filters(seed, start=start)
+    methods = _methods(methods)
     errors, seconds, resets = {}, {}, None
     for m in methods:
         began = time.perf_counter()
@@ -737,7 +730,7 @@ def scaled_noise(noise: BoundedNoise, scale: float, mode_shift: float = 0.0) -> 
 def bound_scale_study(
     data: TrackingData,
     scales: Sequence[float],
-    methods: Sequence[str] = ALL_FILTERS,
+    methods: Sequence[str] | None = None,
     seed: int = 0,
     start: str = "observation",
 ) -> dict[float, MismatchResult]:
@@ -750,7 +743,7 @@ def bound_scale_study(
     scales : sequence of float
         The factors on the bounds' distances from the modes.
     methods : sequence of str, optional
-        Names of :func:`all_filters` (default all).
+        Names of :func:`all_filters` (default: every registered filter).
     seed : int, optional
         Seed of the particle filter.
     start : str, optional
@@ -1141,7 +1134,11 @@ class ExampleComparison:
 
 
 def example_comparison(
-    steps: int = 60, runs: int = 4, seed: int = 0, p: int = 2, methods: Sequence[str] = ALL_FILTERS
+    steps: int = 60,
+    runs: int = 4,
+    seed: int = 0,
+    p: int = 2,
+    methods: Sequence[str] | None = None,
 ) -> ExampleComparison:
     """Run every filter on :func:`~dstoolkit.filters.simulate_lotka_volterra`.
 
@@ -1159,7 +1156,7 @@ def example_comparison(
     p : int, optional
         α-cuts of both evidential filters (default 2).
     methods : sequence of str, optional
-        Names of :func:`all_filters` (default all).
+        Names of :func:`all_filters` (default: every registered filter).
 
     Returns
     -------
@@ -1184,7 +1181,7 @@ def example_comparison(
     model, x, z = simulate_lotka_volterra(steps=steps, runs=runs, seed=seed)
     filters = all_filters(seed, p=p)
     estimates, seconds = {}, {}
-    for m in methods:
+    for m in _methods(methods):
         start = time.perf_counter()
         estimates[m] = filters[m].run_batch(model, z).estimates
         seconds[m] = (time.perf_counter() - start) / runs

@@ -70,10 +70,6 @@ from dstoolkit.errors import (
     DstoolkitError,
     InvalidInputError,
 )
-from dstoolkit.plots.artists import (
-    TextCachingCanvas,
-    remember_ticks,
-)
 
 Render = Callable[..., tuple[Figure | Sequence[Figure] | None, Mapping[str, Any]]]
 
@@ -283,7 +279,7 @@ def _animated_artists(artist: Artist) -> list[Artist]:
 
 
 def _agg(fig: Figure) -> FigureCanvasAgg:
-    """Return ``fig``'s Agg canvas (a ``TextCachingCanvas`` once :meth:`Explorer.png` drew it)."""
+    """Return ``fig``'s Agg canvas (one once :meth:`Explorer.png` drew it)."""
     return cast(FigureCanvasAgg, fig.canvas)
 
 
@@ -551,8 +547,7 @@ class Explorer(widgets.VBox):
         marks the figure stale when a non-animated artist, a limit or a text changes), the
         picture of the rest is restored from the last draw and only those artists are drawn
         on it (blitting), in order of their zorder. Otherwise the whole figure is drawn
-        and the animated artists on top. The figure is drawn on a
-        ``TextCachingCanvas``, which draws text it drew before from a cache (the same pixels).
+        and the animated artists on top. The figure is drawn on an Agg canvas.
 
         Parameters
         ----------
@@ -565,8 +560,8 @@ class Explorer(widgets.VBox):
             A PNG of 256 colours at ``FIGURE_DPI`` (``encode_png``): fast
             compression in a kernel, small on the static site.
         """
-        if not isinstance(fig.canvas, TextCachingCanvas):  # it caches the text it drew
-            TextCachingCanvas(fig)
+        if not isinstance(fig.canvas, FigureCanvasAgg):  # blitting needs Agg's buffer
+            FigureCanvasAgg(fig)
         if fig.get_dpi() != FIGURE_DPI:  # set_dpi marks the figure stale, even unchanged
             fig.set_dpi(FIGURE_DPI)
         if fig is self._kept and not fig.stale:
@@ -603,7 +598,6 @@ class Explorer(widgets.VBox):
             for ax, box in zip(fig.axes, layout, strict=True):
                 if ax.get_position().bounds != box.bounds:
                     ax.set_position(box)
-        remember_ticks(fig)  # the axes whose view stays keep their ticks
         fig.canvas.draw()
         if layout is not None and _sticks_out(fig):
             fig.set_layout_engine(engine)

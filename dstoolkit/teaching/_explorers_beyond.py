@@ -11,7 +11,7 @@ from typing import Any
 
 import ipywidgets as widgets
 
-from dstoolkit.filters import BoundedNoise
+from dstoolkit.filters import BoundedNoise, registered_filters
 from dstoolkit.plots.artists import (
     KeptFigure,
 )
@@ -75,13 +75,13 @@ def noise_bounds_explorer(
     True
     """
     from dstoolkit.plots.artists import noise_bounds_figure, update_noise_bounds_figure
-    from dstoolkit.studies import ALL_FILTERS, noise_mismatch, tracking_data
+    from dstoolkit.studies import noise_mismatch, tracking_data
 
-    # the start value moves only the paper's filter: the others are kept per noise bounds
-    paper, others = (
-        ("dependent_evidence",),
-        tuple(m for m in ALL_FILTERS if m != "dependent_evidence"),
-    )
+    # every registered filter; the start value moves only the paper's filter: the others
+    # are kept per noise bounds
+    methods = tuple(entry.name for entry in registered_filters())
+    paper = ("dependent_evidence",)
+    others = tuple(m for m in methods if m not in paper)
 
     data = tracking_data(level_m, temperature_c, runs=runs, seed=seed)
     v, w = data.state_noise, data.obs_noise
@@ -135,8 +135,8 @@ def noise_bounds_explorer(
         errors, seconds = ours.errors | rest.errors, ours.seconds | rest.seconds
         result = replace(
             rest,
-            errors={m: errors[m] for m in ALL_FILTERS},
-            seconds={m: seconds[m] for m in ALL_FILTERS},
+            errors={m: errors[m] for m in methods},
+            seconds={m: seconds[m] for m in methods},
         )
         fig = kept(v, w, assumed_v, assumed_w, result.errors)
         return fig, mismatch_numbers(result)

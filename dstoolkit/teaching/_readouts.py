@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from dstoolkit.filters import FilterResult, converged_at
+from dstoolkit.filters import FilterResult, converged_at, registered_filters
 from dstoolkit.gauge import (
     DetectionResult,
     TubeSetup,
@@ -114,8 +114,10 @@ def gauge_reading(setup: TubeSetup, detection: DetectionResult) -> dict[str, Any
     }
 
 
-#: Short method names for readouts that must fit two lines.
-_SHORT_LABELS = {"direct": "direct", "dependent_evidence": "paper's filter"}
+def _short_label(name: str) -> str:
+    """Return a method's name in readouts that must fit two lines (the registry's short one)."""
+    short = {entry.name: entry.short_label for entry in registered_filters()}
+    return short.get(name) or ("direct" if name == "direct" else method_label(name))
 
 
 def estimation_numbers(run: Any) -> dict[str, Any]:
@@ -128,7 +130,7 @@ def estimation_numbers(run: Any) -> dict[str, Any]:
     freq = run.frequency_errors()
     out: dict[str, Any] = {}
     for name in levels:
-        label = _SHORT_LABELS.get(name) or method_label(name)
+        label = _short_label(name)
         level_mm = 1e3 * float(np.mean(np.abs(levels[name] - run.level_m)))
         out[label] = f"{level_mm:.4g} mm / {float(np.mean(freq[name])):.3g} Hz"
     wrong = int(np.sum(run.orders != run.true_orders[:-1]))

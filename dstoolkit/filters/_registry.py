@@ -1,0 +1,229 @@
+"""The one list of the toolkit's filters: their names, labels, styles and comparison settings.
+
+The studies (:func:`dstoolkit.studies.all_filters` and the comparisons built on it), the
+figures (:data:`dstoolkit.plots.STYLE`), the explorers' readouts, the benchmark and the
+interface test read :func:`registered_filters`. A new filter joins all of them by one
+:func:`register_filter` call beside its module:
+
+>>> from dstoolkit.filters import FilterEntry, KalmanFilter, register_filter, unregister_filter
+>>> entry = FilterEntry(
+...     "kalman_again", "Kalman again", "Kalman 2", "black", ":", "x",
+...     lambda settings: KalmanFilter(),
+... )
+>>> register_filter(entry).label
+'Kalman again'
+>>> unregister_filter("kalman_again")
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from dstoolkit.errors import EvidenceError
+
+from ._base import Filter
+from ._bounded_error import BoundedErrorFilter
+from ._dependent import DependentEvidenceFilter
+from ._kalman import KalmanFilter
+from ._nassreddine import NassreddineFilter
+from ._particle import ParticleFilter
+
+
+@dataclass(frozen=True)
+class ComparisonSettings:
+    """The settings a comparison of every filter passes to each entry's ``make``.
+
+    Parameters
+    ----------
+    seed : int
+        Seed of the filters that draw random numbers.
+    p : int
+        α-cuts of the evidential filters.
+    start : str
+        The paper's filter's x̂_1 (``"observation"`` or ``"mean_corrected"``).
+    n_particles : int
+        Particles of the particle filter.
+    """
+
+    seed: int = 0
+    p: int = 3
+    start: str = "observation"
+    n_particles: int = 500
+
+
+@dataclass(frozen=True)
+class FilterEntry:
+    """A filter of the comparisons: its name, how it is shown, and how it is made.
+
+    Parameters
+    ----------
+    name : str
+        The key of studies and plots (the filter's ``Filter.name``, or a variant's name).
+    label : str
+        Its name in figures' legends and the book (e.g. ``"Kalman"``).
+    short_label : str
+        Its name in readouts that must fit two lines.
+    colour : str
+        An Okabe–Ito colour name of :data:`dstoolkit.plots.OKABE_ITO`, or any matplotlib
+        colour.
+    line_style : str or tuple
+        Its matplotlib line style (``"-"``, ``"--"``, ``(0, (5, 1))``...): the filters
+        differ in line style and marker as well as in colour.
+    marker : str
+        Its matplotlib marker.
+    make : callable
+        ``make(settings)`` returns the filter with the comparison's
+        :class:`ComparisonSettings`.
+    """
+
+    name: str
+    label: str
+    short_label: str
+    colour: str
+    line_style: Any
+    marker: str
+    make: Callable[[ComparisonSettings], Filter[Any, Any]]
+
+
+_REGISTRY: dict[str, FilterEntry] = {}
+
+
+def register_filter(entry: FilterEntry, *, replace: bool = False) -> FilterEntry:
+    """Add a filter to the comparisons, after those registered before it.
+
+    Parameters
+    ----------
+    entry : FilterEntry
+        The filter's name, labels, style and maker.
+    replace : bool, optional
+        Replace an entry of the same name (default: refuse it).
+
+    Returns
+    -------
+    FilterEntry
+        ``entry``.
+
+    Raises
+    ------
+    EvidenceError
+        Not a :class:`FilterEntry`, or a name registered already (without ``replace``).
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import register_filter, registered_filters
+    >>> register_filter(registered_filters()[0])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.EvidenceError: a filter named 'dependent_evidence' is registered already...
+    """
+    if not isinstance(entry, FilterEntry):
+        raise EvidenceError(
+            f"register_filter takes a FilterEntry, got {type(entry).__name__}; build one "
+            "with dstoolkit.filters.FilterEntry(name, label, short_label, colour, "
+            "line_style, marker, make)"
+        )
+    if entry.name in _REGISTRY and not replace:
+        raise EvidenceError(
+            f"a filter named {entry.name!r} is registered already; pass replace=True to replace it"
+        )
+    _REGISTRY[entry.name] = entry
+    return entry
+
+
+def unregister_filter(name: str) -> None:
+    """Remove the filter ``name`` from the comparisons.
+
+    Parameters
+    ----------
+    name : str
+        A registered name.
+
+    Raises
+    ------
+    EvidenceError
+        No filter of that name is registered.
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import unregister_filter
+    >>> unregister_filter("none")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.EvidenceError: no filter named 'none' is registered; registered: ...
+    """
+    if name not in _REGISTRY:
+        raise EvidenceError(
+            f"no filter named {name!r} is registered; registered: {', '.join(_REGISTRY)}"
+        )
+    del _REGISTRY[name]
+
+
+def registered_filters() -> tuple[FilterEntry, ...]:
+    """Return the filters of the comparisons, in the order they were registered.
+
+    Returns
+    -------
+    tuple of FilterEntry
+        The toolkit's five filters first, then any registered later.
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import registered_filters
+    >>> [entry.name for entry in registered_filters()]
+    ['dependent_evidence', 'nassreddine', 'bounded_error', 'kalman', 'particle']
+    """
+    return tuple(_REGISTRY.values())
+
+
+register_filter(
+    FilterEntry(
+        "dependent_evidence",
+        "dependent evidence (paper)",
+        "paper's filter",
+        "blue",
+        "-",
+        "o",
+        lambda s: DependentEvidenceFilter(
+            p=s.p, epsilon=0.05, start=s.start, on_conflict="predict"
+        ),
+    )
+)
+register_filter(
+    FilterEntry(
+        "nassreddine",
+        "Nassreddine",
+        "Nassreddine",
+        "orange",
+        "--",
+        "s",
+        # kernel="auto": compiled where numba is installed, the same numbers, faster
+        lambda s: NassreddineFilter(p=s.p, epsilon=0.05, on_conflict="reset", kernel="auto"),
+    )
+)
+register_filter(
+    FilterEntry(
+        "bounded_error",
+        "bounded error",
+        "bounded error",
+        "sky blue",
+        (0, (3, 1, 1, 1, 1, 1)),
+        "P",
+        lambda s: BoundedErrorFilter(on_inconsistent="reset"),
+    )
+)
+register_filter(
+    FilterEntry("kalman", "Kalman", "Kalman", "vermillion", "-.", "v", lambda s: KalmanFilter())
+)
+register_filter(
+    FilterEntry(
+        "particle",
+        "particle",
+        "particle",
+        "reddish purple",
+        (0, (5, 1)),
+        "D",
+        lambda s: ParticleFilter(n_particles=s.n_particles, seed=s.seed, kernel="auto"),
+    )
+)
