@@ -36,10 +36,10 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
 
     Parameters
     ----------
-    lo, hi
-        *ndarray, shape (R, N, d)*. The boxes of each run.
-    mass
-        *ndarray, shape (R, N)*. Their masses.
+    lo, hi : ndarray, shape (R, N, d)
+        The boxes of each run.
+    mass : ndarray, shape (R, N)
+        Their masses.
 
     Returns
     -------
@@ -268,11 +268,11 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
 
     Parameters
     ----------
-    bm
-        *Boxes*. Boxes (R, N, d) and masses (R, N); boxes of positive mass must be
+    bm : Boxes
+        Boxes (R, N, d) and masses (R, N); boxes of positive mass must be
         bounded.
-    max_focal
-        *int*. The cap, >= 2.
+    max_focal : int
+        The cap, >= 2.
 
     Returns
     -------
