@@ -413,17 +413,21 @@ raise SystemExit(main(sys.argv[2:]))
 """
 
 
-def table3_signalled(work: Path, sig: int, wait_s: float = 600.0) -> tuple[int | None, str, bool]:
+def table3_signalled(
+    work: Path, sig: int, wait_s: float = 600.0, *, overwrite: bool = False
+) -> tuple[int | None, str, bool]:
     """Run ``table3 --out work/out/t.csv`` in a child process and send ``sig`` to it.
 
     The run is one run of the direct method, and its figure never finishes; ``sig`` is sent
     once the CSV is written. Returns the exit status, what it printed on stderr, and whether
-    the CSV was there when the signal went. The child uses the dstoolkit this process
-    imported.
+    the new CSV was in place when the signal went. The child uses the dstoolkit this process
+    imported; ``overwrite`` adds ``--overwrite``.
     """
     import dstoolkit
 
     ready = work.parent / f".{work.name}.ready"
+    csv = work / "out" / "t.csv"
+    before = csv.read_bytes() if csv.is_file() else None
     env = {**os.environ, "PYTHONPATH": str(Path(dstoolkit.__file__).resolve().parents[1])}
     proc = subprocess.Popen(
         [
@@ -439,6 +443,7 @@ def table3_signalled(work: Path, sig: int, wait_s: float = 600.0) -> tuple[int |
             "--methods",
             "direct",
             "--quiet",
+            *(["--overwrite"] if overwrite else []),
         ],
         cwd=work,
         env=env,
@@ -451,7 +456,7 @@ def table3_signalled(work: Path, sig: int, wait_s: float = 600.0) -> tuple[int |
         deadline = time.monotonic() + wait_s
         while not ready.exists() and proc.poll() is None and time.monotonic() < deadline:
             time.sleep(0.05)
-        written = (work / "out" / "t.csv").is_file()
+        written = csv.is_file() and csv.read_bytes() != before  # the new CSV in place
         proc.send_signal(sig)
         _, err = proc.communicate(timeout=120)
     finally:
