@@ -15,23 +15,20 @@ Examples
 from __future__ import annotations
 
 import argparse
-import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from dstoolkit.errors import DstoolkitError, MissingExtraError
+from dstoolkit.errors import MissingExtraError
 from dstoolkit.studies import METHODS, run_table3
 from dstoolkit.utils.budget import check_memory
-from dstoolkit.utils.console import command_console
+from dstoolkit.utils.console import run_command
 from dstoolkit.utils.outputs import (
     atomic_write,
     check_outputs,
     figure_tag,
     made_by,
-    output_run,
 )
-from dstoolkit.utils.signals import Stopped, stop_on_signals, stopped_message
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -274,29 +271,9 @@ def main(argv: list[str] | None = None) -> int:
     >>> status, err.getvalue().startswith("error:")
     (2, True)
     """
-    with stop_on_signals(), command_console() as console:
-        try:
-            args = build_parser().parse_args(argv)
-            with output_run() as run:
-                status = int(args.func(args))
-                if status != 0:
-                    run.discard()
-        except (DstoolkitError, OSError) as exc:
-            print(f"error: {exc}", file=sys.stderr)
-            return 2
-        except (KeyboardInterrupt, Stopped) as exc:
-            what, status = stopped_message(exc)
-            print(
-                f"{what}: stopped; the files this command had written were removed "
-                "and the files they replaced put back",
-                file=sys.stderr,
-            )
-            return status
-        if console.pipe_closed:
-            print(
-                "error: the standard output was closed before everything was printed "
-                "(a pipe such as '| head'); the command finished and its files were kept",
-                file=sys.stderr,
-            )
-            return status or 2
-        return status
+
+    def body() -> int:
+        args = build_parser().parse_args(argv)
+        return int(args.func(args))
+
+    return run_command(body)

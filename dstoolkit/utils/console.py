@@ -5,6 +5,9 @@ under ``LC_ALL=C`` or ``PYTHONIOENCODING=ascii``) is written in ASCII ("deg", "+
 backslash escape), and a reader that goes away (``dstoolkit table3 | head``) no longer
 breaks the command: what is printed after that is dropped, and the command goes on to
 finish its files; :attr:`Console.pipe_closed` says so afterwards.
+
+:func:`run_command` runs a whole command that way, its outputs in one
+:func:`~dstoolkit.utils.outputs.output_run`, its errors and stop signals each one line.
 """
 
 from __future__ import annotations
@@ -14,10 +17,14 @@ import contextlib
 import io
 import os
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
-__all__ = ["ASCII_FALLBACK", "Console", "command_console"]
+from dstoolkit.errors import DstoolkitError
+from dstoolkit.utils.outputs import output_run
+from dstoolkit.utils.signals import Stopped, stop_on_signals, stopped_message
+
+__all__ = ["ASCII_FALLBACK", "Console", "command_console", "run_command"]
 
 #: The name of the codec error handler that writes ASCII stand-ins.
 ASCII_FALLBACK = "dstoolkit.ascii"
@@ -152,3 +159,62 @@ def command_console() -> Iterator[Console]:
         for stream, errors in before:
             with contextlib.suppress(ValueError, io.UnsupportedOperation, AttributeError):
                 stream.reconfigure(errors=errors)
+
+
+def run_command(body: Callable[[], int]) -> int:
+    """Run a command's body with one-line errors, stop signals and outputs taken back whole.
+
+    A package error or an OS error becomes one ``error:`` line on stderr (exit status 2).
+    Ctrl-C, SIGTERM, SIGHUP and SIGQUIT stop the command with one line on stderr and the
+    exit status 128 + the signal's number. After a failure, a stop or a non-zero status,
+    the run is taken back whole (:func:`~dstoolkit.utils.outputs.output_run`): the files it
+    wrote are removed and the files they replaced put back. A closed standard output
+    (``| head``) ends in an ``error:`` line once the command has finished, its files kept.
+
+    Parameters
+    ----------
+    body : callable
+        The command; returns its exit status.
+
+    Returns
+    -------
+    int
+        The exit status.
+
+    Examples
+    --------
+    >>> import contextlib, io
+    >>> from dstoolkit.errors import InvalidInputError
+    >>> from dstoolkit.utils.console import run_command
+    >>> def fails():
+    ...     raise InvalidInputError("no such chapter 'gauge'")
+    >>> with contextlib.redirect_stderr(io.StringIO()) as err:
+    ...     status = run_command(fails)
+    >>> status, err.getvalue().splitlines()
+    (2, ["error: no such chapter 'gauge'"])
+    """
+    with stop_on_signals(), command_console() as console:
+        try:
+            with output_run() as run:
+                status = int(body())
+                if status != 0:
+                    run.discard()
+        except (DstoolkitError, OSError) as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
+        except (KeyboardInterrupt, Stopped) as exc:
+            what, status = stopped_message(exc)
+            print(
+                f"{what}: stopped; the files this command had written were removed "
+                "and the files they replaced put back",
+                file=sys.stderr,
+            )
+            return status
+        if console.pipe_closed:
+            print(
+                "error: the standard output was closed before everything was printed "
+                "(a pipe such as '| head'); the command finished and its files were kept",
+                file=sys.stderr,
+            )
+            return status or 2
+        return status
