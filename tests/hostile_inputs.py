@@ -10,7 +10,9 @@
 - :func:`table3_signalled`: ``table3`` in a child process, stopped by a signal halfway
   (its CSV written, its figure being drawn);
 - :func:`special_output`: an output path that is not a regular file or a new path (a link
-  through ``/proc``, a FIFO, a socket, a device), which no command may write over.
+  through ``/proc``, a FIFO, a socket, a device), which no command may write over;
+- :func:`frame_evidence`, :func:`boxes_evidence` and :func:`traced_peak`: large evidence
+  and the peak memory tracemalloc measures, to hold the memory budget to the real peak.
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ import struct
 import subprocess
 import sys
 import time
+import tracemalloc
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -173,6 +177,16 @@ def crafted_recordings(folder: Path) -> list[Crafted]:
         (
             "two data chunks",
             _riff(_fmt(), _chunk(b"data", f32[:400]), _chunk(b"data", f32)),
+            "error",
+        ),
+        (
+            "two fmt chunks (rates differ)",
+            _riff(_fmt(), _fmt(rate=fs + fs // 80), _chunk(b"data", f32), good_info),
+            "error",
+        ),
+        (
+            "two fmt chunks (the second after data)",
+            _riff(_fmt(), _chunk(b"data", f32), _fmt(rate=fs - fs // 80), good_info),
             "error",
         ),
         (
@@ -465,3 +479,35 @@ def table3_signalled(
             proc.wait()
         ready.unlink(missing_ok=True)
     return proc.returncode, err, written
+
+
+def frame_evidence(n: int, hypotheses: int = 24, seed: int = 0) -> MassFunction:
+    """Make a mass function of ``n`` random focal sets on a frame of ``hypotheses``."""
+    frame = [f"h{i}" for i in range(hypotheses)]
+    rng = np.random.default_rng(seed)
+    sets: set[frozenset[str]] = set()
+    while len(sets) < n:
+        chosen = frozenset(h for h, keep in zip(frame, rng.random(hypotheses) < 0.5, strict=True) if keep)
+        if chosen:
+            sets.add(chosen)
+    mass = rng.random(n)
+    return MassFunction(dict(zip(sorted(sets, key=sorted), mass / mass.sum(), strict=True)), frame=frame)
+
+
+def boxes_evidence(n: int, dim: int = 1, seed: int = 0) -> IntervalEvidence:
+    """Make interval evidence of ``n`` random boxes in ``dim`` dimensions (none equal)."""
+    rng = np.random.default_rng(seed)
+    lo = rng.random((n, dim))
+    mass = rng.random(n)
+    return IntervalEvidence(lo, lo + rng.random((n, dim)), mass / mass.sum(), merge=False)
+
+
+def traced_peak(work: Callable[[], Any]) -> tuple[Any, int]:
+    """Run ``work()`` and return its result and the peak memory tracemalloc saw, bytes."""
+    tracemalloc.start()
+    try:
+        result = work()
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    return result, peak

@@ -312,6 +312,11 @@ def exercises(prefix: str = "") -> list[str]:
 
 def get(exercise_id: str) -> Any:
     """Return the registered exercise ``exercise_id`` (a KeyError lists its chapter's ids)."""
+    if not isinstance(exercise_id, str):
+        raise InvalidInputError(
+            f"an exercise id is a string such as 'mass.bel', got {exercise_id!r}; "
+            "see exercises() for the ids"
+        )
     try:
         return REGISTRY[exercise_id]
     except KeyError:
@@ -502,8 +507,12 @@ def _show(k: Any) -> str:
 
 
 def _close(answer: Any, sol: Any, ex: Exercise) -> tuple[bool, str]:
+    if isinstance(answer, np.ma.MaskedArray) and np.ma.getmaskarray(answer).any():
+        return False, "the answer has masked entries; give plain numbers (no mask)"
     try:
         a = np.asarray(answer, dtype=float)
+    except OverflowError:
+        return False, "expected a number or numbers, got one too large for a float"
     except (TypeError, ValueError):
         return False, f"expected a number or numbers, got {type(answer).__name__}"
     s = np.asarray(sol, dtype=float)
@@ -517,7 +526,7 @@ def _nearly(answer: Any, sol: Any, ex: Exercise) -> bool:
     try:
         a = np.asarray(_canonical(answer), dtype=float)
         s = np.asarray(_canonical(sol), dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         return False
     return a.size == s.size and bool(
         np.all(np.isclose(a.reshape(s.shape), s, atol=20 * ex.atol, rtol=20 * ex.rtol))
