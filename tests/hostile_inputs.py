@@ -487,11 +487,13 @@ def frame_evidence(n: int, hypotheses: int = 24, seed: int = 0) -> MassFunction:
     rng = np.random.default_rng(seed)
     sets: set[frozenset[str]] = set()
     while len(sets) < n:
-        chosen = frozenset(h for h, keep in zip(frame, rng.random(hypotheses) < 0.5, strict=True) if keep)
+        keep = rng.random(hypotheses) < 0.5
+        chosen = frozenset(h for h, k in zip(frame, keep, strict=True) if k)
         if chosen:
             sets.add(chosen)
     mass = rng.random(n)
-    return MassFunction(dict(zip(sorted(sets, key=sorted), mass / mass.sum(), strict=True)), frame=frame)
+    masses = dict(zip(sorted(sets, key=sorted), mass / mass.sum(), strict=True))
+    return MassFunction(masses, frame=frame)
 
 
 def boxes_evidence(n: int, dim: int = 1, seed: int = 0) -> IntervalEvidence:
