@@ -105,19 +105,24 @@ def _files(folder: Path) -> list[str]:
     return sorted(str(p.relative_to(folder)) for p in folder.rglob("*"))
 
 
-def _cli(argv: list[str], cwd: Path) -> tuple[int, str]:
+def _in_process(main: Callable[[list[str]], int], argv: list[str], cwd: Path) -> tuple[int, str]:
+    """Run a command's ``main(argv)`` here, from ``cwd``; return its status and stderr."""
     err = io.StringIO()
     here = os.getcwd()
     os.chdir(cwd)
     try:
         with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
             try:
-                status = cli.main(argv)
+                status = main(argv)
             except SystemExit as exc:
                 status = int(exc.code or 0)
     finally:
         os.chdir(here)
     return status, err.getvalue()
+
+
+def _cli(argv: list[str], cwd: Path) -> tuple[int, str]:
+    return _in_process(cli.main, argv, cwd)
 
 
 def _verdict(status: int, err: str) -> str:
@@ -607,21 +612,12 @@ def _sheets(argv: list[str], cwd: Path) -> tuple[int, str]:
     """Run scripts/sheets.py's main in this process (its folder on the path, as a script's)."""
     scripts = str(PACKAGE_ROOT / "scripts")
     sys.path.insert(0, scripts)
-    err = io.StringIO()
-    here = os.getcwd()
-    os.chdir(cwd)
     try:
         import sheets
 
-        with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-            try:
-                status = sheets.main(argv)
-            except SystemExit as exc:
-                status = int(exc.code or 0)
+        return _in_process(sheets.main, argv, cwd)
     finally:
-        os.chdir(here)
         sys.path.remove(scripts)
-    return status, err.getvalue()
 
 
 def teaching_cases(fresh: _Folders) -> Iterator[_Case4]:
