@@ -22,7 +22,7 @@ from typing import Any
 
 from dstoolkit.errors import DstoolkitError
 from dstoolkit.utils.outputs import output_run
-from dstoolkit.utils.signals import Stopped, stop_on_signals, stopped_message
+from dstoolkit.utils.signals import _Stopped, stop_on_signals, stopped_message
 
 __all__ = ["ASCII_FALLBACK", "Console", "command_console", "run_command"]
 
@@ -202,7 +202,7 @@ def run_command(body: Callable[[], int]) -> int:
         except (DstoolkitError, OSError) as exc:
             print(f"error: {exc}", file=sys.stderr)
             return 2
-        except (KeyboardInterrupt, Stopped) as exc:
+        except (KeyboardInterrupt, _Stopped) as exc:
             what, status = stopped_message(exc)
             print(
                 f"{what}: stopped; the files this command had written were removed "

@@ -1,11 +1,12 @@
 """Stop signals turned into exceptions, held back while outputs are moved into place.
 
 A command run inside :func:`stop_on_signals` stops at Ctrl-C (SIGINT), SIGTERM, SIGHUP (its
-terminal closed) and SIGQUIT by raising :class:`KeyboardInterrupt` (SIGINT) or
-:class:`Stopped` where it was, so that its ``finally`` and ``except`` blocks run and remove
-what it made. Inside :func:`deferred_signals` (the few renames that put a set of outputs in
-place, or take them back) a signal is held and raised when the block ends, so that the files
-are never left half moved. After the first signal, later ones are ignored while the command
+terminal closed) and SIGQUIT by raising :class:`KeyboardInterrupt` (SIGINT) or a private
+``_Stopped`` (a :class:`BaseException`, as Ctrl-C's is) where it was, so that its
+``finally`` and ``except`` blocks run and remove what it made. Inside
+:func:`deferred_signals` (the few renames that put a set of outputs in place, or take them
+back) a signal is held and raised when the block ends, so that the files are never left half
+moved. After the first signal, later ones are ignored while the command
 cleans up.
 """
 
@@ -17,7 +18,7 @@ import threading
 from collections.abc import Iterator
 from types import FrameType
 
-__all__ = ["STOP_SIGNALS", "Stopped", "deferred_signals", "stop_on_signals", "stopped_message"]
+__all__ = ["STOP_SIGNALS", "deferred_signals", "stop_on_signals", "stopped_message"]
 
 #: The signals that stop a command, and how its one-line message names them.
 STOP_SIGNALS: dict[int, str] = {
@@ -28,7 +29,7 @@ STOP_SIGNALS: dict[int, str] = {
 }
 
 
-class Stopped(BaseException):
+class _Stopped(BaseException):
     """A stop signal other than SIGINT, raised where the program was.
 
     Parameters
@@ -51,7 +52,7 @@ def _raise_for(signum: int) -> None:
     _ignore_stops()
     if signum == signal.SIGINT:
         raise KeyboardInterrupt
-    raise Stopped(signum)
+    raise _Stopped(signum)
 
 
 def _ignore_stops() -> None:
@@ -119,8 +120,8 @@ def stopped_message(exc: BaseException) -> tuple[str, int]:
 
     Parameters
     ----------
-    exc : KeyboardInterrupt or Stopped
-        What :func:`stop_on_signals` raised.
+    exc : BaseException
+        What :func:`stop_on_signals` raised (a KeyboardInterrupt for Ctrl-C).
 
     Returns
     -------
@@ -135,5 +136,5 @@ def stopped_message(exc: BaseException) -> tuple[str, int]:
     >>> stopped_message(KeyboardInterrupt())
     ('interrupted (Ctrl-C)', 130)
     """
-    signum = exc.signum if isinstance(exc, Stopped) else int(signal.SIGINT)
+    signum = exc.signum if isinstance(exc, _Stopped) else int(signal.SIGINT)
     return STOP_SIGNALS.get(signum, f"signal {signum}"), 128 + signum
