@@ -9,7 +9,8 @@ hostile input, under a time limit, and is classified:
 - silent wrong answer: a result that is invalid (NaN, an evidence its constructor
   refuses, masses not summing to 1), a result where an error was due, or a file lost
   (an input or an existing file replaced without ``--overwrite``);
-- hang: still running after the time limit (or over the memory budget).
+- hang: still running after the time limit (or over the memory budget);
+- lost/litter: a file lost or replaced unasked, or litter left behind (the third pass).
 
 The categories from "representations" on are the second pass: the merged and unmerged
 forms of one evidence, copies (pickle, copy, deepcopy), gauge numbers, ambiguous
@@ -18,7 +19,11 @@ threads, and the memory budget. "filters' boundary" probes the models the filter
 given (callbacks returning NaN or complex values, contradictory zero-width readings,
 per-run starts, integer options, start arrays changed afterwards).
 
-Run: python benchmarks/hostile_probe.py [--audio]   (--audio adds the sound-server faults,
+The third pass (``benchmarks/hostile_third_pass.py``, ``--third`` for it alone) follows the
+categories of its audit: filesystem, processes and races, WAV inputs, the evidence and
+filters APIs, array-likes, the memory budget, the environment, teaching and sheets.py.
+
+Run: python benchmarks/hostile_probe.py [--audio] [--third]   (--audio adds the sound-server faults,
 through the PulseAudio loopback of scripts/audio-loopback.sh)
 """
 
@@ -82,6 +87,10 @@ from dstoolkit.filters import (  # noqa: E402
 )
 from dstoolkit.gauge import TubeSetup, gauge_state_space_model, simulate_gauge  # noqa: E402
 
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from hostile_third_pass import CATEGORIES as THIRD_PASS  # noqa: E402
+from hostile_third_pass import Lost, OverBudget, TooSlow, third_pass_cases  # noqa: E402
+
 TIME_LIMIT_S = 30
 #: How long a signal probe waits for its child to reach the middle of its work.
 SIGNAL_WAIT_S = 120
@@ -101,6 +110,7 @@ CATEGORIES = (
     "memory budget",
     "filters' boundary (lead)",
     "sound-server faults",
+    *THIRD_PASS,
 )
 
 
@@ -134,6 +144,10 @@ def classify(probe: Probe) -> tuple[str, str]:
         result = probe.run()
     except Hang:
         return "hang", f"no answer within {probe.time_limit} s"
+    except (OverBudget, TooSlow) as exc:
+        return "hang", str(exc)
+    except Lost as exc:
+        return "lost", str(exc)
     except DstoolkitError as exc:
         text = str(exc)
         if not text.strip():
@@ -156,6 +170,8 @@ def classify(probe: Probe) -> tuple[str, str]:
         valid(result)
         if probe.check is not None:
             probe.check(result)
+    except Lost as exc:
+        return "lost", str(exc)
     except AssertionError as exc:
         return "wrong", f"invalid result: {exc}"
     return "ok", "a valid result"
@@ -1461,6 +1477,11 @@ def main() -> None:
         action="store_true",
         help="only the second pass's categories (representations onwards)",
     )
+    parser.add_argument(
+        "--third",
+        action="store_true",
+        help="only the third pass's categories (filesystem to teaching + sheets.py)",
+    )
     args = parser.parse_args()
     import matplotlib
 
@@ -1502,6 +1523,13 @@ def main() -> None:
         ]
         if args.audio:
             groups.append(fault_probes())
+        if args.third:
+            groups = []
+        (folder / "third").mkdir()
+        groups.append(
+            Probe(category, name, run, expect, time_limit=limit)
+            for category, name, run, expect, limit in third_pass_cases(folder / "third")
+        )
         for probe in itertools.chain(*groups):
             outcome, detail = classify(probe)
             counts[probe.category][outcome] += 1
@@ -1511,22 +1539,18 @@ def main() -> None:
                 print(f"{outcome:9} {probe.category:24} {probe.name:45} {detail:.100}")
     head = (
         f"{'category':26} {'inputs tried':>12} {'clean errors':>13} {'valid results':>14} "
-        f"{'tracebacks':>11} {'silent wrong':>13} {'hangs':>6}"
+        f"{'tracebacks':>11} {'silent wrong':>13} {'hangs':>6} {'lost/litter':>12}"
     )
     print(head)
     print("-" * len(head))
-    for category, c in counts.items():
+    all_ = sum(counts.values(), Counter())
+    for category, c in [*counts.items(), ("total", all_)]:
         total = sum(c.values())
         if total:
             print(
                 f"{category:26} {total:>12} {c['error']:>13} {c['ok']:>14} "
-                f"{c['traceback']:>11} {c['wrong']:>13} {c['hang']:>6}"
+                f"{c['traceback']:>11} {c['wrong']:>13} {c['hang']:>6} {c['lost']:>12}"
             )
-    all_ = sum(counts.values(), Counter())
-    print(
-        f"{'total':26} {sum(all_.values()):>12} {all_['error']:>13} {all_['ok']:>14} "
-        f"{all_['traceback']:>11} {all_['wrong']:>13} {all_['hang']:>6}"
-    )
     for line in problems:
         print(line)
 

@@ -26,6 +26,7 @@ The paper's filter on a simulated gauge at 9.6 m (eqs. 39–40 of the paper):
 from importlib.metadata import PackageNotFoundError as _PackageNotFoundError
 from importlib.metadata import version as _version
 
+from . import _startup  # noqa: F401 - first: the command stops quietly while importing
 from .errors import (
     AudioUnavailableError,
     DetectionError,

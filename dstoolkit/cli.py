@@ -15,23 +15,19 @@ Examples
 from __future__ import annotations
 
 import argparse
-import signal
-import sys
-import threading
 from collections.abc import Callable
 from pathlib import Path
-from types import FrameType
 from typing import TYPE_CHECKING
 
-from dstoolkit.errors import DstoolkitError, MissingExtraError
+from dstoolkit.errors import MissingExtraError
 from dstoolkit.studies import METHODS, run_table3
 from dstoolkit.utils.budget import check_memory
+from dstoolkit.utils.console import run_command
 from dstoolkit.utils.outputs import (
     atomic_write,
     check_outputs,
     figure_tag,
     made_by,
-    output_run,
 )
 
 if TYPE_CHECKING:
@@ -237,45 +233,16 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-class _Terminated(BaseException):
-    """SIGTERM, raised where the command was so that it stops as after Ctrl-C."""
-
-
-#: Exit statuses after a signal: 128 + the signal's number, as a shell reports them.
-EXIT_INTERRUPTED = 128 + signal.SIGINT
-EXIT_TERMINATED = 128 + signal.SIGTERM
-
-
-def _stop(signum: int, frame: FrameType | None) -> None:
-    """Stop the command at the first Ctrl-C or SIGTERM; ignore any later one.
-
-    Later signals are ignored while the command removes what it made.
-
-    Parameters
-    ----------
-    signum : int
-        The signal's number.
-    frame : types.FrameType or None
-        The frame the signal interrupted.
-
-    Raises
-    ------
-    KeyboardInterrupt
-        For SIGINT.
-    _Terminated
-        For SIGTERM.
-    """
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_IGN)
-    raise KeyboardInterrupt if signum == signal.SIGINT else _Terminated
-
-
 def main(argv: list[str] | None = None) -> int:
     """Run the command line ``argv``.
 
-    A package error or an OS error becomes one line on stderr (exit status 2). Ctrl-C and
-    SIGTERM stop the command with one line on stderr and the exit status 130 or 143; the
-    files and folders the command had made are removed, as after any failure.
+    A package error or an OS error becomes one line on stderr (exit status 2). Ctrl-C,
+    SIGTERM, SIGHUP and SIGQUIT stop the command with one line on stderr and the exit
+    status 128 + the signal's number; as after any failure, the run is taken back whole
+    (:func:`~dstoolkit.utils.outputs.output_run`): the files it wrote are removed and the
+    files they replaced put back. Text the output's encoding cannot hold is printed in
+    ASCII, and a closed standard output (``| head``) ends in an ``error:`` line once the
+    command has finished, its files kept.
 
     Parameters
     ----------
@@ -285,7 +252,8 @@ def main(argv: list[str] | None = None) -> int:
     Returns
     -------
     int
-        The exit status: 0, 2 after an error, 130 after Ctrl-C, 143 after SIGTERM.
+        The exit status: 0, 2 after an error, 128 + the signal's number after a stop
+        (130 Ctrl-C, 143 SIGTERM, 129 SIGHUP, 131 SIGQUIT).
 
     See Also
     --------
@@ -303,32 +271,9 @@ def main(argv: list[str] | None = None) -> int:
     >>> status, err.getvalue().startswith("error:")
     (2, True)
     """
-    handlers = None
-    if threading.current_thread() is threading.main_thread():
-        handlers = (signal.signal(signal.SIGINT, _stop), signal.signal(signal.SIGTERM, _stop))
-    try:
+
+    def body() -> int:
         args = build_parser().parse_args(argv)
-        with output_run() as run:
-            status = int(args.func(args))
-            if status != 0:
-                run.discard()
-            return status
-    except (DstoolkitError, OSError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        print(
-            "interrupted (Ctrl-C): stopped; the files this command had made were removed",
-            file=sys.stderr,
-        )
-        return EXIT_INTERRUPTED
-    except _Terminated:
-        print(
-            "terminated (SIGTERM): stopped; the files this command had made were removed",
-            file=sys.stderr,
-        )
-        return EXIT_TERMINATED
-    finally:
-        if handlers is not None:
-            signal.signal(signal.SIGINT, handlers[0])
-            signal.signal(signal.SIGTERM, handlers[1])
+        return int(args.func(args))
+
+    return run_command(body)

@@ -25,6 +25,7 @@ __all__ = [
     "AudioServerError",
     "AudioStallError",
     "AudioUnavailableError",
+    "BrokenExtraError",
     "DetectionError",
     "DstoolkitError",
     "DstoolkitWarning",
@@ -184,6 +185,14 @@ class MissingExtraError(DstoolkitError, ImportError):
     """
 
 
+class BrokenExtraError(DstoolkitError, RuntimeError):
+    """An installed optional dependency failed to import: the environment misconfigures it.
+
+    For example ``MPLBACKEND`` naming no backend of matplotlib; the message says which
+    module failed and why.
+    """
+
+
 class GradingFailure(DstoolkitError, AssertionError):  # noqa: N818 - a failed test
     """A graded answer failed its test; the message is the check's verdict.
 
@@ -251,4 +260,9 @@ def require_extra(module: str, extra: str, purpose: str) -> None:
         raise MissingExtraError(
             f"{purpose} needs {module!r}, which is not installed. "
             f"Install the extra: pip install 'dstoolkit[{extra}]'"
+        ) from exc
+    except Exception as exc:  # installed, but its import fails: a setting in the environment
+        raise BrokenExtraError(
+            f"{purpose} needs {module!r}, which is installed but failed to import: {exc}. "
+            "Check the environment variables that configure it (for matplotlib, MPLBACKEND)"
         ) from exc

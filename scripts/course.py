@@ -446,28 +446,32 @@ def assignment_name(stem: str, number: int) -> str:
 
 
 def write_course(
-    folder: Path, root: Path = sheets.ROOT, chapters: list[str] | None = None, variant: int = 0
+    folder: Path,
+    root: Path = sheets.ROOT,
+    chapters: list[str] | None = None,
+    variant: int = 0,
+    *,
+    overwrite: bool = True,
 ) -> list[Path]:
     """Write the nbgrader course to ``folder`` and return the paths written.
 
     The course is the config and one source assignment per chapter (or only for the
-    ``chapters`` stems given), with the numbers of ``variant`` (0: the book's).
+    ``chapters`` stems given), with the numbers of ``variant`` (0: the book's). An existing
+    file is replaced only with ``overwrite`` (:func:`sheets.write_output`).
     """
-    folder.mkdir(parents=True, exist_ok=True)
     config = folder / "nbgrader_config.py"
-    config.write_text(CONFIG.format(course=COURSE_ID, timeout=CELL_TIMEOUT), encoding="utf-8")
+    sheets.write_output(
+        config, CONFIG.format(course=COURSE_ID, timeout=CELL_TIMEOUT), overwrite=overwrite
+    )
     template = folder / "templates" / "feedback" / "mathjax.html.j2"
-    template.parent.mkdir(parents=True, exist_ok=True)
-    template.write_text(NO_MATHJAX, encoding="utf-8")
+    sheets.write_output(template, NO_MATHJAX, overwrite=overwrite)
     written = [config, template]
     for stem, (number, title, src, labels) in sheets.sheets(root).items():
         if chapters is not None and stem not in chapters:
             continue
         name = assignment_name(stem, number)
         path = folder / "source" / name / f"{name}.ipynb"
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(
-            sheets.dump(course_notebook(src, number, title, labels, variant)), encoding="utf-8"
-        )
+        text = sheets.dump(course_notebook(src, number, title, labels, variant))
+        sheets.write_output(path, text, overwrite=overwrite)
         written.append(path)
     return written

@@ -50,6 +50,10 @@ from typing import Any
 
 import yaml
 
+from dstoolkit.errors import InvalidInputError, OutputPathError
+from dstoolkit.utils.console import run_command
+from dstoolkit.utils.outputs import atomic_write, check_outputs
+
 ROOT = Path(__file__).resolve().parents[1]
 KINDS = ("coding", "proof", "prediction", "explanation", "substitution")
 MARKER = re.compile(r"^%% (setup|exercise|md|code|stub|answer|check|explore|solution)\b ?(.*)$")
@@ -516,15 +520,21 @@ def relink(root: Path, stem: str, name: str) -> None:
         text = path.read_text(encoding="utf-8")
         new = pattern.sub(f"notebooks/{name}", text)
         if new != text:
-            path.write_text(new, encoding="utf-8")
+            write_output(path, new)
 
 
 def write_variant(
-    variant: int, out: Path, root: Path = ROOT, teacher: Path | None = None
+    variant: int,
+    out: Path,
+    root: Path = ROOT,
+    teacher: Path | None = None,
+    *,
+    overwrite: bool = True,
 ) -> list[Path]:
     """Write the student sheets of ``variant`` to ``out`` and return the paths.
 
-    With ``teacher``, its instructor sheets are written there too.
+    With ``teacher``, its instructor sheets are written there too. An existing sheet is
+    replaced only with ``overwrite``.
     """
     from dstoolkit.teaching._variants import valid_variant
 
@@ -534,20 +544,20 @@ def write_variant(
         for folder, is_teacher in ((out, False), (teacher, True)):
             if folder is None:
                 continue
-            folder.mkdir(parents=True, exist_ok=True)
             path = sheet_path(stem, number, folder)
-            path.write_text(
-                dump(build(src, number, title, labels, is_teacher, variant)), encoding="utf-8"
-            )
+            text = dump(build(src, number, title, labels, is_teacher, variant))
+            write_output(path, text, overwrite=overwrite)
             written.append(path)
     return written
 
 
-def write_sheets(root: Path = ROOT, teacher: Path | None = None) -> list[Path]:
+def write_sheets(
+    root: Path = ROOT, teacher: Path | None = None, *, overwrite: bool = True
+) -> list[Path]:
     """Write every student sheet to ``notebooks/`` and return the paths.
 
     Sheets whose chapter number changed are renamed. With ``teacher``, every instructor
-    sheet is written there too.
+    sheet is written there too; an existing one is replaced only with ``overwrite``.
     """
     written = []
     for stem, (number, title, src, labels) in sheets(root).items():
@@ -556,15 +566,43 @@ def write_sheets(root: Path = ROOT, teacher: Path | None = None) -> list[Path]:
         for old in (root / "notebooks").glob(f"*_{stem}.ipynb"):
             if old != target and re.fullmatch(rf"\d\d_{stem}\.ipynb", old.name):
                 old.unlink()  # the chapter moved: its sheet takes the new number
-        target.write_text(text, encoding="utf-8")
+        write_output(target, text)  # the generated sheets are this script's own
         written.append(target)
         relink(root, stem, target.name)
         if teacher is not None:
-            teacher.mkdir(parents=True, exist_ok=True)
             path = sheet_path(stem, number, teacher)
-            path.write_text(dump(build(src, number, title, labels, True)), encoding="utf-8")
+            text = dump(build(src, number, title, labels, True))
+            write_output(path, text, overwrite=overwrite)
             written.append(path)
     return written
+
+
+def write_output(path: Path, text: str, *, overwrite: bool = True) -> None:
+    """Write one file as the ``dstoolkit`` command writes its outputs.
+
+    The path is checked (a folder, a device, a place that cannot be written is refused; an
+    existing file is replaced only with ``overwrite``), and the file is written to a
+    temporary file beside it and moved into place when complete. Inside :func:`main`, the
+    files of one run are written all or none: a failure or a stop takes the run back.
+    """
+    check_outputs({"the sheet": path}, overwrite=overwrite)
+    atomic_write(path, lambda fh: fh.write(text.encode("utf-8")))
+
+
+def _outside_student_sheets(option: str, folder: Path | None, root: Path = ROOT) -> None:
+    """Refuse the book's student-sheets folder (or a folder in it) as another output."""
+    if folder is None:
+        return
+    sheets_folder = (root / "notebooks").resolve()
+    try:
+        where = folder.resolve()
+    except (OSError, RuntimeError) as exc:
+        raise OutputPathError(f"{option}: cannot follow {folder}: {exc}") from None
+    if where == sheets_folder or sheets_folder in where.parents:
+        raise OutputPathError(
+            f"{option}: {folder} is the book's student-sheets folder (notebooks/); "
+            "give another folder"
+        )
 
 
 def counts(root: Path = ROOT) -> str:
@@ -628,27 +666,47 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--counts", action="store_true", help="only print the exercises per chapter by kind"
     )
+    parser.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace existing files under --teacher, --out or --nbgrader",
+    )
     args = parser.parse_args(argv)
+    if args.variant < 0:
+        parser.error("--variant takes a whole number ≥ 0 (0 is the book's data)")
+    if args.variant > 0 and args.out is None and args.nbgrader is None:
+        parser.error("--variant N writes to --out DIR (the sheets under notebooks/ are the book's)")
+    return run_command(lambda: _run(args))
+
+
+def _run(args: argparse.Namespace) -> int:
     if args.counts:
         print(counts(ROOT))
         return 0
-    if args.variant < 0:
-        parser.error("--variant takes a whole number ≥ 0 (0 is the book's data)")
+    for option in ("teacher", "out", "nbgrader"):
+        _outside_student_sheets(f"--{option}", getattr(args, option))
+    if args.chapter is not None:
+        unknown = sorted(set(args.chapter) - set(sheets(ROOT)))
+        if unknown:
+            raise InvalidInputError(
+                f"--chapter: no chapter with exercises named {', '.join(map(repr, unknown))}; "
+                f"the chapters are {', '.join(sorted(sheets(ROOT)))}"
+            )
     if args.nbgrader is not None:
         from course import write_course
 
-        for path in write_course(args.nbgrader, ROOT, args.chapter, args.variant):
+        for path in write_course(
+            args.nbgrader, ROOT, args.chapter, args.variant, overwrite=args.overwrite
+        ):
             print(path)
         return 0
-    if args.variant > 0 or args.out is not None:
-        if args.out is None:
-            parser.error(
-                "--variant N writes to --out DIR (the sheets under notebooks/ are the book's)"
-            )
-        for path in write_variant(args.variant, args.out, ROOT, args.teacher):
+    if args.out is not None:
+        for path in write_variant(
+            args.variant, args.out, ROOT, args.teacher, overwrite=args.overwrite
+        ):
             print(path)
         return 0
-    for path in write_sheets(ROOT, args.teacher):
+    for path in write_sheets(ROOT, args.teacher, overwrite=args.overwrite):
         print(path.relative_to(ROOT) if path.is_relative_to(ROOT) else path)
     return 0
 

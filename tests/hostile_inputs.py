@@ -10,7 +10,9 @@
 - :func:`table3_signalled`: ``table3`` in a child process, stopped by a signal halfway
   (its CSV written, its figure being drawn);
 - :func:`special_output`: an output path that is not a regular file or a new path (a link
-  through ``/proc``, a FIFO, a socket, a device), which no command may write over.
+  through ``/proc``, a FIFO, a socket, a device), which no command may write over;
+- :func:`frame_evidence`, :func:`boxes_evidence` and :func:`traced_peak`: large evidence
+  and the peak memory tracemalloc measures, to hold the memory budget to the real peak.
 """
 
 from __future__ import annotations
@@ -23,6 +25,8 @@ import struct
 import subprocess
 import sys
 import time
+import tracemalloc
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -173,6 +177,16 @@ def crafted_recordings(folder: Path) -> list[Crafted]:
         (
             "two data chunks",
             _riff(_fmt(), _chunk(b"data", f32[:400]), _chunk(b"data", f32)),
+            "error",
+        ),
+        (
+            "two fmt chunks (rates differ)",
+            _riff(_fmt(), _fmt(rate=fs + fs // 80), _chunk(b"data", f32), good_info),
+            "error",
+        ),
+        (
+            "two fmt chunks (the second after data)",
+            _riff(_fmt(), _chunk(b"data", f32), _fmt(rate=fs - fs // 80), good_info),
             "error",
         ),
         (
@@ -413,17 +427,21 @@ raise SystemExit(main(sys.argv[2:]))
 """
 
 
-def table3_signalled(work: Path, sig: int, wait_s: float = 600.0) -> tuple[int | None, str, bool]:
+def table3_signalled(
+    work: Path, sig: int, wait_s: float = 600.0, *, overwrite: bool = False
+) -> tuple[int | None, str, bool]:
     """Run ``table3 --out work/out/t.csv`` in a child process and send ``sig`` to it.
 
     The run is one run of the direct method, and its figure never finishes; ``sig`` is sent
     once the CSV is written. Returns the exit status, what it printed on stderr, and whether
-    the CSV was there when the signal went. The child uses the dstoolkit this process
-    imported.
+    the new CSV was in place when the signal went. The child uses the dstoolkit this process
+    imported; ``overwrite`` adds ``--overwrite``.
     """
     import dstoolkit
 
     ready = work.parent / f".{work.name}.ready"
+    csv = work / "out" / "t.csv"
+    before = csv.read_bytes() if csv.is_file() else None
     env = {**os.environ, "PYTHONPATH": str(Path(dstoolkit.__file__).resolve().parents[1])}
     proc = subprocess.Popen(
         [
@@ -439,6 +457,7 @@ def table3_signalled(work: Path, sig: int, wait_s: float = 600.0) -> tuple[int |
             "--methods",
             "direct",
             "--quiet",
+            *(["--overwrite"] if overwrite else []),
         ],
         cwd=work,
         env=env,
@@ -451,7 +470,7 @@ def table3_signalled(work: Path, sig: int, wait_s: float = 600.0) -> tuple[int |
         deadline = time.monotonic() + wait_s
         while not ready.exists() and proc.poll() is None and time.monotonic() < deadline:
             time.sleep(0.05)
-        written = (work / "out" / "t.csv").is_file()
+        written = csv.is_file() and csv.read_bytes() != before  # the new CSV in place
         proc.send_signal(sig)
         _, err = proc.communicate(timeout=120)
     finally:
@@ -460,3 +479,37 @@ def table3_signalled(work: Path, sig: int, wait_s: float = 600.0) -> tuple[int |
             proc.wait()
         ready.unlink(missing_ok=True)
     return proc.returncode, err, written
+
+
+def frame_evidence(n: int, hypotheses: int = 24, seed: int = 0) -> MassFunction:
+    """Make a mass function of ``n`` random focal sets on a frame of ``hypotheses``."""
+    frame = [f"h{i}" for i in range(hypotheses)]
+    rng = np.random.default_rng(seed)
+    sets: set[frozenset[str]] = set()
+    while len(sets) < n:
+        keep = rng.random(hypotheses) < 0.5
+        chosen = frozenset(h for h, k in zip(frame, keep, strict=True) if k)
+        if chosen:
+            sets.add(chosen)
+    mass = rng.random(n)
+    masses = dict(zip(sorted(sets, key=sorted), mass / mass.sum(), strict=True))
+    return MassFunction(masses, frame=frame)
+
+
+def boxes_evidence(n: int, dim: int = 1, seed: int = 0) -> IntervalEvidence:
+    """Make interval evidence of ``n`` random boxes in ``dim`` dimensions (none equal)."""
+    rng = np.random.default_rng(seed)
+    lo = rng.random((n, dim))
+    mass = rng.random(n)
+    return IntervalEvidence(lo, lo + rng.random((n, dim)), mass / mass.sum(), merge=False)
+
+
+def traced_peak(work: Callable[[], Any]) -> tuple[Any, int]:
+    """Run ``work()`` and return its result and the peak memory tracemalloc saw, bytes."""
+    tracemalloc.start()
+    try:
+        result = work()
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    return result, peak

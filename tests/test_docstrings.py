@@ -31,6 +31,8 @@ PACKAGES = (
     "dstoolkit.utils.checks",
     "dstoolkit.utils.budget",
     "dstoolkit.utils.outputs",
+    "dstoolkit.utils.signals",
+    "dstoolkit.utils.console",
     "dstoolkit.evidence",
     "dstoolkit.filters",
     "dstoolkit.gauge",

@@ -184,7 +184,7 @@ def test_a_failed_recording_save_keeps_the_previous_file(tmp_path, recording, mo
     path = tmp_path / "rec.wav"
     original = _save(path, recording)
 
-    def broken_replace(src, dst):
+    def broken_replace(src, dst, **dir_fds):
         raise OSError("no space left on device")
 
     monkeypatch.setattr(_output.os, "replace", broken_replace)

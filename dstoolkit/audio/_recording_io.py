@@ -461,6 +461,10 @@ def _open_regular(path: str | os.PathLike[str]) -> tuple[Any, int]:
         raise RecordingNotFoundError(f"{name!r}: No such file; check the path") from None
     except IsADirectoryError:
         raise RecordingFileError(f"{name!r} is a folder, not a WAV file") from None
+    except OSError as exc:  # a socket, a symbolic link loop, no permission...
+        raise RecordingFileError(
+            f"cannot open {name!r}: {exc.strerror or exc}; give the path of a readable WAV file"
+        ) from None
     st = os.fstat(fd)
     if not stat.S_ISREG(st.st_mode):
         os.close(fd)
@@ -569,6 +573,12 @@ def read_layout(fh: Any, size: int, path: str | os.PathLike[str]) -> WavLayout:
         elif tag == b"fmt ":
             if chunk > 1024 or chunk > size - body_at:
                 raise _bad(path, f"its fmt chunk claims {chunk} bytes (truncated or corrupt)")
+            if fmt is not None:
+                raise _bad(
+                    path,
+                    "it has two fmt chunks, so its sample format is ambiguous; keep one and "
+                    "save the recording again",
+                )
             fmt = _parse_fmt(fh.read(chunk), path, endian)
         elif tag == b"LIST":
             if chunk > MAX_METADATA_BYTES:

@@ -36,6 +36,7 @@ import numpy as np
 
 from dstoolkit.errors import EvidenceError, NotMonotoneError, VertexMethodWarning
 from dstoolkit.utils.budget import check_memory
+from dstoolkit.utils.checks import whole_number
 
 from ._intervals import IntervalEvidence
 
@@ -54,6 +55,35 @@ MAX_VERTEX_DIM = 16
 
 
 # -- random relations (eqs. 11–12, 16) ---------------------------------------------------
+def product_row_bytes(dims: int, marginals: int) -> float:
+    """Memory per box of a Cartesian product of ``marginals`` marginals in ``dims`` dimensions.
+
+    The index grids (8 bytes a marginal), the ends and their copies and sort keys when equal
+    boxes merge (up to 64 bytes a dimension) and the masses: an upper bound, with a margin of
+    about a fifth, of the peak that tracemalloc measures (``benchmarks/memory_peaks.py``), so
+    that the memory budget bounds the real peak.
+
+    Parameters
+    ----------
+    dims : int
+        Σ d_i, the dimension of the product's boxes.
+    marginals : int
+        How many marginals.
+
+    Returns
+    -------
+    float
+        Bytes per box.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence._extension import product_row_bytes
+    >>> product_row_bytes(3, 3)
+    348.0
+    """
+    return 72.0 * dims + 12.0 * marginals + 96.0
+
+
 def cartesian_product(
     marginals: Sequence[IntervalEvidence], *, merge: bool = True
 ) -> IntervalEvidence:
@@ -105,9 +135,8 @@ def cartesian_product(
         )
     rows = math.prod(len(e) for e in marginals)
     dims = sum(e.dim for e in marginals)
-    # the index grids, the ends, the masses, and as much again to merge equal boxes
     check_memory(
-        rows * (16.0 * dims + 16.0 * len(marginals) + 16.0) * 2,
+        rows * product_row_bytes(dims, len(marginals)),
         f"the Cartesian product of {len(marginals)} marginals ({rows} boxes in {dims} dimensions)",
         "use fewer focal elements per marginal (fewer α-cuts, a smaller p) or fewer marginals",
     )
@@ -149,7 +178,27 @@ def projection(evidence: IntervalEvidence, axes: Sequence[int]) -> IntervalEvide
     >>> projection(cartesian_product([e1, e2]), [1]).mass.round(4).tolist()
     [0.1, 0.3, 0.6]
     """
-    axes = list(axes)
+    if not isinstance(evidence, IntervalEvidence):
+        raise EvidenceError(
+            f"projection needs an IntervalEvidence, got {type(evidence).__name__}; build one "
+            "with IntervalEvidence(lo, hi, mass)"
+        )
+    d = evidence.dim
+    if isinstance(axes, np.ndarray) and axes.ndim == 1:
+        axes = axes.tolist()
+    shown = list(axes) if isinstance(axes, list | tuple) else axes
+    wrong = EvidenceError(
+        f"axes must name distinct dimensions among 0..{d - 1} of this {d}-dimensional "
+        f"evidence, at least one, got {shown!r}"
+    )
+    if not isinstance(axes, Sequence) or isinstance(axes, str):
+        raise wrong
+    try:
+        axes = [whole_number(a, "an axis", high=d - 1, error=EvidenceError) for a in axes]
+    except EvidenceError:
+        raise wrong from None
+    if not axes or len(set(axes)) != len(axes):
+        raise wrong
     return IntervalEvidence(
         evidence.boxes_lo[:, axes], evidence.boxes_hi[:, axes], evidence.mass, merge=True
     )

@@ -418,10 +418,9 @@ class Filter(ABC, Generic[StateT, RecordT]):
         block of one run, (1, m) and (1, q) (or None).
         """
         _checked_model(model)
+        reading = real_array(z, "z", ndim=(0, 1), error=EvidenceError)
         try:
-            zz = np.broadcast_to(
-                real_array(z, "z", ndim=(0, 1), error=EvidenceError), (2, model.obs_dim)
-            )
+            zz = np.broadcast_to(reading, (2, model.obs_dim))
         except ValueError:
             raise EvidenceError(
                 f"a reading must have {model.obs_dim} component(s), got shape {np.shape(z)}"

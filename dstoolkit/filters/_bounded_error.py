@@ -36,6 +36,7 @@ from ._model import (
     StateSpaceModel,
     at_step,
     first_reading_box,
+    own_state,
     with_input,
 )
 
@@ -187,6 +188,7 @@ class BoundedErrorFilter(Filter[BoundedErrorState, BoundedErrorRecord]):
         --------
         Filter.step : the interface every filter shares.
         """
+        own_state(state, BoundedErrorState, self._title)
         model = state.model
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)

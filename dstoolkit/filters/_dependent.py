@@ -66,7 +66,7 @@ from dstoolkit.utils.checks import real_array
 
 from ._base import Block, Filter, FilterState, KernelChoice
 from ._dependent_arrays import StepArrays, map_back, observe, predict
-from ._model import FilterResult, StateSpaceModel, at_step, with_input
+from ._model import FilterResult, StateSpaceModel, at_step, own_state, with_input
 
 StartRule = Literal["observation", "mean_corrected"]
 ConflictPolicy = Literal["raise", "predict"]
@@ -451,6 +451,7 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         --------
         Filter.step : the interface every filter shares.
         """
+        own_state(state, DependentState, self._title)
         model, noise = state.model, state.noise
         maps = self._maps(model)
         zz, uu = self._one(model, z, u)

@@ -44,6 +44,7 @@ from ._model import (
     StateSpaceModel,
     at_step,
     first_reading_box,
+    own_state,
     step_input,
     unchecked,
     with_input,
@@ -443,6 +444,7 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
         --------
         Filter.step : the interface every filter shares.
         """
+        own_state(state, KalmanState, self._title)
         model = state.model
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)

@@ -469,6 +469,15 @@ class BatchResult:
         )
 
 
+#: How the filters call a model's maps, for the message when one does not take its arguments.
+_SIGNATURES = {
+    "f": "f(x, u) takes the states (..., n) and the inputs (or None)",
+    "g": "g(x) takes the states (..., n)",
+    "g_inverse": "g_inverse(lo, hi, x_lo, x_hi) takes a box of readings and a box of states "
+    "and returns a pair (lo, hi) of state boxes",
+}
+
+
 class _MapGuard:
     """Checks what a model's maps return while a filter runs, and where it is."""
 
@@ -476,16 +485,53 @@ class _MapGuard:
         self.title = title
         self.step = 0  # the step being filtered, counting from 0
 
-    def wrap(self, fn: Callable[..., Any], name: str) -> Callable[..., Any]:
+    def wrap(self, fn: Callable[..., Any], name: str, dim: int | None = None) -> Callable[..., Any]:
+        """Check ``fn``'s results: real numbers, and (with ``dim``) of shape (..., dim).
+
+        The leading axes are those of its arguments, broadcast; ``g_inverse`` must return a
+        pair.
+        """
+
         def checked(*args: Any) -> Any:
-            out = fn(*args)
-            for part in out if isinstance(out, tuple) else (out,):
+            try:
+                out = fn(*args)
+            except TypeError as exc:  # called as the filters call it: a wrong signature
+                raise EvidenceError(
+                    f"the model's {name} failed while the {self.title} filter was at step "
+                    f"{self.step} (counting from 0): TypeError: {exc}; {_SIGNATURES[name]}"
+                ) from exc
+            parts = out if isinstance(out, tuple) else (out,)
+            if name == "g_inverse" and (not isinstance(out, tuple | list) or len(out) != 2):
+                size = f" of length {len(out)}" if isinstance(out, tuple | list) else ""
+                raise EvidenceError(
+                    f"the model's g_inverse returned {type(out).__name__}{size} "
+                    f"while the {self.title} filter was at step {self.step} (counting from 0); "
+                    "g_inverse(lo, hi, x_lo, x_hi) must return a pair (lo, hi) of state boxes"
+                )
+            for part in parts:
                 self.check(part, name)
+                if dim is not None:
+                    lead = np.broadcast_shapes(*(np.shape(a)[:-1] for a in args if a is not None))
+                    self.check_shape(part, name, (*lead, dim))
             return out
 
         checked._guard = self  # type: ignore[attr-defined]
         checked._unchecked = fn  # type: ignore[attr-defined]
         return checked
+
+    def check_shape(self, value: Any, name: str, want: tuple[int, ...]) -> None:
+        """Refuse a result that does not broadcast to ``want`` (a wrong last axis, say)."""
+        try:
+            fits = np.broadcast_shapes(np.shape(value), want) == want
+        except ValueError:
+            fits = False
+        if not fits:
+            raise EvidenceError(
+                f"the model's {name} returned shape {np.shape(value)} where {want} was due "
+                f"(the last axis: {want[-1]} component(s)) while the {self.title} filter was "
+                f"at step {self.step} (counting from 0); {name} must keep the leading axes of "
+                "its argument and give the model's number of components on the last one"
+            )
 
     def check(self, value: Any, name: str) -> None:
         arr = np.asarray(value)
@@ -515,12 +561,29 @@ def guarded(model: StateSpaceModel, title: str) -> StateSpaceModel:
     if getattr(model.f, "_guard", None) is not None:
         return model
     guard = _MapGuard(title)
+    _probe_g_shape(model, guard)
     return dataclasses.replace(
         model,
-        f=guard.wrap(model.f, "f"),
-        g=guard.wrap(model.g, "g"),
-        g_inverse=None if model.g_inverse is None else guard.wrap(model.g_inverse, "g_inverse"),
+        f=guard.wrap(model.f, "f", model.state_dim),
+        g=guard.wrap(model.g, "g", model.obs_dim),
+        g_inverse=None
+        if model.g_inverse is None
+        else guard.wrap(model.g_inverse, "g_inverse", model.state_dim),
     )
+
+
+def _probe_g_shape(model: StateSpaceModel, guard: _MapGuard) -> None:
+    """Refuse, before any work, a g whose result has the wrong number of components.
+
+    g is evaluated once at the zero state; a g that fails there is left to the filter, which
+    calls it where the states are.
+    """
+    try:
+        with np.errstate(all="ignore"):
+            out = model.g(np.zeros((1, model.state_dim)))
+    except Exception:  # noqa: BLE001 - a g undefined at 0 is checked where it is used
+        return
+    guard.check_shape(out, "g", (1, model.obs_dim))
 
 
 def unchecked(fn: Callable[..., Any]) -> tuple[Callable[..., Any], _MapGuard | None]:
@@ -531,6 +594,18 @@ def unchecked(fn: Callable[..., Any]) -> tuple[Callable[..., Any], _MapGuard | N
     with no guard.
     """
     return getattr(fn, "_unchecked", fn), getattr(fn, "_guard", None)
+
+
+def own_state(state: Any, kind: type, title: str) -> None:
+    """Refuse a state that is not the one this filter's ``initialize`` or ``step`` made.
+
+    Another filter's state (or anything else) would fail deep inside with an AttributeError.
+    """
+    if not isinstance(state, kind):
+        raise EvidenceError(
+            f"the {title} filter's step() needs the {kind.__name__} that its initialize() or "
+            f"step() returned, got {type(state).__name__}; start with initialize(model, z1)"
+        )
 
 
 def at_step(model: StateSpaceModel, k: int) -> None:

@@ -85,6 +85,7 @@ from ._model import (
     StateSpaceModel,
     at_step,
     first_reading_box,
+    own_state,
     step_input,
     with_input,
 )
@@ -403,6 +404,7 @@ class NassreddineFilter(Filter[NassreddineState, NassreddineRecord]):
         --------
         Filter.step : the interface every filter shares.
         """
+        own_state(state, NassreddineState, self._title)
         model = state.model
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)

@@ -15,9 +15,14 @@ weighted by its likelihood (a flat prior on that box).
 
 Degeneracy policy
 -----------------
-When every particle gets weight 0 (the cloud has moved where no state agrees with the
-reading within the noise bounds, e.g. bounds too tight or an outlier), the cloud is
-**re-initialised from the reading**: particles are drawn uniformly in
+When every particle gets weight 0 although the cloud was drawn from the previous reading
+alone (at the start, or just re-initialised: it spans every state that reading allows), and
+the prediction (the box of f(x) over the resampled cloud, widened by the state noise bounds)
+holds no state consistent with the reading, the model contradicts the data (f wrong, or
+bounds too tight): the filter raises an :class:`~dstoolkit.errors.InconsistentDataError`,
+as the bounded-error filter does, unless ``on_inconsistent="reset"``. Otherwise (a cloud
+that had narrowed merely missed the consistent states, e.g. after an outlier), the cloud
+is **re-initialised from the reading**: particles are drawn uniformly in
 g⁻¹(z_k + [w_lo, w_hi]) (∩ ``initial_box``) and weighted by their likelihood, exactly as at
 the start. The step is flagged in ``diagnostics["reinitialised"]``; the filter forgets its
 past there.
@@ -36,20 +41,23 @@ within :data:`CHUNK_BYTES`.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
 
-from dstoolkit.errors import EvidenceError
+from dstoolkit.errors import EvidenceError, InconsistentDataError
 
 from ._base import Block, Filter, FilterState, KernelChoice
+from ._bounded_error import BoundedErrorFilter, InconsistencyPolicy
 from ._model import (
     BoundedNoise,
     StateSpaceModel,
     at_step,
     first_reading_box,
+    own_state,
     step_input,
     with_input,
 )
@@ -193,6 +201,9 @@ class ParticleState(FilterState):
         The run's streams: state noise, resampling offsets.
     run : int
         The run's index (its streams).
+    redrawn : bool
+        Whether the cloud was drawn from the reading alone at this step (the start, or a
+        re-initialisation).
     """
 
     particles: np.ndarray
@@ -200,6 +211,7 @@ class ParticleState(FilterState):
     rng: np.random.Generator
     offset_rng: np.random.Generator
     run: int = 0
+    redrawn: bool = False
 
 
 @dataclass(frozen=True)
@@ -252,6 +264,12 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
         The resampling's search: ``"numpy"`` (default),
         ``"numba"`` (compiled, extra
         ``speed``; the same indices), ``"auto"`` (numba when it is installed).
+    on_inconsistent : {"raise", "reset"}
+        When a cloud drawn from the previous reading alone predicts
+        no state consistent with the reading (see the module docstring): ``"raise"``
+        (default) an :class:`~dstoolkit.errors.InconsistentDataError`, as the bounded-error
+        filter does; ``"reset"`` redraw the cloud from the reading. A narrowed cloud that
+        merely missed the consistent states is redrawn either way.
 
     See Also
     --------
@@ -270,6 +288,7 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
     stream: int = 0
     initial_box: tuple[Any, Any] | None = None
     kernel: KernelChoice = "numpy"
+    on_inconsistent: InconsistencyPolicy = "raise"
     name: ClassVar[str] = "particle"
     COMPILED_KERNEL: ClassVar[bool] = True
     DIAGNOSTICS: ClassVar[dict[str, str]] = {
@@ -284,6 +303,7 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
         self._whole("stream")
         self._own_box()
         self._compiled(self.kernel, "the particle filter")
+        self._policy(self.on_inconsistent, ("raise", "reset"), "on_inconsistent")
 
     def _check_model(self, model: StateSpaceModel) -> None:
         self._check_box_dim(self._box(self.initial_box), model)
@@ -359,6 +379,7 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
         --------
         Filter.step : the interface every filter shares.
         """
+        own_state(state, ParticleState, self._title)
         model = state.model
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)
@@ -374,8 +395,10 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
             uu,
             np.array([state.run]),
             state.k,
+            np.array([state.k == 1 or state.redrawn]),
         )
         new = self._state(model, state.k + 1, particles[0], w[0], rng, offset_rng, state.run)
+        new = dataclasses.replace(new, redrawn=bool(reinit[0]))
         return new, self._record(new, bool(reinit[0]))
 
     def _start_record(self, state: ParticleState) -> ParticleRecord:
@@ -447,26 +470,61 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
         u: np.ndarray | None,
         run_ids: np.ndarray,
         k: int,
+        redrawn: np.ndarray,
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Advance step k → k + 1 (k counting from 1) for R runs.
 
         Clouds (R, N, n) with weights (R, N), the step's offsets (R,) and state noise
         (R, N, n), readings (R, m). Returns the new clouds, their normalised weights and the
-        re-initialised runs.
+        re-initialised runs. ``redrawn`` (R,) tells the runs whose cloud was drawn from the
+        previous reading alone: for them, a prediction that contradicts the reading is refused
+        (``on_inconsistent="raise"``), since the cloud then spans every state that reading
+        allows, and the model, not the cloud, is at fault.
         """
         runs, big_n, n = particles.shape
         first_row = (np.arange(runs) * big_n)[:, None]  # each run's first particle, flattened
         compiled = self._compiled(self.kernel, "the particle filter")
         idx = systematic_resample(w, offsets, compiled=compiled) + first_row
         chosen = np.take(particles.reshape(-1, n), idx.ravel(), axis=0)
-        particles = with_input(model.f, u)(chosen.reshape(runs, big_n, n)) + noise
+        moved = with_input(model.f, u)(chosen.reshape(runs, big_n, n))
+        particles = moved + noise
         weights = self._weigh(model, particles, z)
         dead = ~(weights.sum(axis=1) > 0)
+        if (dead & redrawn).any() and self.on_inconsistent == "raise":
+            self._refuse_contradiction(model, moved, z, dead & redrawn, k)
         for i in np.flatnonzero(dead).tolist():
             fresh = _stream(int(self.seed), int(run_ids[i]), k).random((1, big_n, n))
             p_new, w_new = self._draw_in_reading_box(model, z[i : i + 1], fresh, k)
             particles[i], weights[i] = p_new[0], w_new[0]
         return particles, _normalised(weights), dead
+
+    @staticmethod
+    def _refuse_contradiction(
+        model: StateSpaceModel, moved: np.ndarray, z: np.ndarray, dead: np.ndarray, k: int
+    ) -> None:
+        """Refuse a step whose prediction holds no state consistent with the reading.
+
+        The prediction is the box of f(x) over the resampled cloud widened by the state
+        noise bounds (eq. 21), as the bounded-error filter predicts; a cloud that merely
+        missed the consistent states (all weights 0 by chance) is redrawn instead.
+        """
+        with np.errstate(invalid="ignore"):
+            p_lo = moved.min(axis=1) + model.state_noise.lower
+            p_hi = moved.max(axis=1) + model.state_noise.upper
+        r_lo, r_hi = model.inverse()(
+            z + model.obs_noise.lower, z + model.obs_noise.upper, p_lo, p_hi
+        )
+        r_lo, r_hi = np.broadcast_to(r_lo, p_lo.shape), np.broadcast_to(r_hi, p_hi.shape)
+        finite = np.isfinite(p_lo).all(axis=-1) & np.isfinite(p_hi).all(axis=-1)
+        contradicted = dead & (~finite | np.any(~(r_lo <= r_hi), axis=-1))
+        if contradicted.any():
+            r = int(np.flatnonzero(contradicted)[0])
+            raise InconsistentDataError(
+                BoundedErrorFilter._message(model, z, k, r, p_lo, p_hi).replace(
+                    "restart from the reading",
+                    "redraw the particles from the reading (the filter then forgets its past)",
+                )
+            )
 
     def _engine(
         self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, runs: np.ndarray
@@ -502,6 +560,7 @@ class ParticleFilter(Filter[ParticleState, ParticleRecord]):
                     step_input(U, k),
                     runs,
                     k,
+                    reinit[:, k - 1] | (k == 1),
                 )
             est[:, k] = np.einsum("rp,rpi->ri", w, particles)
             alive = (w > 0)[..., None]

@@ -22,6 +22,7 @@ registered with :func:`dstoolkit.teaching.coding_exercise` and checked by the sa
 from __future__ import annotations
 
 import copy
+import dataclasses
 import html
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -33,7 +34,9 @@ import numpy as np
 from dstoolkit.errors import InvalidInputError
 from dstoolkit.evidence import IntervalEvidence, MassFunction
 
-from ._limits import describe, too_big
+from ._isolation import plain_data, run_isolated
+from ._limits import describe, too_big, valid_limit
+from ._limits import time_limit as time_limit_default
 from ._variants import current_variant, using_variant
 
 Solver = Callable[[], Any]
@@ -119,13 +122,32 @@ class Exercise:
         answer : object
             The learner's answer.
         time_limit : float, optional
-            For coding exercises; no use here.
+            Seconds the comparison may take (by default the sheet's, see
+            :func:`~dstoolkit.teaching.set_time_limit`); it matters only for an answer that
+            is not plain numbers, strings, arrays or evidence, whose own methods (its
+            ``__float__``, say) are run in a child process stopped at the limit.
 
         Returns
         -------
         Feedback
             The verdict, in the current variant.
         """
+        if not plain_data(answer):
+            seconds = valid_limit(time_limit) if time_limit is not None else time_limit_default()
+            return isolated_feedback(
+                lambda: self._verdict(answer),
+                seconds,
+                Feedback(
+                    self.id,
+                    False,
+                    f"✘ {self.id}: stopped after {seconds:g} s comparing your answer "
+                    f"(a {type(answer).__name__}); give plain numbers.",
+                    {"timeout": True},
+                ),
+            )
+        return self._verdict(answer)
+
+    def _verdict(self, answer: Any) -> Feedback:
         if too_big(answer):
             return Feedback(
                 self.id,
@@ -212,6 +234,17 @@ class Feedback:
         )
         body = html.escape(self.message).replace("\n", "<br>")
         return f"<p style='color:{colour};font-family:monospace;white-space:pre-wrap'>{body}</p>"
+
+
+def isolated_feedback(work: Callable[[], Feedback], seconds: float, stopped: Feedback) -> Feedback:
+    """Give ``work()``'s verdict, run in a child process killed past ``seconds``.
+
+    ``stopped`` is the verdict when it had to be killed (see
+    :func:`~dstoolkit.teaching._isolation.run_isolated`). The verdict comes back as plain
+    values, so that it crosses even while a test hides dstoolkit's modules from the learner.
+    """
+    fields = run_isolated(lambda: dataclasses.astuple(work()), seconds, lambda: None)
+    return stopped if fields is None else Feedback(*fields)
 
 
 REGISTRY: dict[str, Any] = {}
@@ -312,6 +345,11 @@ def exercises(prefix: str = "") -> list[str]:
 
 def get(exercise_id: str) -> Any:
     """Return the registered exercise ``exercise_id`` (a KeyError lists its chapter's ids)."""
+    if not isinstance(exercise_id, str):
+        raise InvalidInputError(
+            f"an exercise id is a string such as 'mass.bel', got {exercise_id!r}; "
+            "see exercises() for the ids"
+        )
     try:
         return REGISTRY[exercise_id]
     except KeyError:
@@ -502,8 +540,12 @@ def _show(k: Any) -> str:
 
 
 def _close(answer: Any, sol: Any, ex: Exercise) -> tuple[bool, str]:
+    if isinstance(answer, np.ma.MaskedArray) and np.ma.getmaskarray(answer).any():
+        return False, "the answer has masked entries; give plain numbers (no mask)"
     try:
         a = np.asarray(answer, dtype=float)
+    except OverflowError:
+        return False, "expected a number or numbers, got one too large for a float"
     except (TypeError, ValueError):
         return False, f"expected a number or numbers, got {type(answer).__name__}"
     s = np.asarray(sol, dtype=float)
@@ -517,7 +559,7 @@ def _nearly(answer: Any, sol: Any, ex: Exercise) -> bool:
     try:
         a = np.asarray(_canonical(answer), dtype=float)
         s = np.asarray(_canonical(sol), dtype=float)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         return False
     return a.size == s.size and bool(
         np.all(np.isclose(a.reshape(s.shape), s, atol=20 * ex.atol, rtol=20 * ex.rtol))

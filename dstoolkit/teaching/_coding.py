@@ -33,7 +33,7 @@ import numpy as np
 
 from dstoolkit.errors import InvalidInputError
 
-from ._checking import NOT_ANSWERED, Feedback, register
+from ._checking import NOT_ANSWERED, Feedback, isolated_feedback, register
 from ._limits import _TimeLimitReached, describe, run_limited, too_big, valid_limit
 from ._limits import time_limit as default_limit
 
@@ -304,6 +304,22 @@ class CodingExercise:
             return _pending(self.id)
         cases = self.expected() if cases is None else cases
         seconds = valid_limit(time_limit) if time_limit is not None else default_limit()
+        return isolated_feedback(
+            lambda: self._run_cases(answer, cases, seconds),
+            seconds,
+            Feedback(
+                self.id,
+                False,
+                f"✘ {self.id}: stopped after {seconds:g} s: does your function end? "
+                "(check(..., time_limit=60) gives it longer.)",
+                {"timeout": True},
+            ),
+        )
+
+    def _run_cases(
+        self, answer: Callable[..., Any], cases: list[tuple[Case, Any]], seconds: float
+    ) -> Feedback:
+        """Run ``answer`` on the cases until the first failure, stopping it at the limit."""
         end = time.monotonic() + seconds
         for number, (case, want) in enumerate(cases, 1):
             where = f"case {number} of {len(cases)} ({case.label})"

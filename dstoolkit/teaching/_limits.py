@@ -75,7 +75,7 @@ def valid_limit(seconds: Any) -> float:
     """``seconds`` as a float, or :class:`~dstoolkit.errors.InvalidInputError`."""
     try:
         value = float(seconds)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an int beyond a float
         value = float("nan")
     if not value > 0 or value == float("inf"):
         raise InvalidInputError(

@@ -12,4 +12,8 @@ else from dstoolkit, and every other layer may import it.
   :func:`~dstoolkit.utils.budget.rows_per_chunk`).
 - :mod:`dstoolkit.utils.outputs`: output files that lose nothing
   (:func:`~dstoolkit.utils.outputs.check_outputs`, :func:`~dstoolkit.utils.outputs.atomic_write`).
+- :mod:`dstoolkit.utils.signals`: stop signals turned into exceptions, held while outputs
+  are moved into place (:func:`~dstoolkit.utils.signals.stop_on_signals`).
+- :mod:`dstoolkit.utils.console`: a command's standard output that prints on any locale and
+  outlives a closed pipe (:func:`~dstoolkit.utils.console.command_console`).
 """

@@ -16,7 +16,52 @@ from numpy.typing import ArrayLike
 
 from dstoolkit.errors import DetectionError, InvalidInputError
 
-__all__ = ["as_signal", "real_array", "real_number", "whole_number"]
+__all__ = ["as_signal", "real_array", "real_number", "refuse_masked", "whole_number"]
+
+
+def refuse_masked(
+    value: Any, name: str, error: type[InvalidInputError] = InvalidInputError
+) -> None:
+    """Refuse a masked array with masked entries: numpy would use the values under the mask.
+
+    Parameters
+    ----------
+    value : object
+        What the caller was given.
+    name : str
+        The argument's name, as the error message should say it.
+    error : type, optional
+        The :class:`~dstoolkit.errors.InvalidInputError` subclass to raise.
+
+    Raises
+    ------
+    InvalidInputError
+        (or ``error``) For a :class:`numpy.ma.MaskedArray` with any entry masked.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.utils.checks import refuse_masked
+    >>> refuse_masked(np.ma.masked_array([1.0, -999.0], mask=[False, True]), "readings")
+    Traceback (most recent call last):
+    ...
+    dstoolkit.errors.InvalidInputError: readings has 1 masked entry: ...
+    """
+    if isinstance(value, np.ma.MaskedArray):
+        masked = int(np.ma.getmaskarray(value).sum())
+        if masked:
+            raise error(
+                f"{name} has {masked} masked {'entry' if masked == 1 else 'entries'}: masks "
+                "are not honoured here (the values under them would be used); remove those "
+                "entries or fill them (value.filled(...)) with real numbers"
+            )
+
+
+def _as_float(value: Any, name: str, error: type[InvalidInputError]) -> float:
+    try:
+        return float(value)
+    except OverflowError:  # an int beyond 1.8e308
+        raise error(f"{name} must be a finite number, got one too large for a float") from None
 
 
 def real_array(
@@ -72,6 +117,7 @@ def real_array(
     """
     if isinstance(value, (str, bytes)):
         raise error(f"{name} must be numbers, got the string {value!r}")
+    refuse_masked(value, name, error)
     try:
         raw = np.asarray(value)
     except (ValueError, TypeError) as exc:  # ragged nesting
@@ -167,7 +213,7 @@ def real_number(
         or isinstance(value, complex | np.complexfloating)
     ):
         raise error(f"{name} must be a real number, got {value!r}")
-    x = float(value)
+    x = _as_float(value, name, error)
     if not math.isfinite(x):
         raise error(f"{name} must be a finite number, got {x}")
     too_low = low is not None and (x <= low if low_open else x < low)
@@ -236,13 +282,17 @@ def whole_number(
         or isinstance(value, complex | np.complexfloating)
     ):
         raise error(f"{name} must be a whole number, got {value!r}")
-    x = float(value)
-    if not math.isfinite(x) or not x.is_integer():
-        raise error(f"{name} must be a whole number, got {value!r}")
-    n = int(x)
+    if isinstance(value, numbers.Integral):  # exact, however large
+        n = int(value)
+    else:
+        x = _as_float(value, name, error)
+        if not math.isfinite(x) or not x.is_integer():
+            raise error(f"{name} must be a whole number, got {value!r}")
+        n = int(x)
     if n < low or (high is not None and n > high):
         raise error(
-            f"{name} must be a whole number in [{low}, {'∞' if high is None else high}], got {n}"
+            f"{name} must be a whole number in [{low}, {'∞' if high is None else high}], "
+            f"got {n if abs(n) < 10**20 else f'a number of {len(str(abs(n)))} digits'}"
         )
     return n
 
