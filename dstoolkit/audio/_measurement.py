@@ -699,7 +699,8 @@ def record_measurement(
     chirps give different latencies) is discarded and the measurement repeated, up to
     ``attempts`` times in all. A silent recording (all zeros) is tried once more within
     those attempts: a busy sound server may deliver one silent take while it starts a
-    stream; a second silent take raises :class:`DetectionError` with the reason.
+    stream; a second silent take raises :class:`~dstoolkit.errors.DetectionError` with the
+    reason.
 
     Parameters
     ----------

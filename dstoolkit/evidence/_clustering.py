@@ -30,8 +30,8 @@ def merge_equal_boxes(lo: np.ndarray, hi: np.ndarray, mass: np.ndarray) -> Boxes
     distinct boxes fill its first slots in lexicographic order of (lo, hi), whatever order
     they came in; the remaining slots are zero-mass padding (with the run's first box).
     The masses of equal boxes are added in the order the boxes came in. Bounds that tie
-    (within :data:`~dstoolkit.evidence.boxes.TIE_RTOL`) are first snapped outwards to one
-    value (:func:`~dstoolkit.evidence.boxes.snap_bounds`), so boxes equal in exact
+    (within ``dstoolkit.evidence.boxes.TIE_RTOL``) are first snapped outwards to one
+    value (``dstoolkit.evidence.boxes.snap_bounds``), so boxes equal in exact
     arithmetic merge whatever the CPU's rounding.
 
     Parameters
@@ -253,7 +253,7 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
     ``max_focal``; rounds repeat until every run fits.
 
     Choices do not hang on the last bits of a float (another CPU rounds differently):
-    centres and Δ within :data:`~dstoolkit.evidence.boxes.TIE_RTOL` of each other tie
+    centres and Δ within ``dstoolkit.evidence.boxes.TIE_RTOL`` of each other tie
     (relative to the run's largest |lo| + |hi|, and to the larger of the hull's mass·size
     and the run's mass times one unit size), and ties go to a
     fixed order — the boxes' order so far, leftmost pair first. A pair is a local minimum
