@@ -224,6 +224,8 @@ register_filter(
         "reddish purple",
         (0, (5, 1)),
         "D",
-        lambda s: ParticleFilter(n_particles=s.n_particles, seed=s.seed, kernel="auto"),
+        lambda s: ParticleFilter(
+            n_particles=s.n_particles, seed=s.seed, kernel="auto", on_inconsistent="reset"
+        ),
     )
 )

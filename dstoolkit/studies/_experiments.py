@@ -104,7 +104,9 @@ def paper_filters(seed: int = 0) -> dict[str, Filter[Any, Any]]:
             p=3, epsilon=0.05, theta=(theta_v, theta_w), on_conflict="reset", kernel="auto"
         ),  # numba if installed: same numbers
         "kalman": KalmanFilter(),
-        "particle": ParticleFilter(n_particles=500, seed=seed, kernel="auto"),
+        "particle": ParticleFilter(
+            n_particles=500, seed=seed, kernel="auto", on_inconsistent="reset"
+        ),
     }
 
 
