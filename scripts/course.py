@@ -9,13 +9,13 @@ writes ``DIR/nbgrader_config.py`` and one assignment per chapter,
 * every stub is an autograded answer cell: the learner's stub, then the teacher's answer
   between ``### BEGIN SOLUTION`` and ``### END SOLUTION`` (inside the function for a coding
   exercise), which ``nbgrader generate_assignment`` removes;
-* every check cell becomes an autograder test cell with points. Its visible test is the
-  sheet's check (:func:`dstoolkit.teaching.must_pass`); a coding exercise adds hidden tests
-  on other random cases, run where dstoolkit cannot be reached
-  (:func:`dstoolkit.teaching.must_pass_alone`), a value answer a hidden test that computes
-  the answer afresh from the data of the course's variant, whatever variant or cached
-  solution the notebook set (:func:`dstoolkit.teaching.must_pass_recomputed`). The cell
-  imports what it needs itself;
+* every check cell becomes an autograder test cell with points. It only *hands the answer
+  in* (:func:`dstoolkit.teaching.hand_in`): a value as plain data; a function is read by
+  the grader from the answer cell's code in the submitted file. The points are decided in
+  nbgrader's process, where no student code runs (:mod:`dstoolkit.teaching.grading`,
+  registered in the config): a value against the answer computed afresh from the data of
+  the course's variant, a function in a fresh isolated interpreter where dstoolkit cannot
+  be imported, on the exercise's cases and hidden random ones;
 * every written part (a proof, an explanation, the "why" of a prediction) is a manually
   graded answer cell with points, holding the teacher's solution for the formgrader.
 
@@ -34,6 +34,8 @@ from pathlib import Path
 from typing import Any
 
 import sheets
+
+from dstoolkit.teaching._limits import DEFAULT_TIME_LIMIT
 
 #: Seconds each cell may run when nbgrader executes a submission (an endless loop in an
 #: answer cell is interrupted after it; the other cells are still graded).
@@ -62,6 +64,24 @@ c.Execute.startup_timeout = 120
 # signature and docstring); the teacher's answer is cleared without a trace.
 c.ClearSolutions.code_stub = {{"python": ""}}
 c.ClearSolutions.text_stub = "*Your answer:* …"
+# The scores are decided in nbgrader's own process, where no student code runs: after a
+# submission has run, GradeOutsideTheKernel grades the answers its test cells handed in
+# (a function from its answer cell's code, run in a fresh isolated interpreter) and writes
+# each test's verdict as the cell's only output (see the grading guide).
+c.Autograde.autograde_preprocessors = [
+    "nbgrader.preprocessors.Execute",
+    "dstoolkit.teaching.grading.GradeOutsideTheKernel",
+    "nbgrader.preprocessors.IgnorePattern",
+    "nbconvert.preprocessors.ClearMetadataPreprocessor",
+    "nbgrader.preprocessors.LimitOutput",
+    "nbgrader.preprocessors.SaveAutoGrades",
+    "nbgrader.preprocessors.AssignLatePenalties",
+    "nbgrader.preprocessors.CheckCellMetadata",
+]
+c.GradeOutsideTheKernel.variant = {variant}
+c.GradeOutsideTheKernel.case_seconds = {case_seconds}
+# The CSV names a submission whose autograding was aborted (score left empty, not 0).
+c.ExportApp.plugin_class = "dstoolkit.teaching.grading.CsvExportNamingUngraded"
 # Releasing on JupyterHub: uncomment and point at the exchange folder of your hub.
 # c.Exchange.root = "/srv/nbgrader/exchange"
 
@@ -72,7 +92,7 @@ c.ClearSolutions.text_stub = "*Your answer:* …"
 import os  # noqa: E402
 import nbgrader  # noqa: E402
 
-c.HTMLExporter.template_name = "feedback"
+# (generate_feedback picks its "feedback" template itself; the formgrader its own pages.)
 c.HTMLExporter.extra_template_basedirs = [
     os.path.join(os.path.dirname(os.path.abspath(__file__)), "templates"),
     os.path.join(os.path.dirname(nbgrader.__file__), "server_extensions", "formgrader",
@@ -266,21 +286,12 @@ def _value_region(stub: str, checks: str, answer: str | None) -> str:
     return f"{stub}\n### BEGIN SOLUTION\n{filled}\n### END SOLUTION"
 
 
-def _test_source(exercise_id: str, variable: str, coding: bool, variant: int = 0) -> str:
-    if not coding:
-        return (
-            f"from dstoolkit.teaching import must_pass, must_pass_recomputed\n\n"
-            f'must_pass("{exercise_id}", {variable})\n'
-            f"### BEGIN HIDDEN TESTS\n"
-            f'must_pass_recomputed("{exercise_id}", {variable}, variant={variant})\n'
-            f"### END HIDDEN TESTS"
-        )
+def _test_source(exercise_id: str, variable: str) -> str:
+    """Return a test cell: it hands the answer in; the grader decides its points."""
     return (
-        f"from dstoolkit.teaching import must_pass, must_pass_alone\n\n"
-        f'must_pass("{exercise_id}", {variable})\n'
-        f"### BEGIN HIDDEN TESTS\n"
-        f'must_pass_alone("{exercise_id}", {variable})\n'
-        f"### END HIDDEN TESTS"
+        "# Hands your answer in; it is graded when your notebook is collected.\n"
+        "from dstoolkit.teaching import hand_in\n\n"
+        f'hand_in("{exercise_id}", {variable})'
     )
 
 
@@ -326,13 +337,10 @@ def course_notebook(
             number,
             title,
             labels,
-            variant if sheets.varies(src.stem, variant) else 0,
         )
 
 
-def _course_notebook(
-    src: sheets.Source, number: int, title: str, labels: list[str], variant: int
-) -> dict:
+def _course_notebook(src: sheets.Source, number: int, title: str, labels: list[str]) -> dict:
     sheets.unshadowed(src)
     solutions = _exercise_solutions(src)
     head = (
@@ -408,7 +416,7 @@ def _course_notebook(
             raw.append(
                 (
                     "code",
-                    _test_source(exercise_id, variable, coding, variant),
+                    _test_source(exercise_id, variable),
                     _meta(
                         unique(f"{exercise_id.replace('.', '-')}-test"),
                         grade=True,
@@ -455,7 +463,15 @@ def write_course(
     """
     folder.mkdir(parents=True, exist_ok=True)
     config = folder / "nbgrader_config.py"
-    config.write_text(CONFIG.format(course=COURSE_ID, timeout=CELL_TIMEOUT), encoding="utf-8")
+    config.write_text(
+        CONFIG.format(
+            course=COURSE_ID,
+            timeout=CELL_TIMEOUT,
+            variant=variant,
+            case_seconds=DEFAULT_TIME_LIMIT,
+        ),
+        encoding="utf-8",
+    )
     template = folder / "templates" / "feedback" / "mathjax.html.j2"
     template.parent.mkdir(parents=True, exist_ok=True)
     template.write_text(NO_MATHJAX, encoding="utf-8")

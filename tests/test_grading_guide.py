@@ -48,7 +48,10 @@ def test_the_page_is_in_the_back_matter_and_says_the_limits():
     assert f"may run {course.CELL_TIMEOUT} seconds" in text
     from dstoolkit.teaching._limits import DEFAULT_TIME_LIMIT
 
-    assert f"after {DEFAULT_TIME_LIMIT:g} seconds" in text
+    assert f"after {DEFAULT_TIME_LIMIT:g} seconds on each case" in text
+    from dstoolkit.teaching._sandbox import MEMORY
+
+    assert f"memory is limited to {MEMORY / 1024**3:g} GiB" in text
     steps = [c.split()[1] for c in commands() if c.startswith("nbgrader ")]
     assert steps == [
         "generate_assignment",
