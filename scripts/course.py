@@ -453,37 +453,55 @@ def assignment_name(stem: str, number: int) -> str:
     return f"{number:02d}_{stem}"
 
 
+def course_id_of(folder: Path) -> str:
+    """Return the default course id: the folder's name in nbgrader's spelling.
+
+    Two courses on one JupyterHub need two ids (a release replaces the other's otherwise).
+    """
+    name = re.sub(r"[^A-Za-z0-9_-]+", "-", folder.resolve().name).strip("-")
+    return name or COURSE_ID
+
+
 def write_course(
-    folder: Path, root: Path = sheets.ROOT, chapters: list[str] | None = None, variant: int = 0
+    folder: Path,
+    root: Path = sheets.ROOT,
+    chapters: list[str] | None = None,
+    variant: int = 0,
+    course_id: str | None = None,
 ) -> list[Path]:
     """Write the nbgrader course to ``folder`` and return the paths written.
 
     The course is the config and one source assignment per chapter (or only for the
-    ``chapters`` stems given), with the numbers of ``variant`` (0: the book's).
+    ``chapters`` stems given), with the numbers of ``variant`` (0: the book's). Every
+    notebook is made before anything is written: a generation that fails leaves no folder.
+    ``course_id`` defaults to the folder's name.
     """
-    folder.mkdir(parents=True, exist_ok=True)
-    config = folder / "nbgrader_config.py"
-    config.write_text(
-        CONFIG.format(
-            course=COURSE_ID,
-            timeout=CELL_TIMEOUT,
-            variant=variant,
-            case_seconds=DEFAULT_TIME_LIMIT,
-        ),
-        encoding="utf-8",
-    )
-    template = folder / "templates" / "feedback" / "mathjax.html.j2"
-    template.parent.mkdir(parents=True, exist_ok=True)
-    template.write_text(NO_MATHJAX, encoding="utf-8")
-    written = [config, template]
+    if course_id is not None and not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_-]*", course_id):
+        raise ValueError(
+            f"course id {course_id!r}: use letters, digits, '-' and '_' (e.g. ds-2027-group-b)"
+        )
+    notebooks = {}
     for stem, (number, title, src, labels) in sheets.sheets(root).items():
         if chapters is not None and stem not in chapters:
             continue
         name = assignment_name(stem, number)
+        notebooks[name] = sheets.dump(course_notebook(src, number, title, labels, variant))
+    config_text = CONFIG.format(
+        course=course_id or course_id_of(folder),
+        timeout=CELL_TIMEOUT,
+        variant=variant,
+        case_seconds=DEFAULT_TIME_LIMIT,
+    )
+    folder.mkdir(parents=True, exist_ok=True)
+    config = folder / "nbgrader_config.py"
+    config.write_text(config_text, encoding="utf-8")
+    template = folder / "templates" / "feedback" / "mathjax.html.j2"
+    template.parent.mkdir(parents=True, exist_ok=True)
+    template.write_text(NO_MATHJAX, encoding="utf-8")
+    written = [config, template]
+    for name, text in notebooks.items():
         path = folder / "source" / name / f"{name}.ipynb"
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(
-            sheets.dump(course_notebook(src, number, title, labels, variant)), encoding="utf-8"
-        )
+        path.write_text(text, encoding="utf-8")
         written.append(path)
     return written

@@ -619,6 +619,13 @@ def main(argv: list[str] | None = None) -> int:
         "variant data; needs --out DIR or --nbgrader DIR",
     )
     parser.add_argument(
+        "--course-id",
+        default=None,
+        metavar="ID",
+        help="with --nbgrader: nbgrader's course id (default: the folder's name); two "
+        "courses on one JupyterHub need two ids",
+    )
+    parser.add_argument(
         "--out",
         type=Path,
         default=None,
@@ -637,7 +644,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.nbgrader is not None:
         from course import write_course
 
-        for path in write_course(args.nbgrader, ROOT, args.chapter, args.variant):
+        for path in write_course(args.nbgrader, ROOT, args.chapter, args.variant, args.course_id):
             print(path)
         return 0
     if args.variant > 0 or args.out is not None:
