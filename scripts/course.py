@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import ast
 import inspect
+import json
 import re
 import textwrap
 from pathlib import Path
@@ -323,21 +324,30 @@ def _exercise_solutions(src: sheets.Source) -> dict[str, str]:
 
 
 def course_notebook(
-    src: sheets.Source, number: int, title: str, labels: list[str], variant: int = 0
+    src: sheets.Source,
+    number: int,
+    title: str,
+    labels: list[str],
+    variant: int = 0,
+    per_student: bool = False,
 ) -> dict:
     """Build the nbgrader source notebook of one chapter (nbformat 4 JSON).
 
-    It holds the numbers of ``variant`` (0: the book's).
+    It holds the numbers of ``variant`` (0: the book's). With ``per_student`` the cells
+    that show data (the introduction, setup, statements and text) are left out of
+    nbgrader's bookkeeping, so that each student's copy keeps the data of their own
+    variant when it is graded (:func:`release_for_students`).
     """
     from dstoolkit.teaching._variants import using_variant
 
     with using_variant(variant):
-        return _course_notebook(
-            sheets.in_variant(src, variant),
-            number,
-            title,
-            labels,
-        )
+        notebook = _course_notebook(sheets.in_variant(src, variant), number, title, labels)
+    if per_student:
+        for cell in notebook["cells"]:
+            meta = cell["metadata"]["nbgrader"]
+            if meta["locked"] and not meta["grade"] and not meta["solution"]:
+                cell["metadata"] = {"editable": False, "deletable": False}
+    return notebook
 
 
 def _course_notebook(src: sheets.Source, number: int, title: str, labels: list[str]) -> dict:
@@ -462,19 +472,32 @@ def course_id_of(folder: Path) -> str:
     return name or COURSE_ID
 
 
+#: The course's secret (students' variants derive from it), next to nbgrader_config.py.
+SECRET_FILE = "course_secret.txt"
+PER_STUDENT = """
+# Each student has numbers of their own: their variant derives from their id and the secret
+# in {secret_file} (keep it; never release it). Give each student their copy from
+# students/<id>/ (python scripts/sheets.py --nbgrader . --students FILE).
+with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "{secret_file}")) as f:
+    c.GradeOutsideTheKernel.secret = f.read().strip()
+"""
+
+
 def write_course(
     folder: Path,
     root: Path = sheets.ROOT,
     chapters: list[str] | None = None,
     variant: int = 0,
     course_id: str | None = None,
+    per_student: bool = False,
 ) -> list[Path]:
     """Write the nbgrader course to ``folder`` and return the paths written.
 
     The course is the config and one source assignment per chapter (or only for the
     ``chapters`` stems given), with the numbers of ``variant`` (0: the book's). Every
     notebook is made before anything is written: a generation that fails leaves no folder.
-    ``course_id`` defaults to the folder's name.
+    ``course_id`` defaults to the folder's name. With ``per_student`` every student gets
+    numbers of their own (a secret is written next to the config, kept if it exists).
     """
     if course_id is not None and not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_-]*", course_id):
         raise ValueError(
@@ -485,23 +508,79 @@ def write_course(
         if chapters is not None and stem not in chapters:
             continue
         name = assignment_name(stem, number)
-        notebooks[name] = sheets.dump(course_notebook(src, number, title, labels, variant))
+        notebook = course_notebook(src, number, title, labels, variant, per_student)
+        notebooks[name] = sheets.dump(notebook)
     config_text = CONFIG.format(
         course=course_id or course_id_of(folder),
         timeout=CELL_TIMEOUT,
         variant=variant,
         case_seconds=DEFAULT_TIME_LIMIT,
     )
+    if per_student:
+        config_text += PER_STUDENT.format(secret_file=SECRET_FILE)
     folder.mkdir(parents=True, exist_ok=True)
+    written = []
+    secret = folder / SECRET_FILE
+    if per_student and not secret.exists():
+        import secrets
+
+        secret.write_text(secrets.token_hex(16) + "\n", encoding="utf-8")
+        secret.chmod(0o600)
+        written.append(secret)
     config = folder / "nbgrader_config.py"
     config.write_text(config_text, encoding="utf-8")
     template = folder / "templates" / "feedback" / "mathjax.html.j2"
     template.parent.mkdir(parents=True, exist_ok=True)
     template.write_text(NO_MATHJAX, encoding="utf-8")
-    written = [config, template]
+    written += [config, template]
     for name, text in notebooks.items():
         path = folder / "source" / name / f"{name}.ipynb"
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(text, encoding="utf-8")
         written.append(path)
+    return written
+
+
+def release_for_students(
+    folder: Path, students: list[str], root: Path = sheets.ROOT, chapters: list[str] | None = None
+) -> list[Path]:
+    """Write each student's copy of the released assignments, with their own numbers.
+
+    Run after ``nbgrader generate_assignment``: the copy of student ``s`` is
+    ``folder/students/<s>/<assignment>/<assignment>.ipynb``, the released notebook whose
+    data cells show the numbers of ``s``'s variant (from the course's secret); the
+    grader computes ``s``'s answers from the same variant.
+    """
+    from dstoolkit.teaching._variants import student_variant
+
+    secret = (folder / SECRET_FILE).read_text(encoding="utf-8").strip()
+    written = []
+    for stem, (number, title, src, labels) in sheets.sheets(root).items():
+        if chapters is not None and stem not in chapters:
+            continue
+        name = assignment_name(stem, number)
+        release = folder / "release" / name / f"{name}.ipynb"
+        if not release.exists():
+            if chapters is None:
+                continue  # an assignment not released yet
+            raise FileNotFoundError(f"{release}: run nbgrader generate_assignment {name} first")
+        released = json.loads(release.read_text(encoding="utf-8"))
+        copies = {}
+        for student in students:
+            own = course_notebook(
+                src, number, title, labels, student_variant(secret, student), per_student=True
+            )
+            data_cells = {
+                c["id"]: c["source"] for c in own["cells"] if "nbgrader" not in c["metadata"]
+            }
+            notebook = json.loads(json.dumps(released))
+            for cell in notebook["cells"]:
+                if "nbgrader" not in cell["metadata"] and cell["id"] in data_cells:
+                    cell["source"] = data_cells[cell["id"]]
+            copies[student] = sheets.dump(notebook)
+        for student, text in copies.items():
+            path = folder / "students" / student / name / f"{name}.ipynb"
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(text, encoding="utf-8")
+            written.append(path)
     return written

@@ -626,6 +626,20 @@ def main(argv: list[str] | None = None) -> int:
         "courses on one JupyterHub need two ids",
     )
     parser.add_argument(
+        "--per-student",
+        action="store_true",
+        help="with --nbgrader: every student gets numbers of their own (from their id and "
+        "a secret kept in the course folder)",
+    )
+    parser.add_argument(
+        "--students",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="with --nbgrader, after nbgrader generate_assignment: write each student's "
+        "copy (one id a line in FILE) to DIR/students/<id>/",
+    )
+    parser.add_argument(
         "--out",
         type=Path,
         default=None,
@@ -642,9 +656,16 @@ def main(argv: list[str] | None = None) -> int:
     if args.variant < 0:
         parser.error("--variant takes a whole number ≥ 0 (0 is the book's data)")
     if args.nbgrader is not None:
-        from course import write_course
+        from course import release_for_students, write_course
 
-        for path in write_course(args.nbgrader, ROOT, args.chapter, args.variant, args.course_id):
+        if args.students is not None:
+            ids = args.students.read_text(encoding="utf-8").split()
+            for path in release_for_students(args.nbgrader, ids, ROOT, args.chapter):
+                print(path)
+            return 0
+        for path in write_course(
+            args.nbgrader, ROOT, args.chapter, args.variant, args.course_id, args.per_student
+        ):
             print(path)
         return 0
     if args.variant > 0 or args.out is not None:

@@ -529,3 +529,60 @@ def test_course_config_and_metadata(tmp_path: Path):
         ]
         assert len(written) >= sum(k in course.WRITTEN_KINDS for k in kinds), stem
         assert all(c["metadata"]["nbgrader"]["points"] > 0 for c in written)
+
+
+@pytest.fixture(scope="module")
+def per_student(tmp_path_factory: pytest.TempPathFactory) -> dict[str, dict[str, str]]:
+    """Grade a course whose students have numbers of their own: {student: their CSV row}.
+
+    carol hands in her own right answers; alice and bob hand in each other's (right for
+    the other's numbers); everyone's functions are the teacher's.
+    """
+    from dstoolkit.teaching._variants import student_variant
+
+    home = tmp_path_factory.mktemp("per_student")
+    course.write_course(home, ROOT, [STEM], per_student=True)
+    _nbgrader(home, "generate_assignment", NAME, "--create")
+    students = ["alice", "bob", "carol"]
+    (home / "ids.txt").write_text("\n".join(students), encoding="utf-8")
+    ids = ["--students", str(home / "ids.txt"), "--chapter", STEM]
+    assert sheets.main(["--nbgrader", str(home), *ids]) == 0
+    secret = (home / course.SECRET_FILE).read_text("utf-8").strip()
+    right = {s: _variant_values(data("combine", student_variant(secret, s))) for s in students}
+    teacher = json.loads((home / "source" / NAME / f"{NAME}.ipynb").read_text("utf-8"))
+    functions = {
+        gid: "teacher"
+        for gid, c in _cells(teacher).items()
+        if c["metadata"]["nbgrader"]["solution"] and "def " in c["source"]
+    }
+    hands_in = {"alice": right["bob"], "bob": right["alice"], "carol": right["carol"]}
+    copies = {}
+    for student in students:
+        copy = json.loads((home / "students" / student / NAME / f"{NAME}.ipynb").read_text())
+        copies[student] = copy
+        nb = _submission(copy, teacher, {**functions, **hands_in[student]})
+        folder = home / "submitted" / student / NAME
+        folder.mkdir(parents=True)
+        (folder / f"{NAME}.ipynb").write_text(json.dumps(nb, indent=1), encoding="utf-8")
+    _nbgrader(home, "autograde", NAME, "--create", f"--Execute.timeout={CELL_TIMEOUT}")
+    _nbgrader(home, "export", "--to", "grades.csv")
+    with (home / "grades.csv").open(encoding="utf-8") as f:
+        rows = {row["student_id"]: row for row in csv.DictReader(f)}
+    setups = {s: "".join(c["source"] for c in copies[s]["cells"][:3]) for s in students}
+    rows["_setups"] = setups
+    rows["_right"] = {s: json.dumps(v) for s, v in right.items()}
+    return rows
+
+
+def test_each_student_is_graded_on_their_own_numbers(per_student: dict):
+    # the copies show different numbers, and the varying answers differ between students
+    setups, right = per_student["_setups"], per_student["_right"]
+    assert len(set(setups.values())) == 3
+    alice, bob = json.loads(right["alice"]), json.loads(right["bob"])
+    same = [cell for cell in alice if alice[cell] == bob[cell]]
+    assert same == ["ce-ex-zadeh-answer-2"]  # tumour = 1.0 whatever the numbers
+    assert float(per_student["carol"]["score"]) == AUTOGRADED
+    # the other's right answers earn the functions and the one answer alike in both
+    swapped = 2 * course.CODING_POINTS + course.VALUE_POINTS
+    assert float(per_student["alice"]["score"]) == swapped, per_student["alice"]
+    assert float(per_student["bob"]["score"]) == swapped, per_student["bob"]

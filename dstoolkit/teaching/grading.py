@@ -34,7 +34,7 @@ from nbformat import NotebookNode
 from nbformat.v4 import new_output
 from nbgrader.api import Gradebook, MissingEntry
 from nbgrader.plugins import CsvExportPlugin
-from traitlets import Bool, Float, Int
+from traitlets import Bool, Float, Int, Unicode
 
 from ._checking import Feedback, get
 from ._coding import CodingExercise
@@ -42,6 +42,7 @@ from ._handin import MARK
 from ._isolation import grade_coding, grade_value
 from ._limits import DEFAULT_TIME_LIMIT
 from ._sandbox import loads
+from ._variants import student_variant
 
 #: The call of a test cell (its master copy): the exercise and the answer's name.
 HAND_IN = re.compile(r'^hand_in\("([a-z]+\.[a-z0-9-]+)",\s*(\w+)\)', re.MULTILINE)
@@ -56,6 +57,9 @@ class GradeOutsideTheKernel(Preprocessor):
 
     enabled = Bool(True).tag(config=True)
     variant = Int(0, help="The course's variant (0: the book's numbers).").tag(config=True)
+    secret = Unicode(
+        "", help="With a secret, each student's variant derives from it and their id."
+    ).tag(config=True)
     case_seconds = Float(
         DEFAULT_TIME_LIMIT, help="Seconds a coding answer may run on each case."
     ).tag(config=True)
@@ -76,6 +80,7 @@ class GradeOutsideTheKernel(Preprocessor):
             The notebook and the resources.
         """
         info = resources["nbgrader"]
+        variant = student_variant(self.secret, info["student"]) if self.secret else self.variant
         with Gradebook(info["db_url"]) as gradebook:
             master = gradebook.find_notebook(info["notebook"], info["assignment"])
             tests = {
@@ -99,13 +104,15 @@ class GradeOutsideTheKernel(Preprocessor):
                 if c.cell_type == "code"
                 and c.metadata.get("nbgrader", {}).get("grade_id") in coding_answers
             ]
-            feedback = self.verdict(exercise_id, name, cell, answers)
+            feedback = self.verdict(exercise_id, name, cell, answers, variant)
             # the master's flags: a test cell is graded, locked and no answer cell
             cell.metadata.nbgrader.update(grade=True, solution=False, locked=True)
             cell.outputs = [_output(feedback)]
         return nb, resources
 
-    def verdict(self, exercise_id: str, name: str, cell: NotebookNode, answers: list[str]) -> Any:
+    def verdict(
+        self, exercise_id: str, name: str, cell: NotebookNode, answers: list[str], variant: int
+    ) -> Any:
         """Return the verdict on the answer of one test cell.
 
         Parameters
@@ -118,6 +125,8 @@ class GradeOutsideTheKernel(Preprocessor):
             The executed test cell (its output carries a value answer).
         answers : list of str
             The source of the coding answer cells before it, from the submitted file.
+        variant : int
+            The student's variant.
 
         Returns
         -------
@@ -134,7 +143,7 @@ class GradeOutsideTheKernel(Preprocessor):
                 f"✘ {exercise_id}: no answer was handed in (the answer cell or this cell "
                 f"stopped with an error, or {name} is not defined).",
             )
-        return grade_value(exercise_id, handed, self.variant)
+        return grade_value(exercise_id, handed, variant)
 
 
 def _handed_in(cell: NotebookNode, exercise_id: str) -> Any:
