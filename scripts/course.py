@@ -83,6 +83,13 @@ c.GradeOutsideTheKernel.variant = {variant}
 c.GradeOutsideTheKernel.case_seconds = {case_seconds}
 # The CSV names a submission whose autograding was aborted (score left empty, not 0).
 c.ExportApp.plugin_class = "dstoolkit.teaching.grading.CsvExportNamingUngraded"
+# The formgrader shows the teacher's solution after each written part; the feedback
+# pages leave it out.
+c.GenerateFeedback.preprocessors = [
+    "nbgrader.preprocessors.GetGrades",
+    "dstoolkit.teaching.grading.LeaveOutTeachersSolutions",
+    "nbconvert.preprocessors.CSSHTMLHeaderPreprocessor",
+]
 # Releasing on JupyterHub: uncomment and point at the exchange folder of your hub.
 # c.Exchange.root = "/srv/nbgrader/exchange"
 

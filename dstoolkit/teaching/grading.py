@@ -8,6 +8,11 @@ points; ``scripts/sheets.py --nbgrader`` writes it)::
         "dstoolkit.teaching.grading.GradeOutsideTheKernel",  # right after the execution
         ...]
     c.ExportApp.plugin_class = "dstoolkit.teaching.grading.CsvExportNamingUngraded"
+    c.GenerateFeedback.preprocessors = [
+        "nbgrader.preprocessors.GetGrades",
+        "dstoolkit.teaching.grading.LeaveOutTeachersSolutions",
+        "nbconvert.preprocessors.CSSHTMLHeaderPreprocessor",
+    ]
 
 :class:`GradeOutsideTheKernel` runs in nbgrader's own process after the submission has
 been executed. For each test cell it knows from the gradebook (its master copy, not the
@@ -16,7 +21,9 @@ a coding exercise, the answer cells' source from the submitted notebook file, de
 verdict (:mod:`._isolation`) and writes it as the cell's only output: nbgrader's
 ``SaveAutoGrades`` then gives the cell its points when the output is a verdict of "right"
 and none when it is an error. The learner's stderr, warnings and tracebacks in the test
-cell are replaced by that one verdict.
+cell are replaced by that one verdict. After each written part it adds the teacher's
+solution (from the gradebook's master copy), which the formgrader shows beside the
+student's answer and :class:`LeaveOutTeachersSolutions` takes out of the feedback pages.
 
 :class:`CsvExportNamingUngraded` writes nbgrader's CSV with a ``grading`` column: a
 submission whose autograding was aborted (its kernel died, its notebook could not be
@@ -31,7 +38,7 @@ from typing import Any
 
 from nbconvert.preprocessors import Preprocessor
 from nbformat import NotebookNode
-from nbformat.v4 import new_output
+from nbformat.v4 import new_markdown_cell, new_output
 from nbgrader.api import Gradebook, MissingEntry
 from nbgrader.plugins import CsvExportPlugin
 from traitlets import Bool, Float, Int, Unicode
@@ -50,6 +57,8 @@ HAND_IN = re.compile(r'^hand_in\("([a-z]+\.[a-z0-9-]+)",\s*(\w+)\)', re.MULTILIN
 DEFINES = re.compile(r"^def \w+\(", re.MULTILINE)
 #: The ``grading`` column of the export.
 GRADED, UNGRADED = "graded", "autograding failed"
+#: Marks the cells of teacher's solutions added for the formgrader.
+TEACHER = "teacher's solution"
 
 
 class GradeOutsideTheKernel(Preprocessor):
@@ -93,6 +102,12 @@ class GradeOutsideTheKernel(Preprocessor):
                 for cell in master.source_cells
                 if cell.cell_type == "code" and DEFINES.search(cell.source)
             }
+            by_hand = {c.name for c in master.grade_cells} & {c.name for c in master.solution_cells}
+            solutions = {
+                cell.name: cell.source
+                for cell in master.source_cells
+                if cell.cell_type == "markdown" and cell.name in by_hand
+            }
         for index, cell in enumerate(nb.cells):
             grade_id = cell.metadata.get("nbgrader", {}).get("grade_id")
             if cell.cell_type != "code" or grade_id not in tests:
@@ -108,6 +123,11 @@ class GradeOutsideTheKernel(Preprocessor):
             # the master's flags: a test cell is graded, locked and no answer cell
             cell.metadata.nbgrader.update(grade=True, solution=False, locked=True)
             cell.outputs = [_output(feedback)]
+        nb.cells = [
+            shown
+            for cell in nb.cells
+            for shown in (cell, *_teachers(solutions, cell.metadata.get("nbgrader", {})))
+        ]
         return nb, resources
 
     def verdict(
@@ -144,6 +164,48 @@ class GradeOutsideTheKernel(Preprocessor):
                 f"stopped with an error, or {name} is not defined).",
             )
         return grade_value(exercise_id, handed, variant)
+
+
+def _teachers(solutions: dict[str, str], meta: dict) -> list[NotebookNode]:
+    """Return the teacher's solution of a written part, as a cell to show after it.
+
+    The formgrader shows it beside the student's answer; :class:`LeaveOutTeachersSolutions`
+    takes it out of the feedback pages.
+    """
+    grade_id = meta.get("grade_id")
+    if grade_id not in solutions:
+        return []
+    return [
+        new_markdown_cell(
+            f"**Teacher's solution** (for the grader; not on the feedback page)\n\n"
+            f"{solutions[grade_id]}",
+            metadata={"dstoolkit": {TEACHER: True}},
+        )
+    ]
+
+
+class LeaveOutTeachersSolutions(Preprocessor):
+    """Take the teacher's solutions that the grader showed out of a feedback page."""
+
+    enabled = Bool(True).tag(config=True)
+
+    def preprocess(self, nb: NotebookNode, resources: dict) -> tuple[NotebookNode, dict]:
+        """Drop the cells :class:`GradeOutsideTheKernel` added for the formgrader.
+
+        Parameters
+        ----------
+        nb : NotebookNode
+            The graded submission.
+        resources : dict
+            nbconvert's resources.
+
+        Returns
+        -------
+        tuple
+            The notebook without those cells, and the resources.
+        """
+        nb.cells = [c for c in nb.cells if not c.metadata.get("dstoolkit", {}).get(TEACHER)]
+        return nb, resources
 
 
 def _handed_in(cell: NotebookNode, exercise_id: str) -> Any:
