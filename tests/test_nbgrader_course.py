@@ -630,6 +630,7 @@ def formgrader(graded: dict[str, dict[str, str]]) -> Iterator[str]:
         probe.bind(("127.0.0.1", 0))
         port = probe.getsockname()[1]
     token = secrets.token_hex(8)
+    log = (home / "jupyter-server.log").open("w", encoding="utf-8")
     server = subprocess.Popen(
         [
             str(NBGRADER.with_name("jupyter")),
@@ -639,11 +640,11 @@ def formgrader(graded: dict[str, dict[str, str]]) -> Iterator[str]:
             f"--IdentityProvider.token={token}",
             "--ServerApp.open_browser=False",
             f"--ServerApp.root_dir={home}",
+            "--allow-root",  # a container's test run is root's; nothing else changes
         ],
         cwd=home,
         stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-        text=True,
+        stderr=log,
     )
     url = f"http://127.0.0.1:{port}"
     try:
@@ -654,7 +655,7 @@ def formgrader(graded: dict[str, dict[str, str]]) -> Iterator[str]:
             except OSError:
                 time.sleep(0.5)
         else:
-            pytest.fail("the Jupyter server did not start in 2 minutes")
+            pytest.fail(f"the Jupyter server did not start in 2 minutes: see {log.name}")
         yield f"{url}?token={token}"
     finally:
         server.terminate()
@@ -663,6 +664,7 @@ def formgrader(graded: dict[str, dict[str, str]]) -> Iterator[str]:
         except subprocess.TimeoutExpired:
             server.kill()
             server.wait()
+        log.close()
 
 
 def test_a_written_part_is_graded_in_the_formgrader_and_exported(
