@@ -116,13 +116,15 @@ def test_every_command_of_the_page_runs(tmp_path: Path):
         if words[:2] == ["nbgrader", "collect"]:
             student = tmp_path / "student"
             student.mkdir()
+            # the course's id is its folder's name
+            where = f'--course {course.course_id_of(folder)} --Exchange.root="{exchange}"'
             _run(
-                f'nbgrader fetch_assignment {NAME} --course dstoolkit --Exchange.root="{exchange}"',
+                f"nbgrader fetch_assignment {NAME} {where}",
                 student,
                 env,
             )
             _run(
-                f'nbgrader submit {NAME} --course dstoolkit --Exchange.root="{exchange}"',
+                f"nbgrader submit {NAME} {where}",
                 student,
                 env,
             )
