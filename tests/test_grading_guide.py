@@ -147,5 +147,5 @@ def test_every_command_of_the_page_runs(tmp_path: Path):
     assert float(rows["alice"]["score"]) == autograded
     assert float(rows[hub_student]["score"]) == 0.0
     assert (folder / "feedback" / "alice" / NAME / f"{NAME}.html").exists()
-    returned = exchange / "dstoolkit" / "feedback"
+    returned = exchange / course.course_id_of(folder) / "feedback"
     assert any(returned.rglob("*.html")), "release_feedback returned nothing"
