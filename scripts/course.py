@@ -81,6 +81,9 @@ c.Autograde.autograde_preprocessors = [
 ]
 c.GradeOutsideTheKernel.variant = {variant}
 c.GradeOutsideTheKernel.case_seconds = {case_seconds}
+import os  # noqa: E402
+
+c.GradeOutsideTheKernel.course_root = os.path.dirname(os.path.abspath(__file__))
 # The CSV names a submission whose autograding was aborted (score left empty, not 0).
 c.ExportApp.plugin_class = "dstoolkit.teaching.grading.CsvExportNamingUngraded"
 # The formgrader shows the teacher's solution after each written part; the feedback

@@ -33,7 +33,9 @@ read) has ``autograding failed`` there and an empty score, not 0.0.
 from __future__ import annotations
 
 import csv
+import json
 import re
+from pathlib import Path
 from typing import Any
 
 from nbconvert.preprocessors import Preprocessor
@@ -66,6 +68,9 @@ class GradeOutsideTheKernel(Preprocessor):
 
     enabled = Bool(True).tag(config=True)
     variant = Int(0, help="The course's variant (0: the book's numbers).").tag(config=True)
+    course_root = Unicode(
+        "", help="The course folder (its source/ holds the teacher's written solutions)."
+    ).tag(config=True)
     secret = Unicode(
         "", help="With a secret, each student's variant derives from it and their id."
     ).tag(config=True)
@@ -102,12 +107,8 @@ class GradeOutsideTheKernel(Preprocessor):
                 for cell in master.source_cells
                 if cell.cell_type == "code" and DEFINES.search(cell.source)
             }
-            by_hand = {c.name for c in master.grade_cells} & {c.name for c in master.solution_cells}
-            solutions = {
-                cell.name: cell.source
-                for cell in master.source_cells
-                if cell.cell_type == "markdown" and cell.name in by_hand
-            }
+
+        solutions = self.teachers_solutions(info["assignment"], info["notebook"])
         for index, cell in enumerate(nb.cells):
             grade_id = cell.metadata.get("nbgrader", {}).get("grade_id")
             if cell.cell_type != "code" or grade_id not in tests:
@@ -129,6 +130,24 @@ class GradeOutsideTheKernel(Preprocessor):
             for shown in (cell, *_teachers(solutions, cell.metadata.get("nbgrader", {})))
         ]
         return nb, resources
+
+    def teachers_solutions(self, assignment: str, notebook: str) -> dict[str, str]:
+        """Return {grade id: the teacher's text} of the written parts, from the source folder.
+
+        The gradebook keeps the released text of a written part (its stub), so the
+        teacher's is read from ``<course_root>/source/<assignment>/<notebook>.ipynb``.
+        """
+        path = Path(self.course_root) / "source" / assignment / f"{notebook}.ipynb"
+        if not self.course_root or not path.is_file():
+            return {}
+        cells = json.loads(path.read_text(encoding="utf-8"))["cells"]
+        return {
+            c["metadata"]["nbgrader"]["grade_id"]: "".join(c["source"])
+            for c in cells
+            if c["cell_type"] == "markdown"
+            and c["metadata"].get("nbgrader", {}).get("grade")
+            and c["metadata"]["nbgrader"].get("solution")
+        }
 
     def verdict(
         self, exercise_id: str, name: str, cell: NotebookNode, answers: list[str], variant: int
