@@ -26,7 +26,11 @@ submission:
   ("autograding failed", no score) instead of a 0.0.
 
 The feedback pages write the formulas in Unicode (nbgrader's pages load no MathJax) and show
-each test's verdict once, without a traceback or the grader's code.
+each test's verdict once, without a traceback or the grader's code. A second course gives
+each student numbers of their own: two students who hand in each other's right answers
+earn only what is right on their own numbers. In a browser, the formgrader's page of a
+submission shows the teacher's solution after a written part, and a score typed there is
+in the exported CSV.
 """
 
 from __future__ import annotations
