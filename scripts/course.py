@@ -9,13 +9,13 @@ writes ``DIR/nbgrader_config.py`` and one assignment per chapter,
 * every stub is an autograded answer cell: the learner's stub, then the teacher's answer
   between ``### BEGIN SOLUTION`` and ``### END SOLUTION`` (inside the function for a coding
   exercise), which ``nbgrader generate_assignment`` removes;
-* every check cell becomes an autograder test cell with points. Its visible test is the
-  sheet's check (:func:`dstoolkit.teaching.must_pass`); a coding exercise adds hidden tests
-  on other random cases, run where dstoolkit cannot be reached
-  (:func:`dstoolkit.teaching.must_pass_alone`), a value answer a hidden test that computes
-  the answer afresh from the data of the course's variant, whatever variant or cached
-  solution the notebook set (:func:`dstoolkit.teaching.must_pass_recomputed`). The cell
-  imports what it needs itself;
+* every check cell becomes an autograder test cell with points. It only *hands the answer
+  in* (:func:`dstoolkit.teaching.hand_in`): a value as plain data; a function is read by
+  the grader from the answer cell's code in the submitted file. The points are decided in
+  nbgrader's process, where no student code runs (:mod:`dstoolkit.teaching.grading`,
+  registered in the config): a value against the answer computed afresh from the data of
+  the course's variant, a function in a fresh isolated interpreter where dstoolkit cannot
+  be imported, on the exercise's cases and hidden random ones;
 * every written part (a proof, an explanation, the "why" of a prediction) is a manually
   graded answer cell with points, holding the teacher's solution for the formgrader.
 
@@ -28,12 +28,16 @@ from __future__ import annotations
 
 import ast
 import inspect
+import json
+import os
 import re
 import textwrap
 from pathlib import Path
 from typing import Any
 
 import sheets
+
+from dstoolkit.teaching._limits import DEFAULT_TIME_LIMIT
 
 #: Seconds each cell may run when nbgrader executes a submission (an endless loop in an
 #: answer cell is interrupted after it; the other cells are still graded).
@@ -62,6 +66,34 @@ c.Execute.startup_timeout = 120
 # signature and docstring); the teacher's answer is cleared without a trace.
 c.ClearSolutions.code_stub = {{"python": ""}}
 c.ClearSolutions.text_stub = "*Your answer:* …"
+# The scores are decided in nbgrader's own process, where no student code runs: after a
+# submission has run, GradeOutsideTheKernel grades the answers its test cells handed in
+# (a function from its answer cell's code, run in a fresh isolated interpreter) and writes
+# each test's verdict as the cell's only output (see the grading guide).
+c.Autograde.autograde_preprocessors = [
+    "nbgrader.preprocessors.Execute",
+    "dstoolkit.teaching.grading.GradeOutsideTheKernel",
+    "nbgrader.preprocessors.IgnorePattern",
+    "nbconvert.preprocessors.ClearMetadataPreprocessor",
+    "nbgrader.preprocessors.LimitOutput",
+    "nbgrader.preprocessors.SaveAutoGrades",
+    "nbgrader.preprocessors.AssignLatePenalties",
+    "nbgrader.preprocessors.CheckCellMetadata",
+]
+c.GradeOutsideTheKernel.variant = {variant}
+c.GradeOutsideTheKernel.case_seconds = {case_seconds}
+import os  # noqa: E402
+
+c.GradeOutsideTheKernel.course_root = os.path.dirname(os.path.abspath(__file__))
+# The CSV names a submission whose autograding was aborted (score left empty, not 0).
+c.ExportApp.plugin_class = "dstoolkit.teaching.grading.CsvExportNamingUngraded"
+# The formgrader shows the teacher's solution after each written part; the feedback
+# pages leave it out.
+c.GenerateFeedback.preprocessors = [
+    "nbgrader.preprocessors.GetGrades",
+    "dstoolkit.teaching.grading.LeaveOutTeachersSolutions",
+    "nbconvert.preprocessors.CSSHTMLHeaderPreprocessor",
+]
 # Releasing on JupyterHub: uncomment and point at the exchange folder of your hub.
 # c.Exchange.root = "/srv/nbgrader/exchange"
 
@@ -72,7 +104,7 @@ c.ClearSolutions.text_stub = "*Your answer:* …"
 import os  # noqa: E402
 import nbgrader  # noqa: E402
 
-c.HTMLExporter.template_name = "feedback"
+# (generate_feedback picks its "feedback" template itself; the formgrader its own pages.)
 c.HTMLExporter.extra_template_basedirs = [
     os.path.join(os.path.dirname(os.path.abspath(__file__)), "templates"),
     os.path.join(os.path.dirname(nbgrader.__file__), "server_extensions", "formgrader",
@@ -266,21 +298,12 @@ def _value_region(stub: str, checks: str, answer: str | None) -> str:
     return f"{stub}\n### BEGIN SOLUTION\n{filled}\n### END SOLUTION"
 
 
-def _test_source(exercise_id: str, variable: str, coding: bool, variant: int = 0) -> str:
-    if not coding:
-        return (
-            f"from dstoolkit.teaching import must_pass, must_pass_recomputed\n\n"
-            f'must_pass("{exercise_id}", {variable})\n'
-            f"### BEGIN HIDDEN TESTS\n"
-            f'must_pass_recomputed("{exercise_id}", {variable}, variant={variant})\n'
-            f"### END HIDDEN TESTS"
-        )
+def _test_source(exercise_id: str, variable: str) -> str:
+    """Return a test cell: it hands the answer in; the grader decides its points."""
     return (
-        f"from dstoolkit.teaching import must_pass, must_pass_alone\n\n"
-        f'must_pass("{exercise_id}", {variable})\n'
-        f"### BEGIN HIDDEN TESTS\n"
-        f'must_pass_alone("{exercise_id}", {variable})\n'
-        f"### END HIDDEN TESTS"
+        "# Hands your answer in; it is graded when your notebook is collected.\n"
+        "from dstoolkit.teaching import hand_in\n\n"
+        f'hand_in("{exercise_id}", {variable})'
     )
 
 
@@ -312,27 +335,33 @@ def _exercise_solutions(src: sheets.Source) -> dict[str, str]:
 
 
 def course_notebook(
-    src: sheets.Source, number: int, title: str, labels: list[str], variant: int = 0
+    src: sheets.Source,
+    number: int,
+    title: str,
+    labels: list[str],
+    variant: int = 0,
+    per_student: bool = False,
 ) -> dict:
     """Build the nbgrader source notebook of one chapter (nbformat 4 JSON).
 
-    It holds the numbers of ``variant`` (0: the book's).
+    It holds the numbers of ``variant`` (0: the book's). With ``per_student`` the cells
+    that show data (the introduction, setup, statements and text) are left out of
+    nbgrader's bookkeeping, so that each student's copy keeps the data of their own
+    variant when it is graded (:func:`release_for_students`).
     """
     from dstoolkit.teaching._variants import using_variant
 
     with using_variant(variant):
-        return _course_notebook(
-            sheets.in_variant(src, variant),
-            number,
-            title,
-            labels,
-            variant if sheets.varies(src.stem, variant) else 0,
-        )
+        notebook = _course_notebook(sheets.in_variant(src, variant), number, title, labels)
+    if per_student:
+        for cell in notebook["cells"]:
+            meta = cell["metadata"]["nbgrader"]
+            if meta["locked"] and not meta["grade"] and not meta["solution"]:
+                cell["metadata"] = {"editable": False, "deletable": False}
+    return notebook
 
 
-def _course_notebook(
-    src: sheets.Source, number: int, title: str, labels: list[str], variant: int
-) -> dict:
+def _course_notebook(src: sheets.Source, number: int, title: str, labels: list[str]) -> dict:
     sheets.unshadowed(src)
     solutions = _exercise_solutions(src)
     head = (
@@ -408,7 +437,7 @@ def _course_notebook(
             raw.append(
                 (
                     "code",
-                    _test_source(exercise_id, variable, coding, variant),
+                    _test_source(exercise_id, variable),
                     _meta(
                         unique(f"{exercise_id.replace('.', '-')}-test"),
                         grade=True,
@@ -445,33 +474,127 @@ def assignment_name(stem: str, number: int) -> str:
     return f"{number:02d}_{stem}"
 
 
+def course_id_of(folder: Path) -> str:
+    """Return the default course id: the folder's name in nbgrader's spelling.
+
+    Two courses on one JupyterHub need two ids (a release replaces the other's otherwise).
+    """
+    name = re.sub(r"[^A-Za-z0-9_-]+", "-", folder.resolve().name).strip("-")
+    return name or COURSE_ID
+
+
+#: The course's secret (students' variants derive from it), next to nbgrader_config.py.
+SECRET_FILE = "course_secret.txt"
+PER_STUDENT = """
+# Each student has numbers of their own: their variant derives from their id and the secret
+# in {secret_file} (keep it; never release it). Give each student their copy from
+# students/<id>/ (python scripts/sheets.py --nbgrader . --students FILE).
+with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "{secret_file}")) as f:
+    c.GradeOutsideTheKernel.secret = f.read().strip()
+"""
+
+
 def write_course(
     folder: Path,
     root: Path = sheets.ROOT,
     chapters: list[str] | None = None,
     variant: int = 0,
+    course_id: str | None = None,
+    per_student: bool = False,
     *,
     overwrite: bool = True,
 ) -> list[Path]:
     """Write the nbgrader course to ``folder`` and return the paths written.
 
     The course is the config and one source assignment per chapter (or only for the
-    ``chapters`` stems given), with the numbers of ``variant`` (0: the book's). An existing
-    file is replaced only with ``overwrite`` (:func:`sheets.write_output`).
+    ``chapters`` stems given), with the numbers of ``variant`` (0: the book's). Every
+    notebook is made before anything is written: a generation that fails leaves no folder.
+    An existing file is replaced only with ``overwrite`` (:func:`sheets.write_output`).
+    ``course_id`` defaults to the folder's name. With ``per_student`` every student gets
+    numbers of their own (a secret is written next to the config, kept if it exists).
     """
-    config = folder / "nbgrader_config.py"
-    sheets.write_output(
-        config, CONFIG.format(course=COURSE_ID, timeout=CELL_TIMEOUT), overwrite=overwrite
-    )
-    template = folder / "templates" / "feedback" / "mathjax.html.j2"
-    sheets.write_output(template, NO_MATHJAX, overwrite=overwrite)
-    written = [config, template]
+    if course_id is not None and not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_-]*", course_id):
+        raise ValueError(
+            f"course id {course_id!r}: use letters, digits, '-' and '_' (e.g. ds-2027-group-b)"
+        )
+    notebooks = {}
     for stem, (number, title, src, labels) in sheets.sheets(root).items():
         if chapters is not None and stem not in chapters:
             continue
         name = assignment_name(stem, number)
+        notebook = course_notebook(src, number, title, labels, variant, per_student)
+        notebooks[name] = sheets.dump(notebook)
+    config_text = CONFIG.format(
+        course=course_id or course_id_of(folder),
+        timeout=CELL_TIMEOUT,
+        variant=variant,
+        case_seconds=DEFAULT_TIME_LIMIT,
+    )
+    if per_student:
+        config_text += PER_STUDENT.format(secret_file=SECRET_FILE)
+    folder.mkdir(parents=True, exist_ok=True)
+    written = []
+    secret = folder / SECRET_FILE
+    if per_student and not secret.exists():
+        import secrets
+
+        # created readable by its owner only, never through a link or over a file
+        fd = os.open(secret, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(secrets.token_hex(16) + "\n")
+        written.append(secret)
+    config = folder / "nbgrader_config.py"
+    sheets.write_output(config, config_text, overwrite=overwrite)
+    template = folder / "templates" / "feedback" / "mathjax.html.j2"
+    sheets.write_output(template, NO_MATHJAX, overwrite=overwrite)
+    written += [config, template]
+    for name, text in notebooks.items():
         path = folder / "source" / name / f"{name}.ipynb"
-        text = sheets.dump(course_notebook(src, number, title, labels, variant))
         sheets.write_output(path, text, overwrite=overwrite)
         written.append(path)
+    return written
+
+
+def release_for_students(
+    folder: Path, students: list[str], root: Path = sheets.ROOT, chapters: list[str] | None = None
+) -> list[Path]:
+    """Write each student's copy of the released assignments, with their own numbers.
+
+    Run after ``nbgrader generate_assignment``: the copy of student ``s`` is
+    ``folder/students/<s>/<assignment>/<assignment>.ipynb``, the released notebook whose
+    data cells show the numbers of ``s``'s variant (from the course's secret); the
+    grader computes ``s``'s answers from the same variant.
+    """
+    from dstoolkit.teaching._variants import student_variant
+
+    secret = (folder / SECRET_FILE).read_text(encoding="utf-8").strip()
+    written = []
+    for stem, (number, title, src, labels) in sheets.sheets(root).items():
+        if chapters is not None and stem not in chapters:
+            continue
+        name = assignment_name(stem, number)
+        release = folder / "release" / name / f"{name}.ipynb"
+        if not release.exists():
+            if chapters is None:
+                continue  # an assignment not released yet
+            raise FileNotFoundError(f"{release}: run nbgrader generate_assignment {name} first")
+        released = json.loads(release.read_text(encoding="utf-8"))
+        copies = {}
+        for student in students:
+            own = course_notebook(
+                src, number, title, labels, student_variant(secret, student), per_student=True
+            )
+            data_cells = {
+                c["id"]: c["source"] for c in own["cells"] if "nbgrader" not in c["metadata"]
+            }
+            notebook = json.loads(json.dumps(released))
+            for cell in notebook["cells"]:
+                if "nbgrader" not in cell["metadata"] and cell["id"] in data_cells:
+                    cell["source"] = data_cells[cell["id"]]
+            copies[student] = sheets.dump(notebook)
+        for student, text in copies.items():
+            path = folder / "students" / student / name / f"{name}.ipynb"
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(text, encoding="utf-8")
+            written.append(path)
     return written

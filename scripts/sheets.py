@@ -657,6 +657,27 @@ def main(argv: list[str] | None = None) -> int:
         "variant data; needs --out DIR or --nbgrader DIR",
     )
     parser.add_argument(
+        "--course-id",
+        default=None,
+        metavar="ID",
+        help="with --nbgrader: nbgrader's course id (default: the folder's name); two "
+        "courses on one JupyterHub need two ids",
+    )
+    parser.add_argument(
+        "--per-student",
+        action="store_true",
+        help="with --nbgrader: every student gets numbers of their own (from their id and "
+        "a secret kept in the course folder)",
+    )
+    parser.add_argument(
+        "--students",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="with --nbgrader, after nbgrader generate_assignment: write each student's "
+        "copy (one id a line in FILE) to DIR/students/<id>/",
+    )
+    parser.add_argument(
         "--out",
         type=Path,
         default=None,
@@ -693,10 +714,21 @@ def _run(args: argparse.Namespace) -> int:
                 f"the chapters are {', '.join(sorted(sheets(ROOT)))}"
             )
     if args.nbgrader is not None:
-        from course import write_course
+        from course import release_for_students, write_course
 
+        if args.students is not None:
+            ids = args.students.read_text(encoding="utf-8").split()
+            for path in release_for_students(args.nbgrader, ids, ROOT, args.chapter):
+                print(path)
+            return 0
         for path in write_course(
-            args.nbgrader, ROOT, args.chapter, args.variant, overwrite=args.overwrite
+            args.nbgrader,
+            ROOT,
+            args.chapter,
+            args.variant,
+            args.course_id,
+            args.per_student,
+            overwrite=args.overwrite,
         ):
             print(path)
         return 0

@@ -14,7 +14,8 @@ import pytest
 MODULES = (
     "_checking",
     "_coding",
-    "_grading",
+    "_handin",
+    "_sandbox",
     "_limits",
     "_variants",
     "_ex_evidence",

@@ -48,7 +48,10 @@ def test_the_page_is_in_the_back_matter_and_says_the_limits():
     assert f"may run {course.CELL_TIMEOUT} seconds" in text
     from dstoolkit.teaching._limits import DEFAULT_TIME_LIMIT
 
-    assert f"after {DEFAULT_TIME_LIMIT:g} seconds" in text
+    assert f"after {DEFAULT_TIME_LIMIT:g} seconds on each case" in text
+    from dstoolkit.teaching._sandbox import MEMORY
+
+    assert f"memory is limited to {MEMORY / 1024**3:g} GiB" in text
     steps = [c.split()[1] for c in commands() if c.startswith("nbgrader ")]
     assert steps == [
         "generate_assignment",
@@ -113,13 +116,15 @@ def test_every_command_of_the_page_runs(tmp_path: Path):
         if words[:2] == ["nbgrader", "collect"]:
             student = tmp_path / "student"
             student.mkdir()
+            # the course's id is its folder's name
+            where = f'--course {course.course_id_of(folder)} --Exchange.root="{exchange}"'
             _run(
-                f'nbgrader fetch_assignment {NAME} --course dstoolkit --Exchange.root="{exchange}"',
+                f"nbgrader fetch_assignment {NAME} {where}",
                 student,
                 env,
             )
             _run(
-                f'nbgrader submit {NAME} --course dstoolkit --Exchange.root="{exchange}"',
+                f"nbgrader submit {NAME} {where}",
                 student,
                 env,
             )
@@ -142,5 +147,5 @@ def test_every_command_of_the_page_runs(tmp_path: Path):
     assert float(rows["alice"]["score"]) == autograded
     assert float(rows[hub_student]["score"]) == 0.0
     assert (folder / "feedback" / "alice" / NAME / f"{NAME}.html").exists()
-    returned = exchange / "dstoolkit" / "feedback"
+    returned = exchange / course.course_id_of(folder) / "feedback"
     assert any(returned.rglob("*.html")), "release_feedback returned nothing"

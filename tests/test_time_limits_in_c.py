@@ -13,7 +13,7 @@ import time
 import pytest
 
 from dstoolkit.teaching import check, solution
-from dstoolkit.teaching._isolation import GRACE_S, plain_data, run_isolated
+from dstoolkit.teaching._child_checks import GRACE_S, plain_data, run_isolated
 
 CODING = "beyond.sigma-code"
 #: Slack over limit + grace for starting the child and reading its verdict on a loaded

@@ -64,7 +64,7 @@ from ._explorers_lab import LabWidget, lab_widget  # noqa: E402
 from ._explorers_mass import mass_function_explorer  # noqa: E402
 from ._explorers_noise import noise_evidence_explorer  # noqa: E402
 from ._explorers_random_sets import compare_image_methods, extension_explorer  # noqa: E402
-from ._grading import must_pass, must_pass_alone, must_pass_recomputed  # noqa: E402
+from ._handin import hand_in  # noqa: E402
 from ._lab import (  # noqa: E402
     VIRTUAL,
     VIRTUAL_LABEL,
@@ -128,6 +128,7 @@ __all__ = [
     "filter_step_explorer",
     "filter_widget",
     "gauge_explorer",
+    "hand_in",
     "imitate_audio_failure",
     "lab_measurement",
     "lab_numbers",
@@ -135,9 +136,6 @@ __all__ = [
     "level_error_from_temperature",
     "level_estimation_explorer",
     "mistake",
-    "must_pass",
-    "must_pass_alone",
-    "must_pass_recomputed",
     "mass_function_explorer",
     "noise_bounds_explorer",
     "noise_evidence_explorer",

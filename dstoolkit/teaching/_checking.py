@@ -34,7 +34,7 @@ import numpy as np
 from dstoolkit.errors import InvalidInputError
 from dstoolkit.evidence import IntervalEvidence, MassFunction
 
-from ._isolation import plain_data, run_isolated
+from ._child_checks import plain_data, run_isolated
 from ._limits import describe, too_big, valid_limit
 from ._limits import time_limit as time_limit_default
 from ._variants import current_variant, using_variant
@@ -240,7 +240,7 @@ def isolated_feedback(work: Callable[[], Feedback], seconds: float, stopped: Fee
     """Give ``work()``'s verdict, run in a child process killed past ``seconds``.
 
     ``stopped`` is the verdict when it had to be killed (see
-    :func:`~dstoolkit.teaching._isolation.run_isolated`). The verdict comes back as plain
+    :func:`~dstoolkit.teaching._child_checks.run_isolated`). The verdict comes back as plain
     values, so that it crosses even while a test hides dstoolkit's modules from the learner.
     """
     fields = run_isolated(lambda: dataclasses.astuple(work()), seconds, lambda: None)

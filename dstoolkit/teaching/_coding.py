@@ -321,10 +321,43 @@ class CodingExercise:
     ) -> Feedback:
         """Run ``answer`` on the cases until the first failure, stopping it at the limit."""
         end = time.monotonic() + seconds
+        return self.judge(
+            cases,
+            lambda case: _outcome(answer, case.args, end),
+            f"stopped after {seconds:g} s",
+            " (check(..., time_limit=60) gives it longer.)",
+        )
+
+    def judge(
+        self,
+        cases: list[tuple[Case, Any]],
+        outcome_of: Callable[[Case], Any],
+        stopped: str,
+        longer: str = "",
+    ) -> Feedback:
+        """Compare the outcome of each case with the expected one; report the first failure.
+
+        Parameters
+        ----------
+        cases : list of (Case, object)
+            Cases with the reference's outcomes.
+        outcome_of : callable
+            Returns the learner's outcome of a case (a :class:`Raised` for an error); it
+            raises the time limit's stop when the case ran out of time.
+        stopped : str
+            How the verdict names a stop, e.g. ``"stopped after 5 s"``.
+        longer : str
+            What the verdict adds after a stop (how to give the function more time).
+
+        Returns
+        -------
+        Feedback
+            Right on all cases, or the first failing case with a diagnosis.
+        """
         for number, (case, want) in enumerate(cases, 1):
             where = f"case {number} of {len(cases)} ({case.label})"
             try:
-                got = _outcome(answer, case.args, end)
+                got = outcome_of(case)
                 if isinstance(got, Raised) and issubclass(got.error, NotImplementedError):
                     return _pending(self.id)
                 if too_big(got):
@@ -341,9 +374,7 @@ class CodingExercise:
                 return Feedback(
                     self.id,
                     False,
-                    f"✘ {self.id}: stopped after {seconds:g} s on "
-                    f"{where}: does your function end? (check(..., time_limit=60) "
-                    "gives it longer.)",
+                    f"✘ {self.id}: {stopped} on {where}: does your function end?{longer}",
                     {"case": number, "timeout": True},
                 )
             if same(got, want):
@@ -417,19 +448,31 @@ def _pending(exercise_id: str) -> Feedback:
 def _untouched(fn: Any) -> bool:
     """Return True for a function whose body is only its docstring (and ``...`` or ``pass``)."""
     try:
-        tree = ast.parse(textwrap.dedent(inspect.getsource(fn)))
-    except (OSError, TypeError, SyntaxError, IndentationError):
+        source = textwrap.dedent(inspect.getsource(fn))
+    except (OSError, TypeError):
         return False
-    node = tree.body[0] if tree.body else None
-    if not isinstance(node, ast.FunctionDef):
+    return untouched(source, getattr(fn, "__name__", ""))
+
+
+def untouched(source: str, name: str) -> bool:
+    """Return True when every definition of ``name`` in ``source`` is a stub.
+
+    A stub's body is only its docstring (and ``...`` or ``pass``); a source without a
+    definition of ``name`` is not one.
+    """
+    try:
+        tree = ast.parse(source)
+    except (SyntaxError, ValueError):
         return False
-    return all(
+    found = [n for n in tree.body if isinstance(n, ast.FunctionDef) and n.name == name]
+    return bool(found) and all(
         isinstance(stmt, ast.Pass)
         or (
             isinstance(stmt, ast.Expr)
             and isinstance(stmt.value, ast.Constant)
             and (isinstance(stmt.value.value, str) or stmt.value.value is Ellipsis)
         )
+        for node in found
         for stmt in node.body
     )
 

@@ -1,173 +1,317 @@
-"""A check run in a child process that is killed at its time limit.
+"""Grading where the learner's code never ran: the scores of an nbgrader course.
 
-The trace function and the interval timer of :mod:`dstoolkit.teaching._limits` stop Python
-code, and C code that waits; they cannot stop C code that computes (``sum(range(10**11))``,
-a huge numpy product), which checks for signals only when it returns. On Unix a check
-therefore runs in a child process (``fork``: it sees the learner's functions as they are,
-nothing is pickled on the way in), which sends its verdict back through a pipe and is
-killed if it is still running past the limit. The parent's state (globals, random
-generators) is untouched by what the learner's code does in the child. Where ``fork`` is
-missing the check runs in the calling process, as before.
+Whatever runs in the learner's kernel can be changed by the learner (the checks, numpy,
+the import system, even the cells that follow). So a graded answer is decided elsewhere:
+
+* a value answer arrives as plain data (:mod:`._sandbox`'s JSON, written by
+  :func:`~dstoolkit.teaching.hand_in` in the test cell) and is compared, in the grader's
+  own process, with the solution the grader computes from the data of the student's
+  variant (:func:`grade_value`);
+* a coding answer arrives as the *source* of the answer cells, read from the submitted
+  notebook file, and runs in a fresh interpreter (:func:`run_isolated`): ``python -I -S``
+  in an empty temporary folder, with nothing inherited from the kernel, dstoolkit not
+  importable, no files, sockets or new processes, limited memory and a time limit per
+  case; its outcomes come back as plain data and are compared, in the grader, with the
+  reference's outcomes on the exercise's cases and on hidden random ones
+  (:func:`grade_coding`).
 """
 
 from __future__ import annotations
 
-import contextlib
+import json
 import os
-import pickle
+import re
 import selectors
 import signal
+import subprocess
 import sys
+import tempfile
 import time
-from collections.abc import Callable
-from typing import Any, TypeVar
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
 
-import numpy as np
+import dstoolkit.teaching._sandbox as sandbox
 
-from dstoolkit.evidence import Evidence
+from ._checking import Exercise, Feedback, check, get
+from ._coding import Case, CodingExercise, Raised, _pending, seed_shift, untouched
+from ._limits import DEFAULT_TIME_LIMIT, _TimeLimitReached
+from ._variants import using_variant
 
-T = TypeVar("T")
+#: Added to the seeds of a coding exercise's random cases in its hidden cases.
+HIDDEN_SEED_SHIFT = 7919
+#: Seconds the isolated interpreter may take to start and define the learner's function.
+STARTUP_SECONDS = 30.0
+UNREACHABLE = "dstoolkit is not available in this test: write the computation yourself"
 
-#: Seconds the parent waits past the limit before it kills the child: the child stops the
-#: learner's Python code itself at the limit and reports that verdict.
-GRACE_S = 2.0
-_in_child = False
+
+def hidden_cases(exercise: CodingExercise) -> list[tuple[Case, Any]]:
+    """Return the hidden cases of a coding exercise with the reference's outcomes (kept).
+
+    They are its random cases drawn from other seeds (its chosen cases when it has none).
+    """
+    if "hidden" not in exercise._cache:
+        with seed_shift(HIDDEN_SEED_SHIFT):
+            cases = exercise.cases()
+        random = [c for c in cases if c.label.startswith("random")]
+        exercise._cache["hidden"] = exercise.expected(random or cases)
+    return exercise._cache["hidden"]
 
 
-def run_isolated(work: Callable[[], T], seconds: float, stopped: Callable[[], T]) -> T:
-    """Run ``work()`` in a child process; ``stopped()`` if it is still running past the limit.
+def grade_value(exercise_id: str, answer: Any, variant: int) -> Feedback:
+    """Return the verdict on a value answer (plain data) in the data of ``variant``.
 
     Parameters
     ----------
-    work : callable
-        The check; its result must pickle (a :class:`~dstoolkit.teaching.Feedback`).
-    seconds : float
-        The time limit; the child is killed :data:`GRACE_S` seconds after it.
-    stopped : callable
-        The result to give when the child had to be killed.
+    exercise_id : str
+        A value exercise, e.g. ``"mass.bel"``.
+    answer : object
+        The answer as :func:`~dstoolkit.teaching._sandbox.loads` returned it.
+    variant : int
+        The student's variant (0: the book's numbers).
 
     Returns
     -------
-    object
-        What ``work()`` returned (an exception it raised is raised here).
-
-    Examples
-    --------
-    >>> from dstoolkit.teaching._isolation import run_isolated
-    >>> run_isolated(lambda: sum(range(10)), 5.0, lambda: "stopped")
-    45
+    Feedback
+        The verdict; the solution is computed afresh, nothing kept from a kernel.
     """
-    if not hasattr(os, "fork") or _in_child:
-        return work()
-    read_fd, write_fd = os.pipe()
-    for stream in (sys.stdout, sys.stderr):  # nothing printed twice by parent and child
-        with contextlib.suppress(Exception):
-            stream.flush()
-    pid = os.fork()
-    if pid == 0:  # the child: never returns
-        _child(work, read_fd, write_fd)
-    os.close(write_fd)
-    try:
-        data, finished = _read_until(read_fd, time.monotonic() + seconds + GRACE_S)
-    finally:
-        os.close(read_fd)
-        if not _reaped(pid):
-            with contextlib.suppress(ProcessLookupError):
-                os.kill(pid, signal.SIGKILL)
-            os.waitpid(pid, 0)
-    if not finished or not data:
-        return stopped()
-    kind, value = pickle.loads(data)
-    if kind == "raised":
-        raise value
-    return value
+    exercise = get(exercise_id)
+    if not isinstance(exercise, Exercise):
+        raise TypeError(f"{exercise_id!r} is a coding exercise; see grade_coding")
+    if isinstance(answer, sandbox.Opaque):
+        return Feedback(
+            exercise_id,
+            False,
+            f"✘ {exercise_id}: wrong: the answer is {answer!r}, not a number, a string, "
+            "True/False or a collection of them.",
+        )
+    if answer is ... or answer is None:
+        return check(exercise_id, answer)
+    with using_variant(variant):
+        return replace(exercise).verdict(answer)
 
 
-def plain_data(value: Any, depth: int = 0) -> bool:
-    """Tell whether ``value`` is built of numbers, strings, arrays and evidence only.
-
-    Such an answer is compared in the calling process: none of its methods is the learner's
-    code. Anything else (an object with its own ``__float__``, say) is compared in a child
-    process (:func:`run_isolated`), which the time limit can stop.
+@dataclass
+class Isolated:
+    """What the isolated interpreter reported.
 
     Parameters
     ----------
-    value : object
-        The answer.
-    depth : int, optional
-        How deep in containers ``value`` lies (beyond 8, it counts as not plain).
-
-    Returns
-    -------
-    bool
-        True for plain data.
-
-    Examples
-    --------
-    >>> from dstoolkit.teaching._isolation import plain_data
-    >>> plain_data({"a": [0.1, 0.2]}), plain_data(object())
-    (True, False)
+    ready : bool
+        The answer cells defined the function.
+    problems : list of dict
+        The errors the answer cells raised (type and text).
+    outcomes : iterator
+        The outcome of each case in turn (a value, or a :class:`Raised`); it raises the
+        time limit's stop when a case runs out of time.
     """
-    if depth > 8:
-        return False
-    if value is None or type(value) in (bool, int, float, complex, str, bytes):
-        return True
-    if isinstance(value, np.generic) or isinstance(value, Evidence):
-        return type(value).__module__.startswith(("numpy", "dstoolkit"))
-    if type(value) is np.ndarray:
-        return value.dtype.kind in "biufcUSb"
-    if type(value) in (list, tuple, set, frozenset):
-        return all(plain_data(item, depth + 1) for item in value)
-    if type(value) is dict:
-        return all(plain_data(k, depth + 1) and plain_data(v, depth + 1) for k, v in value.items())
-    return False
+
+    ready: bool
+    problems: list[dict[str, str]]
+    outcomes: Iterator[Any]
 
 
-def _child(work: Callable[[], Any], read_fd: int, write_fd: int) -> None:
-    global _in_child
-    _in_child = True
-    status = 0
-    try:
-        os.close(read_fd)
+def _numpy_folder(into: Path) -> str:
+    """Make ``into`` hold numpy alone (links to it) and return it: the runner's import path."""
+    import numpy
+
+    package = Path(numpy.__file__).resolve().parent
+    into.mkdir()
+    for name in ("numpy", "numpy.libs"):
+        target = package.parent / name
+        if target.exists():
+            (into / name).symlink_to(target)
+    return str(into)
+
+
+def _outcome(record: dict[str, Any]) -> Any:
+    if "raised" in record:
+        import builtins
+
+        error = getattr(builtins, record["raised"], None)
+        if not (isinstance(error, type) and issubclass(error, BaseException)):
+            error = BaseException
+        return Raised(error, record.get("text", ""))
+    return sandbox.decode(record.get("value"))
+
+
+def run_isolated(
+    sources: list[str], function: str, cases: list[Case], per_case: float
+) -> Iterator[Isolated]:
+    """Run the answer cells' ``sources`` in a fresh interpreter; yield its report.
+
+    A generator: the interpreter is killed when the report's outcomes are no longer read.
+
+    Parameters
+    ----------
+    sources : list of str
+        The code of the answer cells, in notebook order (each runs on its own: an error in
+        one leaves the functions the others define).
+    function : str
+        The name of the function to grade.
+    cases : list of Case
+        Its arguments, case by case (the expected outcomes never reach the interpreter).
+    per_case : float
+        Seconds each case may run.
+
+    Yields
+    ------
+    Isolated
+        Whether the function exists, and its outcomes case by case.
+    """
+    job = {
+        "sources": sources,
+        "function": function,
+        "cases": [sandbox.encode(case.args) for case in cases],
+    }
+    program = Path(sandbox.__file__).read_text(encoding="utf-8")
+    with tempfile.TemporaryDirectory(prefix="dstoolkit-grading-") as folder:
+        job["paths"] = [_numpy_folder(Path(folder) / "lib")]
+        work = Path(folder) / "work"
+        work.mkdir()
+        env = {
+            "PATH": os.defpath,
+            "LANG": "C.UTF-8",
+            "HOME": str(work),
+            "OPENBLAS_NUM_THREADS": "1",
+            "OMP_NUM_THREADS": "1",
+            "MKL_NUM_THREADS": "1",
+        }
+        process = subprocess.Popen(
+            [sys.executable, "-I", "-S", "-c", program],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.DEVNULL,
+            cwd=work,
+            env=env,
+            start_new_session=True,
+        )
         try:
-            result: tuple[str, Any] = ("returned", work())
-        except BaseException as exc:  # noqa: BLE001 - handed to the parent as it is
-            result = ("raised", exc)
-        try:
-            data = pickle.dumps(result)
-        except Exception as exc:  # noqa: BLE001 - an exception of the learner's own class
-            data = pickle.dumps(("raised", RuntimeError(f"{type(exc).__name__}: {exc}")))
-        with os.fdopen(write_fd, "wb") as fh:
-            fh.write(data)
-        for stream in (sys.stdout, sys.stderr):
-            with contextlib.suppress(Exception):
-                stream.flush()
-    except BaseException:  # noqa: BLE001 - the child must never run the parent's code on
-        status = 1
-    finally:
-        os._exit(status)
+            assert process.stdin is not None and process.stdout is not None
+            process.stdin.write(json.dumps(job).encode("utf-8"))
+            process.stdin.close()
+            reader = _Reader(process.stdout)
+            first = reader.read(STARTUP_SECONDS)
+            if first is None or not first.get("ready"):
+                problems = [] if first is None else list(first.get("problems", []))
+                yield Isolated(False, problems, iter(()))
+                return
+            yield Isolated(True, list(first.get("problems", [])), _cases(reader, per_case))
+        finally:
+            _stop(process)
 
 
-def _read_until(fd: int, deadline: float) -> tuple[bytes, bool]:
-    """Read ``fd`` to its end before ``deadline``; say whether the end was reached."""
-    chunks: list[bytes] = []
-    with selectors.DefaultSelector() as selector:
-        selector.register(fd, selectors.EVENT_READ)
-        while True:
+class _Reader:
+    """Reads the runner's records, one line each, waiting at most until a deadline."""
+
+    EOF: dict[str, Any] = {"eof": True}
+
+    def __init__(self, stream: Any) -> None:
+        self.stream = stream
+        self.selector = selectors.DefaultSelector()
+        self.selector.register(stream, selectors.EVENT_READ)
+        self.buffer = b""
+
+    def read(self, seconds: float) -> dict[str, Any] | None:
+        """Return the next record, :attr:`EOF` when the runner ended, None when out of time."""
+        deadline = time.monotonic() + seconds
+        while b"\n" not in self.buffer:
             left = deadline - time.monotonic()
-            if left <= 0 or not selector.select(left):
-                return b"".join(chunks), False
-            chunk = os.read(fd, 1 << 16)
+            if left <= 0 or not self.selector.select(left):
+                return None
+            chunk = os.read(self.stream.fileno(), 65536)
             if not chunk:
-                return b"".join(chunks), True
-            chunks.append(chunk)
+                return self.EOF
+            self.buffer += chunk
+        line, self.buffer = self.buffer.split(b"\n", 1)
+        try:
+            record = json.loads(line)
+        except ValueError:
+            record = None
+        return record if isinstance(record, dict) else {"garbled": True}
 
 
-def _reaped(pid: int) -> bool:
-    with contextlib.suppress(ChildProcessError):
-        done, _ = os.waitpid(pid, os.WNOHANG)
-        if done == 0:
-            time.sleep(0.05)  # it has written its verdict and is exiting
-            done, _ = os.waitpid(pid, os.WNOHANG)
-        return done != 0
-    return True
+def _cases(reader: _Reader, per_case: float) -> Iterator[Any]:
+    number = 0
+    while True:
+        record = reader.read(per_case)
+        if record is None:
+            raise _TimeLimitReached
+        if record.get("eof"):
+            yield Raised(SystemExit, "your code ended the grading process")
+            continue
+        if record.get("case") != number:
+            yield Raised(RuntimeError, "your code wrote to the grader's channel")
+        else:
+            yield _outcome(record)
+        number += 1
+
+
+def _stop(process: subprocess.Popen) -> None:
+    """Kill the runner and anything it started (its own session), then reap it."""
+    if process.poll() is None:
+        try:
+            os.killpg(process.pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    process.wait()
+    if process.stdout is not None:
+        process.stdout.close()
+
+
+def grade_coding(
+    exercise_id: str,
+    sources: list[str],
+    function: str,
+    per_case: float = DEFAULT_TIME_LIMIT,
+) -> Feedback:
+    """Return the verdict on a coding answer run in isolation (see the module docstring).
+
+    Parameters
+    ----------
+    exercise_id : str
+        A coding exercise, e.g. ``"combine.dempster-code"``.
+    sources : list of str
+        The answer cells' source, as read from the submitted notebook file.
+    function : str
+        The name of the learner's function.
+    per_case : float
+        Seconds each case may run.
+
+    Returns
+    -------
+    Feedback
+        Right on every case (the exercise's own and hidden random ones), or the first
+        failure with its diagnosis.
+    """
+    exercise = get(exercise_id)
+    if not isinstance(exercise, CodingExercise):
+        raise TypeError(f"{exercise_id!r} is not a coding exercise; see grade_value")
+    defining = [s for s in sources if re.search(rf"^def {re.escape(function)}\(", s, re.M)]
+    if defining and all(untouched(s, function) for s in defining):
+        return _pending(exercise_id)
+    cases = [*exercise.expected(), *hidden_cases(exercise)]
+    for report in run_isolated(sources, function, [c for c, _ in cases], per_case):
+        if not report.ready:
+            why = "; ".join(f"{p['raised']}: {p['text']}" for p in report.problems)
+            return Feedback(
+                exercise_id,
+                False,
+                f"✘ {exercise_id}: your answer cell does not define {function}()"
+                + (f" when run on its own ({why})." if why else "."),
+            )
+        outcomes = report.outcomes
+        return exercise.judge(
+            cases,
+            _reader(outcomes),
+            f"stopped after {per_case:g} s",
+        )
+    raise AssertionError("run_isolated yields one report")  # pragma: no cover
+
+
+def _reader(outcomes: Iterator[Any]) -> Callable[[Case], Any]:
+    def outcome_of(case: Case) -> Any:
+        return next(outcomes)
+
+    return outcome_of

@@ -7,14 +7,17 @@ printed in the book do not answer it. The sheets show a variant's data
 the same data: a solver reads ``data("mass")["m_low"]``, never a stored answer.
 
 A draw is kept only if every exercise of the chapter that varies gets another answer than
-in the book and in the :data:`WINDOW` variants before it (by the exercise's own tolerance);
-otherwise the next draw from the same seed is tried. So any ``WINDOW + 1`` consecutive
-variants (1–11, say, for a class in eleven groups) answer every such question differently.
-Variants are drawn in order (variant 5 after 1–4), which keeps them the same on every run.
+in the book and, where the chapter's data allow it, than in the :data:`WINDOW` variants
+before it (by the exercise's own tolerance); otherwise the next draw from the same seed is
+tried. So consecutive variants answer every such question differently as far as the
+chapter's ranges of data allow, and any variant differs from the book. Variants are drawn
+in order (variant 5 after 1–4), which keeps them the same on every run.
 """
 
 from __future__ import annotations
 
+import hashlib
+import hmac
 import zlib
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -44,6 +47,10 @@ SHEET_CHAPTER = {
 ATTEMPTS = 200
 #: A variant's answers differ from those of this many variants before it.
 WINDOW = 10
+
+#: Variants from this number on are students' own (:func:`student_variant`): each is drawn
+#: on its own, its answers differing from the book's.
+STUDENT_VARIANTS = 1_000_000
 
 _state: dict[str, int] = {"variant": 0}
 _drawn: dict[tuple[str, int], Data] = {}
@@ -256,6 +263,10 @@ def data(chapter: str, variant: int | None = None) -> Data:
     variant = current_variant() if variant is None else valid_variant(variant)
     if variant == 0:
         return BOOK[chapter]
+    if variant >= STUDENT_VARIANTS:
+        if (chapter, variant) not in _drawn:
+            _drawn[(chapter, variant)] = _draw(chapter, variant)
+        return _drawn[(chapter, variant)]
     for earlier in range(1, variant + 1):
         if (chapter, earlier) not in _drawn:
             _drawn[(chapter, earlier)] = _draw(chapter, earlier)
@@ -272,29 +283,68 @@ def _draw(chapter: str, variant: int) -> Data:
         for ex_id, ex in sorted(REGISTRY.items(), reverse=True)
         if ex_id.split(".")[0] == chapter and getattr(ex, "varies", False)
     ]
-    others = [
-        [ex.solution_in(v) for v in (0, *range(max(1, variant - WINDOW), variant))]
-        for ex in varying
-    ]
+    before = range(max(1, variant - WINDOW), variant) if variant < STUDENT_VARIANTS else ()
+    others = [[ex.solution_in(v) for v in (0, *before)] for ex in varying]
     key = (chapter, variant)
+    book = [sols[0] for sols in others]
+    fallback: Data | None = None
     for _ in range(ATTEMPTS):
         candidate = DRAW[chapter](rng)
         _drawn[key] = candidate
         try:
             with using_variant(variant):
-                if all(
-                    answers_differ(ex, ex.solve(), sol)
-                    for ex, sols in zip(varying, others, strict=True)
-                    for sol in sols
-                ):
-                    return candidate
+                fresh = [ex.solve() for ex in varying]
         finally:
             del _drawn[key]
-    raise RuntimeError(
-        f"no data for variant {variant} of {chapter!r} whose answers all "
-        f"differ from the book's and the {WINDOW} variants before in "
-        f"{ATTEMPTS} draws"
+        if not all(answers_differ(ex, f, b) for ex, f, b in zip(varying, fresh, book, strict=True)):
+            continue
+        if all(
+            answers_differ(ex, f, sol)
+            for ex, f, sols in zip(varying, fresh, others, strict=True)
+            for sol in sols[1:]
+        ):
+            return candidate
+        fallback = fallback or candidate
+    if fallback is not None:
+        # the chapter's grid of data has fewer answers than WINDOW variants need: the
+        # first draw whose answers differ from the book's (the same on every run)
+        return fallback
+    raise InvalidInputError(
+        f"no data for variant {variant} of {chapter!r} whose answers differ from the "
+        f"book's in {ATTEMPTS} draws: widen the ranges of _{chapter}() in {__name__}"
     )
+
+
+def student_variant(secret: str, student_id: str) -> int:
+    """Return the variant of one student: a number from the course's secret and their id.
+
+    The same student always gets the same variant; without the secret (kept in the
+    course's ``nbgrader_config.py``, never released) nobody can tell another student's.
+
+    Parameters
+    ----------
+    secret : str
+        The course's secret.
+    student_id : str
+        nbgrader's id of the student.
+
+    Returns
+    -------
+    int
+        A variant of at least :data:`STUDENT_VARIANTS`.
+
+    Examples
+    --------
+    >>> from dstoolkit.teaching._variants import STUDENT_VARIANTS, student_variant
+    >>> student_variant("s3cret", "alice") == student_variant("s3cret", "alice")
+    True
+    >>> student_variant("s3cret", "alice") >= STUDENT_VARIANTS
+    True
+    """
+    if not secret:
+        raise InvalidInputError("a course secret is needed for students' own variants")
+    digest = hmac.new(secret.encode(), student_id.encode(), hashlib.sha256).hexdigest()
+    return STUDENT_VARIANTS + int(digest[:12], 16) % 10**9
 
 
 def chapter_of_sheet(stem: str) -> str | None:
