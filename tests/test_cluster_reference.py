@@ -81,10 +81,6 @@ def clustered(boxes: list[Box], cap: int) -> tuple[list[Box], float]:
         return b - a > TIE_RTOL * max(scale_a, scale_b)
 
     reach = [max(abs(lo[d]) + abs(hi[d]) for lo, hi, _ in boxes) for d in range(n)]
-    floor = 0.0
-    for _, _, m in boxes:  # the run's mass, summed in order
-        floor += m
-
     # [lo, hi, mass, mass·size, merged]
     items = [[lo, hi, m, m * size(lo, hi), False] for lo, hi, m in boxes]
     rnd = 0
@@ -102,7 +98,7 @@ def clustered(boxes: list[Box], cap: int) -> tuple[list[Box], float]:
             hulls.append([lo, hi, m, ms, True])
             cost.append(ms - a[3] - b[3])
         last = len(cost) - 1
-        ms = [max(h[3], floor) for h in hulls]  # the scale of ties between Δ
+        ms = [h[3] for h in hulls]  # the scale of ties between Δ: the hull's mass·size
         local = [
             i
             for i, c in enumerate(cost)

@@ -254,8 +254,8 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
 
     Choices do not hang on the last bits of a float (another CPU rounds differently):
     centres and Δ within ``dstoolkit.evidence.boxes.TIE_RTOL`` of each other tie
-    (relative to the run's largest |lo| + |hi|, and to the larger of the hull's mass·size
-    and the run's mass times one unit size), and ties go to a
+    (relative to the run's largest |lo| + |hi|, and to the hull's mass·size: the largest
+    term Δ is computed from), and ties go to a
     fixed order — the boxes' order so far, leftmost pair first. A pair is a local minimum
     when its Δ is not clearly above its left neighbour's and clearly below its right
     neighbour's. In 1-D the boxes are sorted in round 0 only, in n-D at every round.
@@ -309,7 +309,6 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
         return merge_equal_boxes(bm.lo, bm.hi, bm.mass), np.zeros(runs)
     unit = unit_widths(bm)[:, None, :]
     scale = reach(bm.lo, bm.hi, bm.mass)  # of ties between centres
-    floor = row_sum(bm.mass)  # of ties between Δ: one unit size of the run's mass
     rows = _Rows(n)
     table, run = rows.table(bm, unit, scale)
     done = np.zeros((rows.count, runs, max_focal))  # each run's boxes once it fits
@@ -334,8 +333,7 @@ def cluster_boxes(bm: Boxes, max_focal: int) -> tuple[Boxes, np.ndarray]:
         pair = rows.pair_hulls(table)
         cost = pair[rows.ms] - table[rows.ms, :-1] - table[rows.ms, 1:]
         cost[run[1:] != run[:-1]] = np.inf  # no pair across two runs
-        # Δ's largest term (its rounding error grows with it), at least one unit of size
-        cost_scale = np.maximum(pair[rows.ms], floor[run[:-1]])
+        cost_scale = pair[rows.ms]  # Δ's largest term: its rounding error grows with it
         picked = _cheapest(
             _local_minima(cost, cost_scale),
             cost,

@@ -343,9 +343,6 @@ def _cluster(
     chosen, fresh = np.zeros(rows, np.bool_), np.ones(rows, np.bool_)
     reach = np.zeros(n)  # the run's largest |lo| + |hi| per dimension, as _ties.reach
     for r in range(runs):
-        floor = mass[r, 0]  # the run's mass, summed in order as row_sum
-        for i in range(1, rows):
-            floor += mass[r, i]
         reach[:] = 0.0
         k = 0
         for i in range(rows):
@@ -392,7 +389,7 @@ def _cluster(
                 p_ms[i] = p_m[i] * _size(p_lo, p_hi, i, unit, r)
                 cost[i] = p_ms[i] - b_ms[i] - b_ms[i + 1]
             for i in range(k - 1):  # the scale of ties between Δ, as in cluster_boxes
-                scale[i] = max(p_ms[i], floor)
+                scale[i] = p_ms[i]
             every = False
             found = 0
             for i in range(k - 1):  # not clearly above the left, clearly below the right

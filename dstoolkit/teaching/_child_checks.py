@@ -53,7 +53,7 @@ def run_isolated(work: Callable[[], T], seconds: float, stopped: Callable[[], T]
 
     Examples
     --------
-    >>> from dstoolkit.teaching._isolation import run_isolated
+    >>> from dstoolkit.teaching._child_checks import run_isolated
     >>> run_isolated(lambda: sum(range(10)), 5.0, lambda: "stopped")
     45
     """
@@ -104,7 +104,7 @@ def plain_data(value: Any, depth: int = 0) -> bool:
 
     Examples
     --------
-    >>> from dstoolkit.teaching._isolation import plain_data
+    >>> from dstoolkit.teaching._child_checks import plain_data
     >>> plain_data({"a": [0.1, 0.2]}), plain_data(object())
     (True, False)
     """
