@@ -36,6 +36,7 @@ ARTIFACTS = ROOT / "test-artifacts"
 #: other worker runs everything else.
 BOOK_MODULES = (
     "test_book_build.py",
+    "test_lab_handout.py",
     "test_book_a11y.py",
     "test_book_browser.py",
     "test_book_layout.py",
