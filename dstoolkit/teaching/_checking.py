@@ -460,7 +460,7 @@ def check(
 
     See Also
     --------
-    must_pass : the same check as a graded test (raises unless right).
+    hand_in : what a graded test cell calls instead (the grader decides, not the kernel).
     set_variant : the data the checks compute with.
 
     Examples

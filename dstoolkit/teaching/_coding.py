@@ -342,7 +342,7 @@ class CodingExercise:
         cases : list of (Case, object)
             Cases with the reference's outcomes.
         outcome_of : callable
-            Returns the learner's outcome of a case (a :class:`Raised` for an error); it
+            Returns the learner's outcome of a case (a ``Raised`` for an error); it
             raises the time limit's stop when the case ran out of time.
         stopped : str
             How the verdict names a stop, e.g. ``"stopped after 5 s"``.
