@@ -14,11 +14,11 @@ lint-imports --no-cache
 echo "==> mypy (every layer; [tool.mypy] in pyproject.toml)"
 mypy
 # Two workers: the book's modules (built once) in one, the rest in the other (whole modules
-# per worker: tests/conftest.py marks each test's xdist_group). DSTOOLKIT_TEST_WORKERS=0 runs in one process.
+# per worker; tests/conftest.py groups them). DSTOOLKIT_TEST_WORKERS=0 runs in one process.
 workers="${DSTOOLKIT_TEST_WORKERS:-2}"
 echo "==> pytest ($workers workers)"
 if [ "$workers" = 0 ]; then
   python -m pytest --durations=20 "$@"
 else
-  python -m pytest -n "$workers" --dist loadgroup --no-loadscope-reorder --durations=20 "$@"
+  python -m pytest -n "$workers" --dist loadscope --no-loadscope-reorder --durations=20 "$@"
 fi

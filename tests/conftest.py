@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 ARTIFACTS = ROOT / "test-artifacts"
 
 # --------------------------------------------------------------------------------------
-# Two workers (pytest-xdist, `-n 2 --dist loadgroup` in scripts/test.sh)
+# Two workers (pytest-xdist, `-n 2 --dist loadscope` in scripts/test.sh)
 # --------------------------------------------------------------------------------------
 
 #: Modules that read the built book (or build it, or its PDF, in the same _build folder):
@@ -54,31 +54,43 @@ def _module(nodeid: str) -> str:
     return nodeid.split("::", 1)[0].rsplit("/", 1)[-1]
 
 
-def worker_group(nodeid: str) -> str:
-    """Return the group of tests that run in one worker: "book", "audio", or the module."""
+def worker_group(nodeid: str) -> str | None:
+    """Return the group of tests that must run in one worker ("book", "audio"), or None."""
     module = _module(nodeid)
     if module in BOOK_MODULES:
         return "book"
     if module in AUDIO_MODULES:
         return "audio"
-    return module
+    return None
 
 
-@pytest.hookimpl(tryfirst=True)  # before xdist reads the marks (its own hook)
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Mark each test with its :func:`worker_group` and put the book's modules first.
+    """Under xdist, put the book's modules first (in BOOK_MODULES order).
 
-    ``--dist loadgroup`` (pytest-xdist) sends the tests of one ``xdist_group`` to one
-    worker: a module runs whole in one worker (its module fixtures run once), and so do the
-    book's and the audio groups. With ``--no-loadscope-reorder`` the groups are handed out
-    in collection order, so the book's worker starts the build at once. Alone (no xdist),
-    the marks do nothing and the usual order stays (quick tests first).
+    Its worker then starts the build at once; alone, keep the usual order (quick tests
+    first).
     """
-    for item in items:
-        item.add_marker(pytest.mark.xdist_group(worker_group(item.nodeid)))
-    if os.environ.get("PYTEST_XDIST_WORKER"):
+    if getattr(config.option, "numprocesses", None):
         rank = {name: i for i, name in enumerate(BOOK_MODULES)}
         items.sort(key=lambda item: rank.get(_module(item.nodeid), len(rank)))
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config: pytest.Config, log: object) -> object:
+    """Schedule whole modules per worker (their module fixtures run once).
+
+    The groups of :func:`worker_group` are each kept in one worker. (xdist's ``--dist
+    loadgroup`` with ``xdist_group`` marks would say this through public API, but with
+    pytest 9 its workers lose the group suffix of the test ids and spread one module's
+    tests over both workers: two builds of the PDF then ran at once in one folder.)
+    """
+    from xdist.scheduler import LoadScopeScheduling
+
+    class _Groups(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            return worker_group(nodeid) or super()._split_scope(nodeid)
+
+    return _Groups(config, log)
 
 
 # --------------------------------------------------------------------------------------
