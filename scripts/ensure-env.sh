@@ -4,6 +4,13 @@
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 venv="$root/.venv"
+# DSTOOLKIT_VENV names an environment that is already set up (e.g. the main checkout's, used
+# from a second git worktree): it is used as it is, and nothing is installed into it.
+if [ -n "${DSTOOLKIT_VENV:-}" ]; then
+  [ -x "$DSTOOLKIT_VENV/bin/python" ] || { echo "ensure-env.sh: DSTOOLKIT_VENV=$DSTOOLKIT_VENV has no bin/python" >&2; exit 2; }
+  export PATH="$DSTOOLKIT_VENV/bin:$PATH"
+  return 0 2>/dev/null || exit 0
+fi
 py="${PYTHON:-python3}"
 if [ ! -x "$venv/bin/python" ]; then
   echo "==> creating $venv"
