@@ -79,10 +79,16 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 def pytest_xdist_make_scheduler(config: pytest.Config, log: object) -> object:
     """Schedule whole modules per worker (their module fixtures run once).
 
-    The groups of :func:`worker_group` are each kept in one worker. (xdist's ``--dist
-    loadgroup`` with ``xdist_group`` marks would say this through public API, but with
-    pytest 9 its workers lose the group suffix of the test ids and spread one module's
-    tests over both workers: two builds of the PDF then ran at once in one folder.)
+    The groups of :func:`worker_group` are each kept in one worker. xdist's ``--dist
+    loadgroup`` with ``xdist_group`` marks would say this through public API, but it does
+    not group under pytest ≥ 9.2: xdist 3.8's worker appends the group to the test id by
+    assigning ``item._nodeid``, which pytest 9.2 no longer reads (the id is now the
+    structured ``Node._id``), so every test keeps its plain id and is handed out alone.
+    Four modules marked ``pytestmark = pytest.mark.xdist_group("g")``, four tests each,
+    run with ``-n 2 --dist loadgroup``: no id ends in ``@g`` and each module's tests run in
+    both workers. Upstream: https://github.com/pytest-dev/pytest-xdist/issues/1386 (fix
+    proposed in pull request 1388). Until a released xdist groups again, this hook
+    overrides the scope split of xdist's own ``LoadScopeScheduling``.
     """
     from xdist.scheduler import LoadScopeScheduling
 
