@@ -67,8 +67,10 @@ from ._particle import (
 from ._registry import (
     ComparisonSettings,
     FilterEntry,
+    filter_named,
     register_filter,
     registered_filters,
+    table3_filters,
     unregister_filter,
 )
 
@@ -104,6 +106,7 @@ __all__ = [
     "StateSpaceModel",
     "converged_at",
     "enclosure_summary",
+    "filter_named",
     "finite_difference_jacobian",
     "lotka_volterra",
     "random_walk",
@@ -111,6 +114,7 @@ __all__ = [
     "registered_filters",
     "simulate_lotka_volterra",
     "systematic_resample",
+    "table3_filters",
     "unregister_filter",
     "with_input",
 ]

@@ -45,12 +45,16 @@ class ComparisonSettings:
         The paper's filter's x̂_1 (``"observation"`` or ``"mean_corrected"``).
     n_particles : int
         Particles of the particle filter.
+    theta : tuple, optional
+        The evidential filters' frames Θ as ``(theta_v, theta_w)`` (None: their default;
+        the paper's Table 3 passes those of its Tables 1–2).
     """
 
     seed: int = 0
     p: int = 3
     start: str = "observation"
     n_particles: int = 500
+    theta: Any = None
 
 
 @dataclass(frozen=True)
@@ -76,6 +80,11 @@ class FilterEntry:
     make : callable
         ``make(settings)`` returns the filter with the comparison's
         :class:`ComparisonSettings`.
+    role : str, optional
+        ``"paper"`` for the paper's filter, ``"rival"`` for the filter its Figs. 10–11 set
+        against it (Nassreddine's), ``""`` (default) for any other.
+    table3_column : int, optional
+        Its column among the methods of the paper's Table 3 (None: not in it).
     """
 
     name: str
@@ -85,6 +94,8 @@ class FilterEntry:
     line_style: Any
     marker: str
     make: Callable[[ComparisonSettings], Filter[Any, Any]]
+    role: str = ""
+    table3_column: int | None = None
 
 
 _REGISTRY: dict[str, FilterEntry] = {}
@@ -177,6 +188,57 @@ def registered_filters() -> tuple[FilterEntry, ...]:
     return tuple(_REGISTRY.values())
 
 
+def filter_named(role: str) -> str:
+    """Return the name of the registered filter of a role.
+
+    Parameters
+    ----------
+    role : {"paper", "rival"}
+        The paper's filter, or the one its Figs. 10–11 set against it.
+
+    Returns
+    -------
+    str
+        The filter's registered name.
+
+    Raises
+    ------
+    EvidenceError
+        No registered filter has that role.
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import filter_named
+    >>> filter_named("paper") == registered_filters()[0].name
+    True
+    """
+    for entry in _REGISTRY.values():
+        if entry.role == role:
+            return entry.name
+    raise EvidenceError(
+        f"no registered filter has the role {role!r}; roles: "
+        f"{sorted({e.role for e in _REGISTRY.values() if e.role})}"
+    )
+
+
+def table3_filters() -> tuple[FilterEntry, ...]:
+    """Return the registered filters of the paper's Table 3, in its column order.
+
+    Returns
+    -------
+    tuple of FilterEntry
+        The entries with a ``table3_column``, by that column.
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import table3_filters
+    >>> [entry.table3_column for entry in table3_filters()]
+    [0, 1, 3, 4]
+    """
+    chosen = [e for e in _REGISTRY.values() if e.table3_column is not None]
+    return tuple(sorted(chosen, key=lambda e: e.table3_column or 0))
+
+
 register_filter(
     FilterEntry(
         "dependent_evidence",
@@ -186,8 +248,10 @@ register_filter(
         "-",
         "o",
         lambda s: DependentEvidenceFilter(
-            p=s.p, epsilon=0.05, start=s.start, on_conflict="predict"
+            p=s.p, epsilon=0.05, theta=s.theta, start=s.start, on_conflict="predict"
         ),
+        role="paper",
+        table3_column=0,
     )
 )
 register_filter(
@@ -199,7 +263,11 @@ register_filter(
         "--",
         "s",
         # kernel="auto": compiled where numba is installed, the same numbers, faster
-        lambda s: NassreddineFilter(p=s.p, epsilon=0.05, on_conflict="reset", kernel="auto"),
+        lambda s: NassreddineFilter(
+            p=s.p, epsilon=0.05, theta=s.theta, on_conflict="reset", kernel="auto"
+        ),
+        role="rival",
+        table3_column=1,
     )
 )
 register_filter(
@@ -214,7 +282,16 @@ register_filter(
     )
 )
 register_filter(
-    FilterEntry("kalman", "Kalman", "Kalman", "vermillion", "-.", "v", lambda s: KalmanFilter())
+    FilterEntry(
+        "kalman",
+        "Kalman",
+        "Kalman",
+        "vermillion",
+        "-.",
+        "v",
+        lambda s: KalmanFilter(),
+        table3_column=3,
+    )
 )
 register_filter(
     FilterEntry(
@@ -227,5 +304,6 @@ register_filter(
         lambda s: ParticleFilter(
             n_particles=s.n_particles, seed=s.seed, kernel="auto", on_inconsistent="reset"
         ),
+        table3_column=4,
     )
 )

@@ -38,6 +38,7 @@ from dstoolkit.filters import (
     DependentEvidenceFilter,
     Filter,
     StateSpaceModel,
+    filter_named,
     registered_filters,
     simulate_lotka_volterra,
 )
@@ -67,7 +68,7 @@ from ._experiments import (
 from ._paper_results import TABLE3_CASES, TABLE3_MEAN_ABS_ERROR_M
 
 #: The methods of the paper's Figs. 10–11 (the readings are drawn too).
-FIG10_METHODS: tuple[str, ...] = ("dependent_evidence", "nassreddine")
+FIG10_METHODS: tuple[str, ...] = (filter_named("paper"), filter_named("rival"))
 #: The toolkit's own filters, by the names the plots know (the first entries of
 #: :func:`dstoolkit.filters.registered_filters`; the comparisons run every registered one).
 ALL_FILTERS: tuple[str, ...] = tuple(entry.name for entry in registered_filters())
@@ -320,7 +321,7 @@ def gauge_run(
 
 
 def table3_rows(
-    table: Table3, methods: Sequence[str] = ("dependent_evidence", "nassreddine", "direct")
+    table: Table3, methods: Sequence[str] = (*FIG10_METHODS, "direct")
 ) -> list[list[Any]]:
     """Rows ``[L, T, ours, paper, ours, paper, ...]`` of Table 3 for ``methods``.
 
@@ -870,7 +871,7 @@ def order_rule_study(
     runs: int = 30,
     seed: int = 0,
     rules: Sequence[OrderRule] = ("eq43", "fit", "true"),
-    methods: Sequence[str] = ("direct", "dependent_evidence"),
+    methods: Sequence[str] = ("direct", FIG10_METHODS[0]),
     cases: Sequence[tuple[float, float]] = TABLE3_CASES,
 ) -> OrderRuleStudy:
     """Level errors of ``methods`` with n_k from each rule, on the same readings.

@@ -25,13 +25,7 @@ from typing import Any, Literal
 import numpy as np
 
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.filters import (
-    DependentEvidenceFilter,
-    Filter,
-    KalmanFilter,
-    NassreddineFilter,
-    ParticleFilter,
-)
+from dstoolkit.filters import ComparisonSettings, Filter, table3_filters
 from dstoolkit.gauge import (
     DEFAULT_BAND,
     PAPER_SWEEP,
@@ -57,8 +51,16 @@ from ._paper_results import TABLE3_CASES, TABLE3_MEAN_ABS_ERROR_M
 Simulation = Literal["frequency", "waveform"]
 #: How the orders n_k are obtained: eq. 43, the resonance-series fit, or the truth.
 OrderRule = Literal["eq43", "fit", "true"]
+#: Direct measurement's column among the methods of Table 3 (the others are filters, each
+#: with its column in :func:`dstoolkit.filters.table3_filters`).
+DIRECT_COLUMN = 2
 #: The methods of Table 3, in its order.
-METHODS: tuple[str, ...] = ("dependent_evidence", "nassreddine", "direct", "kalman", "particle")
+METHODS: tuple[str, ...] = tuple(
+    name
+    for _, name in sorted(
+        [(DIRECT_COLUMN, "direct")] + [(e.table3_column, e.name) for e in table3_filters()]
+    )
+)
 #: The columns of the CSV file that :meth:`Table3.write_csv` writes.
 CSV_COLUMNS = ("level_m", "temperature_c", "method", "mean_abs_error_m", "runs", "seconds_per_run")
 
@@ -95,19 +97,8 @@ def paper_filters(seed: int = 0) -> dict[str, Filter[Any, Any]]:
     >>> sorted(paper_filters())
     ['dependent_evidence', 'kalman', 'nassreddine', 'particle']
     """
-    theta_v, theta_w = PAPER_THETA
-    return {
-        "dependent_evidence": DependentEvidenceFilter(
-            p=3, epsilon=0.05, theta=(theta_v, theta_w), on_conflict="predict"
-        ),
-        "nassreddine": NassreddineFilter(
-            p=3, epsilon=0.05, theta=(theta_v, theta_w), on_conflict="reset", kernel="auto"
-        ),  # numba if installed: same numbers
-        "kalman": KalmanFilter(),
-        "particle": ParticleFilter(
-            n_particles=500, seed=seed, kernel="auto", on_inconsistent="reset"
-        ),
-    }
+    settings = ComparisonSettings(seed=seed, p=3, n_particles=500, theta=PAPER_THETA)
+    return {entry.name: entry.make(settings) for entry in table3_filters()}
 
 
 @dataclass

@@ -11,7 +11,7 @@ from typing import Any
 
 import ipywidgets as widgets
 
-from dstoolkit.filters import BoundedNoise, registered_filters
+from dstoolkit.filters import BoundedNoise, filter_named, registered_filters
 from dstoolkit.plots.artists import (
     KeptFigure,
 )
@@ -80,7 +80,7 @@ def noise_bounds_explorer(
     # every registered filter; the start value moves only the paper's filter: the others
     # are kept per noise bounds
     methods = tuple(entry.name for entry in registered_filters())
-    paper = ("dependent_evidence",)
+    paper = (filter_named("paper"),)
     others = tuple(m for m in methods if m not in paper)
 
     data = tracking_data(level_m, temperature_c, runs=runs, seed=seed)
