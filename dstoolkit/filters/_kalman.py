@@ -244,15 +244,13 @@ def _scalar_recursion(
     r: float,
     v_mean: float,
     w_mean: float,
-    terms: list[tuple[Any, ...]] | None = None,
     first: int = 1,
 ) -> tuple[list[Any], list[Any], list[Any]]:
     """Run the module docstring's recursion for n = m = 1 from the start (x̂_1, P_1).
 
     Eq. 21: F = ∂f/∂x, H = ∂g/∂x, Q = Var[v], R = Var[w]; on floats or (R,) arrays alike:
     estimates, variances and NIS of steps 2..T, one entry per (reading, input) pair
-    (inputs as :meth:`_MapsAndSlopes.rows` gives them). ``terms`` collects each step's x⁻,
-    P⁻, innovation, S and gain (for the step records). Steps count from 0; the first is
+    (inputs as :meth:`_MapsAndSlopes.rows` gives them). Steps count from 0; the first is
     ``first`` (the maps are told it, to name it if a map returns NaN).
     """
     out_x: list[Any] = []
@@ -280,8 +278,6 @@ def _scalar_recursion(
         x = x_pred + gain * innovation
         joseph = 1.0 - gain * h
         cov = joseph * cov_pred * joseph + gain * r * gain
-        if terms is not None:
-            terms.append((x_pred, cov_pred, innovation, s, gain))
         out_x.append(x)
         out_cov.append(cov)
         out_nis.append(innovation * s_inv * innovation)
@@ -448,52 +444,21 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
         model = state.model
         zz, uu = self._one(model, z, u)
         at_step(model, state.k)
-        x, cov = state.estimate[None], state.covariance[None]
-        if _scalar(model):
-            terms: list[tuple[Any, ...]] = []
-            maps = _MapsAndSlopes(model, 1)
-            rows = maps.rows(None if uu is None else uu[:, None], 1)
-            out = _scalar_recursion(
-                maps,
-                state.estimate.item(),
-                state.covariance.item(),
-                [float(zz[0, 0])],
-                rows,
-                *_scalar_noise(model),
-                terms=terms,
-                first=state.k,
-            )
-            x_pred, cov_pred, innovation, s_cov, gain = terms[0]
-            new_x = np.array([[out[0][0]]])
-            new_cov = np.array([[[out[1][0]]]])
-            nis = float(out[2][0])
-            record = KalmanRecord(
-                state.k + 1,
-                np.reshape(x_pred, 1),
-                np.reshape(cov_pred, (1, 1)),
-                np.reshape(innovation, 1),
-                np.reshape(s_cov, (1, 1)),
-                np.reshape(gain, (1, 1)),
-                new_x[0],
-                new_cov[0],
-                nis,
-            )
-        else:
-            x_pred, cov_pred, innovation, s_cov, gain, new_x, new_cov, nis_a = _advance(
-                model, x, cov, zz, uu, state.k
-            )
-            nis = float(nis_a[0])
-            record = KalmanRecord(
-                state.k + 1,
-                x_pred[0],
-                cov_pred[0],
-                innovation[0],
-                s_cov[0],
-                gain[0],
-                new_x[0],
-                new_cov[0],
-                nis,
-            )
+        # eq. 21 for one run: prediction, reading, update (the module docstring's recursion)
+        x_pred, cov_pred, innovation, s_cov, gain, new_x, new_cov, nis = _advance(
+            model, state.estimate[None], state.covariance[None], zz, uu, state.k
+        )
+        record = KalmanRecord(
+            state.k + 1,
+            x_pred[0],
+            cov_pred[0],
+            innovation[0],
+            s_cov[0],
+            gain[0],
+            new_x[0],
+            new_cov[0],
+            float(nis[0]),
+        )
         return _state(model, state.k + 1, new_x[0], new_cov[0]), record
 
     def _start_record(self, state: KalmanState) -> KalmanRecord:
@@ -583,10 +548,11 @@ class KalmanFilter(Filter[KalmanState, KalmanRecord]):
 def _scalar(model: StateSpaceModel) -> bool:
     """Whether every matrix of the recursion is 1 × 1 (the term-by-term path).
 
-    Why two paths: :func:`_advance` is the recursion for any n and m, with matrices; for
-    n = m = 1 (the gauge) its dozen small matrix calls a step would cost far more than the
-    arithmetic, so :func:`_scalar_recursion` runs the same recursion term by term. Both
-    are tested against each other and against the public step.
+    Why two paths: :func:`_advance` is the recursion for any n and m, with matrices (the
+    public :meth:`KalmanFilter.step` runs it); for n = m = 1 (the gauge) its dozen small
+    matrix calls a step would cost far more than the arithmetic, so the batch engine runs
+    the same recursion term by term (:func:`_scalar_recursion`). Both are tested against
+    each other and against the public step.
     """
     return model.state_dim == 1 and model.obs_dim == 1
 
