@@ -970,36 +970,14 @@ def _filter_outcome(result: Any) -> list:
 def _plain_dempster_step6(
     xhat: float, z: float, f: Any, g: Any, g_inv: Any, v_rows: list, w_rows: list
 ) -> tuple[list, float]:
-    """Return the step with plain Dempster in Step 6 (no decorrelation): the classic mistake."""
-    pred: dict = {}
-    for vl, vh, mv in v_rows:
-        for ul, uh, mu in v_rows:
-            key = (f(xhat + vl) + ul, f(xhat + vh) + uh)
-            pred[key] = pred.get(key, 0.0) + mv * mu
-    fused: dict = {}
-    k = 0.0
-    for (lo, hi), m in pred.items():
-        for wl, wh, mw in w_rows:
-            a, b = max(g(lo), z + wl), min(g(hi), z + wh)
-            if a <= b:
-                key = (max(lo, g_inv(a)), min(hi, g_inv(b)))
-                fused[key] = fused.get(key, 0.0) + m * mw
-            else:
-                k += m * mw
-    if k >= 1.0 - 1e-12:
-        raise ValueError("total conflict in Step 4")
-    e1 = [(lo, hi, m / (1 - k)) for (lo, hi), m in fused.items()]
-    out: dict = {}
-    k6 = 0.0
-    for l1, h1, m1 in e1:
-        for (l2, h2), m2 in pred.items():
-            lo, hi = max(l1, l2), min(h1, h2)
-            if lo <= hi:
-                out[(lo, hi)] = out.get((lo, hi), 0.0) + m1 * m2
-            else:
-                k6 += m1 * m2
-    rows = [(lo, hi, m / (1 - k6)) for (lo, hi), m in out.items()]
-    return rows, sum(m * (lo + hi) / 2 for lo, hi, m in rows)
+    """Return the step with plain Dempster in Step 6 (no decorrelation): the classic mistake.
+
+    Steps 2–5 are the reference's (:func:`filter_record`); Step 6 combines its mapped-back
+    evidence and its prediction by Dempster's rule alone (eq. 1).
+    """
+    step = filter_record(xhat, z, f, g, g_inv, v_rows, w_rows)
+    final = dempster(step.mapped_back, step.prediction)
+    return _rows(final), float(np.ravel(final.pignistic_expectation())[0])
 
 
 coding_exercise(
