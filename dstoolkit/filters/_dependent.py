@@ -133,6 +133,30 @@ class ModelMaps:
     g_signs: np.ndarray | None
 
 
+def product_origins(a: IntervalEvidence, b: IntervalEvidence) -> np.ndarray:
+    """Return the focal element of ``a`` behind each product Dempster's rule keeps.
+
+    The products of eq. 1 are the rows i·N_b + j (``a``'s focal element i met with ``b``'s
+    j); :func:`~dstoolkit.evidence.dempster` with ``merge=False`` keeps, in that order,
+    those whose boxes meet and whose mass is positive.
+
+    Parameters
+    ----------
+    a, b : IntervalEvidence
+        The two evidences of Dempster's rule, in its order.
+
+    Returns
+    -------
+    ndarray of int
+        For each kept product, the index of its focal element of ``a``.
+    """
+    lo = np.maximum(a.boxes_lo[:, None], b.boxes_lo[None])
+    hi = np.minimum(a.boxes_hi[:, None], b.boxes_hi[None])
+    meet = np.all(lo <= hi, axis=-1).reshape(-1)
+    live = meet & (np.multiply.outer(a.mass, b.mass).reshape(-1) > 0)
+    return np.flatnonzero(live) // len(b)
+
+
 @dataclass(frozen=True)
 class DependentState(FilterState):
     """The paper's filter's state: x̂_k, step k's final hull and Step 1's noise evidence.
@@ -458,23 +482,66 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
         t = state.k  # the step's index counting from 0, as in the messages of run()
         at_step(model, t)
         x = state.estimate
-        entry: dict[str, Any] = {"step": t + 1}
+        entry: dict[str, Any] = {"step": t + 1, "state": noise.state.shift(x)}
+        # Step 2: (x̂_k + V) × V through F(x, v) = f(x, u_k) + v (eqs. 13–16), equal boxes
+        # merged (eq. 14)
         p_lo, p_hi = predict(maps, noise, x[None], with_input(model.f, uu))
         pred = IntervalEvidence(p_lo[0], p_hi[0], noise.prediction_mass[0])
+        # Step 3: g(E_{k+1|k}), one box per predicted box (kept unmerged: Step 5 maps each
+        # back within its own predicted box)
         pz_lo, pz_hi = observe(maps, pred.boxes_lo[None], pred.boxes_hi[None])
         obs_pred = IntervalEvidence(pz_lo[0], pz_hi[0], pred.mass, merge=False)
+        # Step 4: the reading's evidence z_{k+1} + W, fused by Dempster's rule (eq. 1)
         obs = noise.observation.shift(zz[0])
         entry.update(
-            state=noise.state.shift(x),
             prediction=pred,
             observation=obs,
             observation_prediction=IntervalEvidence(pz_lo[0], pz_hi[0], pred.mass),
             n_products_step4=float(len(obs_pred) * len(obs)),
             conflict_step4=conflict(obs_pred, obs),
         )
-        final = self._fuse_objects(maps, pred, obs_pred, obs, t, entry)
+        final = None
+        try:
+            fused = dempster(obs_pred, obs, merge=False)
+        except TotalConflictError:
+            self._check_conflict(np.zeros(1, bool), t, 4)
+        else:
+            # Step 5: each product back through g⁻¹ within the predicted box it came from
+            origin = product_origins(obs_pred, obs)
+            back = map_back(
+                maps,
+                Boxes(fused.boxes_lo[None], fused.boxes_hi[None], fused.mass[None]),
+                pred.boxes_lo[origin][None],
+                pred.boxes_hi[origin][None],
+                t + 1,
+            )
+            mapped = IntervalEvidence(back.lo[0], back.hi[0], back.mass[0])  # eq. 14 merges
+            # Step 6: discount E1 (mapped back) and E2 (the prediction) by their dependence
+            # (eqs. A1–A8), then Dempster's rule
+            a2, b2, dep = decorrelate(
+                mapped, pred, mass_rule=self.mass_rule, theta=self.energy_theta
+            )
+            entry.update(
+                fused=IntervalEvidence(fused.boxes_lo, fused.boxes_hi, fused.mass),
+                mapped_back=mapped,
+                dependence_terms=dep,
+                energy_mapped_back=dep.energy1,
+                energy_prediction=dep.energy2,
+                joint_energy=dep.joint_energy,
+                dependence=dep.degree,
+                r12=dep.r12,
+                r21=dep.r21,
+                n_products_step6=float(len(mapped) * len(pred)),
+                conflict_step6=conflict(a2, b2),
+            )
+            try:
+                final = dempster(a2, b2)
+            except TotalConflictError:
+                self._check_conflict(np.zeros(1, bool), t, 6)
+        # total conflict with on_conflict="predict": the prediction is the step's evidence
         entry["fallback"] = 0.0 if final is not None else 1.0
         final = pred if final is None else final
+        # x̂_{k+1}: the pignistic expectation (eq. 20)
         est = np.atleast_1d(np.asarray(final.pignistic_expectation(), dtype=float))
         lower, upper = final.hull()
         entry.update(final=final, estimate=est)
@@ -505,54 +572,6 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
 
     def _start_record(self, state: DependentState) -> DependentRecord:
         return DependentRecord(1, state.estimate)
-
-    def _fuse_objects(
-        self,
-        maps: ModelMaps,
-        pred: IntervalEvidence,
-        obs_pred: IntervalEvidence,
-        obs: IntervalEvidence,
-        t: int,
-        entry: dict[str, Any],
-    ) -> IntervalEvidence | None:
-        """Run Steps 4–6 with dstoolkit.evidence; None when total conflict falls back."""
-        try:
-            fused = dempster(obs_pred, obs, merge=False)
-        except TotalConflictError:
-            self._check_conflict(np.zeros(1, bool), t, 4)
-            return None
-        # the predicted box behind each kept product (rows i·N_w + j, as dempster keeps them)
-        _, nonempty = obs_pred._intersect(obs)
-        live = nonempty & (np.multiply.outer(obs_pred.mass, obs.mass).reshape(-1) > 0)
-        origin = np.flatnonzero(live) // len(obs)
-        back = map_back(
-            maps,
-            Boxes(fused.boxes_lo[None], fused.boxes_hi[None], fused.mass[None]),
-            pred.boxes_lo[origin][None],
-            pred.boxes_hi[origin][None],
-            t + 1,
-        )
-        mapped = IntervalEvidence(back.lo[0], back.hi[0], back.mass[0])  # eq. 14 merges
-        entry.update(
-            fused=IntervalEvidence(fused.boxes_lo, fused.boxes_hi, fused.mass), mapped_back=mapped
-        )
-        a2, b2, dep = decorrelate(mapped, pred, mass_rule=self.mass_rule, theta=self.energy_theta)
-        entry.update(
-            dependence_terms=dep,
-            energy_mapped_back=dep.energy1,
-            energy_prediction=dep.energy2,
-            joint_energy=dep.joint_energy,
-            dependence=dep.degree,
-            r12=dep.r12,
-            r21=dep.r21,
-            n_products_step6=float(len(mapped) * len(pred)),
-            conflict_step6=conflict(a2, b2),
-        )
-        try:
-            return dempster(a2, b2)
-        except TotalConflictError:
-            self._check_conflict(np.zeros(1, bool), t, 6)
-            return None
 
     def _engine_by_steps(
         self, model: StateSpaceModel, Z: np.ndarray, U: np.ndarray | None, runs: np.ndarray
