@@ -16,6 +16,7 @@ from typing import Any
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.ticker import FixedLocator, NullFormatter, NullLocator, StrMethodFormatter
@@ -24,7 +25,7 @@ from dstoolkit.errors import EvidenceError
 from dstoolkit.filters import DependentRecord
 
 from ._evidence import FocalIntervalArtists, draw_focal_intervals, update_focal_intervals
-from ._kept import InnerTicks
+from ._kept import InnerTicks, set_limits, snapped_limits
 from ._style import (
     BETP_COLOUR,
     SMALL_PT,
@@ -125,7 +126,14 @@ class EnclosureFigure:
             if readings is None
             else ax.plot([], [], ".", ms=3, color="0.5", label="readings")[0]
         )
-        self._resets: list[Line2D] = []
+        # the steps of a reset: vertical lines over the whole height (x in steps, y in axes
+        # fractions), one collection updated in place, outside the data limits
+        self._resets = ax.add_collection(
+            LineCollection(
+                [], colors=BETP_COLOUR, linewidths=1, transform=ax.get_xaxis_transform()
+            ),
+            autolim=False,
+        )
         ax.set_xlabel("step k")
         ax.set_ylabel(ylabel)
         self.update(result, truth, readings, title=title)
@@ -177,14 +185,16 @@ class EnclosureFigure:
             self._readings.set_data(
                 (k, np.asarray(readings).reshape(lower.size, -1)[:, 0]) if shown else ([], [])
             )
-        for line in self._resets:
-            line.remove()
-        self._resets = [
-            ax.axvline(float(r), color=BETP_COLOUR, lw=1)
-            for r in np.flatnonzero(result.diagnostics.get("resets", np.zeros(0, bool)))
-        ]
+        resets = np.flatnonzero(result.diagnostics.get("resets", np.zeros(0, bool)))
+        self._resets.set_segments([[(float(r), 0.0), (float(r), 1.0)] for r in resets])
         ax.title.set_text(title or "")  # keeps the pad legend_above gave it
-        _autoscale(ax)
+        # the data's steps with matplotlib's margins; the states out to round numbers, so
+        # that the limits (and with them the whole picture) change only when the band
+        # crosses one: an explorer then redraws only the data (Explorer.png blits)
+        ax.relim()
+        (k0, y0), (k1, y1) = ax.dataLim.get_points()
+        pad = ax.margins()[0] * (k1 - k0)
+        set_limits(ax, x=(k0 - pad, k1 + pad), y=snapped_limits(float(y0), float(y1)))
         return self.figure
 
 

@@ -15,6 +15,7 @@ from dstoolkit.plots import (
 )
 from dstoolkit.plots.artists import (
     KeptFigure,
+    animate,
 )
 
 from ._explorer import (
@@ -67,6 +68,9 @@ def bounded_error_explorer(
     def build(res: Any, title: str) -> EnclosureFigure:
         figure = EnclosureFigure(res, x, z, title=title, pyplot=False)
         figure.ax.legend(fontsize=8, loc="upper left")
+        # what follows the control: a change redraws only these (Explorer.png blits)
+        ax = figure.ax
+        animate(*ax.lines, *ax.collections, ax.title, ax.get_legend())  # legend over the band
         return figure
 
     kept = KeptFigure(build, lambda figure, res, title: figure.update(res, x, z, title=title))
