@@ -54,6 +54,7 @@ from ._combination import (
     discount,
     energy,
     joint_energy,
+    product_sources,
     yager,
 )
 from ._examples import (
@@ -138,6 +139,7 @@ __all__ = [
     "image",
     "image_subdivision",
     "joint_energy",
+    "product_sources",
     "memory_budget",
     "merge_equal_boxes",
     "pignistic_expectation",

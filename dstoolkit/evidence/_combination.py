@@ -173,6 +173,42 @@ def dempster(a: E, b: E, *, merge: bool = True) -> E:
     return a._with(focal[nonempty], kept / total, merge=merge)
 
 
+def product_sources(a: Evidence, b: Evidence) -> tuple[np.ndarray, np.ndarray]:
+    """Return the focal elements of ``a`` and ``b`` behind each product Dempster's rule keeps.
+
+    With ``merge=False``, :func:`dempster` keeps the products A_i ∩ B_j (eq. 1) that are
+    non-empty and of positive mass, in the order of the rows i·n2 + j: here are their i
+    and j, so that a step can follow each product back to its sources (the paper's Step 5
+    maps each product back within the predicted box it came from).
+
+    Parameters
+    ----------
+    a, b : MassFunction or IntervalEvidence
+        E1 and E2, as given to :func:`dempster`.
+
+    Returns
+    -------
+    i, j : ndarray of int
+        For each kept product, its focal element of ``a`` and of ``b``.
+
+    Raises
+    ------
+    EvidenceError
+        If ``a`` or ``b`` is not evidence, or the two do not share a frame or dimension.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import IntervalEvidence, product_sources
+    >>> a = IntervalEvidence([0.0, 5.0], [2.0, 6.0], [0.5, 0.5])
+    >>> b = IntervalEvidence([1.0, 1.5], [3.0, 2.5], [0.5, 0.5])
+    >>> [list(map(int, ix)) for ix in product_sources(a, b)]
+    [[0, 0], [0, 1]]
+    """
+    _, mass, nonempty = _products(a, b)
+    kept = np.flatnonzero(nonempty & (mass > 0))
+    return kept // len(b), kept % len(b)
+
+
 def _specificity(sizes: np.ndarray, unit: float) -> np.ndarray:
     """Compute unit / size with 0-size elements counting 1 (a point is fully specific)."""
     with np.errstate(divide="ignore", invalid="ignore"):

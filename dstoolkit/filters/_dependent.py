@@ -58,6 +58,7 @@ from dstoolkit.evidence import (
     conflict,
     decorrelate,
     dempster,
+    product_sources,
 )
 from dstoolkit.evidence import boxes as bk
 from dstoolkit.evidence.boxes import parse_signs, resolve_method, state_signs
@@ -131,30 +132,6 @@ class ModelMaps:
     f_signs: np.ndarray | None
     g_method: str
     g_signs: np.ndarray | None
-
-
-def product_origins(a: IntervalEvidence, b: IntervalEvidence) -> np.ndarray:
-    """Return the focal element of ``a`` behind each product Dempster's rule keeps.
-
-    The products of eq. 1 are the rows i·N_b + j (``a``'s focal element i met with ``b``'s
-    j); :func:`~dstoolkit.evidence.dempster` with ``merge=False`` keeps, in that order,
-    those whose boxes meet and whose mass is positive.
-
-    Parameters
-    ----------
-    a, b : IntervalEvidence
-        The two evidences of Dempster's rule, in its order.
-
-    Returns
-    -------
-    ndarray of int
-        For each kept product, the index of its focal element of ``a``.
-    """
-    lo = np.maximum(a.boxes_lo[:, None], b.boxes_lo[None])
-    hi = np.minimum(a.boxes_hi[:, None], b.boxes_hi[None])
-    meet = np.all(lo <= hi, axis=-1).reshape(-1)
-    live = meet & (np.multiply.outer(a.mass, b.mass).reshape(-1) > 0)
-    return np.flatnonzero(live) // len(b)
 
 
 @dataclass(frozen=True)
@@ -507,7 +484,7 @@ class DependentEvidenceFilter(Filter[DependentState, DependentRecord]):
             self._check_conflict(np.zeros(1, bool), t, 4)
         else:
             # Step 5: each product back through g⁻¹ within the predicted box it came from
-            origin = product_origins(obs_pred, obs)
+            origin, _ = product_sources(obs_pred, obs)
             back = map_back(
                 maps,
                 Boxes(fused.boxes_lo[None], fused.boxes_hi[None], fused.mass[None]),

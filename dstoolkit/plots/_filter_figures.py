@@ -128,12 +128,10 @@ class EnclosureFigure:
         )
         # the steps of a reset: vertical lines over the whole height (x in steps, y in axes
         # fractions), one collection updated in place, outside the data limits
-        self._resets = ax.add_collection(
-            LineCollection(
-                [], colors=BETP_COLOUR, linewidths=1, transform=ax.get_xaxis_transform()
-            ),
-            autolim=False,
+        self._resets = LineCollection(
+            [], colors=BETP_COLOUR, linewidths=1, transform=ax.get_xaxis_transform()
         )
+        ax.add_collection(self._resets, autolim=False)
         ax.set_xlabel("step k")
         ax.set_ylabel(ylabel)
         self.update(result, truth, readings, title=title)
@@ -193,7 +191,7 @@ class EnclosureFigure:
         # crosses one: an explorer then redraws only the data (Explorer.png blits)
         ax.relim()
         (k0, y0), (k1, y1) = ax.dataLim.get_points()
-        pad = ax.margins()[0] * (k1 - k0)
+        pad = ax.get_xmargin() * (k1 - k0)
         set_limits(ax, x=(k0 - pad, k1 + pad), y=snapped_limits(float(y0), float(y1)))
         return self.figure
 
