@@ -52,7 +52,7 @@ def _offsets() -> dict[str, str]:
     return {
         "sweep_offset": f"{sweep:.2f}",
         "latency_offset": f"{late:.2f}",
-        "mode": f"{-(sweep + late):.1f}",
+        "mode": f"{-(sweep + late):.1f}".replace("-", "−"),  # the minus sign of the text
     }
 
 
