@@ -258,10 +258,11 @@ alone; half when a number or a unit is missing; none when the step is absent.
     )
 
 
-def build(folder: Path) -> Path:
-    """Write ``folder/lab-handout.tex`` and typeset it to ``folder/lab-handout.pdf``.
+def typeset(folder: Path, name: str, source: str, what: str) -> Path:
+    """Write ``folder/<name>.tex`` and typeset it with XeLaTeX to ``folder/<name>.pdf``.
 
-    The PDF is kept when it is newer than an unchanged source.
+    The PDF is kept when it is newer than an unchanged source. ``what`` names the document
+    in the messages.
 
     Raises
     ------
@@ -269,8 +270,7 @@ def build(folder: Path) -> Path:
         When latexmk or xelatex is missing, or LaTeX fails (the message points at the log).
     """
     folder.mkdir(parents=True, exist_ok=True)
-    tex, pdf = folder / f"{NAME}.tex", folder / f"{NAME}.pdf"
-    source = handout_tex(handout_numbers())
+    tex, pdf = folder / f"{name}.tex", folder / f"{name}.pdf"
     if (
         pdf.exists()
         and tex.exists()
@@ -281,9 +281,9 @@ def build(folder: Path) -> Path:
     missing = [tool for tool in ("latexmk", "xelatex") if shutil.which(tool) is None]
     if missing:
         raise RuntimeError(
-            f"the lab handout needs {' and '.join(missing)} (TeX Live). On Debian/Ubuntu: "
+            f"{what} needs {' and '.join(missing)} (TeX Live). On Debian/Ubuntu: "
             "sudo apt-get install --no-install-recommends texlive-xetex "
-            "texlive-latex-extra texlive-pictures latexmk"
+            "texlive-latex-extra texlive-pictures fonts-freefont-otf latexmk"
         )
     tex.write_text(source, encoding="utf-8")
     done = subprocess.run(
@@ -293,7 +293,7 @@ def build(folder: Path) -> Path:
             "-interaction=nonstopmode",
             "-halt-on-error",
             "-quiet",
-            f"{NAME}.tex",
+            f"{name}.tex",
         ],
         cwd=folder,
         capture_output=True,
@@ -301,10 +301,20 @@ def build(folder: Path) -> Path:
     )
     if done.returncode != 0 or not pdf.exists():
         raise RuntimeError(
-            f"LaTeX failed on the lab handout; see {folder / (NAME + '.log')}:"
-            f"\n{done.stdout[-2000:]}"
+            f"LaTeX failed on {what}; see {folder / (name + '.log')}:\n{done.stdout[-2000:]}"
         )
     return pdf
+
+
+def build(folder: Path) -> Path:
+    """Write ``folder/lab-handout.tex`` and typeset it to ``folder/lab-handout.pdf``.
+
+    Raises
+    ------
+    RuntimeError
+        When latexmk or xelatex is missing, or LaTeX fails (the message points at the log).
+    """
+    return typeset(folder, NAME, handout_tex(handout_numbers()), "the lab handout")
 
 
 def _on_builder_inited(app: Any) -> None:

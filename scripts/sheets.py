@@ -1,7 +1,8 @@
 """Write the exercise sheets from their one source: student sheets and the teacher's edition.
 
     .venv/bin/python scripts/sheets.py                 # student sheets → notebooks/
-    .venv/bin/python scripts/sheets.py --teacher DIR   # also the instructor sheets → DIR
+    .venv/bin/python scripts/sheets.py --teacher DIR   # also the instructor sheets and the
+                                                       # sample exams (DIR/exams/) → DIR
     .venv/bin/python scripts/sheets.py --nbgrader DIR  # an nbgrader course → DIR (course.py)
     .venv/bin/python scripts/sheets.py --variant 3 --out DIR   # variant 3's sheets → DIR
     .venv/bin/python scripts/sheets.py --nbgrader DIR --variant 3  # … as an nbgrader course
@@ -28,6 +29,9 @@ sheet's introduction):
     %% explore                    an explorer cell, both editions
     %% solution                   Markdown, the teacher's edition only
 
+The exam problems' worked solutions and marking schemes are not in these sources: they come
+from the teacher-only bank ``instructor/exams/`` (scripts/exams.py) into the teacher's edition.
+
 ``{{name}}`` (or ``{{name[i]}}``) in a block stands for a number of the chapter's data
 (:mod:`dstoolkit.teaching._variants`): the book's in the sheets under ``notebooks/``, and
 variant N's with ``--variant N``, whose setup cell calls ``set_variant(N)`` so that the
@@ -49,6 +53,7 @@ from pathlib import Path
 from typing import Any
 
 import yaml
+from exams import with_exam_solutions
 
 from dstoolkit.errors import InvalidInputError, OutputPathError
 from dstoolkit.utils.console import run_command
@@ -507,7 +512,7 @@ def sheets(root: Path = ROOT) -> dict[str, tuple[int, str, Source, list[str]]]:
         out[path.stem] = (
             numbers[path.stem],
             chapter_title(chapter),
-            parse(path),
+            with_exam_solutions(parse(path), root),
             chapter_exercises(chapter),
         )
     return out
@@ -738,7 +743,15 @@ def _run(args: argparse.Namespace) -> int:
         ):
             print(path)
         return 0
-    for path in write_sheets(ROOT, args.teacher, overwrite=args.overwrite):
+    written = write_sheets(ROOT, args.teacher, overwrite=args.overwrite)
+    if args.teacher is not None:  # the teacher's edition: the sample exams too
+        from exams import build as build_exams
+
+        try:
+            written += build_exams(args.teacher / "exams")
+        except RuntimeError as err:
+            raise InvalidInputError(str(err)) from None
+    for path in written:
         print(path.relative_to(ROOT) if path.is_relative_to(ROOT) else path)
     return 0
 

@@ -6,7 +6,8 @@
 * Each theory chapter (2 to 5) has a proof; every numbered chapter has an exam problem.
 * The shown kind agrees with how the sheet grades the exercise: a Code exercise is a coding
   exercise of the sheet, and a written kind (Proof, Explain, Exam) is never one.
-* Every proof and exam problem has a worked solution that ends with words, not a formula.
+* Every proof and exam problem has a worked solution that ends with words, not a formula
+  (the exam problems' in the teacher-only bank, instructor/exams/).
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ import pytest
 from conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "scripts"))
+import exams  # noqa: E402
 import sheets  # noqa: E402
 
 NUMBERS = sheets.chapter_numbers(ROOT / "_toc.yml")
@@ -94,6 +96,7 @@ def test_the_sheet_headings_show_the_caption(stem: str) -> None:
 def test_written_solutions_end_with_their_reasoning(stem: str) -> None:
     text = (ROOT / "book" / f"{stem}.md").read_text(encoding="utf-8")
     solutions = {m.group(2): m.group(3) for m in SOLUTION.finditer(text)}
+    solutions.update({label: e["solution"] for label, e in exams.bank(stem, ROOT).items()})
     for label, kind in kinds(stem).items():
         if kind not in ("Proof", "Exam"):
             continue
