@@ -32,6 +32,9 @@ from dstoolkit.filters import (
     smooth_kalman,
 )
 from dstoolkit.gauge import gauge_state_space_model, simulate_gauge
+from dstoolkit.studies import gauge_consistency
+from dstoolkit.teaching import consistency_explorer
+from dstoolkit.teaching._explorers_recursion import verdict
 
 #: Two implementations of the same arithmetic in different orders (Cholesky factors of
 #: different triangles, sums over sigma points in different orders) agree to rounding,
@@ -248,3 +251,40 @@ def test_the_smoother_refuses_bad_shapes():
         rts_smoother([[0.0], [1.0]], [[[0.0]], [[1.0]]], [[1.0]], [[0.0]])
     with pytest.raises(EvidenceError, match="KalmanFilter"):
         smooth_kalman(random_walk(0.1, 0.5), [1.0, 2.0], flt=UnscentedKalmanFilter())
+
+
+def test_gauge_consistency_with_true_orders_and_the_papers_orders():
+    """With the model's own noises and true orders the Kalman NEES averages near n = 1.
+
+    With eq. 43's orders, computed from the next reading, the NEES leaves its band upwards
+    while the NIS falls below 1: the reading is used twice.
+    """
+    true = gauge_consistency(4.6, 26.5, runs=20, orders="true")
+    eq43 = gauge_consistency(4.6, 26.5, runs=20, orders="eq43")
+    low, high = true.nees_band
+    assert low < float(true.nees["kalman"].mean()) < high
+    assert float(eq43.nees["kalman"].mean()) > high
+    assert float(eq43.nis["kalman"][1:].mean()) < 1.0
+    assert eq43.share("kalman", "above") > 0.5
+    with pytest.raises(EvidenceError, match="orders"):
+        gauge_consistency(orders="guess")
+    with pytest.raises(EvidenceError, match="no registered filter"):
+        gauge_consistency(methods=("nope",))
+
+
+def test_an_assumed_noise_too_small_makes_the_nees_overconfident():
+    small = gauge_consistency(4.6, 26.5, runs=20, scale=0.5)
+    large = gauge_consistency(4.6, 26.5, runs=20, scale=2.0)
+    assert verdict(float(small.nees["kalman"].mean()), small.nees_band) == "overconfident"
+    assert verdict(float(large.nees["kalman"].mean()), large.nees_band) == "conservative"
+
+
+@pytest.mark.slow  # renders the explorer's figures
+def test_the_consistency_explorer_answers_on_the_static_site():
+    ex = consistency_explorer(runs=5)
+    assert ex.numbers["NEES says"] == "consistent"
+    ex.controls["scale"].value = 0.5
+    assert ex.numbers["NEES says"] == "overconfident"
+    site = consistency_explorer(runs=5)
+    assert site.live["orders"] == ("true", "eq43")
+    assert len(site.live["scale"]) == 7
