@@ -287,4 +287,4 @@ def test_the_consistency_explorer_answers_on_the_static_site():
     assert ex.numbers["NEES says"] == "overconfident"
     site = consistency_explorer(runs=5)
     assert site.live["orders"] == ("true", "eq43")
-    assert len(site.live["scale"]) == 7
+    assert len(site.live["scale"]) == 16 and 0.5 in site.live["scale"]

@@ -123,7 +123,7 @@ def consistency_explorer(
         }
 
     live = {
-        "scale": positions(controls["scale"], 7, 0.5, 2.0),
+        "scale": positions(controls["scale"], 16, 0.5, 2.0),
         "orders": positions(controls["orders"]),
     }
     return Explorer(controls, render, title="NEES and NIS with the noise you assume", live=live)
