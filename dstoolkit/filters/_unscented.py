@@ -37,7 +37,9 @@ from ._kalman import KalmanFilter, _inverse
 from ._model import StateSpaceModel, at_step, own_state, step_input, with_input
 
 
-def sigma_weights(n: int, alpha: float, beta: float, kappa: float) -> tuple[np.ndarray, ...]:
+def sigma_weights(
+    n: int, alpha: float, beta: float, kappa: float
+) -> tuple[float, np.ndarray, np.ndarray]:
     """Return the scale n + λ and the weights W^m, W^c of the 2n + 1 scaled sigma points.
 
     Parameters
@@ -50,7 +52,7 @@ def sigma_weights(n: int, alpha: float, beta: float, kappa: float) -> tuple[np.n
 
     Returns
     -------
-    scale : ndarray, shape ()
+    scale : float
         n + λ.
     mean_weights, cov_weights : ndarray, shape (2n + 1,)
         W^m and W^c.
@@ -58,7 +60,7 @@ def sigma_weights(n: int, alpha: float, beta: float, kappa: float) -> tuple[np.n
     Examples
     --------
     >>> scale, wm, wc = sigma_weights(1, 1.0, 2.0, 2.0)
-    >>> float(scale), wm.tolist(), wc.tolist()
+    >>> scale, wm.tolist(), wc.tolist()
     (3.0, [0.6666666666666666, 0.16666666666666666, 0.16666666666666666], \
 [2.6666666666666665, 0.16666666666666666, 0.16666666666666666])
     """
@@ -68,7 +70,7 @@ def sigma_weights(n: int, alpha: float, beta: float, kappa: float) -> tuple[np.n
     wc = wm.copy()
     wm[0] = lam / scale
     wc[0] = lam / scale + 1.0 - alpha * alpha + beta
-    return np.asarray(scale), wm, wc
+    return float(scale), wm, wc
 
 
 def sigma_points(mean: np.ndarray, cov: np.ndarray, scale: float) -> np.ndarray:
@@ -111,7 +113,7 @@ def sigma_points(mean: np.ndarray, cov: np.ndarray, scale: float) -> np.ndarray:
 
 def _advance(
     model: StateSpaceModel,
-    weights: tuple[np.ndarray, ...],
+    weights: tuple[float, np.ndarray, np.ndarray],
     x: np.ndarray,
     cov: np.ndarray,
     z: np.ndarray,
@@ -127,14 +129,14 @@ def _advance(
     q_cov = np.diag(model.state_noise.variance)
     r_cov = np.diag(model.obs_noise.variance)
     # prediction: the images of the sigma points of (x̂, P) under f
-    chi = sigma_points(x, cov, float(scale))
+    chi = sigma_points(x, cov, scale)
     fx = np.asarray(with_input(model.f, u)(chi), dtype=float)
     f_mean = wm @ fx
     x_pred = f_mean + model.state_noise.mean
     dx = fx - f_mean[:, None]
     cov_pred = np.swapaxes(wc[:, None] * dx, -1, -2) @ dx + q_cov
     # reading: the images under g of sigma points drawn again from (x⁻, P⁻)
-    chi_pred = sigma_points(x_pred, cov_pred, float(scale))
+    chi_pred = sigma_points(x_pred, cov_pred, scale)
     gx = np.asarray(model.g(chi_pred), dtype=float)
     z_mean = wm @ gx
     dz = gx - z_mean[:, None]
