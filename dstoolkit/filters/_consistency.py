@@ -176,7 +176,13 @@ class SmootherResult(NamedTuple):
     covariances : ndarray, shape (T, n, n)
         P_{k|T}.
     gains : ndarray, shape (T, n, n)
-        The smoother gains G_k (zero at the last step, where nothing follows).
+        The smoother gains J_k (zero at the last step, where nothing follows).
+
+    Examples
+    --------
+    >>> out = rts_smoother([[0.0], [1.0]], [[[1.0]], [[0.5]]], [[1.0]], [[1.0]])
+    >>> out.gains[:, 0, 0].tolist()
+    [0.5, 0.0]
     """
 
     estimates: np.ndarray
@@ -195,9 +201,9 @@ def rts_smoother(
 
     With x⁻_{k+1} = F_k x̂_k + b_k and P⁻_{k+1} = F_k P_k F_kᵀ + Q_k, from k = T − 1 down:
 
-        G_k = P_k F_kᵀ (P⁻_{k+1})⁻¹,
-        x̂_{k|T} = x̂_k + G_k (x̂_{k+1|T} − x⁻_{k+1}),
-        P_{k|T} = P_k + G_k (P_{k+1|T} − P⁻_{k+1}) G_kᵀ.
+        J_k = P_k F_kᵀ (P⁻_{k+1})⁻¹,
+        x̂_{k|T} = x̂_k + J_k (x̂_{k+1|T} − x⁻_{k+1}),
+        P_{k|T} = P_k + J_k (P_{k+1|T} − P⁻_{k+1}) J_kᵀ.
 
     Parameters
     ----------
