@@ -186,6 +186,7 @@ EXPLORERS = [
     "extension_explorer",
     "filter_step_explorer",
     "bounded_error_explorer",
+    "consistency_explorer",
 ]
 
 

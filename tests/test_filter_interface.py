@@ -28,6 +28,7 @@ from dstoolkit.filters import (
     KalmanFilter,
     NassreddineFilter,
     ParticleFilter,
+    UnscentedKalmanFilter,
     lotka_volterra,
     random_walk,
     registered_filters,
@@ -57,6 +58,7 @@ MAKERS = {
     "bounded_error": lambda **kw: BoundedErrorFilter(on_inconsistent="reset", **kw),
     "kalman": lambda **kw: KalmanFilter(**kw),
     "particle": lambda **kw: ParticleFilter(n_particles=200, seed=3, **kw),
+    "unscented": lambda **kw: UnscentedKalmanFilter(**kw),
     # a filter that writes only initialize and step: Filter runs, records and batches it
     "alpha_beta": lambda kernel="numpy": AlphaBetaFilter(),
 }

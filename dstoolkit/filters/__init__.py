@@ -2,8 +2,9 @@
 
 The paper's dependent-evidence filter (§3.2, Steps 1–6, on eq. 21's model: eqs. 22–26,
 eqs. 13–16, eq. 20, eqs. A1–A8), Nassreddine's filter, a
-bounded-error (set-membership) filter, the extended Kalman filter and a bootstrap particle
-filter, and example systems.
+bounded-error (set-membership) filter, the extended Kalman filter, the unscented Kalman filter and a
+bootstrap particle filter; NEES/NIS consistency checks with their χ² bands, the
+Rauch–Tung–Striebel smoother; and example systems.
 """
 
 from __future__ import annotations
@@ -25,6 +26,14 @@ from ._bounded_error import (
     BoundedErrorFilter,
     BoundedErrorRecord,
     BoundedErrorState,
+)
+from ._consistency import (
+    SmootherResult,
+    chi2_band,
+    nees,
+    nis,
+    rts_smoother,
+    smooth_kalman,
 )
 from ._dependent import (
     COUNTS,
@@ -73,6 +82,13 @@ from ._registry import (
     table3_filters,
     unregister_filter,
 )
+from ._unscented import (
+    UnscentedKalmanFilter,
+    UnscentedRecord,
+    UnscentedState,
+    sigma_points,
+    sigma_weights,
+)
 
 __all__ = [
     "BatchResult",
@@ -103,15 +119,26 @@ __all__ = [
     "ParticleFilter",
     "ParticleRecord",
     "ParticleState",
+    "SmootherResult",
     "StateSpaceModel",
+    "UnscentedKalmanFilter",
+    "UnscentedRecord",
+    "UnscentedState",
+    "chi2_band",
     "converged_at",
     "enclosure_summary",
     "filter_named",
     "finite_difference_jacobian",
     "lotka_volterra",
+    "nees",
+    "nis",
     "random_walk",
     "register_filter",
     "registered_filters",
+    "rts_smoother",
+    "sigma_points",
+    "sigma_weights",
+    "smooth_kalman",
     "simulate_lotka_volterra",
     "systematic_resample",
     "table3_filters",

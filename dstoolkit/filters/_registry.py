@@ -29,6 +29,7 @@ from ._dependent import DependentEvidenceFilter
 from ._kalman import KalmanFilter
 from ._nassreddine import NassreddineFilter
 from ._particle import ParticleFilter
+from ._unscented import UnscentedKalmanFilter
 
 
 @dataclass(frozen=True)
@@ -177,13 +178,13 @@ def registered_filters() -> tuple[FilterEntry, ...]:
     Returns
     -------
     tuple of FilterEntry
-        The toolkit's five filters first, then any registered later.
+        The toolkit's six filters first, then any registered later.
 
     Examples
     --------
     >>> from dstoolkit.filters import registered_filters
     >>> [entry.name for entry in registered_filters()]
-    ['dependent_evidence', 'nassreddine', 'bounded_error', 'kalman', 'particle']
+    ['dependent_evidence', 'nassreddine', 'bounded_error', 'kalman', 'particle', 'unscented']
     """
     return tuple(_REGISTRY.values())
 
@@ -305,5 +306,16 @@ register_filter(
             n_particles=s.n_particles, seed=s.seed, kernel="auto", on_inconsistent="reset"
         ),
         table3_column=4,
+    )
+)
+register_filter(
+    FilterEntry(
+        "unscented",
+        "unscented Kalman",
+        "unscented",
+        "bluish green",
+        (0, (1, 1)),
+        "^",
+        lambda s: UnscentedKalmanFilter(),
     )
 )

@@ -18,6 +18,7 @@ from ._chapter_figures import (  # noqa: E402
     plot_nassreddine_step,
     plot_sweep_peaks,
 )
+from ._consistency import plot_consistency  # noqa: E402
 from ._evidence import (  # noqa: E402
     contour,
     interval_table,
@@ -69,6 +70,7 @@ from ._style import (  # noqa: E402
 )
 
 __all__ = [
+    "plot_consistency",
     "BEL_COLOUR",
     "BETP_COLOUR",
     "EnclosureFigure",

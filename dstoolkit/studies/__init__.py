@@ -12,6 +12,12 @@ Examples
 
 from __future__ import annotations
 
+from ._consistency import (
+    CONSISTENCY_ORDERS,
+    GAUSSIAN_FILTERS,
+    ConsistencyStudy,
+    gauge_consistency,
+)
 from ._estimation import (
     ALL_FILTERS,
     ExampleComparison,
@@ -60,6 +66,10 @@ from ._paper_results import (
 )
 
 __all__ = [
+    "ConsistencyStudy",
+    "CONSISTENCY_ORDERS",
+    "GAUSSIAN_FILTERS",
+    "gauge_consistency",
     "ALL_FILTERS",
     "CSV_COLUMNS",
     "CaseReadings",

@@ -64,6 +64,7 @@ from ._explorers_lab import LabWidget, lab_widget  # noqa: E402
 from ._explorers_mass import mass_function_explorer  # noqa: E402
 from ._explorers_noise import noise_evidence_explorer  # noqa: E402
 from ._explorers_random_sets import compare_image_methods, extension_explorer  # noqa: E402
+from ._explorers_recursion import consistency_explorer  # noqa: E402
 from ._handin import hand_in  # noqa: E402
 from ._lab import (  # noqa: E402
     VIRTUAL,
@@ -86,6 +87,7 @@ from ._variants import set_variant  # noqa: E402
 register_print_figures(Explorer, LabWidget)
 
 __all__ = [
+    "consistency_explorer",
     "Case",
     "CodingExercise",
     "Exercise",

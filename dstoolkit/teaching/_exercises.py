@@ -7,7 +7,10 @@ itself is :mod:`._checking` (answers) and :mod:`._coding` (functions).
 
 from __future__ import annotations
 
-from . import _ex_coding  # noqa: F401  (registers the coding exercises)
+from . import (
+    _ex_coding,  # noqa: F401  (registers the coding exercises)
+    _ex_recursion,  # noqa: F401  (registers the one recursion's exercises)
+)
 from ._checking import REGISTRY, Exercise, Feedback, check, exercise, exercises, mistake, solution
 from ._coding import Case, CodingExercise, coding_exercise
 from ._ex_evidence import FRAME, MONOTONE_BOX, once, zadeh

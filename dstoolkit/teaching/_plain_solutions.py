@@ -310,3 +310,40 @@ def filter_step(xhat, z, f, g, g_inv, v_rows, w_rows):
 HELPERS: dict[str, tuple[str, ...]] = {
     "dependent_rule": ("dependency", "discount_rule", "dempster_rule"),
 }
+
+
+def unscented_moments(f, mean, var, alpha, beta, kappa):
+    """Return the unscented transform's mean and variance of f(x), x of mean and var.
+
+    One dimension (n = 1): lam = alpha²(1 + kappa) − 1, the three sigma
+    points mean and mean ± sqrt((1 + lam) var), the mean weights lam/(1 + lam)
+    and 1/(2(1 + lam)) twice, the variance weights the same but the centre's
+    plus 1 − alpha² + beta. Returns (mean of f, variance of f).
+    """
+    lam = alpha * alpha * (1.0 + kappa) - 1.0
+    spread = math.sqrt((1.0 + lam) * var)
+    points = [mean, mean + spread, mean - spread]
+    w_mean = [lam / (1.0 + lam), 0.5 / (1.0 + lam), 0.5 / (1.0 + lam)]
+    w_var = [w_mean[0] + 1.0 - alpha * alpha + beta, w_mean[1], w_mean[2]]
+    images = [f(p) for p in points]
+    m = sum(w * y for w, y in zip(w_mean, images, strict=True))
+    v = sum(w * (y - m) ** 2 for w, y in zip(w_var, images, strict=True))
+    return m, v
+
+
+def rts_scalar(x, p, a, q):
+    """Return the Rauch–Tung–Striebel smoothing of a scalar Kalman filter's run.
+
+    x, p: the filtered estimates and variances (lists of T numbers); the
+    model is x_{k+1} = a x_k + v_k with Var v = q. Going backwards from the
+    last step: the prediction a x[k] with variance a² p[k] + q, the gain
+    J = p[k] a / (a² p[k] + q), then xs[k] = x[k] + J (xs[k+1] − a x[k]) and
+    ps[k] = p[k] + J² (ps[k+1] − (a² p[k] + q)). Returns (xs, ps), lists.
+    """
+    xs, ps = list(x), list(p)
+    for k in range(len(x) - 2, -1, -1):
+        p_pred = a * a * p[k] + q
+        gain = p[k] * a / p_pred
+        xs[k] = x[k] + gain * (xs[k + 1] - a * x[k])
+        ps[k] = p[k] + gain * gain * (ps[k + 1] - p_pred)
+    return xs, ps
