@@ -69,8 +69,32 @@ def _resample() -> dict[str, str]:
     }
 
 
+def _random_walk() -> dict[str, str]:
+    """or-ex-exam: one Kalman step of a random walk (q = r = 1, P_1 = 1, z = 0, 2), smoothed."""
+    from dstoolkit.filters import nis, rts_smoother
+
+    x1, p1, z2 = 0.0, 1.0, 2.0
+    p2_pred = p1 + 1.0  # P⁻_2 = P_1 + q
+    gain = p2_pred / (p2_pred + 1.0)  # G = P⁻_2 / (P⁻_2 + r)
+    x2, p2 = x1 + gain * (z2 - x1), (1.0 - gain) * p2_pred
+    smoothed = rts_smoother([[x1], [x2]], [[[p1]], [[p2]]], [[1.0]], [[1.0]])
+    return {
+        "gain": f"{gain:.3f}",
+        "x2": f"{x2:.3f}",
+        "p2": f"{p2:.3f}",
+        "nis": f"{float(nis([[z2 - x1]], [[[p2_pred + 1.0]]])[0]):.2f}",
+        "j": f"{smoothed.gains[0, 0, 0]:.1f}",
+        "xs1": f"{smoothed.estimates[0, 0]:.3f}",
+        "ps1": f"{smoothed.covariances[0, 0, 0]:.3f}",
+    }
+
+
 #: {exam problem's label: the function that computes its solution's {{numbers}}}.
-NUMBERS = {"sg-ex-offsets": _offsets, "bp-ex-resample": _resample}
+NUMBERS = {
+    "sg-ex-offsets": _offsets,
+    "bp-ex-resample": _resample,
+    "or-ex-exam": _random_walk,
+}
 
 
 # -- the bank -------------------------------------------------------------------------------
