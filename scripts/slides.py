@@ -236,7 +236,7 @@ def read_chapter(site: Path, stem: str, number: int, minutes: int, root: Path = 
         Slide(
             f"# {number}. {title}\n\n"
             f"Lecture slides for chapter {number} of *{_book_title(root)}*\n\n"
-            f"[Read the chapter]({book_page}) · [Edit these slides]({stem}.md)",
+            f"[Read the chapter]({book_page}) · [These slides in Markdown]({stem}.md)",
             f"Chapter {number}, {title}: {minutes} minutes of class, "
             f"{_sessions(minutes)}. "
             "Keys: arrows move, S opens the speaker view with these notes and the timer, "
@@ -312,9 +312,14 @@ def _figure_slide(figure: Tag, stem: str, number: int, title: str) -> Slide:
     text = caption.find(class_="caption-text") if caption else None
     heading = _heading_text(_section_heading(figure)) or f"{number}. {title}"
     body = f"## {heading}\n\n![{_escape(alt)}]({img['src']})"
+    notes = f"What the figure shows (its alt text): {alt}"
     if text is not None:
-        body += f"\n\n{label} {block_markdown(text, stem)}"
-    return Slide(body, f"What the figure shows (its alt text): {alt}")
+        caption_md = block_markdown(text, stem)
+        # the caption's first sentence on the slide, all of it in the notes
+        first = re.match(r"(.+?[.!?])\s+(?=[A-Z])", caption_md, re.S)
+        body += f"\n\n{label} {first[1] if first else caption_md}"
+        notes += f"\n\nCaption: {caption_md}"
+    return Slide(body, notes)
 
 
 def _in_class_slide(article: Tag, stem: str) -> Slide:
@@ -432,9 +437,9 @@ CSS = """\
 .reveal h1 { font-size: 2em; }
 .reveal h2 { font-size: 1.2em; }
 .reveal .display-math { font-size: 0.6em; margin: 0.6em 0; }
-.reveal section img { max-height: 430px; max-width: 100%; margin: 0.2em auto; }
+.reveal section img { max-height: 420px; max-width: 100%; margin: 0.2em auto; }
 .reveal p.source, .reveal p.caption { font-size: 0.5em; color: #333; }
-.reveal p.caption { text-align: left; }
+.reveal p.caption { text-align: center; }
 .reveal ul { font-size: 0.75em; }
 /* MathJax's hidden MathML for screen readers is as tall as the formula; kept 1 px high so
    that it does not push the slide's content off centre. */
@@ -497,6 +502,7 @@ def deck_html(markdown: str, title: str, lang: str = "en") -> str:
 <meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <title>{html.escape(title)}</title>
+<link rel="icon" href="{static}/favicon.svg">
 <link rel="stylesheet" href="{static}/reveal/reset.css">
 <link rel="stylesheet" href="{static}/reveal/reveal.css">
 <link rel="stylesheet" href="{static}/reveal/theme/white.css">
@@ -556,6 +562,11 @@ Reveal.on("slidechanged", (event) => {{
 # --------------------------------------------------------------------------------------
 
 
+def deck_path(stem: str) -> str:
+    """Return the path of a chapter's deck in the site, e.g. ``slides/lab.html``."""
+    return f"{SLIDES_FOLDER}/{stem}.html"
+
+
 def chapters(root: Path = ROOT) -> dict[str, int]:
     """Return {stem: number} of the numbered chapters of _toc.yml."""
     return chapter_numbers(root / "_toc.yml")
@@ -563,10 +574,9 @@ def chapters(root: Path = ROOT) -> dict[str, int]:
 
 def write_decks(site: Path, root: Path = ROOT) -> list[Path]:
     """Write every chapter's Markdown source and deck into ``site``/slides/."""
-    out = site / SLIDES_FOLDER
     minutes = class_minutes(root)
     written = []
-    atomic_write(out / "deck.css", lambda fh: fh.write(CSS.encode("utf-8")))
+    atomic_write(site / SLIDES_FOLDER / "deck.css", lambda fh: fh.write(CSS.encode("utf-8")))
     for stem, number in chapters(root).items():
         if stem not in minutes:
             print(
@@ -582,7 +592,8 @@ def write_decks(site: Path, root: Path = ROOT) -> list[Path]:
         if edited.is_file():
             print(f"slides.py: {stem}: using the edited source {edited.relative_to(root)}")
         title = f"{number}. {chapter.title}: lecture slides · {_book_title(root)}"
-        for path, text in ((out / f"{stem}.md", source), (out / f"{stem}.html", deck_html(source, title))):
+        deck = site / deck_path(stem)
+        for path, text in ((deck.with_suffix(".md"), source), (deck, deck_html(source, title))):
             atomic_write(path, lambda fh, text=text: fh.write(text.encode("utf-8")))
             written.append(path)
     return written
