@@ -45,6 +45,7 @@ import html
 import math
 import re
 import sys
+import textwrap
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -72,9 +73,12 @@ IN_CLASS_SHARE = 0.2
 FORMULAS_PER_SLIDE = 2
 
 #: A labelled display formula of the source: ``$$ … $$ (label)`` or a ``{math}`` block.
-DOLLAR_MATH = re.compile(r"^\$\$\n(?P<tex>.*?)\n\$\$ *\((?P<label>[\w.:-]+)\) *$", re.M | re.S)
+DOLLAR_MATH = re.compile(
+    r"^[ \t]*\$\$\n(?P<tex>.*?)\n[ \t]*\$\$ *\((?P<label>[\w.:-]+)\) *$", re.M | re.S
+)
 MATH_BLOCK = re.compile(
-    r"^(?P<fence>```|:::)\{math\}[^\n]*\n(?P<options>(?::[\w-]+:[^\n]*\n)*)(?P<tex>.*?)\n(?P=fence) *$",
+    r"^(?P<fence>```|:::)\{math\}[^\n]*\n(?P<options>(?::[\w-]+:[^\n]*\n)*)"
+    r"(?P<tex>.*?)\n(?P=fence) *$",
     re.M | re.S,
 )
 #: Speaker notes start with this line (reveal.js's Markdown default); time, in the notes.
@@ -125,9 +129,8 @@ def class_minutes(root: Path = ROOT) -> dict[str, int]:
         except SyntaxError:
             continue
         for node in tree.body:
-            if (
-                isinstance(node, ast.Assign)
-                and any(isinstance(t, ast.Name) and t.id == "CHAPTERS" for t in node.targets)
+            if isinstance(node, ast.Assign) and any(
+                isinstance(t, ast.Name) and t.id == "CHAPTERS" for t in node.targets
             ):
                 table = ast.literal_eval(node.value)
                 return {row[0]: round(60 * row[2]) for row in table.values()}
@@ -136,7 +139,10 @@ def class_minutes(root: Path = ROOT) -> dict[str, int]:
 
 def labelled_formulas(source: str) -> dict[str, str]:
     """Return {label: TeX} of the source's labelled display formulas, in order."""
-    found = [(m.start(), m["label"], m["tex"].strip()) for m in DOLLAR_MATH.finditer(source)]
+    found = [
+        (m.start(), m["label"], textwrap.dedent(m["tex"]).strip())
+        for m in DOLLAR_MATH.finditer(source)
+    ]
     for m in MATH_BLOCK.finditer(source):
         label = re.search(r"^:label: *(\S+)", m["options"], re.M)
         if label:
@@ -300,7 +306,9 @@ def read_chapter(site: Path, stem: str, number: int, minutes: int, root: Path = 
 
 def _sessions(minutes: int) -> str:
     count = math.ceil(minutes / SESSION_MIN)
-    return f"one {SESSION_MIN}-minute session" if count == 1 else f"{count} sessions of {SESSION_MIN}"
+    return (
+        f"one {SESSION_MIN}-minute session" if count == 1 else f"{count} sessions of {SESSION_MIN}"
+    )
 
 
 def _figure_slide(figure: Tag, stem: str, number: int, title: str) -> Slide:
@@ -311,7 +319,8 @@ def _figure_slide(figure: Tag, stem: str, number: int, title: str) -> Slide:
     label = fig_number.get_text().strip() if fig_number else "Figure"
     text = caption.find(class_="caption-text") if caption else None
     heading = _heading_text(_section_heading(figure)) or f"{number}. {title}"
-    body = f"## {heading}\n\n![{_escape(alt)}]({img['src']})"
+    # an HTML image: Markdown's image syntax loses escaped characters from the alt text
+    body = f'## {heading}\n\n<img src="{html.escape(img["src"])}" alt="{html.escape(alt)}">'
     notes = f"What the figure shows (its alt text): {alt}"
     if text is not None:
         caption_md = block_markdown(text, stem)
@@ -323,7 +332,7 @@ def _figure_slide(figure: Tag, stem: str, number: int, title: str) -> Slide:
 
 
 def _in_class_slide(article: Tag, stem: str) -> Slide:
-    """The explorer and the "predict first" exercise of the chapter, linked to the page."""
+    """Return the slide that links the chapter's explorer and its "predict first" exercise."""
     book_page = f"../book/{stem}.html"
     lines = []
     widget = article.find("script", type="application/vnd.jupyter.widget-view+json")
@@ -382,7 +391,7 @@ def _set_times(chapter: Chapter) -> None:
     content = [s for s in chapter.slides if s.weight == "content"]
     rest = chapter.minutes - TITLE_MIN - KEY_POINTS_MIN
     in_class = round(IN_CLASS_SHARE * rest) if content else rest
-    for slide, minutes in zip(content, share(rest - in_class, [1.0] * len(content))):
+    for slide, minutes in zip(content, share(rest - in_class, [1.0] * len(content)), strict=True):
         slide.minutes = minutes
     for slide in chapter.slides:
         slide.minutes = {
@@ -451,7 +460,7 @@ CSS = """\
 
 
 def _render(markdown: str) -> str:
-    """Render a slide's Markdown; maths is kept as TeX for MathJax (\\[…\\], \\(…\\))."""
+    """Render a slide's Markdown; its maths is kept as TeX for MathJax to typeset."""
     kept: list[str] = []
 
     def keep(tex: str, display: bool) -> str:
@@ -489,7 +498,7 @@ def deck_html(markdown: str, title: str, lang: str = "en") -> str:
         timing = f' data-timing="{int(minutes[1]) * 60}"' if minutes else ""
         rendered = _render(body)
         rendered = re.sub(
-            r"(<p><img [^>]*></p>\n)<p>", r'\1<p class="caption">', rendered, count=1
+            r"(<img [^>]*>(?:</p>)?\n)<p>", r'\1<p class="caption">', rendered, count=1
         )
         sections.append(
             f'<section id="slide-{i}"{timing}>\n{rendered}'
@@ -586,9 +595,7 @@ def write_decks(site: Path, root: Path = ROOT) -> list[Path]:
             )
         chapter = read_chapter(site, stem, number, minutes.get(stem, SESSION_MIN), root)
         edited = root / SLIDES_FOLDER / f"{stem}.md"
-        source = (
-            edited.read_text(encoding="utf-8") if edited.is_file() else deck_markdown(chapter)
-        )
+        source = edited.read_text(encoding="utf-8") if edited.is_file() else deck_markdown(chapter)
         if edited.is_file():
             print(f"slides.py: {stem}: using the edited source {edited.relative_to(root)}")
         title = f"{number}. {chapter.title}: lecture slides · {_book_title(root)}"

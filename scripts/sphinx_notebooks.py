@@ -34,6 +34,7 @@ from sphinx.util.osutil import relative_uri
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from chapter_notebook import References, clean_notebook  # noqa: E402
+
 from slides import deck_path  # noqa: E402
 
 logger = logging.getLogger(__name__)
@@ -290,9 +291,8 @@ def _downloads_table(app: Sphinx, docname: str) -> nodes.raw:
         )
     table = (
         '<table class="table chapter-downloads"><thead><tr><th>#</th><th>Chapter</th>'
-        "<th>Lecture slides</th><th>Chapter notebook</th><th>Exercise sheet</th></tr></thead><tbody>"
-        + "".join(rows)
-        + "</tbody></table>"
+        "<th>Lecture slides</th><th>Chapter notebook</th><th>Exercise sheet</th></tr>"
+        "</thead><tbody>" + "".join(rows) + "</tbody></table>"
     )
     return nodes.raw("", table, format="html")
 
