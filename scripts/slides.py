@@ -168,16 +168,11 @@ def _section_heading(element: Tag) -> Tag | None:
     return None
 
 
-def _heading_text(heading: Tag | None) -> str:
+def _heading_text(heading: Tag | None, stem: str) -> str:
+    """Return a heading's text as Markdown (its maths as ``$…$``), without its link mark."""
     if heading is None:
         return ""
-    return " ".join(
-        "".join(
-            c.get_text() if isinstance(c, Tag) else str(c)
-            for c in heading.children
-            if not (isinstance(c, Tag) and "headerlink" in (c.get("class") or []))
-        ).split()
-    )
+    return " ".join(inline_markdown(heading, stem).split())
 
 
 def _href(href: str, stem: str) -> str:
@@ -234,7 +229,7 @@ def read_chapter(site: Path, stem: str, number: int, minutes: int, root: Path = 
         )
     page = BeautifulSoup(page_file.read_text(encoding="utf-8"), "html.parser")
     article = page.find("article") or page
-    title = _heading_text(article.find("h1"))
+    title = _heading_text(article.find("h1"), stem)
     title = re.sub(r"^\d+\.\s*", "", title)
     chapter = Chapter(stem, number, title, minutes)
     book_page = f"../book/{stem}.html"
@@ -261,7 +256,7 @@ def read_chapter(site: Path, stem: str, number: int, minutes: int, root: Path = 
         nonlocal group
         if not group:
             return
-        heading = _heading_text(group_heading) or f"{number}. {title}"
+        heading = _heading_text(group_heading, stem) or f"{number}. {title}"
         maths = "\n\n".join(f"$$\n{tex}\n\\tag{{{eqno}}}\n$$" for eqno, tex, _ in group)
         numbers = ", ".join(f"({eqno})" for eqno, _, _ in group)
         anchor = group_heading.parent.get("id") if group_heading is not None else ""
@@ -318,7 +313,7 @@ def _figure_slide(figure: Tag, stem: str, number: int, title: str) -> Slide:
     fig_number = caption.find(class_="caption-number") if caption else None
     label = fig_number.get_text().strip() if fig_number else "Figure"
     text = caption.find(class_="caption-text") if caption else None
-    heading = _heading_text(_section_heading(figure)) or f"{number}. {title}"
+    heading = _heading_text(_section_heading(figure), stem) or f"{number}. {title}"
     # an HTML image: Markdown's image syntax loses escaped characters from the alt text
     body = f'## {heading}\n\n<img src="{html.escape(img["src"])}" alt="{html.escape(alt)}">'
     notes = f"What the figure shows (its alt text): {alt}"
@@ -340,7 +335,7 @@ def _in_class_slide(article: Tag, stem: str) -> Slide:
         heading = _section_heading(widget)
         where = heading.parent.get("id") if heading is not None else ""
         lines.append(
-            f"- The explorer: [{_escape(_heading_text(heading)) or 'on the chapter page'}]"
+            f"- The explorer: [{_heading_text(heading, stem) or 'on the chapter page'}]"
             f"({book_page}#{where}); move its controls live."
         )
     predict = article.find(id=re.compile(r"-ex-predict$"))
