@@ -314,8 +314,10 @@ def _figure_slide(figure: Tag, stem: str, number: int, title: str) -> Slide:
     label = fig_number.get_text().strip() if fig_number else "Figure"
     text = caption.find(class_="caption-text") if caption else None
     heading = _heading_text(_section_heading(figure), stem) or f"{number}. {title}"
-    # an HTML image: Markdown's image syntax loses escaped characters from the alt text
-    body = f'## {heading}\n\n<img src="{html.escape(img["src"])}" alt="{html.escape(alt)}">'
+    # an HTML image: Markdown's image syntax loses escaped characters from the alt text;
+    # loaded when its slide comes near, as the book's figures are
+    src, alt_attr = html.escape(img["src"]), html.escape(alt)
+    body = f'## {heading}\n\n<img src="{src}" alt="{alt_attr}" loading="lazy">'
     notes = f"What the figure shows (its alt text): {alt}"
     if text is not None:
         caption_md = block_markdown(text, stem)

@@ -11,7 +11,7 @@
   overwrite it;
 * in headless Chromium every deck loads with nothing fetched from another host and no
   failed request, typesets its maths with the site's MathJax (no TeX left in the text),
-  shows its images, moves to the next slide on the right arrow key and back on the left
+  shows each slide's images, moves to the next slide on the right arrow key and back on the left
   one, keeps every slide's content inside the slide, and has no axe-core violation of
   WCAG 2.1 A/AA.
 """
@@ -226,15 +226,20 @@ def test_deck_in_the_browser(chromium: object, site: str, stem: str) -> None:
         })""")
         assert counts["display"] == counts["typeset"], counts
         assert not re.search(r"\\\(|\\\[|\\frac|\\tag|\$\$", counts["text"]), counts["text"]
-        images = page.evaluate(
-            "[...document.images].map(i => [i.getAttribute('src'), i.complete && i.naturalWidth])"
-        )
-        assert all(width for _, width in images), f"{stem}: images not loaded: {images}"
         # the keyboard moves through the deck; every slide's content stays inside it
         page.locator("body").focus()
         for index in range(total):
             assert page.evaluate("Reveal.getIndices().h") == index
             page.evaluate("MathJax.startup.promise")
+            # the slide's images (loaded lazily) come from the site
+            page.wait_for_function(
+                "[...Reveal.getCurrentSlide().querySelectorAll('img')].every(i => i.complete)"
+            )
+            images = page.evaluate(
+                "[...Reveal.getCurrentSlide().querySelectorAll('img')]"
+                ".map(i => [i.getAttribute('src'), i.naturalWidth])"
+            )
+            assert all(width for _, width in images), f"{stem}: images not loaded: {images}"
             fits = page.evaluate(_SLIDE_FITS)
             assert fits["height"] <= fits["maxHeight"] and fits["width"] <= fits["maxWidth"], (
                 f"{stem}, slide {index + 1} does not fit: {fits}"
