@@ -313,6 +313,8 @@ def _figure_slide(figure: Tag, stem: str, number: int, title: str) -> Slide:
     fig_number = caption.find(class_="caption-number") if caption else None
     label = fig_number.get_text().strip() if fig_number else "Figure"
     text = caption.find(class_="caption-text") if caption else None
+    if not alt and text is not None:  # the book gives every figure one; the caption else
+        alt = " ".join(text.get_text().split())
     heading = _heading_text(_section_heading(figure), stem) or f"{number}. {title}"
     # an HTML image: Markdown's image syntax loses escaped characters from the alt text;
     # loaded when its slide comes near, as the book's figures are
