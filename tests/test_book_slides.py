@@ -262,3 +262,29 @@ def test_deck_in_the_browser(chromium: object, site: str, stem: str) -> None:
         assert not failed, f"{stem}: failed requests {failed}"
     finally:
         context.close()
+
+
+def test_a_chapter_with_no_formula_figure_or_key_points_still_gets_a_timed_deck(
+    tmp_path: Path,
+) -> None:
+    # a chapter being written: a title, text, nothing else the deck takes
+    (tmp_path / "book").mkdir()
+    (tmp_path / "book" / "draft.md").write_text("# Draft\n\nText.\n", encoding="utf-8")
+    (tmp_path / "_config.yml").write_text("title: A book\n", encoding="utf-8")
+    site_dir = tmp_path / "site"
+    (site_dir / "book").mkdir(parents=True)
+    (site_dir / "book" / "draft.html").write_text(
+        '<html><body><article><section id="draft"><h1><span class="section-number">13. '
+        "</span>Draft</h1><p>Text.</p></section></article></body></html>",
+        encoding="utf-8",
+    )
+    chapter = slides.read_chapter(site_dir, "draft", 13, slides.SESSION_MIN, tmp_path)
+    assert chapter.title == "Draft"
+    deck = BeautifulSoup(slides.deck_html(slides.deck_markdown(chapter), "T"), "html.parser")
+    sections = deck.select(".slides > section")
+    assert [s.find(["h1", "h2"]).get_text() for s in sections] == [
+        "13. Draft",
+        "In class",
+        "Key points",
+    ]
+    assert sum(int(s["data-timing"]) for s in sections) == 60 * slides.SESSION_MIN
