@@ -539,6 +539,8 @@ Reveal.initialize({{
   hash: true,
   slideNumber: "c/t",
   transition: "none",
+  // the speaker view's pacing timer: each slide's data-timing, 2 minutes where none is set
+  defaultTiming: 120,
   plugins: [RevealNotes, RevealMath.MathJax3],
   mathjax3: {{
     mathjax: "{static}/mathjax/tex-chtml.js",
