@@ -10,6 +10,8 @@
 # 4. jupyter-book build . -W -n --keep-going (every warning is an error; notebooks are
 #    executed once and cached in _build/.jupyter_cache). The cache is dropped when the
 #    source of dstoolkit changed, and every page is re-read after a failed build.
+# 5. scripts/slides.py writes a reveal.js lecture deck per chapter into _build/html/slides/
+#    from the chapter's source and its built page (reveal.js is vendored like MathJax).
 #
 # Extra arguments are passed to jupyter-book, e.g. `bash scripts/build-book.sh --all`.
 set -euo pipefail
@@ -47,7 +49,7 @@ fi
 stamp="node_modules/.dstoolkit-book-assets"
 want="$(sha256sum package-lock.json | cut -d' ' -f1)"
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$want" ]; then
-  echo "==> npm ci (MathJax 3, @jupyter-widgets/html-manager)"
+  echo "==> npm ci (MathJax 3, @jupyter-widgets/html-manager, reveal.js)"
   npm ci --ignore-scripts --no-audit --no-fund --loglevel=error \
     || die "npm ci failed. Check that the npm registry is reachable (npm config get registry)
   and that package-lock.json matches package.json (npm install --package-lock-only)."
@@ -56,9 +58,11 @@ fi
 
 mathjax_src="node_modules/mathjax/es5"
 widgets_src="node_modules/@jupyter-widgets/html-manager/dist"
+reveal_src="node_modules/reveal.js/dist"
 [ -f "$mathjax_src/tex-chtml.js" ] || die "$mathjax_src/tex-chtml.js is missing after npm ci."
 [ -f "$widgets_src/embed.js" ] || die "$widgets_src/embed.js (the non-AMD widget embedder)
   is missing after npm ci; package.json must pin an @jupyter-widgets/html-manager that has it."
+[ -f "$reveal_src/reveal.js" ] || die "$reveal_src/reveal.js is missing after npm ci."
 
 # A root _static/ folder makes Jupyter Book add every .js file of every html_static_path
 # entry to every page, i.e. all of MathJax's components. Keep page CSS in book/_static/.
@@ -69,7 +73,7 @@ widgets_src="node_modules/@jupyter-widgets/html-manager/dist"
 echo "==> copying offline assets into _build/_vendor"
 vendor="_build/_vendor"
 rm -rf "$vendor"
-mkdir -p "$vendor/mathjax" "$vendor/jupyter-widgets"
+mkdir -p "$vendor/mathjax" "$vendor/jupyter-widgets" "$vendor/reveal/theme/fonts" "$vendor/reveal/plugin"
 # MathJax: the TeX+CHTML bundle, plus what it loads on demand relative to its own URL
 # (fonts, autoloaded TeX extensions, menu, accessibility and speech components).
 cp "$mathjax_src/tex-chtml.js" "$vendor/mathjax/"
@@ -82,6 +86,15 @@ cp "$widgets_src/embed.js" "$widgets_src/embed.js.LICENSE.txt" "$vendor/jupyter-
 find "$widgets_src" -maxdepth 1 -type f \
   \( -name '*.woff2' -o -name '*.woff' -o -name '*.ttf' -o -name '*.eot' -o -name '*.svg' \) \
   -exec cp {} "$vendor/jupyter-widgets/" \;
+# reveal.js for the lecture decks (scripts/slides.py): the core, the white theme and the
+# one font it imports, the speaker-notes and maths plugins (the decks load the vendored
+# MathJax above through the maths plugin).
+cp "$reveal_src/reset.css" "$reveal_src/reveal.css" "$reveal_src/reveal.js" "$vendor/reveal/"
+cp "$reveal_src/theme/white.css" "$vendor/reveal/theme/"
+cp -R "$reveal_src/theme/fonts/source-sans-pro" "$vendor/reveal/theme/fonts/"
+cp node_modules/reveal.js/plugin/notes/notes.js node_modules/reveal.js/plugin/math/math.js \
+  "$vendor/reveal/plugin/"
+cp node_modules/reveal.js/LICENSE "$vendor/reveal/LICENSE"
 
 # --- Execution cache ---------------------------------------------------------------------
 # jupyter-cache re-executes a chapter only when one of its code cells changes; it cannot
@@ -127,4 +140,7 @@ jupyter-book build . -W -n --keep-going ${fresh[@]+"${fresh[@]}"} "$@" \
   2> >(grep -v --line-buffered "Kernel is running over TCP without encryption" >&2)
 rm -f "$failed_stamp"
 [ "$record_hash" = 0 ] || echo "$pkg_hash" > "$pkg_stamp"
+# --- Lecture decks (post-build: they read the built pages for numbers and figures) --------
+echo "==> lecture slides: python scripts/slides.py"
+python scripts/slides.py
 echo "==> book built: $book_root/_build/html/index.html"

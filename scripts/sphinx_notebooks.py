@@ -5,11 +5,12 @@
   glued (``scripts/chapter_notebook.py`` does the rewriting: no raw MyST, no solutions).
   Its exercise sheet, ``notebooks/*_<stem>.ipynb`` of the repository, is copied beside it.
 - Each chapter page links both, in the download menu of the header and in a line under the
-  chapter's title, with a link to the page *Run this book* (the label ``run``).
+  chapter's title, with a link to the page *Run this book* (the label ``run``), and its
+  lecture slides, ``slides/<stem>.html``, which scripts/slides.py writes after the build.
 - The repository address lives in one place, ``repository.url`` of ``_config.yml``. When it
   is set, the repository button and the launch buttons (Binder by default; they open the
   chapter's exercise sheet) appear; when it is empty, neither does.
-- The directive ``{chapter-downloads}`` lists every chapter with its two downloads, and
+- The directive ``{chapter-downloads}`` lists every chapter with its slides and two downloads, and
   ``{repository-address}`` says where the code is (for the page *Run this book*).
 
 Jupyter Book loads it through ``sphinx.local_extensions`` in ``_config.yml``.
@@ -33,6 +34,8 @@ from sphinx.util.osutil import relative_uri
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from chapter_notebook import References, clean_notebook  # noqa: E402
+
+from slides import deck_path  # noqa: E402
 
 logger = logging.getLogger(__name__)
 
@@ -258,12 +261,16 @@ def _chapter_line(app: Sphinx, chapter: Chapter) -> nodes.raw:
     if run:
         href = app.builder.get_relative_uri(chapter.docname, run)
         how = f' (<a class="reference internal" href="{href}">how to run them</a>)'
-    text = f'<p class="run-this-chapter">Run it in JupyterLab: {" · ".join(parts)}{how}.</p>'
+    slides = relative_uri(base, deck_path(chapter.stem))
+    text = (
+        f'<p class="run-this-chapter">Run it in JupyterLab: {" · ".join(parts)}{how}. '
+        f'Teach it: <a class="reference external" href="{slides}">lecture slides</a>.</p>'
+    )
     return nodes.raw("", text, format="html")
 
 
 def _downloads_table(app: Sphinx, docname: str) -> nodes.raw:
-    """Return a table of every chapter with its notebook and exercise sheet."""
+    """Return a table of every chapter with its lecture slides, notebook and exercise sheet."""
     base = app.builder.get_target_uri(docname)
     rows = []
     for chapter in chapters(app).values():
@@ -277,14 +284,15 @@ def _downloads_table(app: Sphinx, docname: str) -> nodes.raw:
         rows.append(
             f'<tr><td>{chapter.number}</td><td><a class="reference internal" href="{page}">'
             f"{title}</a></td><td>"
+            f'<a class="reference external" href="{relative_uri(base, deck_path(chapter.stem))}">'
+            f"slides</a></td><td>"
             f"{_download_link(relative_uri(base, chapter.notebook_path), 'notebook (.ipynb)')}"
             f"</td><td>{sheet}</td></tr>"
         )
     table = (
         '<table class="table chapter-downloads"><thead><tr><th>#</th><th>Chapter</th>'
-        "<th>Chapter notebook</th><th>Exercise sheet</th></tr></thead><tbody>"
-        + "".join(rows)
-        + "</tbody></table>"
+        "<th>Lecture slides</th><th>Chapter notebook</th><th>Exercise sheet</th></tr>"
+        "</thead><tbody>" + "".join(rows) + "</tbody></table>"
     )
     return nodes.raw("", table, format="html")
 

@@ -39,6 +39,7 @@ BOOK_MODULES = (
     "test_lab_handout.py",
     "test_book_a11y.py",
     "test_book_browser.py",
+    "test_book_slides.py",
     "test_book_layout.py",
     "test_explorers_browser.py",
     "test_chapter_notebooks.py",
