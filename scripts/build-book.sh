@@ -10,6 +10,8 @@
 # 4. jupyter-book build . -W -n --keep-going (every warning is an error; notebooks are
 #    executed once and cached in _build/.jupyter_cache). The cache is dropped when the
 #    source of dstoolkit changed, and every page is re-read after a failed build.
+# 5. Post-build: scripts/typeset-maths.js typesets the maths into the pages (mathjax-full);
+#    scripts/site_postbuild.py defers the explorers' widget code and links every figure.
 #
 # Extra arguments are passed to jupyter-book, e.g. `bash scripts/build-book.sh --all`.
 set -euo pipefail
@@ -125,6 +127,11 @@ touch "$failed_stamp"
 # from stderr. Every other message, Sphinx's warnings included, passes through.
 jupyter-book build . -W -n --keep-going ${fresh[@]+"${fresh[@]}"} "$@" \
   2> >(grep -v --line-buffered "Kernel is running over TCP without encryption" >&2)
+# After the build: the maths typeset into the pages (no MathJax in the browser), then the
+# explorers' first states written as plain HTML, their widget code loaded when they come
+# into view and every figure linked to its full-size file. Each page is rewritten once.
+node scripts/typeset-maths.js _build/html
+python scripts/site_postbuild.py _build/html
 rm -f "$failed_stamp"
 [ "$record_hash" = 0 ] || echo "$pkg_hash" > "$pkg_stamp"
 echo "==> book built: $book_root/_build/html/index.html"

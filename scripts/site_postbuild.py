@@ -1,0 +1,262 @@
+"""After the book is built: pages that show at once on a phone, figures that open full size.
+
+Run by scripts/build-book.sh after ``jupyter-book build`` (``python scripts/site_postbuild.py
+_build/html``), after ``node scripts/typeset-maths.js`` has typeset the maths. Each page of
+the built site is rewritten once (it is marked), atomically:
+
+* **Explorers drawn before any script runs.** Before every widget view of a page, the view's
+  first state (its readouts, its pictures and its notes, from the widget state the page
+  carries) is written as plain HTML (``div.dstoolkit-preview``): the reader sees it at once,
+  and it stays until the widget manager has drawn the live explorer over it.
+* **Widget code loaded when an explorer comes near the screen.** The widget manager
+  (``jupyter-widgets/embed.js``) and its MathJax shim leave the page's ``<head>``;
+  ``_static/lazy-explorers.js`` loads them, in order, when the first explorer comes within
+  a screen of the viewport (an ``IntersectionObserver``), or when the reader moves to it by
+  keyboard. ``explorers-a11y.js`` stays as it is (deferred, small).
+* **Nothing in the head waits for a script that can wait**: Sphinx's helpers and the search
+  index are deferred (they act once the page is parsed, in the order they are written).
+* **Every figure opens full size.** Each picture of the article and of every explorer state
+  becomes a link to its file (``a.dstoolkit-fullsize``, named by the picture's text
+  alternative), reachable by keyboard; the picture gets its ``width`` and ``height`` (no
+  layout shift) and, for explorer pictures, ``--dstoolkit-natural-width``: on a narrow
+  screen it is drawn at its own size in a box that scrolls sideways (book/_static/
+  dstoolkit.css), so its text stays as large as the page's small print.
+"""
+
+from __future__ import annotations
+
+import argparse
+import html
+import json
+import os
+import re
+import struct
+import sys
+import tempfile
+from pathlib import Path
+from typing import Any
+
+MARK = '<meta name="dstoolkit-postbuild" content="explorers deferred, figures linked">'
+_STATE = re.compile(
+    r'(<script type="application/vnd\.jupyter\.widget-state\+json">)(.*?)(</script>)', re.S
+)
+_VIEW = re.compile(
+    r'<script type="application/vnd\.jupyter\.widget-view\+json">(.*?)</script>', re.S
+)
+#: The widget scripts myst-nb writes into the head, loaded later by lazy-explorers.js.
+_LAZY = re.compile(
+    r'\s*<script (?:defer="defer" )?src="([^"]*(?:widgets-mathjax3|jupyter-widgets/embed)'
+    r'\.js[^"]*)"></script>'
+)
+#: Scripts the theme writes into every head that nothing needs before the page is parsed
+#: (the search index, 47 kB gzipped, only serves the search page): deferred, in order.
+_DEFER = re.compile(
+    r'<script src="([^"]*(?:/doctools|/sphinx_highlight|/searchtools|/language_data|searchindex)'
+    r'\.js[^"]*)"></script>'
+)
+_IMG = re.compile(r"<img\b[^>]*>")
+_ATTR = re.compile(r"""\b([a-z-]+)=(?:"([^"]*)"|'([^']*)')""")
+_ARTICLE = re.compile(r'(<article class="bd-article"[^>]*>)(.*?)(</article>)', re.S)
+
+
+def image_size(path: Path) -> tuple[int, int] | None:
+    """The pixel size of a PNG (from its header), or None for anything else."""
+    try:
+        with path.open("rb") as handle:
+            head = handle.read(24)
+    except OSError:
+        return None
+    if head[:8] != b"\x89PNG\r\n\x1a\n" or head[12:16] != b"IHDR":
+        return None
+    width, height = struct.unpack(">II", head[16:24])
+    return width, height
+
+
+def link_image(tag: str, folder: Path, explorer: bool) -> str:
+    """Wrap one ``<img>`` in a link to its file, with its size; as it was when not a file."""
+    attrs = {m.group(1): m.group(2) if m.group(2) is not None else m.group(3)
+             for m in _ATTR.finditer(tag)}
+    src = attrs.get("src", "")
+    if not src or src.startswith("data:") or "://" in src:
+        return tag
+    size = image_size(folder / html.unescape(src).split("?")[0])
+    new = tag
+    if size and "width=" not in tag:
+        extra = f' width="{size[0]}" height="{size[1]}"'
+        if explorer:
+            extra += f' data-natural-width="{size[0]}"'
+        new = new[:-1].rstrip("/").rstrip() + extra + ">"
+    if explorer and size:
+        new = new.replace(
+            "style='max-width:100%;height:auto'",
+            f"style='max-width:100%;height:auto;--dstoolkit-natural-width:{size[0]}px'",
+        )
+    return (
+        f'<a class="dstoolkit-fullsize" href="{html.escape(src, quote=True)}" '
+        f'title="Open the figure full size">{new}</a>'
+    )
+
+
+def link_article_images(text: str, folder: Path) -> str:
+    """Link every picture of the page's article to its file (not those already in a link)."""
+
+    def article(found: re.Match[str]) -> str:
+        body = found.group(2)
+        out: list[str] = []
+        last = 0
+        for img in _IMG.finditer(body):
+            before = body[last:img.start()]
+            out.append(before)
+            opened = before.rfind("<a ") > before.rfind("</a>") if "<a " in before else False
+            inside_link = opened or _open_link(body, img.start())
+            out.append(img.group(0) if inside_link else link_image(img.group(0), folder, False))
+            last = img.end()
+        out.append(body[last:])
+        return found.group(1) + "".join(out) + found.group(3)
+
+    return _ARTICLE.sub(article, text)
+
+
+def _open_link(body: str, at: int) -> bool:
+    """Whether position ``at`` of ``body`` lies inside an ``<a>`` element."""
+    return body.rfind("<a ", 0, at) > body.rfind("</a>", 0, at)
+
+
+def link_state_images(state: dict[str, Any], folder: Path) -> None:
+    """Link the pictures of every HTML widget of a widget state to their files."""
+    for model in state["state"].values():
+        values = model.get("state", {})
+        value = values.get("value")
+        if model.get("model_name") == "HTMLModel" and isinstance(value, str) and "<img" in value:
+            values["value"] = _IMG.sub(
+                lambda m: link_image(m.group(0), folder, "dstoolkit-figure" in m.group(0)),
+                value,
+            )
+
+
+def _fmt(value: Any, spec: str | None) -> str:
+    try:
+        return format(value, spec or "")
+    except (TypeError, ValueError):
+        return str(value)
+
+
+def preview(models: dict[str, Any], model_id: str) -> str:
+    """The plain HTML of a widget view's first state: its texts and pictures, in order."""
+    model = models.get(model_id)
+    if model is None:
+        return ""
+    name = model["model_name"]
+    state = model["state"]
+
+    def ref(value: str) -> str:
+        return value.removeprefix("IPY_MODEL_")
+
+    layout = models.get(ref(state.get("layout", "")), {}).get("state", {})
+    if layout.get("display") == "none" or layout.get("visibility") == "hidden":
+        return ""
+    if name in ("VBoxModel", "HBoxModel", "BoxModel", "GridBoxModel"):
+        kind = "hbox" if name == "HBoxModel" else "vbox"
+        inner = "".join(preview(models, ref(c)) for c in state.get("children", []))
+        return f'<div class="dstoolkit-preview-{kind}">{inner}</div>'
+    if name == "StackModel":
+        children = state.get("children", [])
+        index = state.get("selected_index")
+        return preview(models, ref(children[index])) if index is not None and children else ""
+    if name in ("HTMLModel", "HTMLMathModel"):
+        return f'<div class="dstoolkit-preview-html">{state.get("value", "")}</div>'
+    if name == "LabelModel":
+        return f"<p>{html.escape(str(state.get('value', '')))}</p>"
+    description = html.escape(str(state.get("description", "")))
+    if name in ("SelectionSliderModel", "DropdownModel", "SelectModel", "RadioButtonsModel"):
+        labels = state.get("_options_labels", [])
+        index = state.get("index")
+        shown = labels[index] if isinstance(index, int) and index < len(labels) else ""
+    elif name in ("FloatSliderModel", "IntSliderModel", "BoundedFloatTextModel"):
+        shown = _fmt(state.get("value"), state.get("readout_format"))
+    elif name == "CheckboxModel":
+        shown = "on" if state.get("value") else "off"
+    elif name == "ButtonModel":
+        return ""
+    else:
+        return ""
+    return (
+        f'<p class="dstoolkit-preview-control">{description} '
+        f"<b>{html.escape(str(shown))}</b></p>"
+    )
+
+
+def rewrite_page(page: Path) -> bool:
+    """Rewrite one built page (once); True if it changed."""
+    text = page.read_text(encoding="utf-8")
+    if MARK in text or "</head>" not in text:
+        return False
+    folder = page.parent
+    found = _STATE.search(text)
+    if found:
+        state = json.loads(found.group(2))
+        link_state_images(state, folder)
+        dumped = json.dumps(state, ensure_ascii=False).replace("</", "<\\/")
+        text = text[: found.start(2)] + dumped + text[found.end(2):]
+        models = state["state"]
+
+        def with_preview(view: re.Match[str]) -> str:
+            model_id = json.loads(view.group(1)).get("model_id", "")
+            body = preview(models, model_id)
+            if not body:
+                return view.group(0)
+            return (
+                f'<div class="dstoolkit-preview" data-model-id="{html.escape(model_id)}">'
+                f"{body}<p class='dstoolkit-preview-note'>The controls load when the explorer "
+                f"comes into view.</p></div>{view.group(0)}"
+            )
+
+        text = _VIEW.sub(with_preview, text)
+        lazy = _LAZY.findall(text)
+        if lazy:
+            text = _LAZY.sub("", text)
+            static = lazy[0].split("_static/")[0] + "_static/"
+            scripts = html.escape(" ".join(lazy), quote=True)
+            text = text.replace(
+                "</head>",
+                f'<script defer src="{static}lazy-explorers.js" '
+                f'data-scripts="{scripts}"></script>\n</head>',
+                1,
+            )
+    text = _DEFER.sub(r'<script defer src="\1"></script>', text)
+    text = link_article_images(text, folder)
+    text = text.replace("</head>", MARK + "\n</head>", 1)
+    write_atomic(page, text)
+    return True
+
+
+def write_atomic(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a temporary file in the same folder."""
+    handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=".postbuild-", suffix=".html")
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8") as out:
+            out.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Rewrite every page of the built site given on the command line."""
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("html", type=Path, help="the built site (_build/html)")
+    args = parser.parse_args(argv)
+    if not (args.html / "index.html").is_file():
+        print(f"site_postbuild.py: {args.html} has no index.html; build the book first",
+              file=sys.stderr)
+        return 2
+    pages = [p for p in sorted(args.html.rglob("*.html"))
+             if not any(part.startswith("_") for part in p.relative_to(args.html).parts)]
+    changed = sum(rewrite_page(page) for page in pages)
+    print(f"site_postbuild: {changed} of {len(pages)} pages rewritten")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
