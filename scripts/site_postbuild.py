@@ -164,7 +164,7 @@ def preview(models: dict[str, Any], model_id: str) -> str:
         index = state.get("selected_index")
         return preview(models, ref(children[index])) if index is not None and children else ""
     if name in ("HTMLModel", "HTMLMathModel"):
-        return f'<div class="dstoolkit-preview-html">{state.get("value", "")}</div>'
+        return f'<div class="dstoolkit-preview-html widget-html-content">{state.get("value", "")}</div>'
     if name == "LabelModel":
         return f"<p>{html.escape(str(state.get('value', '')))}</p>"
     description = html.escape(str(state.get("description", "")))
