@@ -13,8 +13,10 @@ the built site is rewritten once (it is marked), atomically:
   ``_static/lazy-explorers.js`` loads them, in order, when the first explorer comes within
   a screen of the viewport (an ``IntersectionObserver``), or when the reader moves to it by
   keyboard. ``explorers-a11y.js`` stays as it is (deferred, small).
-* **Nothing in the head waits for a script that can wait**: Sphinx's helpers and the search
-  index are deferred (they act once the page is parsed, in the order they are written).
+* **Nothing in the head waits for a script**: Sphinx's helpers, the theme's script and the
+  search index are deferred (they act once the page is parsed, in the order they are
+  written); Sphinx's page settings (``documentation_options.js``, 0.3 kB) are written into
+  the page.
 * **Every figure opens full size.** Each picture of the article and of every explorer state
   becomes a link to its file (``a.dstoolkit-fullsize``, named by the picture's text
   alternative), reachable by keyboard; the picture gets its ``width`` and ``height`` (no
@@ -51,9 +53,11 @@ _LAZY = re.compile(
 #: Scripts the theme writes into every head that nothing needs before the page is parsed
 #: (the search index, 47 kB gzipped, only serves the search page): deferred, in order.
 _DEFER = re.compile(
-    r'<script src="([^"]*(?:/doctools|/sphinx_highlight|/searchtools|/language_data|searchindex)'
-    r'\.js[^"]*)"></script>'
+    r'<script src="([^"]*(?:/doctools|/sphinx_highlight|/searchtools|/language_data|searchindex'
+    r'|/sphinx-book-theme)\.js[^"]*)"></script>'
 )
+#: Sphinx's page settings, which the page's inline scripts extend: written into the page.
+_OPTIONS = re.compile(r'<script src="([^"]*documentation_options\.js)[^"]*"></script>')
 _IMG = re.compile(r"<img\b[^>]*>")
 _ATTR = re.compile(r"""\b([a-z-]+)=(?:"([^"]*)"|'([^']*)')""")
 _ARTICLE = re.compile(r'(<article class="bd-article"[^>]*>)(.*?)(</article>)', re.S)
@@ -224,6 +228,10 @@ def rewrite_page(page: Path) -> bool:
                 1,
             )
     text = _DEFER.sub(r'<script defer src="\1"></script>', text)
+    options = _OPTIONS.search(text)
+    if options:
+        code = (folder / options.group(1)).read_text(encoding="utf-8").replace("</", "<\\/")
+        text = text[: options.start()] + f"<script>{code}</script>" + text[options.end():]
     text = link_article_images(text, folder)
     text = text.replace("</head>", MARK + "\n</head>", 1)
     write_atomic(page, text)
