@@ -77,7 +77,7 @@ class _GzipHandler(SimpleHTTPRequestHandler):
 
 @functools.lru_cache(maxsize=4096)
 def _gzipped(path: Path, mtime: int) -> bytes:
-    """The file gzipped at level 6 (cached per modification time)."""
+    """Return the file gzipped at level 6 (cached per modification time)."""
     return gzip.compress(path.read_bytes(), compresslevel=6)
 
 
@@ -138,8 +138,11 @@ _SHOWN_PICTURE = """() => {
 
 
 def slider_answer(browser: object, url: str) -> tuple[float, int]:
-    """Seconds from navigation to the first slider answer on slow 4G, and the gzipped bytes
-    fetched once the page is scrolled to its end."""
+    """Measure how long a slider takes to answer on slow 4G, and what the page weighs.
+
+    Returns the seconds from the navigation to the first slider answer, and the gzipped
+    bytes fetched once the page is scrolled to its end.
+    """
     context = browser.new_context(viewport={"width": 412, "height": 823}, device_scale_factor=1.75)
     page = context.new_page()
     sizes: dict[str, int] = {}

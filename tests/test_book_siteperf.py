@@ -29,7 +29,7 @@ from pathlib import Path
 from urllib.parse import unquote, urljoin, urlsplit
 
 import pytest
-from conftest import ROOT, BookBuild, toc_pages
+from conftest import ROOT, BookBuild
 from test_book_browser import _WIDGETS_RENDERED_JS, TIMEOUT_MS, site
 from test_explorers_browser import explorer_pages
 
@@ -47,7 +47,7 @@ _VIEW = re.compile(r'<script type="application/vnd\.jupyter\.widget-view\+json">
 
 
 def _figure_explorer_pages() -> list[str]:
-    """The pages with an explorer that draws figures (the intro's widget shows tables)."""
+    """Return the pages whose explorer draws figures (the intro's widget shows tables)."""
     call = re.compile(r"^\s*(\w+_explorer|filter_widget)\(", re.M)
     return [p for p in explorer_pages() if call.search((ROOT / f"{p}.md").read_text())]
 
@@ -112,10 +112,7 @@ def test_no_render_blocking_script_in_the_head(built_book: BookBuild, toc_page: 
     blocking = [
         s["src"]
         for s in parser.head_scripts
-        if s.get("src")
-        and "defer" not in s
-        and "async" not in s
-        and s.get("type") != "module"
+        if s.get("src") and "defer" not in s and "async" not in s and s.get("type") != "module"
     ]
     assert not blocking, f"{toc_page}.html: scripts that block rendering: {blocking}"
     mathjax = [src for src in parser.sources if "mathjax" in src.lower()]
@@ -142,7 +139,7 @@ def test_explorers_are_drawn_before_any_script(built_book: BookBuild, toc_page: 
     text = _html(built_book, toc_page)
     views = [m.start() for m in _VIEW.finditer(text)]
     for at in views:
-        before = text[max(0, at - 400_000):at]
+        before = text[max(0, at - 400_000) : at]
         preview = before.rfind('<div class="dstoolkit-preview"')
         closed = before.rfind("</div>")
         assert preview >= 0 and closed > preview, f"{toc_page}.html: an explorer without preview"
