@@ -15,7 +15,7 @@ the built site is rewritten once (it is marked), atomically:
   keyboard. ``explorers-a11y.js`` stays as it is (deferred, small).
 * **Nothing in the head waits for a script**: Sphinx's helpers, the theme's script and the
   search index are deferred (they act once the page is parsed, in the order they are
-  written); Sphinx's page settings (``documentation_options.js``, 0.3 kB) are written into
+  written), and the search index is left to the search page; Sphinx's page settings (``documentation_options.js``, 0.3 kB) are written into
   the page.
 * **One stylesheet**: the page's eleven stylesheets are joined into one file of ``_static``
   (fewer round trips before the first paint on a slow network).
@@ -59,6 +59,11 @@ _LAZY = re.compile(
 _DEFER = re.compile(
     r'<script src="([^"]*(?:/doctools|/sphinx_highlight|/searchtools|/language_data|searchindex'
     r'|/sphinx-book-theme)\.js[^"]*)"></script>'
+)
+#: The search index and its code, which only the search page uses (the theme's search box
+#: sends the reader there; search as you type is off): left out of every other page.
+_SEARCH_ONLY = re.compile(
+    r'\s*<script defer src="[^"]*(?:/searchtools|/language_data|searchindex)\.js[^"]*"></script>'
 )
 #: Sphinx's page settings, which the page's inline scripts extend: written into the page.
 _OPTIONS = re.compile(r'<script src="([^"]*documentation_options\.js)[^"]*"></script>')
@@ -294,6 +299,8 @@ def rewrite_page(page: Path, site: Path) -> bool:
                 1,
             )
     text = _DEFER.sub(r'<script defer src="\1"></script>', text)
+    if page.name != "search.html":
+        text = _SEARCH_ONLY.sub("", text)
     options = _OPTIONS.search(text)
     if options:
         code = (folder / options.group(1)).read_text(encoding="utf-8").replace("</", "<\\/")
@@ -311,6 +318,7 @@ def write_atomic(path: Path, text: str) -> None:
     try:
         with os.fdopen(handle, "w", encoding="utf-8") as out:
             out.write(text)
+        os.chmod(tmp, 0o644)  # mkstemp makes the file private; a web server must read it
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)

@@ -7,7 +7,7 @@
  * before the explorer's widget view. This script loads the listed scripts once, in order,
  * when an explorer comes within a screen of the viewport or takes the keyboard focus (or at
  * once where IntersectionObserver is missing). embed.js draws the widgets on the window's
- * `load` event; loaded later, its handler is called here. When an explorer is drawn, its
+ * `load` event; its handler is called here as soon as it is loaded. When an explorer is drawn, its
  * preview leaves the page. window.dstoolkitLoadExplorers() loads them at once.
  */
 (function () {
@@ -40,8 +40,9 @@
   function load() {
     if (started) return;
     started = true;
-    // embed.js draws on the window's load event, which may be over when it runs: its
-    // handler is kept here and called once the page has loaded
+    // embed.js draws on the window's load event, which may be over when it runs, or come
+    // late on a slow network (it waits for every picture): its handler is kept here and
+    // called as soon as the scripts have run (the page is parsed by then)
     var handlers = [];
     var add = window.addEventListener;
     window.addEventListener = function (type, handler, options) {
@@ -52,8 +53,7 @@
     function one() {
       if (next >= scripts.length) {
         window.addEventListener = add;
-        if (document.readyState === "complete") runLoadHandlers(handlers);
-        else add.call(window, "load", function () { runLoadHandlers(handlers); });
+        runLoadHandlers(handlers); // the page is parsed: no need to wait for its pictures
         return;
       }
       var script = document.createElement("script");
