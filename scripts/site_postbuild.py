@@ -13,10 +13,10 @@ the built site is rewritten once (it is marked), atomically:
   ``_static/lazy-explorers.js`` loads them, in order, when the first explorer comes within
   a screen of the viewport (an ``IntersectionObserver``), or when the reader moves to it by
   keyboard. ``explorers-a11y.js`` stays as it is (deferred, small).
-* **Nothing in the head waits for a script**: Sphinx's helpers, the theme's script and the
-  search index are deferred (they act once the page is parsed, in the order they are
-  written), and the search index is left to the search page; Sphinx's page settings (``documentation_options.js``, 0.3 kB) are written into
-  the page.
+* **Nothing in the head waits for a script**: Sphinx's helpers and the theme's script are
+  deferred (they act once the page is parsed, in the order they are written); the search
+  index is left to the search page; Sphinx's page settings (``documentation_options.js``,
+  0.3 kB) are written into the page.
 * **One stylesheet**: the page's eleven stylesheets are joined into one file of ``_static``
   (fewer round trips before the first paint on a slow network).
 * **Every figure opens full size.** Each picture of the article and of every explorer state
