@@ -36,14 +36,15 @@ const MATHJAX_SCRIPTS = [
   /<script>window\.MathJax = [^<]*<\/script>\s*/g,
   /<script defer="defer" src="[^"]*mathjax\/tex-chtml\.js[^"]*"><\/script>\s*/g,
 ];
-// The assistive MathML is read by screen readers and hidden from sight (MathJax's own rules).
+// The assistive MathML is read by screen readers and hidden from sight: MathJax's own rules,
+// but one pixel wide (as "visually hidden" text is), so that it never widens a paragraph.
 const ASSISTIVE_CSS = `
 mjx-container[jax="CHTML"] { position: relative; }
 mjx-assistive-mml { position: absolute !important; top: 0px; left: 0px;
-  clip: rect(1px, 1px, 1px, 1px); padding: 1px 0px 0px 0px !important;
-  border: 0px !important; display: block !important; width: auto !important;
-  overflow: hidden !important; -webkit-touch-callout: none; user-select: none; }
-mjx-assistive-mml[display="block"] { width: 100% !important; }
+  clip: rect(1px, 1px, 1px, 1px); clip-path: inset(50%); padding: 1px 0px 0px 0px !important;
+  border: 0px !important; display: block !important; width: 1px !important;
+  height: 1px !important; overflow: hidden !important; white-space: nowrap;
+  -webkit-touch-callout: none; user-select: none; }
 `;
 
 const adaptor = liteAdaptor();
