@@ -12,6 +12,9 @@
 #    source of dstoolkit changed, and every page is re-read after a failed build.
 # 5. scripts/slides.py writes a reveal.js lecture deck per chapter into _build/html/slides/
 #    from the chapter's source and its built page (reveal.js is vendored like MathJax).
+# 6. Post-build: scripts/typeset-maths.js typesets the maths into the pages (mathjax-full);
+#    scripts/site_postbuild.py defers the explorers' widget code and links every figure.
+#    Both leave the decks in slides/ as they are (reveal.js typesets its own maths).
 #
 # Extra arguments are passed to jupyter-book, e.g. `bash scripts/build-book.sh --all`.
 set -euo pipefail
@@ -138,9 +141,14 @@ touch "$failed_stamp"
 # from stderr. Every other message, Sphinx's warnings included, passes through.
 jupyter-book build . -W -n --keep-going ${fresh[@]+"${fresh[@]}"} "$@" \
   2> >(grep -v --line-buffered "Kernel is running over TCP without encryption" >&2)
-rm -f "$failed_stamp"
-[ "$record_hash" = 0 ] || echo "$pkg_hash" > "$pkg_stamp"
-# --- Lecture decks (post-build: they read the built pages for numbers and figures) --------
+# --- Lecture decks (they read the built pages for numbers, figures and TeX) --------------
 echo "==> lecture slides: python scripts/slides.py"
 python scripts/slides.py
+# After the build: the maths typeset into the pages (no MathJax in the browser), then the
+# explorers' first states written as plain HTML, their widget code loaded when they come
+# into view and every figure linked to its full-size file. Each page is rewritten once.
+node scripts/typeset-maths.js _build/html
+python scripts/site_postbuild.py _build/html
+rm -f "$failed_stamp"
+[ "$record_hash" = 0 ] || echo "$pkg_hash" > "$pkg_stamp"
 echo "==> book built: $book_root/_build/html/index.html"

@@ -47,6 +47,7 @@ BOOK_MODULES = (
     "test_jupyterlab.py",
     "test_book_pdf.py",
     "test_exam_site.py",
+    "test_book_siteperf.py",
 )
 #: Modules that start PulseAudio loopbacks: one worker runs them, one after the other.
 AUDIO_MODULES = ("test_audio_loopback.py", "test_audio_faults.py")

@@ -1,6 +1,6 @@
 """The built book in headless Chromium, served from 127.0.0.1 with no other host reachable.
 
-Every page of _toc.yml must load, have its maths typeset by the local MathJax, show every
+Every page of _toc.yml must load, have its maths typeset (at build time), show every
 image and every embedded widget, log no console error and make no request that fails or
 leaves 127.0.0.1. Screenshots of three chapters go to test-artifacts/.
 
@@ -63,32 +63,42 @@ _RAW_MATH_JS = """
 }
 """
 
+# The maths is typeset when the book is built (scripts/typeset-maths.js, the page is marked)
+# or, on a page without the mark, by MathJax in the browser.
 _MATHJAX_READY_JS = """
 async () => {
   const mathNodes = document.querySelectorAll('.math').length;
-  if (!window.MathJax || !window.MathJax.startup || !window.MathJax.startup.promise) {
-    return {mathNodes, loaded: false};
+  const built = document.querySelector('meta[name="dstoolkit-maths"]') !== null;
+  if (!built) {
+    if (!window.MathJax || !window.MathJax.startup || !window.MathJax.startup.promise) {
+      return {mathNodes, loaded: false};
+    }
+    await window.MathJax.startup.promise;
   }
-  await window.MathJax.startup.promise;
   return {
     mathNodes,
     loaded: true,
-    typeset: document.querySelectorAll('mjx-container').length,
+    typeset: document.querySelectorAll('.math mjx-container').length,
     errors: Array.from(document.querySelectorAll('mjx-merror'))
       .map(e => e.getAttribute('data-mjx-error') || e.textContent),
   };
 }
 """
 
-# Each widget view <script> gets a rendered sibling div.widget-subarea from embed.js.
+# Each widget view <script> gets a rendered sibling div.widget-subarea from embed.js. The
+# site loads the widget code when an explorer comes into view (lazy-explorers.js): it is
+# asked to load it at once.
 _WIDGETS_RENDERED_JS = """
-() => Array.from(
-  document.querySelectorAll('script[type="application/vnd.jupyter.widget-view+json"]')
-).every(tag => {
-  const area = tag.previousElementSibling;
-  return area && area.classList.contains('widget-subarea')
-    && area.querySelector('.jupyter-widgets') !== null;
-})
+() => {
+  if (window.dstoolkitLoadExplorers) window.dstoolkitLoadExplorers();
+  return Array.from(
+    document.querySelectorAll('script[type="application/vnd.jupyter.widget-view+json"]')
+  ).every(tag => {
+    const area = tag.previousElementSibling;
+    return area && area.classList.contains('widget-subarea')
+      && area.querySelector('.jupyter-widgets') !== null;
+  });
+}
 """
 
 _WIDGET_REPORT_JS = """

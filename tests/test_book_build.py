@@ -138,7 +138,7 @@ def test_page_fetches_nothing_from_other_sites(built_book: BookBuild, toc_page: 
 
 
 def test_widget_views_have_embedded_state(built_book: BookBuild, toc_page: str) -> None:
-    _, parser = _page(built_book, toc_page)
+    text, parser = _page(built_book, toc_page)
     views = [json.loads(body)["model_id"] for kind, body in parser.scripts if kind == WIDGET_VIEW]
     states = [json.loads(body) for kind, body in parser.scripts if kind == WIDGET_STATE]
     if not views:
@@ -149,7 +149,10 @@ def test_widget_views_have_embedded_state(built_book: BookBuild, toc_page: str) 
     )
     missing = [model for model in views if model not in states[0]["state"]]
     assert not missing, f"{toc_page}.html: widget views without embedded state: {missing}"
-    embedders = [url for url in parser.fetched if url.split("?")[0].endswith("embed.js")]
+    # the widget code is loaded by lazy-explorers.js when an explorer comes into view
+    lazy = re.search(r'<script defer src="([^"]*)lazy-explorers\.js" data-scripts="([^"]*)"', text)
+    assert lazy, f"{toc_page}.html has widgets but no lazy-explorers.js"
+    embedders = [url for url in lazy.group(2).split() if url.split("?")[0].endswith("embed.js")]
     assert embedders and all("_static/jupyter-widgets/embed.js" in u for u in embedders), (
         f"{toc_page}.html must load the local _static/jupyter-widgets/embed.js, loads {embedders}"
     )

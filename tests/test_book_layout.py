@@ -132,7 +132,8 @@ def _open(
     page.evaluate(_MATHJAX_READY_JS)
     if page.locator('script[type="application/vnd.jupyter.widget-view+json"]').count():
         page.wait_for_function(
-            "() => document.querySelectorAll('.widget-subarea .jupyter-widgets').length > 0",
+            "() => (window.dstoolkitLoadExplorers && window.dstoolkitLoadExplorers(), "
+            "document.querySelectorAll('.widget-subarea .jupyter-widgets').length > 0)",
             timeout=TIMEOUT_MS,
         )
     page.wait_for_load_state("networkidle")

@@ -104,7 +104,7 @@
   }
 
   function start() {
-    update();
+    schedule(); // after the first paint: the page is laid out once, by the browser
     window.addEventListener("resize", schedule);
     window.addEventListener("load", schedule);
     var article = document.querySelector("article.bd-article") || document.body;

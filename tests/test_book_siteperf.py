@@ -1,0 +1,282 @@
+"""The built book on a phone: what its pages make the browser wait for, weigh and show.
+
+* **Nothing render-blocking in the head**: every script a page loads from its head is
+  deferred (small inline scripts, such as the theme's colour mode, stay). No page
+  loads MathJax (the maths is typeset at build time, scripts/typeset-maths.js, and no
+  formula is left as TeX), and no page loads the widget manager from its head (it is loaded
+  when an explorer comes into view, book/_static/lazy-explorers.js).
+* **Explorers drawn before any script**: every widget view has its first state written as
+  plain HTML before it (scripts/site_postbuild.py).
+* **Every figure opens full size**: each picture of the article and of every explorer state
+  is inside a link to its own file, and has a written text alternative (the link's name).
+* **Figures readable at 320 CSS px** (browser): the smallest text of every explorer picture
+  (``SMALL_PT`` points at ``FIGURE_DPI`` dots per inch, scaled by the picture's displayed
+  width over its natural width) is at least as large as the page's small print (the
+  smallest font size of the article's text: paragraphs, list items, table cells, readouts);
+  its full-size link takes the keyboard focus.
+* **Page weight** (browser): an explorer page scrolled to its end, its explorers drawn, has
+  fetched at most 1.5 MB gzipped (each file gzipped on its own at level 6, as a server
+  sends it).
+"""
+
+from __future__ import annotations
+
+import gzip
+import json
+import re
+from html.parser import HTMLParser
+from pathlib import Path
+from urllib.parse import unquote, urljoin, urlsplit
+
+import pytest
+from conftest import ROOT, BookBuild
+from test_book_browser import _WIDGETS_RENDERED_JS, TIMEOUT_MS, site
+from test_explorers_browser import explorer_pages
+
+from dstoolkit.plots._style import SMALL_PT
+from dstoolkit.teaching._explorer import FIGURE_DPI
+
+__all__ = ["site"]  # fixture used by the browser tests below
+
+#: Gzipped bytes a page may have fetched once scrolled to its end.
+BUDGET = 1_500_000
+_STATE = re.compile(
+    r'<script type="application/vnd\.jupyter\.widget-state\+json">(.*?)</script>', re.S
+)
+_VIEW = re.compile(r'<script type="application/vnd\.jupyter\.widget-view\+json">', re.S)
+
+
+def _figure_explorer_pages() -> list[str]:
+    """Return the pages whose explorer draws figures (the intro's widget shows tables)."""
+    call = re.compile(r"^\s*(\w+_explorer|filter_widget)\(", re.M)
+    return [p for p in explorer_pages() if call.search((ROOT / f"{p}.md").read_text())]
+
+
+class _Head(HTMLParser):
+    """The scripts of a page's ``<head>`` and every script's ``src``."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.in_head = False
+        self.head_scripts: list[dict[str, str | None]] = []
+        self.sources: list[str] = []
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        found = dict(attrs)
+        if tag == "head":
+            self.in_head = True
+        elif tag == "body":
+            self.in_head = False
+        elif tag == "script":
+            if found.get("src"):
+                self.sources.append(found["src"] or "")
+            if self.in_head:
+                self.head_scripts.append(found)
+
+    def handle_endtag(self, tag: str) -> None:
+        if tag == "head":
+            self.in_head = False
+
+
+class _Images(HTMLParser):
+    """Every ``<img>`` of a piece of HTML with the ``href`` of the link around it (or None)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.links: list[str | None] = []
+        self.images: list[tuple[dict[str, str | None], str | None]] = []
+        self.article = 0
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        found = dict(attrs)
+        if tag == "a":
+            self.links.append(found.get("href"))
+        elif tag == "img":
+            self.images.append((found, next((h for h in reversed(self.links) if h), None)))
+
+    def handle_endtag(self, tag: str) -> None:
+        if tag == "a" and self.links:
+            self.links.pop()
+
+
+def _html(built_book: BookBuild, page: str) -> str:
+    path = built_book.html_dir / f"{page}.html"
+    if not path.is_file():
+        pytest.fail(f"{path} is missing: the book was not built (see test_book_build)")
+    return path.read_text(encoding="utf-8")
+
+
+def test_no_render_blocking_script_in_the_head(built_book: BookBuild, toc_page: str) -> None:
+    parser = _Head()
+    parser.feed(_html(built_book, toc_page))
+    blocking = [
+        s["src"]
+        for s in parser.head_scripts
+        if s.get("src") and "defer" not in s and "async" not in s and s.get("type") != "module"
+    ]
+    assert not blocking, f"{toc_page}.html: scripts that block rendering: {blocking}"
+    mathjax = [src for src in parser.sources if "mathjax" in src.lower()]
+    assert not mathjax, f"{toc_page}.html loads MathJax ({mathjax}); maths is typeset at build"
+    embed = [src for src in parser.sources if src.split("?")[0].endswith("embed.js")]
+    assert not embed, f"{toc_page}.html loads the widget manager from its head: {embed}"
+
+
+def test_maths_is_typeset_at_build_time(built_book: BookBuild, toc_page: str) -> None:
+    text = _html(built_book, toc_page)
+    inline = len(re.findall(r'<span class="math notranslate nohighlight">', text))
+    display = len(re.findall(r'<div class="math notranslate nohighlight"', text))
+    typeset = len(re.findall(r"<mjx-container ", text))
+    assert typeset >= inline + display, (
+        f"{toc_page}.html: {inline + display} formulas, {typeset} typeset"
+    )
+    left = re.findall(r'class="math notranslate nohighlight"[^>]*>[^<]*\\[(\[]', text)
+    assert not left, f"{toc_page}.html: maths left as TeX: {left[:3]}"
+    if typeset:
+        assert "<mjx-assistive-mml" in text, f"{toc_page}.html: maths without MathML for readers"
+
+
+def test_explorers_are_drawn_before_any_script(built_book: BookBuild, toc_page: str) -> None:
+    text = _html(built_book, toc_page)
+    views = [m.start() for m in _VIEW.finditer(text)]
+    for at in views:
+        before = text[max(0, at - 400_000) : at]
+        preview = before.rfind('<div class="dstoolkit-preview"')
+        closed = before.rfind("</div>")
+        assert preview >= 0 and closed > preview, f"{toc_page}.html: an explorer without preview"
+        assert before.rfind('class="cell_output', 0) < preview, (
+            f"{toc_page}.html: the preview of an explorer is not in its output"
+        )
+
+
+def _linked(image: dict[str, str | None], href: str | None) -> bool:
+    src = image.get("src") or ""
+    return href is not None and href.split("#")[0] == src
+
+
+def test_every_figure_opens_full_size(built_book: BookBuild, toc_page: str) -> None:
+    text = _html(built_book, toc_page)
+    article = re.search(r'<article class="bd-article".*?</article>', text, re.S)
+    assert article, f"{toc_page}.html has no article"
+    pieces = [article.group(0)]
+    state = _STATE.search(text)
+    if state:
+        for model in json.loads(state.group(1))["state"].values():
+            value = model.get("state", {}).get("value")
+            if model.get("model_name") == "HTMLModel" and isinstance(value, str):
+                pieces.append(value)
+    for piece in pieces:
+        parser = _Images()
+        parser.feed(piece)
+        for image, href in parser.images:
+            src = image.get("src") or ""
+            if src.startswith("data:") or "://" in src:
+                continue
+            assert _linked(image, href), (
+                f"{toc_page}.html: the figure {src} is not a link to its full-size file"
+            )
+            assert len((image.get("alt") or "").split()) >= 3, (
+                f"{toc_page}.html: the full-size link of {src} has no name (no written alt)"
+            )
+            file = (built_book.html_dir / toc_page).parent / unquote(src.split("?")[0])
+            assert file.is_file(), f"{toc_page}.html: {src} links a missing file"
+
+
+_FIGURE_TEXT_JS = """
+async (figurePx) => {
+  const skip = 'mjx-container, pre, code, .highlight, .dstoolkit-preview-note';
+  const texts = Array.from(document.querySelectorAll(
+    '.bd-article p, .bd-article li, .bd-article td, .bd-article th,'
+    + ' .bd-article .widget-readout, .bd-article .widget-label'))
+    .filter(el => el.offsetParent !== null && el.textContent.trim() && !el.closest(skip));
+  const small = Math.min(...texts.map(el => parseFloat(getComputedStyle(el).fontSize)));
+  const figures = [];
+  for (const img of document.querySelectorAll('img.dstoolkit-figure')) {
+    if (img.offsetParent === null) continue;
+    img.scrollIntoView();
+    if (!img.complete || !img.naturalWidth) {
+      await new Promise(done => { img.onload = done; img.onerror = done;
+                                  setTimeout(done, 5000); });
+    }
+    const link = img.closest('a.dstoolkit-fullsize');
+    if (link) link.focus();
+    figures.push({
+      src: img.getAttribute('src'),
+      text: figurePx * img.getBoundingClientRect().width / img.naturalWidth,
+      natural: img.naturalWidth,
+      link: link ? link.getAttribute('href') : null,
+      focused: link !== null && document.activeElement === link,
+      name: img.getAttribute('alt') || '',
+    });
+  }
+  return {small, figures};
+}
+"""
+
+
+@pytest.mark.browser
+@pytest.mark.slow
+@pytest.mark.parametrize("page_name", _figure_explorer_pages())
+def test_explorer_figures_are_readable_at_320_px(
+    chromium: object, site: str, page_name: str
+) -> None:
+    context = chromium.new_context(viewport={"width": 320, "height": 800})
+    page = context.new_page()
+    page.set_default_timeout(TIMEOUT_MS)
+    try:
+        page.goto(site + page_name + ".html", wait_until="load")
+        page.wait_for_function(_WIDGETS_RENDERED_JS, timeout=TIMEOUT_MS)
+        # the smallest text of a figure in CSS px when the picture is shown at its own size
+        figure_px = SMALL_PT * FIGURE_DPI / 72
+        report = page.evaluate(_FIGURE_TEXT_JS, figure_px)
+    finally:
+        context.close()
+    assert report["figures"], f"{page_name}: no explorer figure shown at 320 px"
+    for figure in report["figures"]:
+        assert figure["natural"] > 0, f"{page_name}: {figure['src']} did not load"
+        # 0.05 px: the layout rounds the displayed width to a fraction of a pixel
+        assert figure["text"] >= report["small"] - 0.05, (
+            f"{page_name} at 320 px: the smallest text of {figure['src']} is "
+            f"{figure['text']:.1f} px, the page's small print {report['small']:.1f} px"
+        )
+        assert figure["link"] == figure["src"] and figure["focused"], (
+            f"{page_name}: {figure['src']} has no full-size link that takes the focus: {figure}"
+        )
+        assert len(figure["name"].split()) >= 3, f"{page_name}: a full-size link without name"
+
+
+def _gzipped_size(html_dir: Path, url: str, base: str) -> int:
+    path = html_dir / unquote(urlsplit(url).path.lstrip("/"))
+    if not url.startswith(base) or not path.is_file():
+        return 0
+    return len(gzip.compress(path.read_bytes(), compresslevel=6))
+
+
+@pytest.mark.browser
+@pytest.mark.slow
+@pytest.mark.parametrize("page_name", explorer_pages())
+def test_page_scrolled_to_its_end_weighs_at_most_the_budget(
+    chromium: object, site: str, built_book: BookBuild, page_name: str
+) -> None:
+    context = chromium.new_context(viewport={"width": 412, "height": 823})
+    page = context.new_page()
+    page.set_default_timeout(TIMEOUT_MS)
+    fetched: set[str] = set()
+    page.on("requestfinished", lambda request: fetched.add(request.url))
+    try:
+        page.goto(site + page_name + ".html", wait_until="load")
+        page.wait_for_function(_WIDGETS_RENDERED_JS, timeout=TIMEOUT_MS)
+        height = page.evaluate("document.documentElement.scrollHeight")
+        for y in range(0, height + 800, 700):
+            page.evaluate(f"window.scrollTo(0, {y})")
+            page.wait_for_timeout(30)
+        page.wait_for_load_state("networkidle")
+    finally:
+        context.close()
+    sizes = {url: _gzipped_size(built_book.html_dir, url, site) for url in fetched}
+    total = sum(sizes.values())
+    largest = sorted(sizes.items(), key=lambda item: -item[1])[:3]
+    assert total <= BUDGET, (
+        f"{page_name} scrolled to its end fetched {total / 1e6:.2f} MB gzipped "
+        f"(budget {BUDGET / 1e6:.1f} MB); largest: {largest}"
+    )
+    assert urljoin(site, page_name + ".html") in fetched
