@@ -68,8 +68,9 @@ def nees(errors: Any, covariances: Any) -> np.ndarray:
     ----------
     errors : array_like, shape (..., n)
         The errors x − x̂ (truth minus estimate).
-    covariances : array_like, shape (..., n, n), or (...) when n = 1
-        The covariances P the filter reported for those estimates.
+    covariances : array_like
+        The covariances P the filter reported for those estimates; shape (..., n, n), or
+        (...) when n = 1.
 
     Returns
     -------
@@ -98,8 +99,8 @@ def nis(innovations: Any, innovation_covariances: Any) -> np.ndarray:
     ----------
     innovations : array_like, shape (..., m)
         The innovations ν = z − ẑ.
-    innovation_covariances : array_like, shape (..., m, m), or (...) when m = 1
-        Their covariances S.
+    innovation_covariances : array_like
+        Their covariances S; shape (..., m, m), or (...) when m = 1.
 
     Returns
     -------
@@ -299,8 +300,8 @@ def smooth_kalman(
     ----------
     model : StateSpaceModel
         The model of eq. 21.
-    z : array_like, shape (T, m), or (T,) when m = 1
-        The readings.
+    z : array_like
+        The readings; shape (T, m), or (T,) when m = 1.
     inputs : array_like, shape (T − 1, q), optional
         The inputs of f.
     flt : KalmanFilter, optional

@@ -69,6 +69,8 @@ from ._paper_results import TABLE3_CASES, TABLE3_MEAN_ABS_ERROR_M
 
 #: The methods of the paper's Figs. 10–11 (the readings are drawn too).
 FIG10_METHODS: tuple[str, ...] = (filter_named("paper"), filter_named("rival"))
+#: The methods of the paper's Table 3: its two filters and the direct measurement.
+TABLE3_METHODS: tuple[str, ...] = (*FIG10_METHODS, "direct")
 #: The toolkit's own filters, by the names the plots know (the first entries of
 #: :func:`dstoolkit.filters.registered_filters`; the comparisons run every registered one).
 ALL_FILTERS: tuple[str, ...] = tuple(entry.name for entry in registered_filters())
@@ -320,9 +322,7 @@ def gauge_run(
     )
 
 
-def table3_rows(
-    table: Table3, methods: Sequence[str] = (*FIG10_METHODS, "direct")
-) -> list[list[Any]]:
+def table3_rows(table: Table3, methods: Sequence[str] = TABLE3_METHODS) -> list[list[Any]]:
     """Rows ``[L, T, ours, paper, ours, paper, ...]`` of Table 3 for ``methods``.
 
     Parameters
