@@ -57,6 +57,13 @@ from ._filter_runs import (
     filter_case,
     gauge_case,
 )
+from ._level_cells import (
+    CELL_RULES,
+    NONDOGMATIC_RATE,
+    LevelCellRun,
+    cell_frame,
+    level_cell_filter,
+)
 from ._paper_results import (
     OBSERVATION_NOISE_HZ,
     PAPER_RUNTIME_RANGE_S,
@@ -66,6 +73,11 @@ from ._paper_results import (
 )
 
 __all__ = [
+    "CELL_RULES",
+    "NONDOGMATIC_RATE",
+    "LevelCellRun",
+    "cell_frame",
+    "level_cell_filter",
     "ConsistencyStudy",
     "CONSISTENCY_ORDERS",
     "GAUSSIAN_FILTERS",
