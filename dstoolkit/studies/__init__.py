@@ -59,8 +59,10 @@ from ._filter_runs import (
 )
 from ._level_cells import (
     CELL_RULES,
+    MAX_CELLS,
     NONDOGMATIC_RATE,
     LevelCellRun,
+    cell_expectation,
     cell_frame,
     level_cell_filter,
 )
@@ -74,6 +76,8 @@ from ._paper_results import (
 
 __all__ = [
     "CELL_RULES",
+    "MAX_CELLS",
+    "cell_expectation",
     "NONDOGMATIC_RATE",
     "LevelCellRun",
     "cell_frame",

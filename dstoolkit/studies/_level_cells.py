@@ -76,32 +76,39 @@ class LevelCellRun:
         }
 
 
-def cell_frame(
-    a: IntervalEvidence, b: IntervalEvidence, cells: int
-) -> tuple[np.ndarray, MassFunction, MassFunction]:
-    """Put two bodies of 1-D interval evidence on one frame of equal cells over their hull.
+#: The most cells a frame of :func:`cell_frame` may have (its set functions: 2^16 numbers).
+MAX_CELLS = 16
 
-    A focal interval becomes the set of cells it overlaps (an outer approximation: the cell
+
+def cell_frame(
+    a: IntervalEvidence, b: IntervalEvidence, cells: int | None = None
+) -> tuple[np.ndarray, MassFunction, MassFunction]:
+    """Put two bodies of 1-D interval evidence on one finite frame of cells.
+
+    With ``cells=None`` the cells are the intervals between consecutive endpoints of all
+    the focal elements: every focal interval, and every intersection of two, is then a
+    union of cells, and nothing is lost. With a number, ``cells`` equal cells span the hull,
+    and a focal interval becomes the set of cells it overlaps: an outer approximation (the
     frame cannot tell apart what lies within one cell).
 
     Parameters
     ----------
     a, b : IntervalEvidence
         One-dimensional evidence.
-    cells : int
-        Number of cells, 2 to 16.
+    cells : int, optional
+        Number of equal cells, 2 to :data:`MAX_CELLS`; default the exact cells.
 
     Returns
     -------
-    edges : numpy.ndarray, shape (cells + 1,)
-        The cells' edges.
+    edges : numpy.ndarray
+        The cells' edges (one more than the cells).
     ma, mb : MassFunction
-        ``a`` and ``b`` on the frame of cells 0..cells−1, equal focal elements merged.
+        ``a`` and ``b`` on the frame of cells 0, 1, ..., equal focal elements merged.
 
     Raises
     ------
     EvidenceError
-        For a number of cells outside 2..16.
+        For a number of cells outside 2..16, or more than 16 exact cells.
 
     Examples
     --------
@@ -111,16 +118,27 @@ def cell_frame(
     >>> edges, ma, mb = cell_frame(a, b, 4)
     >>> edges.tolist(), sorted(map(sorted, ma.focal_elements)), mb.focal_elements
     ([0.0, 1.0, 2.0, 3.0, 4.0], [[0], [0, 1, 2, 3]], [frozenset({2, 3})])
+    >>> cell_frame(a, b)[0].tolist()
+    [0.0, 1.0, 2.5, 4.0]
     """
-    cells = whole_number(cells, "cells", low=2, high=16, error=EvidenceError)
-    lo = min(a.lo_1d.min(), b.lo_1d.min())
-    hi = max(a.hi_1d.max(), b.hi_1d.max())
-    edges = np.linspace(lo, hi, cells + 1)
-    frame = tuple(range(cells))
+    if cells is None:
+        edges = np.unique(np.concatenate([a.lo_1d, a.hi_1d, b.lo_1d, b.hi_1d]))
+        if not 3 <= len(edges) <= MAX_CELLS + 1:
+            raise EvidenceError(
+                f"the focal elements' endpoints make {len(edges) - 1} cells, outside 2 to "
+                f"{MAX_CELLS}; pass cells= for that many equal cells"
+            )
+    else:
+        cells = whole_number(cells, "cells", low=2, high=MAX_CELLS, error=EvidenceError)
+        edges = np.linspace(
+            min(a.lo_1d.min(), b.lo_1d.min()), max(a.hi_1d.max(), b.hi_1d.max()), cells + 1
+        )
+    n = len(edges) - 1
+    frame = tuple(range(n))
 
     def on_cells(e: IntervalEvidence) -> MassFunction:
-        first = np.clip(np.searchsorted(edges, e.lo_1d, side="right") - 1, 0, cells - 1)
-        last = np.clip(np.searchsorted(edges, e.hi_1d, side="left") - 1, first, cells - 1)
+        first = np.clip(np.searchsorted(edges, e.lo_1d, side="right") - 1, 0, n - 1)
+        last = np.clip(np.searchsorted(edges, e.hi_1d, side="left") - 1, first, n - 1)
         masses: dict[frozenset, float] = {}
         for i, j, m in zip(first, last, e.mass, strict=True):
             key = frozenset(range(int(i), int(j) + 1))
@@ -130,11 +148,48 @@ def cell_frame(
     return edges, on_cells(a), on_cells(b)
 
 
-def _cell_estimate(m: MassFunction, edges: np.ndarray) -> float:
-    """Return Σ BetP(cell) · the cell's midpoint: the pignistic expectation on cells (eq. 20)."""
-    mids = 0.5 * (edges[:-1] + edges[1:])
-    betp = m.pignistic()
-    return float(sum(p * mids[c] for c, p in betp.items()))
+def cell_expectation(m: MassFunction, edges: Any) -> float:
+    """Return the pignistic expectation of evidence on cells (eq. 20 on a frame of cells).
+
+    Each focal element spreads its mass uniformly over the length of its cells, as eq. (20)
+    spreads it over an interval: Σ_A m(A) Σ_{c ∈ A} w_c x_c / Σ_{c ∈ A} w_c, with w_c and
+    x_c the width and the midpoint of cell c. On equal cells this is Σ_c BetP(c) x_c.
+
+    Parameters
+    ----------
+    m : MassFunction
+        Evidence on the frame of cells 0, 1, ... (as :func:`cell_frame` makes it).
+    edges : array_like
+        The cells' edges, increasing.
+
+    Returns
+    -------
+    float
+        The expectation.
+
+    Raises
+    ------
+    EvidenceError
+        When the edges do not match the frame or do not increase.
+
+    Examples
+    --------
+    >>> from dstoolkit.evidence import MassFunction
+    >>> cell_expectation(MassFunction({frozenset({0, 1}): 1.0}, (0, 1)), [0.0, 1.0, 3.0])
+    1.5
+    """
+    edges = np.asarray(edges, dtype=float)
+    if edges.ndim != 1 or len(edges) != len(m.frame) + 1 or np.any(np.diff(edges) <= 0):
+        raise EvidenceError(
+            f"edges must be {len(m.frame) + 1} increasing numbers for a frame of "
+            f"{len(m.frame)} cells"
+        )
+    widths, mids = np.diff(edges), 0.5 * (edges[:-1] + edges[1:])
+    total = 0.0
+    for focal, mass in m.as_dict().items():
+        idx = np.array(sorted(focal), dtype=int)
+        total += mass * float(widths[idx] @ mids[idx]) / float(widths[idx].sum())
+    return total
 
 
 def level_cell_filter(
@@ -196,7 +251,7 @@ def level_cell_filter(
     from dstoolkit.filters import DependentEvidenceFilter
     from dstoolkit.gauge import gauge_state_space_model, level_from_resonance
 
-    cells = whole_number(cells, "cells", low=2, high=16, error=EvidenceError)
+    cells = whole_number(cells, "cells", low=2, high=MAX_CELLS, error=EvidenceError)
     seq = gauge_case(level_m, temperature_c, seed)
     z = seq.readings if first is None else seq.readings[:first]
     if len(z) < 2:
@@ -238,4 +293,4 @@ def _fuse(record: Any, rule: str, cells: int) -> float:
         )
     else:
         fused = dempster(m1, m2)
-    return _cell_estimate(fused, edges)
+    return cell_expectation(fused, edges)
