@@ -520,9 +520,9 @@ def _utility_table(m: MassFunction, utility: Any) -> tuple[list[Hashable], np.nd
 
 def expected_utilities(
     m: MassFunction,
-    utility: Mapping[Hashable, Mapping[Hashable, float]],
+    utility: Mapping[Any, Mapping[Any, float]],
     criterion: str = "pignistic",
-) -> dict[Hashable, float | tuple[float, float]]:
+) -> dict[Any, Any]:
     """Return the expected utility of each action under m, by a criterion.
 
     ``"pignistic"``: Σ_θ BetP(θ) u(a, θ) (Smets). ``"maximin"``: the lower expectation
@@ -584,7 +584,7 @@ def expected_utilities(
 
 def decide(
     m: MassFunction,
-    utility: Mapping[Hashable, Mapping[Hashable, float]],
+    utility: Mapping[Any, Mapping[Any, float]],
     criterion: str = "pignistic",
 ) -> tuple[Hashable, ...]:
     """Return the action(s) a criterion chooses under m.
@@ -627,7 +627,7 @@ def decide(
     """
     values = expected_utilities(m, utility, criterion)
     if criterion == "interval":
-        best_low = max(v[0] for v in values.values())  # type: ignore[index]
-        return tuple(a for a, v in values.items() if v[1] >= best_low - COMPARE_TOLERANCE)  # type: ignore[index]
+        best_low = max(v[0] for v in values.values())
+        return tuple(a for a, v in values.items() if v[1] >= best_low - COMPARE_TOLERANCE)
     best = max(values.values())
-    return tuple(a for a, v in values.items() if v >= best - COMPARE_TOLERANCE)  # type: ignore[operator]
+    return tuple(a for a, v in values.items() if v >= best - COMPARE_TOLERANCE)

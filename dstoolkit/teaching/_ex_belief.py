@@ -282,10 +282,10 @@ def _belief_table(m: dict) -> dict:
     return {a: sum(v for f, v in m.items() if f <= a) for a in _subsets(frame)}
 
 
-def _mobius_reference(bel: dict) -> dict:
+def _mobius_reference(bel: dict[frozenset, float]) -> dict:
     from dstoolkit.evidence import from_set_function
 
-    frame = tuple(sorted(max(bel, key=len)))
+    frame = tuple(sorted(max(bel, key=lambda a: len(a))))
     values = [0.0] * (1 << len(frame))
     for a, v in bel.items():
         values[sum(1 << frame.index(h) for h in a)] = v
