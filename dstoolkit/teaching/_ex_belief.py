@@ -285,7 +285,7 @@ def _belief_table(m: dict) -> dict:
 def _mobius_reference(bel: dict[frozenset, float]) -> dict:
     from dstoolkit.evidence import from_set_function
 
-    frame = tuple(sorted(max(bel, key=lambda a: len(a))))
+    frame = tuple(sorted(frozenset().union(*bel)))
     values = [0.0] * (1 << len(frame))
     for a, v in bel.items():
         values[sum(1 << frame.index(h) for h in a)] = v
