@@ -18,6 +18,12 @@ RULE_STYLE: dict[str, dict[str, str]] = {
         "marker": "o",
         "label": "paper's rule (eqs. 9–10)",
     },
+    "paper_cells": {
+        "color": OKABE_ITO["orange"],
+        "ls": "-.",
+        "marker": "D",
+        "label": "paper's rule on cells",
+    },
     "cautious": {
         "color": OKABE_ITO["blue"],
         "ls": "--",

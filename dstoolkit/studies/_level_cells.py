@@ -20,6 +20,7 @@ from dstoolkit.evidence import (
     IntervalEvidence,
     MassFunction,
     cautious,
+    combine_dependent,
     dempster,
     discount_to_nondogmatic,
 )
@@ -27,9 +28,10 @@ from dstoolkit.utils.checks import whole_number
 
 from ._filter_runs import gauge_case
 
-#: The Step-6 rules :func:`level_cell_filter` runs: the paper's on its intervals, and the
-#: cautious rule and Dempster's rule (no discounting) on cells.
-CELL_RULES: tuple[str, ...] = ("paper", "cautious", "dempster")
+#: The Step-6 rules :func:`level_cell_filter` runs: the paper's on its intervals, and on
+#: cells the paper's (eqs. 9–10 with the energy of eq. 2), the cautious rule and Dempster's
+#: rule (no discounting).
+CELL_RULES: tuple[str, ...] = ("paper", "paper_cells", "cautious", "dempster")
 
 #: The discount rate that makes a cell mass function without m(Θ) non-dogmatic (the cautious
 #: rule needs m(Θ) > 0); small beside the filter's ε = 0.05 on Θ.
@@ -203,9 +205,10 @@ def level_cell_filter(
     """Run the paper's filter on the simulated gauge with three Step-6 rules side by side.
 
     ``"paper"``: the filter as the paper has it (discounting by the dependency coefficients,
-    then Dempster's rule, on intervals). ``"cautious"``: E1 and E2 on ``cells`` equal cells
-    over their hull, made non-dogmatic if need be, fused by the cautious rule.
-    ``"dempster"``: the same cells fused by Dempster's rule as if distinct. Each rule runs
+    then Dempster's rule, on intervals). On ``cells`` equal cells over the hull of E1 and
+    E2: ``"paper_cells"``, the paper's rule (eqs. 9–10, the energy of eq. 2);
+    ``"cautious"``, the cautious rule (both made non-dogmatic if need be); ``"dempster"``,
+    Dempster's rule as if they were distinct. Each rule runs
     its own filter (the next step starts from that rule's x̂, Step 2); Steps 2–5 are the
     paper's, with its noise figures and the true orders n_k.
 
@@ -246,7 +249,7 @@ def level_cell_filter(
     --------
     >>> run = level_cell_filter(9.6, 23.9, first=5)
     >>> sorted(run.levels), run.levels["cautious"].shape
-    (['cautious', 'dempster', 'paper'], (5,))
+    (['cautious', 'dempster', 'paper', 'paper_cells'], (5,))
     """
     from dstoolkit.filters import DependentEvidenceFilter
     from dstoolkit.gauge import gauge_state_space_model, level_from_resonance
@@ -291,6 +294,8 @@ def _fuse(record: Any, rule: str, cells: int) -> float:
             discount_to_nondogmatic(m1, NONDOGMATIC_RATE),
             discount_to_nondogmatic(m2, NONDOGMATIC_RATE),
         )
+    elif rule == "paper_cells":
+        fused = combine_dependent(m1, m2)
     else:
         fused = dempster(m1, m2)
     return cell_expectation(fused, edges)
