@@ -65,7 +65,7 @@ def copies_explorer(shared: float = 0.4, copies: int = 3) -> Explorer:
         fig = plot_rule_curves(
             ns,
             curves,
-            xlabel="copies of the source fused, n",
+            xlabel="copies of the source fused, n (no unit)",
             ylabel="Bel({ok})",
             current=copies,
             title=f"one source, m({{ok}}) = {shared:.1f}, fused with itself",
