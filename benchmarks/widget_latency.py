@@ -128,6 +128,12 @@ CHANGES: dict[str, tuple[tuple[str, object], ...]] = {
         ("w_upper", -2.0),
         ("start", "observation"),
     ),
+    "copies_explorer()": (
+        ("shared", 0.7),
+        ("copies", 5),
+        ("shared", 0.2),
+        ("copies", 2),
+    ),
 }
 
 KERNEL_CODE = """

@@ -89,11 +89,32 @@ def _random_walk() -> dict[str, str]:
     }
 
 
+def _cautious_pair() -> dict[str, str]:
+    """bd-ex-exam: m1 = {a}: 0.6, Θ: 0.4 and m2 = {a}: 0.3, {a, b}: 0.3, Θ: 0.4 fused."""
+    from dstoolkit.evidence import MassFunction, canonical_weights, cautious, dempster
+
+    frame = ("a", "b", "c")
+    m1 = MassFunction({"a": 0.6, "abc": 0.4}, frame)
+    m2 = MassFunction({"a": 0.3, "ab": 0.3, "abc": 0.4}, frame)
+    d, c = dempster(m1, m2), cautious(m1, m2)
+    return {
+        "d_a": f"{d.mass_of('a'):.2f}",
+        "d_ab": f"{d.mass_of('ab'):.2f}",
+        "d_theta": f"{d.mass_of('abc'):.2f}",
+        "w2_ab": f"{canonical_weights(m2)[frozenset('ab')]:.3f}",
+        "c_a": f"{c.mass_of('a'):.2f}",
+        "c_ab": f"{c.mass_of('ab'):.3f}",
+        "c_theta": f"{c.mass_of('abc'):.3f}",
+        "betp_a": f"{c.pignistic()['a']:.3f}",
+    }
+
+
 #: {exam problem's label: the function that computes its solution's {{numbers}}}.
 NUMBERS = {
     "sg-ex-offsets": _offsets,
     "bp-ex-resample": _resample,
     "or-ex-exam": _random_walk,
+    "bd-ex-exam": _cautious_pair,
 }
 
 

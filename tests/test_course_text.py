@@ -25,6 +25,7 @@ CHAPTERS = [
     "estimating_level",
     "beyond_the_paper",
     "lab",
+    "beyond_dempster",
 ]
 
 
@@ -114,4 +115,4 @@ def test_the_six_week_plan_fits_its_sessions() -> None:
 
 def test_the_plan_reader_finds_the_plan() -> None:
     plan = _teaching_plan()
-    assert len(plan["CHAPTERS"]) == 12 and len(plan["SIX_WEEKS"]) == 6
+    assert len(plan["CHAPTERS"]) == 14 and len(plan["SIX_WEEKS"]) == 6

@@ -187,6 +187,7 @@ EXPLORERS = [
     "filter_step_explorer",
     "bounded_error_explorer",
     "consistency_explorer",
+    "copies_explorer",
 ]
 
 

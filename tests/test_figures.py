@@ -231,6 +231,23 @@ def _noise_assumption() -> Figure:
     )
 
 
+@figure("plot_rule_curves")
+def _rule_curves() -> Figure:
+    steps = np.arange(1, 21)
+    return plots.plot_rule_curves(
+        steps,
+        {
+            "paper": 30.0 / steps,
+            "paper_cells": 20.0 / steps,
+            "cautious": 10.0 / steps,
+            "dempster": 15.0 / steps,
+        },
+        xlabel="step k",
+        ylabel="|level error| (mm)",
+        current=5,
+    )
+
+
 @figure("plot_scale_study")
 def _scale_study() -> Figure:
     data = tracking_data(runs=2)

@@ -37,6 +37,7 @@ EXPLORERS = (
     w.level_estimation_explorer,
     w.noise_bounds_explorer,
     w.consistency_explorer,
+    w.copies_explorer,
 )
 #: The controls live on the site of the explorers of noise bounds, level, temperature, p and
 #: ε (the others: see test_every_explorer_is_live_on_the_site).
@@ -49,6 +50,7 @@ REQUIRED_LIVE = {
     "level_estimation_explorer": {"level", "temperature"},
     "noise_bounds_explorer": {"w_upper", "v_upper"},
     "consistency_explorer": {"scale", "orders"},
+    "copies_explorer": {"shared", "copies"},
 }
 
 

@@ -2,8 +2,9 @@
 
 Mass functions on finite frames and on intervals, the combination rules (Dempster's eq. 1,
 the dependent combination of eqs. 8-20, rivals such as Yager's), possibility distributions
-turned into evidence (eqs. 21-24), the extension principle (eqs. 25-29) and the batched
-kernels the filters use.
+turned into evidence (eqs. 21-24), the extension principle (eqs. 25-29), the batched
+kernels the filters use, and belief functions beyond Dempster's rule on finite frames
+(set functions, conditioning, the cautious rule, least commitment, decisions).
 """
 
 from __future__ import annotations
@@ -29,6 +30,24 @@ from ._batch_kernels import (
     dempster_expectation,
     discount_onto_hull,
     sizes,
+)
+from ._belief_functions import (
+    COMPARE_TOLERANCE,
+    CONDITIONING_RULES,
+    CRITERIA,
+    MAX_SET_FUNCTION_FRAME,
+    MOBIUS_TOLERANCE,
+    SET_FUNCTIONS,
+    SetFunction,
+    canonical_weights,
+    cautious,
+    conditional,
+    decide,
+    discount_to_nondogmatic,
+    expected_utilities,
+    from_set_function,
+    more_committed,
+    set_function,
 )
 from ._boxes import (
     Boxes,
@@ -94,6 +113,22 @@ from ._possibility import (
 )
 
 __all__ = [
+    "COMPARE_TOLERANCE",
+    "CONDITIONING_RULES",
+    "CRITERIA",
+    "MAX_SET_FUNCTION_FRAME",
+    "MOBIUS_TOLERANCE",
+    "SET_FUNCTIONS",
+    "SetFunction",
+    "canonical_weights",
+    "cautious",
+    "conditional",
+    "decide",
+    "discount_to_nondogmatic",
+    "expected_utilities",
+    "from_set_function",
+    "more_committed",
+    "set_function",
     "APPENDIX_A2",
     "APPENDIX_E1",
     "APPENDIX_E2",

@@ -13,6 +13,7 @@ from dstoolkit.errors import require_extra
 
 require_extra("matplotlib", "plots", "dstoolkit.plots")
 
+from ._belief import RULE_STYLE, plot_rule_curves  # noqa: E402
 from ._chapter_figures import (  # noqa: E402
     plot_image_methods,
     plot_nassreddine_step,
@@ -71,6 +72,8 @@ from ._style import (  # noqa: E402
 
 __all__ = [
     "plot_consistency",
+    "plot_rule_curves",
+    "RULE_STYLE",
     "BEL_COLOUR",
     "BETP_COLOUR",
     "EnclosureFigure",

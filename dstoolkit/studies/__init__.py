@@ -57,6 +57,15 @@ from ._filter_runs import (
     filter_case,
     gauge_case,
 )
+from ._level_cells import (
+    CELL_RULES,
+    MAX_CELLS,
+    NONDOGMATIC_RATE,
+    LevelCellRun,
+    cell_expectation,
+    cell_frame,
+    level_cell_filter,
+)
 from ._paper_results import (
     OBSERVATION_NOISE_HZ,
     PAPER_RUNTIME_RANGE_S,
@@ -66,6 +75,13 @@ from ._paper_results import (
 )
 
 __all__ = [
+    "CELL_RULES",
+    "MAX_CELLS",
+    "cell_expectation",
+    "NONDOGMATIC_RATE",
+    "LevelCellRun",
+    "cell_frame",
+    "level_cell_filter",
     "ConsistencyStudy",
     "CONSISTENCY_ORDERS",
     "GAUSSIAN_FILTERS",

@@ -53,6 +53,7 @@ from ._explorer import (  # noqa: E402
     slider,
     static_site,
 )
+from ._explorers_belief import copies_explorer  # noqa: E402
 from ._explorers_beyond import noise_bounds_explorer  # noqa: E402
 from ._explorers_bounded import bounded_error_explorer  # noqa: E402
 from ._explorers_combining import conflict_explorer  # noqa: E402
@@ -88,6 +89,7 @@ register_print_figures(Explorer, LabWidget)
 
 __all__ = [
     "consistency_explorer",
+    "copies_explorer",
     "Case",
     "CodingExercise",
     "Exercise",

@@ -8,6 +8,7 @@ itself is :mod:`._checking` (answers) and :mod:`._coding` (functions).
 from __future__ import annotations
 
 from . import (
+    _ex_belief,  # noqa: F401  (registers the belief functions' exercises)
     _ex_coding,  # noqa: F401  (registers the coding exercises)
     _ex_recursion,  # noqa: F401  (registers the one recursion's exercises)
 )

@@ -347,3 +347,27 @@ def rts_scalar(x, p, a, q):
         xs[k] = x[k] + gain * (xs[k + 1] - a * x[k])
         ps[k] = p[k] + gain * gain * (ps[k + 1] - p_pred)
     return xs, ps
+
+
+def mass_from_belief(bel):
+    """Return the mass function whose belief function is ``bel`` (Möbius inversion).
+
+    bel: dict {frozenset: Bel(A)} for every subset A of the frame, the
+    empty set included. m(A) = sum over B ⊆ A of (−1)^(|A| − |B|) Bel(B).
+    Returns {frozenset: mass} with the non-zero masses (|m| > 1e-12 kept).
+    """
+    m = {}
+    for a in bel:
+        value = sum((-1) ** (len(a) - len(b)) * bel_b for b, bel_b in bel.items() if b <= a)
+        if abs(value) > 1e-12:
+            m[a] = value
+    return m
+
+
+def lower_expectation(m, u):
+    """Return the lower expected utility of an action under the evidence m.
+
+    m: dict {frozenset: mass}; u: dict {hypothesis: utility}. Each focal
+    element counts with its worst utility: sum of m(A) · min of u over A.
+    """
+    return sum(mass * min(u[h] for h in focal) for focal, mass in m.items())
