@@ -204,6 +204,13 @@ SPACES = {",": "\u2009", ";": " ", ":": " ", "!": "", " ": " ", "{": "\u27ee", "
 SUB = dict(zip("0123456789+-=()aehijklmnoprstuvx", "₀₁₂₃₄₅₆₇₈₉₊₋₌₍₎ₐₑₕᵢⱼₖₗₘₙₒₚᵣₛₜᵤᵥₓ", strict=True))
 SUP = dict(zip("0123456789+-=()in", "⁰¹²³⁴⁵⁶⁷⁸⁹⁺⁻⁼⁽⁾ⁱⁿ", strict=True))
 SCRIPT = re.compile(r"([_^])(?:\{([^{}]*)\}|(\\?[A-Za-z0-9]))")
+#: A matrix environment, written in plain text row by row: [2 1; 1 2].
+MATRIX = re.compile(r"\\begin\{([pb]?matrix)\}(.*?)\\end\{\1\}", re.S)
+
+
+def _matrix(match: re.Match[str]) -> str:
+    rows = [row.strip() for row in re.split(r"\\\\", match.group(2)) if row.strip()]
+    return "[" + "; ".join(" ".join(c.strip() for c in row.split("&")) for row in rows) + "]"
 
 
 def _script(match: re.Match[str]) -> str:
@@ -224,7 +231,7 @@ def plain_maths(text: str) -> str:
 
     def convert(match: re.Match[str]) -> str:
         tex = match.group(1) if match.group(1) is not None else match.group(2)
-        out = tex
+        out = MATRIX.sub(_matrix, tex)
         for _ in range(3):  # nested wrappers: \mathrm{\text{…}}
             out = WRAPPERS.sub(r"\1", out)
         out = BLACKBOARD.sub(lambda m: DOUBLE_STRUCK.get(m.group(1), m.group(1)), out)

@@ -25,6 +25,7 @@ CHAPTERS = [
     "estimating_level",
     "beyond_the_paper",
     "lab",
+    "one_recursion",
     "beyond_dempster",
 ]
 

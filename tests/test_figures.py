@@ -55,7 +55,10 @@ MIN_PT = 9.0
 #: Quantities without a unit: their axis labels need no "(unit)".
 DIMENSIONLESS = re.compile(
     r"^(cumulated mass|mass|probability|possibility|Bel\(A\)|step k|focal element|"
-    r"subset A|ξ|first source|second source)"
+    r"subset A|ξ|first source|second source|"
+    # normalised (estimation and innovation) squared errors: ratios of squared errors to
+    # the filter's own covariance, without a unit by definition
+    r"average NEES|average NIS)"
 )
 UNIT = re.compile(r"\([^()]*[^\s()][^()]*\)")
 
@@ -246,6 +249,13 @@ def _rule_curves() -> Figure:
         ylabel="|level error| (mm)",
         current=5,
     )
+
+
+@figure("plot_consistency")
+def _consistency() -> Figure:
+    from dstoolkit.studies import gauge_consistency
+
+    return plots.plot_consistency(gauge_consistency(runs=5), title="L = 4.6 m, 5 runs")
 
 
 @figure("plot_scale_study")

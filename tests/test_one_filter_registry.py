@@ -55,6 +55,18 @@ ALLOWED: dict[str, tuple[set[str], str]] = {
         {"DependentEvidenceFilter"},
         "the noise evidence of the paper's filter (its Step 1)",
     ),
+    "studies/_level_cells.py": (
+        {"DependentEvidenceFilter"},
+        "runs the paper's filter's Steps 1–5 with another combination in its Step 6",
+    ),
+    "teaching/_ex_recursion.py": (
+        {"kalman"},
+        "exercises ask for the Kalman filter's NEES and NIS on the gauge",
+    ),
+    "teaching/_explorers_recursion.py": (
+        {"kalman"},
+        "the consistency explorer reads out the Kalman filter's NEES and NIS",
+    ),
     "teaching/_explorers_bounded.py": (
         {"BoundedErrorFilter"},
         "the bounded-error chapter's explorer shows that filter's boxes",

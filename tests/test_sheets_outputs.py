@@ -159,3 +159,14 @@ def test_write_course_called_directly_still_replaces_its_own_course(tmp_path):
     first = course.write_course(tmp_path, ROOT, ["mass_functions"])
     again = course.write_course(tmp_path, ROOT, ["mass_functions"])
     assert first == again and all(p.is_file() for p in again)
+
+
+def test_a_matrix_reads_row_by_row_in_plain_text() -> None:
+    """The course's markdown writes a pmatrix as [a b; c d], and a formula it cannot read fails.
+
+    A student's notebook without MathJax must not show raw TeX.
+    """
+    text = r"$P = \begin{pmatrix} 2 & 1 \\ 1 & 2 \end{pmatrix}$, $x_k$"
+    assert course.plain_maths(text) == "P = [2 1; 1 2], xₖ"
+    with pytest.raises(ValueError, match="no plain form"):
+        course.plain_maths(r"$\unknowncommand x$")

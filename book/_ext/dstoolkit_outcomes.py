@@ -33,7 +33,9 @@ from docutils import nodes
 from docutils.parsers.rst import Directive
 from sphinx import addnodes
 from sphinx.application import Sphinx
+from sphinx.transforms.post_transforms import SphinxPostTransform
 from sphinx.util import logging
+from sphinx.util.texescape import escape as tex_escape
 
 logger = logging.getLogger(__name__)
 
@@ -377,9 +379,40 @@ class ChapterOutcomes(Directive):
         return row
 
 
+class LatexAnchors(SphinxPostTransform):
+    """In the PDF, the outcomes' anchors exist and their links to exercises resolve.
+
+    LaTeX writes no label for a list item's id, so each outcome's id moves to a target at
+    the start of its item (the web page keeps ``<li id=…>``). sphinx-exercise labels an
+    exercise ``exercise:<label>`` in LaTeX, while a numbered reference to another page
+    points at ``<page>:<label>``; such a reference is written against the exercise's label.
+    """
+
+    default_priority = 25  # after the references resolve (10) and sphinx-exercise's (22)
+    formats = ("latex",)
+
+    def run(self, **kwargs: Any) -> None:
+        """Move the outcomes' ids to targets; point the exercises' references at their labels."""
+        for item in list(self.document.findall(nodes.list_item)):
+            ids = [i for i in item["ids"] if ID.match(i)]
+            if ids and item.children and isinstance(item[0], nodes.paragraph):
+                item["ids"] = [i for i in item["ids"] if i not in ids]
+                item[0].insert(0, nodes.target("", "", ids=ids))
+        exercises = set(_chapter_labels(self.document))
+        for ref in list(self.document.findall(nodes.reference)):
+            uri = ref.get("refuri", "")
+            label = uri.rpartition("#")[2] if uri.startswith("%") else ""
+            if label in exercises:
+                text = tex_escape(ref.astext())
+                ref.replace_self(
+                    nodes.raw("", rf"\hyperref[exercise:{label}]{{{text}}}", format="latex")
+                )
+
+
 def setup(app: Sphinx) -> dict[str, Any]:
     """Sphinx: the outcomes box on every chapter with a file, and the teaching page's parts."""
     app.connect("doctree-read", _on_doctree_read)
     app.add_directive("course-outcomes", CourseOutcomes)
     app.add_directive("chapter-outcomes", ChapterOutcomes)
+    app.add_post_transform(LatexAnchors)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

@@ -86,6 +86,10 @@ class FilterEntry:
         against it (Nassreddine's), ``""`` (default) for any other.
     table3_column : int, optional
         Its column among the methods of the paper's Table 3 (None: not in it).
+    gaussian : bool, optional
+        Whether it reports a Gaussian posterior: its ``lower``/``upper`` are x̂ ± 3σ of the
+        covariance it computes and its diagnostics carry the NIS, so that its consistency
+        (NEES, NIS) can be checked.
     """
 
     name: str
@@ -97,6 +101,7 @@ class FilterEntry:
     make: Callable[[ComparisonSettings], Filter[Any, Any]]
     role: str = ""
     table3_column: int | None = None
+    gaussian: bool = False
 
 
 _REGISTRY: dict[str, FilterEntry] = {}
@@ -222,6 +227,23 @@ def filter_named(role: str) -> str:
     )
 
 
+def gaussian_filters() -> tuple[str, ...]:
+    """Return the names of the registered filters that report a Gaussian posterior.
+
+    Returns
+    -------
+    tuple of str
+        The entries with ``gaussian=True``, in the order they were registered.
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import gaussian_filters
+    >>> gaussian_filters()
+    ('kalman', 'unscented')
+    """
+    return tuple(e.name for e in _REGISTRY.values() if e.gaussian)
+
+
 def table3_filters() -> tuple[FilterEntry, ...]:
     """Return the registered filters of the paper's Table 3, in its column order.
 
@@ -292,6 +314,7 @@ register_filter(
         "v",
         lambda s: KalmanFilter(),
         table3_column=3,
+        gaussian=True,
     )
 )
 register_filter(
@@ -317,5 +340,6 @@ register_filter(
         (0, (1, 1)),
         "^",
         lambda s: UnscentedKalmanFilter(),
+        gaussian=True,
     )
 )

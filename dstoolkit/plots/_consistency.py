@@ -49,7 +49,7 @@ def plot_consistency(study: ConsistencyStudy, *, title: str | None = None) -> Fi
     )
     for ax, values, band, label in panels:
         ax.axhspan(*band, color=GREY, alpha=0.25, hatch="//", label=_BAND_LABEL)
-        for name, series in values.items():
+        for index, (name, series) in enumerate(values.items()):
             steps = np.arange(1, series.size + 1)
             style = STYLE[name]
             ax.plot(
@@ -58,7 +58,8 @@ def plot_consistency(study: ConsistencyStudy, *, title: str | None = None) -> Fi
                 color=style["color"],
                 ls=style["ls"],
                 marker=style["marker"],
-                markevery=(0 if name == "kalman" else 2, 4),
+                # the filters' markers alternate steps, so that none hides another's
+                markevery=(2 * index % 4, 4),
                 ms=4,
                 label=style["label"],
             )

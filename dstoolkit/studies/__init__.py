@@ -14,7 +14,6 @@ from __future__ import annotations
 
 from ._consistency import (
     CONSISTENCY_ORDERS,
-    GAUSSIAN_FILTERS,
     ConsistencyStudy,
     gauge_consistency,
 )
@@ -84,7 +83,6 @@ __all__ = [
     "level_cell_filter",
     "ConsistencyStudy",
     "CONSISTENCY_ORDERS",
-    "GAUSSIAN_FILTERS",
     "gauge_consistency",
     "ALL_FILTERS",
     "CSV_COLUMNS",

@@ -14,14 +14,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from dstoolkit.errors import EvidenceError
-from dstoolkit.filters import chi2_band, registered_filters
+from dstoolkit.filters import chi2_band, gaussian_filters, registered_filters
 from dstoolkit.gauge import gauge_state_space_model, orders_eq43
 from dstoolkit.utils.checks import real_number
 
 from ._estimation import ComparisonSettings, scaled_noise, tracking_data
 
-#: The filters whose ``lower``/``upper`` are x̂ ± 3σ of a covariance they report.
-GAUSSIAN_FILTERS: tuple[str, ...] = ("kalman", "unscented")
 #: The sources of the gauge's orders n_k: the simulation's true orders, or the paper's eq. 43.
 CONSISTENCY_ORDERS: tuple[str, ...] = ("true", "eq43")
 
@@ -104,7 +102,7 @@ def gauge_consistency(
     seed: int = 0,
     scale: float = 1.0,
     orders: str = "true",
-    methods: tuple[str, ...] = GAUSSIAN_FILTERS,
+    methods: tuple[str, ...] | None = None,
 ) -> ConsistencyStudy:
     """Run filters on simulated gauge runs and check their consistency.
 
@@ -125,8 +123,9 @@ def gauge_consistency(
     orders : {"true", "eq43"}, optional
         The orders n_k fed to f: the true ones, or eq. (43)'s from the readings.
     methods : tuple of str, optional
-        Registered filters to run (default the Gaussian ones). NEES and NIS are computed
-        for those of :data:`GAUSSIAN_FILTERS`, the enclosure for all.
+        Registered filters to run (default the Gaussian ones,
+        :func:`dstoolkit.filters.gaussian_filters`). NEES and NIS are computed for the
+        Gaussian ones, the enclosure for all.
 
     Returns
     -------
@@ -148,6 +147,8 @@ def gauge_consistency(
     if orders not in CONSISTENCY_ORDERS:
         raise EvidenceError(f"orders must be 'true' or 'eq43', got {orders!r}")
     entries = {entry.name: entry for entry in registered_filters()}
+    gaussian = gaussian_filters()
+    methods = gaussian if methods is None else tuple(methods)
     unknown = [m for m in methods if m not in entries]
     if unknown:
         raise EvidenceError(
@@ -173,7 +174,7 @@ def gauge_consistency(
         enclosure[name] = float(np.mean((data.truth >= lo) & (data.truth <= hi)))
         rmse[name] = float(np.sqrt(np.mean(err**2)))
         width[name] = float(np.mean(hi - lo))
-        if name in GAUSSIAN_FILTERS:
+        if name in gaussian:
             sigma = (hi - lo) / 6.0  # lower/upper are x̂ ± 3σ
             nees_avg[name] = np.mean((err / sigma) ** 2, axis=0)
             nis_avg[name] = np.mean(result.diagnostics["nis"], axis=0)
