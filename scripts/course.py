@@ -126,7 +126,9 @@ NO_MATHJAX = """\
 # "$\\mathrm{Bel}(\\{\\text{low}\\})$" reads "Bel({low})" in the notebook and on the page.
 
 MATH = re.compile(r"\$\$(.+?)\$\$|\$(?!\s)((?:[^$\n]|\n(?!\n))+?)(?<!\s)\$", re.DOTALL)
-WRAPPERS = re.compile(r"\\(?:mathrm|text|operatorname|mathit|mathbf)\s*\{([^{}]*)\}")
+WRAPPERS = re.compile(r"\\(?:mathrm|text|operatorname|mathit|mathbf|mathcal)\s*\{([^{}]*)\}")
+#: A fraction of two simple parts, written a/b (parenthesised when a part is longer).
+FRAC = re.compile(r"\\[dt]?frac\s*(?:\{([^{}]*)\}|(\w))\s*(?:\{([^{}]*)\}|(\w))")
 ACCENTS = {"hat": "\u0302", "bar": "\u0304", "tilde": "\u0303"}
 ACCENT = re.compile(r"\\(hat|bar|tilde)\s*(?:\{([^{}]*)\}|([A-Za-z]))")
 SQRT = re.compile(r"\\sqrt\s*\{([^{}]*)\}")
@@ -163,6 +165,19 @@ SYMBOLS = {
     "cap": "∩",
     "cup": "∪",
     "oplus": "⊕",
+    "odot": "⊙",
+    "chi": "χ",
+    "setminus": "∖",
+    "supseteq": "⊇",
+    "supset": "⊃",
+    "sim": "∼",
+    "top": "ᵀ",
+    "ln": "ln",
+    "lvert": "|",
+    "rvert": "|",
+    "wedge": "∧",
+    "vee": "∨",
+    "neg": "¬",
     "infty": "∞",
     "to": "→",
     "dots": "…",
@@ -208,6 +223,12 @@ SCRIPT = re.compile(r"([_^])(?:\{([^{}]*)\}|(\\?[A-Za-z0-9]))")
 MATRIX = re.compile(r"\\begin\{([pb]?matrix)\}(.*?)\\end\{\1\}", re.S)
 
 
+def _fraction(match: re.Match[str]) -> str:
+    top, bottom = match.group(1) or match.group(2), match.group(3) or match.group(4)
+    parts = [top.strip(), bottom.strip()]
+    return "/".join(p if re.fullmatch(r"[\w.]+", p) else f"({p})" for p in parts)
+
+
 def _matrix(match: re.Match[str]) -> str:
     rows = [row.strip() for row in re.split(r"\\\\", match.group(2)) if row.strip()]
     return "[" + "; ".join(" ".join(c.strip() for c in row.split("&")) for row in rows) + "]"
@@ -236,10 +257,12 @@ def plain_maths(text: str) -> str:
             out = WRAPPERS.sub(r"\1", out)
         out = BLACKBOARD.sub(lambda m: DOUBLE_STRUCK.get(m.group(1), m.group(1)), out)
         out = ACCENT.sub(lambda m: (m.group(2) or m.group(3)) + ACCENTS[m.group(1)], out)
-        out = SQRT.sub(r"√(\1)", out)
+        out = re.sub(r"\^\s*\{?\\top\}?", "ᵀ", out)  # a transpose
         out = re.sub(r"\\([,;:! {}])", lambda m: SPACES[m.group(1)], out)
         out = re.sub(r"\\([A-Za-z]+)", lambda m: SYMBOLS.get(m.group(1), m.group(0)), out)
         out = SCRIPT.sub(_script, out).replace("-", "−")
+        for _ in range(2):  # a root or fraction of a subscripted symbol: after the scripts
+            out = FRAC.sub(_fraction, SQRT.sub(r"√(\1)", out))
         if "\\" in out:
             raise ValueError(
                 f"no plain form for the formula ${tex}$ (add its commands to course.SYMBOLS)"

@@ -168,5 +168,7 @@ def test_a_matrix_reads_row_by_row_in_plain_text() -> None:
     """
     text = r"$P = \begin{pmatrix} 2 & 1 \\ 1 & 2 \end{pmatrix}$, $x_k$"
     assert course.plain_maths(text) == "P = [2 1; 1 2], xₖ"
+    assert course.plain_maths(r"$e^\top P^{-1} e = \tfrac13$") == "eᵀ P⁻¹ e = 1/3"
+    assert course.plain_maths(r"$\sqrt{(n + \lambda_{\mathrm{UT}}) P}$") == "√((n + λ_(UT)) P)"
     with pytest.raises(ValueError, match="no plain form"):
         course.plain_maths(r"$\unknowncommand x$")
