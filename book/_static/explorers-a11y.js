@@ -7,7 +7,8 @@
  *
  * - a slider's handle is named by the slider's label (aria-labelledby), and its
  *   aria-valuetext is the value its readout shows, followed by the unit its label ends with
- *   ("level L (m)" -> "9.6 m"), not noUiSlider's position index;
+ *   ("level L (m)" -> "9.6 m"), not noUiSlider's position index; the readout is plain
+ *   text, not editable (the handle is the only way to change the value);
  * - a disabled control (a slider, a dropdown, a check box or a button) is exposed as
  *   disabled (aria-disabled), leaves the Tab order and is described (aria-describedby) by
  *   the explorer's note that says where it works;
@@ -83,10 +84,12 @@
       var disabled = track.hasAttribute("disabled");
       setAttr(handle, "tabindex", disabled ? "-1" : "0");
       describeDisabled(handle, disabled);
-      // The readout can be typed into; a disabled one is text, out of the Tab order.
+      // On this page the slider is the control and its readout is text that follows it:
+      // a value typed into the readout would have no precomputed state, so the readout
+      // cannot be edited (the widget makes it editable again on every update: undone here).
       setAttr(readout, "aria-labelledby", idOf(label, "dstoolkit-label"));
-      if (readout.isContentEditable) setAttr(readout, "role", "textbox");
-      else setAttr(readout, "role", null);
+      setAttr(readout, "contenteditable", "false");
+      setAttr(readout, "role", null);
     }
 
     var observer = new MutationObserver(sync);

@@ -33,8 +33,15 @@ own readout (:meth:`Explorer.readout_for`) and text alternatives
 a button calling :meth:`Explorer.refresh`): the lab's measuring station
 (:class:`~dstoolkit.teaching.LabWidget`) is such an explorer.
 
-Sliders made by :func:`slider` use ``continuous_update=False``: the figure is redrawn
-when the mouse is released, so the page never stalls. A ``render`` that raises an
+In a kernel a change never makes the explorer lag: the control's callback only notes the
+latest values and wakes one worker thread, which computes them (values set while it
+computes replace each other: the latest wins, the ones in between are dropped). Until the
+figure follows the controls again the status line says "Computing…" and the stale figure
+is dimmed (:data:`STALE_CLASS`). :meth:`Explorer.wait` joins the pending work, and reading
+``numbers``, ``figure``, ``figures`` or ``picture`` waits for it; outside a kernel (a script,
+the tests, the static site's precomputation) a change is computed at once, before the
+assignment returns. Sliders made by :func:`slider` follow the drag
+(``continuous_update=True``). A ``render`` that raises an
 :class:`~dstoolkit.errors.EvidenceError` (or any ``ValueError``) shows the message in the
 readout instead of a figure: the learner sees *why* a setting is invalid.
 
@@ -60,6 +67,7 @@ from typing import Any, cast
 import ipywidgets as widgets
 import matplotlib.pyplot as plt
 import numpy as np
+import traitlets
 from matplotlib.artist import Artist
 from matplotlib.axis import Axis as MplAxis
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -81,6 +89,36 @@ STATIC_SITE_ENV = "DSTOOLKIT_STATIC_SITE"
 RUN_PAGE = "run.html"
 #: Resolution of the explorers' figures (the notebook's inline backend uses 100 dpi too).
 FIGURE_DPI = 100
+#: The CSS class of an explorer's output while its figure is out of date (being recomputed).
+STALE_CLASS = "dstoolkit-stale"
+#: The status line while the explorer computes the controls' latest values.
+WORKING = "Computing…"
+#: How a notebook shows a stale figure (the explorer carries this style with it).
+_STALE_STYLE = (
+    f"<style>.{STALE_CLASS}{{opacity:0.4;filter:grayscale(1);transition:opacity 0.05s}}</style>"
+)
+
+
+def in_kernel() -> bool:
+    """Whether this runs in a Jupyter kernel (a front end shows the widgets).
+
+    Returns
+    -------
+    bool
+        True inside an IPython kernel (a notebook, JupyterLab, nbclient); False in a script,
+        a plain interpreter or the tests' own process.
+
+    Examples
+    --------
+    >>> in_kernel()
+    False
+    """
+    try:
+        from IPython import get_ipython
+    except ImportError:  # pragma: no cover - IPython comes with ipywidgets
+        return False
+    shell = get_ipython()
+    return shell is not None and getattr(shell, "kernel", None) is not None
 
 
 def static_site() -> bool:
@@ -105,6 +143,40 @@ def static_site() -> bool:
     return os.environ.get(STATIC_SITE_ENV, "") == "1"
 
 
+class StepSlider(widgets.FloatSlider):
+    """A float slider whose value is always one of its steps.
+
+    A value typed into its readout (or set from Python) moves the slider to the nearest
+    step within its range, and the explorer draws that value; a value that is no number
+    (NaN) is refused (a ``TraitError``) and the slider keeps its value, so the readout
+    reverts. The slider's handle, its readout and the figure always show the same value.
+
+    Examples
+    --------
+    >>> s = StepSlider(value=4.6, min=1.0, max=10.6, step=0.1)
+    >>> s.value = 4.63
+    >>> s.value
+    4.6
+    >>> s.value = 50.0
+    >>> s.value
+    10.6
+    """
+
+    # traitlets keeps one validator per trait, the last of the class's validators by name:
+    # this one's name sorts after FloatSlider's (the doctest above checks that it is used)
+    @traitlets.validate("value")
+    def _value_on_a_step(self, proposal: Any) -> float:
+        value = float(proposal["value"])
+        if not np.isfinite(value):
+            raise traitlets.TraitError(
+                f"{self.description or 'the slider'}: {proposal['value']!r} is not a value "
+                f"between {self.min} and {self.max}; type a number"
+            )
+        lo, hi = float(self.min), float(self.max)
+        steps = round((min(max(value, lo), hi) - lo) / self.step)
+        return round(min(hi, lo + steps * self.step), 10)
+
+
 def slider(
     description: str,
     value: float,
@@ -113,8 +185,8 @@ def slider(
     step: float,
     *,
     readout_format: str = ".3f",
-) -> widgets.FloatSlider:
-    """Return a float slider that redraws on release (``continuous_update=False``).
+) -> StepSlider:
+    """Return a float slider that follows the drag (``continuous_update=True``).
 
     Parameters
     ----------
@@ -131,8 +203,8 @@ def slider(
 
     Returns
     -------
-    ipywidgets.FloatSlider
-        320 px wide, its label in full.
+    StepSlider
+        320 px wide, its label in full; a typed value snaps to the nearest step.
 
     See Also
     --------
@@ -142,15 +214,15 @@ def slider(
     --------
     >>> s = slider("level L (m)", 9.6, 1.0, 10.6, 0.1, readout_format=".1f")
     >>> s.value, s.continuous_update
-    (9.6, False)
+    (9.6, True)
     """
-    return widgets.FloatSlider(
+    return StepSlider(
         value=value,
         min=lo,
         max=hi,
         step=step,
         description=description,
-        continuous_update=False,
+        continuous_update=True,
         readout_format=readout_format,
         style={"description_width": "initial"},
         layout=widgets.Layout(width="320px"),
@@ -158,7 +230,7 @@ def slider(
 
 
 def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSlider:
-    """Return an integer slider that redraws on release.
+    """Return an integer slider that follows the drag.
 
     Parameters
     ----------
@@ -172,7 +244,7 @@ def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSli
     Returns
     -------
     ipywidgets.IntSlider
-        Step 1, ``continuous_update=False``.
+        Step 1, ``continuous_update=True``.
 
     Examples
     --------
@@ -185,7 +257,7 @@ def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSli
         max=hi,
         step=1,
         description=description,
-        continuous_update=False,
+        continuous_update=True,
         style={"description_width": "initial"},
         layout=widgets.Layout(width="320px"),
     )
@@ -335,6 +407,10 @@ class Explorer(widgets.VBox):
     draw : bool, optional
         In a kernel, render the controls' values at once (default); else the readout and
         the output stay empty until :meth:`refresh`.
+    background : bool, optional
+        Compute a change of a control in a worker thread, the latest values winning
+        (:meth:`wait` joins it); default: :func:`in_kernel`. Else a change is computed
+        before the assignment returns.
 
     Attributes
     ----------
@@ -343,6 +419,11 @@ class Explorer(widgets.VBox):
         ``SelectionSlider``s (or the original ``Dropdown``) and the others are disabled.
     readout : ipywidgets.HTML
         The readout of the numbers.
+    status : ipywidgets.HTML
+        Kernel only: "Computing…" (:data:`WORKING`) from a change until the figure follows
+        it, empty while the figure is up to date, the error after a render that failed.
+    computed : int
+        How many renders ran (the first one and the precomputed states included).
     output : ipywidgets.Output
         The figures, as PNG outputs (kernel only: the static site shows its precomputed
         states instead, and this widget is closed empty).
@@ -400,6 +481,7 @@ class Explorer(widgets.VBox):
         static: bool | None = None,
         rows: Sequence[widgets.Widget | Sequence[widgets.Widget]] | None = None,
         draw: bool = True,
+        background: bool | None = None,
     ) -> None:
         super().__init__()
         self.controls = dict(controls)
@@ -414,13 +496,25 @@ class Explorer(widgets.VBox):
                 f"live controls must be one or two of {list(self.controls)}, got {list(self.live)}"
             )
         self.static = static_site() if static is None else static
-        self.figure: Figure | None = None
-        self.figures: list[Figure] = []
-        self.picture: bytes | None = None
-        self.numbers: dict[str, Any] = {}
+        self._figure: Figure | None = None
+        self._figures: list[Figure] = []
+        self._picture: bytes | None = None
+        self._numbers: dict[str, Any] = {}
         self.states: dict[tuple[Any, ...], dict[str, Any]] = {}
         self.readout = widgets.HTML()
         self.output = widgets.Output()
+        self.status = widgets.HTML(layout=widgets.Layout(min_height="1.5em"))
+        self.status.add_class("dstoolkit-status")
+        self.computed = 0
+        # the worker: one slot for the latest values not yet computed (None: nothing
+        # pending), the thread, whether it computes, the last error it met
+        self.background = (in_kernel() if background is None else background) and not self.static
+        self._pending: dict[str, Any] | None = None
+        self._working = False
+        self._worker: threading.Thread | None = None
+        self._failure: BaseException | None = None
+        self._wake = threading.Condition()
+        self._holder: int | None = None  # the thread inside refresh() (it never waits)
         self._layouts: dict[tuple[Any, ...], list[Any]] = {}
         self._engines: weakref.WeakKeyDictionary[Figure, Any] = weakref.WeakKeyDictionary()
         self._kept: Figure | None = None  # the figure whose background is kept for blitting
@@ -439,7 +533,8 @@ class Explorer(widgets.VBox):
                 for control in self.controls.values():
                     control.observe(self._on_change, "value")
             body = self._rows or [self._row(self.controls.values())]
-            self.children = (*self._head, *body, self.readout, self.output)
+            tail = [widgets.HTML(_STALE_STYLE), self.status] if self.background else []
+            self.children = (*self._head, *body, self.readout, *tail, self.output)
             if draw:
                 self.refresh()
 
@@ -457,8 +552,128 @@ class Explorer(widgets.VBox):
         """
         return {name: control.value for name, control in self.controls.items()}
 
+    # -- what the last render showed (reading waits for pending work) ----------------------
+
+    @property
+    def numbers(self) -> dict[str, Any]:
+        """The last numbers shown; ``{"error": message}`` after an invalid setting."""
+        self._join()
+        return self._numbers
+
+    @numbers.setter
+    def numbers(self, value: dict[str, Any]) -> None:
+        self._numbers = value
+
+    @property
+    def figure(self) -> Figure | None:
+        """The last (first) figure drawn (closed; ``figure.savefig`` still works)."""
+        self._join()
+        return self._figure
+
+    @figure.setter
+    def figure(self, value: Figure | None) -> None:
+        self._figure = value
+
+    @property
+    def figures(self) -> list[Figure]:
+        """Every figure of the last render."""
+        self._join()
+        return self._figures
+
+    @figures.setter
+    def figures(self, value: list[Figure]) -> None:
+        self._figures = value
+
+    @property
+    def picture(self) -> bytes | None:
+        """The PNG of ``figure`` as shown (also the explorer's still picture in print)."""
+        self._join()
+        return self._picture
+
+    @picture.setter
+    def picture(self, value: bytes | None) -> None:
+        self._picture = value
+
+    # -- a change of a control ---------------------------------------------------------------
+
     def _on_change(self, _change: Any) -> None:
-        self.refresh()
+        if not self.background:
+            self.refresh()
+            return
+        # only note the latest values and wake the worker: the front end's next message
+        # (the drag goes on) is read at once, whatever the computation costs
+        with self._wake:
+            self._pending = self.values()
+            if not self._working:
+                self._working = True
+                self.status.value = WORKING
+                self.output.add_class(STALE_CLASS)
+            if self._worker is None or not self._worker.is_alive():
+                self._worker = threading.Thread(
+                    target=self._work, name="dstoolkit-explorer", daemon=True
+                )
+                self._worker.start()
+            self._wake.notify_all()
+
+    def _work(self) -> None:
+        """Compute the latest pending values until none are left, then wait (the worker)."""
+        while True:
+            with self._wake:
+                while self._pending is None:
+                    self._wake.wait()
+                values, self._pending = self._pending, None
+            failure: BaseException | None = None
+            try:
+                self.refresh(**values)
+            except Exception as exc:  # a bug in a render: shown, and raised again by wait()
+                failure = exc
+                self.readout.value = warning_html(f"{type(exc).__name__}: {exc}")
+            with self._wake:
+                self._failure = failure or self._failure
+                if self._pending is None:  # up to date: say so, undim the figure
+                    self._working = False
+                    self.status.value = (
+                        "" if failure is None else html.escape(f"Failed: {type(failure).__name__}")
+                    )
+                    self.output.remove_class(STALE_CLASS)
+                    self._wake.notify_all()
+
+    def _join(self) -> None:
+        """Wait for pending work, unless called by the worker itself (a render reading)."""
+        inside = self._holder == threading.get_ident()
+        if (
+            self._worker is not None
+            and not inside
+            and threading.current_thread() is not self._worker
+        ):
+            self.wait()
+
+    def wait(self, timeout: float | None = None) -> None:
+        """Wait until the explorer shows the controls' latest values.
+
+        Parameters
+        ----------
+        timeout : float, optional
+            Seconds to wait at most; default: as long as the computation takes.
+
+        Raises
+        ------
+        TimeoutError
+            The work was still pending after ``timeout`` seconds.
+        Exception
+            The error a render raised in the worker since the last ``wait`` (other than
+            the invalid settings the readout explains): the readout shows it too.
+        """
+        with self._wake:
+            done = self._wake.wait_for(lambda: not self._working, timeout)
+            failure, self._failure = self._failure, None
+        if not done:
+            raise TimeoutError(
+                f"the explorer was still computing after {timeout} s: wait longer, or "
+                "check that its render returns"
+            )
+        if failure is not None:
+            raise failure
 
     def refresh(self, **overrides: Any) -> None:
         """Render the controls' values into the readout and the output.
@@ -474,7 +689,12 @@ class Explorer(widgets.VBox):
             themselves do not move.
         """
         with self._lock:
-            self._refresh(overrides)
+            outer, self._holder = self._holder, threading.get_ident()
+            try:
+                self.computed += 1
+                self._refresh(overrides)
+            finally:
+                self._holder = outer
 
     def readout_for(self, numbers: Mapping[str, Any]) -> str:
         """Return the readout's HTML for the numbers of a valid render.
@@ -527,7 +747,7 @@ class Explorer(widgets.VBox):
                 self.output.outputs = ()
             return
         self.numbers = dict(numbers)
-        self.readout.value = self.readout_for(self.numbers)
+        self.readout.value = self.readout_for(self._numbers)
         figures = [] if drawn is None else [drawn] if isinstance(drawn, Figure) else list(drawn)
         if figures:
             self.figures = figures

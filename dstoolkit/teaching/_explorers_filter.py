@@ -138,7 +138,7 @@ def filter_widget(
     """Return the paper's filter on a simulated gauge, live.
 
     Every redraw is one filter run of about 83 steps and its figure
-    (:func:`render_filter`); sliders redraw on release.
+    (:func:`render_filter`); sliders follow the drag, the latest value winning.
 
     Parameters
     ----------
