@@ -6,7 +6,7 @@
   test-artifacts/axe/.
 * every slider is named by its label and its ``aria-valuetext`` is the value it shows (with
   the unit of its label); a disabled slider is out of the Tab order, exposed as disabled and
-  described by the note that says where it works; every explorer readout is a live region;
+  described by the note that says where it works; every explorer has a polite live region;
 * every image has a written ``alt`` (not a file name), the explorer figures included;
 * at 320 CSS px no page scrolls sideways;
 * every page's first load (everything fetched until ``load``), gzipped, stays within the

@@ -76,6 +76,21 @@ def _wait_for_change(page: object, area: object, before: str, timeout_ms: int = 
     return False
 
 
+#: At most this many words are announced per change (tests/test_explorer_sentences.py).
+MAX_WORDS = 25
+
+
+def _announced(page: object, area: object, before: str) -> str:
+    """Return what the explorer's live region says after a change (once it changed)."""
+    region = area.locator(".dstoolkit-announce")
+    for _ in range(30):  # the page's script writes it 50 ms after the state changed
+        said = region.inner_text().strip()
+        if said != before:
+            return said
+        page.wait_for_timeout(100)
+    return region.inner_text().strip()
+
+
 def _slider_moves(page: object, area: object, slider: object) -> tuple[bool, bool]:
     """Press → (then ← if the slider sat at its end) on the slider's handle.
 
@@ -123,11 +138,19 @@ def test_explorers_answer_on_the_static_site(chromium: object, site: str, page_n
             assert enabled, f"{page_name}: explorer {i} has no live slider"
             area.scroll_into_view_if_needed()
             area.screenshot(path=str(SHOTS / f"{stem}-{i}-before.png"))
+            states = area.locator(".dstoolkit-states").count() > 0
             for k, slider in enumerate(enabled):
                 name = slider.locator(".widget-label").inner_text()
+                region = area.locator(".dstoolkit-announce")
+                said_before = region.inner_text().strip() if states else ""
                 moved, changed = _slider_moves(page, area, slider)
                 assert moved, f"{page_name}: live slider {name!r} did not move"
                 assert changed, f"{page_name}: moving {name!r} changed no figure or readout"
+                if states:  # an Explorer: one short sentence in its live region
+                    assert region.get_attribute("aria-live") == "polite", page_name
+                    said = _announced(page, area, said_before)
+                    assert said and said != said_before, f"{page_name}: {name!r} said nothing"
+                    assert len(said.split()) <= MAX_WORDS, f"{page_name}: {said!r}"
                 live_sliders += 1
                 if k == 0:
                     area.screenshot(path=str(SHOTS / f"{stem}-{i}-after.png"))

@@ -12,10 +12,10 @@
  * - a disabled control (a slider, a dropdown, a check box or a button) is exposed as
  *   disabled (aria-disabled), leaves the Tab order and is described (aria-describedby) by
  *   the explorer's note that says where it works;
- * - the precomputed states of an explorer (the stack that its live controls switch, or the
- *   last part of a widget whose slider switches a stack of its own) are a polite live
- *   region: what a change shows (the readout and the figure's text alternative) is
- *   announced.
+ * - when an explorer's live controls switch its precomputed states, the state's one
+ *   sentence (the control's value and the one or two results that moved) is put in the
+ *   explorer's polite live region (.dstoolkit-announce); the last part of a widget whose
+ *   slider switches a stack of its own is a polite live region itself.
  *
  * On a page with an explorer, a "Skip to the first explorer" link opens the article; it is
  * shown when it takes the keyboard focus.
@@ -111,11 +111,44 @@
     sync();
   }
 
+  // The sentence of the state an explorer shows (each state carries one, hidden).
+  function sentenceOf(stack) {
+    var said = Array.from(stack.querySelectorAll(".dstoolkit-said"));
+    var shown = said.filter(function (p) {
+      return p.parentElement && p.parentElement.offsetParent !== null;
+    });
+    var one = shown.length ? shown[shown.length - 1] : said[said.length - 1];
+    return one ? textOf(one) : "";
+  }
+
   function fixStates(stack) {
     // Only the outermost stack of an explorer (two live controls nest stacks).
     if (stack.parentElement && stack.parentElement.closest(".dstoolkit-states")) return;
-    setAttr(stack, "aria-live", "polite");
-    setAttr(stack, "aria-atomic", "false");
+    if (stack.hasAttribute("data-a11y")) return;
+    var area = stack.closest(".widget-subarea") || stack.parentElement;
+    var region = area && area.querySelector(".dstoolkit-announce");
+    if (!region) return;  // drawn a moment later: fixed then
+    stack.setAttribute("data-a11y", "1");
+    // One short sentence per change ("Level L 5.1 m: series-fit L 5.101 m, resonances 41."),
+    // not the readout's headers and numbers and the figure's text alternative.
+    setAttr(region, "aria-live", "polite");
+    setAttr(region, "aria-atomic", "true");
+    setAttr(region, "role", "status");
+    var last = sentenceOf(stack);
+    var waiting = false;
+    new MutationObserver(function () {
+      if (waiting) return;
+      waiting = true;
+      window.setTimeout(function () {
+        waiting = false;
+        var now = sentenceOf(stack);
+        if (now && now !== last) {
+          last = now;
+          region.textContent = now;
+        }
+      }, 50);
+    }).observe(stack, {childList: true, subtree: true, attributes: true,
+                       attributeFilter: ["class", "style", "hidden"]});
   }
 
   function fix(root) {

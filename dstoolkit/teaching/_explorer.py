@@ -59,6 +59,7 @@ import html
 import io
 import itertools
 import os
+import re
 import threading
 import weakref
 from collections.abc import Callable, Mapping, Sequence
@@ -80,6 +81,8 @@ from dstoolkit.errors import (
 )
 
 Render = Callable[..., tuple[Figure | Sequence[Figure] | None, Mapping[str, Any]]]
+#: What a state's figure shows, in words, from its numbers (its text alternative).
+Describe = Callable[[Mapping[str, Any]], str]
 
 #: The environment variable scripts/build-book.sh sets to "1": explorers built while the book
 #: is executed for the static site precompute the states of their live controls.
@@ -407,6 +410,14 @@ class Explorer(widgets.VBox):
     draw : bool, optional
         In a kernel, render the controls' values at once (default); else the readout and
         the output stay empty until :meth:`refresh`.
+    said : Sequence[str], optional
+        The numbers (by name) that the sentence announcing a change of state on the static
+        site says after the control's new value (:func:`change_sentence`); default the
+        first two.
+    describe : Callable[[Mapping[str, Any]], str], optional
+        What a state's figure shows, in words (its trend, where the estimate lies against
+        the truth), from the state's numbers: the picture's text alternative
+        (:func:`figure_alt`). Default: the numbers themselves.
     background : bool, optional
         Compute a change of a control in a worker thread, the latest values winning
         (:meth:`wait` joins it); default: :func:`in_kernel`. Else a change is computed
@@ -481,11 +492,15 @@ class Explorer(widgets.VBox):
         static: bool | None = None,
         rows: Sequence[widgets.Widget | Sequence[widgets.Widget]] | None = None,
         draw: bool = True,
+        said: Sequence[str] | None = None,
+        describe: Describe | None = None,
         background: bool | None = None,
     ) -> None:
         super().__init__()
         self.controls = dict(controls)
         self._render = render
+        self._said = None if said is None else tuple(said)
+        self._describe = describe
         # one refresh at a time: a render and the picture it draws belong together, also
         # when two threads move the controls (a re-entrant lock: a render may move one)
         self._lock = threading.RLock()
@@ -724,9 +739,29 @@ class Explorer(widgets.VBox):
         Returns
         -------
         list[str]
-            One ``figure_alt(settings, numbers)`` for every picture (the last one serves the rest).
+            One ``figure_alt`` for every picture (the last one serves the rest): what the
+            figure shows in words if the explorer has ``describe``, else its numbers.
         """
-        return [figure_alt(settings, numbers)]
+        words = None if self._describe is None or "error" in numbers else self._describe(numbers)
+        return [figure_alt(settings, numbers, words=words)]
+
+    def change_sentence(self, settings: Mapping[str, str], numbers: Mapping[str, Any]) -> str:
+        """Return the sentence announcing a precomputed state (:func:`change_sentence`).
+
+        Parameters
+        ----------
+        settings : Mapping[str, str]
+            The live controls' labels and the values they show in this state.
+        numbers : Mapping[str, Any]
+            The state's numbers; the explorer's ``said`` ones are spoken.
+
+        Returns
+        -------
+        str
+            One short sentence.
+        """
+        said = self._said if self._said is not None else tuple(numbers)[:2]
+        return change_sentence(settings, numbers, said)
 
     def _refresh(self, overrides: dict[str, Any]) -> None:
         try:
@@ -849,7 +884,10 @@ class Explorer(widgets.VBox):
                 for name, v in zip(names, combo, strict=True)
             }
             leaves[combo] = state_leaf(
-                self.readout, self.output, self.figure_alts(settings, self.numbers)
+                self.readout,
+                self.output,
+                self.figure_alts(settings, self.numbers),
+                said=self.change_sentence(settings, self.numbers),
             )
         fixed = [c for name, c in self.controls.items() if name not in self.live]
         stack, site = state_stack(self.controls, self.live, leaves)
@@ -864,7 +902,16 @@ class Explorer(widgets.VBox):
         for widget in [*fixed, *_widgets_in(body)]:  # controls and buttons alike
             if id(widget) not in shown and hasattr(widget, "disabled"):
                 widget.disabled = True
-        self.children = (*self._head, *body, site_note(list(site.values()), bool(fixed)), stack)
+        # the page's script copies the shown state's sentence into this live region
+        announce = widgets.HTML("")
+        announce.add_class("dstoolkit-announce")
+        self.children = (
+            *self._head,
+            *body,
+            site_note(list(site.values()), bool(fixed)),
+            stack,
+            announce,
+        )
         # the kernel's readout and output are not shown on the site: empty, and closed so
         # that the page's widget state holds no copy of a picture
         self.output.outputs = ()
@@ -911,8 +958,82 @@ def _plain(value: Any) -> str:
     return str(value)
 
 
+_UNIT = re.compile(r"^(.*\S)\s\(([^()]+)\)$")
+#: The most words an error message takes in a sentence announcing a state.
+_ERROR_WORDS = 16
+
+
+def spoken(name: str, value: Any) -> str:
+    """Return a name and its value as said aloud, the unit after the value.
+
+    Parameters
+    ----------
+    name : str
+        A control's label or a number's name, its unit last in parentheses ("level L (m)").
+    value : Any
+        The value: a float is said to 4 significant digits, anything else as it prints.
+
+    Returns
+    -------
+    str
+        For example "level L 5.1 m".
+
+    Examples
+    --------
+    >>> spoken("series-fit L (m)", 5.10123), spoken("resonances", 41), spoken("m({low})", "0.30")
+    ('series-fit L 5.101 m', 'resonances 41', 'm({low}) 0.30')
+    """
+    text = f"{float(value):.4g}" if isinstance(value, float | np.floating) else str(value)
+    unit = _UNIT.match(name)
+    if unit is None or len(unit[2].split()) > 2:  # "(share of steps)" says what, not a unit
+        return f"{name} {text}"
+    return f"{unit[1]} {text} {unit[2]}"
+
+
+def change_sentence(
+    settings: Mapping[str, str], numbers: Mapping[str, Any], said: Sequence[str]
+) -> str:
+    """Return one short sentence saying a state: the controls' values, then what moved.
+
+    Parameters
+    ----------
+    settings : Mapping[str, str]
+        The live controls' labels and the values they show.
+    numbers : Mapping[str, Any]
+        The state's numbers (``{"error": message}`` for an invalid setting).
+    said : Sequence[str]
+        The names of the numbers to say (one or two).
+
+    Returns
+    -------
+    str
+        For example "Level L 5.1 m: series-fit L 5.101 m, resonances 41."; an invalid
+        setting's message in at most 16 words.
+
+    Examples
+    --------
+    >>> change_sentence({"level L (m)": "5.1"}, {"estimate (m)": 5.0912, "found": 41},
+    ...                 ["estimate (m)", "found"])
+    'Level L 5.1 m: estimate 5.091 m, found 41.'
+    """
+    head = ", ".join(spoken(label, shown) for label, shown in settings.items())
+    if "error" in numbers:
+        words = str(numbers["error"]).split()
+        cut = " ".join(words[:_ERROR_WORDS]) + ("…" if len(words) > _ERROR_WORDS else "")
+        body = f"not possible: {cut}"
+    else:
+        body = ", ".join(spoken(name, numbers[name]) for name in said if name in numbers)
+    text = (f"{head}: {body}" if head else body).rstrip(".") + "."
+    first = text.split(" ", 1)[0]
+    # a word is capitalised, a symbol ("m({low})", "w upper", "x̂") is not
+    return text[:1].upper() + text[1:] if len(first) > 1 and first.isalpha() else text
+
+
 def figure_alt(
-    settings: Mapping[str, str], numbers: Mapping[str, Any], what: str = "Figure"
+    settings: Mapping[str, str],
+    numbers: Mapping[str, Any],
+    what: str = "Figure",
+    words: str | None = None,
 ) -> str:
     """Return the text alternative of a precomputed figure, made from its numbers.
 
@@ -924,6 +1045,8 @@ def figure_alt(
         The numbers of the readout (floats to 4 decimals, as the readout shows them).
     what
         The first word(s): what the picture is.
+    words
+        What the figure shows, in words; default: its numbers.
 
     Returns
     -------
@@ -931,7 +1054,11 @@ def figure_alt(
         For example "Figure for level L (m) = 9.6: estimate (m) 9.6100, truth (m) 9.6000."
     """
     at = ", ".join(f"{label} = {value}" for label, value in settings.items())
-    shown = ", ".join(f"{name} {_plain(value)}" for name, value in numbers.items())
+    shown = (
+        ", ".join(f"{name} {_plain(value)}" for name, value in numbers.items())
+        if words is None
+        else words.rstrip(".")
+    )
     head = f"{what} for {at}" if at else what
     return f"{head}: {shown}." if shown else f"{head}."
 
@@ -949,12 +1076,17 @@ def image_html(png: bytes, alt: str) -> str:
 
 
 def state_leaf(
-    readout: widgets.HTML, output: widgets.Output, alt: str | Sequence[str] = "Figure"
+    readout: widgets.HTML,
+    output: widgets.Output,
+    alt: str | Sequence[str] = "Figure",
+    said: str = "",
 ) -> widgets.VBox:
     """Return a copy of what a readout and an output show now: one precomputed state.
 
     The output's pictures become ``<img>`` elements with the text alternatives ``alt``
-    (one for every picture, or one for all), in an ``HTML`` widget after the readout.
+    (one for every picture, or one for all), in an ``HTML`` widget after the readout. The
+    sentence ``said`` (:func:`change_sentence`) goes with the readout, hidden: the page's
+    script announces it when the state is shown.
     """
     alts = [alt] if isinstance(alt, str) else list(alt)
     pictures = [
@@ -963,7 +1095,8 @@ def state_leaf(
         if "image/png" in o.get("data", {})
     ]
     images = "".join(image_html(png, alts[min(i, len(alts) - 1)]) for i, png in enumerate(pictures))
-    children: list[widgets.Widget] = [widgets.HTML(readout.value)]
+    hidden = f"<p class='dstoolkit-said' hidden>{html.escape(said)}</p>" if said else ""
+    children: list[widgets.Widget] = [widgets.HTML(readout.value + hidden)]
     if images:
         children.append(widgets.HTML(images))
     return widgets.VBox(children)

@@ -139,6 +139,7 @@ class LabWidget(Explorer):
             static=static,
             rows=rows,
             draw=record_now,
+            said=("level (m)", "resonances"),
         )
         self.button.on_click(self.record)
         self.devices_button.on_click(self.refresh_devices)
@@ -228,9 +229,10 @@ class LabWidget(Explorer):
         )
 
     def figure_alts(self, settings: Mapping[str, str], numbers: Mapping[str, Any]) -> list[str]:
-        """Return the text alternatives of a state's two pictures.
+        """Return the text alternatives of a state's two pictures, in words.
 
-        The recording with all the numbers, the level by each method with the levels.
+        The recording: its resonances and where the measured level lies against the truth;
+        the level by each method: which method is closest to the truth and which farthest.
 
         Parameters
         ----------
@@ -244,14 +246,34 @@ class LabWidget(Explorer):
         list[str]
             Two texts, in the order of the pictures.
         """
-        return [
-            figure_alt(settings, numbers, "Recording and its resonances"),
-            figure_alt(
-                settings,
-                {m: v for m, v in numbers.items() if m.endswith("(m)")},
-                "Level by each method",
-            ),
-        ]
+        if "error" in numbers:
+            return [figure_alt(settings, numbers, "Recording and its resonances")]
+        error = float(numbers["error (mm)"])
+        truth = float(numbers["true level (m)"])
+        methods = {
+            name.removesuffix(" (m)"): abs(float(v) - truth)
+            for name, v in numbers.items()
+            if name.endswith(" (m)") and name not in {"level (m)", "true level (m)", "± 1σ (m)"}
+        }
+        words = (
+            f"the recording's envelope with its {numbers['resonances']} resonances found, "
+            f"{numbers['missed']} missed; the measured level lies {abs(error):.1f} mm "
+            f"{'above' if error > 0 else 'below'} the truth"
+        )
+        found = [figure_alt(settings, numbers, "Recording and its resonances", words=words)]
+        if methods:
+            best, worst = min(methods, key=methods.get), max(methods, key=methods.get)
+            found.append(
+                figure_alt(
+                    settings,
+                    numbers,
+                    "Level by each method",
+                    words=f"each method's level beside the true level: {method_label(best)} "
+                    f"closest ({1e3 * methods[best]:.3g} mm off), {method_label(worst)} "
+                    f"farthest ({1e3 * methods[worst]:.3g} mm off)",
+                )
+            )
+        return found
 
     def _sync(self) -> None:
         """Grey out the controls the chosen devices do not use."""
