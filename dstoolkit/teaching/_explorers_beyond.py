@@ -22,7 +22,7 @@ from ._explorer import (
     positions,
     slider,
 )
-from ._readouts import mismatch_numbers
+from ._readouts import lowest_and_highest, mismatch_numbers
 
 # -- beyond the paper: every filter under wrong noise bounds ------------------------------------
 
@@ -34,10 +34,11 @@ def describe_mismatch(numbers: Mapping[str, Any]) -> str:
         for name, value in numbers.items()
         if name.endswith("(Hz)")
     }
-    best, worst = min(errors, key=errors.get), max(errors, key=errors.get)
+    best, worst = lowest_and_highest(errors)
+    low, high = min(errors.values()), max(errors.values())
     return (
         f"the true and assumed noise bounds above, each filter's mean error over the steps "
-        f"below: {best} lowest ({errors[best]:.3g} Hz), {worst} highest ({errors[worst]:.3g} Hz)"
+        f"below: {best} lowest ({low:.3g} Hz), {worst} highest ({high:.3g} Hz)"
     )
 
 

@@ -31,6 +31,7 @@ from ._explorer import (
     positions,
     slider,
 )
+from ._readouts import lowest_and_highest
 
 # -- conflict: Zadeh's example -------------------------------------------------------------
 
@@ -38,11 +39,11 @@ from ._explorer import (
 def describe_doctors(numbers: Mapping[str, Any]) -> str:
     """Say what the two doctors' figure shows: where the combination puts its mass."""
     masses = {name[2:-1]: float(v) for name, v in numbers.items() if name.startswith("m(")}
-    most = max(masses, key=masses.get)
+    _, most = lowest_and_highest(masses, ".2f")
     return (
         f"each doctor's masses and their combination: the conflict K is "
         f"{float(numbers['conflict K']):.2f}, and the combination puts most mass "
-        f"({masses[most]:.2f}) on {most}"
+        f"({max(masses.values()):.2f}) on {most}"
     )
 
 

@@ -21,7 +21,7 @@ from ._explorer import (
     positions,
     slider,
 )
-from ._readouts import estimation_numbers
+from ._readouts import estimation_numbers, lowest_and_highest
 
 # -- estimating the level: the paper's Figs. 10–11 for one run ------------------------------------
 
@@ -37,10 +37,11 @@ def describe_estimation(numbers: Mapping[str, Any]) -> str:
     errors = {
         name: float(str(value).split()[0]) for name, value in numbers.items() if name != "wrong n_k"
     }
-    best, worst = min(errors, key=errors.get), max(errors, key=errors.get)
+    best, worst = lowest_and_highest(errors, ".4g")
+    low, high = min(errors.values()), max(errors.values())
     return (
-        f"estimates over the steps beside the truth: {best} stays closest "
-        f"(mean error {errors[best]:.4g} mm), {worst} farthest ({errors[worst]:.4g} mm); "
+        f"estimates over the steps beside the truth: {best} closest "
+        f"(mean error {low:.4g} mm), {worst} farthest ({high:.4g} mm); "
         f"{numbers['wrong n_k']} orders n_k wrong"
     )
 

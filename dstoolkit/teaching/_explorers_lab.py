@@ -30,7 +30,7 @@ from ._lab import (
     lab_numbers,
     plot_method_levels,
 )
-from ._readouts import method_label
+from ._readouts import lowest_and_highest, method_label
 
 # -- the lab: measure with a sound card, or with the virtual tube ---------------------------------
 
@@ -262,15 +262,16 @@ class LabWidget(Explorer):
         )
         found = [figure_alt(settings, numbers, "Recording and its resonances", words=words)]
         if methods:
-            best, worst = min(methods, key=methods.get), max(methods, key=methods.get)
+            shown = {method_label(name): off for name, off in methods.items()}
+            best, worst = lowest_and_highest({name: 1e3 * off for name, off in shown.items()})
             found.append(
                 figure_alt(
                     settings,
                     numbers,
                     "Level by each method",
-                    words=f"each method's level beside the true level: {method_label(best)} "
-                    f"closest ({1e3 * methods[best]:.3g} mm off), {method_label(worst)} "
-                    f"farthest ({1e3 * methods[worst]:.3g} mm off)",
+                    words=f"each method's level beside the true level: {best} closest "
+                    f"({1e3 * min(methods.values()):.3g} mm off), {worst} farthest "
+                    f"({1e3 * max(methods.values()):.3g} mm off)",
                 )
             )
         return found

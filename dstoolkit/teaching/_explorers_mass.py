@@ -28,6 +28,7 @@ from ._explorer import (
     positions,
     slider,
 )
+from ._readouts import lowest_and_highest
 
 # -- mass functions on a finite frame ----------------------------------------------------
 
@@ -37,11 +38,11 @@ LEVEL_FRAME = ("low", "mid", "high")
 def describe_mass(numbers: Mapping[str, Any]) -> str:
     """Say what the mass-function figure shows: the likeliest level and the ignorance."""
     betp = {name[5:-1]: float(v) for name, v in numbers.items() if name.startswith("BetP(")}
-    likeliest = max(betp, key=betp.get)
+    _, likeliest = lowest_and_highest(betp, ".2f")
     return (
         f"the masses of the focal elements, and each subset's belief and plausibility with "
-        f"the pignistic probability: {likeliest} is the likeliest level "
-        f"(BetP {betp[likeliest]:.2f}), the ignorance m(Θ) is {float(numbers['m(Θ)']):.2f}"
+        f"the pignistic probability: {likeliest} likeliest "
+        f"(BetP {max(betp.values()):.2f}), the ignorance m(Θ) is {float(numbers['m(Θ)']):.2f}"
     )
 
 
