@@ -124,3 +124,19 @@ def test_outside_a_kernel_a_change_is_computed_before_the_assignment_returns() -
     assert ex.background is False  # the tests' process is no kernel
     level.value = 2.0
     assert ex._numbers == {"level (m)": 2.0}
+
+
+def test_an_idle_worker_ends_and_the_next_change_starts_another(monkeypatch) -> None:
+    import dstoolkit.teaching._explorer as explorer_module
+
+    monkeypatch.setattr(explorer_module, "WORKER_IDLE_S", 0.05)
+    ex, level, _ = _explorer()
+    level.value = 2.0
+    ex.wait(timeout=30)
+    first = ex._worker
+    assert first is not None
+    first.join(timeout=30)  # idle for 0.05 s: it ends
+    assert not first.is_alive() and ex._worker is None
+    level.value = 3.0
+    ex.wait(timeout=30)
+    assert ex.numbers == {"level (m)": 3.0}

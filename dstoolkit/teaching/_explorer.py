@@ -96,6 +96,8 @@ FIGURE_DPI = 100
 STALE_CLASS = "dstoolkit-stale"
 #: The status line while the explorer computes the controls' latest values.
 WORKING = "Computing…"
+#: Seconds an explorer's worker thread waits for a change before it ends.
+WORKER_IDLE_S = 60.0
 #: How a notebook shows a stale figure (the explorer carries this style with it).
 _STALE_STYLE = (
     f"<style>.{STALE_CLASS}{{opacity:0.4;filter:grayscale(1);transition:opacity 0.05s}}</style>"
@@ -631,11 +633,16 @@ class Explorer(widgets.VBox):
             self._wake.notify_all()
 
     def _work(self) -> None:
-        """Compute the latest pending values until none are left, then wait (the worker)."""
+        """Compute the latest pending values until none are left, then wait (the worker).
+
+        A worker left idle for ``WORKER_IDLE_S`` ends (the next change starts another): an
+        explorer no longer shown holds no thread.
+        """
         while True:
             with self._wake:
-                while self._pending is None:
-                    self._wake.wait()
+                if not self._wake.wait_for(lambda: self._pending is not None, WORKER_IDLE_S):
+                    self._worker = None
+                    return
                 values, self._pending = self._pending, None
             failure: BaseException | None = None
             try:
