@@ -355,7 +355,7 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
 
     The bounds are scaled about the modes; each method is named at its line's end and has
     its own line style and marker. Where the bounded-error filter failed in some runs its
-    point is marked by a large black cross (:data:`FAILED_MARK`: black, not a colour that a
+    point is marked by a large black cross (``FAILED_MARK``: black, not a colour that a
     colour-vision deficiency confuses with a method's), named "failed runs" beside the first
     one and in the legend, and the fraction of failed runs is written under that scale's
     tick label (away from the lines, which it would cross inside the axes).

@@ -419,11 +419,11 @@ class Explorer(widgets.VBox):
     describe : Callable[[Mapping[str, Any]], str], optional
         What a state's figure shows, in words (its trend, where the estimate lies against
         the truth), from the state's numbers: the picture's text alternative
-        (:func:`figure_alt`). Default: the numbers themselves.
+        (``figure_alt``). Default: the numbers themselves.
     background : bool, optional
         Compute a change of a control in a worker thread, the latest values winning
-        (:meth:`wait` joins it); default: :func:`in_kernel`. Else a change is computed
-        before the assignment returns.
+        (:meth:`wait` joins it); default: whether this runs in a Jupyter kernel. Else a
+        change is computed before the assignment returns.
 
     Attributes
     ----------
@@ -433,7 +433,7 @@ class Explorer(widgets.VBox):
     readout : ipywidgets.HTML
         The readout of the numbers.
     status : ipywidgets.HTML
-        Kernel only: "Computing…" (:data:`WORKING`) from a change until the figure follows
+        Kernel only: "Computing…" (``WORKING``) from a change until the figure follows
         it, empty while the figure is up to date, the error after a render that failed.
     computed : int
         How many renders ran (the first one and the precomputed states included).
