@@ -428,8 +428,9 @@ _THEME_CONTROLS_JS = """() => Array.from(document.querySelectorAll(
 
 _FOCUS_ON_JS = """(i) => { const el = document.querySelector(`[data-theme-control="${i}"]`);
     el.focus(); const style = getComputedStyle(el);
-    return {name: el.getAttribute('title') || el.getAttribute('aria-label')
-                  || (el.textContent || '').trim().slice(0, 40),
+    return {name: el.getAttribute('title') || el.getAttribute('data-bs-original-title')
+                  || el.getAttribute('aria-label') || (el.textContent || '').trim().slice(0, 40)
+                  || el.className,
             focusVisible: el.matches(':focus-visible'), focused: document.activeElement === el,
             outline: style.outlineStyle, width: parseFloat(style.outlineWidth) || 0,
             shadow: style.boxShadow}; }"""
