@@ -6,7 +6,7 @@
   test-artifacts/axe/.
 * every slider is named by its label and its ``aria-valuetext`` is the value it shows (with
   the unit of its label); a disabled slider is out of the Tab order, exposed as disabled and
-  described by the note that says where it works; every explorer readout is a live region;
+  described by the note that says where it works; every explorer has a polite live region;
 * every image has a written ``alt`` (not a file name), the explorer figures included;
 * at 320 CSS px no page scrolls sideways;
 * every page's first load (everything fetched until ``load``), gzipped, stays within the
@@ -136,7 +136,9 @@ _SCROLLING_JS = """() => Array.from(document.querySelectorAll('.bd-article *')).
     el.scrollWidth > el.clientWidth + 1
     && ['auto', 'scroll'].includes(getComputedStyle(el).overflowX)).map(el => ({
       tag: el.tagName + '.' + el.className, tabindex: el.getAttribute('tabindex'),
-      name: el.getAttribute('aria-label') || ''}))"""
+      name: el.getAttribute('aria-label') || '',
+      nested: el.getAttribute('tabindex') === '0' && el.parentElement !== null
+        && el.parentElement.closest('.bd-article [tabindex="0"][role="region"]') !== null}))"""
 
 
 def _report(chromium: object, site: str, toc_page: str, mode: str) -> dict:
@@ -275,6 +277,12 @@ def test_boxes_that_scroll_take_the_keyboard_focus_at_320_px(
         and not box["tag"].startswith(("INPUT", "SELECT", "TEXTAREA"))
     ]
     assert not unnamed, f"{page_name}: boxes that scroll without a name: {unnamed[:5]}"
+    # one Tab stop per region (none inside another), each with a name of its own
+    nested = [box for box in report["scrolling"] if box["nested"]]
+    assert not nested, f"{page_name}: Tab stops inside a scrolling region: {nested[:5]}"
+    names = [box["name"] for box in report["scrolling"] if box["tabindex"] == "0" and box["name"]]
+    twice = sorted({name for name in names if names.count(name) > 1})
+    assert not twice, f"{page_name}: scroll boxes with the same name: {twice[:5]}"
 
 
 @pytest.mark.parametrize("page_name", [p for p in toc_pages() if (ROOT / f"{p}.md").is_file()])
@@ -405,5 +413,62 @@ def test_without_the_skip_link_tab_follows_the_text(chromium: object, site: str)
             )
         assert page.evaluate(_FOCUSED_JS)["slider"], f"{TAB_PAGE}: {order}"
         print(f"{TAB_PAGE}: first slider at Tab {expected + 1} without the skip link")
+    finally:
+        context.close()
+
+
+#: The theme's own controls at the top of a page: the header's buttons and links (and the
+#: site title's link), each visibly focused when it has the keyboard focus.
+_THEME_CONTROLS_JS = """() => Array.from(document.querySelectorAll(
+    '.bd-header-article button, .bd-header-article a[href], .bd-header-article .btn,'
+    + ' a.navbar-brand')).filter(el => el.getClientRects().length > 0
+      && getComputedStyle(el).visibility !== 'hidden').map((el, i) => {
+    el.setAttribute('data-theme-control', String(i));
+    return i; })"""
+
+_FOCUS_ON_JS = """(i) => { const el = document.querySelector(`[data-theme-control="${i}"]`);
+    el.focus(); const style = getComputedStyle(el);
+    return {name: el.getAttribute('title') || el.getAttribute('data-bs-original-title')
+                  || el.getAttribute('aria-label') || (el.textContent || '').trim().slice(0, 40)
+                  || el.className,
+            focusVisible: el.matches(':focus-visible'), focused: document.activeElement === el,
+            outline: style.outlineStyle, width: parseFloat(style.outlineWidth) || 0,
+            shadow: style.boxShadow}; }"""
+
+
+def test_the_themes_controls_show_their_focus(chromium: object, site: str) -> None:
+    """Every button and link of the theme's header shows a visible focus ring (WCAG 2.4.7).
+
+    axe does not test focus visibility: the outline (or shadow) of each control is read
+    while it has the keyboard focus.
+    """
+    context, page = _open(chromium, site, TAB_PAGE)
+    try:
+        controls = page.evaluate(_THEME_CONTROLS_JS)
+        assert len(controls) >= 2, f"{TAB_PAGE}: the header's buttons were not found"
+        page.keyboard.press("Tab")  # keyboard use: focus() then shows :focus-visible
+        for i in controls:
+            focused = page.evaluate(_FOCUS_ON_JS, i)
+            if not focused["focused"]:
+                continue  # not focusable (a disabled item)
+            assert focused["focusVisible"] and _visibly_focused(focused), (
+                f"{TAB_PAGE}: no visible focus on the theme's {focused['name']!r}: {focused}"
+            )
+        names = [page.evaluate(_FOCUS_ON_JS, i)["name"] for i in controls]
+        assert any("sidebar" in n.lower() for n in names), names
+    finally:
+        context.close()
+
+
+def test_the_site_title_is_in_a_landmark(chromium: object, site: str) -> None:
+    """The site title (its link home) is inside a landmark, as is all content of a page."""
+    context, page = _open(chromium, site, TAB_PAGE)
+    try:
+        outside = page.evaluate("""() => Array.from(document.querySelectorAll(
+            'a.navbar-brand')).filter(el => el.closest(
+            'nav, header, main, aside, footer, [role="navigation"], [role="banner"],'
+            + ' [role="main"], [role="complementary"], [role="contentinfo"]') === null)
+            .map(el => el.outerHTML.slice(0, 120))""")
+        assert not outside, f"{TAB_PAGE}: the site title outside any landmark: {outside}"
     finally:
         context.close()

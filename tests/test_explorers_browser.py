@@ -76,6 +76,21 @@ def _wait_for_change(page: object, area: object, before: str, timeout_ms: int = 
     return False
 
 
+#: At most this many words are announced per change (tests/test_explorer_sentences.py).
+MAX_WORDS = 25
+
+
+def _announced(page: object, area: object, before: str) -> str:
+    """Return what the explorer's live region says after a change (once it changed)."""
+    region = area.locator(".dstoolkit-announce")
+    for _ in range(30):  # the page's script writes it 50 ms after the state changed
+        said = region.inner_text().strip()
+        if said != before:
+            return said
+        page.wait_for_timeout(100)
+    return region.inner_text().strip()
+
+
 def _slider_moves(page: object, area: object, slider: object) -> tuple[bool, bool]:
     """Press → (then ← if the slider sat at its end) on the slider's handle.
 
@@ -123,11 +138,19 @@ def test_explorers_answer_on_the_static_site(chromium: object, site: str, page_n
             assert enabled, f"{page_name}: explorer {i} has no live slider"
             area.scroll_into_view_if_needed()
             area.screenshot(path=str(SHOTS / f"{stem}-{i}-before.png"))
+            states = area.locator(".dstoolkit-states").count() > 0
             for k, slider in enumerate(enabled):
                 name = slider.locator(".widget-label").inner_text()
+                region = area.locator(".dstoolkit-announce")
+                said_before = region.inner_text().strip() if states else ""
                 moved, changed = _slider_moves(page, area, slider)
                 assert moved, f"{page_name}: live slider {name!r} did not move"
                 assert changed, f"{page_name}: moving {name!r} changed no figure or readout"
+                if states:  # an Explorer: one short sentence in its live region
+                    assert region.get_attribute("aria-live") == "polite", page_name
+                    said = _announced(page, area, said_before)
+                    assert said and said != said_before, f"{page_name}: {name!r} said nothing"
+                    assert len(said.split()) <= MAX_WORDS, f"{page_name}: {said!r}"
                 live_sliders += 1
                 if k == 0:
                     area.screenshot(path=str(SHOTS / f"{stem}-{i}-after.png"))
@@ -157,5 +180,65 @@ def test_explorers_answer_on_the_static_site(chromium: object, site: str, page_n
         assert not problems.external_requests, (
             f"{page_name}: requests leaving 127.0.0.1: {problems.external_requests}"
         )
+    finally:
+        context.close()
+
+
+# Every slider of the page once the page's script has fixed it up (data-a11y): whether its
+# readout can be edited, what it shows and what its handle says.
+_READOUTS_JS = """
+() => Array.from(document.querySelectorAll('.widget-subarea .widget-slider')).map(box => {
+  const readout = box.querySelector('.widget-readout');
+  const handle = box.querySelector('[role="slider"]');
+  return {
+    fixed: box.getAttribute('data-a11y') === '1',
+    editable: readout ? readout.isContentEditable : null,
+    shown: readout ? readout.textContent.trim() : null,
+    valuetext: handle ? handle.getAttribute('aria-valuetext') : null,
+  };
+})
+"""
+
+
+@pytest.mark.parametrize("page_name", explorer_pages())
+def test_typing_into_a_readout_changes_nothing(chromium: object, site: str, page_name: str) -> None:
+    """Type a value (or nonsense) into every slider's readout on the site: nothing changes.
+
+    The readout is text: neither it, the slider's aria-valuetext nor the explorer's figure
+    and readout change.
+    """
+    context = chromium.new_context(viewport={"width": 1280, "height": 900})
+    page = context.new_page()
+    page.set_default_timeout(TIMEOUT_MS)
+    problems = _watch(context, page)
+    try:
+        page.goto(site + page_name + ".html", wait_until="load")
+        page.wait_for_function(_WIDGETS_RENDERED_JS, timeout=TIMEOUT_MS)
+        page.wait_for_function(
+            "() => Array.from(document.querySelectorAll('.widget-subarea .widget-slider'))"
+            ".every(box => box.getAttribute('data-a11y') === '1')"
+        )
+        before = page.evaluate(_READOUTS_JS)
+        assert before, f"{page_name}: no slider"
+        editable = [s["shown"] for s in before if s["editable"]]
+        assert not editable, f"{page_name}: readouts that can be edited: {editable}"
+        explorers = page.evaluate(_MARK_JS)
+        for i in explorers:
+            area = page.locator(f'[data-explorer="{i}"]')
+            readouts = area.locator(".widget-slider .widget-readout")
+            for j in range(readouts.count()):
+                readout = readouts.nth(j)
+                readout.scroll_into_view_if_needed()
+                shown = _shown(area)
+                for typed in ("7.6", "0.70", "abc"):
+                    readout.click(force=True)  # as a reader would, to type into it
+                    page.keyboard.type(typed)
+                    page.keyboard.press("Enter")
+                page.keyboard.press("Tab")
+                page.wait_for_timeout(300)  # what a typed value would have changed by now
+                assert _shown(area) == shown, f"{page_name}: typing into readout {j} changed it"
+        after = page.evaluate(_READOUTS_JS)
+        assert after == before, f"{page_name}: typing changed a readout or a value text"
+        assert not problems.console_errors, f"{page_name}: console {problems.console_errors}"
     finally:
         context.close()

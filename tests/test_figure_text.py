@@ -330,3 +330,13 @@ def test_scale_study_writes_the_failures_clear_of_the_lines() -> None:
     labels = [t.get_text() for t in _drawn_tick_labels(ax.xaxis)]
     assert labels[0] == f"0.3\n{study[0.3].inconsistent_runs:.0%} failed", labels
     assert labels[1:] == ["1", "2"]
+
+
+def test_a_table_names_every_column():
+    """A blank header cell leaves a screen reader nothing to say: markdown_table refuses it."""
+    from dstoolkit.errors import InvalidInputError
+    from dstoolkit.plots import markdown_table
+
+    with pytest.raises(InvalidInputError, match="column 2 is blank"):
+        markdown_table(["evidence", " ", "Bel"], [("E1", 0.1, 0.2)])
+    assert markdown_table(["evidence", "Bel"], [("E1", 0.25)]).data.startswith("| evidence | Bel |")

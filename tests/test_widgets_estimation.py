@@ -95,7 +95,8 @@ def test_level_explorer_first_state_is_the_papers_fig11_case(states) -> None:
     wrong, total = map(int, first["wrong n_k"].split("/"))
     assert wrong > total // 2 and mm(first[DIRECT]) > 100
     sliders = [v for v in first["continuous_update"] if v is not False]
-    assert not sliders, "sliders must redraw on release"
+    # sliders follow the drag (the worker drops what it cannot keep up with)
+    assert sliders and all(sliders), "sliders must follow the drag"
 
 
 def test_moving_the_level_changes_the_figure_and_the_numbers(states) -> None:

@@ -93,7 +93,9 @@ def test_noise_explorer_reproduces_table_1_and_rejects_a_bad_mode():
 
 
 @pytest.mark.slow
-def test_every_slider_redraws_on_release_only():
+def test_every_slider_follows_the_drag():
+    # the figure follows the drag: in a kernel the explorer's worker drops the values it
+    # cannot keep up with (tests/test_explorer_background.py)
     for make in (
         w.mass_function_explorer,
         w.conflict_explorer,
@@ -103,4 +105,4 @@ def test_every_slider_redraws_on_release_only():
     ):
         for control in make().controls.values():
             if hasattr(control, "continuous_update"):
-                assert control.continuous_update is False, (make.__name__, control.description)
+                assert control.continuous_update is True, (make.__name__, control.description)

@@ -95,7 +95,8 @@ def test_filter_widget_structure_controls_and_output():
     for control in ex.controls.values():
         assert control in ex.children[1].children
         if hasattr(control, "continuous_update"):
-            assert control.continuous_update is False, control.description
+            # follows the drag; the worker drops what it cannot keep up with
+            assert control.continuous_update is True, control.description
     assert ex.controls["level"].value == 9.6 and ex.controls["temperature"].value == 23.9
 
 

@@ -7,14 +7,15 @@
  *
  * - a slider's handle is named by the slider's label (aria-labelledby), and its
  *   aria-valuetext is the value its readout shows, followed by the unit its label ends with
- *   ("level L (m)" -> "9.6 m"), not noUiSlider's position index;
+ *   ("level L (m)" -> "9.6 m"), not noUiSlider's position index; the readout is plain
+ *   text, not editable (the handle is the only way to change the value);
  * - a disabled control (a slider, a dropdown, a check box or a button) is exposed as
  *   disabled (aria-disabled), leaves the Tab order and is described (aria-describedby) by
  *   the explorer's note that says where it works;
- * - the precomputed states of an explorer (the stack that its live controls switch, or the
- *   last part of a widget whose slider switches a stack of its own) are a polite live
- *   region: what a change shows (the readout and the figure's text alternative) is
- *   announced.
+ * - when an explorer's live controls switch its precomputed states, the state's one
+ *   sentence (the control's value and the one or two results that moved) is put in the
+ *   explorer's polite live region (.dstoolkit-announce); the last part of a widget whose
+ *   slider switches a stack of its own is a polite live region itself.
  *
  * On a page with an explorer, a "Skip to the first explorer" link opens the article; it is
  * shown when it takes the keyboard focus.
@@ -83,10 +84,12 @@
       var disabled = track.hasAttribute("disabled");
       setAttr(handle, "tabindex", disabled ? "-1" : "0");
       describeDisabled(handle, disabled);
-      // The readout can be typed into; a disabled one is text, out of the Tab order.
+      // On this page the slider is the control and its readout is text that follows it:
+      // a value typed into the readout would have no precomputed state, so the readout
+      // cannot be edited (the widget makes it editable again on every update: undone here).
       setAttr(readout, "aria-labelledby", idOf(label, "dstoolkit-label"));
-      if (readout.isContentEditable) setAttr(readout, "role", "textbox");
-      else setAttr(readout, "role", null);
+      setAttr(readout, "contenteditable", "false");
+      setAttr(readout, "role", null);
     }
 
     var observer = new MutationObserver(sync);
@@ -108,11 +111,44 @@
     sync();
   }
 
+  // The sentence of the state an explorer shows (each state carries one, hidden).
+  function sentenceOf(stack) {
+    var said = Array.from(stack.querySelectorAll(".dstoolkit-said"));
+    var shown = said.filter(function (p) {
+      return p.parentElement && p.parentElement.offsetParent !== null;
+    });
+    var one = shown.length ? shown[shown.length - 1] : said[said.length - 1];
+    return one ? textOf(one) : "";
+  }
+
   function fixStates(stack) {
     // Only the outermost stack of an explorer (two live controls nest stacks).
     if (stack.parentElement && stack.parentElement.closest(".dstoolkit-states")) return;
-    setAttr(stack, "aria-live", "polite");
-    setAttr(stack, "aria-atomic", "false");
+    if (stack.hasAttribute("data-a11y")) return;
+    var area = stack.closest(".widget-subarea") || stack.parentElement;
+    var region = area && area.querySelector(".dstoolkit-announce");
+    if (!region) return;  // drawn a moment later: fixed then
+    stack.setAttribute("data-a11y", "1");
+    // One short sentence per change ("Level L 5.1 m: series-fit L 5.101 m, resonances 41."),
+    // not the readout's headers and numbers and the figure's text alternative.
+    setAttr(region, "aria-live", "polite");
+    setAttr(region, "aria-atomic", "true");
+    setAttr(region, "role", "status");
+    var last = sentenceOf(stack);
+    var waiting = false;
+    new MutationObserver(function () {
+      if (waiting) return;
+      waiting = true;
+      window.setTimeout(function () {
+        waiting = false;
+        var now = sentenceOf(stack);
+        if (now && now !== last) {
+          last = now;
+          region.textContent = now;
+        }
+      }, 50);
+    }).observe(stack, {childList: true, subtree: true, attributes: true,
+                       attributeFilter: ["class", "style", "hidden"]});
   }
 
   function fix(root) {

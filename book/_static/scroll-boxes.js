@@ -5,7 +5,9 @@
  * controls or a long formula scrolls inside its own box instead of widening the page
  * (dstoolkit.css). Any box of the article that does scroll gets the keyboard focus
  * (tabindex="0", so the arrow keys scroll it), the role of a region and a name that says
- * what it holds ("Code, scrolls sideways"); a box that
+ * what it holds and which one it is ("Code: positions(slider(…, scrolls sideways"; the
+ * same name twice gets its number, "(2)"); a box inside a box that already scrolls (a
+ * code block's pre in its highlight box) takes no Tab stop of its own; a box that
  * fits again gives them back, so on a wide screen the Tab order holds only links and
  * controls. Checked again when the window is resized and when the page changes (MathJax
  * typesets, the explorers draw).
@@ -49,11 +51,40 @@
     return "Content";
   }
 
+  // The words that tell this box from the others of its kind: a table's caption or first
+  // header, a code block's first line of code, a formula's text.
+  var WHICH_CHARS = 40;
+  function whichOf(box, kind) {
+    var text = "";
+    if (kind === "Table") {
+      var head = box.querySelector("caption") || box.querySelector("th");
+      text = head ? head.textContent : "";
+    } else {
+      text = (box.textContent || "").split("\n").map(function (line) {
+        return line.trim();
+      }).filter(Boolean)[0] || "";
+    }
+    text = text.replace(/\s+/g, " ").trim();
+    return text.length > WHICH_CHARS ? text.slice(0, WHICH_CHARS - 1) + "…" : text;
+  }
+
   function nameOf(box, direction) {
     var kind = kindOf(box);
-    var caption = box.querySelector("caption");
-    var text = caption ? caption.textContent.replace(/\s+/g, " ").trim() : "";
-    return (text ? kind + " " + text : kind) + (direction === "x" ? SIDEWAYS : ", scrolls");
+    var which = whichOf(box, kind);
+    return (which ? kind + ": " + which : kind) + (direction === "x" ? SIDEWAYS : ", scrolls");
+  }
+
+  // The same name on two boxes: the second and later ones get their number.
+  function distinctNames() {
+    var seen = {};
+    document.querySelectorAll(".bd-article [role='region'][aria-label]").forEach(function (box) {
+      if (!/, scrolls( sideways)?$/.test(box.getAttribute("aria-label"))) return;
+      var name = box.getAttribute("aria-label").replace(/ \(\d+\)(, scrolls( sideways)?)$/, "$1");
+      seen[name] = (seen[name] || 0) + 1;
+      var wanted = seen[name] === 1 ? name
+        : name.replace(/(, scrolls( sideways)?)$/, " (" + seen[name] + ")$1");
+      if (box.getAttribute("aria-label") !== wanted) box.setAttribute("aria-label", wanted);
+    });
   }
 
   // Every box of the article that scrolls sideways takes the focus and is named; a marked
@@ -69,8 +100,14 @@
           && box.scrollWidth > box.clientWidth + 1
           && !box.matches("a, button, input, select, textarea, summary, [role]")) {
         // a box the theme made a Tab stop because it scrolls by a few pixels: named too
-        box.setAttribute("aria-label", kindOf(box) + SIDEWAYS);
+        box.setAttribute("aria-label", nameOf(box, "x"));
         box.setAttribute("role", "region");
+        return;
+      }
+      // one Tab stop per region: a box inside one that scrolls already is reached by it
+      if (direction && !marked && box.parentElement &&
+          box.parentElement.closest("[" + MARK + "]")) {
+        if (box.getAttribute("tabindex") === "0" && !named) box.setAttribute("tabindex", "-1");
         return;
       }
       if (direction) {
@@ -92,6 +129,7 @@
         box.removeAttribute(MARK);
       }
     });
+    distinctNames();
   }
 
   var pending = null;

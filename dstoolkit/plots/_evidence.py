@@ -39,7 +39,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Rectangle
 from matplotlib.text import Text
 
-from dstoolkit.errors import EvidenceError
+from dstoolkit.errors import EvidenceError, InvalidInputError
 from dstoolkit.evidence import IntervalEvidence, MassFunction, alpha_cuts, possibility
 
 from ._kept import animate, set_limits
@@ -1036,7 +1036,8 @@ def markdown_table(headers: Sequence[str], rows: Iterable[Sequence[Any]], fmt: s
     Parameters
     ----------
     headers : collections.abc.Sequence
-        The column headers.
+        The column headers, each one named (a blank header cell leaves a screen reader
+        nothing to say for its column).
     rows : collections.abc.Iterable
         The rows, one value per column.
     fmt : str, optional
@@ -1047,6 +1048,11 @@ def markdown_table(headers: Sequence[str], rows: Iterable[Sequence[Any]], fmt: s
     IPython.display.Markdown
         The table, shown as a table in a notebook.
 
+    Raises
+    ------
+    InvalidInputError
+        A header is blank.
+
     Examples
     --------
     >>> print(markdown_table(["x", "y"], [(1.0, "a")], fmt=".1f").data)
@@ -1055,6 +1061,13 @@ def markdown_table(headers: Sequence[str], rows: Iterable[Sequence[Any]], fmt: s
     | 1.0 | a |
     """
     from IPython.display import Markdown
+
+    blank = [i for i, header in enumerate(headers) if not str(header).strip()]
+    if blank:
+        raise InvalidInputError(
+            f"markdown_table: the header of column {blank[0] + 1} is blank; name every "
+            "column (what its cells are), so that a screen reader can say it"
+        )
 
     def cell(v: Any) -> str:
         if isinstance(v, float | np.floating):

@@ -24,11 +24,13 @@ from dstoolkit.studies import ExampleComparison, MismatchResult, OrderRuleStudy
 from ._experiments import EXTRA_STYLES, STYLE, line_style
 from ._kept import animate, set_limits, snapped_limits
 from ._style import (
+    END_LABEL_GID,
     SMALL_PT,
     label_line_ends,
     legend_above,
     log_ticks,
     new_figure,
+    place_line_end_labels,
     root_figure,
     styled,
 )
@@ -291,10 +293,11 @@ def noise_bounds_figure(
 
     The true and assumed possibility distributions of v and w
     (:func:`plot_noise_assumption`) beside every method's mean error per step
-    (:func:`plot_step_errors`, titled ``title``). The explorer's own (11 in wide, in the
-    notebook's style); :func:`update_noise_bounds_figure` draws other assumptions on it. The
-    noises' axes span ``v_range`` and ``w_range`` (the sliders' ranges of the bounds, with
-    matplotlib's margin) whatever the assumption, the errors' axis snaps to round numbers
+    (:func:`plot_step_errors`, titled ``title``, each line named at its end). The
+    explorer's own (11 in wide, in the notebook's style);
+    :func:`update_noise_bounds_figure` draws other assumptions on it. The noises' axes
+    span ``v_range`` and ``w_range`` (the sliders' ranges of the bounds, with matplotlib's
+    margin) whatever the assumption, the errors' axis snaps to round numbers
     (``snapped_limits``) and the data are animated: most changes redraw only the data
     (blitting), and the true noise stands still while the assumed one moves.
     """
@@ -302,7 +305,7 @@ def noise_bounds_figure(
     ax_v, ax_w, ax_e = fig.subplots(1, 3, width_ratios=[1, 1, 2.2])
     plot_noise_assumption(true_v, assumed_v, ax_v, title="state noise v (Hz)")
     plot_noise_assumption(true_w, assumed_w, ax_w, title="observation noise w (Hz)")
-    plot_step_errors(errors, ax_e, title=title)
+    plot_step_errors(errors, ax_e, title=title, end_labels=True)
     for ax, (lo, hi) in ((ax_v, v_range), (ax_w, w_range)):
         ax.set_xlim(lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo))
     # the data follow the controls and are redrawn alone (blitting) while the limits,
@@ -328,15 +331,34 @@ def update_noise_bounds_figure(
     update_noise_assumption(ax_v, true_v, assumed_v)
     update_noise_assumption(ax_w, true_w, assumed_w)
     update_step_errors(ax_e, errors)
+    # each method's name stays level with its line's end (the lines are told apart by
+    # their names, styles and markers as well as by colour)
+    names = [text for text in ax_e.texts if text.get_gid() == END_LABEL_GID]
+    place_line_end_labels(ax_e, ax_e.lines, names)
+
+
+#: How :func:`plot_scale_study` marks a scale where the bounded-error filter failed: a
+#: large black cross (no method is drawn in black there) with a white edge.
+FAILED_MARK: dict[str, Any] = {
+    "marker": "X",
+    "ms": 11,
+    "mfc": "black",
+    "mec": "white",
+    "mew": 1.0,
+    "zorder": 5,
+}
 
 
 @styled
 def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = None) -> Figure:
     """Plot mean |x̂ − x| of each method against the factor scaling the assumed bounds.
 
-    The bounds are scaled about the modes; the bounded-error filter's marker is a red cross
-    where it failed in some runs, and the fraction of failed runs is written under that
-    scale's tick label (away from the lines, which it would cross inside the axes).
+    The bounds are scaled about the modes; each method is named at its line's end and has
+    its own line style and marker. Where the bounded-error filter failed in some runs its
+    point is marked by a large black cross (``FAILED_MARK``: black, not a colour that a
+    colour-vision deficiency confuses with a method's), named "failed runs" beside the first
+    one and in the legend, and the fraction of failed runs is written under that scale's
+    tick label (away from the lines, which it would cross inside the axes).
 
     Parameters
     ----------
@@ -361,6 +383,7 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
     fig, ax = _figure(ax, (7.5, 3.6))
     scales = np.array(sorted(study))
     methods = list(next(iter(study.values())).errors)
+    labels = {_style(name)["label"] for name in methods}
     for name in methods:
         st = _style(name)
         ax.loglog(
@@ -372,9 +395,23 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
             label=st["label"],
         )
     failed = {s: study[s].inconsistent_runs if "bounded_error" in methods else 0 for s in scales}
-    for s, frac in failed.items():
-        if frac > 0:
-            ax.plot(s, study[s].mean_errors()["bounded_error"], "x", color="red", ms=10, mew=2)
+    crosses = [s for s, frac in failed.items() if frac > 0]
+    if crosses:
+        ax.plot(
+            crosses,
+            [study[s].mean_errors()["bounded_error"] for s in crosses],
+            ls="none",
+            label="failed runs",
+            **FAILED_MARK,
+        )
+        ax.annotate(  # named beside its first mark too, as the lines are at their ends
+            "failed runs",
+            (crosses[0], study[crosses[0]].mean_errors()["bounded_error"]),
+            xytext=(9.0, 6.0),
+            textcoords="offset points",
+            fontsize=SMALL_PT,
+            color="#222222",
+        )
     ax.axvline(1.0, color="black", lw=0.8, ls="--")
     ax.xaxis.set_major_locator(FixedLocator(scales.tolist()))
     ax.xaxis.set_major_formatter(
@@ -392,7 +429,7 @@ def plot_scale_study(study: Mapping[float, MismatchResult], ax: Axes | None = No
     ax.set_ylabel("mean |x̂ − x| (Hz)")
     ax.grid(True, which="both", alpha=0.3)
     legend_above(ax, ncols=3)
-    label_line_ends(ax)
+    label_line_ends(ax, [line for line in ax.lines if line.get_label() in labels], short=True)
     return fig
 
 

@@ -33,8 +33,15 @@ own readout (:meth:`Explorer.readout_for`) and text alternatives
 a button calling :meth:`Explorer.refresh`): the lab's measuring station
 (:class:`~dstoolkit.teaching.LabWidget`) is such an explorer.
 
-Sliders made by :func:`slider` use ``continuous_update=False``: the figure is redrawn
-when the mouse is released, so the page never stalls. A ``render`` that raises an
+In a kernel a change never makes the explorer lag: the control's callback only notes the
+latest values and wakes one worker thread, which computes them (values set while it
+computes replace each other: the latest wins, the ones in between are dropped). Until the
+figure follows the controls again the status line says "Computing…" and the stale figure
+is dimmed (:data:`STALE_CLASS`). :meth:`Explorer.wait` joins the pending work, and reading
+``numbers``, ``figure``, ``figures`` or ``picture`` waits for it; outside a kernel (a script,
+the tests, the static site's precomputation) a change is computed at once, before the
+assignment returns. Sliders made by :func:`slider` follow the drag
+(``continuous_update=True``). A ``render`` that raises an
 :class:`~dstoolkit.errors.EvidenceError` (or any ``ValueError``) shows the message in the
 readout instead of a figure: the learner sees *why* a setting is invalid.
 
@@ -52,6 +59,7 @@ import html
 import io
 import itertools
 import os
+import re
 import threading
 import weakref
 from collections.abc import Callable, Mapping, Sequence
@@ -60,6 +68,7 @@ from typing import Any, cast
 import ipywidgets as widgets
 import matplotlib.pyplot as plt
 import numpy as np
+import traitlets
 from matplotlib.artist import Artist
 from matplotlib.axis import Axis as MplAxis
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -72,6 +81,8 @@ from dstoolkit.errors import (
 )
 
 Render = Callable[..., tuple[Figure | Sequence[Figure] | None, Mapping[str, Any]]]
+#: What a state's figure shows, in words, from its numbers (its text alternative).
+Describe = Callable[[Mapping[str, Any]], str]
 
 #: The environment variable scripts/build-book.sh sets to "1": explorers built while the book
 #: is executed for the static site precompute the states of their live controls.
@@ -81,6 +92,38 @@ STATIC_SITE_ENV = "DSTOOLKIT_STATIC_SITE"
 RUN_PAGE = "run.html"
 #: Resolution of the explorers' figures (the notebook's inline backend uses 100 dpi too).
 FIGURE_DPI = 100
+#: The CSS class of an explorer's output while its figure is out of date (being recomputed).
+STALE_CLASS = "dstoolkit-stale"
+#: The status line while the explorer computes the controls' latest values.
+WORKING = "Computing…"
+#: Seconds an explorer's worker thread waits for a change before it ends.
+WORKER_IDLE_S = 60.0
+#: How a notebook shows a stale figure (the explorer carries this style with it).
+_STALE_STYLE = (
+    f"<style>.{STALE_CLASS}{{opacity:0.4;filter:grayscale(1);transition:opacity 0.05s}}</style>"
+)
+
+
+def in_kernel() -> bool:
+    """Whether this runs in a Jupyter kernel (a front end shows the widgets).
+
+    Returns
+    -------
+    bool
+        True inside an IPython kernel (a notebook, JupyterLab, nbclient); False in a script,
+        a plain interpreter or the tests' own process.
+
+    Examples
+    --------
+    >>> in_kernel()
+    False
+    """
+    try:
+        from IPython import get_ipython
+    except ImportError:  # pragma: no cover - IPython comes with ipywidgets
+        return False
+    shell = get_ipython()
+    return shell is not None and getattr(shell, "kernel", None) is not None
 
 
 def static_site() -> bool:
@@ -105,6 +148,40 @@ def static_site() -> bool:
     return os.environ.get(STATIC_SITE_ENV, "") == "1"
 
 
+class StepSlider(widgets.FloatSlider):
+    """A float slider whose value is always one of its steps.
+
+    A value typed into its readout (or set from Python) moves the slider to the nearest
+    step within its range, and the explorer draws that value; a value that is no number
+    (NaN) is refused (a ``TraitError``) and the slider keeps its value, so the readout
+    reverts. The slider's handle, its readout and the figure always show the same value.
+
+    Examples
+    --------
+    >>> s = StepSlider(value=4.6, min=1.0, max=10.6, step=0.1)
+    >>> s.value = 4.63
+    >>> s.value
+    4.6
+    >>> s.value = 50.0
+    >>> s.value
+    10.6
+    """
+
+    # traitlets keeps one validator per trait, the last of the class's validators by name:
+    # this one's name sorts after FloatSlider's (the doctest above checks that it is used)
+    @traitlets.validate("value")
+    def _value_on_a_step(self, proposal: Any) -> float:
+        value = float(proposal["value"])
+        if not np.isfinite(value):
+            raise traitlets.TraitError(
+                f"{self.description or 'the slider'}: {proposal['value']!r} is not a value "
+                f"between {self.min} and {self.max}; type a number"
+            )
+        lo, hi = float(self.min), float(self.max)
+        steps = round((min(max(value, lo), hi) - lo) / self.step)
+        return round(min(hi, lo + steps * self.step), 10)
+
+
 def slider(
     description: str,
     value: float,
@@ -113,8 +190,8 @@ def slider(
     step: float,
     *,
     readout_format: str = ".3f",
-) -> widgets.FloatSlider:
-    """Return a float slider that redraws on release (``continuous_update=False``).
+) -> StepSlider:
+    """Return a float slider that follows the drag (``continuous_update=True``).
 
     Parameters
     ----------
@@ -131,8 +208,8 @@ def slider(
 
     Returns
     -------
-    ipywidgets.FloatSlider
-        320 px wide, its label in full.
+    StepSlider
+        320 px wide, its label in full; a typed value snaps to the nearest step.
 
     See Also
     --------
@@ -142,15 +219,15 @@ def slider(
     --------
     >>> s = slider("level L (m)", 9.6, 1.0, 10.6, 0.1, readout_format=".1f")
     >>> s.value, s.continuous_update
-    (9.6, False)
+    (9.6, True)
     """
-    return widgets.FloatSlider(
+    return StepSlider(
         value=value,
         min=lo,
         max=hi,
         step=step,
         description=description,
-        continuous_update=False,
+        continuous_update=True,
         readout_format=readout_format,
         style={"description_width": "initial"},
         layout=widgets.Layout(width="320px"),
@@ -158,7 +235,7 @@ def slider(
 
 
 def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSlider:
-    """Return an integer slider that redraws on release.
+    """Return an integer slider that follows the drag.
 
     Parameters
     ----------
@@ -172,7 +249,7 @@ def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSli
     Returns
     -------
     ipywidgets.IntSlider
-        Step 1, ``continuous_update=False``.
+        Step 1, ``continuous_update=True``.
 
     Examples
     --------
@@ -185,7 +262,7 @@ def int_slider(description: str, value: int, lo: int, hi: int) -> widgets.IntSli
         max=hi,
         step=1,
         description=description,
-        continuous_update=False,
+        continuous_update=True,
         style={"description_width": "initial"},
         layout=widgets.Layout(width="320px"),
     )
@@ -335,6 +412,18 @@ class Explorer(widgets.VBox):
     draw : bool, optional
         In a kernel, render the controls' values at once (default); else the readout and
         the output stay empty until :meth:`refresh`.
+    said : Sequence[str], optional
+        The numbers (by name) that the sentence announcing a change of state on the static
+        site says after the control's new value (:func:`change_sentence`); default the
+        first two.
+    describe : Callable[[Mapping[str, Any]], str], optional
+        What a state's figure shows, in words (its trend, where the estimate lies against
+        the truth), from the state's numbers: the picture's text alternative
+        (``figure_alt``). Default: the numbers themselves.
+    background : bool, optional
+        Compute a change of a control in a worker thread, the latest values winning
+        (:meth:`wait` joins it); default: whether this runs in a Jupyter kernel. Else a
+        change is computed before the assignment returns.
 
     Attributes
     ----------
@@ -343,6 +432,11 @@ class Explorer(widgets.VBox):
         ``SelectionSlider``s (or the original ``Dropdown``) and the others are disabled.
     readout : ipywidgets.HTML
         The readout of the numbers.
+    status : ipywidgets.HTML
+        Kernel only: "Computing…" (``WORKING``) from a change until the figure follows
+        it, empty while the figure is up to date, the error after a render that failed.
+    computed : int
+        How many renders ran (the first one and the precomputed states included).
     output : ipywidgets.Output
         The figures, as PNG outputs (kernel only: the static site shows its precomputed
         states instead, and this widget is closed empty).
@@ -400,10 +494,15 @@ class Explorer(widgets.VBox):
         static: bool | None = None,
         rows: Sequence[widgets.Widget | Sequence[widgets.Widget]] | None = None,
         draw: bool = True,
+        said: Sequence[str] | None = None,
+        describe: Describe | None = None,
+        background: bool | None = None,
     ) -> None:
         super().__init__()
         self.controls = dict(controls)
         self._render = render
+        self._said = None if said is None else tuple(said)
+        self._describe = describe
         # one refresh at a time: a render and the picture it draws belong together, also
         # when two threads move the controls (a re-entrant lock: a render may move one)
         self._lock = threading.RLock()
@@ -414,13 +513,25 @@ class Explorer(widgets.VBox):
                 f"live controls must be one or two of {list(self.controls)}, got {list(self.live)}"
             )
         self.static = static_site() if static is None else static
-        self.figure: Figure | None = None
-        self.figures: list[Figure] = []
-        self.picture: bytes | None = None
-        self.numbers: dict[str, Any] = {}
+        self._figure: Figure | None = None
+        self._figures: list[Figure] = []
+        self._picture: bytes | None = None
+        self._numbers: dict[str, Any] = {}
         self.states: dict[tuple[Any, ...], dict[str, Any]] = {}
         self.readout = widgets.HTML()
         self.output = widgets.Output()
+        self.status = widgets.HTML(layout=widgets.Layout(min_height="1.5em"))
+        self.status.add_class("dstoolkit-status")
+        self.computed = 0
+        # the worker: one slot for the latest values not yet computed (None: nothing
+        # pending), the thread, whether it computes, the last error it met
+        self.background = (in_kernel() if background is None else background) and not self.static
+        self._pending: dict[str, Any] | None = None
+        self._working = False
+        self._worker: threading.Thread | None = None
+        self._failure: BaseException | None = None
+        self._wake = threading.Condition()
+        self._holder: int | None = None  # the thread inside refresh() (it never waits)
         self._layouts: dict[tuple[Any, ...], list[Any]] = {}
         self._engines: weakref.WeakKeyDictionary[Figure, Any] = weakref.WeakKeyDictionary()
         self._kept: Figure | None = None  # the figure whose background is kept for blitting
@@ -439,7 +550,8 @@ class Explorer(widgets.VBox):
                 for control in self.controls.values():
                     control.observe(self._on_change, "value")
             body = self._rows or [self._row(self.controls.values())]
-            self.children = (*self._head, *body, self.readout, self.output)
+            tail = [widgets.HTML(_STALE_STYLE), self.status] if self.background else []
+            self.children = (*self._head, *body, self.readout, *tail, self.output)
             if draw:
                 self.refresh()
 
@@ -457,8 +569,133 @@ class Explorer(widgets.VBox):
         """
         return {name: control.value for name, control in self.controls.items()}
 
+    # -- what the last render showed (reading waits for pending work) ----------------------
+
+    @property
+    def numbers(self) -> dict[str, Any]:
+        """The last numbers shown; ``{"error": message}`` after an invalid setting."""
+        self._join()
+        return self._numbers
+
+    @numbers.setter
+    def numbers(self, value: dict[str, Any]) -> None:
+        self._numbers = value
+
+    @property
+    def figure(self) -> Figure | None:
+        """The last (first) figure drawn (closed; ``figure.savefig`` still works)."""
+        self._join()
+        return self._figure
+
+    @figure.setter
+    def figure(self, value: Figure | None) -> None:
+        self._figure = value
+
+    @property
+    def figures(self) -> list[Figure]:
+        """Every figure of the last render."""
+        self._join()
+        return self._figures
+
+    @figures.setter
+    def figures(self, value: list[Figure]) -> None:
+        self._figures = value
+
+    @property
+    def picture(self) -> bytes | None:
+        """The PNG of ``figure`` as shown (also the explorer's still picture in print)."""
+        self._join()
+        return self._picture
+
+    @picture.setter
+    def picture(self, value: bytes | None) -> None:
+        self._picture = value
+
+    # -- a change of a control ---------------------------------------------------------------
+
     def _on_change(self, _change: Any) -> None:
-        self.refresh()
+        if not self.background:
+            self.refresh()
+            return
+        # only note the latest values and wake the worker: the front end's next message
+        # (the drag goes on) is read at once, whatever the computation costs
+        with self._wake:
+            self._pending = self.values()
+            if not self._working:
+                self._working = True
+                self.status.value = WORKING
+                self.output.add_class(STALE_CLASS)
+            if self._worker is None or not self._worker.is_alive():
+                self._worker = threading.Thread(
+                    target=self._work, name="dstoolkit-explorer", daemon=True
+                )
+                self._worker.start()
+            self._wake.notify_all()
+
+    def _work(self) -> None:
+        """Compute the latest pending values until none are left, then wait (the worker).
+
+        A worker left idle for ``WORKER_IDLE_S`` ends (the next change starts another): an
+        explorer no longer shown holds no thread.
+        """
+        while True:
+            with self._wake:
+                if not self._wake.wait_for(lambda: self._pending is not None, WORKER_IDLE_S):
+                    self._worker = None
+                    return
+                values, self._pending = self._pending, None
+            failure: BaseException | None = None
+            try:
+                self.refresh(**values)
+            except Exception as exc:  # a bug in a render: shown, and raised again by wait()
+                failure = exc
+                self.readout.value = warning_html(f"{type(exc).__name__}: {exc}")
+            with self._wake:
+                self._failure = failure or self._failure
+                if self._pending is None:  # up to date: say so, undim the figure
+                    self._working = False
+                    self.status.value = (
+                        "" if failure is None else html.escape(f"Failed: {type(failure).__name__}")
+                    )
+                    self.output.remove_class(STALE_CLASS)
+                    self._wake.notify_all()
+
+    def _join(self) -> None:
+        """Wait for pending work, unless called by the worker itself (a render reading)."""
+        inside = self._holder == threading.get_ident()
+        if (
+            self._worker is not None
+            and not inside
+            and threading.current_thread() is not self._worker
+        ):
+            self.wait()
+
+    def wait(self, timeout: float | None = None) -> None:
+        """Wait until the explorer shows the controls' latest values.
+
+        Parameters
+        ----------
+        timeout : float, optional
+            Seconds to wait at most; default: as long as the computation takes.
+
+        Raises
+        ------
+        TimeoutError
+            The work was still pending after ``timeout`` seconds.
+        Exception
+            The error a render raised in the worker since the last ``wait`` (other than
+            the invalid settings the readout explains): the readout shows it too.
+        """
+        with self._wake:
+            done = self._wake.wait_for(lambda: not self._working, timeout)
+            failure, self._failure = self._failure, None
+        if not done:
+            raise TimeoutError(
+                f"the explorer was still computing after {timeout} s: wait longer, or "
+                "check that its render returns"
+            )
+        if failure is not None:
+            raise failure
 
     def refresh(self, **overrides: Any) -> None:
         """Render the controls' values into the readout and the output.
@@ -474,7 +711,12 @@ class Explorer(widgets.VBox):
             themselves do not move.
         """
         with self._lock:
-            self._refresh(overrides)
+            outer, self._holder = self._holder, threading.get_ident()
+            try:
+                self.computed += 1
+                self._refresh(overrides)
+            finally:
+                self._holder = outer
 
     def readout_for(self, numbers: Mapping[str, Any]) -> str:
         """Return the readout's HTML for the numbers of a valid render.
@@ -504,9 +746,29 @@ class Explorer(widgets.VBox):
         Returns
         -------
         list[str]
-            One ``figure_alt(settings, numbers)`` for every picture (the last one serves the rest).
+            One ``figure_alt`` for every picture (the last one serves the rest): what the
+            figure shows in words if the explorer has ``describe``, else its numbers.
         """
-        return [figure_alt(settings, numbers)]
+        words = None if self._describe is None or "error" in numbers else self._describe(numbers)
+        return [figure_alt(settings, numbers, words=words)]
+
+    def change_sentence(self, settings: Mapping[str, str], numbers: Mapping[str, Any]) -> str:
+        """Return the sentence announcing a precomputed state (:func:`change_sentence`).
+
+        Parameters
+        ----------
+        settings : Mapping[str, str]
+            The live controls' labels and the values they show in this state.
+        numbers : Mapping[str, Any]
+            The state's numbers; the explorer's ``said`` ones are spoken.
+
+        Returns
+        -------
+        str
+            One short sentence.
+        """
+        said = self._said if self._said is not None else tuple(numbers)[:2]
+        return change_sentence(settings, numbers, said)
 
     def _refresh(self, overrides: dict[str, Any]) -> None:
         try:
@@ -527,7 +789,7 @@ class Explorer(widgets.VBox):
                 self.output.outputs = ()
             return
         self.numbers = dict(numbers)
-        self.readout.value = self.readout_for(self.numbers)
+        self.readout.value = self.readout_for(self._numbers)
         figures = [] if drawn is None else [drawn] if isinstance(drawn, Figure) else list(drawn)
         if figures:
             self.figures = figures
@@ -629,7 +891,10 @@ class Explorer(widgets.VBox):
                 for name, v in zip(names, combo, strict=True)
             }
             leaves[combo] = state_leaf(
-                self.readout, self.output, self.figure_alts(settings, self.numbers)
+                self.readout,
+                self.output,
+                self.figure_alts(settings, self.numbers),
+                said=self.change_sentence(settings, self.numbers),
             )
         fixed = [c for name, c in self.controls.items() if name not in self.live]
         stack, site = state_stack(self.controls, self.live, leaves)
@@ -644,7 +909,16 @@ class Explorer(widgets.VBox):
         for widget in [*fixed, *_widgets_in(body)]:  # controls and buttons alike
             if id(widget) not in shown and hasattr(widget, "disabled"):
                 widget.disabled = True
-        self.children = (*self._head, *body, site_note(list(site.values()), bool(fixed)), stack)
+        # the page's script copies the shown state's sentence into this live region
+        announce = widgets.HTML("")
+        announce.add_class("dstoolkit-announce")
+        self.children = (
+            *self._head,
+            *body,
+            site_note(list(site.values()), bool(fixed)),
+            stack,
+            announce,
+        )
         # the kernel's readout and output are not shown on the site: empty, and closed so
         # that the page's widget state holds no copy of a picture
         self.output.outputs = ()
@@ -691,8 +965,82 @@ def _plain(value: Any) -> str:
     return str(value)
 
 
+_UNIT = re.compile(r"^(.*\S)\s\(([^()]+)\)$")
+#: The most words an error message takes in a sentence announcing a state.
+_ERROR_WORDS = 16
+
+
+def spoken(name: str, value: Any) -> str:
+    """Return a name and its value as said aloud, the unit after the value.
+
+    Parameters
+    ----------
+    name : str
+        A control's label or a number's name, its unit last in parentheses ("level L (m)").
+    value : Any
+        The value: a float is said to 4 significant digits, anything else as it prints.
+
+    Returns
+    -------
+    str
+        For example "level L 5.1 m".
+
+    Examples
+    --------
+    >>> spoken("series-fit L (m)", 5.10123), spoken("resonances", 41), spoken("m({low})", "0.30")
+    ('series-fit L 5.101 m', 'resonances 41', 'm({low}) 0.30')
+    """
+    text = f"{float(value):.4g}" if isinstance(value, float | np.floating) else str(value)
+    unit = _UNIT.match(name)
+    if unit is None or len(unit[2].split()) > 2:  # "(share of steps)" says what, not a unit
+        return f"{name} {text}"
+    return f"{unit[1]} {text} {unit[2]}"
+
+
+def change_sentence(
+    settings: Mapping[str, str], numbers: Mapping[str, Any], said: Sequence[str]
+) -> str:
+    """Return one short sentence saying a state: the controls' values, then what moved.
+
+    Parameters
+    ----------
+    settings : Mapping[str, str]
+        The live controls' labels and the values they show.
+    numbers : Mapping[str, Any]
+        The state's numbers (``{"error": message}`` for an invalid setting).
+    said : Sequence[str]
+        The names of the numbers to say (one or two).
+
+    Returns
+    -------
+    str
+        For example "Level L 5.1 m: series-fit L 5.101 m, resonances 41."; an invalid
+        setting's message in at most 16 words.
+
+    Examples
+    --------
+    >>> change_sentence({"level L (m)": "5.1"}, {"estimate (m)": 5.0912, "found": 41},
+    ...                 ["estimate (m)", "found"])
+    'Level L 5.1 m: estimate 5.091 m, found 41.'
+    """
+    head = ", ".join(spoken(label, shown) for label, shown in settings.items())
+    if "error" in numbers:
+        words = str(numbers["error"]).split()
+        cut = " ".join(words[:_ERROR_WORDS]) + ("…" if len(words) > _ERROR_WORDS else "")
+        body = f"not possible: {cut}"
+    else:
+        body = ", ".join(spoken(name, numbers[name]) for name in said if name in numbers)
+    text = (f"{head}: {body}" if head else body).rstrip(".") + "."
+    first = text.split(" ", 1)[0]
+    # a word is capitalised, a symbol ("m({low})", "w upper", "x̂") is not
+    return text[:1].upper() + text[1:] if len(first) > 1 and first.isalpha() else text
+
+
 def figure_alt(
-    settings: Mapping[str, str], numbers: Mapping[str, Any], what: str = "Figure"
+    settings: Mapping[str, str],
+    numbers: Mapping[str, Any],
+    what: str = "Figure",
+    words: str | None = None,
 ) -> str:
     """Return the text alternative of a precomputed figure, made from its numbers.
 
@@ -704,6 +1052,8 @@ def figure_alt(
         The numbers of the readout (floats to 4 decimals, as the readout shows them).
     what
         The first word(s): what the picture is.
+    words
+        What the figure shows, in words; default: its numbers.
 
     Returns
     -------
@@ -711,7 +1061,11 @@ def figure_alt(
         For example "Figure for level L (m) = 9.6: estimate (m) 9.6100, truth (m) 9.6000."
     """
     at = ", ".join(f"{label} = {value}" for label, value in settings.items())
-    shown = ", ".join(f"{name} {_plain(value)}" for name, value in numbers.items())
+    shown = (
+        ", ".join(f"{name} {_plain(value)}" for name, value in numbers.items())
+        if words is None
+        else words.rstrip(".")
+    )
     head = f"{what} for {at}" if at else what
     return f"{head}: {shown}." if shown else f"{head}."
 
@@ -729,12 +1083,17 @@ def image_html(png: bytes, alt: str) -> str:
 
 
 def state_leaf(
-    readout: widgets.HTML, output: widgets.Output, alt: str | Sequence[str] = "Figure"
+    readout: widgets.HTML,
+    output: widgets.Output,
+    alt: str | Sequence[str] = "Figure",
+    said: str = "",
 ) -> widgets.VBox:
     """Return a copy of what a readout and an output show now: one precomputed state.
 
     The output's pictures become ``<img>`` elements with the text alternatives ``alt``
-    (one for every picture, or one for all), in an ``HTML`` widget after the readout.
+    (one for every picture, or one for all), in an ``HTML`` widget after the readout. The
+    sentence ``said`` (:func:`change_sentence`) goes with the readout, hidden: the page's
+    script announces it when the state is shown.
     """
     alts = [alt] if isinstance(alt, str) else list(alt)
     pictures = [
@@ -743,7 +1102,8 @@ def state_leaf(
         if "image/png" in o.get("data", {})
     ]
     images = "".join(image_html(png, alts[min(i, len(alts) - 1)]) for i, png in enumerate(pictures))
-    children: list[widgets.Widget] = [widgets.HTML(readout.value)]
+    hidden = f"<p class='dstoolkit-said' hidden>{html.escape(said)}</p>" if said else ""
+    children: list[widgets.Widget] = [widgets.HTML(readout.value + hidden)]
     if images:
         children.append(widgets.HTML(images))
     return widgets.VBox(children)

@@ -5,6 +5,7 @@ A bounded-error filter with wrong bounds.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -25,6 +26,18 @@ from ._explorer import (
 )
 
 # -- why bounded noise: a bounded-error filter with wrong bounds --------------------------------
+
+
+def describe_bounded(numbers: Mapping[str, Any]) -> str:
+    """Say what the bounded-error figure shows: whether the band holds the truth."""
+    inside = float(numbers["truth inside (fraction of steps)"])
+    empty = numbers["first empty box"]
+    fails = "never empties" if empty == "never" else f"empties at step {empty}"
+    return (
+        f"the filter's band over the steps with the truth and the readings: the truth lies "
+        f"inside it at {inside:.0%} of the steps, the band {fails}, its mean width "
+        f"{float(numbers['mean width']):.3g}"
+    )
 
 
 def bounded_error_explorer(
@@ -85,4 +98,6 @@ def bounded_error_explorer(
         render,
         title="Bounded-error filter with wrong bounds",
         live={"scale": positions(scale, 11, 0.5, 3.0)},
+        said=("truth inside (fraction of steps)", "mean width"),
+        describe=describe_bounded,
     )

@@ -6,6 +6,8 @@ Zadeh's two doctors.
 from __future__ import annotations
 
 import functools
+from collections.abc import Mapping
+from typing import Any
 
 import ipywidgets as widgets
 from matplotlib.figure import Figure
@@ -29,8 +31,20 @@ from ._explorer import (
     positions,
     slider,
 )
+from ._readouts import lowest_and_highest
 
 # -- conflict: Zadeh's example -------------------------------------------------------------
+
+
+def describe_doctors(numbers: Mapping[str, Any]) -> str:
+    """Say what the two doctors' figure shows: where the combination puts its mass."""
+    masses = {name[2:-1]: float(v) for name, v in numbers.items() if name.startswith("m(")}
+    _, most = lowest_and_highest(masses, ".2f")
+    return (
+        f"each doctor's masses and their combination: the conflict K is "
+        f"{float(numbers['conflict K']):.2f}, and the combination puts most mass "
+        f"({max(masses.values()):.2f}) on {most}"
+    )
 
 
 def conflict_explorer(
@@ -105,4 +119,11 @@ def conflict_explorer(
         }
 
     live = {"epsilon": positions(controls["epsilon"], 11), "rule": positions(controls["rule"])}
-    return Explorer(controls, render, title="Zadeh's two doctors", live=live)
+    return Explorer(
+        controls,
+        render,
+        title="Zadeh's two doctors",
+        live=live,
+        said=("conflict K", "m(tumour)"),
+        describe=describe_doctors,
+    )

@@ -6,6 +6,7 @@ The paper's Appendix A.
 from __future__ import annotations
 
 import functools
+from collections.abc import Mapping
 from typing import Any
 
 import ipywidgets as widgets
@@ -32,6 +33,17 @@ from ._explorer import (
 )
 
 # -- dependent evidence: the paper's Appendix A -----------------------------------------------
+
+
+def describe_dependent(numbers: Mapping[str, Any]) -> str:
+    """Say what the dependent-evidence figure shows: where the two combinations' means lie."""
+    dep, naive = float(numbers["E[dependent]"]), float(numbers["E[Dempster]"])
+    side = "above" if dep > naive else "below"
+    return (
+        f"the focal intervals of E1, E2, their dependent combination and Dempster's: with "
+        f"dependence D {float(numbers['D']):.2f} the dependent combination's expectation "
+        f"{dep:.3g} lies {abs(dep - naive):.3g} {side} Dempster's"
+    )
 
 
 def dependent_combination_explorer(
@@ -124,4 +136,11 @@ def dependent_combination_explorer(
         }
 
     live = {"a2": positions(controls["a2"], 9, 0.0, 0.8)}
-    return Explorer(controls, render, title="Dependent evidence: the paper's Appendix A", live=live)
+    return Explorer(
+        controls,
+        render,
+        title="Dependent evidence: the paper's Appendix A",
+        live=live,
+        said=("D", "E[dependent]"),
+        describe=describe_dependent,
+    )

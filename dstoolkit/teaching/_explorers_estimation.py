@@ -6,6 +6,8 @@ The paper's Figs. 10–11 for one run.
 from __future__ import annotations
 
 import functools
+from collections.abc import Mapping
+from typing import Any
 
 import ipywidgets as widgets
 
@@ -19,7 +21,7 @@ from ._explorer import (
     positions,
     slider,
 )
-from ._readouts import estimation_numbers
+from ._readouts import estimation_numbers, lowest_and_highest
 
 # -- estimating the level: the paper's Figs. 10–11 for one run ------------------------------------
 
@@ -28,6 +30,20 @@ ESTIMATION_FIGURES: dict[str, str] = {
     "Fig. 10: frequencies": "frequency",
     "Fig. 11: levels": "level",
 }
+
+
+def describe_estimation(numbers: Mapping[str, Any]) -> str:
+    """Say what the level-estimation figure shows: which estimate stays closest to the truth."""
+    errors = {
+        name: float(str(value).split()[0]) for name, value in numbers.items() if name != "wrong n_k"
+    }
+    best, worst = lowest_and_highest(errors, ".4g")
+    low, high = min(errors.values()), max(errors.values())
+    return (
+        f"estimates over the steps beside the truth: {best} closest "
+        f"(mean error {low:.4g} mm), {worst} farthest ({high:.4g} mm); "
+        f"{numbers['wrong n_k']} orders n_k wrong"
+    )
 
 
 def level_estimation_explorer(
@@ -147,4 +163,6 @@ def level_estimation_explorer(
         title="One run of the gauge: the paper's Figs. 10–11 "
         "(readout: mean |L̂ − L| / mean |x̂ − f|)",
         live=live,
+        said=("paper's filter", "wrong n_k"),
+        describe=describe_estimation,
     )

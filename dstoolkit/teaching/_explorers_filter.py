@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+from collections.abc import Mapping
 from typing import Any
 
 import ipywidgets as widgets
@@ -124,6 +125,31 @@ def render_filter(
     return fig, filter_summary(seq, n, result)
 
 
+def describe_filter(numbers: Mapping[str, Any]) -> str:
+    """Say what the filter widget's figure shows: the estimate's error against the readings'."""
+    est, obs = float(numbers["mean |x̂ − x| (Hz)"]), float(numbers["mean |z − x| (Hz)"])
+    below = numbers["below 1 Hz from step"]
+    settles = (
+        "never stays below 1 Hz" if below == "never" else f"stays below 1 Hz from step {below}"
+    )
+    closer = f"{obs / est:.1f} times closer to the truth than" if est < obs else "no closer than"
+    return (
+        f"deviations from the truth over the steps: the estimate's error {settles}, "
+        f"on average {closer} the readings"
+    )
+
+
+def describe_step(numbers: Mapping[str, Any]) -> str:
+    """Say what one step of the filter shows: where the estimate lies against the truth."""
+    error = float(numbers["x̂ − x (Hz)"])
+    side = "above" if error > 0 else "below"
+    return (
+        f"the step's evidence, its fusion and the final focal elements over the state; "
+        f"the estimate lies {abs(error):.2f} Hz {side} the truth, with dependence D "
+        f"{float(numbers['D']):.2f}"
+    )
+
+
 def filter_widget(
     level_m: float = 9.6,
     temperature_c: float = 23.9,
@@ -138,7 +164,7 @@ def filter_widget(
     """Return the paper's filter on a simulated gauge, live.
 
     Every redraw is one filter run of about 83 steps and its figure
-    (:func:`render_filter`); sliders redraw on release.
+    (:func:`render_filter`); sliders follow the drag, the latest value winning.
 
     Parameters
     ----------
@@ -218,7 +244,12 @@ def filter_widget(
         "epsilon": positions(controls["epsilon"], 3, 0.0, 0.5),
     }
     return Explorer(
-        controls, render, title="The dependent-evidence filter on a simulated gauge", live=live
+        controls,
+        render,
+        title="The dependent-evidence filter on a simulated gauge",
+        live=live,
+        said=("mean |x̂ − x| (Hz)", "mean |L̂ − L| (mm)"),
+        describe=describe_filter,
     )
 
 
@@ -310,4 +341,11 @@ def filter_step_explorer(
         return figure.figure, step_numbers(result, step, truth)
 
     live = {"step": positions(controls["step"], 10)}
-    return Explorer(controls, render, title="Inside one step of the filter", live=live)
+    return Explorer(
+        controls,
+        render,
+        title="Inside one step of the filter",
+        live=live,
+        said=("x̂ (Hz)", "x̂ − x (Hz)"),
+        describe=describe_step,
+    )

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import replace
+from typing import Any
 
 from dstoolkit.gauge import (
     PAPER_SWEEP,
@@ -36,6 +38,18 @@ GAUGE_CONDITIONS = RecordingConditions(
     background_noise_pa=spl_to_pa(50.0),
     latency_s=0.01,
 )
+
+
+def describe_gauge(numbers: Mapping[str, Any]) -> str:
+    """Say what the gauge explorer's figure shows: where the level lies against the truth."""
+    error = float(numbers["fit error (mm)"])
+    side = "above" if error > 0 else "below"
+    return (
+        f"the recording's envelope with its {numbers['resonances']} detected resonances "
+        f"against the model's lines n c/(2L), and their detection errors below; the series "
+        f"fit puts the level {abs(error):.1f} mm {side} the truth, eq. 43 gets "
+        f"{numbers['eq. 43 orders wrong']} orders wrong"
+    )
 
 
 def gauge_explorer(
@@ -113,4 +127,11 @@ def gauge_explorer(
         "level": positions(controls["level"], 9, 1.6, 9.6),
         "temperature": positions(controls["temperature"], 1, 5.0, 5.0),
     }
-    return Explorer(controls, render, title="A simulated acoustic level gauge", live=live)
+    return Explorer(
+        controls,
+        render,
+        title="A simulated acoustic level gauge",
+        live=live,
+        said=("series-fit L (m)", "resonances"),
+        describe=describe_gauge,
+    )

@@ -30,7 +30,7 @@ from ._lab import (
     lab_numbers,
     plot_method_levels,
 )
-from ._readouts import method_label
+from ._readouts import lowest_and_highest, method_label
 
 # -- the lab: measure with a sound card, or with the virtual tube ---------------------------------
 
@@ -139,6 +139,7 @@ class LabWidget(Explorer):
             static=static,
             rows=rows,
             draw=record_now,
+            said=("level (m)", "resonances"),
         )
         self.button.on_click(self.record)
         self.devices_button.on_click(self.refresh_devices)
@@ -228,9 +229,10 @@ class LabWidget(Explorer):
         )
 
     def figure_alts(self, settings: Mapping[str, str], numbers: Mapping[str, Any]) -> list[str]:
-        """Return the text alternatives of a state's two pictures.
+        """Return the text alternatives of a state's two pictures, in words.
 
-        The recording with all the numbers, the level by each method with the levels.
+        The recording: its resonances and where the measured level lies against the truth;
+        the level by each method: which method is closest to the truth and which farthest.
 
         Parameters
         ----------
@@ -244,14 +246,35 @@ class LabWidget(Explorer):
         list[str]
             Two texts, in the order of the pictures.
         """
-        return [
-            figure_alt(settings, numbers, "Recording and its resonances"),
-            figure_alt(
-                settings,
-                {m: v for m, v in numbers.items() if m.endswith("(m)")},
-                "Level by each method",
-            ),
-        ]
+        if "error" in numbers:
+            return [figure_alt(settings, numbers, "Recording and its resonances")]
+        error = float(numbers["error (mm)"])
+        truth = float(numbers["true level (m)"])
+        methods = {
+            name.removesuffix(" (m)"): abs(float(v) - truth)
+            for name, v in numbers.items()
+            if name.endswith(" (m)") and name not in {"level (m)", "true level (m)", "± 1σ (m)"}
+        }
+        words = (
+            f"the recording's envelope with its {numbers['resonances']} resonances found, "
+            f"{numbers['missed']} missed; the measured level lies {abs(error):.1f} mm "
+            f"{'above' if error > 0 else 'below'} the truth"
+        )
+        found = [figure_alt(settings, numbers, "Recording and its resonances", words=words)]
+        if methods:
+            shown = {method_label(name): off for name, off in methods.items()}
+            best, worst = lowest_and_highest({name: 1e3 * off for name, off in shown.items()})
+            found.append(
+                figure_alt(
+                    settings,
+                    numbers,
+                    "Level by each method",
+                    words=f"each method's level beside the true level: {best} closest "
+                    f"({1e3 * min(methods.values()):.3g} mm off), {worst} farthest "
+                    f"({1e3 * max(methods.values()):.3g} mm off)",
+                )
+            )
+        return found
 
     def _sync(self) -> None:
         """Grey out the controls the chosen devices do not use."""

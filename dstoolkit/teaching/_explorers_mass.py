@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import functools
+from collections.abc import Mapping
+from typing import Any
 
 from matplotlib.figure import Figure
 
@@ -26,10 +28,22 @@ from ._explorer import (
     positions,
     slider,
 )
+from ._readouts import lowest_and_highest
 
 # -- mass functions on a finite frame ----------------------------------------------------
 
 LEVEL_FRAME = ("low", "mid", "high")
+
+
+def describe_mass(numbers: Mapping[str, Any]) -> str:
+    """Say what the mass-function figure shows: the likeliest level and the ignorance."""
+    betp = {name[5:-1]: float(v) for name, v in numbers.items() if name.startswith("BetP(")}
+    _, likeliest = lowest_and_highest(betp, ".2f")
+    return (
+        f"the masses of the focal elements, and each subset's belief and plausibility with "
+        f"the pignistic probability: {likeliest} likeliest "
+        f"(BetP {max(betp.values()):.2f}), the ignorance m(Θ) is {float(numbers['m(Θ)']):.2f}"
+    )
 
 
 def mass_function_explorer(
@@ -110,4 +124,11 @@ def mass_function_explorer(
         "low": positions(controls["low"], 8, 0.0, 0.7),
         "high": positions(controls["high"], 4, 0.0, 0.3),
     }
-    return Explorer(controls, render, title="A mass function on Θ = {low, mid, high}", live=live)
+    return Explorer(
+        controls,
+        render,
+        title="A mass function on Θ = {low, mid, high}",
+        live=live,
+        said=("BetP(low)", "m(Θ)"),
+        describe=describe_mass,
+    )

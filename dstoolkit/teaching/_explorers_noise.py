@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import functools
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -32,6 +34,16 @@ from ._explorer import (
 )
 
 # -- from a bounded noise to evidence ----------------------------------------------------------
+
+
+def describe_noise(numbers: Mapping[str, Any]) -> str:
+    """Say what the noise-to-evidence figure shows: the cuts, their mass and the p-box."""
+    expectation = float(numbers["pignistic expectation"])
+    return (
+        f"the possibility distribution with its α-cuts, the nested focal intervals each "
+        f"carrying {float(numbers['mass per cut']):.3g}, and the p-box between belief and "
+        f"plausibility; the pignistic expectation lies at {expectation:.3g}"
+    )
 
 
 def noise_evidence_explorer(
@@ -117,4 +129,11 @@ def noise_evidence_explorer(
         "p": positions(controls["p"], 8, 1, 8),
         "epsilon": positions(controls["epsilon"], 2, 0.0, 0.5),
     }
-    return Explorer(controls, render, title="From a bounded noise to evidence", live=live)
+    return Explorer(
+        controls,
+        render,
+        title="From a bounded noise to evidence",
+        live=live,
+        said=("mass per cut", "pignistic expectation"),
+        describe=describe_noise,
+    )

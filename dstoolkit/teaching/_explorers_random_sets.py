@@ -7,7 +7,7 @@ outer enclosure).
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any, cast
 
 import ipywidgets as widgets
@@ -243,6 +243,26 @@ def _up(x: float) -> float:
     return -_down(-x)
 
 
+def describe_extension(numbers: Mapping[str, Any]) -> str:
+    """Say what the image explorer's figure shows: which methods hold and which fail."""
+    failed = [name for name, value in numbers.items() if value == "NotMonotoneError"]
+    narrow = [name for name, value in numbers.items() if "too narrow" in str(value)]
+    notes = "".join(
+        [
+            f"; {' and '.join(failed)} {'refuse' if len(failed) > 1 else 'refuses'} f "
+            "(not monotone)"
+            if failed
+            else "",
+            f"; {' and '.join(narrow)} may be too narrow" if narrow else "",
+        ]
+    )
+    return (
+        f"f on the box with its mean-value enclosure, and the image by four methods side by "
+        f"side: subdivision gives {numbers['subdivision']}, the mean-value form "
+        f"{numbers['mean-value']}{notes}"
+    )
+
+
 def extension_explorer(
     function: str = "sin x", lo: float = 0.0, hi: float = 3.0, sign: int = 1
 ) -> Explorer:
@@ -454,4 +474,11 @@ def extension_explorer(
         "hi": positions(controls["hi"], 8, 0.5, 4.0),
         "function": positions(controls["function"]),
     }
-    return Explorer(controls, render, title="The image of an interval: four methods", live=live)
+    return Explorer(
+        controls,
+        render,
+        title="The image of an interval: four methods",
+        live=live,
+        said=("subdivision", "mean-value"),
+        describe=describe_extension,
+    )

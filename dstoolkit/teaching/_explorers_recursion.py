@@ -6,6 +6,7 @@ How the noise a Gaussian filter assumes, and the orders it is fed, show in its N
 from __future__ import annotations
 
 import functools
+from collections.abc import Mapping
 from typing import Any
 
 import ipywidgets as widgets
@@ -36,6 +37,15 @@ def verdict(value: float, band: tuple[float, float]) -> str:
     if value > band[1]:
         return "overconfident"
     return "conservative" if value < band[0] else "consistent"
+
+
+def describe_consistency(numbers: Mapping[str, Any]) -> str:
+    """Say what the consistency figure shows: the averages against the band."""
+    return (
+        f"average NEES and NIS over the steps against the 95 % band of a consistent filter: "
+        f"NEES stays inside at {float(numbers['NEES inside (share of steps)']):.0%} of the "
+        f"steps and says {numbers['NEES says']}, NIS says {numbers['NIS says']}"
+    )
 
 
 def consistency_explorer(
@@ -126,4 +136,11 @@ def consistency_explorer(
         "scale": positions(controls["scale"], 16, 0.5, 2.0),
         "orders": positions(controls["orders"]),
     }
-    return Explorer(controls, render, title="NEES and NIS with the noise you assume", live=live)
+    return Explorer(
+        controls,
+        render,
+        title="NEES and NIS with the noise you assume",
+        live=live,
+        said=("NEES says", "NIS says"),
+        describe=describe_consistency,
+    )

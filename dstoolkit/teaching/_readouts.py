@@ -7,6 +7,7 @@ bounds).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -147,3 +148,35 @@ def mismatch_numbers(result: Any) -> dict[str, Any]:
     out: dict[str, Any] = {f"{method_label(m)} (Hz)": v for m, v in result.mean_errors().items()}
     out["bounded error: inconsistent runs"] = f"{result.inconsistent_runs:.0%}"
     return out
+
+
+def lowest_and_highest(values: Mapping[str, float], fmt: str = ".3g") -> tuple[str, str]:
+    """Return the names of the lowest and of the highest values, as the readout rounds them.
+
+    The values are compared as they are shown (``fmt``), so a difference in the last bits
+    of a float never decides; names that tie are joined with "and".
+
+    Parameters
+    ----------
+    values : Mapping[str, float]
+        Numbers by name (a method's error, say).
+    fmt : str, optional
+        The format they are shown in (default three significant digits).
+
+    Returns
+    -------
+    tuple[str, str]
+        The lowest name(s) and the highest name(s).
+
+    Examples
+    --------
+    >>> lowest_and_highest({"Kalman": 0.47567157028734586, "unscented Kalman": 0.4756715702873353,
+    ...                     "paper": 1.02})
+    ('Kalman and unscented Kalman', 'paper')
+    """
+    shown = {name: float(format(float(v), fmt)) for name, v in values.items()}
+    low, high = min(shown.values()), max(shown.values())
+    return (
+        " and ".join(name for name, v in shown.items() if v == low),
+        " and ".join(name for name, v in shown.items() if v == high),
+    )
