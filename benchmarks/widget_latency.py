@@ -155,12 +155,6 @@ CHANGES: dict[str, tuple[tuple[str, object], ...]] = {
         ("w_upper", -2.0),
         ("start", "observation"),
     ),
-    "consistency_explorer(runs=20)": (
-        ("scale", 0.75),
-        ("orders", "eq43"),
-        ("scale", 1.5),
-        ("orders", "true"),
-    ),
     "copies_explorer()": (
         ("shared", 0.7),
         ("copies", 5),

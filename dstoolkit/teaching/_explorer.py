@@ -644,6 +644,8 @@ class Explorer(widgets.VBox):
                     self._worker = None
                     return
                 values, self._pending = self._pending, None
+            if values is None:  # wait_for returned with a value pending: never None here
+                continue
             failure: BaseException | None = None
             try:
                 self.refresh(**values)

@@ -5,15 +5,31 @@ The same evidence fused with itself: which rule counts it once.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 import ipywidgets as widgets
 
 from ._ex_belief import RULES, copies_belief
 from ._explorer import Explorer, positions, slider
+from ._readouts import lowest_and_highest
 
 #: The most copies the explorer fuses.
 MAX_COPIES = 6
+
+
+def describe_copies(numbers: Mapping[str, Any]) -> str:
+    """Say what the copies figure shows: which rule believes {ok} most and least at n.
+
+    The rules are compared as the readout shows them (four decimals), so that rules which
+    agree there are named together.
+    """
+    by_rule = {name.split(", ", 1)[1]: float(value) for name, value in numbers.items()}
+    low, high = lowest_and_highest(by_rule, ".4f")
+    lines = "Bel({ok}) against the number of copies fused, one line per rule"
+    if low == high:
+        return f"{lines}; at the marked number of copies all the rules agree"
+    return f"{lines}; at the marked number of copies {high} believes {{ok}} most, {low} least"
 
 
 def copies_explorer(shared: float = 0.4, copies: int = 3) -> Explorer:
@@ -59,6 +75,10 @@ def copies_explorer(shared: float = 0.4, copies: int = 3) -> Explorer:
         ),
     }
 
+    # the readout's names: the rules' labels without their equation numbers, which a
+    # screen reader would otherwise read after the value
+    name = {rule: f"Bel({{ok}}), {RULE_STYLE[rule]['label'].split(' (')[0]}" for rule in RULES}
+
     def render(shared: float, copies: int) -> tuple[Any, dict[str, Any]]:
         ns = list(range(1, MAX_COPIES + 1))
         curves = {rule: [copies_belief(shared, n, rule) for n in ns] for rule in RULES}
@@ -71,15 +91,18 @@ def copies_explorer(shared: float = 0.4, copies: int = 3) -> Explorer:
             title=f"one source, m({{ok}}) = {shared:.1f}, fused with itself",
         )
         fig.axes[0].set_ylim(0.0, 1.02)
-        return fig, {
-            f"Bel({{ok}}), {RULE_STYLE[rule]['label']}": curves[rule][int(copies) - 1]
-            for rule in RULES
-        }
+        return fig, {name[rule]: curves[rule][int(copies) - 1] for rule in RULES}
 
     live = {
         "shared": positions(controls["shared"], 9),
         "copies": positions(controls["copies"], MAX_COPIES),
     }
+    paper, _, dempster = (name[rule] for rule in RULES)
     return Explorer(
-        controls, render, title="Fusing a source with itself: who counts it once?", live=live
+        controls,
+        render,
+        title="Fusing a source with itself: who counts it once?",
+        live=live,
+        said=(paper, dempster),
+        describe=describe_copies,
     )
