@@ -153,8 +153,9 @@ def from_set_function(
 
     Parameters
     ----------
-    values : array_like, shape (2^|Θ|,)
-        The set function, entry ``a`` its value on the subset with bit mask ``a``.
+    values : array_like
+        The set function, 2^|Θ| values: entry ``a`` its value on the subset with bit
+        mask ``a``.
     frame : iterable of hashable
         Θ, whose i-th hypothesis is bit i.
     kind : {"mass", "belief", "plausibility", "commonality"}
@@ -533,8 +534,9 @@ def expected_utilities(
     ----------
     m : MassFunction
         The evidence.
-    utility : mapping of action to mapping of hypothesis to float
-        u(a, θ) for every action a and every hypothesis θ of the frame.
+    utility : dict
+        u(a, θ): for every action a, a dict of the utility of each hypothesis θ of the
+        frame.
     criterion : {"pignistic", "maximin", "maximax", "interval"}
         Which expectation.
 
@@ -599,8 +601,8 @@ def decide(
     ----------
     m : MassFunction
         The evidence.
-    utility : mapping of action to mapping of hypothesis to float
-        u(a, θ).
+    utility : dict
+        u(a, θ): for every action a, a dict of the utility of each hypothesis θ.
     criterion : {"pignistic", "maximin", "maximax", "interval"}
         The criterion.
 

@@ -56,8 +56,9 @@ def plot_rule_curves(
     ----------
     x : sequence of float
         The common abscissae.
-    curves : mapping of rule to sequence of float
-        The values of each rule (keys of :data:`RULE_STYLE`), one per x.
+    curves : dict
+        The values of each rule (keys of :data:`RULE_STYLE`), a sequence of float per
+        rule, one per x.
     xlabel, ylabel : str
         The axes' labels, with units.
     current : float, optional
