@@ -17,8 +17,9 @@ import sys
 import pytest
 from conftest import ROOT
 
+from answer_key import solution
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.teaching import REGISTRY, check, set_variant, solution
+from dstoolkit.teaching import REGISTRY, check, set_variant
 from dstoolkit.teaching._isolation import grade_value
 from dstoolkit.teaching._variants import SHEET_CHAPTER, current_variant, data
 

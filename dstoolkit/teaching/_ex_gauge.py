@@ -596,7 +596,7 @@ def _failure_share(fraction: float) -> str:
     ),
 )
 def _() -> str:
-    return _failure_share(float(REGISTRY["beyond.failures"].solution))
+    return _failure_share(float(REGISTRY["beyond.failures"]._expected()))
 
 
 #: The levels (m) between which the spacing prediction moves the slider.

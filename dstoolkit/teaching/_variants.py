@@ -284,7 +284,7 @@ def _draw(chapter: str, variant: int) -> Data:
         if ex_id.split(".")[0] == chapter and getattr(ex, "varies", False)
     ]
     before = range(max(1, variant - WINDOW), variant) if variant < STUDENT_VARIANTS else ()
-    others = [[ex.solution_in(v) for v in (0, *before)] for ex in varying]
+    others = [[ex._expected_in(v) for v in (0, *before)] for ex in varying]
     key = (chapter, variant)
     book = [sols[0] for sols in others]
     fallback: Data | None = None
