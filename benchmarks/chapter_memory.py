@@ -41,7 +41,10 @@ MIB = 2**20
 BUDGET_MIB = 250
 #: A guard against a hanging cell, not a speed requirement.
 CELL_TIMEOUT = 900
-PEAK = "import resource\nprint('PEAK_KIB', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)"
+PEAK = (
+    "import resource, sys\n"
+    "print('PEAK_KIB', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, 'numba' in sys.modules)"
+)
 
 
 def chapter_notebook(stem: str) -> nbformat.NotebookNode:
@@ -59,8 +62,8 @@ def sheet_notebook(stem: str) -> nbformat.NotebookNode:
     return nbformat.from_dict(sheets.build(src, number, title, labels, True))
 
 
-def peak_mib(nb: nbformat.NotebookNode, cwd: Path) -> tuple[float, float]:
-    """Run ``nb`` in a fresh kernel started in ``cwd``; return (peak MiB, seconds)."""
+def peak_mib(nb: nbformat.NotebookNode, cwd: Path) -> tuple[float, float, bool]:
+    """Run ``nb`` in a fresh kernel started in ``cwd``: (peak MiB, seconds, numba loaded)."""
     nb.cells.append(nbformat.v4.new_code_cell(PEAK))
     env = dict(
         os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])
@@ -73,7 +76,8 @@ def peak_mib(nb: nbformat.NotebookNode, cwd: Path) -> tuple[float, float]:
     seconds = time.perf_counter() - start
     for out in nb.cells[-1].get("outputs", []):
         if "PEAK_KIB" in out.get("text", ""):
-            return int(out["text"].split()[1]) * 1024 / MIB, seconds
+            _, kib, numba = out["text"].split()
+            return int(kib) * 1024 / MIB, seconds, numba == "True"
     raise RuntimeError("the kernel printed no peak")
 
 
@@ -89,7 +93,8 @@ def main(argv: list[str] | None = None) -> int:
     numbers = {stem: sheets.sheets(ROOT)[stem][0] for stem in stems}
     kinds = [args.only] if args.only else ["chapter", "sheet"]
     print(
-        f"{'chapter':<24} {'notebook':<8} {'peak MiB':>9} {'seconds':>8}  (budget {BUDGET_MIB} MiB)"
+        f"{'chapter':<24} {'notebook':<8} {'peak MiB':>9} {'seconds':>8} {'numba':>6}"
+        f"  (budget {BUDGET_MIB} MiB)"
     )
     worst = 0.0
     for stem in args.chapter or stems:
@@ -99,11 +104,15 @@ def main(argv: list[str] | None = None) -> int:
                 if kind == "chapter"
                 else (sheet_notebook(stem), ROOT / "notebooks")
             )
-            mib, seconds = peak_mib(nb, cwd)
+            mib, seconds, numba = peak_mib(nb, cwd)
             worst = max(worst, mib)
             flag = "" if mib < BUDGET_MIB else "  OVER"
             label = f"{numbers[stem]:>2} {stem}"
-            print(f"{label:<24} {kind:<8} {mib:>9.1f} {seconds:>8.1f}{flag}", flush=True)
+            print(
+                f"{label:<24} {kind:<8} {mib:>9.1f} {seconds:>8.1f} "
+                f"{'loaded' if numba else '-':>6}{flag}",
+                flush=True,
+            )
     print(f"largest peak: {worst:.1f} MiB (this process: "
           f"{resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MiB)")  # fmt: skip
     return 0

@@ -79,6 +79,7 @@ from ._registry import (
     filter_named,
     register_filter,
     registered_filters,
+    set_comparison_kernel,
     table3_filters,
     unregister_filter,
 )
@@ -97,6 +98,7 @@ __all__ = [
     "BoundedErrorState",
     "BoundedNoise",
     "ComparisonSettings",
+    "set_comparison_kernel",
     "COUNTS",
     "DIAGNOSTICS",
     "DependentEvidenceFilter",
