@@ -37,6 +37,7 @@ NOT_VARYING = {
     "dependent.a6",
     "dependent.theta-merges",
     "filter.mass-rule",
+    "gauge.spacing-ratio",  # on chapter 9's sheet, which shares the gauge's prefix
 }
 
 
@@ -67,9 +68,23 @@ def _teacher_answers(stem: str, variant: int) -> tuple[dict, list[tuple[str, str
     return namespace, checks
 
 
-def test_chapters_two_to_seven_have_variants():
+def test_chapters_two_to_eight_have_variants():
     numbers = {stem: n for stem, (n, *_rest) in sheets.sheets().items()}
-    assert sorted(numbers[stem] for stem in SHEET_CHAPTER) == [2, 3, 4, 5, 6, 7]
+    assert sorted(numbers[stem] for stem in SHEET_CHAPTER) == [2, 3, 4, 5, 6, 7, 8]
+
+
+def test_the_level_gauges_exercises_vary_with_the_students_own_numbers():
+    from answer_key import solution
+    from dstoolkit.teaching._variants import student_variant
+
+    alice, bob = student_variant("s3cret", "alice"), student_variant("s3cret", "bob")
+    assert data("gauge", alice) != data("gauge", bob) != data("gauge", 0)
+    for exercise_id in [k for k in REGISTRY if k.startswith("gauge.") and "-" not in k]:
+        assert REGISTRY[exercise_id].varies, exercise_id
+        mine = solution(exercise_id, variant=alice)
+        assert check(exercise_id, mine, variant=alice), exercise_id
+        assert not check(exercise_id, mine, variant=bob), exercise_id
+        assert not check(exercise_id, solution(exercise_id, variant=0), variant=alice)
 
 
 @pytest.mark.parametrize("stem", sorted(SHEET_CHAPTER))

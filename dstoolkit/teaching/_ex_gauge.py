@@ -21,6 +21,7 @@ from dstoolkit.gauge import (
 
 from ._checking import REGISTRY, exercise
 from ._ex_filter import PAPER_Z1
+from ._variants import book_data, data
 
 # -- the acoustic level gauge (book/level_gauge.md, notebooks/07_level_gauge.ipynb) -----------
 
@@ -39,6 +40,26 @@ EQ43_TOLERANCE_AT = 2000.0
 THERMOMETER_ERROR = 1.0
 
 
+book_data("gauge", {"case_l": 4.6, "case_t": 26.5, "long_l": 9.6, "long_t": 23.9, "latency_ms": 10})
+
+
+def _case() -> tuple[float, float]:
+    """Return the (level m, °C) of the speed and offset exercises (the book's: GAUGE_CASE)."""
+    d = data("gauge")
+    return float(d["case_l"]), float(d["case_t"])
+
+
+def _long() -> tuple[float, float]:
+    """Return the (level m, °C) of the long tube's exercises (the book's: LONG_CASE)."""
+    d = data("gauge")
+    return float(d["long_l"]), float(d["long_t"])
+
+
+def _latency() -> float:
+    """Return the audio latency of the offset exercise, s (the book's: GAUGE_LATENCY)."""
+    return float(data("gauge")["latency_ms"]) / 1000.0
+
+
 def _c(case: tuple[float, float]) -> float:
     return float(speed_of_sound(case[1]))
 
@@ -53,7 +74,8 @@ def eq43_readings() -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (2,)
-        z_1 = 57 f_F + 0.2 and z_2 = 58 f_F − 0.2 at 9.6 m and 23.9 °C, Hz.
+        z_1 = 57 f_F + 0.2 and z_2 = 58 f_F − 0.2 at the sheet's long tube (the book's:
+        9.6 m and 23.9 °C), Hz.
 
     Examples
     --------
@@ -61,31 +83,34 @@ def eq43_readings() -> np.ndarray:
     >>> eq43_readings().shape
     (2,)
     """
-    return np.array(EQ43_ORDERS) * _fundamental(LONG_CASE) + np.array(EQ43_ERRORS)
+    return np.array(EQ43_ORDERS) * _fundamental(_long()) + np.array(EQ43_ERRORS)
 
 
 @exercise(
     "gauge.speed",
+    varies=True,
     hint="The paper's law: c = 331.3 + 0.606 T, T in °C.",
     mistakes=((lambda: 331.3, "That is c at 0 °C; add 0.606 m/s per °C."),),
 )
 def _() -> float:
-    return _c(GAUGE_CASE)
+    return _c(_case())
 
 
 @exercise(
     "gauge.fundamental",
+    varies=True,
     hint="f_F = c/(2L), c at 23.9 °C by the paper's law.",
     mistakes=(
-        (lambda: _c(LONG_CASE) / LONG_CASE[0], "That is c/L: the echo travels down and back, 2L."),
+        (lambda: _c(_long()) / _long()[0], "That is c/L: the echo travels down and back, 2L."),
     ),
 )
 def _() -> float:
-    return _fundamental(LONG_CASE)
+    return _fundamental(_long())
 
 
 @exercise(
     "gauge.count",
+    varies=True,
     atol=0.0,
     rtol=0.0,
     hint="Count the whole numbers n with 1000 ≤ n f_F ≤ 2500: from ⌈1000/f_F⌉ to ⌊2500/f_F⌋.",
@@ -98,38 +123,40 @@ def _() -> float:
     ),
 )
 def _() -> int:
-    return int(resonance_orders(LONG_CASE[0], _c(LONG_CASE), GAUGE_BAND).size)
+    return int(resonance_orders(_long()[0], _c(_long()), GAUGE_BAND).size)
 
 
 @exercise(
     "gauge.offset",
+    varies=True,
     atol=5e-3,
     hint="The envelope peaks κ L/c above n c/(2L); the latency adds κ τ.",
     mistakes=(
         (
-            lambda: SWEEP_RATE * 2 * GAUGE_CASE[0] / _c(GAUGE_CASE) + SWEEP_RATE * GAUGE_LATENCY,
+            lambda: SWEEP_RATE * 2 * _case()[0] / _c(_case()) + SWEEP_RATE * _latency(),
             "You used k·2L/c: the peak sits where the *mean* frequency of wave and "
             "echo is n c/(2L), half a delay back: κ L/c.",
         ),
         (
-            lambda: float(sweep_rate_offset(SWEEP_RATE, _fundamental(GAUGE_CASE))),
+            lambda: float(sweep_rate_offset(SWEEP_RATE, _fundamental(_case()))),
             "That is the sweep's offset κ L/c alone; the latency adds κ τ.",
         ),
     ),
 )
 def _() -> float:
-    return float(sweep_rate_offset(SWEEP_RATE, _fundamental(GAUGE_CASE))) + latency_offset(
-        SWEEP_RATE, GAUGE_LATENCY
+    return float(sweep_rate_offset(SWEEP_RATE, _fundamental(_case()))) + latency_offset(
+        SWEEP_RATE, _latency()
     )
 
 
 @exercise(
     "gauge.eq43",
+    varies=True,
     atol=5e-3,
     hint="n_1 = round(z_1/(z_2 − z_1)) (eq. 43), then L = n_1 c/(2 z_1) (eq. 32). Answer (n_1, L).",
     mistakes=(
         (
-            lambda: (EQ43_ORDERS[0], LONG_CASE[0]),
+            lambda: (EQ43_ORDERS[0], _long()[0]),
             "That is the true order and level; eq. 43 only sees the two readings: "
             "compute z_1/(z_2 − z_1).",
         ),
@@ -138,17 +165,18 @@ def _() -> float:
 def _() -> tuple[int, float]:
     z = eq43_readings()
     n = int(orders_eq43(z)[0])
-    return n, float(level_from_resonance(z[0], n, _c(LONG_CASE)))
+    return n, float(level_from_resonance(z[0], n, _c(_long())))
 
 
 @exercise(
     "gauge.tolerance",
+    varies=True,
     atol=2e-3,
     hint="n = z/(f_F + δ) ≈ (z/f_F)(1 − δ/f_F) rounds to the right order while "
     "(z/f_F)·|δ|/f_F < 1/2.",
     mistakes=(
         (
-            lambda: 0.5 * _fundamental(LONG_CASE),
+            lambda: 0.5 * _fundamental(_long()),
             "f_F/2 is how far one reading may wander before it is matched to the "
             "wrong resonance; eq. 43 divides by a difference, which must be far "
             "more precise.",
@@ -156,23 +184,24 @@ def _() -> tuple[int, float]:
     ),
 )
 def _() -> float:
-    return _fundamental(LONG_CASE) ** 2 / (2.0 * EQ43_TOLERANCE_AT)
+    return _fundamental(_long()) ** 2 / (2.0 * EQ43_TOLERANCE_AT)
 
 
 @exercise(
     "gauge.thermometer",
+    varies=True,
     atol=2e-4,
     hint="L = c/(2 f_F): a relative error of c is the same relative error of L.",
     mistakes=(
         (
-            lambda: -LONG_CASE[0] * 0.606 * THERMOMETER_ERROR / _c(LONG_CASE),
+            lambda: -_long()[0] * 0.606 * THERMOMETER_ERROR / _c(_long()),
             "Check the sign: a thermometer that reads high makes c, and so L, too large.",
         ),
     ),
 )
 def _() -> float:
-    c_read = float(speed_of_sound(LONG_CASE[1] + THERMOMETER_ERROR))
-    return LONG_CASE[0] * (c_read - _c(LONG_CASE)) / _c(LONG_CASE)
+    c_read = float(speed_of_sound(_long()[1] + THERMOMETER_ERROR))
+    return _long()[0] * (c_read - _c(_long())) / _c(_long())
 
 
 # -- the lab (book/lab.md, notebooks/08_lab.ipynb) ---------------------------------------------

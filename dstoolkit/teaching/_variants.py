@@ -41,6 +41,7 @@ SHEET_CHAPTER = {
     "random_sets": "random",
     "noise_to_evidence": "noise",
     "recursive_filter": "filter",
+    "level_gauge": "gauge",
 }
 
 #: Draws tried before giving up (a draw is refused when an answer equals the book's).
@@ -168,6 +169,16 @@ def _filter(rng: np.random.Generator) -> Data:
     }
 
 
+def _gauge(rng: np.random.Generator) -> Data:
+    return {
+        "case_l": _pick(rng, 1.0, 9.0, 0.1),
+        "case_t": _pick(rng, 5.0, 35.0, 0.1),
+        "long_l": _pick(rng, 6.0, 12.0, 0.1),
+        "long_t": _pick(rng, 5.0, 35.0, 0.1),
+        "latency_ms": int(rng.integers(2, 41)),
+    }
+
+
 DRAW: dict[str, Callable[[np.random.Generator], Data]] = {
     "mass": _mass,
     "combine": _combine,
@@ -175,6 +186,7 @@ DRAW: dict[str, Callable[[np.random.Generator], Data]] = {
     "random": _random,
     "noise": _noise,
     "filter": _filter,
+    "gauge": _gauge,
 }
 
 
