@@ -68,18 +68,22 @@ def _teacher_answers(stem: str, variant: int) -> tuple[dict, list[tuple[str, str
     return namespace, checks
 
 
-def test_chapters_two_to_eight_have_variants():
+def test_chapters_two_to_eight_and_the_lab_have_variants():
     numbers = {stem: n for stem, (n, *_rest) in sheets.sheets().items()}
-    assert sorted(numbers[stem] for stem in SHEET_CHAPTER) == [2, 3, 4, 5, 6, 7, 8]
+    assert sorted(numbers[stem] for stem in SHEET_CHAPTER) == [2, 3, 4, 5, 6, 7, 8, 12]
 
 
-def test_the_level_gauges_exercises_vary_with_the_students_own_numbers():
+@pytest.mark.parametrize("chapter", ["gauge", "lab"])
+def test_the_gauge_and_lab_exercises_vary_with_the_students_own_numbers(chapter: str):
     from answer_key import solution
     from dstoolkit.teaching._variants import student_variant
 
     alice, bob = student_variant("s3cret", "alice"), student_variant("s3cret", "bob")
-    assert data("gauge", alice) != data("gauge", bob) != data("gauge", 0)
-    for exercise_id in [k for k in REGISTRY if k.startswith("gauge.") and "-" not in k]:
+    assert data(chapter, alice) != data(chapter, bob) != data(chapter, 0)
+    ids = [k for k in REGISTRY if k.startswith(f"{chapter}.") and k != "gauge.spacing-ratio"]
+    ids = [k for k in ids if not k.endswith("-code")]
+    assert len(ids) >= 5
+    for exercise_id in ids:
         assert REGISTRY[exercise_id].varies, exercise_id
         mine = solution(exercise_id, variant=alice)
         assert check(exercise_id, mine, variant=alice), exercise_id

@@ -220,32 +220,70 @@ LAB_TOLERANCE_CASE = (3.0, 0.005)
 LAB_UNCERTAINTIES_MM = (0.4, 1.5, 2.2)
 
 
+book_data(
+    "lab",
+    {
+        "lag": LAB_LAG_SAMPLES,
+        "temperature": LAB_TEMPERATURE,
+        "diameter_mm": round(1e3 * LAB_CUTOFF_DIAMETER, 6),
+        "tolerance_level": LAB_TOLERANCE_CASE[0],
+        "tolerance_mm": round(1e3 * LAB_TOLERANCE_CASE[1], 6),
+        "u_fit": LAB_UNCERTAINTIES_MM[0],
+        "u_offsets": LAB_UNCERTAINTIES_MM[1],
+        "u_temperature": LAB_UNCERTAINTIES_MM[2],
+    },
+)
+
+
+def _lab(name: str) -> Any:
+    """Return a datum of the lab's exercises in the current variant (the book's: LAB_*)."""
+    return data("lab")[name]
+
+
 def _lab_c() -> float:
-    return float(speed_of_sound(LAB_TEMPERATURE))
+    return float(speed_of_sound(_lab("temperature")))
+
+
+def _lab_tau() -> float:
+    return _lab("lag") / LAB_SAMPLERATE
+
+
+def _diameter() -> float:
+    return _lab("diameter_mm") / 1e3
+
+
+def _tolerance_case() -> tuple[float, float]:
+    return float(_lab("tolerance_level")), _lab("tolerance_mm") / 1e3
+
+
+def _uncertainties() -> tuple[float, float, float]:
+    return _lab("u_fit"), _lab("u_offsets"), _lab("u_temperature")
 
 
 @exercise(
     "lab.latency-offset",
+    varies=True,
     atol=5e-3,
     hint="τ = lag / f_s (in ms: × 1000); every reading moves by κ τ with κ = 280 Hz/s "
     "and τ in seconds. Answer (τ in ms, κ τ in Hz).",
     mistakes=(
         (
             lambda: (
-                LAB_LAG_SAMPLES / LAB_SAMPLERATE,
-                SWEEP_RATE * LAB_LAG_SAMPLES / LAB_SAMPLERATE,
+                _lab_tau(),
+                SWEEP_RATE * _lab_tau(),
             ),
             "Give τ in milliseconds (the offset κ τ is right).",
         ),
     ),
 )
 def _() -> tuple[float, float]:
-    tau = LAB_LAG_SAMPLES / LAB_SAMPLERATE
+    tau = _lab_tau()
     return 1e3 * tau, latency_offset(SWEEP_RATE, tau)
 
 
 @exercise(
     "lab.shortest-tube",
+    varies=True,
     hint="Five spacings fit in the band when 5 f_F ≤ f_stop − f_start; then L = c/(2 f_F).",
     mistakes=(
         (
@@ -261,10 +299,11 @@ def _() -> float:
 
 @exercise(
     "lab.cutoff",
+    varies=True,
     hint="The first cross mode of a round tube starts at 1.8412 c/(π d).",
     mistakes=(
         (
-            lambda: 1.8412 * _lab_c() / (np.pi * 2 * LAB_CUTOFF_DIAMETER),
+            lambda: 1.8412 * _lab_c() / (np.pi * 2 * _diameter()),
             "1.8412 c/(π d) takes the diameter d, not twice it.",
         ),
         (
@@ -276,42 +315,44 @@ def _() -> float:
 def _() -> float:
     from dstoolkit.gauge import plane_wave_cutoff
 
-    return plane_wave_cutoff(LAB_CUTOFF_DIAMETER, _lab_c())
+    return plane_wave_cutoff(_diameter(), _lab_c())
 
 
 @exercise(
     "lab.thermometer-tolerance",
+    varies=True,
     hint="δL = L · 0.606 δT / c (c = 331.3 + 0.606 T): solve for δT.",
     mistakes=(
         (
-            lambda: LAB_TOLERANCE_CASE[1] * _lab_c() / LAB_TOLERANCE_CASE[0],
+            lambda: _tolerance_case()[1] * _lab_c() / _tolerance_case()[0],
             "c changes by 0.606 m/s per °C, not by 1: divide by 0.606 too.",
         ),
     ),
 )
 def _() -> float:
-    level, tolerance = LAB_TOLERANCE_CASE
-    c_per_degree = float(speed_of_sound(LAB_TEMPERATURE + 1.0)) - _lab_c()
+    level, tolerance = _tolerance_case()
+    c_per_degree = float(speed_of_sound(_lab("temperature") + 1.0)) - _lab_c()
     return tolerance * _lab_c() / (c_per_degree * level)
 
 
 @exercise(
     "lab.uncertainty",
+    varies=True,
     hint="Independent parts of an uncertainty add in quadrature: "
     "the square root of the sum of their squares.",
     mistakes=(
         (
-            lambda: float(sum(LAB_UNCERTAINTIES_MM)),
+            lambda: float(sum(_uncertainties())),
             "That is their plain sum: independent parts add in quadrature.",
         ),
         (
-            lambda: float(max(LAB_UNCERTAINTIES_MM)),
+            lambda: float(max(_uncertainties())),
             "That is only the largest part; the others add to it, in quadrature.",
         ),
     ),
 )
 def _() -> float:
-    return float(np.sqrt(np.sum(np.square(LAB_UNCERTAINTIES_MM))))
+    return float(np.sqrt(np.sum(np.square(_uncertainties()))))
 
 
 # -- estimating the level (book/estimating_level.md, notebooks/09_estimating_level.ipynb) -------

@@ -42,6 +42,7 @@ SHEET_CHAPTER = {
     "noise_to_evidence": "noise",
     "recursive_filter": "filter",
     "level_gauge": "gauge",
+    "lab": "lab",
 }
 
 #: Draws tried before giving up (a draw is refused when an answer equals the book's).
@@ -179,6 +180,19 @@ def _gauge(rng: np.random.Generator) -> Data:
     }
 
 
+def _lab(rng: np.random.Generator) -> Data:
+    return {
+        "lag": int(rng.integers(2000, 9001)),
+        "temperature": _pick(rng, 10.0, 30.0, 0.5),
+        "diameter_mm": int(rng.integers(20, 61)),
+        "tolerance_level": _pick(rng, 1.0, 6.0, 0.5),
+        "tolerance_mm": int(rng.integers(2, 11)),
+        "u_fit": _pick(rng, 0.1, 3.0, 0.1),
+        "u_offsets": _pick(rng, 0.1, 3.0, 0.1),
+        "u_temperature": _pick(rng, 0.1, 3.0, 0.1),
+    }
+
+
 DRAW: dict[str, Callable[[np.random.Generator], Data]] = {
     "mass": _mass,
     "combine": _combine,
@@ -187,6 +201,7 @@ DRAW: dict[str, Callable[[np.random.Generator], Data]] = {
     "noise": _noise,
     "filter": _filter,
     "gauge": _gauge,
+    "lab": _lab,
 }
 
 
