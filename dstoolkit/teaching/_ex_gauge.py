@@ -40,7 +40,19 @@ EQ43_TOLERANCE_AT = 2000.0
 THERMOMETER_ERROR = 1.0
 
 
-book_data("gauge", {"case_l": 4.6, "case_t": 26.5, "long_l": 9.6, "long_t": 23.9, "latency_ms": 10})
+book_data(
+    "gauge",
+    {
+        "case_l": 4.6,
+        "case_t": 26.5,
+        "long_l": 9.6,
+        "long_t": 23.9,
+        "latency_ms": 10,
+        # the simulated gauge's sheet: the levels between which its prediction moves the slider
+        "spacing_low": 1.6,
+        "spacing_high": 9.6,
+    },
+)
 
 
 def _case() -> tuple[float, float]:
@@ -669,18 +681,21 @@ def _() -> str:
     return _failure_share(float(REGISTRY["beyond.failures"]._expected()))
 
 
-#: The levels (m) between which the spacing prediction moves the slider.
-SPACING_LEVELS = (1.6, 9.6)
+def _spacing_levels() -> tuple[float, float]:
+    """Return the two levels (m) between which the spacing prediction moves the slider."""
+    d = data("gauge")
+    return float(d["spacing_low"]), float(d["spacing_high"])
 
 
 @exercise(
     "gauge.spacing-ratio",
+    varies=True,
     atol=1e-4,
     hint="f_F = c/(2L) at a fixed temperature: the spacing goes as 1/L. Answer "
-    "f_F(9.6 m)/f_F(1.6 m).",
+    "f_F(longer level)/f_F(shorter level).",
     mistakes=(
         (
-            lambda: SPACING_LEVELS[1] / SPACING_LEVELS[0],
+            lambda: _spacing_levels()[1] / _spacing_levels()[0],
             "That is the ratio of the levels; a longer tube has its resonances "
             "closer together, so f_F shrinks.",
         ),
@@ -688,4 +703,5 @@ SPACING_LEVELS = (1.6, 9.6)
 )
 def _() -> float:
     t = GAUGE_CASE[1]
-    return _fundamental((SPACING_LEVELS[1], t)) / _fundamental((SPACING_LEVELS[0], t))
+    low, high = _spacing_levels()
+    return _fundamental((high, t)) / _fundamental((low, t))

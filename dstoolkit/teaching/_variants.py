@@ -42,6 +42,7 @@ SHEET_CHAPTER = {
     "noise_to_evidence": "noise",
     "recursive_filter": "filter",
     "level_gauge": "gauge",
+    "simulated_gauge": "gauge",
     "lab": "lab",
 }
 
@@ -177,6 +178,8 @@ def _gauge(rng: np.random.Generator) -> Data:
         "long_l": _pick(rng, 6.0, 12.0, 0.1),
         "long_t": _pick(rng, 5.0, 35.0, 0.1),
         "latency_ms": int(rng.integers(2, 41)),
+        "spacing_low": _pick(rng, 1.0, 3.0, 0.1),
+        "spacing_high": _pick(rng, 5.0, 10.0, 0.1),
     }
 
 
