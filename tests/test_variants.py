@@ -1,7 +1,7 @@
 """Variants of the sheets (scripts/sheets.py --variant N): other numbers, same questions.
 
 * Two variants show other data than each other and than the book in every sheet of
-  Chapters 2–7.
+  Chapters 2–9 and 12; a student's own numbers differ from another's.
 * The teacher's answers of each variant (run from its teacher's edition) pass its own
   checks and fail the other variant's and the book's, for every exercise that varies; the
   exercises that do not vary are the few listed here (choices and the paper's own example).
@@ -27,7 +27,7 @@ sys.path.insert(0, str(ROOT / "scripts"))
 import sheets  # noqa: E402
 
 VARIANTS = (1, 2)
-#: Value exercises of Chapters 2–7 whose answer is the same in every variant: choices, a
+#: Value exercises of the varying chapters whose answer is the same in every variant: choices, a
 #: uniform distribution, and the paper's own worked example of Appendix A.
 NOT_VARYING = {
     "mass.vacuous-betp",
