@@ -380,30 +380,41 @@ PAPER_DIRECT_13 = 0.238
 IMPROVEMENT_RUNS, IMPROVEMENT_SEED = 30, 0
 
 
+book_data("estimating", {"z1": PAPER_Z1, "n1": PAPER_N1, "bias": READING_BIAS})
+
+
+def _first() -> tuple[float, int]:
+    """Return the first reading (Hz) and its order (the book's: PAPER_Z1, PAPER_N1)."""
+    d = data("estimating")
+    return float(d["z1"]), int(d["n1"])
+
+
 def _level_of_reading(z: float, n: int, case: tuple[float, float]) -> float:
     return float(level_from_resonance(z, n, _c(case)))
 
 
 @exercise(
     "estimating.first-level",
+    varies=True,
     atol=5e-4,
     hint="Eq. 32: L = n c/(2 z) with c = 331.3 + 0.606 T at 26.5 °C.",
     mistakes=(
         (
-            lambda: 2 * _level_of_reading(PAPER_Z1, PAPER_N1, FIG10_CASE),
+            lambda: 2 * _level_of_reading(*_first(), FIG10_CASE),
             "The echo travels down and back: divide by 2 z, not z.",
         ),
     ),
 )
 def _() -> float:
-    return _level_of_reading(PAPER_Z1, PAPER_N1, FIG10_CASE)
+    return _level_of_reading(*_first(), FIG10_CASE)
 
 
 @exercise(
     "estimating.bias",
+    varies=True,
     atol=2e-4,
-    hint="The 27th resonance is at 27 c/(2L); the reading is 6.9 Hz above it. Put the "
-    "reading and the true order into eq. 32 and subtract 4.6 m.",
+    hint="The resonance of order n is at n c/(2L); the reading is the bias above it. Put the "
+    "reading and the true order into eq. 32 and subtract the true level.",
     mistakes=(
         (
             lambda: -float(_bias_error()),
@@ -412,8 +423,8 @@ def _() -> float:
     ),
 )
 def _bias_error() -> float:
-    f = PAPER_N1 * _fundamental(FIG10_CASE)
-    return _level_of_reading(f + READING_BIAS, PAPER_N1, FIG10_CASE) - FIG10_CASE[0]
+    n, bias = _first()[1], float(data("estimating")["bias"])
+    return _level_of_reading(n * _fundamental(FIG10_CASE) + bias, n, FIG10_CASE) - FIG10_CASE[0]
 
 
 @exercise(

@@ -44,6 +44,7 @@ SHEET_CHAPTER = {
     "level_gauge": "gauge",
     "simulated_gauge": "gauge",
     "lab": "lab",
+    "estimating_level": "estimating",
 }
 
 #: Draws tried before giving up (a draw is refused when an answer equals the book's).
@@ -196,6 +197,16 @@ def _lab(rng: np.random.Generator) -> Data:
     }
 
 
+def _estimating(rng: np.random.Generator) -> Data:
+    n1 = int(rng.integers(27, 61))
+    spacing = 37.76  # f_F of the paper's 4.6 m case at 26.5 °C, Hz: readings near n f_F
+    return {
+        "z1": round(n1 * spacing + _pick(rng, -9.0, 9.0, 0.1), 1),
+        "n1": n1,
+        "bias": _pick(rng, 2.0, 12.0, 0.1),
+    }
+
+
 DRAW: dict[str, Callable[[np.random.Generator], Data]] = {
     "mass": _mass,
     "combine": _combine,
@@ -205,6 +216,7 @@ DRAW: dict[str, Callable[[np.random.Generator], Data]] = {
     "filter": _filter,
     "gauge": _gauge,
     "lab": _lab,
+    "estimating": _estimating,
 }
 
 
