@@ -89,7 +89,13 @@ def main(argv: list[str] | None = None) -> int:
         failed = [o.student for o in outcomes if o.status != 0]
         again = sum(o.tries > 1 for o in outcomes)
         mean = sum(o.seconds for o in outcomes) / len(outcomes)
-        same = _scores(serial) == _scores(parallel)
+        one, other = _scores(serial), _scores(parallel)
+        same = one == other
+        differ = {
+            k: (one.get(k), other.get(k))
+            for k in sorted({*one, *other})
+            if one.get(k) != other.get(k)
+        }
     n = args.submissions
     print(f"{n} submissions of {NAME} on {os.cpu_count()} cores")
     print(
@@ -104,6 +110,8 @@ def main(argv: list[str] | None = None) -> int:
         "a locked gradebook and ran again"
     )
     print(f"  the same score for every student both ways: {same}")
+    if differ:
+        print(f"  scores (one at a time, in parallel) that differ: {differ}")
     return 0 if same and not failed else 1
 
 
