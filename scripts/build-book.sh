@@ -101,12 +101,12 @@ cp node_modules/reveal.js/LICENSE "$vendor/reveal/LICENSE"
 
 # --- Execution cache ---------------------------------------------------------------------
 # jupyter-cache re-executes a chapter only when one of its code cells changes; it cannot
-# see a change in dstoolkit, whose results the chapters print. Drop the cache when the
+# see a change in dstoolkit or answer_key/, whose results the chapters print. Drop the cache when the
 # package's source changed, so that no number in the book is stale. Set
 # DSTOOLKIT_BOOK_KEEP_CACHE=1 to keep it anyway (quick prose edits while the package moves).
 cache_dir="_build/.jupyter_cache"
 pkg_stamp="_build/.dstoolkit-source-hash"
-pkg_hash="$(find dstoolkit pyproject.toml -type f -not -path '*/__pycache__/*' -print0 \
+pkg_hash="$(find dstoolkit answer_key pyproject.toml -type f -not -path '*/__pycache__/*' -print0 \
   | sort -z | xargs -0 sha256sum | sha256sum | cut -d' ' -f1)"
 record_hash=1
 fresh=()

@@ -524,19 +524,25 @@ def strip_glue(sources: list[str]) -> list[str]:
 
 
 def strip_solution(source: str) -> str:
-    """Return ``source`` without ``dstoolkit.teaching.solution``.
+    """Return ``source`` without the answer key (``from answer_key import solution``).
 
-    Removed are its import and the statements that call it (the book glues the exercises'
-    solutions into its pages from hidden cells; a reader's notebook carries none).
+    Removed are its import and the statements that call what it imported (the book glues the
+    exercises' solutions into its pages from hidden cells; a reader's notebook carries none).
 
     Raises
     ------
     ValueError
-        If a statement that is kept still uses ``solution`` (e.g. inside a function).
+        If a statement that is kept still uses the answer key (e.g. inside a function).
     """
     tree = _parse(source)
-    if tree is None or "solution" not in source:
+    if tree is None or ("answer_key" not in source and "solution(" not in source):
         return source
+    keys = {"solution"} | {  # the answer key's function, imported in this cell or an earlier one
+        a.asname or a.name
+        for n in tree.body
+        if isinstance(n, ast.ImportFrom) and n.module == "answer_key"
+        for a in n.names
+    }
     lines = source.splitlines()
     for node in sorted(tree.body, key=lambda n: n.lineno, reverse=True):
         start = (
@@ -544,16 +550,10 @@ def strip_solution(source: str) -> str:
             if getattr(node, "decorator_list", None)
             else (node.lineno)
         )
-        if (
-            isinstance(node, ast.ImportFrom)
-            and node.module == "dstoolkit.teaching"
-            and any(a.name == "solution" for a in node.names)
-        ):
-            node.names = [a for a in node.names if a.name != "solution"]
-            text = ast.unparse(node) if node.names else None
-            lines[start - 1 : node.end_lineno] = [text] if text else []
+        if isinstance(node, ast.ImportFrom) and node.module == "answer_key":
+            lines[start - 1 : node.end_lineno] = []
         elif not isinstance(node, ast.FunctionDef | ast.ClassDef) and any(
-            isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id == "solution"
+            isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id in keys
             for n in ast.walk(node)
         ):
             lines[start - 1 : node.end_lineno] = []
@@ -561,10 +561,10 @@ def strip_solution(source: str) -> str:
     left = [
         n
         for n in ast.walk(_parse(result) or ast.Module(body=[], type_ignores=[]))
-        if isinstance(n, ast.Name) and n.id == "solution"
+        if isinstance(n, ast.Name) and n.id in keys
     ]
-    if left:
-        raise ValueError(f"a code cell of a reader's notebook uses solution():\n{result}")
+    if left or "answer_key" in result:
+        raise ValueError(f"a code cell of a reader's notebook uses the answer key:\n{result}")
     return result
 
 

@@ -295,10 +295,10 @@ def _meta(
 
 def _body_region(exercise_id: str) -> str:
     """Return the learner's stub with the reference body between solution markers."""
-    from dstoolkit.teaching import REGISTRY
-    from dstoolkit.teaching._plain_solutions import HELPERS
+    from answer_key import HELPERS
+    from answer_key import plain as plain_solution
 
-    plain = REGISTRY[exercise_id].plain
+    plain = plain_solution(exercise_id)
     answer = sheets.coding_answer(exercise_id)
     stub = sheets.coding_stub(exercise_id)
     head = stub[: stub.rindex("\n")]  # signature and docstring

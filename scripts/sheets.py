@@ -60,6 +60,9 @@ from dstoolkit.utils.console import run_command
 from dstoolkit.utils.outputs import atomic_write, check_outputs
 
 ROOT = Path(__file__).resolve().parents[1]
+# the answer key (the teacher's edition's answers) is the repository's answer_key/, not installed
+if str(ROOT) not in sys.path:
+    sys.path.append(str(ROOT))
 KINDS = ("coding", "proof", "prediction", "explanation", "substitution")
 MARKER = re.compile(r"^%% (setup|exercise|md|code|stub|answer|check|explore|solution)\b ?(.*)$")
 CHECK = re.compile(r'check\("([a-z]+\.[a-z0-9-]+)",\s*(\w+)\)')
@@ -309,9 +312,9 @@ def _literal(value: Any) -> str:
 
 def coding_stub(exercise_id: str) -> str:
     """Return the learner's stub: the reference solution's signature and docstring, no body."""
-    from dstoolkit.teaching import REGISTRY
+    from answer_key import plain
 
-    source = textwrap.dedent(inspect.getsource(REGISTRY[exercise_id].plain))
+    source = textwrap.dedent(inspect.getsource(plain(exercise_id)))
     node = ast.parse(source).body[0]
     lines = source.splitlines()[: node.body[0].end_lineno]
     return "\n".join(lines) + "\n" + STUB_BODY
@@ -319,10 +322,10 @@ def coding_stub(exercise_id: str) -> str:
 
 def coding_answer(exercise_id: str) -> str:
     """Return the reference implementation (and the solutions it calls), as plain source."""
-    from dstoolkit.teaching import REGISTRY
-    from dstoolkit.teaching._plain_solutions import HELPERS
+    from answer_key import HELPERS
+    from answer_key import plain as plain_solution
 
-    plain = REGISTRY[exercise_id].plain
+    plain = plain_solution(exercise_id)
     module = sys.modules[plain.__module__]
     parts = [getattr(module, name) for name in HELPERS.get(plain.__name__, ())] + [plain]
     needs = sorted(
@@ -338,7 +341,7 @@ def coding_answer(exercise_id: str) -> str:
 
 def filled_stub(stub: str, checks: str) -> str:
     """``name = ...`` lines with the value of the exercise their check cell names."""
-    from dstoolkit.teaching import solution
+    from answer_key import solution
 
     ids = {var: eid for eid, var in CHECK.findall(checks)}
 
@@ -354,9 +357,9 @@ def filled_stub(stub: str, checks: str) -> str:
 def stub_names(block: Block) -> set[str]:
     """Return the names a stub cell defines: its function, or its ``name = ...`` lines."""
     if block.arg:
-        from dstoolkit.teaching import REGISTRY
+        from answer_key import plain
 
-        return {REGISTRY[block.arg].plain.__name__}
+        return {plain(block.arg).__name__}
     return set(ASSIGN.findall(block.text))
 
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import html
 import json
+import os
 import shutil
 import sys
 from dataclasses import dataclass
@@ -33,6 +34,12 @@ from sphinx.util.docutils import SphinxDirective
 from sphinx.util.osutil import relative_uri
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+# The chapters' kernels (started by myst-nb with this process's environment) import the
+# answer key from the repository's answer_key/, which no wheel installs.
+_REPO = str(Path(__file__).resolve().parents[1])
+os.environ["PYTHONPATH"] = os.pathsep.join(
+    [_REPO, *(p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p and p != _REPO)]
+)
 from chapter_notebook import References, clean_notebook  # noqa: E402
 
 from slides import deck_path  # noqa: E402

@@ -24,6 +24,10 @@ import yaml
 from nbclient import NotebookClient
 
 ROOT = Path(__file__).resolve().parents[1]
+# kernels started by the tests (chapters, teacher's sheets) import the checkout's answer_key/
+os.environ["PYTHONPATH"] = os.pathsep.join(
+    [str(ROOT), *(p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p)]
+)
 ARTIFACTS = ROOT / "test-artifacts"
 
 # --------------------------------------------------------------------------------------

@@ -171,7 +171,7 @@ def test_no_parameter_named_c_is_a_mode() -> None:
 
 
 def test_the_triangle_exercises_name_their_mode() -> None:
-    from dstoolkit.teaching import _plain_solutions as plain
+    from answer_key import plain_solutions as plain
 
     for function in (plain.triangular_rows, plain.triangle_sigma):
         names = list(inspect.signature(function).parameters)

@@ -22,7 +22,6 @@ MODULES = (
     "_ex_gauge",
     "_ex_filter",
     "_ex_coding",
-    "_plain_solutions",
 )
 
 

@@ -15,7 +15,8 @@ from pathlib import Path
 import pytest
 from conftest import executed_chapter, glued
 
-from dstoolkit.teaching import exercises, solution
+from answer_key import solution
+from dstoolkit.teaching import exercises
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 from conftest import execute_notebook, executed_chapter, glued
 
+from answer_key import solution
 from dstoolkit.teaching import (
     LAB_BAND,
     LAB_CUTOFF_DIAMETER,
@@ -27,7 +28,6 @@ from dstoolkit.teaching import (
     LAB_UNCERTAINTIES_MM,
     REGISTRY,
     exercises,
-    solution,
 )
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -16,6 +16,7 @@ import struct
 import numpy as np
 import pytest
 
+from answer_key import solution
 from dstoolkit.audio import analyze, load_recording
 from dstoolkit.errors import (
     EvidenceError,
@@ -33,7 +34,7 @@ from dstoolkit.filters import (
     random_walk,
 )
 from dstoolkit.gauge import gauge_state_space_model, simulate_gauge
-from dstoolkit.teaching import check, set_time_limit, solution
+from dstoolkit.teaching import check, set_time_limit
 from dstoolkit.utils.checks import real_number, whole_number
 
 GAUGE = gauge_state_space_model()

@@ -14,13 +14,14 @@ import textwrap
 
 import pytest
 
-from dstoolkit.teaching import _plain_solutions, hand_in
+from answer_key import plain_solutions
+from dstoolkit.teaching import hand_in
 from dstoolkit.teaching._isolation import grade_coding, grade_value, run_isolated
 from dstoolkit.teaching._sandbox import Opaque, dumps, loads
 from dstoolkit.teaching.grading import HAND_IN
 
 DEMPSTER = "import itertools\n\n" + textwrap.dedent(
-    inspect.getsource(_plain_solutions.dempster_rule)
+    inspect.getsource(plain_solutions.dempster_rule)
 )
 
 

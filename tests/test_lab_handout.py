@@ -24,8 +24,8 @@ import numpy as np
 import pytest
 from conftest import ROOT, BookBuild
 
+from answer_key import solution
 from dstoolkit.gauge import PAPER_SWEEP, TubeSetup, plane_wave_cutoff, resonance_orders
-from dstoolkit.teaching import solution
 
 sys.path.insert(0, str(ROOT / "scripts"))
 import lab_handout  # noqa: E402

@@ -143,3 +143,24 @@ def test_every_allowance_is_still_needed() -> None:
     for rel, (allowed, _) in ALLOWED.items():
         used = filter_names_in_code((PACKAGE / rel).read_text(encoding="utf-8"), names)
         assert allowed <= used, (rel, sorted(allowed - used))
+
+
+def test_the_comparisons_kernel_is_chosen_once_and_reaches_every_filter_that_has_one():
+    import pytest
+
+    from dstoolkit.errors import InvalidInputError
+    from dstoolkit.filters import set_comparison_kernel
+
+    before = set_comparison_kernel("numpy")
+    try:
+        assert ComparisonSettings().kernel == "numpy"
+        made = [entry.make(ComparisonSettings()) for entry in registered_filters()]
+        kernels = {type(f).__name__: f.kernel for f in made if hasattr(f, "kernel")}
+        assert {"NassreddineFilter", "ParticleFilter"} <= set(kernels)
+        assert set(kernels.values()) == {"numpy"}, kernels
+        assert ComparisonSettings(kernel="auto").kernel == "auto"
+        with pytest.raises(InvalidInputError, match="kernel must be"):
+            set_comparison_kernel("fast")  # type: ignore[arg-type]
+    finally:
+        set_comparison_kernel(before)
+    assert ComparisonSettings().kernel == before == "auto"

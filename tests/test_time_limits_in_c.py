@@ -12,7 +12,8 @@ import time
 
 import pytest
 
-from dstoolkit.teaching import check, solution
+from answer_key import solution
+from dstoolkit.teaching import check
 from dstoolkit.teaching._child_checks import GRACE_S, plain_data, run_isolated
 
 CODING = "beyond.sigma-code"

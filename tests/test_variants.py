@@ -1,7 +1,7 @@
 """Variants of the sheets (scripts/sheets.py --variant N): other numbers, same questions.
 
 * Two variants show other data than each other and than the book in every sheet of
-  Chapters 2–7.
+  Chapters 2–10 and 12; a student's own numbers differ from another's.
 * The teacher's answers of each variant (run from its teacher's edition) pass its own
   checks and fail the other variant's and the book's, for every exercise that varies; the
   exercises that do not vary are the few listed here (choices and the paper's own example).
@@ -17,8 +17,9 @@ import sys
 import pytest
 from conftest import ROOT
 
+from answer_key import solution
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.teaching import REGISTRY, check, set_variant, solution
+from dstoolkit.teaching import REGISTRY, check, set_variant
 from dstoolkit.teaching._isolation import grade_value
 from dstoolkit.teaching._variants import SHEET_CHAPTER, current_variant, data
 
@@ -26,7 +27,7 @@ sys.path.insert(0, str(ROOT / "scripts"))
 import sheets  # noqa: E402
 
 VARIANTS = (1, 2)
-#: Value exercises of Chapters 2–7 whose answer is the same in every variant: choices, a
+#: Value exercises of the varying chapters whose answer is the same in every variant: choices, a
 #: uniform distribution, and the paper's own worked example of Appendix A.
 NOT_VARYING = {
     "mass.vacuous-betp",
@@ -36,6 +37,10 @@ NOT_VARYING = {
     "dependent.a6",
     "dependent.theta-merges",
     "filter.mass-rule",
+    # chapter 10: the paper's Table 3 error at 1.3 m, and a Monte Carlo of the paper's case
+    "estimating.outlier-orders",
+    "estimating.improvement-choice",
+    "estimating.improvement",
 }
 
 
@@ -66,9 +71,30 @@ def _teacher_answers(stem: str, variant: int) -> tuple[dict, list[tuple[str, str
     return namespace, checks
 
 
-def test_chapters_two_to_seven_have_variants():
+def test_chapters_two_to_ten_and_the_lab_have_variants():
     numbers = {stem: n for stem, (n, *_rest) in sheets.sheets().items()}
-    assert sorted(numbers[stem] for stem in SHEET_CHAPTER) == [2, 3, 4, 5, 6, 7]
+    assert sorted(numbers[stem] for stem in SHEET_CHAPTER) == [2, 3, 4, 5, 6, 7, 8, 9, 10, 12]
+
+
+@pytest.mark.parametrize("chapter", ["gauge", "lab", "estimating"])
+def test_the_gauge_and_lab_exercises_vary_with_the_students_own_numbers(chapter: str):
+    from answer_key import solution
+    from dstoolkit.teaching._variants import student_variant
+
+    alice, bob = student_variant("s3cret", "alice"), student_variant("s3cret", "bob")
+    assert data(chapter, alice) != data(chapter, bob) != data(chapter, 0)
+    ids = [
+        k
+        for k in REGISTRY
+        if k.startswith(f"{chapter}.") and not k.endswith("-code") and k not in NOT_VARYING
+    ]
+    assert len(ids) >= 2
+    for exercise_id in ids:
+        assert REGISTRY[exercise_id].varies, exercise_id
+        mine = solution(exercise_id, variant=alice)
+        assert check(exercise_id, mine, variant=alice), exercise_id
+        assert not check(exercise_id, mine, variant=bob), exercise_id
+        assert not check(exercise_id, solution(exercise_id, variant=0), variant=alice)
 
 
 @pytest.mark.parametrize("stem", sorted(SHEET_CHAPTER))

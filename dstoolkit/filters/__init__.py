@@ -80,6 +80,7 @@ from ._registry import (
     gaussian_filters,
     register_filter,
     registered_filters,
+    set_comparison_kernel,
     table3_filters,
     unregister_filter,
 )
@@ -98,6 +99,7 @@ __all__ = [
     "BoundedErrorState",
     "BoundedNoise",
     "ComparisonSettings",
+    "set_comparison_kernel",
     "COUNTS",
     "DIAGNOSTICS",
     "DependentEvidenceFilter",

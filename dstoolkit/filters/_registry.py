@@ -18,18 +18,65 @@ interface test read :func:`registered_filters`. A new filter joins all of them b
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
-from dstoolkit.errors import EvidenceError
+from dstoolkit.errors import EvidenceError, InvalidInputError
 
-from ._base import Filter
+from ._base import Filter, KernelChoice
 from ._bounded_error import BoundedErrorFilter
 from ._dependent import DependentEvidenceFilter
 from ._kalman import KalmanFilter
 from ._nassreddine import NassreddineFilter
 from ._particle import ParticleFilter
 from ._unscented import UnscentedKalmanFilter
+
+_KERNEL: dict[str, KernelChoice] = {"comparisons": "auto"}
+
+
+def set_comparison_kernel(kernel: KernelChoice) -> KernelChoice:
+    """Choose the kernel of the filters that the comparisons make; return the previous one.
+
+    ``"auto"`` (the default) compiles with numba where it is installed (extra ``speed``);
+    ``"numpy"`` never loads numba, which keeps a notebook's kernel about half as large (the
+    book's chapters and sheets choose it); ``"numba"`` requires it. Every kernel gives the
+    same numbers bit for bit, so the choice changes speed and memory only.
+
+    Parameters
+    ----------
+    kernel : {"auto", "numpy", "numba"}
+        The ``kernel`` option given to the filters that have one.
+
+    Returns
+    -------
+    str
+        The kernel chosen before.
+
+    Raises
+    ------
+    InvalidInputError
+        Another value.
+
+    Examples
+    --------
+    >>> from dstoolkit.filters import ComparisonSettings, set_comparison_kernel
+    >>> before = set_comparison_kernel("numpy")
+    >>> ComparisonSettings().kernel
+    'numpy'
+    >>> set_comparison_kernel(before)
+    'numpy'
+    """
+    if kernel not in ("auto", "numpy", "numba"):
+        raise InvalidInputError(
+            f"kernel must be 'auto', 'numpy' or 'numba', got {kernel!r}; the numbers are the "
+            "same with each"
+        )
+    before, _KERNEL["comparisons"] = _KERNEL["comparisons"], kernel
+    return before
+
+
+def _comparison_kernel() -> KernelChoice:
+    return _KERNEL["comparisons"]
 
 
 @dataclass(frozen=True)
@@ -49,6 +96,9 @@ class ComparisonSettings:
     theta : tuple, optional
         The evidential filters' frames Θ as ``(theta_v, theta_w)`` (None: their default;
         the paper's Table 3 passes those of its Tables 1–2).
+    kernel : {"auto", "numpy", "numba"}
+        The kernel of the filters that have compiled kernels (by default the one
+        :func:`set_comparison_kernel` chose); the numbers are the same with each.
     """
 
     seed: int = 0
@@ -56,6 +106,7 @@ class ComparisonSettings:
     start: str = "observation"
     n_particles: int = 500
     theta: Any = None
+    kernel: KernelChoice = field(default_factory=_comparison_kernel)
 
 
 @dataclass(frozen=True)
@@ -285,9 +336,9 @@ register_filter(
         "orange",
         "--",
         "s",
-        # kernel="auto": compiled where numba is installed, the same numbers, faster
+        # kernel "auto" by default: compiled where numba is installed, the same numbers, faster
         lambda s: NassreddineFilter(
-            p=s.p, epsilon=0.05, theta=s.theta, on_conflict="reset", kernel="auto"
+            p=s.p, epsilon=0.05, theta=s.theta, on_conflict="reset", kernel=s.kernel
         ),
         role="rival",
         table3_column=1,
@@ -326,7 +377,7 @@ register_filter(
         (0, (5, 1)),
         "D",
         lambda s: ParticleFilter(
-            n_particles=s.n_particles, seed=s.seed, kernel="auto", on_inconsistent="reset"
+            n_particles=s.n_particles, seed=s.seed, kernel=s.kernel, on_inconsistent="reset"
         ),
         table3_column=4,
     )

@@ -43,7 +43,6 @@ from ._exercises import (  # noqa: E402
     exercises,
     mistake,
     once,
-    solution,
     zadeh,
 )
 from ._explorer import (  # noqa: E402
@@ -151,7 +150,6 @@ __all__ = [
     "set_time_limit",
     "set_variant",
     "slider",
-    "solution",
     "static_site",
     "zadeh",
 ]

@@ -1,7 +1,7 @@
 """Check cells for the exercise sheets: ``check("mass.bel", answer)`` says right or wrong.
 
-Every exercise with a checked answer is registered with a function that *computes* its
-solution with dstoolkit (no typed-in numbers), a hint shown after a wrong answer, and a
+Every exercise with a checked answer is registered with a function that *computes* the
+expected answer with dstoolkit (no typed-in numbers), a hint shown after a wrong answer, and a
 tolerance. Adding one is a few lines in the module of its chapter::
 
     @exercise("gauge.fundamental", hint="f_F = c / (2L); c comes from eq. (31).")
@@ -21,12 +21,10 @@ registered with :func:`dstoolkit.teaching.coding_exercise` and checked by the sa
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 import html
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from types import FunctionType
 from typing import Any
 
 import numpy as np
@@ -74,8 +72,8 @@ class Exercise:
     --------
     >>> from dstoolkit.teaching import REGISTRY
     >>> ex = REGISTRY["mass.bel"]
-    >>> ex.solution_in(0), ex.varies
-    (0.8, True)
+    >>> ex.varies, ex.atol
+    (True, 0.0005)
     """
 
     id: str
@@ -90,29 +88,17 @@ class Exercise:
     """True when the solver reads its chapter's variant data (see ``set_variant``)."""
     _cache: dict[Any, Any] = field(default_factory=dict, init=False, compare=False, repr=False)
 
-    @property
-    def solution(self) -> Any:
-        """The solution in the current variant, computed with dstoolkit (once, then kept)."""
-        key = ("solution", current_variant() if self.varies else 0)
+    def _expected(self) -> Any:
+        """Return the answer the check expects in the current variant (computed once, kept)."""
+        key = ("expected", current_variant() if self.varies else 0)
         if key not in self._cache:
             self._cache[key] = self.solve()
         return self._cache[key]
 
-    def solution_in(self, variant: int) -> Any:
-        """Return the solution computed from the data of ``variant`` (kept as :attr:`solution`).
-
-        Parameters
-        ----------
-        variant : int
-            0 for the book's data, ``N`` for ``scripts/sheets.py --variant N``.
-
-        Returns
-        -------
-        object
-            The solution (a number, tuple, dict, …).
-        """
+    def _expected_in(self, variant: int) -> Any:
+        """Return the answer the check expects in the data of ``variant`` (0: the book's)."""
         with using_variant(variant):
-            return self.solution
+            return self._expected()
 
     def verdict(self, answer: Any, time_limit: float | None = None) -> Feedback:
         """Right, a named mistake, close, or wrong with the hint.
@@ -160,13 +146,13 @@ class Exercise:
                 answer = self.canonical(answer)
             except (TypeError, ValueError, IndexError) as err:
                 return Feedback(self.id, False, f"✘ {self.id}: wrong ({err}). Hint: {self.hint}")
-        ok, reason = _compare(answer, self._canonical(self.solution), self)
+        ok, reason = _compare(answer, self._canonical(self._expected()), self)
         if ok:
             return Feedback(self.id, True, f"✔ {self.id}: right.")
         for wrong, why in self.mistakes:
             if _compare(answer, self._canonical(wrong()), self)[0]:
                 return Feedback(self.id, False, f"✘ {self.id}: wrong. {why}", {"mistake": why})
-        sol = self._canonical(self.solution)
+        sol = self._canonical(self._expected())
         if not reason and _nearly(answer, sol, self):
             off = float(
                 np.max(
@@ -190,7 +176,7 @@ class Exercise:
         object
             An answer the check rejects.
         """
-        return self.mistakes[0][0]() if self.mistakes else _moved(self.solution)
+        return self.mistakes[0][0]() if self.mistakes else _moved(self._expected())
 
 
 @dataclass(frozen=True)
@@ -304,12 +290,13 @@ def exercise(
 
     Examples
     --------
-    >>> from dstoolkit.teaching import REGISTRY, exercise
+    >>> from dstoolkit.teaching import REGISTRY, check, exercise
     >>> @exercise("demo.double", hint="Twice 21.")
     ... def _():
     ...     return 2 * 21
-    >>> REGISTRY.pop("demo.double").solution
-    42
+    >>> bool(check("demo.double", 42))
+    True
+    >>> del REGISTRY["demo.double"]
     """
     if "." not in exercise_id:
         raise InvalidInputError(f"exercise id {exercise_id!r} must look like 'chapter.name'")
@@ -357,46 +344,6 @@ def get(exercise_id: str) -> Any:
         raise KeyError(
             f"no exercise {exercise_id!r}; exercises of that chapter: {close or exercises()}"
         ) from None
-
-
-def solution(exercise_id: str) -> Any:
-    """Return the solution of an exercise (for teachers and tests).
-
-    A value computed with dstoolkit from the current variant's data, or for a coding exercise the
-    plain reference function.
-
-    Parameters
-    ----------
-    exercise_id : str
-        The exercise, e.g. ``"mass.bel"``.
-
-    Returns
-    -------
-    object
-        A copy: changing it changes neither the kept solution nor what the check cells
-        expect.
-
-    Raises
-    ------
-    KeyError
-        No exercise ``exercise_id``.
-
-    Examples
-    --------
-    >>> from dstoolkit.teaching import solution
-    >>> solution("mass.bel")
-    0.8
-    """
-    value = get(exercise_id).solution
-    if isinstance(value, FunctionType):
-        twin = FunctionType(
-            value.__code__, value.__globals__, value.__name__, value.__defaults__, value.__closure__
-        )
-        twin.__dict__.update(copy.deepcopy(value.__dict__))
-        twin.__doc__, twin.__qualname__ = value.__doc__, value.__qualname__
-        twin.__module__ = value.__module__
-        return twin
-    return copy.deepcopy(value)
 
 
 def mistake(exercise_id: str) -> Any:

@@ -3,10 +3,10 @@
 A coding exercise is registered with a *reference* (the computation done with dstoolkit,
 taking and returning the same plain data as the learner's function), a list of *cases*
 (fixed ones, edge cases such as total conflict or a degenerate interval, and seeded random
-ones), a *plain* reference implementation (the solution shown to teachers: no dstoolkit
-inside) and wrong implementations that stand for named mistakes::
+ones) and wrong implementations that stand for named mistakes (the teacher's plain
+solution is in the repository's ``answer_key``, not in this package)::
 
-    coding_exercise("combine.dempster-code", reference=..., plain=..., cases=...,
+    coding_exercise("combine.dempster-code", reference=..., cases=...,
                     mistakes=((wrong_fn, "You forgot to renormalise ..."),), hint="...")
 
 ``check(id, learner_function)`` runs the learner's function on every case (a fresh copy of
@@ -185,8 +185,6 @@ class CodingExercise:
         ``"<chapter>.<name>-code"``.
     reference : callable
         The computation done with dstoolkit, on the same plain data as the learner's.
-    plain : callable
-        The reference implementation without dstoolkit (the teacher's solution).
     cases : callable
         Returns the list of :class:`Case` (chosen and seeded random ones).
     hint : str
@@ -206,24 +204,18 @@ class CodingExercise:
     --------
     >>> from dstoolkit.teaching import REGISTRY, check
     >>> ex = REGISTRY["mass.bel-pl-code"]
-    >>> bool(check(ex.id, ex.solution))
-    True
+    >>> bool(check(ex.id, lambda m, a: (0.5, 1.0)))
+    False
     """
 
     id: str
     reference: Callable[..., Any]
-    plain: Callable[..., Any]
     cases: Callable[[], list[Case]]
     hint: str
     mistakes: tuple[tuple[Callable[..., Any], str], ...] = ()
     normalise: Callable[[Any], Any] = _plain
     arg_names: tuple[str, ...] = ()
     _cache: dict[str, Any] = field(default_factory=dict, init=False, compare=False, repr=False)
-
-    @property
-    def solution(self) -> Callable[..., Any]:
-        """The plain reference implementation (what a teacher shows)."""
-        return self.plain
 
     def wrong_answer(self) -> Callable[..., Any]:
         """Return the first registered wrong implementation.
@@ -501,7 +493,6 @@ def coding_exercise(
     exercise_id: str,
     *,
     reference: Callable[..., Any],
-    plain: Callable[..., Any],
     cases: Callable[[], list[Case]],
     hint: str,
     mistakes: tuple[tuple[Callable[..., Any], str], ...],
@@ -516,8 +507,6 @@ def coding_exercise(
         ``"<chapter>.<name>-code"``.
     reference : callable
         The computation done with dstoolkit, on plain data.
-    plain : callable
-        The reference implementation without dstoolkit (what teachers see).
     cases : callable
         Returns the list of :class:`Case`.
     hint : str
@@ -544,7 +533,7 @@ def coding_exercise(
     --------
     >>> from dstoolkit.teaching import REGISTRY, Case, check, coding_exercise
     >>> ex = coding_exercise("demo.twice-code", reference=lambda x: 2 * x,
-    ...                      plain=lambda x: x + x, cases=lambda: [Case("one", (1.0,))],
+    ...                      cases=lambda: [Case("one", (1.0,))],
     ...                      hint="Twice x.", mistakes=((lambda x: x, "That is x."),))
     >>> check("demo.twice-code", lambda x: x).message.splitlines()[-1]
     '  Mistake: That is x.'
@@ -552,9 +541,7 @@ def coding_exercise(
     """
     if not mistakes:
         raise InvalidInputError(f"coding exercise {exercise_id!r} needs at least one mistake")
-    item = CodingExercise(
-        exercise_id, reference, plain, cases, hint, mistakes, normalise, arg_names
-    )
+    item = CodingExercise(exercise_id, reference, cases, hint, mistakes, normalise, arg_names)
     register(item)
     return item
 

@@ -1,9 +1,9 @@
 """Coding exercises: the learner writes the function; dstoolkit computes what it must give.
 
 Each registration names the dstoolkit computation (the *reference*, on the same plain data
-as the learner's function), the plain solution from :mod:`._plain_solutions`, fixed cases
-with their edge cases (total conflict, a vacuous source, a degenerate interval, …) and
-seeded random ones, and wrong implementations standing for named mistakes.
+as the learner's function), fixed cases with their edge cases (total conflict, a vacuous
+source, a degenerate interval, …) and seeded random ones, and wrong implementations standing
+for named mistakes (built from the reference, so that no right plain function is in here).
 """
 
 from __future__ import annotations
@@ -29,7 +29,6 @@ from dstoolkit.evidence import energy as _energy
 from dstoolkit.filters import BoundedNoise
 from dstoolkit.gauge import level_from_resonance, orders_eq43, resonance_orders, speed_of_sound
 
-from . import _plain_solutions as plain
 from ._coding import Case, coding_exercise, seeded
 from ._ex_filter import HAND_EPSILON, HAND_XHAT, HAND_Z
 
@@ -106,24 +105,25 @@ def _bel_pl_cases() -> list[Case]:
     return cases
 
 
+def _bel_pl_reference(m: dict, a: Any) -> tuple[float, float]:
+    mf = _mf(m, frozenset().union(*m, a))
+    return mf.belief(tuple(sorted(a))), mf.plausibility(tuple(sorted(a)))
+
+
 coding_exercise(
     "mass.bel-pl-code",
-    reference=lambda m, a: (
-        _mf(m, frozenset().union(*m, a)).belief(tuple(sorted(a))),
-        _mf(m, frozenset().union(*m, a)).plausibility(tuple(sorted(a))),
-    ),
-    plain=plain.bel_pl,
+    reference=_bel_pl_reference,
     cases=_bel_pl_cases,
     arg_names=("m", "a"),
     hint="Bel adds the masses of the focal elements inside A (B ⊆ A); Pl those that meet A "
     "(B ∩ A ≠ ∅).",
     mistakes=(
         (
-            lambda m, a: tuple(reversed(plain.bel_pl(m, a))),
+            lambda m, a: tuple(reversed(_bel_pl_reference(m, a))),
             "Bel and Pl are swapped: Bel(A) ≤ Pl(A) always.",
         ),
         (
-            lambda m, a: (plain.bel_pl(m, a)[0], sum(v for b, v in m.items() if b >= set(a))),
+            lambda m, a: (_bel_pl_reference(m, a)[0], sum(v for b, v in m.items() if b >= set(a))),
             "Your Pl counts only the focal elements that contain A (that is the commonality "
             "Q(A)); Pl counts every focal element that meets A.",
         ),
@@ -143,7 +143,6 @@ def _betp_cases() -> list[Case]:
 coding_exercise(
     "mass.betp-code",
     reference=lambda m: _mf(m).pignistic(),
-    plain=plain.pignistic,
     cases=_betp_cases,
     arg_names=("m",),
     hint="Each focal element gives m(A)/|A| to each of its |A| members (eq. 3.4).",
@@ -193,12 +192,14 @@ def _yager(m1: dict, m2: dict) -> dict:
     return out
 
 
+def _dempster_reference(m1: dict, m2: dict) -> dict:
+    frame = frozenset().union(*m1, *m2)
+    return _as_dict(dempster(_mf(m1, frame), _mf(m2, frame)))
+
+
 coding_exercise(
     "combine.dempster-code",
-    reference=lambda m1, m2: _as_dict(
-        dempster(_mf(m1, frozenset().union(*m1, *m2)), _mf(m2, frozenset().union(*m1, *m2)))
-    ),
-    plain=plain.dempster_rule,
+    reference=_dempster_reference,
     cases=_dempster_cases,
     arg_names=("m1", "m2"),
     hint="Multiply every pair of masses, put the product on the intersection, add up the "
@@ -232,10 +233,13 @@ def _discount_cases() -> list[Case]:
     ]
 
 
+def _discount_reference(m: dict, rate: float, frame: Any) -> dict:
+    return _as_dict(discount(_mf(m, frame), rate))
+
+
 coding_exercise(
     "combine.discount-code",
-    reference=lambda m, rate, frame: _as_dict(discount(_mf(m, frame), rate)),
-    plain=plain.discount_rule,
+    reference=_discount_reference,
     cases=_discount_cases,
     arg_names=("m", "rate", "frame"),
     hint="m'(A) = (1 − rate)·m(A) for every A, and m'(Θ) = (1 − rate)·m(Θ) + rate (eqs. 9–10).",
@@ -246,7 +250,7 @@ coding_exercise(
             "now add up to 1 + rate.",
         ),
         (
-            lambda m, rate, frame: plain.discount_rule(m, 1.0 - rate, frame),
+            lambda m, rate, frame: _discount_reference(m, 1.0 - rate, frame),
             "You multiplied by the rate instead of 1 − rate: a rate is what is taken away.",
         ),
     ),
@@ -276,10 +280,13 @@ def _interval_energy_cases() -> list[Case]:
     return cases
 
 
+def _energy_reference(rows: list) -> float:
+    return float(_energy(IntervalEvidence.from_pairs(rows, merge=False)))
+
+
 coding_exercise(
     "dependent.energy-code",
-    reference=lambda rows: _energy(IntervalEvidence.from_pairs(rows, merge=False)),
-    plain=plain.interval_energy,
+    reference=_energy_reference,
     cases=_interval_energy_cases,
     arg_names=("rows",),
     hint="Eq. A1: Σ m(A_i)·w_min/w(A_i), w_min the smallest width of the evidence; a point "
@@ -292,7 +299,7 @@ coding_exercise(
         ),
         (
             lambda rows: (
-                plain.interval_energy(rows)
+                _energy_reference(rows)
                 - rows[-1][2]
                 * min(hi - lo for lo, hi, _ in rows)
                 / (rows[-1][1] - rows[-1][0] or 1.0)
@@ -330,26 +337,26 @@ def _dependency_reference(m1: dict, m2: dict, frame: Any) -> tuple[float, float,
     return dep.degree, dep.r12, dep.r21
 
 
+def _swapped_coefficients(m1: dict, m2: dict, frame: Any) -> tuple[float, float, float]:
+    degree, r12, r21 = _dependency_reference(m1, m2, frame)
+    return degree, r21, r12
+
+
 coding_exercise(
     "dependent.coefficients-code",
     reference=_dependency_reference,
-    plain=plain.dependency,
     cases=_pairs_cases,
     arg_names=("m1", "m2", "frame"),
     hint="En(E) leaves Θ out (eq. 2); the joint energy sums min(m1(A), m2(A))/|A| over the "
     "common focal elements A ≠ Θ (eq. 3); R12 = 1 − (D/2)·En(E2)/En(E1).",
     mistakes=(
         (
-            lambda m1, m2, frame: (lambda d, r12, r21: (d, r21, r12))(
-                *plain.dependency(m1, m2, frame)
-            ),
+            _swapped_coefficients,
             "R12 and R21 are swapped: R12 = 1 − (D/2)·En(E2)/En(E1) discounts E1 by how much "
             "of it E2 already says.",
         ),
         (
-            lambda m1, m2, frame: plain.dependency(
-                {k: v for k, v in m1.items()}, {k: v for k, v in m2.items()}, frozenset(["?"])
-            ),
+            lambda m1, m2, frame: _dependency_reference(m1, m2, frozenset(frame) | {"?"}),
             "You counted Θ in the energies: its mass says nothing, so eq. 2 leaves it out.",
         ),
     ),
@@ -360,10 +367,16 @@ def _combine_dependent_reference(m1: dict, m2: dict, frame: Any) -> dict:
     return _as_dict(combine_dependent(_mf(m1, frame), _mf(m2, frame)))
 
 
+def _discounted_at_r(m1: dict, m2: dict, frame: Any) -> dict:
+    _, r12, r21 = _dependency_reference(m1, m2, frame)
+    return _dempster_reference(
+        _discount_reference(m1, r12, frame), _discount_reference(m2, r21, frame)
+    )
+
+
 coding_exercise(
     "dependent.combine-code",
     reference=_combine_dependent_reference,
-    plain=plain.dependent_rule,
     cases=lambda: [
         *_pairs_cases(),
         Case("total conflict, nothing shared", ({fs("low"): 1.0}, {fs("high"): 1.0}, set(LEVEL))),
@@ -373,16 +386,12 @@ coding_exercise(
     "1 − R21 (your discount), then combine with your dempster_rule.",
     mistakes=(
         (
-            lambda m1, m2, frame: plain.dempster_rule(m1, m2),
+            lambda m1, m2, frame: _dempster_reference(m1, m2),
             "You combined without decorrelating: Dempster's rule alone counts what both "
             "sources share twice.",
         ),
         (
-            lambda m1, m2, frame: (
-                lambda d, r12, r21: plain.dempster_rule(
-                    plain.discount_rule(m1, r12, frame), plain.discount_rule(m2, r21, frame)
-                )
-            )(*plain.dependency(m1, m2, frame)),
+            _discounted_at_r,
             "You discounted at rate R instead of 1 − R: R is the part of the evidence that is "
             "kept (eq. 9).",
         ),
@@ -419,18 +428,25 @@ def _triangular_cases() -> list[Case]:
 
 
 def _cuts_from_one(lo: float, mode: float, hi: float, p: int, epsilon: float) -> list:
-    rows = plain.triangular_rows(lo, mode, hi, p, epsilon)
     shifted = [
         (lo + (i + 1) / p * (mode - lo), hi - (i + 1) / p * (hi - mode), (1 - epsilon) / p)
         for i in reversed(range(p))
     ]
-    return shifted + rows[p:]
+    return [*shifted, _theta_row(_triangular_reference(lo, mode, hi, p, epsilon))]
+
+
+def _triangular_reference(lo: float, mode: float, hi: float, p: int, epsilon: float) -> list:
+    return _rows(triangular_evidence(lo, mode, hi, p, epsilon))
+
+
+def _theta_row(rows: list) -> tuple[float, float, float]:
+    """Return Θ's row of a triangular evidence: the widest."""
+    return max(rows, key=lambda row: row[1] - row[0])
 
 
 coding_exercise(
     "noise.triangular-code",
-    reference=lambda lo, mode, hi, p, epsilon: _rows(triangular_evidence(lo, mode, hi, p, epsilon)),
-    plain=plain.triangular_rows,
+    reference=_triangular_reference,
     cases=_triangular_cases,
     normalise=sorted_rows,
     arg_names=("lower", "mode", "upper", "p", "epsilon"),
@@ -444,10 +460,11 @@ coding_exercise(
             "support [lower, upper] is missing. Take α = 0, 1/p, …, (p − 1)/p.",
         ),
         (
-            lambda lo, mode, hi, p, epsilon: [
-                (lo, hi, 1.0 / p if i < p else m)
-                for i, (lo, hi, m) in enumerate(plain.triangular_rows(lo, mode, hi, p, epsilon))
-            ],
+            lambda lo, mode, hi, p, epsilon: (
+                lambda rows: [
+                    (a, b, m if (a, b, m) == _theta_row(rows) else 1.0 / p) for a, b, m in rows
+                ]
+            )(_triangular_reference(lo, mode, hi, p, epsilon)),
             "Each cut gets (1 − ε)/p, not 1/p: Θ takes ε, and the masses must add up to 1.",
         ),
     ),
@@ -481,14 +498,13 @@ def _cdf_reference(rows: list, x: float) -> tuple[float, float]:
 coding_exercise(
     "noise.cdf-code",
     reference=_cdf_reference,
-    plain=plain.cdf_bounds,
     cases=_cdf_cases,
     arg_names=("rows", "x"),
     hint="Bel((−∞, x]) needs the whole interval at or left of x (hi ≤ x); Pl((−∞, x]) needs "
     "only a part of it there (lo ≤ x). End points count.",
     mistakes=(
         (
-            lambda rows, x: tuple(reversed(plain.cdf_bounds(rows, x))),
+            lambda rows, x: tuple(reversed(_cdf_reference(rows, x))),
             "Lower and upper are swapped: the lower bound Bel counts the intervals entirely "
             "left of x.",
         ),
@@ -564,7 +580,6 @@ def _vertex_reference(f: Any, lo: list, hi: list) -> tuple[float, float]:
 coding_exercise(
     "random.vertex-code",
     reference=_vertex_reference,
-    plain=plain.vertex_image,
     cases=_vertex_cases,
     arg_names=("f", "lo", "hi"),
     hint="A box in n dimensions has 2^n corners: every choice of lo or hi per coordinate "
@@ -623,7 +638,6 @@ def _boxes(d: Any) -> dict:
 coding_exercise(
     "random.product-code",
     reference=_product_reference,
-    plain=plain.product_relation,
     cases=_product_cases,
     normalise=_boxes,
     arg_names=("x1", "x2"),
@@ -670,7 +684,6 @@ def _bounded_cases() -> list[Case]:
 coding_exercise(
     "bounded.step-code",
     reference=_bounded_reference,
-    plain=plain.bounded_step,
     cases=_bounded_cases,
     arg_names=("box", "v", "w", "z"),
     hint="x = z + w puts x in [z + w_lo, z + w_hi]; intersect that with the predicted "
@@ -682,7 +695,7 @@ coding_exercise(
             "in both, so intersect.",
         ),
         (
-            lambda box, v, w, z: plain.bounded_step(box, (0.0, 0.0), w, z),
+            lambda box, v, w, z: _bounded_reference(box, (0.0, 0.0), w, z),
             "You forgot the prediction: the state moves by v before the reading, so widen the "
             "box by v first.",
         ),
@@ -714,23 +727,24 @@ def _orders_cases() -> list[Case]:
     return cases
 
 
+def _orders_reference(length: float, temperature: float, band: Any) -> list[int]:
+    return [int(n) for n in resonance_orders(length, float(speed_of_sound(temperature)), band)]
+
+
 coding_exercise(
     "gauge.orders-code",
-    reference=lambda length, temperature, band: [
-        int(n) for n in resonance_orders(length, float(speed_of_sound(temperature)), band)
-    ],
-    plain=plain.orders_in_band,
+    reference=_orders_reference,
     cases=_orders_cases,
     arg_names=("length", "temperature", "band"),
     hint="f_F = c/(2L) with c = 331.3 + 0.606 T; the orders run from ⌈f_lo/f_F⌉ to "
     "⌊f_hi/f_F⌋, both ends included.",
     mistakes=(
         (
-            lambda length, temperature, band: plain.orders_in_band(length / 2, temperature, band),
+            lambda length, temperature, band: _orders_reference(length / 2, temperature, band),
             "Your f_F is c/L: the sound goes down the tube and back, so f_F = c/(2L).",
         ),
         (
-            lambda length, temperature, band: plain.orders_in_band(length, temperature, band)[1:-1],
+            lambda length, temperature, band: _orders_reference(length, temperature, band)[1:-1],
             "You left out the orders at the ends of the band: a resonance exactly on f_lo or "
             "f_hi is in the band.",
         ),
@@ -763,25 +777,25 @@ def _eq43_reference(z1: float, z2: float, temperature: float) -> tuple[int, floa
     return n, float(level_from_resonance(z1, n, float(speed_of_sound(temperature))))
 
 
+def _twice_the_level(z1: float, z2: float, temperature: float) -> tuple[int, float]:
+    order, length = _eq43_reference(z1, z2, temperature)
+    return order, 2 * length
+
+
 coding_exercise(
     "estimating.eq43-code",
     reference=_eq43_reference,
-    plain=plain.level_from_two_readings,
     cases=_eq43_cases,
     arg_names=("z1", "z2", "temperature"),
     hint="Neighbouring resonances are f_F apart, so z1/(z2 − z1) ≈ n1 (eq. 43); round it, "
     "then L = n1·c/(2 z1) (eq. 32).",
     mistakes=(
         (
-            lambda z1, z2, temperature: (lambda n, length: (n, 2 * length))(
-                *plain.level_from_two_readings(z1, z2, temperature)
-            ),
+            _twice_the_level,
             "Your level is twice too long: eq. 32 divides by 2 z1 (down and back).",
         ),
         (
-            lambda z1, z2, temperature: plain.level_from_two_readings(
-                z2, z2 + (z2 - z1), temperature
-            ),
+            lambda z1, z2, temperature: _eq43_reference(z2, z2 + (z2 - z1), temperature),
             "You found the order of z2, not of z1: z2/(z2 − z1) is n1 + 1.",
         ),
     ),
@@ -803,10 +817,13 @@ def _sigma_cases() -> list[Case]:
     return cases
 
 
+def _sigma_reference(lo: float, mode: float, hi: float) -> float:
+    return float(np.sqrt(BoundedNoise(lo, mode, hi).variance[0]))
+
+
 coding_exercise(
     "beyond.sigma-code",
-    reference=lambda lo, mode, hi: float(np.sqrt(BoundedNoise(lo, mode, hi).variance[0])),
-    plain=plain.triangle_sigma,
+    reference=_sigma_reference,
     cases=_sigma_cases,
     arg_names=("lower", "mode", "upper"),
     hint="Var = (a² + b² + m² − ab − am − bm)/18 for the triangle on [a, b] with mode m; "
@@ -818,7 +835,7 @@ coding_exercise(
             "(±3σ); the triangle on those bounds has a smaller σ.",
         ),
         (
-            lambda lo, mode, hi: plain.triangle_sigma(lo, mode, hi) ** 2,
+            lambda lo, mode, hi: _sigma_reference(lo, mode, hi) ** 2,
             "That is the variance; σ is its square root.",
         ),
     ),
@@ -983,7 +1000,6 @@ def _plain_dempster_step6(
 coding_exercise(
     "filter.step-code",
     reference=_filter_reference,
-    plain=plain.filter_step,
     cases=_filter_cases,
     normalise=_filter_outcome,
     arg_names=("xhat", "z", "f", "g", "g_inv", "v_rows", "w_rows"),
@@ -992,7 +1008,7 @@ coding_exercise(
     "mapped-back evidence and the prediction by R12, R21 (Θ = hull of each) and combines.",
     mistakes=(
         (
-            lambda xhat, z, f, g, g_inv, v_rows, w_rows: plain.filter_step(
+            lambda xhat, z, f, g, g_inv, v_rows, w_rows: _filter_reference(
                 xhat, z, lambda x: f(xhat), g, g_inv, v_rows, w_rows
             ),
             "Your prediction adds the noise once, f(x̂) + V; the paper's Step 2 maps the state "

@@ -21,6 +21,7 @@ from dstoolkit.gauge import (
 
 from ._checking import REGISTRY, exercise
 from ._ex_filter import PAPER_Z1
+from ._variants import book_data, data
 
 # -- the acoustic level gauge (book/level_gauge.md, notebooks/07_level_gauge.ipynb) -----------
 
@@ -39,6 +40,38 @@ EQ43_TOLERANCE_AT = 2000.0
 THERMOMETER_ERROR = 1.0
 
 
+book_data(
+    "gauge",
+    {
+        "case_l": 4.6,
+        "case_t": 26.5,
+        "long_l": 9.6,
+        "long_t": 23.9,
+        "latency_ms": 10,
+        # the simulated gauge's sheet: the levels between which its prediction moves the slider
+        "spacing_low": 1.6,
+        "spacing_high": 9.6,
+    },
+)
+
+
+def _case() -> tuple[float, float]:
+    """Return the (level m, °C) of the speed and offset exercises (the book's: GAUGE_CASE)."""
+    d = data("gauge")
+    return float(d["case_l"]), float(d["case_t"])
+
+
+def _long() -> tuple[float, float]:
+    """Return the (level m, °C) of the long tube's exercises (the book's: LONG_CASE)."""
+    d = data("gauge")
+    return float(d["long_l"]), float(d["long_t"])
+
+
+def _latency() -> float:
+    """Return the audio latency of the offset exercise, s (the book's: GAUGE_LATENCY)."""
+    return float(data("gauge")["latency_ms"]) / 1000.0
+
+
 def _c(case: tuple[float, float]) -> float:
     return float(speed_of_sound(case[1]))
 
@@ -53,7 +86,8 @@ def eq43_readings() -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (2,)
-        z_1 = 57 f_F + 0.2 and z_2 = 58 f_F − 0.2 at 9.6 m and 23.9 °C, Hz.
+        z_1 = 57 f_F + 0.2 and z_2 = 58 f_F − 0.2 at the sheet's long tube (the book's:
+        9.6 m and 23.9 °C), Hz.
 
     Examples
     --------
@@ -61,31 +95,34 @@ def eq43_readings() -> np.ndarray:
     >>> eq43_readings().shape
     (2,)
     """
-    return np.array(EQ43_ORDERS) * _fundamental(LONG_CASE) + np.array(EQ43_ERRORS)
+    return np.array(EQ43_ORDERS) * _fundamental(_long()) + np.array(EQ43_ERRORS)
 
 
 @exercise(
     "gauge.speed",
+    varies=True,
     hint="The paper's law: c = 331.3 + 0.606 T, T in °C.",
     mistakes=((lambda: 331.3, "That is c at 0 °C; add 0.606 m/s per °C."),),
 )
 def _() -> float:
-    return _c(GAUGE_CASE)
+    return _c(_case())
 
 
 @exercise(
     "gauge.fundamental",
+    varies=True,
     hint="f_F = c/(2L), c at 23.9 °C by the paper's law.",
     mistakes=(
-        (lambda: _c(LONG_CASE) / LONG_CASE[0], "That is c/L: the echo travels down and back, 2L."),
+        (lambda: _c(_long()) / _long()[0], "That is c/L: the echo travels down and back, 2L."),
     ),
 )
 def _() -> float:
-    return _fundamental(LONG_CASE)
+    return _fundamental(_long())
 
 
 @exercise(
     "gauge.count",
+    varies=True,
     atol=0.0,
     rtol=0.0,
     hint="Count the whole numbers n with 1000 ≤ n f_F ≤ 2500: from ⌈1000/f_F⌉ to ⌊2500/f_F⌋.",
@@ -98,38 +135,40 @@ def _() -> float:
     ),
 )
 def _() -> int:
-    return int(resonance_orders(LONG_CASE[0], _c(LONG_CASE), GAUGE_BAND).size)
+    return int(resonance_orders(_long()[0], _c(_long()), GAUGE_BAND).size)
 
 
 @exercise(
     "gauge.offset",
+    varies=True,
     atol=5e-3,
     hint="The envelope peaks κ L/c above n c/(2L); the latency adds κ τ.",
     mistakes=(
         (
-            lambda: SWEEP_RATE * 2 * GAUGE_CASE[0] / _c(GAUGE_CASE) + SWEEP_RATE * GAUGE_LATENCY,
+            lambda: SWEEP_RATE * 2 * _case()[0] / _c(_case()) + SWEEP_RATE * _latency(),
             "You used k·2L/c: the peak sits where the *mean* frequency of wave and "
             "echo is n c/(2L), half a delay back: κ L/c.",
         ),
         (
-            lambda: float(sweep_rate_offset(SWEEP_RATE, _fundamental(GAUGE_CASE))),
+            lambda: float(sweep_rate_offset(SWEEP_RATE, _fundamental(_case()))),
             "That is the sweep's offset κ L/c alone; the latency adds κ τ.",
         ),
     ),
 )
 def _() -> float:
-    return float(sweep_rate_offset(SWEEP_RATE, _fundamental(GAUGE_CASE))) + latency_offset(
-        SWEEP_RATE, GAUGE_LATENCY
+    return float(sweep_rate_offset(SWEEP_RATE, _fundamental(_case()))) + latency_offset(
+        SWEEP_RATE, _latency()
     )
 
 
 @exercise(
     "gauge.eq43",
+    varies=True,
     atol=5e-3,
     hint="n_1 = round(z_1/(z_2 − z_1)) (eq. 43), then L = n_1 c/(2 z_1) (eq. 32). Answer (n_1, L).",
     mistakes=(
         (
-            lambda: (EQ43_ORDERS[0], LONG_CASE[0]),
+            lambda: (EQ43_ORDERS[0], _long()[0]),
             "That is the true order and level; eq. 43 only sees the two readings: "
             "compute z_1/(z_2 − z_1).",
         ),
@@ -138,17 +177,18 @@ def _() -> float:
 def _() -> tuple[int, float]:
     z = eq43_readings()
     n = int(orders_eq43(z)[0])
-    return n, float(level_from_resonance(z[0], n, _c(LONG_CASE)))
+    return n, float(level_from_resonance(z[0], n, _c(_long())))
 
 
 @exercise(
     "gauge.tolerance",
+    varies=True,
     atol=2e-3,
     hint="n = z/(f_F + δ) ≈ (z/f_F)(1 − δ/f_F) rounds to the right order while "
     "(z/f_F)·|δ|/f_F < 1/2.",
     mistakes=(
         (
-            lambda: 0.5 * _fundamental(LONG_CASE),
+            lambda: 0.5 * _fundamental(_long()),
             "f_F/2 is how far one reading may wander before it is matched to the "
             "wrong resonance; eq. 43 divides by a difference, which must be far "
             "more precise.",
@@ -156,23 +196,24 @@ def _() -> tuple[int, float]:
     ),
 )
 def _() -> float:
-    return _fundamental(LONG_CASE) ** 2 / (2.0 * EQ43_TOLERANCE_AT)
+    return _fundamental(_long()) ** 2 / (2.0 * EQ43_TOLERANCE_AT)
 
 
 @exercise(
     "gauge.thermometer",
+    varies=True,
     atol=2e-4,
     hint="L = c/(2 f_F): a relative error of c is the same relative error of L.",
     mistakes=(
         (
-            lambda: -LONG_CASE[0] * 0.606 * THERMOMETER_ERROR / _c(LONG_CASE),
+            lambda: -_long()[0] * 0.606 * THERMOMETER_ERROR / _c(_long()),
             "Check the sign: a thermometer that reads high makes c, and so L, too large.",
         ),
     ),
 )
 def _() -> float:
-    c_read = float(speed_of_sound(LONG_CASE[1] + THERMOMETER_ERROR))
-    return LONG_CASE[0] * (c_read - _c(LONG_CASE)) / _c(LONG_CASE)
+    c_read = float(speed_of_sound(_long()[1] + THERMOMETER_ERROR))
+    return _long()[0] * (c_read - _c(_long())) / _c(_long())
 
 
 # -- the lab (book/lab.md, notebooks/08_lab.ipynb) ---------------------------------------------
@@ -191,32 +232,70 @@ LAB_TOLERANCE_CASE = (3.0, 0.005)
 LAB_UNCERTAINTIES_MM = (0.4, 1.5, 2.2)
 
 
+book_data(
+    "lab",
+    {
+        "lag": LAB_LAG_SAMPLES,
+        "temperature": LAB_TEMPERATURE,
+        "diameter_mm": round(1e3 * LAB_CUTOFF_DIAMETER, 6),
+        "tolerance_level": LAB_TOLERANCE_CASE[0],
+        "tolerance_mm": round(1e3 * LAB_TOLERANCE_CASE[1], 6),
+        "u_fit": LAB_UNCERTAINTIES_MM[0],
+        "u_offsets": LAB_UNCERTAINTIES_MM[1],
+        "u_temperature": LAB_UNCERTAINTIES_MM[2],
+    },
+)
+
+
+def _lab(name: str) -> Any:
+    """Return a datum of the lab's exercises in the current variant (the book's: LAB_*)."""
+    return data("lab")[name]
+
+
 def _lab_c() -> float:
-    return float(speed_of_sound(LAB_TEMPERATURE))
+    return float(speed_of_sound(_lab("temperature")))
+
+
+def _lab_tau() -> float:
+    return _lab("lag") / LAB_SAMPLERATE
+
+
+def _diameter() -> float:
+    return _lab("diameter_mm") / 1e3
+
+
+def _tolerance_case() -> tuple[float, float]:
+    return float(_lab("tolerance_level")), _lab("tolerance_mm") / 1e3
+
+
+def _uncertainties() -> tuple[float, float, float]:
+    return _lab("u_fit"), _lab("u_offsets"), _lab("u_temperature")
 
 
 @exercise(
     "lab.latency-offset",
+    varies=True,
     atol=5e-3,
     hint="τ = lag / f_s (in ms: × 1000); every reading moves by κ τ with κ = 280 Hz/s "
     "and τ in seconds. Answer (τ in ms, κ τ in Hz).",
     mistakes=(
         (
             lambda: (
-                LAB_LAG_SAMPLES / LAB_SAMPLERATE,
-                SWEEP_RATE * LAB_LAG_SAMPLES / LAB_SAMPLERATE,
+                _lab_tau(),
+                SWEEP_RATE * _lab_tau(),
             ),
             "Give τ in milliseconds (the offset κ τ is right).",
         ),
     ),
 )
 def _() -> tuple[float, float]:
-    tau = LAB_LAG_SAMPLES / LAB_SAMPLERATE
+    tau = _lab_tau()
     return 1e3 * tau, latency_offset(SWEEP_RATE, tau)
 
 
 @exercise(
     "lab.shortest-tube",
+    varies=True,
     hint="Five spacings fit in the band when 5 f_F ≤ f_stop − f_start; then L = c/(2 f_F).",
     mistakes=(
         (
@@ -232,10 +311,11 @@ def _() -> float:
 
 @exercise(
     "lab.cutoff",
+    varies=True,
     hint="The first cross mode of a round tube starts at 1.8412 c/(π d).",
     mistakes=(
         (
-            lambda: 1.8412 * _lab_c() / (np.pi * 2 * LAB_CUTOFF_DIAMETER),
+            lambda: 1.8412 * _lab_c() / (np.pi * 2 * _diameter()),
             "1.8412 c/(π d) takes the diameter d, not twice it.",
         ),
         (
@@ -247,42 +327,44 @@ def _() -> float:
 def _() -> float:
     from dstoolkit.gauge import plane_wave_cutoff
 
-    return plane_wave_cutoff(LAB_CUTOFF_DIAMETER, _lab_c())
+    return plane_wave_cutoff(_diameter(), _lab_c())
 
 
 @exercise(
     "lab.thermometer-tolerance",
+    varies=True,
     hint="δL = L · 0.606 δT / c (c = 331.3 + 0.606 T): solve for δT.",
     mistakes=(
         (
-            lambda: LAB_TOLERANCE_CASE[1] * _lab_c() / LAB_TOLERANCE_CASE[0],
+            lambda: _tolerance_case()[1] * _lab_c() / _tolerance_case()[0],
             "c changes by 0.606 m/s per °C, not by 1: divide by 0.606 too.",
         ),
     ),
 )
 def _() -> float:
-    level, tolerance = LAB_TOLERANCE_CASE
-    c_per_degree = float(speed_of_sound(LAB_TEMPERATURE + 1.0)) - _lab_c()
+    level, tolerance = _tolerance_case()
+    c_per_degree = float(speed_of_sound(_lab("temperature") + 1.0)) - _lab_c()
     return tolerance * _lab_c() / (c_per_degree * level)
 
 
 @exercise(
     "lab.uncertainty",
+    varies=True,
     hint="Independent parts of an uncertainty add in quadrature: "
     "the square root of the sum of their squares.",
     mistakes=(
         (
-            lambda: float(sum(LAB_UNCERTAINTIES_MM)),
+            lambda: float(sum(_uncertainties())),
             "That is their plain sum: independent parts add in quadrature.",
         ),
         (
-            lambda: float(max(LAB_UNCERTAINTIES_MM)),
+            lambda: float(max(_uncertainties())),
             "That is only the largest part; the others add to it, in quadrature.",
         ),
     ),
 )
 def _() -> float:
-    return float(np.sqrt(np.sum(np.square(LAB_UNCERTAINTIES_MM))))
+    return float(np.sqrt(np.sum(np.square(_uncertainties()))))
 
 
 # -- estimating the level (book/estimating_level.md, notebooks/09_estimating_level.ipynb) -------
@@ -298,30 +380,41 @@ PAPER_DIRECT_13 = 0.238
 IMPROVEMENT_RUNS, IMPROVEMENT_SEED = 30, 0
 
 
+book_data("estimating", {"z1": PAPER_Z1, "n1": PAPER_N1, "bias": READING_BIAS})
+
+
+def _first() -> tuple[float, int]:
+    """Return the first reading (Hz) and its order (the book's: PAPER_Z1, PAPER_N1)."""
+    d = data("estimating")
+    return float(d["z1"]), int(d["n1"])
+
+
 def _level_of_reading(z: float, n: int, case: tuple[float, float]) -> float:
     return float(level_from_resonance(z, n, _c(case)))
 
 
 @exercise(
     "estimating.first-level",
+    varies=True,
     atol=5e-4,
     hint="Eq. 32: L = n c/(2 z) with c = 331.3 + 0.606 T at 26.5 °C.",
     mistakes=(
         (
-            lambda: 2 * _level_of_reading(PAPER_Z1, PAPER_N1, FIG10_CASE),
+            lambda: 2 * _level_of_reading(*_first(), FIG10_CASE),
             "The echo travels down and back: divide by 2 z, not z.",
         ),
     ),
 )
 def _() -> float:
-    return _level_of_reading(PAPER_Z1, PAPER_N1, FIG10_CASE)
+    return _level_of_reading(*_first(), FIG10_CASE)
 
 
 @exercise(
     "estimating.bias",
+    varies=True,
     atol=2e-4,
-    hint="The 27th resonance is at 27 c/(2L); the reading is 6.9 Hz above it. Put the "
-    "reading and the true order into eq. 32 and subtract 4.6 m.",
+    hint="The resonance of order n is at n c/(2L); the reading is the bias above it. Put the "
+    "reading and the true order into eq. 32 and subtract the true level.",
     mistakes=(
         (
             lambda: -float(_bias_error()),
@@ -330,8 +423,8 @@ def _() -> float:
     ),
 )
 def _bias_error() -> float:
-    f = PAPER_N1 * _fundamental(FIG10_CASE)
-    return _level_of_reading(f + READING_BIAS, PAPER_N1, FIG10_CASE) - FIG10_CASE[0]
+    n, bias = _first()[1], float(data("estimating")["bias"])
+    return _level_of_reading(n * _fundamental(FIG10_CASE) + bias, n, FIG10_CASE) - FIG10_CASE[0]
 
 
 @exercise(
@@ -596,21 +689,24 @@ def _failure_share(fraction: float) -> str:
     ),
 )
 def _() -> str:
-    return _failure_share(float(REGISTRY["beyond.failures"].solution))
+    return _failure_share(float(REGISTRY["beyond.failures"]._expected()))
 
 
-#: The levels (m) between which the spacing prediction moves the slider.
-SPACING_LEVELS = (1.6, 9.6)
+def _spacing_levels() -> tuple[float, float]:
+    """Return the two levels (m) between which the spacing prediction moves the slider."""
+    d = data("gauge")
+    return float(d["spacing_low"]), float(d["spacing_high"])
 
 
 @exercise(
     "gauge.spacing-ratio",
+    varies=True,
     atol=1e-4,
     hint="f_F = c/(2L) at a fixed temperature: the spacing goes as 1/L. Answer "
-    "f_F(9.6 m)/f_F(1.6 m).",
+    "f_F(longer level)/f_F(shorter level).",
     mistakes=(
         (
-            lambda: SPACING_LEVELS[1] / SPACING_LEVELS[0],
+            lambda: _spacing_levels()[1] / _spacing_levels()[0],
             "That is the ratio of the levels; a longer tube has its resonances "
             "closer together, so f_F shrinks.",
         ),
@@ -618,4 +714,5 @@ SPACING_LEVELS = (1.6, 9.6)
 )
 def _() -> float:
     t = GAUGE_CASE[1]
-    return _fundamental((SPACING_LEVELS[1], t)) / _fundamental((SPACING_LEVELS[0], t))
+    low, high = _spacing_levels()
+    return _fundamental((high, t)) / _fundamental((low, t))

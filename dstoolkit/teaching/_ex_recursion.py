@@ -13,7 +13,6 @@ import numpy as np
 
 from dstoolkit.filters import chi2_band, nees, rts_smoother, sigma_points, sigma_weights
 
-from . import _plain_solutions as plain
 from ._checking import exercise
 from ._coding import Case, coding_exercise, seeded
 
@@ -186,7 +185,6 @@ def _ut_cases() -> list[Case]:
 coding_exercise(
     "recursion.ut-code",
     reference=_ut,
-    plain=plain.unscented_moments,
     cases=_ut_cases,
     arg_names=("f", "mean", "var", "alpha", "beta", "kappa"),
     hint="Three points: mean and mean ± √((1 + λ) var), λ = α²(1 + κ) − 1. The mean "
@@ -199,8 +197,7 @@ coding_exercise(
         ),
         (
             lambda f, mean, var, alpha, beta, kappa: (
-                plain.unscented_moments(f, mean, var, alpha, 0.0, kappa)[:1]
-                + (plain.unscented_moments(f, mean, var, 1.0, 0.0, kappa)[1],)
+                _ut(f, mean, var, alpha, 0.0, kappa)[:1] + (_ut(f, mean, var, 1.0, 0.0, kappa)[1],)
             ),
             "The centre's variance weight is the mean weight plus 1 − α² + β.",
         ),
@@ -242,7 +239,6 @@ def _rts_cases() -> list[Case]:
 coding_exercise(
     "recursion.rts-code",
     reference=_rts_reference,
-    plain=plain.rts_scalar,
     cases=_rts_cases,
     arg_names=("x", "p", "a", "q"),
     hint="Go backwards from k = T − 2: predict a x[k] with variance a² p[k] + q, the gain "

@@ -1,7 +1,8 @@
 """Every exercise of the book and its sheets, registered on import.
 
 The checked answers (:mod:`._ex_evidence`, :mod:`._ex_filter`, :mod:`._ex_gauge`) and the coding
-exercises (:mod:`._ex_coding`, reference implementations in :mod:`._plain_solutions`). The checker
+exercises (:mod:`._ex_coding`; the teacher's plain solutions are in the repository's
+``answer_key``, not in this package). The checker
 itself is :mod:`._checking` (answers) and :mod:`._coding` (functions).
 """
 
@@ -12,7 +13,7 @@ from . import (
     _ex_coding,  # noqa: F401  (registers the coding exercises)
     _ex_recursion,  # noqa: F401  (registers the one recursion's exercises)
 )
-from ._checking import REGISTRY, Exercise, Feedback, check, exercise, exercises, mistake, solution
+from ._checking import REGISTRY, Exercise, Feedback, check, exercise, exercises, mistake
 from ._coding import Case, CodingExercise, coding_exercise
 from ._ex_evidence import FRAME, MONOTONE_BOX, once, zadeh
 from ._ex_filter import PAPER_Z1
@@ -60,6 +61,5 @@ __all__ = [
     "exercises",
     "mistake",
     "once",
-    "solution",
     "zadeh",
 ]

@@ -41,6 +41,10 @@ SHEET_CHAPTER = {
     "random_sets": "random",
     "noise_to_evidence": "noise",
     "recursive_filter": "filter",
+    "level_gauge": "gauge",
+    "simulated_gauge": "gauge",
+    "lab": "lab",
+    "estimating_level": "estimating",
 }
 
 #: Draws tried before giving up (a draw is refused when an answer equals the book's).
@@ -168,6 +172,41 @@ def _filter(rng: np.random.Generator) -> Data:
     }
 
 
+def _gauge(rng: np.random.Generator) -> Data:
+    return {
+        "case_l": _pick(rng, 1.0, 9.0, 0.1),
+        "case_t": _pick(rng, 5.0, 35.0, 0.1),
+        "long_l": _pick(rng, 6.0, 12.0, 0.1),
+        "long_t": _pick(rng, 5.0, 35.0, 0.1),
+        "latency_ms": int(rng.integers(2, 41)),
+        "spacing_low": _pick(rng, 1.0, 3.0, 0.1),
+        "spacing_high": _pick(rng, 5.0, 10.0, 0.1),
+    }
+
+
+def _lab(rng: np.random.Generator) -> Data:
+    return {
+        "lag": int(rng.integers(2000, 9001)),
+        "temperature": _pick(rng, 10.0, 30.0, 0.5),
+        "diameter_mm": int(rng.integers(20, 61)),
+        "tolerance_level": _pick(rng, 1.0, 6.0, 0.5),
+        "tolerance_mm": int(rng.integers(2, 11)),
+        "u_fit": _pick(rng, 0.1, 3.0, 0.1),
+        "u_offsets": _pick(rng, 0.1, 3.0, 0.1),
+        "u_temperature": _pick(rng, 0.1, 3.0, 0.1),
+    }
+
+
+def _estimating(rng: np.random.Generator) -> Data:
+    n1 = int(rng.integers(27, 61))
+    spacing = 37.76  # f_F of the paper's 4.6 m case at 26.5 °C, Hz: readings near n f_F
+    return {
+        "z1": round(n1 * spacing + _pick(rng, -9.0, 9.0, 0.1), 1),
+        "n1": n1,
+        "bias": _pick(rng, 2.0, 12.0, 0.1),
+    }
+
+
 DRAW: dict[str, Callable[[np.random.Generator], Data]] = {
     "mass": _mass,
     "combine": _combine,
@@ -175,6 +214,9 @@ DRAW: dict[str, Callable[[np.random.Generator], Data]] = {
     "random": _random,
     "noise": _noise,
     "filter": _filter,
+    "gauge": _gauge,
+    "lab": _lab,
+    "estimating": _estimating,
 }
 
 
@@ -284,7 +326,7 @@ def _draw(chapter: str, variant: int) -> Data:
         if ex_id.split(".")[0] == chapter and getattr(ex, "varies", False)
     ]
     before = range(max(1, variant - WINDOW), variant) if variant < STUDENT_VARIANTS else ()
-    others = [[ex.solution_in(v) for v in (0, *before)] for ex in varying]
+    others = [[ex._expected_in(v) for v in (0, *before)] for ex in varying]
     key = (chapter, variant)
     book = [sols[0] for sols in others]
     fallback: Data | None = None
