@@ -47,6 +47,8 @@ PLAIN: dict[str, Callable[..., Any]] = {
     "filter.step-code": plain_solutions.filter_step,
     "recursion.ut-code": plain_solutions.unscented_moments,
     "recursion.rts-code": plain_solutions.rts_scalar,
+    "belief.mobius-code": plain_solutions.mass_from_belief,
+    "belief.lower-code": plain_solutions.lower_expectation,
 }
 
 

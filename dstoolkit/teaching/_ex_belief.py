@@ -24,7 +24,6 @@ from dstoolkit.evidence import (
     set_function,
 )
 
-from . import _plain_solutions as plain
 from ._checking import exercise
 from ._coding import Case, coding_exercise, seeded
 
@@ -319,7 +318,6 @@ def _mobius_cases() -> list[Case]:
 coding_exercise(
     "belief.mobius-code",
     reference=_mobius_reference,
-    plain=plain.mass_from_belief,
     cases=_mobius_cases,
     arg_names=("bel",),
     hint="For each A add Bel(B) over the subsets B of A, with the sign (−1)^(|A| − |B|); "
@@ -376,7 +374,6 @@ def _lower_cases() -> list[Case]:
 coding_exercise(
     "belief.lower-code",
     reference=_lower_reference,
-    plain=plain.lower_expectation,
     cases=_lower_cases,
     arg_names=("m", "u"),
     hint="Loop over the focal elements: each adds its mass times the smallest utility among "
