@@ -168,6 +168,7 @@ SYMBOLS = {
     "odot": "⊙",
     "chi": "χ",
     "setminus": "∖",
+    "smallsetminus": "∖",
     "supseteq": "⊇",
     "supset": "⊃",
     "sim": "∼",

@@ -421,14 +421,19 @@ def telltales(root: Path = ROOT, least: int = 8) -> dict[str, list[str]]:
 
     A run is a clause of the solution (between punctuation marks) of at least ``least``
     words, maths left out; found in a page, it shows that the page holds the solution.
+    A page that shows the maths as text (a PDF's) has words where the maths was, so the
+    stretches of prose between two formulas count as runs too.
     """
     out = {}
     numbers = _sheets().chapter_numbers(root / "_toc.yml")
     for stem in numbers:
         for label, entry in bank(stem, root).items():
-            prose = MATHS.sub(" ", entry["solution"])
-            clauses = [words(c) for c in re.split(r"[.;:()]", prose)]
-            out[label] = [c for c in clauses if len(c.split()) >= least]
+            runs = []
+            for between in (" ", " ; "):  # maths left out, or maths as a clause's end
+                prose = MATHS.sub(between, entry["solution"])
+                clauses = [words(c) for c in re.split(r"[.;:()]", prose)]
+                runs += [c for c in clauses if len(c.split()) >= least and c not in runs]
+            out[label] = runs
     return out
 
 
