@@ -685,7 +685,11 @@ def test_a_written_part_is_graded_in_the_formgrader_and_exported(
     context = chromium.new_context(extra_http_headers={"Authorization": f"token {token}"})
     page = context.new_page()
     try:
-        response = page.goto(f"{base}/formgrader/submissions/{submission}/")
+        # the page binds its score boxes once its grades have loaded (a request of its own
+        # after the load): with no network left, a change is saved
+        response = page.goto(
+            f"{base}/formgrader/submissions/{submission}/", wait_until="networkidle"
+        )
         assert response is not None and response.status == 200, response
         text = page.inner_text("body")
         # the teacher's solution beside the student's answer (the source's own text)
