@@ -52,6 +52,7 @@ BOOK_MODULES = (
     "test_book_pdf.py",
     "test_exam_site.py",
     "test_book_siteperf.py",
+    "test_book_api_page.py",
 )
 #: Modules that start PulseAudio loopbacks: one worker runs them, one after the other.
 AUDIO_MODULES = ("test_audio_loopback.py", "test_audio_faults.py")

@@ -8,13 +8,14 @@ computed.
 
 from __future__ import annotations
 
+import re
 import time
 
 import pytest
 from matplotlib.figure import Figure
 
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.teaching._explorer import STALE_CLASS, WORKING, Explorer, slider
+from dstoolkit.teaching._explorer import STALE_CLASS, WORKING, Explorer, announce_html, slider
 
 #: What one render costs here: longer than the gap between two changes of the burst, as the
 #: gauge's computation is longer than the gap between two messages of a drag.
@@ -60,8 +61,11 @@ def test_a_burst_of_changes_computes_few_states_and_ends_on_the_last() -> None:
     assert len(computed) < len(burst) // 4, computed
     assert ex.numbers == {"level (m)": burst[-1]}
     assert ex.computed == 1 + len(computed)
-    # the status said "working" at once, and is empty (up to date) at the end
-    assert statuses[0] == WORKING and statuses[-1] == "", statuses
+    # the status said "working" at once, and the final state once at the end
+    assert statuses[0] == WORKING, statuses
+    final = burst[-1]
+    assert statuses[-1] == announce_html(f"Level L {final:.1f} m: level {final:.4g} m.")
+    assert all(status == WORKING for status in statuses[1:-1]), statuses
     assert STALE_CLASS not in ex.output._dom_classes
 
 
@@ -74,8 +78,32 @@ def test_the_explorer_says_it_is_working_within_50_ms() -> None:
     assert ex.status.value == WORKING and STALE_CLASS in ex.output._dom_classes
     assert marked < 0.05, marked
     ex.wait(timeout=30)
-    assert ex.status.value == "" and STALE_CLASS not in ex.output._dom_classes
+    assert ex.status.value == announce_html("Level L 5.0 m: level 5 m.")
+    assert STALE_CLASS not in ex.output._dom_classes
     assert ex.numbers["level (m)"] == 5.0 and ex.picture is not None
+
+
+def test_a_computed_state_is_said_once_in_a_polite_status_element() -> None:
+    ex, level, _ = _explorer()
+    for value in (2.0, 2.5, 3.0, 3.5):  # a drag: only the last state is said
+        level.value = value
+    ex.wait(timeout=30)
+    said = ex.status.value
+    assert 'role="status"' in said and 'aria-live="polite"' in said, said
+    text = re.sub(r"<[^>]+>", "", said)
+    assert text == "Level L 3.5 m: level 3.5 m.", text
+    assert len(text.split()) <= 25
+    # a control that did not move is not said again
+    other = slider("bias (m)", 0.0, -1.0, 1.0, 0.1, readout_format=".1f")
+    two = Explorer(
+        {"level": slider("level L (m)", 1.0, 1.0, 10.0, 0.1, readout_format=".1f"), "bias": other},
+        lambda level, bias: (None, {"sum (m)": level + bias}),
+        static=False,
+        background=True,
+    )
+    other.value = 0.5
+    two.wait(timeout=30)
+    assert re.sub(r"<[^>]+>", "", two.status.value) == "Bias 0.5 m: sum 1.5 m."
 
 
 def test_reading_the_numbers_waits_for_the_pending_work() -> None:
@@ -94,7 +122,7 @@ def test_an_error_in_the_render_is_shown_and_raised_by_wait() -> None:
     # the explorer still works after it: the next value is computed
     level.value = 4.0
     ex.wait(timeout=30)
-    assert ex.numbers == {"level (m)": 4.0} and ex.status.value == ""
+    assert ex.numbers == {"level (m)": 4.0} and "Level L 4.0 m" in ex.status.value
 
 
 def test_an_invalid_setting_is_explained_in_the_readout() -> None:

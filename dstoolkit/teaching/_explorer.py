@@ -96,6 +96,8 @@ FIGURE_DPI = 100
 STALE_CLASS = "dstoolkit-stale"
 #: The status line while the explorer computes the controls' latest values.
 WORKING = "Computing…"
+#: A value no control holds: every control is said in an explorer's first sentence.
+_UNSAID = object()
 #: Seconds an explorer's worker thread waits for a change before it ends.
 WORKER_IDLE_S = 60.0
 #: How a notebook shows a stale figure (the explorer carries this style with it).
@@ -413,9 +415,9 @@ class Explorer(widgets.VBox):
         In a kernel, render the controls' values at once (default); else the readout and
         the output stay empty until :meth:`refresh`.
     said : Sequence[str], optional
-        The numbers (by name) that the sentence announcing a change of state on the static
-        site says after the control's new value (:func:`change_sentence`); default the
-        first two.
+        The numbers (by name) that the sentence announcing a change of state says after
+        the control's new value (:func:`change_sentence`), on the static site and in a
+        kernel's status line; default the first two.
     describe : Callable[[Mapping[str, Any]], str], optional
         What a state's figure shows, in words (its trend, where the estimate lies against
         the truth), from the state's numbers: the picture's text alternative
@@ -434,7 +436,9 @@ class Explorer(widgets.VBox):
         The readout of the numbers.
     status : ipywidgets.HTML
         Kernel only: "Computing…" (``WORKING``) from a change until the figure follows
-        it, empty while the figure is up to date, the error after a render that failed.
+        it; then the sentence that says the new state once, in a polite status element
+        (:func:`announce_html`: the controls that moved and the one or two results that
+        changed); the error after a render that failed.
     computed : int
         How many renders ran (the first one and the precomputed states included).
     output : ipywidgets.Output
@@ -532,6 +536,7 @@ class Explorer(widgets.VBox):
         self._failure: BaseException | None = None
         self._wake = threading.Condition()
         self._holder: int | None = None  # the thread inside refresh() (it never waits)
+        self._announced: dict[str, Any] = {}  # the values the status line last said
         self._layouts: dict[tuple[Any, ...], list[Any]] = {}
         self._engines: weakref.WeakKeyDictionary[Figure, Any] = weakref.WeakKeyDictionary()
         self._kept: Figure | None = None  # the figure whose background is kept for blitting
@@ -554,6 +559,7 @@ class Explorer(widgets.VBox):
             self.children = (*self._head, *body, self.readout, *tail, self.output)
             if draw:
                 self.refresh()
+            self._announced = self.values()  # a change says only the controls that moved
 
     @staticmethod
     def _row(children: Any) -> widgets.HBox:
@@ -657,10 +663,26 @@ class Explorer(widgets.VBox):
                 if self._pending is None:  # up to date: say so, undim the figure
                     self._working = False
                     self.status.value = (
-                        "" if failure is None else html.escape(f"Failed: {type(failure).__name__}")
+                        self._sentence_html(values)
+                        if failure is None
+                        else html.escape(f"Failed: {type(failure).__name__}")
                     )
                     self.output.remove_class(STALE_CLASS)
                     self._wake.notify_all()
+
+    def _sentence_html(self, values: Mapping[str, Any]) -> str:
+        """Return the status line that says a computed state once (:func:`announce_html`).
+
+        It names the controls whose values differ from the last state said (all of them the
+        first time) and the explorer's ``said`` results.
+        """
+        moved = [name for name, v in values.items() if self._announced.get(name, _UNSAID) != v]
+        self._announced = dict(values)
+        settings = {
+            self.controls[name].description: shown_value(self.controls[name], values[name])
+            for name in moved
+        }
+        return announce_html(self.change_sentence(settings, self._numbers))
 
     def _join(self) -> None:
         """Wait for pending work, unless called by the worker itself (a render reading)."""
@@ -959,6 +981,35 @@ def shown_value(control: widgets.ValueWidget, value: Any) -> str:
     if isinstance(control, widgets.FloatSlider):
         return format(value, control.readout_format)
     return str(value)
+
+
+def announce_html(sentence: str) -> str:
+    """Return a kernel explorer's status line that says ``sentence`` to a screen reader.
+
+    A polite, atomic status element (``role="status"``): ipywidgets has no public way to put
+    ARIA attributes on a widget's own element, so the element is the HTML widget's content,
+    written anew with each state.
+
+    Parameters
+    ----------
+    sentence : str
+        One short sentence (:func:`change_sentence`).
+
+    Returns
+    -------
+    str
+        The HTML of the status element, the sentence escaped.
+
+    Examples
+    --------
+    >>> print(announce_html("Level L 5.1 m: estimate 5.091 m."))  # doctest: +NORMALIZE_WHITESPACE
+    <span class="dstoolkit-announce" role="status" aria-live="polite"
+    aria-atomic="true">Level L 5.1 m: estimate 5.091 m.</span>
+    """
+    return (
+        '<span class="dstoolkit-announce" role="status" aria-live="polite" '
+        f'aria-atomic="true">{html.escape(sentence)}</span>'
+    )
 
 
 def _plain(value: Any) -> str:
