@@ -128,3 +128,52 @@ def test_a_stub_is_not_answered_yet():
     assert (
         "not answered yet" in grade_coding("combine.dempster-code", [stub], "dempster_rule").message
     )
+
+
+@pytest.mark.parametrize(
+    "line",
+    [
+        "[" * 100_000 + "]" * 100_000,  # deeper than the JSON parser goes
+        "[" * 200 + "]" * 200,  # parsed, but deeper than any encoded answer
+        '{"$": "float"}',  # a tag without its value
+        '{"$": "dict", "v": [1, 2]}',  # a dict whose items are no pairs
+        '{"$": "tuple", "v": 3}',
+    ],
+)
+def test_a_line_written_by_hand_is_an_opaque_answer_never_an_error(line: str):
+    # a test cell's output is the learner's to write: whatever it holds, the grader reads
+    # an answer (that equals nothing) and goes on grading
+    value = loads(line)
+    assert isinstance(value, Opaque) or _holds_opaque(value), value
+    assert not grade_value("mass.bel", value, 0).correct
+
+
+def _holds_opaque(value: object) -> bool:
+    while isinstance(value, list) and value:
+        value = value[0]
+    return isinstance(value, Opaque)
+
+
+CHANNEL_CHEATS = {
+    "a line too deep to parse": "out.write('[' * 100000 + ']' * 100000 + '\\n')",
+    "a line with no end": "out.write('[' * 20_000_000)",
+    "a forged record": 'out.write(\'{"case": 0, "value": {"$": "dict"}}\\n\')',
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("how", sorted(CHANNEL_CHEATS))
+def test_writing_to_the_graders_channel_gives_a_wrong_answer_not_an_aborted_grading(how: str):
+    source = (
+        "import sys\n"
+        "def dempster_rule(m1, m2):\n"
+        "    frame = sys._getframe()\n"
+        "    while 'out' not in frame.f_locals:\n"
+        "        frame = frame.f_back\n"
+        "    out = frame.f_locals['out']\n"
+        f"    {CHANNEL_CHEATS[how]}\n"
+        "    out.flush()\n"
+        "    return {}\n"
+    )
+    verdict = grade_coding("combine.dempster-code", [source], "dempster_rule")
+    assert not verdict.correct, verdict.message

@@ -206,6 +206,9 @@ class _Reader:
     """Reads the runner's records, one line each, waiting at most until a deadline."""
 
     EOF: dict[str, Any] = {"eof": True}
+    #: Bytes of one record at most (an answer's value of ``MAX_TEXT`` characters, encoded
+    #: with its case number, fits many times over).
+    MAX_LINE = 8 * sandbox.MAX_TEXT
 
     def __init__(self, stream: Any) -> None:
         self.stream = stream
@@ -217,6 +220,9 @@ class _Reader:
         """Return the next record, :attr:`EOF` when the runner ended, None when out of time."""
         deadline = time.monotonic() + seconds
         while b"\n" not in self.buffer:
+            if len(self.buffer) > self.MAX_LINE:  # no record is that long: the learner's
+                self.buffer = b""  # code writes to the channel; read no more of it
+                return {"garbled": True}
             left = deadline - time.monotonic()
             if left <= 0 or not self.selector.select(left):
                 return None
@@ -227,7 +233,7 @@ class _Reader:
         line, self.buffer = self.buffer.split(b"\n", 1)
         try:
             record = json.loads(line)
-        except ValueError:
+        except (ValueError, RecursionError):  # not a record the runner wrote
             record = None
         return record if isinstance(record, dict) else {"garbled": True}
 

@@ -40,11 +40,14 @@ ALLOWED_MODULES = (
 MEMORY = 2 * 1024**3
 #: Characters of an encoded answer, at most.
 MAX_TEXT = 1_000_000
+#: Containers within containers that an answer may hold: :func:`encode` writes no deeper,
+#: and :func:`decode` reads no deeper (a line crafted by hand cannot exhaust the stack).
+MAX_DEPTH = 50
 
 
 def encode(value: Any, depth: int = 0) -> Any:
     """Return ``value`` as JSON-ready plain data (see the module docstring)."""
-    if depth > 50:
+    if depth > MAX_DEPTH:
         return {"$": "object", "type": "too deep"}
     kind = type(value)
     if value is None or kind in (bool, str):
@@ -81,23 +84,33 @@ class Opaque:
         return f"<an object of type {self.type_name}>"
 
 
-def decode(data: Any) -> Any:
-    """Return the value that :func:`encode` wrote (sets as frozensets)."""
+def decode(data: Any, depth: int = 0) -> Any:
+    """Return the value that :func:`encode` wrote (sets as frozensets).
+
+    Data that :func:`encode` cannot have written (a line the learner's code wrote by hand:
+    a tag without its value, nesting deeper than ``MAX_DEPTH``) is an :class:`Opaque`
+    answer, which equals nothing; decoding never raises.
+    """
+    if depth > MAX_DEPTH:
+        return Opaque("too deep")
     if isinstance(data, list):
-        return [decode(v) for v in data]
+        return [decode(v, depth + 1) for v in data]
     if not isinstance(data, dict):
         return data
     tag = data.get("$")
-    if tag == "...":
-        return ...
-    if tag == "float":
-        return float(data["v"])
-    if tag == "tuple":
-        return tuple(decode(v) for v in data["v"])
-    if tag == "set":
-        return frozenset(_hashable(decode(v)) for v in data["v"])
-    if tag == "dict":
-        return {_hashable(decode(k)): decode(v) for k, v in data["v"]}
+    try:
+        if tag == "...":
+            return ...
+        if tag == "float":
+            return float(data["v"])
+        if tag == "tuple":
+            return tuple(decode(v, depth + 1) for v in data["v"])
+        if tag == "set":
+            return frozenset(_hashable(decode(v, depth + 1)) for v in data["v"])
+        if tag == "dict":
+            return {_hashable(decode(k, depth + 1)): decode(v, depth + 1) for k, v in data["v"]}
+    except (KeyError, TypeError, ValueError):
+        return Opaque("malformed")
     return Opaque(str(data.get("type", "?")))
 
 
@@ -116,8 +129,16 @@ def dumps(value: Any) -> str:
 
 
 def loads(text: str) -> Any:
-    """Return the value of a line written by :func:`dumps`."""
-    return decode(json.loads(text))
+    """Return the value of a line written by :func:`dumps`.
+
+    Raises ``ValueError`` when the line is no JSON; JSON nested too deep for the parser is
+    an :class:`Opaque` answer.
+    """
+    try:
+        data = json.loads(text)
+    except RecursionError:
+        return Opaque("too deep")
+    return decode(data)
 
 
 def _raised(err: BaseException) -> dict[str, str]:
