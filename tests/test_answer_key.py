@@ -5,8 +5,10 @@
 * No function of the package is a teacher's plain solution: not in its source files (compared
   statement by statement), not among the objects reachable from its exercises (compared by
   their compiled code).
-* The wheel's packages, as setuptools finds them from ``pyproject.toml``, are ``dstoolkit``'s
-  only: ``answer_key`` is not one of them.
+* The wheel and the sdist, built for real by ``python -m build`` in an isolated build
+  environment (the build backend pyproject requires, from the package index), hold
+  ``dstoolkit`` and no ``answer_key``: no module of it, no teacher's plain function, no
+  ``solution`` API. The sdist leaves out the tests and the teacher's exam bank too.
 * ``scripts/sheets.py`` writes student sheets holding none of the answers of their variant and
   no body of a plain solution, while the teacher's edition it writes beside them holds them.
 """
@@ -19,15 +21,16 @@ import inspect
 import json
 import os
 import pkgutil
+import shutil
 import subprocess
 import sys
+import tarfile
 import textwrap
-import tomllib
+import zipfile
 from pathlib import Path
 from types import FunctionType
 
 import pytest
-import setuptools
 from conftest import ROOT
 
 import dstoolkit
@@ -147,24 +150,101 @@ def test_no_function_reachable_in_the_package_is_a_teachers() -> None:
     assert all(f.__module__ != plain_solutions.__name__ for f in functions)
 
 
-def test_the_wheel_holds_the_dstoolkit_packages_only() -> None:
-    config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
-    find = config["tool"]["setuptools"]["packages"]["find"]
-    # pyproject's packages.find searches namespace packages unless it says otherwise
-    finder = (
-        setuptools.find_namespace_packages
-        if find.get("namespaces", True)
-        else setuptools.find_packages
-    )
-    packages = finder(
-        where=str(ROOT / find.get("where", ["."])[0]),
-        include=find.get("include", ["*"]),
-        exclude=find.get("exclude", []),
-    )
-    assert "dstoolkit.teaching" in packages
-    assert all(p == "dstoolkit" or p.startswith("dstoolkit.") for p in packages), packages
-    assert not [p for p in packages if "answer_key" in p]
-    assert set(config["tool"]["setuptools"].get("package-data", {})) <= {"dstoolkit"}
+def _source_copy(into: Path) -> Path:
+    """Copy the checkout's files (tracked and new, not ignored) to ``into``; return it.
+
+    The build writes ``build/`` and ``*.egg-info`` into its source folder: a copy keeps the
+    checkout clean.
+    """
+    listed = subprocess.run(
+        ["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+        cwd=ROOT, check=True, capture_output=True,
+    ).stdout.decode().split("\0")  # fmt: skip
+    for name in filter(None, listed):
+        source = ROOT / name
+        if source.is_file():
+            (into / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(source, into / name)
+    return into
+
+
+def _defines_a_plain_solution(text: str, bodies: dict[str, list[str]]) -> list[str]:
+    """Return the names of the plain solutions whose body a module's source repeats."""
+    found = []
+    for node in ast.walk(ast.parse(text)):
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            found += [name for name, plain in bodies.items() if _body(node) == plain]
+    return found
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory) -> tuple[Path, Path]:
+    """Return the sdist and the wheel of the checkout, built by ``python -m build`` (isolated)."""
+    work = tmp_path_factory.mktemp("build")
+    src = _source_copy(work / "src")
+    assert (src / "answer_key" / "plain_solutions.py").is_file()  # there to be left out
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTHON", "VIRTUAL_ENV"))}
+    proc = subprocess.run(
+        [sys.executable, "-m", "build", "--outdir", str(work / "dist"), str(src)],
+        cwd=work, env=env, capture_output=True, text=True, timeout=900, check=False,
+    )  # fmt: skip
+    assert proc.returncode == 0, f"python -m build failed:\n{proc.stdout}\n{proc.stderr}"
+    (sdist,) = (work / "dist").glob("dstoolkit-*.tar.gz")
+    (wheel,) = (work / "dist").glob("dstoolkit-*-py3-none-any.whl")
+    return sdist, wheel
+
+
+@pytest.mark.slow
+def test_the_built_wheel_holds_dstoolkit_and_no_answer(built) -> None:
+    _, wheel = built
+    with zipfile.ZipFile(wheel) as archive:
+        names = archive.namelist()
+        sources = {n: archive.read(n).decode("utf-8") for n in names if n.endswith(".py")}
+    tops = {n.split("/")[0] for n in names}
+    assert tops == {"dstoolkit", wheel.name.split("-py3")[0] + ".dist-info"}, tops
+    assert "dstoolkit/teaching/_variants.py" in names and "dstoolkit/py.typed" in names
+    # every module of the package is in the wheel, and nothing else is
+    package = Path(dstoolkit.__file__).parent
+    expected = {
+        "dstoolkit/" + p.relative_to(package).as_posix()
+        for p in package.rglob("*.py")
+        if "__pycache__" not in p.parts
+    }
+    assert set(sources) == expected
+    assert not [n for n in names if "answer_key" in n or "plain_solutions" in n]
+    bodies = _plain_bodies()
+    teachers = {n: _defines_a_plain_solution(t, bodies) for n, t in sources.items()}
+    assert not {n: f for n, f in teachers.items() if f}, teachers
+    for name, text in sources.items():  # no module imports the answer key
+        imported = [
+            node.module if isinstance(node, ast.ImportFrom) else alias.name
+            for node in ast.walk(ast.parse(text))
+            if isinstance(node, ast.ImportFrom | ast.Import)
+            for alias in node.names
+        ]
+        assert not [m for m in imported if m and m.split(".")[0] == "answer_key"], name
+        assert "plain_solutions" not in text, name
+    # no solution API in the student's teaching layer
+    tree = ast.parse(sources["dstoolkit/teaching/__init__.py"])
+    defined = {
+        alias.asname or alias.name
+        for node in ast.walk(tree)
+        if isinstance(node, ast.ImportFrom | ast.Import)
+        for alias in node.names
+    } | {n.name for n in ast.walk(tree) if isinstance(n, ast.FunctionDef | ast.ClassDef)}
+    assert "check" in defined  # the walk saw the module's names
+    assert not defined & {"solution", "solution_in", "plain", "PLAIN"}, defined
+
+
+@pytest.mark.slow
+def test_the_built_sdist_leaves_out_the_answer_key_the_tests_and_the_exams(built) -> None:
+    sdist, _ = built
+    with tarfile.open(sdist) as archive:
+        names = [n.split("/", 1)[1] for n in archive.getnames() if "/" in n]
+    tops = {n.split("/")[0] for n in names}
+    assert {"dstoolkit", "pyproject.toml", "README.md", "LICENSE"} <= tops, tops
+    assert not tops & {"answer_key", "tests", "instructor", "notebooks", "book"}, tops
+    assert "dstoolkit/teaching/_checking.py" in names
 
 
 def _body_lines(function: FunctionType) -> list[str]:

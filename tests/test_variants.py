@@ -1,10 +1,13 @@
 """Variants of the sheets (scripts/sheets.py --variant N): other numbers, same questions.
 
 * Two variants show other data than each other and than the book in every sheet of
-  Chapters 2–10 and 12; a student's own numbers differ from another's.
+  Chapters 2–12; a student's own numbers differ from another's.
 * The teacher's answers of each variant (run from its teacher's edition) pass its own
   checks and fail the other variant's and the book's, for every exercise that varies; the
-  exercises that do not vary are the few listed here (choices and the paper's own example).
+  exercises that do not vary are the few listed here (data-free choices, a uniform
+  distribution, Zadeh's example and the paper's own worked example). A choice among a few
+  named options whose answer follows the data (``distinct=False``) is recomputed in each
+  variant and may equal the book's.
 * The hidden test of a value answer computes the answer afresh from the variant's data:
   the book's answer fails it even after the notebook switched back to the book's numbers
   and overwrote a kept solution.
@@ -27,8 +30,9 @@ sys.path.insert(0, str(ROOT / "scripts"))
 import sheets  # noqa: E402
 
 VARIANTS = (1, 2)
-#: Value exercises of the varying chapters whose answer is the same in every variant: choices, a
-#: uniform distribution, and the paper's own worked example of Appendix A.
+#: Value exercises of the varying chapters whose answer is the same in every variant because
+#: it reads no data: choices between named rules, a uniform distribution, Zadeh's tumour (1
+#: whatever the doctors' numbers), and the paper's own worked example of Appendix A.
 NOT_VARYING = {
     "mass.vacuous-betp",
     "combine.zadeh",
@@ -37,11 +41,20 @@ NOT_VARYING = {
     "dependent.a6",
     "dependent.theta-merges",
     "filter.mass-rule",
-    # chapter 10: the paper's Table 3 error at 1.3 m, and a Monte Carlo of the paper's case
-    "estimating.outlier-orders",
-    "estimating.improvement-choice",
-    "estimating.improvement",
 }
+#: The exercises of Chapter 11 with data and Chapter 10's on the paper's Table 3.
+TABLE3_AND_BEYOND = [
+    "estimating.outlier-orders",
+    "estimating.improvement",
+    "estimating.improvement-choice",
+    "beyond.start-error",
+    "beyond.kalman-sigma",
+    "beyond.products",
+    "beyond.nassreddine-correction",
+    "beyond.failures",
+    "beyond.failures-choice",
+    "beyond.offset-ratio",
+]
 
 
 @pytest.fixture(autouse=True)
@@ -71,9 +84,9 @@ def _teacher_answers(stem: str, variant: int) -> tuple[dict, list[tuple[str, str
     return namespace, checks
 
 
-def test_chapters_two_to_ten_and_the_lab_have_variants():
+def test_chapters_two_to_twelve_have_variants():
     numbers = {stem: n for stem, (n, *_rest) in sheets.sheets().items()}
-    assert sorted(numbers[stem] for stem in SHEET_CHAPTER) == [2, 3, 4, 5, 6, 7, 8, 9, 10, 12]
+    assert sorted(numbers[stem] for stem in SHEET_CHAPTER) == list(range(2, 13))
 
 
 @pytest.mark.parametrize("chapter", ["gauge", "lab", "estimating"])
@@ -91,6 +104,8 @@ def test_the_gauge_and_lab_exercises_vary_with_the_students_own_numbers(chapter:
     assert len(ids) >= 2
     for exercise_id in ids:
         assert REGISTRY[exercise_id].varies, exercise_id
+        if not REGISTRY[exercise_id].distinct:
+            continue  # a choice that may be the same (test_a_choice_follows_its_variants_data)
         mine = solution(exercise_id, variant=alice)
         assert check(exercise_id, mine, variant=alice), exercise_id
         assert not check(exercise_id, mine, variant=bob), exercise_id
@@ -127,11 +142,12 @@ def test_each_variants_answers_pass_its_checks_and_fail_the_others(stem: str):
         for exercise_id, name in checks:
             answer = namespace[name]
             assert check(exercise_id, answer, variant=variant), (exercise_id, variant)
-            if getattr(REGISTRY[exercise_id], "varies", False):
+            exercise = REGISTRY[exercise_id]
+            if getattr(exercise, "varies", False) and exercise.distinct:
                 varying += 1
                 assert not check(exercise_id, answer, variant=other), (exercise_id, variant)
                 assert not check(exercise_id, answer, variant=0), (exercise_id, variant)
-            elif not exercise_id.endswith("-code"):
+            elif not exercise_id.endswith("-code") and not exercise.varies:
                 assert exercise_id in NOT_VARYING, f"{exercise_id} does not vary"
     assert varying >= 2
 
@@ -144,6 +160,113 @@ def test_the_set_of_exercises_that_do_not_vary_is_small_and_named():
     fixed = {k for k in values if not REGISTRY[k].varies}
     assert fixed == NOT_VARYING
     assert len(values) - len(fixed) >= 30
+    # the choices that follow the data are exactly the two of Chapters 10 and 11
+    follows = {k for k in values if REGISTRY[k].varies and not REGISTRY[k].distinct}
+    assert follows == {"estimating.improvement-choice", "beyond.failures-choice"}
+
+
+STUDENTS = ("alice", "bob")
+
+
+def test_two_students_with_swapped_table3_and_beyond_answers_get_what_their_work_deserves():
+    from dstoolkit.teaching._checking import answers_differ
+    from dstoolkit.teaching._variants import student_variant
+
+    variants = {s: student_variant("s3cret", s) for s in STUDENTS}
+    own = {s: {k: solution(k, variant=v) for k in TABLE3_AND_BEYOND} for s, v in variants.items()}
+    lost = 0
+    for student, other in (STUDENTS, STUDENTS[::-1]):
+        for exercise_id in TABLE3_AND_BEYOND:
+            # the grader's verdict (nbgrader's process) on their own work: full marks
+            assert grade_value(exercise_id, own[student][exercise_id], variants[student]).correct
+            # the other's work earns the points only where both have the same answer (a
+            # choice among four, or a count with ten possible values, can coincide)
+            swapped = grade_value(exercise_id, own[other][exercise_id], variants[student])
+            same = not answers_differ(
+                REGISTRY[exercise_id], own[other][exercise_id], own[student][exercise_id]
+            )
+            assert swapped.correct == same, (exercise_id, student)
+            lost += not swapped.correct
+    distinct = sum(REGISTRY[k].distinct for k in TABLE3_AND_BEYOND)
+    assert lost >= 2 * (distinct - 1), own  # at most one drawn answer shared by chance
+    # the book's own answers earn nothing in a student's variant (a choice aside)
+    for exercise_id in TABLE3_AND_BEYOND:
+        if REGISTRY[exercise_id].distinct:
+            assert not grade_value(exercise_id, solution(exercise_id), variants["alice"]).correct
+
+
+def test_a_choice_follows_its_variants_data():
+    """The failure-share choice is recomputed from the variant's runs: some variant's differs."""
+    book = solution("beyond.failures-choice")
+    shares = {v: solution("beyond.failures", variant=v) for v in range(1, 7)}
+    choices = {v: solution("beyond.failures-choice", variant=v) for v in shares}
+    differing = [v for v, c in choices.items() if c != book]
+    assert differing, choices
+    for v in differing:
+        assert not check("beyond.failures-choice", book, variant=v)
+        assert check("beyond.failures-choice", choices[v], variant=v)
+    for v, share in shares.items():
+        # the choice names the share of failed runs of the variant's own simulation
+        expected = (
+            "none"
+            if share == 0
+            else "all"
+            if share == 1
+            else "under half"
+            if share < 0.5
+            else "half or more"
+        )
+        assert choices[v] == expected, (v, share)
+
+
+def test_the_book_keeps_its_table3_and_beyond_answers():
+    """Variant 0 is the book's: the paper's Table 3 case, noises and worked example.
+
+    Each answer equals the same computation written with the book's constants (no
+    variant data), to the last bit.
+    """
+    import numpy as np
+
+    from dstoolkit.filters import filter_named
+    from dstoolkit.gauge import GAUGE_OBS_NOISE, gauge_state_space_model, resonance_orders
+    from dstoolkit.gauge import speed_of_sound as c
+    from dstoolkit.studies import (
+        TABLE3_MEAN_ABS_ERROR_M,
+        bounded_error_failures,
+        run_table3,
+        scaled_noise,
+        tracking_data,
+    )
+    from dstoolkit.teaching import FAILURE_RUNS, FAILURE_SCALE
+
+    assert solution("beyond.start-error") == -float(GAUGE_OBS_NOISE.mean[0])
+    assert solution("beyond.kalman-sigma") == float(np.sqrt(GAUGE_OBS_NOISE.variance[0]))
+    # the statement's count: 4 × 4 boxes per evidence (p = 3), 16 → 256 → 256·16 → ·256
+    assert solution("beyond.products") == 256 * 16 * 256
+    # the solution's hand computation: the empty product [0, 2] ∩ [3, 5] has 0.6 · 0.3
+    assert solution("beyond.nassreddine-correction")[0] == pytest.approx(0.18, abs=1e-12)
+    # abs 1e-12: a product of two one-decimal masses, exact but for its rounding
+    runs = tracking_data(4.6, 26.5, runs=FAILURE_RUNS, seed=0)
+    tight = gauge_state_space_model(
+        scaled_noise(runs.state_noise, FAILURE_SCALE), scaled_noise(runs.obs_noise, FAILURE_SCALE)
+    )
+    assert solution("beyond.failures") == bounded_error_failures(tight, runs)[0]
+    orders = resonance_orders(1.3, float(c(27.0)), (1000.0, 2500.0))
+    assert solution("estimating.outlier-orders") == TABLE3_MEAN_ABS_ERROR_M[1.3]["direct"] / float(
+        np.mean(1.3 / orders)
+    )
+    paper = filter_named("paper")
+    table = run_table3(
+        runs=30,
+        seed=0,
+        cases=[(4.6, 26.5)],
+        methods=(paper, "direct"),
+        order_rule="true",
+        progress=False,
+    )
+    assert solution("estimating.improvement") == table.error(4.6, "direct") / table.error(
+        4.6, paper
+    )
 
 
 def test_the_book_sheets_are_variant_zero():

@@ -62,6 +62,10 @@ class Exercise:
         Applied to answers and solutions before comparing (e.g. to sort rows).
     varies : bool
         The solver reads its chapter's variant data, so a variant has other answers.
+    distinct : bool
+        With ``varies``: every variant's answer differs from the book's (variants are drawn
+        so). False for a choice among a few named options, whose answer follows the
+        variant's data but may be the book's.
 
     See Also
     --------
@@ -86,6 +90,8 @@ class Exercise:
     """Applied to answers and solutions before comparing (e.g. sort rows of evidence)."""
     varies: bool = False
     """True when the solver reads its chapter's variant data (see ``set_variant``)."""
+    distinct: bool = True
+    """With ``varies``: a variant's answer differs from the book's (False: a choice may not)."""
     _cache: dict[Any, Any] = field(default_factory=dict, init=False, compare=False, repr=False)
 
     def _expected(self) -> Any:
@@ -254,6 +260,7 @@ def exercise(
     mistakes: tuple[tuple[Solver, str], ...] = (),
     canonical: Callable[[Any], Any] | None = None,
     varies: bool = False,
+    distinct: bool = True,
 ) -> Callable[[Solver], Solver]:
     """Register the decorated function as the solver of ``exercise_id``.
 
@@ -272,6 +279,10 @@ def exercise(
     varies : bool
         The solver reads its chapter's variant data (``data(chapter)``), so that a
         variant's sheet has other answers than the book's.
+    distinct : bool
+        With ``varies``: whether every variant's answer must differ from the book's; False
+        for a choice among a few named options (its answer follows the data, and a variant
+        may share the book's choice).
 
     Returns
     -------
@@ -302,7 +313,9 @@ def exercise(
         raise InvalidInputError(f"exercise id {exercise_id!r} must look like 'chapter.name'")
 
     def add(solve: Solver) -> Solver:
-        register(Exercise(exercise_id, solve, hint, atol, rtol, mistakes, canonical, varies))
+        register(
+            Exercise(exercise_id, solve, hint, atol, rtol, mistakes, canonical, varies, distinct)
+        )
         return solve
 
     return add

@@ -374,13 +374,30 @@ def _() -> float:
 FIG10_CASE, PAPER_N1 = (4.6, 26.5), 27
 #: A reading that is too high by the mode of the paper's w (Hz): z = f − w, w = −6.9.
 READING_BIAS = 6.9
-#: The paper's direct-measurement error at 1.3 m, 27 °C (Table 3), m.
-PAPER_DIRECT_13 = 0.238
 #: The Monte Carlo of the improvement exercise: runs, seed, case.
 IMPROVEMENT_RUNS, IMPROVEMENT_SEED = 30, 0
 
 
-book_data("estimating", {"z1": PAPER_Z1, "n1": PAPER_N1, "bias": READING_BIAS})
+#: The case and band of the outlier exercise: Table 3's 1.3 m row and the filter's band.
+OUTLIER_CASE = (1.3, 27.0)
+
+
+book_data(
+    "estimating",
+    {
+        "z1": PAPER_Z1,
+        "n1": PAPER_N1,
+        "bias": READING_BIAS,
+        "outlier_level": OUTLIER_CASE[0],
+        "outlier_t": OUTLIER_CASE[1],
+        "band_lo": int(GAUGE_BAND[0]),
+        "band_hi": int(GAUGE_BAND[1]),
+        "imp_level": FIG10_CASE[0],
+        "imp_t": FIG10_CASE[1],
+        "imp_runs": IMPROVEMENT_RUNS,
+        "imp_seed": IMPROVEMENT_SEED,
+    },
+)
 
 
 def _first() -> tuple[float, int]:
@@ -427,32 +444,52 @@ def _bias_error() -> float:
     return _level_of_reading(n * _fundamental(FIG10_CASE) + bias, n, FIG10_CASE) - FIG10_CASE[0]
 
 
+def _outlier_case() -> tuple[tuple[float, float], tuple[float, float]]:
+    """Return the (level m, °C) of the outlier exercise (a Table 3 row) and its band, Hz."""
+    d = data("estimating")
+    return (float(d["outlier_level"]), float(d["outlier_t"])), (
+        float(d["band_lo"]),
+        float(d["band_hi"]),
+    )
+
+
 @exercise(
     "estimating.outlier-orders",
+    varies=True,
     rtol=1e-2,
     atol=0.0,
     hint="A unit error of n_k costs L/n_k in eq. 32. Average L/n over the orders of "
-    "the resonances in [1000, 2500] Hz at 1.3 m and 27 °C, and divide 0.238 m by it.",
+    "the resonances in the band at the case's level and temperature, and divide the "
+    "paper's direct-measurement error at that level by it.",
 )
 def _() -> float:
-    case = (1.3, 27.0)
-    orders = resonance_orders(case[0], _c(case), GAUGE_BAND)
-    return PAPER_DIRECT_13 / float(np.mean(case[0] / orders))
+    from dstoolkit.studies import TABLE3_MEAN_ABS_ERROR_M
+
+    case, band = _outlier_case()
+    orders = resonance_orders(case[0], _c(case), band)
+    return TABLE3_MEAN_ABS_ERROR_M[case[0]]["direct"] / float(np.mean(case[0] / orders))
+
+
+def _improvement_case() -> tuple[tuple[float, float], int, int]:
+    """Return the (level m, °C), runs and seed of the improvement exercise."""
+    d = data("estimating")
+    return (float(d["imp_level"]), float(d["imp_t"])), int(d["imp_runs"]), int(d["imp_seed"])
 
 
 def improvement_table() -> Any:
-    """Return the Table 3 row of the improvement exercise.
+    """Return the Table 3 row of the improvement exercise, in the current variant.
 
-    4.6 m, true orders, the paper's filter and direct measurement, IMPROVEMENT_RUNS runs from seed
-    IMPROVEMENT_SEED.
+    The book's: 4.6 m, true orders, the paper's filter and direct measurement,
+    IMPROVEMENT_RUNS runs from seed IMPROVEMENT_SEED.
     """
     from dstoolkit.filters import filter_named
     from dstoolkit.studies import run_table3
 
+    case, runs, seed = _improvement_case()
     return run_table3(
-        runs=IMPROVEMENT_RUNS,
-        seed=IMPROVEMENT_SEED,
-        cases=[FIG10_CASE],
+        runs=runs,
+        seed=seed,
+        cases=[case],
         methods=(filter_named("paper"), "direct"),
         order_rule="true",
         progress=False,
@@ -461,6 +498,7 @@ def improvement_table() -> Any:
 
 @exercise(
     "estimating.improvement",
+    varies=True,
     rtol=1e-6,
     atol=0.0,
     hint="Divide the direct measurement's mean level error by the paper's filter's, "
@@ -475,25 +513,76 @@ def improvement_table() -> Any:
 def _improvement() -> float:
     from dstoolkit.filters import filter_named
 
+    level = _improvement_case()[0][0]
     table = improvement_table()
-    return table.error(FIG10_CASE[0], "direct") / table.error(FIG10_CASE[0], filter_named("paper"))
+    return table.error(level, "direct") / table.error(level, filter_named("paper"))
 
 
 # -- beyond the paper (book/beyond_the_paper.md, notebooks/10_beyond_the_paper.ipynb) -----------
 
 #: Bounds scale, runs and seed of the bounded-error failure exercise.
 FAILURE_SCALE, FAILURE_RUNS, FAILURE_SEED = 0.75, 20, 0
+#: Cuts per component of the products exercise (the predator–prey example).
+PRODUCTS_CUTS = 3
+#: The paper's measured σ of w, Hz (§4.3): its bounds are the mode ± 3σ.
+PAPER_SIGMA_W = 1.23
+#: Nassreddine's correction by hand: the prediction's and the reading's evidence (g the
+#: identity), as rows (lo, hi, mass).
+NASSREDDINE_PREDICTION = ((0.0, 2.0, 0.6), (1.0, 4.0, 0.4))
+NASSREDDINE_READING = ((1.5, 2.5, 0.7), (3.0, 5.0, 0.3))
+
+
+def _book_beyond() -> None:
+    from dstoolkit.gauge import GAUGE_OBS_NOISE
+
+    (p1, p2), (r1, r2) = NASSREDDINE_PREDICTION, NASSREDDINE_READING
+    book_data(
+        "beyond",
+        {
+            "w_the": "The paper's",
+            "w_whose": "the paper's",
+            "w_note": " (`GAUGE_OBS_NOISE`)",
+            "w_lo": float(GAUGE_OBS_NOISE.lower[0]),
+            "w_mode": float(GAUGE_OBS_NOISE.mode[0]),
+            "w_hi": float(GAUGE_OBS_NOISE.upper[0]),
+            "w_sigma": PAPER_SIGMA_W,
+            "cuts": PRODUCTS_CUTS,
+            "side": PRODUCTS_CUTS + 1,
+            "cuts_word": "three",
+            **{f"np1_{k}": v for k, v in zip(("lo", "hi", "m"), p1, strict=True)},
+            **{f"np2_{k}": v for k, v in zip(("lo", "hi", "m"), p2, strict=True)},
+            **{f"nr1_{k}": v for k, v in zip(("lo", "hi", "m"), r1, strict=True)},
+            **{f"nr2_{k}": v for k, v in zip(("lo", "hi", "m"), r2, strict=True)},
+            "fail_level": FIG10_CASE[0],
+            "fail_t": FIG10_CASE[1],
+            "fail_runs": FAILURE_RUNS,
+            "fail_seed": FAILURE_SEED,
+            "fail_scale": FAILURE_SCALE,
+            "off_l": LONG_CASE[0],
+            "off_t": LONG_CASE[1],
+            "off_tau_ms": round(1e3 * GAUGE_LATENCY, 6),
+        },
+    )
+
+
+_book_beyond()
+
+
+def _beyond(name: str) -> Any:
+    """Return a datum of the chapter's exercises in the current variant."""
+    return data("beyond")[name]
 
 
 def _paper_w() -> Any:
-    """Return the paper's observation noise w (Table 2) as the filters take it."""
-    from dstoolkit.gauge import GAUGE_OBS_NOISE
+    """Return the observation noise w of the current variant (the book's: Table 2's)."""
+    from dstoolkit.filters import BoundedNoise
 
-    return GAUGE_OBS_NOISE
+    return BoundedNoise(_beyond("w_lo"), _beyond("w_mode"), _beyond("w_hi"))
 
 
 @exercise(
     "beyond.start-error",
+    varies=True,
     atol=1e-3,
     hint="z_1 = x_1 − w_1, so x̂_1 − x_1 = −w_1; take its expectation. The mean of a "
     "triangular density is (a + b + c)/3.",
@@ -510,14 +599,15 @@ def _() -> float:
 
 @exercise(
     "beyond.kalman-sigma",
+    varies=True,
     atol=1e-3,
     hint="Var = (a² + b² + c² − ab − ac − bc)/18 for the triangle with support [a, b] "
     "and mode c; take its square root.",
     mistakes=(
         (
-            lambda: 1.23,
-            "That is the σ of the measured errors from which the paper "
-            "made the bounds (±3σ); the triangle on those bounds has another σ.",
+            lambda: float(_beyond("w_sigma")),
+            "That is the σ of the measured errors from which the "
+            "bounds were made (±3σ); the triangle on those bounds has another σ.",
         ),
     ),
 )
@@ -535,32 +625,36 @@ def _example_sizes(p: int) -> tuple[int, int]:
 
 @exercise(
     "beyond.products",
+    varies=True,
     atol=0.0,
     rtol=0.0,
     hint="Count per step: state boxes |E_v|, predicted boxes |E_v|·|E_v|, Step 4 "
     "products predicted × |E_w|, Step 6 products (Step 4's) × (predicted).",
     mistakes=(
         (
-            lambda: 1024,
-            "That is the count for a scalar state (4 × 4 × 4 × 16): "
-            "in two dimensions every evidence has 4 × 4 = 16 boxes.",
+            lambda: int(_beyond("side")) ** 5,
+            "That is the count for a scalar state: in two dimensions every evidence has "
+            "(cuts + 1) × (cuts + 1) boxes.",
         ),
     ),
 )
 def _() -> int:
-    n_v, n_w = _example_sizes(3)
+    n_v, n_w = _example_sizes(int(_beyond("cuts")))
     predicted = n_v * n_v
     return predicted * n_w * predicted
 
 
-#: Nassreddine's correction by hand: the prediction's and the reading's evidence (g the
-#: identity), as rows (lo, hi, mass).
-NASSREDDINE_PREDICTION = ((0.0, 2.0, 0.6), (1.0, 4.0, 0.4))
-NASSREDDINE_READING = ((1.5, 2.5, 0.7), (3.0, 5.0, 0.3))
+def _nassreddine_rows(
+    which: str,
+) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """Return the two rows (lo, hi, mass) of the prediction (``"np"``) or the reading (``"nr"``)."""
+    d = data("beyond")
+    first, second = (tuple(float(d[f"{which}{i}_{k}"]) for k in ("lo", "hi", "m")) for i in (1, 2))
+    return first, second  # type: ignore[return-value]
 
 
 def _nassreddine_correction(renormalise: bool = True) -> tuple[float, float]:
-    """(K, x̂) of the correction of NASSREDDINE_PREDICTION by NASSREDDINE_READING.
+    """(K, x̂) of the correction of the prediction by the reading (the book's: NASSREDDINE_*).
 
     Without ``renormalise``, x̂ is the expectation of the kept products left unscaled.
     """
@@ -570,7 +664,7 @@ def _nassreddine_correction(renormalise: bool = True) -> tuple[float, float]:
         lo, hi, mass = zip(*rows, strict=True)
         return IntervalEvidence(list(lo), list(hi), list(mass))
 
-    pred, reading = evidence(NASSREDDINE_PREDICTION), evidence(NASSREDDINE_READING)
+    pred, reading = evidence(_nassreddine_rows("np")), evidence(_nassreddine_rows("nr"))
     k = conflict(pred, reading)
     estimate = float(dempster(pred, reading).pignistic_expectation()[0])
     return float(k), estimate if renormalise else estimate * (1.0 - float(k))
@@ -578,6 +672,7 @@ def _nassreddine_correction(renormalise: bool = True) -> tuple[float, float]:
 
 @exercise(
     "beyond.nassreddine-correction",
+    varies=True,
     atol=5e-4,
     hint="Intersect every predicted interval with every interval of the reading; a product "
     "has the mass m_i · m_j. The empty ones make up K; divide the others by 1 − K, then take "
@@ -596,6 +691,7 @@ def _() -> tuple[float, float]:
 
 @exercise(
     "beyond.failures",
+    varies=True,
     atol=1e-9,
     hint="Build the model with the scaled bounds (scaled_noise), run "
     "BoundedErrorFilter(on_inconsistent='raise') on each run, count the runs that raise "
@@ -605,29 +701,45 @@ def _() -> float:
     from dstoolkit.gauge import gauge_state_space_model
     from dstoolkit.studies import bounded_error_failures, scaled_noise, tracking_data
 
-    data = tracking_data(*FIG10_CASE, runs=FAILURE_RUNS, seed=FAILURE_SEED)
-    model = gauge_state_space_model(
-        scaled_noise(data.state_noise, FAILURE_SCALE), scaled_noise(data.obs_noise, FAILURE_SCALE)
+    level, t, runs, seed, scale = (
+        _beyond(k) for k in ("fail_level", "fail_t", "fail_runs", "fail_seed", "fail_scale")
     )
-    return bounded_error_failures(model, data)[0]
+    runs_data = tracking_data(float(level), float(t), runs=int(runs), seed=int(seed))
+    model = gauge_state_space_model(
+        scaled_noise(runs_data.state_noise, float(scale)),
+        scaled_noise(runs_data.obs_noise, float(scale)),
+    )
+    return bounded_error_failures(model, runs_data)[0]
+
+
+def _offset_case() -> tuple[tuple[float, float], float]:
+    """Return the (level m, °C) and the latency (s) of the offset exercise."""
+    return (float(_beyond("off_l")), float(_beyond("off_t"))), _beyond("off_tau_ms") / 1e3
 
 
 @exercise(
     "beyond.offset-ratio",
+    varies=True,
     atol=2e-3,
-    hint="b = κL/c + κτ with κ = 280 Hz/s and τ = 10 ms; f_F = c/(2L). Divide.",
+    hint="b = κL/c + κτ with κ = 280 Hz/s and τ in seconds; f_F = c/(2L). Divide.",
     mistakes=(
         (
-            lambda: SWEEP_RATE * LONG_CASE[0] / _c(LONG_CASE) / _fundamental(LONG_CASE),
+            lambda: (
+                SWEEP_RATE
+                * _offset_case()[0][0]
+                / _c(_offset_case()[0])
+                / _fundamental(_offset_case()[0])
+            ),
             "You left out the latency's κ τ.",
         ),
     ),
 )
 def _() -> float:
-    b = float(sweep_rate_offset(SWEEP_RATE, _fundamental(LONG_CASE))) + latency_offset(
-        SWEEP_RATE, GAUGE_LATENCY
+    case, latency = _offset_case()
+    b = float(sweep_rate_offset(SWEEP_RATE, _fundamental(case))) + latency_offset(
+        SWEEP_RATE, latency
     )
-    return b / _fundamental(LONG_CASE)
+    return b / _fundamental(case)
 
 
 #: The choices of the improvement prediction: direct ÷ filter error is closest to which?
@@ -636,6 +748,8 @@ IMPROVEMENT_CHOICES = (1, 2, 5, 10)
 
 @exercise(
     "estimating.improvement-choice",
+    varies=True,
+    distinct=False,
     atol=0.0,
     rtol=0.0,
     hint="The filter averages the reading with the prediction; how much can that gain "
@@ -653,7 +767,7 @@ IMPROVEMENT_CHOICES = (1, 2, 5, 10)
     ),
 )
 def _() -> int:
-    ratio = float(_improvement())
+    ratio = float(REGISTRY["estimating.improvement"]._expected())
     return min(IMPROVEMENT_CHOICES, key=lambda c: abs(np.log(c / ratio)))
 
 
@@ -672,6 +786,8 @@ def _failure_share(fraction: float) -> str:
 
 @exercise(
     "beyond.failures-choice",
+    varies=True,
+    distinct=False,
     hint=f"Answer one of {FAILURE_CHOICES}. A run fails when at some step the reading "
     "and the prediction, with the narrowed bounds, no longer meet.",
     mistakes=(

@@ -10,8 +10,9 @@ A draw is kept only if every exercise of the chapter that varies gets another an
 in the book and, where the chapter's data allow it, than in the :data:`WINDOW` variants
 before it (by the exercise's own tolerance); otherwise the next draw from the same seed is
 tried. So consecutive variants answer every such question differently as far as the
-chapter's ranges of data allow, and any variant differs from the book. Variants are drawn
-in order (variant 5 after 1–4), which keeps them the same on every run.
+chapter's ranges of data allow, and any variant differs from the book. A choice among a
+few named options (``distinct=False``) follows its variant's data without this condition.
+Variants are drawn in order (variant 5 after 1–4), which keeps them the same on every run.
 """
 
 from __future__ import annotations
@@ -45,6 +46,7 @@ SHEET_CHAPTER = {
     "simulated_gauge": "gauge",
     "lab": "lab",
     "estimating_level": "estimating",
+    "beyond_the_paper": "beyond",
 }
 
 #: Draws tried before giving up (a draw is refused when an answer equals the book's).
@@ -197,13 +199,94 @@ def _lab(rng: np.random.Generator) -> Data:
     }
 
 
+def _table3_case(rng: np.random.Generator) -> tuple[float, float]:
+    """Return a (level m, °C) of the paper's Table 3."""
+    from dstoolkit.studies import TABLE3_CASES
+
+    return TABLE3_CASES[int(rng.integers(len(TABLE3_CASES)))]
+
+
 def _estimating(rng: np.random.Generator) -> Data:
     n1 = int(rng.integers(27, 61))
     spacing = 37.76  # f_F of the paper's 4.6 m case at 26.5 °C, Hz: readings near n f_F
-    return {
+    first = {
         "z1": round(n1 * spacing + _pick(rng, -9.0, 9.0, 0.1), 1),
         "n1": n1,
         "bias": _pick(rng, 2.0, 12.0, 0.1),
+    }
+    outlier, improvement = _table3_case(rng), _table3_case(rng)
+    return first | {
+        "outlier_level": outlier[0],
+        "outlier_t": outlier[1],
+        "band_lo": int(_pick(rng, 800, 1200, 50)),
+        "band_hi": int(_pick(rng, 2000, 3000, 100)),
+        "imp_level": improvement[0],
+        "imp_t": improvement[1],
+        "imp_runs": int(rng.integers(10, 31)),
+        "imp_seed": int(rng.integers(1, 1000)),
+    }
+
+
+def _intervals(rng: np.random.Generator) -> tuple[float, float, float, float]:
+    """Two intervals [lo, hi] on a grid of 0.5 in [0, 6], each 0.5 to 3 wide."""
+    bounds = []
+    for _ in range(2):
+        lo = _pick(rng, 0.0, 4.5, 0.5)
+        bounds += [lo, round(lo + _pick(rng, 0.5, 3.0, 0.5), 6)]
+    return bounds[0], bounds[1], bounds[2], bounds[3]
+
+
+def _beyond(rng: np.random.Generator) -> Data:
+    while True:  # a noise below its resonance, as the paper's: mode + 3σ < 0
+        mode, sigma = _pick(rng, -9.0, -4.0, 0.1), _pick(rng, 0.5, 2.0, 0.01)
+        if mode + 3 * sigma <= -0.5:
+            break
+    cuts = int(rng.choice([p for p in range(2, 13) if p != 3]))  # ten counts: few answers
+    while True:
+        pred, reading = _intervals(rng), _intervals(rng)
+        m_pred, m_reading = _pick(rng, 0.1, 0.9, 0.1), _pick(rng, 0.1, 0.9, 0.1)
+        pairs = [
+            (a, b, ma * mb)
+            for a, ma in ((pred[:2], m_pred), (pred[2:], 1 - m_pred))
+            for b, mb in ((reading[:2], m_reading), (reading[2:], 1 - m_reading))
+        ]
+        gaps = [min(a[1], b[1]) - max(a[0], b[0]) for a, b, _ in pairs]
+        conflict = sum(m for (_, _, m), g in zip(pairs, gaps, strict=True) if g < 0)
+        # some products empty (K ≥ 0.05), most of the mass kept (K ≤ 0.8); none meets in a
+        # single point (the gaps are on a grid of 0.5, exact in binary)
+        if 0.045 < conflict < 0.805 and all(g != 0 for g in gaps):  # off the 0.01 grid
+            break
+    return {
+        "w_the": "This sheet's",
+        "w_whose": "the",
+        "w_note": "",
+        "w_lo": round(mode - 3 * sigma, 6),
+        "w_mode": mode,
+        "w_hi": round(mode + 3 * sigma, 6),
+        "w_sigma": sigma,
+        "cuts": cuts,
+        "side": cuts + 1,
+        "cuts_word": str(cuts),
+        "np1_lo": pred[0],
+        "np1_hi": pred[1],
+        "np1_m": m_pred,
+        "np2_lo": pred[2],
+        "np2_hi": pred[3],
+        "np2_m": round(1 - m_pred, 6),
+        "nr1_lo": reading[0],
+        "nr1_hi": reading[1],
+        "nr1_m": m_reading,
+        "nr2_lo": reading[2],
+        "nr2_hi": reading[3],
+        "nr2_m": round(1 - m_reading, 6),
+        "fail_level": _pick(rng, 2.0, 9.6, 0.1),
+        "fail_t": _pick(rng, 10.0, 30.0, 0.5),
+        "fail_runs": int(rng.integers(10, 31)),
+        "fail_seed": int(rng.integers(1, 1000)),
+        "fail_scale": _pick(rng, 0.6, 0.9, 0.05),
+        "off_l": _pick(rng, 2.0, 12.0, 0.1),
+        "off_t": _pick(rng, 5.0, 35.0, 0.1),
+        "off_tau_ms": int(rng.integers(2, 41)),
     }
 
 
@@ -217,6 +300,7 @@ DRAW: dict[str, Callable[[np.random.Generator], Data]] = {
     "gauge": _gauge,
     "lab": _lab,
     "estimating": _estimating,
+    "beyond": _beyond,
 }
 
 
@@ -323,7 +407,9 @@ def _draw(chapter: str, variant: int) -> Data:
     varying = [
         ex
         for ex_id, ex in sorted(REGISTRY.items(), reverse=True)
-        if ex_id.split(".")[0] == chapter and getattr(ex, "varies", False)
+        if ex_id.split(".")[0] == chapter
+        and getattr(ex, "varies", False)
+        and getattr(ex, "distinct", True)
     ]
     before = range(max(1, variant - WINDOW), variant) if variant < STUDENT_VARIANTS else ()
     others = [[ex._expected_in(v) for v in (0, *before)] for ex in varying]
