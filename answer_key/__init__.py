@@ -1,7 +1,8 @@
 """The course's answer key: what a teacher shows, never what a student installs.
 
 This package lives at the repository's top level, outside ``dstoolkit`` (pyproject's package
-discovery includes ``dstoolkit*`` only, so the wheel has none of it). The teacher's edition
+discovery includes ``dstoolkit*`` only, so the wheel has none of it; ``MANIFEST.in`` keeps it
+out of the sdist). The teacher's edition
 of the sheets, the nbgrader source, the book's folded solutions and the tests import it from
 a checkout of the repository::
 

@@ -7,12 +7,15 @@ own kernel; on a grading machine with several cores, this script starts one
 
     python scripts/grade_parallel.py 03_combining_evidence --jobs 4
 
-Every student with a folder ``submitted/<id>/<assignment>/`` is graded. The gradebook is
-one SQLite file: a run that found it locked by another is run again on its own at the end,
-so no submission is lost to the parallel writes. A submission whose grading fails (its
-notebook stopped Python, say) is named at the end, as ``nbgrader autograde`` does, and the
-command exits with status 1. Extra arguments after ``--`` go to every ``nbgrader
-autograde`` (e.g. ``-- --Execute.timeout=60``).
+Every student with a folder ``submitted/<id>/<assignment>/`` is graded. Two things the
+runs share can make one fail that would pass on its own, and such a run is run again on
+its own at the end, so no submission is lost to them: the gradebook, one SQLite file (a
+run that found it locked by another), and the machine's free TCP ports (a kernel whose
+ports, picked free by its nbgrader, were taken by another run's kernel or connection
+before it bound them dies before it runs a cell; no student code has run then). A
+submission whose grading fails (its notebook stopped Python, say) is named at the end, as
+``nbgrader autograde`` does, and the command exits with status 1. Extra arguments after
+``--`` go to every ``nbgrader autograde`` (e.g. ``-- --Execute.timeout=60``).
 """
 
 from __future__ import annotations
@@ -30,6 +33,9 @@ from pathlib import Path
 
 #: What nbgrader's log says when another process held the gradebook: worth a second run.
 LOCKED = "database is locked"
+#: What it says when the kernel died before it answered, before any cell ran (its ports
+#: were taken between their choice and their binding): worth a second run too.
+KERNEL_NOT_STARTED = "Kernel died before replying to kernel_info"
 
 
 @dataclass(frozen=True)
@@ -44,7 +50,18 @@ class Outcome:
 
     @property
     def locked(self) -> bool:
+        """The run failed because another run held the gradebook."""
         return self.status != 0 and LOCKED in self.log
+
+    @property
+    def kernel_not_started(self) -> bool:
+        """The run failed because its kernel died before running any cell."""
+        return self.status != 0 and KERNEL_NOT_STARTED in self.log
+
+    @property
+    def worth_another_run(self) -> bool:
+        """The run failed for a reason of running beside others, not of the submission."""
+        return self.locked or self.kernel_not_started
 
 
 def nbgrader_command() -> str:
@@ -90,8 +107,9 @@ def grade(
     Returns
     -------
     list of Outcome, float
-        One outcome per student (after the second run of those that met a locked
-        gradebook) and the wall-clock seconds of the whole.
+        One outcome per student (after the second run, on its own, of those that met a
+        locked gradebook or whose kernel did not start) and the wall-clock seconds of the
+        whole.
     """
     if jobs < 1:
         raise SystemExit(f"grade_parallel.py: error: --jobs must be at least 1, got {jobs}")
@@ -108,7 +126,7 @@ def grade(
         )
     outcomes = [
         replace(autograde_one(course, assignment, o.student, extra, nbgrader), tries=2)
-        if o.locked
+        if o.worth_another_run
         else o
         for o in outcomes
     ]

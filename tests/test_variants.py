@@ -219,6 +219,20 @@ def test_a_choice_follows_its_variants_data():
         assert choices[v] == expected, (v, share)
 
 
+def test_a_choices_named_mistake_is_never_its_variants_right_answer():
+    """A choice's listed mistake (``mistake``) is passed over where it is the right answer."""
+    from dstoolkit.teaching import mistake
+
+    listed = {s for s in range(1, 41) if solution("estimating.improvement-choice", variant=s) == 1}
+    assert listed  # some variants' right choice is 1, the book's first listed mistake
+    for exercise_id in ("estimating.improvement-choice", "beyond.failures-choice"):
+        for v in range(1, 41):
+            set_variant(v)
+            assert not check(exercise_id, mistake(exercise_id)), (exercise_id, v)
+            assert check(exercise_id, solution(exercise_id, variant=v)), (exercise_id, v)
+        set_variant(0)
+
+
 def test_the_book_keeps_its_table3_and_beyond_answers():
     """Variant 0 is the book's: the paper's Table 3 case, noises and worked example.
 

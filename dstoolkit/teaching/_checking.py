@@ -177,12 +177,20 @@ class Exercise:
     def wrong_answer(self) -> Any:
         """Return a plausible wrong answer: the first listed mistake, else the solution moved.
 
+        A listed mistake that is the right answer in the current variant (a choice among
+        a few options can be) is passed over.
+
         Returns
         -------
         object
             An answer the check rejects.
         """
-        return self.mistakes[0][0]() if self.mistakes else _moved(self._expected())
+        right = self._canonical(self._expected())
+        for wrong, _ in self.mistakes:
+            value = wrong()
+            if not _compare(value, right, self)[0]:
+                return value
+        return _moved(self._expected())
 
 
 @dataclass(frozen=True)

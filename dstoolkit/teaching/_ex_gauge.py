@@ -541,7 +541,7 @@ def _book_beyond() -> None:
         {
             "w_the": "The paper's",
             "w_whose": "the paper's",
-            "w_note": " (`GAUGE_OBS_NOISE`)",
+            "w_note": "\n(`GAUGE_OBS_NOISE`)",  # the sheet's line break, as it was
             "w_lo": float(GAUGE_OBS_NOISE.lower[0]),
             "w_mode": float(GAUGE_OBS_NOISE.mode[0]),
             "w_hi": float(GAUGE_OBS_NOISE.upper[0]),

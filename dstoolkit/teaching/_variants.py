@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import hashlib
 import hmac
+import time
 import zlib
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -400,10 +401,11 @@ def data(chapter: str, variant: int | None = None) -> Data:
 
 
 def _draw(chapter: str, variant: int) -> Data:
-    from ._checking import REGISTRY, answers_differ
+    from ._checking import REGISTRY
 
     rng = np.random.default_rng([variant, zlib.crc32(chapter.encode())])
-    # reverse order of ids: the filter's slowest solver (conflict-start) is tried last
+    # reverse order of ids (the first draw's; then the quickest solvers first): the filter's
+    # slowest solver (conflict-start) is tried last
     varying = [
         ex
         for ex_id, ex in sorted(REGISTRY.items(), reverse=True)
@@ -416,23 +418,19 @@ def _draw(chapter: str, variant: int) -> Data:
     key = (chapter, variant)
     book = [sols[0] for sols in others]
     fallback: Data | None = None
+    seconds: dict[str, float] = {}  # each solver's time: the quick ones are tried first
     for _ in range(ATTEMPTS):
         candidate = DRAW[chapter](rng)
         _drawn[key] = candidate
         try:
             with using_variant(variant):
-                fresh = [ex.solve() for ex in varying]
+                differs = _differs(varying, book, others, fallback is not None, seconds)
         finally:
             del _drawn[key]
-        if not all(answers_differ(ex, f, b) for ex, f, b in zip(varying, fresh, book, strict=True)):
-            continue
-        if all(
-            answers_differ(ex, f, sol)
-            for ex, f, sols in zip(varying, fresh, others, strict=True)
-            for sol in sols[1:]
-        ):
+        if differs == (True, True):
             return candidate
-        fallback = fallback or candidate
+        if differs[0] and fallback is None:
+            fallback = candidate
     if fallback is not None:
         # the chapter's grid of data has fewer answers than WINDOW variants need: the
         # first draw whose answers differ from the book's (the same on every run)
@@ -441,6 +439,39 @@ def _draw(chapter: str, variant: int) -> Data:
         f"no data for variant {variant} of {chapter!r} whose answers differ from the "
         f"book's in {ATTEMPTS} draws: widen the ranges of _{chapter}() in {__name__}"
     )
+
+
+def _differs(
+    varying: list[Any],
+    book: list[Any],
+    others: list[list[Any]],
+    stop_at_window: bool,
+    seconds: dict[str, float],
+) -> tuple[bool, bool]:
+    """Whether the current draw's answers differ from the book's, and from the window's.
+
+    Solves exercise after exercise, the quickest so far first (``seconds``, each solver's
+    time, is updated), and stops at the first answer that equals the book's (the draw is
+    refused) or, with ``stop_at_window`` (a fallback is already kept), at the first that
+    equals an earlier variant's: a refused draw costs its quick solvers only. The order
+    changes no outcome: ``(True, True)`` needs every answer to differ from all, and without
+    ``stop_at_window`` ``(True, False)`` means every answer differs from the book's.
+    """
+    from ._checking import answers_differ
+
+    window = True
+    order = sorted(range(len(varying)), key=lambda i: seconds.get(varying[i].id, 0.0))
+    for i in order:
+        ex, start = varying[i], time.perf_counter()
+        fresh = ex.solve()
+        seconds[ex.id] = time.perf_counter() - start
+        if not answers_differ(ex, fresh, book[i]):
+            return False, False
+        if window and not all(answers_differ(ex, fresh, e) for e in others[i][1:]):
+            window = False
+            if stop_at_window:
+                return True, False
+    return True, window
 
 
 def student_variant(secret: str, student_id: str) -> int:
