@@ -24,12 +24,11 @@ import numpy as np
 from matplotlib import patches
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
-from scipy import signal
 
 import dstoolkit.audio as audio
 from dstoolkit.audio import WavRecording
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.gauge import PAPER_SWEEP, LinearSweep, TubeSetup, speed_of_sound
+from dstoolkit.gauge import PAPER_SWEEP, LinearSweep, TubeSetup, speed_of_sound, valid_correlation
 from dstoolkit.plots import GREY, STYLE, TRUTH_COLOUR
 
 from ._readouts import method_label
@@ -365,7 +364,7 @@ def calibration_correlation(recording: WavRecording) -> np.ndarray:
     (1.0, 1)
     """
     chirp = audio.calibration_chirp(recording.samplerate)
-    c = np.abs(signal.correlate(recording.samples, chirp, mode="valid", method="fft"))
+    c = np.abs(valid_correlation(recording.samples, chirp))
     return c / max(float(c.max()), 1e-300)
 
 
