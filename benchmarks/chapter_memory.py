@@ -9,9 +9,11 @@ For every chapter with an exercise sheet, two notebooks run in a fresh ``python3
 * **sheet**: the teacher's edition of the exercise sheet (answers filled in, so every check
   and explorer runs), run in ``notebooks/``.
 
-A last cell reads the kernel process's own peak resident set (``ru_maxrss`` of
-``resource.getrusage``, the kernel's high-water mark: child processes of the checks are
-not counted, they end within the cell that starts them). Prints one row per notebook and
+A last cell reads the kernel process's own peak resident set (``VmHWM`` of
+``/proc/self/status``, the high-water mark of the kernel's memory since it started: child
+processes of the checks are not counted, they end within the cell that starts them). Not
+``ru_maxrss``: Linux carries it over ``exec`` from the process that forked the kernel, so
+it never reads below the size of this script. Prints one row per notebook and
 the largest peak; the budget a class on one node affords is 250 MiB a student.
 
 Run: python benchmarks/chapter_memory.py [--chapter STEM ...] [--only chapter|sheet]
@@ -42,8 +44,10 @@ BUDGET_MIB = 250
 #: A guard against a hanging cell, not a speed requirement.
 CELL_TIMEOUT = 900
 PEAK = (
-    "import resource, sys\n"
-    "print('PEAK_KIB', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, 'numba' in sys.modules)"
+    "import sys\n"
+    "with open('/proc/self/status') as _status:\n"
+    "    _hwm = next(line.split()[1] for line in _status if line.startswith('VmHWM:'))\n"
+    "print('PEAK_KIB', _hwm, 'numba' in sys.modules)"
 )
 
 

@@ -29,7 +29,7 @@ import dstoolkit.audio as audio
 from dstoolkit.audio import WavRecording
 from dstoolkit.errors import InvalidInputError
 from dstoolkit.gauge import PAPER_SWEEP, LinearSweep, TubeSetup, speed_of_sound, valid_correlation
-from dstoolkit.plots import GREY, STYLE, TRUTH_COLOUR
+from dstoolkit.plots import GREY, STYLE, TRUTH_COLOUR, add_trace
 
 from ._readouts import method_label
 
@@ -421,7 +421,7 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
     t = np.arange(recording.samples.size) / fs
     fig = Figure(figsize=(8.0, 6.6), layout="constrained")
     top, mid, bottom = fig.subplots(3, 1, height_ratios=[2, 2, 2])
-    top.plot(t, recording.samples, lw=0.3, color=GREY)
+    add_trace(top, t, recording.samples, lw=0.3, color=GREY)
     arrive = played + meta.latency_s
     top.axvspan(arrive, arrive + chirp_s, color="C1", alpha=0.3, label="opening chirp")
     top.axvspan(
@@ -436,7 +436,7 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
     top.set_xlabel("time in the recording (s)")
     top.set_ylabel("amplitude")
     top.legend(loc="lower right", fontsize="small")
-    mid.plot(t[: c.size], c, lw=0.8, color="C1")
+    add_trace(mid, t[: c.size], c, lw=0.8, color="C1")
     half = c.size // 2
     for j, name in (
         (int(np.argmax(c[:half])), "opening chirp"),
