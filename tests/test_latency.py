@@ -83,15 +83,19 @@ def test_errors_are_detection_errors_and_value_errors() -> None:
         assert isinstance(info.value, ValueError)
 
 
-@pytest.mark.parametrize("n", [7, 8, 1001, 4096])
-def test_the_analytic_signal_is_scipys_hilbert(n: int) -> None:
-    from scipy import signal
+@pytest.mark.parametrize("n", [7, 8, 1001, 4096, 300_007])
+def test_the_analytic_signal_is_scipys_hilbert_at_a_fast_length(n: int) -> None:
+    from scipy import fft, signal
 
     from dstoolkit.gauge._latency import _analytic_signal
 
     x = np.random.default_rng(n).standard_normal(n)
+    size = fft.next_fast_len(n)
+    assert (size > n) == (n in (1001, 300_007))  # 1001 = 7 · 11 · 13 and a prime are padded
     # the two libraries' FFTs round differently: a few ulps of the signal's scale
-    np.testing.assert_allclose(_analytic_signal(x), signal.hilbert(x), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(
+        _analytic_signal(x), signal.hilbert(x, N=size)[:n], rtol=0, atol=1e-11
+    )
 
 
 def test_the_matched_filter_keeps_no_fft_plans(monkeypatch: pytest.MonkeyPatch) -> None:

@@ -131,20 +131,24 @@ def valid_correlation(recorded: np.ndarray, reference: np.ndarray) -> np.ndarray
 
 
 def _analytic_signal(x: np.ndarray) -> np.ndarray:
-    """Compute the analytic signal x + i H(x) of a real signal, as ``scipy.signal.hilbert``.
+    """Compute the analytic signal x + i H(x) of a real signal (its envelope is its modulus).
 
-    The positive frequencies of the DFT of length ``x.size`` doubled, the negative ones
-    dropped. By ``numpy.fft``, which keeps nothing between calls: ``scipy.fft`` keeps the
-    plans of its last transforms, and the plan of a long transform of an awkward length
-    (every recording has its own) holds tens of MiB.
+    ``scipy.signal.hilbert`` on ``x`` padded with zeros to a fast length, cut back: a
+    transform of the signal's own length (any length: a recording's) goes through a chirp
+    transform twice as long, whose work arrays are several times the signal. By
+    ``numpy.fft``, which keeps nothing between calls: ``scipy.fft`` keeps the plans of its
+    last transforms.
     """
     n = x.size
-    weights = np.zeros(n)
+    size = sp_fft.next_fast_len(n)
+    weights = np.zeros(size)
     weights[0] = 1.0
-    weights[1 : (n + 1) // 2] = 2.0
-    if n % 2 == 0:
-        weights[n // 2] = 1.0
-    return np.fft.ifft(np.fft.fft(x) * weights)
+    weights[1 : (size + 1) // 2] = 2.0
+    if size % 2 == 0:
+        weights[size // 2] = 1.0
+    spectrum = np.fft.fft(x, size)
+    spectrum *= weights
+    return np.fft.ifft(spectrum)[:n]
 
 
 #: Conjugate spectra of read-only references, by (id, size), each with a weak reference to
