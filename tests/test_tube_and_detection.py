@@ -226,3 +226,22 @@ def test_figures_6_and_7() -> None:
     assert f"detected z_k ({det.frequencies.size})" in labels
     plt.close(fig6)
     plt.close(fig7)
+
+
+def test_the_detector_keeps_one_demodulator_and_the_same_numbers() -> None:
+    """Only the last recording's demodulator is kept (16 bytes a sample), read-only.
+
+    A recording of another length replaces it; the same recording again finds the same
+    resonances from the kept one.
+    """
+    from dstoolkit.gauge._resonance import _demodulator
+
+    _demodulator.cache_clear()
+    short = synthesize_recording(TubeSetup(4.6, 26.5), PAPER_SWEEP, seed=0)
+    first = detect_resonances(short)
+    long_setup = TubeSetup(4.6, 26.5)
+    longer = synthesize_recording(long_setup, PAPER_SWEEP, RecordingConditions(tail_s=1.0), seed=0)
+    detect_resonances(longer)
+    assert _demodulator.cache_info().currsize == 1
+    again = detect_resonances(short)
+    np.testing.assert_array_equal(again.frequencies, first.frequencies)
