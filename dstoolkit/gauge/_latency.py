@@ -148,7 +148,7 @@ def _analytic_signal(x: np.ndarray) -> np.ndarray:
         weights[size // 2] = 1.0
     spectrum = np.fft.fft(x, size)
     spectrum *= weights
-    return np.fft.ifft(spectrum)[:n]
+    return np.fft.ifft(spectrum, out=spectrum)[:n]  # in place: one complex array at a time
 
 
 #: Conjugate spectra of read-only references, by (id, size), each with a weak reference to
@@ -280,7 +280,8 @@ def estimate_latency(
                 f"reference of {ref.size} at offset {offset}); widen max_latency_s"
             )
     # the envelope of the matched filter: one smooth bump per arrival of the reference
-    envelope = np.where(allowed, np.abs(_analytic_signal(c)), 0.0)
+    envelope = np.abs(_analytic_signal(c))
+    envelope[~allowed] = 0.0
     top = float(envelope.max())
     significance = top / max(float(np.median(envelope[allowed])), 1e-300)
     if min_significance is not None and not significance >= min_significance:
