@@ -16,6 +16,12 @@ processes of the checks are not counted, they end within the cell that starts th
 it never reads below the size of this script. Prints one row per notebook and
 the largest peak; the budget a class on one node affords is 250 MiB a student.
 
+The kernels inherit this script's environment. glibc raises its thresholds for returning
+freed memory to the system after a large array is freed (up to 32 MiB for mmap, 64 MiB for
+trimming), so a kernel keeps memory it no longer uses; fixed thresholds in the kernel's
+environment (a JupyterHub kernel spec's ``env``) lower every peak:
+``MALLOC_MMAP_THRESHOLD_=131072 MALLOC_TRIM_THRESHOLD_=131072 python benchmarks/chapter_memory.py``.
+
 Run: python benchmarks/chapter_memory.py [--chapter STEM ...] [--only chapter|sheet]
 """
 
