@@ -9,10 +9,18 @@ For every chapter with an exercise sheet, two notebooks run in a fresh ``python3
 * **sheet**: the teacher's edition of the exercise sheet (answers filled in, so every check
   and explorer runs), run in ``notebooks/``.
 
-A last cell reads the kernel process's own peak resident set (``ru_maxrss`` of
-``resource.getrusage``, the kernel's high-water mark: child processes of the checks are
-not counted, they end within the cell that starts them). Prints one row per notebook and
+A last cell reads the kernel process's own peak resident set (``VmHWM`` of
+``/proc/self/status``, the high-water mark of the kernel's memory since it started: child
+processes of the checks are not counted, they end within the cell that starts them). Not
+``ru_maxrss``: Linux carries it over ``exec`` from the process that forked the kernel, so
+it never reads below the size of this script. Prints one row per notebook and
 the largest peak; the budget a class on one node affords is 250 MiB a student.
+
+The kernels inherit this script's environment. glibc raises its thresholds for returning
+freed memory to the system after a large array is freed (up to 32 MiB for mmap, 64 MiB for
+trimming), so a kernel keeps memory it no longer uses; fixed thresholds in the kernel's
+environment (a JupyterHub kernel spec's ``env``) lower every peak:
+``MALLOC_MMAP_THRESHOLD_=131072 MALLOC_TRIM_THRESHOLD_=131072 python benchmarks/chapter_memory.py``.
 
 Run: python benchmarks/chapter_memory.py [--chapter STEM ...] [--only chapter|sheet]
 """
@@ -42,8 +50,10 @@ BUDGET_MIB = 250
 #: A guard against a hanging cell, not a speed requirement.
 CELL_TIMEOUT = 900
 PEAK = (
-    "import resource, sys\n"
-    "print('PEAK_KIB', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, 'numba' in sys.modules)"
+    "import sys\n"
+    "with open('/proc/self/status') as _status:\n"
+    "    _hwm = next(line.split()[1] for line in _status if line.startswith('VmHWM:'))\n"
+    "print('PEAK_KIB', _hwm, 'numba' in sys.modules)"
 )
 
 

@@ -438,3 +438,37 @@ def test_a_recording_drawn_through_its_extremes_looks_like_every_sample_drawn(
         np.testing.assert_array_equal(trace.get_xdata(), rec.times)
         pictures.append(np.asarray(fig.canvas.buffer_rgba()).astype(int))
     assert np.abs(pictures[0] - pictures[1]).max() <= 48
+
+
+def test_a_long_trace_is_filled_in_pieces(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Agg fills a trace through extremes in pieces; the caller's settings are left alone.
+
+    Agg's rasteriser keeps the cells of the largest path it filled for as long as the
+    figure's canvas lives: a recording's band in one piece kept tens of MiB per figure in a
+    notebook's output history.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.lines import Line2D
+
+    import dstoolkit.plots._gauge as gauge_plots
+    from dstoolkit.audio import simulate_measurement
+    from dstoolkit.teaching import plot_calibration
+
+    seen: list[tuple[int, int]] = []
+    draw = Line2D.draw
+
+    def spy(line: Line2D, renderer: Any) -> None:
+        if isinstance(line, gauge_plots.TraceLine):
+            seen.append((len(line.get_xdata()), matplotlib.rcParams["agg.path.chunksize"]))
+        draw(line, renderer)
+
+    monkeypatch.setattr(Line2D, "draw", spy)
+    before = matplotlib.rcParams["agg.path.chunksize"]
+    fig = plot_calibration(simulate_measurement(TubeSetup(level_m=2.5, temperature_c=21.0)))
+    FigureCanvasAgg(fig).draw()
+    # the recording (top) and the matched filter (middle), each through its extremes
+    assert len(seen) == 2
+    assert all(points < 10_000 and chunk == gauge_plots.TRACE_CHUNK for points, chunk in seen)
+    assert matplotlib.rcParams["agg.path.chunksize"] == before
+    low, high = fig.axes[0].get_ylim()
+    assert low < -0.4 and high > 0.4  # fitted to the trace, whose peak is 0.5

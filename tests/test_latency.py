@@ -81,3 +81,36 @@ def test_errors_are_detection_errors_and_value_errors() -> None:
         with pytest.raises(DetectionError, match=match) as info:
             call()
         assert isinstance(info.value, ValueError)
+
+
+@pytest.mark.parametrize("n", [7, 8, 1001, 4096, 300_007])
+def test_the_analytic_signal_is_scipys_hilbert_at_a_fast_length(n: int) -> None:
+    from scipy import fft, signal
+
+    from dstoolkit.gauge._latency import _analytic_signal
+
+    x = np.random.default_rng(n).standard_normal(n)
+    size = fft.next_fast_len(n)
+    assert (size > n) == (n in (1001, 300_007))  # 1001 = 7 · 11 · 13 and a prime are padded
+    # the two libraries' FFTs round differently: a few ulps of the signal's scale
+    np.testing.assert_allclose(
+        _analytic_signal(x), signal.hilbert(x, N=size)[:n], rtol=0, atol=1e-11
+    )
+
+
+def test_the_matched_filter_keeps_no_fft_plans(monkeypatch: pytest.MonkeyPatch) -> None:
+    # scipy.fft keeps the plans of its last transforms; a long transform of an awkward
+    # length (every recording has its own) holds tens of MiB in a student's kernel
+    import scipy.fft
+    import scipy.signal
+
+    def refuse(*args: object, **kwargs: object) -> None:
+        raise AssertionError("a long transform went through scipy.fft")
+
+    for name in ("fft", "ifft", "rfft", "irfft"):
+        monkeypatch.setattr(scipy.fft, name, refuse)
+    monkeypatch.setattr(scipy.signal, "hilbert", refuse)
+    est = estimate_latency(SHORT.waveform(), _tube(0.0375), SHORT.sample_rate)
+    assert est.lag == round(0.0375 * SHORT.sample_rate)
+    det = detect_resonances(synthesize_recording(TubeSetup(1.3, 27.0), SHORT))
+    assert det.frequencies.size >= 5

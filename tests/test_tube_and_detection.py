@@ -226,3 +226,42 @@ def test_figures_6_and_7() -> None:
     assert f"detected z_k ({det.frequencies.size})" in labels
     plt.close(fig6)
     plt.close(fig7)
+
+
+def test_the_detector_keeps_one_demodulator_and_the_same_numbers() -> None:
+    """Only the last recording's demodulator is kept (16 bytes a sample), read-only.
+
+    A recording of another length replaces it; the same recording again finds the same
+    resonances from the kept one.
+    """
+    from dstoolkit.gauge._resonance import _demodulator
+
+    _demodulator.cache_clear()
+    short = synthesize_recording(TubeSetup(4.6, 26.5), PAPER_SWEEP, seed=0)
+    first = detect_resonances(short)
+    long_setup = TubeSetup(4.6, 26.5)
+    longer = synthesize_recording(long_setup, PAPER_SWEEP, RecordingConditions(tail_s=1.0), seed=0)
+    detect_resonances(longer)
+    assert _demodulator.cache_info().currsize == 1
+    again = detect_resonances(short)
+    np.testing.assert_array_equal(again.frequencies, first.frequencies)
+
+
+def test_the_synthesis_keeps_the_last_draws_only() -> None:
+    """The kept noise draws and sounds are bounded (each holds arrays of a recording's length).
+
+    An explorer's next render (same seed, another level) still reuses the draws, and a
+    recording drawn again after others is the same number for number.
+    """
+    from dstoolkit.gauge._tube import _seeded_direct_wave, _seeded_draws, _seeded_sound
+
+    first = synthesize_recording(TubeSetup(4.6, 26.5), PAPER_SWEEP, NOISY, seed=0)
+    for seed in (1, 2, 3):
+        synthesize_recording(TubeSetup(4.6, 26.5), PAPER_SWEEP, NOISY, seed=seed)
+    assert _seeded_draws.cache_info().currsize <= 2
+    assert _seeded_sound.cache_info().currsize == _seeded_direct_wave.cache_info().currsize == 1
+    hits = _seeded_draws.cache_info().hits
+    synthesize_recording(TubeSetup(7.6, 26.5), PAPER_SWEEP, NOISY, seed=3)
+    assert _seeded_draws.cache_info().hits > hits
+    again = synthesize_recording(TubeSetup(4.6, 26.5), PAPER_SWEEP, NOISY, seed=0)
+    np.testing.assert_array_equal(again.samples, first.samples)

@@ -982,7 +982,7 @@ def simulate_measurement(
     delay = int(round(latency_s * fs))
     recorded = np.concatenate([np.zeros(delay), played[: played.size - delay]])
     if noise_rms > 0:
-        recorded = recorded + noise_rms * np.random.default_rng(seed).standard_normal(recorded.size)
+        recorded += noise_rms * np.random.default_rng(seed).standard_normal(recorded.size)
     return _recording(
         recorded,
         fs,

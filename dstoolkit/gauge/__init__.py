@@ -36,6 +36,7 @@ from ._latency import (
     FIRST_ARRIVAL,
     LatencyEstimate,
     estimate_latency,
+    valid_correlation,
 )
 from ._level import (
     ResonanceSeriesFit,
@@ -136,6 +137,7 @@ __all__ = [
     "sweep_rate_offset",
     "synthesize_recording",
     "typical_conditions",
+    "valid_correlation",
     "virtual_tube_signal",
     "wall_attenuation",
 ]

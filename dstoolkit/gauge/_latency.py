@@ -91,13 +91,64 @@ def valid_correlation(recorded: np.ndarray, reference: np.ndarray) -> np.ndarray
     For j = 0 .. len(recorded) − len(reference): ``scipy.signal.correlate(recorded,
     reference, "valid")``.
 
+    Parameters
+    ----------
+    recorded : numpy.ndarray, shape (n,)
+        The recording.
+    reference : numpy.ndarray, shape (m,)
+        What was played, m ≤ n.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n − m + 1,)
+        The correlation at every lag where the reference lies inside the recording.
+
+    See Also
+    --------
+    estimate_latency : Finds the reference's first arrival in it.
+
+    Notes
+    -----
     A circular correlation of length L ≥ len(recorded) does not wrap around at these lags,
     so the transforms need only that length, not len(recorded) + len(reference) − 1: half
-    the size, and one real transform fewer per signal.
+    the size, and one real transform fewer per signal. By ``numpy.fft``, which keeps no plans
+    between calls (:func:`_analytic_signal`).
+
+    References
+    ----------
+    Xu, Li, Li, Zhou, Sensors 17(4):924 (2017), §4.3 (the sweep and its recording).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from dstoolkit.gauge import valid_correlation
+    >>> valid_correlation(np.array([0.0, 1.0, 2.0, 0.0]), np.array([1.0, 2.0])).round(6)
+    array([2., 5., 2.])
     """
     size = sp_fft.next_fast_len(recorded.size, real=True)
-    spectrum = sp_fft.rfft(recorded, size) * _reference_spectrum(reference, size)
-    return sp_fft.irfft(spectrum, size)[: recorded.size - reference.size + 1]
+    spectrum = np.fft.rfft(recorded, size) * _reference_spectrum(reference, size)
+    return np.fft.irfft(spectrum, size)[: recorded.size - reference.size + 1]
+
+
+def _analytic_signal(x: np.ndarray) -> np.ndarray:
+    """Compute the analytic signal x + i H(x) of a real signal (its envelope is its modulus).
+
+    ``scipy.signal.hilbert`` on ``x`` padded with zeros to a fast length, cut back: a
+    transform of the signal's own length (any length: a recording's) goes through a chirp
+    transform twice as long, whose work arrays are several times the signal. By
+    ``numpy.fft``, which keeps nothing between calls: ``scipy.fft`` keeps the plans of its
+    last transforms.
+    """
+    n = x.size
+    size = sp_fft.next_fast_len(n)
+    weights = np.zeros(size)
+    weights[0] = 1.0
+    weights[1 : (size + 1) // 2] = 2.0
+    if size % 2 == 0:
+        weights[size // 2] = 1.0
+    spectrum = np.fft.fft(x, size)
+    spectrum *= weights
+    return np.fft.ifft(spectrum, out=spectrum)[:n]  # in place: one complex array at a time
 
 
 #: Conjugate spectra of read-only references, by (id, size), each with a weak reference to
@@ -112,13 +163,13 @@ def _reference_spectrum(reference: np.ndarray, size: int) -> np.ndarray:
     :func:`~dstoolkit.gauge.detect_resonances` looks for in every recording.
     """
     if reference.flags.writeable or reference.base is not None:
-        return np.conj(sp_fft.rfft(reference, size))
+        return np.conj(np.fft.rfft(reference, size))
     key = (id(reference), size)
     kept = _SPECTRA.get(key)
     if kept is None or kept[0]() is not reference:
         if len(_SPECTRA) >= 4:
             _SPECTRA.clear()
-        kept = _SPECTRA[key] = (weakref.ref(reference), np.conj(sp_fft.rfft(reference, size)))
+        kept = _SPECTRA[key] = (weakref.ref(reference), np.conj(np.fft.rfft(reference, size)))
     return kept[1]
 
 
@@ -229,7 +280,8 @@ def estimate_latency(
                 f"reference of {ref.size} at offset {offset}); widen max_latency_s"
             )
     # the envelope of the matched filter: one smooth bump per arrival of the reference
-    envelope = np.where(allowed, np.abs(signal.hilbert(c)), 0.0)
+    envelope = np.abs(_analytic_signal(c))
+    envelope[~allowed] = 0.0
     top = float(envelope.max())
     significance = top / max(float(np.median(envelope[allowed])), 1e-300)
     if min_significance is not None and not significance >= min_significance:

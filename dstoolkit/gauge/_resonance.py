@@ -314,12 +314,13 @@ def _check_levels(
         )
 
 
-@functools.lru_cache(maxsize=4)
+@functools.lru_cache(maxsize=1)
 def _demodulator(sweep: LinearSweep, n: int, latency_s: float) -> np.ndarray:
     """Compute the demodulator e^(−iφ(t − τ)) at the ``n`` sample times t of a recording.
 
     It moves the sweep to 0 Hz (:func:`envelope`). Kept for the next recording of the same
-    length and latency (read-only).
+    length and latency (read-only): an explorer's next render. Only the last one is kept,
+    16 bytes a sample (5 MiB for a measurement at 44.1 kHz).
     """
     carrier = np.exp(-1j * sweep.phase(np.arange(n) / sweep.sample_rate - latency_s))
     carrier.flags.writeable = False

@@ -705,7 +705,7 @@ def _draw(
     return _Draws(t_j, shaped, white, pink)
 
 
-@functools.lru_cache(maxsize=4)
+@functools.lru_cache(maxsize=2)
 def _seeded_draws(
     seed: int,
     sweep: LinearSweep,
@@ -718,7 +718,8 @@ def _seeded_draws(
     """:func:`_draw` with a fresh generator of an integer ``seed``, kept.
 
     Kept for the next recording with the same seed (an explorer moving the level redraws
-    the same noise). The arrays are read-only.
+    the same noise); the last two draws only, each up to two arrays of the recording's
+    length. The arrays are read-only.
     """
     draws = _draw(
         np.random.default_rng(seed), sweep, n, jitter_bandwidth_hz, jitter, microphone, background
@@ -791,7 +792,7 @@ def _echo_wave(
     return wave
 
 
-@functools.lru_cache(maxsize=2)
+@functools.lru_cache(maxsize=1)
 def _seeded_direct_wave(
     seed: int,
     sweep: LinearSweep,
@@ -921,7 +922,7 @@ def _sound_conditions(cond: RecordingConditions) -> RecordingConditions:
     return replace(cond, microphone_noise_pa=0.0, background_noise_pa=0.0)
 
 
-@functools.lru_cache(maxsize=2)
+@functools.lru_cache(maxsize=1)
 def _seeded_sound(
     setup: TubeSetup,
     sweep: LinearSweep,

@@ -46,6 +46,7 @@ from ._filter_figures import (  # noqa: E402
     plot_filter_step,
 )
 from ._gauge import (  # noqa: E402
+    add_trace,
     plot_recording,
     plot_resonances,
 )
@@ -71,6 +72,7 @@ from ._style import (  # noqa: E402
 )
 
 __all__ = [
+    "add_trace",
     "plot_consistency",
     "plot_rule_curves",
     "RULE_STYLE",

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import matplotlib as mpl
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
@@ -37,6 +38,10 @@ from ._style import (
 #: ``TraceLine`` draws through extremes only from this many samples per quarter pixel:
 #: fewer draw the shapes of single waves, which a line through extremes would not show.
 TRACE_RUN = 16
+#: Vertices per piece in which Agg fills a ``TraceLine`` through extremes: its rasteriser
+#: keeps the cells of the largest path it has filled for as long as the figure's canvas
+#: lives, tens of MiB for a recording's band in one piece.
+TRACE_CHUNK = 1000
 
 
 class TraceLine(Line2D):
@@ -50,6 +55,8 @@ class TraceLine(Line2D):
     every column of pixels, much faster (a 220,000-sample recording across 780 pixels:
     6,240 points); with fewer, every sample is drawn. The line keeps every sample as its
     data and picks the view's at each draw, so a zoomed axes (``set_xlim``) is drawn right.
+    Agg fills it in pieces of :data:`TRACE_CHUNK` vertices.
+
     """
 
     def draw(self, renderer: Any) -> None:
@@ -80,9 +87,55 @@ class TraceLine(Line2D):
         keep = keep[np.r_[True, np.diff(keep) > 0]]
         self.set_data(t[keep], y[keep])
         try:
-            super().draw(renderer)
+            with mpl.rc_context({"agg.path.chunksize": TRACE_CHUNK}):
+                super().draw(renderer)
         finally:
             self.set_data(t, y)
+
+
+def add_trace(ax: Axes, times: np.ndarray, samples: np.ndarray, **kwargs: Any) -> Line2D:
+    """Draw a long trace of samples (a recording) on ``ax``, as a line through its extremes.
+
+    In every pixel column of the view the line passes through the lowest and highest sample
+    of four runs, in time order: the band a line through every sample would fill, at a
+    fraction of the points; where the view holds few samples per pixel, every one is drawn.
+    The line keeps every sample, so a later ``set_xlim`` is drawn right. Agg fills it in
+    pieces (its rasteriser keeps the cells of the largest piece for as long as the figure's
+    canvas lives: tens of MiB for a recording in one piece).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw; its limits are fitted to the trace.
+    times : numpy.ndarray, shape (n,)
+        The sample times, increasing.
+    samples : numpy.ndarray, shape (n,)
+        The samples.
+    **kwargs
+        What :class:`matplotlib.lines.Line2D` takes (``lw``, ``color``, ``label``...).
+
+    Returns
+    -------
+    matplotlib.lines.Line2D
+        The line.
+
+    See Also
+    --------
+    plot_recording : A recording with its envelope and resonances.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from matplotlib.figure import Figure
+    >>> from dstoolkit.plots import add_trace
+    >>> t = np.arange(200_000) / 44100
+    >>> line = add_trace(Figure().subplots(), t, np.sin(2e3 * t), lw=0.3)
+    >>> line.get_xdata().size, bool(line.axes.get_ylim()[1] > 1)
+    (200000, True)
+    """
+    line = ax.add_line(TraceLine(times, samples, **kwargs))
+    ax.autoscale_view()
+    return line
 
 
 @styled
@@ -135,7 +188,7 @@ def plot_recording(
     """
     fig, ax = _axes(ax, (8.0, 3.2))
     t = recording.times
-    ax.add_line(TraceLine(t, recording.samples, lw=0.3, color=GREY, label="microphone"))
+    add_trace(ax, t, recording.samples, lw=0.3, color=GREY, label="microphone")
     tau = 0.0
     if detection is not None:
         tau = detection.latency_s

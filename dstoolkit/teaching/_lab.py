@@ -24,13 +24,12 @@ import numpy as np
 from matplotlib import patches
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
-from scipy import signal
 
 import dstoolkit.audio as audio
 from dstoolkit.audio import WavRecording
 from dstoolkit.errors import InvalidInputError
-from dstoolkit.gauge import PAPER_SWEEP, LinearSweep, TubeSetup, speed_of_sound
-from dstoolkit.plots import GREY, STYLE, TRUTH_COLOUR
+from dstoolkit.gauge import PAPER_SWEEP, LinearSweep, TubeSetup, speed_of_sound, valid_correlation
+from dstoolkit.plots import GREY, STYLE, TRUTH_COLOUR, add_trace
 
 from ._readouts import method_label
 
@@ -365,7 +364,7 @@ def calibration_correlation(recording: WavRecording) -> np.ndarray:
     (1.0, 1)
     """
     chirp = audio.calibration_chirp(recording.samplerate)
-    c = np.abs(signal.correlate(recording.samples, chirp, mode="valid", method="fft"))
+    c = np.abs(valid_correlation(recording.samples, chirp))
     return c / max(float(c.max()), 1e-300)
 
 
@@ -422,7 +421,7 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
     t = np.arange(recording.samples.size) / fs
     fig = Figure(figsize=(8.0, 6.6), layout="constrained")
     top, mid, bottom = fig.subplots(3, 1, height_ratios=[2, 2, 2])
-    top.plot(t, recording.samples, lw=0.3, color=GREY)
+    add_trace(top, t, recording.samples, lw=0.3, color=GREY)
     arrive = played + meta.latency_s
     top.axvspan(arrive, arrive + chirp_s, color="C1", alpha=0.3, label="opening chirp")
     top.axvspan(
@@ -437,7 +436,7 @@ def plot_calibration(recording: WavRecording, *, zoom_ms: float = 4.0) -> Figure
     top.set_xlabel("time in the recording (s)")
     top.set_ylabel("amplitude")
     top.legend(loc="lower right", fontsize="small")
-    mid.plot(t[: c.size], c, lw=0.8, color="C1")
+    add_trace(mid, t[: c.size], c, lw=0.8, color="C1")
     half = c.size // 2
     for j, name in (
         (int(np.argmax(c[:half])), "opening chirp"),
