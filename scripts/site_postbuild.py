@@ -4,15 +4,16 @@ Run by scripts/build-book.sh after ``jupyter-book build`` (``python scripts/site
 _build/html``), after ``node scripts/typeset-maths.js`` has typeset the maths. Each page of
 the built site is rewritten once (it is marked), atomically:
 
-* **Explorers drawn before any script runs.** Before every widget view of a page, the view's
-  first state (its readouts, its pictures and its notes, from the widget state the page
-  carries) is written as plain HTML (``div.dstoolkit-preview``): the reader sees it at once,
-  and it stays until the widget manager has drawn the live explorer over it.
-* **Widget code loaded when an explorer comes near the screen.** The widget manager
-  (``jupyter-widgets/embed.js``) and its MathJax shim leave the page's ``<head>``;
-  ``_static/lazy-explorers.js`` loads them, in order, when the first explorer comes within
-  a screen of the viewport (an ``IntersectionObserver``), or when the reader moves to it by
-  keyboard. ``explorers-a11y.js`` stays as it is (deferred, small).
+* **Explorers as plain HTML, no widget manager.** Every widget view of a page is written,
+  from the widget state the page carries, as the final HTML of the explorer
+  (``div.dstoolkit-explorer``, :class:`ExplorerHTML`): a live slider becomes a labelled
+  ``<input type="range">`` over the indices of its values, with its readout in an
+  ``<output>`` and its ``aria-valuetext`` the readout and its label's unit; a live
+  drop-down a ``<select>``; every other control is written disabled and described by the
+  explorer's note that says where it works; a stack writes all its states, all but the
+  selected one ``hidden``, whose pictures wait in ``data-src``. The widget state, the
+  widget views and any widget-manager script leave the page; ``_static/explorers.js``
+  (deferred, added by myst-nb's ``nb_ipywidgets_js``) switches the states.
 * **Nothing in the head waits for a script**: Sphinx's helpers and the theme's script are
   deferred (they act once the page is parsed, in the order they are written); the search
   index is left to the search page; Sphinx's page settings (``documentation_options.js``,
