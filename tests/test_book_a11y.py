@@ -113,7 +113,8 @@ _LIVE_JS = """() => Array.from(document.querySelectorAll('.dstoolkit-explorer'))
     || area.querySelector('[aria-live="polite"]') !== null)"""
 
 _IMAGES_JS = """() => Array.from(document.images).map(img => ({
-    src: img.getAttribute('src').slice(0, 80), alt: img.getAttribute('alt'),
+    src: (img.getAttribute('src') || img.getAttribute('data-src') || '').slice(0, 80),
+    alt: img.getAttribute('alt'),
     decorative: img.getAttribute('role') === 'presentation'
       || img.closest('[aria-hidden="true"]') !== null}))"""
 

@@ -118,6 +118,9 @@ _IMAGES_JS = """
 async () => {
   const images = Array.from(document.images);
   images.forEach(img => { img.loading = 'eager'; });  // the lazy ones load now
+  // the pictures of the explorers' states not shown (fetched when shown) load now too
+  images.filter(img => img.dataset.src && !img.getAttribute('src'))
+    .forEach(img => { img.src = img.dataset.src; });
   await Promise.all(images.map(img => img.complete ? null : new Promise(resolve => {
     img.addEventListener('load', resolve); img.addEventListener('error', resolve);
   })));

@@ -214,7 +214,7 @@ def test_only_the_selected_states_show_and_hidden_pictures_wait(tmp_path: Path) 
             assert "src" not in attrs and (attrs.get("data-src") or "").startswith("_states/")
         assert attrs.get("loading") == "lazy"
     links = [
-        a["href"]
+        str(a["href"])
         for t, a, _ in tree.elements
         if t == "a" and a.get("class") == "dstoolkit-fullsize"
     ]
