@@ -13,7 +13,7 @@ the built site is rewritten once (it is marked), atomically:
   explorer's note that says where it works; a stack writes all its states, all but the
   selected one ``hidden``, whose pictures wait in ``data-src``. The widget state, the
   widget views and any widget-manager script leave the page; ``_static/explorers.js``
-  (deferred, added by myst-nb's ``nb_ipywidgets_js``) switches the states.
+  (async, added by myst-nb's ``nb_ipywidgets_js``) switches the states.
 * **Nothing in the head waits for a script**: Sphinx's helpers and the theme's script are
   deferred (they act once the page is parsed, in the order they are written); the search
   index is left to the search page; Sphinx's page settings (``documentation_options.js``,
@@ -531,7 +531,7 @@ def render_explorers(page: Path, text: str, site: Path) -> str:
     if "explorers.js" not in text:
         static = Path(os.path.relpath(site / "_static", page.parent)).as_posix()
         text = text.replace(
-            "</head>", f'<script defer src="{static}/explorers.js"></script>\n</head>', 1
+            "</head>", f'<script async src="{static}/explorers.js"></script>\n</head>', 1
         )
     return text
 

@@ -136,7 +136,8 @@ def test_explorers_are_html_with_no_widget_state(built_book: BookBuild, toc_page
     widget_code = [u for u in parser.fetched if re.search(r"embed|widgets-mathjax3|lazy-expl", u)]
     assert not widget_code, f"{toc_page}.html loads widget-manager code: {widget_code}"
     if 'class="dstoolkit-explorer' in text:
-        assert re.search(r'<script defer(?:="defer")? src="[^"]*_static/explorers\.js', text), (
+        loads = r'<script (?:defer|async)(?:="(?:defer|async)")? src="[^"]*_static/explorers\.js'
+        assert re.search(loads, text), (
             f"{toc_page}.html has an explorer but does not load _static/explorers.js"
         )
 

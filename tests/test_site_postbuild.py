@@ -295,4 +295,4 @@ def test_a_page_keeps_no_widget_state_nor_widget_script(tmp_path: Path) -> None:
     text = page.read_text()
     assert "widget-state" not in text and "widget-view" not in text and "embed.js" not in text
     assert '<div class="dstoolkit-explorer' in text
-    assert '<script defer src="../_static/explorers.js"></script>' in text
+    assert '<script async src="../_static/explorers.js"></script>' in text

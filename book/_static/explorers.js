@@ -5,8 +5,9 @@
  * a live slider is an <input type="range"> over the indices of its values (data-labels),
  * a live drop-down a <select>; each names in data-switches the stacks it switches
  * (div.dstoolkit-stack[data-stack]), whose states (div.dstoolkit-state) are all written,
- * all but the selected one hidden. Loaded (deferred) by myst-nb's nb_ipywidgets_js on
- * the pages with explorers (_config.yml). This script:
+ * all but the selected one hidden. Loaded (async: it listens on the document, so a control
+ * answers while the rest of a long page is still being read) by myst-nb's nb_ipywidgets_js
+ * on the pages with explorers (_config.yml). This script:
  *
  * - shows, in every stack a control switches, the state of the control's position (a
  *   hidden state's pictures wait in data-src: they are fetched when it is first shown);
@@ -120,14 +121,23 @@
     article.insertBefore(link, article.firstChild);
   }
 
+  // One listener for the whole page: a control answers as soon as its explorer is parsed,
+  // before the rest of a long page is.
+  function onChange(event) {
+    var control = event.target;
+    if (control && control.matches && control.matches(".dstoolkit-explorer [data-switches]")) {
+      update(control);
+    }
+  }
+  document.addEventListener("input", onChange);
+  document.addEventListener("change", onChange);
+
   function start() {
-    var controls = document.querySelectorAll(".dstoolkit-explorer [data-switches]");
     if (!document.querySelector(".dstoolkit-explorer")) return;
     addSkipLink();
-    Array.prototype.forEach.call(controls, function (control) {
-      control.addEventListener("input", function () { update(control); });
-      control.addEventListener("change", function () { update(control); });
-      // a position the browser kept from an earlier visit (back/forward) is shown too
+    // a position moved before this script ran, or kept by the browser from an earlier
+    // visit (back/forward), is shown too
+    document.querySelectorAll(".dstoolkit-explorer [data-switches]").forEach(function (control) {
       var selected = control.tagName === "SELECT" ? control.selectedIndex : Number(control.value);
       if (String(selected) !== control.getAttribute("data-index")) update(control);
     });
