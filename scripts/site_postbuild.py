@@ -327,15 +327,19 @@ class ExplorerHTML:
         return f'<div class="{cls}">{value}</div>'
 
     def _image(self, tag: str, hidden: bool) -> str:
-        """Link one picture to its file; in a hidden state its ``src`` waits in data-src."""
+        """Link one picture to its file; in a hidden state its ``src`` waits in data-src.
+
+        The picture of the state shown is fetched with the page (a slider's first answer
+        needs it); those of the other states when explorers.js shows them.
+        """
         linked = link_image(tag, self.folder, "dstoolkit-figure" in tag)
         img = _IMG.search(linked)
         assert img is not None
         new = img.group(0)
-        if "loading=" not in new:
-            new = new[:-1].rstrip("/").rstrip() + ' loading="lazy">'
-        if hidden:
+        if hidden:  # fetched when its state is shown; the shown state's picture at once
             new = re.sub(r"""\bsrc=(["'])""", r"data-src=\1", new, count=1)
+            if "loading=" not in new:
+                new = new[:-1].rstrip("/").rstrip() + ' loading="lazy">'
         return linked[: img.start()] + new + linked[img.end() :]
 
     def _output(self, state: dict[str, Any]) -> str:
