@@ -42,7 +42,6 @@ __all__ = ["site"]  # fixture used by the browser tests below
 BUDGET = 1_500_000
 _WIDGET_SCRIPT = re.compile(r'<script type="application/vnd\.jupyter\.widget-(state|view)\+json">')
 _EXPLORER = re.compile(r'<div class="dstoolkit-explorer[ "]')
-_HIDDEN_STATE = re.compile(r'<div class="dstoolkit-state" hidden>')
 
 
 def _figure_explorer_pages() -> list[str]:
@@ -98,6 +97,33 @@ class _Images(HTMLParser):
             self.links.pop()
 
 
+class _HiddenStateImages(HTMLParser):
+    """The ``<img>`` with a ``src`` inside an explorer state written hidden."""
+
+    _VOID = frozenset({"img", "input", "br", "hr", "meta", "link", "source", "wbr", "col"})
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.open: list[bool] = []  # per open element: inside a hidden state
+        self.fetched: list[str] = []
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        found = dict(attrs)
+        inside = bool(self.open and self.open[-1])
+        if tag == "img" and inside and found.get("src"):
+            self.fetched.append(str(found.get("src")))
+        if tag in self._VOID:
+            return
+        hidden_state = "dstoolkit-state" in (found.get("class") or "").split() and (
+            "hidden" in found
+        )
+        self.open.append(inside or hidden_state)
+
+    def handle_endtag(self, tag: str) -> None:
+        if tag not in self._VOID and self.open:
+            self.open.pop()
+
+
 def _html(built_book: BookBuild, page: str) -> str:
     path = built_book.html_dir / f"{page}.html"
     if not path.is_file():
@@ -143,16 +169,11 @@ def test_explorers_are_drawn_before_any_script(built_book: BookBuild, toc_page: 
         assert before.rfind('class="cell_output') > before.rfind("</article>"), (
             f"{toc_page}.html: an explorer outside a cell's output"
         )
-    images = _Images()
-    images.feed(text)
-    for state in _HIDDEN_STATE.finditer(text):
-        # the state's own markup up to the next state (or the end of its stack)
-        end = text.find('<div class="dstoolkit-state"', state.end())
-        piece = text[state.end() : end if end > 0 else state.end() + 50_000]
-        for img in re.findall(r"<img\b[^>]*>", piece):
-            assert re.search(r"\bdata-src=", img) and not re.search(r"\ssrc=", img), (
-                f"{toc_page}.html: a picture of a hidden state would be fetched at once: {img}"
-            )
+    parser = _HiddenStateImages()
+    parser.feed(text)
+    assert not parser.fetched, (
+        f"{toc_page}.html: pictures of hidden states fetched at once: {parser.fetched[:3]}"
+    )
 
 
 def _linked(image: dict[str, str | None], href: str | None) -> bool:
