@@ -154,8 +154,15 @@ def test_explorers_answer_on_the_static_site(chromium: object, site: str, page_n
                     area.screenshot(path=str(SHOTS / f"{stem}-{i}-after.png"))
             for slider in disabled:
                 name = slider.locator(".dstoolkit-label").inner_text()
+                # nothing keeps the focus: keys pressed on the disabled slider reach no
+                # other control (a disabled range cannot take the focus)
+                page.evaluate("() => document.activeElement && document.activeElement.blur()")
                 moved, changed = _slider_moves(page, area, slider)
                 assert not moved and not changed, f"{page_name}: disabled {name!r} moved"
+                focused = slider.locator('input[type="range"]').evaluate(
+                    "e => e === document.activeElement"
+                )
+                assert not focused, f"{page_name}: disabled {name!r} takes the focus"
             selects = area.locator("select")
             for j in range(selects.count()):
                 select = selects.nth(j)
