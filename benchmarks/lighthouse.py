@@ -175,12 +175,11 @@ def slider_answer(browser: object, url: str) -> tuple[float, int]:
     while time.monotonic() < deadline:
         try:
             page.evaluate(
-                "() => { const v = document.querySelector("
-                "'script[type=\"application/vnd.jupyter.widget-view+json\"]');"
-                " if (v && v.parentElement) v.parentElement.scrollIntoView(); }"
+                "() => { const v = document.querySelector('.dstoolkit-explorer');"
+                " if (v) v.scrollIntoView(); }"
             )
             shown = page.evaluate(_SHOWN_PICTURE)
-            handle = page.locator('.widget-slider:not(.mod-disabled) [role="slider"]').first
+            handle = page.locator('.dstoolkit-explorer input[type="range"][data-switches]').first
             if first is None and shown:
                 first = shown
             if first is not None and not pressed and handle.count():

@@ -3,17 +3,18 @@
 #
 # 1. Create/refresh the Python environment (.venv) through scripts/ensure-env.sh.
 # 2. Install the browser assets from the npm registry with `npm ci` (package-lock.json):
-#    MathJax 3 and @jupyter-widgets/html-manager (its non-AMD dist/embed.js).
+#    MathJax 3 and reveal.js.
 # 3. Copy the files the pages need into _build/_vendor/; _config.yml lists that folder in
 #    html_static_path, so Sphinx serves it from _build/html/_static/ and points
-#    `mathjax_path` and myst-nb's `nb_ipywidgets_js` at it.
+#    `mathjax_path` at it.
 # 4. jupyter-book build . -W -n --keep-going (every warning is an error; notebooks are
 #    executed once and cached in _build/.jupyter_cache). The cache is dropped when the
 #    source of dstoolkit changed, and every page is re-read after a failed build.
 # 5. scripts/slides.py writes a reveal.js lecture deck per chapter into _build/html/slides/
 #    from the chapter's source and its built page (reveal.js is vendored like MathJax).
 # 6. Post-build: scripts/typeset-maths.js typesets the maths into the pages (mathjax-full);
-#    scripts/site_postbuild.py defers the explorers' widget code and links every figure.
+#    scripts/site_postbuild.py writes the explorers as plain HTML (no widget manager) and
+#    links every figure.
 #    Both leave the decks in slides/ as they are (reveal.js typesets its own maths).
 #
 # Extra arguments are passed to jupyter-book, e.g. `bash scripts/build-book.sh --all`.
@@ -41,8 +42,8 @@ source scripts/ensure-tex.sh
 
 # --- Node.js and npm ---------------------------------------------------------------------
 if ! command -v npm >/dev/null 2>&1 || ! command -v node >/dev/null 2>&1; then
-  die "Node.js and npm are needed to install the book's offline assets (MathJax and the
-  Jupyter widget manager) from the npm registry, but 'node' or 'npm' is not on PATH.
+  die "Node.js and npm are needed to install the book's offline assets (MathJax and
+  reveal.js) from the npm registry, but 'node' or 'npm' is not on PATH.
   Install them (Debian/Ubuntu: sudo apt-get install nodejs npm; otherwise
   https://nodejs.org, version 18 or newer) and run this script again."
 fi
@@ -52,7 +53,7 @@ fi
 stamp="node_modules/.dstoolkit-book-assets"
 want="$(sha256sum package-lock.json | cut -d' ' -f1)"
 if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$want" ]; then
-  echo "==> npm ci (MathJax 3, @jupyter-widgets/html-manager, reveal.js)"
+  echo "==> npm ci (MathJax 3, reveal.js)"
   npm ci --ignore-scripts --no-audit --no-fund --loglevel=error \
     || die "npm ci failed. Check that the npm registry is reachable (npm config get registry)
   and that package-lock.json matches package.json (npm install --package-lock-only)."
@@ -60,11 +61,8 @@ if [ ! -f "$stamp" ] || [ "$(cat "$stamp")" != "$want" ]; then
 fi
 
 mathjax_src="node_modules/mathjax/es5"
-widgets_src="node_modules/@jupyter-widgets/html-manager/dist"
 reveal_src="node_modules/reveal.js/dist"
 [ -f "$mathjax_src/tex-chtml.js" ] || die "$mathjax_src/tex-chtml.js is missing after npm ci."
-[ -f "$widgets_src/embed.js" ] || die "$widgets_src/embed.js (the non-AMD widget embedder)
-  is missing after npm ci; package.json must pin an @jupyter-widgets/html-manager that has it."
 [ -f "$reveal_src/reveal.js" ] || die "$reveal_src/reveal.js is missing after npm ci."
 
 # A root _static/ folder makes Jupyter Book add every .js file of every html_static_path
@@ -76,7 +74,7 @@ reveal_src="node_modules/reveal.js/dist"
 echo "==> copying offline assets into _build/_vendor"
 vendor="_build/_vendor"
 rm -rf "$vendor"
-mkdir -p "$vendor/mathjax" "$vendor/jupyter-widgets" "$vendor/reveal/theme/fonts" "$vendor/reveal/plugin"
+mkdir -p "$vendor/mathjax" "$vendor/reveal/theme/fonts" "$vendor/reveal/plugin"
 # MathJax: the TeX+CHTML bundle, plus what it loads on demand relative to its own URL
 # (fonts, autoloaded TeX extensions, menu, accessibility and speech components).
 cp "$mathjax_src/tex-chtml.js" "$vendor/mathjax/"
@@ -84,11 +82,6 @@ for dir in input output ui a11y sre adaptors; do
   cp -R "$mathjax_src/$dir" "$vendor/mathjax/"
 done
 cp node_modules/mathjax/LICENSE "$vendor/mathjax/LICENSE"
-# Widget manager: embed.js and the icon fonts it references relative to its own URL.
-cp "$widgets_src/embed.js" "$widgets_src/embed.js.LICENSE.txt" "$vendor/jupyter-widgets/"
-find "$widgets_src" -maxdepth 1 -type f \
-  \( -name '*.woff2' -o -name '*.woff' -o -name '*.ttf' -o -name '*.eot' -o -name '*.svg' \) \
-  -exec cp {} "$vendor/jupyter-widgets/" \;
 # reveal.js for the lecture decks (scripts/slides.py): the core, the white theme and the
 # one font it imports, the speaker-notes and maths plugins (the decks load the vendored
 # MathJax above through the maths plugin).
@@ -145,8 +138,8 @@ jupyter-book build . -W -n --keep-going ${fresh[@]+"${fresh[@]}"} "$@" \
 echo "==> lecture slides: python scripts/slides.py"
 python scripts/slides.py
 # After the build: the maths typeset into the pages (no MathJax in the browser), then the
-# explorers' first states written as plain HTML, their widget code loaded when they come
-# into view and every figure linked to its full-size file. Each page is rewritten once.
+# explorers written as plain HTML with native controls (their widget state leaves the page)
+# and every figure linked to its full-size file. Each page is rewritten once.
 node scripts/typeset-maths.js _build/html
 python scripts/site_postbuild.py _build/html
 rm -f "$failed_stamp"

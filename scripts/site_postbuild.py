@@ -4,15 +4,16 @@ Run by scripts/build-book.sh after ``jupyter-book build`` (``python scripts/site
 _build/html``), after ``node scripts/typeset-maths.js`` has typeset the maths. Each page of
 the built site is rewritten once (it is marked), atomically:
 
-* **Explorers drawn before any script runs.** Before every widget view of a page, the view's
-  first state (its readouts, its pictures and its notes, from the widget state the page
-  carries) is written as plain HTML (``div.dstoolkit-preview``): the reader sees it at once,
-  and it stays until the widget manager has drawn the live explorer over it.
-* **Widget code loaded when an explorer comes near the screen.** The widget manager
-  (``jupyter-widgets/embed.js``) and its MathJax shim leave the page's ``<head>``;
-  ``_static/lazy-explorers.js`` loads them, in order, when the first explorer comes within
-  a screen of the viewport (an ``IntersectionObserver``), or when the reader moves to it by
-  keyboard. ``explorers-a11y.js`` stays as it is (deferred, small).
+* **Explorers as plain HTML, no widget manager.** Every widget view of a page is written,
+  from the widget state the page carries, as the final HTML of the explorer
+  (``div.dstoolkit-explorer``, :class:`ExplorerHTML`): a live slider becomes a labelled
+  ``<input type="range">`` over the indices of its values, with its readout in an
+  ``<output>`` and its ``aria-valuetext`` the readout and its label's unit; a live
+  drop-down a ``<select>``; every other control is written disabled and described by the
+  explorer's note that says where it works; a stack writes all its states, all but the
+  selected one ``hidden``, whose pictures wait in ``data-src``. The widget state, the
+  widget views and any widget-manager script leave the page; ``_static/explorers.js``
+  (async, added by myst-nb's ``nb_ipywidgets_js``) switches the states.
 * **Nothing in the head waits for a script**: Sphinx's helpers and the theme's script are
   deferred (they act once the page is parsed, in the order they are written); the search
   index is left to the search page; Sphinx's page settings (``documentation_options.js``,
@@ -42,17 +43,17 @@ from pathlib import Path
 from typing import Any
 from urllib.parse import unquote
 
-MARK = '<meta name="dstoolkit-postbuild" content="explorers deferred, figures linked">'
+MARK = '<meta name="dstoolkit-postbuild" content="explorers as HTML, figures linked">'
 _STATE = re.compile(
     r'(<script type="application/vnd\.jupyter\.widget-state\+json">)(.*?)(</script>)', re.S
 )
 _VIEW = re.compile(
     r'<script type="application/vnd\.jupyter\.widget-view\+json">(.*?)</script>', re.S
 )
-#: The widget scripts myst-nb writes into the head, loaded later by lazy-explorers.js.
-_LAZY = re.compile(
-    r'\s*<script (?:defer="defer" )?src="([^"]*(?:widgets-mathjax3|jupyter-widgets/embed)'
-    r'\.js[^"]*)"></script>'
+#: Widget-manager scripts a page may still name (the explorers need none of them).
+_WIDGET_SCRIPTS = re.compile(
+    r'\s*<script (?:defer(?:="defer")? )?src="[^"]*(?:widgets-mathjax3|jupyter-widgets/embed'
+    r'|explorers-a11y|lazy-explorers|require(?:\.min)?)\.js[^"]*"[^>]*></script>'
 )
 #: Scripts the theme writes into every head that nothing needs before the page is parsed
 #: (the search index, 47 kB gzipped, only serves the search page): deferred, in order.
@@ -140,18 +141,6 @@ def _open_link(body: str, at: int) -> bool:
     return body.rfind("<a ", 0, at) > body.rfind("</a>", 0, at)
 
 
-def link_state_images(state: dict[str, Any], folder: Path) -> None:
-    """Link the pictures of every HTML widget of a widget state to their files."""
-    for model in state["state"].values():
-        values = model.get("state", {})
-        value = values.get("value")
-        if model.get("model_name") == "HTMLModel" and isinstance(value, str) and "<img" in value:
-            values["value"] = _IMG.sub(
-                lambda m: link_image(m.group(0), folder, "dstoolkit-figure" in m.group(0)),
-                value,
-            )
-
-
 def _fmt(value: Any, spec: str | None) -> str:
     try:
         return format(value, spec or "")
@@ -159,49 +148,318 @@ def _fmt(value: Any, spec: str | None) -> str:
         return str(value)
 
 
-def preview(models: dict[str, Any], model_id: str) -> str:
-    """Return the plain HTML of a widget view's first state: its texts and pictures, in order."""
-    model = models.get(model_id)
-    if model is None:
-        return ""
-    name = model["model_name"]
-    state = model["state"]
+#: A unit is written at the end of a label, after a space, in parentheses: "level L (m)",
+#: "background noise (dB SPL)"; "m({low})" or "m1([0.30, 1.90])" name a set, not a unit.
+_UNIT = re.compile(r"\s\(([^()]+)\)\s*$")
+#: The explorer's note that says where its disabled controls work (dstoolkit.teaching).
+_NOTE = re.compile(r"""<p class=(["'])dstoolkit-site-note\1""")
+_BOXES = {"VBoxModel": "vbox", "HBoxModel": "hbox", "BoxModel": "vbox", "GridBoxModel": "vbox"}
+_CHOICES = ("SelectionSliderModel", "DropdownModel", "SelectModel", "RadioButtonsModel")
+_NUMBERS = ("FloatSliderModel", "IntSliderModel", "BoundedFloatTextModel", "BoundedIntTextModel")
 
-    def ref(value: str) -> str:
-        return value.removeprefix("IPY_MODEL_")
 
-    layout = models.get(ref(state.get("layout", "")), {}).get("state", {})
-    if layout.get("display") == "none" or layout.get("visibility") == "hidden":
+def unit_of(label: str) -> str:
+    """Return the unit a control's label ends with ("level L (m)" -> "m"), or ""."""
+    found = _UNIT.search(" ".join(label.split()))
+    return found.group(1) if found else ""
+
+
+def value_text(shown: str, label: str) -> str:
+    """Return a control's value as read out: its readout and its label's unit ("9.6 m")."""
+    unit = unit_of(label)
+    return f"{shown} {unit}" if unit else shown
+
+
+def _ref(value: Any) -> str:
+    return str(value).removeprefix("IPY_MODEL_")
+
+
+def _attr(value: Any) -> str:
+    return html.escape(str(value), quote=True)
+
+
+class ExplorerHTML:
+    """Writes the widget views of one page as plain HTML with native controls.
+
+    ``models`` is the page's widget state (model id -> model). A control whose ``index`` a
+    ``jslink`` (LinkModel) ties to stacks' ``selected_index`` is live: a slider over its
+    options becomes an ``<input type="range">`` over their indices, a drop-down a
+    ``<select>``, each with ``data-switches`` naming the stacks it switches (explorers.js).
+    Every other control is written disabled and described by its explorer's note. A stack
+    writes all its children, all but the selected one ``hidden``, with their pictures'
+    ``src`` kept in ``data-src`` (fetched when the state is shown).
+    """
+
+    def __init__(self, models: dict[str, Any], folder: Path) -> None:
+        self.models = models
+        self.folder = folder
+        self.count = 0
+        self.switches: dict[str, list[str]] = {}
+        for model in models.values():
+            state = model.get("state", {})
+            if model.get("model_name") != "LinkModel":
+                continue
+            source, target = state.get("source") or [], state.get("target") or []
+            if (
+                len(source) == 2
+                and len(target) == 2
+                and (source[1], target[1])
+                == (
+                    "index",
+                    "selected_index",
+                )
+            ):
+                self.switches.setdefault(_ref(source[0]), []).append(_ref(target[0]))
+
+    def _id(self, prefix: str) -> str:
+        self.count += 1
+        return f"dstoolkit-{prefix}-{self.count}"
+
+    def _layout(self, state: dict[str, Any]) -> dict[str, Any]:
+        layout = self.models.get(_ref(state.get("layout", "")), {}).get("state", {})
+        return layout if isinstance(layout, dict) else {}
+
+    def _style(self, state: dict[str, Any]) -> str:
+        layout = self._layout(state)
+        css = []
+        for key in ("width", "min_height", "flex_flow"):
+            if layout.get(key):
+                css.append(f"{key.replace('_', '-')}:{layout[key]}")
+        return f' style="{_attr(";".join(css))}"' if css else ""
+
+    def view(self, model_id: str) -> str:
+        """Return the HTML of the widget view whose root is ``model_id`` ("" if none)."""
+        self.note = ""
+        self.has_note = self._find_note(model_id, set())
+        self.live_region = self._has_class(model_id, "dstoolkit-announce", set())
+        body = self.render(model_id, top=True)
+        if not body:
+            return ""
+        return f'<div class="dstoolkit-explorer widget-subarea">{body}</div>'
+
+    def _children(self, model_id: str) -> list[str]:
+        state = self.models.get(model_id, {}).get("state", {})
+        return [_ref(c) for c in state.get("children", []) or []]
+
+    def _find_note(self, model_id: str, seen: set[str]) -> bool:
+        if model_id in seen:
+            return False
+        seen.add(model_id)
+        value = self.models.get(model_id, {}).get("state", {}).get("value")
+        if isinstance(value, str) and _NOTE.search(value):
+            return True
+        return any(self._find_note(c, seen) for c in self._children(model_id))
+
+    def _has_class(self, model_id: str, name: str, seen: set[str]) -> bool:
+        if model_id in seen:
+            return False
+        seen.add(model_id)
+        if name in (self.models.get(model_id, {}).get("state", {}).get("_dom_classes") or []):
+            return True
+        return any(self._has_class(c, name, seen) for c in self._children(model_id))
+
+    def _note_id(self) -> str:
+        if not self.note and self.has_note:
+            self.note = self._id("note")
+        return self.note
+
+    def render(self, model_id: str, top: bool = False, hidden: bool = False) -> str:
+        """Return the HTML of one model and its children."""
+        model = self.models.get(model_id)
+        if model is None:
+            return ""
+        name = model.get("model_name", "")
+        state = model.get("state", {})
+        layout = self._layout(state)
+        if layout.get("display") == "none" or layout.get("visibility") == "hidden":
+            return ""
+        classes = [c for c in state.get("_dom_classes") or [] if re.fullmatch(r"[\w-]+", c)]
+        if name in _BOXES:
+            inner = "".join(self.render(c, hidden=hidden) for c in self._children(model_id))
+            kind = _BOXES[name]
+            cls = " ".join([f"dstoolkit-{kind}", *classes])
+            return f'<div class="{cls}"{self._style(state)}>{inner}</div>'
+        if name == "StackModel":
+            return self._stack(model_id, state, classes, hidden)
+        if name in ("HTMLModel", "HTMLMathModel"):
+            return self._html(str(state.get("value", "")), classes, hidden)
+        if name == "LabelModel":
+            return f"<p>{html.escape(str(state.get('value', '')))}</p>"
+        if name == "OutputModel":
+            return self._output(state)
+        if name in _CHOICES or name in _NUMBERS:
+            return self._control(model_id, name, state)
+        if name in ("CheckboxModel", "ToggleButtonModel"):
+            return self._checkbox(state)
+        if name == "ButtonModel":
+            return self._button(state)
         return ""
-    if name in ("VBoxModel", "HBoxModel", "BoxModel", "GridBoxModel"):
-        kind = "hbox" if name == "HBoxModel" else "vbox"
-        inner = "".join(preview(models, ref(c)) for c in state.get("children", []))
-        return f'<div class="dstoolkit-preview-{kind}">{inner}</div>'
-    if name == "StackModel":
-        children = state.get("children", [])
+
+    def _stack(self, model_id: str, state: dict[str, Any], classes: list[str], hidden: bool) -> str:
+        children = self._children(model_id)
         index = state.get("selected_index")
-        return preview(models, ref(children[index])) if index is not None and children else ""
-    if name in ("HTMLModel", "HTMLMathModel"):
-        value = state.get("value", "")
-        return f'<div class="dstoolkit-preview-html widget-html-content">{value}</div>'
-    if name == "LabelModel":
-        return f"<p>{html.escape(str(state.get('value', '')))}</p>"
-    description = html.escape(str(state.get("description", "")))
-    if name in ("SelectionSliderModel", "DropdownModel", "SelectModel", "RadioButtonsModel"):
-        labels = state.get("_options_labels", [])
-        index = state.get("index")
-        shown = labels[index] if isinstance(index, int) and index < len(labels) else ""
-    elif name in ("FloatSliderModel", "IntSliderModel", "BoundedFloatTextModel"):
-        shown = _fmt(state.get("value"), state.get("readout_format"))
-    elif name == "CheckboxModel":
-        shown = "on" if state.get("value") else "off"
-    elif name == "ButtonModel":
-        return ""
-    else:
-        return ""
-    return (
-        f'<p class="dstoolkit-preview-control">{description} <b>{html.escape(str(shown))}</b></p>'
-    )
+        parts = []
+        for i, child in enumerate(children):
+            shown = i == index
+            body = self.render(child, hidden=hidden or not shown)
+            parts.append(f'<div class="dstoolkit-state"{"" if shown else " hidden"}>{body}</div>')
+        cls = " ".join(["dstoolkit-stack", *classes])
+        # a stack switched by a control of an explorer that has no sentence region of its own
+        # is itself a polite live region (its shown state is what changed)
+        live = ""
+        if not self.live_region and not hidden and "dstoolkit-states" not in classes:
+            live = ' aria-live="polite"'
+        return (
+            f'<div class="{cls}" data-stack="{_attr(model_id)}"{live}{self._style(state)}>'
+            f"{''.join(parts)}</div>"
+        )
+
+    def _html(self, value: str, classes: list[str], hidden: bool) -> str:
+        if "dstoolkit-announce" in classes:
+            return (
+                '<div class="dstoolkit-announce" role="status" aria-live="polite" '
+                'aria-atomic="true"></div>'
+            )
+        value = _IMG.sub(lambda m: self._image(m.group(0), hidden), value)
+        if self.has_note and _NOTE.search(value):
+            value = _NOTE.sub(lambda m: f'{m.group(0)} id="{self._note_id()}"', value, count=1)
+        cls = " ".join(["dstoolkit-html", "widget-html-content", *classes])
+        return f'<div class="{cls}">{value}</div>'
+
+    def _image(self, tag: str, hidden: bool) -> str:
+        """Link one picture to its file; in a hidden state its ``src`` waits in data-src.
+
+        The picture of the state shown is fetched with the page (a slider's first answer
+        needs it); those of the other states when explorers.js shows them.
+        """
+        linked = link_image(tag, self.folder, "dstoolkit-figure" in tag)
+        img = _IMG.search(linked)
+        assert img is not None
+        new = img.group(0)
+        if hidden:  # fetched when its state is shown; the shown state's picture at once
+            new = re.sub(r"""\bsrc=(["'])""", r"data-src=\1", new, count=1)
+            if "loading=" not in new:
+                new = new[:-1].rstrip("/").rstrip() + ' loading="lazy">'
+        return linked[: img.start()] + new + linked[img.end() :]
+
+    def _output(self, state: dict[str, Any]) -> str:
+        parts = []
+        for output in state.get("outputs") or []:
+            data = output.get("data") or {}
+            if output.get("output_type") == "stream":
+                text = "".join(output.get("text") or "")
+                parts.append(f"<pre>{html.escape(text)}</pre>")
+            elif "text/html" in data:
+                parts.append("".join(data["text/html"]))
+            elif "image/png" in data:
+                alt = "".join(data.get("text/plain") or "")
+                png = "".join(data["image/png"]).replace("\n", "")
+                parts.append(f'<img src="data:image/png;base64,{png}" alt="{_attr(alt)}">')
+            elif "text/plain" in data:
+                parts.append(f"<pre>{html.escape(''.join(data['text/plain']))}</pre>")
+        if not parts:
+            return ""
+        return f'<div class="dstoolkit-output">{"".join(parts)}</div>'
+
+    def _label(self, state: dict[str, Any], for_id: str, label_id: str) -> str:
+        description = str(state.get("description", ""))
+        style = self.models.get(_ref(state.get("style", "")), {}).get("state", {})
+        width = style.get("description_width") if isinstance(style, dict) else ""
+        css = f' style="width:{_attr(width)}"' if width and width != "initial" else ""
+        if width == "":
+            css = ' style="width:var(--dstoolkit-label-width)"'
+        return (
+            f'<label class="dstoolkit-label" for="{for_id}" id="{label_id}"{css}>'
+            f"{html.escape(description)}</label>"
+        )
+
+    def _disabled(self, live: bool) -> str:
+        if live:
+            return ""
+        note = self._note_id()
+        described = f' aria-describedby="{note}"' if note else ""
+        return f' disabled aria-disabled="true"{described}'
+
+    def _control(self, model_id: str, name: str, state: dict[str, Any]) -> str:
+        stacks = self.switches.get(model_id, [])
+        live = bool(stacks) and not state.get("disabled")
+        control, label = self._id("control"), ""
+        label_id = f"{control}-label"
+        label = self._label(state, control, label_id)
+        description = str(state.get("description", ""))
+        switches = f' data-switches="{_attr(" ".join(stacks))}"' if live else ""
+        disabled = self._disabled(live)
+        if name in _CHOICES:
+            options = [str(o) for o in state.get("_options_labels") or []]
+            index = state.get("index") or 0
+            index = index if isinstance(index, int) and 0 <= index < len(options) else 0
+            shown = options[index] if options else ""
+            if name == "SelectionSliderModel":
+                last = max(len(options) - 1, 0)
+                said = _attr(value_text(shown, description))
+                field = (
+                    f'<input type="range" id="{control}" min="0" max="{last}" step="1" '
+                    f'value="{index}" aria-valuetext="{said}"'
+                    f' data-labels="{_attr(json.dumps(options, ensure_ascii=False))}"'
+                    f' data-unit="{_attr(unit_of(description))}" data-index="{index}"'
+                    f"{switches}{disabled}>"
+                )
+                return self._slider(state, label, field, control, label_id, shown)
+            items = "".join(
+                f'<option value="{i}"{" selected" if i == index else ""}>{html.escape(o)}</option>'
+                for i, o in enumerate(options)
+            )
+            return (
+                f'<div class="dstoolkit-control dstoolkit-dropdown"{self._style(state)}>{label}'
+                f'<select id="{control}" data-index="{index}"{switches}{disabled}>{items}'
+                "</select></div>"
+            )
+        value = state.get("value", 0)
+        integer = name.startswith(("Int", "BoundedInt"))
+        spec = state.get("readout_format") or ("d" if integer else ".2f")
+        shown = _fmt(value, spec)
+        field = (
+            f'<input type="range" id="{control}" min="{_attr(state.get("min", 0))}" '
+            f'max="{_attr(state.get("max", 100))}" step="{_attr(state.get("step", 1) or "any")}" '
+            f'value="{_attr(value)}" aria-valuetext="{_attr(value_text(shown, description))}"'
+            f"{disabled}>"
+        )
+        return self._slider(state, label, field, control, label_id, shown)
+
+    def _slider(
+        self, state: dict[str, Any], label: str, field: str, control: str, label_id: str, shown: str
+    ) -> str:
+        readout = ""
+        if state.get("readout", True):
+            readout = (
+                f'<output class="dstoolkit-readout" for="{control}" aria-labelledby="{label_id}">'
+                f"{html.escape(shown)}</output>"
+            )
+        return (
+            f'<div class="dstoolkit-control dstoolkit-slider"{self._style(state)}>'
+            f"{label}{field}{readout}</div>"
+        )
+
+    def _checkbox(self, state: dict[str, Any]) -> str:
+        control = self._id("control")
+        checked = " checked" if state.get("value") else ""
+        description = html.escape(str(state.get("description", "")))
+        return (
+            f'<div class="dstoolkit-control dstoolkit-checkbox"{self._style(state)}>'
+            f'<input type="checkbox" id="{control}"{checked}{self._disabled(False)}>'
+            f'<label for="{control}">{description}</label></div>'
+        )
+
+    def _button(self, state: dict[str, Any]) -> str:
+        description = html.escape(str(state.get("description", "")))
+        tooltip = state.get("tooltip")
+        title = f' title="{_attr(tooltip)}"' if tooltip else ""
+        kind = state.get("button_style") or ""
+        cls = " ".join(["dstoolkit-button", *([f"dstoolkit-button-{kind}"] if kind else [])])
+        return (
+            f'<button type="button" class="{cls}"{title}{self._style(state)}'
+            f"{self._disabled(False)}>{description}</button>"
+        )
 
 
 def css_for_bundle(css: Path, static: Path, seen: set[Path] | None = None) -> str:
@@ -261,43 +519,34 @@ def bundle_styles(page: Path, text: str, site: Path) -> str:
     )
 
 
+def render_explorers(page: Path, text: str, site: Path) -> str:
+    """Write every widget view of a page as plain HTML; drop the widget state and scripts."""
+    found = _STATE.search(text)
+    if not found:
+        return text
+    renderer = ExplorerHTML(json.loads(found.group(2))["state"], page.parent)
+
+    def view(match: re.Match[str]) -> str:
+        return renderer.view(json.loads(match.group(1)).get("model_id", ""))
+
+    text = text[: found.start()] + text[found.end() :]
+    text = _VIEW.sub(view, text)
+    text = _WIDGET_SCRIPTS.sub("", text)
+    if "explorers.js" not in text:
+        static = Path(os.path.relpath(site / "_static", page.parent)).as_posix()
+        text = text.replace(
+            "</head>", f'<script async src="{static}/explorers.js"></script>\n</head>', 1
+        )
+    return text
+
+
 def rewrite_page(page: Path, site: Path) -> bool:
     """Rewrite one built page (once); True if it changed."""
     text = page.read_text(encoding="utf-8")
     if MARK in text or "</head>" not in text:
         return False
     folder = page.parent
-    found = _STATE.search(text)
-    if found:
-        state = json.loads(found.group(2))
-        link_state_images(state, folder)
-        dumped = json.dumps(state, ensure_ascii=False).replace("</", "<\\/")
-        text = text[: found.start(2)] + dumped + text[found.end(2) :]
-        models = state["state"]
-
-        def with_preview(view: re.Match[str]) -> str:
-            model_id = json.loads(view.group(1)).get("model_id", "")
-            body = preview(models, model_id)
-            if not body:
-                return view.group(0)
-            return (
-                f'<div class="dstoolkit-preview" data-model-id="{html.escape(model_id)}">'
-                f"{body}<p class='dstoolkit-preview-note'>The controls load when the explorer "
-                f"comes into view.</p></div>{view.group(0)}"
-            )
-
-        text = _VIEW.sub(with_preview, text)
-        lazy = _LAZY.findall(text)
-        if lazy:
-            text = _LAZY.sub("", text)
-            static = lazy[0].split("_static/")[0] + "_static/"
-            scripts = html.escape(" ".join(lazy), quote=True)
-            text = text.replace(
-                "</head>",
-                f'<script defer src="{static}lazy-explorers.js" '
-                f'data-scripts="{scripts}"></script>\n</head>',
-                1,
-            )
+    text = render_explorers(page, text, site)
     text = _DEFER.sub(r'<script defer src="\1"></script>', text)
     if page.name != "search.html":
         text = _SEARCH_ONLY.sub("", text)

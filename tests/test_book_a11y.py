@@ -46,7 +46,7 @@ BUDGET_NO_EXPLORER = 1_000_000
 TAB_PAGE = "book/mass_functions"
 TAB_PRESSES = 15
 
-_WIDGET_VIEW = 'script[type="application/vnd.jupyter.widget-view+json"]'
+_EXPLORER = ".dstoolkit-explorer"
 
 
 def _open(
@@ -79,13 +79,8 @@ def _settle(page: object) -> None:
       if (window.MathJax && MathJax.startup && MathJax.startup.promise)
         await MathJax.startup.promise;
     }""")
-    if page.locator(_WIDGET_VIEW).count():
+    if page.locator(_EXPLORER).count():
         page.wait_for_function(_WIDGETS_RENDERED_JS, timeout=TIMEOUT_MS)
-        page.wait_for_function(
-            "() => document.querySelectorAll("
-            "'.widget-slider[data-a11y]').length === document"
-            ".querySelectorAll('.widget-slider').length"
-        )
     page.wait_for_timeout(300)
 
 
@@ -113,12 +108,13 @@ def _axe(page: object, *, rules: list[str] | None = None) -> list[dict]:
 #: mode, and every check of this module reads what that visit recorded.
 _REPORTS: dict[tuple[str, str], dict] = {}
 
-_LIVE_JS = """() => Array.from(document.querySelectorAll('div.widget-subarea')).map(area =>
-    area.querySelector('.widget-slider') === null
+_LIVE_JS = """() => Array.from(document.querySelectorAll('.dstoolkit-explorer')).map(area =>
+    area.querySelector('.dstoolkit-slider') === null
     || area.querySelector('[aria-live="polite"]') !== null)"""
 
 _IMAGES_JS = """() => Array.from(document.images).map(img => ({
-    src: img.getAttribute('src').slice(0, 80), alt: img.getAttribute('alt'),
+    src: (img.getAttribute('src') || img.getAttribute('data-src') || '').slice(0, 80),
+    alt: img.getAttribute('alt'),
     decorative: img.getAttribute('role') === 'presentation'
       || img.closest('[aria-hidden="true"]') !== null}))"""
 
@@ -190,10 +186,10 @@ def test_axe_finds_no_violation(chromium: object, site: str, toc_page: str, mode
 
 # What every slider says to assistive technology, beside what it shows.
 _SLIDERS_JS = """
-() => Array.from(document.querySelectorAll('.widget-slider')).map(box => {
-  const handle = box.querySelector('[role="slider"]');
-  const label = box.querySelector('.widget-label');
-  const readout = box.querySelector('.widget-readout');
+() => Array.from(document.querySelectorAll('.dstoolkit-explorer .dstoolkit-slider')).map(box => {
+  const handle = box.querySelector('input[type="range"]');
+  const label = box.querySelector('.dstoolkit-label');
+  const readout = box.querySelector('output.dstoolkit-readout');
   const named = id => id ? id.split(' ').map(i => document.getElementById(i))
     .filter(Boolean).map(e => e.textContent.trim()).join(' ') : '';
   return {
@@ -201,11 +197,14 @@ _SLIDERS_JS = """
     shown: readout ? (readout.value !== undefined && readout.tagName === 'INPUT'
                       ? readout.value : readout.textContent).trim() : '',
     name: handle ? (handle.getAttribute('aria-label') ||
-                    named(handle.getAttribute('aria-labelledby'))) : '',
+                    named(handle.getAttribute('aria-labelledby')) ||
+                    Array.from(handle.labels || []).map(l => l.textContent.trim()).join(' '))
+                 : '',
     valuetext: handle ? handle.getAttribute('aria-valuetext') : null,
-    disabled: box.querySelector('.noUi-target[disabled]') !== null,
+    disabled: handle ? handle.disabled : false,
     ariaDisabled: handle ? handle.getAttribute('aria-disabled') : null,
-    tabindex: handle ? handle.getAttribute('tabindex') : null,
+    // where the control stands in the Tab order (a disabled control takes no Tab stop)
+    tabindex: handle ? String(handle.disabled ? -1 : handle.tabIndex) : null,
     described: handle ? named(handle.getAttribute('aria-describedby')) : '',
   };
 })
@@ -319,7 +318,7 @@ def test_first_load_within_budget(
 
 _FOCUSED_JS = """() => { const el = document.activeElement;
     const style = getComputedStyle(el);
-    return {slider: el.getAttribute('role') === 'slider',
+    return {slider: el.matches('.dstoolkit-explorer input[type="range"]'),
             skip: el.classList.contains('dstoolkit-skip'),
             math: el.closest('mjx-container') !== null,
             tag: el.tagName, text: (el.textContent || '').trim().slice(0, 40),
@@ -374,7 +373,8 @@ def test_tab_reaches_a_slider_quickly(chromium: object, site: str) -> None:
 #: slider (links, buttons, summaries, form controls, named scroll boxes) and returns how
 #: many; the slider itself is marked last.
 _MARK_TAB_STOPS_JS = """() => {
-    const slider = document.querySelector('.widget-subarea [role="slider"][tabindex="0"]');
+    const slider = document.querySelector(
+      '.dstoolkit-explorer input[type="range"]:not([disabled])');
     const article = document.querySelector('article.bd-article');
     const all = Array.from(article.querySelectorAll(
       'a[href], button, summary, input, select, textarea, [tabindex="0"]'));

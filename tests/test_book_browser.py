@@ -85,34 +85,29 @@ async () => {
 }
 """
 
-# Each widget view <script> gets a rendered sibling div.widget-subarea from embed.js. The
-# site loads the widget code when an explorer comes into view (lazy-explorers.js): it is
-# asked to load it at once.
+# scripts/site_postbuild.py writes every widget view as plain HTML (div.dstoolkit-explorer)
+# and leaves no widget view or widget state in the page; explorers.js (deferred) wires the
+# controls and adds the skip link once it has run.
 _WIDGETS_RENDERED_JS = """
 () => {
-  if (window.dstoolkitLoadExplorers) window.dstoolkitLoadExplorers();
-  return Array.from(
-    document.querySelectorAll('script[type="application/vnd.jupyter.widget-view+json"]')
-  ).every(tag => {
-    const area = tag.previousElementSibling;
-    return area && area.classList.contains('widget-subarea')
-      && area.querySelector('.jupyter-widgets') !== null;
-  });
+  const views = document.querySelectorAll(
+    'script[type="application/vnd.jupyter.widget-view+json"],'
+    + ' script[type="application/vnd.jupyter.widget-state+json"]');
+  const explorers = Array.from(document.querySelectorAll('.dstoolkit-explorer'));
+  return views.length === 0 && explorers.every(e => e.firstElementChild !== null)
+    && (explorers.length === 0 || document.querySelector('.dstoolkit-skip') !== null);
 }
 """
 
 _WIDGET_REPORT_JS = """
-() => Array.from(
-  document.querySelectorAll('script[type="application/vnd.jupyter.widget-view+json"]')
-).map(tag => {
-  const area = tag.previousElementSibling;
-  const id = JSON.parse(tag.textContent).model_id;
-  if (!area || !area.classList.contains('widget-subarea')) return {id, rendered: false};
-  const widget = area.querySelector('.jupyter-widgets');
-  const box = widget ? widget.getBoundingClientRect() : {width: 0, height: 0};
-  const style = widget ? getComputedStyle(widget) : null;
+() => Array.from(document.querySelectorAll(
+  'script[type="application/vnd.jupyter.widget-view+json"], .dstoolkit-explorer'
+)).map((area, id) => {
+  if (area.tagName === 'SCRIPT') return {id, rendered: false, visible: false};
+  const box = area.getBoundingClientRect();
+  const style = getComputedStyle(area);
   return {
-    id, rendered: widget !== null,
+    id, rendered: area.firstElementChild !== null,
     visible: box.width > 0 && box.height > 0 && style.visibility !== 'hidden'
       && style.display !== 'none',
   };
@@ -123,6 +118,9 @@ _IMAGES_JS = """
 async () => {
   const images = Array.from(document.images);
   images.forEach(img => { img.loading = 'eager'; });  // the lazy ones load now
+  // the pictures of the explorers' states not shown (fetched when shown) load now too
+  images.filter(img => img.dataset.src && !img.getAttribute('src'))
+    .forEach(img => { img.src = img.dataset.src; });
   await Promise.all(images.map(img => img.complete ? null : new Promise(resolve => {
     img.addEventListener('load', resolve); img.addEventListener('error', resolve);
   })));
@@ -188,7 +186,7 @@ def test_page_in_browser(chromium: object, site: str, toc_page: str) -> None:
         raw = page.evaluate(_RAW_MATH_JS)
         assert not raw, f"{toc_page}: raw TeX left in the page: {raw[:5]}"
 
-        if page.locator('script[type="application/vnd.jupyter.widget-view+json"]').count():
+        if page.locator('.dstoolkit-explorer, script[type*="jupyter.widget"]').count():
             try:
                 page.wait_for_function(_WIDGETS_RENDERED_JS, timeout=TIMEOUT_MS)
             except PlaywrightTimeout:

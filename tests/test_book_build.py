@@ -2,12 +2,11 @@
 
 The build runs jupyter-book build . -W -n --keep-going. Every page of the site is
 self-contained: no script, style, font or image from another site, and the state of every
-widget embedded in the page.
+widget written into the page as HTML.
 """
 
 from __future__ import annotations
 
-import json
 import re
 from html.parser import HTMLParser
 from pathlib import Path
@@ -114,17 +113,8 @@ def test_offline_assets_are_part_of_the_site(built_book: BookBuild) -> None:
     assert (static / "mathjax" / "tex-chtml.js").is_file(), "MathJax is not in _static/mathjax"
     fonts = list((static / "mathjax" / "output" / "chtml" / "fonts").rglob("*.woff"))
     assert fonts, "MathJax's CHTML fonts are missing from _static/mathjax/output/chtml/fonts"
-    embed = static / "jupyter-widgets" / "embed.js"
-    assert embed.is_file(), "the widget embedder is not in _static/jupyter-widgets/embed.js"
-    code = [
-        line
-        for line in embed.read_text(encoding="utf-8").splitlines()[:5]
-        if line.strip() and not line.lstrip().startswith("/*")
-    ]
-    assert code and not code[0].lstrip().startswith("define("), (
-        "_static/jupyter-widgets/embed.js is an AMD module (it needs require.js); copy the "
-        "non-AMD dist/embed.js of @jupyter-widgets/html-manager"
-    )
+    # the explorers' one script (no widget manager: site_postbuild.py writes them as HTML)
+    assert (static / "explorers.js").is_file(), "book/_static/explorers.js is not in _static"
 
 
 def test_page_fetches_nothing_from_other_sites(built_book: BookBuild, toc_page: str) -> None:
@@ -137,35 +127,30 @@ def test_page_fetches_nothing_from_other_sites(built_book: BookBuild, toc_page: 
     assert not amd, f"{toc_page}.html loads require.js or an AMD bundle: {amd}"
 
 
-def test_widget_views_have_embedded_state(built_book: BookBuild, toc_page: str) -> None:
+def test_explorers_are_html_with_no_widget_state(built_book: BookBuild, toc_page: str) -> None:
+    """Every widget view is written as HTML (site_postbuild.py): no widget state, no manager."""
     text, parser = _page(built_book, toc_page)
-    views = [json.loads(body)["model_id"] for kind, body in parser.scripts if kind == WIDGET_VIEW]
-    states = [json.loads(body) for kind, body in parser.scripts if kind == WIDGET_STATE]
-    if not views:
-        return
-    assert len(states) == 1, (
-        f"{toc_page}.html shows {len(views)} widget(s) but has {len(states)} widget-state "
-        "scripts; the notebook's metadata.widgets was not saved at execution"
+    assert not parser.scripts, (
+        f"{toc_page}.html still carries {len(parser.scripts)} widget state or view scripts"
     )
-    missing = [model for model in views if model not in states[0]["state"]]
-    assert not missing, f"{toc_page}.html: widget views without embedded state: {missing}"
-    # the widget code is loaded by lazy-explorers.js when an explorer comes into view
-    lazy = re.search(r'<script defer src="([^"]*)lazy-explorers\.js" data-scripts="([^"]*)"', text)
-    assert lazy, f"{toc_page}.html has widgets but no lazy-explorers.js"
-    embedders = [url for url in lazy.group(2).split() if url.split("?")[0].endswith("embed.js")]
-    assert embedders and all("_static/jupyter-widgets/embed.js" in u for u in embedders), (
-        f"{toc_page}.html must load the local _static/jupyter-widgets/embed.js, loads {embedders}"
-    )
+    widget_code = [u for u in parser.fetched if re.search(r"embed|widgets-mathjax3|lazy-expl", u)]
+    assert not widget_code, f"{toc_page}.html loads widget-manager code: {widget_code}"
+    if 'class="dstoolkit-explorer' in text:
+        loads = r'<script (?:defer|async)(?:="(?:defer|async)")? src="[^"]*_static/explorers\.js'
+        assert re.search(loads, text), (
+            f"{toc_page}.html has an explorer but does not load _static/explorers.js"
+        )
 
 
-def test_intro_embeds_its_widget(built_book: BookBuild) -> None:
-    """The intro's discount slider is the canary: widget state must reach the page."""
-    _, parser = _page(built_book, "book/intro")
-    kinds = [kind for kind, _ in parser.scripts]
-    assert WIDGET_VIEW in kinds and WIDGET_STATE in kinds, (
-        "book/intro.html has no embedded widget; myst-nb stores the state only when the "
-        "executed notebook carries metadata.widgets"
+def test_intro_writes_its_widget(built_book: BookBuild) -> None:
+    """The intro's discount slider is the canary: its widget state reached the page as HTML."""
+    text, _ = _page(built_book, "book/intro")
+    switches = re.search(r'<input type="range"[^>]*data-switches="([^"]+)"', text)
+    assert switches, (
+        "book/intro.html has no live slider; myst-nb stores the widget state only when the "
+        "executed notebook carries metadata.widgets, and site_postbuild.py writes it as HTML"
     )
+    assert f'data-stack="{switches.group(1).split()[0]}"' in text, "the slider switches no stack"
 
 
 def test_teaching_page_has_plans_map_and_text_version(built_book: BookBuild) -> None:

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import pytest
 from conftest import ARTIFACTS
-from test_book_browser import _MATHJAX_READY_JS, TIMEOUT_MS, site  # noqa: F401
+from test_book_browser import _MATHJAX_READY_JS, _WIDGETS_RENDERED_JS, TIMEOUT_MS, site  # noqa: F401
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
@@ -32,8 +32,8 @@ _CHECKED = ", ".join(
         "div.cell_output",
         "div.cell_output div.output",
         "div.cell_output pre",
-        "div.widget-subarea",
-        "div.jupyter-widgets",
+        "div.dstoolkit-explorer",
+        "div.dstoolkit-control",
         "figure",
         "img",
         "div.admonition",
@@ -130,12 +130,8 @@ def _open(
     )
     page.goto(site + page_name + ".html", wait_until="load")
     page.evaluate(_MATHJAX_READY_JS)
-    if page.locator('script[type="application/vnd.jupyter.widget-view+json"]').count():
-        page.wait_for_function(
-            "() => (window.dstoolkitLoadExplorers && window.dstoolkitLoadExplorers(), "
-            "document.querySelectorAll('.widget-subarea .jupyter-widgets').length > 0)",
-            timeout=TIMEOUT_MS,
-        )
+    if page.locator(".dstoolkit-explorer").count():
+        page.wait_for_function(_WIDGETS_RENDERED_JS, timeout=TIMEOUT_MS)
     page.wait_for_load_state("networkidle")
     return page
 

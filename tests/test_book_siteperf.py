@@ -3,10 +3,11 @@
 * **Nothing render-blocking in the head**: every script a page loads from its head is
   deferred (small inline scripts, such as the theme's colour mode, stay). No page
   loads MathJax (the maths is typeset at build time, scripts/typeset-maths.js, and no
-  formula is left as TeX), and no page loads the widget manager from its head (it is loaded
-  when an explorer comes into view, book/_static/lazy-explorers.js).
-* **Explorers drawn before any script**: every widget view has its first state written as
-  plain HTML before it (scripts/site_postbuild.py).
+  formula is left as TeX), and no page loads the widget manager (the explorers are HTML).
+* **Explorers drawn before any script**: every widget view is written as plain HTML with
+  native controls in its cell's output (scripts/site_postbuild.py); no widget state is left
+  in the page, and the pictures of the states not shown wait in ``data-src`` (fetched by
+  book/_static/explorers.js when their state is shown).
 * **Every figure opens full size**: each picture of the article and of every explorer state
   is inside a link to its own file, and has a written text alternative (the link's name).
 * **Figures readable at 320 CSS px** (browser): the smallest text of every explorer picture
@@ -16,13 +17,12 @@
   its full-size link takes the keyboard focus.
 * **Page weight** (browser): an explorer page scrolled to its end, its explorers drawn, has
   fetched at most 1.5 MB gzipped (each file gzipped on its own at level 6, as a server
-  sends it).
+  sends it), and no picture of a state it does not show.
 """
 
 from __future__ import annotations
 
 import gzip
-import json
 import re
 from html.parser import HTMLParser
 from pathlib import Path
@@ -40,10 +40,8 @@ __all__ = ["site"]  # fixture used by the browser tests below
 
 #: Gzipped bytes a page may have fetched once scrolled to its end.
 BUDGET = 1_500_000
-_STATE = re.compile(
-    r'<script type="application/vnd\.jupyter\.widget-state\+json">(.*?)</script>', re.S
-)
-_VIEW = re.compile(r'<script type="application/vnd\.jupyter\.widget-view\+json">', re.S)
+_WIDGET_SCRIPT = re.compile(r'<script type="application/vnd\.jupyter\.widget-(state|view)\+json">')
+_EXPLORER = re.compile(r'<div class="dstoolkit-explorer[ "]')
 
 
 def _figure_explorer_pages() -> list[str]:
@@ -99,6 +97,33 @@ class _Images(HTMLParser):
             self.links.pop()
 
 
+class _HiddenStateImages(HTMLParser):
+    """The ``<img>`` with a ``src`` inside an explorer state written hidden."""
+
+    _VOID = frozenset({"img", "input", "br", "hr", "meta", "link", "source", "wbr", "col"})
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.open: list[bool] = []  # per open element: inside a hidden state
+        self.fetched: list[str] = []
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        found = dict(attrs)
+        inside = bool(self.open and self.open[-1])
+        if tag == "img" and inside and found.get("src"):
+            self.fetched.append(str(found.get("src")))
+        if tag in self._VOID:
+            return
+        hidden_state = "dstoolkit-state" in (found.get("class") or "").split() and (
+            "hidden" in found
+        )
+        self.open.append(inside or hidden_state)
+
+    def handle_endtag(self, tag: str) -> None:
+        if tag not in self._VOID and self.open:
+            self.open.pop()
+
+
 def _html(built_book: BookBuild, page: str) -> str:
     path = built_book.html_dir / f"{page}.html"
     if not path.is_file():
@@ -117,8 +142,8 @@ def test_no_render_blocking_script_in_the_head(built_book: BookBuild, toc_page: 
     assert not blocking, f"{toc_page}.html: scripts that block rendering: {blocking}"
     mathjax = [src for src in parser.sources if "mathjax" in src.lower()]
     assert not mathjax, f"{toc_page}.html loads MathJax ({mathjax}); maths is typeset at build"
-    embed = [src for src in parser.sources if src.split("?")[0].endswith("embed.js")]
-    assert not embed, f"{toc_page}.html loads the widget manager from its head: {embed}"
+    embed = [src for src in parser.sources if re.search(r"embed|lazy-explorers", src)]
+    assert not embed, f"{toc_page}.html loads the widget manager: {embed}"
 
 
 def test_maths_is_typeset_at_build_time(built_book: BookBuild, toc_page: str) -> None:
@@ -137,19 +162,22 @@ def test_maths_is_typeset_at_build_time(built_book: BookBuild, toc_page: str) ->
 
 def test_explorers_are_drawn_before_any_script(built_book: BookBuild, toc_page: str) -> None:
     text = _html(built_book, toc_page)
-    views = [m.start() for m in _VIEW.finditer(text)]
-    for at in views:
-        before = text[max(0, at - 400_000) : at]
-        preview = before.rfind('<div class="dstoolkit-preview"')
-        closed = before.rfind("</div>")
-        assert preview >= 0 and closed > preview, f"{toc_page}.html: an explorer without preview"
-        assert before.rfind('class="cell_output', 0) < preview, (
-            f"{toc_page}.html: the preview of an explorer is not in its output"
+    left = _WIDGET_SCRIPT.findall(text)
+    assert not left, f"{toc_page}.html: widget {left} scripts left in the page"
+    for found in _EXPLORER.finditer(text):
+        before = text[: found.start()]
+        assert before.rfind('class="cell_output') > before.rfind("</article>"), (
+            f"{toc_page}.html: an explorer outside a cell's output"
         )
+    parser = _HiddenStateImages()
+    parser.feed(text)
+    assert not parser.fetched, (
+        f"{toc_page}.html: pictures of hidden states fetched at once: {parser.fetched[:3]}"
+    )
 
 
 def _linked(image: dict[str, str | None], href: str | None) -> bool:
-    src = image.get("src") or ""
+    src = image.get("src") or image.get("data-src") or ""
     return href is not None and href.split("#")[0] == src
 
 
@@ -157,18 +185,12 @@ def test_every_figure_opens_full_size(built_book: BookBuild, toc_page: str) -> N
     text = _html(built_book, toc_page)
     article = re.search(r'<article class="bd-article".*?</article>', text, re.S)
     assert article, f"{toc_page}.html has no article"
-    pieces = [article.group(0)]
-    state = _STATE.search(text)
-    if state:
-        for model in json.loads(state.group(1))["state"].values():
-            value = model.get("state", {}).get("value")
-            if model.get("model_name") == "HTMLModel" and isinstance(value, str):
-                pieces.append(value)
+    pieces = [article.group(0)]  # the explorers' states are in the article
     for piece in pieces:
         parser = _Images()
         parser.feed(piece)
         for image, href in parser.images:
-            src = image.get("src") or ""
+            src = image.get("src") or image.get("data-src") or ""
             if src.startswith("data:") or "://" in src:
                 continue
             assert _linked(image, href), (
@@ -183,10 +205,10 @@ def test_every_figure_opens_full_size(built_book: BookBuild, toc_page: str) -> N
 
 _FIGURE_TEXT_JS = """
 async (figurePx) => {
-  const skip = 'mjx-container, pre, code, .highlight, .dstoolkit-preview-note';
+  const skip = 'mjx-container, pre, code, .highlight';
   const texts = Array.from(document.querySelectorAll(
     '.bd-article p, .bd-article li, .bd-article td, .bd-article th,'
-    + ' .bd-article .widget-readout, .bd-article .widget-label'))
+    + ' .bd-article .dstoolkit-readout, .bd-article .dstoolkit-label'))
     .filter(el => el.offsetParent !== null && el.textContent.trim() && !el.closest(skip));
   const small = Math.min(...texts.map(el => parseFloat(getComputedStyle(el).fontSize)));
   const figures = [];
@@ -244,6 +266,13 @@ def test_explorer_figures_are_readable_at_320_px(
         assert len(figure["name"].split()) >= 3, f"{page_name}: a full-size link without name"
 
 
+# The pictures of the explorers' states shown now (full URLs).
+_SHOWN_STATE_PICTURES_JS = """
+() => Array.from(document.querySelectorAll('.dstoolkit-explorer img[src]'))
+  .filter(img => img.closest('.dstoolkit-state[hidden]') === null).map(img => img.src)
+"""
+
+
 def _gzipped_size(html_dir: Path, url: str, base: str) -> int:
     path = html_dir / unquote(urlsplit(url).path.lstrip("/"))
     if not url.startswith(base) or not path.is_file():
@@ -270,8 +299,13 @@ def test_page_scrolled_to_its_end_weighs_at_most_the_budget(
             page.evaluate(f"window.scrollTo(0, {y})")
             page.wait_for_timeout(30)
         page.wait_for_load_state("networkidle")
+        shown = set(page.evaluate(_SHOWN_STATE_PICTURES_JS))
     finally:
         context.close()
+    pictures = {url for url in fetched if "/_states/" in url}
+    assert pictures <= shown, (
+        f"{page_name}: pictures of states not shown were fetched: {sorted(pictures - shown)[:3]}"
+    )
     sizes = {url: _gzipped_size(built_book.html_dir, url, site) for url in fetched}
     total = sum(sizes.values())
     largest = sorted(sizes.items(), key=lambda item: -item[1])[:3]

@@ -1,7 +1,8 @@
 """The explorers on the built static site (no kernel), in headless Chromium.
 
-On every page with an explorer, every enabled slider moved with the keyboard (arrow keys on its
-handle) and every enabled dropdown changed switches the figure or the readout; a disabled slider
+On every page with an explorer (written as HTML with native controls by
+scripts/site_postbuild.py), every enabled slider moved with the keyboard (arrow keys on its
+range) and every enabled dropdown changed switches the figure or the readout; a disabled slider
 does not move; no console error. Screenshots of every explorer before and after its first slider
 moves go to test-artifacts/explorers/.
 
@@ -39,12 +40,9 @@ def explorer_pages() -> list[str]:
     ]
 
 
-# Marks the rendered root of every embedded widget view with data-explorer="i".
+# Marks every explorer (a widget view written as HTML by site_postbuild.py) data-explorer="i".
 _MARK_JS = """
-() => Array.from(
-  document.querySelectorAll('script[type="application/vnd.jupyter.widget-view+json"]')
-).map((tag, i) => {
-  const area = tag.previousElementSibling;
+() => Array.from(document.querySelectorAll('.dstoolkit-explorer')).map((area, i) => {
   area.setAttribute('data-explorer', String(i));
   return i;
 })
@@ -96,9 +94,9 @@ def _slider_moves(page: object, area: object, slider: object) -> tuple[bool, boo
 
     Return (the slider's readout changed, the explorer's figure or readout changed).
     """
-    readout = slider.locator(".widget-readout")
+    readout = slider.locator("output.dstoolkit-readout")
     before_value, before = readout.inner_text(), _shown(area)
-    handle = slider.locator(".noUi-handle")
+    handle = slider.locator('input[type="range"]')
     for key in ("ArrowRight", "ArrowLeft"):
         handle.focus()
         page.keyboard.press(key)
@@ -124,23 +122,23 @@ def test_explorers_answer_on_the_static_site(chromium: object, site: str, page_n
         live_sliders = 0
         for i in explorers:
             area = page.locator(f'[data-explorer="{i}"]')
-            sliders = area.locator(".widget-slider")
+            sliders = area.locator(".dstoolkit-slider")
             enabled = [
                 sliders.nth(j)
                 for j in range(sliders.count())
-                if not sliders.nth(j).locator(".noUi-target[disabled]").count()
+                if not sliders.nth(j).locator("input[disabled]").count()
             ]
             disabled = [
                 sliders.nth(j)
                 for j in range(sliders.count())
-                if sliders.nth(j).locator(".noUi-target[disabled]").count()
+                if sliders.nth(j).locator("input[disabled]").count()
             ]
             assert enabled, f"{page_name}: explorer {i} has no live slider"
             area.scroll_into_view_if_needed()
             area.screenshot(path=str(SHOTS / f"{stem}-{i}-before.png"))
             states = area.locator(".dstoolkit-states").count() > 0
             for k, slider in enumerate(enabled):
-                name = slider.locator(".widget-label").inner_text()
+                name = slider.locator(".dstoolkit-label").inner_text()
                 region = area.locator(".dstoolkit-announce")
                 said_before = region.inner_text().strip() if states else ""
                 moved, changed = _slider_moves(page, area, slider)
@@ -155,9 +153,16 @@ def test_explorers_answer_on_the_static_site(chromium: object, site: str, page_n
                 if k == 0:
                     area.screenshot(path=str(SHOTS / f"{stem}-{i}-after.png"))
             for slider in disabled:
-                name = slider.locator(".widget-label").inner_text()
+                name = slider.locator(".dstoolkit-label").inner_text()
+                # nothing keeps the focus: keys pressed on the disabled slider reach no
+                # other control (a disabled range cannot take the focus)
+                page.evaluate("() => document.activeElement && document.activeElement.blur()")
                 moved, changed = _slider_moves(page, area, slider)
                 assert not moved and not changed, f"{page_name}: disabled {name!r} moved"
+                focused = slider.locator('input[type="range"]').evaluate(
+                    "e => e === document.activeElement"
+                )
+                assert not focused, f"{page_name}: disabled {name!r} takes the focus"
             selects = area.locator("select")
             for j in range(selects.count()):
                 select = selects.nth(j)
@@ -184,14 +189,14 @@ def test_explorers_answer_on_the_static_site(chromium: object, site: str, page_n
         context.close()
 
 
-# Every slider of the page once the page's script has fixed it up (data-a11y): whether its
-# readout can be edited, what it shows and what its handle says.
+# Every slider of the page's explorers: whether its readout can be edited, what it shows
+# and what its range says.
 _READOUTS_JS = """
-() => Array.from(document.querySelectorAll('.widget-subarea .widget-slider')).map(box => {
-  const readout = box.querySelector('.widget-readout');
-  const handle = box.querySelector('[role="slider"]');
+() => Array.from(document.querySelectorAll('.dstoolkit-explorer .dstoolkit-slider')).map(box => {
+  const readout = box.querySelector('output.dstoolkit-readout');
+  const handle = box.querySelector('input[type="range"]');
   return {
-    fixed: box.getAttribute('data-a11y') === '1',
+    output: readout ? readout.tagName === 'OUTPUT' : null,
     editable: readout ? readout.isContentEditable : null,
     shown: readout ? readout.textContent.trim() : null,
     valuetext: handle ? handle.getAttribute('aria-valuetext') : null,
@@ -214,18 +219,14 @@ def test_typing_into_a_readout_changes_nothing(chromium: object, site: str, page
     try:
         page.goto(site + page_name + ".html", wait_until="load")
         page.wait_for_function(_WIDGETS_RENDERED_JS, timeout=TIMEOUT_MS)
-        page.wait_for_function(
-            "() => Array.from(document.querySelectorAll('.widget-subarea .widget-slider'))"
-            ".every(box => box.getAttribute('data-a11y') === '1')"
-        )
         before = page.evaluate(_READOUTS_JS)
         assert before, f"{page_name}: no slider"
-        editable = [s["shown"] for s in before if s["editable"]]
+        editable = [s["shown"] for s in before if s["editable"] or not s["output"]]
         assert not editable, f"{page_name}: readouts that can be edited: {editable}"
         explorers = page.evaluate(_MARK_JS)
         for i in explorers:
             area = page.locator(f'[data-explorer="{i}"]')
-            readouts = area.locator(".widget-slider .widget-readout")
+            readouts = area.locator(".dstoolkit-slider output.dstoolkit-readout")
             for j in range(readouts.count()):
                 readout = readouts.nth(j)
                 readout.scroll_into_view_if_needed()

@@ -10,7 +10,7 @@
  * code block's pre in its highlight box) takes no Tab stop of its own; a box that
  * fits again gives them back, so on a wide screen the Tab order holds only links and
  * controls. Checked again when the window is resized and when the page changes (MathJax
- * typesets, the explorers draw).
+ * typesets, an explorer shows another state).
  *
  * Loaded on every page by book/_ext/dstoolkit_a11y.py.
  */

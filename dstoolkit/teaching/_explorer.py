@@ -13,7 +13,9 @@ definition serves two modes:
   a readout and a PNG, held in an ipywidgets ``Stack`` whose ``selected_index`` is
   ``jslink``-ed to the slider's ``index``; the browser switches between them with no
   kernel. Two live controls give a ``Stack`` of ``Stack``s. The other controls are shown
-  disabled, with a line saying that they work when the chapter runs as a notebook.
+  disabled, with a line saying that they work when the chapter runs as a notebook. On the
+  published site ``scripts/site_postbuild.py`` writes this widget state as plain HTML with
+  native controls, and ``book/_static/explorers.js`` switches the states.
 
 Adding an explorer is a matter of a ``render(**values)`` function that returns a figure and
 a dict of numbers, a dict of controls, and the positions of its live controls::
@@ -1215,7 +1217,7 @@ def state_stack(
             [stack((*prefix, v), depth + 1) for v in options],
             selected_index=options.index(controls[name].value),
         )
-        box.add_class("dstoolkit-states")  # a live region in the book (explorers-a11y.js)
+        box.add_class("dstoolkit-states")  # announced on the site (book/_static/explorers.js)
         box.links = [widgets.jslink((site[name], "index"), (box, "selected_index"))]
         return box
 
