@@ -243,3 +243,33 @@ def test_typing_into_a_readout_changes_nothing(chromium: object, site: str, page
         assert not problems.console_errors, f"{page_name}: console {problems.console_errors}"
     finally:
         context.close()
+
+
+_CONTROL_LOOKS_JS = """
+() => Array.from(document.querySelectorAll(
+    '.dstoolkit-explorer input[type="range"], .dstoolkit-explorer select')).map(el => ({
+  name: (el.labels && el.labels[0] ? el.labels[0].textContent : el.id).trim(),
+  disabled: el.disabled,
+  border: getComputedStyle(el).borderTopStyle,
+}))
+"""
+
+
+@pytest.mark.parametrize("page_name", explorer_pages())
+def test_a_disabled_control_looks_disabled_beyond_its_colour(
+    chromium: object, site: str, page_name: str
+) -> None:
+    """A control that works only in a notebook has a dashed frame; a live one a solid frame.
+
+    Its grey alone would tell it apart by colour only.
+    """
+    context = chromium.new_context(viewport={"width": 1280, "height": 900})
+    page = context.new_page()
+    try:
+        page.goto(site + page_name + ".html", wait_until="load", timeout=TIMEOUT_MS)
+        controls = page.evaluate(_CONTROL_LOOKS_JS)
+    finally:
+        context.close()
+    assert controls, f"{page_name}: no slider or drop-down"
+    wrong = [c for c in controls if (c["border"] == "dashed") != c["disabled"]]
+    assert not wrong, f"{page_name}: controls whose frame does not say whether they work: {wrong}"
