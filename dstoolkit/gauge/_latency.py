@@ -112,7 +112,7 @@ def valid_correlation(recorded: np.ndarray, reference: np.ndarray) -> np.ndarray
     A circular correlation of length L ≥ len(recorded) does not wrap around at these lags,
     so the transforms need only that length, not len(recorded) + len(reference) − 1: half
     the size, and one real transform fewer per signal. By ``numpy.fft``, which keeps no plans
-    between calls (:func:`_analytic_signal`).
+    between calls (as does the envelope's analytic signal).
 
     References
     ----------

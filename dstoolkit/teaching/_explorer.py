@@ -439,7 +439,7 @@ class Explorer(widgets.VBox):
     status : ipywidgets.HTML
         Kernel only: "Computing…" (``WORKING``) from a change until the figure follows
         it; then the sentence that says the new state once, in a polite status element
-        (:func:`announce_html`: the controls that moved and the one or two results that
+        (``announce_html``: the controls that moved and the one or two results that
         changed); the error after a render that failed.
     computed : int
         How many renders ran (the first one and the precomputed states included).
