@@ -12,8 +12,8 @@
  * - shows, in every stack a control switches, the state of the control's position (a
  *   hidden state's pictures wait in data-src: they are fetched when it is first shown);
  * - keeps the slider's readout (<output>, text that cannot be edited) and its
- *   aria-valuetext in step: the value, then the unit its label ends with
- *   ("level L (m)" -> "9.6 m");
+ *   aria-valuetext in step: the value, then the unit of its label that the post-build
+ *   wrote in data-unit ("level L (m)" -> "9.6 m");
  * - puts the shown state's one sentence (p.dstoolkit-said: the control's value and the one
  *   or two results that moved) in the explorer's polite live region (.dstoolkit-announce);
  * - adds, at the top of the article, a "Skip to the first explorer" link (shown when it
@@ -25,8 +25,6 @@
  */
 (function () {
   "use strict";
-
-  var UNIT = /\s\(([^()]+)\)\s*$/;
 
   function textOf(element) {
     return element ? element.textContent.replace(/\s+/g, " ").trim() : "";
@@ -40,15 +38,7 @@
     }
   }
 
-  function unitOf(control) {
-    var unit = control.getAttribute("data-unit");
-    if (unit !== null) return unit;
-    var label = control.id && document.querySelector('label[for="' + control.id + '"]');
-    var found = UNIT.exec(textOf(label));
-    return found ? found[1] : "";
-  }
-
-  // Show the index-th state of a stack; fetch the pictures of the states now shown.
+  // Show the index-th state of a stack.
   function show(stack, index) {
     var states = Array.prototype.filter.call(stack.children, function (child) {
       return child.classList.contains("dstoolkit-state");
@@ -58,11 +48,17 @@
       if (i === index) state.removeAttribute("hidden");
       else if (!state.hasAttribute("hidden")) state.setAttribute("hidden", "");
     });
-    states[index].querySelectorAll("img[data-src]").forEach(function (img) {
-      if (img.closest("[hidden]")) return;  // a nested stack's hidden state
-      img.setAttribute("src", img.getAttribute("data-src"));
-      img.removeAttribute("data-src");
-    });
+  }
+
+  // Fetch the pictures of the states an explorer now shows (a nested stack shown again
+  // keeps its own position: its shown state's pictures too).
+  function fetchShown(explorer) {
+    explorer.querySelectorAll(".dstoolkit-state:not([hidden]) img[data-src]").forEach(
+      function (img) {
+        if (img.closest("[hidden]")) return;  // inside a hidden state of a nested stack
+        img.setAttribute("src", img.getAttribute("data-src"));
+        img.removeAttribute("data-src");
+      });
   }
 
   // The sentence of the state an explorer shows (each state carries one, hidden).
@@ -82,17 +78,11 @@
         show(stack, index);
       });
     });
-    // a nested stack shown again keeps its own position: show its pictures too
-    explorer.querySelectorAll(".dstoolkit-state:not([hidden]) img[data-src]").forEach(
-      function (img) {
-        if (img.closest("[hidden]")) return;
-        img.setAttribute("src", img.getAttribute("data-src"));
-        img.removeAttribute("data-src");
-      });
+    fetchShown(explorer);
     if (control.type === "range") {
       var labels = labelsOf(control);
       var shown = labels.length ? String(labels[index]) : control.value;
-      var unit = unitOf(control);
+      var unit = control.getAttribute("data-unit") || "";
       control.setAttribute("aria-valuetext", unit ? shown + " " + unit : shown);
       var readout = control.parentElement &&
         control.parentElement.querySelector("output.dstoolkit-readout");
