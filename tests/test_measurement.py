@@ -240,7 +240,8 @@ def fake_sound_card(glitches: list[str]) -> types.ModuleType:
 
     Call i of playrec suffers ``glitches[i]``: "gap" inserts 1000 samples of silence in
     the middle (an unreported xrun), "flag" reports an output underflow, "deaf" records
-    only noise; "ok" or no entry is a clean pass.
+    only noise, "mute" silences the last quarter of the take (a stream that stopped
+    delivering: the closing chirp is lost); "ok" or no entry is a clean pass.
     """
     sd = types.ModuleType("sounddevice")
     sd.PortAudioError = type("PortAudioError", (Exception,), {})
@@ -265,6 +266,8 @@ def fake_sound_card(glitches: list[str]) -> types.ModuleType:
         y = np.concatenate([np.zeros(FAKE_DELAY), data])[:n]
         if kind == "gap":
             y = np.concatenate([y[: n // 2], np.zeros(1000), y[n // 2 :]])[:n]
+        if kind == "mute":
+            y[3 * n // 4 :] = 0.0
         if kind == "deaf":
             y = 0.01 * np.random.default_rng(0).standard_normal(n)
         sd.status = FakeStatus(kind == "flag")
@@ -320,6 +323,19 @@ def test_dropouts_are_detected_and_the_measurement_repeated(monkeypatch) -> None
     assert rec.metadata.extra["attempt"] == 3
 
 
+def test_a_take_that_loses_its_closing_chirp_is_a_dropout_and_repeated(monkeypatch) -> None:
+    """One chirp heard and the other not is the stream, not the wiring: tried again."""
+    sd = use_card(monkeypatch, fake_sound_card(["mute"]))
+    rec = record_measurement(virtual_tube=TubeSetup(level_m=2.6), sweep=SHORT_SWEEP)
+    assert sd.calls == ["mute", "ok"]
+    assert rec.metadata.extra["attempt"] == 2
+    use_card(monkeypatch, fake_sound_card(["mute"]))
+    with pytest.raises(
+        AudioDropoutError, match="opening calibration chirp was heard but the closing one was not"
+    ):
+        record_measurement(virtual_tube=TubeSetup(level_m=2.6), sweep=SHORT_SWEEP, attempts=1)
+
+
 def test_dropouts_in_every_attempt_raise(monkeypatch) -> None:
     use_card(monkeypatch, fake_sound_card(["gap", "flag"]))
     with pytest.raises(AudioDropoutError) as info:
@@ -332,5 +348,6 @@ def test_dropouts_in_every_attempt_raise(monkeypatch) -> None:
 
 def test_a_deaf_input_is_reported(monkeypatch) -> None:
     use_card(monkeypatch, fake_sound_card(["deaf"]))
-    with pytest.raises(DetectionError, match="calibration chirp was not found"):
+    with pytest.raises(DetectionError, match="calibration chirp was not found") as info:
         record_measurement(virtual_tube=TubeSetup(level_m=2.6), sweep=SHORT_SWEEP, attempts=1)
+    assert not isinstance(info.value, AudioDropoutError)  # wiring, not a dropout: not retried

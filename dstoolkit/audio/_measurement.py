@@ -618,8 +618,10 @@ def _calibrate(
 ) -> tuple[audio.LatencyEstimate, audio.LatencyEstimate]:
     """Latency at the opening and at the closing chirp.
 
-    Raises DetectionError when a chirp is missing, AudioDropoutError when they disagree
-    by more than MAX_LATENCY_DRIFT_S (samples were lost or inserted in between).
+    Raises DetectionError when neither chirp is heard (the input does not hear the output),
+    AudioDropoutError when only one of them is heard (the same wiring carried the other, so
+    the stream lost or silenced samples in between) or when their latencies disagree by more
+    than MAX_LATENCY_DRIFT_S (samples were lost or inserted in between).
     """
     found = [
         audio.estimate_latency(
@@ -627,8 +629,21 @@ def _calibrate(
         )
         for offset in (0, programme.closing_offset)
     ]
-    for estimate in found:
-        audio.check_calibration(estimate)
+    missing = []
+    for name, estimate in zip(("opening", "closing"), found, strict=True):
+        try:
+            audio.check_calibration(estimate)
+        except DetectionError as exc:
+            missing.append((name, estimate.correlation, exc))
+    if len(missing) == len(found):
+        raise missing[0][2]
+    if missing:
+        name, correlation, _ = missing[0]
+        heard = "closing" if name == "opening" else "opening"
+        raise AudioDropoutError(
+            f"the audio stream lost samples during the measurement: the {heard} calibration "
+            f"chirp was heard but the {name} one was not (correlation {correlation:.2f})"
+        )
     opening, closing = found
     if abs(closing.seconds - opening.seconds) > MAX_LATENCY_DRIFT_S:
         raise AudioDropoutError(
