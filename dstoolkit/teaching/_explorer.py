@@ -171,10 +171,10 @@ class StepSlider(widgets.FloatSlider):
     10.6
     """
 
-    # traitlets keeps one validator per trait, the last of the class's validators by name:
-    # this one's name sorts after FloatSlider's (the doctest above checks that it is used)
+    # An ordinary override of FloatSlider's validator of ``value`` (same name), so it is
+    # the one validator of the trait; it caps to the range as FloatSlider's does, then snaps.
     @traitlets.validate("value")
-    def _value_on_a_step(self, proposal: Any) -> float:
+    def _validate_value(self, proposal: Any) -> float:
         value = float(proposal["value"])
         if not np.isfinite(value):
             raise traitlets.TraitError(
