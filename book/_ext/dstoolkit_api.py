@@ -14,11 +14,19 @@ and examples).
 Napoleon reads the first line of a constant's or a property's docstring as ``type: text``
 ("Lower ends: shape (n,)" would make "Lower ends" a type); these docstrings are prose, so
 napoleon is applied to the other docstrings only.
+
+The page's contents sidebar names each member by itself (``toc_object_entries_show_parents``
+in _config.yml), but some names are longer than the sidebar is wide
+(``dependent_combination_explorer()``). The browser may break a code name only where a
+word ends, so the names in the page's local table of contents (Sphinx's ``toc`` page
+context) get a line break opportunity (``<wbr>``) after each underscore and dot and
+between the words of a CamelCase name.
 """
 
 from __future__ import annotations
 
 import importlib
+import re
 import pkgutil
 from functools import cache
 from typing import Any
@@ -89,6 +97,31 @@ def _napoleon_except_prose(app: Sphinx, what: str, name: str, obj: Any, options:
         napoleon._process_docstring(app, what, name, obj, options, lines)
 
 
+_CODE_NAME = re.compile(r'(<span class="pre">)([^<]*)(</span>)')
+#: Where a word of a name ends: after ``_`` or ``.``, or between a lower-case letter and
+#: the capital of the next word (``Dependent|Evidence|Filter``).
+_WORD_END = re.compile(r"(?<=[_.])(?=.)|(?<=[a-z])(?=[A-Z])")
+
+
+def break_names_at_words(toc: str) -> str:
+    """Return the local table of contents with ``<wbr>`` where a word of a code name ends.
+
+    >>> break_names_at_words('<a><code><span class="pre">noise_bounds()</span></code></a>')
+    '<a><code><span class="pre">noise_<wbr>bounds()</span></code></a>'
+    >>> break_names_at_words('<span class="pre">IntervalEvidence</span>')
+    '<span class="pre">Interval<wbr>Evidence</span>'
+    """
+    return _CODE_NAME.sub(
+        lambda m: m[1] + _WORD_END.sub("<wbr>", m[2]) + m[3], toc
+    )
+
+
+def _breakable_toc(app: Sphinx, pagename: str, templatename: str, context: dict[str, Any],
+                   doctree: Any) -> None:
+    if isinstance(context.get("toc"), str):
+        context["toc"] = break_names_at_words(context["toc"])
+
+
 def setup(app: Sphinx) -> dict[str, Any]:
     app.setup_extension("sphinx.ext.autodoc")
     app.setup_extension("sphinx.ext.napoleon")
@@ -97,4 +130,5 @@ def setup(app: Sphinx) -> dict[str, Any]:
             app.disconnect(listener.id)
     app.connect("autodoc-process-docstring", _napoleon_except_prose)
     app.add_autodocumenter(PublicConstantDocumenter, override=True)
+    app.connect("html-page-context", _breakable_toc)
     return {"parallel_read_safe": True, "parallel_write_safe": True}
