@@ -56,7 +56,8 @@ _SIDEBAR_JS = """() => {
   const links = Array.from(document.querySelectorAll('#pst-page-toc-nav a.nav-link'));
   const broken = [];
   for (const link of links) {
-    const words = link.textContent.trim().split(/\\s+|(?<=[_.])|(?<=[a-z])(?=[A-Z])/).filter(w => w);
+    const words = link.textContent.trim()
+      .split(/\\s+|(?<=[_.])|(?<=[a-z])(?=[A-Z])/).filter(w => w);
     const range = document.createRange();
     for (const word of words) {
       const node = Array.from(link.querySelectorAll('*')).concat([link])

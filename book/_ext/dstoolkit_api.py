@@ -26,14 +26,14 @@ between the words of a CamelCase name.
 from __future__ import annotations
 
 import importlib
-import re
 import pkgutil
+import re
 from functools import cache
 from typing import Any
 
 from sphinx.application import Sphinx
-from sphinx.ext import napoleon
 from sphinx.errors import PycodeError
+from sphinx.ext import napoleon
 from sphinx.ext.autodoc import DataDocumenter, ModuleDocumenter
 from sphinx.pycode import ModuleAnalyzer
 from sphinx.util.inspect import object_description
