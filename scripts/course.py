@@ -43,6 +43,13 @@ from dstoolkit.teaching._limits import DEFAULT_TIME_LIMIT
 #: answer cell is interrupted after it; the other cells are still graded).
 CELL_TIMEOUT = 60
 COURSE_ID = "dstoolkit"
+#: The environment of the class's Python kernel (its kernel spec's ``env``, the grading guide's
+#: ``ipykernel install`` line): glibc returns a freed block of 128 KiB or more to the system at
+#: once (an array of 16,384 numbers), instead of raising its thresholds after each large array
+#: and keeping the memory for later, so a student's kernel holds what it uses, not its largest
+#: past arrays (``benchmarks/chapter_memory.py`` measures each chapter with it). The numbers a
+#: kernel computes do not change.
+KERNEL_ENV = {"MALLOC_MMAP_THRESHOLD_": "131072", "MALLOC_TRIM_THRESHOLD_": "131072"}
 WRITTEN = re.compile(r"^\*(?:Your|My) [^*\n]*:\* …[ \t]*$", re.MULTILINE)
 WRITTEN_KINDS = ("proof", "prediction", "explanation")
 CODING_POINTS = 2

@@ -5,8 +5,10 @@ two commands it plays the parts the page leaves to people: the exchange folder o
 JupyterHub (set in ``nbgrader_config.py`` as the page says), a student who fetches the
 assignment and submits it from the hub, and Alice, who returns her notebook as a file.
 The install line runs with ``--dry-run`` (it must resolve, but the test environment is
-not reinstalled); ``release_feedback`` gets ``--student`` for the hub's student, as the page
-says for a course that also received files. At the end the exported CSV holds both
+not reinstalled) and the kernel spec goes to the fresh home (``--user``, not the test
+environment's own: the rest of the run then uses it); ``release_feedback`` gets
+``--student`` for the hub's student, as the page says for a course that also received
+files. At the end the exported CSV holds both
 students with their scores.
 """
 
@@ -64,6 +66,16 @@ def test_the_page_is_in_the_back_matter_and_says_the_limits():
     ]
 
 
+def test_the_page_installs_the_class_kernel_with_its_environment():
+    """The kernel spec's ``env`` of the page is the one the memory benchmark measures with."""
+    install = [c for c in commands() if c.startswith("python -m ipykernel install")]
+    assert len(install) == 1
+    words = shlex.split(install[0])
+    assert words[words.index("--name") + 1] == "python3"  # the kernel the notebooks ask for
+    pairs = {words[i + 1]: words[i + 2] for i, word in enumerate(words) if word == "--env"}
+    assert pairs == course.KERNEL_ENV
+
+
 def _run(command: str, cwd: Path, env: dict[str, str]) -> None:
     done = subprocess.run(
         ["bash", "-c", command], cwd=cwd, env=env, capture_output=True, text=True, timeout=1800
@@ -106,6 +118,8 @@ def test_every_command_of_the_page_runs(tmp_path: Path):
             continue
         if words[:2] == ["pip", "install"]:
             command = command.replace("pip install", "pip install --dry-run --quiet", 1)
+        if words[:4] == ["python", "-m", "ipykernel", "install"]:
+            command = command.replace("--sys-prefix", "--user", 1)
         if words[:2] == ["nbgrader", "release_feedback"]:
             # this course mixes both ways: return feedback to the hub's student only, as
             # the page says for such a course
@@ -140,6 +154,9 @@ def test_every_command_of_the_page_runs(tmp_path: Path):
             )
         _run(command, cwd, env)
         ran.append(line)
+        if words[:4] == ["python", "-m", "ipykernel", "install"]:
+            spec = home / ".local" / "share" / "jupyter" / "kernels" / "python3" / "kernel.json"
+            assert json.loads(spec.read_text("utf-8"))["env"] == course.KERNEL_ENV
     assert ran == commands()
     with (folder / "grades.csv").open(encoding="utf-8") as f:
         rows = {row["student_id"]: row for row in csv.DictReader(f)}

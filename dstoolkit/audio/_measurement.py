@@ -993,9 +993,10 @@ def simulate_measurement(
     fs = _samplerate(sweep)
     programme = _programme(sweep, _drive(sweep, virtual_tube, amplitude))
     lead = tail = int(round(audio.MIN_PADDING_S * fs))
-    played = np.concatenate([np.zeros(lead), programme.signal, np.zeros(tail)])
+    # the programme between silences of lead and tail, heard delay samples late (delay ≤ tail)
     delay = int(round(latency_s * fs))
-    recorded = np.concatenate([np.zeros(delay), played[: played.size - delay]])
+    recorded = np.zeros(lead + programme.signal.size + tail)
+    recorded[delay + lead : delay + lead + programme.signal.size] = programme.signal
     if noise_rms > 0:
         recorded += noise_rms * np.random.default_rng(seed).standard_normal(recorded.size)
     return _recording(

@@ -325,20 +325,44 @@ def discount_onto_hull(e: Boxes, reliability: np.ndarray) -> Boxes:
     )
 
 
+#: Products of Dempster's rule ``ProductKernel`` forms at once (about 14 MiB of buffers
+#: for boxes in two dimensions): larger combinations run in blocks of rows of B, so that
+#: their memory stays bounded whatever N_a·N_b.
+PRODUCT_BLOCK = 2**18
+
+
+def block_rows(runs: int, na: int, nb: int, block: int | None = None) -> int:
+    """Return how many of B's focal elements one block of ``ProductKernel`` takes.
+
+    All N_b when the R·N_a·N_b products fit in ``block`` (default ``PRODUCT_BLOCK``),
+    else as many as fit (at least one).
+
+    Examples
+    --------
+    >>> block_rows(runs=1, na=4097, nb=257)
+    63
+    >>> block_rows(runs=64, na=65, nb=17)
+    17
+    """
+    block = PRODUCT_BLOCK if block is None else block
+    return nb if runs * na * nb <= block else max(1, min(nb, block // (runs * na)))
+
+
 class ProductWork(NamedTuple):
     """Buffers of ``ProductKernel`` (the column layout of ``columns``).
 
-    ``ends`` (2, R, d, N_b, N_a) = lo, hi of A_i ∩ B_j; ``stack`` (1 + d, R, N_b, N_a) =
-    [nonempty, (lo + hi)·nonempty]; ``partial`` (R, 1 + d, N_b, 1), ``sums``
+    ``ends`` (2, R, d, N_rows, N_a) = lo, hi of A_i ∩ B_j for one block of N_rows focal
+    elements B_j; ``stack`` (1 + d, R, N_rows, N_a) = [nonempty, (lo + hi)·nonempty] of
+    that block; ``partial`` (R, 1 + d, N_b, 1) the sums over A of every B_j, ``sums``
     (R, 1 + d, 1, 1). Each end and each row of the stack is one block: the passes over a
     batch run faster.
 
     Parameters
     ----------
-    ends : ndarray, shape (2, R, d, N_b, N_a)
-        The ends of the intersections.
-    stack : ndarray, shape (1 + d, R, N_b, N_a)
-        Non-emptiness and twice the centres.
+    ends : ndarray, shape (2, R, d, N_rows, N_a)
+        The ends of the intersections of one block.
+    stack : ndarray, shape (1 + d, R, N_rows, N_a)
+        Non-emptiness and twice the centres of one block.
     partial : ndarray, shape (R, 1 + d, N_b, 1)
         Sums over A.
     sums : ndarray, shape (R, 1 + d, 1, 1)
@@ -349,6 +373,8 @@ class ProductWork(NamedTuple):
     >>> work = ProductWork.allocate(runs=4, d=1, na=3, nb=5)
     >>> work.ends.shape
     (2, 4, 1, 5, 3)
+    >>> ProductWork.allocate(runs=4, d=1, na=3, nb=5, rows=2).ends.shape
+    (2, 4, 1, 2, 3)
     """
 
     ends: np.ndarray
@@ -357,25 +383,44 @@ class ProductWork(NamedTuple):
     sums: np.ndarray
 
     @classmethod
-    def allocate(cls, runs: int, d: int, na: int, nb: int) -> ProductWork:
+    def allocate(cls, runs: int, d: int, na: int, nb: int, rows: int | None = None) -> ProductWork:
         """Empty buffers for ``runs`` runs of boxes in d dimensions, N_a and N_b of them.
 
         Parameters
         ----------
         runs, d, na, nb : int
             R, d, N_a and N_b.
+        rows : int, optional
+            B's focal elements per block (default: ``block_rows``).
 
         Returns
         -------
         ProductWork
             The buffers (uninitialised).
         """
+        rows = block_rows(runs, na, nb) if rows is None else max(1, min(nb, rows))
         return cls(
-            np.empty((2, runs, d, nb, na)),
-            np.empty((1 + d, runs, nb, na)),
+            np.empty((2, runs, d, rows, na)),
+            np.empty((1 + d, runs, rows, na)),
             np.empty((runs, 1 + d, nb, 1)),
             np.empty((runs, 1 + d, 1, 1)),
         )
+
+
+class _ProductBlock(NamedTuple):
+    """Views of one block of B's focal elements j0:j1 (``ProductKernel``)."""
+
+    b_lo: np.ndarray
+    b_hi: np.ndarray
+    b_mass: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    ends_1d: tuple[np.ndarray, np.ndarray]
+    nonempty: np.ndarray
+    nonempty_rows: np.ndarray
+    centres: np.ndarray
+    stack: np.ndarray
+    partial: np.ndarray
 
 
 class ProductKernel:
@@ -387,10 +432,13 @@ class ProductKernel:
 
     two matrix products with the stack [nonempty, 2c] of the intersection matrix. ``a``
     (R, 2, d, N_a) and ``b`` (R, 2, d, N_b) are columns (:func:`columns`), ``a_mass``
-    (R, N_a) and ``b_mass`` (R, N_b) their masses (a row (1, N) broadcasts). ``theta`` =
-    (i, j) tells that A_i holds every other A and B_j every other B (Θ1, Θ2 after
-    :func:`discount_onto_hull`): where both keep mass and meet, A_i ∩ B_j is a product of
-    positive mass that holds every other, so it is the hull (:meth:`hull`).
+    (R, N_a) and ``b_mass`` (R, N_b) their masses (a row (1, N) broadcasts). The
+    intersections are formed for a block of B's focal elements at a time (the rows of
+    ``work``, by default ``block_rows``): the sum over A of each B_j is the same in any
+    block, and the sum over B runs once over all of them. ``theta`` = (i, j) tells that A_i
+    holds every other A and B_j every other B (Θ1, Θ2 after :func:`discount_onto_hull`):
+    where both keep mass and meet, A_i ∩ B_j is a product of positive mass that holds every
+    other, so it is the hull (``combine`` with ``bounds``).
     """
 
     def __init__(
@@ -405,45 +453,81 @@ class ProductKernel:
         runs = max(a.shape[0], b.shape[0], a_mass.shape[0], b_mass.shape[0])
         d, na, nb = a.shape[2], a.shape[3], b.shape[3]
         self.work = work if work is not None else ProductWork.allocate(runs, d, na, nb)
-        ends, stack, _, sums = self.work
+        ends, stack, partial, sums = self.work
+        rows = ends.shape[3]
         self.d, self.a_mass, self.b_mass = d, a_mass, b_mass
         self.a_lo, self.a_hi = a[:, 0, :, None, :], a[:, 1, :, None, :]
-        self.b_lo, self.b_hi = b[:, 0, :, :, None], b[:, 1, :, :, None]
-        self.lo, self.hi = ends
-        self.stack = stack.transpose(1, 0, 2, 3)  # (R, 1 + d, N_b, N_a)
-        self.nonempty, self.centres = stack[0], self.stack[:, 1:]
+        stack_runs = stack.transpose(1, 0, 2, 3)  # (R, 1 + d, N_rows, N_a)
+        self.blocks = [
+            self._block(b, b_mass, ends, stack, stack_runs, partial, j, min(nb, j + rows))
+            for j in range(0, nb, rows)
+        ]
         self.a_col, self.b_row = a_mass[:, None, :, None], b_mass[:, None, None, :]
-        self.ends_1d = (self.lo[:, 0], self.hi[:, 0])  # d = 1
-        self.nonempty_rows = self.nonempty[:, None]
-        i, j = (-1, -1) if theta is None else theta
         self.theta = (
             None
             if theta is None
             else (
-                a_mass[:, i],
-                b_mass[:, j],
-                self.nonempty[:, j, i],
-                ends[:, :, :, j, i].transpose(1, 0, 2),
+                a_mass[:, theta[0]],
+                b_mass[:, theta[1]],
+                a[:, :, :, theta[0]],
+                b[:, :, :, theta[1]],
             )
-        )  # Θ's masses, Θ1 ∩ Θ2 meets, its ends
+        )  # Θ's masses and boxes (R, 2, d)
         self.kept, self.total = sums[:, 0, 0, 0], sums[:, 1:, 0, 0]
+        self.fold = np.empty((runs, 2, d))
 
-    def combine(self, est: np.ndarray) -> np.ndarray | None:
-        """Write E into ``est`` (R, d).
+    @staticmethod
+    def _block(
+        b: np.ndarray,
+        b_mass: np.ndarray,
+        ends: np.ndarray,
+        stack: np.ndarray,
+        stack_runs: np.ndarray,
+        partial: np.ndarray,
+        j0: int,
+        j1: int,
+    ) -> _ProductBlock:
+        """Bind the views of B's focal elements j0:j1 to the first j1 − j0 rows of ``work``."""
+        rows = j1 - j0
+        lo, hi = ends[0][:, :, :rows], ends[1][:, :, :rows]
+        nonempty = stack[0][:, :rows]
+        return _ProductBlock(
+            b[:, 0, :, j0:j1, None],
+            b[:, 1, :, j0:j1, None],
+            b_mass[:, j0:j1, None],
+            lo,
+            hi,
+            (lo[:, 0], hi[:, 0]),
+            nonempty,
+            nonempty[:, None],
+            stack_runs[:, 1:, :rows],
+            stack_runs[:, :, :rows],
+            partial[:, :, j0:j1],
+        )
+
+    def combine(self, est: np.ndarray, bounds: np.ndarray | None = None) -> np.ndarray | None:
+        """Write E into ``est`` (R, d), with ``bounds`` the hull of the combination (R, 2, d).
 
         Returns None when every run's combination exists (K < 1 above the tolerance), else
-        the mask of those that do. ``self.kept`` = 1 − K.
+        the mask of those that do. ``self.kept`` = 1 − K. The hull is that of the products
+        of positive mass (±inf in a run without one).
         """
         _, _, partial, sums = self.work
-        np.maximum(self.a_lo, self.b_lo, out=self.lo)
-        np.minimum(self.a_hi, self.b_hi, out=self.hi)
-        if self.d == 1:
-            np.less_equal(*self.ends_1d, out=self.nonempty)
-        else:
-            np.logical_and.reduce(self.lo <= self.hi, axis=1, out=self.nonempty)
-        np.add(self.lo, self.hi, out=self.centres)
-        np.multiply(self.centres, self.nonempty_rows, out=self.centres)
-        np.matmul(self.stack, self.a_col, out=partial)
+        fold = None if bounds is None or self._theta_hull(bounds) else bounds
+        if fold is not None and len(self.blocks) > 1:
+            fold[:, 0], fold[:, 1] = np.inf, -np.inf
+        for block in self.blocks:
+            np.maximum(self.a_lo, block.b_lo, out=block.lo)
+            np.minimum(self.a_hi, block.b_hi, out=block.hi)
+            if self.d == 1:
+                np.less_equal(*block.ends_1d, out=block.nonempty)
+            else:
+                np.logical_and.reduce(block.lo <= block.hi, axis=1, out=block.nonempty)
+            if fold is not None:
+                self._fold_hull(block, fold)
+            np.add(block.lo, block.hi, out=block.centres)
+            np.multiply(block.centres, block.nonempty_rows, out=block.centres)
+            np.matmul(block.stack, self.a_col, out=block.partial)
         np.matmul(self.b_row, partial, out=sums)
         kept = self.kept
         if least(kept) > CONFLICT_TOLERANCE:
@@ -455,19 +539,33 @@ class ProductKernel:
         np.multiply(self.total, scale, out=est)
         return ok
 
-    def hull(self, out: np.ndarray) -> np.ndarray:
-        """Write the hull of the combination (after :meth:`combine`) into ``out`` (R, 2, d)."""
-        ends = self.work.ends
-        if self.theta is not None:
-            theta1_mass, theta2_mass, meet, corner = self.theta
-            if least(theta1_mass) > 0.0 and least(theta2_mass) > 0.0 and least(meet) > 0.0:
-                np.copyto(out, corner)
-                return out
-        mass = self.b_mass[:, :, None] * self.a_mass[:, None, :]  # (R, N_b, N_a)
-        live = ((mass > 0.0) & (self.nonempty > 0.0))[:, None]
-        np.minimum.reduce(ends[0], axis=(-2, -1), where=live, initial=np.inf, out=out[:, 0])
-        np.maximum.reduce(ends[1], axis=(-2, -1), where=live, initial=-np.inf, out=out[:, 1])
-        return out
+    def _theta_hull(self, out: np.ndarray) -> bool:
+        """Write Θ1 ∩ Θ2 into ``out`` (R, 2, d) if it is the hull in every run; say whether."""
+        if self.theta is None:
+            return False
+        theta1_mass, theta2_mass, theta1, theta2 = self.theta
+        if not (least(theta1_mass) > 0.0 and least(theta2_mass) > 0.0):
+            return False
+        corner = np.array([np.maximum(theta1[:, 0], theta2[:, 0]),
+                           np.minimum(theta1[:, 1], theta2[:, 1])])  # fmt: skip
+        if not (corner[0] <= corner[1]).all():
+            return False
+        np.copyto(out, corner.transpose(1, 0, 2))
+        return True
+
+    def _fold_hull(self, block: _ProductBlock, out: np.ndarray) -> None:
+        """Fold the ends of the block's products of positive mass into the hull ``out``."""
+        mass = block.b_mass * self.a_mass[:, None, :]  # (R, N_rows, N_a)
+        live = ((mass > 0.0) & (block.nonempty > 0.0))[:, None]
+        if len(self.blocks) == 1:
+            np.minimum.reduce(block.lo, axis=(-2, -1), where=live, initial=np.inf, out=out[:, 0])
+            np.maximum.reduce(block.hi, axis=(-2, -1), where=live, initial=-np.inf, out=out[:, 1])
+            return
+        fold = self.fold
+        np.minimum.reduce(block.lo, axis=(-2, -1), where=live, initial=np.inf, out=fold[:, 0])
+        np.maximum.reduce(block.hi, axis=(-2, -1), where=live, initial=-np.inf, out=fold[:, 1])
+        np.minimum(out[:, 0], fold[:, 0], out=out[:, 0])
+        np.maximum(out[:, 1], fold[:, 1], out=out[:, 1])
 
 
 def dempster_expectation(
@@ -525,10 +623,10 @@ def dempster_expectation(
     kernel = ProductKernel(columns(a), columns(b), a.mass, b.mass, work, theta)
     runs, d = kernel.work.sums.shape[0], a.lo.shape[2]
     expectation = np.empty((runs, d))
-    ok = kernel.combine(expectation)
+    box = np.empty((runs, 2, d)) if bounds else None
+    ok = kernel.combine(expectation, box)
     ok = np.ones(runs, dtype=bool) if ok is None else ok
     conflict = 1.0 - kernel.kept
-    if not bounds:
+    if box is None:
         return expectation, conflict, ok, None
-    box = kernel.hull(np.empty((runs, 2, d)))
     return expectation, conflict, ok, (box[:, 0], box[:, 1])

@@ -12,7 +12,8 @@ vectorised filter of their own can be too. The evidence objects
 - Combining without merging (the paper's eqs. 1, 9–10, A1–A8): :func:`dependence`,
   :func:`discount_onto_hull`, :func:`dempster_expectation`, and the kernels they run,
   :class:`DependenceKernel` and :class:`ProductKernel` on the column layout of
-  :func:`columns`, bound once to their buffers (:class:`ProductWork`).
+  :func:`columns`, bound once to their buffers (:class:`ProductWork`), the products formed
+  in blocks of at most :data:`PRODUCT_BLOCK` (:func:`block_rows`).
 - Merging and capping: :func:`merge_equal_boxes` (eq. 14) and :func:`cluster_boxes`
   (Denœux's outer approximation), with compiled twins (extra ``speed``) that give the
   same numbers, :func:`merge_equal_boxes_compiled` and :func:`cluster_boxes_compiled`.
@@ -28,11 +29,13 @@ vectorised filter of their own can be too. The evidence objects
 from __future__ import annotations
 
 from ._batch_kernels import (
+    PRODUCT_BLOCK,
     TINY,
     BatchDependence,
     DependenceKernel,
     ProductKernel,
     ProductWork,
+    block_rows,
     coefficient_error,
     columns,
     dempster_expectation,
@@ -60,6 +63,7 @@ from ._ties import TIE_RTOL, snap_bounds, tie_classes, tie_order
 __all__ = [
     "CHECK_RTOL",
     "MAX_CLUSTER_ROUNDS",
+    "PRODUCT_BLOCK",
     "TIE_RTOL",
     "TINY",
     "BatchDependence",
@@ -67,6 +71,7 @@ __all__ = [
     "DependenceKernel",
     "ProductKernel",
     "ProductWork",
+    "block_rows",
     "bounded_count",
     "cluster_boxes",
     "cluster_boxes_compiled",

@@ -523,10 +523,8 @@ class StepArrays:
         or the mask of the runs whose combination exists.
         """
         products = self.products
-        ok = products.combine(est)
+        ok = products.combine(est, bounds)
         np.copyto(self.kept6, products.kept)
-        if bounds is not None:
-            products.hull(bounds)
         return ok
 
     def _fuse_compiled(

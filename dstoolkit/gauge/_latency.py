@@ -22,7 +22,6 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy import fft as sp_fft
-from scipy import signal
 
 from dstoolkit.errors import DetectionError
 from dstoolkit.utils.checks import as_signal
@@ -151,6 +150,19 @@ def _analytic_signal(x: np.ndarray) -> np.ndarray:
     return np.fft.ifft(spectrum, out=spectrum)[:n]  # in place: one complex array at a time
 
 
+def _within(size: int, offset: int, reach: float) -> np.ndarray:
+    """Mark the j in [0, ``size``) whose lag j − ``offset`` lies within ±``reach`` samples.
+
+    A whole number k has |k| ≤ reach exactly when |k| ≤ ⌊reach⌋: one slice, no array of
+    lags (none for a negative or NaN ``reach``).
+    """
+    allowed = np.zeros(size, bool)
+    if reach >= 0:
+        whole = int(min(np.floor(reach), size + abs(offset)))  # a finite bound for ±inf
+        allowed[max(0, offset - whole) : max(0, offset + whole + 1)] = True
+    return allowed
+
+
 #: Conjugate spectra of read-only references, by (id, size), each with a weak reference to
 #: its array (an id is reused once its array is gone).
 _SPECTRA: dict[tuple[int, int], tuple[weakref.ref[np.ndarray], np.ndarray]] = {}
@@ -270,10 +282,10 @@ def estimate_latency(
             "input device is the microphone (or the loopback monitor) and is not muted."
         )
     c = valid_correlation(rec, ref)
-    lags = signal.correlation_lags(rec.size, ref.size, mode="valid") - offset
+    # the lag at j is j − offset (scipy.signal.correlation_lags(..., "valid") − offset)
     allowed = np.ones(c.size, bool)
     if max_latency_s is not None:
-        allowed = np.abs(lags) <= max_latency_s * samplerate
+        allowed = _within(c.size, offset, max_latency_s * samplerate)
         if not allowed.any():
             raise DetectionError(
                 f"no lag within ±{max_latency_s} s fits the recording ({rec.size} samples, "
@@ -291,7 +303,8 @@ def estimate_latency(
             f"{min_significance}); is the speaker connected, and is this the signal that was "
             "played?"
         )
-    score = np.where(allowed, np.abs(c), -1.0)
+    score = np.abs(c)
+    score[~allowed] = -1.0
     if first_arrival is None:
         j = int(np.argmax(score))
     else:
@@ -302,7 +315,7 @@ def estimate_latency(
     norm = np.sqrt(ref_energy * _energy(window))
     correlation = float(c[j] / norm) if norm > 0 else 0.0
     return LatencyEstimate(
-        lag=int(lags[j]),
+        lag=j - offset,
         samplerate=float(samplerate),
         correlation=correlation,
         significance=significance,
