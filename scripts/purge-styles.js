@@ -12,8 +12,8 @@
  * site's own scripts, whose strings name the classes they add at run time. Kept whatever
  * the content says: the classes Bootstrap's script builds from pieces ("bs-tooltip-" +
  * placement, tooltips, popovers and their states), the dark-mode rules ([data-theme],
- * [data-mode], set by the theme's script from the reader's choice), keyframes, font faces
- * and CSS variables.
+ * [data-mode], set by the theme's script from the reader's choice), the theme's focus ring
+ * (":focus-visible"), keyframes, font faces and CSS variables.
  */
 "use strict";
 
@@ -23,7 +23,9 @@ const { PurgeCSS } = require("purgecss");
 // Classes the theme's and extensions' scripts put together at run time.
 const SAFELIST = {
   standard: [/^bs-/, /tooltip/, /popover/, /^show$/, /^showing$/, /^hiding$/, /^fade$/],
-  greedy: [/data-theme/, /data-mode/],
+  // the theme's focus ring for everything that takes the keyboard (a selector of a
+  // pseudo-class alone names nothing PurgeCSS could find in a page)
+  greedy: [/data-theme/, /data-mode/, /^:focus-visible$/],
 };
 
 const WORD = /[A-Za-z0-9_-]+/g;

@@ -345,6 +345,8 @@ def test_an_icon_font_is_cut_to_the_icons_its_stylesheet_draws(tmp_path: Path) -
     subset = static / found.group(1)
     font = TTFont(subset)
     assert set(font.getBestCmap()) == {0xF0C9, 0xF00D}
+    # the same bytes on every build: the font keeps its own date, not the build's
+    assert font["head"].modified == TTFont(fonts / "fa-solid-900.ttf")["head"].modified
     whole = (fonts / "fa-solid-900.woff2").stat().st_size
     # two icons of ~1400: the subset must be a small fraction of the shipped WOFF 2
     assert subset.stat().st_size < whole / 10
@@ -362,6 +364,7 @@ def purged() -> str:
         ".added-by-script{color:green}"
         ".row{display:flex}"
         "@keyframes spin{to{transform:rotate(1turn)}}"
+        ":focus-visible{outline:3px solid purple}"
     )
     page = (
         '<html data-theme="light"><body><p class="used">A row of small words.</p>'
@@ -381,6 +384,7 @@ def test_purging_keeps_what_a_page_or_script_uses(purged: str) -> None:
     assert "data-theme=dark" in purged.replace('"', "")  # dark mode, chosen at run time
     assert "bs-tooltip-auto" in purged  # built from pieces by Bootstrap's script
     assert "@keyframes spin" in purged
+    assert ":focus-visible{" in purged.replace(" ", "")  # the focus ring of every control
 
 
 def test_purging_drops_what_nothing_uses(purged: str) -> None:
