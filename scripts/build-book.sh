@@ -13,8 +13,9 @@
 # 5. scripts/slides.py writes a reveal.js lecture deck per chapter into _build/html/slides/
 #    from the chapter's source and its built page (reveal.js is vendored like MathJax).
 # 6. Post-build: scripts/typeset-maths.js typesets the maths into the pages (mathjax-full);
-#    scripts/site_postbuild.py writes the explorers as plain HTML (no widget manager) and
-#    links every figure.
+#    scripts/site_postbuild.py writes the explorers as plain HTML (no widget manager),
+#    links every figure, joins the stylesheets into one and purges the rules no page uses
+#    (scripts/purge-styles.js, PurgeCSS), its icon font cut to the icons it draws.
 #    Both leave the decks in slides/ as they are (reveal.js typesets its own maths).
 #
 # Extra arguments are passed to jupyter-book, e.g. `bash scripts/build-book.sh --all`.

@@ -18,8 +18,10 @@ the built site is rewritten once (it is marked), atomically:
   deferred (they act once the page is parsed, in the order they are written); the search
   index is left to the search page; Sphinx's page settings (``documentation_options.js``,
   0.3 kB) are written into the page.
-* **One stylesheet**: the page's eleven stylesheets are joined into one file of ``_static``
-  (fewer round trips before the first paint on a slow network).
+* **One small stylesheet**: the page's eleven stylesheets are joined into one file of
+  ``_static`` (fewer round trips before the first paint on a slow network); the rules no
+  page or script of the site can use are dropped (scripts/purge-styles.js, PurgeCSS), and
+  its icon fonts (Font Awesome, 156 kB for the solid one) cut to the icons it draws.
 * **Every figure opens full size.** Each picture of the article and of every explorer state
   becomes a link to its file (``a.dstoolkit-fullsize``, named by the picture's text
   alternative), reachable by keyboard; the picture gets its ``width`` and ``height`` (no
@@ -519,6 +521,170 @@ def bundle_styles(page: Path, text: str, site: Path) -> str:
     )
 
 
+#: The stylesheet bundle_styles writes, as a page links it.
+_BUNDLE_LINK = re.compile(
+    r'(<link rel="stylesheet" type="text/css" href=")([^"]*)'
+    r'(styles-[0-9a-f]{16}\.css)(" />)'
+)
+#: The first line of a stylesheet slim_styles wrote (it is not purged twice).
+SLIM = (
+    "/* dstoolkit: the rules no page of the site uses are left out (scripts/purge-styles.js) */\n"
+)
+PURGE_SCRIPT = Path(__file__).resolve().parent / "purge-styles.js"
+_FONT_FACE = re.compile(r"@font-face\s*\{[^{}]*\}")
+_ICON_FAMILY = re.compile(r"font-family:[^;}]*Font\s*\\?\s*Awesome", re.I)
+_TRUETYPE = re.compile(r"""url\(\s*["']?([^"')]+\.ttf)["']?\s*\)""")
+_SRC = re.compile(r"src:[^;}]*")
+#: A declaration that can hold an icon: ``content`` or a custom property (``--pst-icon-x``).
+_ICON_VALUE = re.compile(r"(?:\bcontent|--[\w-]+)\s*:([^;}]*)")
+_CSS_STRING = re.compile(r'"((?:[^"\\]|\\.)*)"' + r"|'((?:[^'\\]|\\.)*)'")
+_CSS_ESCAPE = re.compile(r"\\(?:([0-9a-fA-F]{1,6})\s?|(.))", re.S)
+
+
+def css_string(body: str) -> str:
+    """Return the text a CSS string literal's body stands for (its escapes decoded)."""
+
+    def one(found: re.Match[str]) -> str:
+        if found.group(1):
+            code = int(found.group(1), 16)
+            return chr(code) if 0 < code <= 0x10FFFF else "\ufffd"
+        return "" if found.group(2) == "\n" else found.group(2)
+
+    return _CSS_ESCAPE.sub(one, body)
+
+
+def icon_codepoints(css: str) -> set[int]:
+    """Return the characters a stylesheet can draw from an icon font.
+
+    Those of the strings in its ``content`` declarations and custom properties (an icon
+    font draws nothing else: its glyphs are reached through ``::before``/``::after``).
+    """
+    points: set[int] = set()
+    for value in _ICON_VALUE.finditer(css):
+        for found in _CSS_STRING.finditer(value.group(1)):
+            text = css_string(found.group(1) if found.group(1) is not None else found.group(2))
+            points.update(ord(c) for c in text if ord(c) > 0x20)
+    return points
+
+
+def subset_font(source: Path, codepoints: set[int]) -> bytes:
+    """Return the WOFF font of ``source`` (TrueType) with only the glyphs of ``codepoints``."""
+    import io
+
+    # fontTools comes with matplotlib
+    from fontTools import subset  # type: ignore[import-untyped]
+    from fontTools.ttLib import TTFont  # type: ignore[import-untyped]
+
+    options = subset.Options()
+    options.flavor = "woff"  # zlib: WOFF 2 would need brotli
+    options.layout_features = ["*"]
+    options.name_IDs = ["*"]
+    options.notdef_outline = True
+    font = TTFont(source, recalcTimestamp=False)  # the same bytes from the same font
+    subsetter = subset.Subsetter(options)
+    subsetter.populate(unicodes=sorted(codepoints))
+    subsetter.subset(font)
+    out = io.BytesIO()
+    font.flavor = "woff"
+    font.save(out)
+    return out.getvalue()
+
+
+def subset_icon_fonts(css: str, static: Path) -> str:
+    """Serve the icon fonts of a stylesheet (Font Awesome) with only the glyphs it uses.
+
+    Font Awesome's solid font is 156 kB as WOFF 2 for the dozen icons the site's
+    stylesheet draws (admonitions, drop-downs, the theme's buttons before their SVG is
+    written). Each of its ``@font-face`` rules is pointed at a WOFF file of its TrueType
+    font cut down to the characters of the stylesheet's ``content`` strings and custom
+    properties, named by its content's hash, beside the original.
+    """
+    points = icon_codepoints(css)
+
+    def face(found: re.Match[str]) -> str:
+        rule = found.group(0)
+        ttf = _TRUETYPE.search(rule)
+        if not _ICON_FAMILY.search(rule) or not ttf:
+            return rule
+        source = (static / unquote(ttf.group(1))).resolve()
+        if not source.is_file() or not source.is_relative_to(static.resolve()):
+            return rule
+        data = subset_font(source, points)
+        name = f"{source.stem}-{hashlib.sha1(data).hexdigest()[:16]}.woff"
+        target = source.with_name(name)
+        if not target.is_file():
+            write_bytes_atomic(target, data)
+        url = Path(os.path.relpath(target, static.resolve())).as_posix()
+        return _SRC.sub(lambda _: f'src:url({url}) format("woff")', rule, count=1)
+
+    return _FONT_FACE.sub(face, css)
+
+
+def purge_css(stylesheet: Path, content: list[Path]) -> str:
+    """Return ``stylesheet`` without the rules nothing in ``content`` can match (PurgeCSS)."""
+    import subprocess
+
+    try:
+        done = subprocess.run(
+            ["node", str(PURGE_SCRIPT), str(stylesheet), *map(str, content)],
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+    except FileNotFoundError as error:
+        raise SystemExit(
+            "site_postbuild.py: 'node' is not on PATH; it runs scripts/purge-styles.js "
+            "(install Node.js 18 or newer, then `npm ci` for PurgeCSS)."
+        ) from error
+    if done.returncode != 0 or not done.stdout.strip():
+        raise SystemExit(
+            f"site_postbuild.py: scripts/purge-styles.js failed on {stylesheet} "
+            f"(exit {done.returncode}); run `npm ci` (PurgeCSS is a devDependency).\n" + done.stderr
+        )
+    return done.stdout
+
+
+def relink(page: Path, old: str, new: str) -> None:
+    """Make ``page`` link the stylesheet ``new`` of _static where it linked ``old``."""
+
+    def one(found: re.Match[str]) -> str:
+        if found.group(3) != old:
+            return found.group(0)
+        return found.group(1) + found.group(2) + new + found.group(4)
+
+    write_atomic(page, _BUNDLE_LINK.sub(one, page.read_text(encoding="utf-8")))
+
+
+def slim_styles(site: Path, pages: list[Path]) -> int:
+    """Cut the pages' joined stylesheet down to what the site uses; return how many were.
+
+    Every stylesheet bundle_styles wrote is purged against every page of the site and the
+    site's own scripts (scripts/purge-styles.js), its icon fonts cut to the icons it
+    draws, and written under its new content's hash; the pages link the new file and the
+    old one is removed. A stylesheet already slim is left as it is.
+    """
+    static = site / "_static"
+    users: dict[Path, list[Path]] = {}
+    for page in pages:
+        for link in _BUNDLE_LINK.finditer(page.read_text(encoding="utf-8")):
+            target = (page.parent / link.group(2) / link.group(3)).resolve()
+            users.setdefault(target, []).append(page)
+    scripts = sorted(static.glob("*.js")) + sorted((static / "scripts").glob("*.js"))
+    slimmed = 0
+    for bundle, linked in sorted(users.items()):
+        if not bundle.is_file() or bundle.read_text(encoding="utf-8").startswith(SLIM):
+            continue
+        css = SLIM + subset_icon_fonts(purge_css(bundle, pages + scripts), static)
+        name = "styles-" + hashlib.sha1(css.encode("utf-8")).hexdigest()[:16] + ".css"
+        write_atomic(static / name, css)
+        for page in linked:
+            relink(page, bundle.name, name)
+        if name != bundle.name:
+            bundle.unlink()
+        slimmed += 1
+    return slimmed
+
+
 def render_explorers(page: Path, text: str, site: Path) -> str:
     """Write every widget view of a page as plain HTML; drop the widget state and scripts."""
     found = _STATE.search(text)
@@ -574,6 +740,19 @@ def write_atomic(path: Path, text: str) -> None:
         raise
 
 
+def write_bytes_atomic(path: Path, data: bytes) -> None:
+    """Write ``data`` to ``path`` through a temporary file in the same folder."""
+    handle, tmp = tempfile.mkstemp(dir=path.parent, prefix=".postbuild-", suffix=path.suffix)
+    try:
+        with os.fdopen(handle, "wb") as out:
+            out.write(data)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
 def main(argv: list[str] | None = None) -> int:
     """Rewrite every page of the built site given on the command line."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -592,7 +771,10 @@ def main(argv: list[str] | None = None) -> int:
         and p.relative_to(args.html).parts[0] != "slides"  # the lecture decks: reveal.js pages
     ]
     changed = sum(rewrite_page(page, args.html) for page in pages)
-    print(f"site_postbuild: {changed} of {len(pages)} pages rewritten")
+    slimmed = slim_styles(args.html, pages)
+    print(
+        f"site_postbuild: {changed} of {len(pages)} pages rewritten, {slimmed} stylesheet(s) purged"
+    )
     return 0
 
 

@@ -32,6 +32,7 @@ import pytest
 from conftest import ROOT, BookBuild
 from test_book_browser import _WIDGETS_RENDERED_JS, TIMEOUT_MS, site
 from test_explorers_browser import explorer_pages
+from test_site_postbuild import postbuild
 
 from dstoolkit.plots._style import SMALL_PT
 from dstoolkit.teaching._explorer import FIGURE_DPI
@@ -144,6 +145,35 @@ def test_no_render_blocking_script_in_the_head(built_book: BookBuild, toc_page: 
     assert not mathjax, f"{toc_page}.html loads MathJax ({mathjax}); maths is typeset at build"
     embed = [src for src in parser.sources if re.search(r"embed|lazy-explorers", src)]
     assert not embed, f"{toc_page}.html loads the widget manager: {embed}"
+
+
+#: Font Awesome's solid font as the theme ships it (WOFF 2), the size an icon font is cut from.
+_SOLID_WOFF2 = (
+    Path(str(__import__("pydata_sphinx_theme").__file__)).parent
+    / "theme/pydata_sphinx_theme/static/vendor/fontawesome/webfonts/fa-solid-900.woff2"
+)
+
+
+def test_one_purged_stylesheet_whose_icon_fonts_are_cut(
+    built_book: BookBuild, toc_page: str
+) -> None:
+    text = _html(built_book, toc_page)
+    links = re.findall(r'<link rel="stylesheet"[^>]*href="([^"]+)"', text)
+    assert len(links) == 1, f"{toc_page}.html links {len(links)} stylesheets: {links}"
+    page = built_book.html_dir / f"{toc_page}.html"
+    sheet = (page.parent / unquote(links[0].split("?")[0])).resolve()
+    css = sheet.read_text(encoding="utf-8")
+    assert css.startswith(postbuild.SLIM), f"{sheet.name}: not purged (scripts/purge-styles.js)"
+    faces = [f for f in re.findall(r"@font-face\s*\{[^}]*\}", css) if "Awesome" in f]
+    assert faces, f"{sheet.name}: no Font Awesome font face (the theme's icons)"
+    for face in faces:
+        urls = re.findall(r"url\(([^)]+)\)", face)
+        assert len(urls) == 1 and urls[0].endswith(".woff"), face
+        font = sheet.parent / urls[0]
+        # a dozen icons of ~1400: a tenth of the whole font is far more than they need
+        assert font.stat().st_size < _SOLID_WOFF2.stat().st_size / 10, (
+            f"{font.name} ({font.stat().st_size} bytes) is not cut to the icons the site draws"
+        )
 
 
 def test_maths_is_typeset_at_build_time(built_book: BookBuild, toc_page: str) -> None:

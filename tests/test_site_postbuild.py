@@ -298,3 +298,124 @@ def test_a_page_keeps_no_widget_state_nor_widget_script(tmp_path: Path) -> None:
     assert "widget-state" not in text and "widget-view" not in text and "embed.js" not in text
     assert '<div class="dstoolkit-explorer' in text
     assert '<script async src="../_static/explorers.js"></script>' in text
+
+
+# --- the joined stylesheet, purged; its icon fonts cut to the icons it draws --------------
+
+#: Font Awesome's solid font as the theme ships it (TrueType, read by fontTools).
+_THEME_FONTS = (
+    Path(str(__import__("pydata_sphinx_theme").__file__)).parent
+    / "theme/pydata_sphinx_theme/static/vendor/fontawesome/webfonts"
+)
+
+
+def test_css_strings_and_icon_characters_are_read_with_their_escapes() -> None:
+    assert postbuild.css_string(r"\f0c9") == "\uf0c9"
+    assert postbuild.css_string(r"\f0c9 x") == "\uf0c9x"  # one space ends an escape
+    assert postbuild.css_string(r"a\"b") == 'a"b'
+    css = (
+        '.fa-bars:before{content:"\\f0c9"}:root{--pst-icon-note:"\\f05a";color:"\\41"}'
+        ".x::after{content:'\\e2ca'}"
+    )
+    # color's string is no icon: only content declarations and custom properties count
+    assert postbuild.icon_codepoints(css) == {0xF0C9, 0xF05A, 0xE2CA}
+
+
+def test_an_icon_font_is_cut_to_the_icons_its_stylesheet_draws(tmp_path: Path) -> None:
+    from fontTools.ttLib import TTFont  # type: ignore[import-untyped]
+
+    static = tmp_path / "_static"
+    fonts = static / "vendor/fontawesome/webfonts"
+    fonts.mkdir(parents=True)
+    for name in ("fa-solid-900.ttf", "fa-solid-900.woff2"):
+        (fonts / name).write_bytes((_THEME_FONTS / name).read_bytes())
+    face = (
+        "@font-face{font-display:block;font-family:Font Awesome\\ 6 Free;font-weight:900;"
+        'src:url(vendor/fontawesome/webfonts/fa-solid-900.woff2) format("woff2"),'
+        'url(vendor/fontawesome/webfonts/fa-solid-900.ttf) format("truetype")}'
+    )
+    other = '@font-face{font-family:Text;src:url(text.ttf) format("truetype")}'
+    css = face + other + '.fa-bars:before{content:"\\f0c9"}.fa-xmark:before{content:"\\f00d"}'
+    out = postbuild.subset_icon_fonts(css, static)
+    found = re.search(
+        r"src:url\((vendor/fontawesome/webfonts/fa-solid-900-[0-9a-f]{16}\.woff)\)", out
+    )
+    assert found, out
+    assert other in out  # a text font is left as it is
+    subset = static / found.group(1)
+    font = TTFont(subset)
+    assert set(font.getBestCmap()) == {0xF0C9, 0xF00D}
+    # the same bytes on every build: the font keeps its own date, not the build's
+    assert font["head"].modified == TTFont(fonts / "fa-solid-900.ttf")["head"].modified
+    whole = (fonts / "fa-solid-900.woff2").stat().st_size
+    # two icons of ~1400: the subset must be a small fraction of the shipped WOFF 2
+    assert subset.stat().st_size < whole / 10
+
+
+@pytest.fixture(scope="module")
+def purged() -> str:
+    """Return a stylesheet purged against one page and one script, as slim_styles does."""
+    import tempfile
+
+    css = (
+        ".used{color:red}.unused{color:blue}"
+        "html[data-theme=dark] .used{color:pink}"
+        ".bs-tooltip-auto .tooltip-arrow{top:0}"
+        ".added-by-script{color:green}"
+        ".row{display:flex}"
+        "@keyframes spin{to{transform:rotate(1turn)}}"
+        ":focus-visible{outline:3px solid purple}"
+    )
+    page = (
+        '<html data-theme="light"><body><p class="used">A row of small words.</p>'
+        "<script>document.body.dataset.x = 1;</script></body></html>"
+    )
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        (folder / "s.css").write_text(css)
+        (folder / "p.html").write_text(page)
+        (folder / "a.js").write_text('el.classList.add("added-by-script");')
+        return postbuild.purge_css(folder / "s.css", [folder / "p.html", folder / "a.js"])
+
+
+def test_purging_keeps_what_a_page_or_script_uses(purged: str) -> None:
+    assert ".used{" in purged.replace(" ", "")
+    assert "added-by-script" in purged  # named by a script's string
+    assert "data-theme=dark" in purged.replace('"', "")  # dark mode, chosen at run time
+    assert "bs-tooltip-auto" in purged  # built from pieces by Bootstrap's script
+    assert "@keyframes spin" in purged
+    assert ":focus-visible{" in purged.replace(" ", "")  # the focus ring of every control
+
+
+def test_purging_drops_what_nothing_uses(purged: str) -> None:
+    assert ".unused" not in purged
+    # "row" is a word of the page's prose, not a class of any element
+    assert ".row" not in purged
+
+
+def test_pages_link_the_purged_stylesheet_once_and_the_old_one_goes(tmp_path: Path) -> None:
+    site = tmp_path / "site"
+    static = site / "_static"
+    static.mkdir(parents=True)
+    (site / "book").mkdir()
+    old = static / "styles-0123456789abcdef.css"
+    old.write_text(".used{color:red}.unused{color:blue}")
+    pages = []
+    for name in ("index.html", "book/x.html"):
+        page = site / name
+        href = ("" if "/" not in name else "../") + "_static/" + old.name
+        page.write_text(
+            f'<html><head><link rel="stylesheet" type="text/css" href="{href}" /></head>'
+            '<body><p class="used">x</p></body></html>'
+        )
+        pages.append(page)
+    assert postbuild.slim_styles(site, pages) == 1
+    assert not old.exists()
+    (new,) = static.glob("styles-*.css")
+    assert new.read_text().startswith(postbuild.SLIM)
+    assert ".unused" not in new.read_text() and ".used" in new.read_text()
+    assert f'href="_static/{new.name}"' in pages[0].read_text()
+    assert f'href="../_static/{new.name}"' in pages[1].read_text()
+    # run again: nothing is purged twice
+    assert postbuild.slim_styles(site, pages) == 0
+    assert list(static.glob("styles-*.css")) == [new]
