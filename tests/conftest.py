@@ -53,6 +53,9 @@ BOOK_MODULES = (
     "test_exam_site.py",
     "test_book_siteperf.py",
     "test_book_api_page.py",
+    # the post-build's purge runs PurgeCSS from node_modules, which the build's `npm ci`
+    # (re)creates: run after the build, in its worker
+    "test_site_postbuild.py",
 )
 #: Modules that start PulseAudio loopbacks: one worker runs them, one after the other.
 AUDIO_MODULES = ("test_audio_loopback.py", "test_audio_faults.py")
