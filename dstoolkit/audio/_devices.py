@@ -189,7 +189,9 @@ def refresh_devices() -> None:
     """Make PortAudio scan the devices again.
 
     PortAudio scans only when it is initialised, at ``import sounddevice``; call this after
-    a sound server started or a USB card was plugged in, then :func:`list_devices`.
+    a sound server started or a USB card was plugged in, then :func:`list_devices`. When
+    sounddevice is not imported in this process, every list is made by a new process that
+    scans anyway: this only checks that sounddevice imports.
 
     Raises
     ------
