@@ -15,6 +15,7 @@ Examples
 from __future__ import annotations
 
 import argparse
+import gc
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -276,4 +277,10 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
         return int(args.func(args))
 
-    return run_command(body)
+    try:
+        return run_command(body)
+    finally:
+        # A command's figures and recordings are unreachable cycles once it returns; a
+        # process that lives on after it (a notebook's kernel) would keep their memory until
+        # its next full collection, which may come many large arrays later.
+        gc.collect()

@@ -3,8 +3,10 @@
 The gauge of the paper (§4) plays a sweep into the tube through a speaker and records the
 standing wave with a microphone at the same time. This module does that with
 `sounddevice <https://python-sounddevice.readthedocs.io>`_ (PortAudio). sounddevice is an
-optional dependency: it is imported inside the functions that need it, so ``import
-dstoolkit`` and every simulation work without it, and an audio call then raises
+optional dependency: it is imported only by short-lived child processes that list the
+devices (``_query_child.py``) or run a stream (``_stream_child.py``), so ``import
+dstoolkit`` and every simulation work without it, the caller's process (a notebook's
+kernel) never keeps PortAudio's memory, and an audio call without it raises
 :class:`~dstoolkit.errors.AudioUnavailableError` saying what to install.
 
 Latency. Between the first sample handed to the output and its arrival in the input lies
@@ -35,7 +37,7 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
-from typing import Literal, NoReturn
+from typing import Any, Literal, NoReturn
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -52,6 +54,8 @@ from dstoolkit.errors import (
 )
 from dstoolkit.gauge import LatencyEstimate, estimate_latency
 from dstoolkit.utils.checks import as_signal
+
+from ._query_child import Refused, answer
 
 #: Silence played before and after a signal, in seconds, at least. The input stream may
 #: start a little after the output stream and the delay τ may reach a few hundred ms: the
@@ -94,11 +98,65 @@ def _sounddevice() -> ModuleType:
         # by name: sounddevice ships no type information, and every use goes through here
         sounddevice = importlib.import_module("sounddevice")
     except (ImportError, OSError) as exc:
-        raise AudioUnavailableError(
-            f"real audio is unavailable: importing sounddevice failed "
-            f"({type(exc).__name__}: {exc}). {INSTALL_HINT}"
-        ) from exc
+        raise _unavailable(f"{type(exc).__name__}: {exc}") from exc
     return sounddevice
+
+
+def _unavailable(reason: str) -> AudioUnavailableError:
+    """Return the error of a failed ``import sounddevice`` (``reason``: its type and message)."""
+    return AudioUnavailableError(
+        f"real audio is unavailable: importing sounddevice failed ({reason}). {INSTALL_HINT}"
+    )
+
+
+def _ask_portaudio(request: list[object]) -> Any:
+    """Return PortAudio's answer to ``request`` (see ``_query_child.py``).
+
+    When sounddevice is already imported in this process (or stands imitated in
+    ``sys.modules``), it answers here; otherwise a short-lived child process imports it and
+    answers, so that this process never loads PortAudio (tens of MiB kept for as long as
+    the process lives). Each child initialises PortAudio afresh, so it sees the devices
+    present now.
+
+    Raises :class:`~dstoolkit.errors.AudioUnavailableError` when sounddevice cannot be
+    imported, :class:`Refused` with PortAudio's message when it refuses the query,
+    :class:`~dstoolkit.errors.AudioStallError` when the child does not answer within
+    :data:`STREAM_START_TIMEOUT_S` and :class:`~dstoolkit.errors.AudioServerError` when it
+    ends without an answer.
+    """
+    if "sounddevice" in sys.modules:
+        return answer(_sounddevice(), request)
+    child = Path(__file__).with_name("_query_child.py")
+    try:
+        proc = subprocess.run(
+            [sys.executable, str(child), json.dumps(request)],
+            capture_output=True,
+            text=True,
+            timeout=STREAM_START_TIMEOUT_S,
+            check=False,
+        )
+    except subprocess.TimeoutExpired as exc:
+        check_sound_server()
+        raise AudioStallError(
+            f"PortAudio did not list the sound devices within {STREAM_START_TIMEOUT_S:g} s: "
+            "the sound server or a device stopped responding; restart it (for the software "
+            "loopback: bash scripts/audio-loopback.sh stop, then start) and try again."
+        ) from exc
+    try:
+        reply = json.loads(proc.stdout.strip().splitlines()[-1])
+    except (IndexError, ValueError):
+        said = proc.stderr.strip().splitlines()[-1:]
+        check_sound_server()
+        raise AudioServerError(
+            f"the process asking PortAudio for the sound devices ended without an answer "
+            f"(exit code {proc.returncode}{': ' + said[0] if said else ''}); check the sound "
+            "server and try again"
+        ) from None
+    if "unavailable" in reply:
+        raise _unavailable(reply["unavailable"])
+    if "refused" in reply:
+        raise Refused(reply["refused"])
+    return reply["answer"]
 
 
 def audio_available() -> bool:
@@ -131,7 +189,9 @@ def refresh_devices() -> None:
     """Make PortAudio scan the devices again.
 
     PortAudio scans only when it is initialised, at ``import sounddevice``; call this after
-    a sound server started or a USB card was plugged in, then :func:`list_devices`.
+    a sound server started or a USB card was plugged in, then :func:`list_devices`. When
+    sounddevice is not imported in this process, every list is made by a new process that
+    scans anyway: this only checks that sounddevice imports.
 
     Raises
     ------
@@ -154,6 +214,10 @@ def refresh_devices() -> None:
     >>> isinstance(found, list)
     True
     """
+    if "sounddevice" not in sys.modules:
+        # PortAudio is not loaded here: every list is made by a new process, which scans.
+        _ask_portaudio(["import"])
+        return
     sd = _sounddevice()
     # sounddevice has no public re-scan; terminate/initialise is its documented idiom.
     sd._terminate()
@@ -248,27 +312,20 @@ def list_devices(kind: Literal["input", "output"] | None = None) -> list[AudioDe
     """
     if kind not in (None, "input", "output"):
         raise InvalidInputError(f"kind must be 'input', 'output' or None, not {kind!r}")
-    sd = _sounddevice()
     try:
-        infos = sd.query_devices()
-        hostapis = sd.query_hostapis()
-    except sd.PortAudioError as exc:
+        seen = _ask_portaudio(["devices"])
+    except Refused as exc:
         raise NoAudioDeviceError(
             f"PortAudio could not list devices: {exc}. {NO_DEVICE_HINT}"
         ) from exc
-    default_in, default_out = sd.default.device
+    default_in, default_out = seen["default"]
     devices = [
         AudioDevice(
-            index=int(info["index"]),
-            name=str(info["name"]),
-            hostapi=str(hostapis[info["hostapi"]]["name"]),
-            max_input_channels=int(info["max_input_channels"]),
-            max_output_channels=int(info["max_output_channels"]),
-            default_samplerate=float(info["default_samplerate"]),
-            default_input=int(info["index"]) == default_in,
-            default_output=int(info["index"]) == default_out,
+            **info,
+            default_input=info["index"] == default_in,
+            default_output=info["index"] == default_out,
         )
-        for info in infos
+        for info in seen["devices"]
     ]
     if kind == "input":
         return [d for d in devices if d.max_input_channels > 0]
@@ -319,10 +376,9 @@ def choose_device(device: int | str | None, kind: Literal["input", "output"]) ->
     """
     if kind not in ("input", "output"):
         raise InvalidInputError(f"kind must be 'input' or 'output', not {kind!r}")
-    sd = _sounddevice()
     try:
-        info = sd.query_devices(device, kind)
-    except (ValueError, sd.PortAudioError) as exc:
+        index = int(_ask_portaudio(["device", device, kind]))
+    except Refused as exc:
         available = list_devices(kind)
         listing = "\n".join(str(d) for d in available) or "  (none)"
         wanted = "the default" if device is None else repr(device)
@@ -331,7 +387,7 @@ def choose_device(device: int | str | None, kind: Literal["input", "output"]) ->
             f"no {kind} device for {wanted}: {exc}. {kind.capitalize()} devices PortAudio "
             f"sees:\n{listing}\n{advice}"
         ) from exc
-    return int(info["index"])
+    return index
 
 
 def calibration_chirp(
@@ -557,14 +613,12 @@ def play_record(
             f"lead_in_s ({lead_in_s}) and tail_s ({tail_s}) must be at least {MIN_PADDING_S} s "
             "so that the latency cannot push the signal out of the recording"
         )
-    sd = _sounddevice()
     device_in = choose_device(input_device, "input")
     device_out = choose_device(output_device, "output")
     lead = int(round(lead_in_s * samplerate))
     played = np.concatenate(
         [np.zeros(lead), sig, np.zeros(int(round(tail_s * samplerate)))]
     ).astype(np.float32)
-    del sd  # the stream itself runs in a child process (see _stream)
     recorded, status, dropped = _stream(played, int(samplerate), latency, device_in, device_out)
     if dropped:
         warnings.warn(

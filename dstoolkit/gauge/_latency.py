@@ -125,7 +125,8 @@ def valid_correlation(recorded: np.ndarray, reference: np.ndarray) -> np.ndarray
     array([2., 5., 2.])
     """
     size = sp_fft.next_fast_len(recorded.size, real=True)
-    spectrum = np.fft.rfft(recorded, size) * _reference_spectrum(reference, size)
+    spectrum = np.fft.rfft(recorded, size)
+    spectrum *= _reference_spectrum(reference, size)
     return np.fft.irfft(spectrum, size)[: recorded.size - reference.size + 1]
 
 
@@ -140,14 +141,15 @@ def _analytic_signal(x: np.ndarray) -> np.ndarray:
     """
     n = x.size
     size = sp_fft.next_fast_len(n)
-    weights = np.zeros(size)
-    weights[0] = 1.0
-    weights[1 : (size + 1) // 2] = 2.0
-    if size % 2 == 0:
-        weights[size // 2] = 1.0
-    spectrum = np.fft.fft(x, size)
-    spectrum *= weights
-    return np.fft.ifft(spectrum, out=spectrum)[:n]  # in place: one complex array at a time
+    # one complex array, transformed in place (fft(x, size) would first cast x to a
+    # complex copy); the weights 1, 2 (positive frequencies), 1 (Nyquist), 0 (negative)
+    # applied by slice
+    spectrum = np.zeros(size, complex)
+    spectrum[:n] = x
+    np.fft.fft(spectrum, out=spectrum)
+    spectrum[1 : (size + 1) // 2] *= 2.0
+    spectrum[size // 2 + 1 :] *= 0.0
+    return np.fft.ifft(spectrum, out=spectrum)[:n]
 
 
 def _within(size: int, offset: int, reach: float) -> np.ndarray:
