@@ -34,6 +34,7 @@ import sys
 import tempfile
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
@@ -55,7 +56,7 @@ from dstoolkit.errors import (
 from dstoolkit.gauge import LatencyEstimate, estimate_latency
 from dstoolkit.utils.checks import as_signal
 
-from ._query_child import Refused, answer
+from ._query_child import answer
 
 #: Silence played before and after a signal, in seconds, at least. The input stream may
 #: start a little after the output stream and the delay τ may reach a few hundred ms: the
@@ -109,7 +110,9 @@ def _unavailable(reason: str) -> AudioUnavailableError:
     )
 
 
-def _ask_portaudio(request: list[object]) -> Any:
+def _ask_portaudio(
+    request: list[object], refused: Callable[[str], Exception] = NoAudioDeviceError
+) -> Any:
     """Return PortAudio's answer to ``request`` (see ``_query_child.py``).
 
     When sounddevice is already imported in this process (or stands imitated in
@@ -119,13 +122,22 @@ def _ask_portaudio(request: list[object]) -> Any:
     present now.
 
     Raises :class:`~dstoolkit.errors.AudioUnavailableError` when sounddevice cannot be
-    imported, :class:`Refused` with PortAudio's message when it refuses the query,
+    imported, ``refused(message)`` with PortAudio's message when it refuses the query,
     :class:`~dstoolkit.errors.AudioStallError` when the child does not answer within
     :data:`STREAM_START_TIMEOUT_S` and :class:`~dstoolkit.errors.AudioServerError` when it
     ends without an answer.
     """
     if "sounddevice" in sys.modules:
-        return answer(_sounddevice(), request)
+        reply = answer(_sounddevice(), request)
+    else:
+        reply = _ask_child(request)
+    if "refused" in reply:
+        raise refused(reply["refused"])
+    return reply["answer"]
+
+
+def _ask_child(request: list[object]) -> dict[str, Any]:
+    """Return the reply of a short-lived ``_query_child.py`` to ``request``."""
     child = Path(__file__).with_name("_query_child.py")
     try:
         proc = subprocess.run(
@@ -154,9 +166,7 @@ def _ask_portaudio(request: list[object]) -> Any:
         ) from None
     if "unavailable" in reply:
         raise _unavailable(reply["unavailable"])
-    if "refused" in reply:
-        raise Refused(reply["refused"])
-    return reply["answer"]
+    return dict(reply)
 
 
 def audio_available() -> bool:
@@ -312,12 +322,12 @@ def list_devices(kind: Literal["input", "output"] | None = None) -> list[AudioDe
     """
     if kind not in (None, "input", "output"):
         raise InvalidInputError(f"kind must be 'input', 'output' or None, not {kind!r}")
-    try:
-        seen = _ask_portaudio(["devices"])
-    except Refused as exc:
-        raise NoAudioDeviceError(
-            f"PortAudio could not list devices: {exc}. {NO_DEVICE_HINT}"
-        ) from exc
+    seen = _ask_portaudio(
+        ["devices"],
+        lambda said: NoAudioDeviceError(
+            f"PortAudio could not list devices: {said}. {NO_DEVICE_HINT}"
+        ),
+    )
     default_in, default_out = seen["default"]
     devices = [
         AudioDevice(
@@ -376,18 +386,18 @@ def choose_device(device: int | str | None, kind: Literal["input", "output"]) ->
     """
     if kind not in ("input", "output"):
         raise InvalidInputError(f"kind must be 'input' or 'output', not {kind!r}")
-    try:
-        index = int(_ask_portaudio(["device", device, kind]))
-    except Refused as exc:
+
+    def no_such_device(said: str) -> NoAudioDeviceError:
         available = list_devices(kind)
         listing = "\n".join(str(d) for d in available) or "  (none)"
         wanted = "the default" if device is None else repr(device)
         advice = "Pass one of these indices or names." if available else NO_DEVICE_HINT
-        raise NoAudioDeviceError(
-            f"no {kind} device for {wanted}: {exc}. {kind.capitalize()} devices PortAudio "
+        return NoAudioDeviceError(
+            f"no {kind} device for {wanted}: {said}. {kind.capitalize()} devices PortAudio "
             f"sees:\n{listing}\n{advice}"
-        ) from exc
-    return index
+        )
+
+    return int(_ask_portaudio(["device", device, kind], no_such_device))
 
 
 def calibration_chirp(

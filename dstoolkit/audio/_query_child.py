@@ -24,23 +24,20 @@ from types import ModuleType
 from typing import Any
 
 
-class Refused(Exception):
-    """PortAudio (or sounddevice) refused a query; the message is theirs."""
-
-
-def answer(sd: ModuleType, request: list[Any]) -> Any:
+def answer(sd: ModuleType, request: list[Any]) -> dict[str, Any]:
     """Answer ``request`` (see the module's docstring) with the sounddevice module ``sd``.
 
-    Raises :class:`Refused` with sounddevice's message when PortAudio refuses the query.
+    Returns the reply: ``{"answer": ...}``, or ``{"refused": message}`` with sounddevice's
+    message when PortAudio refuses the query.
     """
     if request[0] == "import":
-        return None
+        return {"answer": None}
     if request[0] == "devices":
         try:
             infos = sd.query_devices()
             hostapis = sd.query_hostapis()
         except sd.PortAudioError as exc:
-            raise Refused(str(exc)) from exc
+            return {"refused": str(exc)}
         default_in, default_out = sd.default.device
         devices = [
             {
@@ -53,13 +50,13 @@ def answer(sd: ModuleType, request: list[Any]) -> Any:
             }
             for info in infos
         ]
-        return {"devices": devices, "default": [int(default_in), int(default_out)]}
+        return {"answer": {"devices": devices, "default": [int(default_in), int(default_out)]}}
     _, device, kind = request
     try:
         info = sd.query_devices(device, kind)
     except (ValueError, sd.PortAudioError) as exc:
-        raise Refused(str(exc)) from exc
-    return int(info["index"])
+        return {"refused": str(exc)}
+    return {"answer": int(info["index"])}
 
 
 def main() -> int:
@@ -69,10 +66,7 @@ def main() -> int:
     except (ImportError, OSError) as exc:
         reply: dict[str, Any] = {"unavailable": f"{type(exc).__name__}: {exc}"}
     else:
-        try:
-            reply = {"answer": answer(sd, request)}
-        except Refused as exc:
-            reply = {"refused": str(exc)}
+        reply = answer(sd, request)
     sys.stdout.write(json.dumps(reply) + "\n")
     return 0
 
