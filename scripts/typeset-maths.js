@@ -1,7 +1,7 @@
 #!/usr/bin/env node
 /*
  * Typeset the book's maths at build time: every page of a built site gets its formulas as
- * MathJax CHTML (with the MathML that screen readers read), its stylesheet in the page, and
+ * MathJax SVG (with the MathML that screen readers read), its stylesheet in the page, and
  * no MathJax in the browser.
  *
  *   node scripts/typeset-maths.js _build/html
@@ -9,11 +9,15 @@
  * Sphinx writes inline maths as <span class="math notranslate nohighlight">\(...\)</span> and
  * display maths as <div class="math notranslate nohighlight">[eqno]\[...\]</div>; MathJax
  * (mathjax-full, the same version as the mathjax package the site used to load) turns each
- * into an <mjx-container>, as it did in the browser with the book's settings: CHTML output,
- * the assistive MathML beside it, formulas out of the Tab order. The page's stylesheet (the
- * characters it uses, its fonts read from _static/mathjax) goes into its <head>, and the
- * MathJax configuration and script leave the page. A page is rewritten once (it is marked);
- * the script fails when TeX is left that it could not typeset.
+ * into an <mjx-container> with the book's settings: the assistive MathML beside it,
+ * formulas out of the Tab order. The output is SVG, not CHTML: each glyph is drawn from its
+ * outline, defined once a page (MathJax's global font cache, at the start of the body), so
+ * the page loads no maths fonts and the browser lays out far fewer boxes (CHTML writes an
+ * element and a generated box per character, and lays the page out again when each maths
+ * font arrives). The glyphs are those of MathJax's TeX fonts in both outputs. MathJax's
+ * SVG stylesheet goes into the page's <head>, and the MathJax configuration and script
+ * leave the page. A page is rewritten once (it is marked); the script fails when TeX is
+ * left that it could not typeset, or when MathJax reports an error in a formula.
  */
 "use strict";
 
@@ -21,7 +25,7 @@ const fs = require("fs");
 const path = require("path");
 const { mathjax } = require("mathjax-full/js/mathjax.js");
 const { TeX } = require("mathjax-full/js/input/tex.js");
-const { CHTML } = require("mathjax-full/js/output/chtml.js");
+const { SVG } = require("mathjax-full/js/output/svg.js");
 const { liteAdaptor } = require("mathjax-full/js/adaptors/liteAdaptor.js");
 const { RegisterHTMLHandler } = require("mathjax-full/js/handlers/html.js");
 const { AllPackages } = require("mathjax-full/js/input/tex/AllPackages.js");
@@ -29,7 +33,6 @@ const { SerializedMmlVisitor } = require("mathjax-full/js/core/MmlTree/Serialize
 const { STATE } = require("mathjax-full/js/core/MathItem.js");
 
 const MARK = '<meta name="dstoolkit-maths" content="typeset at build time">';
-const FONTS = "_static/mathjax/output/chtml/fonts/woff-v2";
 const INLINE = /<span class="math notranslate nohighlight">\\\(([\s\S]*?)\\\)<\/span>/g;
 const DISPLAY = /(<div class="math notranslate nohighlight"[^>]*>\s*(?:<span class="eqno">[\s\S]*?<\/span>)?)\\\[([\s\S]*?)\\\](\s*<\/div>)/g;
 const MATHJAX_SCRIPTS = [
@@ -39,7 +42,7 @@ const MATHJAX_SCRIPTS = [
 // The assistive MathML is read by screen readers and hidden from sight: MathJax's own rules,
 // but one pixel wide (as "visually hidden" text is), so that it never widens a paragraph.
 const ASSISTIVE_CSS = `
-mjx-container[jax="CHTML"] { position: relative; }
+mjx-container[jax="SVG"] { position: relative; }
 mjx-assistive-mml { position: absolute !important; top: 0px; left: 0px;
   clip: rect(1px, 1px, 1px, 1px); clip-path: inset(50%); padding: 1px 0px 0px 0px !important;
   border: 0px !important; display: block !important; width: 1px !important;
@@ -61,24 +64,38 @@ function unescapeHtml(text) {
     .replace(/&amp;/g, "&");
 }
 
-function typesetPage(file, root) {
+// The text of the first error MathJax's TeX input put into a formula (an merror node), if any.
+function findError(node) {
+  if (node.isKind && node.isKind("merror")) {
+    return node.attributes.get("data-mjx-error") || "merror";
+  }
+  for (const child of node.childNodes || []) {
+    const found = findError(child);
+    if (found) return found;
+  }
+  return null;
+}
+
+function typesetPage(file) {
   let text = fs.readFileSync(file, "utf8");
   if (text.includes(MARK)) return 0;
-  const depth = path.relative(root, path.dirname(file)).split(path.sep).filter(Boolean).length;
-  const fontURL = "../".repeat(depth) + FONTS;
   const tex = new TeX({ packages: AllPackages, tags: "none" });
-  const chtml = new CHTML({ fontURL, adaptiveCSS: true });
-  const doc = mathjax.document("", { InputJax: tex, OutputJax: chtml });
+  const svg = new SVG({ fontCache: "global" });
+  const doc = mathjax.document("", { InputJax: tex, OutputJax: svg });
   let count = 0;
 
   function render(source, display) {
     const math = unescapeHtml(source);
     const options = { display, em: 16, ex: 8, containerWidth: 80 * 16 };
     const node = doc.convert(math, options);
-    const mml = visitor.visitTree(doc.convert(math, { ...options, end: STATE.CONVERT }));
+    const tree = doc.convert(math, { ...options, end: STATE.CONVERT });
+    const error = findError(tree);
+    if (error) throw new Error(`${file}: TeX error "${error}" in ${math.slice(0, 120)}`);
+    const mml = visitor.visitTree(tree);
     adaptor.setAttribute(node, "role", "presentation");
     const inner = adaptor.firstChild(node);
     adaptor.setAttribute(inner, "aria-hidden", "true");
+    adaptor.removeAttribute(inner, "role"); // a picture of the formula, hidden: the MathML is read
     count += 1;
     const html = adaptor.outerHTML(node);
     const assistive =
@@ -96,8 +113,11 @@ function typesetPage(file, root) {
   }
   let head = MARK;
   if (count) {
-    const css = adaptor.textContent(chtml.styleSheet(doc)) + ASSISTIVE_CSS;
+    const css = adaptor.textContent(svg.styleSheet(doc)) + ASSISTIVE_CSS;
     head += `\n<style id="dstoolkit-maths-css">${css}</style>`;
+    // the glyph outlines every formula of the page draws with <use>, once
+    const cache = adaptor.outerHTML(svg.pageElements(doc));
+    text = text.replace(/<body[^>]*>/, (body) => body + cache);
   }
   text = text.replace("</head>", head + "\n</head>");
   fs.writeFileSync(file + ".tmp", text);
@@ -128,7 +148,7 @@ function main() {
   let total = 0;
   let changed = 0;
   for (const file of pages(root)) {
-    const count = typesetPage(file, root);
+    const count = typesetPage(file);
     total += count;
     if (count) changed += 1;
   }

@@ -79,7 +79,7 @@ async () => {
     mathNodes,
     loaded: true,
     typeset: document.querySelectorAll('.math mjx-container').length,
-    errors: Array.from(document.querySelectorAll('mjx-merror'))
+    errors: Array.from(document.querySelectorAll('mjx-merror, g[data-mml-node="merror"]'))
       .map(e => e.getAttribute('data-mjx-error') || e.textContent),
   };
 }
@@ -211,5 +211,60 @@ def test_page_in_browser(chromium: object, site: str, toc_page: str) -> None:
         )
         assert not problems.failed_requests, f"{toc_page}: failed {problems.failed_requests}"
         assert not problems.console_errors, f"{toc_page}: console {problems.console_errors}"
+    finally:
+        context.close()
+
+
+#: A chapter with folded solutions (every chapter's exercises have them).
+SOLUTION_PAGE = "book/recursive_filter"
+
+_FOLDED_JS = """() => {
+  const solution = document.querySelector('.bd-article .solution.toggle');
+  const body = [...solution.children].filter(e => !e.matches('.admonition-title'));
+  const inside = body.flatMap(e => [e, ...e.querySelectorAll('*')]);
+  return {
+    folded: solution.classList.contains('toggle-hidden'),
+    expanded: solution.querySelector('button.toggle-button').getAttribute('aria-expanded'),
+    elements: inside.length,
+    laidOut: inside.filter(e => e.getClientRects().length > 0).length,
+    height: solution.getBoundingClientRect().height,
+    text: body.map(e => e.innerText).join(' ').trim().length,
+  };
+}"""
+
+
+def test_a_folded_solution_is_out_of_the_layout_and_unfolds(chromium: object, site: str) -> None:
+    """A folded solution lays out none of its body (dstoolkit.css) and shows it when unfolded.
+
+    sphinx-togglebutton folds a solution with zero height and ``visibility: hidden``, which
+    still lays out every element of it on each load; the book's stylesheet takes the folded
+    body out of the layout. The button still unfolds it, and folds it again.
+    """
+    context = chromium.new_context(viewport={"width": 1280, "height": 900})
+    page = context.new_page()
+    page.set_default_timeout(TIMEOUT_MS)
+    try:
+        page.goto(site + SOLUTION_PAGE + ".html", wait_until="load")
+        folded = page.evaluate(_FOLDED_JS)
+        assert folded["folded"] and folded["expanded"] == "false", folded
+        assert folded["elements"] > 0, f"{SOLUTION_PAGE}: an empty solution? {folded}"
+        assert folded["laidOut"] == 0, f"{SOLUTION_PAGE}: a folded solution is laid out {folded}"
+        button = page.locator(".bd-article .solution.toggle button.toggle-button").first
+        button.click()
+        page.wait_for_function(
+            "() => !document.querySelector('.bd-article .solution.toggle')"
+            ".classList.contains('toggle-hidden')"
+        )
+        shown = page.evaluate(_FOLDED_JS)
+        assert shown["expanded"] == "true", shown
+        assert shown["laidOut"] > 0 and shown["text"] > 20, f"nothing shown unfolded: {shown}"
+        assert shown["height"] > folded["height"] + 20, (folded, shown)
+        button.click()
+        page.wait_for_function(
+            "() => document.querySelector('.bd-article .solution.toggle')"
+            ".classList.contains('toggle-hidden')"
+        )
+        again = page.evaluate(_FOLDED_JS)
+        assert again["laidOut"] == 0 and again["expanded"] == "false", again
     finally:
         context.close()

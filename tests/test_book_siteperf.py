@@ -4,6 +4,8 @@
   deferred (small inline scripts, such as the theme's colour mode, stay). No page
   loads MathJax (the maths is typeset at build time, scripts/typeset-maths.js, and no
   formula is left as TeX), and no page loads the widget manager (the explorers are HTML).
+* **Maths without fonts**: every formula is SVG whose glyphs are drawn from one cache of
+  outlines a page; no page loads a maths font (which would lay the page out again).
 * **Explorers drawn before any script**: every widget view is written as plain HTML with
   native controls in its cell's output (scripts/site_postbuild.py); no widget state is left
   in the page, and the pictures of the states not shown wait in ``data-src`` (fetched by
@@ -188,6 +190,35 @@ def test_maths_is_typeset_at_build_time(built_book: BookBuild, toc_page: str) ->
     assert not left, f"{toc_page}.html: maths left as TeX: {left[:3]}"
     if typeset:
         assert "<mjx-assistive-mml" in text, f"{toc_page}.html: maths without MathML for readers"
+
+
+def test_maths_draws_its_glyphs_once_and_loads_no_font(
+    built_book: BookBuild, toc_page: str
+) -> None:
+    """Every formula is SVG drawn from one glyph cache a page: no CHTML, no maths font.
+
+    CHTML writes an element and a generated box per character and lays the page out again
+    when each of MathJax's fonts arrives; SVG refers to each glyph's outline, written once in
+    the page's cache (scripts/typeset-maths.js).
+    """
+    text = _html(built_book, toc_page)
+    formulas = re.findall(r"<mjx-container [^>]*>", text)
+    if not formulas:
+        assert "MJX-SVG-global-cache" not in text, f"{toc_page}.html: a cache with no formula"
+        return
+    chtml = [f for f in formulas if 'jax="SVG"' not in f]
+    assert not chtml, f"{toc_page}.html: formulas not drawn as SVG: {chtml[:3]}"
+    assert "<mjx-c " not in text and "<mjx-c>" not in text, f"{toc_page}.html: CHTML left"
+    assert text.count('id="MJX-SVG-global-cache"') == 1, f"{toc_page}.html: not one glyph cache"
+    cache = text[text.index('id="MJX-SVG-global-cache"') :]
+    cache = cache[: cache.index("</svg>")]
+    defined = set(re.findall(r'<path id="([^"]+)"', cache))
+    used = set(re.findall(r'<use [^>]*xlink:href="#([^"]+)"', text))
+    assert used, f"{toc_page}.html: {len(formulas)} formulas that draw no glyph"
+    missing = sorted(used - defined)
+    assert not missing, f"{toc_page}.html: glyphs not in the cache: {missing[:5]}"
+    faces = re.findall(r"@font-face\s*\{[^}]*\}", text)
+    assert not faces, f"{toc_page}.html: the page loads fonts for its maths: {faces[:1]}"
 
 
 def test_explorers_are_drawn_before_any_script(built_book: BookBuild, toc_page: str) -> None:

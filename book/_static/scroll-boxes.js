@@ -87,12 +87,80 @@
     });
   }
 
+  // The boxes that can scroll: those a stylesheet or their own style gives an overflow of
+  // auto or scroll, those the theme made Tab stops, and those marked before. Only these are
+  // measured, not every element of the article: a chapter holds some ten thousand elements,
+  // most of them inside formulas, and reading each one's size costs more than the page's
+  // own layout.
+  var SCROLLING = /(^|\s)(auto|scroll)(\s|$)/;
+  var candidates = null;
+
+  // A rule's selector list, split at its top-level commas (not those inside :is(...)).
+  function selectorParts(list) {
+    var parts = [];
+    var depth = 0;
+    var start = 0;
+    for (var i = 0; i < list.length; i++) {
+      var c = list.charAt(i);
+      if (c === "(" || c === "[") depth += 1;
+      else if (c === ")" || c === "]") depth -= 1;
+      else if (c === "," && depth === 0) {
+        parts.push(list.slice(start, i).trim());
+        start = i + 1;
+      }
+    }
+    parts.push(list.slice(start).trim());
+    return parts;
+  }
+
+  function usable(selector) {
+    if (!selector || selector.indexOf("::") >= 0) return false; // a pseudo-element is no box
+    try {
+      document.querySelector(selector);
+      return true;
+    } catch (error) {
+      return false; // a nested rule's relative selector, or one this browser cannot parse
+    }
+  }
+
+  function candidateSelector() {
+    var found = {};
+    found["[tabindex='0']"] = true;
+    found["[style*='overflow']"] = true;
+    found["[" + MARK + "]"] = true;
+    function visit(rules) {
+      for (var i = 0; i < rules.length; i++) {
+        var rule = rules[i];
+        var style = rule.style;
+        if (rule.selectorText && style && (SCROLLING.test(style.overflow) ||
+            SCROLLING.test(style.overflowX) || SCROLLING.test(style.overflowY))) {
+          selectorParts(rule.selectorText).forEach(function (part) {
+            if (usable(part)) found[part] = true;
+          });
+        }
+        if (rule.cssRules) visit(rule.cssRules); // @media, @supports, @layer, nesting
+      }
+    }
+    Array.prototype.forEach.call(document.styleSheets, function (sheet) {
+      try {
+        visit(sheet.cssRules);
+      } catch (error) {
+        // a stylesheet from another origin cannot be read (the site serves its own)
+      }
+    });
+    return Object.keys(found).join(", ");
+  }
+
   // Every box of the article that scrolls sideways takes the focus and is named; a marked
   // box keeps, in MARK, the tabindex it had before (MathJax gives formulas -1, the theme
   // gives some code blocks 0 without a name).
   function update() {
-    document.querySelectorAll(".bd-article *").forEach(function (box) {
+    if (candidates === null) candidates = candidateSelector();
+    var article = document.querySelector(".bd-article");
+    if (!article) return;
+    article.querySelectorAll(candidates).forEach(function (box) {
       if (box.tagName.indexOf("MJX-") === 0 && box.tagName !== "MJX-CONTAINER") return;
+      if (box.closest("mjx-assistive-mml, svg")) return; // inside a formula
       var marked = box.hasAttribute(MARK);
       var direction = scrolls(box);
       var named = box.hasAttribute("aria-label") || box.hasAttribute("aria-labelledby");
