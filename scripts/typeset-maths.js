@@ -76,6 +76,49 @@ function findError(node) {
   return null;
 }
 
+// Groups whose element MathJax's SVG stylesheet selects (an error's box, a table's lines and
+// frame, a toggle): they and their children stay as written.
+const STYLED = new Set(["merror", "mtable", "mtr", "mtd", "mlabeledtr", "maction"]);
+// What a plain group of MathJax's SVG may carry besides its transform: nothing drawn.
+const PLAIN = new Set(["data-mml-node", "data-mjx-texclass", "transform"]);
+
+// Elements a transform attribute moves (an inner <svg> ignores one in some browsers).
+const MOVABLE = new Set(["g", "use", "path", "rect", "line", "polygon", "ellipse", "text"]);
+
+function isPlainGroup(node) {
+  if (node.kind !== "g" || STYLED.has(node.attributes["data-mml-node"])) return false;
+  if (!Object.keys(node.attributes).every((name) => PLAIN.has(name))) return false;
+  if (node.styles && node.styles.cssText) return false;
+  return !node.attributes.transform || node.children.every((child) => MOVABLE.has(child.kind));
+}
+
+// Fewer elements, the same picture: a plain group (one per MathML node, most holding one
+// glyph) is dissolved into its children, its transform put in front of each child's own
+// (an SVG transform list applies left to right, as nested groups do). A chapter's formulas
+// hold thousands of such groups, and every element is styled and laid out on each load.
+function dissolveGroups(node) {
+  if (!node.children) return;
+  for (const child of node.children) dissolveGroups(child);
+  if (node.kind !== "g" || STYLED.has(node.attributes["data-mml-node"])) return;
+  const children = [];
+  for (const child of node.children) {
+    if (!isPlainGroup(child)) {
+      children.push(child);
+      continue;
+    }
+    const shift = child.attributes.transform;
+    for (const grandchild of child.children) {
+      if (shift) {
+        const own = grandchild.attributes.transform;
+        grandchild.attributes.transform = own ? `${shift} ${own}` : shift;
+      }
+      grandchild.parent = node;
+      children.push(grandchild);
+    }
+  }
+  node.children = children;
+}
+
 function typesetPage(file) {
   let text = fs.readFileSync(file, "utf8");
   if (text.includes(MARK)) return 0;
@@ -97,6 +140,7 @@ function typesetPage(file) {
     adaptor.setAttribute(inner, "aria-hidden", "true");
     adaptor.removeAttribute(inner, "role"); // a picture of the formula, hidden: the MathML is read
     count += 1;
+    dissolveGroups(inner);
     const html = adaptor.outerHTML(node);
     const assistive =
       `<mjx-assistive-mml unselectable="on" display="${display ? "block" : "inline"}">` +

@@ -113,10 +113,11 @@
     return parts;
   }
 
+  var probe = document.createElement("div"); // a detached element: matching it is instant
   function usable(selector) {
     if (!selector || selector.indexOf("::") >= 0) return false; // a pseudo-element is no box
     try {
-      document.querySelector(selector);
+      probe.matches(selector);
       return true;
     } catch (error) {
       return false; // a nested rule's relative selector, or one this browser cannot parse
@@ -158,14 +159,21 @@
     if (candidates === null) candidates = candidateSelector();
     var article = document.querySelector(".bd-article");
     if (!article) return;
-    article.querySelectorAll(candidates).forEach(function (box) {
-      if (box.tagName.indexOf("MJX-") === 0 && box.tagName !== "MJX-CONTAINER") return;
-      if (box.closest("mjx-assistive-mml, svg")) return; // inside a formula
+    var boxes = Array.prototype.filter.call(article.querySelectorAll(candidates), function (box) {
+      if (box.tagName.indexOf("MJX-") === 0 && box.tagName !== "MJX-CONTAINER") return false;
+      return !box.closest("mjx-assistive-mml, svg"); // not inside a formula
+    });
+    // Every size first, then every change: a change (a tabindex, a name) makes the next
+    // size read lay the page out again, so reads and writes in turn would lay it out once
+    // per box.
+    var looks = boxes.map(function (box) {
+      return {direction: scrolls(box), overhang: box.scrollWidth > box.clientWidth + 1};
+    });
+    boxes.forEach(function (box, i) {
       var marked = box.hasAttribute(MARK);
-      var direction = scrolls(box);
+      var direction = looks[i].direction;
       var named = box.hasAttribute("aria-label") || box.hasAttribute("aria-labelledby");
-      if (!direction && !named && box.getAttribute("tabindex") === "0"
-          && box.scrollWidth > box.clientWidth + 1
+      if (!direction && !named && box.getAttribute("tabindex") === "0" && looks[i].overhang
           && !box.matches("a, button, input, select, textarea, summary, [role]")) {
         // a box the theme made a Tab stop because it scrolls by a few pixels: named too
         box.setAttribute("aria-label", nameOf(box, "x"));
