@@ -130,11 +130,11 @@ function typesetPage(file) {
   function render(source, display) {
     const math = unescapeHtml(source);
     const options = { display, em: 16, ex: 8, containerWidth: 80 * 16 };
-    const node = doc.convert(math, options);
     const tree = doc.convert(math, { ...options, end: STATE.CONVERT });
     const error = findError(tree);
     if (error) throw new Error(`${file}: TeX error "${error}" in ${math.slice(0, 120)}`);
     const mml = visitor.visitTree(tree);
+    const node = doc.convert(math, options);
     adaptor.setAttribute(node, "role", "presentation");
     const inner = adaptor.firstChild(node);
     adaptor.setAttribute(inner, "aria-hidden", "true");

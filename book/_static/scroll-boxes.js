@@ -9,8 +9,9 @@
  * same name twice gets its number, "(2)"); a box inside a box that already scrolls (a
  * code block's pre in its highlight box) takes no Tab stop of its own; a box that
  * fits again gives them back, so on a wide screen the Tab order holds only links and
- * controls. Checked again when the window is resized and when the page changes (MathJax
- * typesets, an explorer shows another state).
+ * controls. Only the boxes a stylesheet (or their own style) lets scroll are measured.
+ * Checked again when the window is resized and when the page changes (an explorer shows
+ * another state, the theme changes a Tab stop).
  *
  * Loaded on every page by book/_ext/dstoolkit_a11y.py.
  */
@@ -153,8 +154,8 @@
   }
 
   // Every box of the article that scrolls sideways takes the focus and is named; a marked
-  // box keeps, in MARK, the tabindex it had before (MathJax gives formulas -1, the theme
-  // gives some code blocks 0 without a name).
+  // box keeps, in MARK, the tabindex it had before (the theme gives some code blocks 0
+  // without a name).
   function update() {
     if (candidates === null) candidates = candidateSelector();
     var article = document.querySelector(".bd-article");
