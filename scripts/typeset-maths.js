@@ -48,7 +48,17 @@ mjx-assistive-mml { position: absolute !important; top: 0px; left: 0px;
   border: 0px !important; display: block !important; width: 1px !important;
   height: 1px !important; overflow: hidden !important; white-space: nowrap;
   -webkit-touch-callout: none; user-select: none; }
+mjx-assistive-mml math, mjx-assistive-mml math * { display: inline; }
 `;
+// That MathML is never seen, only read, so it is laid out as plain inline text, not as
+// MathML (where every token is measured, every script placed and every operator looked up
+// to be stretched): a fraction of the layout on each load, and the same accessibility tree,
+// whose roles come from the elements (math, mfrac, msub, ...) and whose names from their
+// text. It is written without the indentation MathJax's serializer adds: laid out inline,
+// each run of indentation would be a word of blank text in that tree.
+function compactMathML(mml) {
+  return mml.replace(/>\s+</g, "><");
+}
 
 const adaptor = liteAdaptor();
 RegisterHTMLHandler(adaptor);
@@ -133,7 +143,7 @@ function typesetPage(file) {
     const tree = doc.convert(math, { ...options, end: STATE.CONVERT });
     const error = findError(tree);
     if (error) throw new Error(`${file}: TeX error "${error}" in ${math.slice(0, 120)}`);
-    const mml = visitor.visitTree(tree);
+    const mml = compactMathML(visitor.visitTree(tree));
     const node = doc.convert(math, options);
     adaptor.setAttribute(node, "role", "presentation");
     const inner = adaptor.firstChild(node);

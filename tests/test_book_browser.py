@@ -10,6 +10,7 @@ Without it the tests skip, except when DSTOOLKIT_REQUIRE_BROWSER=1 (CI), where t
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from urllib.parse import urlsplit
@@ -266,5 +267,78 @@ def test_a_folded_solution_is_out_of_the_layout_and_unfolds(chromium: object, si
         )
         again = page.evaluate(_FOLDED_JS)
         assert again["laidOut"] == 0 and again["expanded"] == "false", again
+    finally:
+        context.close()
+
+
+#: A chapter with formulas of every kind: fractions, scripts, matrices, text.
+MATHS_PAGE = "book/random_sets"
+#: The accessibility roles of MathML elements in Chromium's tree (the tags they come from).
+_MATHML_ROLES = {
+    "math": "MathMLMath",
+    "mi": "MathMLIdentifier",
+    "mn": "MathMLNumber",
+    "mo": "MathMLOperator",
+    "msub": "MathMLSub",
+    "msup": "MathMLSup",
+    "msubsup": "MathMLSubSup",
+    "mfrac": "MathMLFraction",
+    "mtable": "MathMLTable",
+}
+#: The roles of MathML's token elements (mi, mn, mo, mtext, ms), the ones that hold text.
+_MATHML_TOKENS = {
+    "MathMLIdentifier",
+    "MathMLNumber",
+    "MathMLOperator",
+    "MathMLText",
+    "MathMLStringLiteral",
+}
+_MATHML_TAGS_JS = """(tags) => {
+  const count = {};
+  for (const tag of tags) {
+    // not those of a folded solution, which is out of the page and of its tree until opened
+    count[tag] = [...document.querySelectorAll(`mjx-assistive-mml ${tag}`)]
+      .filter((element) => element.checkVisibility()).length;
+  }
+  return count;
+}"""
+
+
+def test_the_maths_reads_as_mathml(chromium: object, site: str) -> None:
+    """A screen reader finds every formula's MathML, element by element, and no blank words.
+
+    The MathML beside each drawn formula is laid out as plain inline text, since nobody sees
+    it (scripts/typeset-maths.js); its accessibility tree must still be MathML's: one node
+    with the element's role for each element, and no text node made of the indentation
+    between elements.
+    """
+    context = chromium.new_context(viewport={"width": 1280, "height": 900})
+    page = context.new_page()
+    page.set_default_timeout(TIMEOUT_MS)
+    try:
+        page.goto(site + MATHS_PAGE + ".html", wait_until="load")
+        elements = page.evaluate(_MATHML_TAGS_JS, list(_MATHML_ROLES))
+        cdp = context.new_cdp_session(page)
+        nodes = [n for n in cdp.send("Accessibility.getFullAXTree")["nodes"] if not n["ignored"]]
+        roles = Counter(n.get("role", {}).get("value") for n in nodes)
+        assert elements["math"] > 50 and elements["mfrac"] > 0, f"{MATHS_PAGE}: {elements}"
+        for tag, role in _MATHML_ROLES.items():
+            assert roles[role] == elements[tag], (
+                f"{MATHS_PAGE}: {elements[tag]} <{tag}> elements but {roles[role]} {role} nodes"
+            )
+        by_id = {n["nodeId"]: n for n in nodes}
+        blank = []
+        for node in nodes:
+            if node.get("role", {}).get("value") != "StaticText":
+                continue
+            if node.get("name", {}).get("value", "x").strip():
+                continue
+            parent = by_id.get(node.get("parentId"))
+            role = parent.get("role", {}).get("value", "") if parent else ""
+            # a token may hold a space of TeX's own (an mtext of "\ "); a layout element
+            # (math, mrow, msub, ...) holds only elements
+            if role.startswith("MathML") and role not in _MATHML_TOKENS:
+                blank.append(role)
+        assert not blank, f"{MATHS_PAGE}: blank text read inside formulas: {Counter(blank)}"
     finally:
         context.close()

@@ -221,6 +221,18 @@ def test_maths_draws_its_glyphs_once_and_loads_no_font(
     assert not faces, f"{toc_page}.html: the page loads fonts for its maths: {faces[:1]}"
 
 
+def test_the_mathml_for_readers_holds_no_indentation(built_book: BookBuild, toc_page: str) -> None:
+    """The MathML beside each formula is written without indentation between its elements.
+
+    It is laid out as inline text (scripts/typeset-maths.js), where each run of indentation
+    would be a blank word in the accessibility tree and bytes the page loads for nothing.
+    """
+    text = _html(built_book, toc_page)
+    readers = re.findall(r"<mjx-assistive-mml[^>]*>(.*?)</mjx-assistive-mml>", text, re.S)
+    indented = [mml[:80] for mml in readers if re.search(r">\s+<", mml)]
+    assert not indented, f"{toc_page}.html: {len(indented)} indented MathML: {indented[:2]}"
+
+
 def test_explorers_are_drawn_before_any_script(built_book: BookBuild, toc_page: str) -> None:
     text = _html(built_book, toc_page)
     left = _WIDGET_SCRIPT.findall(text)

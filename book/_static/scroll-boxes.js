@@ -153,17 +153,20 @@
     return Object.keys(found).join(", ");
   }
 
-  // Every box of the article that scrolls sideways takes the focus and is named; a marked
-  // box keeps, in MARK, the tabindex it had before (the theme gives some code blocks 0
-  // without a name).
-  function update() {
-    if (candidates === null) candidates = candidateSelector();
+  // The boxes of the article that may scroll (not those inside a formula).
+  function findBoxes() {
     var article = document.querySelector(".bd-article");
-    if (!article) return;
-    var boxes = Array.prototype.filter.call(article.querySelectorAll(candidates), function (box) {
+    if (!article) return [];
+    return Array.prototype.filter.call(article.querySelectorAll(candidates), function (box) {
       if (box.tagName.indexOf("MJX-") === 0 && box.tagName !== "MJX-CONTAINER") return false;
       return !box.closest("mjx-assistive-mml, svg"); // not inside a formula
     });
+  }
+
+  // Every box of the article that scrolls sideways takes the focus and is named; a marked
+  // box keeps, in MARK, the tabindex it had before (the theme gives some code blocks 0
+  // without a name).
+  function mark(boxes) {
     // Every size first, then every change: a change (a tabindex, a name) makes the next
     // size read lay the page out again, so reads and writes in turn would lay it out once
     // per box.
@@ -209,8 +212,35 @@
     distinctNames();
   }
 
+  // The check runs as separate tasks (reading the stylesheets once, finding the boxes,
+  // measuring and marking them), each short enough that a tap on a slow phone never waits
+  // for the whole of it. A check asked for while one runs starts when it has finished.
+  var running = false;
+  var again = false;
+  function update() {
+    running = true;
+    window.setTimeout(function () {
+      if (candidates === null) candidates = candidateSelector();
+      window.setTimeout(function () {
+        var boxes = findBoxes();
+        window.setTimeout(function () {
+          mark(boxes);
+          running = false;
+          if (again) {
+            again = false;
+            schedule();
+          }
+        }, 0);
+      }, 0);
+    }, 0);
+  }
+
   var pending = null;
   function schedule() {
+    if (running) {
+      again = true;
+      return;
+    }
     if (pending !== null) return;
     pending = window.setTimeout(function () {
       pending = null;
