@@ -217,22 +217,42 @@
   // for the whole of it. A check asked for while one runs starts when it has finished.
   var running = false;
   var again = false;
+  function finish() {
+    running = false;
+    if (again) {
+      again = false;
+      schedule();
+    }
+  }
   function update() {
     running = true;
-    window.setTimeout(function () {
-      if (candidates === null) candidates = candidateSelector();
+    var boxes = [];
+    var steps = [
+      function () {
+        if (candidates === null) candidates = candidateSelector();
+      },
+      function () {
+        boxes = findBoxes();
+      },
+      function () {
+        mark(boxes);
+      },
+    ];
+    function run(step) {
       window.setTimeout(function () {
-        var boxes = findBoxes();
-        window.setTimeout(function () {
-          mark(boxes);
-          running = false;
-          if (again) {
-            again = false;
-            schedule();
-          }
-        }, 0);
+        var last = step === steps.length - 1;
+        try {
+          steps[step]();
+        } catch (error) {
+          last = true; // a check that failed does not stop the next one
+          throw error;
+        } finally {
+          if (last) finish();
+          else run(step + 1);
+        }
       }, 0);
-    }, 0);
+    }
+    run(0);
   }
 
   var pending = null;
