@@ -25,7 +25,7 @@ there, and the clock stops when the state it selects shows a loaded picture that
 from the first one. Also prints the gzipped bytes of the page scrolled to its end.
 
 Build the book first (``bash scripts/build-book.sh``); run from the repository root under
-the machine's heavy lock (it takes about 30 s a page)::
+the machine's heavy lock (each Lighthouse run takes about 30 s)::
 
     python benchmarks/lighthouse.py [--html DIR] [--page book/intro ...] [--runs 3] \
         [--slider book/simulated_gauge book/estimating_level book/beyond_the_paper]
